@@ -1,0 +1,258 @@
+// Diffuse lighting from an SG light: D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω, c = ξ·n (SPEC.md §3).
+// Every method returns D for a unit-amplitude SG; radiance is amplitude·albedo/π·D.
+// The exact reference is clamped_cosine_reference() in reference.hpp.
+#pragma once
+
+#include "sglab/hemispherical.hpp"
+#include "sglab/scalar.hpp"
+#include "sglab/sg.hpp"
+
+namespace sglab {
+
+// ---- punctual: the cosine pulled out of the integral ----------------------------------------
+// A(λ)·⟨c⟩ (Wang et al. 2009; seed `modified-fis` §4.2).
+template <class T>
+T clamped_cosine_punctual(const T& sharpness, const T& cosine) {
+  return sg_integral(sharpness) * positive_part(clamp_cosine(cosine));
+}
+
+// (2π/λ)⟨c⟩: the same with A(λ) ≈ 2π/λ (seed `modified-fis` §4.2). Diverges at λ = 0.
+template <class T>
+T clamped_cosine_punctual_approx(const T& sharpness, const T& cosine) {
+  return sg_integral_approx(sharpness) * positive_part(clamp_cosine(cosine));
+}
+
+// ---- sg-cosine: the cosine as a normalized SG, Iwasaki product (seed `two-vsgls` §3.2) ------
+// ⟨ω·n⟩ ≈ π G(ω; n, λ_d)/A(λ_d), so D ≈ π/A(λ_d) · 2π G(ξ; n, λλ_d/(λ+λ_d))/(λ + λ_d).
+// λ_d ≈ 2: "obtained by using the least square method" (seeds `two-vsgls` §1.1, `modified-fis`
+// §2.1). The seed further takes A(λ_d) ≈ π; this uses the exact A(λ_d) (A(2) = 0.98168·π).
+struct SgCosine {
+  static constexpr double lambda_d = 2.0;  // seeds `two-vsgls` Eq. 1, `modified-fis` Eq. 1
+};
+
+template <class T>
+T clamped_cosine_sg_cosine(const T& sharpness, const T& cosine,
+                           const T& lambda_d = T(SgCosine::lambda_d)) {
+  return pi<T>() / sg_integral(lambda_d) *
+         product_integral_iwasaki(sharpness, lambda_d, clamp_cosine(cosine));
+}
+
+// ---- cosine-lobe-sg: ⟨ω·n⟩ ≈ 1.17·G(ω; n, 2.133), exact SG product integral ------------------
+// Pettineo 2016, "SG Series Part 3: Diffuse Lighting From an SG Light Source" (the cosine lobe
+// fitted as an SG). Re-derived by `sglab fit cosine-lobe-sg`.
+struct CosineLobeSg {
+  static constexpr double amplitude = 1.17;   // Pettineo 2016
+  static constexpr double sharpness = 2.133;  // Pettineo 2016
+};
+
+template <class T>
+T clamped_cosine_cosine_lobe_sg(const T& sharpness, const T& cosine,
+                                const T& lobe_amplitude = T(CosineLobeSg::amplitude),
+                                const T& lobe_sharpness = T(CosineLobeSg::sharpness)) {
+  return lobe_amplitude * product_integral_exact(sharpness, lobe_sharpness, cosine);
+}
+
+// ---- hill-fitted: Pettineo & Hill 2016 fitted irradiance ------------------------------------
+// Pettineo 2016, SG series part 3, "SGIrradianceFitted" (fit by Stephen Hill). c0 = 0.36 as
+// published; re-derived by `sglab fit hill-irradiance`.
+// Known flaw, kept as published: negative for λ ≲ 1 (the "black splotches" of seed
+// `accurate-diffuse-sg-lighting`), and undefined (1/λ) at λ = 0.
+// One rounding fix: x = √(1 − scale) is computed as √(1/λ − 2e^{−2λ}) (the same value), because
+// 1 − scale cancels to 0 in float for λ ≳ 1e7 and the published form then divides 0 by 0 at c = 0.
+struct HillIrradiance {
+  static constexpr double c0 = 0.36;  // Pettineo 2016 (Hill's fit)
+};
+
+template <class T>
+T clamped_cosine_hill_fitted(const T& sharpness, const T& cosine,
+                             const T& c0 = T(HillIrradiance::c0)) {
+  using std::abs;
+  using std::exp;
+  using std::sqrt;
+  const T c = clamp_cosine(cosine);
+  const T& l = sharpness;
+  const T c1 = T(1) / (T(4) * c0);
+  const T eml = exp(-l);
+  const T em2l = eml * eml;
+  const T rl = T(1) / l;
+  const T scale = T(1) + T(2) * em2l - rl;
+  const T bias = (eml - em2l) * rl - em2l;
+  const T x = sqrt(rl - T(2) * em2l);  // = √(1 − scale); positive since e^{2λ} > 2λ
+  const T x0 = c0 * c;
+  const T x1 = c1 * x;
+  const T n = x0 + x1;
+  T y = clamp(c, T(0), T(1));
+  if (abs(value_of(x0)) <= value_of(x1)) y = n * n / x;
+  return (scale * y + bias) * two_pi<T>() * rl;
+}
+
+// ---- meder: ⟨ω·n⟩ ≈ a·G(ω; n, λ_m) − b, each term through the Meder hemispherical integral ----
+// Meder & Brüderlin 2018; used by PhySG and seed `blog` ("i.n = G(i; n, 0.0315, 32.7080) −
+// 31.7003"). Re-derived by `sglab fit cosine-sg`.
+// Known flaw, kept as published: the difference of the two terms can go negative (at grazing
+// and back-facing c for sharp lights, where the linear fit of the cosine undershoots 0).
+struct MederCosineSg {
+  static constexpr double amplitude = 32.7080;  // Meder & Brüderlin 2018, seed `blog`
+  static constexpr double sharpness = 0.0315;   // Meder & Brüderlin 2018, seed `blog`
+  static constexpr double offset = 31.7003;     // Meder & Brüderlin 2018, seed `blog`
+};
+
+// ∫_{ω·n>0} G(ω;ξ,λ)·G(ω;n,λ2) dω through a given hemispherical-integral function: the product
+// SG e^{L} G(ω; ξ3, λ3) with c3 = ξ3·n = (λc + λ2)/λ3 (c3 = 1 when λ3 = 0: the product is then the
+// constant e^{L} and any axis gives the same hemispherical integral only if H(0, ·) is constant,
+// which holds for every H here: H(0, c) = 2π).
+template <class T, class Hemi>
+T hemispherical_product(const T& sharpness, const T& cosine, const T& sharpness2,
+                        const T& extra_log_amplitude, const Hemi& hemi) {
+  using std::exp;
+  const T c = clamp_cosine(cosine);
+  const T l3 = product_sharpness(sharpness, sharpness2, c);
+  const T log_amp = product_log_amplitude(sharpness, sharpness2, c, l3) + extra_log_amplitude;
+  const T c3 = value_of(l3) > 0 ? clamp_cosine((sharpness * c + sharpness2) / l3) : T(1);
+  return exp(log_amp) * hemi(l3, c3);
+}
+
+template <class T>
+T clamped_cosine_meder(const T& sharpness, const T& cosine,
+                       const T& amplitude = T(MederCosineSg::amplitude),
+                       const T& lobe_sharpness = T(MederCosineSg::sharpness),
+                       const T& offset = T(MederCosineSg::offset)) {
+  auto hemi = [](const T& l, const T& c) { return hemispherical_meder(l, c); };
+  return amplitude * hemispherical_product(sharpness, cosine, lobe_sharpness, T(0), hemi) -
+         offset * hemispherical_meder(sharpness, clamp_cosine(cosine));
+}
+
+// ---- tokuyoshi2022 ----------------------------------------------------------------------------
+// Seed `accurate-diffuse-sg-lighting`: ω·n ≈ α(e^{λc}G(ω; n, λc) − 1) (first-order Taylor form,
+// normalized by the hemispherical integral), α = λc/(2e^{λc} − 2 − 2λc). Both terms through the
+// 2022 hemispherical integral; the difference clamped at 0. λc minimizes approximation error plus
+// a float32 numerical error bound (re-derived by `sglab fit cosine-sharpness`).
+struct Tokuyoshi2022Cosine {
+  // Seed `accurate-diffuse-sg-lighting` (0.0008456087), full digits from SPEC.md §3.
+  static constexpr const char* lambda_digits = "0.00084560872241480124";
+  static constexpr double lambda = 0.00084560872241480124;
+  // α(λc) = λc/(2e^{λc} − 2 − 2λc), SPEC.md §3.
+  static constexpr double alpha = 1182.2467339678153;
+};
+
+// α(λ) = λ/(2(e^λ − 1 − λ)), with e^λ − 1 − λ = λ²·E2(λ) computed by series for small λ (the
+// direct form loses ~|log10 λ| digits: 3 of 16 at λ = 8.5e-4).
+template <class T>
+T tokuyoshi2022_alpha(const T& lambda) {
+  using std::abs;
+  using std::expm1;
+  // e^λ − 1 − λ = Σ_{n≥2} λ^n/n!
+  if (abs(value_of(lambda)) < 0.5) {
+    T term = lambda * lambda / T(2);
+    T sum = term;
+    for (int n = 3; n < 200; ++n) {
+      term *= lambda / T(n);
+      sum += term;
+      if (abs(value_of(term)) <= epsilon<T>() * abs(value_of(sum))) break;
+    }
+    return lambda / (T(2) * sum);
+  }
+  return lambda / (T(2) * (expm1(lambda) - lambda));
+}
+
+template <class T>
+T clamped_cosine_tokuyoshi2022(const T& sharpness, const T& cosine,
+                               const T& lambda_c = from_string<T>(Tokuyoshi2022Cosine::lambda_digits)) {
+  const T alpha = tokuyoshi2022_alpha(lambda_c);
+  auto hemi = [](const T& l, const T& c) { return hemispherical_tokuyoshi2022(l, c); };
+  // e^{λc}·G(ω;ξ,λ)G(ω;n,λc) = e^{λc + L} G(ω; ξ3, λ3)
+  const T term1 = hemispherical_product(sharpness, cosine, lambda_c, lambda_c, hemi);
+  const T term0 = hemispherical_tokuyoshi2022(sharpness, clamp_cosine(cosine));
+  return positive_part(alpha * (term1 - term0));
+}
+
+// ---- tokuyoshi2024 ----------------------------------------------------------------------------
+// Tokuyoshi et al. 2024, "Hierarchical light sampling with accurate spherical Gaussian lighting":
+// t(λ) = λ√(½((λ + A)λ + B)/(((λ + C)λ + D)λ + E)), constants as given in SPEC.md §3.
+// Re-derived by `sglab fit tokuyoshi2024-t`.
+struct Tokuyoshi2024T {
+  static constexpr double A = 2.7360831611272558;  // Tokuyoshi et al. 2024 (SPEC.md §3)
+  static constexpr double B = 17.021297781741875;  // Tokuyoshi et al. 2024 (SPEC.md §3)
+  static constexpr double C = 4.0100826728510421;  // Tokuyoshi et al. 2024 (SPEC.md §3)
+  static constexpr double D = 15.219156263147211;  // Tokuyoshi et al. 2024 (SPEC.md §3)
+  static constexpr double E = 76.087896272360737;  // Tokuyoshi et al. 2024 (SPEC.md §3)
+};
+
+template <class T>
+T tokuyoshi2024_t(const T& sharpness, const T& A = T(Tokuyoshi2024T::A),
+                  const T& B = T(Tokuyoshi2024T::B), const T& C = T(Tokuyoshi2024T::C),
+                  const T& D = T(Tokuyoshi2024T::D), const T& E = T(Tokuyoshi2024T::E)) {
+  using std::sqrt;
+  const T& l = sharpness;
+  return l * sqrt(T(0.5) * ((l + A) * l + B) / (((l + C) * l + D) * l + E));
+}
+
+// f(t, c) = ½(c·erfc(−tc) + erfc(t)) − e^{−t²c²}·expm1(t²(c² − 1))/(2√π t), clamped to [0, 1].
+// The last term is rewritten as t(c² − 1)·E(t²(c² − 1)) with E(x) = expm1(x)/x, so t → 0 gives
+// the limit (1 + c)/2 instead of 0/0.
+template <class T>
+T tokuyoshi2024_factor(const T& t, const T& cosine) {
+  using std::erfc;
+  using std::exp;
+  using std::sqrt;
+  const T c = clamp_cosine(cosine);
+  const T q = t * t * (c * c - T(1));
+  const T tail = exp(-t * t * c * c) * t * (c * c - T(1)) * expm1_over_x(q) / (T(2) * sqrt(pi<T>()));
+  const T f = T(0.5) * (c * erfc(-t * c) + erfc(t)) - tail;
+  return clamp(f, T(0), T(1));
+}
+
+// D at c = 1 divided by 2π: (1 − (1 − e^{−λ})/λ)/λ = Σ_{n≥1} (−1)^{n+1} λ^{n−1}/(n+1)!
+// (series below λ = 1, where 1 − (1 − e^{−λ})/λ cancels).
+template <class T>
+T clamped_cosine_upper_over_2pi(const T& sharpness) {
+  using std::abs;
+  const T& l = sharpness;
+  if (value_of(l) < 1) {
+    T term = T(0.5);  // n = 1: 1/2!
+    T sum = term;
+    for (int n = 2; n < 400; ++n) {
+      term *= -l / T(n + 1);
+      sum += term;
+      if (abs(value_of(term)) <= epsilon<T>() * abs(value_of(sum))) break;
+    }
+    return sum;
+  }
+  return (T(1) - expm1_over_x(-l)) / l;
+}
+
+// D at c = −1 divided by 2π: e^{−λ}((1 − e^{−λ})/λ − e^{−λ})/λ, with
+// ((1 − e^{−λ})/λ − e^{−λ})/λ = Σ_{n≥1} (−1)^{n+1} n λ^{n−1}/(n+1)! below λ = 1.
+template <class T>
+T clamped_cosine_lower_over_2pi(const T& sharpness) {
+  using std::abs;
+  using std::exp;
+  const T& l = sharpness;
+  T inner;
+  if (value_of(l) < 1) {
+    T power = T(1);   // λ^{n−1}
+    T fact = T(2);    // (n+1)!
+    T sum = T(0.5);   // n = 1
+    for (int n = 2; n < 400; ++n) {
+      power *= -l;
+      fact *= T(n + 1);
+      const T term = T(n) * power / fact;
+      sum += term;
+      if (abs(value_of(term)) <= epsilon<T>() * abs(value_of(sum))) break;
+    }
+    inner = sum;
+  } else {
+    inner = (expm1_over_x(-l) - exp(-l)) / l;
+  }
+  return exp(-l) * inner;
+}
+
+template <class T>
+T clamped_cosine_tokuyoshi2024(const T& sharpness, const T& cosine) {
+  const T f = tokuyoshi2024_factor(tokuyoshi2024_t(sharpness), cosine);
+  const T upper = clamped_cosine_upper_over_2pi(sharpness);
+  const T lower = clamped_cosine_lower_over_2pi(sharpness);
+  return two_pi<T>() * (lower + f * (upper - lower));
+}
+
+}  // namespace sglab

@@ -1,0 +1,133 @@
+// Hemispherical integral of an SG (SPEC.md §2):
+//   H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω,  c = ξ·n.
+// Closed-form bounds, and the published approximations that interpolate between them. The exact
+// reference is in reference.hpp.
+#pragma once
+
+#include "sglab/scalar.hpp"
+#include "sglab/sg.hpp"
+
+namespace sglab {
+
+// H at c = 1 (axis on the normal): 2π(1 − e^{−λ})/λ, exactly 2π at λ = 0.
+template <class T>
+T hemispherical_upper(const T& sharpness) {
+  return two_pi<T>() * expm1_over_x(-sharpness);
+}
+
+// H at c = −1 (axis opposite the normal): 2π e^{−λ}(1 − e^{−λ})/λ.
+template <class T>
+T hemispherical_lower(const T& sharpness) {
+  using std::exp;
+  return exp(-sharpness) * hemispherical_upper(sharpness);
+}
+
+// e^{−λ} + s(1 − e^{−λ}) = lerp(e^{−λ}, 1, s), the normalized interpolation between the lower
+// and upper bound shared by Meder–Brüderlin and Tokuyoshi 2022. 1 − e^{−λ} through expm1.
+template <class T>
+T bound_lerp(const T& sharpness, const T& s) {
+  using std::exp;
+  return exp(-sharpness) + s * one_minus_exp_neg(sharpness);
+}
+
+// ---- Meder & Brüderlin 2018, "Hemispherical Gaussians for Accurate Light Integration" -----
+// Logistic steepness t(λ) = √λ (p1 λ² + p2 λ)/(λ² + p3 λ + p4); constants as published there
+// (4 decimals). Re-derived by `sglab fit meder-logistic`.
+struct MederLogistic {
+  static constexpr double p1 = 1.6988;   // Meder & Brüderlin 2018
+  static constexpr double p2 = 10.8438;  // Meder & Brüderlin 2018
+  static constexpr double p3 = 6.2201;   // Meder & Brüderlin 2018
+  static constexpr double p4 = 10.2415;  // Meder & Brüderlin 2018
+};
+
+template <class T>
+T meder_steepness(const T& sharpness, const T& p1 = T(MederLogistic::p1),
+                  const T& p2 = T(MederLogistic::p2), const T& p3 = T(MederLogistic::p3),
+                  const T& p4 = T(MederLogistic::p4)) {
+  using std::sqrt;
+  const T& l = sharpness;
+  return safe_sqrt(l) * (p1 * l * l + p2 * l) / (l * l + p3 * l + p4);
+}
+
+// The logistic interpolant s = (ab − 1)/((a − 1)(b + 1)) with a = e^t, b = e^{tc}, rewritten
+// with only non-positive exponents (a, b overflow for t ≳ 88 in float) and with expm1/x so that
+// t → 0 gives the limit (1 + c)/2 instead of 0/0:
+//   c ≥ 0:  s = (1 + c)·E(−t(1 + c)) / (E(−t)·(1 + e^{−tc}))
+//   c < 0:  s = e^{−t}(1 + c)·E(t(1 + c)) / (E(−t)·(1 + e^{tc}))
+// where E(x) = expm1(x)/x. Both follow from dividing numerator and denominator by ab (c ≥ 0) or
+// by a (c < 0).
+template <class T>
+T meder_logistic(const T& steepness, const T& cosine) {
+  using std::exp;
+  const T c = clamp_cosine(cosine);
+  const T& t = steepness;
+  const T den_common = expm1_over_x(-t);
+  if (value_of(c) >= 0) {
+    return (T(1) + c) * expm1_over_x(-t * (T(1) + c)) / (den_common * (T(1) + exp(-t * c)));
+  }
+  return exp(-t) * (T(1) + c) * expm1_over_x(t * (T(1) + c)) /
+         (den_common * (T(1) + exp(t * c)));
+}
+
+// H ≈ lower·(1 − s) + upper·s = upper·lerp(e^{−λ}, 1, s)  (Meder & Brüderlin 2018).
+template <class T>
+T hemispherical_meder(const T& sharpness, const T& cosine) {
+  const T s = meder_logistic(meder_steepness(sharpness), cosine);
+  return hemispherical_upper(sharpness) * bound_lerp(sharpness, s);
+}
+
+// ---- Tokuyoshi 2022, "Accurate Diffuse Lighting from Spherical Gaussian Lights" -------------
+// Seed `accurate-diffuse-sg-lighting` ("CDF of a Gaussian on a plane"). Steepness
+// k(λ) = λ √((λ/2 + A)/((λ + B)λ + C)); A, B, C as given in SPEC.md §2 (Tokuyoshi 2022).
+// Re-derived by `sglab fit tokuyoshi2022-steepness`.
+struct Tokuyoshi2022Steepness {
+  static constexpr double A = 0.6517328826907056;  // Tokuyoshi 2022 (SPEC.md §2)
+  static constexpr double B = 1.3418280033141288;  // Tokuyoshi 2022 (SPEC.md §2)
+  static constexpr double C = 7.2216687798956709;  // Tokuyoshi 2022 (SPEC.md §2)
+};
+
+template <class T>
+T tokuyoshi2022_steepness(const T& sharpness, const T& A = T(Tokuyoshi2022Steepness::A),
+                          const T& B = T(Tokuyoshi2022Steepness::B),
+                          const T& C = T(Tokuyoshi2022Steepness::C)) {
+  using std::sqrt;
+  const T& l = sharpness;
+  return l * sqrt((l / T(2) + A) / ((l + B) * l + C));
+}
+
+// erf(k c)/erf(k), with the k → 0 limit c(1 + k²(1 − c²)/3) (from erf(x) = 2/√π (x − x³/3 + …))
+// below the series threshold, so λ = 0 gives c instead of 0/0.
+template <class T>
+T erf_ratio(const T& k, const T& c) {
+  using std::erf;
+  if (value_of(k) < series_threshold<T>(4)) {
+    return c * (T(1) + k * k * (T(1) - c * c) / T(3));
+  }
+  return erf(k * c) / erf(k);
+}
+
+// The sigmoid factor f = ½ + ½ erf(kc)/erf(k) ∈ [0, 1].
+template <class T>
+T tokuyoshi2022_factor(const T& steepness, const T& cosine) {
+  const T c = clamp_cosine(cosine);
+  return clamp(T(0.5) + T(0.5) * erf_ratio(steepness, c), T(0), T(1));
+}
+
+// H ≈ 2π·lerp(e^{−λ}, 1, f)·(1 − e^{−λ})/λ  (Tokuyoshi 2022).
+template <class T>
+T hemispherical_tokuyoshi2022(const T& sharpness, const T& cosine) {
+  const T f = tokuyoshi2022_factor(tokuyoshi2022_steepness(sharpness), cosine);
+  return hemispherical_upper(sharpness) * bound_lerp(sharpness, f);
+}
+
+// The same factor for the normalized vMF: ∫_{ω·n>0} G/A(λ) dω ≈ lerp(e^{−λ}, 1, f)/(1 + e^{−λ})
+// (Tokuyoshi et al. 2024, "Hierarchical light sampling with accurate spherical Gaussian
+// lighting"). A fraction in [0, 1], not an integral of the unnormalized SG.
+template <class T>
+T hemispherical_vmf_tokuyoshi2024(const T& sharpness, const T& cosine) {
+  using std::exp;
+  const T f = tokuyoshi2022_factor(tokuyoshi2022_steepness(sharpness), cosine);
+  return bound_lerp(sharpness, f) / (T(1) + exp(-sharpness));
+}
+
+}  // namespace sglab

@@ -1,0 +1,130 @@
+// Spherical Gaussians and the von Mises–Fisher distribution (SPEC.md §1).
+//
+//   G(ω; ξ, λ) = exp(λ(ω·ξ − 1)),  A(λ) = ∫ G dω = 2π(1 − e^{−2λ})/λ,  vMF = G/A.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "sglab/scalar.hpp"
+
+namespace sglab {
+
+template <class T>
+using Vec3 = Eigen::Matrix<T, 3, 1>;
+
+// G(ω; ξ, λ), evaluated as exp(−λ/2·‖ω − ξ‖²): the same value as exp(λ(ω·ξ − 1)) but without
+// the cancellation in ω·ξ − 1 when ω ≈ ξ (Tokuyoshi 2025, "A numerically stable implementation
+// of the von Mises–Fisher distribution on S²"). ω and ξ must be unit vectors.
+template <class T>
+T sg_eval(const Vec3<T>& omega, const Vec3<T>& axis, const T& sharpness) {
+  using std::exp;
+  return exp(-T(0.5) * sharpness * (omega - axis).squaredNorm());
+}
+
+// G as a function of the cosine c = ω·ξ: exp(λ(c − 1)). The argument is ≤ 0 for |c| ≤ 1, so it
+// never overflows; c is clamped against rounding past ±1.
+template <class T>
+T sg_eval_cos(const T& cosine, const T& sharpness) {
+  using std::exp;
+  return exp(sharpness * (clamp_cosine(cosine) - T(1)));
+}
+
+// A(λ) = 2π(1 − e^{−2λ})/λ = 4π·expm1(−2λ)/(−2λ); exactly 4π at λ = 0 (SPEC.md §1; seeds
+// `two-vsgls` §1, `modified-fis` §2).
+template <class T>
+T sg_integral(const T& sharpness) {
+  return T(2) * two_pi<T>() * expm1_over_x(T(-2) * sharpness);
+}
+
+// The large-λ approximation A(λ) ≈ 2π/λ (Iwasaki et al. 2012; seed `modified-fis` §4.2).
+// Diverges at λ = 0 (as published).
+template <class T>
+T sg_integral_approx(const T& sharpness) {
+  return two_pi<T>() / sharpness;
+}
+
+// The vMF density G(ω; ξ, λ)/A(λ).
+template <class T>
+T vmf_eval(const Vec3<T>& omega, const Vec3<T>& axis, const T& sharpness) {
+  return sg_eval(omega, axis, sharpness) / sg_integral(sharpness);
+}
+
+// ---- products ------------------------------------------------------------------------------
+
+// G(ω;ξ1,λ1)·G(ω;ξ2,λ2) = e^{L}·G(ω; ξ3, λ3). Amplitude kept as its log L ≤ 0, which cannot
+// overflow (SPEC.md §1).
+template <class T>
+struct SgProduct {
+  Vec3<T> axis;
+  T sharpness;
+  T log_amplitude;
+};
+
+// Product sharpness from the two sharpnesses and the cosine between the axes:
+// λ3² = λ1² + λ2² + 2λ1λ2c, written as (λ1 − λ2)² + 2λ1λ2(1 + c) so that opposite axes of equal
+// sharpness give exactly 0 instead of a rounding residue (or a negative square).
+template <class T>
+T product_sharpness(const T& sharpness1, const T& sharpness2, const T& cosine) {
+  const T c = clamp_cosine(cosine);
+  const T d = sharpness1 - sharpness2;
+  return safe_sqrt(d * d + T(2) * sharpness1 * sharpness2 * (T(1) + c));
+}
+
+// L = λ3 − λ1 − λ2, computed as −λ1λ2‖ξ1 − ξ2‖²/(λ3 + λ1 + λ2) = −2λ1λ2(1 − c)/(λ3 + λ1 + λ2):
+// the same value without the cancellation of three large numbers (SPEC.md §1). 0 when both
+// sharpnesses are 0.
+template <class T>
+T product_log_amplitude(const T& sharpness1, const T& sharpness2, const T& cosine,
+                        const T& product_sharpness_value) {
+  const T c = clamp_cosine(cosine);
+  const T denom = product_sharpness_value + sharpness1 + sharpness2;
+  if (!(value_of(denom) > 0)) return T(0);
+  return T(-2) * sharpness1 * sharpness2 * (T(1) - c) / denom;
+}
+
+// Vector form. When λ3 = 0 (opposite axes of equal sharpness, or both sharpnesses 0) the product
+// is the constant e^{L}: its axis is undefined and ξ1 is returned with sharpness 0, which makes
+// G(ω; ξ1, 0) ≡ 1 — the right function whatever the axis.
+template <class T>
+SgProduct<T> sg_product(const Vec3<T>& axis1, const T& sharpness1, const Vec3<T>& axis2,
+                        const T& sharpness2) {
+  const Vec3<T> v = sharpness1 * axis1 + sharpness2 * axis2;
+  const T cosine = clamp_cosine(T(axis1.dot(axis2)));
+  // The stable scalar form of ‖v‖ (exact 0 for opposite axes of equal sharpness).
+  const T lambda3 = product_sharpness(sharpness1, sharpness2, cosine);
+  const T log_amplitude = product_log_amplitude(sharpness1, sharpness2, cosine, lambda3);
+  SgProduct<T> out;
+  const T vnorm = T(v.norm());
+  if (value_of(vnorm) > 0 && value_of(lambda3) > 0) {
+    out.axis = v / vnorm;
+  } else {
+    out.axis = axis1;
+  }
+  out.sharpness = lambda3;
+  out.log_amplitude = log_amplitude;
+  return out;
+}
+
+// Exact product integral (Tsai & Shih 2006): ∫ G1 G2 dω = 4π sinh(λ3)/(λ3 e^{λ1+λ2}) = e^{L}·A(λ3).
+// Neither sinh nor e^{λ1+λ2} is evaluated, so nothing overflows (they would for λ ≳ 350 in
+// double, ≳ 44 in float).
+template <class T>
+T product_integral_exact(const T& sharpness1, const T& sharpness2, const T& cosine) {
+  using std::exp;
+  const T lambda3 = product_sharpness(sharpness1, sharpness2, cosine);
+  const T log_amplitude = product_log_amplitude(sharpness1, sharpness2, cosine, lambda3);
+  return exp(log_amplitude) * sg_integral(lambda3);
+}
+
+// Iwasaki et al. 2012 (seed `lobe-aware-filtering`, Eq. C.1):
+// ∫ G1 G2 dω ≈ 2π G(ξ1; ξ2, λ1λ2/(λ1+λ2))/(λ1+λ2). Accurate when λ1 or λ2 is large; diverges as
+// λ1 + λ2 → 0 (as published: +Inf at λ1 = λ2 = 0).
+template <class T>
+T product_integral_iwasaki(const T& sharpness1, const T& sharpness2, const T& cosine) {
+  const T sum = sharpness1 + sharpness2;
+  if (!(value_of(sum) > 0)) return T(std::numeric_limits<value_type_t<T>>::infinity());
+  const T reduced = sharpness1 * sharpness2 / sum;
+  return two_pi<T>() * sg_eval_cos(cosine, reduced) / sum;
+}
+
+}  // namespace sglab

@@ -1,0 +1,88 @@
+// The registry glue: precision names, column validation, lookups, and the list of modules that
+// register quantities.
+#include "sglab/registry.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace sglab {
+
+std::string_view precision_name(Precision p) {
+  switch (p) {
+    case Precision::float32: return "float";
+    case Precision::float64: return "double";
+    case Precision::mp50: return "mp50";
+  }
+  return "?";
+}
+
+std::optional<Precision> parse_precision(std::string_view name) {
+  if (name == "float") return Precision::float32;
+  if (name == "double") return Precision::float64;
+  if (name == "mp50") return Precision::mp50;
+  return std::nullopt;
+}
+
+int round_trip_digits(Precision p) {
+  switch (p) {
+    case Precision::float32: return 9;   // FLT_DECIMAL_DIG
+    case Precision::float64: return 17;  // DBL_DECIMAL_DIG
+    case Precision::mp50: return 50;     // cpp_bin_float_50 carries 50 decimal digits
+  }
+  return 17;
+}
+
+const Method* Quantity::find(std::string_view method_name) const {
+  for (const auto& m : methods)
+    if (m.name == method_name) return &m;
+  return nullptr;
+}
+
+const std::vector<Quantity>& quantities() {
+  static const std::vector<Quantity> all = [] {
+    std::vector<Quantity> out;
+    register_core_quantities(out);
+    return out;
+  }();
+  return all;
+}
+
+const Quantity* find_quantity(std::string_view name) {
+  for (const auto& q : quantities())
+    if (q.name == name) return &q;
+  return nullptr;
+}
+
+std::optional<std::string> column_value_error(const Column& column, double v) {
+  auto fmt = [](double x) {
+    std::ostringstream s;
+    s.precision(17);
+    s << x;
+    return s.str();
+  };
+  if (!std::isfinite(v)) return "must be a finite number, got " + fmt(v);
+  switch (column.kind) {
+    case ColumnKind::sharpness:
+      if (v < 0) return "a sharpness must be >= 0, got " + fmt(v);
+      break;
+    case ColumnKind::cosine:
+      if (std::fabs(v) > 1 + kCosineSlack)
+        return "a cosine must lie in [-1, 1] (up to 1e-6 of rounding), got " + fmt(v);
+      break;
+    case ColumnKind::mean_length:
+    case ColumnKind::unit_interval:
+      if (v < 0 || v > 1) return "must lie in [0, 1], got " + fmt(v);
+      break;
+    case ColumnKind::positive:
+      if (!(v > 0)) return "must be > 0, got " + fmt(v);
+      break;
+    case ColumnKind::nonnegative:
+      if (v < 0) return "must be >= 0, got " + fmt(v);
+      break;
+    case ColumnKind::angle:
+      break;
+  }
+  return std::nullopt;
+}
+
+}  // namespace sglab
