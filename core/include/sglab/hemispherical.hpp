@@ -50,23 +50,30 @@ T meder_steepness(const T& sharpness, const T& p1 = T(MederLogistic::p1),
 }
 
 // The logistic interpolant s = (ab − 1)/((a − 1)(b + 1)) with a = e^t, b = e^{tc}, rewritten
-// with only non-positive exponents (a, b overflow for t ≳ 88 in float) and with expm1/x so that
-// t → 0 gives the limit (1 + c)/2 instead of 0/0:
-//   c ≥ 0:  s = (1 + c)·E(−t(1 + c)) / (E(−t)·(1 + e^{−tc}))
-//   c < 0:  s = e^{−t}(1 + c)·E(t(1 + c)) / (E(−t)·(1 + e^{tc}))
-// where E(x) = expm1(x)/x. Both follow from dividing numerator and denominator by ab (c ≥ 0) or
-// by a (c < 0).
+// with only non-positive exponents (a, b overflow for t ≳ 88 in float):
+//   c ≥ 0 (divide by ab):  s = (1 − e^{−t(1+c)}) / ((1 − e^{−t})(1 + e^{−tc}))
+//   c < 0 (divide by a):   s = (e^{tc} − e^{−t}) / ((1 − e^{−t})(1 + e^{tc}))
+// For t < 1 both numerator and denominator vanish with t, so they are written with
+// E(x) = expm1(x)/x and the common factor t cancelled analytically; t → 0 then gives the limit
+// (1 + c)/2 instead of 0/0. (For t ≥ 1 the E form would overflow: e^{−t}·E(t(1+c)) is 0·∞ at
+// large t.)
 template <class T>
 T meder_logistic(const T& steepness, const T& cosine) {
   using std::exp;
+  using std::expm1;
   const T c = clamp_cosine(cosine);
   const T& t = steepness;
-  const T den_common = expm1_over_x(-t);
-  if (value_of(c) >= 0) {
-    return (T(1) + c) * expm1_over_x(-t * (T(1) + c)) / (den_common * (T(1) + exp(-t * c)));
+  if (value_of(t) < 1) {
+    const T den = expm1_over_x(-t);
+    if (value_of(c) >= 0)
+      return (T(1) + c) * expm1_over_x(-t * (T(1) + c)) / (den * (T(1) + exp(-t * c)));
+    return exp(-t) * (T(1) + c) * expm1_over_x(t * (T(1) + c)) / (den * (T(1) + exp(t * c)));
   }
-  return exp(-t) * (T(1) + c) * expm1_over_x(t * (T(1) + c)) /
-         (den_common * (T(1) + exp(t * c)));
+  const T den = -expm1(-t);
+  if (value_of(c) >= 0) return -expm1(-t * (T(1) + c)) / (den * (T(1) + exp(-t * c)));
+  // e^{tc} − e^{−t} = e^{−t}·expm1(t(1 + c)) where t(1 + c) is small (no cancellation).
+  const T num = value_of(t * (T(1) + c)) < 1 ? T(exp(-t) * expm1(t * (T(1) + c))) : T(exp(t * c) - exp(-t));
+  return num / (den * (T(1) + exp(t * c)));
 }
 
 // H ≈ lower·(1 − s) + upper·s = upper·lerp(e^{−λ}, 1, s)  (Meder & Brüderlin 2018).

@@ -47,6 +47,11 @@ struct Column {
 template <class T>
 using MethodFn = std::function<T(std::span<const T>)>;
 
+// Evaluates rows × arity interleaved arguments into `out` (one value per row) in one call, so
+// that timing loops pay one indirect call per batch instead of one per evaluation.
+template <class T>
+using BatchFn = std::function<void(std::span<const T> args, std::size_t arity, std::span<T> out)>;
+
 struct Method {
   std::string name;
   std::string source;   // paper and equation
@@ -59,6 +64,8 @@ struct Method {
   MethodFn<float> eval_float;
   MethodFn<double> eval_double;
   MethodFn<mp50> eval_mp50;
+  BatchFn<float> batch_float;
+  BatchFn<double> batch_double;
 };
 
 struct Quantity {
@@ -85,6 +92,13 @@ void set_evaluators(Method& m, F f) {
   m.eval_float = [f](std::span<const float> a) { return f(a); };
   m.eval_double = [f](std::span<const double> a) { return f(a); };
   m.eval_mp50 = [f](std::span<const mp50> a) { return f(a); };
+  auto batch = [f](auto args, std::size_t arity, auto out) {
+    using T = typename decltype(out)::value_type;
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = f(std::span<const T>(args.data() + i * arity, arity));
+  };
+  m.batch_float = [batch](std::span<const float> a, std::size_t n, std::span<float> o) { batch(a, n, o); };
+  m.batch_double = [batch](std::span<const double> a, std::size_t n, std::span<double> o) { batch(a, n, o); };
 }
 
 // Registration hook for modules that add quantities (the glossy module, …). Each module defines
