@@ -1,0 +1,146 @@
+#include "csv.hpp"
+
+#include <algorithm>
+#include <istream>
+#include <iterator>
+#include <stdexcept>
+#include <string_view>
+
+#include <fmt/core.h>
+
+#include "commands.hpp"
+
+namespace sglab::cli {
+namespace {
+
+class Parser {
+ public:
+  Parser(std::string_view text, const std::string& source) : s_(text), source_(source) {}
+
+  bool at_end() const { return i_ >= s_.size(); }
+  std::size_t line() const { return line_; }
+
+  // One record, consuming its line end (LF, CRLF or a lone CR).
+  std::vector<std::string> record() {
+    std::vector<std::string> fields;
+    for (;;) {
+      fields.push_back(at(i_) == '"' ? quoted_field() : plain_field());
+      if (at(i_) == ',') {
+        ++i_;
+        continue;
+      }
+      if (at(i_) == '\r') ++i_;
+      if (at(i_) == '\n') ++i_;
+      ++line_;
+      return fields;
+    }
+  }
+
+ private:
+  // The character at j, or '\0' past the end (callers only compare it with ',', '"', CR, LF).
+  char at(std::size_t j) const { return j < s_.size() ? s_[j] : '\0'; }
+  bool ends_field(std::size_t j) const {
+    return j >= s_.size() || s_[j] == ',' || s_[j] == '\n' || s_[j] == '\r';
+  }
+
+  std::string plain_field() {
+    const std::size_t start = i_;
+    while (!ends_field(i_)) {
+      if (s_[i_] == '"')
+        throw UsageError(
+            fmt::format("{}: line {}: a double quote inside an unquoted field "
+                        "(quote the whole field and double the quote)",
+                        source_, line_));
+      ++i_;
+    }
+    return std::string(s_.substr(start, i_ - start));
+  }
+
+  std::string quoted_field() {
+    const std::size_t start_line = line_;
+    std::string field;
+    ++i_;  // opening quote
+    for (;;) {
+      if (at_end())
+        throw UsageError(
+            fmt::format("{}: line {}: quoted field is never closed", source_, start_line));
+      const char ch = s_[i_++];
+      if (ch == '"') {
+        if (at(i_) != '"') break;
+        ++i_;  // "" is one quote
+      } else if (ch == '\n') {
+        ++line_;
+      }
+      field += ch;
+    }
+    if (!ends_field(i_))
+      throw UsageError(
+          fmt::format("{}: line {}: text after the closing quote of a field", source_, line_));
+    return field;
+  }
+
+  std::string_view s_;
+  const std::string& source_;
+  std::size_t i_ = 0;
+  std::size_t line_ = 1;
+};
+
+bool needs_quotes(const std::string& field) {
+  return field.find_first_of(",\"\r\n") != std::string::npos;
+}
+
+}  // namespace
+
+std::size_t CsvTable::column(const std::string& name) const {
+  const auto it = std::find(header.begin(), header.end(), name);
+  return it == header.end() ? npos : static_cast<std::size_t>(it - header.begin());
+}
+
+CsvTable read_csv(std::istream& in, const std::string& source) {
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw std::runtime_error(source + ": read error");
+  std::string_view body = text;
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  if (body.starts_with(kBom)) body.remove_prefix(kBom.size());
+  if (body.empty()) throw UsageError(source + ": the input is empty; expected a CSV header line");
+
+  Parser parser(body, source);
+  CsvTable table;
+  table.header = parser.record();
+  for (std::size_t i = 0; i < table.header.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (table.header[i] == table.header[j])
+        throw UsageError(fmt::format("{}: line 1: column '{}' appears twice in the header", source,
+                                     table.header[i]));
+  while (!parser.at_end()) {
+    CsvRecord record;
+    record.line = parser.line();
+    record.fields = parser.record();
+    if (record.fields.size() != table.header.size())
+      throw UsageError(fmt::format("{}: row {} (line {}) has {} field{}, the header has {}", source,
+                                   table.rows.size() + 1, record.line, record.fields.size(),
+                                   record.fields.size() == 1 ? "" : "s", table.header.size()));
+    table.rows.push_back(std::move(record));
+  }
+  return table;
+}
+
+void append_csv_record(std::string& out, std::span<const std::string> fields) {
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (i > 0) out += ',';
+    const std::string& f = fields[i];
+    if (!needs_quotes(f)) {
+      out += f;
+      continue;
+    }
+    out += '"';
+    for (const char ch : f) {
+      if (ch == '"') out += '"';
+      out += ch;
+    }
+    out += '"';
+  }
+  out += '\n';
+}
+
+}  // namespace sglab::cli

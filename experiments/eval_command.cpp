@@ -1,0 +1,357 @@
+// `sglab eval` (issue 2, item 4): evaluates one method of one registered quantity on every row of
+// a CSV and appends a `value` column. Everything it knows about quantities, columns and methods
+// comes from the registry (sglab::quantities()), so a method added there is evaluable here with
+// no change to this file.
+//
+// Order of work, so that bad input never produces output: read the whole table, parse and
+// validate every row, evaluate every row, check every result, and only then write (through an
+// AtomicFile for --out, so an existing file is replaced whole or not at all).
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <ranges>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "atomic_file.hpp"
+#include "commands.hpp"
+#include "csv.hpp"
+#include "parse_number.hpp"
+#include "sglab/registry.hpp"
+
+namespace sglab::cli {
+namespace {
+
+constexpr std::array kPrecisions{Precision::float32, Precision::float64, Precision::mp50};
+
+// The column eval appends.
+const std::string kValueColumn = "value";
+
+struct EvalOptions {
+  std::string quantity;
+  std::string method;
+  std::string precision = "double";
+  std::string in;
+  std::string out;
+  bool list = false;
+  bool json = false;
+};
+
+std::vector<std::string> quantity_names() {
+  std::vector<std::string> names;
+  for (const auto& q : quantities()) names.push_back(q.name);
+  return names;
+}
+
+std::vector<std::string> method_names(const Quantity& q) {
+  std::vector<std::string> names;
+  for (const auto& m : q.methods) names.push_back(m.name);
+  return names;
+}
+
+std::vector<std::string> column_names(const Quantity& q) {
+  std::vector<std::string> names;
+  for (const auto& c : q.columns) names.push_back(c.name);
+  return names;
+}
+
+std::string_view column_kind_name(ColumnKind kind) {
+  switch (kind) {
+    case ColumnKind::sharpness:
+      return "sharpness";
+    case ColumnKind::cosine:
+      return "cosine";
+    case ColumnKind::mean_length:
+      return "mean_length";
+    case ColumnKind::positive:
+      return "positive";
+    case ColumnKind::nonnegative:
+      return "nonnegative";
+    case ColumnKind::angle:
+      return "angle";
+    case ColumnKind::unit_interval:
+      return "unit_interval";
+  }
+  return "?";
+}
+
+constexpr std::string_view kNegativeMark = "[CAN GO NEGATIVE: published form, kept as published]";
+
+void print_list_text() {
+  std::string out = fmt::format(
+      "Quantities for `sglab eval QUANTITY --method NAME`. The input CSV needs the listed columns "
+      "(found by name; other columns pass through). Precisions: {}.\n",
+      fmt::join(kPrecisions | std::views::transform(precision_name), ", "));
+  for (const auto& q : quantities()) {
+    out += fmt::format("\n{}\n  {}\n  columns:\n", q.name, q.description);
+    for (const auto& c : q.columns) out += fmt::format("    {:<12} {}\n", c.name, c.description);
+    out += q.reference_method.empty()
+               ? std::string("  methods:\n")
+               : fmt::format("  methods (reference: {}):\n", q.reference_method);
+    for (const auto& m : q.methods) {
+      out += fmt::format("    {}{}{}\n", m.name, m.may_be_negative ? "  " : "",
+                         m.may_be_negative ? kNegativeMark : "");
+      out += fmt::format("      source: {}\n", m.source);
+      if (!m.flaws.empty()) out += fmt::format("      flaws:  {}\n", m.flaws);
+    }
+  }
+  std::cout << out << std::flush;
+}
+
+void print_list_json() {
+  nlohmann::json j;
+  j["precisions"] = nlohmann::json::array();
+  for (const Precision p : kPrecisions)
+    j["precisions"].push_back({{"name", precision_name(p)}, {"digits", round_trip_digits(p)}});
+  j["quantities"] = nlohmann::json::array();
+  for (const auto& q : quantities()) {
+    nlohmann::json jq{{"name", q.name},
+                      {"description", q.description},
+                      {"reference_method", q.reference_method},
+                      {"columns", nlohmann::json::array()},
+                      {"methods", nlohmann::json::array()}};
+    for (const auto& c : q.columns)
+      jq["columns"].push_back(
+          {{"name", c.name}, {"kind", column_kind_name(c.kind)}, {"description", c.description}});
+    for (const auto& m : q.methods)
+      jq["methods"].push_back({{"name", m.name},
+                               {"source", m.source},
+                               {"flaws", m.flaws},
+                               {"may_be_negative", m.may_be_negative}});
+    j["quantities"].push_back(std::move(jq));
+  }
+  std::cout << j.dump(2) << '\n' << std::flush;
+}
+
+template <class T>
+const MethodFn<T>& evaluator(const Method& m) {
+  if constexpr (std::is_same_v<T, float>) {
+    return m.eval_float;
+  } else if constexpr (std::is_same_v<T, double>) {
+    return m.eval_double;
+  } else {
+    static_assert(std::is_same_v<T, mp50>);
+    return m.eval_mp50;
+  }
+}
+
+// Significant digits that read back to the same T (sglab::round_trip_digits).
+template <class T>
+std::string format_value(const T& v, int digits) {
+  if constexpr (std::is_same_v<T, mp50>) {
+    return v.str(digits);
+  } else {
+    return fmt::format("{:.{}g}", v, digits);
+  }
+}
+
+// "<source>: row R (line L)": the 1-based data row, and the input line it starts on.
+std::string row_location(const std::string& source, const CsvTable& table, std::size_t row) {
+  return fmt::format("{}: row {} (line {})", source, row + 1, table.rows[row].line);
+}
+
+// Evaluates `method` on every row; returns the formatted values, one per row.
+template <class T>
+std::vector<std::string> evaluate(const Quantity& q, const Method& method, Precision precision,
+                                  const CsvTable& table, const std::string& source) {
+  const MethodFn<T>& fn = evaluator<T>(method);
+  if (!fn)
+    throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry",
+                                       method.name, q.name, precision_name(precision)));
+
+  std::vector<std::size_t> index;
+  for (const auto& c : q.columns) {
+    const std::size_t i = table.column(c.name);
+    if (i == CsvTable::npos)
+      throw UsageError(fmt::format(
+          "{}: line 1 (header): missing column '{}'; quantity '{}' needs the columns {}, the "
+          "header has {}",
+          source, c.name, q.name, fmt::join(column_names(q), ", "), fmt::join(table.header, ", ")));
+    index.push_back(i);
+  }
+  if (table.column(kValueColumn) != CsvTable::npos)
+    throw UsageError(fmt::format(
+        "{}: line 1 (header): the input already has a column '{}', which eval appends; rename it",
+        source, kValueColumn));
+
+  // Parse and validate every row before evaluating any: bad input is reported as such, in row
+  // order, and never after some results were computed.
+  const std::size_t rows = table.rows.size();
+  const std::size_t k = q.columns.size();
+  std::vector<T> args(rows * k);
+  std::vector<double> checked(k);  // the values as validated: T's value, in double
+  for (std::size_t r = 0; r < rows; ++r) {
+    const auto& fields = table.rows[r].fields;
+    for (std::size_t j = 0; j < k; ++j) {
+      const std::string& text = fields[index[j]];
+      const auto where = [&] {
+        return fmt::format("{}, column '{}', value '{}'", row_location(source, table, r),
+                           q.columns[j].name, text);
+      };
+      try {
+        args[r * k + j] = parse_decimal<T>(text);
+      } catch (const NumberError& e) {
+        throw UsageError(fmt::format("{}: {}", where(), e.what()));
+      }
+      checked[j] = static_cast<double>(args[r * k + j]);
+      if (const auto error = column_value_error(q.columns[j], checked[j]))
+        throw UsageError(fmt::format("{}: {}", where(), *error));
+    }
+    if (method.domain_error) {
+      if (const auto error = method.domain_error(checked)) {
+        std::vector<std::string> values;
+        for (std::size_t j = 0; j < k; ++j)
+          values.push_back(fmt::format("{} '{}'", q.columns[j].name, fields[index[j]]));
+        throw UsageError(fmt::format("{}, {}: method '{}' of '{}': {}",
+                                     row_location(source, table, r), fmt::join(values, ", "),
+                                     method.name, q.name, *error));
+      }
+    }
+  }
+
+  // Rows are independent and the quadrature references are slow (up to about a second per row in
+  // mp50), so spread them over the cores. Failures are recorded per row and reported below in
+  // row order, so the message does not depend on scheduling.
+  std::vector<T> results(rows);
+  std::vector<std::optional<std::string>> failures(rows);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows), [&](const auto& range) {
+    for (std::size_t r = range.begin(); r != range.end(); ++r) {
+      try {
+        results[r] = fn(std::span<const T>(args.data() + r * k, k));
+      } catch (const std::exception& e) {
+        failures[r] = e.what();
+      }
+    }
+  });
+
+  const int digits = round_trip_digits(precision);
+  std::vector<std::string> formatted(rows);
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (failures[r])
+      throw std::runtime_error(fmt::format("{}: method '{}' of '{}' failed: {}",
+                                           row_location(source, table, r), method.name, q.name,
+                                           *failures[r]));
+    formatted[r] = format_value(results[r], digits);
+    // Never print a NaN or an infinity as if it were a result (SPEC.md §10).
+    if (!is_finite_value(results[r]))
+      throw std::runtime_error(
+          fmt::format("{}: method '{}' of '{}' in {} returned {}, not a finite number",
+                      row_location(source, table, r), method.name, q.name,
+                      precision_name(precision), formatted[r]));
+  }
+  return formatted;
+}
+
+CsvTable read_input(const std::string& path) {
+  if (path.empty()) return read_csv(std::cin, "<stdin>");
+  // An ifstream opens a directory without complaint and fails only when reading it.
+  if (std::filesystem::is_directory(path))
+    throw UsageError(fmt::format("the input '{}' is a directory, not a CSV file", path));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UsageError(fmt::format("cannot open the input file '{}'", path));
+  return read_csv(in, path);
+}
+
+void write_output(const std::string& path, const std::string& text) {
+  if (path.empty()) {
+    std::cout << text << std::flush;
+    if (!std::cout) throw std::runtime_error("cannot write to standard output");
+    return;
+  }
+  AtomicFile file(path);
+  file.write(text);
+  file.commit();
+}
+
+void run_eval(const EvalOptions& o) {
+  if (o.list) {
+    o.json ? print_list_json() : print_list_text();
+    return;
+  }
+  if (o.quantity.empty())
+    throw UsageError(fmt::format("eval needs a QUANTITY, one of: {} (see `sglab eval --list`)",
+                                 fmt::join(quantity_names(), ", ")));
+  const Quantity* q = find_quantity(o.quantity);
+  if (!q)
+    throw UsageError(fmt::format("unknown quantity '{}'; valid quantities: {}", o.quantity,
+                                 fmt::join(quantity_names(), ", ")));
+  if (o.method.empty())
+    throw UsageError(fmt::format("eval {} needs --method, one of: {}", q->name,
+                                 fmt::join(method_names(*q), ", ")));
+  const Method* m = q->find(o.method);
+  if (!m)
+    throw UsageError(fmt::format("unknown method '{}' for quantity '{}'; valid methods: {}",
+                                 o.method, q->name, fmt::join(method_names(*q), ", ")));
+  const auto precision = parse_precision(o.precision);
+  if (!precision)
+    throw UsageError(
+        fmt::format("unknown precision '{}'; valid precisions: {}", o.precision,
+                    fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
+
+  const CsvTable table = read_input(o.in);
+  const std::string source = o.in.empty() ? "<stdin>" : o.in;
+  std::vector<std::string> values;
+  switch (*precision) {
+    case Precision::float32:
+      values = evaluate<float>(*q, *m, *precision, table, source);
+      break;
+    case Precision::float64:
+      values = evaluate<double>(*q, *m, *precision, table, source);
+      break;
+    case Precision::mp50:
+      values = evaluate<mp50>(*q, *m, *precision, table, source);
+      break;
+  }
+
+  std::vector<std::string> header = table.header;
+  header.push_back(kValueColumn);
+  std::string text;
+  append_csv_record(text, header);
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    std::vector<std::string> fields = table.rows[r].fields;
+    fields.push_back(std::move(values[r]));
+    append_csv_record(text, fields);
+  }
+  write_output(o.out, text);
+}
+
+}  // namespace
+
+void add_eval_command(CLI::App& app) {
+  auto o = std::make_shared<EvalOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "eval", "Evaluate a method of a quantity on every row of a CSV; appends a 'value' column");
+  auto* quantity = cmd->add_option("quantity", o->quantity, "Quantity to evaluate (see --list)");
+  auto* method = cmd->add_option("--method,-m", o->method, "Method of the quantity (see --list)");
+  auto* precision = cmd->add_option("--precision,-p", o->precision,
+                                    "float, double or mp50 (50 decimal digits); values are printed "
+                                    "with 9, 17 or 50 significant digits")
+                        ->capture_default_str();
+  auto* in = cmd->add_option("--in,-i", o->in, "Input CSV with a header (default: standard input)");
+  auto* out = cmd->add_option("--out,-o", o->out,
+                              "Output CSV (default: standard output); written only if every row "
+                              "succeeds, and replaced atomically");
+  auto* list = cmd->add_flag("--list", o->list,
+                             "List every quantity with its columns and methods (source, flaws)");
+  cmd->add_flag("--json", o->json, "With --list: print the list as JSON")->needs(list);
+  list->excludes(quantity)->excludes(method)->excludes(precision)->excludes(in)->excludes(out);
+  cmd->footer(
+      "Exit status: 0 on success; 2 for bad input (unknown quantity, method or precision, a "
+      "missing column, a field that is not a finite number, a value outside its column's or the "
+      "method's domain), naming the row, column and value; 1 if a method fails or returns NaN or "
+      "infinity, or on an I/O error. On any error no output file is written.");
+  cmd->callback([o] { run_eval(*o); });
+}
+
+}  // namespace sglab::cli
