@@ -155,15 +155,32 @@ T tokuyoshi2022_alpha(const T& lambda) {
   return lambda / (T(2) * (expm1(lambda) - lambda));
 }
 
+// λc and α(λc) at T's precision: the published double values for float/double/Jet (no
+// per-call parsing or series), recomputed from λc's 20 published digits for mp50.
 template <class T>
-T clamped_cosine_tokuyoshi2022(const T& sharpness, const T& cosine,
-                               const T& lambda_c = from_string<T>(Tokuyoshi2022Cosine::lambda_digits)) {
-  const T alpha = tokuyoshi2022_alpha(lambda_c);
+T tokuyoshi2022_lambda_c() {
+  if constexpr (is_mp_v<T>) return from_string<T>(Tokuyoshi2022Cosine::lambda_digits);
+  else return T(Tokuyoshi2022Cosine::lambda);
+}
+template <class T>
+T tokuyoshi2022_alpha_c() {
+  if constexpr (is_mp_v<T>) return tokuyoshi2022_alpha(tokuyoshi2022_lambda_c<T>());
+  else return T(Tokuyoshi2022Cosine::alpha);
+}
+
+// The method with a given cosine sharpness λc (and α = α(λc)); the fitter varies λc.
+template <class T>
+T clamped_cosine_tokuyoshi2022_with(const T& sharpness, const T& cosine, const T& lambda_c, const T& alpha) {
   auto hemi = [](const T& l, const T& c) { return hemispherical_tokuyoshi2022(l, c); };
   // e^{λc}·G(ω;ξ,λ)G(ω;n,λc) = e^{λc + L} G(ω; ξ3, λ3)
   const T term1 = hemispherical_product(sharpness, cosine, lambda_c, lambda_c, hemi);
   const T term0 = hemispherical_tokuyoshi2022(sharpness, clamp_cosine(cosine));
   return positive_part(alpha * (term1 - term0));
+}
+
+template <class T>
+T clamped_cosine_tokuyoshi2022(const T& sharpness, const T& cosine) {
+  return clamped_cosine_tokuyoshi2022_with(sharpness, cosine, tokuyoshi2022_lambda_c<T>(), tokuyoshi2022_alpha_c<T>());
 }
 
 // ---- tokuyoshi2024 ----------------------------------------------------------------------------
@@ -190,16 +207,21 @@ T tokuyoshi2024_t(const T& sharpness, const T& A = T(Tokuyoshi2024T::A),
 // f(t, c) = ½(c·erfc(−tc) + erfc(t)) − e^{−t²c²}·expm1(t²(c² − 1))/(2√π t), clamped to [0, 1].
 // The last term is rewritten as t(c² − 1)·E(t²(c² − 1)) with E(x) = expm1(x)/x, so t → 0 gives
 // the limit (1 + c)/2 instead of 0/0.
+// Unclamped, so a fitter keeps a derivative where a trial parameter pushes f outside [0, 1].
 template <class T>
-T tokuyoshi2024_factor(const T& t, const T& cosine) {
+T tokuyoshi2024_factor_unclamped(const T& t, const T& cosine) {
   using std::erfc;
   using std::exp;
   using std::sqrt;
   const T c = clamp_cosine(cosine);
   const T q = t * t * (c * c - T(1));
   const T tail = exp(-t * t * c * c) * t * (c * c - T(1)) * expm1_over_x(q) / (T(2) * sqrt(pi<T>()));
-  const T f = T(0.5) * (c * erfc(-t * c) + erfc(t)) - tail;
-  return clamp(f, T(0), T(1));
+  return T(0.5) * (c * erfc(-t * c) + erfc(t)) - tail;
+}
+
+template <class T>
+T tokuyoshi2024_factor(const T& t, const T& cosine) {
+  return clamp(tokuyoshi2024_factor_unclamped(t, cosine), T(0), T(1));
 }
 
 // D at c = 1 divided by 2π: (1 − (1 − e^{−λ})/λ)/λ = Σ_{n≥1} (−1)^{n+1} λ^{n−1}/(n+1)!

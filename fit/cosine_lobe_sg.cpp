@@ -1,0 +1,77 @@
+// cosine-lobe-sg: amplitude a and sharpness λ of a·G(ω; n, λ) ≈ ⟨ω·n⟩ (Pettineo 2016, SG series
+// part 3: a = 1.17, λ = 2.133; objective not stated there).
+// Objectives:
+//   l2-sphere (default): ∫_{S²} (a G − ⟨ω·n⟩)² dω = 2π∫_{−1}^{1} (a e^{λ(t−1)} − ⟨t⟩)² dt
+//   l2-theta:            ∫_0^π (a e^{λ(cos θ−1)} − ⟨cos θ⟩)² dθ
+//   l2-hemisphere:       2π∫_0^1 (…)² dt
+// Grid: Gauss–Legendre, panels split at the kink t = 0 (θ = π/2), 4 sub-panels × 20 nodes each.
+#include <algorithm>
+#include <cmath>
+
+#include "fits.hpp"
+#include "sglab/sg.hpp"
+
+namespace sglab::fit {
+namespace {
+
+constexpr double kAmplitude = 1.17;  // Pettineo 2016
+constexpr double kSharpness = 2.133;  // Pettineo 2016
+constexpr double kPi = 3.141592653589793;  // π (%.17g: 3.1415926535897931)
+
+struct Model {
+  std::vector<double> t;
+  template <class T>
+  T operator()(const T* p, std::size_t i) const {
+    return p[0] * sg_eval_cos(T(t[i]), p[1]);
+  }
+};
+using Residual = GridResidual<Model>;
+
+Residual problem(const std::string& objective) {
+  Residual f;
+  const bool theta = objective == "l2-theta";
+  const Quadrature q = theta ? gauss_legendre({0.0, kPi / 2, kPi}, 4)
+                       : objective == "l2-hemisphere" ? gauss_legendre({0.0, 1.0}, 4)
+                                                      : gauss_legendre({-1.0, 0.0, 1.0}, 4);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const double t = theta ? std::cos(q.x[i]) : q.x[i];
+    f.model.t.push_back(t);
+    f.sqrt_w.push_back(std::sqrt(theta ? q.w[i] : 2 * kPi * q.w[i]));
+    f.target.push_back(std::max(t, 0.0));
+  }
+  return f;
+}
+
+FitResult solve(const std::string& objective, const Residual& f) {
+  FitSpec spec;
+  spec.fit = "cosine-lobe-sg";
+  spec.objective = objective == "l2-theta"        ? "l2-theta: int_0^pi (a G - <cos>)^2 dtheta"
+                   : objective == "l2-hemisphere" ? "l2-hemisphere: int_{w.n>0} (a G - w.n)^2 dw"
+                                                  : "l2-sphere: int_{S^2} (a G - <w.n>)^2 dw";
+  spec.domain = objective == "l2-hemisphere" ? "upper hemisphere" : "whole sphere (split at theta = pi/2)";
+  spec.source = "Pettineo 2016, SG series part 3";
+  spec.names = {"amplitude", "sharpness"};
+  spec.published = {kAmplitude, kSharpness};
+  spec.lower = {1e-6, 1e-6};
+  spec.upper = {100.0, 100.0};
+  spec.starts = {{1.0, 2.0}, {0.5, 0.5}, {3.0, 8.0}};
+  return run_least_squares(spec, [&] { return make_autodiff<2>(f, f.size()); });
+}
+
+}  // namespace
+
+Fitter cosine_lobe_sg_fitter() {
+  Fitter f;
+  f.name = "cosine-lobe-sg";
+  f.description = "amplitude and sharpness of the cosine lobe as an SG";
+  f.objectives = {"l2-sphere", "l2-theta", "l2-hemisphere"};
+  f.run = [](const FitOptions& o) { return solve(o.objective, problem(o.objective)); };
+  f.synthetic = [](const std::vector<double>& truth) {
+    auto p = problem("l2-sphere");
+    p.synthesize(truth);
+    return solve("l2-sphere", p);
+  };
+  return f;
+}
+
+}  // namespace sglab::fit

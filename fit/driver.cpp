@@ -1,0 +1,215 @@
+#include "driver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+
+#include <boost/math/quadrature/gauss.hpp>
+#include <ceres/gradient_problem.h>
+#include <ceres/gradient_problem_solver.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+
+namespace sglab::fit {
+
+Quadrature gauss_legendre(const std::vector<double>& breaks, int subdivisions) {
+  using Rule = boost::math::quadrature::gauss<double, kGaussOrder>;
+  // Boost stores the non-negative abscissas of [−1, 1] (x = 0 first when the order is odd) with
+  // their weights; the rule is symmetric.
+  const auto& abscissa = Rule::abscissa();
+  const auto& weights = Rule::weights();
+  Quadrature q;
+  for (std::size_t p = 0; p + 1 < breaks.size(); ++p) {
+    const double a0 = breaks[p], b0 = breaks[p + 1];
+    for (int s = 0; s < subdivisions; ++s) {
+      const double a = a0 + (b0 - a0) * s / subdivisions;
+      const double b = a0 + (b0 - a0) * (s + 1) / subdivisions;
+      const double mid = 0.5 * (a + b), half = 0.5 * (b - a);
+      for (std::size_t i = 0; i < abscissa.size(); ++i) {
+        if (abscissa[i] == 0) {
+          q.x.push_back(mid);
+          q.w.push_back(half * weights[i]);
+          continue;
+        }
+        q.x.push_back(mid - half * abscissa[i]);
+        q.w.push_back(half * weights[i]);
+        q.x.push_back(mid + half * abscissa[i]);
+        q.w.push_back(half * weights[i]);
+      }
+    }
+  }
+  return q;
+}
+
+std::vector<double> log_spaced(double lo, double hi, int n) {
+  std::vector<double> out(n);
+  for (int i = 0; i < n; ++i) {
+    out[i] = n == 1 ? lo : std::exp(std::log(lo) + (std::log(hi) - std::log(lo)) * i / (n - 1));
+  }
+  return out;
+}
+
+double correct_digits(double value, double published) {
+  if (!std::isfinite(published) || published == 0) return std::numeric_limits<double>::quiet_NaN();
+  const double rel = std::abs((value - published) / published);
+  if (rel == 0) return 17;
+  return std::clamp(-std::log10(rel), 0.0, 17.0);
+}
+
+double sigma_n2(double lambda_c, double beta, double kappa) {
+  return (2 * lambda_c + kappa) / (beta * lambda_c * kappa);
+}
+
+double unit_roundoff(const std::string& precision) {
+  if (precision == "half") return std::ldexp(1.0, -11);
+  if (precision == "float") return std::ldexp(1.0, -24);
+  if (precision == "double") return std::ldexp(1.0, -53);
+  throw std::invalid_argument("unknown precision '" + precision + "' (half, float, double)");
+}
+
+namespace {
+
+void finish(const FitSpec& spec, const std::vector<double>& x, FitResult& r) {
+  r.fit = spec.fit;
+  r.objective = spec.objective;
+  r.domain = spec.domain;
+  r.source = spec.source;
+  r.parameters.clear();
+  r.published.clear();
+  r.relative_difference.clear();
+  auto add = [&](const std::string& name, double value, double published) {
+    r.parameters.push_back({name, value});
+    r.published.push_back({name, published});
+    r.relative_difference.push_back({name, (value - published) / published});
+  };
+  for (std::size_t i = 0; i < x.size(); ++i) add(spec.names[i], x[i], spec.published[i]);
+  if (spec.derived) {
+    for (const auto& [nv, pub] : spec.derived(x)) add(nv.name, nv.value, pub);
+  }
+}
+
+bool converged_termination(ceres::TerminationType t) { return t == ceres::CONVERGENCE; }
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+FitResult run_least_squares(const FitSpec& spec,
+                            const std::function<ceres::CostFunction*()>& make_cost) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t k = spec.names.size();
+  FitResult best;
+  bool have = false;
+  std::vector<double> best_x;
+  for (const auto& start : spec.starts) {
+    std::vector<double> x = start;
+    ceres::Problem problem;
+    problem.AddResidualBlock(make_cost(), nullptr, x.data());
+    for (std::size_t i = 0; i < k; ++i) {
+      if (std::isfinite(spec.lower[i])) problem.SetParameterLowerBound(x.data(), i, spec.lower[i]);
+      if (std::isfinite(spec.upper[i])) problem.SetParameterUpperBound(x.data(), i, spec.upper[i]);
+    }
+    ceres::Solver::Options options;
+    options.linear_solver_type = ceres::DENSE_QR;
+    options.max_num_iterations = 500;
+    // Tight tolerances: the point is to reproduce published digits, not to stop early.
+    // Stop on the gradient/step, not on the cost: near a non-zero-residual minimum the cost is
+    // flat (δcost ~ δx²), so a cost tolerance stops ~√tol early in the parameters.
+    options.function_tolerance = 1e-30;
+    options.gradient_tolerance = 1e-16;
+    options.parameter_tolerance = 1e-15;
+    options.logging_type = ceres::SILENT;
+    options.num_threads = 1;
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    if (!summary.IsSolutionUsable()) continue;
+    const bool conv = converged_termination(summary.termination_type);
+    // Prefer converged solutions; among those (or among none), the lowest cost.
+    const bool better = !have || (conv && !best.converged) ||
+                        (conv == best.converged && summary.final_cost < best.final_cost);
+    if (better) {
+      have = true;
+      best_x = x;
+      best.final_cost = summary.final_cost;
+      best.iterations = static_cast<int>(summary.iterations.size()) - 1;
+      best.converged = conv;
+    }
+  }
+  if (!have) throw std::runtime_error(spec.fit + ": no start gave a usable Ceres solution");
+  best.seconds = seconds_since(t0);
+  finish(spec, best_x, best);
+  return best;
+}
+
+FitResult run_scalar_fit(const FitSpec& spec,
+                         const std::function<ceres::FirstOrderFunction*()>& make_function) {
+  const auto t0 = std::chrono::steady_clock::now();
+  FitResult best;
+  bool have = false;
+  std::vector<double> best_x;
+  for (const auto& start : spec.starts) {
+    std::vector<double> u(start.size());
+    for (std::size_t i = 0; i < u.size(); ++i) u[i] = std::log(start[i]);
+    ceres::GradientProblem problem(make_function());
+    ceres::GradientProblemSolver::Options options;
+    options.line_search_direction_type = ceres::BFGS;
+    options.max_num_iterations = 500;
+    options.function_tolerance = 1e-16;
+    options.gradient_tolerance = 1e-20;
+    options.parameter_tolerance = 1e-16;
+    options.logging_type = ceres::SILENT;
+    ceres::GradientProblemSolver::Summary summary;
+    ceres::Solve(options, problem, u.data(), &summary);
+    if (!summary.IsSolutionUsable()) continue;
+    const bool conv = converged_termination(summary.termination_type);
+    const bool better = !have || (conv && !best.converged) ||
+                        (conv == best.converged && summary.final_cost < best.final_cost);
+    if (better) {
+      have = true;
+      best_x.resize(u.size());
+      for (std::size_t i = 0; i < u.size(); ++i) best_x[i] = std::exp(u[i]);
+      best.final_cost = summary.final_cost;
+      best.iterations = static_cast<int>(summary.iterations.size()) - 1;
+      best.converged = conv;
+    }
+  }
+  if (!have) throw std::runtime_error(spec.fit + ": no start gave a usable Ceres solution");
+  best.seconds = seconds_since(t0);
+  finish(spec, best_x, best);
+  return best;
+}
+
+const std::vector<Fitter>& fitters() {
+  static const std::vector<Fitter> all = {
+      lambda_d_fitter(),        lambda_c_fitter(),
+      cosine_sharpness_fitter(), cosine_sg_fitter(),
+      meder_logistic_fitter(),  tokuyoshi2022_steepness_fitter(),
+      tokuyoshi2024_t_fitter(), hill_irradiance_fitter(),
+      cosine_lobe_sg_fitter(),
+  };
+  return all;
+}
+
+const Fitter* find_fitter(const std::string& name) {
+  for (const auto& f : fitters()) {
+    if (f.name == name) return &f;
+  }
+  return nullptr;
+}
+
+std::string choose_objective(const Fitter& f, const std::string& requested) {
+  if (requested.empty()) return f.objectives.front();
+  if (std::find(f.objectives.begin(), f.objectives.end(), requested) != f.objectives.end()) {
+    return requested;
+  }
+  std::string offered;
+  for (const auto& o : f.objectives) offered += (offered.empty() ? "" : ", ") + o;
+  throw std::invalid_argument("fit " + f.name + ": unknown objective '" + requested +
+                              "' (offered: " + offered + ")");
+}
+
+}  // namespace sglab::fit

@@ -1,0 +1,192 @@
+// The shared fitting driver (issue 3): every published constant of SPEC.md §9 is re-derived by a
+// Ceres fit set up here from one residual functor per fit.
+//
+// A fitter describes its problem as a FitSpec (parameter names, published values, bounds, starts)
+// plus a factory for its cost function. Residuals are r_i = √w_i·(model_i − target_i) on a fixed,
+// deterministic Gauss–Legendre grid, so Ceres's cost ½Σr_i² is ½ × the quadrature of the squared
+// error. Derivatives are automatic (ceres::Jet through the core templates), never finite
+// differences. The driver runs Levenberg–Marquardt from every listed start, keeps the best usable
+// solution (Solver::Summary::IsSolutionUsable and a converged termination type), times it and
+// returns a FitResult whose fields are exactly the JSON record of issue 3.
+//
+// One-parameter fits whose objective is a sum of positive terms that never reaches zero (the
+// cosine sharpness: approximation error + rounding bound) are not least-squares problems:
+// Gauss–Newton's J^T J is then only half the true Hessian of a power-law term, so LM crawls.
+// Those use run_scalar_fit: Ceres's GradientProblemSolver (BFGS with a Wolfe line search) on an
+// AutoDiffFirstOrderFunction, in log-parameters so that positivity needs no bounds.
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/autodiff_first_order_function.h>
+#include <ceres/cost_function.h>
+#include <ceres/first_order_function.h>
+
+namespace sglab::fit {
+
+// ---- quadrature ----------------------------------------------------------------------------
+
+// Nodes and weights of a composite rule: ∫_a^b f ≈ Σ w_i f(x_i).
+struct Quadrature {
+  std::vector<double> x;
+  std::vector<double> w;
+  std::size_t size() const { return x.size(); }
+};
+
+// Gauss–Legendre with kGaussOrder nodes per panel (boost::math::quadrature::gauss), on the panels
+// between consecutive `breaks`, each split into `subdivisions` equal sub-panels. Breaks sit at
+// kinks (θ = π/2, t = 0), so each panel's integrand is smooth and the rule converges
+// exponentially.
+inline constexpr int kGaussOrder = 20;
+Quadrature gauss_legendre(const std::vector<double>& breaks, int subdivisions);
+
+// n values log-spaced from lo to hi inclusive (the sharpness axis of the 2D fits).
+std::vector<double> log_spaced(double lo, double hi, int n);
+
+// ---- fit description and result ---------------------------------------------------------
+
+struct NamedValue {
+  std::string name;
+  double value;
+};
+
+struct FitResult {
+  std::string fit;
+  std::string objective;
+  std::string domain;
+  std::vector<NamedValue> parameters;   // fitted, then derived (σ_n², α)
+  std::vector<NamedValue> published;    // same names; NaN where nothing is published
+  std::vector<NamedValue> relative_difference;  // (value − published)/published
+  double final_cost = 0;  // Ceres cost: ½Σr² (least squares) or the scalar objective
+  int iterations = 0;     // of the chosen start
+  bool converged = false;
+  double seconds = 0;     // wall time of this fit (all starts), excluding target set-up
+  // Extra findings printed on the console and in the notes of the tables (objective scans,
+  // trajectories, cross-checks). Not part of the JSON record.
+  std::vector<std::string> notes;
+  std::string source;  // where the published values come from
+};
+
+// −log10|rel diff| (the "LRE" of Ceres's examples/nist.cc), capped at 17; 0 when no digit agrees.
+double correct_digits(double value, double published);
+
+struct FitSpec {
+  std::string fit;
+  std::string objective;
+  std::string domain;
+  std::string source;
+  std::vector<std::string> names;
+  std::vector<double> published;
+  std::vector<double> lower;  // −∞/∞ for none
+  std::vector<double> upper;
+  std::vector<std::vector<double>> starts;
+  // Extra (name, value, published) rows computed from the fitted parameters (σ_n², α).
+  std::function<std::vector<std::pair<NamedValue, double>>(const std::vector<double>&)> derived;
+};
+
+// Least squares: one cost function (fresh per start, Ceres takes ownership) over all parameters
+// as a single block.
+FitResult run_least_squares(const FitSpec& spec,
+                            const std::function<ceres::CostFunction*()>& make_cost);
+
+// Scalar minimization in u = log(parameter) (all parameters positive): make_function returns a
+// FirstOrderFunction of u.
+FitResult run_scalar_fit(const FitSpec& spec,
+                         const std::function<ceres::FirstOrderFunction*()>& make_function);
+
+// ---- helpers for fit files -----------------------------------------------------------------
+
+// A residual functor with a runtime residual count, K parameters in one block.
+template <int K, class Functor>
+ceres::CostFunction* make_autodiff(const Functor& f, int num_residuals) {
+  return new ceres::AutoDiffCostFunction<Functor, ceres::DYNAMIC, K>(new Functor(f),
+                                                                    num_residuals);
+}
+
+// A scalar functor `template <class T> bool operator()(const T* u, T* cost)` of K log-parameters.
+template <int K, class Functor>
+ceres::FirstOrderFunction* make_autodiff_scalar(const Functor& f) {
+  return new ceres::AutoDiffFirstOrderFunction<Functor, K>(new Functor(f));
+}
+
+// Residuals r_i = √w_i·(model(p, i) − target_i) of a Model with
+// `template <class T> T operator()(const T* p, std::size_t i) const` (node i of the grid).
+template <class Model>
+struct GridResidual {
+  Model model;
+  std::vector<double> sqrt_w;
+  std::vector<double> target;  // precomputed once per grid from core's exact references
+  template <class T>
+  bool operator()(const T* p, T* r) const {
+    for (std::size_t i = 0; i < target.size(); ++i) {
+      r[i] = T(sqrt_w[i]) * (model(p, i) - T(target[i]));
+    }
+    return true;
+  }
+  int size() const { return static_cast<int>(target.size()); }
+  // Σ w_i (model − target)² = 2 × Ceres's cost.
+  double squared_error(const double* p) const {
+    double s = 0;
+    for (std::size_t i = 0; i < target.size(); ++i) {
+      const double r = sqrt_w[i] * (model(p, i) - target[i]);
+      s += r * r;
+    }
+    return s;
+  }
+  // Replace the targets by the model's own values at `truth` (synthetic recovery tests).
+  void synthesize(const std::vector<double>& truth) {
+    for (std::size_t i = 0; i < target.size(); ++i) target[i] = model(truth.data(), i);
+  }
+};
+
+// ---- registry ------------------------------------------------------------------------------
+
+struct FitOptions {
+  std::string objective;  // "" = the fitter's default (its first objective)
+  std::string precision = "float";  // cosine-sharpness, cosine-sg numerical-error terms
+  double beta = 20;                 // lambda-c: σ_n² = (2λ_c + κ)/(βλ_cκ)
+  double kappa = 100;
+};
+
+struct Fitter {
+  std::string name;
+  std::string description;
+  std::vector<std::string> objectives;  // the first is the default
+  std::function<FitResult(const FitOptions&)> run;  // options.objective already validated
+  // The default objective's fit against targets generated by the model itself at `truth` (the
+  // recovery tests); empty for fits whose objective is not a misfit (cosine-sharpness).
+  std::function<FitResult(const std::vector<double>& truth)> synthetic;
+};
+
+// Every fitter, in the order of SPEC.md §9.
+const std::vector<Fitter>& fitters();
+const Fitter* find_fitter(const std::string& name);
+
+// Registration functions, one per fit file.
+Fitter lambda_d_fitter();
+Fitter lambda_c_fitter();
+Fitter cosine_sharpness_fitter();
+Fitter cosine_sg_fitter();
+Fitter meder_logistic_fitter();
+Fitter tokuyoshi2022_steepness_fitter();
+Fitter tokuyoshi2024_t_fitter();
+Fitter hill_irradiance_fitter();
+Fitter cosine_lobe_sg_fitter();
+
+// Throws std::invalid_argument naming the offered objectives when `requested` is not one.
+std::string choose_objective(const Fitter& f, const std::string& requested);
+
+// Published σ_n² relation (seed `lobe-aware-filtering` App. D): σ_n² = (2λ_c + κ)/(βλ_cκ).
+double sigma_n2(double lambda_c, double beta, double kappa);
+
+// Float precision names → unit roundoff u = 2^-p (p = significand bits incl. the implicit one):
+// half 2^-11, float 2^-24, double 2^-53.
+double unit_roundoff(const std::string& precision);
+
+}  // namespace sglab::fit

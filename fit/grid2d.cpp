@@ -1,0 +1,45 @@
+#include "grid2d.hpp"
+
+#include <cmath>
+
+#include "driver.hpp"
+#include "sglab/clamped_cosine.hpp"
+#include "sglab/hemispherical.hpp"
+#include "sglab/reference.hpp"
+
+namespace sglab::fit {
+
+LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_lambda,
+                                    int c_subdivisions) {
+  const std::vector<double> ls = log_spaced(lambda_min, lambda_max, n_lambda);
+  const Quadrature qc = gauss_legendre({-1.0, 0.0, 1.0}, c_subdivisions);
+  LambdaCosineGrid g;
+  for (double l : ls) {
+    for (std::size_t i = 0; i < qc.size(); ++i) {
+      g.lambda.push_back(l);
+      g.cosine.push_back(qc.x[i]);
+      g.sqrt_w.push_back(std::sqrt(qc.w[i] / n_lambda));
+    }
+  }
+  return g;
+}
+
+std::vector<double> hemispherical_targets(const LambdaCosineGrid& g) {
+  std::vector<double> out(g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    out[i] = hemispherical_reference<double>(g.lambda[i], g.cosine[i]) /
+             hemispherical_upper<double>(g.lambda[i]);
+  }
+  return out;
+}
+
+std::vector<double> clamped_cosine_targets(const LambdaCosineGrid& g) {
+  std::vector<double> out(g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    out[i] = clamped_cosine_reference<double>(g.lambda[i], g.cosine[i]) /
+             (2 * 3.141592653589793 * clamped_cosine_upper_over_2pi<double>(g.lambda[i]));
+  }
+  return out;
+}
+
+}  // namespace sglab::fit

@@ -1,0 +1,26 @@
+// The (λ, c) grid shared by the fits of hemispherical and clamped-cosine approximations: λ
+// log-spaced (every decade weighted alike), c on Gauss–Legendre nodes with panels [−1, 0] and
+// [0, 1] (the factor's steepest point is c = 0). Weight of node (λ_j, c_i): w_i/n_λ, so the cost is
+// ½ × the mean over log λ of ∫_{−1}^{1} (misfit)² dc. Targets come from core's exact references,
+// computed once per grid.
+#pragma once
+
+#include <vector>
+
+namespace sglab::fit {
+
+struct LambdaCosineGrid {
+  std::vector<double> lambda, cosine, sqrt_w;
+  std::size_t size() const { return lambda.size(); }
+};
+
+LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_lambda,
+                                    int c_subdivisions);
+
+// H_ref(λ, c)/H(λ, 1): the exact hemispherical integral normalized by its upper bound
+// 2π(1 − e^{−λ})/λ (a fraction in [e^{−λ}, 1]).
+std::vector<double> hemispherical_targets(const LambdaCosineGrid& g);
+// D_ref(λ, c)/D(λ, 1): the exact clamped-cosine integral normalized by its value at c = 1.
+std::vector<double> clamped_cosine_targets(const LambdaCosineGrid& g);
+
+}  // namespace sglab::fit

@@ -1,0 +1,70 @@
+// meder-logistic: p1…p4 of Meder & Brüderlin 2018's logistic steepness
+//   t(λ) = √λ (p1λ² + p2λ)/(λ² + p3λ + p4)   (published 1.6988, 10.8438, 6.2201, 10.2415)
+// in H ≈ upper(λ)·lerp(e^{−λ}, 1, s(t, c)), fitted against the exact hemispherical integral
+// (core hemispherical_reference). Objective: ½ mean over log λ of ∫_{−1}^{1} (H/upper − H_ref/upper)² dc
+// (misfit of the normalized integral, which lies in [e^{−λ}, 1]); the paper's objective and
+// λ range are not given in SPEC.md. Domain: λ ∈ [0.01, 1000], 25 log-spaced values; c on
+// Gauss–Legendre nodes, panels [−1, 0], [0, 1], 2 sub-panels × 20 nodes (2000 residuals).
+#include "fits.hpp"
+#include "grid2d.hpp"
+#include "sglab/hemispherical.hpp"
+
+namespace sglab::fit {
+namespace {
+
+// Meder & Brüderlin 2018 (4 decimals as published).
+constexpr double kP1 = 1.6988, kP2 = 10.8438, kP3 = 6.2201, kP4 = 10.2415;
+
+struct MederModel {
+  LambdaCosineGrid g;
+  template <class T>
+  T operator()(const T* p, std::size_t i) const {
+    const T l(g.lambda[i]);
+    const T t = meder_steepness(l, p[0], p[1], p[2], p[3]);
+    return bound_lerp(l, meder_logistic(t, T(g.cosine[i])));
+  }
+};
+using MederResidual = GridResidual<MederModel>;
+
+const MederResidual& reference_problem() {
+  static const MederResidual f = [] {
+    MederResidual r;
+    r.model.g = lambda_cosine_grid(0.01, 1000, 25, 2);
+    r.sqrt_w = r.model.g.sqrt_w;
+    r.target = hemispherical_targets(r.model.g);
+    return r;
+  }();
+  return f;
+}
+
+FitResult solve(const MederResidual& f) {
+  FitSpec spec;
+  spec.fit = "meder-logistic";
+  spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (H/upper - H_ref/upper)^2 dc";
+  spec.domain = "lambda in [0.01, 1000] (25 log-spaced), c in [-1, 1] (Gauss, split at 0)";
+  spec.source = "Meder & Bruederlin 2018";
+  spec.names = {"p1", "p2", "p3", "p4"};
+  spec.published = {kP1, kP2, kP3, kP4};
+  spec.lower = {0, 0, 0, 1e-6};
+  spec.upper = {1e3, 1e3, 1e3, 1e3};
+  spec.starts = {{kP1, kP2, kP3, kP4}, {1, 5, 3, 5}, {3, 20, 12, 20}};
+  return run_least_squares(spec, [&] { return make_autodiff<4>(f, f.size()); });
+}
+
+}  // namespace
+
+Fitter meder_logistic_fitter() {
+  Fitter f;
+  f.name = "meder-logistic";
+  f.description = "Meder & Bruederlin logistic steepness t(lambda)";
+  f.objectives = {"l2-normalized"};
+  f.run = [](const FitOptions&) { return solve(reference_problem()); };
+  f.synthetic = [](const std::vector<double>& truth) {
+    MederResidual p = reference_problem();
+    p.synthesize(truth);
+    return solve(p);
+  };
+  return f;
+}
+
+}  // namespace sglab::fit

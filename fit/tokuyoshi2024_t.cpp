@@ -1,0 +1,80 @@
+// tokuyoshi2024-t: A…E of Tokuyoshi et al. 2024's steepness
+//   t(λ) = λ√(½((λ + A)λ + B)/(((λ + C)λ + D)λ + E))   (SPEC.md §3; A = 2.7360831611272558,
+//   B = 17.021297781741875, C = 4.0100826728510421, D = 15.219156263147211,
+//   E = 76.087896272360737)
+// in D ≈ 2π·lerp(lower, upper, f(t, c)), fitted against the exact clamped-cosine integral (core
+// clamped_cosine_reference). Objective: ½ mean over log λ of ∫_{−1}^{1} (D/D(λ,1) − D_ref/D(λ,1))² dc.
+// Domain: λ ∈ [0.01, 1000], 25 log-spaced; c Gauss nodes split at 0, 2 sub-panels × 20.
+//
+// Core's tokuyoshi2024_factor clamps f to [0, 1], which has zero derivative wherever rounding
+// (or a trial parameter) pushes f outside: a Jet would then see a flat residual. The residual
+// uses the same formula unclamped (factor_unclamped below, the expression of core's
+// tokuyoshi2024_factor before its final clamp; tests/fit_test.cpp checks they agree inside
+// [0, 1]), so the misfit stays differentiable.
+#include "fits.hpp"
+#include "grid2d.hpp"
+#include "sglab/clamped_cosine.hpp"
+
+namespace sglab::fit {
+namespace {
+
+// Tokuyoshi et al. 2024 (SPEC.md §3), %.17g.
+constexpr double kA = 2.7360831611272558, kB = 17.021297781741875, kC = 4.0100826728510421,
+                 kD = 15.219156263147211, kE = 76.087896272360737;
+
+struct Model {
+  LambdaCosineGrid g;
+  template <class T>
+  T operator()(const T* p, std::size_t i) const {
+    const T l(g.lambda[i]);
+    const T t = tokuyoshi2024_t(l, p[0], p[1], p[2], p[3], p[4]);
+    const T f = tokuyoshi2024_factor_unclamped(t, T(g.cosine[i]));
+    const T upper = clamped_cosine_upper_over_2pi(l);
+    const T lower = clamped_cosine_lower_over_2pi(l);
+    return (lower + f * (upper - lower)) / upper;
+  }
+};
+using Residual = GridResidual<Model>;
+
+const Residual& reference_problem() {
+  static const Residual f = [] {
+    Residual r;
+    r.model.g = lambda_cosine_grid(0.01, 1000, 25, 2);
+    r.sqrt_w = r.model.g.sqrt_w;
+    r.target = clamped_cosine_targets(r.model.g);
+    return r;
+  }();
+  return f;
+}
+
+FitResult solve(const Residual& f) {
+  FitSpec spec;
+  spec.fit = "tokuyoshi2024-t";
+  spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (D/D(l,1) - D_ref/D(l,1))^2 dc";
+  spec.domain = "lambda in [0.01, 1000] (25 log-spaced), c in [-1, 1] (Gauss, split at 0)";
+  spec.source = "Tokuyoshi et al. 2024 (hierarchical light sampling)";
+  spec.names = {"A", "B", "C", "D", "E"};
+  spec.published = {kA, kB, kC, kD, kE};
+  spec.lower = {1e-6, 1e-6, 1e-6, 1e-6, 1e-6};
+  spec.upper = {1e4, 1e4, 1e4, 1e4, 1e4};
+  spec.starts = {{kA, kB, kC, kD, kE}, {1, 10, 1, 10, 50}, {5, 30, 8, 30, 150}};
+  return run_least_squares(spec, [&] { return make_autodiff<5>(f, f.size()); });
+}
+
+}  // namespace
+
+Fitter tokuyoshi2024_t_fitter() {
+  Fitter f;
+  f.name = "tokuyoshi2024-t";
+  f.description = "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor";
+  f.objectives = {"l2-normalized"};
+  f.run = [](const FitOptions&) { return solve(reference_problem()); };
+  f.synthetic = [](const std::vector<double>& truth) {
+    Residual p = reference_problem();
+    p.synthesize(truth);
+    return solve(p);
+  };
+  return f;
+}
+
+}  // namespace sglab::fit
