@@ -42,6 +42,7 @@ const std::vector<Quantity>& quantities() {
   static const std::vector<Quantity> all = [] {
     std::vector<Quantity> out;
     register_core_quantities(out);
+    register_glossy_quantities(out);
     return out;
   }();
   return all;

@@ -13,19 +13,6 @@ namespace {
 
 using DomainFn = std::function<std::optional<std::string>(std::span<const double>)>;
 
-template <class F>
-Method method(std::string name, std::string source, std::string flaws, bool may_be_negative,
-              DomainFn domain, F f) {
-  Method m;
-  m.name = std::move(name);
-  m.source = std::move(source);
-  m.flaws = std::move(flaws);
-  m.may_be_negative = may_be_negative;
-  m.domain_error = std::move(domain);
-  set_evaluators(m, f);
-  return m;
-}
-
 // Methods with a 1/λ factor are undefined at λ = 0 (column `column`).
 DomainFn sharpness_positive(std::size_t column, std::string why) {
   return [column, why](std::span<const double> a) -> std::optional<std::string> {
@@ -53,9 +40,9 @@ void register_core_quantities(std::vector<Quantity>& out) {
   // ---- sg-integral --------------------------------------------------------------------------
   {
     Quantity q{"sg-integral", "A(λ) = ∫ G(ω; ξ, λ) dω over the sphere (SPEC.md §1)", {sharpness}, "exact", {}};
-    q.methods.push_back(method("exact", "2π(1 − e^{−2λ})/λ via expm1 (seeds `two-vsgls` §1, `modified-fis` §2)", "", false, nullptr,
+    q.methods.push_back(make_method("exact", "2π(1 − e^{−2λ})/λ via expm1 (seeds `two-vsgls` §1, `modified-fis` §2)", "", false, nullptr,
                                [](auto a) { return sg_integral(a[0]); }));
-    q.methods.push_back(method("approx", "2π/λ (Iwasaki et al. 2012; seed `modified-fis` §4.2)",
+    q.methods.push_back(make_method("approx", "2π/λ (Iwasaki et al. 2012; seed `modified-fis` §4.2)",
                                "overestimates by 1/(1 − e^{−2λ}); diverges as λ → 0", false,
                                sharpness_positive(0, "2π/λ diverges"),
                                [](auto a) { return sg_integral_approx(a[0]); }));
@@ -65,16 +52,16 @@ void register_core_quantities(std::vector<Quantity>& out) {
   // ---- hemispherical ------------------------------------------------------------------------
   {
     Quantity q{"hemispherical", "H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω (SPEC.md §2)", {sharpness, cosine}, "reference", {}};
-    q.methods.push_back(method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)", "", false, nullptr,
+    q.methods.push_back(make_method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)", "", false, nullptr,
                                [](auto a) {
                                  using T = typename decltype(a)::value_type;
                                  return via_double_for_float<T>([](auto l, auto c) { return hemispherical_reference(l, c); }, a);
                                }));
-    q.methods.push_back(method("meder", "Meder & Brüderlin 2018, logistic interpolation between the c = ±1 bounds", "", false, nullptr,
+    q.methods.push_back(make_method("meder", "Meder & Brüderlin 2018, logistic interpolation between the c = ±1 bounds", "", false, nullptr,
                                [](auto a) { return hemispherical_meder(a[0], a[1]); }));
-    q.methods.push_back(method("tokuyoshi2022", "Tokuyoshi 2022 (seed `accurate-diffuse-sg-lighting`), CDF of a Gaussian on a plane", "", false, nullptr,
+    q.methods.push_back(make_method("tokuyoshi2022", "Tokuyoshi 2022 (seed `accurate-diffuse-sg-lighting`), CDF of a Gaussian on a plane", "", false, nullptr,
                                [](auto a) { return hemispherical_tokuyoshi2022(a[0], a[1]); }));
-    q.methods.push_back(method("vmf-tokuyoshi2024", "Tokuyoshi et al. 2024: the 2022 factor for the normalized vMF, lerp(e^{−λ}, 1, f)/(1 + e^{−λ})",
+    q.methods.push_back(make_method("vmf-tokuyoshi2024", "Tokuyoshi et al. 2024: the 2022 factor for the normalized vMF, lerp(e^{−λ}, 1, f)/(1 + e^{−λ})",
                                "NORMALIZED: returns H/A(λ), a fraction in [0, 1], not H", false, nullptr,
                                [](auto a) { return hemispherical_vmf_tokuyoshi2024(a[0], a[1]); }));
     out.push_back(std::move(q));
@@ -83,35 +70,35 @@ void register_core_quantities(std::vector<Quantity>& out) {
   // ---- clamped-cosine -----------------------------------------------------------------------
   {
     Quantity q{"clamped-cosine", "D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω, unit-amplitude SG (SPEC.md §3)", {sharpness, cosine}, "reference", {}};
-    q.methods.push_back(method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)", "", false, nullptr,
+    q.methods.push_back(make_method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)", "", false, nullptr,
                                [](auto a) {
                                  using T = typename decltype(a)::value_type;
                                  return via_double_for_float<T>([](auto l, auto c) { return clamped_cosine_reference(l, c); }, a);
                                }));
-    q.methods.push_back(method("punctual", "A(λ)⟨c⟩: cosine pulled out of the integral (Wang et al. 2009; seed `modified-fis` §4.2)",
+    q.methods.push_back(make_method("punctual", "A(λ)⟨c⟩: cosine pulled out of the integral (Wang et al. 2009; seed `modified-fis` §4.2)",
                                "zero for every c ≤ 0 (no light past the horizon); large error for broad lobes", false, nullptr,
                                [](auto a) { return clamped_cosine_punctual(a[0], a[1]); }));
-    q.methods.push_back(method("punctual-approx", "(2π/λ)⟨c⟩ (seed `modified-fis` §4.2, A(λ) ≈ 2π/λ)",
+    q.methods.push_back(make_method("punctual-approx", "(2π/λ)⟨c⟩ (seed `modified-fis` §4.2, A(λ) ≈ 2π/λ)",
                                "as `punctual`, and diverges as λ → 0", false,
                                sharpness_positive(0, "the 2π/λ factor diverges"),
                                [](auto a) { return clamped_cosine_punctual_approx(a[0], a[1]); }));
-    q.methods.push_back(method("sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (seed `two-vsgls` §3.2)",
+    q.methods.push_back(make_method("sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (seed `two-vsgls` §3.2)",
                                "light leaks past the horizon; the Iwasaki product is poor for broad lobes; exact A(λ_d) used (the seed takes A(λ_d) ≈ π)", false, nullptr,
                                [](auto a) { return clamped_cosine_sg_cosine(a[0], a[1]); }));
-    q.methods.push_back(method("cosine-lobe-sg", "cosine ≈ 1.17·G(ω; n, 2.133), exact SG product (Pettineo 2016, SG series part 3)",
+    q.methods.push_back(make_method("cosine-lobe-sg", "cosine ≈ 1.17·G(ω; n, 2.133), exact SG product (Pettineo 2016, SG series part 3)",
                                "light leaks past the horizon", false, nullptr,
                                [](auto a) { return clamped_cosine_cosine_lobe_sg(a[0], a[1]); }));
-    q.methods.push_back(method("hill-fitted", "Pettineo & Hill 2016 fitted irradiance (SG series part 3), c0 = 0.36",
+    q.methods.push_back(make_method("hill-fitted", "Pettineo & Hill 2016 fitted irradiance (SG series part 3), c0 = 0.36",
                                "PUBLISHED FORM GOES NEGATIVE for λ ≲ 1 (the 'black splotches'); kept as published. Undefined at λ = 0", true,
                                sharpness_positive(0, "the fit divides by λ"),
                                [](auto a) { return clamped_cosine_hill_fitted(a[0], a[1]); }));
-    q.methods.push_back(method("meder", "cosine ≈ 32.7080 G(ω; n, 0.0315) − 31.7003, Meder hemispherical integrals (Meder & Brüderlin 2018; PhySG; seed `blog`)",
+    q.methods.push_back(make_method("meder", "cosine ≈ 32.7080 G(ω; n, 0.0315) − 31.7003, Meder hemispherical integrals (Meder & Brüderlin 2018; PhySG; seed `blog`)",
                                "PUBLISHED FORM GOES NEGATIVE (difference of two large terms); kept as published. Loses ~5 bits to cancellation", true, nullptr,
                                [](auto a) { return clamped_cosine_meder(a[0], a[1]); }));
-    q.methods.push_back(method("tokuyoshi2022", "cosine ≈ α(e^{λc}G(ω; n, λc) − 1), λc = 0.00084560872241480124, 2022 hemispherical integrals (seed `accurate-diffuse-sg-lighting`)",
+    q.methods.push_back(make_method("tokuyoshi2022", "cosine ≈ α(e^{λc}G(ω; n, λc) − 1), λc = 0.00084560872241480124, 2022 hemispherical integrals (seed `accurate-diffuse-sg-lighting`)",
                                "cancellation between the two terms (×2364 amplification): ~1% in float, by design of λc; clamped at 0", false, nullptr,
                                [](auto a) { return clamped_cosine_tokuyoshi2022(a[0], a[1]); }));
-    q.methods.push_back(method("tokuyoshi2024", "Tokuyoshi et al. 2024, erfc interpolation between the c = ±1 bounds", "", false, nullptr,
+    q.methods.push_back(make_method("tokuyoshi2024", "Tokuyoshi et al. 2024, erfc interpolation between the c = ±1 bounds", "", false, nullptr,
                                [](auto a) { return clamped_cosine_tokuyoshi2024(a[0], a[1]); }));
     out.push_back(std::move(q));
   }
@@ -122,9 +109,9 @@ void register_core_quantities(std::vector<Quantity>& out) {
                {{"sharpness1", ColumnKind::sharpness, "λ1 ≥ 0"}, {"sharpness2", ColumnKind::sharpness, "λ2 ≥ 0"},
                 {"cosine", ColumnKind::cosine, "ξ1·ξ2"}},
                "exact", {}};
-    q.methods.push_back(method("exact", "e^{L}·A(λ3) = 4π sinh(λ3)/(λ3 e^{λ1+λ2}) (Tsai & Shih 2006), no overflow", "", false, nullptr,
+    q.methods.push_back(make_method("exact", "e^{L}·A(λ3) = 4π sinh(λ3)/(λ3 e^{λ1+λ2}) (Tsai & Shih 2006), no overflow", "", false, nullptr,
                                [](auto a) { return product_integral_exact(a[0], a[1], a[2]); }));
-    q.methods.push_back(method("iwasaki", "2π G(ξ1; ξ2, λ1λ2/(λ1+λ2))/(λ1+λ2) (Iwasaki et al. 2012; seed `lobe-aware-filtering` Eq. C.1)",
+    q.methods.push_back(make_method("iwasaki", "2π G(ξ1; ξ2, λ1λ2/(λ1+λ2))/(λ1+λ2) (Iwasaki et al. 2012; seed `lobe-aware-filtering` Eq. C.1)",
                                "accurate only when λ1 or λ2 is large; diverges as λ1 + λ2 → 0", false,
                                [](std::span<const double> a) -> std::optional<std::string> {
                                  if (a[0] + a[1] > 0) return std::nullopt;
@@ -138,19 +125,19 @@ void register_core_quantities(std::vector<Quantity>& out) {
   {
     Quantity q{"vmf-sharpness", "vMF sharpness from the mean resultant length r (SPEC.md §6)",
                {{"mean_length", ColumnKind::mean_length, "r = ‖mean of the lobes' average directions‖ ∈ [0, 1]"}}, "", {}};
-    q.methods.push_back(method("toksvig", "r/(1 − r) (Toksvig 2005; seeds `two-vsgls` §2.1, `modified-fis` §3.1)",
+    q.methods.push_back(make_method("toksvig", "r/(1 − r) (Toksvig 2005; seeds `two-vsgls` §2.1, `modified-fis` §3.1)",
                                "clamped to 1e8 as r → 1", false, nullptr,
                                [](auto a) { return vmf_sharpness_toksvig(a[0]); }));
-    q.methods.push_back(method("banerjee", "r(3 − r²)/(1 − r²) (Banerjee et al. 2005)", "clamped to 1e8 as r → 1", false, nullptr,
+    q.methods.push_back(make_method("banerjee", "r(3 − r²)/(1 − r²) (Banerjee et al. 2005)", "clamped to 1e8 as r → 1", false, nullptr,
                                [](auto a) { return vmf_sharpness_banerjee(a[0]); }));
     out.push_back(std::move(q));
   }
   {
     Quantity q{"vmf-mean-length", "mean resultant length r from a vMF sharpness (inverse of vmf-sharpness)",
                {sharpness}, "", {}};
-    q.methods.push_back(method("toksvig", "λ/(1 + λ) (inverse of Toksvig 2005)", "", false, nullptr,
+    q.methods.push_back(make_method("toksvig", "λ/(1 + λ) (inverse of Toksvig 2005)", "", false, nullptr,
                                [](auto a) { return vmf_mean_length_toksvig(a[0]); }));
-    q.methods.push_back(method("banerjee", "root in [0, 1) of r(3 − r²) = λ(1 − r²) (inverse of Banerjee et al. 2005), safeguarded Newton", "", false, nullptr,
+    q.methods.push_back(make_method("banerjee", "root in [0, 1) of r(3 − r²) = λ(1 − r²) (inverse of Banerjee et al. 2005), safeguarded Newton", "", false, nullptr,
                                [](auto a) { return vmf_mean_length_banerjee(a[0]); }));
     out.push_back(std::move(q));
   }

@@ -101,8 +101,24 @@ void set_evaluators(Method& m, F f) {
   m.batch_double = [batch](std::span<const double> a, std::size_t n, std::span<double> o) { batch(a, n, o); };
 }
 
+// One registry entry from a generic callable (see set_evaluators).
+template <class F>
+Method make_method(std::string name, std::string source, std::string flaws, bool may_be_negative,
+                   std::function<std::optional<std::string>(std::span<const double>)> domain, F f) {
+  Method m;
+  m.name = std::move(name);
+  m.source = std::move(source);
+  m.flaws = std::move(flaws);
+  m.may_be_negative = may_be_negative;
+  m.domain_error = std::move(domain);
+  set_evaluators(m, f);
+  return m;
+}
+
 // Registration hook for modules that add quantities (the glossy module, …). Each module defines
 // one function that appends its quantities; registry.cpp calls them in order.
 void register_core_quantities(std::vector<Quantity>& out);
+// ASG integrals, ASG × SG product, specular reflection off GGX (SPEC.md §4–5, issue 4).
+void register_glossy_quantities(std::vector<Quantity>& out);
 
 }  // namespace sglab

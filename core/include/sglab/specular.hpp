@@ -1,0 +1,133 @@
+// Specular reflection of a unit-amplitude SG light off the GGX BRDF (issue 4, item 4): the
+// approximations measured against specular_reference() (glossy_reference.hpp).
+//
+// Input, as the registry's `specular` quantity: roughness α (GGX), light sharpness λ, light_cos,
+// view_cos, light_azimuth, f0, in the frame n = (0, 0, 1), ωo = (√(1 − v²), 0, v),
+// ξ = (s cos φ, s sin φ, light_cos). Every method returns an approximation of
+//   L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω.
+//
+// Stiff inputs: α is floored at kMinRoughness and the warp's |ξ_s·n| at kMinWarpCosine
+// (brdf.hpp), so α → 0, grazing view and λ → ∞ give finite values; every factor is ≥ 0, so the
+// result is finite and non-negative (tests/specular_test.cpp).
+#pragma once
+
+#include <algorithm>
+
+#include "sglab/asg.hpp"
+#include "sglab/brdf.hpp"
+#include "sglab/glossy_reference.hpp"
+#include "sglab/scalar.hpp"
+#include "sglab/sg.hpp"
+
+namespace sglab {
+
+template <class T>
+struct SpecularInput {
+  T roughness, light_sharpness, light_cos, view_cos, light_azimuth, f0;
+};
+
+// From a registry row (columns in the order above).
+template <class T>
+SpecularInput<T> specular_input(std::span<const T> a) {
+  return {a[0], a[1], a[2], a[3], a[4], a[5]};
+}
+
+namespace detail {
+template <class T>
+T floored_roughness(const T& alpha) {
+  using std::max;
+  return max(alpha, T(kMinRoughness));
+}
+
+// The product lobe's axis ξ_m = (λ ξ + λ_s ξ_s)/‖…‖ (seed `two-vsgls` §3.2), via sg_product,
+// which returns ξ (a defined axis) when the two cancel.
+template <class T>
+Vec3<T> product_axis(const Vec3<T>& light_axis, const T& light_sharpness, const Vec3<T>& lobe_axis,
+                     const T& lobe_sharpness) {
+  return sg_product(light_axis, light_sharpness, lobe_axis, lobe_sharpness).axis;
+}
+}  // namespace detail
+
+enum class SgProductForm { exact, iwasaki };
+
+// `sg-warp` (Wang et al. 2009; seeds `two-vsgls` §1.1 and §3.2, `lobe-aware-filtering` App. B):
+// D(h) ≈ G(h; n, λ_h)/(πα²), warped to G(ω; ξ_s, λ_s/…) about the mirror direction, M evaluated
+// at the product axis ξ_m and pulled out:
+//   L ≈ M(ξ_m)/(πα²) · ∫ G(ω; ξ_s, λ_s) G(ω; ξ, λ) dω,
+// with the exact (Tsai & Shih 2006) or Iwasaki 2012 product integral. `lambda_h` selects the NDF
+// sharpness (2/α², or 2/α² − 2 of Tokuyoshi & Harada 2019).
+template <class T>
+T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductForm::exact,
+                   bool tokuyoshi_harada_sharpness = false) {
+  const T alpha = detail::floored_roughness(in.roughness);
+  const Vec3<T> wo = specular_view(in.view_cos);
+  const Vec3<T> xi = specular_light_axis(in.light_cos, in.light_azimuth);
+  const T lambda_h = tokuyoshi_harada_sharpness ? ndf_sharpness_tokuyoshi_harada(alpha) : ndf_sharpness_wang(alpha);
+  const SgLobe<T> lobe = spherical_warp(microfacet_ndf_sg(alpha, lambda_h), wo);
+  const T cosine = clamp_cosine(T(lobe.axis.dot(xi)));
+  const T integral = form == SgProductForm::exact
+                         ? product_integral_exact(lobe.sharpness, in.light_sharpness, cosine)
+                         : product_integral_iwasaki(lobe.sharpness, in.light_sharpness, cosine);
+  const Vec3<T> xm = detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
+  return lobe.amplitude * brdf_factor_m(alpha, in.f0, wo, xm) * integral;
+}
+
+// `asg` (seed `two-vsgls` §3.2; Xu et al. 2013): the NDF lobe warped to an ASG at the shading
+// point (asg_warp), the product integral in the seed's form (ν = λ/2), M at
+// ξ_m = (λξ + λ_sξz)/‖…‖ with Wang's isotropic λ_s (as the seed writes it):
+//   L ≈ M(ξ_m)/(πα²) · π Ĝ(ξ; …, ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)).
+template <class T>
+T specular_asg(const SpecularInput<T>& in) {
+  const T alpha = detail::floored_roughness(in.roughness);
+  const Vec3<T> wo = specular_view(in.view_cos);
+  const Vec3<T> xi = specular_light_axis(in.light_cos, in.light_azimuth);
+  const SgLobe<T> ndf = ggx_ndf_sg(alpha);
+  const Asg<T> lobe = asg_warp(ndf.sharpness, wo);
+  const T lambda_s = spherical_warp(ndf, wo).sharpness;
+  const T integral = asg_sg_product_two_vsgls(lobe, xi, in.light_sharpness);
+  const Vec3<T> xm = detail::product_axis(xi, in.light_sharpness, lobe.z, lambda_s);
+  return ndf.amplitude * brdf_factor_m(alpha, in.f0, wo, xm) * integral;
+}
+
+// (1 + Λ(ωo))/(1 + Λ(ωo) + Λ(ωi)) = G2/G1(ωo) for GGX (Heitz 2014 Eq. 43 and 99), in the root
+// form (So + co)·ci/(ci So + co Si) (from 1 + Λ = (S/c + 1)/2): finite at co → 0 (limit 1).
+template <class T>
+T smith_g2_over_g1o(const T& alpha, const T& cos_o, const T& cos_i) {
+  if (!(value_of(cos_i) > 0) || value_of(cos_o) < 0) return T(0);
+  const T so = smith_root(alpha, cos_o), si = smith_root(alpha, cos_i);
+  const T den = cos_i * so + cos_o * si;
+  if (!(value_of(den) > 0)) return T(0);
+  return (so + cos_o) * cos_i / den;
+}
+
+// `sg-warp-dvn` (refinement, after Tokuyoshi et al. 2024): f⟨ω·n⟩ = p_v(ω)·F·G2/G1(ωo), where
+// p_v(ω) = G1(ωo)D(h)/(4 ωo·n) is the pdf of reflecting ωo about a visible normal (Heitz 2018,
+// "Sampling the GGX Distribution of Visible Normals", Eq. 3 with the reflection Jacobian); p_v
+// integrates to 1, so it is approximated by the normalized SG about the dominant-visible-normal
+// reflection (dvn_reflection_lobe, λ_h = 2/α² − 2), and the remaining factor F·G2/G1 is taken at
+// the product axis:
+//   L ≈ F·G2/G1(ωo) |_{ξ_m} · ∫ G(ω; ξ_r, λ_r) G(ω; ξ, λ) dω / A(λ_r)   (exact product).
+// The normalization removes the 1/(πα²) amplitude that Wang's warp gets wrong at large α and at
+// grazing view (where the lobe is cut by the horizon and its peak is not at the mirror direction).
+template <class T>
+T specular_sg_warp_dvn(const SpecularInput<T>& in) {
+  const T alpha = detail::floored_roughness(in.roughness);
+  const Vec3<T> wo = specular_view(in.view_cos);
+  const Vec3<T> xi = specular_light_axis(in.light_cos, in.light_azimuth);
+  const SgLobe<T> lobe = dvn_reflection_lobe(alpha, wo);
+  const T cosine = clamp_cosine(T(lobe.axis.dot(xi)));
+  const T integral = product_integral_exact(lobe.sharpness, in.light_sharpness, cosine) / sg_integral(lobe.sharpness);
+  const Vec3<T> xm = detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
+  const T ci = xm(2);
+  if (!(value_of(ci) > 0)) return T(0);
+  const Vec3<T> h = half_vector(wo, xm);
+  const T weight = fresnel_schlick(in.f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, wo(2), ci);
+  return weight * integral;
+}
+
+// The exact reference for one input (double quadrature; see glossy_reference.hpp).
+inline double specular_reference_value(const SpecularInput<double>& in) {
+  return specular_reference({in.roughness, in.light_sharpness, in.light_cos, in.view_cos, in.light_azimuth, in.f0});
+}
+
+}  // namespace sglab

@@ -1,0 +1,165 @@
+// The glossy quantities of SPEC.md §4–5 (issue 4): ASG integrals, the ASG × SG product integral,
+// and specular reflection of an SG light off GGX.
+#include <cmath>
+
+#include "sglab/asg.hpp"
+#include "sglab/glossy_reference.hpp"
+#include "sglab/registry.hpp"
+#include "sglab/specular.hpp"
+
+namespace sglab {
+namespace {
+
+using DomainFn = std::function<std::optional<std::string>(std::span<const double>)>;
+
+template <class F>
+Method method(std::string name, std::string source, std::string flaws, DomainFn domain, F f) {
+  return make_method(std::move(name), std::move(source), std::move(flaws), false, std::move(domain), f);
+}
+
+// A method whose evaluation is a double quadrature: float rounds the double result, mp50 converts
+// it (a 50-digit 2D quadrature is too slow to sweep; the flaws text says so).
+template <class F>
+Method double_only_method(std::string name, std::string source, std::string flaws, F f) {
+  Method m;
+  m.name = std::move(name);
+  m.source = std::move(source);
+  m.flaws = std::move(flaws);
+  // One generic evaluator through set_evaluators (so batch evaluators exist too): double runs
+  // f directly, float and mp50 convert to double and back.
+  set_evaluators(m, [f](auto a) {
+    using T = typename decltype(a)::value_type;
+    if constexpr (std::is_same_v<T, double>) {
+      return f(a);
+    } else {
+      std::vector<double> d;
+      d.reserve(a.size());
+      for (const auto& x : a) d.push_back(static_cast<double>(x));
+      return T(f(std::span<const double>(d)));
+    }
+  });
+  return m;
+}
+
+DomainFn all_positive(std::vector<std::size_t> columns, std::string why) {
+  return [columns, why](std::span<const double> a) -> std::optional<std::string> {
+    for (auto c : columns)
+      if (!(a[c] > 0)) return "undefined when a bandwidth is 0: " + why;
+    return std::nullopt;
+  };
+}
+
+// The ASG of the asg-sg-product-integral columns: the standard frame, bandwidths (ηx, ηy).
+template <class T>
+Asg<T> standard_asg(const T& eta_x, const T& eta_y) {
+  return {Vec3<T>(T(1), T(0), T(0)), Vec3<T>(T(0), T(1), T(0)), Vec3<T>(T(0), T(0), T(1)), eta_x, eta_y};
+}
+
+// The SG axis of the asg-sg-product-integral columns: cosine with ξz, azimuth from ξx.
+template <class T>
+Vec3<T> product_sg_axis(const T& cosine, const T& azimuth) {
+  return specular_light_axis(cosine, azimuth);
+}
+
+// Exact ∫ Ĝ G dω by 2D quadrature (glossy_reference.hpp): pole = the SG axis, foci = the ASG
+// axis and the product axis, clipped to the ASG's hemisphere.
+double asg_sg_product_quadrature(double eta_x, double eta_y, double lambda, double cosine, double azimuth) {
+  const Asg<double> g = standard_asg(eta_x, eta_y);
+  const Vec3d xi = product_sg_axis(cosine, azimuth);
+  const double eta_max = std::max(eta_x, eta_y);
+  const double w_asg = eta_max > 1 ? 1 / std::sqrt(eta_max) : 1.0;
+  const double w_sg = lambda > 1 ? 1 / std::sqrt(lambda) : 1.0;
+  const Vec3d prod = sg_product(xi, lambda, g.z, 2 * std::sqrt(eta_x * eta_y)).axis;
+  const SphereFocus foci[2] = {{g.z, w_asg}, {prod, std::min(w_asg, w_sg)}};
+  const Vec3d clips[1] = {g.z};
+  auto f = [&](const Vec3d& w) { return asg_eval(w, g) * sg_eval(w, xi, lambda); };
+  return integrate_sphere(f, xi, w_sg, foci, clips);
+}
+
+}  // namespace
+
+void register_glossy_quantities(std::vector<Quantity>& out) {
+  const Column eta_x{"eta_x", ColumnKind::nonnegative, "ASG bandwidth ηx ≥ 0 (along ξx)"};
+  const Column eta_y{"eta_y", ColumnKind::nonnegative, "ASG bandwidth ηy ≥ 0 (along ξy)"};
+
+  // ---- asg-integral ---------------------------------------------------------------------------
+  {
+    Quantity q{"asg-integral", "∫ Ĝ(ω; ξx, ξy, ξz, ηx, ηy) dω (SPEC.md §4)", {eta_x, eta_y}, "exact", {}};
+    q.methods.push_back(method("exact", "π∫_0^1 e^{−ηmin u} e^{−tu/2}I0(tu/2) du, t = |ηx − ηy| (derived in asg.hpp), tanh-sinh",
+                               "float evaluates in double and rounds", nullptr,
+                               [](auto a) { return asg_integral_exact(a[0], a[1]); }));
+    q.methods.push_back(method("approx", "π/√(ηxηy) (Xu et al. 2013): the Gaussian over the whole tangent plane",
+                               "overestimates by the tail beyond the disc (≈ π e^{−(ηx+ηy)/2} I0(|ηx−ηy|/2)/ηmin); diverges as ηx or ηy → 0",
+                               all_positive({0, 1}, "π/√(ηxηy) diverges"),
+                               [](auto a) { return asg_integral_approx(a[0], a[1]); }));
+    q.methods.push_back(method("seed", "B(λx, λy) as printed in seed `lobe-aware-filtering` App. C, F(t) = 2π e^{−t/2}I0(t/2) exact",
+                               "undefined at ηmin = 0 (t/λy); see tests/asg_test.cpp for its measured error", all_positive({0, 1}, "B divides by λy"),
+                               [](auto a) { return asg_integral_seed(a[0], a[1]); }));
+    out.push_back(std::move(q));
+  }
+
+  // ---- asg-sg-product-integral ------------------------------------------------------------------
+  {
+    Quantity q{"asg-sg-product-integral",
+               "∫ Ĝ(ω; x, y, z, ηx, ηy) G(ω; ξ, λ) dω, ASG in the standard frame, ξ = (s cos φ, s sin φ, cosine) (SPEC.md §4)",
+               {eta_x, eta_y, {"sharpness", ColumnKind::sharpness, "SG sharpness λ ≥ 0"},
+                {"cosine", ColumnKind::cosine, "ξ·ξz, cosine between the SG axis and the ASG axis"},
+                {"azimuth", ColumnKind::angle, "azimuth of ξ about ξz, from ξx (radians)"}},
+               "exact", {}};
+    q.methods.push_back(double_only_method(
+        "exact", "2D adaptive Gauss–Kronrod about the SG axis and the ASG axis (glossy_reference.hpp integrate_sphere)",
+        "double quadrature (≤ 1e-6 relative); float rounds and mp50 converts the double result",
+        [](std::span<const double> a) { return asg_sg_product_quadrature(a[0], a[1], a[2], a[3], a[4]); }));
+    q.methods.push_back(method("two-vsgls", "π Ĝ(ξ; ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ/2 (seed `two-vsgls` §3.2; Xu et al. 2013)",
+                               "0 whenever ξ·ξz ≤ 0 (the ASG is evaluated at the SG axis); poor for broad lobes (plane approximation)",
+                               [](std::span<const double> a) -> std::optional<std::string> {
+                                 if ((a[0] + a[2] / 2) > 0 && (a[1] + a[2] / 2) > 0) return std::nullopt;
+                                 return std::string("undefined when ηx + λ/2 or ηy + λ/2 is 0 (division by zero)");
+                               },
+                               [](auto a) {
+                                 using T = typename decltype(a)::value_type;
+                                 return asg_sg_product_two_vsgls(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4]), T(a[2]));
+                               }));
+    q.methods.push_back(method("lobe-aware", "2π Ĝ(ξ; λxλy/(2λx+λy), λxλy/(2λy+λx))/√((2λx+λy)(2λy+λx)) AS PRINTED in seed `lobe-aware-filtering` App. C",
+                               "AS PRINTED IT DOES NOT DEPEND ON THE SG SHARPNESS λ (evidently a typo: with λ in place of the second bandwidth of each pair it equals `two-vsgls` exactly); 0 whenever ξ·ξz ≤ 0",
+                               all_positive({0, 1}, "the printed form is 0/0 at ηx = ηy = 0"),
+                               [](auto a) { return asg_sg_product_lobe_aware_printed(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4])); }));
+    out.push_back(std::move(q));
+  }
+
+  // ---- specular -----------------------------------------------------------------------------
+  {
+    Quantity q{"specular",
+               "L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω, unit-amplitude SG light, GGX + height-correlated Smith + Schlick; "
+               "n = (0,0,1), ωo = (√(1−v²), 0, v), ξ = (s cos φ, s sin φ, light_cos) (issue 4)",
+               {{"roughness", ColumnKind::positive, "GGX α > 0"},
+                {"light_sharpness", ColumnKind::sharpness, "SG light sharpness λ ≥ 0"},
+                {"light_cos", ColumnKind::cosine, "cosine between the light axis and the normal"},
+                {"view_cos", ColumnKind::unit_interval, "cosine between the view direction and the normal, in [0, 1]"},
+                {"light_azimuth", ColumnKind::angle, "light azimuth from the view's azimuth (radians; π with light_cos = view_cos is the mirror direction)"},
+                {"f0", ColumnKind::unit_interval, "Schlick reflectance at normal incidence"}},
+               "reference", {}};
+    q.methods.push_back(double_only_method(
+        "reference", "adaptive 2D Gauss–Kronrod about the light axis and the mirror/dominant-visible-normal directions (glossy_reference.hpp)",
+        "double quadrature, ≤ 1e-6 relative (checked against a finer rule and Monte Carlo); float rounds and mp50 converts the double result (an mp50 2D quadrature is too slow)",
+        [](std::span<const double> a) { return specular_reference_value(specular_input(a)); }));
+    q.methods.push_back(method("sg-warp", "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; seeds `two-vsgls` §1.1, `lobe-aware-filtering` App. B) × SG light, exact product integral (Tsai & Shih 2006), M at the product axis",
+                               "isotropic lobe about the mirror direction: wrong shape and position at grazing view and for rough surfaces; energy not normalized", nullptr,
+                               [](auto a) { return specular_sg_warp(specular_input(a)); }));
+    q.methods.push_back(method("sg-warp-iwasaki", "as sg-warp with the Iwasaki et al. 2012 product integral (seed `lobe-aware-filtering` Eq. C.1)",
+                               "as sg-warp; the Iwasaki product overestimates broad lobes (2π/(λ1+λ2) > 4π at small λ)", nullptr,
+                               [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::iwasaki); }));
+    q.methods.push_back(method("sg-warp-th2019", "as sg-warp with λ_h = 2/α² − 2 (Tokuyoshi & Harada 2019)",
+                               "as sg-warp; λ_h = 0 at α = 1 (a constant lobe)", nullptr,
+                               [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::exact, true); }));
+    q.methods.push_back(method("asg", "ASG lobe (Xu et al. 2013 warp, ηx = λ_h/8, ηy = λ_h/(8 v²)) × SG light, product integral of seed `two-vsgls` §3.2 (ν = λ/2), M at ξ_m",
+                               "0 when the light axis is ≥ 90° from the mirror direction; the plane approximation of the product overestimates broad lobes; energy not normalized", nullptr,
+                               [](auto a) { return specular_asg(specular_input(a)); }));
+    q.methods.push_back(method("sg-warp-dvn", "refinement: vMF about the GGX dominant-visible-normal reflection (Tokuyoshi et al. 2024, λ_h = 2/α² − 2) as the VNDF reflection pdf, times F·G2/G1(ωo) at the product axis, exact product",
+                               "isotropic lobe (no grazing anisotropy); F·G2/G1 taken at one direction", nullptr,
+                               [](auto a) { return specular_sg_warp_dvn(specular_input(a)); }));
+    out.push_back(std::move(q));
+  }
+}
+
+}  // namespace sglab

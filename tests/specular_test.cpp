@@ -1,0 +1,66 @@
+// tests for core/include/sglab/specular.hpp: the methods against the reference where they are
+// known to be good (sharp lobes at near-normal view), and the stiff cases in every precision.
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "sglab/registry.hpp"
+#include "sglab/specular.hpp"
+
+namespace sglab {
+namespace {
+
+TEST(Specular, MethodsApproachReferenceInTheirLimits) {
+  // Normal view, α = 0.05. A light much sharper than the lobe samples the BRDF at the mirror
+  // direction, where every method's amplitude is exact; a very broad light integrates the
+  // lobe's energy, which the 2/α² sharpness conserves. In between (λ ≈ λ_s) the SG lobe's
+  // Gaussian core misses GGX's heavy tail: measured, not asserted (+24% at λ = 100).
+  for (double lambda : {1e6, 1e-3, 100.0}) {
+    const SpecularInput<double> in{0.05, lambda, 1.0, 1.0, 0.0, 0.04};
+    const double ref = specular_reference_value(in);
+    const double sg = specular_sg_warp(in), as = specular_asg(in), dvn = specular_sg_warp_dvn(in);
+    std::printf("lambda %g: ref %.6e sg-warp %+.3e asg %+.3e sg-warp-dvn %+.3e\n", lambda, ref, sg / ref - 1, as / ref - 1,
+                dvn / ref - 1);
+    if (lambda == 100.0) continue;
+    EXPECT_NEAR(sg / ref, 1.0, 0.03);
+    EXPECT_NEAR(as / ref, 1.0, 0.03);
+    EXPECT_NEAR(dvn / ref, 1.0, 0.03);
+  }
+}
+
+TEST(Specular, StiffCasesAreFiniteAndNonNegativeInEveryPrecision) {
+  const Quantity* q = find_quantity("specular");
+  ASSERT_NE(q, nullptr);
+  const std::vector<std::vector<double>> rows = {
+      {1e-12, 1e8, 0.5, 0.5, M_PI, 0.04},  // α → 0, λ → ∞
+      {0.3, 10.0, 0.5, 0.0, M_PI, 0.04},   // grazing view
+      {0.3, 10.0, -0.7, 0.5, 0.0, 0.04},   // light behind the surface
+      {1.0, 0.0, 1.0, 1.0, 0.0, 1.0},      // broad everything
+      {0.01, 1e4, 1.0, 1e-9, M_PI, 0.0},   // nearly grazing, sharp
+  };
+  for (const auto& m : q->methods) {
+    if (m.name == "reference") continue;  // the reference is covered by glossy_reference_test
+    for (const auto& r : rows) {
+      const double d = m.eval_double(r);
+      std::vector<float> rf(r.begin(), r.end());
+      const float f = m.eval_float(rf);
+      std::vector<mp50> rm(r.begin(), r.end());
+      const mp50 p = m.eval_mp50(rm);
+      EXPECT_TRUE(std::isfinite(d) && d >= 0) << m.name << " double " << d;
+      EXPECT_TRUE(std::isfinite(f) && f >= 0) << m.name << " float " << f;
+      EXPECT_TRUE(boost::multiprecision::isfinite(p) && p >= 0) << m.name << " mp50";
+    }
+  }
+}
+
+TEST(Specular, FloatTracksDouble) {
+  const SpecularInput<double> in{0.2, 50.0, 0.6, 0.7, 2.5, 0.04};
+  const SpecularInput<float> inf{0.2f, 50.0f, 0.6f, 0.7f, 2.5f, 0.04f};
+  EXPECT_NEAR(specular_sg_warp(inf) / specular_sg_warp(in), 1.0, 1e-4);
+  EXPECT_NEAR(specular_asg(inf) / specular_asg(in), 1.0, 1e-4);
+  EXPECT_NEAR(specular_sg_warp_dvn(inf) / specular_sg_warp_dvn(in), 1.0, 1e-4);
+}
+
+}  // namespace
+}  // namespace sglab
