@@ -66,11 +66,8 @@ Fitter cosine_lobe_sg_fitter() {
   f.description = "amplitude and sharpness of the cosine lobe as an SG";
   f.objectives = {"l2-sphere", "l2-theta", "l2-hemisphere"};
   f.run = [](const FitOptions& o) { return solve(o.objective, problem(o.objective)); };
-  f.synthetic = [](const std::vector<double>& truth) {
-    auto p = problem("l2-sphere");
-    p.synthesize(truth);
-    return solve("l2-sphere", p);
-  };
+  f.synthetic = synthetic_recovery([] { return problem("l2-sphere"); },
+                                   [](const auto& p) { return solve("l2-sphere", p); });
   return f;
 }
 

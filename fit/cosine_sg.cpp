@@ -105,11 +105,8 @@ Fitter cosine_sg_fitter() {
   f.description = "a G(w; n, lambda) - b ~ w.n on the hemisphere (Meder & Bruederlin)";
   f.objectives = {"l2-bounded", "l2-theta-bounded"};
   f.run = fit_cosine_sg;
-  f.synthetic = [](const std::vector<double>& truth) {
-    auto p = problem("l2-bounded");
-    p.synthesize(truth);
-    return solve("l2-bounded", p, kPublishedSharpness);
-  };
+  f.synthetic = synthetic_recovery([] { return problem("l2-bounded"); },
+                                   [](const auto& p) { return solve("l2-bounded", p, kPublishedSharpness); });
   return f;
 }
 

@@ -105,10 +105,7 @@ FitResult fit_cosine_sharpness(const FitOptions& o) {
   // Independent 1D cross-check: Brent on log λ.
   const auto brent = boost::math::tools::brent_find_minima(
       [u](double ll) { return objective(std::exp(ll), u); }, std::log(1e-12), std::log(1.0), 52);
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "Brent cross-check: lambda = %.17g (Ceres relative difference %.2e)",
-                std::exp(brent.first), r.parameters[0].value / std::exp(brent.first) - 1);
-  r.notes.push_back(buf);
+  add_brent_note(r, 0, std::exp(brent.first));
   return r;
 }
 

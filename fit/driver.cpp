@@ -212,4 +212,11 @@ std::string choose_objective(const Fitter& f, const std::string& requested) {
                               "' (offered: " + offered + ")");
 }
 
+void add_brent_note(FitResult& r, std::size_t index, double brent_value) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "Brent cross-check: %s = %.17g (Ceres relative difference %.2e)",
+                r.parameters[index].name.c_str(), brent_value, r.parameters[index].value / brent_value - 1);
+  r.notes.push_back(buf);
+}
+
 }  // namespace sglab::fit

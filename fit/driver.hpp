@@ -145,6 +145,21 @@ struct GridResidual {
   }
 };
 
+// The recovery-test hook shared by every misfit fit: a copy of the fit's problem with its
+// targets replaced by the model's own values at `truth`, solved by the fit's own solve.
+template <class MakeProblem, class Solve>
+std::function<FitResult(const std::vector<double>&)> synthetic_recovery(MakeProblem make_problem, Solve solve) {
+  return [make_problem, solve](const std::vector<double>& truth) {
+    auto p = make_problem();
+    p.synthesize(truth);
+    return solve(p);
+  };
+}
+
+// Appends "Brent cross-check: NAME = v (Ceres relative difference d)" for parameter `index`,
+// from an independent 1D minimization (boost::math::tools::brent_find_minima).
+void add_brent_note(FitResult& r, std::size_t index, double brent_value);
+
 // ---- registry ------------------------------------------------------------------------------
 
 struct FitOptions {

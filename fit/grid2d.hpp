@@ -7,6 +7,8 @@
 
 #include <vector>
 
+#include "driver.hpp"
+
 namespace sglab::fit {
 
 struct LambdaCosineGrid {
@@ -22,5 +24,15 @@ LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_
 std::vector<double> hemispherical_targets(const LambdaCosineGrid& g);
 // D_ref(λ, c)/D(λ, 1): the exact clamped-cosine integral normalized by its value at c = 1.
 std::vector<double> clamped_cosine_targets(const LambdaCosineGrid& g);
+
+// A GridResidual on grid g with the given exact targets; Model holds the grid as its member `g`.
+template <class Model>
+GridResidual<Model> lambda_cosine_problem(LambdaCosineGrid g, std::vector<double> (*targets)(const LambdaCosineGrid&)) {
+  GridResidual<Model> r;
+  r.sqrt_w = g.sqrt_w;
+  r.target = targets(g);
+  r.model.g = std::move(g);
+  return r;
+}
 
 }  // namespace sglab::fit

@@ -32,13 +32,7 @@ struct Model {
 using Residual = GridResidual<Model>;
 
 const Residual& reference_problem() {
-  static const Residual f = [] {
-    Residual r;
-    r.model.g = lambda_cosine_grid(1, 100, 20, 2);
-    r.sqrt_w = r.model.g.sqrt_w;
-    r.target = clamped_cosine_targets(r.model.g);
-    return r;
-  }();
+  static const Residual f = lambda_cosine_problem<Model>(lambda_cosine_grid(1, 100, 20, 2), clamped_cosine_targets);
   return f;
 }
 
@@ -63,10 +57,7 @@ FitResult fit_hill_irradiance() {
   FitResult r = solve(f);
   const auto brent = boost::math::tools::brent_find_minima(
       [&](double c0) { return f.squared_error(&c0); }, 0.05, 2.0, 40);
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "Brent cross-check: c0 = %.12g (Ceres relative difference %.2e)",
-                brent.first, r.parameters[0].value / brent.first - 1);
-  r.notes.push_back(buf);
+  add_brent_note(r, 0, brent.first);
   return r;
 }
 
@@ -76,11 +67,7 @@ Fitter hill_irradiance_fitter() {
   f.description = "c0 of the Pettineo/Hill fitted SG irradiance";
   f.objectives = {"l2-normalized"};
   f.run = [](const FitOptions&) { return fit_hill_irradiance(); };
-  f.synthetic = [](const std::vector<double>& truth) {
-    Residual p = reference_problem();
-    p.synthesize(truth);
-    return solve(p);
-  };
+  f.synthetic = synthetic_recovery(reference_problem, solve);
   return f;
 }
 

@@ -147,11 +147,8 @@ Fitter lambda_c_fitter() {
   f.description = "SG sharpness of the diffuse lobe similarity q(phi), and sigma_n^2";
   f.objectives = objectives();
   f.run = fit_lambda_c;
-  f.synthetic = [](const std::vector<double>& truth) {
-    auto p = problem("abs-sin-0-pi");
-    p.synthesize(truth);
-    return solve("abs-sin-0-pi", p, 20, 100);
-  };
+  f.synthetic = synthetic_recovery([] { return problem("abs-sin-0-pi"); },
+                                   [](const auto& p) { return solve("abs-sin-0-pi", p, 20, 100); });
   return f;
 }
 

@@ -84,11 +84,8 @@ Fitter lambda_d_fitter() {
   f.description = "vMF sharpness of the normalized clamped cosine";
   f.objectives = {"l2-solid-angle", "l2-theta", "l2-hemisphere"};
   f.run = [](const FitOptions& o) { return fit_lambda_d(o.objective); };
-  f.synthetic = [](const std::vector<double>& truth) {
-    auto p = problem("l2-solid-angle");
-    p.synthesize(truth);
-    return solve("l2-solid-angle", p);
-  };
+  f.synthetic = synthetic_recovery([] { return problem("l2-solid-angle"); },
+                                   [](const auto& p) { return solve("l2-solid-angle", p); });
   return f;
 }
 

@@ -27,13 +27,7 @@ struct MederModel {
 using MederResidual = GridResidual<MederModel>;
 
 const MederResidual& reference_problem() {
-  static const MederResidual f = [] {
-    MederResidual r;
-    r.model.g = lambda_cosine_grid(0.01, 1000, 25, 2);
-    r.sqrt_w = r.model.g.sqrt_w;
-    r.target = hemispherical_targets(r.model.g);
-    return r;
-  }();
+  static const MederResidual f = lambda_cosine_problem<MederModel>(lambda_cosine_grid(0.01, 1000, 25, 2), hemispherical_targets);
   return f;
 }
 
@@ -59,11 +53,7 @@ Fitter meder_logistic_fitter() {
   f.description = "Meder & Bruederlin logistic steepness t(lambda)";
   f.objectives = {"l2-normalized"};
   f.run = [](const FitOptions&) { return solve(reference_problem()); };
-  f.synthetic = [](const std::vector<double>& truth) {
-    MederResidual p = reference_problem();
-    p.synthesize(truth);
-    return solve(p);
-  };
+  f.synthetic = synthetic_recovery(reference_problem, solve);
   return f;
 }
 

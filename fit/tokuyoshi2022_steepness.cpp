@@ -28,13 +28,7 @@ struct Model {
 using Residual = GridResidual<Model>;
 
 const Residual& reference_problem() {
-  static const Residual f = [] {
-    Residual r;
-    r.model.g = lambda_cosine_grid(0.01, 1000, 25, 2);
-    r.sqrt_w = r.model.g.sqrt_w;
-    r.target = hemispherical_targets(r.model.g);
-    return r;
-  }();
+  static const Residual f = lambda_cosine_problem<Model>(lambda_cosine_grid(0.01, 1000, 25, 2), hemispherical_targets);
   return f;
 }
 
@@ -60,11 +54,7 @@ Fitter tokuyoshi2022_steepness_fitter() {
   f.description = "Tokuyoshi 2022 erf steepness k(lambda)";
   f.objectives = {"l2-normalized"};
   f.run = [](const FitOptions&) { return solve(reference_problem()); };
-  f.synthetic = [](const std::vector<double>& truth) {
-    Residual p = reference_problem();
-    p.synthesize(truth);
-    return solve(p);
-  };
+  f.synthetic = synthetic_recovery(reference_problem, solve);
   return f;
 }
 

@@ -37,13 +37,7 @@ struct Model {
 using Residual = GridResidual<Model>;
 
 const Residual& reference_problem() {
-  static const Residual f = [] {
-    Residual r;
-    r.model.g = lambda_cosine_grid(0.01, 1000, 25, 2);
-    r.sqrt_w = r.model.g.sqrt_w;
-    r.target = clamped_cosine_targets(r.model.g);
-    return r;
-  }();
+  static const Residual f = lambda_cosine_problem<Model>(lambda_cosine_grid(0.01, 1000, 25, 2), clamped_cosine_targets);
   return f;
 }
 
@@ -69,11 +63,7 @@ Fitter tokuyoshi2024_t_fitter() {
   f.description = "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor";
   f.objectives = {"l2-normalized"};
   f.run = [](const FitOptions&) { return solve(reference_problem()); };
-  f.synthetic = [](const std::vector<double>& truth) {
-    Residual p = reference_problem();
-    p.synthesize(truth);
-    return solve(p);
-  };
+  f.synthetic = synthetic_recovery(reference_problem, solve);
   return f;
 }
 

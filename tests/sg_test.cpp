@@ -1,5 +1,6 @@
 // SGs, their integral and products (core/include/sglab/sg.hpp) against closed forms evaluated in
 // 50 digits and direct pointwise evaluation, in float and double.
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <ceres/jet.h>
 
 #include "sglab/sg.hpp"
@@ -109,6 +110,24 @@ TYPED_TEST(SgTyped, ExactProductIntegralMatchesTsaiShihInFiftyDigits) {
     const double L = std::fabs(static_cast<double>(l3 - m1 - m2));
     EXPECT_LE(test::relative_error(value, static_cast<double>(exact)), 50 * (L + 1) * Tol<T>::rel)
         << double(l1) << " " << double(l2) << " " << double(c);
+  }
+}
+
+TEST(Sg, VmfIsANormalizedDensity) {
+  // ∫ G/A dω = 2π ∫_{−1}^{1} vmf(t) dt = 1, by Gauss–Kronrod in t = ω·ξ (split near the peak for
+  // sharp lobes); and the peak value is 1/A(λ).
+  for (double l : {0.0, 1e-3, 0.7, 30.0, 2e4}) {
+    const Vec3<double> xi(0, 0, 1);
+    auto f = [&](double t) {
+      const Vec3<double> w(std::sqrt(std::max(0.0, 1 - t * t)), 0, t);
+      return two_pi<double>() * vmf_eval(w, xi, l);
+    };
+    using boost::math::quadrature::gauss_kronrod;
+    const double split = std::max(-1.0, 1 - 50 / std::max(l, 1.0));
+    double total = gauss_kronrod<double, 61>::integrate(f, split, 1.0, 15, 1e-13);
+    if (split > -1) total += gauss_kronrod<double, 61>::integrate(f, -1.0, split, 15, 1e-13);
+    EXPECT_NEAR(total, 1.0, 1e-11) << l;
+    EXPECT_LE(test::relative_error(vmf_eval(xi, xi, l), 1 / sg_integral(l)), 1e-15) << l;
   }
 }
 

@@ -38,8 +38,9 @@ TEST(VmfFiltering, BanerjeeInverseRoundTripsInAllPrecisions) {
 
 TEST(VmfFiltering, BanerjeeApproximatesTheTrueVmfMeanLength) {
   // The true vMF mean resultant length on S² is coth κ − 1/κ; Banerjee's formula is its
-  // approximate inverse. Known to be within a few percent (Banerjee et al. 2005, §4.4); checked
-  // at 5 % over κ ∈ [0.01, 1e4].
+  // approximate inverse (exact in both limits: r ≈ κ/3 and 1 − r ≈ 1/κ). A loose 5 % bound over
+  // κ ∈ [0.01, 1e4]: it guards the formula's form (a wrong power or sign is off by far more), not
+  // its precise accuracy.
   for (double k : test::log_grid(-2, 4, 4)) {
     const double r = 1 / std::tanh(k) - 1 / k;
     EXPECT_LE(test::relative_error(vmf_sharpness_banerjee(r), k), 0.05) << k;

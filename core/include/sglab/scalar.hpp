@@ -67,12 +67,6 @@ T two_pi() {
   return T(boost::math::constants::two_pi<value_type_t<T>>());
 }
 
-// A double constant as T. For mp50 the double's exact binary value is used; constants that must
-// carry more than 17 digits are written as strings and go through `from_string`.
-template <class T>
-T constant(double x) {
-  return T(x);
-}
 // A decimal literal at T's full precision (exact decimal for mp50, correctly rounded otherwise).
 template <class T>
 T from_string(const char* digits) {
@@ -114,13 +108,6 @@ template <class T>
 T safe_sqrt(const T& x) {
   using std::sqrt;
   return value_of(x) > 0 ? sqrt(x) : T(0);
-}
-
-// acos of a clamped argument (pbrt-v4 SafeACos).
-template <class T>
-T safe_acos(const T& x) {
-  using std::acos;
-  return acos(clamp_cosine(x));
 }
 
 // Below this |x| the first terms of a Taylor series are exact to T's precision. For a series
