@@ -116,12 +116,9 @@ FitResult run_least_squares(const FitSpec& spec,
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::DENSE_QR;
     options.max_num_iterations = 500;
-    // Tight tolerances: the point is to reproduce published digits, not to stop early.
-    // Stop on the gradient/step, not on the cost: near a non-zero-residual minimum the cost is
-    // flat (δcost ~ δx²), so a cost tolerance stops ~√tol early in the parameters.
-    options.function_tolerance = 1e-30;
-    options.gradient_tolerance = 1e-16;
-    options.parameter_tolerance = 1e-15;
+    options.function_tolerance = spec.tolerances.function;
+    options.gradient_tolerance = spec.tolerances.gradient;
+    options.parameter_tolerance = spec.tolerances.parameter;
     options.logging_type = ceres::SILENT;
     options.num_threads = 1;
     ceres::Solver::Summary summary;

@@ -76,6 +76,16 @@ struct FitResult {
 // −log10|rel diff| (the "LRE" of Ceres's examples/nist.cc), capped at 17; 0 when no digit agrees.
 double correct_digits(double value, double published);
 
+// Ceres stopping rules of run_least_squares. The defaults are tight on purpose (reproducing
+// published digits, not stopping early): stop on the gradient/step, not on the cost, because near a
+// non-zero-residual minimum the cost is flat (δcost ~ δx²) and a cost tolerance stops ~√tol early
+// in the parameters.
+struct SolverTolerances {
+  double function = 1e-30;
+  double gradient = 1e-16;
+  double parameter = 1e-15;
+};
+
 struct FitSpec {
   std::string fit;
   std::string objective;
@@ -86,6 +96,7 @@ struct FitSpec {
   std::vector<double> lower;  // −∞/∞ for none
   std::vector<double> upper;
   std::vector<std::vector<double>> starts;
+  SolverTolerances tolerances;
   // Extra (name, value, published) rows computed from the fitted parameters (σ_n², α).
   std::function<std::vector<std::pair<NamedValue, double>>(const std::vector<double>&)> derived;
 };

@@ -66,9 +66,10 @@ FitSpec spec_for(const std::string& objective) {
   return spec;
 }
 
-FitResult solve(const std::string& objective, const LambdaDResidual& f) {
-  return run_least_squares(spec_for(objective), [&] { return make_autodiff<1>(f, f.size()); });
+FitResult solve(const FitSpec& spec, const LambdaDResidual& f) {
+  return run_least_squares(spec, [&] { return make_autodiff<1>(f, f.size()); });
 }
+FitResult solve(const std::string& objective, const LambdaDResidual& f) { return solve(spec_for(objective), f); }
 
 }  // namespace
 
@@ -77,6 +78,14 @@ double lambda_d_objective(const std::string& objective, double lambda) {
 }
 
 FitResult fit_lambda_d(const std::string& objective) { return solve(objective, problem(objective)); }
+
+FitResult fit_lambda_d_like_scipy() {
+  static const LambdaDResidual grid = problem("l2-solid-angle");  // built once, as in the script
+  FitSpec spec = spec_for("l2-solid-angle");
+  spec.starts = {{2.0}};                    // benchmarks/lambda_d_scipy.py: x0 = 2
+  spec.tolerances = {1e-15, 1e-15, 1e-15};  // its ftol = gtol = xtol = 1e-15
+  return solve(spec, grid);
+}
 
 Fitter lambda_d_fitter() {
   Fitter f;

@@ -89,6 +89,25 @@ TEST(FitPublished, CosineSgHitsItsBoundAndPublishedLambdaDominates) {
   EXPECT_DOUBLE_EQ(r.parameters[1].value, 0.0315);  // the stiff fit runs to its λ bound
 }
 
+// The numerical-error objective stops the stiff fit where misfit (~λ) and rounding (~u/λ)
+// balance. Reference: Brent over log λ of the (a, b)-profiled objective, solved as linear least
+// squares (Eigen QR) — no Ceres. Half and float only: in double the objective itself rounds at
+// the level it resolves (see the fit's notes).
+TEST(FitPublished, CosineSgRoundingObjectiveMatchesProfiledBrent) {
+  for (const char* p : {"half", "float"}) {
+    FitOptions o;
+    o.objective = "l2-rounding";
+    o.precision = p;
+    const FitResult r = find_fitter("cosine-sg")->run(o);
+    ASSERT_TRUE(r.converged) << p;
+    const auto best = boost::math::tools::brent_find_minima(
+        [&](double log_lambda) { return cosine_sg_rounding_profile(p, std::exp(log_lambda)); }, std::log(1e-6),
+        std::log(1.0), 40);
+    EXPECT_NEAR(r.parameters[1].value / std::exp(best.first), 1.0, 1e-5) << p;
+    EXPECT_NEAR(r.final_cost / best.second, 1.0, 1e-8) << p;
+  }
+}
+
 TEST(FitRegistry, EveryFitConvergesFromItsDefaultStart) {
   for (const auto& f : fitters()) {
     FitOptions o;
