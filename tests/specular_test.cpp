@@ -38,6 +38,11 @@ TEST(Specular, StiffCasesAreFiniteAndNonNegativeInEveryPrecision) {
       {0.3, 10.0, -0.7, 0.5, 0.0, 0.04},   // light behind the surface
       {1.0, 0.0, 1.0, 1.0, 0.0, 1.0},      // broad everything
       {0.01, 1e4, 1.0, 1e-9, M_PI, 0.0},   // nearly grazing, sharp
+      // Exactly grazing view with a broad light at the horizon: the product axis can land
+      // opposite ωo, where the half vector is 0/0 (float NaN found by `sglab stability`).
+      {0.2, 1e-8, 0.0, 0.0, M_PI, 0.5},
+      {0.2, 0.01, 1e-8, 0.0, M_PI, 0.0},
+      {1.0, 1e-8, 1e-8, 0.0, M_PI, 1.0},
   };
   for (const auto& m : q->methods) {
     if (m.name == "reference") continue;  // the reference is covered by glossy_reference_test

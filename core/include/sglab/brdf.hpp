@@ -157,11 +157,16 @@ T fresnel_schlick(const T& f0, const T& cos_oh) {
   return f0 + (T(1) - f0) * m2 * m2 * m;
 }
 
-// Half vector of two unit directions in the upper hemisphere (never opposite there).
+// Half vector of two unit directions in the closed upper hemisphere. They can be exactly
+// opposite only when both lie on the horizon (grazing view, light at the horizon: the stability
+// atlas found float NaN there, 0/0); h is then undefined and every caller multiplies by
+// ⟨ωi·n⟩ = 0, so the normal is returned to keep the product a finite 0.
 template <class T>
 Vec3<T> half_vector(const Vec3<T>& wo, const Vec3<T>& wi) {
   const Vec3<T> h = wo + wi;
-  return h / T(h.norm());
+  const T length = T(h.norm());
+  if (!(value_of(length) > 0)) return Vec3<T>(T(0), T(0), T(1));
+  return h / length;
 }
 
 // f(ωo, ωi)·⟨ωi·n⟩ for the ground-truth GGX BRDF f = D·G2·F/(4 co ci) (Walter et al. 2007 Eq. 20
