@@ -1,0 +1,48 @@
+// `sglab merge --out DIR SHARD_DIR…`: joins the shards of a sweep (`sglab sweep KIND --shard i/N`,
+// run anywhere, e.g. as a Slurm job array) into the per-point CSV an unsharded run would have
+// written, after checking that the shards belong to one sweep, that their headers match and that
+// every point appears exactly once (sweep.hpp, merge_sweep_shards). It then runs the sweep's own
+// command on DIR, which finds every point finished and derives the summary and the paper tables
+// from the merged per-point CSV — the same code path, and the same tables, as an unsharded run.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "sweep.hpp"
+
+namespace sglab::cli {
+namespace {
+
+struct MergeOptions {
+  std::string out;
+  std::string tables_dir = "paper_tables";
+  std::vector<std::string> inputs;
+};
+
+void run_merge(const MergeOptions& o) {
+  const std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
+  for (const MergedSweep& m : merge_sweep_shards(inputs, o.out)) {
+    std::fprintf(stderr, "merge: sweep %s: %zu points from %zu shards -> %s\n", m.name.c_str(), m.points, m.shards,
+                 m.points_csv.string().c_str());
+    std::vector<std::string> args = m.args;
+    args.insert(args.end(), {"--out", o.out, "--tables-dir", o.tables_dir});
+    if (run_sglab(args) != 0) throw std::runtime_error("merge: the summary of sweep '" + m.name + "' failed");
+  }
+}
+
+}  // namespace
+
+void add_merge_command(CLI::App& app) {
+  auto o = std::make_shared<MergeOptions>();
+  auto* sub = app.add_subcommand("merge", "Join the shards of a sweep (--shard i/N outputs) and derive its summary");
+  sub->add_option("--out", o->out, "directory for the merged per-point CSV and summary")->required();
+  sub->add_option("--tables-dir", o->tables_dir, "directory for the paper tables")->capture_default_str();
+  sub->add_option("inputs", o->inputs, "shard directories (or NAME_sweep.shard-i-of-N.json manifests)")->required();
+  sub->callback([o] { run_merge(*o); });
+}
+
+}  // namespace sglab::cli

@@ -1,0 +1,443 @@
+// `sglab sweep specular --out DIR [--quick] [--shard i/N] [--threads N] [--tables-dir DIR] [--fresh]`
+// (issue 4, item 6): every method of the registry's `specular` quantity — enumerated, never
+// named here — against the quantity's reference method, over
+//   roughness α (9 values log-spaced over [0.01, 1]) × light sharpness λ ∈ {1, 10, 100, 1e3, 1e4}
+//   × view_cos ∈ {1, 0.7, 0.3, 0.1} × 8 light positions (sweep_specular.hpp), f0 = 0.04.
+// A point of the sweep is one (α, λ, view_cos); its rows are its light positions × methods, so
+// that the point knows its own scale (the largest reference among its positions) and near-zero
+// references are classified within the point.
+// Outputs: DIR/specular_points.csv (the runner's per-point CSV, sweep.hpp), then, derived from
+// that file alone, DIR/specular_summary.csv and TABLES/specular_vs_roughness.{md,csv}.
+#include "sweep_specular.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <stdexcept>
+#include <tuple>
+
+#include <fmt/core.h>
+
+#include "atomic_file.hpp"
+#include "commands.hpp"
+#include "parse_number.hpp"
+#include "sglab/registry.hpp"
+
+namespace sglab::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+const Quantity& specular_quantity() {
+  const Quantity* q = find_quantity("specular");
+  if (!q || q->reference_method.empty() || !q->find(q->reference_method))
+    throw std::logic_error("sweep specular: the registry has no `specular` quantity with a reference method");
+  return *q;
+}
+
+// The methods measured: every method of the quantity but its reference, in registry order.
+std::vector<const Method*> measured_methods(const Quantity& q) {
+  std::vector<const Method*> out;
+  for (const auto& m : q.methods)
+    if (m.name != q.reference_method) out.push_back(&m);
+  return out;
+}
+
+std::string join_numbers(const std::vector<double>& v) {
+  std::string s;
+  for (double x : v) s += (s.empty() ? "" : ", ") + csv_number(x);
+  return s;
+}
+
+struct Vec {
+  double x, y, z;
+};
+Vec rotate_toward(const Vec& a, const Vec& t, double angle) {  // a, t orthonormal
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * a.x + s * t.x, c * a.y + s * t.y, c * a.z + s * t.z};
+}
+LightPosition position(std::string name, const Vec& d) {
+  return {std::move(name), std::clamp(d.z, -1.0, 1.0), std::atan2(d.y, d.x)};
+}
+
+const std::vector<std::string> kColumns = {"roughness", "light_sharpness", "view_cos", "f0", "position",
+                                           "light_cos", "light_azimuth", "reference", "scale", "method",
+                                           "value", "status", "relative_error", "scaled_error"};
+
+}  // namespace
+
+SpecularGrid specular_grid(bool quick) {
+  SpecularGrid g;
+  // α = 10^(−2 + i/4), i = 0 … 8 (quick: even i), so the quick values are full-grid values.
+  for (int i = 0; i <= 8; i += quick ? 2 : 1) g.roughness.push_back(std::pow(10.0, -2.0 + 0.25 * i));
+  g.light_sharpness = quick ? std::vector<double>{1, 100, 1e4} : std::vector<double>{1, 10, 100, 1e3, 1e4};
+  g.view_cos = quick ? std::vector<double>{1, 0.3, 0.1} : std::vector<double>{1, 0.7, 0.3, 0.1};
+  return g;
+}
+
+double specular_offset_width(double roughness, double light_sharpness) {
+  const double w = std::sqrt(1 / light_sharpness + 2 * roughness * roughness);  // 1/λ_s = 2α²
+  return std::min(w, std::numbers::pi / 6);  // also caps λ = 0 (w = ∞)
+}
+
+std::vector<LightPosition> specular_light_positions(double roughness, double light_sharpness, double view_cos) {
+  const double v = std::clamp(view_cos, 0.0, 1.0), s = std::sqrt(std::max(0.0, (1 - v) * (1 + v)));
+  const Vec mirror{-s, 0, v};          // reflection of ωo = (s, 0, v) about n
+  const Vec to_horizon{-v, 0, -s};     // d(mirror)/dθ: in the plane of incidence, away from n
+  const Vec to_normal{v, 0, s};
+  const Vec side{0, 1, 0};             // perpendicular to the plane of incidence
+  const double w = specular_offset_width(roughness, light_sharpness);
+  const double below = std::numbers::pi / 6;  // 30° below the horizon: light_cos = −sin 30° = −1/2
+  return {position("mirror", mirror),
+          position("toward-normal", rotate_toward(mirror, to_normal, w)),
+          position("toward-horizon", rotate_toward(mirror, to_horizon, w)),
+          position("side", rotate_toward(mirror, side, w)),
+          position("side-3w", rotate_toward(mirror, side, 3 * w)),
+          position("normal", {0, 0, 1}),
+          position("horizon", {-1, 0, 0}),
+          position("below", {-std::cos(below), 0, -std::sin(below)})};
+}
+
+bool specular_position_near_lobe(const std::string& position) {
+  return position == "mirror" || position == "toward-normal" || position == "toward-horizon" || position == "side";
+}
+
+SweepDefinition specular_sweep_definition(bool quick) {
+  const Quantity& q = specular_quantity();
+  const Method& reference = *q.find(q.reference_method);
+  const std::vector<const Method*> methods = measured_methods(q);
+  const SpecularGrid g = specular_grid(quick);
+
+  SweepDefinition d;
+  d.name = "specular";
+  d.args = {"sweep", "specular"};
+  if (quick) d.args.push_back("--quick");
+  std::string method_names;
+  for (const Method* m : methods) method_names += (method_names.empty() ? "" : ", ") + m->name;
+  std::string position_names;
+  for (const auto& p : specular_light_positions(0.1, 1, 1)) position_names += (position_names.empty() ? "" : ", ") + p.name;
+  d.grid = fmt::format(
+      "roughness {{{}}} × light_sharpness {{{}}} × view_cos {{{}}}; f0 {}; positions {{{}}} (offsets in widths "
+      "min(√(1/λ + 2α²), π/6)); reference `{}`; methods {{{}}}; near zero below {} of the point's largest reference",
+      join_numbers(g.roughness), join_numbers(g.light_sharpness), join_numbers(g.view_cos), csv_number(g.f0),
+      position_names, reference.name, method_names, csv_number(kSpecularNearZero));
+  d.point_count = g.point_count();
+  d.columns = kColumns;
+  const std::size_t nl = g.light_sharpness.size(), nv = g.view_cos.size();
+  auto inputs = [g, nl, nv](std::size_t k) {
+    return std::array<double, 3>{g.roughness[k / (nl * nv)], g.light_sharpness[(k / nv) % nl], g.view_cos[k % nv]};
+  };
+  d.describe = [inputs](std::size_t k) {
+    const auto [alpha, lambda, v] = inputs(k);
+    return fmt::format("α={:.3g} λ={:g} view_cos={:g}", alpha, lambda, v);
+  };
+  // The registry lives for the whole program: pointers into it stay valid.
+  d.compute = [inputs, reference = &reference, methods, f0 = g.f0](std::size_t k) {
+    const auto [alpha, lambda, v] = inputs(k);
+    const std::vector<LightPosition> positions = specular_light_positions(alpha, lambda, v);
+    std::vector<std::array<double, 6>> args;
+    std::vector<double> refs;
+    for (const auto& p : positions) {
+      args.push_back({alpha, lambda, p.light_cos, v, p.light_azimuth, f0});
+      const double r = reference->eval_double(args.back());
+      if (!std::isfinite(r) || r < 0)
+        throw std::runtime_error(fmt::format("sweep specular: the reference is {} at α={} λ={} view_cos={} position {}",
+                                             r, alpha, lambda, v, p.name));
+      refs.push_back(r);
+    }
+    const double scale = *std::max_element(refs.begin(), refs.end());
+    std::vector<SweepRow> rows;
+    for (std::size_t j = 0; j < positions.size(); ++j) {
+      const auto& a = args[j];
+      for (const Method* m : methods) {
+        std::string value, status, relative, scaled;
+        if (m->domain_error && m->domain_error(a)) {
+          status = "out_of_domain";
+        } else {
+          const double x = m->eval_double(a);
+          if (!std::isfinite(x)) {
+            status = "non_finite";
+          } else {
+            value = csv_number(x);
+            const double error = std::fabs(x - refs[j]);
+            if (scale > 0) scaled = csv_number(error / scale);
+            if (scale > 0 && refs[j] > 0 && refs[j] >= kSpecularNearZero * scale) {
+              status = "ok";
+              relative = csv_number(error / refs[j]);
+            } else {
+              status = "near_zero_reference";
+            }
+          }
+        }
+        rows.push_back({csv_number(alpha), csv_number(lambda), csv_number(v), csv_number(f0), positions[j].name,
+                        csv_number(a[2]), csv_number(a[4]), csv_number(refs[j]), csv_number(scale), m->name, value,
+                        status, relative, scaled});
+      }
+    }
+    return rows;
+  };
+  return d;
+}
+
+// ---- summary ----------------------------------------------------------------------------------
+
+std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, const std::string& source) {
+  auto column = [&](const std::string& name) {
+    const std::size_t c = t.column(name);
+    if (c == CsvTable::npos) throw UsageError(fmt::format("{}: no column '{}' (not a specular sweep's per-point CSV?)", source, name));
+    return c;
+  };
+  const std::size_t c_reference = column("reference"), c_scale = column("scale"), c_value = column("value"),
+                    c_method = column("method"), c_position = column("position"), c_roughness = column("roughness"),
+                    c_sharpness = column("light_sharpness"), c_view = column("view_cos");
+  auto number = [&](const CsvRecord& r, std::size_t c) {
+    try {
+      return parse_decimal<double>(r.fields[c]);
+    } catch (const NumberError& e) {
+      throw UsageError(fmt::format("{}: line {}, column '{}': '{}' {}", source, r.line, t.header[c], r.fields[c], e.what()));
+    }
+  };
+
+  struct Group {
+    std::string by;
+    std::size_t column;      // npos: one group "all"
+    bool near_lobe_only;     // only the rows of the near-lobe positions
+    std::vector<std::string> order;
+  };
+  std::vector<Group> groups = {{"roughness", c_roughness, false, {}},
+                               {"roughness_near_lobe", c_roughness, true, {}},
+                               {"light_sharpness", c_sharpness, false, {}},
+                               {"view_cos", c_view, false, {}},
+                               {"position", c_position, false, {}},
+                               {"all", CsvTable::npos, false, {}}};
+  std::vector<std::string> methods;
+  std::map<std::tuple<std::size_t, std::string, std::string>, ErrorAccumulator> acc;  // (group, value, method)
+  for (std::size_t i = 0; i < t.rows.size(); ++i) {
+    const CsvRecord& r = t.rows[i];
+    const std::string& method = r.fields[c_method];
+    if (std::find(methods.begin(), methods.end(), method) == methods.end()) methods.push_back(method);
+    const double reference = number(r, c_reference), scale = number(r, c_scale);
+    const bool has_value = !r.fields[c_value].empty();
+    const double value = has_value ? number(r, c_value) : 0.0;
+    const bool near_lobe = specular_position_near_lobe(r.fields[c_position]);
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      if (groups[g].near_lobe_only && !near_lobe) continue;
+      const std::string key = groups[g].column == CsvTable::npos ? "all" : r.fields[groups[g].column];
+      auto& order = groups[g].order;
+      if (std::find(order.begin(), order.end(), key) == order.end()) order.push_back(key);
+      acc.try_emplace({g, key, method}, kSpecularNearZero).first->second.add(has_value, value, reference, scale, i);
+    }
+  }
+  std::vector<SpecularSummaryRow> out;
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    for (const auto& key : groups[g].order)
+      for (const auto& method : methods) {
+        const auto it = acc.find({g, key, method});
+        if (it == acc.end()) continue;
+        SpecularSummaryRow row{groups[g].by, key, method, it->second.stats(), "", "", "", ""};
+        if (row.stats.worst < t.rows.size()) {
+          const auto& w = t.rows[row.stats.worst].fields;
+          row.worst_roughness = w[c_roughness];
+          row.worst_light_sharpness = w[c_sharpness];
+          row.worst_view_cos = w[c_view];
+          row.worst_position = w[c_position];
+        }
+        out.push_back(std::move(row));
+      }
+  return out;
+}
+
+std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows) {
+  std::string csv;
+  append_csv_record(csv, std::vector<std::string>{"by", "group", "method", "points", "relative_points", "near_zero",
+                                                  "missing", "rmse_relative", "max_relative", "smape", "max_scaled", "rmse_scaled",
+                                                  "worst_roughness", "worst_light_sharpness", "worst_view_cos",
+                                                  "worst_position"});
+  for (const auto& r : rows) {
+    const ErrorStats& s = r.stats;
+    append_csv_record(csv, std::vector<std::string>{r.by, r.group, r.method, std::to_string(s.points),
+                                                    std::to_string(s.relative), std::to_string(s.near_zero),
+                                                    std::to_string(s.missing), csv_number(s.rmse_relative),
+                                                    csv_number(s.max_relative), csv_number(s.smape),
+                                                    csv_number(s.max_scaled), csv_number(s.rmse_scaled), r.worst_roughness, r.worst_light_sharpness,
+                                                    r.worst_view_cos, r.worst_position});
+  }
+  return csv;
+}
+
+namespace {
+
+std::string percent(double x) { return std::isnan(x) ? "—" : fmt::format("{:.3g}", 100 * x); }
+
+// A group value as a reader wants it: numbers to 3 digits ("0.0178"), names as they are.
+std::string short_group(const std::string& g) {
+  try {
+    return fmt::format("{:.3g}", parse_decimal<double>(g));
+  } catch (const NumberError&) {
+    return g;
+  }
+}
+
+}  // namespace
+
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command) {
+  std::vector<std::string> methods;
+  std::map<std::string, std::vector<std::string>> groups;  // by → values in order
+  std::map<std::tuple<std::string, std::string, std::string>, const SpecularSummaryRow*> cell;
+  for (const auto& r : rows) {
+    if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
+    auto& g = groups[r.by];
+    if (std::find(g.begin(), g.end(), r.group) == g.end()) g.push_back(r.group);
+    cell[{r.by, r.group, r.method}] = &r;
+  }
+  auto values = [&](const std::string& by) {
+    std::string s;
+    for (const auto& g : groups[by]) s += (s.empty() ? "" : ", ") + short_group(g);
+    return s;
+  };
+  auto header = [&](const std::string& first) {
+    std::string h = "| " + first + " |", rule = "|---|";
+    for (const auto& m : methods) {
+      h += fmt::format(" {} |", m);
+      rule += "---|";
+    }
+    return h + "\n" + rule + "\n";
+  };
+  // One table: a row per group value of `by`, a column per method, `show` of the cell.
+  auto table = [&](const std::string& by, const std::string& first, auto show) {
+    std::string s = header(first);
+    for (const auto& g : groups[by]) {
+      s += "| " + short_group(g) + " |";
+      for (const auto& m : methods) {
+        const auto it = cell.find({by, g, m});
+        s += fmt::format(" {} |", it == cell.end() ? std::string("—") : show(it->second->stats));
+      }
+      s += "\n";
+    }
+    return s + "\n";
+  };
+  auto smape = [](const ErrorStats& s) { return percent(s.smape); };
+  auto max_rel = [](const ErrorStats& s) { return percent(s.max_relative); };
+  auto rmse = [](const ErrorStats& s) { return percent(s.rmse_relative); };
+  auto rmse_scaled = [](const ErrorStats& s) { return percent(s.rmse_scaled); };
+  auto both = [](const ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
+
+  std::size_t near_zero = 0, points = 0;
+  for (const auto& r : rows)
+    if (r.by == "all") near_zero = std::max(near_zero, r.stats.near_zero), points = std::max(points, r.stats.points);
+
+  std::string md = fmt::format(
+      "<!-- Generated by `{0}`; do not edit by hand. -->\n"
+      "# Specular reflection of an SG light off GGX: error against roughness\n\n"
+      "Command: `{0}` (per-point data: `specular_points.csv` in its `--out` directory; sharded runs joined by "
+      "`sglab merge` give the same file). Every method of the `specular` quantity (`sglab eval --list`) against "
+      "`reference` (adaptive 2D quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated "
+      "Smith and Schlick f0 = 0.04, over roughness α ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
+      "× light positions {{{4}}}: the mirror direction; one width toward the normal, toward the horizon and out of "
+      "the plane of incidence; three widths out of the plane (width = min(√(1/λ + 2α²), π/6)); the normal; the "
+      "horizon and 30° below it, at the mirror azimuth.\n\n"
+      "Relative error |v − r|/r; SMAPE = mean of 2|v − r|/(|v| + |r|) (0–200 %); RMSE = root mean square of the "
+      "relative error. **Near-zero references**: a reference below {5} of the largest reference among its point's "
+      "light positions (a light behind the surface, at the horizon, or far off the lobe) has no meaningful relative "
+      "error; such rows ({6} of {7} per method over the grid) are left out of SMAPE, RMSE and the maximum and "
+      "counted. The scaled error |v − r| / (that largest reference), over all rows, covers them (\"RMSE scaled\", "
+      "\"max scaled\"). All numbers in %.\n\n",
+      command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
+      csv_number(kSpecularNearZero), near_zero, points);
+  md += "## SMAPE (%) by roughness α\n\n" + table("roughness", "α", smape);
+  md += "## Maximum relative error (%) by roughness α\n\n" + table("roughness", "α", max_rel);
+  md += "## RMSE of the relative error (%) by roughness α\n\n" + table("roughness", "α", rmse);
+  md += "## RMSE of the scaled error (%) by roughness α\n\n|v − r| / (the point's largest reference), all rows: how much "
+        "the error shows next to the brightest light position.\n\n" +
+        table("roughness", "α", rmse_scaled);
+  md += "## Near the highlight: SMAPE / maximum relative error (%) by roughness α\n\nOnly the light positions within "
+        "one width of the mirror direction (mirror, toward-normal, toward-horizon, side); the tables above include the "
+        "lobe's tails too.\n\n" +
+        table("roughness_near_lobe", "α", both);
+  md += "## Where each method breaks: SMAPE / maximum relative error (%)\n\n";
+  md += "By view angle (all α, λ, positions):\n\n" + table("view_cos", "view_cos", both);
+  md += "By light sharpness:\n\n" + table("light_sharpness", "λ", both);
+  md += "By light position:\n\n" + table("position", "position", both);
+  md += "## Over the whole grid\n\n| method | SMAPE | max relative | RMSE | RMSE scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    if (r.by != "all") continue;
+    const ErrorStats& s = r.stats;
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.method, percent(s.smape), percent(s.max_relative),
+                      percent(s.rmse_relative), percent(s.rmse_scaled), percent(s.max_scaled), s.near_zero, s.missing,
+                      r.worst_roughness.empty() ? "—"
+                                                : fmt::format("{}, {}, {}, {}", short_group(r.worst_roughness),
+                                                              short_group(r.worst_light_sharpness),
+                                                              short_group(r.worst_view_cos), r.worst_position));
+  }
+  return md;
+}
+
+// ---- the command ----------------------------------------------------------------------------------
+
+namespace {
+
+struct SpecularOptions {
+  std::string out = "results/specular";
+  std::string tables_dir = "paper_tables";
+  std::string shard;
+  std::size_t threads = 0;
+  bool quick = false;
+  bool fresh = false;
+};
+
+void run_specular(const SpecularOptions& o) {
+  const Shard shard = o.shard.empty() ? Shard{} : parse_shard(o.shard);
+  const SweepDefinition d = specular_sweep_definition(o.quick);
+  if (o.fresh)
+    for (const auto& p : {sweep_points_path(o.out, d.name, shard), sweep_manifest_path(o.out, d.name, shard),
+                          sweep_checkpoint_path(o.out, d.name, shard)})
+      fs::remove(p);
+  const SweepRunResult r = run_sweep(d, {.out_dir = o.out, .shard = shard, .threads = o.threads});
+  if (r.sharded) {
+    std::fprintf(stderr,
+                 "sweep specular: shard %s written to %s; no summary from a part of the grid. When every shard is done:\n"
+                 "  sglab merge --out %s <the shard directories>\n",
+                 shard.text().c_str(), r.points_csv.string().c_str(), o.out.c_str());
+    return;
+  }
+  const auto rows = summarize_specular_points(read_sweep_points(r.points_csv), r.points_csv.string());
+  std::string command = "sglab";
+  for (const auto& a : d.args) command += " " + a;
+  const std::string csv = specular_summary_csv(rows);
+  const std::string md = specular_summary_markdown(rows, command);
+  fs::create_directories(o.tables_dir);
+  const std::pair<fs::path, std::string> outputs[] = {
+      {fs::path(o.out) / "specular_summary.csv", csv},
+      {fs::path(o.tables_dir) / "specular_vs_roughness.csv", "# Generated by `" + command + "`; do not edit by hand.\n" + csv},
+      {fs::path(o.tables_dir) / "specular_vs_roughness.md", md}};
+  for (const auto& [path, text] : outputs) {
+    AtomicFile f(path);
+    f.write(text);
+    f.commit();
+  }
+  std::fputs(md.c_str(), stdout);
+  std::fprintf(stderr, "sweep specular: wrote %s/specular_summary.csv and %s/specular_vs_roughness.{md,csv} (%.1f s)\n",
+               o.out.c_str(), o.tables_dir.c_str(), r.seconds);
+}
+
+}  // namespace
+
+void add_sweep_specular(CLI::App& sweep) {
+  auto o = std::make_shared<SpecularOptions>();
+  auto* sub = sweep.add_subcommand("specular",
+                                   "Every specular method vs the reference over roughness × light sharpness × view × light position");
+  sub->add_option("--out", o->out, "directory for specular_points.csv and specular_summary.csv")->capture_default_str();
+  sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
+  sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`");
+  sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str();
+  sub->add_option("--tables-dir", o->tables_dir, "directory for specular_vs_roughness.{md,csv}")->capture_default_str();
+  sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
+  sub->callback([o] { run_specular(*o); });
+}
+
+}  // namespace sglab::cli

@@ -1,0 +1,101 @@
+// `sglab sweep specular` (issue 4, item 6): every method of the registry's `specular` quantity
+// against its reference over roughness × light sharpness × view angle × light position.
+// The CLI registration is add_sweep_specular (commands.hpp); this header exposes the grid, the
+// sweep definition and the summary so that tests can check them directly.
+//
+//   grid ──► run_sweep (sweep.hpp) ──► specular_points.csv ──► summarize_specular_points
+//        ──► specular_summary.csv, paper_tables/specular_vs_roughness.{md,csv}
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "csv.hpp"
+#include "sweep.hpp"
+
+namespace sglab::cli {
+
+// A reference below this fraction of its point's scale (the largest reference over the point's
+// light positions) is "near zero": the point is left out of the relative statistics and counted
+// (ErrorAccumulator). 1e-4: a light contributing less than 0.01 % of the peak response is
+// invisible next to it, and the reference's own error (≤ 1e-6 of its magnitude, glossy_reference.hpp)
+// is still ≤ 1e-2 relative at the threshold's smallest values.
+inline constexpr double kSpecularNearZero = 1e-4;
+
+// Schlick f0 of the sweep: a dielectric of index 1.5, ((1.5 − 1)/(1.5 + 1))² = 0.04.
+inline constexpr double kSpecularF0 = 0.04;
+
+struct SpecularGrid {
+  std::vector<double> roughness;        // GGX α, log-spaced over [0.01, 1]
+  std::vector<double> light_sharpness;  // λ
+  std::vector<double> view_cos;         // ωo·n
+  double f0 = kSpecularF0;
+  // The point index k runs over roughness (outermost), light sharpness, view_cos (innermost).
+  std::size_t point_count() const { return roughness.size() * light_sharpness.size() * view_cos.size(); }
+};
+
+// The full grid (9 × 5 × 4 points) or the --quick grid (5 × 3 × 3).
+SpecularGrid specular_grid(bool quick);
+
+// The light positions evaluated at every point, as registry inputs.
+struct LightPosition {
+  std::string name;
+  double light_cos;      // ξ·n
+  double light_azimuth;  // from the view's azimuth (radians)
+};
+
+// The angular width that the offset positions are measured in: the light's and the BRDF lobe's
+// angular standard deviations added in quadrature, √(1/λ + 1/λ_s) with λ_s = 1/(2α²) (Wang et
+// al. 2009 warp at normal view: λ_h/4, λ_h = 2/α²), capped at π/6 so that three widths stay
+// within the hemisphere around the mirror direction.
+double specular_offset_width(double roughness, double light_sharpness);
+
+// The eight positions: "mirror" (the mirror direction of the view), "toward-normal" and
+// "toward-horizon" (rotated by one width within the plane of incidence), "side" and "side-3w"
+// (rotated by one and three widths out of it), "normal" (ξ = n), "horizon" (ξ on the horizon at
+// the mirror azimuth) and "below" (30° below the horizon at the mirror azimuth: light_cos = −1/2).
+std::vector<LightPosition> specular_light_positions(double roughness, double light_sharpness, double view_cos);
+
+// The positions within one width of the mirror direction — the highlight, where a light matters
+// most: mirror, toward-normal, toward-horizon, side. The summary's `roughness_near_lobe` groups
+// take only these rows; the others are the lobe's tails.
+bool specular_position_near_lobe(const std::string& position);
+
+// The sweep as the runner sees it: points, columns, rows. Columns (long format, one row per
+// point × light position × method):
+//   roughness, light_sharpness, view_cos, f0, position, light_cos, light_azimuth,
+//   reference, scale, method, value, status, relative_error, scaled_error
+// scale = the largest reference over the point's positions; status ∈ {ok, near_zero_reference,
+// out_of_domain, non_finite}; relative_error = |value − reference|/reference for status ok, else
+// empty; scaled_error = |value − reference|/scale whenever there is a value. Numbers are printed
+// with the shortest text that reads back to the same double, so any row can be re-evaluated with
+// `sglab eval specular`.
+SweepDefinition specular_sweep_definition(bool quick);
+
+// One summary row: the statistics of one method over one group of rows.
+struct SpecularSummaryRow {
+  std::string by;      // what the group is: "roughness", "roughness_near_lobe" (only the rows of the
+                       // near-lobe positions), "light_sharpness", "view_cos", "position", "all"
+  std::string group;   // the group's value as printed in the per-point CSV ("0.01", "mirror", "all")
+  std::string method;
+  ErrorStats stats;
+  // The inputs of the row with the largest relative error ("" if none).
+  std::string worst_roughness, worst_light_sharpness, worst_view_cos, worst_position;
+};
+
+// The summary derived from a per-point CSV alone (the file the sweep or `sglab merge` wrote):
+// per roughness (all positions, then only the near-lobe ones), per light sharpness, per view_cos,
+// per position and over all points, per method, in the order of first appearance. Errors are recomputed from the value, reference and
+// scale columns (near zero: kSpecularNearZero). Throws UsageError naming `source`, the line and
+// the column for a missing column or a bad number.
+std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& points, const std::string& source);
+
+// The summary as CSV (header + rows).
+std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows);
+
+// The paper table (Markdown), headed by `command`; the grid it states is read from the rows'
+// groups (so it describes the CSV the rows came from).
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command);
+
+}  // namespace sglab::cli

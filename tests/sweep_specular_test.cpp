@@ -1,0 +1,309 @@
+// `sglab sweep specular` (experiments/sweep_specular.hpp): the grid and the light positions
+// against their closed-form geometry, the rows of a point against direct registry evaluation (the
+// methods enumerated from the registry), the summary on a hand-written per-point CSV whose
+// statistics are worked out by hand below, and the command's bad-input paths through the built
+// binary (SGLAB_EXE).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "commands.hpp"
+#include "csv.hpp"
+#include "parse_number.hpp"
+#include "sglab/registry.hpp"
+#include "sweep_specular.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace sglab::cli;
+
+// ---- grid and positions ---------------------------------------------------------------------------
+
+TEST(SpecularGrid, FullAndQuick) {
+  const SpecularGrid full = specular_grid(false), quick = specular_grid(true);
+  ASSERT_EQ(full.roughness.size(), 9u);
+  EXPECT_DOUBLE_EQ(full.roughness.front(), 0.01);
+  EXPECT_DOUBLE_EQ(full.roughness.back(), 1.0);
+  for (std::size_t i = 1; i < full.roughness.size(); ++i)  // log-spaced: ratio 10^(1/4)
+    EXPECT_NEAR(full.roughness[i] / full.roughness[i - 1], 1.7782794100389228, 1e-14);
+  EXPECT_EQ(full.light_sharpness, (std::vector<double>{1, 10, 100, 1e3, 1e4}));
+  EXPECT_EQ(full.view_cos, (std::vector<double>{1, 0.7, 0.3, 0.1}));
+  EXPECT_EQ(full.point_count(), 9u * 5u * 4u);
+  EXPECT_DOUBLE_EQ(full.f0, 0.04);
+  // The quick grid is a subset of the full one, ends included.
+  for (double a : quick.roughness)
+    EXPECT_NE(std::find(full.roughness.begin(), full.roughness.end(), a), full.roughness.end()) << a;
+  EXPECT_EQ(quick.roughness.front(), full.roughness.front());
+  EXPECT_EQ(quick.roughness.back(), full.roughness.back());
+}
+
+TEST(SpecularPositions, OffsetWidthClosedForm) {
+  EXPECT_NEAR(specular_offset_width(0.1, 100), std::sqrt(0.01 + 0.02), 1e-16);   // √(1/λ + 2α²)
+  EXPECT_NEAR(specular_offset_width(0.01, 1e4), std::sqrt(1e-4 + 2e-4), 1e-17);
+  EXPECT_EQ(specular_offset_width(1, 1), std::numbers::pi / 6);                  // capped
+  EXPECT_EQ(specular_offset_width(0.01, 0), std::numbers::pi / 6);               // λ = 0: 1/λ = ∞
+}
+
+using Dir = std::array<double, 3>;
+Dir direction(const LightPosition& p) {
+  const double s = std::sqrt(std::max(0.0, 1 - p.light_cos * p.light_cos));
+  return {s * std::cos(p.light_azimuth), s * std::sin(p.light_azimuth), p.light_cos};
+}
+double angle(const Dir& a, const Dir& b) {  // atan2(|a × b|, a·b): accurate at small angles
+  const Dir c{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  return std::atan2(std::hypot(c[0], c[1], c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+}
+
+TEST(SpecularPositions, Geometry) {
+  for (double v : {1.0, 0.7, 0.3, 0.1})
+    for (auto [alpha, lambda] : {std::pair{0.01, 1e4}, {0.1, 100.0}, {1.0, 1.0}}) {
+      SCOPED_TRACE(::testing::Message() << "view_cos " << v << " α " << alpha << " λ " << lambda);
+      const auto ps = specular_light_positions(alpha, lambda, v);
+      ASSERT_EQ(ps.size(), 8u);
+      auto find = [&](const std::string& name) {
+        const auto it = std::find_if(ps.begin(), ps.end(), [&](const LightPosition& p) { return p.name == name; });
+        EXPECT_NE(it, ps.end()) << name;
+        return *it;
+      };
+      const double s = std::sqrt(1 - v * v), w = specular_offset_width(alpha, lambda);
+      const Dir mirror{-s, 0, v};  // 2(ωo·n)n − ωo for ωo = (s, 0, v)
+      const Dir m = direction(find("mirror"));
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(m[i], mirror[i], 1e-15);
+      EXPECT_NEAR(angle(direction(find("toward-normal")), mirror), w, 1e-14);
+      EXPECT_NEAR(angle(direction(find("toward-horizon")), mirror), w, 1e-14);
+      EXPECT_NEAR(angle(direction(find("side")), mirror), w, 1e-14);
+      EXPECT_NEAR(angle(direction(find("side-3w")), mirror), 3 * w, 1e-14);
+      // In the plane of incidence (y = 0) toward n / toward the horizon; "side" out of it.
+      EXPECT_NEAR(direction(find("toward-normal"))[1], 0, 1e-15);
+      EXPECT_NEAR(direction(find("toward-horizon"))[1], 0, 1e-15);
+      if (v < 1) {
+        EXPECT_NEAR(angle(direction(find("toward-normal")), {0, 0, 1}), std::acos(v) - w, 1e-12);
+        EXPECT_NEAR(angle(direction(find("toward-horizon")), {0, 0, 1}), std::acos(v) + w, 1e-12);
+      }
+      // 1e-13: direction() rebuilds sin θ as √(1 − cos²θ), which loses digits near the pole.
+      EXPECT_NEAR(direction(find("side"))[1], std::sin(w), 1e-13);
+      EXPECT_EQ(find("normal").light_cos, 1.0);
+      EXPECT_EQ(find("horizon").light_cos, 0.0);
+      EXPECT_NEAR(find("horizon").light_azimuth, std::numbers::pi, 1e-15);
+      EXPECT_NEAR(find("below").light_cos, -0.5, 1e-15);
+      EXPECT_NEAR(find("below").light_azimuth, std::numbers::pi, 1e-15);
+    }
+}
+
+// ---- a point's rows ---------------------------------------------------------------------------------
+
+TEST(SpecularSweep, RowsEnumerateTheRegistryAndRoundTrip) {
+  const sglab::Quantity& q = *sglab::find_quantity("specular");
+  std::vector<std::string> methods;
+  for (const auto& m : q.methods)
+    if (m.name != q.reference_method) methods.push_back(m.name);
+  ASSERT_FALSE(methods.empty());
+  const SweepDefinition d = specular_sweep_definition(true);
+  const SpecularGrid g = specular_grid(true);
+  EXPECT_EQ(d.point_count, g.point_count());
+  // The first point of the last α: α = 1, λ = 1, view_cos = 1 (k runs over α, λ, view_cos).
+  const std::size_t k = (g.roughness.size() - 1) * g.light_sharpness.size() * g.view_cos.size();
+  const auto rows = d.compute(k);
+  ASSERT_EQ(rows.size(), 8 * methods.size());
+  auto col = [&](const std::string& name) {
+    const auto it = std::find(d.columns.begin(), d.columns.end(), name);
+    EXPECT_NE(it, d.columns.end()) << name;
+    return std::size_t(it - d.columns.begin());
+  };
+  const std::size_t c_r = col("roughness"), c_l = col("light_sharpness"), c_v = col("view_cos"), c_f0 = col("f0"),
+                    c_lc = col("light_cos"), c_az = col("light_azimuth"), c_ref = col("reference"), c_scale = col("scale"),
+                    c_m = col("method"), c_val = col("value"), c_st = col("status"), c_rel = col("relative_error");
+  double scale = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    ASSERT_EQ(r.size(), d.columns.size());
+    EXPECT_EQ(r[c_m], methods[i % methods.size()]);
+    EXPECT_EQ(parse_decimal<double>(r[c_r]), g.roughness.back());
+    EXPECT_EQ(parse_decimal<double>(r[c_l]), g.light_sharpness.front());
+    EXPECT_EQ(parse_decimal<double>(r[c_v]), g.view_cos.front());
+    // The printed inputs read back to the evaluated ones: re-evaluating them gives the same bits.
+    const std::array<double, 6> a{parse_decimal<double>(r[c_r]), parse_decimal<double>(r[c_l]), parse_decimal<double>(r[c_lc]),
+                                  parse_decimal<double>(r[c_v]),  parse_decimal<double>(r[c_az]), parse_decimal<double>(r[c_f0])};
+    const double ref = q.find(q.reference_method)->eval_double(a);
+    EXPECT_EQ(parse_decimal<double>(r[c_ref]), ref);
+    const double value = q.find(r[c_m])->eval_double(a);
+    EXPECT_EQ(parse_decimal<double>(r[c_val]), value);
+    scale = std::max(scale, ref);
+    if (r[c_st] == "ok") {
+      EXPECT_EQ(parse_decimal<double>(r[c_rel]), std::fabs(value - ref) / ref);
+    } else {
+      EXPECT_EQ(r[c_st], "near_zero_reference");
+      EXPECT_EQ(r[c_rel], "");
+      EXPECT_LT(ref, kSpecularNearZero * parse_decimal<double>(r[c_scale]));
+    }
+  }
+  for (const auto& r : rows) EXPECT_EQ(parse_decimal<double>(r[c_scale]), scale);
+}
+
+// ---- the summary on a hand-written per-point CSV ----------------------------------------------------
+
+const char* kTinyPoints =
+    "point,roughness,light_sharpness,view_cos,f0,position,light_cos,light_azimuth,reference,scale,method,value,status,relative_error,scaled_error\n"
+    "0,0.01,1,1,0.04,mirror,1,0,2,2,a,2.2,ok,0.1,0.1\n"
+    "0,0.01,1,1,0.04,mirror,1,0,2,2,b,1,ok,0.5,0.5\n"
+    "0,0.01,1,1,0.04,below,-0.5,3,1e-9,2,a,0,near_zero_reference,,5e-10\n"
+    "0,0.01,1,1,0.04,below,-0.5,3,1e-9,2,b,0.5,near_zero_reference,,0.25\n"
+    "1,1,1,1,0.04,mirror,1,0,4,4,a,3,ok,0.25,0.25\n"
+    "1,1,1,1,0.04,mirror,1,0,4,4,b,,out_of_domain,,\n"
+    "1,1,1,1,0.04,below,-0.5,3,1,4,a,1,ok,0,0\n"
+    "1,1,1,1,0.04,below,-0.5,3,1,4,b,1.5,ok,0.5,0.125\n";
+
+CsvTable parse(const std::string& text) {
+  std::istringstream in(text);
+  return read_csv(in, "tiny.csv");
+}
+
+const SpecularSummaryRow& find_row(const std::vector<SpecularSummaryRow>& rows, const std::string& by,
+                                   const std::string& group, const std::string& method) {
+  const auto it = std::find_if(rows.begin(), rows.end(), [&](const SpecularSummaryRow& r) {
+    return r.by == by && r.group == group && r.method == method;
+  });
+  if (it == rows.end()) throw std::runtime_error("no summary row " + by + "=" + group + " " + method);
+  return *it;
+}
+
+TEST(SpecularSummary, HandCheckedStatistics) {
+  const auto rows = summarize_specular_points(parse(kTinyPoints), "tiny.csv");
+  // α = 0.01, method a: only the mirror row counts (the other's reference 1e-9 < 1e-4 · 2).
+  const auto& a0 = find_row(rows, "roughness", "0.01", "a").stats;
+  EXPECT_EQ(a0.points, 2u);
+  EXPECT_EQ(a0.relative, 1u);
+  EXPECT_EQ(a0.near_zero, 1u);
+  EXPECT_NEAR(a0.rmse_relative, 0.1, 1e-15);
+  EXPECT_NEAR(a0.max_relative, 0.1, 1e-15);
+  EXPECT_NEAR(a0.smape, 0.4 / 4.2, 1e-15);        // 2·0.2/(2.2 + 2)
+  EXPECT_NEAR(a0.max_scaled, 0.1, 1e-15);         // max(0.2/2, 1e-9/2)
+  EXPECT_NEAR(a0.rmse_scaled, std::sqrt(0.005), 1e-15);  // √((0.1² + (5e-10)²)/2)
+  // α = 0.01, method b: the near-zero row still shows in max_scaled: 0.5/2 = 0.25 < 1/2.
+  const auto& b0 = find_row(rows, "roughness", "0.01", "b").stats;
+  EXPECT_NEAR(b0.smape, 2.0 / 3.0, 1e-15);        // 2·1/(1 + 2)
+  EXPECT_NEAR(b0.max_scaled, 0.5, 1e-15);
+  // α = 1, method a: relative errors 0.25 and 0.
+  const auto& a1r = find_row(rows, "roughness", "1", "a");
+  EXPECT_NEAR(a1r.stats.rmse_relative, std::sqrt(0.0625 / 2), 1e-15);
+  EXPECT_NEAR(a1r.stats.smape, (2.0 / 7.0 + 0) / 2, 1e-15);  // 2·1/(3 + 4)
+  EXPECT_EQ(a1r.worst_position, "mirror");
+  EXPECT_EQ(a1r.worst_roughness, "1");
+  // α = 1, method b: one row without a value (missing), one with relative error 0.5.
+  const auto& b1 = find_row(rows, "roughness", "1", "b").stats;
+  EXPECT_EQ(b1.missing, 1u);
+  EXPECT_EQ(b1.relative, 1u);
+  EXPECT_NEAR(b1.smape, 0.4, 1e-15);              // 2·0.5/(1.5 + 1)
+  EXPECT_NEAR(b1.max_scaled, 0.125, 1e-15);       // 0.5/4
+  // Over everything, method b: relative errors 0.5 (α 0.01 mirror, first) and 0.5 (α 1 below).
+  const auto& all_b = find_row(rows, "all", "all", "b");
+  EXPECT_EQ(all_b.stats.points, 4u);
+  EXPECT_EQ(all_b.stats.near_zero, 1u);
+  EXPECT_EQ(all_b.stats.missing, 1u);
+  EXPECT_NEAR(all_b.stats.rmse_relative, 0.5, 1e-15);
+  EXPECT_NEAR(all_b.stats.smape, (2.0 / 3.0 + 0.4) / 2, 1e-15);
+  EXPECT_EQ(all_b.worst_roughness, "0.01");
+  EXPECT_EQ(all_b.worst_position, "mirror");
+  // By position: "below", method a: one near zero (α 0.01), one exact (α 1).
+  const auto& below_a = find_row(rows, "position", "below", "a").stats;
+  EXPECT_EQ(below_a.near_zero, 1u);
+  EXPECT_EQ(below_a.relative, 1u);
+  EXPECT_EQ(below_a.max_relative, 0.0);
+  // Near the lobe: only the mirror rows (below is a tail position).
+  const auto& near_a0 = find_row(rows, "roughness_near_lobe", "0.01", "a").stats;
+  EXPECT_EQ(near_a0.points, 1u);
+  EXPECT_NEAR(near_a0.smape, 0.4 / 4.2, 1e-15);
+  const auto& near_b1 = find_row(rows, "roughness_near_lobe", "1", "b").stats;
+  EXPECT_EQ(near_b1.points, 1u);
+  EXPECT_EQ(near_b1.missing, 1u);
+  EXPECT_TRUE(std::isnan(near_b1.smape));
+  EXPECT_TRUE(specular_position_near_lobe("side"));
+  EXPECT_FALSE(specular_position_near_lobe("side-3w"));
+  // Groups in order of appearance, methods in order of appearance.
+  EXPECT_EQ(rows[0].by, "roughness");
+  EXPECT_EQ(rows[0].group, "0.01");
+  EXPECT_EQ(rows[0].method, "a");
+  EXPECT_EQ(rows[1].method, "b");
+  EXPECT_EQ(rows[2].group, "1");
+
+  const std::string md = specular_summary_markdown(rows, "sglab sweep specular --quick");
+  EXPECT_EQ(md.rfind("<!-- Generated by `sglab sweep specular --quick`", 0), 0u) << md.substr(0, 80);
+  for (const char* bad : {"nan", "inf"}) EXPECT_EQ(md.find(bad), std::string::npos) << bad;
+  const std::string csv = specular_summary_csv(rows);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "by,group,method,points,relative_points,near_zero,missing,rmse_relative,max_relative,smape,max_scaled,rmse_scaled,"
+            "worst_roughness,worst_light_sharpness,worst_view_cos,worst_position");
+}
+
+TEST(SpecularSummary, BadInputNamesTheLineAndColumn) {
+  std::string text = kTinyPoints;
+  text.replace(text.find("2.2,ok"), 3, "2.x");
+  try {
+    summarize_specular_points(parse(text), "tiny.csv");
+    ADD_FAILURE() << "accepted a bad number";
+  } catch (const UsageError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("tiny.csv: line 2, column 'value': '2.x'"), std::string::npos) << m;
+  }
+  try {
+    summarize_specular_points(parse("point,method\n0,a\n"), "x.csv");
+    ADD_FAILURE() << "accepted a table without the reference column";
+  } catch (const UsageError& e) {
+    EXPECT_NE(std::string(e.what()).find("no column 'reference'"), std::string::npos) << e.what();
+  }
+}
+
+// ---- the command, end to end ----------------------------------------------------------------------
+
+struct Result {
+  int status = -1;
+  std::string err;
+};
+
+Result run(const std::vector<std::string>& args, const fs::path& dir) {
+  std::string cmd = "cd '" + dir.string() + "' && '" SGLAB_EXE "'";
+  for (const auto& a : args) cmd += " '" + a + "'";
+  cmd += " >/dev/null 2>stderr.txt";
+  const int raw = std::system(cmd.c_str());
+  Result r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream in(dir / "stderr.txt");
+  std::ostringstream s;
+  s << in.rdbuf();
+  r.err = s.str();
+  return r;
+}
+
+TEST(SpecularCommand, BadShardIsAUsageErrorNamingIt) {
+  const fs::path dir = fs::temp_directory_path() / ("sglab_sweep_specular_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  for (const std::string bad : {"0/0", "3/2", "x"}) {
+    const Result r = run({"sweep", "specular", "--out", "out", "--tables-dir", "tables", "--shard", bad}, dir);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
+    EXPECT_NE(r.err.find("'" + bad + "'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "out")) << bad;
+    EXPECT_FALSE(fs::exists(dir / "tables")) << bad;
+  }
+  fs::create_directories(dir / "empty");
+  const Result m = run({"merge", "--out", "merged", "empty"}, dir);
+  EXPECT_EQ(m.status, 2) << m.err;
+  EXPECT_NE(m.err.find("no shard manifest"), std::string::npos) << m.err;
+  EXPECT_FALSE(fs::exists(dir / "merged"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
