@@ -1,0 +1,217 @@
+// The stability atlas (issue 6, item 2): every method of every registry quantity, in float and
+// double, evaluated over the stiff inputs of SPEC.md §10, with each output classified (NaN, Inf,
+// negative, wrong by more than 1 %, outside the method's domain) and its rounding error (the
+// method in float or double against the same method in 50 digits at the same input) kept apart
+// from its approximation error (against the quantity's reference method). Plus the stiff cases
+// of SPEC.md §10 that are not registry quantities (opposite SG lobes, degenerate VPL sets, the
+// shading point on top of a VSGL), as atlas-only quantities run through the same machinery.
+//
+// This file is the computation; `sglab stability` (stability.cpp) runs it and writes the tables.
+// Everything here is deterministic: evaluations run in parallel into per-row slots, and tallies
+// are taken serially in row order (ties go to the first row).
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sglab/registry.hpp"
+
+namespace sglab::atlas {
+
+// "Wrong" means off by more than this fraction (issue 6: "wrong-by-more-than-1 %").
+inline constexpr double kWrongTolerance = 0.01;
+
+// The verdict on one output, in increasing severity; a cell of the heat map shows the most severe
+// verdict among its evaluations.
+enum class Flag : int {
+  ok = 0,
+  out_of_domain = 1,   // the method's domain check rejected the input (a clear error, by design)
+  wrong_relative = 2,  // |v − ref| > 1 % of |ref|, but ≤ 1 % of the peak (a small value, relatively wrong)
+  wrong = 3,           // |v − ref| > 1 % of the peak (the largest reference along the cosine axis)
+  throws = 4,          // the evaluator threw an exception
+  negative = 5,        // v < 0 where the true value is ≥ 0
+  inf = 6,
+  nan = 7,
+};
+inline constexpr int kFlagCount = 8;
+std::string_view flag_name(Flag f);
+
+// One method, one precision, one input row.
+struct Evaluation {
+  bool skipped = false;  // not evaluated (outside the rows asked for); ignored by tallies and cells
+  bool out_of_domain = false;
+  bool threw = false;
+  double value = std::numeric_limits<double>::quiet_NaN();      // the output (exact for float)
+  double reference = std::numeric_limits<double>::quiet_NaN();  // NaN: not compared
+  double peak = std::numeric_limits<double>::quiet_NaN();       // NaN: no peak normalization
+  double exact = std::numeric_limits<double>::quiet_NaN();      // same method, 50 digits; NaN: not measured
+  double self_peak = std::numeric_limits<double>::quiet_NaN();  // the method's own double peak (for rounding)
+};
+
+// The numbers derived from one Evaluation. `tiny` is the smallest normal number of the precision
+// the output was computed in: relative errors are taken against max(|target|, tiny), so a value
+// that underflows (to 0 or a subnormal) is not counted as 100 % wrong.
+struct Assessment {
+  Flag flag = Flag::ok;
+  bool negative = false, wrong_relative = false, wrong_peak = false;
+  double rel_error = std::numeric_limits<double>::quiet_NaN();       // |v − ref| / max(|ref|, tiny)
+  double peak_error = std::numeric_limits<double>::quiet_NaN();      // |v − ref| / peak
+  double rounding_rel = std::numeric_limits<double>::quiet_NaN();    // |v − exact| / max(|exact|, tiny)
+  double rounding_peak = std::numeric_limits<double>::quiet_NaN();   // |v − exact| / self_peak
+};
+Assessment assess(const Evaluation& e, double tiny);
+
+// The smallest normal number of a precision (FLT_MIN, DBL_MIN; DBL_MIN for mp50 outputs, which
+// the atlas only ever holds as doubles).
+double tiny_of(Precision p);
+
+// The largest of some error over the rows, and the row where it first occurs.
+struct Worst {
+  double error = -1;  // < 0: nothing measured
+  std::size_t row = std::numeric_limits<std::size_t>::max();
+  double value = 0, target = 0;
+  bool measured() const { return error >= 0; }
+};
+
+// Counts over the rows of one (quantity, method, precision). The counts overlap where the
+// verdicts do: a negative output that is also off by more than 1 % counts as both; NaN, Inf and
+// thrown evaluations count only as such.
+struct Tally {
+  long points = 0, out_of_domain = 0, throws = 0, nan = 0, inf = 0, negative = 0;
+  long compared = 0, wrong_relative = 0, wrong_peak = 0, rounding_points = 0;
+  Worst rel_error, peak_error, rounding_rel, rounding_peak;
+  Flag worst_flag = Flag::ok;  // most severe verdict, at the first row that has it
+  std::size_t worst_flag_row = std::numeric_limits<std::size_t>::max();
+
+  void add(std::size_t row, const Evaluation& e, double tiny);
+};
+Tally tally(std::span<const Evaluation> evaluations, double tiny);
+
+// ---- grids ----------------------------------------------------------------------------------
+
+// The cartesian product of per-column value lists, rows in lexicographic order (the last column
+// varies fastest). Two columns are the heat map's axes: x (a sharpness column where there is
+// one, else the first column) and y (the first cosine column, else the next column; −1 if the
+// quantity has one column). Cells aggregate the other columns.
+struct Grid {
+  std::vector<std::string> column_names;
+  std::vector<std::vector<double>> values;  // per column
+  int x_column = 0, y_column = -1;
+  bool y_is_cosine = false;                 // the peak is taken along y only when it is a cosine
+  std::size_t rows = 0;
+
+  std::vector<double> row(std::size_t r) const;
+  std::size_t index(std::size_t r, std::size_t column) const;  // index into values[column]
+  std::size_t x_index(std::size_t r) const { return index(r, std::size_t(x_column)); }
+  std::size_t y_index(std::size_t r) const { return y_column < 0 ? 0 : index(r, std::size_t(y_column)); }
+  std::size_t x_size() const { return values[std::size_t(x_column)].size(); }
+  std::size_t y_size() const { return y_column < 0 ? 1 : values[std::size_t(y_column)].size(); }
+  // The rows through r along y (r's other indices fixed), in y order.
+  std::vector<std::size_t> y_line(std::size_t r) const;
+};
+Grid make_grid(std::vector<std::string> names, std::vector<std::vector<double>> values, int x_column, int y_column,
+               bool y_is_cosine);
+
+// How densely a column is sampled. Quantities with one or two columns get `full`; with three,
+// `coarse`; with more, `coarse` on the two heat-map axes and `minimal` elsewhere (the glossy
+// quantities have five and six columns). --quick takes every column one level down.
+enum class Level { full, coarse, minimal };
+// Values of a column kind over its documented domain and its extremes (stiff_cases.hpp):
+//   sharpness, nonnegative: {0} ∪ 1e-8 … 1e8 (4, 1 per decade; minimal 7 values);
+//   cosine: ±1, the float and double rounding steps inside and past ±1, 0, ±1e-8 and a uniform
+//           interior (31, 7 values; minimal: ±(1 + 2^-23), ±1, ±0.5, 0);
+//   mean_length: 0 … 1 crowded at r → 1 (1 − 10^-k, the last float and double below 1, 1);
+//   positive (the GGX roughness α): α → 0 (1e-4) … 1;
+//   unit_interval (view cosine, f0): 0 (grazing view), 1e-8, …, 1;
+//   angle (azimuth): 0, π/2, π (mirror plane), 3π/2, 2π.
+std::vector<double> column_values(ColumnKind kind, Level level);
+Grid registry_grid(const Quantity& q, bool quick);
+
+// Up to n of the rows with eligible[r] != 0, spread over them by the golden-ratio sequence
+// (deterministic, no seed); all of them if there are at most n.
+std::vector<char> spread_subset(std::span<const char> eligible, std::size_t n);
+
+// peak[r] = max |values| along r's y line when y is a cosine column and the values are known
+// (finite) on the whole line — or, with require_complete = false, on at least one row of it;
+// NaN otherwise. With the reference, the peak normalizes approximation errors; with the method's
+// own double values (self peak), its rounding errors, so that a method whose own values are huge
+// (2π/λ at λ → 0) or tiny is measured against itself.
+std::vector<double> line_peaks(const Grid& g, std::span<const double> values, bool require_complete = true);
+
+// ---- evaluation -----------------------------------------------------------------------------
+
+// Evaluates `m` in precision p (float or double) at the rows with rows[r] != 0 (empty: every
+// row; the others come back `skipped`), the input rounded to p first (the domain check sees the
+// rounded input), in parallel. reference/peak: per row, NaN where unknown (or empty spans: none).
+// rounding_rows: per row, whether to evaluate m in 50 digits at the same rounded input (empty:
+// nowhere).
+std::vector<Evaluation> evaluate(const Quantity& q, const Method& m, Precision p, const Grid& g,
+                                 std::span<const double> reference, std::span<const double> peak,
+                                 std::span<const char> rounding_rows, std::span<const char> rows = {});
+
+// Fills `exact` (the same method in 50 digits at the same rounded input) in the evaluations of
+// `m` in precision p at the rows with rows[r] != 0, in parallel; rows that were not evaluated or
+// gave a non-finite value are left unmeasured.
+void measure_rounding(const Method& m, Precision p, const Grid& g, std::vector<Evaluation>& evaluations,
+                      std::span<const char> rows);
+
+// Whether every float output is exactly the double output rounded to float (NaN matching NaN),
+// over the rows evaluated in both whose inputs are exact in float (so both saw the same input;
+// there must be at least one): the float evaluator is then the double one rounded (the
+// quadrature references), and its "rounding error" says nothing about float arithmetic.
+bool float_is_rounded_double(const Grid& g, std::span<const Evaluation> float_evaluations,
+                             std::span<const Evaluation> double_evaluations);
+
+// One heat-map cell: the (x, y) indices and the aggregate over the rows that fall in it.
+struct Cell {
+  std::size_t x = 0, y = 0;
+  long points = 0;
+  long compared = 0;  // rows with a reference to compare against
+  Flag flag = Flag::ok;
+  double max_rel_error = std::numeric_limits<double>::quiet_NaN();
+  double max_peak_error = std::numeric_limits<double>::quiet_NaN();
+  double max_rounding_rel = std::numeric_limits<double>::quiet_NaN();
+};
+// Cells in x-major order (x_size × y_size of them).
+std::vector<Cell> cells(const Grid& g, std::span<const Evaluation> evaluations, double tiny);
+
+// ---- the cases ------------------------------------------------------------------------------
+
+// One quantity of the atlas, its grid, and which rows the reference is computed on.
+struct Case {
+  Quantity quantity;
+  Grid grid;
+  std::vector<char> reference_rows;  // empty: the quantity has no reference method
+  std::string note;                  // how the reference was subset, what the case is
+};
+
+// The registry quantities with their grids. Expensive references (the glossy quantities, double
+// quadratures at up to seconds per point) are computed on a spread subset of rows, as `note` says.
+std::vector<Case> registry_cases(bool quick);
+
+// The stiff cases of SPEC.md §10 that are not registry quantities: products of (nearly) opposite
+// SG lobes of equal sharpness (sg.hpp), and — from vsgl.hpp — degenerate VPL sets (a single point,
+// a patch far from the origin) and the shading point on top of μ_v.
+std::vector<Case> extra_cases(bool quick);
+
+// Whether the 50-digit evaluator of m is usable as "the same formula in 50 digits": it must be
+// cheaper than `max_seconds` per point (the 50-digit quadratures take ~0.5 s) and not merely the
+// double result converted (the double-only glossy quadratures). Timed at up to three rows, so a
+// guard only: methods whose float evaluator is the rounded double are excluded before
+// (float_is_rounded_double).
+struct RoundingProbe {
+  bool usable = false;
+  double seconds_per_point = 0;
+  std::string reason;  // why not, when not
+};
+RoundingProbe probe_rounding(const Method& m, const Grid& g, double max_seconds = 0.01);
+
+// "name=value; name=value" for row r, the values as evaluated in precision p (9 significant
+// digits for float, 17 for double).
+std::string describe_row(const Grid& g, std::size_t r, Precision p);
+
+}  // namespace sglab::atlas

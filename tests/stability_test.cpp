@@ -1,0 +1,298 @@
+// tests for experiments/stability_atlas.{hpp,cpp} (`sglab stability`): the counting logic on a
+// fake method with known NaN/Inf/negative/wrong/thrown/out-of-domain cells, the grids (the next
+// float past ±1 really reaches a float method), the cartesian indexing and peaks against direct
+// recomputation, and the atlas-only cases against closed forms.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "sglab/stiff_cases.hpp"
+#include "stability_atlas.hpp"
+
+namespace sglab::atlas {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A (sharpness, cosine) quantity whose one method misbehaves at known cells of a 3 × 4 grid
+// λ ∈ {0, 1, 10} × c ∈ {−1, −0.5, 0.5, 1}; reference(λ, c) = (1 + λ)(1 + c) + 1e-3 (positive,
+// largest at c = 1 on each λ line).
+double fake_reference(double l, double c) { return (1 + l) * (1 + c) + 1e-3; }
+
+template <class T>
+T fake_value(std::span<const T> a) {
+  const double l = double(a[0]), c = double(a[1]);
+  const double ref = fake_reference(l, c);
+  if (l == 1 && c == -0.5) return T(std::numeric_limits<double>::quiet_NaN());
+  if (l == 10 && c == -0.5) return T(std::numeric_limits<double>::infinity());
+  if (l == 10 && c == 0.5) return T(-0.25);                 // negative (and wrong)
+  if (l == 1 && c == 1) return T(ref * 1.05);               // 5 % wrong against the peak (= ref here)
+  if (l == 1 && c == -1) return T(ref * 1.5);               // 50 % of a small value: 0.05 % of the peak
+  if (l == 10 && c == 1) throw std::runtime_error("fake");  // an evaluator that throws
+  return T(ref);
+}
+
+Quantity fake_quantity() {
+  Quantity q;
+  q.name = "fake";
+  q.columns = {{"sharpness", ColumnKind::sharpness, ""}, {"cosine", ColumnKind::cosine, ""}};
+  Method m;
+  m.name = "fake";
+  // λ = 0 with c = −1 is outside the domain.
+  m.domain_error = [](std::span<const double> a) -> std::optional<std::string> {
+    if (a[0] == 0 && a[1] == -1) return std::string("outside");
+    return std::nullopt;
+  };
+  m.eval_float = [](std::span<const float> a) { return fake_value(a); };
+  m.eval_double = [](std::span<const double> a) { return fake_value(a); };
+  // The "50-digit" form differs from the double one by a relative 1e-3 at (λ, c) = (0, 1) only.
+  m.eval_mp50 = [](std::span<const mp50> a) {
+    const double l = static_cast<double>(a[0]), c = static_cast<double>(a[1]);
+    if (l == 1 || l == 10) return mp50(fake_value(std::span<const double>(std::vector<double>{l, c})));
+    return mp50(fake_reference(l, c) * (l == 0 && c == 1 ? 1.001 : 1.0));
+  };
+  q.methods.push_back(m);
+  return q;
+}
+
+Grid fake_grid() { return make_grid({"sharpness", "cosine"}, {{0.0, 1.0, 10.0}, {-1.0, -0.5, 0.5, 1.0}}, 0, 1, true); }
+
+TEST(StabilityAtlas, FakeMethodGetsExactlyItsCounts) {
+  const Quantity q = fake_quantity();
+  const Grid g = fake_grid();
+  ASSERT_EQ(g.rows, 12u);
+  std::vector<double> reference(g.rows);
+  for (std::size_t r = 0; r < g.rows; ++r) reference[r] = fake_reference(g.row(r)[0], g.row(r)[1]);
+  const std::vector<double> peak = line_peaks(g, reference);
+  const std::vector<char> rounding(g.rows, 1);
+  for (Precision p : {Precision::float32, Precision::float64}) {
+    std::vector<Evaluation> ev = evaluate(q, q.methods[0], p, g, reference, peak, rounding);
+    const Tally t = tally(ev, tiny_of(p));
+    EXPECT_EQ(t.points, 12);
+    EXPECT_EQ(t.out_of_domain, 1);
+    EXPECT_EQ(t.nan, 1);
+    EXPECT_EQ(t.inf, 1);
+    EXPECT_EQ(t.throws, 1);
+    EXPECT_EQ(t.negative, 1);
+    // Compared: every finite, evaluated output: 12 − dom − NaN − Inf − throw = 8.
+    EXPECT_EQ(t.compared, 8);
+    // > 1 % of |ref|: the negative one, the 5 % one, the 50 % one. > 1 % of the peak: not the 50 %
+    // one (its reference is 1e-3, 5e-4 off, against a peak of (1 + 1)(1 + 1) + 1e-3 on the λ = 1 line).
+    EXPECT_EQ(t.wrong_relative, 3);
+    EXPECT_EQ(t.wrong_peak, 2);
+    EXPECT_EQ(t.worst_flag, Flag::nan);
+    EXPECT_EQ(g.row(t.worst_flag_row), (std::vector<double>{1.0, -0.5}));
+    // The worst relative error: the negative output, |−0.25 − ref| / ref at (10, 0.5).
+    const double ref_neg = fake_reference(10, 0.5);
+    EXPECT_NEAR(t.rel_error.error, (0.25 + ref_neg) / ref_neg, 1e-6);
+    EXPECT_EQ(g.row(t.rel_error.row), (std::vector<double>{10.0, 0.5}));
+    // Rounding: the 50-digit form differs only at (0, 1), by a relative 1e-3 (float: plus ≤ 1 ulp).
+    EXPECT_NEAR(t.rounding_rel.error, 1e-3 / 1.001, p == Precision::float32 ? 2e-7 : 1e-12);
+    EXPECT_EQ(g.row(t.rounding_rel.row), (std::vector<double>{0.0, 1.0}));
+    // Rounding is measured where the output is finite and the method did not throw: 8 rows.
+    EXPECT_EQ(t.rounding_points, 8);
+
+    // Cells: one row each here, so each cell's flag is that row's verdict.
+    const auto cs = cells(g, ev, tiny_of(p));
+    ASSERT_EQ(cs.size(), 12u);
+    auto flag_at = [&](std::size_t i, std::size_t j) { return cs[i * 4 + j].flag; };
+    EXPECT_EQ(flag_at(0, 0), Flag::out_of_domain);
+    EXPECT_EQ(flag_at(1, 1), Flag::nan);
+    EXPECT_EQ(flag_at(2, 1), Flag::inf);
+    EXPECT_EQ(flag_at(2, 2), Flag::negative);
+    EXPECT_EQ(flag_at(1, 3), Flag::wrong);
+    EXPECT_EQ(flag_at(1, 0), Flag::wrong_relative);
+    EXPECT_EQ(flag_at(2, 3), Flag::throws);
+    EXPECT_EQ(flag_at(0, 3), Flag::ok);
+    EXPECT_EQ(cs[0 * 4 + 3].compared, 1);  // compared with its reference
+    EXPECT_EQ(cs[1 * 4 + 1].compared, 0);  // NaN: nothing to compare
+    EXPECT_EQ(cs[0 * 4 + 0].compared, 0);  // outside the domain
+    long total = 0;
+    for (const auto& c : cs) total += c.points;
+    EXPECT_EQ(total, 12);
+  }
+}
+
+TEST(StabilityAtlas, AssessTreatsUnderflowAsNoError) {
+  // A true value below the smallest normal number, returned as 0: not "100 % wrong".
+  Evaluation e;
+  e.value = 0;
+  e.reference = 1e-310;
+  e.exact = 1e-320;
+  const Assessment a = assess(e, tiny_of(Precision::float64));
+  EXPECT_EQ(a.flag, Flag::ok);
+  EXPECT_LT(a.rel_error, 1e-2);
+  EXPECT_LT(a.rounding_rel, 1e-2);
+  // … but a normal-range true value returned as 0 is 100 % wrong.
+  e.reference = 1e-300;
+  EXPECT_EQ(assess(e, tiny_of(Precision::float64)).flag, Flag::wrong);
+  // In float the same 1e-300 is far below FLT_MIN: no error.
+  EXPECT_EQ(assess(e, tiny_of(Precision::float32)).flag, Flag::ok);
+}
+
+TEST(StabilityAtlas, NextFloatPastOneReachesFloatMethods) {
+  // The cosine values every float method sees on the clamped-cosine grid, recorded by a method.
+  const Quantity* cc = find_quantity("clamped-cosine");
+  ASSERT_NE(cc, nullptr);
+  for (bool quick : {false, true}) {
+    const Grid g = registry_grid(*cc, quick);
+    ASSERT_EQ(g.y_column, 1);
+    const std::vector<double>& cosines = g.values[1];
+    const std::set<double> cs(cosines.begin(), cosines.end());
+    for (double v : {1.0, -1.0, 0.0, stiff::float_after_one(), -stiff::float_after_one(), stiff::float_before_one(),
+                     -stiff::float_before_one(), stiff::double_after_one(), -stiff::double_after_one(),
+                     stiff::double_before_one(), -stiff::double_before_one()})
+      EXPECT_EQ(cs.count(v), 1u) << v << (quick ? " (quick)" : "");
+    EXPECT_EQ(stiff::float_after_one(), 1.0 + std::ldexp(1.0, -23));
+    EXPECT_EQ(stiff::float_before_one(), 1.0 - std::ldexp(1.0, -24));
+    EXPECT_TRUE(std::is_sorted(cosines.begin(), cosines.end()));
+    EXPECT_EQ(g.values[0].front(), 0.0);
+    EXPECT_EQ(g.values[0][1], 1e-8);
+    EXPECT_EQ(g.values[0].back(), 1e8);
+
+    // A float method sees the rounded cosines; record them (evaluate runs in parallel).
+    Quantity q;
+    q.name = "recorder";
+    q.columns = cc->columns;
+    Method m;
+    m.name = "recorder";
+    const Grid small = make_grid(g.column_names, {{1.0}, cosines}, 0, 1, true);
+    std::vector<float> got;
+    std::mutex mu;
+    m.eval_float = [&](std::span<const float> a) {
+      std::lock_guard<std::mutex> lock(mu);
+      got.push_back(a[1]);
+      return 1.0f;
+    };
+    evaluate(q, m, Precision::float32, small, {}, {}, {});
+    const std::set<float> fs(got.begin(), got.end());
+    EXPECT_EQ(fs.count(std::nextafter(1.0f, 2.0f)), 1u);
+    EXPECT_EQ(fs.count(-std::nextafter(1.0f, 2.0f)), 1u);
+    EXPECT_EQ(fs.count(std::nextafter(1.0f, 0.0f)), 1u);
+    EXPECT_EQ(got.size(), cosines.size());  // all within the 1e-6 slack: none rejected
+  }
+}
+
+TEST(StabilityAtlas, GridIndexingMatchesNestedLoops) {
+  const Grid g = make_grid({"a", "b", "c"}, {{1, 2}, {10, 20, 30}, {100, 200, 300, 400}}, 0, 2, true);
+  ASSERT_EQ(g.rows, 24u);
+  std::size_t r = 0;
+  for (std::size_t i = 0; i < 2; ++i)
+    for (std::size_t j = 0; j < 3; ++j)
+      for (std::size_t k = 0; k < 4; ++k, ++r) {
+        EXPECT_EQ(g.row(r), (std::vector<double>{g.values[0][i], g.values[1][j], g.values[2][k]}));
+        EXPECT_EQ(g.x_index(r), i);
+        EXPECT_EQ(g.y_index(r), k);
+        const auto line = g.y_line(r);
+        ASSERT_EQ(line.size(), 4u);
+        for (std::size_t kk = 0; kk < 4; ++kk) EXPECT_EQ(line[kk], r - k + kk);
+      }
+  // Peaks: the max of |reference| over the y line, and NaN on a line with an unknown reference.
+  std::vector<double> ref(g.rows);
+  for (std::size_t q = 0; q < g.rows; ++q) ref[q] = -double((q * 7) % 11);
+  ref[5] = kNaN;  // line of rows 4–7
+  const auto peak = line_peaks(g, ref);
+  for (std::size_t q = 0; q < g.rows; ++q) {
+    if (q >= 4 && q < 8) {
+      EXPECT_TRUE(std::isnan(peak[q]));
+      continue;
+    }
+    double m = 0;
+    for (std::size_t k = (q / 4) * 4; k < (q / 4) * 4 + 4; ++k) m = std::max(m, std::fabs(ref[k]));
+    EXPECT_EQ(peak[q], m) << q;
+  }
+}
+
+TEST(StabilityAtlas, SpreadSubsetPicksExactlyNEligibleRows) {
+  std::vector<char> eligible(1000, 0);
+  for (std::size_t r = 0; r < eligible.size(); r += 3) eligible[r] = 1;  // 334 eligible
+  for (std::size_t n : {0u, 1u, 10u, 333u}) {
+    const auto s = spread_subset(eligible, n);
+    std::size_t count = 0;
+    for (std::size_t r = 0; r < s.size(); ++r) {
+      if (s[r]) {
+        EXPECT_TRUE(eligible[r]) << r;
+      }
+      count += s[r] ? 1 : 0;
+    }
+    EXPECT_EQ(count, n);
+  }
+  const auto all = spread_subset(eligible, 5000);
+  EXPECT_EQ(all, eligible);
+  // Spread: 10 of 334 leave no gap wider than a third of the range.
+  const auto ten = spread_subset(eligible, 10);
+  std::size_t last = 0, widest = 0;
+  for (std::size_t r = 0; r < ten.size(); ++r)
+    if (ten[r]) {
+      widest = std::max(widest, r - last);
+      last = r;
+    }
+  EXPECT_LT(widest, 334u);
+}
+
+TEST(StabilityAtlas, AtlasFindsHillNegativesLikeADirectCount) {
+  // The published flaw of hill-fitted (negative for λ ≲ 1), counted by the atlas and by a plain
+  // loop over the same rows.
+  const Quantity* cc = find_quantity("clamped-cosine");
+  ASSERT_NE(cc, nullptr);
+  const Method* hill = cc->find("hill-fitted");
+  ASSERT_NE(hill, nullptr);
+  const Grid g = registry_grid(*cc, true);
+  const auto ev = evaluate(*cc, *hill, Precision::float64, g, {}, {}, {});
+  const Tally t = tally(ev, tiny_of(Precision::float64));
+  long negatives = 0, rejected = 0;
+  for (std::size_t r = 0; r < g.rows; ++r) {
+    const auto row = g.row(r);
+    if (hill->domain_error(row)) {
+      ++rejected;
+      continue;
+    }
+    if (hill->eval_double(row) < 0) ++negatives;
+  }
+  std::printf("hill-fitted on the quick grid: %ld negative, %ld out of domain of %zu\n", negatives, rejected, g.rows);
+  EXPECT_GT(negatives, 0);
+  EXPECT_EQ(t.negative, negatives);
+  EXPECT_EQ(t.out_of_domain, rejected);
+  EXPECT_EQ(rejected, long(g.y_size()));  // λ = 0: one row per cosine
+}
+
+TEST(StabilityAtlas, ExtraCasesAgreeWithClosedForms) {
+  const auto extras = extra_cases(true);
+  auto find = [&](const std::string& name) -> const Case* {
+    for (const auto& c : extras)
+      if (c.quantity.name == name) return &c;
+    return nullptr;
+  };
+  // Exactly opposite axes of equal sharpness: the product is the constant e^{−2λ}, ∫ = 4π e^{−2λ}.
+  const Case* opp = find("sg-product-opposite");
+  ASSERT_NE(opp, nullptr);
+  for (double l : {0.0, 1e-3, 1.0, 30.0}) {
+    const std::vector<double> a{l, 0.0};
+    const double exact = 4 * M_PI * std::exp(-2 * l);
+    for (const char* name : {"definition", "sg_product", "product_integral_exact"})
+      EXPECT_NEAR(opp->quantity.find(name)->eval_double(a) / exact, 1.0, 1e-14) << name << " at λ = " << l;
+  }
+  // Nearly opposite (δ = 0.1): ∫ = e^{λ3−2λ}·2π(1 − e^{−2λ3})/λ3 with λ3 = 2λ sin(δ/2).
+  for (double l : {0.5, 20.0}) {
+    const double d = 0.1, l3 = 2 * l * std::sin(d / 2);
+    const double exact = std::exp(l3 - 2 * l) * 2 * M_PI * (-std::expm1(-2 * l3)) / l3;
+    const std::vector<double> a{l, d};
+    EXPECT_NEAR(opp->quantity.find("sg_product")->eval_double(a) / exact, 1.0, 1e-12);
+  }
+  // A 3 × 3 patch of spacing h has σ² = 4h²/3; at the origin both reference points get it to
+  // rounding, and a single point far away has σ² = 0 exactly with o at the first VPL.
+  const Case* var = find("vsgl-variance");
+  ASSERT_NE(var, nullptr);
+  for (const char* name : {"origin-zero", "origin-first-vpl"})
+    EXPECT_NEAR(var->quantity.find(name)->eval_double(std::vector<double>{0.0, 1.0}), 4.0 / 3.0, 1e-14) << name;
+  EXPECT_EQ(var->quantity.find("origin-first-vpl")->eval_double(std::vector<double>{1e8, 0.0}), 0.0);
+}
+
+}  // namespace
+}  // namespace sglab::atlas
