@@ -1,0 +1,38 @@
+// The exact sum over all VPLs (issue 5, item 6): what the VSGLs approximate, with the true BRDFs at
+// both ends and no SG anywhere, so that the measured error is the VSGL approximation's alone.
+//
+// VPL i at x_i with normal n_i, incoming direction ω'_i and flux Φ_i has radiant intensity
+//   I_i(ω) = Φ_i ρ_i(ω'_i, ω)⟨ω·n_i⟩            (seed `two-vsgls` §2.1, `modified-fis` §3.1),
+// ρ_i = R_d/π + GGX·G2·Schlick (material_brdf.hpp). The radiance it reflects at shading point y_p
+// towards the viewer ωo, with ω = (y_p − x_i)/d the direction from the VPL to the point, is
+//   L_i = I_i(ω) · f_p(ωo, −ω)⟨−ω·n_p⟩ / d²,
+// and the reference is Σ_i L_i. Visibility between VPL and receiver is ignored, as the VSGLs
+// ignore it (the papers' assumption; both paths see the same light).
+//
+// The 1/d² singularity. A VPL is the flux of its RSM texel's patch concentrated at a point; next to
+// it (d of the order of the patch size) 1/d² is the point approximation's artefact, not light the
+// patch would deliver. Each VPL is therefore given the extent of its patch: 1/d² is replaced by
+//   1/(d² + r_i²),  r_i = Vpl::footprint_radius = √(Ω_i/π)·t_i,
+// the exact on-axis irradiance factor of a uniform Lambertian disc of radius r_i (area = the
+// texel's cross-section at the VPL), which tends to 1/d² far away (relative change r_i²/d², < 1 %
+// beyond d = 10 r_i) and is bounded by 1/r_i² at the patch itself. No VPL is skipped. The
+// VSGLs need no such bound: their positional Gaussian spreads each cluster (seed `two-vsgls` §2.2).
+#pragma once
+
+#include <vector>
+
+#include "sglab/render/vpl.hpp"
+
+namespace sglab::render {
+
+// The VPLs of an RSM prepared for summation: valid texels with non-zero flux only.
+struct VplList {
+  std::vector<Vpl> vpls;
+  bool any_glossy = false;
+};
+VplList prepare_vpls(const ReflectiveShadowMap& rsm);
+
+// Σ_i L_i at one shading point (radiance, W/(m² sr) per channel).
+Rgb reference_radiance(const ShadingPoint& point, const VplList& vpls);
+
+}  // namespace sglab::render

@@ -1,0 +1,74 @@
+// Shading from VSGLs (issue 5, item 4; seeds `two-vsgls` §3, `modified-fis` §4): the indirect
+// radiance reflected towards ShadingPoint::view, summed over every VSGL lobe (diffuse and specular
+// VSGLs alike) of every cluster:
+//
+//   incoming (Eq. 7):  L_in(ω) = c_v/(2πσ²) G(ω; −ξ_v, λ_v) G(ω; ξ_μ, λ_σ) = c_in G(ω; ξ_in, λ_in)
+//   diffuse:           L_d = R_d/π · c_in · D(λ_in, ξ_in·n)  with D = ∫ G⟨ω·n⟩dω by a selectable
+//                      clamped-cosine method of the registry (`sglab eval --list`); every method
+//                      returns the same physical quantity D, so the factor R_d/π is common:
+//                        sg-cosine        D = π/A(λ_d) · 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d)
+//                                         (the poster's form, exact A(λ_d) instead of ≈ π; λ_d is
+//                                         the VSGL set's, not the registry entry's fixed 2)
+//                        punctual-approx  D = (2π/λ_in)⟨ξ_in·n⟩ (`modified-fis` §4.2)
+//                        tokuyoshi2024    the erfc interpolation (most accurate; the default)
+//                        reference        the quadrature (slow; exact D for the SG)
+//                        …and every other clamped-cosine method of the registry.
+//   specular:          the receiver's GGX lobe as an ASG (Xu et al. 2013 warp) × the incoming SG,
+//                      M(ω) at the product lobe's axis ξ_m (`two-vsgls` §3.2; specular.hpp `asg`);
+//                      only for glossy receivers (ShadingPoint::glossy()) and only if requested.
+//
+// VSGL VISIBILITY IS IGNORED, as in the papers' VSGL lighting (the poster has no visibility term;
+// `modified-fis` §4.1 uses a shadow map at μ_v, which this renderer does not): every VSGL lights
+// every shading point. The render output should say so (kVsglVisibilityNote).
+//
+// Stiff cases: the shading point on μ_v (λ_σ = 0), σ_v² = 0 (λ_σ capped at 1e8: a point light to
+// 1e-8), tiny σ² (amplitudes in log form) — see sglab/vsgl.hpp. Methods whose published form
+// diverges at λ = 0 (punctual-approx, hill-fitted: 1/λ) are evaluated at λ_in ≥ 1e-8, the bottom
+// of the sharpness range they are measured over (SPEC.md §10); methods that go negative as
+// published (hill-fitted, meder) are NOT clamped: their flaw shows in the image.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sglab/registry.hpp"
+#include "sglab/render/vpl.hpp"
+#include "sglab/render/vsgl_generation.hpp"
+
+namespace sglab::render {
+
+inline constexpr std::string_view kVsglVisibilityNote =
+    "VSGL visibility ignored (as in the papers): every VSGL lights every shading point";
+
+enum class DiffuseMethod {
+  reference, punctual, punctual_approx, sg_cosine, cosine_lobe_sg, hill_fitted, meder, tokuyoshi2022, tokuyoshi2024,
+  registry,  // any other clamped-cosine method, evaluated through the registry (slower)
+};
+
+struct ShadingOptions {
+  DiffuseMethod diffuse = DiffuseMethod::tokuyoshi2024;
+  const Method* registry_method = nullptr;  // the method, for diffuse == registry
+  bool specular = true;                     // ASG specular on glossy receivers
+};
+
+// Options for a clamped-cosine method named as in the registry. Throws std::invalid_argument
+// naming the bad name and listing the valid ones.
+ShadingOptions shading_options(std::string_view diffuse_method, bool specular = true);
+std::string diffuse_method_name(const ShadingOptions& o);
+// The clamped-cosine methods of the registry, in registry order.
+std::vector<std::string> diffuse_method_names();
+
+struct VsglShading {
+  Rgb diffuse = Rgb::Zero();
+  Rgb specular = Rgb::Zero();
+  Rgb total() const { return diffuse + specular; }
+};
+
+// Indirect radiance at `point` towards point.view from every VSGL of `set`.
+VsglShading shade_vsgls_parts(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& options);
+inline Rgb shade_vsgls(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& options) {
+  return shade_vsgls_parts(point, set, options).total();
+}
+
+}  // namespace sglab::render

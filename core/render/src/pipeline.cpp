@@ -1,0 +1,148 @@
+// The renderer's stages, timed (pipeline.hpp).
+#include "sglab/render/pipeline.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "sglab/render/reference.hpp"
+#include "sglab/render/rsm.hpp"
+#include "sglab/render/shadow_map.hpp"
+
+namespace sglab::render {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Runs body(k) for every pixel k with hit[k], parallel over rows, reporting progress in 5 % steps.
+template <class Body>
+void for_each_pixel(const GBuffer& g, std::string_view stage, const RenderOptions& o, const Body& body) {
+  std::atomic<int> rows_done{0}, reported{0};
+  if (o.progress) o.progress(stage, 0.0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& rows) {
+    for (int j = rows.begin(); j < rows.end(); ++j) {
+      for (int i = 0; i < g.width; ++i) {
+        const std::size_t k = std::size_t(j) * std::size_t(g.width) + std::size_t(i);
+        if (g.hit[k]) body(k);
+      }
+      const int done = ++rows_done;
+      if (o.progress) {
+        const int step = 20 * done / g.height;  // 0 … 20
+        int last = reported.load();
+        while (step > last && !reported.compare_exchange_weak(last, step)) {
+        }
+        if (step > last && step < 20) o.progress(stage, step / 20.0);
+      }
+    }
+  });
+  if (o.progress) o.progress(stage, 1.0);
+}
+
+}  // namespace
+
+ImageError image_error(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const std::vector<char>& mask) {
+  ImageError e;
+  double sum_sq = 0, sum_ref_sq = 0, sum_smape = 0;
+  for (std::size_t k = 0; k < value.size(); ++k) {
+    if (!mask[k]) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double v = value[k](c), r = reference[k](c), d = std::fabs(v - r);
+      sum_sq += d * d;
+      sum_ref_sq += r * r;
+      const double s = std::fabs(v) + std::fabs(r);
+      if (s > 0) sum_smape += 2 * d / s;
+      e.max_abs = std::max(e.max_abs, d);
+      ++e.samples;
+    }
+  }
+  if (e.samples > 0) {
+    e.rmse = std::sqrt(sum_sq / double(e.samples));
+    e.smape = sum_smape / double(e.samples);
+  }
+  e.relative_l2 = sum_ref_sq > 0 ? std::sqrt(sum_sq / sum_ref_sq) : (sum_sq > 0 ? INFINITY : 0.0);
+  return e;
+}
+
+std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& o, const std::vector<VsglOptions>& variants) {
+  if (o.rsm_resolution < 1) throw std::invalid_argument("rsm resolution " + std::to_string(o.rsm_resolution) + " is below 1");
+  if (o.shadow_map_resolution < 1)
+    throw std::invalid_argument("shadow map resolution " + std::to_string(o.shadow_map_resolution) + " is below 1");
+  for (const auto& v : variants)
+    if (const auto error = vsgl_options_error(v)) throw std::invalid_argument(*error);
+
+  // What every variant shares: G-buffer, direct light, RSM, reference.
+  RenderResult common;
+  RenderResult& r = common;
+  r.width = scene.camera.width;
+  r.height = scene.camera.height;
+  const std::size_t n = std::size_t(r.width) * std::size_t(r.height);
+  r.direct.assign(n, Rgb::Zero());
+  r.indirect_reference.assign(n, Rgb::Zero());
+
+  auto t0 = Clock::now();
+  const GBuffer g = render_gbuffer(scene);
+  r.seconds.gbuffer = seconds_since(t0);
+  r.hit = g.hit;
+  for (std::size_t k = 0; k < n; ++k)
+    if (g.hit[k]) {
+      ++r.pixels_hit;
+      if (g.points[k].glossy()) ++r.glossy_receivers;
+    }
+
+  t0 = Clock::now();
+  const ShadowMap shadow = render_shadow_map(scene, o.shadow_map_resolution);
+  r.seconds.shadow_map = seconds_since(t0);
+  t0 = Clock::now();
+  for_each_pixel(g, "direct", o, [&](std::size_t k) { r.direct[k] = direct_radiance(scene, shadow, g.points[k]); });
+  r.seconds.direct = seconds_since(t0);
+
+  t0 = Clock::now();
+  const ReflectiveShadowMap rsm = render_rsm(scene, o.rsm_resolution);
+  const VplList vpls = prepare_vpls(rsm);
+  r.seconds.rsm = seconds_since(t0);
+  r.vpl_count = vpls.vpls.size();
+  for (const Vpl& v : vpls.vpls) {
+    r.rsm_flux += v.flux;
+    if (v.glossy()) ++r.glossy_vpls;
+  }
+
+  t0 = Clock::now();
+  for_each_pixel(g, "reference (VPL sum)", o,
+                 [&](std::size_t k) { r.indirect_reference[k] = reference_radiance(g.points[k], vpls); });
+  r.seconds.reference = seconds_since(t0);
+
+  std::vector<RenderResult> results;
+  for (const VsglOptions& variant : variants) {
+    RenderResult v = common;
+    v.indirect.assign(n, Rgb::Zero());
+    v.error.assign(n, Rgb::Zero());
+    t0 = Clock::now();
+    v.vsgls = build_vsgls(rsm, variant);
+    v.seconds.vsgl = seconds_since(t0);
+    // No glossy receiver in view, or no specular VSGL: no specular shading at all.
+    ShadingOptions shading = o.shading;
+    shading.specular = shading.specular && v.glossy_receivers > 0 && v.vsgls.stats.specular_vsgls > 0;
+    v.specular_shading = shading.specular;
+    v.asg_evaluations = shading.specular ? v.glossy_receivers * v.vsgls.stats.specular_vsgls : 0;
+    t0 = Clock::now();
+    for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) { v.indirect[k] = shade_vsgls(g.points[k], v.vsgls, shading); });
+    v.seconds.shading = seconds_since(t0);
+    for (std::size_t k = 0; k < n; ++k) v.error[k] = v.indirect[k] - v.indirect_reference[k];
+    v.error_metrics = image_error(v.indirect, v.indirect_reference, v.hit);
+    results.push_back(std::move(v));
+  }
+  return results;
+}
+
+RenderResult render_scene(const Scene& scene, const RenderOptions& o) {
+  return std::move(render_scene_variants(scene, o, {o.vsgl}).front());
+}
+
+}  // namespace sglab::render

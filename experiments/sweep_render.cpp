@@ -1,0 +1,353 @@
+// `sglab sweep render --scene S [--vary KEY=SPEC]… [--vsgl CONFIG]… [render options] --out DIR
+//  [--table NAME] [--tables-dir DIR] [--shard i/N] [--threads N] [--fresh]` (issue 5, item 8):
+// the VSGL renderer's error against the exact VPL sum, and the cost of both, over a grid of scene
+// parameters and VSGL configurations.
+//
+//  • --vary KEY=a:b:n        n values linearly spaced over [a, b] (n = 1: a alone);
+//    --vary KEY=a:b:n:log    n values log-spaced (a, b > 0; the natural spacing for roughness);
+//    --vary KEY=v1,v2,…      exactly these values.
+//    KEY is any --set key (floor.roughness, light.distance, …). Several --vary span their
+//    Cartesian product, the last varying fastest; none: one point, the scene as given.
+//  • --vsgl CONFIG           two | fis:N | kmeans:N, repeatable (default: two). Every configuration
+//    is measured at every point against one shared reference: a point renders its G-buffer, RSM
+//    and VPL sum once, then generates and shades each configuration's VSGLs.
+// A point is one parameter combination; its rows are its configurations. Points run one at a time
+// (--threads 1 by default) because their timings are part of the result; each render uses all
+// cores itself. Every point's scene is validated before anything runs (a bad value stops the
+// sweep with the point's override and the field named, exit status 2).
+// Outputs: DIR/NAME_points.csv (the runner's per-point CSV, sweep.hpp) and, derived from that file
+// alone, TABLES/NAME.{md,csv} headed by the command. NAME defaults to vsgl_error_vs_count without
+// --vary, else vsgl_error_vs_ + the last component of each key ("vsgl_error_vs_roughness_distance").
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <tbb/task_arena.h>
+
+#include "atomic_file.hpp"
+#include "commands.hpp"
+#include "parse_number.hpp"
+#include "render_job.hpp"
+#include "sweep.hpp"
+
+namespace sglab::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Vary {
+  std::string key, spec;  // spec as given (for the command line)
+  std::vector<double> values;
+};
+
+struct VsglConfig {
+  std::string text;  // as given: "two", "fis:16"
+  render::VsglMode mode = render::VsglMode::two;
+  int count = 1;
+  std::string label() const { return mode == render::VsglMode::two ? "two" : fmt::format("{} {}", vsgl_mode_name(mode), count); }
+};
+
+struct Options {
+  RenderJob job;
+  std::vector<std::string> vary, vsgl;
+  std::string out = "results/sweep_render";
+  std::string tables_dir = "paper_tables";
+  std::string table;
+  std::string shard;
+  std::size_t threads = 1;
+  bool fresh = false;
+};
+
+double parse_value(const std::string& text, const std::string& where) {
+  try {
+    return parse_decimal<double>(text);
+  } catch (const NumberError& e) {
+    throw UsageError(fmt::format("{}: '{}' {}", where, text, e.what()));
+  }
+}
+
+Vary parse_vary(const std::string& text) {
+  const std::string where = "--vary " + text;
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw UsageError(where + ": expected KEY=a:b:n[:log|:lin] or KEY=v1,v2,…");
+  Vary v{text.substr(0, eq), text.substr(eq + 1), {}};
+  if (v.spec.find(':') == std::string::npos) {
+    for (std::size_t start = 0;;) {
+      const auto comma = v.spec.find(',', start);
+      v.values.push_back(parse_value(v.spec.substr(start, comma == std::string::npos ? std::string::npos : comma - start), where));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    return v;
+  }
+  std::vector<std::string> parts;
+  for (std::size_t start = 0;;) {
+    const auto colon = v.spec.find(':', start);
+    parts.push_back(v.spec.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
+    if (colon == std::string::npos) break;
+    start = colon + 1;
+  }
+  bool log_spaced = false;
+  if (parts.size() == 4) {
+    if (parts[3] == "log") {
+      log_spaced = true;
+    } else if (parts[3] != "lin") {
+      throw UsageError(fmt::format("{}: spacing '{}' is neither log nor lin", where, parts[3]));
+    }
+    parts.pop_back();
+  }
+  if (parts.size() != 3) throw UsageError(where + ": expected KEY=a:b:n[:log|:lin]");
+  const double a = parse_value(parts[0], where), b = parse_value(parts[1], where), nd = parse_value(parts[2], where);
+  if (nd != std::floor(nd) || nd < 1 || nd > 1000) throw UsageError(fmt::format("{}: n = {} is not an integer in [1, 1000]", where, parts[2]));
+  const int n = int(nd);
+  if (log_spaced && !(a > 0 && b > 0)) throw UsageError(fmt::format("{}: log spacing needs a, b > 0", where));
+  for (int i = 0; i < n; ++i) {
+    const double t = n == 1 ? 0.0 : double(i) / (n - 1);
+    double x = log_spaced ? std::exp(std::log(a) + t * (std::log(b) - std::log(a))) : a + t * (b - a);
+    if (i == 0) x = a;                // the ends exactly as given
+    if (i == n - 1 && n > 1) x = b;
+    v.values.push_back(x);
+  }
+  return v;
+}
+
+VsglConfig parse_vsgl_config(const std::string& text) {
+  const std::string where = "--vsgl " + text;
+  VsglConfig c;
+  c.text = text;
+  const auto colon = text.find(':');
+  const auto mode = render::parse_vsgl_mode(text.substr(0, colon));
+  if (!mode) throw UsageError(where + ": expected two, fis:N or kmeans:N");
+  c.mode = *mode;
+  if (c.mode == render::VsglMode::two) {
+    if (colon != std::string::npos) throw UsageError(where + ": `two` takes no count");
+    return c;
+  }
+  if (colon == std::string::npos) throw UsageError(where + ": fis and kmeans need a count (fis:16)");
+  const double n = parse_value(text.substr(colon + 1), where);
+  if (n != std::floor(n) || n < 1 || n > 65536) throw UsageError(fmt::format("{}: count {} is not an integer in [1, 65536]", where, text.substr(colon + 1)));
+  c.count = int(n);
+  return c;
+}
+
+std::string last_component(const std::string& key) {
+  const auto dot = key.rfind('.');
+  return dot == std::string::npos ? key : key.substr(dot + 1);
+}
+
+const std::vector<std::string> kColumns = {"vsgl",          "vsgl_mode",        "vsgl_requested",  "vsgl_count",
+                                           "specular_vsgls", "vpl_count",        "pixels_hit",      "relative_l2",
+                                           "smape",         "rmse",             "max_abs",         "seconds_rsm",
+                                           "seconds_vsgl",  "seconds_shading",  "seconds_reference", "speedup"};
+
+std::string quote_if_needed(const std::string& s) {
+  if (!s.empty() && s.find_first_of(" \t'\"\\$`[]*?") == std::string::npos) return s;
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// The summary table (Markdown and CSV) from the per-point CSV alone.
+void write_summary(const CsvTable& t, const std::vector<Vary>& vary, const std::string& command, const Options& o,
+                   const std::string& name) {
+  const auto col = [&](const std::string& c) {
+    const auto i = t.column(c);
+    if (i == CsvTable::npos) throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
+    return i;
+  };
+  const auto num = [](const std::string& s) { return s.empty() ? NAN : std::stod(s); };
+  std::string md = fmt::format(
+      "<!-- Generated by `{}`; do not edit by hand. -->\n"
+      "# VSGL indirect light against the exact VPL sum\n\n"
+      "Scene `{}`{}. Error of the VSGL indirect layer against the exact sum over every VPL (true BRDFs at both "
+      "ends, same visibility assumption: none), over the pixels that hit geometry, all channels: relative L2 = "
+      "‖v − r‖/‖r‖, SMAPE = mean 2|v − r|/(|v| + |r|), RMSE in W/(m² sr). Lobes: VSGLs built (diffuse + specular). "
+      "Times: wall clock on this machine, all cores; VSGL = generation + shading of every pixel; speedup = "
+      "reference / VSGL.\n\n",
+      command, o.job.scene_path, o.job.overrides.empty() ? "" : " with " + fmt::format("`--set {}`", fmt::join(o.job.overrides, "`, `--set ")));
+  std::string header = "|", rule = "|";
+  for (const auto& v : vary) {
+    header += fmt::format(" {} |", v.key);
+    rule += "---|";
+  }
+  header += " VSGLs | lobes (specular) | VPLs | relative L2 | SMAPE | RMSE | VSGL ms | reference s | speedup |\n";
+  rule += "---|---|---|---|---|---|---|---|---|\n";
+  md += header + rule;
+  for (const auto& row : t.rows) {
+    const auto& f = row.fields;
+    md += "|";
+    for (const auto& v : vary) md += fmt::format(" {:.4g} |", num(f[col(v.key)]));
+    const double vsgl_ms = 1e3 * (num(f[col("seconds_vsgl")]) + num(f[col("seconds_shading")]));
+    md += fmt::format(" {} | {} ({}) | {} | {:.4f} | {:.4f} | {:.4g} | {:.3g} | {:.3g} | {:.0f}× |\n", f[col("vsgl")],
+                      f[col("vsgl_count")], f[col("specular_vsgls")], f[col("vpl_count")], num(f[col("relative_l2")]),
+                      num(f[col("smape")]), num(f[col("rmse")]), vsgl_ms, num(f[col("seconds_reference")]),
+                      num(f[col("speedup")]));
+  }
+  std::string csv;
+  append_csv_record(csv, t.header);
+  for (const auto& row : t.rows) append_csv_record(csv, row.fields);
+  fs::create_directories(o.tables_dir);
+  const std::pair<fs::path, std::string> outputs[] = {
+      {fs::path(o.tables_dir) / (name + ".csv"), "# Generated by `" + command + "`; do not edit by hand.\n" + csv},
+      {fs::path(o.tables_dir) / (name + ".md"), md}};
+  for (const auto& [path, text] : outputs) {
+    AtomicFile f(path);
+    f.write(text);
+    f.commit();
+  }
+  std::fputs(md.c_str(), stdout);
+  std::fprintf(stderr, "sweep render: wrote %s/%s.{md,csv}\n", o.tables_dir.c_str(), name.c_str());
+}
+
+void run(const Options& o) {
+  if (o.job.scene_path.empty()) throw UsageError("sweep render needs --scene SCENE.json");
+  std::vector<Vary> vary;
+  for (const auto& v : o.vary) vary.push_back(parse_vary(v));
+  std::vector<VsglConfig> configs;
+  for (const auto& c : o.vsgl.empty() ? std::vector<std::string>{"two"} : o.vsgl) configs.push_back(parse_vsgl_config(c));
+  const render::RenderOptions options = render_options(o.job);  // validates --rsm, --diffuse, …
+  const nlohmann::json base = load_scene_document(o.job.scene_path, o.job.overrides);
+
+  std::string name = o.table;
+  if (name.empty()) {
+    name = "vsgl_error_vs_count";
+    if (!vary.empty()) {
+      name = "vsgl_error_vs";
+      for (const auto& v : vary) name += "_" + last_component(v.key);
+    }
+  }
+  if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table '{}' is not a file name", name));
+
+  std::size_t points = 1;
+  for (const auto& v : vary) points *= v.values.size();
+  if (points > 100000) throw UsageError(fmt::format("sweep render: {} points is too many", points));
+  // Point k's values (the last --vary fastest) and its overrides.
+  const auto values_of = [vary](std::size_t k) {
+    std::vector<double> x(vary.size());
+    for (std::size_t i = vary.size(); i-- > 0;) {
+      x[i] = vary[i].values[k % vary[i].values.size()];
+      k /= vary[i].values.size();
+    }
+    return x;
+  };
+  const auto scene_of = [vary, values_of, base, job = o.job](std::size_t k) {
+    nlohmann::json doc = base;
+    const auto x = values_of(k);
+    for (std::size_t i = 0; i < vary.size(); ++i) {
+      const std::string assignment = fmt::format("{}={}", vary[i].key, x[i]);
+      try {
+        render::apply_override(doc, assignment);
+      } catch (const render::SceneError& e) {
+        throw UsageError(fmt::format("--vary {}: {}", vary[i].key, e.what()));
+      }
+    }
+    try {
+      return scene_from_document(doc, job);
+    } catch (const UsageError& e) {
+      std::string at;
+      for (std::size_t i = 0; i < vary.size(); ++i) at += fmt::format("{}{}={}", at.empty() ? "" : ", ", vary[i].key, x[i]);
+      throw UsageError(fmt::format("at {}: {}", at.empty() ? "the scene" : at, e.what()));
+    }
+  };
+  for (std::size_t k = 0; k < points; ++k) scene_of(k);  // every point's scene is valid before anything runs
+
+  SweepDefinition d;
+  d.name = name;
+  d.args = {"sweep", "render", "--scene", o.job.scene_path};
+  for (const auto& v : vary) d.args.insert(d.args.end(), {"--vary", v.key + "=" + v.spec});
+  for (const auto& c : configs) d.args.insert(d.args.end(), {"--vsgl", c.text});
+  for (const auto& a : render_job_arguments(o.job, false)) d.args.push_back(a);
+  d.args.insert(d.args.end(), {"--table", name});
+  std::string grid = fmt::format("scene {}; overrides {{{}}}; ", o.job.scene_path, fmt::join(o.job.overrides, ", "));
+  for (const auto& v : vary) grid += fmt::format("{} {{{}}} × ", v.key, fmt::join(v.values, ", "));
+  std::string labels;
+  for (const auto& c : configs) labels += (labels.empty() ? "" : ", ") + c.label();
+  grid += fmt::format("VSGLs {{{}}}; diffuse {}; RSM {}; shadow map {}; seed {}", labels, o.job.diffuse, o.job.rsm, o.job.shadow_map, o.job.seed);
+  d.grid = grid;
+  d.point_count = points;
+  for (const auto& v : vary) d.columns.push_back(v.key);
+  d.columns.insert(d.columns.end(), kColumns.begin(), kColumns.end());
+  d.describe = [vary, values_of](std::size_t k) {
+    std::string s;
+    const auto x = values_of(k);
+    for (std::size_t i = 0; i < vary.size(); ++i) s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", vary[i].key, x[i]);
+    return s.empty() ? std::string("the scene") : s;
+  };
+  d.compute = [scene_of, values_of, configs, options, seed = o.job.seed](std::size_t k) {
+    const render::Scene scene = scene_of(k);
+    std::vector<render::VsglOptions> variants;
+    for (const auto& c : configs) {
+      render::VsglOptions v;
+      v.mode = c.mode;
+      v.count = c.count;
+      v.seed = seed;
+      variants.push_back(v);
+    }
+    // An arena of its own: the render's parallel loops use every core even when the runner runs
+    // points one at a time.
+    tbb::task_arena arena;
+    const std::vector<render::RenderResult> results = arena.execute([&] { return render::render_scene_variants(scene, options, variants); });
+    const auto x = values_of(k);
+    std::vector<SweepRow> rows;
+    for (std::size_t c = 0; c < configs.size(); ++c) {
+      const render::RenderResult& r = results[c];
+      const auto& st = r.vsgls.stats;
+      const double vsgl_seconds = r.seconds.vsgl + r.seconds.shading;
+      SweepRow row;
+      for (const double v : x) row.push_back(csv_number(v));
+      row.insert(row.end(), {configs[c].label(), st.mode, std::to_string(st.requested),
+                             std::to_string(st.diffuse_vsgls + st.specular_vsgls), std::to_string(st.specular_vsgls),
+                             std::to_string(r.vpl_count), std::to_string(r.pixels_hit), csv_number(r.error_metrics.relative_l2),
+                             csv_number(r.error_metrics.smape), csv_number(r.error_metrics.rmse), csv_number(r.error_metrics.max_abs),
+                             csv_number(r.seconds.rsm), csv_number(r.seconds.vsgl), csv_number(r.seconds.shading),
+                             csv_number(r.seconds.reference), csv_number(vsgl_seconds > 0 ? r.seconds.reference / vsgl_seconds : 0.0)});
+      rows.push_back(std::move(row));
+    }
+    return rows;
+  };
+
+  const Shard shard = o.shard.empty() ? Shard{} : parse_shard(o.shard);
+  if (o.fresh)
+    for (const auto& p : {sweep_points_path(o.out, d.name, shard), sweep_manifest_path(o.out, d.name, shard),
+                          sweep_checkpoint_path(o.out, d.name, shard)})
+      fs::remove(p);
+  const SweepRunResult r = run_sweep(d, {.out_dir = o.out, .shard = shard, .threads = o.threads});
+  if (r.sharded) {
+    std::fprintf(stderr,
+                 "sweep render: shard %s written to %s; no summary from a part of the grid. When every shard is done:\n"
+                 "  sglab merge --out %s <the shard directories>\n",
+                 shard.text().c_str(), r.points_csv.string().c_str(), o.out.c_str());
+    return;
+  }
+  std::string command = "sglab";
+  for (const auto& a : d.args) command += " " + quote_if_needed(a);
+  write_summary(read_sweep_points(r.points_csv), vary, command, o, name);
+}
+
+}  // namespace
+
+void add_sweep_render(CLI::App& sweep) {
+  auto o = std::make_shared<Options>();
+  auto* sub = sweep.add_subcommand("render", "VSGL error against the exact VPL sum, and both times, over scene parameters × VSGL configurations");
+  sub->add_option("--scene", o->job.scene_path, "scene JSON (schema: scenes/README.md)");
+  sub->add_option("--vary", o->vary, "KEY=a:b:n (linear), KEY=a:b:n:log, or KEY=v1,v2,… (repeatable: Cartesian product)");
+  sub->add_option("--vsgl", o->vsgl, "VSGL configuration two | fis:N | kmeans:N (repeatable; default two)");
+  add_render_job_options(*sub, o->job, false);
+  sub->add_option("--out", o->out, "directory for NAME_points.csv")->capture_default_str();
+  sub->add_option("--table", o->table, "NAME of the table (default vsgl_error_vs_count, or vsgl_error_vs_<keys>)");
+  sub->add_option("--tables-dir", o->tables_dir, "directory for NAME.{md,csv}")->capture_default_str();
+  sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`");
+  sub->add_option("--threads", o->threads, "points computed at once (each render uses all cores; 1 keeps timings clean)")
+      ->capture_default_str();
+  sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
+  sub->callback([o] { run(*o); });
+}
+
+}  // namespace sglab::cli

@@ -1,0 +1,236 @@
+// `sglab render` end to end: runs the built binary (SGLAB_EXE) on a tiny scene and checks the EXR
+// layers and the stats JSON it writes; then every kind of bad input — malformed JSON, an unknown
+// key, a negative roughness, a zero-sized object, a light inside an object, bad options — must
+// exit with status 2, name the field in its message, and write neither image nor stats.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/core.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "sglab/render/exr.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A glossy floor and a Lambert wall under a spotlight.
+const char* kTinyScene = R"({
+  "camera": {"position": [0, 1, 2.5], "look_at": [0, 0.4, 0], "fov": 50, "width": 12, "height": 10},
+  "light": {"target": [0, 0, 0], "direction": [0, -1, -0.5], "distance": 1.2, "cone_angle": 30, "falloff": 4, "power": 5},
+  "objects": [
+    {"name": "floor", "type": "rectangle", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [2, 0, 0],
+     "material": {"albedo": 0.4, "f0": 0.5, "roughness": 0.3}},
+    {"name": "wall", "type": "rectangle", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0],
+     "material": {"albedo": [0.7, 0.6, 0.5]}},
+    {"name": "crate", "type": "box", "min": [0.3, 0, -0.6], "max": [0.7, 0.4, -0.2], "material": {"albedo": 0.5}}
+  ]
+})";
+
+class RenderCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = (fs::temp_directory_path() / "sglab-render-test-XXXXXX").string();
+    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
+    dir_ = pattern;
+    std::ofstream(path("scene.json")) << kTinyScene;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path path(const std::string& name) const { return dir_ / name; }
+
+  Result sglab(const std::string& args) const {
+    const std::string command = fmt::format("'{}' {} > '{}' 2> '{}'", SGLAB_EXE, args, path("stdout").string(), path("stderr").string());
+    const int raw = std::system(command.c_str());
+    Result r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = read_file(path("stdout"));
+    r.err = read_file(path("stderr"));
+    return r;
+  }
+  // Renders `scene` (a file in dir_) with extra arguments into out.exr / stats.json.
+  Result render(const std::string& scene_file, const std::string& extra = "") const {
+    return sglab(fmt::format("render '{}' --out '{}' --stats '{}' --rsm 8 --shadow-map 64 --quiet {}", path(scene_file).string(),
+                             path("out.exr").string(), path("stats.json").string(), extra));
+  }
+  fs::path dir_;
+};
+
+TEST_F(RenderCommand, WritesLayersAndStats) {
+  const Result r = render("scene.json", "--vsgl fis --count 4 --set floor.roughness=0.2");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto image = sglab::render::read_exr(path("out.exr").string());
+  EXPECT_EQ(image.width, 12);
+  EXPECT_EQ(image.height, 10);
+  for (const char* layer : {"direct", "indirect", "indirect_reference", "error"})
+    for (const char* c : {"R", "G", "B"}) EXPECT_TRUE(image.channels.count(std::string(layer) + "." + c)) << layer << c;
+  // error = indirect − reference, pixel by pixel (float rounding of the stored layers only).
+  double reference_energy = 0;
+  for (const char* c : {"R", "G", "B"}) {
+    const auto& e = image.channels.at(std::string("error.") + c);
+    const auto& v = image.channels.at(std::string("indirect.") + c);
+    const auto& ref = image.channels.at(std::string("indirect_reference.") + c);
+    for (std::size_t k = 0; k < e.size(); ++k) {
+      EXPECT_NEAR(e[k], v[k] - ref[k], 1e-6 * (std::fabs(v[k]) + std::fabs(ref[k])) + 1e-30);
+      reference_energy += ref[k];
+    }
+  }
+  EXPECT_GT(reference_energy, 0);
+  EXPECT_NE(image.attributes.at("sglab_command").find("sglab render"), std::string::npos);
+
+  const auto stats = nlohmann::json::parse(read_file(path("stats.json")));
+  EXPECT_EQ(stats.at("pixels"), 120);
+  EXPECT_GT(stats.at("vpl_count").get<int>(), 10);
+  EXPECT_LE(stats.at("vpl_count").get<int>(), 64);
+  EXPECT_GE(stats.at("vsgl_count").get<int>(), 2);
+  EXPECT_GE(stats.at("specular_vsgls").get<int>(), 1);
+  for (const char* s : {"rsm", "vsgl", "shading", "reference"}) EXPECT_GE(stats.at("seconds").at(s).get<double>(), 0) << s;
+  for (const char* e : {"rmse", "smape", "relative_l2"}) {
+    const double x = stats.at("error").at(e).get<double>();
+    EXPECT_TRUE(std::isfinite(x) && x >= 0) << e;
+  }
+  EXPECT_NE(stats.at("notes").get<std::string>().find("VSGL visibility ignored, as in the papers"), std::string::npos);
+  EXPECT_EQ(stats.at("vsgl").at("mode"), "fis");
+  EXPECT_EQ(stats.at("overrides"), nlohmann::json::array({"floor.roughness=0.2"}));
+  EXPECT_TRUE(stats.at("built").at("asg_evaluated").get<bool>());
+  EXPECT_NE(r.out.find("relative L2"), std::string::npos);
+}
+
+TEST_F(RenderCommand, DiffuseOnlySceneReportsNoSpecular) {
+  const Result r = render("scene.json", "--set floor.f0=0");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto stats = nlohmann::json::parse(read_file(path("stats.json")));
+  EXPECT_EQ(stats.at("specular_vsgls"), 0);
+  EXPECT_EQ(stats.at("vsgl_count"), 1);
+  EXPECT_FALSE(stats.at("built").at("specular_shading").get<bool>());
+  EXPECT_FALSE(stats.at("built").at("asg_evaluated").get<bool>());
+}
+
+TEST_F(RenderCommand, BadInputExitsTwoNamesTheFieldAndWritesNothing) {
+  std::ofstream(path("malformed.json")) << "{\n  \"camera\": {\"fov\": 40,\n";
+  std::string scene = kTinyScene;
+  std::ofstream(path("unknown-key.json")) << std::string(scene).insert(scene.find("\"objects\""), "\"lights\": [], ");
+  struct Case {
+    std::string scene, extra, expected;
+  };
+  const std::vector<Case> cases = {
+      {"malformed.json", "", "malformed JSON: parse error at line 3"},
+      {"unknown-key.json", "", "lights: unknown key"},
+      {"scene.json", "--set floor.roughness=-0.1", "objects[0].material.roughness: -0.1 is negative"},
+      {"scene.json", "--set 'crate.max=[0.7,0,-0.2]'", "objects[2].max:"},
+      {"scene.json", "--set 'wall.edge_v=[0,0,0]'", "objects[1].edge_v: is the zero vector"},
+      {"scene.json", "--set light.cone_angle=95", "light.cone_angle: 95 is outside"},
+      {"scene.json", "--set lamp.power=1", "--set lamp.power: no top-level key or object named \"lamp\""},
+      {"missing.json", "", "cannot open the scene file"},
+      {"scene.json", "--vsgl three", "--vsgl 'three' is not a VSGL mode"},
+      {"scene.json", "--rsm 0", "--rsm 0 is outside"},
+      {"scene.json", "--width 0", "--width 0 is outside"},
+      {"scene.json", "--diffuse cosine", "--diffuse: unknown diffuse method 'cosine'"},
+      {"scene.json", "--vsgl kmeans --count 0", "--count 0 is outside"},
+  };
+  for (const auto& c : cases) {
+    const Result r = render(c.scene, c.extra);
+    EXPECT_EQ(r.status, 2) << c.scene << " " << c.extra << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.scene << " " << c.extra << "\n  stderr: " << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr"))) << c.extra;
+    EXPECT_FALSE(fs::exists(path("stats.json"))) << c.extra;
+  }
+  // The light inside the crate names the field that placed it.
+  const Result r = render("scene.json", "--set 'light.target=[0.5,0.1,-0.4]' --set light.distance=0.05");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("light.distance: the light at"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("inside or on objects[2] (\"crate\")"), std::string::npos) << r.err;
+  // No temporary files left behind either.
+  for (const auto& e : fs::directory_iterator(dir_)) EXPECT_EQ(e.path().filename().string().find(".out.exr.tmp"), std::string::npos);
+}
+
+TEST_F(RenderCommand, AnExistingImageIsNotClobberedByAFailedRun) {
+  std::ofstream(path("out.exr")) << "previous";
+  const Result r = render("scene.json", "--set floor.roughness=2");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(read_file(path("out.exr")), "previous");
+}
+
+// `sglab sweep render`: the per-point CSV has one row per (point, VSGL configuration), the grids
+// are the documented ones, the table is headed by the command; a bad value of a --vary is caught
+// before anything runs.
+TEST_F(RenderCommand, SweepWritesPointsAndTable) {
+  const std::string common = fmt::format("--scene '{}' --width 8 --height 6 --rsm 8 --shadow-map 32 --out '{}' --tables-dir '{}'",
+                                         path("scene.json").string(), path("sweep").string(), path("tables").string());
+  Result r = sglab("sweep render " + common + " --vary floor.roughness=0.01:1:3:log --vary light.distance=0.8,1.2 --vsgl two --vsgl fis:4");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string points = read_file(path("sweep") / "vsgl_error_vs_roughness_distance_points.csv");
+  std::istringstream lines(points);
+  std::string header, line;
+  std::getline(lines, header);
+  EXPECT_EQ(header.rfind("point,floor.roughness,light.distance,vsgl,", 0), 0u) << header;
+  std::vector<std::string> rows;
+  while (std::getline(lines, line))
+    if (!line.empty()) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 3u * 2u * 2u);
+  // Point order: the last --vary fastest; rows of a point: the configurations in order.
+  EXPECT_EQ(rows[0].rfind("0,0.01,0.8,two,", 0), 0u) << rows[0];
+  EXPECT_EQ(rows[1].rfind("0,0.01,0.8,fis 4,", 0), 0u) << rows[1];
+  EXPECT_EQ(rows[2].rfind("1,0.01,1.2,two,", 0), 0u) << rows[2];
+  EXPECT_EQ(rows[11].rfind("5,1,1.2,fis 4,", 0), 0u) << rows[11];
+  const double middle = std::stod(rows[4].substr(rows[4].find(',') + 1));  // log-spaced: √(0.01·1)
+  EXPECT_NEAR(middle, 0.1, 1e-15);
+  const std::string md = read_file(path("tables") / "vsgl_error_vs_roughness_distance.md");
+  EXPECT_EQ(md.rfind("<!-- Generated by `sglab sweep render --scene ", 0), 0u) << md.substr(0, 200);
+  EXPECT_NE(md.find("| floor.roughness | light.distance | VSGLs |"), std::string::npos);
+  EXPECT_EQ(read_file(path("tables") / "vsgl_error_vs_roughness_distance.csv").rfind("# Generated by `sglab sweep render", 0), 0u);
+
+  // Linear spacing, and the default table name without --vary.
+  r = sglab("sweep render " + common + " --vary light.distance=0.6:1.2:3 --table distances");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(read_file(path("sweep") / "distances_points.csv").find("\n2,1.2,two,"), std::string::npos);
+  EXPECT_NE(read_file(path("sweep") / "distances_points.csv").find("\n1,0.8999999999999999,two,"), std::string::npos);
+  r = sglab("sweep render " + common + " --vsgl kmeans:2");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(path("tables") / "vsgl_error_vs_count.md"));
+}
+
+TEST_F(RenderCommand, SweepRejectsBadInputBeforeRunning) {
+  const std::string common = fmt::format("--scene '{}' --width 8 --height 6 --rsm 8 --out '{}' --tables-dir '{}'",
+                                         path("scene.json").string(), path("sweep").string(), path("tables").string());
+  struct Case {
+    std::string args, expected;
+  };
+  for (const auto& c : std::vector<Case>{
+           {"--vary floor.roughness=-1:1:3", "at floor.roughness=-1: " + path("scene.json").string() +
+                                                 ": objects[0].material.roughness: -1 is negative"},
+           {"--vary floor.roughness=0:1:3:log", "--vary floor.roughness=0:1:3:log: log spacing needs a, b > 0"},
+           {"--vary floor.roughness=0.1:1:2.5", "n = 2.5 is not an integer"},
+           {"--vary floor.roughness=0.1:x:3", "--vary floor.roughness=0.1:x:3: 'x' is not a number"},
+           {"--vary lamp.power=1,2", "--vary lamp.power: --set lamp.power: no top-level key or object named \"lamp\""},
+           {"--vsgl fis", "--vsgl fis: fis and kmeans need a count"},
+           {"--vsgl three:4", "--vsgl three:4: expected two, fis:N or kmeans:N"},
+       }) {
+    const Result r = sglab("sweep render " + common + " " + c.args);
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.args << "\n  stderr: " << r.err;
+    EXPECT_FALSE(fs::exists(path("tables"))) << c.args;
+  }
+}
+
+}  // namespace

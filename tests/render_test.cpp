@@ -1,0 +1,627 @@
+// The renderer's scene side (core/render): ray–object intersections against closed forms; the light
+// view's solid angles and the RSM's flux against closed forms (a spotlight over a plane, over a
+// square); the GGX directional albedo against core's adaptive sphere quadrature; the exact VPL sum
+// against an independent brute-force evaluation in tangent frames with core's BRDF; direct light
+// on a Lambert plane against E = I cos θ/d², with and without an occluder; the EXR round trip; and
+// what the pipeline builds for diffuse-only and glossy scenes.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sglab/brdf.hpp"
+#include "sglab/glossy_reference.hpp"
+#include "sglab/render/exr.hpp"
+#include "sglab/render/pipeline.hpp"
+#include "sglab/render/raycast.hpp"
+#include "sglab/render/reference.hpp"
+#include "sglab/render/rsm.hpp"
+#include "sglab/render/scene.hpp"
+#include "sglab/render/shadow_map.hpp"
+#include "test_util.hpp"
+
+namespace {
+
+using namespace sglab::render;
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180;
+
+Vec3 random_unit(std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  Vec3 v(n(rng), n(rng), n(rng));
+  return v.normalized();
+}
+
+Material lambert(double albedo) {
+  Material m;
+  m.albedo = Rgb(albedo, albedo, albedo);
+  return m;
+}
+Material glossy(double albedo, double f0, double alpha) {
+  Material m = lambert(albedo);
+  m.f0 = Rgb(f0, 0.5 * f0, 0.25 * f0);
+  m.roughness = alpha;
+  return m;
+}
+
+Object rectangle(const std::string& name, Vec3 corner, Vec3 u, Vec3 v, Material m) {
+  return Object{name, Rectangle{corner, u, v}, m};
+}
+
+// A square floor of half-size `half` in the plane y = 0, lit from above.
+Scene floor_scene(double half, const Material& m, const Vec3& light_position, const Vec3& light_direction,
+                  double cone_degrees, double falloff_degrees) {
+  Scene s;
+  s.camera.position = Vec3(0.2, 2.5, 2.0);
+  s.camera.look_at = Vec3(0, 0, 0);
+  s.camera.vertical_fov = 50 * kDeg;
+  s.camera.width = 24;
+  s.camera.height = 20;
+  s.light.position = light_position;
+  s.light.direction = light_direction.normalized();
+  s.light.cone_angle = cone_degrees * kDeg;
+  s.light.falloff = falloff_degrees * kDeg;
+  s.light.power = Rgb(3, 2, 1);
+  s.objects.push_back(rectangle("floor", Vec3(-half, 0, -half), Vec3(0, 0, 2 * half), Vec3(2 * half, 0, 0), m));
+  return s;
+}
+
+// ---- intersections --------------------------------------------------------------------------
+
+TEST(RayCast, SphereClosedForms) {
+  const Sphere s{Vec3(0, 0, 0), 1};
+  auto h = intersect(s, Ray{Vec3(0, 0, -5), Vec3(0, 0, 1)}, 0, INFINITY);
+  ASSERT_TRUE(h);
+  EXPECT_DOUBLE_EQ(h->distance, 4);
+  EXPECT_EQ(h->normal, Vec3(0, 0, -1));
+  // From the centre: the exit point, normal outward.
+  h = intersect(s, Ray{Vec3(0, 0, 0), Vec3(1, 0, 0)}, 0, INFINITY);
+  ASSERT_TRUE(h);
+  EXPECT_DOUBLE_EQ(h->distance, 1);
+  EXPECT_EQ(h->normal, Vec3(1, 0, 0));
+  // An off-centre chord at height y: t = 5 − √(1 − y²).
+  h = intersect(s, Ray{Vec3(0, 0.6, -5), Vec3(0, 0, 1)}, 0, INFINITY);
+  ASSERT_TRUE(h);
+  EXPECT_NEAR(h->distance, 4.2, 1e-15);
+  EXPECT_FALSE(intersect(s, Ray{Vec3(0, 1.0000001, -5), Vec3(0, 0, 1)}, 0, INFINITY));  // just misses
+  EXPECT_FALSE(intersect(s, Ray{Vec3(0, 0, -5), Vec3(0, 0, -1)}, 0, INFINITY));         // behind
+  EXPECT_FALSE(intersect(s, Ray{Vec3(0, 0, -5), Vec3(0, 0, 1)}, 0, 3.9));               // beyond t_max
+}
+
+// A tiny sphere far away: the naive discriminant b² − c cancels ~14 digits here (b² ≈ 1e8,
+// r² = 1e-6); the robust form keeps the hit on the surface to rounding of t itself.
+TEST(RayCast, SphereHitsStayOnTheSurfaceFarAway) {
+  auto rng = sglab::test::seeded_rng(5005);
+  const Sphere s{Vec3(1e4, -3e3, 2e3), 1e-3};
+  double worst = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 target = s.center + 0.999 * s.radius * random_unit(rng);
+    const Vec3 origin(0, 0, 0);
+    const Ray ray{origin, (target - origin).normalized()};
+    const auto h = intersect(s, ray, 0, INFINITY);
+    ASSERT_TRUE(h) << k;
+    const Vec3 p = origin + h->distance * ray.direction;
+    worst = std::max(worst, std::fabs((p - s.center).norm() - s.radius) / s.radius);
+    // The nearer root: the midpoint between the origin and p is outside.
+    EXPECT_GT((origin + 0.5 * h->distance * ray.direction - s.center).norm(), s.radius);
+  }
+  std::printf("max |‖p − c‖ − r|/r = %.3g\n", worst);
+  EXPECT_LT(worst, 1e-6);  // t ≈ 1.07e4 has an ulp of 1.8e-12 = 1.8e-9 r
+}
+
+TEST(RayCast, BoxHitsAreOnTheNearestFace) {
+  const Box b{Vec3(-1, 0, 2), Vec3(0.5, 2, 3)};
+  // Along the axes.
+  auto h = intersect(b, Ray{Vec3(-0.2, 1, -4), Vec3(0, 0, 1)}, 0, INFINITY);
+  ASSERT_TRUE(h);
+  EXPECT_DOUBLE_EQ(h->distance, 6);
+  EXPECT_EQ(h->normal, Vec3(0, 0, -1));
+  h = intersect(b, Ray{Vec3(-0.2, 1, 2.5), Vec3(0, 1, 0)}, 0, INFINITY);  // from inside: the exit face
+  ASSERT_TRUE(h);
+  EXPECT_DOUBLE_EQ(h->distance, 1);
+  EXPECT_EQ(h->normal, Vec3(0, 1, 0));
+  EXPECT_FALSE(intersect(b, Ray{Vec3(0.6, 1, -4), Vec3(0, 0, 1)}, 0, INFINITY));   // parallel, outside the x slab
+  EXPECT_FALSE(intersect(b, Ray{Vec3(-0.2, 1, -4), Vec3(0, 0, -1)}, 0, INFINITY));  // pointing away
+  // Random rays from outside towards random interior points.
+  auto rng = sglab::test::seeded_rng(7007);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int k = 0; k < 5000; ++k) {
+    const Vec3 inside = b.min + (b.max - b.min).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 origin = Vec3(-0.25, 1, 2.5) + 10 * random_unit(rng);
+    const Ray ray{origin, (inside - origin).normalized()};
+    const auto hit = intersect(b, ray, 0, INFINITY);
+    ASSERT_TRUE(hit) << k;
+    const Vec3 p = origin + hit->distance * ray.direction;
+    int on_faces = 0;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(p(a), b.min(a) - 1e-12);
+      EXPECT_LE(p(a), b.max(a) + 1e-12);
+      if (hit->normal(a) != 0) {
+        ++on_faces;
+        EXPECT_NEAR(p(a), hit->normal(a) < 0 ? b.min(a) : b.max(a), 1e-12) << k;
+      }
+    }
+    EXPECT_EQ(on_faces, 1);
+    // Nearest: the face faces the origin, and slightly before the hit the ray is outside.
+    EXPECT_LT(hit->normal.dot(ray.direction), 0);
+    const Vec3 before = origin + (hit->distance - 1e-9) * ray.direction;
+    EXPECT_FALSE((before.array() > b.min.array()).all() && (before.array() < b.max.array()).all()) << k;
+  }
+}
+
+TEST(RayCast, RectangleHitsAtTheirParameters) {
+  const Rectangle r{Vec3(1, 2, 3), Vec3(2, 1, 0), Vec3(-0.5, 1, 1.5)};  // edge_u ⟂ edge_v
+  ASSERT_NEAR(r.edge_u.dot(r.edge_v), 0, 1e-15);
+  const Vec3 n = r.edge_u.cross(r.edge_v).normalized();
+  auto rng = sglab::test::seeded_rng(9009);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  int hits = 0, misses = 0;
+  for (int k = 0; k < 5000; ++k) {
+    const double a = u(rng), c = u(rng);
+    const Vec3 target = r.corner + a * r.edge_u + c * r.edge_v;
+    const Vec3 origin = target + (0.5 + 5 * std::fabs(u(rng))) * random_unit(rng);
+    const Ray ray{origin, (target - origin).normalized()};
+    const auto h = intersect(r, ray, 0, INFINITY);
+    const bool inside = a >= 0 && a <= 1 && c >= 0 && c <= 1;
+    const bool margin = std::fabs(a) < 1e-9 || std::fabs(a - 1) < 1e-9 || std::fabs(c) < 1e-9 || std::fabs(c - 1) < 1e-9;
+    if (margin) continue;
+    ASSERT_EQ(bool(h), inside) << k;
+    if (h) {
+      ++hits;
+      EXPECT_NEAR(h->distance, (target - origin).norm(), 1e-12 * (1 + (target - origin).norm()));
+      EXPECT_NEAR((h->normal - n).norm(), 0, 1e-15);
+    } else {
+      ++misses;
+    }
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(misses, 1000);
+  EXPECT_FALSE(intersect(r, Ray{r.corner + n, r.edge_u.normalized()}, 0, INFINITY));  // parallel
+}
+
+TEST(RayCast, SceneHitIsTheNearestAndFacesTheOrigin) {
+  Scene s;
+  s.objects.push_back(rectangle("floor", Vec3(-5, 0, -5), Vec3(10, 0, 0), Vec3(0, 0, 10), lambert(0.5)));  // normal −y
+  s.objects.push_back(Object{"ball", Sphere{Vec3(0, 1, 0), 0.5}, lambert(0.5)});
+  auto h = cast_ray(s, Ray{Vec3(0, 5, 0), Vec3(0, -1, 0)});
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->object, 1);
+  EXPECT_DOUBLE_EQ(h->distance, 3.5);
+  h = cast_ray(s, Ray{Vec3(2, 5, 0), Vec3(0, -1, 0)});
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->object, 0);
+  EXPECT_EQ(h->normal, Vec3(0, 1, 0));  // turned towards the ray's origin (the rectangle's own is −y)
+  h = cast_ray(s, Ray{Vec3(2, -5, 0), Vec3(0, 1, 0)});
+  ASSERT_TRUE(h);
+  EXPECT_EQ(h->normal, Vec3(0, -1, 0));
+  EXPECT_FALSE(cast_ray(s, Ray{Vec3(0, 5, 0), Vec3(0, 1, 0)}));
+}
+
+TEST(RayCast, CameraRaysSpanTheFieldOfView) {
+  Camera c;
+  c.position = Vec3(1, 2, 3);
+  c.look_at = Vec3(1, 2, -7);
+  c.vertical_fov = 60 * kDeg;
+  c.width = 40;
+  c.height = 20;
+  const Vec3 forward(0, 0, -1);
+  EXPECT_NEAR((camera_ray(c, 20, 10).direction - forward).norm(), 0, 1e-15);
+  // Top and bottom edges are ±fov/2 from the axis; left/right ±atan(aspect·tan(fov/2)).
+  EXPECT_NEAR(std::acos(camera_ray(c, 20, 0).direction.dot(forward)), 30 * kDeg, 1e-14);
+  EXPECT_GT(camera_ray(c, 20, 0).direction.y(), 0);  // row 0 is the top
+  EXPECT_NEAR(std::acos(camera_ray(c, 0, 10).direction.dot(forward)), std::atan(2 * std::tan(30 * kDeg)), 1e-14);
+  EXPECT_LT(camera_ray(c, 0, 10).direction.x(), 0);  // column 0 is the left
+}
+
+// ---- the light's view, solid angles, RSM flux ------------------------------------------------
+
+// The square [−T, T]² at unit distance subtends 4 asin(T²/(1 + T²)) (a pyramid with apex half-
+// angles a = b = atan T: Ω = 4 asin(sin a sin b)).
+TEST(Rsm, ImageSolidAnglesAddUpToThePyramid) {
+  for (const double cone : {5.0, 30.0, 60.0, 85.0}) {
+    Spotlight l;
+    l.cone_angle = cone * kDeg;
+    const LightView v(l, 7);
+    const double T = v.half_extent;
+    const double pyramid = 4 * std::asin(T * T / (1 + T * T));
+    EXPECT_NEAR(image_rectangle_solid_angle(-T, T, -T, T), pyramid, 1e-14 * pyramid) << cone;
+    double sum = 0;
+    for (int j = 0; j < 7; ++j)
+      for (int i = 0; i < 7; ++i)
+        sum += image_rectangle_solid_angle(v.x_lo(i), v.x_lo(i) + v.texel_size(), v.y_lo(j), v.y_lo(j) + v.texel_size());
+    EXPECT_NEAR(sum, pyramid, 1e-13 * pyramid) << cone;
+  }
+}
+
+// The image contains the whole cone, so the texels' emission fractions add up to 1 — whatever
+// the resolution, with hard and smooth edges (the edge cuts many texels at every resolution).
+TEST(Rsm, EmissionFractionsAddUpToOne) {
+  for (const double cone : {10.0, 35.0, 70.0}) {
+    for (const double falloff : {0.0, 0.25 * cone, cone}) {
+      for (const int res : {1, 5, 32}) {
+        Spotlight l;
+        l.cone_angle = cone * kDeg;
+        l.falloff = falloff * kDeg;
+        const LightView v(l, res);
+        double sum = 0;
+        for (int j = 0; j < res; ++j)
+          for (int i = 0; i < res; ++i) {
+            const double f = texel_emission_fraction(l, v, i, j);
+            EXPECT_GE(f, 0);
+            sum += f;
+          }
+        EXPECT_NEAR(sum, 1.0, 1e-9) << "cone " << cone << ", falloff " << falloff << ", res " << res;
+      }
+    }
+  }
+}
+
+TEST(Rsm, FluxOverAPlaneIsThePower) {
+  const Vec3 light(0.3, 1.5, -0.2);
+  for (const double falloff : {0.0, 8.0}) {
+    const Scene s = floor_scene(100, glossy(0.5, 0.8, 0.3), light, Vec3(0.2, -1, 0.1), 40, falloff);
+    const ReflectiveShadowMap rsm = render_rsm(s, 24);
+    Rgb sum = Rgb::Zero();
+    int valid = 0;
+    for (int j = 0; j < 24; ++j)
+      for (int i = 0; i < 24; ++i) {
+        const Vpl& v = rsm.at(i, j);
+        if (!v.valid) continue;
+        ++valid;
+        sum += v.flux;
+        EXPECT_NEAR(v.position.y(), 0, 1e-12);
+        EXPECT_EQ(v.normal, Vec3(0, 1, 0));  // facing the light
+        EXPECT_NEAR((v.incoming - (light - v.position).normalized()).norm(), 0, 1e-12);
+        // r_i = √(Ω_i/π)·t_i with the texel's exact solid angle.
+        const LightView view(s.light, 24);
+        const double omega =
+            image_rectangle_solid_angle(view.x_lo(i), view.x_lo(i) + view.texel_size(), view.y_lo(j), view.y_lo(j) + view.texel_size());
+        EXPECT_NEAR(v.footprint_radius, std::sqrt(omega / kPi) * (light - v.position).norm(), 1e-12);
+        EXPECT_TRUE((v.diffuse_reflectance == Rgb(0.5, 0.5, 0.5)).all());
+      }
+    EXPECT_GT(valid, 300);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum(c) / s.light.power(c), 1.0, 1e-9) << "falloff " << falloff;
+  }
+}
+
+// A square of half-size a centred under the light at distance d, its edges on texel boundaries
+// (a/d = T/2 on a 32² map) and inside a hard cone: Σ Φ = I0·Ω_square with
+// Ω_square = 4 atan(a²/(d√(2a² + d²))) and I0 = Φ/(2π(1 − cos θo)).
+TEST(Rsm, FluxOnASquareIsItsSolidAngleTimesIntensity) {
+  const double d = 1.7, cone = 40 * kDeg;
+  const double a = 0.5 * d * std::tan(cone);
+  Scene s = floor_scene(a, lambert(0.6), Vec3(0, d, 0), Vec3(0, -1, 0), 40, 0);
+  const ReflectiveShadowMap rsm = render_rsm(s, 32);
+  Rgb sum = Rgb::Zero();
+  int valid = 0;
+  for (const Vpl& v : rsm.texels)
+    if (v.valid) {
+      sum += v.flux;
+      ++valid;
+    }
+  EXPECT_EQ(valid, 16 * 16);
+  const double omega = 4 * std::atan(a * a / (d * std::sqrt(2 * a * a + d * d)));
+  const double i0 = 1 / (2 * kPi * (1 - std::cos(cone)));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(sum(c), s.light.power(c) * i0 * omega, 1e-12 * s.light.power(c));
+}
+
+// R_s against core's adaptive sphere quadrature of ∫ f_ggx(ω', ω)⟨ω·n⟩ dω (glossy_reference.hpp,
+// ≤ 1e-6 relative), with f0 = 1 (F ≡ 1: e1) and f0 = 0 (F = (1 − ω'·h)⁵: e5).
+TEST(Rsm, GgxDirectionalAlbedoMatchesSphereQuadrature) {
+  double worst = 0;
+  for (const double alpha : {0.02, 0.1, 0.3, 0.6, 1.0}) {
+    for (const double mu : {0.005, 0.02, 0.2, 0.5, 0.8, 1.0}) {
+      const sglab::Vec3d wo(std::sqrt(1 - mu * mu), 0, mu), n(0, 0, 1);
+      const sglab::Vec3d mirror = sglab::reflect_about(wo, n);
+      const sglab::Vec3d dvn = sglab::dvn_reflection_lobe(alpha, wo).axis;
+      const std::vector<sglab::SphereFocus> foci{{dvn, alpha}};
+      const std::vector<sglab::Vec3d> clips{n};
+      double ref[2];
+      for (int f0 = 0; f0 <= 1; ++f0)
+        ref[f0] = sglab::integrate_sphere([&](const sglab::Vec3d& w) { return sglab::ggx_brdf_cosine(alpha, double(f0), wo, w); },
+                                          mirror, alpha, foci, clips);
+      const GgxAlbedo e = ggx_directional_albedo(alpha, mu);
+      // Documented accuracy (rsm.hpp): 3e-4 at grazing incidence, 3e-5 from cos θ' = 0.2 up.
+      const double tolerance = mu < 0.2 ? 3e-4 : 3e-5;
+      EXPECT_NEAR(e.e1, ref[1], tolerance) << "α " << alpha << ", cos " << mu;
+      EXPECT_NEAR(e.e5, ref[0], tolerance) << "α " << alpha << ", cos " << mu;
+      EXPECT_NEAR(e.reflectance(0.3), 0.3 * ref[1] + 0.7 * ref[0], tolerance);
+      worst = std::max({worst, std::fabs(e.e1 - ref[1]), std::fabs(e.e5 - ref[0])});
+    }
+  }
+  std::printf("max |R_s − quadrature| = %.3g\n", worst);
+}
+
+// The table the RSM uses against the quadrature it tabulates, and the RSM's R_s against the table.
+TEST(Rsm, AlbedoTableInterpolatesTheQuadrature) {
+  for (const double alpha : {0.01, 0.05, 0.2, 1.0}) {
+    const GgxAlbedoTable table(alpha);
+    double worst = 0, worst_above = 0;
+    for (double mu = 1e-4; mu <= 1; mu *= 1.07) {
+      const GgxAlbedo t = table(mu), q = ggx_directional_albedo(alpha, mu);
+      const double e = std::max(std::fabs(t.e1 - q.e1), std::fabs(t.e5 - q.e5));
+      worst = std::max(worst, e);
+      if (mu >= 0.01) worst_above = std::max(worst_above, e);
+    }
+    std::printf("α %g: max table error %.2e (cos ≥ 0.01: %.2e)\n", alpha, worst, worst_above);
+    EXPECT_LT(worst, 1e-3) << alpha;  // the documented bounds (rsm.hpp)
+    EXPECT_LT(worst_above, alpha < 0.05 ? 4e-4 : 1e-4) << alpha;
+  }
+  // Every glossy VPL's R_s is f0·(e1 − e5) + e5 of its incidence.
+  const Scene s = floor_scene(5, glossy(0.5, 0.8, 0.3), Vec3(0, 1, 0), Vec3(0.6, -1, 0), 60, 0);
+  const ReflectiveShadowMap rsm = render_rsm(s, 16);
+  const GgxAlbedoTable table(0.3);
+  int glossy_vpls = 0;
+  for (const Vpl& v : rsm.texels) {
+    if (!v.valid) continue;
+    const GgxAlbedo a = table(v.normal.dot(v.incoming));
+    for (int c = 0; c < 3; ++c) EXPECT_DOUBLE_EQ(v.specular_reflectance(c), a.reflectance(v.f0(c)));
+    ++glossy_vpls;
+  }
+  EXPECT_GT(glossy_vpls, 100);
+}
+
+// ---- the exact VPL sum --------------------------------------------------------------------------
+
+// An orthonormal frame with z = n (Gram–Schmidt on whichever axis is least aligned with n).
+void tangent_frame(const Vec3& n, Vec3& t, Vec3& b) {
+  const Vec3 a = std::fabs(n.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+  t = (a - a.dot(n) * n).normalized();
+  b = n.cross(t);
+}
+sglab::Vec3d to_local(const Vec3& w, const Vec3& n) {
+  Vec3 t, b;
+  tangent_frame(n, t, b);
+  return sglab::Vec3d(w.dot(t), w.dot(b), w.dot(n));
+}
+// f(ωo, ωi)⟨n·ωi⟩ of a material, per channel, with core's tangent-frame GGX.
+double brute_brdf_cosine(const Rgb& albedo, const Rgb& f0, double alpha, const Vec3& n, const Vec3& wo, const Vec3& wi, int c) {
+  const sglab::Vec3d lo = to_local(wo, n), li = to_local(wi, n);
+  if (!(li.z() > 0)) return 0;
+  double f = albedo(c) / kPi * li.z();
+  if ((f0 > 0).any()) f += sglab::ggx_brdf_cosine(alpha, f0(c), lo, li);
+  return f;
+}
+
+TEST(Reference, VplSumMatchesBruteForce) {
+  Scene s;
+  s.camera.position = Vec3(0.3, 1.2, 2.5);
+  s.camera.look_at = Vec3(0, 0.3, 0);
+  s.camera.vertical_fov = 60 * kDeg;
+  s.camera.width = 10;
+  s.camera.height = 8;
+  s.light.position = Vec3(-0.2, 1.4, 0.6);
+  s.light.direction = Vec3(0.1, -1, -0.5).normalized();
+  s.light.cone_angle = 35 * kDeg;
+  s.light.falloff = 5 * kDeg;
+  s.light.power = Rgb(5, 4, 3);
+  s.objects.push_back(rectangle("floor", Vec3(-1, 0, -1), Vec3(0, 0, 2), Vec3(2, 0, 0), glossy(0.4, 0.7, 0.25)));
+  s.objects.push_back(rectangle("back", Vec3(-1, 0, -1), Vec3(2, 0, 0), Vec3(0, 1.5, 0), lambert(0.7)));
+  s.objects.push_back(Object{"ball", Sphere{Vec3(0.3, 0.25, 0), 0.25}, glossy(0.2, 0.9, 0.1)});
+  const ReflectiveShadowMap rsm = render_rsm(s, 6);
+  const VplList list = prepare_vpls(rsm);
+  ASSERT_GT(list.vpls.size(), 20u);
+  EXPECT_TRUE(list.any_glossy);
+  const GBuffer g = render_gbuffer(s);
+  int compared = 0;
+  double worst = 0;
+  for (std::size_t k = 0; k < g.points.size(); ++k) {
+    if (!g.hit[k]) continue;
+    const ShadingPoint& p = g.points[k];
+    const Rgb value = reference_radiance(p, list);
+    for (int c = 0; c < 3; ++c) {
+      double brute = 0, scale = 0;
+      for (const Vpl& v : rsm.texels) {
+        if (!v.valid) continue;
+        const Vec3 d = p.position - v.position;
+        const Vec3 w = d.normalized();
+        const double emitted = brute_brdf_cosine(v.diffuse_reflectance, v.f0, v.roughness, v.normal, v.incoming, w, c);
+        const double reflected = brute_brdf_cosine(p.diffuse_reflectance, p.f0, p.roughness, p.normal, p.view, -w, c);
+        const double term = v.flux(c) * emitted * reflected / (d.squaredNorm() + v.footprint_radius * v.footprint_radius);
+        brute += term;
+        scale += std::fabs(term);
+      }
+      if (scale > 0) {
+        worst = std::max(worst, std::fabs(value(c) - brute) / scale);
+        ++compared;
+      } else {
+        EXPECT_EQ(value(c), 0);
+      }
+    }
+  }
+  std::printf("%d pixel channels, max relative difference %.3g\n", compared, worst);
+  EXPECT_GT(compared, 60);
+  EXPECT_LT(worst, 1e-12);
+}
+
+// Far from a VPL the bound changes 1/d² by the factor 1/(1 + r²/d²) only.
+TEST(Reference, BoundIsTheDiscFactor) {
+  Vpl v;
+  v.valid = true;
+  v.position = Vec3(0, 0, 0);
+  v.normal = Vec3(0, 1, 0);
+  v.incoming = Vec3(0, 1, 0);
+  v.flux = Rgb(1, 1, 1);
+  v.diffuse_reflectance = Rgb(1, 1, 1);
+  v.footprint_radius = 0.01;
+  VplList list{{v}, false};
+  ShadingPoint p;
+  p.normal = Vec3(0, -1, 0);
+  p.view = Vec3(0, -1, 0);
+  p.diffuse_reflectance = Rgb(1, 1, 1);
+  for (const double d : {0.0, 0.005, 0.01, 0.1, 1.0, 10.0}) {
+    p.position = Vec3(0, d, 0);  // facing the VPL head-on: both cosines 1
+    const double expected = d == 0 ? 0.0 : (1 / kPi) * (1 / kPi) / (d * d + 1e-4);
+    EXPECT_NEAR(reference_radiance(p, list)(0), expected, 1e-14 * expected) << d;
+  }
+}
+
+// ---- direct light ------------------------------------------------------------------------------
+
+// A Lambert plane under the spotlight: L = R/π · I0 s(θ) cos θ_n/d², I0 = Φ/(2π(1 − cos θo)) for a
+// hard cone; no pixel may be shadowed (no acne from the shadow map) — at the steep light angles
+// this light makes at the far side of the floor too.
+TEST(Direct, LambertPlaneMatchesTheClosedForm) {
+  const Vec3 light(0.4, 1.1, -0.3);
+  const double cone = 50 * kDeg;
+  Scene s = floor_scene(3, lambert(0.6), light, Vec3(-0.3, -1, 0.4), 50, 0);
+  s.camera.width = 48;
+  s.camera.height = 40;
+  const ShadowMap sm = render_shadow_map(s, 256);
+  const GBuffer g = render_gbuffer(s);
+  const double i0 = 1 / (2 * kPi * (1 - std::cos(cone)));
+  int lit = 0, dark = 0;
+  for (std::size_t k = 0; k < g.points.size(); ++k) {
+    if (!g.hit[k]) continue;
+    const ShadingPoint& p = g.points[k];
+    const Vec3 to_light = light - p.position;
+    const double d2 = to_light.squaredNorm();
+    const Vec3 wi = to_light / std::sqrt(d2);
+    const double theta = std::acos(std::clamp(-wi.dot(s.light.direction), -1.0, 1.0));
+    const Rgb value = direct_radiance(s, sm, p);
+    if (std::fabs(theta - cone) < 1e-9) continue;  // exactly on the edge
+    const bool inside = theta < cone;
+    for (int c = 0; c < 3; ++c) {
+      const double expected = inside ? 0.6 / kPi * s.light.power(c) * i0 * wi.y() / d2 : 0.0;
+      EXPECT_NEAR(value(c), expected, 1e-12 * (expected + 1e-300)) << "pixel " << k;
+    }
+    (inside ? lit : dark)++;
+  }
+  EXPECT_GT(lit, 400);
+  EXPECT_GT(dark, 100);
+}
+
+// An occluding sphere: a point is in shadow iff its segment to the light hits the sphere. Points
+// whose light ray passes within 2 shadow-map texels of the sphere's silhouette are not judged.
+TEST(Direct, OccluderShadowsExactlyItsUmbra) {
+  const Vec3 light(0, 2, 0);
+  Scene s = floor_scene(3, lambert(0.5), light, Vec3(0, -1, 0), 45, 0);
+  const Sphere ball{Vec3(0.3, 1.0, 0.1), 0.3};
+  s.objects.push_back(Object{"ball", ball, lambert(0.5)});
+  s.camera.position = Vec3(0.1, 4, 2.5);
+  s.camera.look_at = Vec3(0.3, 0, 0.1);
+  s.camera.width = 64;
+  s.camera.height = 64;
+  const int res = 512;
+  const ShadowMap sm = render_shadow_map(s, res);
+  const GBuffer g = render_gbuffer(s);
+  const double texel_angle = 2 * std::tan(45 * kDeg) / res;
+  const double silhouette = std::asin(ball.radius / (ball.center - light).norm());
+  int shadowed = 0, lit = 0;
+  for (std::size_t k = 0; k < g.points.size(); ++k) {
+    if (!g.hit[k] || g.object[k] != 0) continue;
+    const ShadingPoint& p = g.points[k];
+    const Vec3 from_light = (p.position - light).normalized();
+    if (std::acos(from_light.dot(s.light.direction)) > 44 * kDeg) continue;
+    const double off_axis = std::acos(std::clamp(from_light.dot((ball.center - light).normalized()), -1.0, 1.0));
+    if (std::fabs(off_axis - silhouette) < 2 * texel_angle) continue;
+    const Vec3 to_light = light - p.position;
+    const auto blocker = intersect(ball, Ray{p.position, to_light.normalized()}, 0, to_light.norm());
+    const Rgb value = direct_radiance(s, sm, p);
+    if (blocker) {
+      EXPECT_EQ(value(0), 0) << "pixel " << k << " should be in shadow";
+      ++shadowed;
+    } else {
+      EXPECT_GT(value(0), 0) << "pixel " << k << " should be lit";
+      ++lit;
+    }
+  }
+  std::printf("%d shadowed, %d lit pixels judged\n", shadowed, lit);
+  EXPECT_GT(shadowed, 50);
+  EXPECT_GT(lit, 500);
+}
+
+// ---- EXR ------------------------------------------------------------------------------------------
+
+TEST(Exr, LayersRoundTrip) {
+  const int w = 7, h = 5;
+  auto rng = sglab::test::seeded_rng(1234);
+  std::uniform_real_distribution<double> u(-10, 10);
+  std::vector<ImageLayer> layers;
+  for (const char* name : {"direct", "indirect", "indirect_reference", "error"}) {
+    ImageLayer l{name, {}};
+    for (int k = 0; k < w * h; ++k) l.pixels.push_back(Rgb(u(rng), u(rng), u(rng)));
+    layers.push_back(l);
+  }
+  const std::string bytes = encode_exr(w, h, layers, {{"sglab_command", "sglab render x.json --out y.exr"}});
+  const auto path = std::filesystem::temp_directory_path() / ("sglab-exr-test-" + std::to_string(::getpid()) + ".exr");
+  std::ofstream(path, std::ios::binary) << bytes;
+  const ExrImage image = read_exr(path.string());
+  std::filesystem::remove(path);
+  EXPECT_EQ(image.width, w);
+  EXPECT_EQ(image.height, h);
+  EXPECT_EQ(image.channels.size(), 12u);
+  for (const auto& l : layers)
+    for (int c = 0; c < 3; ++c) {
+      const std::string name = l.name + "." + "RGB"[c];
+      ASSERT_TRUE(image.channels.count(name)) << name;
+      const auto& plane = image.channels.at(name);
+      for (int k = 0; k < w * h; ++k) EXPECT_EQ(plane[std::size_t(k)], float(l.pixels[std::size_t(k)](c))) << name << " " << k;
+    }
+  EXPECT_EQ(image.attributes.at("sglab_command"), "sglab render x.json --out y.exr");
+  EXPECT_THROW(read_exr("/nonexistent/sglab.exr"), std::runtime_error);
+}
+
+// ---- the pipeline ---------------------------------------------------------------------------------
+
+TEST(Pipeline, ImageErrorDefinitions) {
+  const std::vector<Rgb> v{Rgb(1, 2, 0), Rgb(5, 5, 5), Rgb(3, 0, 1)};
+  const std::vector<Rgb> r{Rgb(1, 1, 0), Rgb(0, 0, 0), Rgb(1, 0, 2)};
+  const std::vector<char> mask{1, 0, 1};  // the middle pixel is background: not compared
+  const ImageError e = image_error(v, r, mask);
+  EXPECT_EQ(e.samples, 6u);
+  // differences 0, 1, 0, 2, 0, −1 against references 1, 1, 0, 1, 0, 2
+  EXPECT_DOUBLE_EQ(e.rmse, std::sqrt(6.0 / 6));
+  EXPECT_DOUBLE_EQ(e.relative_l2, std::sqrt(6.0 / 7));
+  EXPECT_DOUBLE_EQ(e.smape, (2.0 * 1 / 3 + 2.0 * 2 / 4 + 2.0 * 1 / 3) / 6);
+  EXPECT_DOUBLE_EQ(e.max_abs, 2);
+}
+
+// What a scene needs is built, and nothing else (issue 5, item 5).
+TEST(Pipeline, DiffuseOnlyBuildsNoSpecularVsgl) {
+  RenderOptions o;
+  o.rsm_resolution = 8;
+  o.shadow_map_resolution = 64;
+  Scene diffuse = floor_scene(2, lambert(0.6), Vec3(0, 1, 0), Vec3(0.2, -1, 0), 40, 5);
+  diffuse.objects.push_back(rectangle("back", Vec3(-2, 0, -1), Vec3(4, 0, 0), Vec3(0, 2, 0), lambert(0.7)));
+  diffuse.camera.width = 12;
+  diffuse.camera.height = 10;
+  RenderResult r = render_scene(diffuse, o);
+  EXPECT_EQ(r.vsgls.stats.specular_vsgls, 0u);
+  EXPECT_EQ(r.vsgls.stats.diffuse_vsgls, 1u);
+  EXPECT_FALSE(r.specular_shading);
+  EXPECT_EQ(r.asg_evaluations, 0u);
+  EXPECT_EQ(r.glossy_vpls, 0u);
+  EXPECT_GT(r.vpl_count, 30u);
+  for (std::size_t k = 0; k < r.error.size(); ++k)
+    EXPECT_TRUE((r.error[k] == r.indirect[k] - r.indirect_reference[k]).all());
+  EXPECT_GT(r.error_metrics.samples, 0u);
+
+  Scene glossy_floor = diffuse;
+  glossy_floor.objects[0].material = glossy(0.3, 0.6, 0.2);
+  r = render_scene(glossy_floor, o);
+  EXPECT_EQ(r.vsgls.stats.specular_vsgls, 1u);
+  EXPECT_EQ(r.vsgls.stats.diffuse_vsgls, 1u);
+  EXPECT_TRUE(r.specular_shading);
+  EXPECT_EQ(r.asg_evaluations, r.glossy_receivers);
+  EXPECT_GT(r.glossy_receivers, 0u);
+
+  // Glossy VPLs but only Lambert receivers in view: a specular VSGL, but no specular shading.
+  Scene wall_only = glossy_floor;
+  wall_only.camera.position = Vec3(0, 1, 1.5);
+  wall_only.camera.look_at = Vec3(0, 1.2, -1);
+  wall_only.camera.vertical_fov = 20 * kDeg;
+  r = render_scene(wall_only, o);
+  EXPECT_EQ(r.glossy_receivers, 0u);
+  EXPECT_EQ(r.vsgls.stats.specular_vsgls, 1u);
+  EXPECT_FALSE(r.specular_shading);
+  EXPECT_EQ(r.asg_evaluations, 0u);
+}
+
+}  // namespace
