@@ -58,10 +58,6 @@ double correct_digits(double value, double published) {
   return std::clamp(-std::log10(rel), 0.0, 17.0);
 }
 
-double sigma_n2(double lambda_c, double beta, double kappa) {
-  return (2 * lambda_c + kappa) / (beta * lambda_c * kappa);
-}
-
 double unit_roundoff(const std::string& precision) {
   if (precision == "half") return std::ldexp(1.0, -11);
   if (precision == "float") return std::ldexp(1.0, -24);

@@ -28,6 +28,8 @@
 #include <ceres/cost_function.h>
 #include <ceres/first_order_function.h>
 
+#include "sglab/filtering_weights.hpp"
+
 namespace sglab::fit {
 
 // ---- quadrature ----------------------------------------------------------------------------
@@ -208,8 +210,12 @@ Fitter cosine_lobe_sg_fitter();
 // Throws std::invalid_argument naming the offered objectives when `requested` is not one.
 std::string choose_objective(const Fitter& f, const std::string& requested);
 
-// Published σ_n² relation (seed `lobe-aware-filtering` App. D): σ_n² = (2λ_c + κ)/(βλ_cκ).
-double sigma_n2(double lambda_c, double beta, double kappa);
+// Published σ_n² relation (seed `lobe-aware-filtering` App. D): σ_n² = (2λ_c + κ)/(βλ_cκ). The
+// formula lives in core (sglab::normal_weight_variance, filtering_weights.hpp); this is the
+// fitters' double-valued name for it.
+inline double sigma_n2(double lambda_c, double beta, double kappa) {
+  return sglab::normal_weight_variance(lambda_c, beta, kappa);
+}
 
 // Float precision names → unit roundoff u = 2^-p (p = significand bits incl. the implicit one):
 // half 2^-11, float 2^-24, double 2^-53.

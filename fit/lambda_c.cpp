@@ -21,6 +21,7 @@
 #include <limits>
 
 #include "fits.hpp"
+#include "sglab/filtering_weights.hpp"  // normal_weight_variance: σ_n² = (2λ_c + κ)/(βλ_cκ)
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {
@@ -88,7 +89,7 @@ FitSpec spec_for(const std::string& objective, double beta, double kappa) {
     // Published 0.05404477 holds for β = 20, κ = 100 only; other β, κ have no published value.
     const double pub = (beta == 20 && kappa == 100) ? kPublishedSigmaN2
                                                     : std::numeric_limits<double>::quiet_NaN();
-    out.push_back({{"sigma_n2", sigma_n2(x[0], beta, kappa)}, pub});
+    out.push_back({{"sigma_n2", normal_weight_variance(x[0], beta, kappa)}, pub});
     return out;
   };
   return spec;
@@ -137,7 +138,7 @@ FitResult fit_lambda_c(const FitOptions& o) {
                         "objective has its optimum at 0.9426; the errors above at 0.9426 are not %.5g either",
                         min_ratio, at, kPublishedError));
   r.notes.push_back(fmt("sigma_n2 from the published lambda_c = 0.9426: %.10f (published %.8f)",
-                        sigma_n2(kPublishedLambdaC, 20, 100), kPublishedSigmaN2));
+                        normal_weight_variance(kPublishedLambdaC, 20.0, 100.0), kPublishedSigmaN2));
   return r;
 }
 

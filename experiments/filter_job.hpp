@@ -1,0 +1,48 @@
+// What `sglab filter` and `sglab filter-sweep` share (issue #7): the options of an upsampling run
+// (scene, low-resolution source, weight parameters), their validation into UsageErrors that name
+// the option and value, the provenance arguments, and the stats record of a run.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "render_job.hpp"
+#include "sglab/render/filtering.hpp"
+
+namespace sglab::cli {
+
+struct FilterJob {
+  // Scene path, --set, --width, --height, --rsm and, for --source vsgl, --vsgl/--count/--diffuse/--seed
+  // (render_job.hpp).
+  RenderJob render;
+  int scale = 4;
+  std::string source = "exact";
+  render::FilterParameters parameters;
+};
+
+// --scale --source --radius --spatial-sigma --sigma-n2 --depth-sigma --beta --kappa --nu
+// --diffuse-sharpness, and the scene/render options above. --scale is left out when `with_scale`
+// is false (the sweep takes a list instead).
+void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale = true);
+
+// Validated pieces (UsageError naming the option and value).
+render::FilterInputOptions filter_input_options(const FilterJob& job);
+void check_filter_parameters(const render::FilterParameters& p);
+render::FilterWeights parse_weights_option(const std::string& text);
+
+// The job's options as command-line arguments after the scene path (for provenance).
+std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale = true);
+
+// The parameters as JSON (every one, with its meaning's units).
+nlohmann::json filter_parameters_json(const render::FilterParameters& p);
+nlohmann::json image_error_json(const render::ImageError& e);
+
+// "1 − w_lobe/w_normal"-style relative change (a − b)/b in %, NaN-safe for b = 0.
+double percent_change(double value, double baseline);
+
+std::string quote_argument(const std::string& s);
+
+}  // namespace sglab::cli
