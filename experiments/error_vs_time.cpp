@@ -180,7 +180,7 @@ std::string claims_section(const std::vector<Row>& rows) {
   s += fmt::format("- \"Pettineo and Hill's fit is faster\": hill-fitted {:.1f} ns vs tokuyoshi2022 {:.1f} ns: **{}**.\n",
                    h->ns_per_eval, t->ns_per_eval, h->ns_per_eval < t->ns_per_eval ? "holds" : "does not hold");
   s += fmt::format("- \"… but produces black splotches\": hill-fitted is negative at {} of the grid's points (clamped to 0 "
-                   "in a shader: black), all at λ < 1; tokuyoshi2022 at {}: **{}**. meder, for comparison, at {}.\n",
+                   "in a shader: black; where: `paper_tables/stability.md`); tokuyoshi2022 at {}: **{}**. meder, for comparison, at {}.\n",
                    h->negatives, t->negatives, h->negatives > 0 && t->negatives == 0 ? "holds" : "does not hold", m->negatives);
   return s;
 }

@@ -14,6 +14,13 @@ void add_all_commands(CLI::App& app) {
   add_fit_command(app);
   add_error_vs_time_command(app);
   add_reproduce_command(app);
+  add_stability_command(app);
+  add_error_map_command(app);
+  add_render_command(app);
+  add_sweep_command(app);
+  add_merge_command(app);
+  add_filter_command(app);
+  add_filter_sweep_command(app);
 }
 
 int run_sglab(std::vector<std::string> args) {

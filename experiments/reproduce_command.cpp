@@ -26,15 +26,91 @@ struct Step {
   bool python = false;                  // args are a python3 script and its arguments instead
 };
 
+// The figures README.md shows are committed beside the tables; the others stay in OUT/figures.
+const std::string kKeyFigures = "paper_tables/figures";
+
+// The poster's figure on the renderer (issue 6, item 4): the near-wall scene once per diffuse
+// method, and one SMAPE map per method.
+const std::vector<std::string> kNearWallMethods = {"sg-cosine", "punctual-approx", "hill-fitted", "meder",
+                                                   "tokuyoshi2022", "tokuyoshi2024"};
+
+std::vector<Step> near_wall_steps(const std::string& out) {
+  std::vector<Step> v;
+  std::vector<std::string> plot = {"plots/near_wall_smape.py", kKeyFigures};
+  for (const auto& m : kNearWallMethods) {
+    const std::string base = out + "/renders/near-wall-" + m;
+    v.push_back({"render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (for the SMAPE map per method)",
+                 {"render", "scenes/sg-light-near-wall.json", "--diffuse", m, "--out", base + ".exr", "--stats", base + ".json",
+                  "--dump-csv", base + ".csv", "--width", "160", "--height", "120"},
+                 {"--width", "64", "--height", "48"}});
+    plot.push_back(m + "=" + base + ".csv");
+  }
+  v.push_back({"plot-near-wall-smape", "SMAPE map of each diffuse method on the near-wall scene (the poster's figure)", plot, {}, true});
+  return v;
+}
+
 std::vector<Step> steps(const std::string& out) {
-  return {
+  std::vector<Step> all = {
       {"fit-all", "re-derive every published constant (paper_tables/constants.*)",
        {"fit", "all", "--json-dir", out + "/fits"}, {}},
       {"error-vs-time", "diffuse methods: error, rounding error and ns/eval (paper_tables/error_vs_time.*)",
        {"error-vs-time", "--out", out + "/error_vs_time"}, {"--quick"}},
       {"plot-error-vs-time", "Pareto figure of error against time",
-       {"plots/error_vs_time.py", out + "/error_vs_time/error_vs_time.csv", out + "/figures"}, {}, true},
+       {"plots/error_vs_time.py", out + "/error_vs_time/error_vs_time.csv", kKeyFigures}, {}, true},
+      {"sweep-specular", "specular methods against the GGX reference over roughness (paper_tables/specular_vs_roughness.*)",
+       {"sweep", "specular", "--out", out + "/specular"}, {"--quick"}},
+      {"plot-specular", "specular error against roughness, one line per method",
+       {"plots/specular_vs_roughness.py", out + "/specular/specular_summary.csv", kKeyFigures}, {}, true},
+      {"stability", "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method (paper_tables/stability.*)",
+       {"stability", "--out", out + "/stability"}, {"--quick"}},
+      {"plot-stability", "stability heat map per method, float and double side by side",
+       {"plots/stability_heatmap.py", out + "/stability/stability_cells.csv", out + "/figures/stability"}, {"--quick"}, true},
+      {"error-map", "signed error of each diffuse method over (λ, c) against the reference",
+       {"error-map", "--out", out + "/error_map"}, {"--quick"}},
+      {"plot-error-maps", "error maps of the diffuse methods, one panel per method",
+       {"plots/error_maps.py", out + "/error_map/error_map.csv", out + "/figures/error_maps"}, {"--quick"}, true},
+      // The VSGL renderer (issue 5): the three scenes, each with its stats JSON, then the sweeps.
+      {"render-cornell-glossy", "VSGL renderer: glossy Cornell box, 256×256, two VSGLs vs the exact VPL sum",
+       {"render", "scenes/cornell-glossy.json", "--out", out + "/renders/cornell-glossy.exr", "--stats",
+        out + "/renders/cornell-glossy.json", "--dump-csv", out + "/renders/cornell-glossy.csv", "--width", "256", "--height", "256"},
+       {"--width", "64", "--height", "64"}},
+      {"render-diffuse-only", "VSGL renderer: Lambert-only Cornell box (no specular VSGL, no ASG)",
+       {"render", "scenes/diffuse-only.json", "--out", out + "/renders/diffuse-only.exr", "--stats",
+        out + "/renders/diffuse-only.json", "--dump-csv", out + "/renders/diffuse-only.csv", "--width", "256", "--height", "256"},
+       {"--width", "64", "--height", "64"}},
+      {"render-sg-light-near-wall", "VSGL renderer: a spotlight close to a wall (a sharp VSGL)",
+       {"render", "scenes/sg-light-near-wall.json", "--out", out + "/renders/sg-light-near-wall.exr", "--stats",
+        out + "/renders/sg-light-near-wall.json", "--dump-csv", out + "/renders/sg-light-near-wall.csv", "--width", "256", "--height", "192"},
+       {"--width", "64", "--height", "48"}},
+      {"plot-renders", "figures of the three renders: VSGL and reference, indirect alone, signed error",
+       {"plots/render_images.py", kKeyFigures, out + "/renders/cornell-glossy.csv",
+        out + "/renders/diffuse-only.csv", out + "/renders/sg-light-near-wall.csv"},
+       {}, true},
+      {"sweep-render-count", "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
+       {"sweep", "render", "--scene", "scenes/cornell-glossy.json", "--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64",
+        "--vsgl", "kmeans:16", "--vsgl", "kmeans:64", "--width", "512", "--height", "512", "--out", out + "/render_sweep"},
+       {"--width", "64", "--height", "64"}},
+      {"sweep-render-roughness-distance",
+       "VSGL error against floor roughness × light distance on cornell-glossy (paper_tables/vsgl_error_vs_roughness_distance.*)",
+       {"sweep", "render", "--scene", "scenes/cornell-glossy.json", "--vary", "floor.roughness=0.01:1:8:log", "--vary",
+        "light.distance=0.4:1.4:3", "--vsgl", "two", "--vsgl", "fis:64", "--out", out + "/render_sweep"},
+       {"--width", "48", "--height", "48", "--rsm", "32"}},
+      // Lobe-aware filtering (issue 7): both weightings on cornell-glossy, then the roughness sweep.
+      {"filter-cornell-glossy-normal", "upsampling 1/4-resolution indirect light with normal/depth weights (EXR + stats)",
+       {"filter", "scenes/cornell-glossy.json", "--weights", "normal", "--out", out + "/filtering/cornell-glossy-normal.exr",
+        "--stats", out + "/filtering/cornell-glossy-normal.json"},
+       {"--width", "64", "--height", "64"}},
+      {"filter-cornell-glossy-lobe", "upsampling 1/4-resolution indirect light with lobe-aware weights (EXR + stats)",
+       {"filter", "scenes/cornell-glossy.json", "--weights", "lobe", "--out", out + "/filtering/cornell-glossy-lobe.exr",
+        "--stats", out + "/filtering/cornell-glossy-lobe.json"},
+       {"--width", "64", "--height", "64"}},
+      {"filter-sweep", "upsampling error per weighting over the floor's roughness on cornell-glossy (paper_tables/filtering.*)",
+       {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", out + "/filtering"},
+       {"--width", "64", "--height", "64"}},
   };
+  const auto near_wall = near_wall_steps(out);
+  all.insert(all.end(), near_wall.begin(), near_wall.end());
+  return all;
 }
 
 std::string join(const std::vector<std::string>& v) {
