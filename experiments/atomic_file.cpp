@@ -78,4 +78,11 @@ void AtomicFile::commit() {
   }
 }
 
+void write_file_atomically(const std::filesystem::path& target, std::string_view bytes) {
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+  AtomicFile f(target);
+  f.write(bytes);
+  f.commit();
+}
+
 }  // namespace sglab::cli

@@ -33,4 +33,8 @@ class AtomicFile {
   bool committed_ = false;
 };
 
+// The whole of `bytes` as `target`, atomically (an AtomicFile written and committed at once),
+// creating the target's parent directories first.
+void write_file_atomically(const std::filesystem::path& target, std::string_view bytes);
+
 }  // namespace sglab::cli

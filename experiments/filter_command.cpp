@@ -30,13 +30,6 @@ struct Options {
   bool quiet = false;
 };
 
-void write_atomically(const std::filesystem::path& path, const std::string& bytes) {
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  AtomicFile f(path);
-  f.write(bytes);
-  f.commit();
-}
-
 void run(const Options& o) {
   if (o.out.empty()) throw UsageError("filter needs --out IMAGE.exr");
   if (o.weights.empty()) throw UsageError("filter needs --weights normal|lobe|spatial");
@@ -114,8 +107,8 @@ void run(const Options& o) {
   const std::string exr = render::encode_exr(in.width, in.height,
                                              {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low}},
                                              {{"sglab_command", command}});
-  write_atomically(o.out, exr);
-  if (!o.stats.empty()) write_atomically(o.stats, stats.dump(2) + "\n");
+  write_file_atomically(o.out, exr);
+  if (!o.stats.empty()) write_file_atomically(o.stats, stats.dump(2) + "\n");
 
   std::printf(
       "filter %s: %d×%d from %d×%d (%s), weights %s\n"

@@ -75,12 +75,6 @@ std::string read_text(const fs::path& p) {
   return s.str();
 }
 
-void write_atomically(const fs::path& p, const std::string& text) {
-  AtomicFile f(p);
-  f.write(text);
-  f.commit();
-}
-
 std::string format_seconds(double s) {
   if (!std::isfinite(s)) return "?";
   if (s < 60) return fmt::format("{:.0f} s", s);
@@ -280,7 +274,7 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   auto last_checkpoint = Clock::now(), last_progress = Clock::now();
   const auto t_compute = Clock::now();
   auto write_checkpoint = [&] {  // caller holds the mutex
-    write_atomically(checkpoint, kCheckpointMagic + print + "\n" + csv_text());
+    write_file_atomically(checkpoint, kCheckpointMagic + print + "\n" + csv_text());
     last_checkpoint = Clock::now();
   };
   auto progress = [&](std::size_t j, bool force) {  // caller holds the mutex
@@ -345,9 +339,9 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
 
   std::size_t row_count = 0;
   for (const auto& r : rows) row_count += r.size();
-  write_atomically(result.points_csv, csv_text());
+  write_file_atomically(result.points_csv, csv_text());
   result.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
-  write_atomically(result.manifest, manifest_json(d, o.shard, row_count, result.seconds).dump(2) + "\n");
+  write_file_atomically(result.manifest, manifest_json(d, o.shard, row_count, result.seconds).dump(2) + "\n");
   std::error_code ec;
   fs::remove(checkpoint, ec);
   say(fmt::format("{} points ({} computed, {} resumed), {} rows in {:.1f} s -> {}", mine.size(), result.computed,
@@ -504,8 +498,8 @@ std::vector<MergedSweep> merge_sweep_shards(const std::vector<fs::path>& inputs,
   fs::create_directories(out_dir);
   std::vector<MergedSweep> out;
   for (auto& p : pending) {
-    write_atomically(p.merged.points_csv, p.csv);
-    write_atomically(p.manifest_path, p.manifest);
+    write_file_atomically(p.merged.points_csv, p.csv);
+    write_file_atomically(p.manifest_path, p.manifest);
     std::error_code ec;
     fs::remove(sweep_checkpoint_path(out_dir, p.merged.name, Shard{}), ec);  // a stale unsharded checkpoint
     out.push_back(p.merged);
