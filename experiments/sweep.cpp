@@ -553,4 +553,20 @@ std::string csv_number(double x) {
   return fmt::format("{}", x);
 }
 
+SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
+                                 const std::string& shard_text, std::size_t threads, bool fresh) {
+  const Shard shard = shard_text.empty() ? Shard{} : parse_shard(shard_text);
+  if (fresh)
+    for (const auto& p : {sweep_points_path(out_dir, definition.name, shard), sweep_manifest_path(out_dir, definition.name, shard),
+                          sweep_checkpoint_path(out_dir, definition.name, shard)})
+      std::filesystem::remove(p);
+  SweepRunResult r = run_sweep(definition, {.out_dir = out_dir, .shard = shard, .threads = threads});
+  if (r.sharded)
+    std::fprintf(stderr,
+                 "sweep %s: shard %s written to %s; no summary from a part of the grid. When every shard is done:\n"
+                 "  sglab merge --out %s <the shard directories>\n",
+                 definition.name.c_str(), shard.text().c_str(), r.points_csv.string().c_str(), out_dir.c_str());
+  return r;
+}
+
 }  // namespace sglab::cli

@@ -115,6 +115,12 @@ struct SweepRunResult {
 // `compute` propagate after a checkpoint of every point finished so far has been written.
 SweepRunResult run_sweep(const SweepDefinition& definition, const SweepRunOptions& options);
 
+// What every `sglab sweep KIND` command does with its common options: parse `shard_text` ("" =
+// the whole grid), with `fresh` delete this shard's finished output and checkpoint first, run the
+// sweep, and for a shard print how to merge (the caller then writes no summary: r.sharded).
+SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
+                                 const std::string& shard_text, std::size_t threads, bool fresh);
+
 // The file names of the runner's outputs (for callers and tests).
 std::filesystem::path sweep_points_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);
 std::filesystem::path sweep_manifest_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);

@@ -391,20 +391,9 @@ struct SpecularOptions {
 };
 
 void run_specular(const SpecularOptions& o) {
-  const Shard shard = o.shard.empty() ? Shard{} : parse_shard(o.shard);
   const SweepDefinition d = specular_sweep_definition(o.quick);
-  if (o.fresh)
-    for (const auto& p : {sweep_points_path(o.out, d.name, shard), sweep_manifest_path(o.out, d.name, shard),
-                          sweep_checkpoint_path(o.out, d.name, shard)})
-      fs::remove(p);
-  const SweepRunResult r = run_sweep(d, {.out_dir = o.out, .shard = shard, .threads = o.threads});
-  if (r.sharded) {
-    std::fprintf(stderr,
-                 "sweep specular: shard %s written to %s; no summary from a part of the grid. When every shard is done:\n"
-                 "  sglab merge --out %s <the shard directories>\n",
-                 shard.text().c_str(), r.points_csv.string().c_str(), o.out.c_str());
-    return;
-  }
+  const SweepRunResult r = run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
+  if (r.sharded) return;
   const auto rows = summarize_specular_points(read_sweep_points(r.points_csv), r.points_csv.string());
   std::string command = "sglab";
   for (const auto& a : d.args) command += " " + a;
