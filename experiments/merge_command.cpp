@@ -19,7 +19,7 @@ namespace {
 
 struct MergeOptions {
   std::string out;
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir;  // empty: the --out directory
   std::vector<std::string> inputs;
 };
 
@@ -29,7 +29,7 @@ void run_merge(const MergeOptions& o) {
     std::fprintf(stderr, "merge: sweep %s: %zu points from %zu shards -> %s\n", m.name.c_str(), m.points, m.shards,
                  m.points_csv.string().c_str());
     std::vector<std::string> args = m.args;
-    args.insert(args.end(), {"--out", o.out, "--tables-dir", o.tables_dir});
+    args.insert(args.end(), {"--out", o.out, "--tables-dir", o.tables_dir.empty() ? o.out : o.tables_dir});
     if (run_sglab(args) != 0) throw std::runtime_error("merge: the summary of sweep '" + m.name + "' failed");
   }
 }
@@ -40,7 +40,7 @@ void add_merge_command(CLI::App& app) {
   auto o = std::make_shared<MergeOptions>();
   auto* sub = app.add_subcommand("merge", "Join the shards of a sweep (--shard i/N outputs) and derive its summary");
   sub->add_option("--out", o->out, "directory for the merged per-point CSV and summary")->required();
-  sub->add_option("--tables-dir", o->tables_dir, "directory for the paper tables")->capture_default_str();
+  sub->add_option("--tables-dir", o->tables_dir, "directory for the sweep's tables (default: the --out directory)");
   sub->add_option("inputs", o->inputs, "shard directories (or NAME_sweep.shard-i-of-N.json manifests)")->required();
   sub->callback([o] { run_merge(*o); });
 }

@@ -26,17 +26,23 @@ struct Step {
   bool python = false;                  // args are a python3 script and its arguments instead
 };
 
-// The figures README.md shows are committed beside the tables; the others stay in OUT/figures.
-const std::string kKeyFigures = "paper_tables/figures";
+// Where a run writes: a full run writes its tables and the figures README.md shows into
+// paper_tables/ (the others into OUT/figures); a --quick run writes everything under
+// results/quick/ (tables in results/quick/tables/) and never touches paper_tables/.
+struct Places {
+  std::string out;     // per-step outputs: CSVs, renders, fit records, other figures
+  std::string tables;  // the tables, and the key figures in TABLES/figures
+  std::string key_figures() const { return tables + "/figures"; }
+};
 
 // The poster's figure on the renderer (issue 6, item 4): the near-wall scene once per diffuse
 // method, and one SMAPE map per method.
 const std::vector<std::string> kNearWallMethods = {"sg-cosine", "punctual-approx", "hill-fitted", "meder",
                                                    "tokuyoshi2022", "tokuyoshi2024"};
 
-std::vector<Step> near_wall_steps(const std::string& out) {
+std::vector<Step> near_wall_steps(const std::string& out, const std::string& key_figures) {
   std::vector<Step> v;
-  std::vector<std::string> plot = {"plots/near_wall_smape.py", kKeyFigures};
+  std::vector<std::string> plot = {"plots/near_wall_smape.py", key_figures};
   for (const auto& m : kNearWallMethods) {
     const std::string base = out + "/renders/near-wall-" + m;
     v.push_back({"render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (for the SMAPE map per method)",
@@ -49,7 +55,9 @@ std::vector<Step> near_wall_steps(const std::string& out) {
   return v;
 }
 
-std::vector<Step> steps(const std::string& out) {
+std::vector<Step> steps(const Places& places) {
+  const std::string& out = places.out;
+  const std::string kKeyFigures = places.key_figures();
   std::vector<Step> all = {
       {"fit-all", "re-derive every published constant (paper_tables/constants.*)",
        {"fit", "all", "--json-dir", out + "/fits"}, {}},
@@ -108,7 +116,7 @@ std::vector<Step> steps(const std::string& out) {
        {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", out + "/filtering"},
        {"--width", "64", "--height", "64"}},
   };
-  const auto near_wall = near_wall_steps(out);
+  const auto near_wall = near_wall_steps(out, kKeyFigures);
   all.insert(all.end(), near_wall.begin(), near_wall.end());
   return all;
 }
@@ -125,18 +133,52 @@ std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
+// The option through which a step's sglab command takes the directory of its tables; empty for a
+// command that writes no table (every table-writing command gets it explicitly, so that no step
+// relies on a default that points into paper_tables/).
+std::string tables_option(const Step& s) {
+  if (s.python || s.args.empty()) return "";
+  const std::string& command = s.args[0];
+  if (command == "error-vs-time" || command == "stability") return "--tables";
+  if (command == "sweep" || command == "filter-sweep" || (command == "fit" && s.args.size() > 1 && s.args[1] == "all"))
+    return "--tables-dir";
+  return "";
+}
+
 struct Options {
-  std::string out = "results";
+  std::string out;         // default: results, or results/quick with --quick
+  std::string tables_dir;  // default: paper_tables, or OUT/tables with --quick
   bool quick = false;
   bool force = false;
+  bool list = false;
   std::vector<std::string> only;
 };
 
+Places places(const Options& o) {
+  Places p;
+  p.out = !o.out.empty() ? o.out : o.quick ? "results/quick" : "results";
+  p.tables = !o.tables_dir.empty() ? o.tables_dir : o.quick ? p.out + "/tables" : "paper_tables";
+  return p;
+}
+
+// The command line of step `s` in this mode (without "sglab" / "python3").
+std::vector<std::string> step_args(const Step& s, const Options& o, const Places& p) {
+  std::vector<std::string> args = s.args;
+  if (o.quick) args.insert(args.end(), s.quick_args.begin(), s.quick_args.end());
+  if (const std::string option = tables_option(s); !option.empty()) args.insert(args.end(), {option, p.tables});
+  return args;
+}
+
 void run(const Options& o) {
   namespace fs = std::filesystem;
-  const fs::path markers = fs::path(o.out) / ".steps";
+  const Places p = places(o);
+  const auto all = steps(p);
+  if (o.list) {  // the steps of this mode and their command lines; nothing is run or written
+    for (const auto& s : all) std::printf("%s\t%s%s\n", s.name.c_str(), s.python ? "python3 " : "sglab ", join(step_args(s, o, p)).c_str());
+    return;
+  }
+  const fs::path markers = fs::path(p.out) / ".steps";
   fs::create_directories(markers);
-  const auto all = steps(o.out);
   for (const auto& name : o.only) {
     bool known = false;
     for (const auto& s : all) known = known || s.name == name;
@@ -147,8 +189,7 @@ void run(const Options& o) {
   for (std::size_t k = 0; k < all.size(); ++k) {
     const Step& s = all[k];
     if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), s.name) == o.only.end()) continue;
-    std::vector<std::string> args = s.args;
-    if (o.quick) args.insert(args.end(), s.quick_args.begin(), s.quick_args.end());
+    const std::vector<std::string> args = step_args(s, o, p);
     const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
     const fs::path marker = markers / (s.name + ".done");
     if (!o.force && fs::exists(marker)) {
@@ -181,8 +222,8 @@ void run(const Options& o) {
     std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s\n", k + 1, all.size(), s.name.c_str(),
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  std::printf("reproduce: %d steps run, %d already done, %.1f s; outputs in %s/ and paper_tables/\n", done, skipped,
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), o.out.c_str());
+  std::printf("reproduce: %d steps run, %d already done, %.1f s; outputs in %s/, tables in %s/\n", done, skipped,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), p.out.c_str(), p.tables.c_str());
 }
 
 }  // namespace
@@ -190,8 +231,11 @@ void run(const Options& o) {
 void add_reproduce_command(CLI::App& app) {
   auto opts = std::make_shared<Options>();
   auto* sub = app.add_subcommand("reproduce", "Regenerate every table and figure (resumes: finished steps are skipped)");
-  sub->add_option("--out", opts->out, "directory for results and figures")->capture_default_str();
-  sub->add_flag("--quick", opts->quick, "coarser grids");
+  sub->add_option("--out", opts->out, "directory for results and figures (default: results, or results/quick with --quick)");
+  sub->add_option("--tables-dir", opts->tables_dir,
+                  "directory for the tables and key figures (default: paper_tables, or OUT/tables with --quick)");
+  sub->add_flag("--quick", opts->quick, "coarser grids; writes under results/quick/, never into paper_tables/");
+  sub->add_flag("--list", opts->list, "print each step and its command line in this mode, run nothing");
   sub->add_flag("--force", opts->force, "redo finished steps");
   sub->add_option("--only", opts->only, "run only these steps");
   sub->callback([opts] { run(*opts); });

@@ -1,0 +1,149 @@
+// Where `sglab reproduce` writes, through the built binary (SGLAB_EXE) in a temporary directory:
+// the command line of every step as `--list` resolves it — a --quick run writes only under
+// results/quick/ and never into paper_tables/, a full run puts its tables and key figures into
+// paper_tables/ — and two cheap steps of a --quick run actually run, to check the files land
+// where the list says. Also `sglab sweep render --out DIR` writes its table into DIR. The whole
+// --quick run (about a minute) is not run here.
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "test_util.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ListedStep {
+  std::string name;
+  std::vector<std::string> words;  // the command line, "sglab"/"python3" first
+};
+
+std::vector<ListedStep> parse_list(const std::string& text) {
+  std::vector<ListedStep> steps;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.empty()) continue;
+    const auto tab = line.find('\t');
+    EXPECT_NE(tab, std::string::npos) << line;
+    if (tab == std::string::npos) continue;
+    ListedStep s{line.substr(0, tab), {}};
+    std::istringstream words(line.substr(tab + 1));
+    for (std::string w; words >> w;) s.words.push_back(w);
+    steps.push_back(std::move(s));
+  }
+  return steps;
+}
+
+// The file or directory paths a step's command line names: every word with a '/', and the part
+// after '=' of a NAME=PATH word; the inputs under scenes/ and plots/ are left out.
+std::vector<std::string> output_paths(const ListedStep& s) {
+  std::vector<std::string> paths;
+  for (const auto& w : s.words) {
+    const std::string p = w.find('=') != std::string::npos ? w.substr(w.find('=') + 1) : w;
+    if (p.find('/') == std::string::npos || p.rfind("scenes/", 0) == 0 || p.rfind("plots/", 0) == 0) continue;
+    paths.push_back(p);
+  }
+  return paths;
+}
+
+// The word after `option` in the step's command line, or "" without it.
+std::string option_value(const ListedStep& s, const std::string& option) {
+  for (std::size_t i = 0; i + 1 < s.words.size(); ++i)
+    if (s.words[i] == option) return s.words[i + 1];
+  return "";
+}
+
+bool has_prefix(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
+
+class ReproduceCommand : public sglab::test::TempDirTest {
+ protected:
+  // reproduce runs its steps with paths relative to the repository (scenes/, plots/): give dir_
+  // the same inputs, and nothing else of the checkout.
+  void link_inputs() const {
+    for (const char* d : {"scenes", "plots"}) fs::create_directory_symlink(fs::path(SGLAB_SOURCE_DIR) / d, path(d));
+  }
+};
+
+TEST_F(ReproduceCommand, QuickListWritesOnlyUnderResultsQuick) {
+  const auto r = sglab("reproduce --quick --list");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto steps = parse_list(r.out);
+  ASSERT_GT(steps.size(), 10u) << r.out;
+  int with_tables = 0;
+  for (const auto& s : steps) {
+    for (const auto& p : output_paths(s)) {
+      EXPECT_TRUE(has_prefix(p, "results/quick/")) << s.name << " writes " << p;
+      EXPECT_EQ(p.find("paper_tables"), std::string::npos) << s.name << " names " << p;
+    }
+    for (const char* option : {"--tables", "--tables-dir"})
+      if (const auto t = option_value(s, option); !t.empty()) {
+        EXPECT_EQ(t, "results/quick/tables") << s.name;
+        ++with_tables;
+      }
+  }
+  EXPECT_GE(with_tables, 6) << "the fit, error-vs-time, specular, stability, render and filtering tables";
+  EXPECT_FALSE(fs::exists(path("results"))) << "--list runs nothing and writes nothing";
+}
+
+TEST_F(ReproduceCommand, FullListPutsTablesAndKeyFiguresInPaperTables) {
+  const auto r = sglab("reproduce --list");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto steps = parse_list(r.out);
+  ASSERT_GT(steps.size(), 10u) << r.out;
+  int with_tables = 0, key_figures = 0;
+  for (const auto& s : steps) {
+    for (const auto& p : output_paths(s)) {
+      EXPECT_TRUE((has_prefix(p, "results/") && !has_prefix(p, "results/quick")) || has_prefix(p, "paper_tables/") ||
+                  p == "paper_tables")
+          << s.name << " writes " << p;
+      key_figures += p == "paper_tables/figures";
+    }
+    for (const char* option : {"--tables", "--tables-dir"})
+      if (const auto t = option_value(s, option); !t.empty()) {
+        EXPECT_EQ(t, "paper_tables") << s.name;
+        ++with_tables;
+      }
+  }
+  EXPECT_GE(with_tables, 6);
+  EXPECT_GE(key_figures, 4) << "error vs time, specular, renders, near-wall SMAPE";
+}
+
+TEST_F(ReproduceCommand, ExplicitOutAndTablesDirAreObeyed) {
+  const auto r = sglab("reproduce --quick --out elsewhere --tables-dir tables --list");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const auto& s : parse_list(r.out))
+    for (const auto& p : output_paths(s))
+      EXPECT_TRUE(has_prefix(p, "elsewhere/") || has_prefix(p, "tables/") || p == "tables") << s.name << " writes " << p;
+}
+
+// Two steps of a real --quick run (the fits, and a render sweep): their tables land in
+// results/quick/tables/, nothing appears in paper_tables/.
+TEST_F(ReproduceCommand, QuickStepsWriteIntoResultsQuick) {
+  link_inputs();
+  const auto r = sglab("reproduce --quick --only fit-all sweep-render-count");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* table : {"constants.md", "constants.csv", "vsgl_error_vs_count.md", "vsgl_error_vs_count.csv"})
+    EXPECT_TRUE(fs::exists(path("results/quick/tables") / table)) << table << "\n" << r.err;
+  EXPECT_TRUE(fs::exists(path("results/quick/render_sweep/vsgl_error_vs_count_points.csv")));
+  EXPECT_TRUE(fs::exists(path("results/quick/.steps/fit-all.done")));
+  EXPECT_FALSE(fs::exists(path("paper_tables"))) << r.err;
+  EXPECT_FALSE(fs::exists(path("results/fits"))) << "a --quick run keeps out of the full run's results/";
+}
+
+// `sglab sweep render --out DIR` without --tables-dir: the table goes into DIR too.
+TEST_F(ReproduceCommand, SweepRenderTableGoesWhereOutSays) {
+  link_inputs();
+  const auto r = sglab("sweep render --scene scenes/cornell-glossy.json --width 8 --height 6 --rsm 8 --shadow-map 32 --out sweep");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(path("sweep/vsgl_error_vs_count_points.csv")));
+  EXPECT_TRUE(fs::exists(path("sweep/vsgl_error_vs_count.md")));
+  EXPECT_TRUE(fs::exists(path("sweep/vsgl_error_vs_count.csv")));
+  EXPECT_FALSE(fs::exists(path("paper_tables")));
+}
+
+}  // namespace
