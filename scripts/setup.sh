@@ -1,8 +1,17 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages sglab needs (only those missing), then configures and builds
-# everything in ./build (Release). Run as root on a fresh machine; safe to re-run.
+# Installs the Debian 12 packages sglab needs (only those missing), then configures ./build
+# (Release) and builds what the job needs. Run as root on a fresh machine; safe to re-run.
+#   bash scripts/setup.sh          the `sglab` binary only (all `sglab reproduce` needs)
+#   bash scripts/setup.sh --tests  everything: sglab, the test executables CTest runs, benchmarks
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+targets=(--target sglab)
+case "${1:-}" in
+  "") ;;
+  --tests) targets=() ;;
+  *) echo "setup: unknown option '$1' (expected nothing or --tests)" >&2; exit 2 ;;
+esac
 
 packages=(
   build-essential cmake pkg-config
@@ -23,4 +32,4 @@ fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >&2
-cmake --build build -j"$jobs" >&2
+cmake --build build -j"$jobs" "${targets[@]}" >&2
