@@ -22,23 +22,14 @@
 
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/registry.hpp"
+#include "test_util.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using Result = sglab::test::CommandResult;
+using sglab::test::read_file;
 
 void write_file(const fs::path& p, const std::string& text) {
   std::ofstream(p, std::ios::binary) << text;
@@ -89,30 +80,11 @@ T parse(const std::string& s) {
   return v;
 }
 
-class EvalCommand : public ::testing::Test {
+class EvalCommand : public sglab::test::TempDirTest {
  protected:
-  void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "sglab-eval-test-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  fs::path path(const std::string& name) const { return dir_ / name; }
-
   // `sglab eval ARGS < stdin_file`, capturing standard output and error.
   Result eval(const std::string& args, const fs::path& stdin_file = "/dev/null") const {
-    const std::string command =
-        fmt::format("'{}' eval {} < '{}' > '{}' 2> '{}'", SGLAB_EXE, args, stdin_file.string(),
-                    path("stdout").string(), path("stderr").string());
-    const int raw = std::system(command.c_str());
-    Result run;
-    run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    run.out = read_file(path("stdout"));
-    run.err = read_file(path("stderr"));
-    fs::remove(path("stdout"));
-    fs::remove(path("stderr"));
-    return run;
+    return sglab("eval " + args, stdin_file);
   }
 
   // Evaluates `csv` through --in/--out files; expects success.
@@ -125,8 +97,6 @@ class EvalCommand : public ::testing::Test {
     EXPECT_EQ(run.out, "");
     return read_file(path("out.csv"));
   }
-
-  fs::path dir_;
 };
 
 // A (λ, c) grid with the stiff cases of SPEC.md §10 that apply (λ = 0, 1e-8, 1e8; c = ±1).

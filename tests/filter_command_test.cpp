@@ -18,22 +18,14 @@
 #include <nlohmann/json.hpp>
 
 #include "sglab/render/exr.hpp"
+#include "test_util.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using Result = sglab::test::CommandResult;
+using sglab::test::read_file;
 
 const char* kTinyScene = R"({
   "camera": {"position": [0, 1, 2.5], "look_at": [0, 0.4, 0], "fov": 50, "width": 16, "height": 12},
@@ -46,30 +38,16 @@ const char* kTinyScene = R"({
   ]
 })";
 
-class FilterCommand : public ::testing::Test {
+class FilterCommand : public sglab::test::TempDirTest {
  protected:
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "sglab-filter-test-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
+    TempDirTest::SetUp();
     std::ofstream(path("scene.json")) << kTinyScene;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path path(const std::string& name) const { return dir_ / name; }
-  Result sglab(const std::string& args) const {
-    const std::string command = fmt::format("'{}' {} > '{}' 2> '{}'", SGLAB_EXE, args, path("stdout").string(), path("stderr").string());
-    const int raw = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = read_file(path("stdout"));
-    r.err = read_file(path("stderr"));
-    return r;
   }
   Result filter(const std::string& extra) const {
     return sglab(fmt::format("filter '{}' --out '{}' --stats '{}' --rsm 8 --quiet {}", path("scene.json").string(),
                              path("out.exr").string(), path("stats.json").string(), extra));
   }
-  fs::path dir_;
 };
 
 TEST_F(FilterCommand, WritesLayersAndStats) {

@@ -18,22 +18,14 @@
 #include <nlohmann/json.hpp>
 
 #include "sglab/render/exr.hpp"
+#include "test_util.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using Result = sglab::test::CommandResult;
+using sglab::test::read_file;
 
 // A glossy floor and a Lambert wall under a spotlight.
 const char* kTinyScene = R"({
@@ -48,32 +40,17 @@ const char* kTinyScene = R"({
   ]
 })";
 
-class RenderCommand : public ::testing::Test {
+class RenderCommand : public sglab::test::TempDirTest {
  protected:
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "sglab-render-test-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
+    TempDirTest::SetUp();
     std::ofstream(path("scene.json")) << kTinyScene;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path path(const std::string& name) const { return dir_ / name; }
-
-  Result sglab(const std::string& args) const {
-    const std::string command = fmt::format("'{}' {} > '{}' 2> '{}'", SGLAB_EXE, args, path("stdout").string(), path("stderr").string());
-    const int raw = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = read_file(path("stdout"));
-    r.err = read_file(path("stderr"));
-    return r;
   }
   // Renders `scene` (a file in dir_) with extra arguments into out.exr / stats.json.
   Result render(const std::string& scene_file, const std::string& extra = "") const {
     return sglab(fmt::format("render '{}' --out '{}' --stats '{}' --rsm 8 --shadow-map 64 --quiet {}", path(scene_file).string(),
                              path("out.exr").string(), path("stats.json").string(), extra));
   }
-  fs::path dir_;
 };
 
 TEST_F(RenderCommand, WritesLayersAndStats) {

@@ -24,6 +24,7 @@
 #include "parse_number.hpp"
 #include "sglab/registry.hpp"
 #include "sweep_specular.hpp"
+#include "test_util.hpp"
 
 namespace {
 
@@ -268,42 +269,21 @@ TEST(SpecularSummary, BadInputNamesTheLineAndColumn) {
 
 // ---- the command, end to end ----------------------------------------------------------------------
 
-struct Result {
-  int status = -1;
-  std::string err;
-};
+class SpecularCommand : public sglab::test::TempDirTest {};
 
-Result run(const std::vector<std::string>& args, const fs::path& dir) {
-  std::string cmd = "cd '" + dir.string() + "' && '" SGLAB_EXE "'";
-  for (const auto& a : args) cmd += " '" + a + "'";
-  cmd += " >/dev/null 2>stderr.txt";
-  const int raw = std::system(cmd.c_str());
-  Result r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::ifstream in(dir / "stderr.txt");
-  std::ostringstream s;
-  s << in.rdbuf();
-  r.err = s.str();
-  return r;
-}
-
-TEST(SpecularCommand, BadShardIsAUsageErrorNamingIt) {
-  const fs::path dir = fs::temp_directory_path() / ("sglab_sweep_specular_test_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+TEST_F(SpecularCommand, BadShardIsAUsageErrorNamingIt) {
   for (const std::string bad : {"0/0", "3/2", "x"}) {
-    const Result r = run({"sweep", "specular", "--out", "out", "--tables-dir", "tables", "--shard", bad}, dir);
+    const auto r = sglab("sweep specular --out out --tables-dir tables --shard '" + bad + "'");
     EXPECT_EQ(r.status, 2) << bad << ": " << r.err;
     EXPECT_NE(r.err.find("'" + bad + "'"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(dir / "out")) << bad;
-    EXPECT_FALSE(fs::exists(dir / "tables")) << bad;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << bad;
+    EXPECT_FALSE(fs::exists(dir_ / "tables")) << bad;
   }
-  fs::create_directories(dir / "empty");
-  const Result m = run({"merge", "--out", "merged", "empty"}, dir);
+  fs::create_directories(dir_ / "empty");
+  const auto m = sglab("merge --out merged empty");
   EXPECT_EQ(m.status, 2) << m.err;
   EXPECT_NE(m.err.find("no shard manifest"), std::string::npos) << m.err;
-  EXPECT_FALSE(fs::exists(dir / "merged"));
-  fs::remove_all(dir);
+  EXPECT_FALSE(fs::exists(dir_ / "merged"));
 }
 
 }  // namespace

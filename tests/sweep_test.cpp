@@ -22,6 +22,7 @@
 
 #include "commands.hpp"
 #include "sweep.hpp"
+#include "test_util.hpp"
 
 namespace {
 
@@ -35,25 +36,10 @@ using sglab::cli::SweepRow;
 using sglab::cli::SweepRunOptions;
 using sglab::cli::UsageError;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sglab::test::read_file;
 
-// A fresh directory per test, removed afterwards.
-class SweepTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / (std::string("sglab_sweep_test_") + info->name() + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
-};
+// A fresh directory per test (dir_), removed afterwards.
+class SweepTest : public sglab::test::TempDirTest {};
 
 // Toy sweep: point k has 1 + k % 3 rows (j = 0, 1, …): x = k·k + j, label "p<k>,<j>" (a comma:
 // the runner must quote it). Records every point it computes.

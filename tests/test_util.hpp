@@ -1,10 +1,19 @@
-// Shared test helpers: fixed, printed seeds and the grids the core tests sweep.
+// Shared test helpers: fixed, printed seeds and the grids the core tests sweep; a fresh directory
+// per test and a captured run of the built `sglab` binary for the end-to-end tests.
 #pragma once
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -40,5 +49,56 @@ inline double relative_error(double value, double reference) {
   if (reference == 0) return std::fabs(value);
   return std::fabs(value - reference) / std::fabs(reference);
 }
+
+// ---- end-to-end tests: a fresh directory per test, a captured command ------------------------
+
+inline std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct CommandResult {
+  int status = -1;  // exit status (-1: did not exit normally)
+  std::string out, err;
+};
+
+// A fixture with a fresh temporary directory dir_, removed after the test.
+class TempDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = (std::filesystem::temp_directory_path() / "sglab-test-XXXXXX").string();
+    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
+    dir_ = pattern;
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::filesystem::path path(const std::string& name) const { return dir_ / name; }
+
+  // Runs the shell command line `command` in dir_ with standard input from `stdin_file`; returns
+  // its exit status and what it wrote to standard output and error (captured through files that
+  // are removed again, so dir_ holds only what the command wrote).
+  CommandResult run_shell(const std::string& command, const std::filesystem::path& stdin_file = "/dev/null") const {
+    const auto out = path(".stdout"), err = path(".stderr");
+    const std::string line = "cd '" + dir_.string() + "' && " + command + " < '" + stdin_file.string() + "' > '" +
+                             out.string() + "' 2> '" + err.string() + "'";
+    const int raw = std::system(line.c_str());
+    CommandResult r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = read_file(out);
+    r.err = read_file(err);
+    std::filesystem::remove(out);
+    std::filesystem::remove(err);
+    return r;
+  }
+#ifdef SGLAB_EXE
+  // `sglab ARGS` in dir_ (ARGS as shell words: quote paths).
+  CommandResult sglab(const std::string& args, const std::filesystem::path& stdin_file = "/dev/null") const {
+    return run_shell(std::string("'") + SGLAB_EXE + "' " + args, stdin_file);
+  }
+#endif
+
+  std::filesystem::path dir_;
+};
 
 }  // namespace sglab::test
