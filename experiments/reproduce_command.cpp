@@ -32,7 +32,7 @@ const std::string kKeyFigures = "paper_tables/figures";
 // The poster's figure on the renderer (issue 6, item 4): the near-wall scene once per diffuse
 // method, and one SMAPE map per method.
 const std::vector<std::string> kNearWallMethods = {"sg-cosine", "punctual-approx", "hill-fitted", "meder",
-                                                   "tokuyoshi2022", "tokuyoshi2024"};
+                                                   "tokuyoshi2022", "tokuyoshi2024", "sglab"};
 
 std::vector<Step> near_wall_steps(const std::string& out) {
   std::vector<Step> v;

@@ -1,0 +1,123 @@
+// `sglab`: this project's own approximation of diffuse SG lighting D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω
+// (the clamped-cosine quantity of clamped_cosine.hpp). Write-up: paper_tables/own_method.md.
+//
+// Form. Tokuyoshi et al. 2024 ("Hierarchical light sampling with accurate SG lighting") write
+// D ≈ 2π·lerp(lower, upper, f) between the exact values at c = ∓1, with f the clamped ramp of a
+// planar Gaussian of one steepness t(λ) for every c:
+//   f0(t, c) = ½(c·erfc(−tc) + erfc(t)) + tail/(2√π),  tail = e^{−t²c²}·(1 − e^{−t²(1−c²)})/t.
+// f0 − (1 + c)/2 is even in c, and so is its error (the true spread of ω·n shrinks with
+// 1 − c², the planar one does not): it peaks at 0.155 % of D(λ, 1) for λ ≈ 2 … 20. sglab keeps
+// f0 (with its own t) and adds the one even term that vanishes at c = ±1 built from values f0
+// already computes, e^{−t²c²} and e^{−t²}:
+//   f = f0 + (K/t)·(e^{−t²} − c² e^{−t²c²}) = f0 + (K/t)·e^{−t²c²}(1 − c²) − K·tail,
+// with K(λ) = k λ²/(λ² + Pλ + Q) (K → 0 as λ → 0, where f0 is already exact; K → k for large λ)
+// and t(λ) = λ√(½((λ + A)λ + B)/(((λ + C)λ + D)λ + E)) (the form of Tokuyoshi et al. 2024,
+// refitted). Cost: the same transcendental calls as tokuyoshi2024 (two erfc, exp, expm1, sqrt)
+// plus a few multiplies; the bounds share one e^{−λ} and one expm1(−λ).
+//
+// Far in the back-facing tail (t|c| ≳ 2) the even term is larger than f0 itself (f0 ~
+// e^{−t²c²}/t³, the term ~ K c² e^{−t²c²}/t), so f is kept at least ½·f0 there: the value stays
+// positive (non-zero wherever the true value is) and the change is below 1e-7 of D(λ, 1).
+//
+// Numerics: 1 − c² as (1 − c)(1 + c); the tail through expm1(x)/x (t → 0 gives the limit, not
+// 0/0); K/t written as kλ/((λ² + Pλ + Q)·s) with s = t/λ, exactly 0 at λ = 0; above λ = 1e4 every
+// polynomial in λ is divided through by its leading power (the ratios in r = 1/λ), so nothing
+// overflows up to the largest finite λ in float and double.
+#pragma once
+
+#include "sglab/clamped_cosine.hpp"
+
+namespace sglab {
+
+// The fitted constants, in one place. Produced by `sglab fit sglab` (Ceres, Lawson-weighted
+// minimax of |D − D_ref|/D_ref(λ, 1) over λ ∈ [1e-3, 1e4] × c ∈ [−1, 1] plus the stiff cases;
+// fit/sglab.cpp), printed there with %.17g (round-trip digits).
+struct SglabDiffuse {
+  static constexpr double A = 0.93532118363079611;
+  static constexpr double B = 6.8148590264975978;
+  static constexpr double C = 2.3404945984238013;
+  static constexpr double D = 6.2215721767351911;
+  static constexpr double E = 27.034184132721364;
+  static constexpr double k = 0.026718533886832197;
+  static constexpr double P = -3.8073437115873042;
+  static constexpr double Q = 17.321730563687446;
+};
+
+// The same eight constants as values of T (the fitter passes Jets).
+template <class T>
+struct SglabDiffuseParams {
+  T A, B, C, D, E, k, P, Q;
+  static SglabDiffuseParams fitted() {
+    using S = SglabDiffuse;
+    return {T(S::A), T(S::B), T(S::C), T(S::D), T(S::E), T(S::k), T(S::P), T(S::Q)};
+  }
+};
+
+// Above this λ the polynomials are evaluated in r = 1/λ (λ³ overflows float at λ ≈ 7e12).
+inline constexpr double kSglabLargeSharpness = 1e4;
+
+// t(λ) and K(λ)/t(λ) of the form above.
+template <class T>
+void sglab_steepness(const T& sharpness, const SglabDiffuseParams<T>& p, T& t, T& k_over_t) {
+  using std::sqrt;
+  const T& l = sharpness;
+  if (value_of(l) <= kSglabLargeSharpness) {
+    const T s = sqrt(T(0.5) * ((l + p.A) * l + p.B) / (((l + p.C) * l + p.D) * l + p.E));  // t/λ
+    t = l * s;
+    k_over_t = p.k * l / (((l + p.P) * l + p.Q) * s);
+  } else {
+    const T r = T(1) / l;
+    t = sqrt(T(0.5) * l * ((p.B * r + p.A) * r + T(1)) / (((p.E * r + p.D) * r + p.C) * r + T(1)));
+    k_over_t = p.k / (((p.Q * r + p.P) * r + T(1)) * t);
+  }
+}
+
+// The interpolation factor f ∈ [0, 1] of the form above.
+template <class T>
+T sglab_factor(const T& t, const T& k_over_t, const T& cosine) {
+  using std::erfc;
+  using std::exp;
+  using std::sqrt;
+  const T c = clamp_cosine(cosine);
+  const T x = (T(1) - c) * (T(1) + c);  // 1 − c²
+  const T tt = t * t;
+  const T gauss = exp(-tt * c * c);
+  const T tail = gauss * t * x * expm1_over_x(-tt * x);  // e^{−t²c²}(1 − e^{−t²(1−c²)})/t
+  const T f0 = T(0.5) * (c * erfc(-t * c) + erfc(t) + tail / sqrt(pi<T>()));
+  const T f = f0 + k_over_t * (gauss * x - t * tail);
+  const T half = T(0.5) * f0;
+  return clamp(value_of(f) > value_of(half) ? f : half, T(0), T(1));
+}
+
+// D(λ, 1)/2π and D(λ, −1)/2π (clamped_cosine.hpp), sharing e^{−λ} and expm1(−λ) for λ ≥ 1; the
+// series below λ = 1 are those of clamped_cosine_upper/lower_over_2pi.
+template <class T>
+void sglab_bounds_over_2pi(const T& sharpness, T& upper, T& lower) {
+  using std::exp;
+  const T& l = sharpness;
+  if (value_of(l) < 1) {
+    upper = clamped_cosine_upper_over_2pi(l);
+    lower = clamped_cosine_lower_over_2pi(l);
+    return;
+  }
+  const T e = exp(-l);
+  const T one_minus_e_over_l = expm1_over_x(-l);  // (1 − e^{−λ})/λ
+  upper = (T(1) - one_minus_e_over_l) / l;
+  lower = e * ((one_minus_e_over_l - e) / l);
+}
+
+template <class T>
+T clamped_cosine_sglab_with(const T& sharpness, const T& cosine, const SglabDiffuseParams<T>& p) {
+  T t, k_over_t, upper, lower;
+  sglab_steepness(sharpness, p, t, k_over_t);
+  sglab_bounds_over_2pi(sharpness, upper, lower);
+  const T f = sglab_factor(t, k_over_t, cosine);
+  return two_pi<T>() * (lower + f * (upper - lower));
+}
+
+template <class T>
+T clamped_cosine_sglab(const T& sharpness, const T& cosine) {
+  return clamped_cosine_sglab_with(sharpness, cosine, SglabDiffuseParams<T>::fitted());
+}
+
+}  // namespace sglab
