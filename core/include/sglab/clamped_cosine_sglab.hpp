@@ -13,11 +13,13 @@
 // with K(λ) = k λ²/(λ² + Pλ + Q) (K → 0 as λ → 0, where f0 is already exact; K → k for large λ)
 // and t(λ) = λ√(½((λ + A)λ + B)/(((λ + C)λ + D)λ + E)) (the form of Tokuyoshi et al. 2024,
 // refitted). Cost: the same transcendental calls as tokuyoshi2024 (two erfc, exp, expm1, sqrt)
-// plus a few multiplies; the bounds share one e^{−λ} and one expm1(−λ).
+// plus a few multiplies; for λ ≥ 1 the bounds share one e^{−λ} (tokuyoshi2024's code calls exp
+// twice and expm1 twice there).
 //
 // Far in the back-facing tail (t|c| ≳ 2) the even term is larger than f0 itself (f0 ~
-// e^{−t²c²}/t³, the term ~ K c² e^{−t²c²}/t), so f is kept at least ½·f0 there: the value stays
-// positive (non-zero wherever the true value is) and the change is below 1e-7 of D(λ, 1).
+// e^{−t²c²}/t³, the term ~ K c² e^{−t²c²}/t), so the even part of f is kept at least ½ of f0's
+// there: the value stays positive (non-zero wherever the true value is), and the change is far
+// below the error elsewhere (it acts only where f0 itself is ~e^{−4}/t³ or less).
 //
 // Numerics: 1 − c² as (1 − c)(1 + c); the tail through expm1(x)/x (t → 0 gives the limit, not
 // 0/0); K/t written as kλ/((λ² + Pλ + Q)·s) with s = t/λ, exactly 0 at λ = 0; above λ = 1e4 every
@@ -72,25 +74,35 @@ void sglab_steepness(const T& sharpness, const SglabDiffuseParams<T>& p, T& t, T
   }
 }
 
-// The interpolation factor f ∈ [0, 1] of the form above.
+// The interpolation factor f ∈ [0, 1] of the form above. f0(c) − f0(−c) = c, so f0 is evaluated
+// as ⟨c⟩ + g with g = f0(−|c|) = ½(erfc(t) − |c|·erfc(t|c|)) + tail/(2√π) ≥ 0, the back-facing value:
+// for c > 0 the large part c is then exact and only the small g is rounded (half the float
+// rounding of the form ½(c·erfc(−tc) + erfc(t)) + …), and for c < 0 g keeps its relative
+// accuracy deep in the tail. The correction is even too and is added to g, held at ≥ ½g.
 template <class T>
 T sglab_factor(const T& t, const T& k_over_t, const T& cosine) {
+  using std::abs;
   using std::erfc;
   using std::exp;
   using std::sqrt;
   const T c = clamp_cosine(cosine);
-  const T x = (T(1) - c) * (T(1) + c);  // 1 − c²
+  const T a = abs(c);
+  const T x = (T(1) - a) * (T(1) + a);  // 1 − c²
   const T tt = t * t;
-  const T gauss = exp(-tt * c * c);
+  const T gauss = exp(-tt * a * a);
   const T tail = gauss * t * x * expm1_over_x(-tt * x);  // e^{−t²c²}(1 − e^{−t²(1−c²)})/t
-  const T f0 = T(0.5) * (c * erfc(-t * c) + erfc(t) + tail / sqrt(pi<T>()));
-  const T f = f0 + k_over_t * (gauss * x - t * tail);
-  const T half = T(0.5) * f0;
-  return clamp(value_of(f) > value_of(half) ? f : half, T(0), T(1));
+  const T g = T(0.5) * (erfc(t) - a * erfc(t * a)) + tail / (T(2) * sqrt(pi<T>()));
+  const T corrected = g + k_over_t * (gauss * x - t * tail);
+  const T half = T(0.5) * g;
+  return clamp(positive_part(c) + (value_of(corrected) > value_of(half) ? corrected : half), T(0), T(1));
 }
 
-// D(λ, 1)/2π and D(λ, −1)/2π (clamped_cosine.hpp), sharing e^{−λ} and expm1(−λ) for λ ≥ 1; the
-// series below λ = 1 are those of clamped_cosine_upper/lower_over_2pi.
+// D(λ, 1)/2π and D(λ, −1)/2π (clamped_cosine.hpp). Below λ = 1 the series of
+// clamped_cosine_upper/lower_over_2pi. From λ = 1 on, one e^{−λ} serves both, and no expm1 is
+// needed (1 − e^{−λ} ≥ 0.63 does not cancel):
+//   upper = ((λ − 1) + e^{−λ})/λ/λ   (λ − 1 is exact near 1, so the only cancellation of the
+//           form (1 − (1 − e^{−λ})/λ)/λ is gone; divided twice so that λ² never overflows),
+//   lower = e^{−λ}((1 − e^{−λ})/λ − e^{−λ})/λ.
 template <class T>
 void sglab_bounds_over_2pi(const T& sharpness, T& upper, T& lower) {
   using std::exp;
@@ -101,9 +113,8 @@ void sglab_bounds_over_2pi(const T& sharpness, T& upper, T& lower) {
     return;
   }
   const T e = exp(-l);
-  const T one_minus_e_over_l = expm1_over_x(-l);  // (1 − e^{−λ})/λ
-  upper = (T(1) - one_minus_e_over_l) / l;
-  lower = e * ((one_minus_e_over_l - e) / l);
+  upper = ((l - T(1)) + e) / l / l;
+  lower = e * (((T(1) - e) / l - e) / l);
 }
 
 template <class T>
