@@ -33,6 +33,9 @@ TEST(FitSynthetic, Tokuyoshi2022Steepness) {
 TEST(FitSynthetic, Tokuyoshi2024T) {
   expect_recovers("tokuyoshi2024-t", {3.0, 20.0, 5.0, 14.0, 90.0}, 1e-5);
 }
+TEST(FitSynthetic, Sglab) {
+  expect_recovers("sglab", {1.1, 7.5, 2.6, 6.0, 30.0, 0.03, -3.0, 16.0}, 1e-5);
+}
 TEST(FitSynthetic, HillIrradiance) { expect_recovers("hill-irradiance", {0.42}, 1e-8); }
 TEST(FitSynthetic, CosineLobeSg) { expect_recovers("cosine-lobe-sg", {0.8, 3.3}, 1e-9); }
 
