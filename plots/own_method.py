@@ -5,8 +5,8 @@ Reads the long-format CSV of `sglab error-map` (error_map.csv: method, sharpness
 reference, value, error, smape) and paper_tables/own_method_forms.csv (the forms tried: name,
 max error, ns/eval) and draws
   own_method_error_maps.{png,pdf}: the signed error (method − reference)/D(λ, 1) of tokuyoshi2024
-      and of sglab over (λ, c), one linear colour scale for both (so sglab's map shows how much
-      smaller its error is), λ on a log axis;
+      and of sglab over (λ, c) on one linear colour scale (so sglab's map shows how much smaller
+      its error is), then sglab again on its own scale, λ on a log axis;
   own_method_frontier.{png,pdf}: max error against ns/eval of the forms tried, the 0.05 % target
       as a line.
 Each file is written to a temporary name and renamed. Computes nothing the CSVs do not hold.
@@ -61,15 +61,19 @@ def main():
     os.makedirs(out_dir, exist_ok=True)
     maps = read_maps(csv_path)
     vmax = max(np.nanmax(np.abs(g)) for _, _, g in maps.values())
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True, constrained_layout=True)
-    for ax, m in zip(axes, METHODS):
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.2), sharey=True, constrained_layout=True)
+    panels = [(m, vmax) for m in METHODS] + [("sglab", np.nanmax(np.abs(maps["sglab"][2])))]
+    for k, (ax, (m, v)) in enumerate(zip(axes, panels)):
         ls, cs, g = maps[m]
-        pc = ax.pcolormesh(ls, cs, g, cmap="RdBu_r", vmin=-vmax, vmax=vmax, shading="nearest", rasterized=True)
+        pc = ax.pcolormesh(ls, cs, g, cmap="RdBu_r", vmin=-v, vmax=v, shading="nearest", rasterized=True)
         ax.set_xscale("log")
         ax.set_xlabel("sharpness λ")
-        ax.set_title(f"{m}: max |error| {np.nanmax(np.abs(g)) * 100:.4f} % of D(λ, 1)")
+        scale = "common scale" if k < 2 else "own scale"
+        ax.set_title(f"{m} ({scale}): max |error| {np.nanmax(np.abs(g)) * 100:.4f} %", fontsize=10)
+        if k >= 1:
+            fig.colorbar(pc, ax=axes[:2].tolist() if k == 1 else ax,
+                         label="(method − reference) / D(λ, 1)" if k == 1 else None)
     axes[0].set_ylabel("c = ξ·n")
-    fig.colorbar(pc, ax=axes.tolist(), label="(method − reference) / D(λ, 1)")
     save(fig, out_dir, "own_method_error_maps")
     plt.close(fig)
 
@@ -78,9 +82,10 @@ def main():
         for r in csv.DictReader(line for line in f if not line.startswith("#")):
             forms.append((r["form"], float(r["max_error"]), float(r["ns_per_eval"]), r["shipped"] == "yes"))
     fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
-    for name, e, ns, shipped in forms:
+    for i, (name, e, ns, shipped) in enumerate(forms):
         ax.scatter(ns, e, s=60 if shipped else 30, marker="*" if shipped else "o")
-        ax.annotate(name, (ns, e), textcoords="offset points", xytext=(6, 3), fontsize=8)
+        ax.annotate(name, (ns, e), textcoords="offset points", xytext=(6, 3 if i % 2 else -9), fontsize=8)
+    ax.margins(x=0.4)
     ax.axhline(5e-4, color="k", lw=0.8, ls="--")
     ax.text(ax.get_xlim()[0], 5e-4, " target 0.05 %", va="bottom", fontsize=8)
     ax.set_yscale("log")
