@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/registry.hpp"
 
 namespace {
@@ -52,6 +53,34 @@ void run(benchmark::State& state, const sglab::Method* m, std::size_t arity, con
       static_cast<double>(state.iterations() * kBatch), benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
 }
 
+// Scalar: the method's template called directly per (λ, c) on the same seeded inputs, inlined as
+// in a shader or the renderer (no std::function per call or per batch). Registered only for
+// sglab's own method and tokuyoshi2024, the peer it must not be slower than.
+template <class T, class F>
+void run_scalar(benchmark::State& state, F f, const std::vector<double>& in) {
+  std::vector<T> args(in.begin(), in.end());
+  std::vector<T> out(kBatch);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < kBatch; ++i) out[i] = f(args[2 * i], args[2 * i + 1]);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
+  state.counters["ns/eval"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * kBatch), benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
+}
+
+template <class T>
+void register_scalar(const std::vector<double>& in) {
+  const std::string p = std::is_same_v<T, float> ? "float" : "double";
+  benchmark::RegisterBenchmark(("clamped-cosine/tokuyoshi2024/" + p + "/scalar").c_str(), [&in](benchmark::State& s) {
+    run_scalar<T>(s, [](const T& l, const T& c) { return sglab::clamped_cosine_tokuyoshi2024(l, c); }, in);
+  });
+  benchmark::RegisterBenchmark(("clamped-cosine/sglab/" + p + "/scalar").c_str(), [&in](benchmark::State& s) {
+    run_scalar<T>(s, [](const T& l, const T& c) { return sglab::clamped_cosine_sglab(l, c); }, in);
+  });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -65,6 +94,10 @@ int main(int argc, char** argv) {
     if (!core_kinds) continue;  // other modules time their own quantities
     inputs.push_back(make_inputs(q));
     const auto& in = inputs.back();
+    if (q.name == "clamped-cosine") {
+      register_scalar<float>(in);
+      register_scalar<double>(in);
+    }
     for (const auto& m : q.methods) {
       const std::size_t arity = q.columns.size();
       // The quadrature references are ~1e4× slower: fewer iterations keep the run short.

@@ -38,7 +38,7 @@ struct Places {
 // The poster's figure on the renderer (issue 6, item 4): the near-wall scene once per diffuse
 // method, and one SMAPE map per method.
 const std::vector<std::string> kNearWallMethods = {"sg-cosine", "punctual-approx", "hill-fitted", "meder",
-                                                   "tokuyoshi2022", "tokuyoshi2024"};
+                                                   "tokuyoshi2022", "tokuyoshi2024", "sglab"};
 
 std::vector<Step> near_wall_steps(const std::string& out, const std::string& key_figures) {
   std::vector<Step> v;
@@ -77,6 +77,8 @@ std::vector<Step> steps(const Places& places) {
        {"error-map", "--out", out + "/error_map"}, {"--quick"}},
       {"plot-error-maps", "error maps of the diffuse methods, one panel per method",
        {"plots/error_maps.py", out + "/error_map/error_map.csv", out + "/figures/error_maps"}, {"--quick"}, true},
+      {"plot-own-method", "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried (paper_tables/own_method.md)",
+       {"plots/own_method.py", out + "/error_map/error_map.csv", "paper_tables/own_method_forms.csv", kKeyFigures}, {}, true},
       // The VSGL renderer (issue 5): the three scenes, each with its stats JSON, then the sweeps.
       {"render-cornell-glossy", "VSGL renderer: glossy Cornell box, 256×256, two VSGLs vs the exact VPL sum",
        {"render", "scenes/cornell-glossy.json", "--out", out + "/renders/cornell-glossy.exr", "--stats",

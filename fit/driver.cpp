@@ -182,7 +182,7 @@ const std::vector<Fitter>& fitters() {
       cosine_sharpness_fitter(), cosine_sg_fitter(),
       meder_logistic_fitter(),  tokuyoshi2022_steepness_fitter(),
       tokuyoshi2024_t_fitter(), hill_irradiance_fitter(),
-      cosine_lobe_sg_fitter(),
+      cosine_lobe_sg_fitter(),    sglab_fitter(),
   };
   return all;
 }

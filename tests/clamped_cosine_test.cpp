@@ -1,9 +1,13 @@
 // Diffuse SG lighting methods (core/include/sglab/clamped_cosine.hpp) against the exact
 // reference: approximation error in double, rounding error in float against the same formula in
-// 50 digits, exactness where a method is exact by construction, and Jet derivatives.
+// 50 digits, exactness where a method is exact by construction, and Jet derivatives; sglab (this
+// project's own method) against its targets: max error, the stiff grid, float rounding.
 #include <ceres/jet.h>
 
+#include <limits>
+
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/reference.hpp"
 #include "test_util.hpp"
 
@@ -131,13 +135,108 @@ TEST(ClampedCosine, FloatRoundingAgainstFiftyDigits) {
   }
 }
 
+// sglab, this project's own method (clamped_cosine_sglab.hpp): the target is 5e-4 (0.05 %) of
+// D(λ, 1); its fitted constants reach 8.1e-5 on a dense check grid (281 λ × 401 c). Bound: 1e-4
+// in double; float adds its rounding (a few 1e-7) and the input's rounding to float.
+TEST(ClampedCosine, SglabMaxErrorOnFixedGridDouble) {
+  const double e = grid().max_error([](double l, double c) { return clamped_cosine_sglab(l, c); });
+  const double e24 = grid().max_error([](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); });
+  std::printf("double max error / D(λ,1): sglab %.3e, tokuyoshi2024 %.3e\n", e, e24);
+  EXPECT_LE(e, 1e-4);
+  EXPECT_LT(e, e24 / 10);
+}
+
+TEST(ClampedCosine, SglabMaxErrorOnFixedGridFloat) {
+  const double e = grid().max_error([](double l, double c) { return double(clamped_cosine_sglab(float(l), float(c))); });
+  std::printf("float max error / D(λ,1): sglab %.3e\n", e);
+  EXPECT_LE(e, 1e-4 + 1e-6);
+}
+
+TEST(ClampedCosine, SglabExactAtThePolesAndForAConstantLight) {
+  for (double l : test::stiff_sharpnesses(4)) {
+    EXPECT_LE(test::relative_error(clamped_cosine_sglab(l, 1.0), clamped_cosine_reference(l, 1.0)), 1e-13) << l;
+    const double lower = clamped_cosine_reference(l, -1.0);
+    if (lower > 1e-290) {
+      EXPECT_LE(test::relative_error(clamped_cosine_sglab(l, -1.0), lower), 1e-13) << l;
+    }
+  }
+  for (double c : {-1.0, -0.3, 0.0, 0.6, 1.0}) EXPECT_NEAR(clamped_cosine_sglab(0.0, c), pi<double>(), 1e-14) << c;
+}
+
+// Every stiff (λ, c), plus the largest finite λ, in float and double: finite and ≥ 0; and
+// non-zero wherever the reference (in that precision) is non-zero, the unbiased-sampling
+// constraint of Tokuyoshi et al. 2024.
+template <class T>
+void check_sglab_stiff() {
+  std::vector<double> ls = test::stiff_sharpnesses(4);
+  long checked = 0;
+  for (double l : ls) {
+    for (double c : test::stiff_cosines()) {
+      const T v = clamped_cosine_sglab(T(l), T(c));
+      ASSERT_TRUE(std::isfinite(v)) << l << " " << c;
+      ASSERT_GE(v, T(0)) << l << " " << c;
+      const T ref = clamped_cosine_reference(T(l), T(c));
+      if (ref > T(0)) {
+        EXPECT_GT(v, T(0)) << "zero where the reference is " << ref << ": λ = " << l << ", c = " << c;
+        ++checked;
+      }
+    }
+  }
+  std::printf("%s: %ld stiff points with a non-zero reference, all non-zero\n", sizeof(T) == 4 ? "float" : "double", checked);
+  // Up to the largest finite λ: D → 2π⟨c⟩/λ (the punctual limit, error O(1/λ)) for c > 0 and
+  // √(2π)/λ^{3/2} at c = 0 (the planar Gaussian's half-width).
+  for (T l : {T(1e12), T(1e30), std::numeric_limits<T>::max() / T(4), std::numeric_limits<T>::max()}) {
+    for (T c : {T(-1), T(-0.5), T(0), T(0.3), T(1)}) {
+      const T v = clamped_cosine_sglab(l, c);
+      ASSERT_TRUE(std::isfinite(v)) << l << " " << c;
+      ASSERT_GE(v, T(0)) << l << " " << c;
+    }
+    for (T c : {T(0.3), T(0.8), T(1)}) {
+      const double limit = 2 * pi<double>() * double(c) / double(l);
+      if (limit > double(std::numeric_limits<T>::min()) * 1e3) {
+        EXPECT_LE(test::relative_error(double(clamped_cosine_sglab(l, c)), limit), 1e-5) << l << " " << c;
+      }
+    }
+  }
+  const T l = T(1e12);
+  EXPECT_LE(test::relative_error(double(clamped_cosine_sglab(l, T(0))), std::sqrt(2 * pi<double>()) / std::pow(1e12, 1.5)), 1e-4);
+}
+TEST(ClampedCosine, SglabStiffGridFiniteNonNegativeNonZeroDouble) { check_sglab_stiff<double>(); }
+TEST(ClampedCosine, SglabStiffGridFiniteNonNegativeNonZeroFloat) { check_sglab_stiff<float>(); }
+
+// Rounding alone: float against the same formula in 50 digits, relative to the 50-digit D(λ, 1),
+// no worse than tokuyoshi2024's on the same points (and below 1e-6, tokuyoshi2024's test bound).
+TEST(ClampedCosine, SglabFloatRoundingNoWorseThanTokuyoshi2024) {
+  auto worst = [](auto f, auto m) {
+    double w = 0;
+    for (double l : test::log_grid(-3, 4, 4)) {
+      const float lf = float(l);
+      const mp50 pole = m(mp50(lf), mp50(1));
+      for (int j = 0; j <= 40; ++j) {
+        const float cf = float(-1 + 0.05 * j);
+        w = std::max(w, static_cast<double>(abs(mp50(f(lf, cf)) - m(mp50(lf), mp50(cf))) / pole));
+      }
+    }
+    return w;
+  };
+  const double s = worst([](float l, float c) { return clamped_cosine_sglab(l, c); },
+                         [](const mp50& l, const mp50& c) { return clamped_cosine_sglab(l, c); });
+  const double t = worst([](float l, float c) { return clamped_cosine_tokuyoshi2024(l, c); },
+                         [](const mp50& l, const mp50& c) { return clamped_cosine_tokuyoshi2024(l, c); });
+  std::printf("float rounding error / D(λ,1): sglab %.3e, tokuyoshi2024 %.3e\n", s, t);
+  EXPECT_LE(s, 1e-6);
+  EXPECT_LE(s, t);
+}
+
 TEST(ClampedCosine, MultiprecisionMatchesDoubleForStableForms) {
   // mp50 instantiation works and agrees with double to double's rounding.
-  for (double l : {1e-3, 0.5, 7.0, 300.0}) {
+  for (double l : {1e-3, 0.5, 7.0, 300.0, 3e4}) {
     for (double c : {-0.9, 0.0, 0.4, 1.0}) {
       const double d = clamped_cosine_tokuyoshi2024(l, c);
       const double m = static_cast<double>(clamped_cosine_tokuyoshi2024(mp50(l), mp50(c)));
       EXPECT_LE(std::fabs(d - m), 1e-14 * clamped_cosine_reference(l, 1.0)) << l << " " << c;
+      const double sd = clamped_cosine_sglab(l, c), sm = static_cast<double>(clamped_cosine_sglab(mp50(l), mp50(c)));
+      EXPECT_LE(std::fabs(sd - sm), 1e-14 * clamped_cosine_reference(l, 1.0)) << "sglab " << l << " " << c;
     }
   }
 }
@@ -164,6 +263,7 @@ TEST(ClampedCosine, JetDerivativesMatchFiniteDifferences) {
   check("hill-fitted", [](const J& l, const J& c) { return clamped_cosine_hill_fitted(l, c); });
   check("meder", [](const J& l, const J& c) { return clamped_cosine_meder(l, c); });
   check("tokuyoshi2024", [](const J& l, const J& c) { return clamped_cosine_tokuyoshi2024(l, c); });
+  check("sglab", [](const J& l, const J& c) { return clamped_cosine_sglab(l, c); });  // the fitter differentiates it
 }
 
 }  // namespace

@@ -33,6 +33,9 @@ TEST(FitSynthetic, Tokuyoshi2022Steepness) {
 TEST(FitSynthetic, Tokuyoshi2024T) {
   expect_recovers("tokuyoshi2024-t", {3.0, 20.0, 5.0, 14.0, 90.0}, 1e-5);
 }
+TEST(FitSynthetic, Sglab) {
+  expect_recovers("sglab", {1.1, 7.5, 2.6, 6.0, 30.0, 0.03, -3.0, 16.0}, 1e-5);
+}
 TEST(FitSynthetic, HillIrradiance) { expect_recovers("hill-irradiance", {0.42}, 1e-8); }
 TEST(FitSynthetic, CosineLobeSg) { expect_recovers("cosine-lobe-sg", {0.8, 3.3}, 1e-9); }
 
@@ -114,7 +117,8 @@ TEST(FitRegistry, EveryFitConvergesFromItsDefaultStart) {
     o.objective = f.objectives.front();
     const FitResult r = f.run(o);
     EXPECT_TRUE(r.converged) << f.name;
-    EXPECT_LT(r.seconds, 1.0) << f.name;
+    // sglab's minimax fit is 30 Lawson rounds of a 10139-point least-squares problem (≈ 20 s).
+    EXPECT_LT(r.seconds, f.name == "sglab" ? 120.0 : 1.0) << f.name;
   }
 }
 

@@ -2,6 +2,7 @@
 #include <sstream>
 
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/hemispherical.hpp"
 #include "sglab/reference.hpp"
 #include "sglab/registry.hpp"
@@ -100,6 +101,9 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                [](auto a) { return clamped_cosine_tokuyoshi2022(a[0], a[1]); }));
     q.methods.push_back(make_method("tokuyoshi2024", "Tokuyoshi et al. 2024, erfc interpolation between the c = ±1 bounds", "", false, nullptr,
                                [](auto a) { return clamped_cosine_tokuyoshi2024(a[0], a[1]); }));
+    q.methods.push_back(make_method("sglab", "sglab (this project): tokuyoshi2024's erfc interpolation with a refitted t(λ) and one even correction term (K/t)(e^{−t²} − c²e^{−t²c²}); constants from `sglab fit sglab` (paper_tables/own_method.md)",
+                               "fitted, not derived: max error 8.1e-5 of D(λ, 1) on a dense check (281 λ × 401 c), none guaranteed between points; in the back-facing tail the corrected even part is held at ≥ ½ of the uncorrected one (part of the fitted form, keeps the value positive)", false, nullptr,
+                               [](auto a) { return clamped_cosine_sglab(a[0], a[1]); }));
     out.push_back(std::move(q));
   }
 

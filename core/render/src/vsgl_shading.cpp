@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/reference.hpp"
 #include "sglab/vsgl.hpp"
 
@@ -23,7 +24,7 @@ struct Named {
   std::string_view name;
   DiffuseMethod method;
 };
-constexpr std::array<Named, 9> kSwitched = {{
+constexpr std::array<Named, 10> kSwitched = {{
     {"reference", DiffuseMethod::reference},
     {"punctual", DiffuseMethod::punctual},
     {"punctual-approx", DiffuseMethod::punctual_approx},
@@ -33,6 +34,7 @@ constexpr std::array<Named, 9> kSwitched = {{
     {"meder", DiffuseMethod::meder},
     {"tokuyoshi2022", DiffuseMethod::tokuyoshi2022},
     {"tokuyoshi2024", DiffuseMethod::tokuyoshi2024},
+    {"sglab", DiffuseMethod::sglab},
 }};
 
 const Quantity& clamped_cosine_quantity() {
@@ -128,6 +130,8 @@ VsglShading shade_vsgls_parts(const ShadingPoint& point, const VsglSet& set, con
       return shade(point, set, o, [](double l, double c) { return clamped_cosine_tokuyoshi2022(l, c); });
     case DiffuseMethod::tokuyoshi2024:
       return shade(point, set, o, [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); });
+    case DiffuseMethod::sglab:
+      return shade(point, set, o, [](double l, double c) { return clamped_cosine_sglab(l, c); });
     case DiffuseMethod::registry: {
       if (!o.registry_method) throw std::invalid_argument("ShadingOptions: diffuse == registry without a method");
       const Method* m = o.registry_method;

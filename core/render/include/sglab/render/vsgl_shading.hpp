@@ -10,7 +10,8 @@
 //                                         (the poster's form, exact A(λ_d) instead of ≈ π; λ_d is
 //                                         the VSGL set's, not the registry entry's fixed 2)
 //                        punctual-approx  D = (2π/λ_in)⟨ξ_in·n⟩ (`modified-fis` §4.2)
-//                        tokuyoshi2024    the erfc interpolation (most accurate; the default)
+//                        tokuyoshi2024    the erfc interpolation (most accurate published; the default)
+//                        sglab            this project's own refit of it with an even correction
 //                        reference        the quadrature (slow; exact D for the SG)
 //                        …and every other clamped-cosine method of the registry.
 //   specular:          the receiver's GGX lobe as an ASG (Xu et al. 2013 warp) × the incoming SG,
@@ -43,6 +44,7 @@ inline constexpr std::string_view kVsglVisibilityNote =
 
 enum class DiffuseMethod {
   reference, punctual, punctual_approx, sg_cosine, cosine_lobe_sg, hill_fitted, meder, tokuyoshi2022, tokuyoshi2024,
+  sglab,     // this project's own approximation (clamped_cosine_sglab.hpp)
   registry,  // any other clamped-cosine method, evaluated through the registry (slower)
 };
 
