@@ -78,7 +78,7 @@ std::vector<Step> steps(const Places& places) {
       {"plot-error-maps", "error maps of the diffuse methods, one panel per method",
        {"plots/error_maps.py", out + "/error_map/error_map.csv", out + "/figures/error_maps"}, {"--quick"}, true},
       {"plot-own-method", "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried (paper_tables/own_method.md)",
-       {"plots/own_method.py", out + "/error_map/error_map.csv", "paper_tables/own_method_forms.csv", kKeyFigures}, {}, true},
+       {"plots/own_method.py", out + "/error_map/error_map.csv", "plots/own_method_forms.csv", kKeyFigures}, {}, true},
       // The VSGL renderer (issue 5): the three scenes, each with its stats JSON, then the sweeps.
       {"render-cornell-glossy", "VSGL renderer: glossy Cornell box, 256×256, two VSGLs vs the exact VPL sum",
        {"render", "scenes/cornell-glossy.json", "--out", out + "/renders/cornell-glossy.exr", "--stats",

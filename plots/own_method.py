@@ -2,7 +2,7 @@
 """sglab's own diffuse approximation against tokuyoshi2024 (paper_tables/own_method.md).
 
 Reads the long-format CSV of `sglab error-map` (error_map.csv: method, sharpness, cosine,
-reference, value, error, smape) and paper_tables/own_method_forms.csv (the forms tried: name,
+reference, value, error, smape) and plots/own_method_forms.csv (the forms tried: name,
 max error, ns/eval) and draws
   own_method_error_maps.{png,pdf}: the signed error (method − reference)/D(λ, 1) of tokuyoshi2024
       and of sglab over (λ, c) on one linear colour scale (so sglab's map shows how much smaller
