@@ -10,6 +10,7 @@ packages=(
   libopenexr-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libtbb-dev
   python3 python3-matplotlib python3-numpy python3-scipy
+  python3-dev pybind11-dev python3-pybind11 python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do
