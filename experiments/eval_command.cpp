@@ -66,26 +66,6 @@ std::vector<std::string> column_names(const Quantity& q) {
   return names;
 }
 
-std::string_view column_kind_name(ColumnKind kind) {
-  switch (kind) {
-    case ColumnKind::sharpness:
-      return "sharpness";
-    case ColumnKind::cosine:
-      return "cosine";
-    case ColumnKind::mean_length:
-      return "mean_length";
-    case ColumnKind::positive:
-      return "positive";
-    case ColumnKind::nonnegative:
-      return "nonnegative";
-    case ColumnKind::angle:
-      return "angle";
-    case ColumnKind::unit_interval:
-      return "unit_interval";
-  }
-  return "?";
-}
-
 constexpr std::string_view kNegativeMark = "[CAN GO NEGATIVE: published form, kept as published]";
 
 void print_list_text() {
@@ -193,30 +173,26 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
   std::vector<double> checked(k);  // the values as validated: T's value, in double
   for (std::size_t r = 0; r < rows; ++r) {
     const auto& fields = table.rows[r].fields;
+    const auto where = [&](std::size_t j) {
+      return fmt::format("{}, column '{}', value '{}'", row_location(source, table, r), q.columns[j].name,
+                         fields[index[j]]);
+    };
     for (std::size_t j = 0; j < k; ++j) {
-      const std::string& text = fields[index[j]];
-      const auto where = [&] {
-        return fmt::format("{}, column '{}', value '{}'", row_location(source, table, r),
-                           q.columns[j].name, text);
-      };
       try {
-        args[r * k + j] = parse_decimal<T>(text);
+        args[r * k + j] = parse_decimal<T>(fields[index[j]]);
       } catch (const NumberError& e) {
-        throw UsageError(fmt::format("{}: {}", where(), e.what()));
+        throw UsageError(fmt::format("{}: {}", where(j), e.what()));
       }
       checked[j] = static_cast<double>(args[r * k + j]);
-      if (const auto error = column_value_error(q.columns[j], checked[j]))
-        throw UsageError(fmt::format("{}: {}", where(), *error));
     }
-    if (method.domain_error) {
-      if (const auto error = method.domain_error(checked)) {
-        std::vector<std::string> values;
-        for (std::size_t j = 0; j < k; ++j)
-          values.push_back(fmt::format("{} '{}'", q.columns[j].name, fields[index[j]]));
-        throw UsageError(fmt::format("{}, {}: method '{}' of '{}': {}",
-                                     row_location(source, table, r), fmt::join(values, ", "),
-                                     method.name, q.name, *error));
-      }
+    // The library's checks (registry.hpp: row_error), the same the Python module applies.
+    if (const auto error = row_error(q, method, checked)) {
+      if (error->column) throw UsageError(fmt::format("{}: {}", where(*error->column), error->message));
+      std::vector<std::string> values;
+      for (std::size_t j = 0; j < k; ++j)
+        values.push_back(fmt::format("{} '{}'", q.columns[j].name, fields[index[j]]));
+      throw UsageError(fmt::format("{}, {}: method '{}' of '{}': {}", row_location(source, table, r),
+                                   fmt::join(values, ", "), method.name, q.name, error->message));
     }
   }
 

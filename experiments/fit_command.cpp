@@ -17,6 +17,7 @@
 #include "atomic_file.hpp"
 #include "commands.hpp"
 #include "driver.hpp"
+#include "record.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -30,29 +31,6 @@ struct FitArgs {
   std::string json_dir;
   std::string tables_dir = "paper_tables";
 };
-
-nlohmann::ordered_json to_json(const fit::FitResult& r) {
-  nlohmann::ordered_json j;
-  auto obj = [](const std::vector<fit::NamedValue>& v) {
-    nlohmann::ordered_json o = nlohmann::ordered_json::object();
-    for (const auto& nv : v) {
-      // JSON has no NaN: "nothing published" is null.
-      if (std::isfinite(nv.value)) o[nv.name] = nv.value; else o[nv.name] = nullptr;
-    }
-    return o;
-  };
-  j["fit"] = r.fit;
-  j["objective"] = r.objective;
-  j["domain"] = r.domain;
-  j["parameters"] = obj(r.parameters);
-  j["published"] = obj(r.published);
-  j["relative_difference"] = obj(r.relative_difference);
-  j["final_cost"] = r.final_cost;
-  j["iterations"] = r.iterations;
-  j["converged"] = r.converged;
-  j["seconds"] = r.seconds;
-  return j;
-}
 
 void write_file(const std::filesystem::path& path, const std::string& text) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
@@ -86,9 +64,7 @@ void print_result(const fit::FitResult& r) {
 fit::FitResult run_one(const fit::Fitter& f, const FitArgs& a, bool default_objective) {
   fit::FitOptions o;
   try {
-    o.objective = fit::choose_objective(f, default_objective ? "" : a.objective);
-    o.precision = a.precision;
-    fit::unit_roundoff(o.precision);  // validates the name
+    o = fit::checked_options(f, default_objective ? "" : a.objective, a.precision);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
@@ -163,7 +139,7 @@ void run_fit(const FitArgs& a) {
       print_result(results.back());
       if (!a.json_dir.empty()) {
         write_file(std::filesystem::path(a.json_dir) / (f.name + ".json"),
-                   to_json(results.back()).dump(2) + "\n");
+                   fit::record_json(results.back()).dump(2) + "\n");
       }
     }
     write_tables(results, a.tables_dir, "sglab fit all");
@@ -180,7 +156,7 @@ void run_fit(const FitArgs& a) {
   }
   const fit::FitResult r = run_one(*f, a, false);
   print_result(r);
-  if (!a.json_file.empty()) write_file(a.json_file, to_json(r).dump(2) + "\n");
+  if (!a.json_file.empty()) write_file(a.json_file, fit::record_json(r).dump(2) + "\n");
 }
 
 }  // namespace

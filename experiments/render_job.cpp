@@ -43,14 +43,19 @@ nlohmann::json load_scene_document(const std::string& path, const std::vector<st
   if (!in) throw UsageError(fmt::format("cannot open the scene file '{}'", path));
   std::ostringstream text;
   text << in.rdbuf();
+  return scene_document_from_text(text.str(), path, overrides);
+}
+
+nlohmann::json scene_document_from_text(const std::string& text, const std::string& source,
+                                        const std::vector<std::string>& overrides) {
   try {
-    nlohmann::json document = render::parse_scene_text(text.str(), path);
+    nlohmann::json document = render::parse_scene_text(text, source);
     for (const auto& o : overrides) render::apply_override(document, o);
     return document;
   } catch (const SceneError& e) {
-    // parse_scene_text's message already starts with the path.
+    // parse_scene_text's message already starts with the source.
     const std::string what = e.what();
-    throw UsageError(what.rfind(path, 0) == 0 ? what : path + ": " + what);
+    throw UsageError(what.rfind(source, 0) == 0 ? what : source + ": " + what);
   }
 }
 

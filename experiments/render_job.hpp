@@ -36,6 +36,9 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl = true
 
 // The scene document after the overrides (UsageError naming the file, the field or the --set).
 nlohmann::json load_scene_document(const std::string& path, const std::vector<std::string>& overrides);
+// The same from the scene's JSON text; `source` names it in messages (a path, "<dict>").
+nlohmann::json scene_document_from_text(const std::string& text, const std::string& source,
+                                        const std::vector<std::string>& overrides);
 // Validated scene, with --width/--height applied (UsageError naming the field).
 render::Scene load_scene(const RenderJob& job);
 render::Scene scene_from_document(const nlohmann::json& document, const RenderJob& job);

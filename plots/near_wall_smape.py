@@ -11,9 +11,7 @@ import os
 import sys
 
 import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -30,6 +28,23 @@ def smape_map(im):
     return out, nz
 
 
+def figure(renders):
+    """One SMAPE panel per (method, images) pair, on one colour scale, as a matplotlib figure."""
+    n = len(renders)
+    cols = min(n, 3)
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(4.5 * cols, 3.8 * rows), squeeze=False)
+    for ax in axes.flat:
+        ax.axis("off")
+    for ax, (method, im) in zip(axes.flat, renders):
+        s, lit = smape_map(im)
+        shown = ax.imshow(s, cmap="magma", vmin=0, vmax=2)
+        ax.set_title(f"{method}: mean SMAPE {s[lit].mean():.3f}", fontsize=9)
+    fig.colorbar(shown, ax=axes.ravel().tolist(), shrink=0.8, label="SMAPE (0–2)")
+    fig.suptitle("sg-light-near-wall: VSGL indirect light vs the exact VPL sum, per diffuse method")
+    return fig
+
+
 def main() -> int:
     if len(sys.argv) < 3 or any("=" not in a for a in sys.argv[2:]):
         print(__doc__, file=sys.stderr)
@@ -37,19 +52,7 @@ def main() -> int:
     out_dir = sys.argv[1]
     os.makedirs(out_dir, exist_ok=True)
     inputs = [a.split("=", 1) for a in sys.argv[2:]]
-    n = len(inputs)
-    cols = min(n, 3)
-    rows = (n + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(4.5 * cols, 3.8 * rows), squeeze=False)
-    for ax in axes.flat:
-        ax.axis("off")
-    for ax, (method, path) in zip(axes.flat, inputs):
-        im, _ = read_dump(path)
-        s, lit = smape_map(im)
-        shown = ax.imshow(s, cmap="magma", vmin=0, vmax=2)
-        ax.set_title(f"{method}: mean SMAPE {s[lit].mean():.3f}", fontsize=9)
-    fig.colorbar(shown, ax=axes.ravel().tolist(), shrink=0.8, label="SMAPE (0–2)")
-    fig.suptitle("sg-light-near-wall: VSGL indirect light vs the exact VPL sum, per diffuse method")
+    fig = figure([(method, read_dump(path)[0]) for method, path in inputs])
     for ext in ("png", "pdf"):
         path = os.path.join(out_dir, f"near_wall_smape.{ext}")
         tmp = path + ".tmp"
@@ -60,4 +63,5 @@ def main() -> int:
 
 
 if __name__ == "__main__":
+    matplotlib.use("Agg")  # files only; not on import, so that notebooks keep their backend
     sys.exit(main())

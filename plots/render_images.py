@@ -14,9 +14,7 @@ import os
 import sys
 
 import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 import numpy as np  # noqa: E402
 
 LAYERS = ("direct", "indirect", "indirect_reference", "error")
@@ -45,6 +43,32 @@ def percentile_scale(a):
     return s if s > 0 else 1.0
 
 
+def figure(im, title):
+    """The five panels of one render (LAYERS → (h, w, 3) arrays) as a matplotlib figure."""
+    full_scale = percentile_scale(im["direct"] + im["indirect_reference"])
+    ind_scale = percentile_scale(im["indirect_reference"])
+    tone = lambda a, s: np.clip(a / s, 0, 1) ** (1 / 2.2)  # noqa: E731
+    panels = [
+        ("direct + VSGL indirect", tone(im["direct"] + im["indirect"], full_scale)),
+        ("direct + exact VPL sum", tone(im["direct"] + im["indirect_reference"], full_scale)),
+        ("VSGL indirect", tone(im["indirect"], ind_scale)),
+        ("exact VPL sum (reference)", tone(im["indirect_reference"], ind_scale)),
+    ]
+    fig, axes = plt.subplots(1, 5, figsize=(22, 4.8))
+    for ax, (panel_title, img) in zip(axes, panels):
+        ax.imshow(img)
+        ax.set_title(panel_title)
+    err = im["error"].mean(axis=2)
+    m = axes[4].imshow(err, cmap="RdBu_r", vmin=-ind_scale, vmax=ind_scale)
+    axes[4].set_title("error: VSGL − reference")
+    fig.colorbar(m, ax=axes[4], fraction=0.046)
+    for ax in axes:
+        ax.axis("off")
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
 def main() -> int:
     if len(sys.argv) < 3:
         print(__doc__, file=sys.stderr)
@@ -54,27 +78,7 @@ def main() -> int:
     for path in sys.argv[2:]:
         im, command = read_dump(path)
         name = os.path.splitext(os.path.basename(path))[0]
-        full_scale = percentile_scale(im["direct"] + im["indirect_reference"])
-        ind_scale = percentile_scale(im["indirect_reference"])
-        tone = lambda a, s: np.clip(a / s, 0, 1) ** (1 / 2.2)  # noqa: E731
-        panels = [
-            ("direct + VSGL indirect", tone(im["direct"] + im["indirect"], full_scale)),
-            ("direct + exact VPL sum", tone(im["direct"] + im["indirect_reference"], full_scale)),
-            ("VSGL indirect", tone(im["indirect"], ind_scale)),
-            ("exact VPL sum (reference)", tone(im["indirect_reference"], ind_scale)),
-        ]
-        fig, axes = plt.subplots(1, 5, figsize=(22, 4.8))
-        for ax, (title, img) in zip(axes, panels):
-            ax.imshow(img)
-            ax.set_title(title)
-        err = im["error"].mean(axis=2)
-        m = axes[4].imshow(err, cmap="RdBu_r", vmin=-ind_scale, vmax=ind_scale)
-        axes[4].set_title("error: VSGL − reference")
-        fig.colorbar(m, ax=axes[4], fraction=0.046)
-        for ax in axes:
-            ax.axis("off")
-        fig.suptitle(f"{name}" + (f"  ({command})" if command else ""), fontsize=9)
-        fig.tight_layout()
+        fig = figure(im, f"{name}" + (f"  ({command})" if command else ""))
         target = os.path.join(out_dir, f"{name}.png")
         fig.savefig(target + ".tmp", format="png", dpi=80)
         os.replace(target + ".tmp", target)  # never a half-written figure
@@ -84,4 +88,5 @@ def main() -> int:
 
 
 if __name__ == "__main__":
+    matplotlib.use("Agg")  # files only; not on import, so that notebooks keep their backend
     sys.exit(main())

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages sglab needs (only those missing), then configures ./build
 # (Release) and builds what the job needs. Run as root on a fresh machine; safe to re-run.
-#   bash scripts/setup.sh          the `sglab` binary only (all `sglab reproduce` needs)
+#   bash scripts/setup.sh          the `sglab` binary and the Python module (build/python)
 #   bash scripts/setup.sh --tests  everything: sglab, the test executables CTest runs, benchmarks
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-targets=(--target sglab)
+targets=(--target sglab sglab_python)
 case "${1:-}" in
   "") ;;
   --tests) targets=() ;;
@@ -19,6 +19,7 @@ packages=(
   libopenexr-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libtbb-dev
   python3 python3-matplotlib python3-numpy python3-scipy
+  python3-dev pybind11-dev python3-pybind11 python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do

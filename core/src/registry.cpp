@@ -86,4 +86,25 @@ std::optional<std::string> column_value_error(const Column& column, double v) {
   return std::nullopt;
 }
 
+std::string_view column_kind_name(ColumnKind kind) {
+  switch (kind) {
+    case ColumnKind::sharpness: return "sharpness";
+    case ColumnKind::cosine: return "cosine";
+    case ColumnKind::mean_length: return "mean_length";
+    case ColumnKind::positive: return "positive";
+    case ColumnKind::nonnegative: return "nonnegative";
+    case ColumnKind::angle: return "angle";
+    case ColumnKind::unit_interval: return "unit_interval";
+  }
+  return "?";
+}
+
+std::optional<RowError> row_error(const Quantity& q, const Method& m, std::span<const double> row) {
+  for (std::size_t j = 0; j < q.columns.size(); ++j)
+    if (auto error = column_value_error(q.columns[j], row[j])) return RowError{j, std::move(*error)};
+  if (m.domain_error)
+    if (auto error = m.domain_error(row)) return RowError{std::nullopt, std::move(*error)};
+  return std::nullopt;
+}
+
 }  // namespace sglab

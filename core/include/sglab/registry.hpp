@@ -85,6 +85,20 @@ const Quantity* find_quantity(std::string_view name);
 // Validate one value of a column; returns a message naming what is wrong, or nullopt.
 std::optional<std::string> column_value_error(const Column& column, double value);
 
+// "sharpness", "cosine", … (the ColumnKind's name, as `sglab eval --list --json` prints it).
+std::string_view column_kind_name(ColumnKind kind);
+
+// What is wrong with one row of arguments (the values as validated: T's value, in double).
+struct RowError {
+  std::optional<std::size_t> column;  // the offending column; nullopt: the method's domain (whole row)
+  std::string message;
+};
+
+// The checks every caller applies to a row before evaluating it (`sglab eval`, the Python
+// module): each column's value in column order (column_value_error), then the method's domain
+// (Method::domain_error). nullopt when the row may be evaluated.
+std::optional<RowError> row_error(const Quantity& q, const Method& m, std::span<const double> row);
+
 // Build a Method's three precision functions from one generic callable that takes a
 // `std::span<const T>` and returns T. Keeps registrations one line each.
 template <class F>

@@ -1,0 +1,106 @@
+#!/usr/bin/env python3
+"""ns per evaluation of `sglab.eval` from Python against the C++ batch evaluators, in one run.
+
+Python: `sglab.eval(quantity, method, sharpness=…, cosine=…)` on N points (default 1e6; λ
+log-uniform in [1e-3, 1e4], c uniform in [−1, 1], seeded), median of --repeats calls, ns = CPU
+time of the process (all its threads) / N, the measure Google Benchmark gives the C++ side; the
+wall time is shown beside it (the machine may be shared). That includes everything a caller pays: argument handling, reading the arrays, the
+column and domain checks of `sglab eval`, the batch call, the finiteness check of every result
+and allocating the output.
+C++: build/benchmarks/sglab_core_bench (the registry's batch evaluators on 4096 seeded points of
+the same ranges, no checks), run right after on the same CPUs.
+
+Both are pinned to one CPU by default (--cpus 1), so that the ratio compares the same work: the
+module spreads large batches over all cores with TBB, the C++ batch is single-threaded. TBB sizes
+its pool from the affinity mask, which is set before sglab is imported.
+
+Run: PYTHONPATH=build/python /usr/bin/python3 benchmarks/python_eval_bench.py [--n 1000000]
+     [--cpus 1|all] [--bench build/benchmarks/sglab_core_bench]
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+DEFAULT_METHODS = [
+    ("clamped-cosine", "tokuyoshi2024"),
+    ("clamped-cosine", "tokuyoshi2022"),
+    ("clamped-cosine", "meder"),
+    ("clamped-cosine", "hill-fitted"),
+    ("clamped-cosine", "punctual"),
+    ("sg-integral", "exact"),
+]
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--n", type=float, default=1e6)
+    p.add_argument("--repeats", type=int, default=7)
+    p.add_argument("--cpus", default="1", help="1 (pinned to one CPU) or all")
+    p.add_argument("--bench", default="build/benchmarks/sglab_core_bench")
+    a = p.parse_args()
+    n = int(a.n)
+    if n < 1 or n > 100_000_000:
+        print(f"--n {a.n} is outside [1, 1e8]", file=sys.stderr)
+        return 2
+    if a.cpus not in ("1", "all"):
+        print(f"--cpus '{a.cpus}' is not 1 or all", file=sys.stderr)
+        return 2
+    cpu_set = None
+    if a.cpus == "1":
+        cpu_set = {min(os.sched_getaffinity(0))}
+        os.sched_setaffinity(0, cpu_set)
+
+    import numpy as np
+    import sglab
+
+    rng = np.random.default_rng(20261122)
+    lam = 10 ** rng.uniform(-3, 4, n)
+    cos = rng.uniform(-1, 1, n)
+    inputs = {np.float64: (lam, cos), np.float32: (lam.astype(np.float32), cos.astype(np.float32))}
+    columns = {"clamped-cosine": ("sharpness", "cosine"), "sg-integral": ("sharpness",)}
+
+    py_ns = {}
+    for q, m in DEFAULT_METHODS:
+        for dtype, precision in ((np.float32, "float"), (np.float64, "double")):
+            kw = dict(zip(columns[q], inputs[dtype]))
+            sglab.eval(q, m, **kw)  # warm-up
+            cpu, wall = [], []
+            for _ in range(a.repeats):
+                t, w = time.process_time(), time.perf_counter()
+                sglab.eval(q, m, **kw)
+                cpu.append(time.process_time() - t)
+                wall.append(time.perf_counter() - w)
+            py_ns[(q, m, precision)] = (1e9 * statistics.median(cpu) / n, 1e9 * statistics.median(wall) / n)
+
+    regex = "^(" + "|".join(f"{q}/{m}/(float|double)" for q, m in DEFAULT_METHODS) + ")$"
+    run = subprocess.run([a.bench, f"--benchmark_filter={regex}", "--benchmark_format=json",
+                          "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true"],
+                         capture_output=True, text=True,
+                         preexec_fn=(lambda: os.sched_setaffinity(0, cpu_set)) if cpu_set else None)
+    if run.returncode != 0:
+        print(run.stderr, file=sys.stderr)
+        return 1
+    cpp_ns = {}
+    report = run.stdout[run.stdout.index("{"):]  # after the bench's line about its inputs
+    for b in json.loads(report)["benchmarks"]:
+        if b.get("aggregate_name") == "median":
+            q, m, precision = b["run_name"].split("/")[:3]
+            cpp_ns[(q, m, precision)] = 1e9 * b["ns/eval"]  # the counter is in seconds per evaluation
+
+    print(f"# sglab.eval from Python ({n} points, median of {a.repeats}) against the C++ batch "
+          f"(sglab_core_bench, median of 3), {'one CPU' if cpu_set else 'all CPUs'}")
+    print("| quantity | method | precision | Python ns/eval (CPU) | Python ns/eval (wall) | C++ batch ns/eval (CPU) | ratio (CPU) |")
+    print("|---|---|---|---|---|---|---|")
+    for key, (ns, wall_ns) in py_ns.items():
+        c = cpp_ns.get(key)
+        cpp = f"{c:.2f} | {ns / c:.2f}" if c else "- | -"
+        print(f"| {key[0]} | {key[1]} | {key[2]} | {ns:.2f} | {wall_ns:.2f} | {cpp} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,212 @@
+"""sglab from Python: spherical Gaussian lighting math with exact references, numpy in and out.
+
+The same code as the ``sglab`` command (C++), not a re-implementation:
+
+- ``quantities()``, ``methods(quantity)``: the method registry (``sglab eval --list``), with each
+  method's source and known flaws.
+- ``eval(quantity, method, *, precision=None, constants=None, **columns)``: a method on numpy
+  arrays, with the checks and results of ``sglab eval``.
+- ``fits()``, ``fit(name, objective=None, precision=None)``: the Ceres fits of ``sglab fit``, the
+  record as a dict (the JSON of ``sglab fit NAME --json FILE``).
+- ``render(scene, **options)``: ``sglab render`` into numpy arrays and the stats dict.
+- ``sglab.plots``: the figures of ``plots/`` drawn straight from these results.
+
+Example::
+
+    import numpy as np, sglab
+    lam = np.logspace(-3, 4, 8)[:, None]          # broadcasts against the cosines
+    c = np.linspace(-1, 1, 5, dtype=np.float64)
+    d = sglab.eval("clamped-cosine", "tokuyoshi2024", sharpness=lam, cosine=c)   # shape (8, 5)
+    ref = sglab.eval("clamped-cosine", "reference", sharpness=lam, cosine=c)
+"""
+from __future__ import annotations
+
+import builtins
+import json
+import os
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from . import _sglab
+
+__all__ = ["quantities", "methods", "eval", "fits", "fit", "render", "PRECISIONS"]
+
+#: Precisions of ``eval``: float (float32), double (float64), mp50 (50 decimal digits).
+PRECISIONS = ("float", "double", "mp50")
+
+
+def quantities() -> list[dict[str, Any]]:
+    """Every quantity of the registry, in a stable order.
+
+    Each entry: ``name``, ``description``, ``columns`` (list of ``{name, kind, description}``: the
+    keyword arguments ``eval`` takes), ``reference_method`` (the method the others are measured
+    against, "" if none) and ``methods`` (names; details from ``methods(quantity)``).
+    """
+    return _sglab.quantities()
+
+
+def methods(quantity: str) -> list[dict[str, Any]]:
+    """The methods of ``quantity``: ``name``, ``source`` (paper and equation), ``flaws`` (known
+    flaws as published, "" if none), ``may_be_negative`` (the published form goes negative and is
+    kept so, to measure it), ``has_domain_check`` (the method rejects some inputs its columns
+    accept, e.g. sharpness 0 for a 2π/λ form) and ``reference`` (it is the quantity's reference).
+
+    Raises ValueError for an unknown quantity, listing the valid ones.
+    """
+    return _sglab.methods(quantity)
+
+
+def _quantity(name: str) -> dict[str, Any]:
+    for q in _sglab.quantities():
+        if q["name"] == name:
+            return q
+    _sglab.methods(name)  # raises ValueError naming the valid quantities
+    raise AssertionError("unreachable")
+
+
+def _as_array(value: Any, name: str) -> np.ndarray:
+    a = np.asarray(value)
+    if a.dtype.kind not in "fiub" or a.dtype.itemsize > 8:
+        raise ValueError(f"column '{name}': expected real numbers, got an array of dtype {a.dtype}")
+    return a
+
+
+def eval(quantity: str, method: str, *, precision: str | None = None, constants: Any = None,
+         **columns: Any) -> Any:
+    """Evaluate ``method`` of ``quantity`` on numpy arrays; the checks and results of ``sglab eval``.
+
+    Columns are keyword arguments named after the quantity's columns (``sharpness=``, ``cosine=``,
+    …; see ``quantities()``): numbers, sequences or numpy arrays, which broadcast against each
+    other like numpy operands. The result has the broadcast shape (a numpy scalar for scalar
+    inputs).
+
+    ``precision``:
+      - None: float32 if the inputs are float32 (or float16), otherwise float64; float32 in gives
+        float32 out, float64 gives float64, integers are taken as float64.
+      - "float" or "double": cast the inputs to float32 or float64 first.
+      - "mp50": the method in 50 significant digits. Columns may then hold decimal strings
+        (parsed to 50 digits, as ``sglab eval`` reads its CSV) or floats (taken exactly); the
+        result is an object array of 50-digit strings, the text ``sglab eval --precision mp50``
+        prints (``float(s)`` or ``mpmath.mpf(s)`` reads them).
+
+    Inputs whose dtype already matches are read in place through their strides (no copy, also
+    for broadcast and non-contiguous views); the batch loop runs with the GIL released, on all
+    cores.
+
+    ``constants``: reserved for constant sets; not available in this build (ValueError if given).
+
+    Raises:
+      ValueError: an unknown quantity, method or precision; a missing or unknown column; shapes
+        that do not broadcast; a value outside its column's domain (a negative sharpness,
+        |cosine| > 1 + 1e-6, NaN, …) or outside the method's domain (e.g. sharpness 0 for a 2π/λ
+        form). The message names the column, the index (in the broadcast shape) and the value.
+      FloatingPointError: the method returned NaN or an infinity (never returned silently).
+      RuntimeError: the method failed (e.g. a quadrature did not converge), naming the index.
+    """
+    if constants is not None:
+        raise ValueError("constant sets are not available in this build")
+    q = _quantity(quantity)
+    names = [c["name"] for c in q["columns"]]
+    missing = [n for n in names if n not in columns]
+    unknown = [n for n in columns if n not in names]
+    if missing or unknown:
+        problem = "; ".join(
+            ([f"missing column(s) {', '.join(missing)}"] if missing else [])
+            + ([f"unknown column(s) {', '.join(unknown)}"] if unknown else []))
+        raise ValueError(f"sglab.eval('{quantity}', '{method}'): {problem}; quantity '{quantity}' takes the "
+                         f"columns {', '.join(names)}")
+    if precision is not None and precision not in PRECISIONS:
+        raise ValueError(f"unknown precision '{precision}'; valid precisions: {', '.join(PRECISIONS)}")
+    values = [columns[n] for n in names]
+
+    if precision == "mp50":
+        arrays = [np.asarray(v, dtype=object) for v in values]
+        try:
+            arrays = np.broadcast_arrays(*arrays)
+        except ValueError:
+            shapes = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
+            raise ValueError(f"sglab.eval('{quantity}', '{method}'): the columns do not broadcast: {shapes}") from None
+        shape = arrays[0].shape if arrays else ()
+        flat = [[x if isinstance(x, str) else builtins.float(x) for x in a.ravel().tolist()] for a in arrays]
+        text = _sglab.eval_mp50(quantity, method, flat, list(shape))
+        out = np.empty(len(text), dtype=object)
+        out[:] = text
+        out = out.reshape(shape)
+        return out[()] if out.ndim == 0 else out
+
+    arrays = [_as_array(v, n) for n, v in zip(names, values)]
+    if precision == "float":
+        dtype = np.dtype(np.float32)
+    elif precision == "double":
+        dtype = np.dtype(np.float64)
+    else:
+        # Scalars (Python numbers) do not widen float32 arrays, as in numpy arithmetic.
+        kind = np.result_type(*[v if np.isscalar(v) else a for v, a in zip(values, arrays)])
+        dtype = np.dtype(np.float32) if kind.kind == "f" and kind.itemsize <= 4 else np.dtype(np.float64)
+    arrays = [np.asarray(a, dtype=dtype) for a in arrays]  # no copy when the dtype matches
+    try:
+        arrays = np.broadcast_arrays(*arrays)  # views: broadcast axes get stride 0
+    except ValueError:
+        shapes = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
+        raise ValueError(f"sglab.eval('{quantity}', '{method}'): the columns do not broadcast: {shapes}") from None
+    native = _sglab.eval_float if dtype == np.float32 else _sglab.eval_double
+    out = native(quantity, method, arrays)
+    return out[()] if out.ndim == 0 else out
+
+
+def fits() -> list[dict[str, Any]]:
+    """Every fitter of ``sglab fit``: ``name``, ``description``, ``objectives`` (the first is the
+    default)."""
+    return _sglab.fits()
+
+
+def fit(name: str, objective: str | None = None, precision: str | None = None) -> dict[str, Any]:
+    """Run one Ceres fit (``sglab fit NAME``) and return its record, the same dict as the JSON of
+    ``sglab fit NAME --json FILE``: fit, objective, domain, parameters, published,
+    relative_difference (None where nothing is published), final_cost, iterations, converged,
+    seconds.
+
+    ``objective``: one of ``fits()``'s objectives for ``name`` (default: its first).
+    ``precision``: half, float or double (default float): the precision of the rounding terms of
+    the cosine-sharpness and cosine-sg l2-rounding objectives.
+    Raises ValueError for an unknown fit, objective or precision.
+    """
+    return json.loads(_sglab.fit(name, objective or "", precision or "float"))
+
+
+def render(scene: str | os.PathLike | Mapping[str, Any], *, vsgl: str | None = None, count: int | None = None,
+           diffuse: str | None = None, rsm: int | None = None, shadow_map: int | None = None,
+           width: int | None = None, height: int | None = None, seed: int | None = None,
+           overrides: Sequence[str] | Mapping[str, Any] = ()) -> dict[str, Any]:
+    """Render a scene as ``sglab render`` does and return the images and stats.
+
+    ``scene``: a scene JSON file (schema: scenes/README.md) or the scene as a dict.
+    Options (defaults as ``sglab render``): ``vsgl`` (two, fis, kmeans), ``count`` (VSGLs for fis
+    and kmeans), ``diffuse`` (a clamped-cosine method), ``rsm`` (RSM resolution), ``shadow_map``,
+    ``width``/``height`` (override the camera), ``seed``, ``overrides`` ("KEY=VALUE" strings or a
+    {KEY: VALUE} dict, as ``--set``: e.g. {"floor.roughness": 0.1}).
+
+    Returns a dict: ``direct``, ``indirect``, ``indirect_reference`` (the exact VPL sum) and
+    ``error`` (indirect − reference) as (height, width, 3) float64 arrays (row 0 is the top of the
+    image; the EXR of ``sglab render`` stores the same values in float32), ``hit`` (height,
+    width) bool (pixels that see geometry), and ``stats`` (the stats JSON of ``sglab render
+    --stats``, as a dict).
+    Raises ValueError for a bad scene or option, naming the field.
+    """
+    defaults = _sglab.default_render_job
+    if isinstance(overrides, Mapping):
+        overrides = [f"{k}={json.dumps(v) if not isinstance(v, str) else v}" for k, v in overrides.items()]
+    else:
+        overrides = [str(o) for o in overrides]
+    if isinstance(scene, Mapping):
+        text, is_text, source = json.dumps(scene), True, "<scene dict>"
+    else:
+        text, is_text, source = os.fspath(scene), False, os.fspath(scene)
+    return _sglab.render(text, is_text, source, overrides,
+                         vsgl if vsgl is not None else defaults["vsgl"],
+                         count if count is not None else defaults["count"],
+                         diffuse if diffuse is not None else defaults["diffuse"],
+                         rsm if rsm is not None else defaults["rsm"],
+                         shadow_map if shadow_map is not None else defaults["shadow_map"],
+                         width, height, seed)

@@ -1,0 +1,60 @@
+# Type stubs of the sglab module (signatures for editors; the docstrings are in __init__.py).
+import os
+from typing import Any, Literal, Mapping, Sequence, TypedDict
+
+import numpy as np
+import numpy.typing as npt
+
+
+PRECISIONS: tuple[str, str, str]
+
+class ColumnInfo(TypedDict):
+    name: str
+    kind: str
+    description: str
+
+class QuantityInfo(TypedDict):
+    name: str
+    description: str
+    columns: list[ColumnInfo]
+    reference_method: str
+    methods: list[str]
+
+class MethodInfo(TypedDict):
+    name: str
+    source: str
+    flaws: str
+    may_be_negative: bool
+    has_domain_check: bool
+    reference: bool
+
+class FitInfo(TypedDict):
+    name: str
+    description: str
+    objectives: list[str]
+
+def quantities() -> list[QuantityInfo]: ...
+def methods(quantity: str) -> list[MethodInfo]: ...
+def eval(
+    quantity: str,
+    method: str,
+    *,
+    precision: Literal["float", "double", "mp50"] | None = None,
+    constants: None = None,
+    **columns: npt.ArrayLike,
+) -> np.ndarray | np.floating[Any] | str: ...
+def fits() -> list[FitInfo]: ...
+def fit(name: str, objective: str | None = None, precision: Literal["half", "float", "double"] | None = None) -> dict[str, Any]: ...
+def render(
+    scene: str | os.PathLike[str] | Mapping[str, Any],
+    *,
+    vsgl: Literal["two", "fis", "kmeans"] | None = None,
+    count: int | None = None,
+    diffuse: str | None = None,
+    rsm: int | None = None,
+    shadow_map: int | None = None,
+    width: int | None = None,
+    height: int | None = None,
+    seed: int | None = None,
+    overrides: Sequence[str] | Mapping[str, Any] = (),
+) -> dict[str, Any]: ...

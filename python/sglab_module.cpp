@@ -1,0 +1,460 @@
+// The native half of the Python module `sglab` (sglab._sglab; python/sglab/__init__.py is the
+// documented interface and calls these). Everything goes through the code the `sglab` command
+// runs: the method registry and its row checks (registry.hpp: row_error), the number parser of
+// `sglab eval` (parse_number.hpp), the fitters and their JSON record (fit/record.hpp), and the
+// scene loading, options and stats of `sglab render` (experiments/render_job.hpp).
+//
+// Evaluation reads the caller's numpy arrays in place through their strides (broadcast views
+// included: a stride of 0 costs nothing), a chunk of rows at a time into a small interleaved
+// buffer for the registry's batch evaluators, with the GIL released and the chunks spread over
+// the cores by TBB. Bad input, a method that throws and a non-finite result are reported for the
+// first offending element in C order, whatever the scheduling.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "commands.hpp"
+#include "driver.hpp"
+#include "parse_number.hpp"
+#include "record.hpp"
+#include "render_job.hpp"
+#include "sglab/registry.hpp"
+
+namespace py = pybind11;
+
+namespace sglab::python {
+namespace {
+
+// ---- registry ------------------------------------------------------------------------------
+
+std::string joined_names(const auto& items) {
+  std::vector<std::string> names;
+  for (const auto& x : items) names.push_back(x.name);
+  return fmt::format("{}", fmt::join(names, ", "));
+}
+
+const Quantity& quantity_named(const std::string& name) {
+  if (const Quantity* q = find_quantity(name)) return *q;
+  throw py::value_error(fmt::format("unknown quantity '{}'; valid quantities: {}", name, joined_names(quantities())));
+}
+
+const Method& method_named(const Quantity& q, const std::string& name) {
+  if (const Method* m = q.find(name)) return *m;
+  throw py::value_error(
+      fmt::format("unknown method '{}' for quantity '{}'; valid methods: {}", name, q.name, joined_names(q.methods)));
+}
+
+py::list quantities_list() {
+  py::list out;
+  for (const auto& q : quantities()) {
+    py::list columns;
+    for (const auto& c : q.columns)
+      columns.append(py::dict(py::arg("name") = c.name, py::arg("kind") = std::string(column_kind_name(c.kind)),
+                              py::arg("description") = c.description));
+    py::list methods;
+    for (const auto& m : q.methods) methods.append(m.name);
+    out.append(py::dict(py::arg("name") = q.name, py::arg("description") = q.description,
+                        py::arg("columns") = columns, py::arg("reference_method") = q.reference_method,
+                        py::arg("methods") = methods));
+  }
+  return out;
+}
+
+py::list methods_list(const std::string& quantity) {
+  const Quantity& q = quantity_named(quantity);
+  py::list out;
+  for (const auto& m : q.methods) {
+    py::dict d(py::arg("name") = m.name, py::arg("source") = m.source, py::arg("flaws") = m.flaws,
+               py::arg("may_be_negative") = m.may_be_negative, py::arg("has_domain_check") = bool(m.domain_error),
+               py::arg("reference") = (m.name == q.reference_method));
+    // A method's declared parameters and published constants go here, as further keys of `d`,
+    // once the registry's Method carries them.
+    out.append(std::move(d));
+  }
+  return out;
+}
+
+// ---- evaluation ----------------------------------------------------------------------------
+
+// Where an element sits in the broadcast shape: "3" in 1-D, "(2, 5)" otherwise, "()" for 0-d.
+std::string index_text(std::size_t flat, const std::vector<py::ssize_t>& shape) {
+  if (shape.size() == 1) return std::to_string(flat);
+  std::vector<py::ssize_t> idx(shape.size());
+  for (std::size_t d = shape.size(); d-- > 0;) {
+    idx[d] = py::ssize_t(flat % std::size_t(shape[d]));
+    flat /= std::size_t(shape[d]);
+  }
+  return shape.size() == 1 ? std::to_string(idx[0]) : fmt::format("({})", fmt::join(idx, ", "));
+}
+
+// The first thing wrong with a chunk (or with the whole call): which element, and the exception
+// Python gets.
+struct Failure {
+  enum Kind { input, method_threw, not_finite } kind;
+  std::size_t index;
+  std::string message;  // without the location
+  std::optional<std::size_t> column;
+};
+
+[[noreturn]] void raise(const Failure& f, const Quantity& q, const Method& m, const std::vector<py::ssize_t>& shape,
+                        const std::vector<std::string>& values, std::string_view precision) {
+  const std::string where = fmt::format("sglab.eval('{}', '{}')", q.name, m.name);
+  std::string text;
+  if (f.kind == Failure::input && f.column) {
+    text = fmt::format("{}: column '{}', index {}, value {}: {}", where, q.columns[*f.column].name,
+                       index_text(f.index, shape), values[*f.column], f.message);
+    throw py::value_error(text);
+  }
+  std::vector<std::string> row;
+  for (std::size_t j = 0; j < q.columns.size(); ++j) row.push_back(fmt::format("{} {}", q.columns[j].name, values[j]));
+  const std::string at = fmt::format("{}: index {} ({})", where, index_text(f.index, shape), fmt::join(row, ", "));
+  switch (f.kind) {
+    case Failure::input:
+      throw py::value_error(fmt::format("{}: outside the method's domain: {}", at, f.message));
+    case Failure::method_threw:
+      throw std::runtime_error(fmt::format("{}: the method failed in {}: {}", at, precision, f.message));
+    case Failure::not_finite:
+      PyErr_SetString(PyExc_FloatingPointError,
+                      fmt::format("{}: the method returned {} in {}, not a finite number", at, f.message, precision).c_str());
+      throw py::error_already_set();
+  }
+  throw std::logic_error("unreachable");
+}
+
+// Rows per chunk: large enough that one batch call and one TBB task per chunk are negligible,
+// small enough that the interleaved buffer stays in L1/L2 and both cores get work.
+constexpr std::size_t kChunk = 2048;
+
+// Visits the elements [begin, end) of a C-order iteration over `shape`, calling f(flat, offsets)
+// with each column's byte offset. Strides are per column (0 on broadcast axes).
+template <class F>
+void for_each_element(std::size_t begin, std::size_t end, const std::vector<py::ssize_t>& shape,
+                      const std::vector<std::vector<py::ssize_t>>& strides, F f) {
+  const std::size_t k = strides.size(), nd = shape.size();
+  std::vector<py::ssize_t> offset(k, 0);
+  if (nd == 0) {
+    if (begin < end) f(std::size_t(0), offset);
+    return;
+  }
+  std::vector<py::ssize_t> idx(nd);
+  std::size_t rest = begin;
+  for (std::size_t d = nd; d-- > 0;) {
+    idx[d] = py::ssize_t(rest % std::size_t(shape[d]));
+    rest /= std::size_t(shape[d]);
+  }
+  for (std::size_t j = 0; j < k; ++j)
+    for (std::size_t d = 0; d < nd; ++d) offset[j] += idx[d] * strides[j][d];
+  for (std::size_t i = begin; i < end; ++i) {
+    f(i, offset);
+    for (std::size_t d = nd; d-- > 0;) {  // next index, carrying into outer axes
+      for (std::size_t j = 0; j < k; ++j) offset[j] += strides[j][d];
+      if (++idx[d] < shape[d]) break;
+      for (std::size_t j = 0; j < k; ++j) offset[j] -= shape[d] * strides[j][d];
+      idx[d] = 0;
+    }
+  }
+}
+
+template <class T>
+const BatchFn<T>& batch_of(const Method& m) {
+  if constexpr (std::is_same_v<T, float>) return m.batch_float;
+  else return m.batch_double;
+}
+template <class T>
+const MethodFn<T>& evaluator_of(const Method& m) {
+  if constexpr (std::is_same_v<T, float>) return m.eval_float;
+  else if constexpr (std::is_same_v<T, double>) return m.eval_double;
+  else return m.eval_mp50;
+}
+
+template <class T>
+std::string value_text(const T& v) {
+  if constexpr (std::is_same_v<T, mp50>) return v.str(round_trip_digits(Precision::mp50));
+  else return fmt::format("{}", v);  // shortest text that reads back to the same T
+}
+
+// One chunk: gather, check every row (row_error), evaluate in one batch call, check every
+// result. Returns the chunk's first failure.
+template <class T>
+std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t begin, std::size_t end,
+                                 const std::vector<const char*>& data, const std::vector<py::ssize_t>& shape,
+                                 const std::vector<std::vector<py::ssize_t>>& strides, T* out) {
+  const std::size_t k = data.size(), len = end - begin;
+  std::vector<T> args(len * k);
+  std::optional<Failure> failure;
+  std::vector<double> checked(k);
+  for_each_element(begin, end, shape, strides, [&](std::size_t i, const std::vector<py::ssize_t>& offset) {
+    if (failure) return;
+    T* row = args.data() + (i - begin) * k;
+    for (std::size_t j = 0; j < k; ++j) {
+      row[j] = *reinterpret_cast<const T*>(data[j] + offset[j]);
+      checked[j] = static_cast<double>(row[j]);
+    }
+    if (auto e = row_error(q, m, checked)) failure = Failure{Failure::input, i, std::move(e->message), e->column};
+  });
+  if (failure) return failure;
+  try {
+    batch_of<T>(m)(args, k, std::span<T>(out + begin, len));
+  } catch (const std::exception&) {
+    // Find the row: the same method, one row at a time.
+    for (std::size_t r = 0; r < len; ++r) {
+      try {
+        out[begin + r] = evaluator_of<T>(m)(std::span<const T>(args.data() + r * k, k));
+      } catch (const std::exception& e) {
+        return Failure{Failure::method_threw, begin + r, e.what(), std::nullopt};
+      }
+    }
+  }
+  for (std::size_t r = 0; r < len; ++r)
+    if (!is_finite_value(out[begin + r])) return Failure{Failure::not_finite, begin + r, value_text(out[begin + r]), std::nullopt};
+  return std::nullopt;
+}
+
+// The element's inputs as text, for a message (read again with the GIL held).
+template <class T>
+std::vector<std::string> element_values(std::size_t flat, const std::vector<const char*>& data,
+                                        const std::vector<py::ssize_t>& shape,
+                                        const std::vector<std::vector<py::ssize_t>>& strides) {
+  std::vector<std::string> values(data.size());
+  for_each_element(flat, flat + 1, shape, strides, [&](std::size_t, const std::vector<py::ssize_t>& offset) {
+    for (std::size_t j = 0; j < data.size(); ++j) values[j] = value_text(*reinterpret_cast<const T*>(data[j] + offset[j]));
+  });
+  return values;
+}
+
+// float32 or float64 arrays of one broadcast shape (the Python side broadcasts and casts) →
+// a new C-contiguous array of that shape and dtype.
+template <class T>
+py::array_t<T> eval_numeric(const std::string& quantity, const std::string& method, const std::vector<py::array>& columns) {
+  const Quantity& q = quantity_named(quantity);
+  const Method& m = method_named(q, method);
+  const std::string_view precision = precision_name(std::is_same_v<T, float> ? Precision::float32 : Precision::float64);
+  if (!batch_of<T>(m) || !evaluator_of<T>(m))
+    throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry", m.name, q.name, precision));
+  if (columns.size() != q.columns.size())
+    throw py::value_error(fmt::format("quantity '{}' takes {} columns, got {}", q.name, q.columns.size(), columns.size()));
+  std::vector<py::ssize_t> shape;
+  std::vector<const char*> data;
+  std::vector<std::vector<py::ssize_t>> strides;
+  for (std::size_t j = 0; j < columns.size(); ++j) {
+    const py::array& a = columns[j];
+    if (!py::isinstance<py::array_t<T>>(a))
+      throw py::value_error(fmt::format("column '{}': expected {} values", q.columns[j].name, precision));
+    const std::vector<py::ssize_t> s(a.shape(), a.shape() + a.ndim());
+    if (j == 0) shape = s;
+    else if (s != shape) throw py::value_error("columns must be broadcast to one shape first");
+    data.push_back(static_cast<const char*>(a.data()));
+    strides.emplace_back(a.strides(), a.strides() + a.ndim());
+  }
+  py::array_t<T> result(shape);
+  T* out = result.mutable_data();
+  const std::size_t n = std::size_t(result.size());
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::optional<Failure>> failures(chunks);
+  {
+    py::gil_scoped_release release;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const auto& range) {
+      for (std::size_t c = range.begin(); c != range.end(); ++c)
+        failures[c] = run_chunk<T>(q, m, c * kChunk, std::min(n, (c + 1) * kChunk), data, shape, strides, out);
+    });
+  }
+  for (const auto& f : failures)
+    if (f) raise(*f, q, m, shape, element_values<T>(f->index, data, shape, strides), precision);
+  return result;
+}
+
+// mp50: each column a flat list (already broadcast) of decimal strings, parsed at 50 digits by
+// `sglab eval`'s parser, or Python floats, taken exactly. Returns the values as 50-digit strings,
+// the text `sglab eval --precision mp50` prints.
+std::vector<std::string> eval_mp50(const std::string& quantity, const std::string& method,
+                                   const std::vector<std::vector<py::object>>& columns, const std::vector<py::ssize_t>& shape) {
+  const Quantity& q = quantity_named(quantity);
+  const Method& m = method_named(q, method);
+  if (!m.eval_mp50) throw std::logic_error(fmt::format("method '{}' of '{}' has no mp50 evaluator", m.name, q.name));
+  if (columns.size() != q.columns.size())
+    throw py::value_error(fmt::format("quantity '{}' takes {} columns, got {}", q.name, q.columns.size(), columns.size()));
+  const std::size_t k = columns.size(), n = k ? columns[0].size() : 0;
+  std::vector<mp50> args(n * k);
+  std::vector<std::string> text(n * k);
+  for (std::size_t j = 0; j < k; ++j) {
+    if (columns[j].size() != n) throw py::value_error("columns must be broadcast to one shape first");
+    for (std::size_t i = 0; i < n; ++i) {
+      const py::object& v = columns[j][i];
+      if (py::isinstance<py::str>(v)) {
+        text[i * k + j] = "'" + v.cast<std::string>() + "'";
+        try {
+          args[i * k + j] = cli::parse_decimal<mp50>(v.cast<std::string>());
+        } catch (const cli::NumberError& e) {
+          throw py::value_error(fmt::format("sglab.eval('{}', '{}'): column '{}', index {}, value {}: {}", q.name, m.name,
+                                            q.columns[j].name, index_text(i, shape), text[i * k + j], e.what()));
+        }
+      } else {
+        const double d = v.cast<double>();
+        args[i * k + j] = mp50(d);
+        text[i * k + j] = fmt::format("{}", d);
+      }
+    }
+  }
+  const auto values_at = [&](std::size_t i) {
+    return std::vector<std::string>(text.begin() + std::ptrdiff_t(i * k), text.begin() + std::ptrdiff_t((i + 1) * k));
+  };
+  std::vector<double> checked(k);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < k; ++j) checked[j] = static_cast<double>(args[i * k + j]);
+    if (auto e = row_error(q, m, checked))
+      raise(Failure{Failure::input, i, e->message, e->column}, q, m, shape, values_at(i), "mp50");
+  }
+  std::vector<mp50> results(n);
+  std::vector<std::optional<std::string>> threw(n);
+  {
+    py::gil_scoped_release release;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        try {
+          results[i] = m.eval_mp50(std::span<const mp50>(args.data() + i * k, k));
+        } catch (const std::exception& e) {
+          threw[i] = e.what();
+        }
+      }
+    });
+  }
+  std::vector<std::string> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (threw[i]) raise(Failure{Failure::method_threw, i, *threw[i], std::nullopt}, q, m, shape, values_at(i), "mp50");
+    out[i] = value_text(results[i]);
+    if (!is_finite_value(results[i]))
+      raise(Failure{Failure::not_finite, i, out[i], std::nullopt}, q, m, shape, values_at(i), "mp50");
+  }
+  return out;
+}
+
+// ---- fits ----------------------------------------------------------------------------------
+
+py::list fits_list() {
+  py::list out;
+  for (const auto& f : fit::fitters())
+    out.append(py::dict(py::arg("name") = f.name, py::arg("description") = f.description,
+                        py::arg("objectives") = f.objectives));
+  return out;
+}
+
+// The fit's JSON record (`sglab fit NAME --json FILE`), as text.
+std::string run_fit(const std::string& name, const std::string& objective, const std::string& precision) {
+  const fit::Fitter* f = fit::find_fitter(name);
+  if (!f) throw py::value_error(fmt::format("unknown fit '{}'; fits: {}", name, joined_names(fit::fitters())));
+  const fit::FitOptions o = fit::checked_options(*f, objective, precision);
+  fit::FitResult r;
+  {
+    py::gil_scoped_release release;
+    r = f->run(o);
+  }
+  return fit::record_json(r).dump();
+}
+
+// ---- render --------------------------------------------------------------------------------
+
+// An (height, width, 3) float64 array over the layer's own memory (moved, not copied).
+py::array layer_array(std::vector<render::Rgb>&& layer, int width, int height) {
+  static_assert(sizeof(render::Rgb) == 3 * sizeof(double), "Rgb must be three packed doubles");
+  auto* owned = new std::vector<render::Rgb>(std::move(layer));
+  py::capsule free_when_done(owned, [](void* p) { delete static_cast<std::vector<render::Rgb>*>(p); });
+  return py::array_t<double>({py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)},
+                             reinterpret_cast<const double*>(owned->data()), free_when_done);
+}
+
+struct RenderArgs {
+  std::string scene;  // a path, or the JSON text when `is_text`
+  bool is_text = false;
+  cli::RenderJob job;
+};
+
+py::dict run_render(const RenderArgs& a) {
+  const cli::RenderJob& job = a.job;
+  const render::Scene scene = a.is_text ? cli::scene_from_document(cli::scene_document_from_text(a.scene, job.scene_path, job.overrides), job)
+                                        : cli::load_scene(job);
+  const render::RenderOptions options = cli::render_options(job);
+  std::vector<std::string> args = cli::render_job_arguments(job);
+  const std::string command =
+      fmt::format("sglab.render({}{}) (as `sglab render` {})", a.is_text ? "a scene dict" : "'" + job.scene_path + "'",
+                  args.empty() ? "" : ", …", fmt::join(args, " "));
+  render::RenderResult r;
+  {
+    py::gil_scoped_release release;
+    r = render::render_scene(scene, options);
+  }
+  const std::string stats = cli::render_stats(job, scene, options, r, command).dump();
+  py::dict out;
+  const int w = r.width, h = r.height;
+  out["direct"] = layer_array(std::move(r.direct), w, h);
+  out["indirect"] = layer_array(std::move(r.indirect), w, h);
+  out["indirect_reference"] = layer_array(std::move(r.indirect_reference), w, h);
+  out["error"] = layer_array(std::move(r.error), w, h);
+  py::array_t<bool> hit({py::ssize_t(h), py::ssize_t(w)});
+  std::transform(r.hit.begin(), r.hit.end(), hit.mutable_data(), [](char c) { return c != 0; });
+  out["hit"] = hit;
+  out["stats"] = py::module_::import("json").attr("loads")(stats);
+  return out;
+}
+
+}  // namespace
+}  // namespace sglab::python
+
+PYBIND11_MODULE(_sglab, m) {
+  using namespace sglab::python;
+  m.doc() = "Native part of the sglab module; use the documented functions of `sglab`.";
+  // Bad input from the library's front-end helpers (scene fields, render options, fit names).
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const sglab::cli::UsageError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const sglab::cli::NumberError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+  m.def("quantities", &quantities_list);
+  m.def("methods", &methods_list, py::arg("quantity"));
+  m.def("eval_float", &eval_numeric<float>, py::arg("quantity"), py::arg("method"), py::arg("columns"));
+  m.def("eval_double", &eval_numeric<double>, py::arg("quantity"), py::arg("method"), py::arg("columns"));
+  m.def("eval_mp50", &eval_mp50, py::arg("quantity"), py::arg("method"), py::arg("columns"), py::arg("shape"));
+  m.def("fits", &fits_list);
+  m.def("fit", &run_fit, py::arg("name"), py::arg("objective"), py::arg("precision"));
+  m.def(
+      "render",
+      [](const std::string& scene, bool is_text, const std::string& source, const std::vector<std::string>& overrides,
+         const std::string& vsgl, int count, const std::string& diffuse, int rsm, int shadow_map, std::optional<int> width,
+         std::optional<int> height, std::optional<std::uint64_t> seed) {
+        RenderArgs a;
+        a.scene = scene;
+        a.is_text = is_text;
+        a.job.scene_path = source;
+        a.job.overrides = overrides;
+        a.job.vsgl = vsgl;
+        a.job.count = count;
+        a.job.diffuse = diffuse;
+        a.job.rsm = rsm;
+        a.job.shadow_map = shadow_map;
+        a.job.width = width;
+        a.job.height = height;
+        if (seed) a.job.seed = *seed;
+        return run_render(a);
+      },
+      py::arg("scene"), py::arg("is_text"), py::arg("source"), py::arg("overrides"), py::arg("vsgl"), py::arg("count"),
+      py::arg("diffuse"), py::arg("rsm"), py::arg("shadow_map"), py::arg("width"), py::arg("height"), py::arg("seed"));
+  m.attr("default_render_job") = py::dict(
+      py::arg("vsgl") = sglab::cli::RenderJob{}.vsgl, py::arg("count") = sglab::cli::RenderJob{}.count,
+      py::arg("diffuse") = sglab::cli::RenderJob{}.diffuse, py::arg("rsm") = sglab::cli::RenderJob{}.rsm,
+      py::arg("shadow_map") = sglab::cli::RenderJob{}.shadow_map, py::arg("seed") = sglab::cli::RenderJob{}.seed);
+}
