@@ -78,6 +78,7 @@ VsglCluster vsgl_cluster(const VsglSums<double>& sums, const Vec3& origin, const
   const VsglPosition<double> p = vsgl_position(sums.position, origin, options.variance);
   c.mean = p.mean;
   c.variance = p.variance;
+  c.position_weight = sums.position.weight;
   c.log_two_pi_variance = p.variance > 0 ? std::log(two_pi<double>() * p.variance)
                                          : -std::numeric_limits<double>::infinity();
   c.diffuse_power = sums.diffuse.power;

@@ -15,9 +15,12 @@
 //            (nearest texel; the GPU would also filter bilinearly), between levels linear — so at
 //            integer levels the clusters are whole mip blocks. The VSGL is the FIS estimate
 //            f̄(x_i, l_i)/(N p̄(x_i, l_i)) of every sum: the interpolated block sums times
-//            W/(N ŵ), W the total importance and ŵ the interpolated block importance; it is
-//            unbiased for every sum, and exact for the total power when the power is
-//            proportional to the importance (one chromaticity, no specular).
+//            W/(N ŵ), W the total importance and ŵ the interpolated block importance. The total
+//            importance is exact by construction (every cluster carries W/N). Every other sum is
+//            BIASED: the level l_i depends on the sampled texel and the levels are interpolated,
+//            so E[f̄(x, l(x))/p̄(x, l(x))] ≠ Σf unless f ∝ importance; `sglab vsgl-fis-bias`
+//            measures the bias of the power and of the positional moments over seeds
+//            (paper_tables/vsgl_fis_bias.md).
 //            Identical clusters (same blocks and level) are merged, their weights added.
 //  * kmeans  N clusters by k-means over world position and normal (seed `modified-fis` §5):
 //            centres = N texels drawn as for fis (duplicates dropped), every valid texel assigned
@@ -97,6 +100,7 @@ struct VsglCluster {
   VsglLobe diffuse, specular;
   // Provenance, for stats and tests:
   double weight = 1;            // factor applied to the sums (fis: W/(N ŵ) × duplicates; else 1)
+  double position_weight = 0;   // Σ u_i of the (weighted) sums: the cluster's share of the importance
   double mip_level = 0;         // fis: l_i; else 0
   int texel_x = -1, texel_y = -1;  // fis: the sampled texel; kmeans: the initial centre's texel
   std::size_t texels = 0;       // RSM texels in the cluster (fis: of the level-⌊l⌋ block)
