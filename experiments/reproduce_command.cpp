@@ -29,23 +29,35 @@ struct Step {
 // The figures README.md shows are committed beside the tables; the others stay in OUT/figures.
 const std::string kKeyFigures = "paper_tables/figures";
 
-// The poster's figure on the renderer (issue 6, item 4): the near-wall scene once per diffuse
-// method, and one SMAPE map per method.
+// The one-VSGL renderer against the exact VPL sum on the spotlight-near-a-wall scene, once per
+// diffuse method, and one SMAPE map per method (near_wall_vsgl_vs_vpl_sum.png). Not the poster's
+// figure: that is `near-wall` below (each method against the exact integral).
 const std::vector<std::string> kNearWallMethods = {"sg-cosine", "punctual-approx", "hill-fitted", "meder",
                                                    "tokuyoshi2022", "tokuyoshi2024"};
 
 std::vector<Step> near_wall_steps(const std::string& out) {
   std::vector<Step> v;
-  std::vector<std::string> plot = {"plots/near_wall_smape.py", kKeyFigures};
+  std::vector<std::string> plot = {"plots/near_wall_vsgl_vs_vpl_sum.py", kKeyFigures};
   for (const auto& m : kNearWallMethods) {
     const std::string base = out + "/renders/near-wall-" + m;
-    v.push_back({"render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (for the SMAPE map per method)",
+    v.push_back({"render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (one VSGL against the VPL sum)",
                  {"render", "scenes/sg-light-near-wall.json", "--diffuse", m, "--out", base + ".exr", "--stats", base + ".json",
                   "--dump-csv", base + ".csv", "--width", "160", "--height", "120"},
                  {"--width", "64", "--height", "48"}});
     plot.push_back(m + "=" + base + ".csv");
   }
-  v.push_back({"plot-near-wall-smape", "SMAPE map of each diffuse method on the near-wall scene (the poster's figure)", plot, {}, true});
+  v.push_back({"plot-near-wall-vsgl-vs-vpl-sum", "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot, {}, true});
+  // The poster's figure (Tokuyoshi 2022, Fig. b-d): every clamped-cosine method of the registry
+  // against the exact integral per pixel, and the sweep over the light's sharpness and distance.
+  v.push_back({"near-wall", "sharp SG light near a wall: each diffuse method against the exact integral (paper_tables/near_wall_smape*)",
+               {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", out + "/near_wall/pixels.csv",
+                "--sweep-sharpness", "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
+               {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}});
+  v.push_back({"poster-plots", "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE (paper_tables/*.csv)",
+               {"poster-plots"}, {}});
+  v.push_back({"plot-poster-plots", "figures of the poster's two plots", {"plots/poster_plots.py", "paper_tables", kKeyFigures}, {}, true});
+  v.push_back({"plot-near-wall-smape", "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
+               {"plots/near_wall_smape.py", out + "/near_wall/pixels.csv", kKeyFigures, "paper_tables/near_wall_smape.csv"}, {}, true});
   return v;
 }
 
@@ -108,6 +120,8 @@ std::vector<Step> steps(const std::string& out) {
        {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", out + "/filtering"},
        {"--width", "64", "--height", "64"}},
   };
+  all.push_back({"vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over 64 seeds (paper_tables/vsgl_fis_bias.*)",
+                 {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"}});
   const auto near_wall = near_wall_steps(out);
   all.insert(all.end(), near_wall.begin(), near_wall.end());
   return all;
