@@ -122,6 +122,31 @@ std::vector<Step> steps(const std::string& out) {
   };
   all.push_back({"vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over 64 seeds (paper_tables/vsgl_fis_bias.*)",
                  {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"}});
+  // Two VSGLs as in Tokuyoshi 2015 (own Gaussian per component, λ_d = 2): the receiver's cosine
+  // pulled out against the poster's SG cosine with A(λ_d) ≈ π (after its Fig. 1).
+  for (const auto& [name, extra] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"punctual", {"--diffuse", "punctual"}}, {"sg-cosine", {"--diffuse", "sg-cosine", "--sg-cosine-a-pi"}}}) {
+    const std::string base = out + "/renders/two-vsgls-" + name;
+    std::vector<std::string> args = {"render", "scenes/diffuse-only.json", "--vsgl", "two", "--out", base + ".exr", "--stats",
+                                     base + ".json", "--dump-csv", base + ".csv", "--width", "192", "--height", "192"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    all.push_back({"render-two-vsgls-" + name, "diffuse-only scene, two VSGLs, diffuse " + name, args, {"--width", "64", "--height", "64"}});
+  }
+  all.push_back({"plot-two-vsgls-cosine", "two VSGLs: cosine pulled out vs SG cosine (after Tokuyoshi 2015 Fig. 1)",
+                 {"plots/two_vsgls_cosine.py", kKeyFigures, out + "/renders/two-vsgls-punctual.csv", out + "/renders/two-vsgls-sg-cosine.csv"},
+                 {}, true});
+  // Tokuyoshi 2016 §4.1 visibility on cornell-glossy: the same configurations without and with it
+  // (each against the reference that makes the same assumption).
+  for (const bool vis : {false, true}) {
+    std::vector<std::string> args = {"sweep", "render", "--scene", "scenes/cornell-glossy.json", "--vsgl", "two", "--vsgl", "fis:16",
+                                     "--vsgl", "fis:64", "--width", "128", "--height", "128", "--out", out + "/render_sweep",
+                                     "--table", vis ? "vsgl_visibility_on" : "vsgl_visibility_off"};
+    if (vis) args.push_back("--visibility");
+    all.push_back({vis ? "sweep-render-visibility-on" : "sweep-render-visibility-off",
+                   std::string("VSGL error on cornell-glossy ") + (vis ? "with" : "without") +
+                       " visibility (paper_tables/vsgl_visibility_" + (vis ? "on" : "off") + ".*)",
+                   args, {"--width", "48", "--height", "48", "--rsm", "32"}});
+  }
   const auto near_wall = near_wall_steps(out);
   all.insert(all.end(), near_wall.begin(), near_wall.end());
   return all;
