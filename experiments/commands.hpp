@@ -27,6 +27,9 @@ void add_sweep_command(CLI::App& app);          // sweep_command.cpp: `sglab swe
 void add_merge_command(CLI::App& app);          // merge_command.cpp: `sglab merge` (joins sweep shards)
 void add_filter_command(CLI::App& app);         // filter_command.cpp: `sglab filter` (issue 7)
 void add_filter_sweep_command(CLI::App& app);   // filter_sweep.cpp: `sglab filter-sweep` (issue 7)
+void add_near_wall_command(CLI::App& app);      // near_wall.cpp: `sglab near-wall` (the 2022 poster's figure)
+void add_poster_plots_command(CLI::App& app);   // poster_plots.cpp: `sglab poster-plots` (the 2022 poster's plots)
+void add_vsgl_fis_bias_command(CLI::App& app);  // vsgl_fis_bias.cpp: `sglab vsgl-fis-bias`
 // One registration function per sweep kind, called by add_sweep_command on the `sweep` sub-command.
 void add_sweep_specular(CLI::App& sweep);       // sweep_specular.cpp: `sglab sweep specular` (issue 4)
 void add_sweep_render(CLI::App& sweep);         // sweep_render.cpp: `sglab sweep render` (issue 5)

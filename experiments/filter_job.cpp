@@ -93,7 +93,8 @@ std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_sc
   if (job.render.rsm != defaults.render.rsm) a.insert(a.end(), {"--rsm", std::to_string(job.render.rsm)});
   if (job.source == "vsgl") {
     a.insert(a.end(), {"--vsgl", job.render.vsgl, "--diffuse", job.render.diffuse});
-    if (job.render.vsgl != "two") a.insert(a.end(), {"--count", std::to_string(job.render.count)});
+    const auto mode = render::parse_vsgl_mode(job.render.vsgl);
+    if (!mode || !render::vsgl_mode_is_whole_rsm(*mode)) a.insert(a.end(), {"--count", std::to_string(job.render.count)});
     if (job.render.seed != defaults.render.seed) a.insert(a.end(), {"--seed", std::to_string(job.render.seed)});
   }
   if (job.render.width) a.insert(a.end(), {"--width", std::to_string(*job.render.width)});

@@ -21,6 +21,9 @@ void add_all_commands(CLI::App& app) {
   add_merge_command(app);
   add_filter_command(app);
   add_filter_sweep_command(app);
+  add_near_wall_command(app);
+  add_poster_plots_command(app);
+  add_vsgl_fis_bias_command(app);
 }
 
 int run_sglab(std::vector<std::string> args) {

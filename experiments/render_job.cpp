@@ -18,7 +18,9 @@ using render::SceneError;
 
 void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
   if (with_vsgl) {
-    app.add_option("--vsgl", job.vsgl, "VSGL generation: two (one diffuse + one specular VSGL), fis or kmeans")
+    app.add_option("--vsgl", job.vsgl,
+                   "VSGL generation: two (one diffuse + one specular VSGL, each its own positional Gaussian, 2015), "
+                   "two-shared (one shared Gaussian, 2016), fis or kmeans")
         ->capture_default_str();
     app.add_option("--count", job.count, "VSGL clusters N for fis and kmeans")->capture_default_str();
   }
@@ -30,8 +32,15 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
   app.add_option("--height", job.height, "image height (default: the scene's camera.height)");
   app.add_option("--set", job.overrides, "KEY=VALUE scene override, e.g. floor.roughness=0.1 or light.distance=0.05 (repeatable)");
   app.add_option("--seed", job.seed, "seed of the VSGL importance sampling (fis, kmeans)")->capture_default_str();
+  app.add_option("--lambda-d", job.lambda_d, "λ_d of the diffuse SG lobe (the seeds' 2; 2.292504 is the public VSGL code's)")
+      ->capture_default_str();
+  app.add_option("--kmeans-space", job.kmeans_space, "k-means clustering space: world (position + normal) or image (RSM texels)")
+      ->capture_default_str();
+  app.add_flag("--visibility", job.visibility,
+               "VSGL visibility from a cube shadow map at each mu_v (Tokuyoshi 2016); the reference ray-casts VPL visibility");
+  app.add_flag("--sg-cosine-a-pi", job.sg_cosine_a_is_pi, "with --diffuse sg-cosine: take A(λ_d) ≈ π as the 2015 poster does");
   // A repeated option takes its last value (so that a script can append an override).
-  for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed"})
+  for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--lambda-d"})
     if (auto* o = app.get_option_no_throw(name)) o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }
 
@@ -84,7 +93,7 @@ render::Scene load_scene(const RenderJob& job) {
 render::RenderOptions render_options(const RenderJob& job) {
   render::RenderOptions o;
   const auto mode = render::parse_vsgl_mode(job.vsgl);
-  if (!mode) throw UsageError(fmt::format("--vsgl '{}' is not a VSGL mode (two, fis, kmeans)", job.vsgl));
+  if (!mode) throw UsageError(fmt::format("--vsgl '{}' is not a VSGL mode (two, two-shared, fis, kmeans)", job.vsgl));
   if (job.count < 1 || job.count > 65536) throw UsageError(fmt::format("--count {} is outside [1, 65536]", job.count));
   if (job.rsm < 1 || job.rsm > 4096) throw UsageError(fmt::format("--rsm {} is outside [1, 4096]", job.rsm));
   if (job.shadow_map < 1 || job.shadow_map > 16384)
@@ -94,9 +103,15 @@ render::RenderOptions render_options(const RenderJob& job) {
   o.vsgl.mode = *mode;
   o.vsgl.count = job.count;
   o.vsgl.seed = job.seed;
+  o.vsgl.lambda_d = job.lambda_d;
+  o.visibility = job.visibility;
+  if (job.kmeans_space == "image") o.vsgl.kmeans_space = render::VsglOptions::KmeansSpace::image;
+  else if (job.kmeans_space != "world")
+    throw UsageError(fmt::format("--kmeans-space '{}' is neither world nor image", job.kmeans_space));
   if (const auto error = render::vsgl_options_error(o.vsgl)) throw UsageError("VSGL options: " + *error);
   try {
     o.shading = render::shading_options(job.diffuse);
+    o.shading.sg_cosine_a_is_pi = job.sg_cosine_a_is_pi;
   } catch (const std::invalid_argument& e) {
     throw UsageError(fmt::format("--diffuse: {}", e.what()));
   }
@@ -107,7 +122,8 @@ std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vs
   std::vector<std::string> a;
   if (with_vsgl) {
     a.insert(a.end(), {"--vsgl", job.vsgl});
-    if (job.vsgl != "two") a.insert(a.end(), {"--count", std::to_string(job.count)});
+    const auto mode = render::parse_vsgl_mode(job.vsgl);
+    if (!mode || !render::vsgl_mode_is_whole_rsm(*mode)) a.insert(a.end(), {"--count", std::to_string(job.count)});
   }
   a.insert(a.end(), {"--diffuse", job.diffuse, "--rsm", std::to_string(job.rsm)});
   if (job.shadow_map != RenderJob{}.shadow_map) a.insert(a.end(), {"--shadow-map", std::to_string(job.shadow_map)});
@@ -115,6 +131,10 @@ std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vs
   if (job.height) a.insert(a.end(), {"--height", std::to_string(*job.height)});
   for (const auto& s : job.overrides) a.insert(a.end(), {"--set", s});
   if (job.seed != render::kDefaultVsglSeed) a.insert(a.end(), {"--seed", std::to_string(job.seed)});
+  if (job.lambda_d != RenderJob{}.lambda_d) a.insert(a.end(), {"--lambda-d", fmt::format("{}", job.lambda_d)});
+  if (job.sg_cosine_a_is_pi) a.push_back("--sg-cosine-a-pi");
+  if (job.visibility) a.push_back("--visibility");
+  if (job.kmeans_space != "world") a.insert(a.end(), {"--kmeans-space", job.kmeans_space});
   return a;
 }
 
@@ -154,7 +174,9 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
                {"seed", st.seed},
                {"lambda_d", st.lambda_d},
                {"merged_duplicates", st.merged_duplicates},
-               {"diffuse_method", render::diffuse_method_name(options.shading)}};
+               {"diffuse_method", render::diffuse_method_name(options.shading)},
+               {"sg_cosine_a_is_pi", options.shading.sg_cosine_a_is_pi},
+               {"kmeans_space", job.kmeans_space}};
   j["seed"] = st.seed;
   j["seconds"] = {{"gbuffer", r.seconds.gbuffer}, {"shadow_map", r.seconds.shadow_map}, {"direct", r.seconds.direct},
                   {"rsm", r.seconds.rsm},         {"vsgl", r.seconds.vsgl},             {"shading", r.seconds.shading},
@@ -166,8 +188,13 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
                 {"max_abs", r.error_metrics.max_abs},
                 {"of", "indirect against indirect_reference, over the pixels that hit geometry, all channels"}};
   j["power"] = {{"light", rgb_json(scene.light.power)}, {"rsm_flux", rgb_json(r.rsm_flux)}};
+  j["visibility"] = options.visibility;
   j["notes"] =
-      "VSGL visibility ignored, as in the papers: every VSGL lights every shading point. Reference: the exact sum over "
+      std::string(options.visibility
+                      ? "VSGL visibility V(y_p, mu_v) from a cube shadow map at each VSGL's mean (Tokuyoshi 2016 supplement "
+                        "4.1); VPL visibility by ray casting in the reference. "
+                      : "VSGL visibility ignored, as in the papers: every VSGL lights every shading point. ") +
+      "Reference: the exact sum over "
       "every VPL with the true BRDFs at both ends (Lambert + GGX·G2·Schlick), the same visibility assumption, 1/d² "
       "bounded as 1/(d² + r_i²) with r_i the VPL's footprint radius (reference.hpp). Times are wall-clock seconds on "
       "all cores; speedup = reference / (vsgl + shading).";

@@ -21,13 +21,19 @@ namespace sglab::cli {
 struct RenderJob {
   std::string scene_path;
   std::vector<std::string> overrides;  // --set KEY=VALUE, in order
-  std::string vsgl = "two";            // two | fis | kmeans
+  std::string vsgl = "two";            // two | two-shared | fis | kmeans
   int count = 16;                      // --count: VSGL clusters for fis and kmeans
   std::string diffuse = "tokuyoshi2024";
   int rsm = 64;
   int shadow_map = 1024;
   std::optional<int> width, height;    // override the scene's camera size
   std::uint64_t seed = render::kDefaultVsglSeed;
+  // λ_d of the diffuse lobes (VPLs and sg-cosine receivers); the default is VsglOptions' (the
+  // seeds' 2), defined there once.
+  double lambda_d = render::VsglOptions{}.lambda_d;
+  bool sg_cosine_a_is_pi = false;  // --sg-cosine-a-pi: A(λ_d) ≈ π in sg-cosine shading
+  std::string kmeans_space = "world";  // --kmeans-space world | image
+  bool visibility = false;             // --visibility: VSGL and VPL visibility (Tokuyoshi 2016 §4.1)
 };
 
 // Adds the options every render-like command has (--vsgl … --seed) to `app`, bound to `job`.

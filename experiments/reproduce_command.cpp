@@ -35,23 +35,37 @@ struct Places {
   std::string key_figures() const { return tables + "/figures"; }
 };
 
-// The poster's figure on the renderer (issue 6, item 4): the near-wall scene once per diffuse
-// method, and one SMAPE map per method.
+// The one-VSGL renderer against the exact VPL sum on the spotlight-near-a-wall scene, once per
+// diffuse method, and one SMAPE map per method (near_wall_vsgl_vs_vpl_sum.png). Not the poster's
+// figure: that is `near-wall` below (each method against the exact integral).
 const std::vector<std::string> kNearWallMethods = {"sg-cosine", "punctual-approx", "hill-fitted", "meder",
                                                    "tokuyoshi2022", "tokuyoshi2024", "sglab"};
 
-std::vector<Step> near_wall_steps(const std::string& out, const std::string& key_figures) {
+std::vector<Step> near_wall_steps(const Places& places) {
+  const std::string& out = places.out;
+  const std::string key_figures = places.key_figures();
   std::vector<Step> v;
-  std::vector<std::string> plot = {"plots/near_wall_smape.py", key_figures};
+  std::vector<std::string> plot = {"plots/near_wall_vsgl_vs_vpl_sum.py", key_figures};
   for (const auto& m : kNearWallMethods) {
     const std::string base = out + "/renders/near-wall-" + m;
-    v.push_back({"render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (for the SMAPE map per method)",
+    v.push_back({"render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (one VSGL against the VPL sum)",
                  {"render", "scenes/sg-light-near-wall.json", "--diffuse", m, "--out", base + ".exr", "--stats", base + ".json",
                   "--dump-csv", base + ".csv", "--width", "160", "--height", "120"},
                  {"--width", "64", "--height", "48"}});
     plot.push_back(m + "=" + base + ".csv");
   }
-  v.push_back({"plot-near-wall-smape", "SMAPE map of each diffuse method on the near-wall scene (the poster's figure)", plot, {}, true});
+  v.push_back({"plot-near-wall-vsgl-vs-vpl-sum", "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot, {}, true});
+  // The poster's figure (Tokuyoshi 2022, Fig. b-d): every clamped-cosine method of the registry
+  // against the exact integral per pixel, and the sweep over the light's sharpness and distance.
+  v.push_back({"near-wall", "sharp SG light near a wall: each diffuse method against the exact integral (paper_tables/near_wall_smape*)",
+               {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", out + "/near_wall/pixels.csv",
+                "--sweep-sharpness", "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
+               {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}});
+  v.push_back({"poster-plots", "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE (paper_tables/*.csv)",
+               {"poster-plots"}, {}});
+  v.push_back({"plot-poster-plots", "figures of the poster's two plots", {"plots/poster_plots.py", places.tables, key_figures}, {}, true});
+  v.push_back({"plot-near-wall-smape", "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
+               {"plots/near_wall_smape.py", out + "/near_wall/pixels.csv", key_figures, places.tables + "/near_wall_smape.csv"}, {}, true});
   return v;
 }
 
@@ -118,7 +132,34 @@ std::vector<Step> steps(const Places& places) {
        {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", out + "/filtering"},
        {"--width", "64", "--height", "64"}},
   };
-  const auto near_wall = near_wall_steps(out, kKeyFigures);
+  all.push_back({"vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over 64 seeds (paper_tables/vsgl_fis_bias.*)",
+                 {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"}});
+  // Two VSGLs as in Tokuyoshi 2015 (own Gaussian per component, λ_d = 2): the receiver's cosine
+  // pulled out against the poster's SG cosine with A(λ_d) ≈ π (after its Fig. 1).
+  for (const auto& [name, extra] : std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"punctual", {"--diffuse", "punctual"}}, {"sg-cosine", {"--diffuse", "sg-cosine", "--sg-cosine-a-pi"}}}) {
+    const std::string base = out + "/renders/two-vsgls-" + name;
+    std::vector<std::string> args = {"render", "scenes/diffuse-only.json", "--vsgl", "two", "--out", base + ".exr", "--stats",
+                                     base + ".json", "--dump-csv", base + ".csv", "--width", "192", "--height", "192"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    all.push_back({"render-two-vsgls-" + name, "diffuse-only scene, two VSGLs, diffuse " + name, args, {"--width", "64", "--height", "64"}});
+  }
+  all.push_back({"plot-two-vsgls-cosine", "two VSGLs: cosine pulled out vs SG cosine (after Tokuyoshi 2015 Fig. 1)",
+                 {"plots/two_vsgls_cosine.py", kKeyFigures, out + "/renders/two-vsgls-punctual.csv", out + "/renders/two-vsgls-sg-cosine.csv"},
+                 {}, true});
+  // Tokuyoshi 2016 §4.1 visibility on cornell-glossy: the same configurations without and with it
+  // (each against the reference that makes the same assumption).
+  for (const bool vis : {false, true}) {
+    std::vector<std::string> args = {"sweep", "render", "--scene", "scenes/cornell-glossy.json", "--vsgl", "two", "--vsgl", "fis:16",
+                                     "--vsgl", "fis:64", "--width", "128", "--height", "128", "--out", out + "/render_sweep",
+                                     "--table", vis ? "vsgl_visibility_on" : "vsgl_visibility_off"};
+    if (vis) args.push_back("--visibility");
+    all.push_back({vis ? "sweep-render-visibility-on" : "sweep-render-visibility-off",
+                   std::string("VSGL error on cornell-glossy ") + (vis ? "with" : "without") +
+                       " visibility (paper_tables/vsgl_visibility_" + (vis ? "on" : "off") + ".*)",
+                   args, {"--width", "48", "--height", "48", "--rsm", "32"}});
+  }
+  const auto near_wall = near_wall_steps(places);
   all.insert(all.end(), near_wall.begin(), near_wall.end());
   return all;
 }
@@ -142,7 +183,8 @@ std::string tables_option(const Step& s) {
   if (s.python || s.args.empty()) return "";
   const std::string& command = s.args[0];
   if (command == "error-vs-time" || command == "stability") return "--tables";
-  if (command == "sweep" || command == "filter-sweep" || (command == "fit" && s.args.size() > 1 && s.args[1] == "all"))
+  if (command == "sweep" || command == "filter-sweep" || command == "near-wall" || command == "poster-plots" ||
+      command == "vsgl-fis-bias" || (command == "fit" && s.args.size() > 1 && s.args[1] == "all"))
     return "--tables-dir";
   return "";
 }

@@ -2,7 +2,7 @@
 // (issue 4, item 6): every method of the registry's `specular` quantity — enumerated, never
 // named here — against the quantity's reference method, over
 //   roughness α (9 values log-spaced over [0.01, 1]) × light sharpness λ ∈ {1, 10, 100, 1e3, 1e4}
-//   × view_cos ∈ {1, 0.7, 0.3, 0.1} × 8 light positions (sweep_specular.hpp), f0 = 0.04.
+//   × view_cos ∈ {1, 0.7, 0.3, 0.1} × up to 6 light positions above the horizon (sweep_specular.hpp), f0 = 0.04.
 // A point of the sweep is one (α, λ, view_cos); its rows are its light positions × methods, so
 // that the point knows its own scale (the largest reference among its positions) and near-zero
 // references are classified within the point.
@@ -65,6 +65,10 @@ LightPosition position(std::string name, const Vec& d) {
   return {std::move(name), std::clamp(d.z, -1.0, 1.0), std::atan2(d.y, d.x)};
 }
 
+// light_cos above which a light is above the horizon: 1e-12 keeps a position rotated by exactly
+// π/2 (cos = 6e-17 in double) out, and no real light position is that close to the horizon.
+constexpr double kAboveHorizon = 1e-12;
+
 const std::vector<std::string> kColumns = {"roughness", "light_sharpness", "view_cos", "f0", "position",
                                            "light_cos", "light_azimuth", "reference", "scale", "method",
                                            "value", "status", "relative_error", "scaled_error"};
@@ -80,9 +84,10 @@ SpecularGrid specular_grid(bool quick) {
   return g;
 }
 
-double specular_offset_width(double roughness, double light_sharpness) {
-  const double w = std::sqrt(1 / light_sharpness + 2 * roughness * roughness);  // 1/λ_s = 2α²
-  return std::min(w, std::numbers::pi / 6);  // also caps λ = 0 (w = ∞)
+SpecularWidths specular_offset_widths(double roughness, double light_sharpness, double view_cos) {
+  const double cap = std::numbers::pi / 6;  // also caps λ = 0 (1/λ = ∞)
+  const double a2 = 2 * roughness * roughness, c = std::clamp(view_cos, 0.0, 1.0);
+  return {std::min(std::sqrt(1 / light_sharpness + a2), cap), std::min(std::sqrt(1 / light_sharpness + a2 * c * c), cap)};
 }
 
 std::vector<LightPosition> specular_light_positions(double roughness, double light_sharpness, double view_cos) {
@@ -91,16 +96,24 @@ std::vector<LightPosition> specular_light_positions(double roughness, double lig
   const Vec to_horizon{-v, 0, -s};     // d(mirror)/dθ: in the plane of incidence, away from n
   const Vec to_normal{v, 0, s};
   const Vec side{0, 1, 0};             // perpendicular to the plane of incidence
-  const double w = specular_offset_width(roughness, light_sharpness);
-  const double below = std::numbers::pi / 6;  // 30° below the horizon: light_cos = −sin 30° = −1/2
-  return {position("mirror", mirror),
-          position("toward-normal", rotate_toward(mirror, to_normal, w)),
-          position("toward-horizon", rotate_toward(mirror, to_horizon, w)),
-          position("side", rotate_toward(mirror, side, w)),
-          position("side-3w", rotate_toward(mirror, side, 3 * w)),
-          position("normal", {0, 0, 1}),
-          position("horizon", {-1, 0, 0}),
-          position("below", {-std::cos(below), 0, -std::sin(below)})};
+  const SpecularWidths w = specular_offset_widths(roughness, light_sharpness, v);
+  const std::vector<LightPosition> all = {position("mirror", mirror),
+                                          position("toward-normal", rotate_toward(mirror, to_normal, w.in_plane)),
+                                          position("toward-horizon", rotate_toward(mirror, to_horizon, w.in_plane)),
+                                          position("side", rotate_toward(mirror, side, w.across)),
+                                          position("side-3w", rotate_toward(mirror, side, 3 * w.across)),
+                                          position("normal", {0, 0, 1})};
+  std::vector<LightPosition> out;
+  for (const auto& p : all) {
+    if (!(p.light_cos > kAboveHorizon)) continue;  // at or below the horizon
+    // At view_cos = 1 only the angle from the normal matters (rotational symmetry).
+    const bool duplicate = std::any_of(out.begin(), out.end(), [&](const LightPosition& q) {
+      return std::fabs(q.light_cos - p.light_cos) <= 1e-12 &&
+             (v == 1 || std::fabs(q.light_azimuth - p.light_azimuth) <= 1e-12);
+    });
+    if (!duplicate) out.push_back(p);
+  }
+  return out;
 }
 
 bool specular_position_near_lobe(const std::string& position) {
@@ -120,10 +133,11 @@ SweepDefinition specular_sweep_definition(bool quick) {
   std::string method_names;
   for (const Method* m : methods) method_names += (method_names.empty() ? "" : ", ") + m->name;
   std::string position_names;
-  for (const auto& p : specular_light_positions(0.1, 1, 1)) position_names += (position_names.empty() ? "" : ", ") + p.name;
+  for (const auto& p : specular_light_positions(0.1, 1, 0.7)) position_names += (position_names.empty() ? "" : ", ") + p.name;
   d.grid = fmt::format(
-      "roughness {{{}}} × light_sharpness {{{}}} × view_cos {{{}}}; f0 {}; positions {{{}}} (offsets in widths "
-      "min(√(1/λ + 2α²), π/6)); reference `{}`; methods {{{}}}; near zero below {} of the point's largest reference",
+      "roughness {{{}}} × light_sharpness {{{}}} × view_cos {{{}}}; f0 {}; positions {{{}}} (offsets in the lobe's widths "
+      "min(√(1/λ + 2α²), π/6) in the plane of incidence, min(√(1/λ + 2α²v²), π/6) across; above the horizon only, "
+      "no duplicates); reference `{}`; methods {{{}}}; near zero below {} of the point's largest reference",
       join_numbers(g.roughness), join_numbers(g.light_sharpness), join_numbers(g.view_cos), csv_number(g.f0),
       position_names, reference.name, method_names, csv_number(kSpecularNearZero));
   d.point_count = g.point_count();
@@ -217,6 +231,13 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
                                {"all", CsvTable::npos, false, {}}};
   std::vector<std::string> methods;
   std::map<std::tuple<std::size_t, std::string, std::string>, ErrorAccumulator> acc;  // (group, value, method)
+  // Per (group, value, method): per point Σ|v − r| and Σ r over rows with a value; the bright rows' SMAPE.
+  struct Brightness {
+    std::map<std::string, std::pair<double, double>> points;  // point key → (Σ|v − r|, Σ r)
+    double smape_sum = 0;
+    std::size_t bright = 0;
+  };
+  std::map<std::tuple<std::size_t, std::string, std::string>, Brightness> brightness;
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
     const CsvRecord& r = t.rows[i];
     const std::string& method = r.fields[c_method];
@@ -231,6 +252,16 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
       auto& order = groups[g].order;
       if (std::find(order.begin(), order.end(), key) == order.end()) order.push_back(key);
       acc.try_emplace({g, key, method}, kSpecularNearZero).first->second.add(has_value, value, reference, scale, i);
+      if (!has_value) continue;
+      Brightness& b = brightness[{g, key, method}];
+      auto& point = b.points[r.fields[c_roughness] + "," + r.fields[c_sharpness] + "," + r.fields[c_view]];
+      point.first += std::fabs(value - reference);
+      point.second += reference;
+      if (reference >= kSpecularBrightCutoff * scale && reference > 0) {
+        const double den = std::fabs(value) + std::fabs(reference);
+        b.smape_sum += den > 0 ? 2 * std::fabs(value - reference) / den : 0.0;
+        ++b.bright;
+      }
     }
   }
   std::vector<SpecularSummaryRow> out;
@@ -239,7 +270,18 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
       for (const auto& method : methods) {
         const auto it = acc.find({g, key, method});
         if (it == acc.end()) continue;
-        SpecularSummaryRow row{groups[g].by, key, method, it->second.stats(), "", "", "", ""};
+        SpecularSummaryRow row{groups[g].by, key, method, it->second.stats()};
+        if (const auto b = brightness.find({g, key, method}); b != brightness.end()) {
+          double sum = 0;
+          for (const auto& [point, e] : b->second.points)
+            if (e.second > 0) {
+              sum += e.first / e.second;
+              ++row.weighted_points;
+            }
+          if (row.weighted_points) row.weighted_error = sum / double(row.weighted_points);
+          row.bright_rows = b->second.bright;
+          if (row.bright_rows) row.bright_smape = b->second.smape_sum / double(row.bright_rows);
+        }
         if (row.stats.worst < t.rows.size()) {
           const auto& w = t.rows[row.stats.worst].fields;
           row.worst_roughness = w[c_roughness];
@@ -257,7 +299,8 @@ std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows) {
   append_csv_record(csv, std::vector<std::string>{"by", "group", "method", "points", "relative_points", "near_zero",
                                                   "missing", "rmse_relative", "max_relative", "smape", "max_scaled", "rmse_scaled",
                                                   "worst_roughness", "worst_light_sharpness", "worst_view_cos",
-                                                  "worst_position"});
+                                                  "worst_position", "weighted_error", "weighted_points", "bright_smape",
+                                                  "bright_rows"});
   for (const auto& r : rows) {
     const ErrorStats& s = r.stats;
     append_csv_record(csv, std::vector<std::string>{r.by, r.group, r.method, std::to_string(s.points),
@@ -265,7 +308,9 @@ std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows) {
                                                     std::to_string(s.missing), csv_number(s.rmse_relative),
                                                     csv_number(s.max_relative), csv_number(s.smape),
                                                     csv_number(s.max_scaled), csv_number(s.rmse_scaled), r.worst_roughness, r.worst_light_sharpness,
-                                                    r.worst_view_cos, r.worst_position});
+                                                    r.worst_view_cos, r.worst_position, csv_number(r.weighted_error),
+                                                    std::to_string(r.weighted_points), csv_number(r.bright_smape),
+                                                    std::to_string(r.bright_rows)});
   }
   return csv;
 }
@@ -321,6 +366,21 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
     }
     return s + "\n";
   };
+  // As `table`, with `show` of the whole summary row (for the statistics beside ErrorStats).
+  auto rtable = [&](const std::string& by, const std::string& first, auto show) {
+    std::string s = header(first);
+    for (const auto& g : groups[by]) {
+      s += "| " + short_group(g) + " |";
+      for (const auto& m : methods) {
+        const auto it = cell.find({by, g, m});
+        s += fmt::format(" {} |", it == cell.end() ? std::string("—") : show(*it->second));
+      }
+      s += "\n";
+    }
+    return s + "\n";
+  };
+  auto weighted = [](const SpecularSummaryRow& r) { return percent(r.weighted_error); };
+  auto bright = [](const SpecularSummaryRow& r) { return percent(r.bright_smape); };
   auto smape = [](const ErrorStats& s) { return percent(s.smape); };
   auto max_rel = [](const ErrorStats& s) { return percent(s.max_relative); };
   auto rmse = [](const ErrorStats& s) { return percent(s.rmse_relative); };
@@ -338,17 +398,23 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
       "`sglab merge` give the same file). Every method of the `specular` quantity (`sglab eval --list`) against "
       "`reference` (adaptive 2D quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated "
       "Smith and Schlick f0 = 0.04, over roughness α ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
-      "× light positions {{{4}}}: the mirror direction; one width toward the normal, toward the horizon and out of "
-      "the plane of incidence; three widths out of the plane (width = min(√(1/λ + 2α²), π/6)); the normal; the "
-      "horizon and 30° below it, at the mirror azimuth.\n\n"
-      "Relative error |v − r|/r; SMAPE = mean of 2|v − r|/(|v| + |r|) (0–200 %); RMSE = root mean square of the "
-      "relative error. **Near-zero references**: a reference below {5} of the largest reference among its point's "
-      "light positions (a light behind the surface, at the horizon, or far off the lobe) has no meaningful relative "
-      "error; such rows ({6} of {7} per method over the grid) are left out of SMAPE, RMSE and the maximum and "
-      "counted. The scaled error |v − r| / (that largest reference), over all rows, covers them (\"RMSE scaled\", "
-      "\"max scaled\"). All numbers in %.\n\n",
+      "× light positions {{{4}}} in the lobe's own frame: the mirror direction; one in-plane width toward the normal and "
+      "toward the horizon; one and three widths across the plane of incidence (the lobe is cos θo narrower across it: "
+      "in-plane width min(√(1/λ + 2α²), π/6), across min(√(1/λ + 2α²cos²θo), π/6)); the normal. Only lights above the "
+      "horizon, and no duplicate rows (at view_cos = 1 the mirror is the normal and the one-width positions are one).\n\n"
+      "**Brightness-weighted error** = per point Σ|v − r|/Σr over its light positions, averaged over the points: the "
+      "error in proportion to how much each light contributes. **Bright SMAPE** = SMAPE over the rows whose reference "
+      "is at least {8} % of their point's peak (the largest reference over its positions). Plain SMAPE = mean of "
+      "2|v − r|/(|v| + |r|) (0–200 %) over all significant rows, dominated by dim rows where a method returning ~0 scores "
+      "~200 %; RMSE = root mean square of the relative error. **Near-zero references**: a reference below {5} of its "
+      "point's peak has no meaningful relative error; such rows ({6} of {7} per method over the grid) are left out of "
+      "SMAPE, RMSE and the maximum and counted. The scaled error |v − r| / (the peak), over all rows, covers them "
+      "(\"RMSE scaled\", \"max scaled\"). All numbers in %.\n\n",
       command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
-      csv_number(kSpecularNearZero), near_zero, points);
+      csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff));
+  md += "## Brightness-weighted error Σ|v − r|/Σr (%) by roughness α\n\n" + rtable("roughness", "α", weighted);
+  md += fmt::format("## SMAPE (%) over rows ≥ {:g} % of the point's peak, by roughness α\n\n", 100 * kSpecularBrightCutoff) +
+        rtable("roughness", "α", bright);
   md += "## SMAPE (%) by roughness α\n\n" + table("roughness", "α", smape);
   md += "## Maximum relative error (%) by roughness α\n\n" + table("roughness", "α", max_rel);
   md += "## RMSE of the relative error (%) by roughness α\n\n" + table("roughness", "α", rmse);
@@ -363,11 +429,12 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
   md += "By view angle (all α, λ, positions):\n\n" + table("view_cos", "view_cos", both);
   md += "By light sharpness:\n\n" + table("light_sharpness", "λ", both);
   md += "By light position:\n\n" + table("position", "position", both);
-  md += "## Over the whole grid\n\n| method | SMAPE | max relative | RMSE | RMSE scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) |\n|---|---|---|---|---|---|---|---|---|\n";
+  md += "## Over the whole grid\n\n| method | brightness-weighted | bright SMAPE | SMAPE | max relative | RMSE | RMSE scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     if (r.by != "all") continue;
     const ErrorStats& s = r.stats;
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.method, percent(s.smape), percent(s.max_relative),
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.method, percent(r.weighted_error),
+                      percent(r.bright_smape), percent(s.smape), percent(s.max_relative),
                       percent(s.rmse_relative), percent(s.rmse_scaled), percent(s.max_scaled), s.near_zero, s.missing,
                       r.worst_roughness.empty() ? "—"
                                                 : fmt::format("{}, {}, {}, {}", short_group(r.worst_roughness),

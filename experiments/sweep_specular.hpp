@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,12 @@ namespace sglab::cli {
 // invisible next to it, and the reference's own error (≤ 1e-6 of its magnitude, glossy_reference.hpp)
 // is still ≤ 1e-2 relative at the threshold's smallest values.
 inline constexpr double kSpecularNearZero = 1e-4;
+
+// The brightness cutoff of the "bright rows" SMAPE: rows whose reference is at least this fraction
+// of their point's peak (the largest reference over its light positions). 10 %: where the light
+// is a visible part of the highlight; the dim tail rows, whose SMAPE tends to 2 for any method that
+// returns ~0 there, are left to the brightness-weighted error.
+inline constexpr double kSpecularBrightCutoff = 0.1;
 
 // Schlick f0 of the sweep: a dielectric of index 1.5, ((1.5 − 1)/(1.5 + 1))² = 0.04.
 inline constexpr double kSpecularF0 = 0.04;
@@ -45,16 +52,21 @@ struct LightPosition {
   double light_azimuth;  // from the view's azimuth (radians)
 };
 
-// The angular width that the offset positions are measured in: the light's and the BRDF lobe's
-// angular standard deviations added in quadrature, √(1/λ + 1/λ_s) with λ_s = 1/(2α²) (Wang et
-// al. 2009 warp at normal view: λ_h/4, λ_h = 2/α²), capped at π/6 so that three widths stay
-// within the hemisphere around the mirror direction.
-double specular_offset_width(double roughness, double light_sharpness);
+// The angular widths that the offset positions are measured in, in the lobe's own frame: the
+// light's and the BRDF lobe's angular standard deviations added in quadrature. The lobe is the
+// Xu et al. 2013 ASG warp (brdf.hpp asg_warp) with η_x = λ_h/8 in the plane of incidence and
+// η_y = λ_h/(8 cos²θo) across it (λ_h = 2/α²), so its standard deviations are √2·α in the plane and
+// √2·α·cos θo across it: in-plane √(1/λ + 2α²), across √(1/λ + 2α²cos²θo). Each capped at π/6.
+struct SpecularWidths {
+  double in_plane = 0, across = 0;
+};
+SpecularWidths specular_offset_widths(double roughness, double light_sharpness, double view_cos);
 
-// The eight positions: "mirror" (the mirror direction of the view), "toward-normal" and
-// "toward-horizon" (rotated by one width within the plane of incidence), "side" and "side-3w"
-// (rotated by one and three widths out of it), "normal" (ξ = n), "horizon" (ξ on the horizon at
-// the mirror azimuth) and "below" (30° below the horizon at the mirror azimuth: light_cos = −1/2).
+// The positions: "mirror" (the mirror direction of the view), "toward-normal" and "toward-horizon"
+// (rotated by one in-plane width within the plane of incidence), "side" and "side-3w" (rotated by
+// one and three across-widths out of it), "normal" (ξ = n). Only lights ABOVE THE HORIZON are kept
+// (light_cos > 0), and no duplicates: at view_cos = 1 the setting is symmetric about the normal, so
+// positions at the same angle from it are one (the first kept: "mirror" covers "normal").
 std::vector<LightPosition> specular_light_positions(double roughness, double light_sharpness, double view_cos);
 
 // The positions within one width of the mirror direction — the highlight, where a light matters
@@ -80,6 +92,13 @@ struct SpecularSummaryRow {
   std::string group;   // the group's value as printed in the per-point CSV ("0.01", "mirror", "all")
   std::string method;
   ErrorStats stats;
+  // Brightness-weighted error: per point Σ|v − r|/Σ r over its rows with a value, then the mean
+  // over the group's points (`weighted_points` of them).
+  double weighted_error = std::numeric_limits<double>::quiet_NaN();
+  std::size_t weighted_points = 0;
+  // SMAPE over the rows with r ≥ kSpecularBrightCutoff × the point's peak (`bright_rows` of them).
+  double bright_smape = std::numeric_limits<double>::quiet_NaN();
+  std::size_t bright_rows = 0;
   // The inputs of the row with the largest relative error ("" if none).
   std::string worst_roughness, worst_light_sharpness, worst_view_cos, worst_position;
 };

@@ -1,67 +1,78 @@
 #!/usr/bin/env python3
-"""The 2022 poster's figure on the renderer: one SMAPE map per diffuse method, for the scene with a
-sharp light near a wall. Each input is a pixel dump written by
-`sglab render scenes/sg-light-near-wall.json --diffuse METHOD … --dump-csv FILE`; the panel shows
-the per-pixel SMAPE of the VSGL indirect light against the exact VPL sum,
-2|v − r| / (|v| + |r|) on the channel mean (0 where both are 0), on one colour scale for all
-panels, with the mean over the pixels that see light in the title. Computes nothing else.
-usage: near_wall_smape.py OUT_DIR METHOD=DUMP.csv [METHOD=DUMP.csv …]
+"""The figure of Tokuyoshi 2022's poster (Fig. a-d): a sharp SG light close to a wall; panel (a) the
+exact diffuse radiance, then one SMAPE map per clamped-cosine method against the exact integral, on
+the poster's 0-2 scale. Reads the per-pixel dump of
+`sglab near-wall --scene scenes/sg-light-near-wall-poster.json --dump FILE` (columns i, j, object,
+sharpness, cosine, log_radiance_scale, then D of `reference` and of every method); computes only
+the per-pixel SMAPE 2|v - r|/(|v| + |r|) and the panels' means. Panels in the order of the table
+TABLE.csv (ranked by mean SMAPE) when given.
+usage: near_wall_smape.py DUMP.csv OUT_DIR [TABLE.csv]
 """
+import csv
+import math
 import os
 import sys
 
 import matplotlib
-import matplotlib.pyplot as plt
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from render_images import read_dump  # noqa: E402
-
-
-def smape_map(im):
-    v = im["indirect"].mean(axis=2)
-    r = im["indirect_reference"].mean(axis=2)
-    den = np.abs(v) + np.abs(r)
-    out = np.zeros_like(v)
-    nz = den > 0
-    out[nz] = 2 * np.abs(v[nz] - r[nz]) / den[nz]
-    return out, nz
-
-
-def figure(renders):
-    """One SMAPE panel per (method, images) pair, on one colour scale, as a matplotlib figure."""
-    n = len(renders)
-    cols = min(n, 3)
-    rows = (n + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(4.5 * cols, 3.8 * rows), squeeze=False)
-    for ax in axes.flat:
-        ax.axis("off")
-    for ax, (method, im) in zip(axes.flat, renders):
-        s, lit = smape_map(im)
-        shown = ax.imshow(s, cmap="magma", vmin=0, vmax=2)
-        ax.set_title(f"{method}: mean SMAPE {s[lit].mean():.3f}", fontsize=9)
-    fig.colorbar(shown, ax=axes.ravel().tolist(), shrink=0.8, label="SMAPE (0–2)")
-    fig.suptitle("sg-light-near-wall: VSGL indirect light vs the exact VPL sum, per diffuse method")
-    return fig
 
 
 def main() -> int:
-    if len(sys.argv) < 3 or any("=" not in a for a in sys.argv[2:]):
+    if len(sys.argv) not in (3, 4):
         print(__doc__, file=sys.stderr)
         return 2
-    out_dir = sys.argv[1]
+    dump, out_dir = sys.argv[1], sys.argv[2]
+    with open(dump, newline="") as f:
+        rows = list(csv.DictReader(f))
+    header = list(rows[0].keys())
+    reference = header[6]
+    methods = header[7:]
+    if len(sys.argv) == 4:
+        with open(sys.argv[3], newline="") as f:
+            ranked = [r["method"] for r in csv.DictReader(line for line in f if not line.startswith("#"))]
+        methods = [m for m in ranked if m in methods] + [m for m in methods if m not in ranked]
+    w = max(int(r["i"]) for r in rows) + 1
+    h = max(int(r["j"]) for r in rows) + 1
+    radiance = np.full((h, w), np.nan)
+    maps = {m: np.full((h, w), np.nan) for m in methods}
+    for r in rows:
+        i, j = int(r["i"]), int(r["j"])
+        ref = float(r[reference])
+        radiance[j, i] = math.exp(float(r["log_radiance_scale"])) * ref
+        for m in methods:
+            if r[m] == "":
+                continue
+            v = float(r[m])
+            den = abs(v) + abs(ref)
+            maps[m][j, i] = 2 * abs(v - ref) / den if den > 0 else 0.0
+    n = len(methods) + 1
+    cols = min(n, 4)
+    rows_ = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows_, cols, figsize=(3.6 * cols, 3.0 * rows_), squeeze=False)
+    for ax in axes.flat:
+        ax.axis("off")
+    ax = axes.flat[0]
+    shown = radiance / np.nanmax(radiance)
+    ax.imshow(np.power(np.clip(shown, 0, 1), 1 / 2.2), cmap="gray", vmin=0, vmax=1)
+    ax.set_title("exact diffuse radiance (normalized, γ 2.2)", fontsize=8)
+    im = None
+    for ax, m in zip(list(axes.flat)[1:], methods):
+        im = ax.imshow(maps[m], cmap="jet", vmin=0, vmax=2)
+        ax.set_title(f"{m}: mean SMAPE {np.nanmean(maps[m]):.3g}", fontsize=8)
+    fig.colorbar(im, ax=axes.ravel().tolist(), shrink=0.8, label="SMAPE against the exact integral (0–2)")
+    fig.suptitle("Sharp SG light near a wall: each clamped-cosine method against the exact SG × cosine integral", fontsize=10)
     os.makedirs(out_dir, exist_ok=True)
-    inputs = [a.split("=", 1) for a in sys.argv[2:]]
-    fig = figure([(method, read_dump(path)[0]) for method, path in inputs])
     for ext in ("png", "pdf"):
         path = os.path.join(out_dir, f"near_wall_smape.{ext}")
         tmp = path + ".tmp"
-        fig.savefig(tmp, format=ext, dpi=150)
+        fig.savefig(tmp, format=ext, dpi=130)
         os.replace(tmp, path)  # never a half-written figure
     print(f"wrote {out_dir}/near_wall_smape.png and .pdf", file=sys.stderr)
     return 0
 
 
 if __name__ == "__main__":
-    matplotlib.use("Agg")  # files only; not on import, so that notebooks keep their backend
     sys.exit(main())

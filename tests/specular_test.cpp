@@ -59,6 +59,25 @@ TEST(Specular, StiffCasesAreFiniteAndNonNegativeInEveryPrecision) {
   }
 }
 
+// Wang et al. 2009 evaluate M at the lobe axis; at the product axis M is a false 0 wherever that
+// axis is at or below the horizon though the light still reaches the surface. Normal view, α =
+// 0.316, a light 30° below the horizon (λ = 10): the reference is ≈ 2.9e-5 (quadrature); the
+// product-axis variant gives 0, sg-warp a value within a factor 2 of the reference.
+TEST(Specular, FactorAtTheLobeAxisHasNoFalseZero) {
+  const SpecularInput<double> in{0.31622776601683794, 10.0, -0.5, 1.0, M_PI, 0.04};
+  const double ref = specular_reference_value(in);
+  const double lobe = specular_sg_warp(in), product = specular_sg_warp(in, SgProductForm::exact, false, FactorAt::product_axis);
+  std::printf("reference %.6e sg-warp %.6e product-axis %.6e\n", ref, lobe, product);
+  EXPECT_GT(ref, 1e-5);
+  EXPECT_EQ(product, 0.0);
+  EXPECT_GT(lobe, 0.5 * ref);
+  EXPECT_LT(lobe, 2.0 * ref);
+  const Quantity* q = find_quantity("specular");
+  const std::vector<double> row{in.roughness, in.light_sharpness, in.light_cos, in.view_cos, in.light_azimuth, in.f0};
+  EXPECT_EQ(q->find("sg-warp")->eval_double(row), lobe);
+  EXPECT_EQ(q->find("sg-warp-product-axis")->eval_double(row), product);
+}
+
 TEST(Specular, FloatTracksDouble) {
   const SpecularInput<double> in{0.2, 50.0, 0.6, 0.7, 2.5, 0.04};
   const SpecularInput<float> inf{0.2f, 50.0f, 0.6f, 0.7f, 2.5f, 0.04f};

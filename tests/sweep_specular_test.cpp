@@ -51,11 +51,14 @@ TEST(SpecularGrid, FullAndQuick) {
   EXPECT_EQ(quick.roughness.back(), full.roughness.back());
 }
 
-TEST(SpecularPositions, OffsetWidthClosedForm) {
-  EXPECT_NEAR(specular_offset_width(0.1, 100), std::sqrt(0.01 + 0.02), 1e-16);   // √(1/λ + 2α²)
-  EXPECT_NEAR(specular_offset_width(0.01, 1e4), std::sqrt(1e-4 + 2e-4), 1e-17);
-  EXPECT_EQ(specular_offset_width(1, 1), std::numbers::pi / 6);                  // capped
-  EXPECT_EQ(specular_offset_width(0.01, 0), std::numbers::pi / 6);               // λ = 0: 1/λ = ∞
+TEST(SpecularPositions, OffsetWidthsClosedForm) {
+  // In the plane √(1/λ + 2α²); across √(1/λ + 2α²v²) (the ASG's η_y = λ_h/(8v²)).
+  EXPECT_NEAR(specular_offset_widths(0.1, 100, 1).in_plane, std::sqrt(0.01 + 0.02), 1e-16);
+  EXPECT_NEAR(specular_offset_widths(0.1, 100, 1).across, std::sqrt(0.01 + 0.02), 1e-16);
+  EXPECT_NEAR(specular_offset_widths(0.1, 100, 0.1).across, std::sqrt(0.01 + 0.02 * 0.01), 1e-16);
+  EXPECT_NEAR(specular_offset_widths(0.01, 1e4, 0.3).in_plane, std::sqrt(1e-4 + 2e-4), 1e-17);
+  EXPECT_EQ(specular_offset_widths(1, 1, 1).in_plane, std::numbers::pi / 6);   // capped
+  EXPECT_EQ(specular_offset_widths(0.01, 0, 0.5).across, std::numbers::pi / 6);  // λ = 0: 1/λ = ∞
 }
 
 using Dir = std::array<double, 3>;
@@ -63,44 +66,47 @@ Dir direction(const LightPosition& p) {
   const double s = std::sqrt(std::max(0.0, 1 - p.light_cos * p.light_cos));
   return {s * std::cos(p.light_azimuth), s * std::sin(p.light_azimuth), p.light_cos};
 }
-double angle(const Dir& a, const Dir& b) {  // atan2(|a × b|, a·b): accurate at small angles
-  const Dir c{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  return std::atan2(std::hypot(c[0], c[1], c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+double angle(const Dir& a, const Dir& b) {
+  return std::acos(std::clamp(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], -1.0, 1.0));
 }
 
-TEST(SpecularPositions, Geometry) {
+TEST(SpecularPositions, GeometryAboveTheHorizonNoDuplicates) {
   for (double v : {1.0, 0.7, 0.3, 0.1})
-    for (auto [alpha, lambda] : {std::pair{0.01, 1e4}, {0.1, 100.0}, {1.0, 1.0}}) {
+    for (auto [alpha, lambda] : {std::pair{0.01, 1e4}, {0.1, 100.0}, {0.316, 10.0}, {1.0, 1.0}}) {
       SCOPED_TRACE(::testing::Message() << "view_cos " << v << " α " << alpha << " λ " << lambda);
       const auto ps = specular_light_positions(alpha, lambda, v);
-      ASSERT_EQ(ps.size(), 8u);
-      auto find = [&](const std::string& name) {
-        const auto it = std::find_if(ps.begin(), ps.end(), [&](const LightPosition& p) { return p.name == name; });
-        EXPECT_NE(it, ps.end()) << name;
-        return *it;
-      };
-      const double s = std::sqrt(1 - v * v), w = specular_offset_width(alpha, lambda);
+      const double s = std::sqrt(1 - v * v);
+      const SpecularWidths w = specular_offset_widths(alpha, lambda, v);
       const Dir mirror{-s, 0, v};  // 2(ωo·n)n − ωo for ωo = (s, 0, v)
-      const Dir m = direction(find("mirror"));
-      for (int i = 0; i < 3; ++i) EXPECT_NEAR(m[i], mirror[i], 1e-15);
-      EXPECT_NEAR(angle(direction(find("toward-normal")), mirror), w, 1e-14);
-      EXPECT_NEAR(angle(direction(find("toward-horizon")), mirror), w, 1e-14);
-      EXPECT_NEAR(angle(direction(find("side")), mirror), w, 1e-14);
-      EXPECT_NEAR(angle(direction(find("side-3w")), mirror), 3 * w, 1e-14);
-      // In the plane of incidence (y = 0) toward n / toward the horizon; "side" out of it.
-      EXPECT_NEAR(direction(find("toward-normal"))[1], 0, 1e-15);
-      EXPECT_NEAR(direction(find("toward-horizon"))[1], 0, 1e-15);
-      if (v < 1) {
-        EXPECT_NEAR(angle(direction(find("toward-normal")), {0, 0, 1}), std::acos(v) - w, 1e-12);
-        EXPECT_NEAR(angle(direction(find("toward-horizon")), {0, 0, 1}), std::acos(v) + w, 1e-12);
+      // Every light strictly above the horizon; no two rows the same light (at v = 1: the same
+      // angle from the normal).
+      for (std::size_t i = 0; i < ps.size(); ++i) {
+        EXPECT_GT(ps[i].light_cos, 1e-12) << ps[i].name;
+        for (std::size_t j = 0; j < i; ++j)
+          EXPECT_FALSE(std::fabs(ps[i].light_cos - ps[j].light_cos) < 1e-12 &&
+                       (v == 1 || std::fabs(ps[i].light_azimuth - ps[j].light_azimuth) < 1e-12))
+              << ps[i].name << " = " << ps[j].name;
       }
-      // 1e-13: direction() rebuilds sin θ as √(1 − cos²θ), which loses digits near the pole.
-      EXPECT_NEAR(direction(find("side"))[1], std::sin(w), 1e-13);
-      EXPECT_EQ(find("normal").light_cos, 1.0);
-      EXPECT_EQ(find("horizon").light_cos, 0.0);
-      EXPECT_NEAR(find("horizon").light_azimuth, std::numbers::pi, 1e-15);
-      EXPECT_NEAR(find("below").light_cos, -0.5, 1e-15);
-      EXPECT_NEAR(find("below").light_azimuth, std::numbers::pi, 1e-15);
+      // Which of the six candidates are kept: each exactly when it is above the horizon and new.
+      const std::vector<std::pair<std::string, double>> expected_angle = {
+          {"mirror", 0}, {"toward-normal", w.in_plane}, {"toward-horizon", w.in_plane}, {"side", w.across}, {"side-3w", 3 * w.across}};
+      for (const auto& [name, a] : expected_angle) {
+        const auto it = std::find_if(ps.begin(), ps.end(), [&](const LightPosition& p) { return p.name == name; });
+        if (it == ps.end()) continue;
+        EXPECT_NEAR(angle(direction(*it), mirror), a, 1e-7) << name;
+      }
+      EXPECT_EQ(ps.front().name, "mirror");
+      const bool has = [&] {
+        return std::any_of(ps.begin(), ps.end(), [](const LightPosition& p) { return p.name == "toward-horizon"; });
+      }();
+      // toward-horizon is kept iff its elevation asin(v) − w stays above the horizon (v < 1).
+      if (v < 1) EXPECT_EQ(has, std::asin(v) - w.in_plane > 1e-12) << "toward-horizon";
+      if (v == 1) {
+        // mirror (= normal), one width (toward-normal = toward-horizon = side), three widths if above the horizon
+        EXPECT_EQ(ps.size(), std::cos(3 * w.across) > 1e-12 ? 3u : 2u);
+      } else {
+        EXPECT_TRUE(std::any_of(ps.begin(), ps.end(), [](const LightPosition& p) { return p.name == "normal"; }));
+      }
     }
 }
 
@@ -118,7 +124,8 @@ TEST(SpecularSweep, RowsEnumerateTheRegistryAndRoundTrip) {
   // The first point of the last α: α = 1, λ = 1, view_cos = 1 (k runs over α, λ, view_cos).
   const std::size_t k = (g.roughness.size() - 1) * g.light_sharpness.size() * g.view_cos.size();
   const auto rows = d.compute(k);
-  ASSERT_EQ(rows.size(), 8 * methods.size());
+  ASSERT_EQ(rows.size(), specular_light_positions(g.roughness.back(), g.light_sharpness.front(), g.view_cos.front()).size() *
+                            methods.size());
   auto col = [&](const std::string& name) {
     const auto it = std::find(d.columns.begin(), d.columns.end(), name);
     EXPECT_NE(it, d.columns.end()) << name;
@@ -231,6 +238,18 @@ TEST(SpecularSummary, HandCheckedStatistics) {
   EXPECT_EQ(near_b1.points, 1u);
   EXPECT_EQ(near_b1.missing, 1u);
   EXPECT_TRUE(std::isnan(near_b1.smape));
+  // Brightness-weighted error, per point Σ|v − r|/Σr over the rows with a value, then the mean.
+  EXPECT_NEAR(find_row(rows, "roughness", "0.01", "a").weighted_error, (0.2 + 1e-9) / (2 + 1e-9), 1e-15);
+  EXPECT_NEAR(find_row(rows, "roughness", "0.01", "b").weighted_error, (1 + (0.5 - 1e-9)) / (2 + 1e-9), 1e-15);
+  EXPECT_NEAR(find_row(rows, "roughness", "1", "a").weighted_error, 1.0 / 5.0, 1e-15);
+  EXPECT_NEAR(find_row(rows, "roughness", "1", "b").weighted_error, 0.5, 1e-15);  // the mirror row has no value
+  EXPECT_EQ(find_row(rows, "all", "all", "a").weighted_points, 2u);
+  EXPECT_NEAR(find_row(rows, "all", "all", "a").weighted_error, ((0.2 + 1e-9) / (2 + 1e-9) + 0.2) / 2, 1e-15);
+  // Bright SMAPE: only rows with r ≥ 10 % of the point's peak (α 0.01: the mirror row alone).
+  EXPECT_EQ(find_row(rows, "roughness", "0.01", "a").bright_rows, 1u);
+  EXPECT_NEAR(find_row(rows, "roughness", "0.01", "a").bright_smape, 0.4 / 4.2, 1e-15);
+  EXPECT_NEAR(find_row(rows, "roughness", "1", "a").bright_smape, (2.0 / 7.0 + 0) / 2, 1e-15);
+  EXPECT_NEAR(find_row(rows, "roughness", "1", "b").bright_smape, 0.4, 1e-15);
   EXPECT_TRUE(specular_position_near_lobe("side"));
   EXPECT_FALSE(specular_position_near_lobe("side-3w"));
   // Groups in order of appearance, methods in order of appearance.
@@ -246,7 +265,8 @@ TEST(SpecularSummary, HandCheckedStatistics) {
   const std::string csv = specular_summary_csv(rows);
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "by,group,method,points,relative_points,near_zero,missing,rmse_relative,max_relative,smape,max_scaled,rmse_scaled,"
-            "worst_roughness,worst_light_sharpness,worst_view_cos,worst_position");
+            "worst_roughness,worst_light_sharpness,worst_view_cos,worst_position,weighted_error,weighted_points,bright_smape,"
+            "bright_rows");
 }
 
 TEST(SpecularSummary, BadInputNamesTheLineAndColumn) {

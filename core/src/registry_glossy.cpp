@@ -143,9 +143,12 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
         "reference", "adaptive 2D Gauss–Kronrod about the light axis and the mirror/dominant-visible-normal directions (glossy_reference.hpp)",
         "double quadrature, ≤ 1e-6 relative (checked against a finer rule and Monte Carlo); float rounds and mp50 converts the double result (an mp50 2D quadrature is too slow)",
         [](std::span<const double> a) { return specular_reference_value(specular_input(a)); }));
-    q.methods.push_back(method("sg-warp", "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; seeds `two-vsgls` §1.1, `lobe-aware-filtering` App. B) × SG light, exact product integral (Tsai & Shih 2006), M at the product axis",
+    q.methods.push_back(method("sg-warp", "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; seeds `two-vsgls` §1.1, `lobe-aware-filtering` App. B) × SG light, exact product integral (Tsai & Shih 2006), M at the lobe axis ξ_s (Wang et al. 2009)",
                                "isotropic lobe about the mirror direction: wrong shape and position at grazing view and for rough surfaces; energy not normalized", nullptr,
                                [](auto a) { return specular_sg_warp(specular_input(a)); }));
+    q.methods.push_back(method("sg-warp-product-axis", "as sg-warp with M at the product lobe's axis ξ_m = (λξ + λ_sξ_s)/‖…‖ instead of ξ_s (a variant, not Wang et al. 2009)",
+                               "as sg-warp; a false 0 where ξ_m is at or below the horizon though the light still reaches the surface", nullptr,
+                               [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::exact, false, FactorAt::product_axis); }));
     q.methods.push_back(method("sg-warp-iwasaki", "as sg-warp with the Iwasaki et al. 2012 product integral (seed `lobe-aware-filtering` Eq. C.1)",
                                "as sg-warp; the Iwasaki product overestimates broad lobes (2π/(λ1+λ2) > 4π at small λ)", nullptr,
                                [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::iwasaki); }));

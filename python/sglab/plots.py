@@ -1,7 +1,7 @@
 """Figures straight from ``sglab`` results, without the CSV round trip of ``plots/``.
 
 The drawing code is that of the scripts in ``plots/`` (``render_images.py``,
-``near_wall_smape.py``), which ``sglab reproduce`` runs on the CSV dumps of ``sglab render``;
+``near_wall_vsgl_vs_vpl_sum.py``), which ``sglab reproduce`` runs on the CSV dumps of ``sglab render``;
 here it takes the arrays of ``sglab.render`` and ``sglab.eval`` directly. The CSV and JSON outputs
 of the ``sglab`` command stay as they are, for other languages.
 
@@ -15,7 +15,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ._plots import near_wall_smape as _near_wall_smape
+from ._plots import near_wall_vsgl_vs_vpl_sum as _near_wall_vsgl_vs_vpl_sum
 from ._plots import render_images as _render_images
 
 __all__ = ["render_figure", "smape_map", "smape_figure", "method_error", "save"]
@@ -32,15 +32,15 @@ def render_figure(result: Mapping[str, Any], title: str | None = None):
 
 def smape_map(result: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray]:
     """Per-pixel SMAPE of the VSGL indirect light against the exact VPL sum (channel mean), and
-    the mask of pixels where either is non-zero (``plots/near_wall_smape.py``)."""
-    return _near_wall_smape.smape_map(result)
+    the mask of pixels where either is non-zero (``plots/near_wall_vsgl_vs_vpl_sum.py``)."""
+    return _near_wall_vsgl_vs_vpl_sum.smape_map(result)
 
 
 def smape_figure(results: Mapping[str, Mapping[str, Any]] | Sequence[tuple[str, Mapping[str, Any]]]):
-    """The near-wall figure of ``plots/near_wall_smape.py``: one SMAPE map per label (a diffuse
+    """The near-wall figure of ``plots/near_wall_vsgl_vs_vpl_sum.py``: one SMAPE map per label (a diffuse
     method), from ``sglab.render`` results, e.g. ``{m: sglab.render(scene, diffuse=m) for m in …}``."""
     items = list(results.items()) if isinstance(results, Mapping) else list(results)
-    return _near_wall_smape.figure(items)
+    return _near_wall_vsgl_vs_vpl_sum.figure(items)
 
 
 def method_error(quantity: str, methods: Sequence[str], *, relative_to: float | np.ndarray | None = None,

@@ -50,15 +50,22 @@ Vec3<T> product_axis(const Vec3<T>& light_axis, const T& light_sharpness, const 
 
 enum class SgProductForm { exact, iwasaki };
 
+// Where the factor M = F·G2/(4 cos θo) (the BRDF·cosine without its NDF) is evaluated and pulled
+// out of the integral.
+enum class FactorAt {
+  lobe_axis,     // the warped lobe's axis ξ_s (the mirror direction): Wang et al. 2009, as published
+  product_axis,  // the product lobe's axis ξ_m = (λξ + λ_sξ_s)/‖…‖ (a variant; 0 when ξ_m is below the horizon)
+};
+
 // `sg-warp` (Wang et al. 2009; seeds `two-vsgls` §1.1 and §3.2, `lobe-aware-filtering` App. B):
 // D(h) ≈ G(h; n, λ_h)/(πα²), warped to G(ω; ξ_s, λ_s/…) about the mirror direction, M evaluated
-// at the product axis ξ_m and pulled out:
-//   L ≈ M(ξ_m)/(πα²) · ∫ G(ω; ξ_s, λ_s) G(ω; ξ, λ) dω,
+// at the lobe axis ξ_s (as Wang et al. 2009; `factor_at` = product_axis: at ξ_m) and pulled out:
+//   L ≈ M(ξ_s)/(πα²) · ∫ G(ω; ξ_s, λ_s) G(ω; ξ, λ) dω,
 // with the exact (Tsai & Shih 2006) or Iwasaki 2012 product integral. `lambda_h` selects the NDF
 // sharpness (2/α², or 2/α² − 2 of Tokuyoshi & Harada 2019).
 template <class T>
 T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductForm::exact,
-                   bool tokuyoshi_harada_sharpness = false) {
+                   bool tokuyoshi_harada_sharpness = false, FactorAt factor_at = FactorAt::lobe_axis) {
   const T alpha = detail::floored_roughness(in.roughness);
   const Vec3<T> wo = specular_view(in.view_cos);
   const Vec3<T> xi = specular_light_axis(in.light_cos, in.light_azimuth);
@@ -68,7 +75,8 @@ T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductFor
   const T integral = form == SgProductForm::exact
                          ? product_integral_exact(lobe.sharpness, in.light_sharpness, cosine)
                          : product_integral_iwasaki(lobe.sharpness, in.light_sharpness, cosine);
-  const Vec3<T> xm = detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
+  const Vec3<T> xm = factor_at == FactorAt::lobe_axis ? lobe.axis
+                                                      : detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
   return lobe.amplitude * brdf_factor_m(alpha, in.f0, wo, xm) * integral;
 }
 

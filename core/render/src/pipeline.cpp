@@ -13,6 +13,7 @@
 #include "sglab/render/reference.hpp"
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/shadow_map.hpp"
+#include "sglab/render/visibility.hpp"
 
 namespace sglab::render {
 namespace {
@@ -72,6 +73,8 @@ ImageError image_error(const std::vector<Rgb>& value, const std::vector<Rgb>& re
 
 std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& o, const std::vector<VsglOptions>& variants) {
   if (o.rsm_resolution < 1) throw std::invalid_argument("rsm resolution " + std::to_string(o.rsm_resolution) + " is below 1");
+  if (o.visibility && (o.visibility_map_resolution < 1 || o.visibility_map_resolution > 4096))
+    throw std::invalid_argument("visibility map resolution " + std::to_string(o.visibility_map_resolution) + " is outside [1, 4096]");
   if (o.shadow_map_resolution < 1)
     throw std::invalid_argument("shadow map resolution " + std::to_string(o.shadow_map_resolution) + " is below 1");
   for (const auto& v : variants)
@@ -115,7 +118,9 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
 
   t0 = Clock::now();
   for_each_pixel(g, "reference (VPL sum)", o,
-                 [&](std::size_t k) { r.indirect_reference[k] = reference_radiance(g.points[k], vpls); });
+                 [&](std::size_t k) {
+                   r.indirect_reference[k] = reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr);
+                 });
   r.seconds.reference = seconds_since(t0);
 
   std::vector<RenderResult> results;
@@ -132,7 +137,16 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
     v.specular_shading = shading.specular;
     v.asg_evaluations = shading.specular ? v.glossy_receivers * v.vsgls.stats.specular_vsgls : 0;
     t0 = Clock::now();
-    for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) { v.indirect[k] = shade_vsgls(g.points[k], v.vsgls, shading); });
+    if (o.visibility) {
+      const std::vector<CubeShadowMap> maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
+      for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) {
+        std::vector<char> visible(maps.size());
+        for (std::size_t c = 0; c < maps.size(); ++c) visible[c] = maps[c].lit(g.points[k].position, g.points[k].normal) ? 1 : 0;
+        v.indirect[k] = shade_vsgls(g.points[k], v.vsgls, shading, visible);
+      });
+    } else {
+      for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) { v.indirect[k] = shade_vsgls(g.points[k], v.vsgls, shading); });
+    }
     v.seconds.shading = seconds_since(t0);
     for (std::size_t k = 0; k < n; ++k) v.error[k] = v.indirect[k] - v.indirect_reference[k];
     v.error_metrics = image_error(v.indirect, v.indirect_reference, v.hit);

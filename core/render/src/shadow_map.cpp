@@ -53,9 +53,12 @@ bool ShadowMap::lit(const Vec3& p, const Vec3& n) const {
   return t <= d + bias;
 }
 
-ShadowMap render_shadow_map(const Scene& scene, int resolution) {
+ShadowMap render_shadow_map(const Scene& scene, int resolution) { return render_shadow_map(scene, LightView(scene.light, resolution)); }
+
+ShadowMap render_shadow_map(const Scene& scene, const LightView& view) {
+  const int resolution = view.resolution;
   ShadowMap m;
-  m.view = LightView(scene.light, resolution);
+  m.view = view;
   m.depth.assign(std::size_t(resolution) * std::size_t(resolution), std::numeric_limits<double>::infinity());
   const double s = m.view.texel_size();
   tbb::parallel_for(tbb::blocked_range<int>(0, resolution), [&](const tbb::blocked_range<int>& rows) {

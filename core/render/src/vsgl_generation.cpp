@@ -1,4 +1,4 @@
-// VSGL generation: two / fis / kmeans (see vsgl_generation.hpp for the method and its choices).
+// VSGL generation: two / two-shared / fis / kmeans (see vsgl_generation.hpp for the method and its choices).
 #include "sglab/render/vsgl_generation.hpp"
 
 #include <algorithm>
@@ -19,6 +19,7 @@ namespace sglab::render {
 std::string_view vsgl_mode_name(VsglMode m) {
   switch (m) {
     case VsglMode::two: return "two";
+    case VsglMode::two_shared: return "two-shared";
     case VsglMode::fis: return "fis";
     case VsglMode::kmeans: return "kmeans";
   }
@@ -27,6 +28,7 @@ std::string_view vsgl_mode_name(VsglMode m) {
 
 std::optional<VsglMode> parse_vsgl_mode(std::string_view name) {
   if (name == "two") return VsglMode::two;
+  if (name == "two-shared") return VsglMode::two_shared;
   if (name == "fis") return VsglMode::fis;
   if (name == "kmeans") return VsglMode::kmeans;
   return std::nullopt;
@@ -36,7 +38,7 @@ std::optional<std::string> vsgl_options_error(const VsglOptions& o) {
   auto bad = [](const char* field, double value, const char* why) {
     return std::string("VSGL option ") + field + " = " + std::to_string(value) + ": " + why;
   };
-  if (o.mode != VsglMode::two && o.count < 1) return bad("count", o.count, "must be at least 1");
+  if (!vsgl_mode_is_whole_rsm(o.mode) && o.count < 1) return bad("count", o.count, "must be at least 1");
   if (!(std::isfinite(o.lambda_d) && o.lambda_d > 0)) return bad("lambda_d", o.lambda_d, "must be a finite positive sharpness");
   if (!(std::isfinite(o.fis_k) && o.fis_k > 0)) return bad("fis_k", o.fis_k, "must be finite and positive");
   if (o.fis_bisection_iterations < 0 || o.fis_bisection_iterations > 60)
@@ -47,12 +49,14 @@ std::optional<std::string> vsgl_options_error(const VsglOptions& o) {
   return std::nullopt;
 }
 
-VsglSums<double> vpl_sums(const Vpl& vpl, const Vec3& origin, double diffuse_mean_length, SharpnessEstimator estimator) {
+VsglSums<double> vpl_sums(const Vpl& vpl, const Vec3& origin, double diffuse_mean_length, SharpnessEstimator estimator,
+                          PositionWeight position) {
   VsglSums<double> s;
   if (!vpl.valid) return s;
-  const Rgb pd = vpl.flux * vpl.diffuse_reflectance;
-  const Rgb ps = vpl.glossy() ? Rgb(vpl.flux * vpl.specular_reflectance) : Rgb(Rgb::Zero());
-  // Position weight u_i = Y(Φ_i(R_d + R_s)) (seed `modified-fis` §3.2), also the importance.
+  const Rgb pd = position == PositionWeight::specular ? Rgb(Rgb::Zero()) : Rgb(vpl.flux * vpl.diffuse_reflectance);
+  const Rgb ps = vpl.glossy() && position != PositionWeight::diffuse ? Rgb(vpl.flux * vpl.specular_reflectance) : Rgb(Rgb::Zero());
+  // Position weight u_i = Y(Φ_i(R_d + R_s)) (seed `modified-fis` §3.2), also the importance; with
+  // one component only, Y(Φ_i R_d) or Y(Φ_i R_s) (seed `two-vsgls` §2.2).
   const double u = luminance<double>(Rgb(pd + ps));
   if (!(u > 0)) return s;
   add_position(s.position, u, vpl.position, origin);
@@ -78,6 +82,7 @@ VsglCluster vsgl_cluster(const VsglSums<double>& sums, const Vec3& origin, const
   const VsglPosition<double> p = vsgl_position(sums.position, origin, options.variance);
   c.mean = p.mean;
   c.variance = p.variance;
+  c.position_weight = sums.position.weight;
   c.log_two_pi_variance = p.variance > 0 ? std::log(two_pi<double>() * p.variance)
                                          : -std::numeric_limits<double>::infinity();
   c.diffuse_power = sums.diffuse.power;
@@ -132,12 +137,12 @@ Prepared prepare(const ReflectiveShadowMap& rsm, const VsglOptions& o) {
 // Σ of vpl_sums relative to `origin` over texels 0 … count−1, or over (*indices)[0 … count−1]:
 // a deterministic parallel sum (the same bits on every run and thread count).
 Sums sum_texels(const ReflectiveShadowMap& rsm, const std::vector<std::size_t>* indices, std::size_t count,
-                const Vec3& origin, const Prepared& p, SharpnessEstimator e) {
+                const Vec3& origin, const Prepared& p, SharpnessEstimator e, PositionWeight w = PositionWeight::total) {
   auto texel = [&](std::size_t k) -> const Vpl& { return rsm.texels[indices ? (*indices)[k] : k]; };
   return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, count, 1024), Sums{},
       [&](const tbb::blocked_range<std::size_t>& r, Sums acc) {
-        for (std::size_t k = r.begin(); k != r.end(); ++k) acc += vpl_sums(texel(k), origin, p.diffuse_mean_length, e);
+        for (std::size_t k = r.begin(); k != r.end(); ++k) acc += vpl_sums(texel(k), origin, p.diffuse_mean_length, e, w);
         return acc;
       },
       [](Sums a, const Sums& b) { return a += b; });
@@ -322,10 +327,13 @@ std::vector<VsglCluster> build_kmeans(const ReflectiveShadowMap& rsm, const Prep
   }
   const std::size_t k = centre_texels.size();
   std::vector<Vec3> cy(k), cn(k);
+  std::vector<Eigen::Vector2d> ci(k);  // image-space centres (texel coordinates)
+  const bool image = o.kmeans_space == VsglOptions::KmeansSpace::image;
   for (std::size_t j = 0; j < k; ++j) {
     const Vpl& v = rsm.at(centre_texels[j].first, centre_texels[j].second);
     cy[j] = v.position;
     cn[j] = v.normal;
+    ci[j] = Eigen::Vector2d(centre_texels[j].first, centre_texels[j].second);
   }
   // ℓ² = E‖y − ȳ‖² of all VPLs (relative to the weighted mean, so no cancellation).
   const Sums all = sum_texels(rsm, nullptr, rsm.texels.size(), p.origin, p, o.estimator);
@@ -339,10 +347,12 @@ std::vector<VsglCluster> build_kmeans(const ReflectiveShadowMap& rsm, const Prep
       for (std::size_t i = r.begin(); i != r.end(); ++i) {
         if (!(p.importance[i] > 0)) { label[i] = -1; continue; }
         const Vpl& v = rsm.texels[i];
+        const Eigen::Vector2d t(double(i % std::size_t(rsm.resolution)), double(i / std::size_t(rsm.resolution)));
         double best = std::numeric_limits<double>::infinity();
         int arg = 0;
         for (std::size_t j = 0; j < k; ++j) {
-          const double d = (v.position - cy[j]).squaredNorm() + normal_coef * (v.normal - cn[j]).squaredNorm();
+          const double d = image ? (t - ci[j]).squaredNorm()
+                                 : (v.position - cy[j]).squaredNorm() + normal_coef * (v.normal - cn[j]).squaredNorm();
           if (d < best) { best = d; arg = int(j); }
         }
         label[i] = arg;
@@ -354,6 +364,7 @@ std::vector<VsglCluster> build_kmeans(const ReflectiveShadowMap& rsm, const Prep
     // Lloyd update: importance-weighted mean position (relative to the old centre) and mean normal.
     std::vector<double> w(k, 0.0);
     std::vector<Vec3> dy(k, Vec3::Zero()), sn(k, Vec3::Zero());
+    std::vector<Eigen::Vector2d> st(k, Eigen::Vector2d::Zero());
     for (std::size_t i = 0; i < n; ++i) {
       if (label[i] < 0) continue;
       const std::size_t j = std::size_t(label[i]);
@@ -361,10 +372,12 @@ std::vector<VsglCluster> build_kmeans(const ReflectiveShadowMap& rsm, const Prep
       w[j] += u;
       dy[j] += u * (rsm.texels[i].position - cy[j]);
       sn[j] += u * rsm.texels[i].normal;
+      st[j] += u * Eigen::Vector2d(double(i % std::size_t(rsm.resolution)), double(i / std::size_t(rsm.resolution)));
     }
     for (std::size_t j = 0; j < k; ++j) {
       if (!(w[j] > 0)) continue;  // an empty cluster keeps its centre
       cy[j] += dy[j] / w[j];
+      ci[j] = st[j] / w[j];
       if (sn[j].norm() > 0) cn[j] = sn[j].normalized();
     }
     assign();
@@ -402,7 +415,7 @@ VsglSet build_vsgls(const ReflectiveShadowMap& rsm, const VsglOptions& options) 
   set.lambda_d = options.lambda_d;
   VsglStats& st = set.stats;
   st.mode = std::string(vsgl_mode_name(options.mode));
-  st.requested = options.mode == VsglMode::two ? 1 : options.count;
+  st.requested = vsgl_mode_is_whole_rsm(options.mode) ? 1 : options.count;
   st.seed = options.seed;
   st.lambda_d = options.lambda_d;
 
@@ -412,6 +425,17 @@ VsglSet build_vsgls(const ReflectiveShadowMap& rsm, const VsglOptions& options) 
   if (p.total > 0) {
     switch (options.mode) {
       case VsglMode::two: {
+        // One cluster per component, each with its own positional Gaussian.
+        for (const PositionWeight w : {PositionWeight::diffuse, PositionWeight::specular}) {
+          const Sums s = sum_texels(rsm, nullptr, rsm.texels.size(), p.origin, p, options.estimator, w);
+          if (!(s.position.weight > 0)) continue;  // no diffuse (or no glossy) power at all
+          VsglCluster c = vsgl_cluster(s, p.origin, options);
+          c.texels = p.valid;
+          set.clusters.push_back(c);
+        }
+        break;
+      }
+      case VsglMode::two_shared: {
         const Sums s = sum_texels(rsm, nullptr, rsm.texels.size(), p.origin, p, options.estimator);
         VsglCluster c = vsgl_cluster(s, p.origin, options);
         c.texels = p.valid;

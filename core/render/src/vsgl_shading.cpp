@@ -45,7 +45,8 @@ const Quantity& clamped_cosine_quantity() {
 
 // The shading loop, instantiated once per diffuse method (no per-evaluation dispatch).
 template <class D>
-VsglShading shade(const ShadingPoint& p, const VsglSet& set, const ShadingOptions& o, const D& clamped_cosine) {
+VsglShading shade(const ShadingPoint& p, const VsglSet& set, const ShadingOptions& o, std::span<const char> visible,
+                  const D& clamped_cosine) {
   VsglShading out;
   const bool diffuse_receiver = (p.diffuse_reflectance > 0).any();
   const bool glossy_receiver = o.specular && p.glossy();
@@ -61,7 +62,9 @@ VsglShading shade(const ShadingPoint& p, const VsglSet& set, const ShadingOption
       out.specular += lobe.amplitude * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
     }
   };
-  for (const VsglCluster& c : set.clusters) {
+  for (std::size_t k = 0; k < set.clusters.size(); ++k) {
+    if (!visible.empty() && !visible[k]) continue;
+    const VsglCluster& c = set.clusters[k];
     const VsglPositionalSg<double> pos =
         vsgl_positional_sg<double>(c.mean, c.variance, p.position, c.log_two_pi_variance);
     if (pos.empty) continue;
@@ -105,37 +108,44 @@ std::string diffuse_method_name(const ShadingOptions& o) {
   return "?";
 }
 
-VsglShading shade_vsgls_parts(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& o) {
+VsglShading shade_vsgls_parts(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& o,
+                              std::span<const char> visible) {
   const double lambda_d = set.lambda_d;
   switch (o.diffuse) {
     case DiffuseMethod::reference:
-      return shade(point, set, o, [](double l, double c) { return clamped_cosine_reference(l, c); });
+      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_reference(l, c); });
     case DiffuseMethod::punctual:
-      return shade(point, set, o, [](double l, double c) { return clamped_cosine_punctual(l, c); });
+      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_punctual(l, c); });
     case DiffuseMethod::punctual_approx:
-      return shade(point, set, o, [](double l, double c) {
+      return shade(point, set, o, visible, [](double l, double c) {
         return clamped_cosine_punctual_approx(std::max(l, kMinDivisorSharpness), c);
       });
     case DiffuseMethod::sg_cosine:
-      return shade(point, set, o, [lambda_d](double l, double c) { return clamped_cosine_sg_cosine(l, c, lambda_d); });
+    {
+      // A(λ_d) ≈ π: the exact form's π/A(λ_d) factor becomes 1.
+      const double a_pi_factor = o.sg_cosine_a_is_pi ? sg_integral(lambda_d) / pi<double>() : 1.0;
+      return shade(point, set, o, visible, [lambda_d, a_pi_factor](double l, double c) {
+        return a_pi_factor * clamped_cosine_sg_cosine(l, c, lambda_d);
+      });
+    }
     case DiffuseMethod::cosine_lobe_sg:
-      return shade(point, set, o, [](double l, double c) { return clamped_cosine_cosine_lobe_sg(l, c); });
+      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_cosine_lobe_sg(l, c); });
     case DiffuseMethod::hill_fitted:
-      return shade(point, set, o, [](double l, double c) {
+      return shade(point, set, o, visible, [](double l, double c) {
         return clamped_cosine_hill_fitted(std::max(l, kMinDivisorSharpness), c);
       });
     case DiffuseMethod::meder:
-      return shade(point, set, o, [](double l, double c) { return clamped_cosine_meder(l, c); });
+      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_meder(l, c); });
     case DiffuseMethod::tokuyoshi2022:
-      return shade(point, set, o, [](double l, double c) { return clamped_cosine_tokuyoshi2022(l, c); });
+      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_tokuyoshi2022(l, c); });
     case DiffuseMethod::tokuyoshi2024:
-      return shade(point, set, o, [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); });
+      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); });
     case DiffuseMethod::sglab:
-      return shade(point, set, o, [](double l, double c) { return clamped_cosine_sglab(l, c); });
+      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_sglab(l, c); });
     case DiffuseMethod::registry: {
       if (!o.registry_method) throw std::invalid_argument("ShadingOptions: diffuse == registry without a method");
       const Method* m = o.registry_method;
-      return shade(point, set, o, [m](double l, double c) {
+      return shade(point, set, o, visible, [m](double l, double c) {
         const std::array<double, 2> a{std::max(l, kMinDivisorSharpness), c};
         return m->eval_double(a);
       });

@@ -26,6 +26,10 @@ struct RenderOptions {
   int shadow_map_resolution = 1024;
   VsglOptions vsgl;
   ShadingOptions shading;
+  // Tokuyoshi 2016 supplement §4.1: VSGL visibility V(y_p, μ_v) from a cube shadow map at each μ_v
+  // (this resolution per face) and, on the reference's side, VPL visibility by ray casting.
+  bool visibility = false;
+  int visibility_map_resolution = 256;
   // Called as stages progress (stage name, fraction done in [0, 1]), from worker threads too; at
   // most ~20 calls per stage. May be empty.
   std::function<void(std::string_view stage, double fraction)> progress;

@@ -32,7 +32,10 @@ struct VplList {
 };
 VplList prepare_vpls(const ReflectiveShadowMap& rsm);
 
-// Σ_i L_i at one shading point (radiance, W/(m² sr) per channel).
-Rgb reference_radiance(const ShadingPoint& point, const VplList& vpls);
+// Σ_i L_i at one shading point (radiance, W/(m² sr) per channel). With `visibility_scene`, each
+// term is multiplied by V(y_p, x_i) by ray casting against that scene (visibility.hpp), the
+// reference of VSGLs with visibility (Tokuyoshi 2016 supplement §4.1).
+struct Scene;
+Rgb reference_radiance(const ShadingPoint& point, const VplList& vpls, const Scene* visibility_scene = nullptr);
 
 }  // namespace sglab::render

@@ -52,6 +52,8 @@ struct ShadowMap {
 };
 // Parallel over rows (TBB).
 ShadowMap render_shadow_map(const Scene& scene, int resolution);
+// The same from any view (visibility.hpp's cube faces).
+ShadowMap render_shadow_map(const Scene& scene, const LightView& view);
 
 // Reflected radiance of the spotlight at a shading point: I(ω)·V·f(ωo, ωi)⟨n·ωi⟩/d², with the
 // visibility V from the shadow map and the true BRDF (material_brdf.hpp).

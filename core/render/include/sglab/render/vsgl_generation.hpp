@@ -1,8 +1,11 @@
 // VSGL generation from a reflective shadow map (issue 5, item 3; SPEC.md §7; seeds `two-vsgls` §2,
 // `modified-fis` §3.3 and §5). Three modes:
 //
-//  * two     one cluster = every valid RSM texel: one diffuse and (if any texel is glossy) one
-//            specular VSGL (the poster).
+//  * two     every valid RSM texel, one diffuse and (if any texel is glossy) one specular VSGL, EACH
+//            WITH ITS OWN positional Gaussian: the diffuse VSGL's μ_v, σ_v² weighted by Y(Φ_i R_d),
+//            the specular one's by Y(Φ_i R_s) (Tokuyoshi 2015, two-VSGL poster supplement §2.2).
+//  * two-shared  the same two lobes sharing one positional Gaussian weighted by Y(Φ_i(R_d + R_s))
+//            (the 2016 form, modified-FIS supplement §3.2, applied to one cluster).
 //  * fis     N clusters by modified filtered importance sampling: the per-texel sums are mip-mapped
 //            (2×2 block sums; invalid texels contribute nothing); N texels x_i are drawn with
 //            probability ∝ importance (Y(Φ(R_d + R_s)), the position weight), stratified: u_i =
@@ -15,9 +18,12 @@
 //            (nearest texel; the GPU would also filter bilinearly), between levels linear — so at
 //            integer levels the clusters are whole mip blocks. The VSGL is the FIS estimate
 //            f̄(x_i, l_i)/(N p̄(x_i, l_i)) of every sum: the interpolated block sums times
-//            W/(N ŵ), W the total importance and ŵ the interpolated block importance; it is
-//            unbiased for every sum, and exact for the total power when the power is
-//            proportional to the importance (one chromaticity, no specular).
+//            W/(N ŵ), W the total importance and ŵ the interpolated block importance. The total
+//            importance is exact by construction (every cluster carries W/N). Every other sum is
+//            BIASED: the level l_i depends on the sampled texel and the levels are interpolated,
+//            so E[f̄(x, l(x))/p̄(x, l(x))] ≠ Σf unless f ∝ importance; `sglab vsgl-fis-bias`
+//            measures the bias of the power and of the positional moments over seeds
+//            (paper_tables/vsgl_fis_bias.md).
 //            Identical clusters (same blocks and level) are merged, their weights added.
 //  * kmeans  N clusters by k-means over world position and normal (seed `modified-fis` §5):
 //            centres = N texels drawn as for fis (duplicates dropped), every valid texel assigned
@@ -26,10 +32,13 @@
 //            VPLs from their weighted mean (the RSM's own length scale), β = normal_weight: two
 //            texels with opposite normals are as far apart as two points βℓ apart. Brute-force
 //            nearest centre (the paper uses a kd-tree; the result is the same).
+//            kmeans_space = image clusters in 2D image space instead (the paper's other variant):
+//            distance² = the squared distance between RSM texel coordinates.
 //
 // Every cluster has a diffuse VSGL (if its diffuse power is non-zero) and a specular VSGL only if a
 // VPL in it is glossy (non-zero specular power); the two share the cluster's positional Gaussian
-// (`modified-fis` §3.2). An RSM without glossy texels builds no specular VSGL at all.
+// (`modified-fis` §3.2) in every mode but `two`, which builds two clusters (diffuse only, specular
+// only). An RSM without glossy texels builds no specular VSGL at all.
 //
 // Sums are accumulated relative to a reference point (sglab/vsgl.hpp): the importance-weighted
 // mean of all VPLs for `two` and for the fis pyramid (whose levels must add), the cluster's centre
@@ -50,7 +59,9 @@
 
 namespace sglab::render {
 
-enum class VsglMode { two, fis, kmeans };
+enum class VsglMode { two, two_shared, fis, kmeans };
+// The modes that build a single set of sums over the whole RSM (no --count).
+inline bool vsgl_mode_is_whole_rsm(VsglMode m) { return m == VsglMode::two || m == VsglMode::two_shared; }
 
 std::string_view vsgl_mode_name(VsglMode m);
 std::optional<VsglMode> parse_vsgl_mode(std::string_view name);
@@ -63,10 +74,10 @@ struct VsglOptions {
   VsglMode mode = VsglMode::two;
   int count = 16;                  // N: clusters requested (fis, kmeans; `two` builds one)
   std::uint64_t seed = kDefaultVsglSeed;
-  // λ_d of the diffuse VPL lobe (and of `sg-cosine` at the receiver): the public VSGL code's
-  // 2.292504 (= the L2-optimal 2.2925040546 of `sglab fit lambda-d` to 7.6 digits); the seeds' 2 is
-  // LambertSharpness::seed.
-  double lambda_d = LambertSharpness::vsgl_code;
+  // λ_d of the diffuse VPL lobe (and of `sg-cosine` at the receiver): the seeds' λ_d ≈ 2
+  // (LambertSharpness::seed, Tokuyoshi 2015 and 2016 supplements Eq. 1); the public VSGL code's
+  // 2.292504 (= the L2-optimal 2.2925040546 of `sglab fit lambda-d`) is LambertSharpness::vsgl_code.
+  double lambda_d = LambertSharpness::seed;
   SharpnessEstimator estimator = SharpnessEstimator::toksvig;  // the seeds
   VarianceConvention variance = VarianceConvention::total;     // the seeds
   // fis: K of Algorithm 1 (the mass each cluster should cover is K/N: K = 1 tiles the RSM, K > 1
@@ -77,6 +88,9 @@ struct VsglOptions {
   // kmeans: Lloyd iterations after the initial assignment (0 = the paper) and β of the distance.
   int kmeans_iterations = 0;
   double kmeans_normal_weight = 1.0;
+  // kmeans: cluster in world space (position and normal) or in the RSM's 2D image space
+  // (Tokuyoshi 2016 supplement §5 compares both).
+  enum class KmeansSpace { world, image } kmeans_space = KmeansSpace::world;
 };
 
 // A message naming the first bad field and its value, or nullopt.
@@ -97,6 +111,7 @@ struct VsglCluster {
   VsglLobe diffuse, specular;
   // Provenance, for stats and tests:
   double weight = 1;            // factor applied to the sums (fis: W/(N ŵ) × duplicates; else 1)
+  double position_weight = 0;   // Σ u_i of the (weighted) sums: the cluster's share of the importance
   double mip_level = 0;         // fis: l_i; else 0
   int texel_x = -1, texel_y = -1;  // fis: the sampled texel; kmeans: the initial centre's texel
   std::size_t texels = 0;       // RSM texels in the cluster (fis: of the level-⌊l⌋ block)
@@ -120,7 +135,7 @@ struct VsglStats {
 
 struct VsglSet {
   std::vector<VsglCluster> clusters;
-  double lambda_d = LambertSharpness::vsgl_code;
+  double lambda_d = LambertSharpness::seed;
   VsglStats stats;
 };
 
@@ -129,7 +144,12 @@ VsglSet build_vsgls(const ReflectiveShadowMap& rsm, const VsglOptions& options);
 
 // The sums of one VPL relative to `origin` (zero sums for an invalid texel). Exposed for tests
 // and for callers that cluster VPLs their own way.
-VsglSums<double> vpl_sums(const Vpl& vpl, const Vec3& origin, double diffuse_mean_length, SharpnessEstimator estimator);
+// `position` selects the weight u_i of the position sums and which lobes are summed: total
+// (u = Y(Φ(R_d + R_s)), both lobes), diffuse (u = Y(ΦR_d), the diffuse lobe only), specular
+// (u = Y(ΦR_s), the specular lobe only).
+enum class PositionWeight { total, diffuse, specular };
+VsglSums<double> vpl_sums(const Vpl& vpl, const Vec3& origin, double diffuse_mean_length, SharpnessEstimator estimator,
+                          PositionWeight position = PositionWeight::total);
 
 // The VSGL cluster of a set of sums (relative to `origin`); `weight` is recorded only (the sums
 // are already weighted).

@@ -7,8 +7,8 @@
 //                      clamped-cosine method of the registry (`sglab eval --list`); every method
 //                      returns the same physical quantity D, so the factor R_d/π is common:
 //                        sg-cosine        D = π/A(λ_d) · 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d)
-//                                         (the poster's form, exact A(λ_d) instead of ≈ π; λ_d is
-//                                         the VSGL set's, not the registry entry's fixed 2)
+//                                         (the poster's form, exact A(λ_d) or, with
+//                                         sg_cosine_a_is_pi, its A(λ_d) ≈ π; λ_d is the VSGL set's)
 //                        punctual-approx  D = (2π/λ_in)⟨ξ_in·n⟩ (`modified-fis` §4.2)
 //                        tokuyoshi2024    the erfc interpolation (most accurate published; the default)
 //                        sglab            this project's own refit of it with an even correction
@@ -18,9 +18,10 @@
 //                      M(ω) at the product lobe's axis ξ_m (`two-vsgls` §3.2; specular.hpp `asg`);
 //                      only for glossy receivers (ShadingPoint::glossy()) and only if requested.
 //
-// VSGL VISIBILITY IS IGNORED, as in the papers' VSGL lighting (the poster has no visibility term;
-// `modified-fis` §4.1 uses a shadow map at μ_v, which this renderer does not): every VSGL lights
-// every shading point. The render output should say so (kVsglVisibilityNote).
+// VSGL VISIBILITY is ignored by default, as in the 2015 poster (no visibility term): every VSGL
+// lights every shading point, and the render output says so (kVsglVisibilityNote). `modified-fis`
+// §4.1 (2016) multiplies by V(y_p, μ_v) from a shadow map at μ_v: pass `visible` (the renderer's
+// --visibility, visibility.hpp), with the reference's VPLs ray-cast for visibility too.
 //
 // Stiff cases: the shading point on μ_v (λ_σ = 0), σ_v² = 0 (λ_σ capped at 1e8: a point light to
 // 1e-8), tiny σ² (amplitudes in log form) — see sglab/vsgl.hpp. Methods whose published form
@@ -29,6 +30,7 @@
 // published (hill-fitted, meder) are NOT clamped: their flaw shows in the image.
 #pragma once
 
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,6 +54,10 @@ struct ShadingOptions {
   DiffuseMethod diffuse = DiffuseMethod::tokuyoshi2024;
   const Method* registry_method = nullptr;  // the method, for diffuse == registry
   bool specular = true;                     // ASG specular on glossy receivers
+  // sg-cosine only: take A(λ_d) ≈ π as the two-VSGL poster does (Tokuyoshi 2015 supplement §3.2,
+  // after Iwasaki et al. 2012), i.e. D = 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d); false: the
+  // exact A(λ_d).
+  bool sg_cosine_a_is_pi = false;
 };
 
 // Options for a clamped-cosine method named as in the registry. Throws std::invalid_argument
@@ -67,10 +73,14 @@ struct VsglShading {
   Rgb total() const { return diffuse + specular; }
 };
 
-// Indirect radiance at `point` towards point.view from every VSGL of `set`.
-VsglShading shade_vsgls_parts(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& options);
-inline Rgb shade_vsgls(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& options) {
-  return shade_vsgls_parts(point, set, options).total();
+// Indirect radiance at `point` towards point.view from every VSGL of `set`. `visible`, if not
+// empty, has one entry per cluster: 0 = V(y_p, μ_v) = 0, the cluster is skipped (Tokuyoshi 2016
+// supplement §4.1; visibility.hpp).
+VsglShading shade_vsgls_parts(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& options,
+                              std::span<const char> visible = {});
+inline Rgb shade_vsgls(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& options,
+                       std::span<const char> visible = {}) {
+  return shade_vsgls_parts(point, set, options, visible).total();
 }
 
 }  // namespace sglab::render

@@ -1,0 +1,36 @@
+// Visibility for the VSGL renderer (Tokuyoshi 2016, modified-FIS supplement §4.1): each VSGL's
+// incoming radiance is multiplied by V(y_p, μ_v), the visibility between the shading point and the
+// VSGL's mean position, read from a shadow map rendered at μ_v. A VSGL lights every direction, so
+// the shadow map is a cube (six 90° faces of shadow_map.hpp's LightView, nearest texel and the same
+// slope-scaled bias as the spotlight's map). The reference then needs the same assumption on its
+// side: each VPL's contribution times V(y_p, x_i), by ray casting (vpl_visible).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "sglab/render/scene.hpp"
+#include "sglab/render/shadow_map.hpp"
+#include "sglab/render/vsgl_generation.hpp"
+
+namespace sglab::render {
+
+struct CubeShadowMap {
+  std::array<ShadowMap, 6> faces;  // +x, −x, +y, −y, +z, −z
+  // Whether the map's origin sees point p (surface normal n): the face whose axis is closest to
+  // p − origin, then ShadowMap::lit.
+  bool lit(const Vec3& p, const Vec3& n) const;
+};
+
+// Parallel over rows of each face (TBB).
+CubeShadowMap render_cube_shadow_map(const Scene& scene, const Vec3& origin, int resolution);
+
+// One cube shadow map per cluster of `set`, at its μ_v.
+std::vector<CubeShadowMap> vsgl_shadow_maps(const Scene& scene, const VsglSet& set, int resolution);
+
+// Whether nothing lies between the surface point p (normal n) and the VPL at x (on a surface):
+// a ray from p, nudged off its surface by 1e-7 of the distance along n, towards x, hits nothing
+// before 1 − 1e-6 of the way.
+bool vpl_visible(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& x);
+
+}  // namespace sglab::render

@@ -1,0 +1,380 @@
+// `sglab near-wall`: the figure of Tokuyoshi 2022's poster ("Accurate Diffuse Lighting from
+// Spherical Gaussian Lights", Fig. b–d) measured the way the poster measures it: one sharp SG light
+// close to a wall lights the wall and the floor; at every pixel each clamped-cosine method of the
+// registry is compared with the exact SG × clamped-cosine integral (the registry's `reference`, the
+// very functions `sglab eval clamped-cosine` runs), by SMAPE on the poster's 0–2 scale.
+//
+// The SG light is a virtual spherical Gaussian light (Tokuyoshi 2015, CGF 34(7); the poster's
+// "SG lights"): radiant intensity c G(ω; ξ, λ) (axis ξ, sharpness λ, amplitude c) emitted from an
+// isotropic Gaussian distribution of positions (mean μ, σ² = radius²). At a shading point y the
+// incoming radiance is one SG c_in G(ω; ξ_in, λ_in) (Tokuyoshi 2015 two-VSGL supplement, Eq. 7;
+// sglab/vsgl.hpp), so the diffuse radiance is R_d/π · c_in · D(λ_in, ξ_in·n) and every method
+// differs only in D. The positive factor R_d/π · c_in is common to all methods, so the per-pixel
+// SMAPE of the radiance is the SMAPE of D at (λ_in, ξ_in·n).
+//
+// Scene file (scenes/sg-light-near-wall-poster.json): `camera` and `objects` in the renderer's
+// schema (scenes/README.md) and
+//   "sg_light": {"target": [x, y, z], "normal": [x, y, z], "distance": d, "axis": [x, y, z],
+//                "sharpness": λ, "amplitude": c, "radius": σ}
+// with μ = target + d·normal/‖normal‖: `target` a point on the wall, `normal` the wall's normal
+// towards the light, d the light's distance from the wall. `--set sg_light.distance=0.05` etc.
+// override fields. The renderer's G-buffer needs a spotlight; a
+// placeholder with zero power at μ is given to it and used for nothing else.
+//
+// Outputs: TABLES/near_wall_smape.{md,csv} (method,mean_smape,max_smape,pixels, ranked by mean),
+// --dump the per-pixel CSV (λ_in, c, each method's D) for the maps and the test, and with
+// --sweep-sharpness/--sweep-distance TABLES/near_wall_smape_sweep.{md,csv}.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+
+#include "atomic_file.hpp"
+#include "commands.hpp"
+#include "csv.hpp"
+#include "render_job.hpp"
+#include "sglab/registry.hpp"
+#include "sglab/render/raycast.hpp"
+#include "sglab/vsgl.hpp"
+#include "sweep.hpp"
+
+namespace sglab::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using render::Vec3;
+using nlohmann::json;
+
+constexpr std::string_view kQuantity = "clamped-cosine";
+const std::string kTable = "near_wall_smape";
+
+struct SgLight {
+  Vec3 position = Vec3::Zero();  // μ
+  Vec3 axis = Vec3::UnitZ();     // ξ, unit
+  double sharpness = 0, amplitude = 0, radius = 0, distance = 0;
+};
+
+struct Options {
+  RenderJob job;  // scene path, --set, --width, --height
+  std::string dump;
+  std::string tables_dir = "paper_tables";
+  std::vector<double> sweep_sharpness, sweep_distance;
+  int sweep_width = 96, sweep_height = 72;
+};
+
+Vec3 vec3_field(const json& o, const std::string& key) {
+  const std::string where = "sg_light." + key;
+  if (!o.contains(key)) throw UsageError(where + ": missing");
+  const json& v = o.at(key);
+  if (!v.is_array() || v.size() != 3 || !std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); }))
+    throw UsageError(fmt::format("{}: {} is not a 3-vector of numbers", where, v.dump()));
+  const Vec3 r(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+  if (!r.allFinite()) throw UsageError(fmt::format("{}: {} is not finite", where, v.dump()));
+  return r;
+}
+
+double number_field(const json& o, const std::string& key, double min, bool inclusive, const char* rule) {
+  const std::string where = "sg_light." + key;
+  if (!o.contains(key)) throw UsageError(where + ": missing");
+  const json& v = o.at(key);
+  if (!v.is_number()) throw UsageError(fmt::format("{}: {} is not a number", where, v.dump()));
+  const double x = v.get<double>();
+  if (!std::isfinite(x) || (inclusive ? !(x >= min) : !(x > min))) throw UsageError(fmt::format("{}: {} {}", where, v.dump(), rule));
+  return x;
+}
+
+SgLight parse_sg_light(const json& document, const std::string& source) {
+  if (!document.contains("sg_light") || !document.at("sg_light").is_object())
+    throw UsageError(source + ": sg_light: missing (the near-wall scene needs an SG light, scenes/README.md)");
+  const json& o = document.at("sg_light");
+  for (const auto& [key, value] : o.items())
+    if (key != "target" && key != "normal" && key != "distance" && key != "axis" && key != "sharpness" && key != "amplitude" &&
+        key != "radius")
+      throw UsageError(fmt::format("{}: sg_light.{}: unknown key (allowed: target, normal, distance, axis, sharpness, amplitude, radius)",
+                                   source, key));
+  try {
+    SgLight l;
+    const Vec3 target = vec3_field(o, "target");
+    const Vec3 axis = vec3_field(o, "axis");
+    const Vec3 normal = vec3_field(o, "normal");
+    if (!(normal.norm() > 0)) throw UsageError("sg_light.normal: the zero vector has no direction");
+    if (!(axis.norm() > 0)) throw UsageError("sg_light.axis: the zero vector has no direction");
+    l.axis = axis.normalized();
+    l.distance = number_field(o, "distance", 0, false, "must be positive");
+    l.sharpness = number_field(o, "sharpness", 0, true, "must be a non-negative sharpness");
+    l.amplitude = number_field(o, "amplitude", 0, false, "must be positive");
+    l.radius = number_field(o, "radius", 0, true, "must be non-negative");
+    l.position = target + l.distance * normal.normalized();
+    return l;
+  } catch (const UsageError& e) {
+    throw UsageError(source + ": " + e.what());
+  }
+}
+
+// The renderer's scene (camera + objects) with a zero-power placeholder spotlight at μ.
+render::Scene geometry(json document, const SgLight& light, const RenderJob& job) {
+  document.erase("sg_light");
+  document["light"] = {{"position", {light.position.x(), light.position.y(), light.position.z()}},
+                       {"direction", {light.axis.x(), light.axis.y(), light.axis.z()}},
+                       {"cone_angle", 45},
+                       {"power", 0}};
+  return scene_from_document(document, job);
+}
+
+// The clamped-cosine methods compared: every method of the registry but the reference.
+struct Compared {
+  const Quantity* quantity = nullptr;
+  const Method* reference = nullptr;
+  std::vector<const Method*> methods;
+};
+
+Compared compared_methods() {
+  Compared c;
+  c.quantity = find_quantity(kQuantity);
+  if (!c.quantity) throw std::logic_error("the registry has no clamped-cosine quantity");
+  c.reference = c.quantity->find(c.quantity->reference_method);
+  if (!c.reference) throw std::logic_error("clamped-cosine has no reference method");
+  for (const auto& m : c.quantity->methods)
+    if (&m != c.reference) c.methods.push_back(&m);
+  return c;
+}
+
+struct Pixel {
+  bool lit = false;
+  int object = -1;
+  double sharpness = 0, cosine = 0;
+  double log_radiance_scale = 0;  // log(R_d/π · c · e^{log_scale}): radiance = e^{this} · D
+  double reference = 0;
+  std::vector<double> value;      // D per compared method (NaN outside its domain)
+};
+
+double smape(double v, double r) {
+  const double s = std::fabs(v) + std::fabs(r);
+  return s > 0 ? 2 * std::fabs(v - r) / s : 0.0;
+}
+
+std::vector<Pixel> render_pixels(const render::Scene& scene, const SgLight& light, const Compared& c) {
+  const render::GBuffer g = render::render_gbuffer(scene);
+  std::vector<Pixel> out(g.points.size());
+  tbb::parallel_for(std::size_t(0), g.points.size(), [&](std::size_t k) {
+    if (!g.hit[k]) return;
+    const render::ShadingPoint& p = g.points[k];
+    Pixel& px = out[k];
+    px.object = g.object[k];
+    const VsglPositionalSg<double> pos = vsgl_positional_sg<double>(light.position, light.radius * light.radius, p.position);
+    if (pos.empty) return;
+    const VsglIncomingSg<double> in = vsgl_incoming_sg<double>(pos, light.axis, light.sharpness);
+    if (!(in.log_scale > -std::numeric_limits<double>::infinity())) return;
+    px.lit = true;
+    px.sharpness = in.sharpness;
+    px.cosine = clamp_cosine(in.axis.dot(p.normal));
+    const double albedo = p.diffuse_reflectance.mean();
+    px.log_radiance_scale = std::log(albedo / pi<double>() * light.amplitude) + in.log_scale;
+    const std::array<double, 2> args{px.sharpness, px.cosine};
+    px.reference = c.reference->eval_double(args);
+    for (const Method* m : c.methods) {
+      const bool ok = !m->domain_error || !m->domain_error(args);
+      px.value.push_back(ok ? m->eval_double(args) : std::numeric_limits<double>::quiet_NaN());
+    }
+  });
+  return out;
+}
+
+struct MethodError {
+  std::string method;
+  double mean = 0, max = 0;
+  std::size_t pixels = 0;
+};
+
+// Mean and max SMAPE per method over the lit pixels where the method is defined, ranked by mean.
+std::vector<MethodError> method_errors(const std::vector<Pixel>& pixels, const Compared& c) {
+  std::vector<MethodError> out;
+  for (std::size_t i = 0; i < c.methods.size(); ++i) {
+    MethodError e{c.methods[i]->name};
+    double sum = 0;
+    for (const Pixel& p : pixels) {
+      if (!p.lit || std::isnan(p.value[i])) continue;
+      const double s = smape(p.value[i], p.reference);
+      sum += s;
+      e.max = std::max(e.max, s);
+      ++e.pixels;
+    }
+    e.mean = e.pixels ? sum / double(e.pixels) : std::numeric_limits<double>::quiet_NaN();
+    out.push_back(e);
+  }
+  std::stable_sort(out.begin(), out.end(), [](const MethodError& a, const MethodError& b) { return a.mean < b.mean; });
+  return out;
+}
+
+std::string command_line(const Options& o) {
+  std::string s = "sglab near-wall --scene " + o.job.scene_path;
+  for (const auto& v : o.job.overrides) s += " --set " + v;
+  if (o.job.width) s += fmt::format(" --width {}", *o.job.width);
+  if (o.job.height) s += fmt::format(" --height {}", *o.job.height);
+  if (!o.sweep_sharpness.empty()) s += fmt::format(" --sweep-sharpness {}", fmt::join(o.sweep_sharpness, ","));
+  if (!o.sweep_distance.empty()) s += fmt::format(" --sweep-distance {}", fmt::join(o.sweep_distance, ","));
+  if (!o.sweep_sharpness.empty() || !o.sweep_distance.empty())
+    s += fmt::format(" --sweep-width {} --sweep-height {}", o.sweep_width, o.sweep_height);
+  return s;
+}
+
+std::string light_text(const SgLight& l) {
+  return fmt::format("axis ({:.4g}, {:.4g}, {:.4g}), sharpness λ = {:g}, amplitude {:g}, radius σ = {:g}, "
+                     "μ = ({:.4g}, {:.4g}, {:.4g}), {:g} from the wall",
+                     l.axis.x(), l.axis.y(), l.axis.z(), l.sharpness, l.amplitude, l.radius, l.position.x(), l.position.y(),
+                     l.position.z(), l.distance);
+}
+
+const char* kWhat =
+    "Per pixel of the wall and the floor, each clamped-cosine method of the registry against `reference`, the exact "
+    "SG × clamped-cosine integral (the functions `sglab eval clamped-cosine` runs), at the pixel's incoming SG "
+    "(λ_in, c = ξ_in·n) of the SG light (a VSGL, Tokuyoshi 2015: intensity c G(ω; ξ, λ) from a Gaussian position "
+    "distribution; incoming SG by Eq. 7 of the two-VSGL supplement). SMAPE = 2|v − r|/(|v| + |r|) on the poster's "
+    "0–2 scale; the common factor R_d/π · c_in cancels, so it is the SMAPE of the radiance. `pixels`: lit pixels where "
+    "the method is defined. Ranked by mean SMAPE.";
+
+void write_table(const Options& o, const SgLight& light, const std::vector<MethodError>& errors, int width, int height) {
+  const std::string command = command_line(o);
+  std::string csv = "# Generated by `" + command + "`; do not edit by hand.\n";
+  append_csv_record(csv, std::vector<std::string>{"method", "mean_smape", "max_smape", "pixels"});
+  for (const auto& e : errors)
+    append_csv_record(csv, std::vector<std::string>{e.method, csv_number(e.mean), csv_number(e.max), std::to_string(e.pixels)});
+  std::string md = fmt::format(
+      "<!-- Generated by `{}`; do not edit by hand. -->\n"
+      "# Near-wall SG light: each diffuse method against the exact integral (Tokuyoshi 2022, poster Fig. b–d)\n\n"
+      "Scene `{}`, {}×{} pixels; SG light: {}.\n\n{}\n\n"
+      "| rank | method | mean SMAPE | max SMAPE | pixels |\n|---|---|---|---|---|\n",
+      command, o.job.scene_path, width, height, light_text(light), kWhat);
+  for (std::size_t i = 0; i < errors.size(); ++i)
+    md += fmt::format("| {} | `{}` | {:.4g} | {:.4g} | {} |\n", i + 1, errors[i].method, errors[i].mean, errors[i].max, errors[i].pixels);
+  std::vector<std::string> order;
+  for (const auto& e : errors) order.push_back(fmt::format("`{}` ({:.3g})", e.method, e.mean));
+  md += fmt::format("\nRanking by mean SMAPE, lowest first: {}.\n", fmt::join(order, " < "));
+  write_file_atomically(fs::path(o.tables_dir) / (kTable + ".csv"), csv);
+  write_file_atomically(fs::path(o.tables_dir) / (kTable + ".md"), md);
+  std::fputs(md.c_str(), stdout);
+}
+
+// No comment line: the dump is itself a valid input of `sglab eval clamped-cosine` (columns
+// sharpness, cosine), which is how tests/near_wall_test.cpp checks every pixel.
+void write_dump(const std::string& path, const std::vector<Pixel>& pixels, const Compared& c, int width) {
+  std::string csv;
+  std::vector<std::string> header{"i", "j", "object", "sharpness", "cosine", "log_radiance_scale", c.reference->name};
+  for (const Method* m : c.methods) header.push_back(m->name);
+  append_csv_record(csv, header);
+  for (std::size_t k = 0; k < pixels.size(); ++k) {
+    const Pixel& p = pixels[k];
+    if (!p.lit) continue;
+    std::vector<std::string> row{std::to_string(k % std::size_t(width)), std::to_string(k / std::size_t(width)),
+                                 std::to_string(p.object), csv_number(p.sharpness), csv_number(p.cosine),
+                                 csv_number(p.log_radiance_scale), csv_number(p.reference)};
+    for (const double v : p.value) row.push_back(csv_number(v));
+    append_csv_record(csv, row);
+  }
+  write_file_atomically(path, csv);
+}
+
+void run_sweep(const Options& o, const json& document, const Compared& c) {
+  const std::vector<double> sharpness = o.sweep_sharpness.empty() ? std::vector<double>{parse_sg_light(document, o.job.scene_path).sharpness} : o.sweep_sharpness;
+  const std::vector<double> distance = o.sweep_distance.empty() ? std::vector<double>{parse_sg_light(document, o.job.scene_path).distance} : o.sweep_distance;
+  RenderJob job = o.job;
+  job.width = o.sweep_width;
+  job.height = o.sweep_height;
+  std::string csv = "# Generated by `" + command_line(o) + "`; do not edit by hand.\n";
+  append_csv_record(csv, std::vector<std::string>{"sharpness", "distance", "method", "mean_smape", "max_smape", "pixels"});
+  std::string md = fmt::format(
+      "<!-- Generated by `{}`; do not edit by hand. -->\n"
+      "# Near-wall SG light: mean SMAPE against the exact integral over the light's sharpness and distance\n\n"
+      "Scene `{}` at {}×{} pixels with `sg_light.sharpness` and `sg_light.distance` (from the wall) varied. {}\n\n",
+      command_line(o), o.job.scene_path, o.sweep_width, o.sweep_height, kWhat);
+  std::string header = "| λ | distance |", rule = "|---|---|";
+  for (const Method* m : c.methods) {
+    header += fmt::format(" `{}` |", m->name);
+    rule += "---|";
+  }
+  md += header + " best |\n" + rule + "---|\n";
+  std::vector<std::size_t> wins(c.methods.size(), 0);
+  for (const double s : sharpness)
+    for (const double d : distance) {
+      json doc = document;
+      doc["sg_light"]["sharpness"] = s;
+      doc["sg_light"]["distance"] = d;
+      const SgLight light = parse_sg_light(doc, o.job.scene_path);
+      const std::vector<MethodError> errors = method_errors(render_pixels(geometry(doc, light, job), light, c), c);
+      md += fmt::format("| {:g} | {:g} |", s, d);
+      for (const Method* m : c.methods) {
+        const auto it = std::find_if(errors.begin(), errors.end(), [&](const MethodError& e) { return e.method == m->name; });
+        md += fmt::format(" {:.3g} |", it->mean);
+        append_csv_record(csv, std::vector<std::string>{csv_number(s), csv_number(d), it->method, csv_number(it->mean),
+                                                        csv_number(it->max), std::to_string(it->pixels)});
+      }
+      md += fmt::format(" `{}` |\n", errors.front().method);
+      for (std::size_t i = 0; i < c.methods.size(); ++i)
+        if (c.methods[i]->name == errors.front().method) ++wins[i];
+    }
+  std::vector<std::string> won;
+  for (std::size_t i = 0; i < c.methods.size(); ++i)
+    if (wins[i]) won.push_back(fmt::format("`{}` in {}", c.methods[i]->name, wins[i]));
+  md += fmt::format("\nLowest mean SMAPE: {} of {} configurations.\n", fmt::join(won, ", "), sharpness.size() * distance.size());
+  write_file_atomically(fs::path(o.tables_dir) / (kTable + "_sweep.csv"), csv);
+  write_file_atomically(fs::path(o.tables_dir) / (kTable + "_sweep.md"), md);
+  std::fputs(md.c_str(), stdout);
+}
+
+void run(const Options& o) {
+  if (o.job.scene_path.empty()) throw UsageError("near-wall needs --scene SCENE.json");
+  if (o.sweep_width < 1 || o.sweep_width > 4096 || o.sweep_height < 1 || o.sweep_height > 4096)
+    throw UsageError(fmt::format("--sweep-width/--sweep-height {}×{} is outside [1, 4096]", o.sweep_width, o.sweep_height));
+  for (const double s : o.sweep_sharpness)
+    if (!(std::isfinite(s) && s >= 0)) throw UsageError(fmt::format("--sweep-sharpness {}: must be a non-negative sharpness", s));
+  for (const double d : o.sweep_distance)
+    if (!(std::isfinite(d) && d > 0)) throw UsageError(fmt::format("--sweep-distance {}: must be positive", d));
+  const json document = load_scene_document(o.job.scene_path, o.job.overrides);
+  const SgLight light = parse_sg_light(document, o.job.scene_path);
+  const render::Scene scene = geometry(document, light, o.job);
+  const Compared c = compared_methods();
+  // Validate every sweep point's scene before anything runs.
+  for (const double s : o.sweep_sharpness.empty() ? std::vector<double>{light.sharpness} : o.sweep_sharpness)
+    for (const double d : o.sweep_distance.empty() ? std::vector<double>{light.distance} : o.sweep_distance) {
+      json doc = document;
+      doc["sg_light"]["sharpness"] = s;
+      doc["sg_light"]["distance"] = d;
+      geometry(doc, parse_sg_light(doc, o.job.scene_path), o.job);
+    }
+  const std::vector<Pixel> pixels = render_pixels(scene, light, c);
+  const std::vector<MethodError> errors = method_errors(pixels, c);
+  if (!o.dump.empty()) write_dump(o.dump, pixels, c, scene.camera.width);
+  write_table(o, light, errors, scene.camera.width, scene.camera.height);
+  if (!o.sweep_sharpness.empty() || !o.sweep_distance.empty()) run_sweep(o, document, c);
+}
+
+}  // namespace
+
+void add_near_wall_command(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  auto* sub = app.add_subcommand(
+      "near-wall", "Tokuyoshi 2022 poster's figure: per pixel, each clamped-cosine method against the exact integral for a sharp SG light near a wall");
+  sub->add_option("--scene", o->job.scene_path, "near-wall scene JSON with an sg_light (scenes/sg-light-near-wall-poster.json)");
+  sub->add_option("--set", o->job.overrides, "KEY=VALUE scene override, e.g. sg_light.sharpness=1000 (repeatable)");
+  sub->add_option("--width", o->job.width, "image width (default: the scene's camera.width)");
+  sub->add_option("--height", o->job.height, "image height (default: the scene's camera.height)");
+  sub->add_option("--dump", o->dump, "per-pixel CSV: i, j, object, sharpness, cosine, log_radiance_scale, D of every method");
+  sub->add_option("--tables-dir", o->tables_dir, "directory for near_wall_smape{,_sweep}.{md,csv}")->capture_default_str();
+  sub->add_option("--sweep-sharpness", o->sweep_sharpness, "SG light sharpness values of the sweep")->delimiter(',');
+  sub->add_option("--sweep-distance", o->sweep_distance, "light distances from the wall of the sweep")->delimiter(',');
+  sub->add_option("--sweep-width", o->sweep_width, "image width of each sweep point")->capture_default_str();
+  sub->add_option("--sweep-height", o->sweep_height, "image height of each sweep point")->capture_default_str();
+  sub->callback([o] { run(*o); });
+}
+
+}  // namespace sglab::cli
