@@ -27,6 +27,8 @@ void add_sweep_command(CLI::App& app);          // sweep_command.cpp: `sglab swe
 void add_merge_command(CLI::App& app);          // merge_command.cpp: `sglab merge` (joins sweep shards)
 void add_filter_command(CLI::App& app);         // filter_command.cpp: `sglab filter` (issue 7)
 void add_filter_sweep_command(CLI::App& app);   // filter_sweep.cpp: `sglab filter-sweep` (issue 7)
+void add_envmap_command(CLI::App& app);         // envmap_command.cpp: `sglab envmap make|render|lobes`
+void add_fit_envmap_command(CLI::App& fit);     // envmap_command.cpp: `sglab fit envmap` (called by add_fit_command)
 // One registration function per sweep kind, called by add_sweep_command on the `sweep` sub-command.
 void add_sweep_specular(CLI::App& sweep);       // sweep_specular.cpp: `sglab sweep specular` (issue 4)
 void add_sweep_render(CLI::App& sweep);         // sweep_render.cpp: `sglab sweep render` (issue 5)

@@ -21,6 +21,7 @@ void add_all_commands(CLI::App& app) {
   add_merge_command(app);
   add_filter_command(app);
   add_filter_sweep_command(app);
+  add_envmap_command(app);
 }
 
 int run_sglab(std::vector<std::string> args) {

@@ -49,6 +49,23 @@ std::vector<Step> near_wall_steps(const std::string& out) {
   return v;
 }
 
+// SG environment maps: the three generated environments, the fits and renders against N
+// (paper_tables/envmap_lobes.*), and the figures.
+std::vector<Step> envmap_steps(const std::string& out) {
+  std::vector<Step> v;
+  std::vector<std::string> lobes = {"envmap", "lobes", "--out", out + "/envmap"};
+  for (const char* kind : {"sky", "studio", "mixture"}) {
+    const std::string path = out + "/envmap/" + kind + ".exr";
+    v.push_back({std::string("envmap-make-") + kind, std::string("generated environment: ") + kind + " (512×256 EXR)",
+                 {"envmap", "make", kind, "--out", path}, {}});
+    lobes.insert(lobes.end(), {"--env", std::string(kind) + "=" + path});
+  }
+  v.push_back({"envmap-lobes", "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)", lobes, {"--quick"}});
+  v.push_back({"plot-envmap", "environment error against N, and each map beside its reconstructions",
+               {"plots/envmap_lobes.py", "paper_tables/envmap_lobes.csv", out + "/envmap/envmap_images.csv", kKeyFigures}, {}, true});
+  return v;
+}
+
 std::vector<Step> steps(const std::string& out) {
   std::vector<Step> all = {
       {"fit-all", "re-derive every published constant (paper_tables/constants.*)",
@@ -110,6 +127,8 @@ std::vector<Step> steps(const std::string& out) {
   };
   const auto near_wall = near_wall_steps(out);
   all.insert(all.end(), near_wall.begin(), near_wall.end());
+  const auto envmap = envmap_steps(out);
+  all.insert(all.end(), envmap.begin(), envmap.end());
   return all;
 }
 
