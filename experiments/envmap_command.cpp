@@ -439,6 +439,7 @@ void add_fit_envmap_command(CLI::App& fit) {
   sub->add_option("--method", a->method, "ceres | vmf-em (the EM alternative)")->capture_default_str();
   sub->add_option("--threads", a->options.threads, "Ceres threads")->capture_default_str();
   sub->add_option("--seed", a->options.seed, "k-means++ seed")->capture_default_str();
+  sub->add_option("--max-iterations", a->options.max_iterations, "Levenberg–Marquardt iterations per level")->capture_default_str();
   sub->add_option("--json", a->json, "write the mixture as a fit record (JSON)");
   sub->add_option("--exr", a->exr, "write the reconstruction as an EXR of the map's size");
   sub->callback([a] { run_fit_envmap(*a); });

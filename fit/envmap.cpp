@@ -28,9 +28,12 @@ struct Level {
   double texel_variance = 0;                 // s² = δ²/12 of the box filter, δ = π/H
 };
 
-// Sharpnesses are bounded by kMaxSharpness at every level (a lobe 0.2° wide); on a coarse level
-// the model is the lobe blurred by the texel (see MixtureCost).
-constexpr double kMinSharpness = 1e-2, kMaxSharpness = 1e5;
+// Sharpnesses are bounded below by kMinSharpness and above, per level, by 4/δ² = 1/(3s²) (a lobe
+// of standard deviation half a texel): the blurred model of MixtureCost hardly changes with λ
+// beyond ~1/s², so an unbounded λ drifts up along that flat direction and becomes a spike on the
+// finer map.
+constexpr double kMinSharpness = 1e-2;
+double max_sharpness(const Level& level) { return 1 / (3 * level.texel_variance); }
 
 Level make_level(const EnvMap& m) {
   Level l;
@@ -60,7 +63,7 @@ constexpr int kStride = 7;
 // variances add, 1/λ' = 1/λ + s² (s² = δ²/12), and the amplitude scales by q = λ'/λ = 1/(1 + λs²)
 // so that the integral 2πμ/λ is kept: μq·G(ω; ξ, λq). Without it a lobe narrower than a texel
 // would be fitted to the value at the texel centre and could fall between centres. With
-// d = ω·ξ − 1 and u = log λ: ∂/∂u = μ g q² λ(d − s²), ∂/∂ξ = μ q g λq ω, ∂/∂μ = q g.
+// d = ω·ξ − 1 and u = log λ: ∂/∂u = μ g q² λ(qd − s²), ∂/∂ξ = μ q g λq ω, ∂/∂μ = q g.
 class MixtureCost final : public ceres::CostFunction {
  public:
   MixtureCost(const Level* level, std::size_t first, std::size_t count, int lobes, bool log_objective)
@@ -127,7 +130,7 @@ class MixtureCost final : public ceres::CostFunction {
           if (ja) {
             for (int k = 0; k < 3; ++k) ja[3 * r + std::size_t(k)] = da * lam * qj * w(k);
           }
-          if (jl) jl[r] = da * qj * lam * (dt - s2);
+          if (jl) jl[r] = da * qj * lam * (qj * dt - s2);
           if (jm) {
             for (int k = 0; k < 3; ++k) jm[3 * r + std::size_t(k)] = k == c ? sc * gt : 0.0;
           }
@@ -170,7 +173,7 @@ Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_
     double* base = x.data() + std::size_t(kStride * j);
     problem.SetManifold(base, new ceres::SphereManifold<3>());
     problem.SetParameterLowerBound(base + 3, 0, std::log(kMinSharpness));
-    problem.SetParameterUpperBound(base + 3, 0, std::log(kMaxSharpness));
+    problem.SetParameterUpperBound(base + 3, 0, std::log(max_sharpness(level)));
     for (int c = 0; c < 3; ++c) problem.SetParameterLowerBound(base + 4, c, 0.0);
     if (shape_fixed) {
       problem.SetParameterBlockConstant(base);
@@ -181,7 +184,7 @@ Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_
   so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   so.num_threads = o.threads;
   so.max_num_iterations = o.max_iterations;
-  so.function_tolerance = 1e-7;
+  so.function_tolerance = 1e-6;
   so.gradient_tolerance = 1e-12;
   so.parameter_tolerance = 1e-9;
   so.logging_type = ceres::SILENT;
@@ -226,10 +229,10 @@ struct Cluster {
 };
 
 // λ from a weighted resultant Σ w ω of total weight W (Banerjee et al. 2005), within
-// [0.5, 1/s²] (a cluster of one texel has r̄ = 1: its width is the texel's).
+// [0.5, max_sharpness] (a cluster of one texel has r̄ = 1).
 double cluster_sharpness(const Vec3d& resultant, double weight, const Level& level) {
   const double r = weight > 0 ? resultant.norm() / weight : 0.0;
-  return std::clamp(vmf_sharpness_banerjee(r), 0.5, 1 / level.texel_variance);
+  return std::clamp(vmf_sharpness_banerjee(r), 0.5, max_sharpness(level));
 }
 
 // Weighted spherical k-means (k-means++ seeding with `seed`, then Lloyd iterations on the cosine).
@@ -361,6 +364,56 @@ void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::v
   r.error = envmap_error(map, rasterize_mixture(r.mixture, map.width, map.height, kErrorSupersample));
 }
 
+// On each level finer than the last one fitted (the Jacobian budget stops the full joint fit
+// there), the lobes whose sharpness reached the coarser level's bound are refitted alone, on the
+// texels within 4 standard deviations (+ 2 texels) of their axes, with every other lobe held
+// fixed (its texel-blurred values subtracted from the targets): a sun or a small light is
+// resolved on the full map at the cost of a few hundred texels, not of the whole Jacobian.
+void refine_sharp_lobes(const std::vector<EnvMap>& maps, std::size_t finest, std::vector<double>& x, int N,
+                        const EnvFitOptions& o, EnvFitResult& r) {
+  for (std::size_t k = finest; k-- > 0;) {
+    const Level full = make_level(maps[k]);
+    const double coarse_bound = max_sharpness(make_level(maps[k + 1]));
+    std::vector<int> sharp;
+    std::vector<char> is_sharp(std::size_t(N), 0);
+    for (int j = 0; j < N; ++j)
+      if (std::exp(x[std::size_t(kStride * j + 3)]) >= 0.5 * coarse_bound) sharp.push_back(j), is_sharp[std::size_t(j)] = 1;
+    if (sharp.empty()) return;
+    auto axis = [&](int j) { return Vec3d(x[std::size_t(kStride * j)], x[std::size_t(kStride * j + 1)], x[std::size_t(kStride * j + 2)]).normalized(); };
+    const double delta = M_PI / double(full.height);
+    Level sub;
+    sub.width = full.width;
+    sub.height = full.height;
+    sub.texel_variance = full.texel_variance;
+    const double s2 = full.texel_variance;
+    for (std::size_t t = 0; t < full.dirs.size(); ++t) {
+      bool near = false;
+      for (int j : sharp) {
+        const double radius = 4 / std::sqrt(std::exp(x[std::size_t(kStride * j + 3)])) + 2 * delta;
+        near = near || full.dirs[t].dot(axis(j)) >= std::cos(std::min(radius, M_PI));
+      }
+      if (!near) continue;
+      std::array<double, 3> target = full.value[t];
+      for (int j = 0; j < N; ++j) {
+        if (is_sharp[std::size_t(j)]) continue;
+        const double lambda = std::exp(x[std::size_t(kStride * j + 3)]), q = 1 / (1 + lambda * s2);
+        const double g = q * std::exp(std::min(0.0, lambda * q * (full.dirs[t].dot(axis(j)) - 1)));
+        for (int c = 0; c < 3; ++c) target[std::size_t(c)] -= x[std::size_t(kStride * j + 4 + c)] * g;
+      }
+      sub.dirs.push_back(full.dirs[t]);
+      sub.omega.push_back(full.omega[t]);
+      sub.value.push_back(target);
+    }
+    std::vector<double> xs;
+    for (int j : sharp) xs.insert(xs.end(), x.begin() + kStride * j, x.begin() + kStride * (j + 1));
+    const Solve s = solve_level(sub, xs, int(sharp.size()), false, o);
+    r.iterations += s.iterations;
+    r.converged = r.converged && s.converged;
+    for (std::size_t i = 0; i < sharp.size(); ++i)
+      std::copy(xs.begin() + kStride * std::ptrdiff_t(i), xs.begin() + kStride * std::ptrdiff_t(i + 1), x.begin() + kStride * sharp[i]);
+  }
+}
+
 // What both fits start from: validated options, the clock, the pyramid and its levels.
 struct Setup {
   std::chrono::steady_clock::time_point t0;
@@ -386,7 +439,7 @@ EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
   if (o.init == "kmeans") {
     init = spherical_kmeans(level, texel_weights(level), N, o.seed);
   } else {
-    for (const auto& a : fibonacci_axes(N)) init.push_back({a, std::min(double(N), 1 / level.texel_variance), 1.0 / N});
+    for (const auto& a : fibonacci_axes(N)) init.push_back({a, std::min(double(N), max_sharpness(level)), 1.0 / N});
   }
   std::vector<double> x = pack(init, level);
   EnvFitResult r;
@@ -400,7 +453,9 @@ EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
     r.iterations += s.iterations;
     r.converged = r.converged && s.converged;
   }
-  finish(r, map, level, x, s.cost, setup.t0);
+  const double cost = s.cost;
+  refine_sharp_lobes(maps, finest, x, N, o, r);
+  finish(r, map, level, x, cost, setup.t0);
   return r;
 }
 

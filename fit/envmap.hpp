@@ -10,7 +10,9 @@
 //    the finest one whose dense Jacobian stays under a budget (jacobian_budget entries), so a
 //    large N is solved on a coarser map. On every level the model of a texel is the lobe blurred
 //    by the texel (1/λ' = 1/λ + δ²/12, integral kept; δ = π/H), so lobes sharper than a texel
-//    are fitted to texel means instead of falling between texel centres; λ ∈ [1e-2, 1e5]. Initial axes:
+//    are fitted to texel means instead of falling between texel centres; λ ∈ [1e-2, 4/δ²]. On
+//    the levels finer than the budget allows, the lobes at the sharpness bound are refitted alone
+//    on the texels around them, the other lobes held fixed (a sun resolved on the full map). Initial axes:
 //    a Fibonacci lattice (λ = N) or weighted spherical k-means (λ from each cluster's mean
 //    resultant length, Banerjee et al. 2005); initial amplitudes by the same least squares with
 //    axes and sharpnesses held fixed (a non-negative linear least-squares problem).
