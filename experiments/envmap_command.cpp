@@ -393,17 +393,25 @@ void run_lobes(const LobesArgs& args) {
   md += "Each environment (equirectangular, z up; written by `sglab envmap make`) is fitted with N RGB SG lobes "
         "by `sglab fit envmap` (Ceres Levenberg–Marquardt, solid-angle-weighted L2, k-means initial axes, coarse to fine "
         "up to the level shown) and, beside it in the same run, by EM for a von Mises–Fisher mixture (Banerjee et al. 2005) "
-        "with least-squares amplitudes. Fit error = solid-angle-weighted relative L2 of the mixture at the map's texel "
-        "centres against the map; times are wall seconds on this machine (2 threads, shared: compare ratios).\n\n"
+        "with least-squares amplitudes. Fit error = solid-angle-weighted relative L2 of the mixture's texel means (4×4 "
+        "points per texel) against the map; times are wall seconds on this machine (2 threads, shared: compare ratios).\n\n"
         "Shading (`sglab envmap render`, visibility ignored, V = 1): a unit sphere seen orthographically (" +
         std::to_string(a.sphere_res) + "² pixels) and a plane seen from a " + std::to_string(a.sphere_res) + "×" +
         std::to_string(a.sphere_res / 2) + " grid of view directions; albedo 1 (diffuse = (1/π)∫L⟨ω·n⟩), GGX with height-correlated Smith "
         "and Schlick f0 = " + fmt::format("{}", a.f0) + " (specular). Three layers: (1) the map integrated exactly (texel "
         "quadrature of the piecewise-constant map), (2) the fitted mixture integrated exactly (diffuse: the clamped-cosine "
-        "reference per lobe; specular: the same texel quadrature over the mixture at the map's texel centres), (3) the "
+        "reference per lobe; specular: the same texel quadrature over the mixture's texel means), (3) the "
         "mixture with each registry method. **fit part** = (2) against (1); **approximation part** = (3) against (2); "
         "the CSV also has the total (3) against (1), and SMAPE and the brightness-weighted error Σ|v − r|/Σ|r| for "
-        "every entry. The tables below give relative L2 (‖v − r‖/‖r‖ over pixels and channels).\n\n";
+        "every entry. The tables below give relative L2 (‖v − r‖/‖r‖ over pixels and channels).\n\n"
+        "Scale and reading notes: the images are small (" + std::to_string(a.sphere_res) + "² sphere) so that the whole "
+        "run takes minutes; the specular layer (1) and (2) quadratures cost one GGX evaluation per texel and pixel. "
+        "The Ceres fit is dense, so N is fitted jointly on the finest level whose Jacobian has at most 6·10⁶ entries "
+        "(column \"fitted on\"); lobes at that level's sharpness bound are then refined alone on the finer levels. "
+        "The sky's sun is a uniform disk (2°) far brighter than the sky: it carries most of the map's L2 norm and no "
+        "Gaussian matches its edge, which sets the sky's error floor. \"cap\" in the fit table: Levenberg–Marquardt "
+        "stopped at its iteration cap (60 per level) before its tolerances; that fit's error is what the capped run "
+        "reached, not the optimum (on the 4-lobe mixture with N ≫ 4 the problem is degenerate and LM crawls).\n\n";
   md += "## Quadrature convergence of layer (1)\n\nRelative L2 change of the sphere's shading between 1 and 2×2 "
         "sub-texels per texel (specular at roughness " + fmt::format("{}", a.roughness.front()) + ", the sharpest lobe):\n\n"
         "| environment | diffuse | specular |\n|---|---|---|\n" + quadrature_md;
