@@ -30,6 +30,8 @@ void add_filter_sweep_command(CLI::App& app);   // filter_sweep.cpp: `sglab filt
 void add_near_wall_command(CLI::App& app);      // near_wall.cpp: `sglab near-wall` (the 2022 poster's figure)
 void add_poster_plots_command(CLI::App& app);   // poster_plots.cpp: `sglab poster-plots` (the 2022 poster's plots)
 void add_vsgl_fis_bias_command(CLI::App& app);  // vsgl_fis_bias.cpp: `sglab vsgl-fis-bias`
+void add_envmap_command(CLI::App& app);         // envmap_command.cpp: `sglab envmap make|render|lobes`
+void add_fit_envmap_command(CLI::App& fit);     // envmap_command.cpp: `sglab fit envmap` (called by add_fit_command)
 // One registration function per sweep kind, called by add_sweep_command on the `sweep` sub-command.
 void add_sweep_specular(CLI::App& sweep);       // sweep_specular.cpp: `sglab sweep specular` (issue 4)
 void add_sweep_render(CLI::App& sweep);         // sweep_render.cpp: `sglab sweep render` (issue 5)

@@ -164,7 +164,7 @@ void run_fit(const FitArgs& a) {
 void add_fit_command(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* cmd = app.add_subcommand("fit", "re-derive a published constant with a Ceres fit");
-  cmd->add_option("name", a->name, "fit name, or 'all'")->required();
+  cmd->add_option("name", a->name, "fit name, or 'all'");
   cmd->add_option("--objective", a->objective, "objective (default: the fit's first)");
   cmd->add_option("--precision", a->precision, "half|float|double (cosine-sharpness)");
   cmd->add_option("--beta", a->beta, "lambda-c: beta of sigma_n^2 (default 20)");
@@ -172,7 +172,12 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--json", a->json_file, "write the fit's JSON record here");
   cmd->add_option("--json-dir", a->json_dir, "fit all: one NAME.json per fit here");
   cmd->add_option("--tables-dir", a->tables_dir, "fit all: where constants.{md,csv,tex} go");
-  cmd->callback([a] { run_fit(*a); });
+  add_fit_envmap_command(*cmd);  // `sglab fit envmap MAP.exr …` (envmap_command.cpp)
+  cmd->callback([a, cmd] {
+    if (cmd->got_subcommand("envmap")) return;
+    if (a->name.empty()) throw UsageError("fit needs a fit name, 'all', or 'envmap MAP.exr --lobes N'");
+    run_fit(*a);
+  });
 }
 
 }  // namespace sglab::cli

@@ -24,6 +24,7 @@ void add_all_commands(CLI::App& app) {
   add_near_wall_command(app);
   add_poster_plots_command(app);
   add_vsgl_fis_bias_command(app);
+  add_envmap_command(app);
 }
 
 int run_sglab(std::vector<std::string> args) {

@@ -69,6 +69,24 @@ std::vector<Step> near_wall_steps(const Places& places) {
   return v;
 }
 
+// SG environment maps: the three generated environments, the fits and renders against N
+// (paper_tables/envmap_lobes.*), and the figures.
+std::vector<Step> envmap_steps(const Places& places) {
+  const std::string& out = places.out;
+  std::vector<Step> v;
+  std::vector<std::string> lobes = {"envmap", "lobes", "--out", out + "/envmap"};
+  for (const char* kind : {"sky", "studio", "mixture"}) {
+    const std::string path = out + "/envmap/" + kind + ".exr";
+    v.push_back({std::string("envmap-make-") + kind, std::string("generated environment: ") + kind + " (512×256 EXR)",
+                 {"envmap", "make", kind, "--out", path}, {}});
+    lobes.insert(lobes.end(), {"--env", std::string(kind) + "=" + path});
+  }
+  v.push_back({"envmap-lobes", "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)", lobes, {"--quick"}});
+  v.push_back({"plot-envmap", "environment error against N, and each map beside its reconstructions",
+               {"plots/envmap_lobes.py", places.tables + "/envmap_lobes.csv", out + "/envmap/envmap_images.csv", places.key_figures()}, {}, true});
+  return v;
+}
+
 std::vector<Step> steps(const Places& places) {
   const std::string& out = places.out;
   const std::string kKeyFigures = places.key_figures();
@@ -161,6 +179,8 @@ std::vector<Step> steps(const Places& places) {
   }
   const auto near_wall = near_wall_steps(places);
   all.insert(all.end(), near_wall.begin(), near_wall.end());
+  const auto envmap = envmap_steps(places);
+  all.insert(all.end(), envmap.begin(), envmap.end());
   return all;
 }
 
@@ -184,7 +204,8 @@ std::string tables_option(const Step& s) {
   const std::string& command = s.args[0];
   if (command == "error-vs-time" || command == "stability") return "--tables";
   if (command == "sweep" || command == "filter-sweep" || command == "near-wall" || command == "poster-plots" ||
-      command == "vsgl-fis-bias" || (command == "fit" && s.args.size() > 1 && s.args[1] == "all"))
+      command == "vsgl-fis-bias" ||
+      (command == "envmap" && s.args.size() > 1 && s.args[1] == "lobes") || (command == "fit" && s.args.size() > 1 && s.args[1] == "all"))
     return "--tables-dir";
   return "";
 }

@@ -48,7 +48,8 @@ std::string encode_exr(int width, int height, const std::vector<ImageLayer>& lay
   for (const auto& layer : layers) {
     if (layer.pixels.size() != n) throw std::runtime_error("encode_exr: layer '" + layer.name + "' has the wrong size");
     for (int c = 0; c < 3; ++c) {
-      const std::string name = layer.name + "." + "RGB"[c];
+      // An unnamed layer is the plain R, G, B channels (what image tools read as the colour).
+      const std::string name = layer.name.empty() ? std::string(1, "RGB"[c]) : layer.name + "." + "RGB"[c];
       header.channels().insert(name, Imf::Channel(Imf::FLOAT));
       std::vector<float> plane(n);
       for (std::size_t k = 0; k < n; ++k) plane[k] = float(layer.pixels[k](c));

@@ -1,0 +1,214 @@
+// Environment maps: EXR input/output and the generated environments (environment.hpp).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include "sglab/render/environment.hpp"
+#include "sglab/render/exr.hpp"
+
+namespace sglab::render {
+
+EnvMap load_environment(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw EnvironmentError("environment '" + path + "': no such file");
+  ExrImage image;
+  try {
+    image = read_exr(path);
+  } catch (const std::exception& e) {
+    throw EnvironmentError(std::string("environment '") + path + "' is not a readable EXR (" + e.what() + ")");
+  }
+  // Plain R, G, B, or the first layer (in channel-name order) that has all three.
+  std::string prefix;
+  bool found = image.channels.count("R") && image.channels.count("G") && image.channels.count("B");
+  if (!found) {
+    for (const auto& [name, plane] : image.channels) {
+      if (name.size() < 2 || name.substr(name.size() - 2) != ".R") continue;
+      const std::string p = name.substr(0, name.size() - 1);
+      if (image.channels.count(p + "G") && image.channels.count(p + "B")) {
+        prefix = p;
+        found = true;
+        break;
+      }
+    }
+  }
+  if (!found) {
+    std::string names;
+    for (const auto& [name, plane] : image.channels) names += (names.empty() ? "" : ", ") + name;
+    throw EnvironmentError("environment '" + path + "' has no RGB channels (channels: " + (names.empty() ? "none" : names) + ")");
+  }
+  if (image.width != 2 * image.height)
+    throw EnvironmentError(fmt::format("environment '{}' is {}×{}: an equirectangular map must be 2:1 (width = 2 × height)",
+                                       path, image.width, image.height));
+  EnvMap map{image.width, image.height, std::vector<std::array<float, 3>>(std::size_t(image.width) * std::size_t(image.height))};
+  for (int c = 0; c < 3; ++c) {
+    const auto& plane = image.channels.at(prefix + "RGB"[c]);
+    for (std::size_t k = 0; k < plane.size(); ++k) {
+      const float x = plane[k];
+      if (!std::isfinite(x) || x < 0)
+        throw EnvironmentError(fmt::format("environment '{}': texel (x {}, y {}) channel {} is {} (texels must be finite and ≥ 0)",
+                                           path, k % std::size_t(image.width), k / std::size_t(image.width),
+                                           prefix + "RGB"[c], x));
+      map.texels[k][std::size_t(c)] = x;
+    }
+  }
+  return map;
+}
+
+std::string encode_environment(const EnvMap& map, const std::vector<std::pair<std::string, std::string>>& attributes) {
+  ImageLayer layer{"", std::vector<Rgb>(map.size())};
+  for (std::size_t k = 0; k < map.size(); ++k) layer.pixels[k] = Rgb(map.texels[k][0], map.texels[k][1], map.texels[k][2]);
+  return encode_exr(map.width, map.height, {layer}, attributes);
+}
+
+namespace {
+
+void check_size(int width, int height) {
+  if (width < 2 || height < 1 || width != 2 * height || double(width) * height > 1 << 26)
+    throw EnvironmentError(fmt::format("environment size {}×{}: must be 2:1 and at most 2^26 texels", width, height));
+}
+
+// Average of f over supersample² sub-texel centres of every texel.
+template <class F>
+EnvMap rasterize(int width, int height, int supersample, const F& f) {
+  EnvMap map{width, height, std::vector<std::array<float, 3>>(std::size_t(width) * std::size_t(height))};
+  const int s = std::max(1, supersample);
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      std::array<double, 3> sum{0, 0, 0};
+      for (int sy = 0; sy < s; ++sy)
+        for (int sx = 0; sx < s; ++sx) {
+          const auto x = f(envmap_direction(width, height, u + (sx + 0.5) / s, v + (sy + 0.5) / s));
+          for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += x[std::size_t(c)];
+        }
+      auto& t = map.texels[std::size_t(v) * std::size_t(width) + std::size_t(u)];
+      for (int c = 0; c < 3; ++c) t[std::size_t(c)] = float(sum[std::size_t(c)] / (s * s));
+    }
+  }
+  return map;
+}
+
+Vec3 direction_from_angles(double elevation_deg, double azimuth_deg) {
+  const double e = elevation_deg * M_PI / 180, a = azimuth_deg * M_PI / 180;
+  return Vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+}
+
+// xyY → linear sRGB: X = xY/y, Z = (1 − x − y)Y/y, then the IEC 61966-2-1 XYZ → sRGB (D65) matrix.
+std::array<double, 3> xyY_to_linear_srgb(double x, double y, double Y) {
+  const double X = x * Y / y, Z = (1 - x - y) * Y / y;
+  return {std::max(0.0, 3.2404542 * X - 1.5371385 * Y - 0.4985314 * Z),
+          std::max(0.0, -0.9692660 * X + 1.8760108 * Y + 0.0415560 * Z),
+          std::max(0.0, 0.0556434 * X - 0.2040259 * Y + 1.0572252 * Z)};
+}
+
+}  // namespace
+
+EnvMap make_sky(const SkyOptions& o) {
+  check_size(o.width, o.height);
+  if (!(o.turbidity >= 2 && o.turbidity <= 10)) throw EnvironmentError(fmt::format("--turbidity {} outside Preetham's [2, 10]", o.turbidity));
+  if (!(o.sun_elevation_deg >= 0 && o.sun_elevation_deg <= 90))
+    throw EnvironmentError(fmt::format("--sun-elevation {} outside [0, 90] degrees", o.sun_elevation_deg));
+  if (!(o.sun_size_deg > 0 && o.sun_size_deg <= 45)) throw EnvironmentError(fmt::format("--sun-size {} outside (0, 45] degrees", o.sun_size_deg));
+  if (!(o.sun_luminance >= 0) || !std::isfinite(o.sun_luminance)) throw EnvironmentError("--sun-luminance must be finite and ≥ 0");
+  if (!(o.ground_albedo >= 0 && o.ground_albedo <= 1)) throw EnvironmentError("--ground-albedo must be in [0, 1]");
+  const double T = o.turbidity;
+  // Preetham et al. 1999, Appendix A.2: Perez coefficients (A..E) for Y, x, y.
+  const double coef[3][5] = {
+      {0.1787 * T - 1.4630, -0.3554 * T + 0.4275, -0.0227 * T + 5.3251, 0.1206 * T - 2.5771, -0.0670 * T + 0.3703},
+      {-0.0193 * T - 0.2592, -0.0665 * T + 0.0008, -0.0004 * T + 0.2125, -0.0641 * T - 0.8989, -0.0033 * T + 0.0452},
+      {-0.0167 * T - 0.2608, -0.0950 * T + 0.0092, -0.0079 * T + 0.2102, -0.0441 * T - 1.6537, -0.0109 * T + 0.0529}};
+  const double ts = M_PI / 2 - o.sun_elevation_deg * M_PI / 180;  // θ_s
+  const double chi = (4.0 / 9.0 - T / 120.0) * (M_PI - 2 * ts);
+  const double Yz = (4.0453 * T - 4.9710) * std::tan(chi) - 0.2155 * T + 2.4192;
+  const double t2 = T * T, s1 = ts, s2 = ts * ts, s3 = s2 * ts;
+  const double xz = t2 * (0.00166 * s3 - 0.00375 * s2 + 0.00209 * s1) + T * (-0.02903 * s3 + 0.06377 * s2 - 0.03202 * s1 + 0.00394) +
+                    (0.11693 * s3 - 0.21196 * s2 + 0.06052 * s1 + 0.25886);
+  const double yz = t2 * (0.00275 * s3 - 0.00610 * s2 + 0.00317 * s1) + T * (-0.04214 * s3 + 0.08970 * s2 - 0.04153 * s1 + 0.00516) +
+                    (0.15346 * s3 - 0.26756 * s2 + 0.06670 * s1 + 0.26688);
+  const double zenith[3] = {Yz, xz, yz};
+  auto perez = [](const double* k, double cos_theta, double gamma) {
+    const double cg = std::cos(gamma);
+    return (1 + k[0] * std::exp(k[1] / std::max(cos_theta, 1e-3))) * (1 + k[2] * std::exp(k[3] * gamma) + k[4] * cg * cg);
+  };
+  const Vec3 sun = direction_from_angles(o.sun_elevation_deg, o.sun_azimuth_deg);
+  const double cos_sun_radius = std::cos(0.5 * o.sun_size_deg * M_PI / 180);
+  auto sky = [&](const Vec3& w) -> std::array<double, 3> {
+    const double gamma = std::acos(std::clamp(w.dot(sun), -1.0, 1.0));
+    double v[3];
+    for (int c = 0; c < 3; ++c) v[c] = zenith[c] * perez(coef[c], w(2), gamma) / perez(coef[c], 1.0, ts);
+    auto rgb = xyY_to_linear_srgb(v[1], v[2], std::max(0.0, v[0]));
+    if (w.dot(sun) >= cos_sun_radius) rgb = {o.sun_luminance * Yz, o.sun_luminance * Yz, o.sun_luminance * Yz};
+    return rgb;
+  };
+  // Ground: E/π·albedo with E the horizontal irradiance of the sky and the sun (texel quadrature
+  // of a first pass at the map's resolution).
+  EnvMap upper = rasterize(o.width, o.height, o.supersample, [&](const Vec3& w) -> std::array<double, 3> {
+    if (w(2) <= 0) return {0, 0, 0};
+    return sky(w);
+  });
+  std::array<double, 3> E{0, 0, 0};
+  for (int v = 0; v < o.height; ++v) {
+    const double om = texel_solid_angle(o.width, o.height, v);
+    for (int u = 0; u < o.width; ++u) {
+      const double c = texel_direction(o.width, o.height, u, v)(2);
+      if (c <= 0) continue;
+      for (int k = 0; k < 3; ++k) E[std::size_t(k)] += upper.at(u, v)[std::size_t(k)] * om * c;
+    }
+  }
+  return rasterize(o.width, o.height, o.supersample, [&](const Vec3& w) -> std::array<double, 3> {
+    if (w(2) > 0) return sky(w);
+    return {o.ground_albedo * E[0] / M_PI, o.ground_albedo * E[1] / M_PI, o.ground_albedo * E[2] / M_PI};
+  });
+}
+
+EnvMap make_studio(const StudioOptions& o) {
+  check_size(o.width, o.height);
+  struct Rect {
+    Vec3 c, e1, e2;
+    double hw, hh;
+    std::array<double, 3> radiance;
+  };
+  std::vector<Rect> rects;
+  for (const auto& l : o.lights) {
+    if (!(l.width_deg > 0 && l.width_deg < 180 && l.height_deg > 0 && l.height_deg < 180))
+      throw EnvironmentError("studio light sizes must be in (0, 180) degrees");
+    Rect r;
+    r.c = direction_from_angles(l.elevation_deg, l.azimuth_deg);
+    // e1 horizontal (towards increasing azimuth), e2 completes the frame (towards the zenith).
+    r.e1 = Vec3::UnitZ().cross(r.c);
+    if (r.e1.norm() < 1e-9) r.e1 = Vec3::UnitY();
+    r.e1.normalize();
+    r.e2 = r.c.cross(r.e1);
+    r.hw = std::tan(0.5 * l.width_deg * M_PI / 180);
+    r.hh = std::tan(0.5 * l.height_deg * M_PI / 180);
+    r.radiance = l.radiance;
+    rects.push_back(r);
+  }
+  return rasterize(o.width, o.height, o.supersample, [&](const Vec3& w) -> std::array<double, 3> {
+    std::array<double, 3> out = o.background;
+    for (const auto& r : rects) {
+      const double d = w.dot(r.c);
+      if (d <= 0) continue;
+      // The ray hits the plane at distance 1 along r.c at (w·e1, w·e2)/d.
+      if (std::abs(w.dot(r.e1) / d) <= r.hw && std::abs(w.dot(r.e2) / d) <= r.hh) out = r.radiance;
+    }
+    return out;
+  });
+}
+
+SgMixture synthetic_mixture() {
+  auto lobe = [](double elevation, double azimuth, double sharpness, std::array<double, 3> amplitude) {
+    SgLight l;
+    l.axis = direction_from_angles(elevation, azimuth);
+    l.sharpness = sharpness;
+    l.amplitude = amplitude;
+    return l;
+  };
+  return {lobe(60, 20, 2, {0.6, 0.7, 0.9}),      // broad sky-like lobe
+          lobe(20, -100, 12, {1.5, 1.2, 0.8}),   // medium
+          lobe(35, 130, 60, {4.0, 4.0, 3.5}),    // narrow
+          lobe(-40, 60, 6, {0.3, 0.25, 0.2})};   // below the horizon
+}
+
+}  // namespace sglab::render

@@ -1,0 +1,192 @@
+// Shading a sphere and a plane under an environment, V = 1 (environment.hpp).
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
+
+#include "sglab/brdf.hpp"
+#include "sglab/glossy_reference.hpp"
+#include "sglab/reference.hpp"
+#include "sglab/registry.hpp"
+#include "sglab/render/environment.hpp"
+#include "sglab/render/pipeline.hpp"
+
+namespace sglab::render {
+
+EnvImage sphere_image(int res) {
+  EnvImage im{res, res, {}};
+  for (int j = 0; j < res; ++j)
+    for (int i = 0; i < res; ++i) {
+      const double y = 2 * (i + 0.5) / res - 1, z = 1 - 2 * (j + 0.5) / res;
+      const double r2 = y * y + z * z;
+      if (r2 >= 1) continue;
+      im.points.push_back({j * res + i, Vec3(std::sqrt(1 - r2), y, z), Vec3::UnitX()});
+    }
+  return im;
+}
+
+EnvImage plane_image(int res_azimuth, int res_elevation) {
+  EnvImage im{res_azimuth, res_elevation, {}};
+  for (int j = 0; j < res_elevation; ++j)
+    for (int i = 0; i < res_azimuth; ++i) {
+      const double phi = 2 * M_PI * (i + 0.5) / res_azimuth;
+      const double e = 0.5 * M_PI * (j + 0.5) / res_elevation;
+      im.points.push_back({j * res_azimuth + i, Vec3::UnitZ(), Vec3(std::cos(e) * std::cos(phi), std::cos(e) * std::sin(phi), std::sin(e))});
+    }
+  return im;
+}
+
+namespace {
+
+// The tangent frame of the registry's specular quantity: n = z, o in the xz-plane (t = the
+// direction of o's projection; any tangent when o ∥ n).
+struct Frame {
+  Vec3 t, b, n;
+  Vec3 local(const Vec3& w) const { return Vec3(w.dot(t), w.dot(b), w.dot(n)); }
+};
+
+Frame view_frame(const EnvShadingPoint& p) {
+  Frame f;
+  f.n = p.normal;
+  Vec3 t = p.view - p.view.dot(f.n) * f.n;
+  if (t.norm() < 1e-12) {
+    Vec3 e2;
+    detail::orthonormal_frame(f.n, t, e2);
+  }
+  f.t = t.normalized();
+  f.b = f.n.cross(f.t);
+  return f;
+}
+
+// Sub-texel quadrature nodes of the map (environment.hpp): direction, solid angle, texel index.
+struct Node {
+  Vec3 dir;
+  double omega;
+  std::size_t texel;
+};
+
+std::vector<Node> nodes(const EnvMap& map, int supersample) {
+  const int s = std::max(1, supersample);
+  const int W = map.width * s, H = map.height * s;
+  std::vector<Node> out;
+  out.reserve(std::size_t(W) * std::size_t(H));
+  for (int y = 0; y < H; ++y) {
+    const double om = texel_solid_angle(W, H, y);
+    for (int x = 0; x < W; ++x) {
+      const std::size_t texel = std::size_t(y / s) * std::size_t(map.width) + std::size_t(x / s);
+      const auto& v = map.texels[texel];
+      if (v[0] == 0 && v[1] == 0 && v[2] == 0) continue;
+      out.push_back({texel_direction(W, H, x, y), om, texel});
+    }
+  }
+  return out;
+}
+
+template <class Weight>
+std::vector<Rgb> integrate(const EnvMap& map, const EnvImage& image, int supersample, const Weight& weight) {
+  const auto n = nodes(map, supersample);
+  std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
+  tbb::parallel_for(std::size_t(0), image.points.size(), [&](std::size_t k) {
+    const auto& p = image.points[k];
+    const Frame f = view_frame(p);
+    const Vec3 wo = f.local(p.view);
+    double sum[3] = {0, 0, 0};
+    for (const auto& node : n) {
+      const double w = weight(f, wo, node.dir) * node.omega;
+      if (w == 0) continue;
+      const auto& v = map.texels[node.texel];
+      sum[0] += w * v[0];
+      sum[1] += w * v[1];
+      sum[2] += w * v[2];
+    }
+    out[std::size_t(p.pixel)] = Rgb(sum[0], sum[1], sum[2]);
+  });
+  return out;
+}
+
+const Method& registry_method(const std::string& quantity, const std::string& name) {
+  const Quantity* q = find_quantity(quantity);
+  const Method* m = q ? q->find(name) : nullptr;
+  if (!m) {
+    std::string names;
+    if (q)
+      for (const auto& x : q->methods) names += " " + x.name;
+    throw std::invalid_argument("unknown " + quantity + " method '" + name + "' (methods:" + names + ")");
+  }
+  return *m;
+}
+
+}  // namespace
+
+std::vector<Rgb> integrate_diffuse(const EnvMap& map, const EnvImage& image, int supersample) {
+  return integrate(map, image, supersample, [](const Frame& f, const Vec3&, const Vec3& w) {
+    const double c = w.dot(f.n);
+    return c > 0 ? c / M_PI : 0.0;
+  });
+}
+
+std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, double roughness, double f0, int supersample) {
+  return integrate(map, image, supersample, [roughness, f0](const Frame& f, const Vec3& wo, const Vec3& w) {
+    if (!(w.dot(f.n) > 0)) return 0.0;
+    return ggx_brdf_cosine(roughness, f0, wo, f.local(w));
+  });
+}
+
+namespace {
+template <class PerLobe>
+std::vector<Rgb> mixture_shading(const SgMixture& m, const EnvImage& image, const PerLobe& per_lobe) {
+  std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
+  tbb::parallel_for(std::size_t(0), image.points.size(), [&](std::size_t k) {
+    const auto& p = image.points[k];
+    const Frame f = view_frame(p);
+    Rgb sum = Rgb::Zero();
+    for (const auto& l : m) {
+      const double x = per_lobe(f, p, l);
+      sum += x * Rgb(l.amplitude[0], l.amplitude[1], l.amplitude[2]);
+    }
+    out[std::size_t(p.pixel)] = sum;
+  });
+  return out;
+}
+}  // namespace
+
+std::vector<Rgb> mixture_diffuse_reference(const SgMixture& m, const EnvImage& image) {
+  return mixture_shading(m, image, [](const Frame& f, const EnvShadingPoint&, const SgLight& l) {
+    return clamped_cosine_reference(l.sharpness, std::clamp(l.axis.dot(f.n), -1.0, 1.0)) / M_PI;
+  });
+}
+
+std::vector<Rgb> mixture_diffuse_method(const SgMixture& m, const EnvImage& image, const std::string& method) {
+  const Method& md = registry_method("clamped-cosine", method);
+  return mixture_shading(m, image, [&md](const Frame& f, const EnvShadingPoint&, const SgLight& l) {
+    const double a[2] = {l.sharpness, std::clamp(l.axis.dot(f.n), -1.0, 1.0)};
+    return md.eval_double(std::span<const double>(a, 2)) / M_PI;
+  });
+}
+
+std::vector<Rgb> mixture_specular_method(const SgMixture& m, const EnvImage& image, const std::string& method,
+                                         double roughness, double f0) {
+  const Method& md = registry_method("specular", method);
+  return mixture_shading(m, image, [&md, roughness, f0](const Frame& f, const EnvShadingPoint& p, const SgLight& l) {
+    const Vec3 xi = f.local(l.axis);
+    const double a[6] = {roughness, l.sharpness, std::clamp(xi(2), -1.0, 1.0), std::clamp(p.view.dot(f.n), 0.0, 1.0),
+                         std::atan2(xi(1), xi(0)), f0};
+    return md.eval_double(std::span<const double>(a, 6));
+  });
+}
+
+ShadingError shading_error(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const EnvImage& image) {
+  std::vector<char> mask(value.size(), 0);
+  for (const auto& p : image.points) mask[std::size_t(p.pixel)] = 1;
+  const ImageError e = image_error(value, reference, mask);
+  double num = 0, den = 0;
+  for (std::size_t k = 0; k < value.size(); ++k) {
+    if (!mask[k]) continue;
+    num += (value[k] - reference[k]).abs().sum();
+    den += reference[k].abs().sum();
+  }
+  return {e.relative_l2, e.smape, den > 0 ? num / den : 0.0};
+}
+
+}  // namespace sglab::render

@@ -1,0 +1,519 @@
+// Environment-map SG mixture fits (envmap.hpp).
+#include "envmap.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <ceres/sphere_manifold.h>
+
+#include "sglab/vmf_filtering.hpp"
+
+namespace sglab::fit {
+namespace {
+
+using Vec3d = Vec3<double>;
+
+// The texels of one pyramid level as fitting data.
+struct Level {
+  int width = 0, height = 0;
+  std::vector<Vec3d> dirs;
+  std::vector<double> omega;                 // solid angle
+  std::vector<std::array<double, 3>> value;  // target radiance
+  double texel_variance = 0;                 // s² = δ²/12 of the box filter, δ = π/H
+};
+
+// Sharpnesses are bounded below by kMinSharpness and above, per level, by 4/δ² = 1/(3s²) (a lobe
+// of standard deviation half a texel): the blurred model of MixtureCost hardly changes with λ
+// beyond ~1/s², so an unbounded λ drifts up along that flat direction and becomes a spike on the
+// finer map.
+constexpr double kMinSharpness = 1e-2;
+double max_sharpness(const Level& level) { return 1 / (3 * level.texel_variance); }
+
+Level make_level(const EnvMap& m) {
+  Level l;
+  l.width = m.width;
+  l.height = m.height;
+  for (int v = 0; v < m.height; ++v) {
+    const double om = texel_solid_angle(m.width, m.height, v);
+    for (int u = 0; u < m.width; ++u) {
+      l.dirs.push_back(texel_direction(m.width, m.height, u, v));
+      l.omega.push_back(om);
+      const auto& t = m.at(u, v);
+      l.value.push_back({double(t[0]), double(t[1]), double(t[2])});
+    }
+  }
+  const double delta = M_PI / double(m.height);
+  l.texel_variance = delta * delta / 12;
+  return l;
+}
+
+// Parameters of lobe j in one array: axis (3), log λ (1), RGB amplitude (3).
+constexpr int kStride = 7;
+
+// Residuals of `count` texels starting at `first`, for every lobe (parameter blocks axis, log λ,
+// amplitude per lobe), analytic derivatives.
+// A texel holds the mean of the map over its area, so the model is the mean of each lobe over the
+// texel, approximated by the lobe convolved with the texel's box filter as a Gaussian: the
+// variances add, 1/λ' = 1/λ + s² (s² = δ²/12), and the amplitude scales by q = λ'/λ = 1/(1 + λs²)
+// so that the integral 2πμ/λ is kept: μq·G(ω; ξ, λq). Without it a lobe narrower than a texel
+// would be fitted to the value at the texel centre and could fall between centres. With
+// d = ω·ξ − 1 and u = log λ: ∂/∂u = μ g q² λ(qd − s²), ∂/∂ξ = μ q g λq ω, ∂/∂μ = q g.
+class MixtureCost final : public ceres::CostFunction {
+ public:
+  MixtureCost(const Level* level, std::size_t first, std::size_t count, int lobes, bool log_objective)
+      : level_(level), first_(first), count_(count), lobes_(lobes), log_(log_objective) {
+    set_num_residuals(int(3 * count));
+    for (int j = 0; j < lobes; ++j) {
+      mutable_parameter_block_sizes()->push_back(3);
+      mutable_parameter_block_sizes()->push_back(1);
+      mutable_parameter_block_sizes()->push_back(3);
+    }
+  }
+
+  bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
+    const std::size_t T = count_;
+    const int N = lobes_;
+    std::vector<double> g(T * std::size_t(N)), d(T * std::size_t(N));
+    std::vector<double> lambda(std::size_t(N), 0.0), q(std::size_t(N), 0.0);
+    const double s2 = level_->texel_variance;
+    for (int j = 0; j < N; ++j) {
+      const double* a = p[3 * j];
+      lambda[std::size_t(j)] = std::exp(p[3 * j + 1][0]);
+      q[std::size_t(j)] = 1 / (1 + lambda[std::size_t(j)] * s2);
+      const double blurred = lambda[std::size_t(j)] * q[std::size_t(j)];
+      for (std::size_t t = 0; t < T; ++t) {
+        const Vec3d& w = level_->dirs[first_ + t];
+        const double c = w(0) * a[0] + w(1) * a[1] + w(2) * a[2];
+        d[t * std::size_t(N) + std::size_t(j)] = c - 1;
+        // q·G(ω; ξ, λq): the texel-blurred lobe without its amplitude
+        g[t * std::size_t(N) + std::size_t(j)] = q[std::size_t(j)] * std::exp(std::min(0.0, blurred * (c - 1)));
+      }
+    }
+    // s_t·f'(m): the factor every derivative of residual (t, c) carries.
+    std::vector<double> scale(3 * T);
+    for (std::size_t t = 0; t < T; ++t) {
+      const double s = std::sqrt(level_->omega[first_ + t]);
+      for (int c = 0; c < 3; ++c) {
+        double m = 0;
+        for (int j = 0; j < N; ++j) m += p[3 * j + 2][c] * g[t * std::size_t(N) + std::size_t(j)];
+        const double y = level_->value[first_ + t][std::size_t(c)];
+        if (log_) {
+          residuals[3 * t + std::size_t(c)] = s * (std::log1p(m) - std::log1p(y));
+          scale[3 * t + std::size_t(c)] = s / (1 + m);
+        } else {
+          residuals[3 * t + std::size_t(c)] = s * (m - y);
+          scale[3 * t + std::size_t(c)] = s;
+        }
+      }
+    }
+    if (!jacobians) return true;
+    for (int j = 0; j < N; ++j) {
+      double* ja = jacobians[3 * j];
+      double* jl = jacobians[3 * j + 1];
+      double* jm = jacobians[3 * j + 2];
+      const double* amp = p[3 * j + 2];
+      const double lam = lambda[std::size_t(j)], qj = q[std::size_t(j)];
+      for (std::size_t t = 0; t < T; ++t) {
+        const double gt = g[t * std::size_t(N) + std::size_t(j)];
+        const double dt = d[t * std::size_t(N) + std::size_t(j)];
+        const Vec3d& w = level_->dirs[first_ + t];
+        for (int c = 0; c < 3; ++c) {
+          const std::size_t r = 3 * t + std::size_t(c);
+          const double sc = scale[r];
+          const double da = sc * amp[c] * gt;  // s_t f'(m) μ q g
+          if (ja) {
+            for (int k = 0; k < 3; ++k) ja[3 * r + std::size_t(k)] = da * lam * qj * w(k);
+          }
+          if (jl) jl[r] = da * qj * lam * (qj * dt - s2);
+          if (jm) {
+            for (int k = 0; k < 3; ++k) jm[3 * r + std::size_t(k)] = k == c ? sc * gt : 0.0;
+          }
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  const Level* level_;
+  std::size_t first_, count_;
+  int lobes_;
+  bool log_;
+};
+
+struct Solve {
+  int iterations = 0;
+  bool converged = false;
+  double cost = 0;
+};
+
+// LM on one level. shape_fixed: axes and sharpnesses constant (the linear amplitude problem).
+Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_fixed, const EnvFitOptions& o) {
+  ceres::Problem problem;
+  const std::size_t chunk = 256;
+  std::vector<double*> blocks;
+  for (int j = 0; j < N; ++j) {
+    double* base = x.data() + std::size_t(kStride * j);
+    blocks.push_back(base);
+    blocks.push_back(base + 3);
+    blocks.push_back(base + 4);
+  }
+  const bool log_objective = o.objective == "log-l2";
+  for (std::size_t first = 0; first < level.dirs.size(); first += chunk) {
+    const std::size_t count = std::min(chunk, level.dirs.size() - first);
+    problem.AddResidualBlock(new MixtureCost(&level, first, count, N, log_objective), nullptr, blocks);
+  }
+  for (int j = 0; j < N; ++j) {
+    double* base = x.data() + std::size_t(kStride * j);
+    problem.SetManifold(base, new ceres::SphereManifold<3>());
+    problem.SetParameterLowerBound(base + 3, 0, std::log(kMinSharpness));
+    problem.SetParameterUpperBound(base + 3, 0, std::log(max_sharpness(level)));
+    for (int c = 0; c < 3; ++c) problem.SetParameterLowerBound(base + 4, c, 0.0);
+    if (shape_fixed) {
+      problem.SetParameterBlockConstant(base);
+      problem.SetParameterBlockConstant(base + 3);
+    }
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  so.num_threads = o.threads;
+  so.max_num_iterations = o.max_iterations;
+  so.function_tolerance = 1e-6;
+  so.gradient_tolerance = 1e-12;
+  so.parameter_tolerance = 1e-9;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return {int(summary.iterations.size()), summary.termination_type == ceres::CONVERGENCE, summary.final_cost};
+}
+
+// Points of a spherical Fibonacci lattice (González 2010, "Measurement of areas on a sphere using
+// Fibonacci and latitude–longitude lattices").
+std::vector<Vec3d> fibonacci_axes(int n) {
+  std::vector<Vec3d> out;
+  const double golden = M_PI * (3 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1 - (2 * i + 1) / double(n);
+    const double r = std::sqrt(std::max(0.0, (1 - z) * (1 + z)));
+    const double phi = golden * i;
+    out.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+  }
+  return out;
+}
+
+// Per-texel weight of the directional statistics: Ω_t × mean RGB (a small floor keeps an
+// all-black map well defined).
+std::vector<double> texel_weights(const Level& level) {
+  std::vector<double> w(level.dirs.size());
+  double total = 0;
+  for (std::size_t t = 0; t < w.size(); ++t) {
+    const auto& v = level.value[t];
+    w[t] = level.omega[t] * (v[0] + v[1] + v[2]) / 3;
+    total += w[t];
+  }
+  const double floor = total > 0 ? 1e-9 * total / double(w.size()) : 1.0;
+  for (auto& x : w) x += floor;
+  return w;
+}
+
+struct Cluster {
+  Vec3d axis;
+  double sharpness;
+  double weight;  // fraction of the total
+};
+
+// λ from a weighted resultant Σ w ω of total weight W (Banerjee et al. 2005), within
+// [0.5, max_sharpness] (a cluster of one texel has r̄ = 1).
+double cluster_sharpness(const Vec3d& resultant, double weight, const Level& level) {
+  const double r = weight > 0 ? resultant.norm() / weight : 0.0;
+  return std::clamp(vmf_sharpness_banerjee(r), 0.5, max_sharpness(level));
+}
+
+// Weighted spherical k-means (k-means++ seeding with `seed`, then Lloyd iterations on the cosine).
+std::vector<Cluster> spherical_kmeans(const Level& level, const std::vector<double>& w, int k, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  const std::size_t T = level.dirs.size();
+  std::vector<Vec3d> centers;
+  std::vector<double> dist(T, 2.0);
+  {
+    std::discrete_distribution<std::size_t> pick(w.begin(), w.end());
+    centers.push_back(level.dirs[pick(rng)]);
+  }
+  while (int(centers.size()) < k) {
+    std::vector<double> p(T);
+    for (std::size_t t = 0; t < T; ++t) {
+      dist[t] = std::min(dist[t], 1 - level.dirs[t].dot(centers.back()));
+      p[t] = w[t] * dist[t] * dist[t];
+    }
+    double s = 0;
+    for (double v : p) s += v;
+    if (!(s > 0)) {  // every texel sits on a centre: fall back to the Fibonacci lattice
+      const auto f = fibonacci_axes(k);
+      centers.push_back(f[centers.size()]);
+      continue;
+    }
+    std::discrete_distribution<std::size_t> pick(p.begin(), p.end());
+    centers.push_back(level.dirs[pick(rng)]);
+  }
+  std::vector<int> assign(T, -1);
+  std::vector<Vec3d> sum(static_cast<std::size_t>(k));
+  std::vector<double> wsum(static_cast<std::size_t>(k));
+  for (int iter = 0; iter < 30; ++iter) {
+    bool changed = false;
+    for (std::size_t t = 0; t < T; ++t) {
+      int best = 0;
+      double bd = -2;
+      for (int j = 0; j < k; ++j) {
+        const double c = level.dirs[t].dot(centers[std::size_t(j)]);
+        if (c > bd) bd = c, best = j;
+      }
+      changed = changed || assign[t] != best;
+      assign[t] = best;
+    }
+    std::fill(sum.begin(), sum.end(), Vec3d::Zero());
+    std::fill(wsum.begin(), wsum.end(), 0.0);
+    for (std::size_t t = 0; t < T; ++t) {
+      sum[std::size_t(assign[t])] += w[t] * level.dirs[t];
+      wsum[std::size_t(assign[t])] += w[t];
+    }
+    for (int j = 0; j < k; ++j)
+      if (sum[std::size_t(j)].norm() > 0) centers[std::size_t(j)] = sum[std::size_t(j)].normalized();
+    if (!changed) break;
+  }
+  double total = 0;
+  for (double x : wsum) total += x;
+  std::vector<Cluster> out;
+  for (int j = 0; j < k; ++j)
+    out.push_back({centers[std::size_t(j)], cluster_sharpness(sum[std::size_t(j)], wsum[std::size_t(j)], level),
+                   total > 0 ? wsum[std::size_t(j)] / total : 1.0 / k});
+  return out;
+}
+
+std::vector<EnvMap> pyramid(const EnvMap& map) {
+  std::vector<EnvMap> levels{map};
+  while (levels.back().width % 2 == 0 && levels.back().height % 2 == 0 && levels.back().width > 32)
+    levels.push_back(downsample_envmap(levels.back()));
+  return levels;
+}
+
+// Indices into the pyramid: the finest level whose Jacobian fits the budget, and the coarsest
+// level that still has more residuals than 4 × the parameter count (start of coarse to fine).
+void choose_levels(const std::vector<EnvMap>& levels, int N, double budget, std::size_t& finest, std::size_t& start) {
+  const double params = double(kStride * N);
+  finest = levels.size() - 1;
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    if (3.0 * double(levels[k].size()) * params <= budget) {
+      finest = k;
+      break;
+    }
+  }
+  start = finest;
+  while (start + 1 < levels.size() && 3.0 * double(levels[start + 1].size()) >= 4 * params) ++start;
+}
+
+void validate(const EnvMap& map, const EnvFitOptions& o) {
+  if (o.lobes < 1) throw std::invalid_argument("--lobes must be at least 1 (got " + std::to_string(o.lobes) + ")");
+  if (std::size_t(o.lobes) > map.size())
+    throw std::invalid_argument("--lobes " + std::to_string(o.lobes) + " exceeds the map's pixel count " + std::to_string(map.size()));
+  if (o.init != "fibonacci" && o.init != "kmeans")
+    throw std::invalid_argument("unknown --init '" + o.init + "' (fibonacci, kmeans)");
+  if (o.objective != "l2" && o.objective != "log-l2")
+    throw std::invalid_argument("unknown --objective '" + o.objective + "' (l2, log-l2)");
+}
+
+std::vector<double> pack(const std::vector<Cluster>& clusters, const Level& level) {
+  // Initial amplitudes: each cluster's share of the map's mean radiance spread over its lobe.
+  std::array<double, 3> power{0, 0, 0};
+  for (std::size_t t = 0; t < level.dirs.size(); ++t)
+    for (int c = 0; c < 3; ++c) power[std::size_t(c)] += level.omega[t] * level.value[t][std::size_t(c)];
+  std::vector<double> x;
+  for (const auto& cl : clusters) {
+    x.insert(x.end(), {cl.axis(0), cl.axis(1), cl.axis(2), std::log(cl.sharpness)});
+    for (int c = 0; c < 3; ++c) x.push_back(std::max(0.0, cl.weight * power[std::size_t(c)] / sg_integral(cl.sharpness)));
+  }
+  return x;
+}
+
+SgMixture unpack(const std::vector<double>& x, int N) {
+  SgMixture m;
+  for (int j = 0; j < N; ++j) {
+    const double* b = x.data() + std::size_t(kStride * j);
+    SgLight l;
+    l.axis = Vec3d(b[0], b[1], b[2]).normalized();
+    l.sharpness = std::exp(b[3]);
+    l.amplitude = {b[4], b[5], b[6]};
+    m.push_back(l);
+  }
+  return m;
+}
+
+// The result from the finest level's parameters x: mixture, error against the full map, time.
+void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::vector<double>& x, double cost,
+            std::chrono::steady_clock::time_point t0) {
+  r.final_cost = cost;
+  r.fit_width = level.width;
+  r.fit_height = level.height;
+  r.mixture = unpack(x, int(x.size()) / kStride);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.error = envmap_error(map, rasterize_mixture(r.mixture, map.width, map.height, kErrorSupersample));
+}
+
+// On each level finer than the last one fitted (the Jacobian budget stops the full joint fit
+// there), the lobes whose sharpness reached the coarser level's bound are refitted alone, on the
+// texels within 4 standard deviations (+ 2 texels) of their axes, with every other lobe held
+// fixed (its texel-blurred values subtracted from the targets): a sun or a small light is
+// resolved on the full map at the cost of a few hundred texels, not of the whole Jacobian.
+void refine_sharp_lobes(const std::vector<EnvMap>& maps, std::size_t finest, std::vector<double>& x, int N,
+                        const EnvFitOptions& o, EnvFitResult& r) {
+  for (std::size_t k = finest; k-- > 0;) {
+    const Level full = make_level(maps[k]);
+    const double coarse_bound = max_sharpness(make_level(maps[k + 1]));
+    std::vector<int> sharp;
+    std::vector<char> is_sharp(std::size_t(N), 0);
+    for (int j = 0; j < N; ++j)
+      if (std::exp(x[std::size_t(kStride * j + 3)]) >= 0.5 * coarse_bound) sharp.push_back(j), is_sharp[std::size_t(j)] = 1;
+    if (sharp.empty()) return;
+    auto axis = [&](int j) { return Vec3d(x[std::size_t(kStride * j)], x[std::size_t(kStride * j + 1)], x[std::size_t(kStride * j + 2)]).normalized(); };
+    const double delta = M_PI / double(full.height);
+    Level sub;
+    sub.width = full.width;
+    sub.height = full.height;
+    sub.texel_variance = full.texel_variance;
+    const double s2 = full.texel_variance;
+    for (std::size_t t = 0; t < full.dirs.size(); ++t) {
+      bool near = false;
+      for (int j : sharp) {
+        const double radius = 4 / std::sqrt(std::exp(x[std::size_t(kStride * j + 3)])) + 2 * delta;
+        near = near || full.dirs[t].dot(axis(j)) >= std::cos(std::min(radius, M_PI));
+      }
+      if (!near) continue;
+      std::array<double, 3> target = full.value[t];
+      for (int j = 0; j < N; ++j) {
+        if (is_sharp[std::size_t(j)]) continue;
+        const double lambda = std::exp(x[std::size_t(kStride * j + 3)]), q = 1 / (1 + lambda * s2);
+        const double g = q * std::exp(std::min(0.0, lambda * q * (full.dirs[t].dot(axis(j)) - 1)));
+        for (int c = 0; c < 3; ++c) target[std::size_t(c)] -= x[std::size_t(kStride * j + 4 + c)] * g;
+      }
+      sub.dirs.push_back(full.dirs[t]);
+      sub.omega.push_back(full.omega[t]);
+      sub.value.push_back(target);
+    }
+    std::vector<double> xs;
+    for (int j : sharp) xs.insert(xs.end(), x.begin() + kStride * j, x.begin() + kStride * (j + 1));
+    const Solve s = solve_level(sub, xs, int(sharp.size()), false, o);
+    r.iterations += s.iterations;
+    r.converged = r.converged && s.converged;
+    for (std::size_t i = 0; i < sharp.size(); ++i)
+      std::copy(xs.begin() + kStride * std::ptrdiff_t(i), xs.begin() + kStride * std::ptrdiff_t(i + 1), x.begin() + kStride * sharp[i]);
+  }
+}
+
+// What both fits start from: validated options, the clock, the pyramid and its levels.
+struct Setup {
+  std::chrono::steady_clock::time_point t0;
+  std::vector<EnvMap> maps;
+  std::size_t finest = 0, start = 0;
+  Setup(const EnvMap& map, const EnvFitOptions& o) {
+    validate(map, o);
+    t0 = std::chrono::steady_clock::now();
+    maps = pyramid(map);
+    choose_levels(maps, o.lobes, o.jacobian_budget, finest, start);
+  }
+};
+
+}  // namespace
+
+EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
+  const Setup setup(map, o);
+  const auto& maps = setup.maps;
+  const std::size_t start = setup.start, finest = setup.finest;
+  const int N = o.lobes;
+  Level level = make_level(maps[start]);
+  std::vector<Cluster> init;
+  if (o.init == "kmeans") {
+    init = spherical_kmeans(level, texel_weights(level), N, o.seed);
+  } else {
+    for (const auto& a : fibonacci_axes(N)) init.push_back({a, std::min(double(N), max_sharpness(level)), 1.0 / N});
+  }
+  std::vector<double> x = pack(init, level);
+  EnvFitResult r;
+  r.method = "ceres";
+  r.converged = true;
+  Solve s = solve_level(level, x, N, true, o);
+  r.iterations += s.iterations;
+  for (std::size_t k = start + 1; k-- > finest;) {
+    if (k != start) level = make_level(maps[k]);
+    s = solve_level(level, x, N, false, o);
+    r.iterations += s.iterations;
+    r.converged = r.converged && s.converged;
+  }
+  const double cost = s.cost;
+  refine_sharp_lobes(maps, finest, x, N, o, r);
+  finish(r, map, level, x, cost, setup.t0);
+  return r;
+}
+
+EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
+  const Setup setup(map, o);
+  const int N = o.lobes;
+  const Level level = make_level(setup.maps[setup.finest]);
+  const std::vector<double> w = texel_weights(level);
+  std::vector<Cluster> cl = spherical_kmeans(level, w, N, o.seed);
+  const std::size_t T = level.dirs.size();
+  std::vector<double> logp(static_cast<std::size_t>(N));
+  std::vector<Vec3d> sum(static_cast<std::size_t>(N));
+  std::vector<double> wsum(static_cast<std::size_t>(N));
+  double previous = -INFINITY;
+  EnvFitResult r;
+  r.method = "vmf-em";
+  for (int iter = 0; iter < 200; ++iter) {
+    std::fill(sum.begin(), sum.end(), Vec3d::Zero());
+    std::fill(wsum.begin(), wsum.end(), 0.0);
+    double loglik = 0;
+    for (std::size_t t = 0; t < T; ++t) {
+      double mx = -INFINITY;
+      for (int j = 0; j < N; ++j) {
+        const auto& c = cl[std::size_t(j)];
+        const double lp = std::log(std::max(c.weight, 1e-300)) - std::log(sg_integral(c.sharpness)) +
+                          c.sharpness * (level.dirs[t].dot(c.axis) - 1);
+        logp[std::size_t(j)] = lp;
+        mx = std::max(mx, lp);
+      }
+      double z = 0;
+      for (int j = 0; j < N; ++j) z += std::exp(logp[std::size_t(j)] - mx);
+      const double lse = mx + std::log(z);
+      loglik += w[t] * lse;
+      for (int j = 0; j < N; ++j) {
+        const double resp = std::exp(logp[std::size_t(j)] - lse) * w[t];
+        sum[std::size_t(j)] += resp * level.dirs[t];
+        wsum[std::size_t(j)] += resp;
+      }
+    }
+    double total = 0;
+    for (double x : wsum) total += x;
+    for (int j = 0; j < N; ++j) {
+      auto& c = cl[std::size_t(j)];
+      if (sum[std::size_t(j)].norm() > 0) c.axis = sum[std::size_t(j)].normalized();
+      c.sharpness = cluster_sharpness(sum[std::size_t(j)], wsum[std::size_t(j)], level);
+      c.weight = wsum[std::size_t(j)] / total;
+    }
+    r.iterations = iter + 1;
+    if (std::abs(loglik - previous) <= 1e-7 * std::abs(loglik)) {
+      r.converged = true;
+      break;
+    }
+    previous = loglik;
+  }
+  std::vector<double> x = pack(cl, level);
+  const Solve s = solve_level(level, x, N, true, o);
+  finish(r, map, level, x, s.cost, setup.t0);
+  return r;
+}
+
+}  // namespace sglab::fit

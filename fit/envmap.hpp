@@ -1,0 +1,63 @@
+// Fitting an equirectangular environment map with a mixture of N RGB spherical Gaussians,
+// L(ω) ≈ Σ_j μ_j G(ω; ξ_j, λ_j) (sglab/envmap.hpp), two ways:
+//
+//  • fit_envmap_ceres: solid-angle-weighted least squares with Ceres (Levenberg–Marquardt).
+//    Parameters per lobe: the axis ξ_j on ceres::SphereManifold<3>, u_j = log λ_j, and the RGB
+//    amplitude μ_j ≥ 0 (bounds). Residuals r_{t,c} = √Ω_t (model − target) (objective "l2") or
+//    √Ω_t (log(1 + model) − log(1 + target)) ("log-l2"), one per texel t and channel c, with
+//    analytic derivatives. Coarse to fine: the map is halved (solid-angle-weighted 2 × 2 means)
+//    down to a 32-texel-wide level; the fit starts there and is refined on each finer level up to
+//    the finest one whose dense Jacobian stays under a budget (jacobian_budget entries), so a
+//    large N is solved on a coarser map. On every level the model of a texel is the lobe blurred
+//    by the texel (1/λ' = 1/λ + δ²/12, integral kept; δ = π/H), so lobes sharper than a texel
+//    are fitted to texel means instead of falling between texel centres; λ ∈ [1e-2, 4/δ²]. On
+//    the levels finer than the budget allows, the lobes at the sharpness bound are refitted alone
+//    on the texels around them, the other lobes held fixed (a sun resolved on the full map). Initial axes:
+//    a Fibonacci lattice (λ = N) or weighted spherical k-means (λ from each cluster's mean
+//    resultant length, Banerjee et al. 2005); initial amplitudes by the same least squares with
+//    axes and sharpnesses held fixed (a non-negative linear least-squares problem).
+//  • fit_envmap_vmf_em: the simple alternative: EM for a mixture of von Mises–Fisher densities
+//    (Banerjee et al. 2005, "Clustering on the unit hypersphere using von Mises–Fisher
+//    distributions", soft assignments, κ by their r̄(3 − r̄²)/(1 − r̄²)) on the texel directions
+//    weighted by Ω_t·(mean RGB), on the same working level, then the RGB amplitudes by the
+//    non-negative least squares above.
+//
+// Both report the error against the full map (envmap_error) of the mixture's texel means
+// (kErrorSupersample² points per texel: what a texel of the map holds), and the wall time of the
+// fit (that error evaluation excluded).
+#pragma once
+
+#include <string>
+
+#include "sglab/envmap.hpp"
+
+namespace sglab::fit {
+
+inline constexpr int kErrorSupersample = 4;
+
+struct EnvFitOptions {
+  int lobes = 8;
+  std::string init = "fibonacci";  // fibonacci | kmeans
+  std::string objective = "l2";    // l2 | log-l2
+  double jacobian_budget = 6e6;    // residuals × parameters of the finest level fitted
+  int threads = 2;
+  int max_iterations = 60;         // Levenberg–Marquardt iterations per level
+  unsigned seed = 1;               // k-means++ seeding (printed by the callers)
+};
+
+struct EnvFitResult {
+  std::string method;      // "ceres" | "vmf-em"
+  SgMixture mixture;
+  EnvMapError error;       // against the full map
+  double seconds = 0;
+  int iterations = 0;      // LM iterations (all levels) or EM iterations
+  bool converged = false;  // every level's LM stopped on a tolerance (not the iteration cap)
+  double final_cost = 0;   // of the finest level
+  int fit_width = 0, fit_height = 0;  // the finest level fitted
+};
+
+// Throws std::invalid_argument for N < 1, N > the pixel count, or an unknown init/objective.
+EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& options);
+EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& options);
+
+}  // namespace sglab::fit
