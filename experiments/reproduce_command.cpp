@@ -2,7 +2,8 @@
 // an ordinary `sglab` command line, run in-process, so that every table it writes is headed by the
 // very command a user can run alone — and records a marker per finished step so that an
 // interrupted run resumes where it stopped (a step's outputs are written atomically, so a step
-// without its marker is simply redone).
+// without its marker is simply redone). The marker records the fingerprint of every file the step
+// names, so a changed input or a deleted output also reruns it.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -14,6 +15,7 @@
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
+#include "sweep.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -125,6 +127,25 @@ std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
+// One line "file PATH FNV1A" per argument that names a regular file now (a scene, a script, an
+// output; "NAME=PATH" arguments too), for a step's marker.
+std::string files_state(const std::vector<std::string>& args) {
+  namespace fs = std::filesystem;
+  std::string state;
+  for (const auto& a : args) {
+    const auto eq = a.find('=');
+    for (const std::string& path : {a, eq == std::string::npos ? std::string() : a.substr(eq + 1)}) {
+      std::error_code ec;
+      if (path.empty() || !fs::is_regular_file(path, ec)) continue;
+      std::ifstream in(path, std::ios::binary);
+      std::ostringstream bytes;
+      bytes << in.rdbuf();
+      state += "file " + path + " " + fnv1a_hex(bytes.str()) + "\n";
+    }
+  }
+  return state;
+}
+
 struct Options {
   std::string out = "results";
   bool quick = false;
@@ -155,7 +176,9 @@ void run(const Options& o) {
       std::ifstream in(marker);
       std::stringstream text;
       text << in.rdbuf();
-      if (text.str() == line + "\n") {
+      // Done only if the command, and every file it named (inputs and outputs), are as the
+      // marker recorded them: an edited scene or a deleted output reruns the step.
+      if (text.str() == line + "\n" + files_state(args)) {
         std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all.size(), s.name.c_str(), line.c_str());
         ++skipped;
         continue;
@@ -175,7 +198,7 @@ void run(const Options& o) {
     }
     if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
     AtomicFile m(marker);
-    m.write(line + "\n");
+    m.write(line + "\n" + files_state(args));
     m.commit();
     ++done;
     std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s\n", k + 1, all.size(), s.name.c_str(),
