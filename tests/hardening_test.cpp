@@ -228,8 +228,8 @@ TEST_F(Hardening, Group07_SignalRemovesTemporaries) {
 // 8. The diffuse methods at extreme sharpness, up to the largest finite value of each type,
 // against the closed-form limits: for c = 0.5 and λ ≥ 1e6, H(λ, c) = 2π/λ and
 // D(λ, c) = 2πc/λ·(1 − 1/λ) to far below 1e-6 (the parts below the horizon are e^{−λc²}-small;
-// the vMF mean cosine is coth λ − 1/λ), and ∫ over the sphere of the vMF restricted to the upper
-// hemisphere is 1. The ASG integral with ηx = ηy = η is π(1 − e^{−η})/η exactly.
+// the vMF mean cosine is coth λ − 1/λ), and the share of the normalised vMF above the horizon is
+// 1. The ASG integral with ηx = ηy = η is π(1 − e^{−η})/η exactly.
 template <class T>
 void check_extreme_sharpness(const char* type) {
   const double two_pi = 2 * std::numbers::pi;
@@ -254,13 +254,22 @@ TEST(HardeningNumerics, Group08_ExtremeSharpness) {
     const double exact = std::numbers::pi * (-std::expm1(-eta)) / eta;
     EXPECT_LT(std::fabs(sglab::asg_integral_exact(eta, eta) / exact - 1), 1e-6) << "η=" << eta;
   }
+  // ηx → ∞ squeezes the ASG onto the great circle x = 0: ∫ → √(π/ηx)·∫_{−1}^{1} e^{−ηy s²} ds
+  // = √(π/ηx)·√(π/ηy)·erf(√ηy) (2√(π/ηx) at ηy = 0), relatively exact to O(1/ηx).
+  for (const double eta_x : {1e20, 1e300, 1.797e308, std::numeric_limits<double>::max()})
+    for (const double eta_y : {0.0, 1.0, 100.0}) {
+      const double pi = std::numbers::pi;
+      const double limit = eta_y == 0 ? 2 * std::sqrt(pi / eta_x) : std::sqrt(pi / eta_x) * std::sqrt(pi / eta_y) * std::erf(std::sqrt(eta_y));
+      EXPECT_LT(std::fabs(sglab::asg_integral_exact(eta_x, eta_y) / limit - 1), 1e-6) << "ηx=" << eta_x << " ηy=" << eta_y;
+    }
 }
 
 // 9. Renders: an output holding Inf is an error naming the pixel and stage; huge or tiny vectors
 // are normalised without overflow; a perpendicularity check that overflowed is exact.
 TEST_F(Hardening, Group09_RenderExtremes) {
   Result r = sglab(render_args() + " --out out.exr --set light.power=1e300");
-  EXPECT_REFUSED(r, "is not finite at pixel (");
+  EXPECT_REFUSED(r, "light.power");
+  EXPECT_NE(r.err.find("nothing written"), std::string::npos);
   EXPECT_FALSE(fs::exists(path("out.exr")));
 
   // A direction of [0, −1e200, −0.7e200] is the direction [0, −1, −0.7]: the same VPLs.
@@ -361,6 +370,17 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
   Result second = sglab(sweep);
   ASSERT_EQ(second.status, 0) << second.err;
   EXPECT_EQ(second.err.find("finished earlier"), std::string::npos) << second.err;
+
+  // `reproduce` reruns a step whose output was deleted (and skips it while it is intact).
+  const std::string step = "reproduce --quick --only error-map --out r";
+  ASSERT_EQ(sglab(step).status, 0);
+  Result again = sglab(step);
+  EXPECT_NE(again.err.find("done earlier, skipped"), std::string::npos) << again.err;
+  fs::remove(path("r") / "error_map" / "error_map.csv");
+  again = sglab(step);
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(again.err.find("done earlier, skipped"), std::string::npos) << again.err;
+  EXPECT_TRUE(fs::exists(path("r") / "error_map" / "error_map.csv"));
 }
 
 // 12. Out-of-range options are refused (they used to wrap or give negative/null results).
