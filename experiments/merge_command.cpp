@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "sglab/text_limits.hpp"
 #include "sweep.hpp"
 
 namespace sglab::cli {
@@ -27,7 +28,16 @@ struct MergeOptions {
 
 void run_merge(const MergeOptions& o) {
   const std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
-  for (const MergedSweep& m : merge_sweep_shards(inputs, o.out)) {
+  // The sweep's own command line, and nothing else: `sweep specular|render …`.
+  const auto sweep_command = [](const std::vector<std::string>& args, const std::filesystem::path& manifest) {
+    if (args.size() < 2 || args[0] != "sweep" || (args[1] != "specular" && args[1] != "render")) {
+      std::string text;
+      for (const auto& a : args) text += (text.empty() ? "" : " ") + a;
+      throw UsageError("merge: " + manifest.string() + ": 'args' \"" + clip_text(text) +
+                       "\" is not a `sweep specular` or `sweep render` command line");
+    }
+  };
+  for (const MergedSweep& m : merge_sweep_shards(inputs, o.out, sweep_command)) {
     std::fprintf(stderr, "merge: sweep %s: %zu points from %zu shards -> %s\n", m.name.c_str(), m.points, m.shards,
                  m.points_csv.string().c_str());
     // m.args was checked to be a `sweep specular|render` command line without output options

@@ -389,7 +389,9 @@ struct ShardFile {
 };
 
 // Every shard manifest named by `inputs` (directories are searched, files taken as given).
-std::vector<ShardFile> find_shards(const std::vector<fs::path>& inputs) {
+std::vector<ShardFile> find_shards(
+    const std::vector<fs::path>& inputs,
+    const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args) {
   static const std::regex shard_manifest(R"((.+)_sweep\.shard-(\d+)-of-(\d+)\.json)");
   std::vector<fs::path> manifests;
   for (const auto& in : inputs) {
@@ -417,7 +419,7 @@ std::vector<ShardFile> find_shards(const std::vector<fs::path>& inputs) {
     const auto field = [&](const char* key, bool ok, const char* expected) {
       if (!f.json.contains(key)) throw UsageError(fmt::format("merge: {}: the manifest has no '{}'", p.string(), key));
       if (!ok)
-        throw UsageError(fmt::format("merge: {}: '{}' is {}, expected {}", p.string(), key, clip_text(f.json[key].dump()),
+        throw UsageError(fmt::format("merge: {}: '{}' is {}, expected {}", p.string(), key, clip_text(f.json[key].dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)),
                                      expected));
     };
     const auto strings = [&](const char* key) {
@@ -438,11 +440,8 @@ std::vector<ShardFile> find_shards(const std::vector<fs::path>& inputs) {
     if (!valid_sweep_name(name))
       throw UsageError(fmt::format("merge: {}: sweep name '{}' is not a plain file name (letters, digits, _ . -)", p.string(),
                                    clip_text(name)));
-    // The sweep's own command line, and nothing else: `sglab sweep KIND …`.
     const auto args = f.json["args"].get<std::vector<std::string>>();
-    if (args.size() < 2 || args[0] != "sweep" || (args[1] != "specular" && args[1] != "render"))
-      throw UsageError(fmt::format("merge: {}: 'args' {} is not a `sweep specular` or `sweep render` command line",
-                                   p.string(), clip_text(f.json["args"].dump())));
+    if (check_args) check_args(args, p);
     for (const auto& a : args)
       for (const char* reserved : {"--out", "--tables-dir", "--shard", "--threads", "--fresh"})
         if (a == reserved || a.rfind(std::string(reserved) + "=", 0) == 0)
@@ -471,9 +470,11 @@ std::vector<ShardFile> find_shards(const std::vector<fs::path>& inputs) {
 
 }  // namespace
 
-std::vector<MergedSweep> merge_sweep_shards(const std::vector<fs::path>& inputs, const fs::path& out_dir) {
+std::vector<MergedSweep> merge_sweep_shards(
+    const std::vector<fs::path>& inputs, const fs::path& out_dir,
+    const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args) {
   if (inputs.empty()) throw UsageError("merge: no shard directories given");
-  const std::vector<ShardFile> shards = find_shards(inputs);
+  const std::vector<ShardFile> shards = find_shards(inputs, check_args);
   std::map<std::string, std::vector<const ShardFile*>> by_name;
   for (const auto& s : shards) by_name[s.json["sweep"].get<std::string>()].push_back(&s);
 
@@ -489,8 +490,8 @@ std::vector<MergedSweep> merge_sweep_shards(const std::vector<fs::path>& inputs,
       for (const char* key : {"args", "grid", "points", "columns"})
         if (s->json[key] != first.json[key])
           throw UsageError(fmt::format("merge: sweep '{}': '{}' differs between {} ({}) and {} ({})", name, key,
-                                       first.manifest.string(), first.json[key].dump(), s->manifest.string(),
-                                       s->json[key].dump()));
+                                       first.manifest.string(), clip_text(first.json[key].dump()), s->manifest.string(),
+                                       clip_text(s->json[key].dump())));
     const auto n = first.json["points"].get<std::size_t>();
     const auto header = first.json["columns"].get<std::vector<std::string>>();
     // Each shard's CSV as its manifest recorded it (a deleted row changes both), read before the

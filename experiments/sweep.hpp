@@ -148,8 +148,11 @@ struct MergedSweep {
 // no shard is found. Writes nothing unless everything checks. Manifests are data: a sweep name
 // that is not a plain file name, a field of the wrong type, or a per-point CSV whose row count or
 // fingerprint differs from its manifest's is refused.
-std::vector<MergedSweep> merge_sweep_shards(const std::vector<std::filesystem::path>& inputs,
-                                            const std::filesystem::path& out_dir);
+// `check_args`, if given, is called with each manifest's "args" and path before anything is
+// written, and throws UsageError for a command line its caller will not run.
+std::vector<MergedSweep> merge_sweep_shards(
+    const std::vector<std::filesystem::path>& inputs, const std::filesystem::path& out_dir,
+    const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args = {});
 
 // ---- error statistics shared by the summaries ---------------------------------------------------
 

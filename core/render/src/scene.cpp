@@ -64,7 +64,8 @@ std::string join(const std::string& path, const std::string& key) { return path.
 std::string type_name(const json& v) { return v.type_name(); }
 
 // A value as a message shows it: its JSON text, clipped (text_limits.hpp).
-std::string shown(const json& v) { return clip_text(v.dump()); }
+// Invalid UTF-8 in a string is shown replaced (dump() would throw on it).
+std::string shown(const json& v) { return clip_text(v.dump(-1, ' ', false, json::error_handler_t::replace)); }
 
 // v/|v| without overflow or underflow in |v|: scaled by the largest component first, so
 // [0, -1e200, -0.7e200] and [1e-200, 0, 0] normalise like [0, -1, -0.7] and [1, 0, 0].
@@ -127,7 +128,7 @@ Rgb rgb_in_unit_interval(const json& v, const std::string& path) {
 int positive_int(const json& v, const std::string& path, int max) {
   if (!v.is_number_integer()) fail(path, fmt::format("expected a positive integer, got {}", shown(v)));
   // An unsigned value above LLONG_MAX (e.g. 18446744073709551615) must not wrap to a negative.
-  if (v.is_number_unsigned() ? v.get<unsigned long long>() > static_cast<unsigned long long>(max)
+  if (v.is_number_unsigned() ? (v.get<unsigned long long>() < 1 || v.get<unsigned long long>() > static_cast<unsigned long long>(max))
                              : (v.get<long long>() < 1 || v.get<long long>() > max))
     fail(path, fmt::format("{} is outside [1, {}]", shown(v), max));
   return int(v.get<long long>());
