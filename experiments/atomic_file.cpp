@@ -1,21 +1,105 @@
 #include "atomic_file.hpp"
 
 #include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <cstring>
+#include <mutex>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include <fmt/core.h>
 
+#include "commands.hpp"
+
 namespace sglab::cli {
 namespace {
 
 [[noreturn]] void throw_errno(const std::string& what, const std::filesystem::path& path) {
   throw std::system_error(errno, std::generic_category(), what + " '" + path.string() + "'");
+}
+
+// ---- temporaries removed on SIGINT/SIGTERM ------------------------------------------------------
+// A fixed table, so the handler touches only async-signal-safe state: a slot is 0 (free),
+// 1 (being filled) or 2 (holds the path of a live temporary).
+constexpr int kSlots = 256;
+struct TempSlot {
+  std::atomic<int> state{0};
+  char path[PATH_MAX];
+};
+TempSlot g_temps[kSlots];
+std::atomic<int> g_publishing{0};      // > 0 while an output set is being renamed
+std::atomic<int> g_pending_signal{0};  // a signal that arrived meanwhile
+
+void remove_temporaries_and_die(int sig) {
+  for (auto& slot : g_temps)
+    if (slot.state.load() == 2) ::unlink(slot.path);
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+extern "C" void on_fatal_signal(int sig) {
+  if (g_publishing.load() > 0) {  // finish publishing the set first; publish_end re-raises
+    g_pending_signal.store(sig);
+    return;
+  }
+  remove_temporaries_and_die(sig);
+}
+
+void install_handlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    for (int sig : {SIGINT, SIGTERM}) {
+      struct sigaction old {};
+      if (::sigaction(sig, nullptr, &old) != 0 || old.sa_handler != SIG_DFL) continue;  // ignored or handled already
+      struct sigaction sa {};
+      sa.sa_handler = on_fatal_signal;
+      sigemptyset(&sa.sa_mask);
+      ::sigaction(sig, &sa, nullptr);
+    }
+  });
+}
+
+int register_temporary(const std::string& path) {
+  if (path.size() >= PATH_MAX) return -1;
+  install_handlers();
+  for (int i = 0; i < kSlots; ++i) {
+    int expected = 0;
+    if (g_temps[i].state.compare_exchange_strong(expected, 1)) {
+      std::memcpy(g_temps[i].path, path.c_str(), path.size() + 1);
+      g_temps[i].state.store(2);
+      return i;
+    }
+  }
+  return -1;  // table full: this temporary is not removed by a signal (still never a partial target)
+}
+
+void unregister_temporary(int slot) {
+  if (slot >= 0) g_temps[slot].state.store(0);
+}
+
+void publish_begin() { g_publishing.fetch_add(1); }
+void publish_end() {
+  if (g_publishing.fetch_sub(1) == 1) {
+    const int sig = g_pending_signal.exchange(0);
+    if (sig != 0) remove_temporaries_and_die(sig);
+  }
+}
+
+const char* file_kind(const struct stat& st) {
+  if (S_ISDIR(st.st_mode)) return "a directory";
+  if (S_ISLNK(st.st_mode)) return "a symbolic link";
+  if (S_ISFIFO(st.st_mode)) return "a FIFO";
+  if (S_ISCHR(st.st_mode)) return "a character device";
+  if (S_ISBLK(st.st_mode)) return "a block device";
+  if (S_ISSOCK(st.st_mode)) return "a socket";
+  return "not a regular file";
 }
 
 }  // namespace
@@ -29,6 +113,7 @@ AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)
   fd_ = ::mkstemp(name.data());
   if (fd_ < 0) throw_errno("cannot create a temporary file for", target_);
   temp_ = name.data();
+  slot_ = register_temporary(temp_.string());
   // mkstemp creates the file 0600; give the result the permissions an ordinary open() would
   // (0666 less the umask). umask can only be read by setting it, so set it back at once.
   const mode_t mask = ::umask(0);
@@ -37,6 +122,7 @@ AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)
     const int saved = errno;
     ::close(fd_);
     ::unlink(temp_.c_str());
+    unregister_temporary(slot_);
     errno = saved;
     throw_errno("cannot set the permissions of", temp_);
   }
@@ -46,6 +132,7 @@ AtomicFile::~AtomicFile() {
   if (committed_) return;
   if (fd_ >= 0) ::close(fd_);
   ::unlink(temp_.c_str());
+  unregister_temporary(slot_);
 }
 
 void AtomicFile::write(std::string_view data) {
@@ -60,14 +147,34 @@ void AtomicFile::write(std::string_view data) {
 }
 
 void AtomicFile::commit() {
+  flush();
+  publish_begin();
+  try {
+    publish();
+  } catch (...) {
+    publish_end();
+    throw;
+  }
+  publish_end();
+}
+
+void AtomicFile::flush() {
   // fsync before rename: otherwise a crash right after the rename can publish an empty file.
   if (::fsync(fd_) != 0) throw_errno("cannot flush", temp_);
   const int fd = fd_;
   fd_ = -1;
   if (::close(fd) != 0) throw_errno("cannot close", temp_);
+}
+
+void AtomicFile::publish() {
+  // The target may have become a special file since the command's checks: never replace one.
+  struct stat st {};
+  if (::lstat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw UsageError(fmt::format("'{}' is {}; refusing to replace it with an output file", target_.string(), file_kind(st)));
   if (::rename(temp_.c_str(), target_.c_str()) != 0)
     throw_errno("cannot rename the output to", target_);
   committed_ = true;
+  unregister_temporary(slot_);
   // Make the rename itself durable. The file is already published, so a failure here (some file
   // systems refuse to fsync a directory) is not reported as a failed write.
   const std::filesystem::path dir = target_.has_parent_path() ? target_.parent_path() : ".";
@@ -76,6 +183,58 @@ void AtomicFile::commit() {
     ::fsync(dir_fd);
     ::close(dir_fd);
   }
+}
+
+void check_output_paths(const std::vector<NamedPath>& outputs, const std::vector<NamedPath>& inputs) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  auto same = [&](const fs::path& a, const fs::path& b) {
+    if (fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec) && !ec) return true;
+    ec.clear();
+    const bool eq = fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec);  // hard links
+    ec.clear();
+    return eq;
+  };
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const NamedPath& o = outputs[i];
+    if (o.path.empty()) continue;
+    struct stat st {};
+    if (::lstat(o.path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw UsageError(fmt::format("{} '{}' is {}; an output must be a regular file (or not exist yet)", o.option,
+                                   o.path.string(), file_kind(st)));
+    for (const NamedPath& in : inputs)
+      if (!in.path.empty() && same(o.path, in.path))
+        throw UsageError(fmt::format("{} '{}' is the input {}; refusing to overwrite an input", o.option, o.path.string(),
+                                     in.option));
+    for (std::size_t j = 0; j < i; ++j)
+      if (!outputs[j].path.empty() && same(o.path, outputs[j].path))
+        throw UsageError(fmt::format("{} '{}' is also the output of {}; each output needs its own file", o.option,
+                                     o.path.string(), outputs[j].option));
+  }
+}
+
+void OutputSet::add(std::filesystem::path target, std::string bytes) {
+  files_.emplace_back(std::move(target), std::move(bytes));
+}
+
+void OutputSet::commit() {
+  std::vector<std::unique_ptr<AtomicFile>> temps;
+  for (auto& [target, bytes] : files_) {
+    if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+    temps.push_back(std::make_unique<AtomicFile>(target));
+    temps.back()->write(bytes);
+    temps.back()->flush();
+  }
+  // Every file is written: publish them together, a signal meanwhile waits for the last rename.
+  publish_begin();
+  try {
+    for (auto& t : temps) t->publish();
+  } catch (...) {
+    publish_end();
+    throw;
+  }
+  publish_end();
+  files_.clear();
 }
 
 void write_file_atomically(const std::filesystem::path& target, std::string_view bytes) {

@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "commands.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -18,6 +19,8 @@ class Parser {
   Parser(std::string_view text, const std::string& source) : s_(text), source_(source) {}
 
   bool at_end() const { return i_ >= s_.size(); }
+  // Whether only line ends remain (trailing blank lines, which are not rows).
+  bool only_line_ends_left() const { return s_.find_first_not_of("\r\n", i_) == std::string_view::npos; }
   std::size_t line() const { return line_; }
 
   // One record, consuming its line end (LF, CRLF or a lone CR).
@@ -97,7 +100,12 @@ std::size_t CsvTable::column(const std::string& name) const {
 }
 
 CsvTable read_csv(std::istream& in, const std::string& source) {
-  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::string text;
+  // Read in blocks so that an input beyond the limit is refused before it fills the memory.
+  for (char block[1 << 16]; in.read(block, sizeof block) || in.gcount() > 0;) {
+    text.append(block, std::size_t(in.gcount()));
+    if (const auto error = input_size_error(text.size(), kMaxCsvBytes, "the input")) throw UsageError(source + ": " + *error);
+  }
   if (in.bad()) throw std::runtime_error(source + ": read error");
   std::string_view body = text;
   constexpr std::string_view kBom = "\xEF\xBB\xBF";
@@ -111,11 +119,13 @@ CsvTable read_csv(std::istream& in, const std::string& source) {
     for (std::size_t j = 0; j < i; ++j)
       if (table.header[i] == table.header[j])
         throw UsageError(fmt::format("{}: line 1: column '{}' appears twice in the header", source,
-                                     table.header[i]));
+                                     clip_text(table.header[i])));
   while (!parser.at_end()) {
     CsvRecord record;
     record.line = parser.line();
     record.fields = parser.record();
+    if (record.fields.size() == 1 && record.fields[0].empty() && table.header.size() > 1 && parser.only_line_ends_left())
+      break;  // blank lines at the end of the input
     if (record.fields.size() != table.header.size())
       throw UsageError(fmt::format("{}: row {} (line {}) has {} field{}, the header has {}", source,
                                    table.rows.size() + 1, record.line, record.fields.size(),

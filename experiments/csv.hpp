@@ -30,7 +30,8 @@ struct CsvTable {
 // UsageError naming the line for malformed input: no header, an unterminated quote, a row
 // whose field count differs from the header's, or a duplicate column name (columns are found
 // by name, so a duplicate would be ambiguous). A UTF-8 byte-order mark before the header is
-// skipped (spreadsheet programs write one).
+// skipped (spreadsheet programs write one), and so are blank lines at the end. An input beyond
+// kMaxCsvBytes (text_limits.hpp) is refused as it is read; messages clip the values they quote.
 CsvTable read_csv(std::istream& in, const std::string& source);
 
 // Appends one record to `out`: fields joined by commas, quoted only where needed, then "\n".

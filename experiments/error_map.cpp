@@ -31,7 +31,7 @@ namespace {
 struct Options {
   std::string out_dir = "results/error_map";
   std::string quantity = "clamped-cosine";
-  int size = 0;  // points per axis; 0: 200 (40 with --quick)
+  int size = -1;  // points per axis; -1 (not given): 200 (40 with --quick)
   double lambda_min = 1e-3, lambda_max = 1e4;
   bool quick = false;
 };
@@ -48,7 +48,7 @@ void run(const Options& o) {
   if (q->reference_method.empty() || q->columns.size() != 2 || q->columns[0].kind != ColumnKind::sharpness ||
       q->columns[1].kind != ColumnKind::cosine)
     throw UsageError("error-map: quantity '" + o.quantity + "' is not a (sharpness, cosine) quantity with a reference");
-  const int n = o.size > 0 ? o.size : (o.quick ? 40 : 200);
+  const int n = o.size >= 0 ? o.size : (o.quick ? 40 : 200);
   if (n < 2 || n > 2000) throw UsageError(fmt::format("error-map: --size must be in [2, 2000], got {}", n));
   if (!(o.lambda_min > 0) || !(o.lambda_max > o.lambda_min) || !std::isfinite(o.lambda_max))
     throw UsageError(fmt::format("error-map: need 0 < --lambda-min < --lambda-max, got {} and {}", o.lambda_min, o.lambda_max));
@@ -141,7 +141,7 @@ void run(const Options& o) {
   }
 
   std::string command = fmt::format("sglab error-map --quantity {}", o.quantity);
-  if (o.size > 0) command += fmt::format(" --size {}", o.size);
+  if (o.size >= 0) command += fmt::format(" --size {}", o.size);
   if (o.lambda_min != 1e-3 || o.lambda_max != 1e4) command += fmt::format(" --lambda-min {} --lambda-max {}", o.lambda_min, o.lambda_max);
   if (o.quick) command += " --quick";
   std::string summary_csv = "method,max_abs_error,at_sharpness,at_cosine,rmse,share_over_1pct,median_smape,max_smape,out_of_domain,non_finite\n";

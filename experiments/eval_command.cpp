@@ -6,6 +6,8 @@
 // Order of work, so that bad input never produces output: read the whole table, parse and
 // validate every row, evaluate every row, check every result, and only then write (through an
 // AtomicFile for --out, so an existing file is replaced whole or not at all).
+#include <sys/stat.h>
+
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -29,6 +31,7 @@
 #include "csv.hpp"
 #include "parse_number.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -175,7 +178,7 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
     const auto& fields = table.rows[r].fields;
     const auto where = [&](std::size_t j) {
       return fmt::format("{}, column '{}', value '{}'", row_location(source, table, r), q.columns[j].name,
-                         fields[index[j]]);
+                         clip_text(fields[index[j]]));
     };
     for (std::size_t j = 0; j < k; ++j) {
       try {
@@ -190,7 +193,7 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
       if (error->column) throw UsageError(fmt::format("{}: {}", where(*error->column), error->message));
       std::vector<std::string> values;
       for (std::size_t j = 0; j < k; ++j)
-        values.push_back(fmt::format("{} '{}'", q.columns[j].name, fields[index[j]]));
+        values.push_back(fmt::format("{} '{}'", q.columns[j].name, clip_text(fields[index[j]])));
       throw UsageError(fmt::format("{}, {}: method '{}' of '{}': {}", row_location(source, table, r),
                                    fmt::join(values, ", "), method.name, q.name, error->message));
     }
@@ -230,7 +233,12 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
 }
 
 CsvTable read_input(const std::string& path) {
-  if (path.empty()) return read_csv(std::cin, "<stdin>");
+  if (path.empty()) {
+    struct stat st {};
+    if (::fstat(0, &st) == 0 && S_ISDIR(st.st_mode))
+      throw UsageError("standard input is a directory, not a CSV file");
+    return read_csv(std::cin, "<stdin>");
+  }
   // An ifstream opens a directory without complaint and fails only when reading it.
   if (std::filesystem::is_directory(path))
     throw UsageError(fmt::format("the input '{}' is a directory, not a CSV file", path));
@@ -275,6 +283,7 @@ void run_eval(const EvalOptions& o) {
         fmt::format("unknown precision '{}'; valid precisions: {}", o.precision,
                     fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
 
+  check_output_paths({{"--out", o.out}}, {{"--in", o.in}});
   const CsvTable table = read_input(o.in);
   const std::string source = o.in.empty() ? "<stdin>" : o.in;
   std::vector<std::string> values;

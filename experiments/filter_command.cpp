@@ -33,6 +33,7 @@ struct Options {
 void run(const Options& o) {
   if (o.out.empty()) throw UsageError("filter needs --out IMAGE.exr");
   if (o.weights.empty()) throw UsageError("filter needs --weights normal|lobe|spatial");
+  check_output_paths({{"--out", o.out}, {"--stats", o.stats}}, {{"scene", o.job.render.scene_path}});
   const render::FilterWeights weights = parse_weights_option(o.weights);
   check_filter_parameters(o.job.parameters);
   render::FilterInputOptions input_options = filter_input_options(o.job);
@@ -107,8 +108,10 @@ void run(const Options& o) {
   const std::string exr = render::encode_exr(in.width, in.height,
                                              {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low}},
                                              {{"sglab_command", command}});
-  write_file_atomically(o.out, exr);
-  if (!o.stats.empty()) write_file_atomically(o.stats, stats.dump(2) + "\n");
+  OutputSet outputs;
+  outputs.add(o.out, exr);
+  if (!o.stats.empty()) outputs.add(o.stats, stats.dump(2) + "\n");
+  outputs.commit();
 
   std::printf(
       "filter %s: %d×%d from %d×%d (%s), weights %s\n"

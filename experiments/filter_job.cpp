@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "resource_limits.hpp"
 
 namespace sglab::cli {
 
@@ -34,7 +35,9 @@ void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
   app.add_option("--vsgl", job.render.vsgl, "--source vsgl: VSGL generation (two, fis, kmeans)")->capture_default_str();
   app.add_option("--count", job.render.count, "--source vsgl: VSGL clusters for fis and kmeans")->capture_default_str();
   app.add_option("--diffuse", job.render.diffuse, "--source vsgl: clamped-cosine method of diffuse VSGL shading")->capture_default_str();
-  app.add_option("--seed", job.render.seed, "--source vsgl: seed of the VSGL importance sampling")->capture_default_str();
+  app.add_option("--seed", job.render.seed, "--source vsgl: seed of the VSGL importance sampling")
+      ->capture_default_str()
+      ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
 }
 
 render::FilterInputOptions filter_input_options(const FilterJob& job) {

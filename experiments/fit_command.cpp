@@ -68,6 +68,9 @@ fit::FitResult run_one(const fit::Fitter& f, const FitArgs& a, bool default_obje
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
+  // σ_n² = β·…/κ: a negative, zero or non-finite β or κ gives a negative or null σ_n².
+  if (!(a.beta > 0 && std::isfinite(a.beta))) throw UsageError(fmt::format("--beta {} is not a positive finite number", a.beta));
+  if (!(a.kappa > 0 && std::isfinite(a.kappa))) throw UsageError(fmt::format("--kappa {} is not a positive finite number", a.kappa));
   o.beta = a.beta;
   o.kappa = a.kappa;
   std::fprintf(stderr, "sglab fit: %s (%s)...\n", f.name.c_str(), o.objective.c_str());

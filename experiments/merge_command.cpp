@@ -4,6 +4,8 @@
 // every point appears exactly once (sweep.hpp, merge_sweep_shards). It then runs the sweep's own
 // command on DIR, which finds every point finished and derives the summary and the paper tables
 // from the merged per-point CSV — the same code path, and the same tables, as an unsharded run.
+// The manifests are data, never commands: their sweep command line is checked to be a sweep's,
+// and the sweep it defines here must match the merged output exactly (nothing is recomputed).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -12,6 +14,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "sglab/text_limits.hpp"
 #include "sweep.hpp"
 
 namespace sglab::cli {
@@ -25,12 +28,28 @@ struct MergeOptions {
 
 void run_merge(const MergeOptions& o) {
   const std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
-  for (const MergedSweep& m : merge_sweep_shards(inputs, o.out)) {
+  // The sweep's own command line, and nothing else: `sweep specular|render …`.
+  const auto sweep_command = [](const std::vector<std::string>& args, const std::filesystem::path& manifest) {
+    if (args.size() < 2 || args[0] != "sweep" || (args[1] != "specular" && args[1] != "render")) {
+      std::string text;
+      for (const auto& a : args) text += (text.empty() ? "" : " ") + a;
+      throw UsageError("merge: " + manifest.string() + ": 'args' \"" + clip_text(text) +
+                       "\" is not a `sweep specular` or `sweep render` command line");
+    }
+  };
+  for (const MergedSweep& m : merge_sweep_shards(inputs, o.out, sweep_command)) {
     std::fprintf(stderr, "merge: sweep %s: %zu points from %zu shards -> %s\n", m.name.c_str(), m.points, m.shards,
                  m.points_csv.string().c_str());
+    // m.args was checked to be a `sweep specular|render` command line without output options
+    // (merge_sweep_shards). It is run only to rebuild the sweep's definition here; in a
+    // SummaryOnlyScope the runner computes nothing, and refuses if the merged output is not
+    // exactly that definition's finished output.
     std::vector<std::string> args = m.args;
     args.insert(args.end(), {"--out", o.out, "--tables-dir", o.tables_dir.empty() ? o.out : o.tables_dir});
-    if (run_sglab(args) != 0) throw std::runtime_error("merge: the summary of sweep '" + m.name + "' failed");
+    const SummaryOnlyScope summary_only;
+    const int status = run_sglab(args);
+    if (status == 2) throw UsageError("merge: the summary of sweep '" + m.name + "' was refused (see above)");
+    if (status != 0) throw std::runtime_error("merge: the summary of sweep '" + m.name + "' failed");
   }
 }
 

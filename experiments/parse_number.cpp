@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <system_error>
 
@@ -60,6 +61,10 @@ F from_chars_checked(std::string_view s, const char* type_name) {
   // The grammar was checked above, so anything else is a disagreement between the grammar and
   // from_chars: report it rather than use a partial parse.
   if (ec != std::errc{} || end != s.data() + s.size()) throw NumberError("is not a number");
+  // A subnormal has lost precision already, and the methods' 1/λ-like terms overflow on it:
+  // reject it as out of range (the input names it) rather than fail later.
+  if (value != 0 && std::fabs(value) < std::numeric_limits<F>::min())
+    throw NumberError(std::string("is out of the range of ") + type_name + " (too close to zero: subnormal)");
   return value;
 }
 

@@ -21,8 +21,8 @@ struct NumberError : std::invalid_argument {
 // digits with an optional fraction, an optional exponent. Hexadecimal, "nan", "inf" and empty
 // text are rejected. The value is the text correctly rounded to T: for mp50 the decimal text is
 // converted directly (never through double), so "0.1" is 0.1 to 50 digits. Values whose
-// magnitude is outside T's range (overflow or underflow) are rejected rather than rounded to
-// infinity or zero; for mp50 the range of double applies, because inputs are validated in double.
+// magnitude is outside T's range (overflow or underflow, subnormals included) are rejected rather
+// than rounded to infinity, zero or a subnormal; for mp50 the range of double applies, because inputs are validated in double.
 // Throws NumberError.
 template <class T>
 T parse_decimal(std::string_view text);

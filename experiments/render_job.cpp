@@ -2,6 +2,7 @@
 // (render_job.hpp).
 #include "render_job.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "resource_limits.hpp"
 #include "sglab/render/vsgl_shading.hpp"
 
 namespace sglab::cli {
@@ -31,7 +33,9 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
   app.add_option("--width", job.width, "image width (default: the scene's camera.width)");
   app.add_option("--height", job.height, "image height (default: the scene's camera.height)");
   app.add_option("--set", job.overrides, "KEY=VALUE scene override, e.g. floor.roughness=0.1 or light.distance=0.05 (repeatable)");
-  app.add_option("--seed", job.seed, "seed of the VSGL importance sampling (fis, kmeans)")->capture_default_str();
+  app.add_option("--seed", job.seed, "seed of the VSGL importance sampling (fis, kmeans)")
+      ->capture_default_str()
+      ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
   app.add_option("--lambda-d", job.lambda_d, "λ_d of the diffuse SG lobe (the seeds' 2; 2.292504 is the public VSGL code's)")
       ->capture_default_str();
   app.add_option("--kmeans-space", job.kmeans_space, "k-means clustering space: world (position + normal) or image (RSM texels)")
@@ -136,6 +140,37 @@ std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vs
   if (job.visibility) a.push_back("--visibility");
   if (job.kmeans_space != "world") a.insert(a.end(), {"--kmeans-space", job.kmeans_space});
   return a;
+}
+
+void check_render_memory(const render::Scene& scene, const render::RenderOptions& options, bool with_csv) {
+  const double pixels = double(scene.camera.width) * double(scene.camera.height);
+  const double rsm = double(options.rsm_resolution) * double(options.rsm_resolution);
+  const double shadow = double(options.shadow_map_resolution) * double(options.shadow_map_resolution);
+  // ~400 B a pixel (G-buffer, four RGB layers in double and float, the EXR), ~256 B a VPL, 8 B a
+  // shadow-map texel; the CSV dump ~140 B a pixel.
+  const double bytes = pixels * (400 + (with_csv ? 140 : 0)) + rsm * 256 + shadow * 8;
+  check_memory(bytes, fmt::format("a {}×{} render (RSM {}², shadow map {}²)", scene.camera.width, scene.camera.height,
+                                  options.rsm_resolution, options.shadow_map_resolution));
+}
+
+void check_render_finite(const render::RenderResult& r) {
+  const std::pair<const char*, const std::vector<render::Rgb>*> layers[] = {
+      {"direct", &r.direct}, {"indirect", &r.indirect}, {"indirect_reference", &r.indirect_reference}, {"error", &r.error}};
+  for (const auto& [name, layer] : layers)
+    for (std::size_t k = 0; k < layer->size(); ++k)
+      if (!(*layer)[k].allFinite())
+        throw UsageError(fmt::format(
+            "the {} layer is not finite at pixel ({}, {}) ({}, {}, {}): the scene's values overflow double "
+            "(e.g. light.power); nothing written",
+            name, k % std::size_t(r.width), k / std::size_t(r.width), (*layer)[k](0), (*layer)[k](1), (*layer)[k](2)));
+  // Finite pixels whose squares overflow: the statistics would be written as inf or null.
+  const auto& e = r.error_metrics;
+  for (const auto& [name, value] : {std::pair<const char*, double>{"rmse", e.rmse}, {"smape", e.smape},
+                                    {"relative_l2", e.relative_l2}, {"max_abs", e.max_abs}})
+    if (!std::isfinite(value))
+      throw UsageError(fmt::format("the error statistic {} of indirect against indirect_reference is {}: the scene's values "
+                                   "overflow double in it (e.g. light.power); nothing written",
+                                   name, value));
 }
 
 namespace {

@@ -55,6 +55,15 @@ render::RenderOptions render_options(const RenderJob& job);
 // The job's options as command-line arguments (after the scene path), for provenance.
 std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vsgl = true);
 
+// Refuses (UsageError) a render whose memory, estimated from the image, RSM and shadow-map sizes
+// (about 400 bytes a pixel as measured, plus the per-pixel CSV when `with_csv`), exceeds the
+// machine's, saying how much it would need.
+void check_render_memory(const render::Scene& scene, const render::RenderOptions& options, bool with_csv = false);
+
+// Refuses (UsageError) a result with an infinite or NaN value, naming the layer (the stage that
+// produced it) and the first such pixel: such an image would be written as if it were a result.
+void check_render_finite(const render::RenderResult& result);
+
 // The stats record of a finished render (the fields of issue 5 item 7 and what was built).
 nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, const render::RenderOptions& options,
                             const render::RenderResult& result, const std::string& command);

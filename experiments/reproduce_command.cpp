@@ -2,18 +2,22 @@
 // an ordinary `sglab` command line, run in-process, so that every table it writes is headed by the
 // very command a user can run alone — and records a marker per finished step so that an
 // interrupted run resumes where it stopped (a step's outputs are written atomically, so a step
-// without its marker is simply redone).
+// without its marker is simply redone). The marker records the fingerprint of every file the step
+// names and of every file it wrote under OUT/ and paper_tables/, so a changed input or a deleted
+// or altered output also reruns it.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
+#include "sweep.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -210,6 +214,68 @@ std::string tables_option(const Step& s) {
   return "";
 }
 
+std::string file_fnv1a(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return fnv1a_hex(bytes.str());
+}
+
+// One line "file PATH FNV1A" per argument that names a regular file now (a scene, a script, an
+// output; "NAME=PATH" arguments too), for a step's marker.
+std::string files_state(const std::vector<std::string>& args) {
+  namespace fs = std::filesystem;
+  std::string state;
+  for (const auto& a : args) {
+    const auto eq = a.find('=');
+    for (const std::string& path : {a, eq == std::string::npos ? std::string() : a.substr(eq + 1)}) {
+      std::error_code ec;
+      if (path.empty() || !fs::is_regular_file(path, ec)) continue;
+      state += "file " + path + " " + file_fnv1a(path) + "\n";
+    }
+  }
+  return state;
+}
+
+// Size and modification time of every regular file under `roots` (the files a step may write:
+// OUT/ and paper_tables/), to find what a step wrote.
+using Snapshot = std::map<std::string, std::pair<std::uintmax_t, std::filesystem::file_time_type>>;
+Snapshot snapshot(const std::vector<std::string>& roots) {
+  namespace fs = std::filesystem;
+  Snapshot out;
+  for (const auto& root : roots) {
+    std::error_code ec;
+    if (!fs::is_directory(root, ec)) continue;
+    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+      if (it->is_regular_file(ec) && it->path().string().find("/.steps/") == std::string::npos)
+        out[it->path().string()] = {it->file_size(ec), it->last_write_time(ec)};
+  }
+  return out;
+}
+
+// "output PATH FNV1A" for every file written or changed between two snapshots.
+std::string outputs_state(const Snapshot& before, const Snapshot& after) {
+  std::string state;
+  for (const auto& [path, stamp] : after) {
+    const auto it = before.find(path);
+    if (it == before.end() || it->second != stamp) state += "output " + path + " " + file_fnv1a(path) + "\n";
+  }
+  return state;
+}
+
+// Whether every "output PATH FNV1A" line of a marker still holds.
+bool outputs_intact(const std::string& marker) {
+  std::istringstream in(marker);
+  for (std::string l; std::getline(in, l);) {
+    if (l.rfind("output ", 0) != 0) continue;
+    const auto space = l.rfind(' ');
+    const std::string path = l.substr(7, space - 7);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec) || file_fnv1a(path) != l.substr(space + 1)) return false;
+  }
+  return true;
+}
+
 struct Options {
   std::string out;         // default: results, or results/quick with --quick
   std::string tables_dir;  // default: paper_tables, or OUT/tables with --quick
@@ -261,7 +327,13 @@ void run(const Options& o) {
       std::ifstream in(marker);
       std::stringstream text;
       text << in.rdbuf();
-      if (text.str() == line + "\n") {
+      // Done only if the command, and every file it named (inputs and outputs), are as the
+      // marker recorded them: an edited scene or a deleted output reruns the step.
+      std::string recorded;  // the marker without its "output" lines
+      std::istringstream lines(text.str());
+      for (std::string l; std::getline(lines, l);)
+        if (l.rfind("output ", 0) != 0) recorded += l + "\n";
+      if (recorded == line + "\n" + files_state(args) && outputs_intact(text.str())) {
         std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all.size(), s.name.c_str(), line.c_str());
         ++skipped;
         continue;
@@ -269,6 +341,7 @@ void run(const Options& o) {
     }
     std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all.size(), s.name.c_str(), s.what.c_str(), line.c_str());
     const auto t0 = std::chrono::steady_clock::now();
+    const Snapshot before = snapshot({p.out, p.tables});
     int status;
     if (s.python) {
       // Debian's interpreter, which has python3-matplotlib; a python3 earlier on PATH (pyenv,
@@ -281,7 +354,7 @@ void run(const Options& o) {
     }
     if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
     AtomicFile m(marker);
-    m.write(line + "\n");
+    m.write(line + "\n" + files_state(args) + outputs_state(before, snapshot({p.out, p.tables})));
     m.commit();
     ++done;
     std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s\n", k + 1, all.size(), s.name.c_str(),

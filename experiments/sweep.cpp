@@ -1,6 +1,7 @@
 #include "sweep.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -24,6 +25,7 @@
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -52,18 +54,17 @@ std::vector<std::string> with_point(const std::vector<std::string>& columns) {
   return h;
 }
 
-// FNV-1a, 64 bit (Fowler, Noll, Vo): a fingerprint of the sweep's identity for the checkpoint's
-// first line. Not security; a changed grid changes the text, which changes the hash.
+// Part of every fingerprint: a checkpoint or manifest of another version of sglab is not reused.
+const std::string kCodeVersion = "sglab " SGLAB_VERSION;
+
+// A fingerprint of the sweep's identity (with the code version) for the checkpoint's first line;
+// a changed grid changes the text, which changes the hash.
 std::string fingerprint(const SweepDefinition& d, const Shard& shard) {
-  const std::string text = d.name + '\n' + join(d.args, "\x1f") + '\n' + d.grid + '\n' + join(d.columns, ",") + '\n' +
-                           std::to_string(d.point_count) + '\n' + shard.text();
-  std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64-bit offset basis
-  for (unsigned char ch : text) {
-    h ^= ch;
-    h *= 1099511628211ull;  // FNV-1a 64-bit prime
-  }
-  return fmt::format("{:016x}", h);
+  return fnv1a_hex(d.name + '\n' + join(d.args, "\x1f") + '\n' + d.grid + '\n' + join(d.columns, ",") + '\n' +
+                   std::to_string(d.point_count) + '\n' + shard.text() + '\n' + kCodeVersion);
 }
+
+std::atomic<int> g_summary_only{0};
 
 const std::string kCheckpointMagic = "# sglab sweep checkpoint ";
 
@@ -82,20 +83,36 @@ std::string format_seconds(double s) {
   return fmt::format("{:.0f} h {:02.0f} min", std::floor(s / 3600), std::floor(std::fmod(s, 3600) / 60));
 }
 
-nlohmann::json manifest_json(const SweepDefinition& d, const Shard& shard, std::size_t rows, double seconds) {
+nlohmann::json manifest_json(const SweepDefinition& d, const Shard& shard, std::size_t rows, double seconds,
+                             const std::string& csv) {
   return {{"sweep", d.name},       {"args", d.args},
           {"command", "sglab " + join(d.args, " ")},
           {"grid", d.grid},        {"points", d.point_count},
           {"shard", shard.text()}, {"columns", with_point(d.columns)},
-          {"rows", rows},          {"seconds", seconds}};
+          {"rows", rows},          {"seconds", seconds},
+          {"version", kCodeVersion}, {"points_fnv1a", fnv1a_hex(csv)}};
 }
 
+// A manifest, parsed within the limits of text_limits.hpp (UsageError naming the file).
 nlohmann::json read_json(const fs::path& p) {
+  std::error_code ec;
+  const auto size = fs::file_size(p, ec);
+  if (!ec)
+    if (const auto error = input_size_error(size, kMaxJsonBytes, "a manifest"))
+      throw UsageError(fmt::format("{}: {}", p.string(), *error));
+  const std::string text = read_text(p);
+  if (const auto error = json_nesting_error(text)) throw UsageError(fmt::format("{}: {}", p.string(), *error));
   try {
-    return nlohmann::json::parse(read_text(p));
+    return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
-    throw UsageError(fmt::format("{}: not a sweep manifest ({})", p.string(), e.what()));
+    throw UsageError(fmt::format("{}: not a sweep manifest ({})", p.string(), clip_text(e.what(), 400)));
   }
+}
+
+// A sweep name is a plain file name, never a path: [A-Za-z0-9_.-], not starting with a dot.
+bool valid_sweep_name(const std::string& name) {
+  return !name.empty() && name.size() <= 200 && name[0] != '.' &&
+         name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") == std::string::npos;
 }
 
 // The rows of each point of `points_in_shard` found in `table` (a per-point CSV or checkpoint),
@@ -194,7 +211,10 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
       const nlohmann::json m = nlohmann::json::parse(read_text(result.manifest));
       same = m.is_object() && m.value("sweep", "") == d.name && m.value("args", std::vector<std::string>{}) == d.args &&
              m.value("grid", "") == d.grid && m.value("points", std::size_t(0)) == d.point_count &&
-             m.value("shard", "") == o.shard.text() && m.value("columns", std::vector<std::string>{}) == with_point(d.columns);
+             m.value("shard", "") == o.shard.text() && m.value("columns", std::vector<std::string>{}) == with_point(d.columns) &&
+             m.value("version", "") == kCodeVersion &&
+             // The CSV as the manifest recorded it: a deleted or edited row is not "finished".
+             m.value("points_fnv1a", "") == fnv1a_hex(read_text(result.points_csv));
     } catch (const std::exception&) {
       same = false;  // an unreadable or foreign manifest: the output is not known to be finished
     }
@@ -214,6 +234,10 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
       say("the earlier output " + result.points_csv.string() + " is incomplete or altered; recomputing");
     }
   }
+  if (g_summary_only.load() > 0)
+    throw UsageError(fmt::format("{}: {} is not the finished output of the sweep `sglab {}` as defined here (another "
+                                 "grid, scene, version, or altered rows); nothing recomputed",
+                                 label, result.points_csv.string(), clip_text(join(d.args, " "), 400)));
 
   // 2. A checkpoint of the same sweep: its points are done.
   std::vector<std::vector<SweepRow>> rows(mine.size());
@@ -222,10 +246,13 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   if (fs::exists(checkpoint)) {
     const std::string text = read_text(checkpoint);
     const std::string first = text.substr(0, text.find('\n'));
-    if (first != kCheckpointMagic + print) {
+    const std::string body = first.size() < text.size() ? text.substr(first.size() + 1) : std::string();
+    if (first.rfind(kCheckpointMagic + print + " ", 0) != 0) {
       say("ignoring the checkpoint " + checkpoint.string() + " of a different sweep or grid");
+    } else if (first != kCheckpointMagic + print + " " + fnv1a_hex(body)) {
+      say("ignoring the checkpoint " + checkpoint.string() + ": its rows were altered or cut short");
     } else {
-      std::istringstream in(text.substr(first.size() + 1));
+      std::istringstream in(body);
       LoadedRows loaded;
       try {
         loaded = rows_by_point(read_csv(in, checkpoint.string()), d, o.shard);
@@ -274,7 +301,8 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   auto last_checkpoint = Clock::now(), last_progress = Clock::now();
   const auto t_compute = Clock::now();
   auto write_checkpoint = [&] {  // caller holds the mutex
-    write_file_atomically(checkpoint, kCheckpointMagic + print + "\n" + csv_text());
+    const std::string body = csv_text();
+    write_file_atomically(checkpoint, kCheckpointMagic + print + " " + fnv1a_hex(body) + "\n" + body);
     last_checkpoint = Clock::now();
   };
   auto progress = [&](std::size_t j, bool force) {  // caller holds the mutex
@@ -339,9 +367,10 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
 
   std::size_t row_count = 0;
   for (const auto& r : rows) row_count += r.size();
-  write_file_atomically(result.points_csv, csv_text());
+  const std::string csv = csv_text();
+  write_file_atomically(result.points_csv, csv);
   result.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
-  write_file_atomically(result.manifest, manifest_json(d, o.shard, row_count, result.seconds).dump(2) + "\n");
+  write_file_atomically(result.manifest, manifest_json(d, o.shard, row_count, result.seconds, csv).dump(2) + "\n");
   std::error_code ec;
   fs::remove(checkpoint, ec);
   say(fmt::format("{} points ({} computed, {} resumed), {} rows in {:.1f} s -> {}", mine.size(), result.computed,
@@ -360,7 +389,9 @@ struct ShardFile {
 };
 
 // Every shard manifest named by `inputs` (directories are searched, files taken as given).
-std::vector<ShardFile> find_shards(const std::vector<fs::path>& inputs) {
+std::vector<ShardFile> find_shards(
+    const std::vector<fs::path>& inputs,
+    const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args) {
   static const std::regex shard_manifest(R"((.+)_sweep\.shard-(\d+)-of-(\d+)\.json)");
   std::vector<fs::path> manifests;
   for (const auto& in : inputs) {
@@ -383,13 +414,48 @@ std::vector<ShardFile> find_shards(const std::vector<fs::path>& inputs) {
     ShardFile f;
     f.manifest = p;
     f.json = read_json(p);
-    for (const char* key : {"sweep", "args", "grid", "points", "shard", "columns"})
+    if (!f.json.is_object()) throw UsageError(fmt::format("merge: {}: not a sweep manifest (not a JSON object)", p.string()));
+    // Every field is checked for its type: a manifest is data from anywhere.
+    const auto field = [&](const char* key, bool ok, const char* expected) {
       if (!f.json.contains(key)) throw UsageError(fmt::format("merge: {}: the manifest has no '{}'", p.string(), key));
+      if (!ok)
+        throw UsageError(fmt::format("merge: {}: '{}' is {}, expected {}", p.string(), key, clip_text(f.json[key].dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)),
+                                     expected));
+    };
+    const auto strings = [&](const char* key) {
+      if (!f.json.contains(key) || !f.json[key].is_array()) return false;
+      for (const auto& x : f.json[key])
+        if (!x.is_string()) return false;
+      return true;
+    };
+    field("sweep", f.json.contains("sweep") && f.json["sweep"].is_string(), "a string");
+    field("args", strings("args"), "an array of strings");
+    field("grid", f.json.contains("grid") && f.json["grid"].is_string(), "a string");
+    field("points", f.json.contains("points") && f.json["points"].is_number_unsigned(), "a non-negative integer");
+    field("shard", f.json.contains("shard") && f.json["shard"].is_string(), "a string");
+    field("columns", strings("columns"), "an array of strings");
+    field("rows", f.json.contains("rows") && f.json["rows"].is_number_unsigned(), "a non-negative integer");
+    field("points_fnv1a", f.json.contains("points_fnv1a") && f.json["points_fnv1a"].is_string(), "a string");
+    const std::string name = f.json["sweep"].get<std::string>();
+    if (!valid_sweep_name(name))
+      throw UsageError(fmt::format("merge: {}: sweep name '{}' is not a plain file name (letters, digits, _ . -)", p.string(),
+                                   clip_text(name)));
+    const auto args = f.json["args"].get<std::vector<std::string>>();
+    if (check_args) check_args(args, p);
+    for (const auto& a : args)
+      for (const char* reserved : {"--out", "--tables-dir", "--shard", "--threads", "--fresh"})
+        if (a == reserved || a.rfind(std::string(reserved) + "=", 0) == 0)
+          throw UsageError(fmt::format("merge: {}: 'args' contains {}, which merge sets itself", p.string(), reserved));
     try {
       f.shard = parse_shard(f.json["shard"].get<std::string>());
     } catch (const std::exception& e) {
       throw UsageError(fmt::format("merge: {}: {}", p.string(), e.what()));
     }
+    // The file name is the manifest's own: NAME_sweep.shard-i-of-N.json.
+    if (p.filename() != sweep_manifest_path("", name, f.shard).filename())
+      throw UsageError(fmt::format("merge: {}: the file name does not match its sweep '{}' and shard {} (expected {})",
+                                   p.string(), clip_text(name), f.shard.text(),
+                                   sweep_manifest_path("", name, f.shard).filename().string()));
     if (!f.shard.sharded())
       throw UsageError(fmt::format("merge: {} is the output of an unsharded run (shard {}); only shards are merged",
                                    p.string(), f.shard.text()));
@@ -404,9 +470,11 @@ std::vector<ShardFile> find_shards(const std::vector<fs::path>& inputs) {
 
 }  // namespace
 
-std::vector<MergedSweep> merge_sweep_shards(const std::vector<fs::path>& inputs, const fs::path& out_dir) {
+std::vector<MergedSweep> merge_sweep_shards(
+    const std::vector<fs::path>& inputs, const fs::path& out_dir,
+    const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args) {
   if (inputs.empty()) throw UsageError("merge: no shard directories given");
-  const std::vector<ShardFile> shards = find_shards(inputs);
+  const std::vector<ShardFile> shards = find_shards(inputs, check_args);
   std::map<std::string, std::vector<const ShardFile*>> by_name;
   for (const auto& s : shards) by_name[s.json["sweep"].get<std::string>()].push_back(&s);
 
@@ -422,18 +490,39 @@ std::vector<MergedSweep> merge_sweep_shards(const std::vector<fs::path>& inputs,
       for (const char* key : {"args", "grid", "points", "columns"})
         if (s->json[key] != first.json[key])
           throw UsageError(fmt::format("merge: sweep '{}': '{}' differs between {} ({}) and {} ({})", name, key,
-                                       first.manifest.string(), first.json[key].dump(), s->manifest.string(),
-                                       s->json[key].dump()));
+                                       first.manifest.string(), clip_text(first.json[key].dump()), s->manifest.string(),
+                                       clip_text(s->json[key].dump())));
     const auto n = first.json["points"].get<std::size_t>();
     const auto header = first.json["columns"].get<std::vector<std::string>>();
+    // Each shard's CSV as its manifest recorded it (a deleted row changes both), read before the
+    // per-point tables are sized: a manifest cannot make merge allocate for points no file holds.
+    std::vector<CsvTable> tables;
+    std::size_t total_rows = 0;
+    for (const ShardFile* s : group) {
+      const std::string text = read_text(s->points);
+      if (fnv1a_hex(text) != s->json["points_fnv1a"].get<std::string>())
+        throw UsageError(fmt::format("merge: {}: its contents differ from what {} recorded (rows deleted or edited)",
+                                     s->points.string(), s->manifest.string()));
+      std::istringstream in(text);
+      tables.push_back(read_csv(in, s->points.string()));
+      if (tables.back().rows.size() != s->json["rows"].get<std::size_t>())
+        throw UsageError(fmt::format("merge: {}: {} rows, its manifest {} says {}", s->points.string(),
+                                     tables.back().rows.size(), s->manifest.string(), s->json["rows"].get<std::size_t>()));
+      total_rows += tables.back().rows.size();
+    }
+    if (n > total_rows)
+      throw UsageError(fmt::format("merge: sweep '{}': the manifests say {} points, the shards hold {} rows in all", name, n,
+                                   total_rows));
     std::vector<std::vector<std::vector<std::string>>> rows(n);
     std::vector<const ShardFile*> owner(n, nullptr);
     double seconds = 0;
     std::vector<std::string> sources;
-    for (const ShardFile* s : group) {
-      seconds += s->json.value("seconds", 0.0);
+    for (std::size_t g = 0; g < group.size(); ++g) {
+      const ShardFile* s = group[g];
+      const double shard_seconds = s->json.contains("seconds") && s->json["seconds"].is_number() ? s->json["seconds"].get<double>() : 0.0;
+      seconds += shard_seconds;
       sources.push_back(s->points.string());
-      const CsvTable t = read_sweep_points(s->points);
+      const CsvTable& t = tables[g];
       if (t.header != header) {
         std::string diff;
         for (std::size_t c = 0; c < std::max(t.header.size(), header.size()); ++c) {
@@ -488,6 +577,7 @@ std::vector<MergedSweep> merge_sweep_shards(const std::vector<fs::path>& inputs,
     m["rows"] = row_count;
     m["seconds"] = seconds;
     m["merged_from"] = sources;
+    m["points_fnv1a"] = fnv1a_hex(p.csv);
     p.manifest = m.dump(2) + "\n";
     p.merged = {name, first.json["args"].get<std::vector<std::string>>(), sweep_points_path(out_dir, name, Shard{}), n,
                 group.size()};
@@ -506,6 +596,18 @@ std::vector<MergedSweep> merge_sweep_shards(const std::vector<fs::path>& inputs,
   }
   return out;
 }
+
+std::string fnv1a_hex(std::string_view text) {
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a 64-bit offset basis
+  for (unsigned char ch : text) {
+    h ^= ch;
+    h *= 1099511628211ull;  // FNV-1a 64-bit prime
+  }
+  return fmt::format("{:016x}", h);
+}
+
+SummaryOnlyScope::SummaryOnlyScope() { g_summary_only.fetch_add(1); }
+SummaryOnlyScope::~SummaryOnlyScope() { g_summary_only.fetch_sub(1); }
 
 // ---- statistics ---------------------------------------------------------------------------------
 

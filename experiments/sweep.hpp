@@ -45,6 +45,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "csv.hpp"
@@ -144,9 +145,14 @@ struct MergedSweep {
 // and the value, when the shards disagree (name, arguments, grid, point count, columns), when a
 // per-point CSV's header differs from its manifest, when a point appears twice (in two shards or
 // twice in one), when a point is missing, when a point index is not an integer in range, or when
-// no shard is found. Writes nothing unless everything checks.
-std::vector<MergedSweep> merge_sweep_shards(const std::vector<std::filesystem::path>& inputs,
-                                            const std::filesystem::path& out_dir);
+// no shard is found. Writes nothing unless everything checks. Manifests are data: a sweep name
+// that is not a plain file name, a field of the wrong type, or a per-point CSV whose row count or
+// fingerprint differs from its manifest's is refused.
+// `check_args`, if given, is called with each manifest's "args" and path before anything is
+// written, and throws UsageError for a command line its caller will not run.
+std::vector<MergedSweep> merge_sweep_shards(
+    const std::vector<std::filesystem::path>& inputs, const std::filesystem::path& out_dir,
+    const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args = {});
 
 // ---- error statistics shared by the summaries ---------------------------------------------------
 
@@ -184,6 +190,20 @@ class ErrorAccumulator {
   ErrorStats s_;
   double sum_sq_ = 0, sum_smape_ = 0, sum_sq_scaled_ = 0;
   std::size_t scaled_ = 0;
+};
+
+// FNV-1a, 64 bit (Fowler, Noll, Vo), as 16 hex digits: the fingerprint of a text in checkpoints,
+// manifests and reproduce markers (a changed or truncated file changes it). Not security.
+std::string fnv1a_hex(std::string_view text);
+
+// While one exists (sglab merge running a sweep's own command to derive its summary), run_sweep
+// computes nothing: if the output in the directory is not the finished output of the sweep the
+// local definition describes, it throws UsageError instead of recomputing the sweep.
+struct SummaryOnlyScope {
+  SummaryOnlyScope();
+  ~SummaryOnlyScope();
+  SummaryOnlyScope(const SummaryOnlyScope&) = delete;
+  SummaryOnlyScope& operator=(const SummaryOnlyScope&) = delete;
 };
 
 // Formats a double for a CSV field: the shortest text that reads back to the same double; ""

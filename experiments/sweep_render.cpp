@@ -34,6 +34,8 @@
 #include "commands.hpp"
 #include "parse_number.hpp"
 #include "render_job.hpp"
+#include "resource_limits.hpp"
+#include "sglab/text_limits.hpp"
 #include "sweep.hpp"
 
 namespace sglab::cli {
@@ -231,9 +233,28 @@ void run(const Options& o) {
   }
   if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table '{}' is not a file name", name));
 
+  // Each --vary must set its own field: two keys naming one field (floor.roughness and
+  // objects.0.roughness, or the same key twice) would label rows with one value and render
+  // another. Found by setting a marker through each key and seeing which field changed.
+  std::vector<std::string> targets;
+  for (std::size_t i = 0; i < vary.size(); ++i) {
+    nlohmann::json doc = base;
+    try {
+      render::apply_override(doc, vary[i].key + "=\"\u0001sglab-vary\"");
+    } catch (const render::SceneError& e) {
+      throw UsageError(fmt::format("--vary {}: {}", clip_text(vary[i].key), e.what()));
+    }
+    const nlohmann::json patch = nlohmann::json::diff(base, doc);
+    targets.push_back(patch.empty() ? vary[i].key : patch[0].value("path", vary[i].key));
+    for (std::size_t j = 0; j < i; ++j)
+      if (targets[j] == targets[i])
+        throw UsageError(fmt::format("--vary {} and --vary {} set the same field ({}); give each field once",
+                                     clip_text(vary[j].key), clip_text(vary[i].key), clip_text(targets[i])));
+  }
+
   std::size_t points = 1;
-  for (const auto& v : vary) points *= v.values.size();
-  if (points > 100000) throw UsageError(fmt::format("sweep render: {} points is too many", points));
+  for (const auto& v : vary) points = checked_mul(points, v.values.size(), "sweep render: the --vary point count");
+  if (points > 100000) throw UsageError(fmt::format("sweep render: {} points is too many (at most 100000)", points));
   // Point k's values (the last --vary fastest) and its overrides.
   const auto values_of = [vary](std::size_t k) {
     std::vector<double> x(vary.size());
@@ -263,6 +284,7 @@ void run(const Options& o) {
     }
   };
   for (std::size_t k = 0; k < points; ++k) scene_of(k);  // every point's scene is valid before anything runs
+  check_render_memory(scene_of(0), options);
 
   SweepDefinition d;
   d.name = name;
@@ -271,7 +293,9 @@ void run(const Options& o) {
   for (const auto& c : configs) d.args.insert(d.args.end(), {"--vsgl", c.text});
   for (const auto& a : render_job_arguments(o.job, false)) d.args.push_back(a);
   d.args.insert(d.args.end(), {"--table", name});
-  std::string grid = fmt::format("scene {}; overrides {{{}}}; ", o.job.scene_path, fmt::join(o.job.overrides, ", "));
+  // The scene's contents (after --set), not only its path: an edited scene file is another grid.
+  std::string grid = fmt::format("scene {} (contents fnv1a {}); overrides {{{}}}; ", o.job.scene_path, fnv1a_hex(base.dump()),
+                                 fmt::join(o.job.overrides, ", "));
   for (const auto& v : vary) grid += fmt::format("{} {{{}}} × ", v.key, fmt::join(v.values, ", "));
   std::string labels;
   for (const auto& c : configs) labels += (labels.empty() ? "" : ", ") + c.label();
@@ -342,7 +366,8 @@ void add_sweep_render(CLI::App& sweep) {
   sub->add_option("--tables-dir", o->tables_dir, "directory for NAME.{md,csv} (default: the --out directory)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`");
   sub->add_option("--threads", o->threads, "points computed at once (each render uses all cores; 1 keeps timings clean)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(unsigned_at_most(kMaxThreads));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
   sub->callback([o] { run(*o); });
 }

@@ -26,6 +26,7 @@
 #include "atomic_file.hpp"
 #include "commands.hpp"
 #include "parse_number.hpp"
+#include "resource_limits.hpp"
 #include "sglab/registry.hpp"
 
 namespace sglab::cli {
@@ -490,7 +491,7 @@ void add_sweep_specular(CLI::App& sweep) {
   sub->add_option("--out", o->out, "directory for specular_points.csv and specular_summary.csv")->capture_default_str();
   sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`");
-  sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str();
+  sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str()->check(unsigned_at_most(kMaxThreads));
   sub->add_option("--tables-dir", o->tables_dir, "directory for specular_vs_roughness.{md,csv}")->capture_default_str();
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
   sub->callback([o] { run_specular(*o); });

@@ -335,12 +335,12 @@ std::vector<ErrorCase> error_cases() {
        "sharpness,cosine\n1,0.5\n2,0.5\n0,0.5\n",
        2,
        {"row 3 (line 4)", "sharpness '0'", "cosine '0.5'", "punctual-approx", "sharpness 0"}},
-      // λ = 1e-39 is a valid float (subnormal) but 2π/λ overflows float: Inf must not be printed.
-      {"infinite result",
+      // λ = 1e-39 is a subnormal float (2π/λ would overflow float): refused as input, naming it.
+      {"subnormal input",
        "sg-integral --method approx --precision float",
        "sharpness\n1\n1e-39\n",
-       1,
-       {"row 2 (line 3)", "approx", "inf", "not a finite number"}},
+       2,
+       {"row 2 (line 3)", "value '1e-39'", "subnormal"}},
       // A quoted field spanning two lines: the row and line numbers differ.
       {"row and line differ",
        cc,

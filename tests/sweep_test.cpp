@@ -19,6 +19,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "commands.hpp"
 #include "sweep.hpp"
@@ -286,6 +287,21 @@ TEST_F(SweepTest, MergeRefusesAMissingPoint) {
   EXPECT_FALSE(fs::exists(dir_ / "out" / "toy_points.csv"));
 }
 
+// Rewrites a shard's per-point CSV and updates its manifest's record of it (row count and
+// fingerprint), as a deliberate forger would: the checks behind the fingerprint still hold.
+void forge_shard_points(const fs::path& csv, const std::string& text) {
+  std::ofstream(csv, std::ios::binary) << text;
+  std::string name = csv.filename().string();
+  name.replace(name.find("_points"), 7, "_sweep");
+  name.replace(name.rfind(".csv"), 4, ".json");
+  const fs::path manifest = csv.parent_path() / name;
+  auto m = nlohmann::json::parse(read_file(manifest));
+  std::istringstream in(text);
+  m["rows"] = sglab::cli::read_csv(in, csv.string()).rows.size();
+  m["points_fnv1a"] = sglab::cli::fnv1a_hex(text);
+  std::ofstream(manifest) << m.dump();
+}
+
 TEST_F(SweepTest, MergeRefusesADuplicatedPoint) {
   run_toy_shards(dir_ / "a", 2, {0, 1});
   run_toy_shards(dir_ / "b", 2, {1});  // shard 1 again, elsewhere
@@ -297,7 +313,7 @@ TEST_F(SweepTest, MergeRefusesADuplicatedPoint) {
   const fs::path shard0 = dir_ / "a" / "toy_points.shard-0-of-2.csv";
   std::string text = read_file(shard0);
   text += "0,0,\"p0,0\"\n";
-  std::ofstream(shard0, std::ios::binary) << text;
+  forge_shard_points(shard0, text);
   const std::string e2 = merge_error({dir_ / "a"}, dir_ / "out");
   EXPECT_NE(e2.find("point 0 appears twice"), std::string::npos) << e2;
 }
@@ -307,7 +323,7 @@ TEST_F(SweepTest, MergeRefusesAHeaderMismatch) {
   const fs::path shard1 = dir_ / "toy_points.shard-1-of-2.csv";
   std::string text = read_file(shard1);
   text.replace(0, text.find('\n'), "point,x,name");
-  std::ofstream(shard1, std::ios::binary) << text;
+  forge_shard_points(shard1, text);
   const std::string e = merge_error({dir_}, dir_ / "out");
   EXPECT_NE(e.find("header mismatch"), std::string::npos) << e;
   EXPECT_NE(e.find("'name'"), std::string::npos) << e;
@@ -327,6 +343,10 @@ TEST_F(SweepTest, MergeRefusesAPointOutsideItsShard) {
   std::string text = read_file(shard0);
   text += "23,0,x\n";  // 23 ≥ n
   std::ofstream(shard0, std::ios::binary) << text;
+  // An edited CSV differs from its manifest's record, and is refused as such …
+  EXPECT_NE(merge_error({dir_}, dir_ / "out").find("differ from what"), std::string::npos);
+  // … and one whose manifest was edited to match is still checked row by row.
+  forge_shard_points(shard0, text);
   EXPECT_NE(merge_error({dir_}, dir_ / "out").find("point '23' is not an index"), std::string::npos);
 }
 

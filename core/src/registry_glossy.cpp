@@ -143,6 +143,12 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
         "reference", "adaptive 2D Gauss–Kronrod about the light axis and the mirror/dominant-visible-normal directions (glossy_reference.hpp)",
         "double quadrature, ≤ 1e-6 relative (checked against a finer rule and Monte Carlo); float rounds and mp50 converts the double result (an mp50 2D quadrature is too slow)",
         [](std::span<const double> a) { return specular_reference_value(specular_input(a)); }));
+    // Its cost grows without bound as α → 0: refused below kMinReferenceRoughness.
+    q.methods.back().domain_error = [](std::span<const double> a) -> std::optional<std::string> {
+      if (a[0] >= kMinReferenceRoughness) return std::nullopt;
+      return "roughness below " + std::to_string(kMinReferenceRoughness).substr(0, 5) +
+             ": the quadrature's cost grows without bound as α → 0 (the renderer's minimum α is the same)";
+    };
     q.methods.push_back(method("sg-warp", "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; seeds `two-vsgls` §1.1, `lobe-aware-filtering` App. B) × SG light, exact product integral (Tsai & Shih 2006), M at the lobe axis ξ_s (Wang et al. 2009)",
                                "isotropic lobe about the mirror direction: wrong shape and position at grazing view and for rough surfaces; energy not normalized", nullptr,
                                [](auto a) { return specular_sg_warp(specular_input(a)); }));

@@ -201,6 +201,10 @@ T tokuyoshi2024_t(const T& sharpness, const T& A = T(Tokuyoshi2024T::A),
                   const T& D = T(Tokuyoshi2024T::D), const T& E = T(Tokuyoshi2024T::E)) {
   using std::sqrt;
   const T& l = sharpness;
+  // Above 1e4 the same rational function divided through by λ² and λ³: the direct form's λ³
+  // overflows from λ ≈ 7e12 in float and 6e102 in double (t then came out 0 or NaN).
+  // t = √λ·√(½(1 + (A + B/λ)/λ)/(1 + (C + (D + E/λ)/λ)/λ)) → √(λ/2).
+  if (value_of(l) > 1e4) return sqrt(l) * sqrt(T(0.5) * (T(1) + (A + B / l) / l) / (T(1) + (C + (D + E / l) / l) / l));
   return l * sqrt(T(0.5) * ((l + A) * l + B) / (((l + C) * l + D) * l + E));
 }
 

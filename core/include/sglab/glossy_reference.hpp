@@ -215,6 +215,12 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width,
   return total;
 }
 
+// The smallest GGX α the specular reference accepts. Its panels follow the BRDF lobe, whose
+// width ~2α(ωo·n) shrinks without bound: below this the cost grows past minutes a value (at
+// α = 1e-8 and grazing view, hours), so smaller α are refused rather than left to hang. The
+// same minimum as the renderer's scenes (scene.hpp kMinSceneRoughness).
+inline constexpr double kMinReferenceRoughness = 1e-3;
+
 // ---- the specular configuration of issue 4 -------------------------------------------------
 // n = (0, 0, 1), ωo = (√(1 − v²), 0, v), light axis ξ = (s cos φ, s sin φ, c), s = √(1 − c²).
 struct SpecularConfig {

@@ -99,6 +99,9 @@ T tokuyoshi2022_steepness(const T& sharpness, const T& A = T(Tokuyoshi2022Steepn
                           const T& C = T(Tokuyoshi2022Steepness::C)) {
   using std::sqrt;
   const T& l = sharpness;
+  // Above 1e4 divided through by λ: the direct form's λ² overflows from λ ≈ 1.8e19 in float and
+  // 1.3e154 in double (k then came out 0 or NaN). k = √λ·√((½ + A/λ)/(1 + (B + C/λ)/λ)) → √(λ/2).
+  if (value_of(l) > 1e4) return sqrt(l) * sqrt((T(0.5) + A / l) / (T(1) + (B + C / l) / l));
   return l * sqrt((l / T(2) + A) / ((l + B) * l + C));
 }
 

@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "sglab/text_limits.hpp"
+
 namespace sglab::render {
 
 // ---- Spotlight -------------------------------------------------------------------------------
@@ -61,16 +63,29 @@ std::string join(const std::string& path, const std::string& key) { return path.
 
 std::string type_name(const json& v) { return v.type_name(); }
 
+// A value as a message shows it: its JSON text, clipped (text_limits.hpp).
+// Invalid UTF-8 in a string is shown replaced (dump() would throw on it).
+std::string shown(const json& v) { return clip_text(v.dump(-1, ' ', false, json::error_handler_t::replace)); }
+
+// v/|v| without overflow or underflow in |v|: scaled by the largest component first, so
+// [0, -1e200, -0.7e200] and [1e-200, 0, 0] normalise like [0, -1, -0.7] and [1, 0, 0].
+// The zero vector stays zero.
+Vec3 safe_normalized(const Vec3& v) {
+  const double m = v.cwiseAbs().maxCoeff();
+  if (!(m > 0)) return Vec3::Zero();
+  return (v / m).normalized();
+}
+
 // Throws for a key of `object` that is not in `allowed`.
 void check_keys(const json& object, const std::string& path, std::initializer_list<const char*> allowed) {
-  if (!object.is_object()) fail(path, fmt::format("expected an object, got {} {}", type_name(object), object.dump()));
+  if (!object.is_object()) fail(path, fmt::format("expected an object, got {} {}", type_name(object), shown(object)));
   for (const auto& [key, value] : object.items()) {
     bool known = false;
     for (const char* a : allowed) known = known || key == a;
     if (!known) {
       std::string list;
       for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-      fail(join(path, key), fmt::format("unknown key (allowed here: {})", list));
+      fail(join(path, clip_text(key)), fmt::format("unknown key (allowed here: {})", list));
     }
   }
 }
@@ -81,14 +96,14 @@ const json& require(const json& object, const std::string& path, const char* key
 }
 
 double number(const json& v, const std::string& path) {
-  if (!v.is_number()) fail(path, fmt::format("expected a number, got {} {}", type_name(v), v.dump()));
+  if (!v.is_number()) fail(path, fmt::format("expected a number, got {} {}", type_name(v), shown(v)));
   const double x = v.get<double>();
-  if (!std::isfinite(x)) fail(path, fmt::format("{} is not finite", v.dump()));
+  if (!std::isfinite(x)) fail(path, fmt::format("{} is not finite", shown(v)));
   return x;
 }
 
 Vec3 vec3(const json& v, const std::string& path) {
-  if (!v.is_array() || v.size() != 3) fail(path, fmt::format("expected an array of 3 numbers, got {}", v.dump()));
+  if (!v.is_array() || v.size() != 3) fail(path, fmt::format("expected an array of 3 numbers, got {}", shown(v)));
   return Vec3(number(v[0], path + "[0]"), number(v[1], path + "[1]"), number(v[2], path + "[2]"));
 }
 
@@ -99,22 +114,24 @@ Rgb rgb(const json& v, const std::string& path) {
     return Rgb(x, x, x);
   }
   if (!v.is_array() || v.size() != 3)
-    fail(path, fmt::format("expected a number or an array of 3 numbers (R, G, B), got {}", v.dump()));
+    fail(path, fmt::format("expected a number or an array of 3 numbers (R, G, B), got {}", shown(v)));
   return Rgb(number(v[0], path + "[0]"), number(v[1], path + "[1]"), number(v[2], path + "[2]"));
 }
 
 Rgb rgb_in_unit_interval(const json& v, const std::string& path) {
   const Rgb c = rgb(v, path);
   for (int k = 0; k < 3; ++k)
-    if (c(k) < 0 || c(k) > 1) fail(path, fmt::format("{} is outside [0, 1]", v.dump()));
+    if (c(k) < 0 || c(k) > 1) fail(path, fmt::format("{} is outside [0, 1]", shown(v)));
   return c;
 }
 
 int positive_int(const json& v, const std::string& path, int max) {
-  if (!v.is_number_integer()) fail(path, fmt::format("expected a positive integer, got {}", v.dump()));
-  const auto x = v.get<long long>();
-  if (x < 1 || x > max) fail(path, fmt::format("{} is outside [1, {}]", x, max));
-  return int(x);
+  if (!v.is_number_integer()) fail(path, fmt::format("expected a positive integer, got {}", shown(v)));
+  // An unsigned value above LLONG_MAX (e.g. 18446744073709551615) must not wrap to a negative.
+  if (v.is_number_unsigned() ? (v.get<unsigned long long>() < 1 || v.get<unsigned long long>() > static_cast<unsigned long long>(max))
+                             : (v.get<long long>() < 1 || v.get<long long>() > max))
+    fail(path, fmt::format("{} is outside [1, {}]", shown(v), max));
+  return int(v.get<long long>());
 }
 
 std::string fmt_vec(const Vec3& p) { return fmt::format("({}, {}, {})", p(0), p(1), p(2)); }
@@ -129,10 +146,10 @@ Material parse_material(const json& v, const std::string& path) {
   if (v.contains("roughness")) {
     const std::string p = join(path, "roughness");
     const double a = number(v.at("roughness"), p);
-    if (a < 0) fail(p, fmt::format("{} is negative (GGX α must be in [{}, 1])", v.at("roughness").dump(), kMinSceneRoughness));
+    if (a < 0) fail(p, fmt::format("{} is negative (GGX α must be in [{}, 1])", shown(v.at("roughness")), kMinSceneRoughness));
     if (a == 0) fail(p, fmt::format("0 is zero (GGX α must be in [{}, 1]; a perfect mirror has no GGX lobe)", kMinSceneRoughness));
     if (a < kMinSceneRoughness || a > 1)
-      fail(p, fmt::format("{} is outside [{}, 1] (GGX α)", v.at("roughness").dump(), kMinSceneRoughness));
+      fail(p, fmt::format("{} is outside [{}, 1] (GGX α)", shown(v.at("roughness")), kMinSceneRoughness));
     m.roughness = a;
   }
   return m;
@@ -146,14 +163,17 @@ Camera parse_camera(const json& v) {
   c.look_at = vec3(require(v, path, "look_at"), "camera.look_at");
   if (v.contains("up")) c.up = vec3(v.at("up"), "camera.up");
   const double fov = number(require(v, path, "fov"), "camera.fov");
-  if (!(fov > 0 && fov < 180)) fail("camera.fov", fmt::format("{} is outside (0, 180) degrees", v.at("fov").dump()));
+  if (!(fov > 0 && fov < 180)) fail("camera.fov", fmt::format("{} is outside (0, 180) degrees", shown(v.at("fov"))));
   c.vertical_fov = fov * kDegree;
   if (v.contains("width")) c.width = positive_int(v.at("width"), "camera.width", 16384);
   if (v.contains("height")) c.height = positive_int(v.at("height"), "camera.height", 16384);
   const Vec3 forward = c.look_at - c.position;
-  if (!(forward.norm() > 0)) fail("camera.look_at", "equals camera.position (no viewing direction)");
-  if (!(c.up.norm() > 0)) fail("camera.up", "is the zero vector");
-  if (!(forward.normalized().cross(c.up.normalized()).norm() > 1e-6))
+  if (!forward.allFinite())
+    fail("camera.look_at", fmt::format("{} is so far from camera.position {} that their difference overflows", fmt_vec(c.look_at),
+                                       fmt_vec(c.position)));
+  if (forward == Vec3::Zero()) fail("camera.look_at", "equals camera.position (no viewing direction)");
+  if (c.up == Vec3::Zero()) fail("camera.up", "is the zero vector");
+  if (!(safe_normalized(forward).cross(safe_normalized(c.up)).norm() > 1e-6))
     fail("camera.up", fmt::format("{} is parallel to the viewing direction", fmt_vec(c.up)));
   return c;
 }
@@ -163,21 +183,21 @@ Spotlight parse_light(const json& v, std::string& position_field) {
   check_keys(v, path, {"position", "target", "distance", "direction", "cone_angle", "falloff", "power"});
   Spotlight s;
   const Vec3 dir = vec3(require(v, path, "direction"), "light.direction");
-  if (!(dir.norm() > 0)) fail("light.direction", "is the zero vector");
-  s.direction = dir.normalized();
+  if (dir == Vec3::Zero()) fail("light.direction", "is the zero vector");
+  s.direction = safe_normalized(dir);
   const double cone = number(require(v, path, "cone_angle"), "light.cone_angle");
   if (!(cone > 0 && cone <= kMaxConeAngleDegrees))
-    fail("light.cone_angle", fmt::format("{} is outside (0, {}] degrees (the half-angle of the cone)", v.at("cone_angle").dump(),
+    fail("light.cone_angle", fmt::format("{} is outside (0, {}] degrees (the half-angle of the cone)", shown(v.at("cone_angle")),
                                          kMaxConeAngleDegrees));
   s.cone_angle = cone * kDegree;
   if (v.contains("falloff")) {
     const double f = number(v.at("falloff"), "light.falloff");
     if (!(f >= 0 && f <= cone))
-      fail("light.falloff", fmt::format("{} is outside [0, cone_angle = {}] degrees", v.at("falloff").dump(), cone));
+      fail("light.falloff", fmt::format("{} is outside [0, cone_angle = {}] degrees", shown(v.at("falloff")), cone));
     s.falloff = f * kDegree;
   }
   s.power = rgb(require(v, path, "power"), "light.power");
-  if ((s.power < 0).any()) fail("light.power", fmt::format("{} is negative", v.at("power").dump()));
+  if ((s.power < 0).any()) fail("light.power", fmt::format("{} is negative", shown(v.at("power"))));
   const bool has_position = v.contains("position");
   const bool has_target = v.contains("target"), has_distance = v.contains("distance");
   if (has_position && (has_target || has_distance))
@@ -190,7 +210,7 @@ Spotlight parse_light(const json& v, std::string& position_field) {
     if (!has_distance) fail("light.distance", "missing (give light.position, or light.target and light.distance)");
     const Vec3 target = vec3(v.at("target"), "light.target");
     const double d = number(v.at("distance"), "light.distance");
-    if (!(d > 0)) fail("light.distance", fmt::format("{} is not positive", v.at("distance").dump()));
+    if (!(d > 0)) fail("light.distance", fmt::format("{} is not positive", shown(v.at("distance"))));
     s.position = target - d * s.direction;
     position_field = "light.distance";
   }
@@ -198,9 +218,9 @@ Spotlight parse_light(const json& v, std::string& position_field) {
 }
 
 Object parse_object(const json& v, const std::string& path) {
-  if (!v.is_object()) fail(path, fmt::format("expected an object, got {}", v.dump()));
+  if (!v.is_object()) fail(path, fmt::format("expected an object, got {}", shown(v)));
   const json& type = require(v, path, "type");
-  if (!type.is_string()) fail(join(path, "type"), fmt::format("expected a string, got {}", type.dump()));
+  if (!type.is_string()) fail(join(path, "type"), fmt::format("expected a string, got {}", shown(type)));
   const std::string t = type.get<std::string>();
   Object o;
   if (t == "box") {
@@ -219,10 +239,10 @@ Object parse_object(const json& v, const std::string& path) {
     r.corner = vec3(require(v, path, "corner"), join(path, "corner"));
     r.edge_u = vec3(require(v, path, "edge_u"), join(path, "edge_u"));
     r.edge_v = vec3(require(v, path, "edge_v"), join(path, "edge_v"));
-    if (!(r.edge_u.norm() > 0)) fail(join(path, "edge_u"), "is the zero vector (zero-sized rectangle)");
-    if (!(r.edge_v.norm() > 0)) fail(join(path, "edge_v"), "is the zero vector (zero-sized rectangle)");
-    const double nu = r.edge_u.norm(), nv = r.edge_v.norm();
-    if (std::fabs(r.edge_u.dot(r.edge_v)) > 1e-9 * nu * nv)
+    if (r.edge_u == Vec3::Zero()) fail(join(path, "edge_u"), "is the zero vector (zero-sized rectangle)");
+    if (r.edge_v == Vec3::Zero()) fail(join(path, "edge_v"), "is the zero vector (zero-sized rectangle)");
+    // On the unit vectors: |u·v| ≤ 1e-9|u||v| would overflow (inf ≤ inf) for edges of 1e200.
+    if (!(std::fabs(safe_normalized(r.edge_u).dot(safe_normalized(r.edge_v))) <= 1e-9))
       fail(join(path, "edge_v"), fmt::format("{} is not perpendicular to edge_u {}", fmt_vec(r.edge_v), fmt_vec(r.edge_u)));
     o.shape = r;
   } else if (t == "sphere") {
@@ -230,18 +250,18 @@ Object parse_object(const json& v, const std::string& path) {
     Sphere s;
     s.center = vec3(require(v, path, "center"), join(path, "center"));
     s.radius = number(require(v, path, "radius"), join(path, "radius"));
-    if (!(s.radius > 0)) fail(join(path, "radius"), fmt::format("{} is not positive (zero-sized sphere)", v.at("radius").dump()));
+    if (!(s.radius > 0)) fail(join(path, "radius"), fmt::format("{} is not positive (zero-sized sphere)", shown(v.at("radius"))));
     o.shape = s;
   } else {
-    fail(join(path, "type"), fmt::format("unknown object type \"{}\" (box, rectangle or sphere)", t));
+    fail(join(path, "type"), fmt::format("unknown object type \"{}\" (box, rectangle or sphere)", clip_text(t)));
   }
   const json& name = require(v, path, "name");
   if (!name.is_string() || name.get<std::string>().empty())
-    fail(join(path, "name"), fmt::format("expected a non-empty string, got {}", name.dump()));
+    fail(join(path, "name"), fmt::format("expected a non-empty string, got {}", shown(name)));
   o.name = name.get<std::string>();
   if (o.name == "camera" || o.name == "light" || o.name == "objects" || o.name == "description")
-    fail(join(path, "name"), fmt::format("\"{}\" is reserved (it would shadow the top-level key in --set)", o.name));
-  if (o.name.find('.') != std::string::npos) fail(join(path, "name"), fmt::format("\"{}\" contains '.' (--set splits keys at dots)", o.name));
+    fail(join(path, "name"), fmt::format("\"{}\" is reserved (it would shadow the top-level key in --set)", clip_text(o.name)));
+  if (o.name.find('.') != std::string::npos) fail(join(path, "name"), fmt::format("\"{}\" contains '.' (--set splits keys at dots)", clip_text(o.name)));
   o.material = parse_material(require(v, path, "material"), join(path, "material"));
   return o;
 }
@@ -252,7 +272,7 @@ bool contains(const Shape& shape, const Vec3& p) {
   if (const auto* s = std::get_if<Sphere>(&shape)) return (p - s->center).norm() <= s->radius;
   const auto& r = std::get<Rectangle>(shape);
   const Vec3 d = p - r.corner;
-  const Vec3 n = r.edge_u.cross(r.edge_v).normalized();
+  const Vec3 n = safe_normalized(safe_normalized(r.edge_u).cross(safe_normalized(r.edge_v)));
   const double u = d.dot(r.edge_u) / r.edge_u.squaredNorm(), v = d.dot(r.edge_v) / r.edge_v.squaredNorm();
   return std::fabs(d.dot(n)) <= 1e-12 * (1 + d.norm()) && u >= 0 && u <= 1 && v >= 0 && v <= 1;
 }
@@ -274,7 +294,7 @@ Scene parse_scene(const nlohmann::json& document) {
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const std::string path = fmt::format("objects[{}]", i);
     Object o = parse_object(objects[i], path);
-    if (scene.find(o.name) >= 0) fail(join(path, "name"), fmt::format("\"{}\" is used by an earlier object", o.name));
+    if (scene.find(o.name) >= 0) fail(join(path, "name"), fmt::format("\"{}\" is used by an earlier object", clip_text(o.name)));
     scene.objects.push_back(std::move(o));
   }
   for (std::size_t i = 0; i < scene.objects.size(); ++i)
@@ -285,24 +305,30 @@ Scene parse_scene(const nlohmann::json& document) {
 }
 
 nlohmann::json parse_scene_text(const std::string& text, const std::string& source) {
+  if (const auto error = input_size_error(text.size(), kMaxJsonBytes, "a scene file"))
+    throw SceneError(fmt::format("{}: {}", source, *error));
+  if (const auto error = json_nesting_error(text)) throw SceneError(fmt::format("{}: {}", source, *error));
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
     // e.what() reads "[json.exception.parse_error.101] parse error at line 3, column 5: …".
     std::string what = e.what();
     const auto at = what.find("parse error");
-    throw SceneError(fmt::format("{}: malformed JSON: {}", source, at == std::string::npos ? what : what.substr(at)));
+    throw SceneError(fmt::format("{}: malformed JSON: {}", source, clip_text(at == std::string::npos ? what : what.substr(at), 400)));
   } catch (const json::exception& e) {  // e.g. out_of_range.406: a number overflowing double
-    throw SceneError(fmt::format("{}: malformed JSON: {}", source, e.what()));
+    throw SceneError(fmt::format("{}: malformed JSON: {}", source, clip_text(e.what(), 400)));
   }
 }
 
 void apply_override(nlohmann::json& document, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw SceneError(fmt::format("--set {}: expected KEY=VALUE (e.g. floor.roughness=0.1)", assignment));
+    throw SceneError(fmt::format("--set {}: expected KEY=VALUE (e.g. floor.roughness=0.1)", clip_text(assignment)));
   const std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
-  const std::string where = "--set " + key;
+  const std::string where = "--set " + clip_text(key);
+  if (const auto error = input_size_error(assignment.size(), kMaxJsonBytes, "the value"))
+    throw SceneError(fmt::format("{}: {}", where, *error));
+  if (const auto error = json_nesting_error(text)) throw SceneError(fmt::format("{}: {}", where, *error));
   json value;
   try {
     value = json::parse(text);
@@ -338,7 +364,7 @@ void apply_override(nlohmann::json& document, const std::string& assignment) {
       }
     }
     if (current == &document)
-      throw SceneError(fmt::format("{}: no top-level key or object named \"{}\" (objects: {})", where, parts[0], names));
+      throw SceneError(fmt::format("{}: no top-level key or object named \"{}\" (objects: {})", where, clip_text(parts[0]), clip_text(names)));
   }
   for (; k < parts.size(); ++k) {
     const std::string& part = parts[k];
@@ -347,13 +373,13 @@ void apply_override(nlohmann::json& document, const std::string& assignment) {
       char* end = nullptr;
       const unsigned long index = std::strtoul(part.c_str(), &end, 10);
       if (*end != '\0' || index >= current->size())
-        throw SceneError(fmt::format("{}: {} has {} elements; \"{}\" is not an index of it", where, path, current->size(), part));
+        throw SceneError(fmt::format("{}: {} has {} elements; \"{}\" is not an index of it", where, path, current->size(), clip_text(part)));
       current = &(*current)[index];
       path += fmt::format("[{}]", index);
       continue;
     }
     if (!current->is_object())
-      throw SceneError(fmt::format("{}: {} is {}, which has no field \"{}\"", where, path, current->dump(), part));
+      throw SceneError(fmt::format("{}: {} is {}, which has no field \"{}\"", where, path, shown(*current), clip_text(part)));
     if (current->contains(part)) {
       current = &(*current)[part];
       path = join(path, part);

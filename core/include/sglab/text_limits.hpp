@@ -1,0 +1,80 @@
+// Bounds on untrusted text (scene files, --set values, CSV inputs, sweep manifests), shared by
+// every parser so that a hostile or careless input gets a short clear error instead of a stack
+// overflow, an allocation failure or a message as long as the input.
+//  • clip_text: what a message shows of a bad value — at most kMaxQuotedChars characters, control
+//    bytes (NUL included, which would cut a C-string message short) written as \xNN, and the
+//    length of the whole when it was cut.
+//  • json_nesting_error: JSON nested deeper than kMaxJsonDepth (a recursive consumer of the
+//    document, or its destructor, would otherwise exhaust the stack).
+//  • input_size_error: a text larger than a per-kind limit.
+#pragma once
+
+#include <cstddef>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace sglab {
+
+inline constexpr std::size_t kMaxQuotedChars = 80;
+// Far deeper than any scene or manifest (4 levels) needs; far shallower than the stack allows.
+inline constexpr std::size_t kMaxJsonDepth = 64;
+inline constexpr std::size_t kMaxJsonBytes = std::size_t(64) << 20;  // 64 MiB: scenes, --set values, manifests
+inline constexpr std::size_t kMaxCsvBytes = std::size_t(4) << 30;    // 4 GiB: tables read whole into memory
+
+// The text as a message shows it: control bytes and DEL escaped as \xNN; cut after
+// max_chars (kMaxQuotedChars) characters with "… (N bytes)" appended.
+inline std::string clip_text(std::string_view s, std::size_t max_chars = kMaxQuotedChars) {
+  std::string out;
+  std::size_t shown = 0;
+  for (const char ch : s) {
+    if (shown == max_chars) {
+      out += "… (" + std::to_string(s.size()) + " bytes)";
+      break;
+    }
+    const auto u = static_cast<unsigned char>(ch);
+    if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      out += buf;
+    } else {
+      out += ch;
+    }
+    ++shown;
+  }
+  return out;
+}
+
+// Why `text` (JSON) nests too deep for the parser, or nullopt. Counts [ and { outside strings.
+inline std::optional<std::string> json_nesting_error(std::string_view text, std::size_t max_depth = kMaxJsonDepth) {
+  std::size_t depth = 0;
+  bool in_string = false, escaped = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char ch = text[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (ch == '\\') escaped = true;
+      else if (ch == '"') in_string = false;
+      continue;
+    }
+    if (ch == '"') {
+      in_string = true;
+    } else if (ch == '[' || ch == '{') {
+      if (++depth > max_depth)
+        return "JSON nested deeper than " + std::to_string(max_depth) + " levels (at byte " + std::to_string(i + 1) + ")";
+    } else if ((ch == ']' || ch == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return std::nullopt;
+}
+
+// Why a text of `bytes` bytes is too large for a `what` ("a scene file") limited to `max`, or nullopt.
+inline std::optional<std::string> input_size_error(std::size_t bytes, std::size_t max, const char* what) {
+  if (bytes <= max) return std::nullopt;
+  return std::string(what) + " of " + std::to_string(bytes) + " bytes exceeds the limit of " + std::to_string(max) +
+         " bytes";
+}
+
+}  // namespace sglab
