@@ -3,6 +3,7 @@
 // SPEC.md §9 with the Ceres fitters of fit/ (issue 3). Progress goes to stderr; the console table
 // gives value (%.17g), published value and correct digits (−log10|rel diff|) per parameter.
 // `fit all` writes paper_tables/constants.{md,csv,tex}, each headed by the command.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,8 @@
 #include "atomic_file.hpp"
 #include "commands.hpp"
 #include "driver.hpp"
+#include "error_grid.hpp"
+#include "sglab/registry.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -30,6 +33,32 @@ struct FitArgs {
   std::string json_dir;
   std::string tables_dir = "paper_tables";
 };
+
+// How a fit judges itself by the error its constants give: the first registry method that reads
+// the fit's constants, on error-vs-time's standard grid, with the published and with the fitted
+// values (no method, e.g. lambda-c whose λ_c only the filter reads: `method` is empty).
+struct Judgement {
+  std::string method;  // "quantity/method"
+  GridError published, fitted;
+};
+
+Judgement judge(const fit::Fitter& f, const fit::FitResult& r) {
+  Judgement j;
+  for (const auto& u : fit::registry_parameters(f)) {
+    const auto slash = u.user.find('/');
+    if (slash == std::string::npos) continue;
+    const Quantity* q = find_quantity(u.user.substr(0, slash));
+    const Method* m = q ? q->find(u.user.substr(slash + 1)) : nullptr;
+    if (!m || q->reference_method.empty() || q->columns.size() != 2) continue;
+    ConstantSet set;
+    for (const auto& p : r.parameters) set.set({r.fit, p.name, p.value, "this fit"});
+    j.method = u.user;
+    j.published = standard_grid_error(*q, *m);
+    j.fitted = standard_grid_error(*q, bind(*m, set));
+    break;
+  }
+  return j;
+}
 
 nlohmann::ordered_json to_json(const fit::FitResult& r) {
   nlohmann::ordered_json j;
@@ -51,6 +80,27 @@ nlohmann::ordered_json to_json(const fit::FitResult& r) {
   j["iterations"] = r.iterations;
   j["converged"] = r.converged;
   j["seconds"] = r.seconds;
+  auto number_or_null = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
+  j["objective_at_published"] = number_or_null(r.published_cost);
+  j["objective_at_fit"] = r.final_cost;
+  j["singular_values"] = r.singular_values;
+  nlohmann::ordered_json range = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < r.cost_range.size(); ++i)
+    range[r.parameters[i].name] = {r.cost_range[i].first, r.cost_range[i].second};
+  j["cost_range_1pct"] = range;
+  return j;
+}
+
+nlohmann::ordered_json record_json(const fit::FitResult& r, const Judgement& jd, const std::string& precision) {
+  nlohmann::ordered_json j = to_json(r);
+  j["precision"] = precision;
+  if (!jd.method.empty()) {
+    j["standard_grid_error"] = {
+        {"method", jd.method},
+        {"grid", "sglab error-vs-time grid (full), double, |method - reference| / reference at c = 1"},
+        {"published", {{"max", jd.published.max_error}, {"rms", jd.published.rms_error}}},
+        {"fit", {{"max", jd.fitted.max_error}, {"rms", jd.fitted.rms_error}}}};
+  }
   return j;
 }
 
@@ -68,17 +118,34 @@ std::string digits_text(double value, double published) {
 
 std::string number(double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : "-"; }
 
-void print_result(const fit::FitResult& r) {
+std::string range_text(const std::pair<double, double>& r) {
+  return fmt::format("[{:.6g}, {:.6g}]", r.first, r.second);
+}
+
+void print_result(const fit::FitResult& r, const Judgement& jd) {
   std::printf("%s  [%s]\n  domain: %s\n  source: %s\n", r.fit.c_str(), r.objective.c_str(),
               r.domain.c_str(), r.source.c_str());
-  std::printf("  %-10s %-24s %-24s %s\n", "parameter", "value", "published", "correct digits");
+  std::printf("  %-10s %-24s %-24s %-15s %s\n", "parameter", "value", "published", "correct digits",
+              "+1 % cost range");
   for (std::size_t i = 0; i < r.parameters.size(); ++i) {
-    std::printf("  %-10s %-24s %-24s %s\n", r.parameters[i].name.c_str(),
+    std::printf("  %-10s %-24s %-24s %-15s %s\n", r.parameters[i].name.c_str(),
                 number(r.parameters[i].value).c_str(), number(r.published[i].value).c_str(),
-                digits_text(r.parameters[i].value, r.published[i].value).c_str());
+                digits_text(r.parameters[i].value, r.published[i].value).c_str(),
+                i < r.cost_range.size() ? range_text(r.cost_range[i]).c_str() : "");
   }
   std::printf("  final cost %.6g, %d iterations, %s, %.4f s\n", r.final_cost, r.iterations,
               r.converged ? "converged" : "NOT converged", r.seconds);
+  std::printf("  objective at published %.6g, at fit %.6g\n", r.published_cost, r.final_cost);
+  if (!r.singular_values.empty()) {
+    std::string sv;
+    for (double v : r.singular_values) sv += fmt::format(" {:.3g}", v);
+    std::printf("  singular values of the scaled Jacobian:%s (ratio %.3g)\n", sv.c_str(),
+                r.singular_values.front() / r.singular_values.back());
+  }
+  if (!jd.method.empty())
+    std::printf("  %s on the error-vs-time grid: max %.3e (published) -> %.3e (fit), RMS %.3e -> %.3e\n",
+                jd.method.c_str(), jd.published.max_error, jd.fitted.max_error, jd.published.rms_error,
+                jd.fitted.rms_error);
   for (const auto& n : r.notes) std::printf("  note: %s\n", n.c_str());
   std::printf("\n");
 }
@@ -116,13 +183,24 @@ std::string csv_quote(const std::string& s) {
   return out + "\"";
 }
 
-void write_tables(const std::vector<fit::FitResult>& results, const std::string& dir,
-                  const std::string& command) {
+struct Judged {
+  fit::FitResult result;
+  Judgement judgement;
+};
+
+std::string sci(double v) { return std::isfinite(v) ? fmt::format("{:.3e}", v) : "-"; }
+
+void write_tables(const std::vector<Judged>& judged, const std::string& dir, const std::string& command) {
+  std::vector<fit::FitResult> results;
+  for (const auto& j : judged) results.push_back(j.result);
   std::string md = "<!-- generated by `" + command + "`; do not edit -->\n# Published constants re-derived\n\n"
                    "Generated by `" + command + "` (Ceres fits of fit/, SPEC.md §9). Correct digits = "
                    "−log10|reproduced/published − 1|.\n\n"
-                   "| constant | published | source | reproduced | objective | correct digits |\n"
-                   "|---|---|---|---|---|---|\n";
+                   "+1 % cost range: the interval of the constant (the others held at the fit) where the "
+                   "objective stays within 1 % of its minimum; a wide range means the objective barely "
+                   "determines it, whatever the correct digits say.\n\n"
+                   "| constant | published | source | reproduced | objective | correct digits | +1 % cost range |\n"
+                   "|---|---|---|---|---|---|---|\n";
   std::string csv = "# generated by `" + command + "`\nfit,constant,published,source,reproduced,objective,correct_digits\n";
   std::string tex = "% generated by `" + command + "`\n\\begin{tabular}{llllll}\n"
                     "constant & published & source & reproduced & objective & correct digits \\\\\n\\hline\n";
@@ -133,8 +211,8 @@ void write_tables(const std::vector<fit::FitResult>& results, const std::string&
       const std::string pub = number(r.published[i].value);
       const std::string val = fmt::format("{:.10g}", r.parameters[i].value);
       const std::string dig = digits_text(r.parameters[i].value, r.published[i].value);
-      md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", constant, pub, r.source, val,
-                        r.objective, dig);
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", constant, pub, r.source, val,
+                        r.objective, dig, i < r.cost_range.size() ? range_text(r.cost_range[i]) : "-");
       csv += fmt::format("{},{},{},{},{},{},{}\n", r.fit, r.parameters[i].name, pub,
                          csv_quote(r.source), number(r.parameters[i].value),
                          csv_quote(r.objective), dig);
@@ -147,6 +225,58 @@ void write_tables(const std::vector<fit::FitResult>& results, const std::string&
     }
   }
   tex += "\\end{tabular}\n";
+  md += "\n## How each fit judges itself\n\n"
+        "Objective: the fit's own objective (Ceres cost) at the published constants and at the fit. Max / RMS "
+        "error: the first registry method that reads the fit's constants, in double, on the full grid of "
+        "`sglab error-vs-time` (|method − reference| / reference at c = 1), with the published and with the "
+        "fitted constants. Singular values: of the residuals' Jacobian with respect to relative parameter "
+        "changes, at the fit (least-squares fits); a large largest/smallest ratio is a direction in "
+        "parameter space the objective barely sees.\n\n"
+        "| fit | objective | objective at published | objective at fit | method | max error published | "
+        "max error fit | RMS published | RMS fit | singular values (ratio) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& j : judged) {
+    const auto& r = j.result;
+    std::string sv = "-";
+    if (!r.singular_values.empty()) {
+      sv.clear();
+      for (double v : r.singular_values) sv += fmt::format("{:.3g} ", v);
+      sv += fmt::format("({:.3g})", r.singular_values.front() / r.singular_values.back());
+    }
+    const bool m = !j.judgement.method.empty();
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.fit, r.objective, sci(r.published_cost),
+                      sci(r.final_cost), m ? j.judgement.method : "- (no registry method)",
+                      m ? sci(j.judgement.published.max_error) : "-", m ? sci(j.judgement.fitted.max_error) : "-",
+                      m ? sci(j.judgement.published.rms_error) : "-", m ? sci(j.judgement.fitted.rms_error) : "-", sv);
+  }
+  // Which objective reproduces which published value, and how closely: per fit, each objective's
+  // fewest correct digits over its fitted constants.
+  md += "\n## Which objective reproduces the published values\n\n"
+        "Per fit and objective: the fewest correct digits over the fit's constants (the published value is "
+        "reproduced to at least this many digits by that objective), and the objective that comes closest.\n\n"
+        "| fit | objective | fewest correct digits | closest |\n|---|---|---|---|\n";
+  for (std::size_t i = 0; i < judged.size();) {
+    std::size_t end = i;
+    while (end < judged.size() && judged[end].result.fit == judged[i].result.fit) ++end;
+    std::vector<double> worst(end - i, 17);
+    std::size_t best = i;
+    for (std::size_t k = i; k < end; ++k) {
+      const auto& r = judged[k].result;
+      const fit::Fitter* f = fit::find_fitter(r.fit);
+      for (std::size_t p = 0; p < r.parameters.size() && p < (f ? f->parameters.size() : r.parameters.size()); ++p) {
+        const double d = fit::correct_digits(r.parameters[p].value, r.published[p].value);
+        worst[k - i] = std::isfinite(d) ? std::min(worst[k - i], d) : NAN;
+      }
+      if (worst[k - i] > worst[best - i]) best = k;
+    }
+    for (std::size_t k = i; k < end; ++k) {
+      const auto& r = judged[k].result;
+      md += fmt::format("| {} | {} | {} | {} |\n", r.fit, r.objective.substr(0, r.objective.find(':')),
+                        std::isfinite(worst[k - i]) ? fmt::format("{:.1f}", worst[k - i]) : std::string("-"),
+                        k == best && end - i > 1 ? "closest" : "");
+    }
+    i = end;
+  }
   md += "\n## Notes\n" + notes;
   const std::filesystem::path d(dir);
   write_file(d / "constants.md", md);
@@ -157,13 +287,26 @@ void write_tables(const std::vector<fit::FitResult>& results, const std::string&
 void run_fit(const FitArgs& a) {
   if (a.name == "all") {
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<fit::FitResult> results;
+    std::vector<Judged> results;
     for (const auto& f : fit::fitters()) {
-      results.push_back(run_one(f, a, true));
-      print_result(results.back());
+      fit::FitResult r = run_one(f, a, true);
+      const Judgement jd = judge(f, r);
+      print_result(r, jd);
       if (!a.json_dir.empty()) {
         write_file(std::filesystem::path(a.json_dir) / (f.name + ".json"),
-                   to_json(results.back()).dump(2) + "\n");
+                   record_json(r, jd, a.precision).dump(2) + "\n");
+      }
+      results.push_back({std::move(r), jd});
+      // The other objectives of the diffuse fits, for the tables only (a --json-dir holds one
+      // record per fit: the default objective's, so that it is a constant set).
+      for (const char* extra : {"l2-relative", "minimax"}) {
+        if (std::find(f.objectives.begin(), f.objectives.end(), extra) == f.objectives.end()) continue;
+        FitArgs other = a;
+        other.objective = extra;
+        fit::FitResult e = run_one(f, other, false);
+        const Judgement je = judge(f, e);
+        print_result(e, je);
+        results.push_back({std::move(e), je});
       }
     }
     write_tables(results, a.tables_dir, "sglab fit all");
@@ -179,8 +322,11 @@ void run_fit(const FitArgs& a) {
     throw UsageError("unknown fit '" + a.name + "' (fits:" + names + ", all)");
   }
   const fit::FitResult r = run_one(*f, a, false);
-  print_result(r);
-  if (!a.json_file.empty()) write_file(a.json_file, to_json(r).dump(2) + "\n");
+  const Judgement jd = judge(*f, r);
+  print_result(r, jd);
+  const std::string record = record_json(r, jd, a.precision).dump(2) + "\n";
+  if (!a.json_file.empty()) write_file(a.json_file, record);
+  if (!a.json_dir.empty()) write_file(std::filesystem::path(a.json_dir) / (f->name + ".json"), record);
 }
 
 }  // namespace
@@ -194,7 +340,7 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--beta", a->beta, "lambda-c: beta of sigma_n^2 (default 20)");
   cmd->add_option("--kappa", a->kappa, "lambda-c: kappa of sigma_n^2 (default 100)");
   cmd->add_option("--json", a->json_file, "write the fit's JSON record here");
-  cmd->add_option("--json-dir", a->json_dir, "fit all: one NAME.json per fit here");
+  cmd->add_option("--json-dir", a->json_dir, "one NAME.json per fit here (a constant set for --constants)");
   cmd->add_option("--tables-dir", a->tables_dir, "fit all: where constants.{md,csv,tex} go");
   cmd->callback([a] { run_fit(*a); });
 }

@@ -2,6 +2,7 @@
 // (render_job.hpp).
 #include "render_job.hpp"
 
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -10,6 +11,8 @@
 #include <fmt/format.h>
 
 #include "commands.hpp"
+#include "constant_sets.hpp"
+#include "sglab/registry.hpp"
 #include "sglab/render/vsgl_shading.hpp"
 
 namespace sglab::cli {
@@ -30,6 +33,7 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
   app.add_option("--height", job.height, "image height (default: the scene's camera.height)");
   app.add_option("--set", job.overrides, "KEY=VALUE scene override, e.g. floor.roughness=0.1 or light.distance=0.05 (repeatable)");
   app.add_option("--seed", job.seed, "seed of the VSGL importance sampling (fis, kmeans)")->capture_default_str();
+  add_constants_option(app, job.constants);
   // A repeated option takes its last value (so that a script can append an override).
   for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed"})
     if (auto* o = app.get_option_no_throw(name)) o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -95,7 +99,35 @@ render::RenderOptions render_options(const RenderJob& job) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(fmt::format("--diffuse: {}", e.what()));
   }
+  // The constant set: the diffuse VSGL's λ_d, and the diffuse method's constants. A method whose
+  // constants the set changes is shaded through the registry with them bound (sg-cosine already
+  // takes the VSGL's λ_d).
+  const ConstantSet set = load_constant_sets(job.constants);
+  o.vsgl.lambda_d = standalone_value(set, "render", "lambda_d");
+  if (job.diffuse != "sg-cosine") {
+    const Method* m = find_quantity("clamped-cosine")->find(job.diffuse);
+    bool changed = false;
+    for (const auto& p : m ? m->parameters : std::vector<Parameter>{}) changed = changed || set.find(p.fit, p.name);
+    if (changed) {
+      // RenderOptions holds a plain pointer: bound methods live for the rest of the process.
+      static std::deque<Method> bound;
+      bound.push_back(bind(*m, set));
+      o.shading.diffuse = render::DiffuseMethod::registry;
+      o.shading.registry_method = &bound.back();
+    }
+  }
   return o;
+}
+
+nlohmann::json render_constants_json(const RenderJob& job) {
+  const ConstantSet set = load_constant_sets(job.constants);
+  std::vector<ConstantUse> uses{{"render", find_standalone_constant("render", "lambda_d")}};
+  if (const Method* m = find_quantity("clamped-cosine")->find(job.diffuse); m && job.diffuse != "sg-cosine") {
+    const auto more = method_constant_uses("clamped-cosine/" + m->name, *m);
+    uses.insert(uses.end(), more.begin(), more.end());
+  }
+  return {{"sets", job.constants.empty() ? std::vector<std::string>{"published"} : job.constants},
+          {"values", constants_json(set, uses)}};
 }
 
 std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vsgl) {
@@ -110,6 +142,7 @@ std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vs
   if (job.height) a.insert(a.end(), {"--height", std::to_string(*job.height)});
   for (const auto& s : job.overrides) a.insert(a.end(), {"--set", s});
   if (job.seed != render::kDefaultVsglSeed) a.insert(a.end(), {"--seed", std::to_string(job.seed)});
+  for (const auto& c : constants_arguments(job.constants)) a.push_back(c);
   return a;
 }
 
@@ -151,6 +184,7 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
                {"merged_duplicates", st.merged_duplicates},
                {"diffuse_method", render::diffuse_method_name(options.shading)}};
   j["seed"] = st.seed;
+  j["constants"] = render_constants_json(job);
   j["seconds"] = {{"gbuffer", r.seconds.gbuffer}, {"shadow_map", r.seconds.shadow_map}, {"direct", r.seconds.direct},
                   {"rsm", r.seconds.rsm},         {"vsgl", r.seconds.vsgl},             {"shading", r.seconds.shading},
                   {"reference", r.seconds.reference}};

@@ -28,6 +28,7 @@ struct RenderJob {
   int shadow_map = 1024;
   std::optional<int> width, height;    // override the scene's camera size
   std::uint64_t seed = render::kDefaultVsglSeed;
+  std::vector<std::string> constants;  // --constants (constant_sets.hpp): λ_d and the diffuse method's constants
 };
 
 // Adds the options every render-like command has (--vsgl … --seed) to `app`, bound to `job`.
@@ -45,6 +46,10 @@ render::RenderOptions render_options(const RenderJob& job);
 
 // The job's options as command-line arguments (after the scene path), for provenance.
 std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vsgl = true);
+
+// The constants a render with `job` uses (the VSGL λ_d, the diffuse method's), with their values
+// and provenance in the job's constant set: the stats' "constants" field.
+nlohmann::json render_constants_json(const RenderJob& job);
 
 // The stats record of a finished render (the fields of issue 5 item 7 and what was built).
 nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, const render::RenderOptions& options,

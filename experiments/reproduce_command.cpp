@@ -53,8 +53,13 @@ std::vector<Step> steps(const std::string& out) {
   std::vector<Step> all = {
       {"fit-all", "re-derive every published constant (paper_tables/constants.*)",
        {"fit", "all", "--json-dir", out + "/fits"}, {}},
-      {"error-vs-time", "diffuse methods: error, rounding error and ns/eval (paper_tables/error_vs_time.*)",
-       {"error-vs-time", "--out", out + "/error_vs_time"}, {"--quick"}},
+      // The other objectives of lambda-d, for the λ_d render sweep below (which reads them by path).
+      {"fit-lambda-d-theta", "lambda-d under the l2-theta objective (a constant set for the λ_d render sweep)",
+       {"fit", "lambda-d", "--objective", "l2-theta", "--json", out + "/fits-objectives/lambda-d-l2-theta.json"}, {}},
+      {"fit-lambda-d-hemisphere", "lambda-d under the l2-hemisphere objective (a constant set for the λ_d render sweep)",
+       {"fit", "lambda-d", "--objective", "l2-hemisphere", "--json", out + "/fits-objectives/lambda-d-l2-hemisphere.json"}, {}},
+      {"error-vs-time", "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
+       {"error-vs-time", "--out", out + "/error_vs_time", "--constants", out + "/fits"}, {"--quick"}},
       {"plot-error-vs-time", "Pareto figure of error against time",
        {"plots/error_vs_time.py", out + "/error_vs_time/error_vs_time.csv", kKeyFigures}, {}, true},
       {"sweep-specular", "specular methods against the GGX reference over roughness (paper_tables/specular_vs_roughness.*)",
@@ -95,6 +100,14 @@ std::vector<Step> steps(const std::string& out) {
        {"sweep", "render", "--scene", "scenes/cornell-glossy.json", "--vary", "floor.roughness=0.01:1:8:log", "--vary",
         "light.distance=0.4:1.4:3", "--vsgl", "two", "--vsgl", "fis:64", "--out", out + "/render_sweep"},
        {"--width", "48", "--height", "48", "--rsm", "32"}},
+      {"sweep-render-lambda-d",
+       "VSGL error against λ_d on cornell-glossy: the papers' 2, the L2 fit and the other objectives' fits "
+       "(paper_tables/vsgl_error_vs_lambda_d.*)",
+       {"sweep", "render", "--scene", "scenes/cornell-glossy.json", "--vary",
+        "vsgl.lambda_d=2," + out + "/fits/lambda-d.json," + out + "/fits-objectives/lambda-d-l2-theta.json," + out +
+            "/fits-objectives/lambda-d-l2-hemisphere.json",
+        "--vsgl", "two", "--width", "256", "--height", "256", "--out", out + "/render_sweep", "--table", "vsgl_error_vs_lambda_d"},
+       {"--width", "48", "--height", "48", "--rsm", "32"}},
       // Lobe-aware filtering (issue 7): both weightings on cornell-glossy, then the roughness sweep.
       {"filter-cornell-glossy-normal", "upsampling 1/4-resolution indirect light with normal/depth weights (EXR + stats)",
        {"filter", "scenes/cornell-glossy.json", "--weights", "normal", "--out", out + "/filtering/cornell-glossy-normal.exr",
@@ -130,6 +143,7 @@ struct Options {
   bool quick = false;
   bool force = false;
   std::vector<std::string> only;
+  std::vector<std::string> constants;  // --constants: appended to every sglab step but the fits
 };
 
 void run(const Options& o) {
@@ -149,6 +163,8 @@ void run(const Options& o) {
     if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), s.name) == o.only.end()) continue;
     std::vector<std::string> args = s.args;
     if (o.quick) args.insert(args.end(), s.quick_args.begin(), s.quick_args.end());
+    if (!s.python && args.front() != "fit")
+      for (const auto& c : o.constants) args.insert(args.end(), {"--constants", c});
     const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
     const fs::path marker = markers / (s.name + ".done");
     if (!o.force && fs::exists(marker)) {
@@ -194,6 +210,10 @@ void add_reproduce_command(CLI::App& app) {
   sub->add_flag("--quick", opts->quick, "coarser grids");
   sub->add_flag("--force", opts->force, "redo finished steps");
   sub->add_option("--only", opts->only, "run only these steps");
+  sub->add_option("--constants", opts->constants,
+                  "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
+                  "repeatable, later sets override earlier ones)")
+      ->allow_extra_args(false);
   sub->callback([opts] { run(*opts); });
 }
 
