@@ -180,7 +180,7 @@ FitResult fit_cosine_sg(const FitOptions& o) {
   std::snprintf(buf, sizeof buf, "published triple's cost on this grid: %.6g",
                 0.5 * f.squared_error(pub));
   r.notes.push_back(buf);
-  for (double bound : {1.0, 0.3, 0.1, 0.0315, 0.01, 0.001, 0.0001}) {
+  for (double bound : {1.0, 0.3, 0.1, kPublishedSharpness, 0.01, 0.001, 0.0001}) {
     const FitResult t = solve(o.objective, f, bound);
     std::snprintf(buf, sizeof buf,
                   "trajectory: lambda >= %-7g -> a = %.8g, lambda = %.6g, b = %.8g, cost = %.4g",

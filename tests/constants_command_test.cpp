@@ -3,6 +3,7 @@
 // `published` compose in order; every malformed set exits 2 naming the file and the key, and
 // writes no output.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -18,7 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct Outcome {
   int status = -1;
   std::string out, err;
 };
@@ -44,14 +45,14 @@ class ConstantsCommand : public ::testing::Test {
     fs::create_directories(path(name).parent_path());
     std::ofstream(path(name)) << text;
   }
-  Run sglab(const std::string& args) const {
+  Outcome sglab(const std::string& args) const {
     const std::string command = fmt::format("'{}' {} > '{}' 2> '{}'", SGLAB_EXE, args, path("stdout").string(), path("stderr").string());
     const int raw = std::system(command.c_str());
     return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read(path("stdout")), read(path("stderr"))};
   }
   // eval clamped-cosine METHOD at (λ = 3, c = 0.25) with the given --constants arguments.
-  double value(const std::string& method, const std::string& constants, Run* run_out = nullptr) const {
-    const Run run = sglab(fmt::format("eval clamped-cosine --method {} --in '{}' {}", method, path("in.csv").string(), constants));
+  double value(const std::string& method, const std::string& constants, Outcome* run_out = nullptr) const {
+    const Outcome run = sglab(fmt::format("eval clamped-cosine --method {} --in '{}' {}", method, path("in.csv").string(), constants));
     EXPECT_EQ(run.status, 0) << run.err;
     if (run_out) *run_out = run;
     const std::string last = run.out.substr(run.out.rfind(',') + 1);
@@ -69,7 +70,7 @@ double sg_cosine(double lambda_d) {
 
 TEST_F(ConstantsCommand, HandWrittenRecordChangesTheValueAsTheFormulaPredicts) {
   write("ld.json", R"({"fit": "lambda-d", "parameters": {"lambda_d": 3.25}})");
-  Run run;
+  Outcome run;
   EXPECT_NEAR(value("sg-cosine", ""), sg_cosine(2), 1e-14);
   EXPECT_NEAR(value("sg-cosine", fmt::format("--constants '{}'", path("ld.json").string()), &run), sg_cosine(3.25), 1e-14);
   // stderr names the constant, its value and where it came from.
@@ -110,14 +111,14 @@ TEST_F(ConstantsCommand, MalformedSetsAreRejectedNamingFileAndKey) {
     SCOPED_TRACE(c.name);
     write(c.name, c.text);
     fs::remove(path("out.csv"));
-    const Run run = sglab(fmt::format("eval clamped-cosine --method sg-cosine --in '{}' --out '{}' --constants '{}'",
+    const Outcome run = sglab(fmt::format("eval clamped-cosine --method sg-cosine --in '{}' --out '{}' --constants '{}'",
                                       path("in.csv").string(), path("out.csv").string(), path(c.name).string()));
     EXPECT_EQ(run.status, 2) << run.err;
     EXPECT_NE(run.err.find(c.name), std::string::npos) << run.err;
     EXPECT_NE(run.err.find(c.key), std::string::npos) << run.err;
     EXPECT_FALSE(fs::exists(path("out.csv")));
   }
-  const Run missing = sglab(fmt::format("eval clamped-cosine --method sg-cosine --in '{}' --constants '{}'",
+  const Outcome missing = sglab(fmt::format("eval clamped-cosine --method sg-cosine --in '{}' --constants '{}'",
                                         path("in.csv").string(), path("absent.json").string()));
   EXPECT_EQ(missing.status, 2);
   EXPECT_NE(missing.err.find("absent.json"), std::string::npos) << missing.err;
