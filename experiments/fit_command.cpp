@@ -97,7 +97,8 @@ nlohmann::ordered_json record_json(const fit::FitResult& r, const Judgement& jd,
   if (!jd.method.empty()) {
     j["standard_grid_error"] = {
         {"method", jd.method},
-        {"grid", "sglab error-vs-time grid (full), double, |method - reference| / reference at c = 1"},
+        {"grid", "sglab error-vs-time grid (full), double, |method - reference| / reference at c = 1; published = the "
+                 "method's own published constants (sglab eval --list)"},
         {"published", {{"max", jd.published.max_error}, {"rms", jd.published.rms_error}}},
         {"fit", {{"max", jd.fitted.max_error}, {"rms", jd.fitted.rms_error}}}};
   }
@@ -113,7 +114,7 @@ void write_file(const std::filesystem::path& path, const std::string& text) {
 
 std::string digits_text(double value, double published) {
   const double d = fit::correct_digits(value, published);
-  return std::isfinite(d) ? fmt::format("{:.1f}", d) : "-";
+  return std::isfinite(d) ? fmt::format("{:.1f}", d + 0.0) : "-";  // + 0.0: no "-0.0"
 }
 
 std::string number(double v) { return std::isfinite(v) ? fmt::format("{:.17g}", v) : "-"; }
@@ -229,7 +230,11 @@ void write_tables(const std::vector<Judged>& judged, const std::string& dir, con
         "Objective: the fit's own objective (Ceres cost) at the published constants and at the fit. Max / RMS "
         "error: the first registry method that reads the fit's constants, in double, on the full grid of "
         "`sglab error-vs-time` (|method − reference| / reference at c = 1), with the published and with the "
-        "fitted constants. Singular values: of the residuals' Jacobian with respect to relative parameter "
+        "fitted constants; \"published\" is the method's own published constants (`sglab eval --list`: for "
+        "lambda-d that is sg-cosine's λ_d = 2 of Tokuyoshi's VSGL papers, not the VSGL code's 2.292504). "
+        "hill-fitted's errors are huge because the grid reaches λ = 1e-3, where its published form diverges "
+        "(its known flaw; the fit's domain is λ ∈ [1, 100]). Minimax rows are Lawson's reweighted least "
+        "squares (no singular values). Singular values: of the residuals' Jacobian with respect to relative parameter "
         "changes, at the fit (least-squares fits); a large largest/smallest ratio is a direction in "
         "parameter space the objective barely sees.\n\n"
         "| fit | objective | objective at published | objective at fit | method | max error published | "

@@ -68,15 +68,9 @@ FitResult solve(const std::string& objective, const Residual& f) { return solve(
 // minimax and l2-relative on the whole-sphere grid (driver.hpp); the cosine's value at c = 1 is 1.
 FitResult solve_objective(const std::string& objective) {
   if (objective != "minimax" && objective != "l2-relative") return solve(objective, problem(objective));
-  const Residual f = problem("l2-sphere");
-  FitSpec spec = spec_for("l2-sphere");
-  if (objective == "l2-relative") {
-    spec.objective = "l2-relative: int_{S^2} (a G - <w.n>)^2 / max(<w.n>, 1e-3)^2 dw";
-    return solve(spec, relative_problem(f));
-  }
-  const FitResult l2 = solve(spec, f);
-  spec.objective = "minimax: max over w.n in [-1, 1] of |a G - <w.n>|";
-  return run_minimax<2>(spec, f, {l2.parameters[0].value, l2.parameters[1].value});
+  return solve_with_objective<2>(objective, problem("l2-sphere"), spec_for("l2-sphere"),
+                                 "l2-relative: int_{S^2} (a G - <w.n>)^2 / max(<w.n>, 1e-3)^2 dw",
+                                 "minimax: max over w.n in [-1, 1] of |a G - <w.n>|");
 }
 
 }  // namespace

@@ -245,6 +245,26 @@ FitResult run_minimax(FitSpec spec, GridResidual<Model> f, std::vector<double> s
   return r;
 }
 
+// The fit under `objective`: "l2-relative" (relative_problem), "minimax" (run_minimax from the L2
+// fit), else the plain L2 fit of `spec` on f. The texts name the objectives in the record.
+template <int K, class Model>
+FitResult solve_with_objective(const std::string& objective, const GridResidual<Model>& f, FitSpec spec,
+                               const std::string& relative_text, const std::string& minimax_text) {
+  const auto l2 = [](const GridResidual<Model>& g, const FitSpec& s) {
+    return run_least_squares(s, [&] { return make_autodiff<K>(g, g.size()); });
+  };
+  if (objective == "l2-relative") {
+    spec.objective = relative_text;
+    return l2(relative_problem(f), spec);
+  }
+  if (objective != "minimax") return l2(f, spec);
+  const FitResult first = l2(f, spec);
+  std::vector<double> x;
+  for (std::size_t k = 0; k < spec.names.size(); ++k) x.push_back(first.parameters[k].value);
+  spec.objective = minimax_text;
+  return run_minimax<K>(spec, f, x);
+}
+
 // The recovery-test hook shared by every misfit fit: a copy of the fit's problem with its
 // targets replaced by the model's own values at `truth`, solved by the fit's own solve.
 template <class MakeProblem, class Solve>

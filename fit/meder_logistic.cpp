@@ -53,20 +53,7 @@ FitResult solve(const MederResidual& f, const FitSpec& spec = make_spec()) {
 
 // The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
 FitResult solve_objective(const std::string& objective) {
-  const MederResidual& f = reference_problem();
-  FitSpec spec = make_spec();
-  if (objective == "l2-relative") {
-    spec.objective = "l2-relative: the l2 objective on (model - exact) / max(exact, 1e-3 x value at c = 1)";
-    return solve(relative_problem(f), spec);
-  }
-  if (objective == "minimax") {
-    const FitResult l2 = solve(f);
-    std::vector<double> x;
-    for (std::size_t k = 0; k < spec.names.size(); ++k) x.push_back(l2.parameters[k].value);
-    spec.objective = "minimax: max over the grid of |model - exact| / (value at c = 1)";
-    return run_minimax<4>(spec, f, x);
-  }
-  return solve(f, spec);
+  return solve_with_objective<4>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
 }
 
 }  // namespace

@@ -55,7 +55,9 @@ TEST(Constants, RegistryParametersAreConsistentAndProducedByTheirFit) {
     const auto [it, inserted] = published.insert({{p.fit, p.name}, p.published});
     // lambda-d's λ_d has two published values (the papers' 2 for sg-cosine, the VSGL code's
     // 2.292504 for the renderer); every other constant has one.
-    if (!inserted && p.fit != "lambda-d") EXPECT_EQ(it->second, p.published);
+    if (!inserted && p.fit != "lambda-d") {
+      EXPECT_EQ(it->second, p.published);
+    }
   }
   for (const auto& q : sglab::quantities())
     for (const auto& m : q.methods) {
