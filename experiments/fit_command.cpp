@@ -277,7 +277,7 @@ void write_tables(const std::vector<Judged>& judged, const std::string& dir, con
     for (std::size_t k = i; k < end; ++k) {
       const auto& r = judged[k].result;
       md += fmt::format("| {} | {} | {} | {} |\n", r.fit, r.objective.substr(0, r.objective.find(':')),
-                        std::isfinite(worst[k - i]) ? fmt::format("{:.1f}", worst[k - i]) : std::string("-"),
+                        std::isfinite(worst[k - i]) ? fmt::format("{:.1f}", worst[k - i] + 0.0) : std::string("-"),
                         k == best && end - i > 1 ? "closest" : "");
     }
     i = end;
