@@ -93,6 +93,25 @@ TEST_F(ConstantsCommand, Tokuyoshi2024TakesRefitCoefficients) {
   EXPECT_NE(value("tokuyoshi2024", ""), value("tokuyoshi2024", fmt::format("--constants '{}'", path("t24b.json").string())));
 }
 
+// `sglab render --constants DIR` renders with the record's λ_d, and the stats JSON says so.
+TEST_F(ConstantsCommand, RenderUsesTheSetsLambdaDAndSaysSo) {
+  write("fits/lambda-d.json", R"({"fit": "lambda-d", "objective": "test objective", "parameters": {"lambda_d": 3.25}})");
+  const std::string scene = std::string(SGLAB_SOURCE_DIR) + "/scenes/cornell-glossy.json";
+  const Outcome run = sglab(fmt::format("render '{}' --width 16 --height 16 --rsm 8 --out '{}' --stats '{}' --constants '{}'", scene,
+                                        path("r.exr").string(), path("r.json").string(), path("fits").string()));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::string stats = read(path("r.json"));
+  EXPECT_NE(stats.find("\"lambda_d\": 3.25"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("lambda-d.json: fit lambda-d, objective test objective"), std::string::npos) << stats;
+  // A bad set stops the render before anything is written.
+  write("bad/lambda-d.json", R"({"fit": "lambda-d", "parameters": {"lambda_d": 0}})");
+  const Outcome bad = sglab(fmt::format("render '{}' --width 16 --height 16 --rsm 8 --out '{}' --constants '{}'", scene,
+                                        path("bad.exr").string(), path("bad").string()));
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("parameters.lambda_d"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(path("bad.exr")));
+}
+
 TEST_F(ConstantsCommand, MalformedSetsAreRejectedNamingFileAndKey) {
   struct Case {
     std::string name, text, key;
