@@ -184,6 +184,13 @@ std::string csv_quote(const std::string& s) {
   return out + "\"";
 }
 
+// A table cell: '|' would end it (the minimax objectives' |error|).
+std::string md_cell(const std::string& s) {
+  std::string out;
+  for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
 struct Judged {
   fit::FitResult result;
   Judgement judgement;
@@ -213,7 +220,7 @@ void write_tables(const std::vector<Judged>& judged, const std::string& dir, con
       const std::string val = fmt::format("{:.10g}", r.parameters[i].value);
       const std::string dig = digits_text(r.parameters[i].value, r.published[i].value);
       md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", constant, pub, r.source, val,
-                        r.objective, dig, i < r.cost_range.size() ? range_text(r.cost_range[i]) : "-");
+                        md_cell(r.objective), dig, i < r.cost_range.size() ? range_text(r.cost_range[i]) : "-");
       csv += fmt::format("{},{},{},{},{},{},{}\n", r.fit, r.parameters[i].name, pub,
                          csv_quote(r.source), number(r.parameters[i].value),
                          csv_quote(r.objective), dig);
@@ -249,7 +256,7 @@ void write_tables(const std::vector<Judged>& judged, const std::string& dir, con
       sv += fmt::format("({:.3g})", r.singular_values.front() / r.singular_values.back());
     }
     const bool m = !j.judgement.method.empty();
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.fit, r.objective, sci(r.published_cost),
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.fit, md_cell(r.objective), sci(r.published_cost),
                       sci(r.final_cost), m ? j.judgement.method : "- (no registry method)",
                       m ? sci(j.judgement.published.max_error) : "-", m ? sci(j.judgement.fitted.max_error) : "-",
                       m ? sci(j.judgement.published.rms_error) : "-", m ? sci(j.judgement.fitted.rms_error) : "-", sv);

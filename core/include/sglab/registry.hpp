@@ -54,6 +54,12 @@ template <class T>
 using BatchFn = std::function<void(std::span<const T> args, std::size_t arity, std::span<T> out)>;
 
 // ---- constants as data ----------------------------------------------------------------------
+// To give a method constants: define each published value once in its core header (a struct of
+// static constexpr doubles, as Tokuyoshi2024T), register the method with
+// make_method_with_parameters(…, {Parameter{…}, …}, published_fn, with_fn), and list the names in
+// the re-deriving fit's Fitter::parameters (fit/driver.hpp). Commands then accept the fit's
+// records through `--constants` (experiments/constant_sets.hpp) with no further change; the test
+// tests/constants_test.cpp checks the declarations and that each value is defined once.
 // A published constant a method (or the renderer, or the filter) depends on. Its value is defined
 // once in core, in the struct the registration cites (SgCosine, Tokuyoshi2024T, …); `sglab fit
 // FIT` re-derives it as the record parameter `name`; a ConstantSet (`--constants PATH`) replaces
