@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
+#include <deque>
 #include <random>
 #include <vector>
 
@@ -109,6 +110,17 @@ int main(int argc, char** argv) {
       if (slow) {
         bf->Iterations(1);
         bd->Iterations(1);
+      }
+      // The run-time constants path (`--constants`): the method bound to its published values,
+      // beside the published path above, to show what binding costs.
+      if (!m.parameters.empty()) {
+        static std::deque<sglab::Method> bound;
+        std::vector<double> values;
+        for (const auto& p : m.parameters) values.push_back(p.published);
+        bound.push_back(m.bind(values));
+        const sglab::Method* b = &bound.back();
+        benchmark::RegisterBenchmark((q.name + "/" + m.name + "/bound/double").c_str(),
+                                     [b, arity, &in](benchmark::State& s) { run<double>(s, b, arity, in); });
       }
     }
   }

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <random>
 #include <string>
 #include <vector>
@@ -18,6 +20,8 @@
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
+#include "constant_sets.hpp"
+#include "error_grid.hpp"
 #include "sglab/registry.hpp"
 
 namespace sglab::cli {
@@ -28,6 +32,7 @@ struct Options {
   std::string out_dir = "results/error_vs_time";
   std::string tables_dir = "paper_tables";
   bool quick = false;
+  std::vector<std::string> constants;  // --constants: refit rows beside the published ones
 };
 
 struct Row {
@@ -131,7 +136,7 @@ Grid specular_grid(const Method& ref, bool quick) {
   const std::vector<double> views = {0.9, 0.5, 0.2};
   const std::vector<double> tilts = {0, 0.1, 0.3, 0.6};  // radians from the mirror direction
   const double f0 = 0.04;
-  const double pi = 3.141592653589793;  // π (%.17g: 3.1415926535897931)
+  const double pi = sglab::pi<double>();
   for (double a : alphas)
     for (double l : sharpness)
       for (double v : views)
@@ -185,6 +190,37 @@ std::string claims_section(const std::vector<Row>& rows) {
   return s;
 }
 
+}  // namespace
+
+GridError standard_grid_error(const Quantity& q, const Method& m) {
+  static std::mutex mutex;
+  static std::map<std::string, Grid> grids;
+  const Grid* g;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    auto it = grids.find(q.name);
+    if (it == grids.end()) it = grids.emplace(q.name, diffuse_grid(*q.find(q.reference_method), false)).first;
+    g = &it->second;
+  }
+  GridError e;
+  double sum_sq = 0;
+  long counted = 0;
+  for (std::size_t k = 0; k < g->size(); ++k) {
+    const std::span<const double> a(&g->args[g->arity * k], g->arity);
+    if (m.domain_error && m.domain_error(a)) continue;
+    const double v = m.eval_double(a);
+    if (!std::isfinite(v)) continue;
+    const double d = std::fabs(v - g->reference[k]) / g->scale[k];
+    sum_sq += d * d;
+    ++counted;
+    e.max_error = std::max(e.max_error, d);
+  }
+  e.rms_error = counted ? std::sqrt(sum_sq / double(counted)) : NAN;
+  return e;
+}
+
+namespace {
+
 bool is_diffuse(const Quantity& q) {
   return q.columns.size() == 2 && q.columns[0].kind == ColumnKind::sharpness && q.columns[1].kind == ColumnKind::cosine;
 }
@@ -200,7 +236,7 @@ const Quantity& checked_quantity(const std::string& name) {
 
 // Every method of q against its reference on q's grid, in float and double, plus the
 // reference's own cost.
-std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out) {
+std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const ConstantSet& set) {
   const Quantity* q = &qr;
   const bool diffuse = is_diffuse(qr);
   const Method& ref = *q->find(q->reference_method);
@@ -210,9 +246,20 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out) {
   const std::vector<float> timing_f(g.timing.begin(), g.timing.end());
   const int repeats = quick ? 5 : 15;
 
-  std::vector<Row> rows;
+  // Each method with its published constants and, when the constant set changes any of them, again
+  // with the set's values ("NAME [constants]"), side by side.
+  std::vector<Method> variants;
   for (const auto& m : q->methods) {
     if (m.name == q->reference_method) continue;
+    variants.push_back(m);
+    Method b = bind(m, set);
+    if (!b.parameters.empty() && !b.bind) {  // bind() returned a bound copy: the set changed it
+      b.name = m.name + " [constants]";
+      variants.push_back(std::move(b));
+    }
+  }
+  std::vector<Row> rows;
+  for (const auto& m : variants) {
     for (const char* precision : {"float", "double"}) {
       std::fprintf(stderr, "error-vs-time: %s / %s\n", m.name.c_str(), precision);
       Row r;
@@ -275,6 +322,8 @@ void run(const Options& o) {
   std::string command = "sglab error-vs-time";
   if (o.quantities != Options{}.quantities) command += " --quantity " + fmt::format("{}", fmt::join(o.quantities, " "));
   if (o.quick) command += " --quick";
+  for (const auto& a : constants_arguments(o.constants)) command += " " + a;
+  const ConstantSet set = load_constant_sets(o.constants);
   std::string csv =
       "quantity,method,precision,rmse,max_error,max_error_subset,max_rounding_error,ns_per_eval,negatives,non_finite,"
       "out_of_domain\n";
@@ -286,8 +335,18 @@ void run(const Options& o) {
       "median of repeats). `neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n",
       command);
   for (const Quantity* q : qs) {
+    std::vector<ConstantUse> uses;
+    for (const auto& m : q->methods) {
+      const auto u = method_constant_uses(q->name + "/" + m.name, m);
+      uses.insert(uses.end(), u.begin(), u.end());
+    }
+    if (!uses.empty())
+      md += fmt::format("\nConstants of {} ({}; rows `NAME [constants]` use the set's values, the others the "
+                        "published ones):\n\n{}",
+                        q->name, o.constants.empty() ? std::string("published") : fmt::format("{}", fmt::join(o.constants, ", ")),
+                        constants_text(set, uses, "- "));
     Grid g;
-    const std::vector<Row> rows = measure(*q, o.quick, g);
+    const std::vector<Row> rows = measure(*q, o.quick, g, set);
     for (const auto& r : rows)
       csv += fmt::format("{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.4g},{},{},{}\n", q->name, r.method, r.precision, r.rmse,
                          r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval, r.negatives, r.non_finite,
@@ -339,6 +398,7 @@ void add_error_vs_time_command(CLI::App& app) {
   sub->add_option("--out", opts->out_dir, "directory for the per-method CSV")->capture_default_str();
   sub->add_option("--tables", opts->tables_dir, "directory for the paper tables")->capture_default_str();
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
+  add_constants_option(*sub, opts->constants);
   sub->callback([opts] { run(*opts); });
 }
 

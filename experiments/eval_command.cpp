@@ -28,6 +28,7 @@
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
+#include "constant_sets.hpp"
 #include "csv.hpp"
 #include "parse_number.hpp"
 #include "sglab/registry.hpp"
@@ -49,6 +50,7 @@ struct EvalOptions {
   std::string out;
   bool list = false;
   bool json = false;
+  std::vector<std::string> constants;  // --constants, in order
 };
 
 std::vector<std::string> quantity_names() {
@@ -87,6 +89,8 @@ void print_list_text() {
                          m.may_be_negative ? kNegativeMark : "");
       out += fmt::format("      source: {}\n", m.source);
       if (!m.flaws.empty()) out += fmt::format("      flaws:  {}\n", m.flaws);
+      for (const auto& p : m.parameters)
+        out += fmt::format("      constant {} = {:.17g} (fit {}; {})\n", p.name, p.published, p.fit, p.source);
     }
   }
   std::cout << out << std::flush;
@@ -107,11 +111,16 @@ void print_list_json() {
     for (const auto& c : q.columns)
       jq["columns"].push_back(
           {{"name", c.name}, {"kind", column_kind_name(c.kind)}, {"description", c.description}});
-    for (const auto& m : q.methods)
+    for (const auto& m : q.methods) {
+      nlohmann::json params = nlohmann::json::array();
+      for (const auto& p : m.parameters)
+        params.push_back({{"name", p.name}, {"fit", p.fit}, {"published", p.published}, {"source", p.source}});
       jq["methods"].push_back({{"name", m.name},
                                {"source", m.source},
                                {"flaws", m.flaws},
-                               {"may_be_negative", m.may_be_negative}});
+                               {"may_be_negative", m.may_be_negative},
+                               {"parameters", params}});
+    }
     j["quantities"].push_back(std::move(jq));
   }
   std::cout << j.dump(2) << '\n' << std::flush;
@@ -284,6 +293,15 @@ void run_eval(const EvalOptions& o) {
                     fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
 
   check_output_paths({{"--out", o.out}}, {{"--in", o.in}});
+
+  // The constant set first: a bad set is bad input, reported before the table is read.
+  const ConstantSet set = load_constant_sets(o.constants);
+  const Method bound = bind(*m, set);
+  m = &bound;
+  if (!m->parameters.empty())
+    std::cerr << fmt::format("sglab eval: {} {} with constants:\n", q->name, m->name)
+              << constants_text(set, method_constant_uses(q->name + "/" + m->name, *m), "  ") << std::flush;
+
   const CsvTable table = read_input(o.in);
   const std::string source = o.in.empty() ? "<stdin>" : o.in;
   std::vector<std::string> values;
@@ -330,6 +348,7 @@ void add_eval_command(CLI::App& app) {
   auto* list = cmd->add_flag("--list", o->list,
                              "List every quantity with its columns and methods (source, flaws)");
   cmd->add_flag("--json", o->json, "With --list: print the list as JSON")->needs(list);
+  add_constants_option(*cmd, o->constants);
   list->excludes(quantity)->excludes(method)->excludes(precision)->excludes(in)->excludes(out);
   cmd->footer(
       "Exit status: 0 on success; 2 for bad input (unknown quantity, method or precision, a "

@@ -30,7 +30,9 @@ struct Options {
   bool quiet = false;
 };
 
-void run(const Options& o) {
+void run(const Options& options) {
+  Options o = options;
+  apply_filter_constants(o.job);
   if (o.out.empty()) throw UsageError("filter needs --out IMAGE.exr");
   if (o.weights.empty()) throw UsageError("filter needs --weights normal|lobe|spatial");
   check_output_paths({{"--out", o.out}, {"--stats", o.stats}}, {{"scene", o.job.render.scene_path}});
@@ -83,6 +85,7 @@ void run(const Options& o) {
   stats["source"] = std::string(render::indirect_source_name(in.source));
   stats["weights"] = std::string(render::filter_weights_name(weights));
   stats["parameters"] = filter_parameters_json(o.job.parameters);
+  stats["constants"] = filter_constants_json(o.job);
   stats["rsm_resolution"] = input_options.rsm_resolution;
   stats["vpl_count"] = in.vpl_count;
   std::size_t hit = 0, glossy = 0;

@@ -8,6 +8,8 @@
 
 #include "commands.hpp"
 #include "resource_limits.hpp"
+#include "constant_sets.hpp"
+#include "sglab/filtering_weights.hpp"
 
 namespace sglab::cli {
 
@@ -38,6 +40,24 @@ void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
   app.add_option("--seed", job.render.seed, "--source vsgl: seed of the VSGL importance sampling")
       ->capture_default_str()
       ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
+  add_constants_option(app, job.render.constants);
+}
+
+void apply_filter_constants(FilterJob& job) {
+  const ConstantSet set = load_constant_sets(job.render.constants);
+  const double lambda_c = standalone_value(set, "filter", "lambda_c");
+  if (!set.find("lambda-c", "lambda_c")) return;
+  const FilterJob d;
+  auto& p = job.parameters;
+  if (p.sigma_n2 == d.parameters.sigma_n2) p.sigma_n2 = normal_weight_variance(lambda_c, p.beta, p.kappa);
+  if (p.diffuse_sharpness == d.parameters.diffuse_sharpness) p.diffuse_sharpness = 2 * lambda_c;
+}
+
+nlohmann::json filter_constants_json(const FilterJob& job) {
+  nlohmann::json j = render_constants_json(job.render);
+  const ConstantSet set = load_constant_sets(job.render.constants);
+  for (const auto& v : constants_json(set, {{"filter", find_standalone_constant("filter", "lambda_c")}})) j["values"].push_back(v);
+  return j;
 }
 
 render::FilterInputOptions filter_input_options(const FilterJob& job) {
@@ -103,6 +123,7 @@ std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_sc
   if (job.render.width) a.insert(a.end(), {"--width", std::to_string(*job.render.width)});
   if (job.render.height) a.insert(a.end(), {"--height", std::to_string(*job.render.height)});
   for (const auto& s : job.render.overrides) a.insert(a.end(), {"--set", s});
+  for (const auto& c : constants_arguments(job.render.constants)) a.push_back(c);
   return a;
 }
 

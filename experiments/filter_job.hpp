@@ -28,6 +28,13 @@ struct FilterJob {
 // is false (the sweep takes a list instead).
 void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale = true);
 
+// The constant set (--constants, in job.render.constants): a λ_c other than the published one sets
+// σ_n² = (2λ_c + κ)/(βλ_cκ) and the diffuse lobe sharpness 2λ_c, where the options left them at
+// their defaults.
+void apply_filter_constants(FilterJob& job);
+// The filter's constants (λ_c) and the render's (λ_d, …) with value and provenance, for the stats.
+nlohmann::json filter_constants_json(const FilterJob& job);
+
 // Validated pieces (UsageError naming the option and value).
 render::FilterInputOptions filter_input_options(const FilterJob& job);
 void check_filter_parameters(const render::FilterParameters& p);

@@ -73,7 +73,9 @@ void write_file(const fs::path& path, const std::string& text) {
   f.commit();
 }
 
-void run(const Options& o) {
+void run(const Options& options) {
+  Options o = options;
+  apply_filter_constants(o.job);
   if (o.job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
   if (o.table.empty() || o.table.find_first_of("/\\ ") != std::string::npos)
     throw UsageError(fmt::format("--table '{}' is not a file name", o.table));

@@ -3,6 +3,7 @@
 #include "render_job.hpp"
 
 #include <cmath>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -12,6 +13,8 @@
 
 #include "commands.hpp"
 #include "resource_limits.hpp"
+#include "constant_sets.hpp"
+#include "sglab/registry.hpp"
 #include "sglab/render/vsgl_shading.hpp"
 
 namespace sglab::cli {
@@ -36,13 +39,12 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
   app.add_option("--seed", job.seed, "seed of the VSGL importance sampling (fis, kmeans)")
       ->capture_default_str()
       ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
-  app.add_option("--lambda-d", job.lambda_d, "λ_d of the diffuse SG lobe (the seeds' 2; 2.292504 is the public VSGL code's)")
-      ->capture_default_str();
   app.add_option("--kmeans-space", job.kmeans_space, "k-means clustering space: world (position + normal) or image (RSM texels)")
       ->capture_default_str();
   app.add_flag("--visibility", job.visibility,
                "VSGL visibility from a cube shadow map at each mu_v (Tokuyoshi 2016); the reference ray-casts VPL visibility");
   app.add_flag("--sg-cosine-a-pi", job.sg_cosine_a_is_pi, "with --diffuse sg-cosine: take A(λ_d) ≈ π as the 2015 poster does");
+  add_constants_option(app, job.constants);
   // A repeated option takes its last value (so that a script can append an override).
   for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--lambda-d"})
     if (auto* o = app.get_option_no_throw(name)) o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -107,7 +109,6 @@ render::RenderOptions render_options(const RenderJob& job) {
   o.vsgl.mode = *mode;
   o.vsgl.count = job.count;
   o.vsgl.seed = job.seed;
-  o.vsgl.lambda_d = job.lambda_d;
   o.visibility = job.visibility;
   if (job.kmeans_space == "image") o.vsgl.kmeans_space = render::VsglOptions::KmeansSpace::image;
   else if (job.kmeans_space != "world")
@@ -119,7 +120,35 @@ render::RenderOptions render_options(const RenderJob& job) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(fmt::format("--diffuse: {}", e.what()));
   }
+  // The constant set: the diffuse VSGL's λ_d, and the diffuse method's constants. A method whose
+  // constants the set changes is shaded through the registry with them bound (sg-cosine already
+  // takes the VSGL's λ_d).
+  const ConstantSet set = load_constant_sets(job.constants);
+  o.vsgl.lambda_d = standalone_value(set, "render", "lambda_d");
+  if (job.diffuse != "sg-cosine") {
+    const Method* m = find_quantity("clamped-cosine")->find(job.diffuse);
+    bool changed = false;
+    for (const auto& p : m ? m->parameters : std::vector<Parameter>{}) changed = changed || set.find(p.fit, p.name);
+    if (changed) {
+      // RenderOptions holds a plain pointer: bound methods live for the rest of the process.
+      static std::deque<Method> bound;
+      bound.push_back(bind(*m, set));
+      o.shading.diffuse = render::DiffuseMethod::registry;
+      o.shading.registry_method = &bound.back();
+    }
+  }
   return o;
+}
+
+nlohmann::json render_constants_json(const RenderJob& job) {
+  const ConstantSet set = load_constant_sets(job.constants);
+  std::vector<ConstantUse> uses{{"render", find_standalone_constant("render", "lambda_d")}};
+  if (const Method* m = find_quantity("clamped-cosine")->find(job.diffuse); m && job.diffuse != "sg-cosine") {
+    const auto more = method_constant_uses("clamped-cosine/" + m->name, *m);
+    uses.insert(uses.end(), more.begin(), more.end());
+  }
+  return {{"sets", job.constants.empty() ? std::vector<std::string>{"published"} : job.constants},
+          {"values", constants_json(set, uses)}};
 }
 
 std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vsgl) {
@@ -135,10 +164,10 @@ std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vs
   if (job.height) a.insert(a.end(), {"--height", std::to_string(*job.height)});
   for (const auto& s : job.overrides) a.insert(a.end(), {"--set", s});
   if (job.seed != render::kDefaultVsglSeed) a.insert(a.end(), {"--seed", std::to_string(job.seed)});
-  if (job.lambda_d != RenderJob{}.lambda_d) a.insert(a.end(), {"--lambda-d", fmt::format("{}", job.lambda_d)});
   if (job.sg_cosine_a_is_pi) a.push_back("--sg-cosine-a-pi");
   if (job.visibility) a.push_back("--visibility");
   if (job.kmeans_space != "world") a.insert(a.end(), {"--kmeans-space", job.kmeans_space});
+  for (const auto& c : constants_arguments(job.constants)) a.push_back(c);
   return a;
 }
 
@@ -213,6 +242,7 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
                {"sg_cosine_a_is_pi", options.shading.sg_cosine_a_is_pi},
                {"kmeans_space", job.kmeans_space}};
   j["seed"] = st.seed;
+  j["constants"] = render_constants_json(job);
   j["seconds"] = {{"gbuffer", r.seconds.gbuffer}, {"shadow_map", r.seconds.shadow_map}, {"direct", r.seconds.direct},
                   {"rsm", r.seconds.rsm},         {"vsgl", r.seconds.vsgl},             {"shading", r.seconds.shading},
                   {"reference", r.seconds.reference}};

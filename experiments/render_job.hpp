@@ -28,12 +28,10 @@ struct RenderJob {
   int shadow_map = 1024;
   std::optional<int> width, height;    // override the scene's camera size
   std::uint64_t seed = render::kDefaultVsglSeed;
-  // λ_d of the diffuse lobes (VPLs and sg-cosine receivers); the default is VsglOptions' (the
-  // seeds' 2), defined there once.
-  double lambda_d = render::VsglOptions{}.lambda_d;
   bool sg_cosine_a_is_pi = false;  // --sg-cosine-a-pi: A(λ_d) ≈ π in sg-cosine shading
   std::string kmeans_space = "world";  // --kmeans-space world | image
   bool visibility = false;             // --visibility: VSGL and VPL visibility (Tokuyoshi 2016 §4.1)
+  std::vector<std::string> constants;  // --constants (constant_sets.hpp): λ_d and the diffuse method's constants
 };
 
 // Adds the options every render-like command has (--vsgl … --seed) to `app`, bound to `job`.
@@ -63,6 +61,10 @@ void check_render_memory(const render::Scene& scene, const render::RenderOptions
 // Refuses (UsageError) a result with an infinite or NaN value, naming the layer (the stage that
 // produced it) and the first such pixel: such an image would be written as if it were a result.
 void check_render_finite(const render::RenderResult& result);
+
+// The constants a render with `job` uses (the VSGL λ_d, the diffuse method's), with their values
+// and provenance in the job's constant set: the stats' "constants" field.
+nlohmann::json render_constants_json(const RenderJob& job);
 
 // The stats record of a finished render (the fields of issue 5 item 7 and what was built).
 nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, const render::RenderOptions& options,

@@ -97,8 +97,13 @@ std::vector<Step> steps(const Places& places) {
   std::vector<Step> all = {
       {"fit-all", "re-derive every published constant (paper_tables/constants.*)",
        {"fit", "all", "--json-dir", out + "/fits"}, {}},
-      {"error-vs-time", "diffuse methods: error, rounding error and ns/eval (paper_tables/error_vs_time.*)",
-       {"error-vs-time", "--out", out + "/error_vs_time"}, {"--quick"}},
+      // The other objectives of lambda-d, for the λ_d render sweep below (which reads them by path).
+      {"fit-lambda-d-theta", "lambda-d under the l2-theta objective (a constant set for the λ_d render sweep)",
+       {"fit", "lambda-d", "--objective", "l2-theta", "--json", out + "/fits-objectives/lambda-d-l2-theta.json"}, {}},
+      {"fit-lambda-d-hemisphere", "lambda-d under the l2-hemisphere objective (a constant set for the λ_d render sweep)",
+       {"fit", "lambda-d", "--objective", "l2-hemisphere", "--json", out + "/fits-objectives/lambda-d-l2-hemisphere.json"}, {}},
+      {"error-vs-time", "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
+       {"error-vs-time", "--out", out + "/error_vs_time", "--constants", out + "/fits"}, {"--quick"}},
       {"plot-error-vs-time", "Pareto figure of error against time",
        {"plots/error_vs_time.py", out + "/error_vs_time/error_vs_time.csv", kKeyFigures}, {}, true},
       {"sweep-specular", "specular methods against the GGX reference over roughness (paper_tables/specular_vs_roughness.*)",
@@ -140,6 +145,14 @@ std::vector<Step> steps(const Places& places) {
        "VSGL error against floor roughness × light distance on cornell-glossy (paper_tables/vsgl_error_vs_roughness_distance.*)",
        {"sweep", "render", "--scene", "scenes/cornell-glossy.json", "--vary", "floor.roughness=0.01:1:8:log", "--vary",
         "light.distance=0.4:1.4:3", "--vsgl", "two", "--vsgl", "fis:64", "--out", out + "/render_sweep"},
+       {"--width", "48", "--height", "48", "--rsm", "32"}},
+      {"sweep-render-lambda-d",
+       "VSGL error against λ_d on cornell-glossy: the papers' 2, the L2 fit and the other objectives' fits "
+       "(paper_tables/vsgl_error_vs_lambda_d.*)",
+       {"sweep", "render", "--scene", "scenes/cornell-glossy.json", "--vary",
+        "vsgl.lambda_d=2," + out + "/fits/lambda-d.json," + out + "/fits-objectives/lambda-d-l2-theta.json," + out +
+            "/fits-objectives/lambda-d-l2-hemisphere.json",
+        "--vsgl", "two", "--width", "256", "--height", "256", "--out", out + "/render_sweep", "--table", "vsgl_error_vs_lambda_d"},
        {"--width", "48", "--height", "48", "--rsm", "32"}},
       // Lobe-aware filtering (issue 7): both weightings on cornell-glossy, then the roughness sweep.
       {"filter-cornell-glossy-normal", "upsampling 1/4-resolution indirect light with normal/depth weights (EXR + stats)",
@@ -283,6 +296,7 @@ struct Options {
   bool force = false;
   bool list = false;
   std::vector<std::string> only;
+  std::vector<std::string> constants;  // --constants: appended to every sglab step but the fits
 };
 
 Places places(const Options& o) {
@@ -297,6 +311,11 @@ std::vector<std::string> step_args(const Step& s, const Options& o, const Places
   std::vector<std::string> args = s.args;
   if (o.quick) args.insert(args.end(), s.quick_args.begin(), s.quick_args.end());
   if (const std::string option = tables_option(s); !option.empty()) args.insert(args.end(), {option, p.tables});
+  // --constants: to every step whose command takes a constant set.
+  static const std::vector<std::string> kTakeConstants = {"error-vs-time", "stability", "error-map", "render",
+                                                          "sweep", "filter", "filter-sweep"};
+  if (!s.python && std::find(kTakeConstants.begin(), kTakeConstants.end(), args.front()) != kTakeConstants.end())
+    for (const auto& c : o.constants) args.insert(args.end(), {"--constants", c});
   return args;
 }
 
@@ -376,6 +395,10 @@ void add_reproduce_command(CLI::App& app) {
   sub->add_flag("--list", opts->list, "print each step and its command line in this mode, run nothing");
   sub->add_flag("--force", opts->force, "redo finished steps");
   sub->add_option("--only", opts->only, "run only these steps");
+  sub->add_option("--constants", opts->constants,
+                  "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
+                  "repeatable, later sets override earlier ones)")
+      ->allow_extra_args(false);
   sub->callback([opts] { run(*opts); });
 }
 

@@ -6,7 +6,8 @@
 //  • --vary KEY=a:b:n        n values linearly spaced over [a, b] (n = 1: a alone);
 //    --vary KEY=a:b:n:log    n values log-spaced (a, b > 0; the natural spacing for roughness);
 //    --vary KEY=v1,v2,…      exactly these values.
-//    KEY is any --set key (floor.roughness, light.distance, …). Several --vary span their
+//    KEY is any --set key (floor.roughness, light.distance, …), or vsgl.lambda_d: the diffuse VSGL's
+//    vMF sharpness λ_d (default: the constant set's, `--constants`). Several --vary span their
 //    Cartesian product, the last varying fastest; none: one point, the scene as given.
 //  • --vsgl CONFIG           two | fis:N | kmeans:N, repeatable (default: two). Every configuration
 //    is measured at every point against one shared reference: a point renders its G-buffer, RSM
@@ -32,6 +33,7 @@
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
+#include "constant_sets.hpp"
 #include "parse_number.hpp"
 #include "render_job.hpp"
 #include "resource_limits.hpp"
@@ -40,6 +42,9 @@
 
 namespace sglab::cli {
 namespace {
+
+// The --vary key that sets the diffuse VSGL's λ_d instead of a scene field.
+const std::string kLambdaDKey = "vsgl.lambda_d";
 
 namespace fs = std::filesystem;
 
@@ -67,6 +72,15 @@ struct Options {
   std::size_t threads = 1;
   bool fresh = false;
 };
+
+bool try_parse_decimal(const std::string& text, double& x) {
+  try {
+    x = parse_decimal<double>(text);
+    return true;
+  } catch (const NumberError&) {
+    return false;
+  }
+}
 
 double parse_value(const std::string& text, const std::string& where) {
   try {
@@ -160,7 +174,7 @@ std::string quote_if_needed(const std::string& s) {
 
 // The summary table (Markdown and CSV) from the per-point CSV alone.
 void write_summary(const CsvTable& t, const std::vector<Vary>& vary, const std::string& command, const Options& o,
-                   const std::string& name) {
+                   const std::string& name, const std::vector<std::string>& lambda_d_sources) {
   const auto col = [&](const std::string& c) {
     const auto i = t.column(c);
     if (i == CsvTable::npos) throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
@@ -179,6 +193,11 @@ void write_summary(const CsvTable& t, const std::vector<Vary>& vary, const std::
       o.job.overrides.empty() ? "" : " with " + fmt::format("`--set {}`", fmt::join(o.job.overrides, "`, `--set ")),
       o.job.visibility ? "VSGL visibility from a cube shadow map at each μ_v (Tokuyoshi 2016 §4.1), VPL visibility by ray casting"
                        : "none");
+  md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
+        constants_text(load_constant_sets(o.job.constants), {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
+        "\n";
+  if (!lambda_d_sources.empty())
+    md += fmt::format("Varied {}: {}.\n\n", kLambdaDKey, fmt::join(lambda_d_sources, "; "));
   std::string header = "|", rule = "|";
   for (const auto& v : vary) {
     header += fmt::format(" {} |", v.key);
@@ -217,7 +236,37 @@ void write_summary(const CsvTable& t, const std::vector<Vary>& vary, const std::
 void run(const Options& o) {
   if (o.job.scene_path.empty()) throw UsageError("sweep render needs --scene SCENE.json");
   std::vector<Vary> vary;
-  for (const auto& v : o.vary) vary.push_back(parse_vary(v));
+  std::vector<std::string> lambda_d_sources;  // where each varied λ_d came from
+  for (const auto& v : o.vary) {
+    // vsgl.lambda_d=v1,v2,… may name fit records (`sglab fit lambda-d --json FILE`) instead of numbers.
+    if (v.rfind(kLambdaDKey + "=", 0) == 0 && v.find(':') == std::string::npos) {
+      Vary l{kLambdaDKey, v.substr(kLambdaDKey.size() + 1), {}};
+      for (std::size_t start = 0;;) {
+        const auto comma = l.spec.find(',', start);
+        const std::string item = l.spec.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        double x;
+        if (try_parse_decimal(item, x)) {
+          lambda_d_sources.push_back(fmt::format("{} (given)", item));
+        } else {
+          const ConstantSet set = load_constant_sets({item});
+          const ConstantValue* c = set.find("lambda-d", "lambda_d");
+          if (!c) throw UsageError(fmt::format("--vary {}: '{}' holds no lambda-d fit", kLambdaDKey, item));
+          x = c->value;
+          lambda_d_sources.push_back(fmt::format("{:.10g} ({})", x, c->provenance));
+        }
+        l.values.push_back(x);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+      }
+      vary.push_back(l);
+      continue;
+    }
+    vary.push_back(parse_vary(v));
+  }
+  for (const auto& v : vary)
+    if (v.key == kLambdaDKey)
+      for (double x : v.values)
+        if (!(std::isfinite(x) && x > 0)) throw UsageError(fmt::format("--vary {}: λ_d = {} is not a positive number", v.key, x));
   std::vector<VsglConfig> configs;
   for (const auto& c : o.vsgl.empty() ? std::vector<std::string>{"two"} : o.vsgl) configs.push_back(parse_vsgl_config(c));
   const render::RenderOptions options = render_options(o.job);  // validates --rsm, --diffuse, …
@@ -268,6 +317,7 @@ void run(const Options& o) {
     nlohmann::json doc = base;
     const auto x = values_of(k);
     for (std::size_t i = 0; i < vary.size(); ++i) {
+      if (vary[i].key == kLambdaDKey) continue;  // not a scene field
       const std::string assignment = fmt::format("{}={}", vary[i].key, x[i]);
       try {
         render::apply_override(doc, assignment);
@@ -310,15 +360,18 @@ void run(const Options& o) {
     for (std::size_t i = 0; i < vary.size(); ++i) s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", vary[i].key, x[i]);
     return s.empty() ? std::string("the scene") : s;
   };
-  d.compute = [scene_of, values_of, configs, options, seed = o.job.seed](std::size_t k) {
+  d.compute = [scene_of, values_of, configs, options, vary, seed = o.job.seed](std::size_t k) {
     const render::Scene scene = scene_of(k);
+    const auto point = values_of(k);
     std::vector<render::VsglOptions> variants;
     for (const auto& c : configs) {
       render::VsglOptions v;
       v.mode = c.mode;
       v.count = c.count;
       v.seed = seed;
-      v.lambda_d = options.vsgl.lambda_d;
+      v.lambda_d = options.vsgl.lambda_d;  // the constant set's λ_d …
+      for (std::size_t i = 0; i < vary.size(); ++i)
+        if (vary[i].key == kLambdaDKey) v.lambda_d = point[i];  // … unless varied
       v.kmeans_space = options.vsgl.kmeans_space;
       variants.push_back(v);
     }
@@ -349,7 +402,7 @@ void run(const Options& o) {
   if (r.sharded) return;
   std::string command = "sglab";
   for (const auto& a : d.args) command += " " + quote_if_needed(a);
-  write_summary(read_sweep_points(r.points_csv), vary, command, o, name);
+  write_summary(read_sweep_points(r.points_csv), vary, command, o, name, lambda_d_sources);
 }
 
 }  // namespace

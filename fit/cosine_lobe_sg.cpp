@@ -9,14 +9,16 @@
 #include <cmath>
 
 #include "fits.hpp"
+#include "sglab/clamped_cosine.hpp"
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {
 namespace {
 
-constexpr double kAmplitude = 1.17;  // Pettineo 2016
-constexpr double kSharpness = 2.133;  // Pettineo 2016
-constexpr double kPi = 3.141592653589793;  // π (%.17g: 3.1415926535897931)
+// The published values live in core (CosineLobeSg, clamped_cosine.hpp).
+constexpr double kAmplitude = CosineLobeSg::amplitude;
+constexpr double kSharpness = CosineLobeSg::sharpness;
+const double kPi = pi<double>();
 
 struct Model {
   std::vector<double> t;
@@ -42,7 +44,7 @@ Residual problem(const std::string& objective) {
   return f;
 }
 
-FitResult solve(const std::string& objective, const Residual& f) {
+FitSpec spec_for(const std::string& objective) {
   FitSpec spec;
   spec.fit = "cosine-lobe-sg";
   spec.objective = objective == "l2-theta"        ? "l2-theta: int_0^pi (a G - <cos>)^2 dtheta"
@@ -55,7 +57,20 @@ FitResult solve(const std::string& objective, const Residual& f) {
   spec.lower = {1e-6, 1e-6};
   spec.upper = {100.0, 100.0};
   spec.starts = {{1.0, 2.0}, {0.5, 0.5}, {3.0, 8.0}};
+  return spec;
+}
+
+FitResult solve(const FitSpec& spec, const Residual& f) {
   return run_least_squares(spec, [&] { return make_autodiff<2>(f, f.size()); });
+}
+FitResult solve(const std::string& objective, const Residual& f) { return solve(spec_for(objective), f); }
+
+// minimax and l2-relative on the whole-sphere grid (driver.hpp); the cosine's value at c = 1 is 1.
+FitResult solve_objective(const std::string& objective) {
+  if (objective != "minimax" && objective != "l2-relative") return solve(objective, problem(objective));
+  return solve_with_objective<2>(objective, problem("l2-sphere"), spec_for("l2-sphere"),
+                                 "l2-relative: int_{S^2} (a G - <w.n>)^2 / max(<w.n>, 1e-3)^2 dw",
+                                 "minimax: max over w.n in [-1, 1] of |a G - <w.n>|");
 }
 
 }  // namespace
@@ -64,8 +79,9 @@ Fitter cosine_lobe_sg_fitter() {
   Fitter f;
   f.name = "cosine-lobe-sg";
   f.description = "amplitude and sharpness of the cosine lobe as an SG";
-  f.objectives = {"l2-sphere", "l2-theta", "l2-hemisphere"};
-  f.run = [](const FitOptions& o) { return solve(o.objective, problem(o.objective)); };
+  f.objectives = {"l2-sphere", "l2-theta", "l2-hemisphere", "l2-relative", "minimax"};
+  f.parameters = {"amplitude", "sharpness"};
+  f.run = [](const FitOptions& o) { return solve_objective(o.objective); };
   f.synthetic = synthetic_recovery([] { return problem("l2-sphere"); },
                                    [](const auto& p) { return solve("l2-sphere", p); });
   return f;

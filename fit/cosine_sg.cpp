@@ -29,16 +29,18 @@
 #include <Eigen/Dense>
 
 #include "fits.hpp"
+#include "sglab/clamped_cosine.hpp"
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {
 namespace {
 
 // Meder & Brüderlin 2018 (seed `blog`): i·n ≈ G(i; n, 0.0315, 32.7080) − 31.7003.
-constexpr double kPublishedAmplitude = 32.7080;
-constexpr double kPublishedSharpness = 0.0315;
-constexpr double kPublishedOffset = 31.7003;
-constexpr double kPi = 3.141592653589793;  // π (%.17g: 3.1415926535897931)
+// The published values live in core (MederCosineSg, clamped_cosine.hpp).
+constexpr double kPublishedAmplitude = MederCosineSg::amplitude;
+constexpr double kPublishedSharpness = MederCosineSg::sharpness;
+constexpr double kPublishedOffset = MederCosineSg::offset;
+const double kPi = pi<double>();
 
 struct CosineSgModel {
   std::vector<double> t;
@@ -178,7 +180,7 @@ FitResult fit_cosine_sg(const FitOptions& o) {
   std::snprintf(buf, sizeof buf, "published triple's cost on this grid: %.6g",
                 0.5 * f.squared_error(pub));
   r.notes.push_back(buf);
-  for (double bound : {1.0, 0.3, 0.1, 0.0315, 0.01, 0.001, 0.0001}) {
+  for (double bound : {1.0, 0.3, 0.1, kPublishedSharpness, 0.01, 0.001, 0.0001}) {
     const FitResult t = solve(o.objective, f, bound);
     std::snprintf(buf, sizeof buf,
                   "trajectory: lambda >= %-7g -> a = %.8g, lambda = %.6g, b = %.8g, cost = %.4g",
@@ -194,6 +196,7 @@ Fitter cosine_sg_fitter() {
   f.name = "cosine-sg";
   f.description = "a G(w; n, lambda) - b ~ w.n on the hemisphere (Meder & Bruederlin)";
   f.objectives = {"l2-bounded", "l2-theta-bounded", "l2-rounding"};
+  f.parameters = {"amplitude", "sharpness", "offset"};
   f.run = fit_cosine_sg;
   f.synthetic = synthetic_recovery([] { return problem("l2-bounded"); },
                                    [](const auto& p) { return solve("l2-bounded", p, kPublishedSharpness); });

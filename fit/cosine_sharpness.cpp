@@ -32,10 +32,9 @@
 namespace sglab::fit {
 namespace {
 
-// Seed `accurate-diffuse-sg-lighting` / SPEC.md §3 (%.17g: 0.00084560872241480124).
-constexpr double kPublishedLambda = 0.00084560872241480124;
-// SPEC.md §3: α(λ) at the published λ.
-constexpr double kPublishedAlpha = 1182.2467339678153;
+// Tokuyoshi 2022, defined in core (Tokuyoshi2022Cosine, clamped_cosine.hpp): λc and α(λc).
+constexpr double kPublishedLambda = Tokuyoshi2022Cosine::lambda;
+constexpr double kPublishedAlpha = Tokuyoshi2022Cosine::alpha;
 
 template <class T>
 T approximation_error(const T& l) {
@@ -114,6 +113,8 @@ Fitter cosine_sharpness_fitter() {
   f.name = "cosine-sharpness";
   f.description = "Tokuyoshi 2022 cosine-approximation sharpness and alpha(lambda)";
   f.objectives = {"max-plus-rounding"};
+  f.parameters = {"lambda"};
+  f.derived = {"alpha"};
   f.run = fit_cosine_sharpness;
   return f;
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include <Eigen/SVD>
 #include <boost/math/quadrature/gauss.hpp>
 #include <ceres/gradient_problem.h>
 #include <ceres/gradient_problem_solver.h>
@@ -86,6 +87,53 @@ void finish(const FitSpec& spec, const std::vector<double>& x, FitResult& r) {
   }
 }
 
+// The cost at x = ½Σr² (and the Jacobian, row-major, when `jacobian` is not null).
+double least_squares_cost(ceres::CostFunction& cf, const std::vector<double>& x, std::vector<double>* jacobian) {
+  std::vector<double> r(cf.num_residuals());
+  const double* params[] = {x.data()};
+  double* jac[] = {nullptr};
+  if (jacobian) {
+    jacobian->assign(r.size() * x.size(), 0);
+    jac[0] = jacobian->data();
+  }
+  if (!cf.Evaluate(params, r.data(), jacobian ? jac : nullptr)) return std::nan("");
+  double s = 0;
+  for (double v : r) s += v * v;
+  return 0.5 * s;
+}
+
+}  // namespace
+
+// Step outward geometrically, then bisect.
+std::pair<double, double> one_percent_range(const std::function<double(const std::vector<double>&)>& cost,
+                                            const std::vector<double>& x, std::size_t j) {
+  const double c0 = cost(x), target = c0 * 1.01 + 1e-300;
+  auto edge = [&](double sign) {
+    auto at = [&](double t) {
+      std::vector<double> y = x;
+      y[j] = x[j] * (sign > 0 ? 1 + t : 1 / (1 + t));  // stays positive on the low side
+      return y;
+    };
+    double inside = 0, outside = 1e-9;
+    while (outside < 1e6) {
+      const double c = cost(at(outside));
+      if (!(c <= target)) break;  // NaN counts as outside
+      inside = outside;
+      outside *= 2;
+    }
+    if (outside >= 1e6) return at(outside)[j];
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (inside + outside);
+      const double c = cost(at(mid));
+      (c <= target ? inside : outside) = mid;
+    }
+    return at(inside)[j];
+  };
+  return {edge(-1), edge(1)};
+}
+
+namespace {
+
 bool converged_termination(ceres::TerminationType t) { return t == ceres::CONVERGENCE; }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -93,6 +141,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 }  // namespace
+
+FitResult finish_at(const FitSpec& spec, const std::vector<double>& x) {
+  FitResult r;
+  finish(spec, x, r);
+  return r;
+}
 
 FitResult run_least_squares(const FitSpec& spec,
                             const std::function<ceres::CostFunction*()>& make_cost) {
@@ -135,6 +189,22 @@ FitResult run_least_squares(const FitSpec& spec,
   if (!have) throw std::runtime_error(spec.fit + ": no start gave a usable Ceres solution");
   best.seconds = seconds_since(t0);
   finish(spec, best_x, best);
+  if (!spec.judge) return best;
+  // Self-judgement: the objective at the published values, the scaled Jacobian's singular values
+  // and the +1 % cost ranges (after the timing: not part of the fit's cost).
+  std::unique_ptr<ceres::CostFunction> cf(make_cost());
+  bool published = true;
+  for (double v : spec.published) published = published && std::isfinite(v);
+  if (published) best.published_cost = least_squares_cost(*cf, spec.published, nullptr);
+  std::vector<double> jac;
+  least_squares_cost(*cf, best_x, &jac);
+  Eigen::MatrixXd J = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      jac.data(), cf->num_residuals(), static_cast<Eigen::Index>(k));
+  for (std::size_t j = 0; j < k; ++j) J.col(static_cast<Eigen::Index>(j)) *= best_x[j];
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues();
+  best.singular_values.assign(sv.data(), sv.data() + sv.size());
+  const auto cost = [&](const std::vector<double>& x) { return least_squares_cost(*cf, x, nullptr); };
+  for (std::size_t j = 0; j < k; ++j) best.cost_range.push_back(one_percent_range(cost, best_x, j));
   return best;
 }
 
@@ -173,6 +243,17 @@ FitResult run_scalar_fit(const FitSpec& spec,
   if (!have) throw std::runtime_error(spec.fit + ": no start gave a usable Ceres solution");
   best.seconds = seconds_since(t0);
   finish(spec, best_x, best);
+  std::unique_ptr<ceres::FirstOrderFunction> ff(make_function());
+  const auto cost = [&](const std::vector<double>& x) {
+    std::vector<double> u(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) u[i] = std::log(x[i]);
+    double c = std::nan("");
+    return ff->Evaluate(u.data(), &c, nullptr) ? c : std::nan("");
+  };
+  bool published = true;
+  for (double v : spec.published) published = published && std::isfinite(v) && v > 0;
+  if (published) best.published_cost = cost(spec.published);
+  for (std::size_t j = 0; j < best_x.size(); ++j) best.cost_range.push_back(one_percent_range(cost, best_x, j));
   return best;
 }
 
@@ -192,6 +273,13 @@ const Fitter* find_fitter(const std::string& name) {
     if (f.name == name) return &f;
   }
   return nullptr;
+}
+
+std::vector<sglab::ConstantUse> registry_parameters(const Fitter& f) {
+  std::vector<sglab::ConstantUse> out;
+  for (const auto& u : sglab::constant_uses())
+    if (u.parameter->fit == f.name) out.push_back(u);
+  return out;
 }
 
 std::string choose_objective(const Fitter& f, const std::string& requested) {

@@ -16,6 +16,7 @@
 // AutoDiffFirstOrderFunction, in log-parameters so that positivity needs no bounds.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -29,6 +30,7 @@
 #include <ceres/first_order_function.h>
 
 #include "sglab/filtering_weights.hpp"
+#include "sglab/registry.hpp"
 
 namespace sglab::fit {
 
@@ -73,6 +75,15 @@ struct FitResult {
   // trajectories, cross-checks). Not part of the JSON record.
   std::vector<std::string> notes;
   std::string source;  // where the published values come from
+  // How the fit judges itself (JSON record and paper_tables/constants.md):
+  double published_cost = std::nan("");  // the same objective at the published values (NaN if none)
+  // Singular values (largest first) of the Jacobian of the residuals with respect to the relative
+  // parameter change (column j scaled by x_j), at the optimum; least-squares fits only. A ratio
+  // largest/smallest near 1/√eps means a direction the objective barely sees.
+  std::vector<double> singular_values;
+  // Per fitted parameter, the interval [lo, hi] where the cost stays within +1 % of the optimum
+  // (that parameter varied, the others held at the optimum).
+  std::vector<std::pair<double, double>> cost_range;
 };
 
 // −log10|rel diff| (the "LRE" of Ceres's examples/nist.cc), capped at 17; 0 when no digit agrees.
@@ -99,6 +110,7 @@ struct FitSpec {
   std::vector<double> upper;
   std::vector<std::vector<double>> starts;
   SolverTolerances tolerances;
+  bool judge = true;  // compute published_cost, singular_values, cost_range (inner solves skip it)
   // Extra (name, value, published) rows computed from the fitted parameters (σ_n², α).
   std::function<std::vector<std::pair<NamedValue, double>>(const std::vector<double>&)> derived;
 };
@@ -158,6 +170,101 @@ struct GridResidual {
   }
 };
 
+// The FitResult fields that describe the parameters x (fit, objective, values, published, derived).
+FitResult finish_at(const FitSpec& spec, const std::vector<double>& x);
+// [lo, hi] of x[j] where cost(x) ≤ 1.01·cost(x*) (x[j] varied, the others held).
+std::pair<double, double> one_percent_range(const std::function<double(const std::vector<double>&)>& cost,
+                                            const std::vector<double>& x, std::size_t j);
+
+// ---- the other objectives of the diffuse fits ----------------------------------------------
+// Their grids hold targets normalized by the value at c = 1 (the grid2d.hpp fits) or by the cosine's
+// peak 1 (cosine-lobe-sg), so |model − target| is the error relative to the value at c = 1.
+
+// l2-relative: the same L2 objective on the error relative to the local value,
+// (model − target)/max(target, floor): relative where the target is above `floor` (0.1 % of the
+// value at c = 1 in the fits here), relative to `floor` below it (a relative error has no finite
+// value where the exact value is 0).
+inline constexpr double kRelativeFloor = 1e-3;
+template <class Model>
+GridResidual<Model> relative_problem(GridResidual<Model> f, double floor = kRelativeFloor) {
+  for (std::size_t i = 0; i < f.target.size(); ++i) f.sqrt_w[i] /= std::max(std::abs(f.target[i]), floor);
+  return f;
+}
+
+// minimax: max_i |model_i − target_i| over the grid's nodes, by Lawson's iteratively reweighted
+// least squares (each round a Ceres solve with weights w_i ← w_i·|r_i|, normalized; started from
+// `start`, the L2 fit). Ceres has no minimax solver; Lawson's weights converge to the minimax
+// solution's for linear models and are used here as a heuristic for these smooth nonlinear ones:
+// the record keeps the best max |error| seen, and its cost range is taken on the max itself.
+template <int K, class Model>
+FitResult run_minimax(FitSpec spec, GridResidual<Model> f, std::vector<double> start, int rounds = 40) {
+  const std::size_t n = f.size();
+  const auto max_abs = [&f, n](const double* p) {
+    double m = 0;
+    for (std::size_t i = 0; i < n; ++i) m = std::max(m, std::abs(f.model(p, i) - f.target[i]));
+    return m;
+  };
+  std::vector<double> w(n, 1.0 / double(n)), x = std::move(start), best_x = x;
+  double best = max_abs(x.data());
+  FitSpec inner = spec;
+  inner.judge = false;
+  FitResult last;
+  int iterations = 0;
+  double seconds = 0;
+  for (int round = 0; round < rounds; ++round) {
+    for (std::size_t i = 0; i < n; ++i) f.sqrt_w[i] = std::sqrt(w[i]);
+    inner.starts = {x};
+    last = run_least_squares(inner, [&] { return make_autodiff<K>(f, f.size()); });
+    iterations += last.iterations;
+    seconds += last.seconds;
+    for (std::size_t k = 0; k < x.size(); ++k) x[k] = last.parameters[k].value;
+    const double m = max_abs(x.data());
+    if (m < best) {
+      best = m;
+      best_x = x;
+    }
+    double sum = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      w[i] = std::max(w[i] * std::abs(f.model(x.data(), i) - f.target[i]), 1e-300);
+      sum += w[i];
+    }
+    for (auto& v : w) v /= sum;
+  }
+  // The record of the best point, judged by the max itself.
+  FitResult r = finish_at(spec, best_x);
+  r.final_cost = best;
+  r.iterations = iterations;
+  r.converged = last.converged;
+  r.seconds = seconds;
+  bool published = true;
+  for (double v : spec.published) published = published && std::isfinite(v);
+  if (published) r.published_cost = max_abs(spec.published.data());
+  for (std::size_t j = 0; j < best_x.size(); ++j)
+    r.cost_range.push_back(one_percent_range([&](const std::vector<double>& p) { return max_abs(p.data()); }, best_x, j));
+  r.notes.push_back("minimax by Lawson's reweighted least squares, " + std::to_string(rounds) + " rounds from the L2 fit");
+  return r;
+}
+
+// The fit under `objective`: "l2-relative" (relative_problem), "minimax" (run_minimax from the L2
+// fit), else the plain L2 fit of `spec` on f. The texts name the objectives in the record.
+template <int K, class Model>
+FitResult solve_with_objective(const std::string& objective, const GridResidual<Model>& f, FitSpec spec,
+                               const std::string& relative_text, const std::string& minimax_text) {
+  const auto l2 = [](const GridResidual<Model>& g, const FitSpec& s) {
+    return run_least_squares(s, [&] { return make_autodiff<K>(g, g.size()); });
+  };
+  if (objective == "l2-relative") {
+    spec.objective = relative_text;
+    return l2(relative_problem(f), spec);
+  }
+  if (objective != "minimax") return l2(f, spec);
+  const FitResult first = l2(f, spec);
+  std::vector<double> x;
+  for (std::size_t k = 0; k < spec.names.size(); ++k) x.push_back(first.parameters[k].value);
+  spec.objective = minimax_text;
+  return run_minimax<K>(spec, f, x);
+}
+
 // The recovery-test hook shared by every misfit fit: a copy of the fit's problem with its
 // targets replaced by the model's own values at `truth`, solved by the fit's own solve.
 template <class MakeProblem, class Solve>
@@ -190,7 +297,16 @@ struct Fitter {
   // The default objective's fit against targets generated by the model itself at `truth` (the
   // recovery tests); empty for fits whose objective is not a misfit (cosine-sharpness).
   std::function<FitResult(const std::vector<double>& truth)> synthetic;
+  // The record's parameter names (FitSpec::names, in order) and its derived ones (σ_n², α): what a
+  // constant set (`--constants`) may name for this fit. The fitted ones are required there; the
+  // derived ones are accepted and recomputed from them.
+  std::vector<std::string> parameters;
+  std::vector<std::string> derived;
 };
+
+// The registry's constants that this fit re-derives (sglab::constant_uses() whose Parameter::fit
+// is f.name): which methods, the renderer or the filter read them.
+std::vector<sglab::ConstantUse> registry_parameters(const Fitter& f);
 
 // Every fitter, in the order of SPEC.md §9.
 const std::vector<Fitter>& fitters();

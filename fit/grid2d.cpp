@@ -37,7 +37,7 @@ std::vector<double> clamped_cosine_targets(const LambdaCosineGrid& g) {
   std::vector<double> out(g.size());
   for (std::size_t i = 0; i < g.size(); ++i) {
     out[i] = clamped_cosine_reference<double>(g.lambda[i], g.cosine[i]) /
-             (2 * 3.141592653589793 * clamped_cosine_upper_over_2pi<double>(g.lambda[i]));
+             (two_pi<double>() * clamped_cosine_upper_over_2pi<double>(g.lambda[i]));
   }
   return out;
 }

@@ -5,6 +5,7 @@
 // computed once per grid.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "driver.hpp"
@@ -24,6 +25,11 @@ LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_
 std::vector<double> hemispherical_targets(const LambdaCosineGrid& g);
 // D_ref(λ, c)/D(λ, 1): the exact clamped-cosine integral normalized by its value at c = 1.
 std::vector<double> clamped_cosine_targets(const LambdaCosineGrid& g);
+
+// The names of the other objectives on these grids (driver.hpp's solve_with_objective).
+inline const std::string kRelativeObjective2d =
+    "l2-relative: the l2 objective on (model - exact) / max(exact, 1e-3 x value at c = 1)";
+inline const std::string kMinimaxObjective2d = "minimax: max over the grid of |model - exact| / (value at c = 1)";
 
 // A GridResidual on grid g with the given exact targets; Model holds the grid as its member `g`.
 template <class Model>

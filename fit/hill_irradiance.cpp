@@ -10,6 +10,8 @@
 
 #include <boost/math/tools/minima.hpp>
 
+#include <string>
+
 #include "fits.hpp"
 #include "grid2d.hpp"
 #include "sglab/clamped_cosine.hpp"
@@ -17,8 +19,7 @@
 namespace sglab::fit {
 namespace {
 
-constexpr double kC0 = 0.36;  // Pettineo 2016 (Hill's fit)
-constexpr double kTwoPi = 6.2831853071795862;  // 2π (%.17g)
+constexpr double kC0 = HillIrradiance::c0;  // published value, defined in core (clamped_cosine.hpp)
 
 struct Model {
   LambdaCosineGrid g;
@@ -26,7 +27,7 @@ struct Model {
   T operator()(const T* p, std::size_t i) const {
     const T l(g.lambda[i]);
     return clamped_cosine_hill_fitted(l, T(g.cosine[i]), p[0]) /
-           (T(kTwoPi) * clamped_cosine_upper_over_2pi(l));
+           (two_pi<T>() * clamped_cosine_upper_over_2pi(l));
   }
 };
 using Residual = GridResidual<Model>;
@@ -36,7 +37,7 @@ const Residual& reference_problem() {
   return f;
 }
 
-FitResult solve(const Residual& f) {
+FitSpec make_spec() {
   FitSpec spec;
   spec.fit = "hill-irradiance";
   spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (D/D(l,1) - D_ref/D(l,1))^2 dc";
@@ -47,7 +48,16 @@ FitResult solve(const Residual& f) {
   spec.lower = {0.05};
   spec.upper = {2.0};
   spec.starts = {{kC0}, {0.2}, {0.6}};
+  return spec;
+}
+
+FitResult solve(const Residual& f, const FitSpec& spec = make_spec()) {
   return run_least_squares(spec, [&] { return make_autodiff<1>(f, f.size()); });
+}
+
+// The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
+FitResult solve_objective(const std::string& objective) {
+  return solve_with_objective<1>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
 }
 
 }  // namespace
@@ -65,9 +75,10 @@ Fitter hill_irradiance_fitter() {
   Fitter f;
   f.name = "hill-irradiance";
   f.description = "c0 of the Pettineo/Hill fitted SG irradiance";
-  f.objectives = {"l2-normalized"};
-  f.run = [](const FitOptions&) { return fit_hill_irradiance(); };
-  f.synthetic = synthetic_recovery(reference_problem, solve);
+  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
+  f.parameters = {"c0"};
+  f.run = [](const FitOptions& o) { return o.objective == "l2-normalized" ? fit_hill_irradiance() : solve_objective(o.objective); };
+  f.synthetic = synthetic_recovery(reference_problem, [](const auto& p) { return solve(p); });
   return f;
 }
 

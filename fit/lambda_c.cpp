@@ -27,10 +27,11 @@
 namespace sglab::fit {
 namespace {
 
-constexpr double kPublishedLambdaC = 0.9426;     // seed `lobe-aware-filtering` App. D
-constexpr double kPublishedError = 0.00245;      // same: "integrated squared fitting error"
-constexpr double kPublishedSigmaN2 = 0.05404477; // same, β = 20, κ = 100
-constexpr double kPi = 3.141592653589793;        // π (%.17g: 3.1415926535897931)
+// Tokuyoshi, lobe-aware filtering, App. D; defined in core (LobeAwareFiltering).
+constexpr double kPublishedLambdaC = LobeAwareFiltering::lambda_c;
+constexpr double kPublishedError = LobeAwareFiltering::lambda_c_error;  // "integrated squared fitting error"
+constexpr double kPublishedSigmaN2 = LobeAwareFiltering::sigma_n2;      // β = 20, κ = 100
+const double kPi = pi<double>();
 
 double similarity(double phi) { return (std::sin(phi) + (kPi - phi) * std::cos(phi)) / kPi; }
 
@@ -147,6 +148,8 @@ Fitter lambda_c_fitter() {
   f.name = "lambda-c";
   f.description = "SG sharpness of the diffuse lobe similarity q(phi), and sigma_n^2";
   f.objectives = objectives();
+  f.parameters = {"lambda_c"};
+  f.derived = {"sigma_n2"};
   f.run = fit_lambda_c;
   f.synthetic = synthetic_recovery([] { return problem("abs-sin-0-pi"); },
                                    [](const auto& p) { return solve("abs-sin-0-pi", p, 20, 100); });

@@ -14,14 +14,15 @@
 #include <cmath>
 
 #include "fits.hpp"
+#include "sglab/brdf.hpp"
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {
 namespace {
 
-// Public VSGL implementation (Tokuyoshi): 2.292504 (the seeds give ≈ 2).
-constexpr double kPublishedLambdaD = 2.292504;
-constexpr double kPi = 3.141592653589793;  // π to double precision (%.17g: 3.1415926535897931)
+// Public VSGL implementation (Tokuyoshi): 2.292504 (the seeds give ≈ 2), defined in core.
+constexpr double kPublishedLambdaD = LambertSharpness::vsgl_code;
+const double kPi = pi<double>();
 
 struct LambdaDModel {
   std::vector<double> t;
@@ -92,6 +93,7 @@ Fitter lambda_d_fitter() {
   f.name = "lambda-d";
   f.description = "vMF sharpness of the normalized clamped cosine";
   f.objectives = {"l2-solid-angle", "l2-theta", "l2-hemisphere"};
+  f.parameters = {"lambda_d"};
   f.run = [](const FitOptions& o) { return fit_lambda_d(o.objective); };
   f.synthetic = synthetic_recovery([] { return problem("l2-solid-angle"); },
                                    [](const auto& p) { return solve("l2-solid-angle", p); });

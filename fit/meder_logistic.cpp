@@ -5,6 +5,8 @@
 // (misfit of the normalized integral, which lies in [e^{−λ}, 1]); the paper's objective and
 // λ range are not given in SPEC.md. Domain: λ ∈ [0.01, 1000], 25 log-spaced values; c on
 // Gauss–Legendre nodes, panels [−1, 0], [0, 1], 2 sub-panels × 20 nodes (2000 residuals).
+#include <string>
+
 #include "fits.hpp"
 #include "grid2d.hpp"
 #include "sglab/hemispherical.hpp"
@@ -12,8 +14,8 @@
 namespace sglab::fit {
 namespace {
 
-// Meder & Brüderlin 2018 (4 decimals as published).
-constexpr double kP1 = 1.6988, kP2 = 10.8438, kP3 = 6.2201, kP4 = 10.2415;
+// Meder & Brüderlin 2018 (4 decimals as published), defined in core (MederLogistic).
+constexpr double kP1 = MederLogistic::p1, kP2 = MederLogistic::p2, kP3 = MederLogistic::p3, kP4 = MederLogistic::p4;
 
 struct MederModel {
   LambdaCosineGrid g;
@@ -31,7 +33,7 @@ const MederResidual& reference_problem() {
   return f;
 }
 
-FitResult solve(const MederResidual& f) {
+FitSpec make_spec() {
   FitSpec spec;
   spec.fit = "meder-logistic";
   spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (H/upper - H_ref/upper)^2 dc";
@@ -42,7 +44,16 @@ FitResult solve(const MederResidual& f) {
   spec.lower = {0, 0, 0, 1e-6};
   spec.upper = {1e3, 1e3, 1e3, 1e3};
   spec.starts = {{kP1, kP2, kP3, kP4}, {1, 5, 3, 5}, {3, 20, 12, 20}};
+  return spec;
+}
+
+FitResult solve(const MederResidual& f, const FitSpec& spec = make_spec()) {
   return run_least_squares(spec, [&] { return make_autodiff<4>(f, f.size()); });
+}
+
+// The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
+FitResult solve_objective(const std::string& objective) {
+  return solve_with_objective<4>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
 }
 
 }  // namespace
@@ -51,9 +62,10 @@ Fitter meder_logistic_fitter() {
   Fitter f;
   f.name = "meder-logistic";
   f.description = "Meder & Bruederlin logistic steepness t(lambda)";
-  f.objectives = {"l2-normalized"};
-  f.run = [](const FitOptions&) { return solve(reference_problem()); };
-  f.synthetic = synthetic_recovery(reference_problem, solve);
+  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
+  f.parameters = {"p1", "p2", "p3", "p4"};
+  f.run = [](const FitOptions& o) { return solve_objective(o.objective); };
+  f.synthetic = synthetic_recovery(reference_problem, [](const auto& p) { return solve(p); });
   return f;
 }
 

@@ -31,6 +31,14 @@ nlohmann::ordered_json record_json(const FitResult& r) {
   j["iterations"] = r.iterations;
   j["converged"] = r.converged;
   j["seconds"] = r.seconds;
+  auto number_or_null = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
+  j["objective_at_published"] = number_or_null(r.published_cost);
+  j["objective_at_fit"] = r.final_cost;
+  j["singular_values"] = r.singular_values;
+  nlohmann::ordered_json range = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < r.cost_range.size(); ++i)
+    range[r.parameters[i].name] = {r.cost_range[i].first, r.cost_range[i].second};
+  j["cost_range_1pct"] = range;
   return j;
 }
 

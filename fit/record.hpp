@@ -14,7 +14,8 @@ namespace sglab::fit {
 // float, double) checked. Throws std::invalid_argument naming the offered values.
 FitOptions checked_options(const Fitter& f, const std::string& objective, const std::string& precision);
 
-// The JSON record of a fit (the fields of FitResult but the notes and the source, in order);
+// The fit's own fields of its JSON record (FitResult but the notes and the source, in order; the
+// whole record, with the precision and the self-judgement, is experiments/fit_record.hpp);
 // "nothing published" (NaN) is null, since JSON has no NaN.
 nlohmann::ordered_json record_json(const FitResult& r);
 

@@ -128,6 +128,7 @@ Fitter sglab_fitter() {
   f.name = "sglab";
   f.description = "sglab's own diffuse approximation: refitted t(lambda) and the even correction K(lambda)";
   f.objectives = {"minimax"};
+  f.parameters = {"A", "B", "C", "D", "E", "k", "P", "Q"};
   f.run = [](const FitOptions&) { return solve_lawson(reference_problem()); };
   f.synthetic = synthetic_recovery(reference_problem, solve_plain);
   return f;

@@ -6,6 +6,8 @@
 // own objective and range are not stated). Domain and grid: as meder-logistic (λ ∈ [0.01, 1000],
 // 25 log-spaced; c Gauss nodes split at 0, 2 × 2 × 20). The factor's clamp to [0, 1] is inactive
 // on this grid (½ ± ½ erf(kc)/erf(k) stays inside for |c| < 1), so derivatives are exact.
+#include <string>
+
 #include "fits.hpp"
 #include "grid2d.hpp"
 #include "sglab/hemispherical.hpp"
@@ -13,8 +15,8 @@
 namespace sglab::fit {
 namespace {
 
-// Tokuyoshi 2022 (SPEC.md §2), %.17g.
-constexpr double kA = 0.6517328826907056, kB = 1.3418280033141288, kC = 7.2216687798956709;
+// Tokuyoshi 2022, defined in core (Tokuyoshi2022Steepness, hemispherical.hpp).
+constexpr double kA = Tokuyoshi2022Steepness::A, kB = Tokuyoshi2022Steepness::B, kC = Tokuyoshi2022Steepness::C;
 
 struct Model {
   LambdaCosineGrid g;
@@ -32,7 +34,7 @@ const Residual& reference_problem() {
   return f;
 }
 
-FitResult solve(const Residual& f) {
+FitSpec make_spec() {
   FitSpec spec;
   spec.fit = "tokuyoshi2022-steepness";
   spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (H/upper - H_ref/upper)^2 dc";
@@ -43,7 +45,16 @@ FitResult solve(const Residual& f) {
   spec.lower = {1e-6, 1e-6, 1e-6};
   spec.upper = {1e3, 1e3, 1e3};
   spec.starts = {{kA, kB, kC}, {1, 1, 1}, {0.3, 3, 20}};
+  return spec;
+}
+
+FitResult solve(const Residual& f, const FitSpec& spec = make_spec()) {
   return run_least_squares(spec, [&] { return make_autodiff<3>(f, f.size()); });
+}
+
+// The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
+FitResult solve_objective(const std::string& objective) {
+  return solve_with_objective<3>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
 }
 
 }  // namespace
@@ -52,9 +63,10 @@ Fitter tokuyoshi2022_steepness_fitter() {
   Fitter f;
   f.name = "tokuyoshi2022-steepness";
   f.description = "Tokuyoshi 2022 erf steepness k(lambda)";
-  f.objectives = {"l2-normalized"};
-  f.run = [](const FitOptions&) { return solve(reference_problem()); };
-  f.synthetic = synthetic_recovery(reference_problem, solve);
+  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
+  f.parameters = {"A", "B", "C"};
+  f.run = [](const FitOptions& o) { return solve_objective(o.objective); };
+  f.synthetic = synthetic_recovery(reference_problem, [](const auto& p) { return solve(p); });
   return f;
 }
 

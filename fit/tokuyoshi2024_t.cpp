@@ -11,6 +11,8 @@
 // uses the same formula unclamped (factor_unclamped below, the expression of core's
 // tokuyoshi2024_factor before its final clamp; tests/fit_test.cpp checks they agree inside
 // [0, 1]), so the misfit stays differentiable.
+#include <string>
+
 #include "fits.hpp"
 #include "grid2d.hpp"
 #include "sglab/clamped_cosine.hpp"
@@ -18,9 +20,9 @@
 namespace sglab::fit {
 namespace {
 
-// Tokuyoshi et al. 2024 (SPEC.md §3), %.17g.
-constexpr double kA = 2.7360831611272558, kB = 17.021297781741875, kC = 4.0100826728510421,
-                 kD = 15.219156263147211, kE = 76.087896272360737;
+// Tokuyoshi et al. 2024, defined in core (Tokuyoshi2024T, clamped_cosine.hpp).
+constexpr double kA = Tokuyoshi2024T::A, kB = Tokuyoshi2024T::B, kC = Tokuyoshi2024T::C, kD = Tokuyoshi2024T::D,
+                 kE = Tokuyoshi2024T::E;
 
 struct Model {
   LambdaCosineGrid g;
@@ -41,7 +43,7 @@ const Residual& reference_problem() {
   return f;
 }
 
-FitResult solve(const Residual& f) {
+FitSpec make_spec() {
   FitSpec spec;
   spec.fit = "tokuyoshi2024-t";
   spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (D/D(l,1) - D_ref/D(l,1))^2 dc";
@@ -52,7 +54,16 @@ FitResult solve(const Residual& f) {
   spec.lower = {1e-6, 1e-6, 1e-6, 1e-6, 1e-6};
   spec.upper = {1e4, 1e4, 1e4, 1e4, 1e4};
   spec.starts = {{kA, kB, kC, kD, kE}, {1, 10, 1, 10, 50}, {5, 30, 8, 30, 150}};
+  return spec;
+}
+
+FitResult solve(const Residual& f, const FitSpec& spec = make_spec()) {
   return run_least_squares(spec, [&] { return make_autodiff<5>(f, f.size()); });
+}
+
+// The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
+FitResult solve_objective(const std::string& objective) {
+  return solve_with_objective<5>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
 }
 
 }  // namespace
@@ -61,9 +72,10 @@ Fitter tokuyoshi2024_t_fitter() {
   Fitter f;
   f.name = "tokuyoshi2024-t";
   f.description = "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor";
-  f.objectives = {"l2-normalized"};
-  f.run = [](const FitOptions&) { return solve(reference_problem()); };
-  f.synthetic = synthetic_recovery(reference_problem, solve);
+  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
+  f.parameters = {"A", "B", "C", "D", "E"};
+  f.run = [](const FitOptions& o) { return solve_objective(o.objective); };
+  f.synthetic = synthetic_recovery(reference_problem, [](const auto& p) { return solve(p); });
   return f;
 }
 

@@ -28,6 +28,7 @@
 #include "commands.hpp"
 #include "driver.hpp"
 #include "parse_number.hpp"
+#include "fit_record.hpp"
 #include "record.hpp"
 #include "render_job.hpp"
 #include "sglab/registry.hpp"
@@ -360,7 +361,7 @@ std::string run_fit(const std::string& name, const std::string& objective, const
     py::gil_scoped_release release;
     r = f->run(o);
   }
-  return fit::record_json(r).dump();
+  return cli::fit_record_json(r, cli::judge(*f, r), o.precision).dump();
 }
 
 // ---- render --------------------------------------------------------------------------------

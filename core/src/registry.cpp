@@ -2,6 +2,9 @@
 // register quantities.
 #include "sglab/registry.hpp"
 
+#include "sglab/brdf.hpp"
+#include "sglab/filtering_weights.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -105,6 +108,70 @@ std::optional<RowError> row_error(const Quantity& q, const Method& m, std::span<
   if (m.domain_error)
     if (auto error = m.domain_error(row)) return RowError{std::nullopt, std::move(*error)};
   return std::nullopt;
+}
+
+void ConstantSet::set(ConstantValue v) {
+  for (auto& old : values)
+    if (old.fit == v.fit && old.name == v.name) {
+      old = std::move(v);
+      return;
+    }
+  values.push_back(std::move(v));
+}
+
+const ConstantValue* ConstantSet::find(std::string_view fit, std::string_view name) const {
+  for (const auto& v : values)
+    if (v.fit == fit && v.name == name) return &v;
+  return nullptr;
+}
+
+double ConstantSet::value(const Parameter& p) const {
+  const ConstantValue* v = p.fit.empty() ? nullptr : find(p.fit, p.name);
+  return v ? v->value : p.published;
+}
+
+Method bind(const Method& m, const ConstantSet& set) {
+  if (m.parameters.empty() || !m.bind) return m;
+  std::vector<double> values;
+  bool changed = false;
+  for (const auto& p : m.parameters) {
+    values.push_back(set.value(p));
+    changed = changed || set.find(p.fit, p.name) != nullptr;
+  }
+  if (!changed) return m;
+  return m.bind(values);
+}
+
+namespace {
+struct Standalone {
+  std::string user;
+  Parameter parameter;
+};
+const std::vector<Standalone>& standalone_constants() {
+  static const std::vector<Standalone> all{
+      {"render", {"lambda_d", "lambda-d", LambertSharpness::seed,
+                  "Tokuyoshi 2015 (two-VSGL poster) and 2016: λ_d ≈ 2, the diffuse VSGL's vMF sharpness "
+                  "(the public VSGL code's 2.292504 is the L2 fit, `sglab fit lambda-d`)", ColumnKind::positive}},
+      {"filter", {"lambda_c", "lambda-c", LobeAwareFiltering::lambda_c,
+                  "Tokuyoshi, lobe-aware filtering, App. D (diffuse lobe similarity)", ColumnKind::positive}},
+  };
+  return all;
+}
+}  // namespace
+
+std::vector<ConstantUse> constant_uses() {
+  std::vector<ConstantUse> out;
+  for (const auto& q : quantities())
+    for (const auto& m : q.methods)
+      for (const auto& p : m.parameters) out.push_back({q.name + "/" + m.name, &p});
+  for (const auto& s : standalone_constants()) out.push_back({s.user, &s.parameter});
+  return out;
+}
+
+const Parameter* find_standalone_constant(std::string_view user, std::string_view name) {
+  for (const auto& s : standalone_constants())
+    if (s.user == user && s.parameter.name == name) return &s.parameter;
+  return nullptr;
 }
 
 }  // namespace sglab

@@ -32,6 +32,25 @@ T via_double_for_float(F f, std::span<const T> a) {
   }
 }
 
+// The constants of each method (defined once in core's headers; see Parameter in registry.hpp).
+std::vector<Parameter> meder_logistic_parameters() {
+  const std::string src = "Meder & Brüderlin 2018, logistic steepness t(λ)";
+  return {{"p1", "meder-logistic", MederLogistic::p1, src, ColumnKind::positive},
+          {"p2", "meder-logistic", MederLogistic::p2, src, ColumnKind::positive},
+          {"p3", "meder-logistic", MederLogistic::p3, src, ColumnKind::positive},
+          {"p4", "meder-logistic", MederLogistic::p4, src, ColumnKind::positive}};
+}
+std::vector<Parameter> tokuyoshi2022_steepness_parameters() {
+  const std::string src = "Tokuyoshi 2022, steepness k(λ) of the hemispherical integral";
+  return {{"A", "tokuyoshi2022-steepness", Tokuyoshi2022Steepness::A, src, ColumnKind::positive},
+          {"B", "tokuyoshi2022-steepness", Tokuyoshi2022Steepness::B, src, ColumnKind::positive},
+          {"C", "tokuyoshi2022-steepness", Tokuyoshi2022Steepness::C, src, ColumnKind::positive}};
+}
+std::vector<Parameter> concat(std::vector<Parameter> a, const std::vector<Parameter>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
 }  // namespace
 
 void register_core_quantities(std::vector<Quantity>& out) {
@@ -58,13 +77,19 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                  using T = typename decltype(a)::value_type;
                                  return via_double_for_float<T>([](auto l, auto c) { return hemispherical_reference(l, c); }, a);
                                }));
-    q.methods.push_back(make_method("meder", "Meder & Brüderlin 2018, logistic interpolation between the c = ±1 bounds", "", false, nullptr,
-                               [](auto a) { return hemispherical_meder(a[0], a[1]); }));
-    q.methods.push_back(make_method("tokuyoshi2022", "Tokuyoshi 2022 (seed `accurate-diffuse-sg-lighting`), CDF of a Gaussian on a plane", "", false, nullptr,
-                               [](auto a) { return hemispherical_tokuyoshi2022(a[0], a[1]); }));
-    q.methods.push_back(make_method("vmf-tokuyoshi2024", "Tokuyoshi et al. 2024: the 2022 factor for the normalized vMF, lerp(e^{−λ}, 1, f)/(1 + e^{−λ})",
+    q.methods.push_back(make_method_with_parameters("meder", "Meder & Brüderlin 2018, logistic interpolation between the c = ±1 bounds", "", false, nullptr,
+                               meder_logistic_parameters(),
+                               [](auto a) { return hemispherical_meder(a[0], a[1]); },
+                               [](auto a, auto p) { return hemispherical_meder(a[0], a[1], p[0], p[1], p[2], p[3]); }));
+    q.methods.push_back(make_method_with_parameters("tokuyoshi2022", "Tokuyoshi 2022 (seed `accurate-diffuse-sg-lighting`), CDF of a Gaussian on a plane", "", false, nullptr,
+                               tokuyoshi2022_steepness_parameters(),
+                               [](auto a) { return hemispherical_tokuyoshi2022(a[0], a[1]); },
+                               [](auto a, auto p) { return hemispherical_tokuyoshi2022(a[0], a[1], p[0], p[1], p[2]); }));
+    q.methods.push_back(make_method_with_parameters("vmf-tokuyoshi2024", "Tokuyoshi et al. 2024: the 2022 factor for the normalized vMF, lerp(e^{−λ}, 1, f)/(1 + e^{−λ})",
                                "NORMALIZED: returns H/A(λ), a fraction in [0, 1], not H", false, nullptr,
-                               [](auto a) { return hemispherical_vmf_tokuyoshi2024(a[0], a[1]); }));
+                               tokuyoshi2022_steepness_parameters(),
+                               [](auto a) { return hemispherical_vmf_tokuyoshi2024(a[0], a[1]); },
+                               [](auto a, auto p) { return hemispherical_vmf_tokuyoshi2024(a[0], a[1], p[0], p[1], p[2]); }));
     out.push_back(std::move(q));
   }
 
@@ -83,27 +108,70 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                "as `punctual`, and diverges as λ → 0", false,
                                sharpness_positive(0, "the 2π/λ factor diverges"),
                                [](auto a) { return clamped_cosine_punctual_approx(a[0], a[1]); }));
-    q.methods.push_back(make_method("sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (seed `two-vsgls` §3.2)",
+    q.methods.push_back(make_method_with_parameters("sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (seed `two-vsgls` §3.2)",
                                "light leaks past the horizon; the Iwasaki product is poor for broad lobes; exact A(λ_d) used (the seed takes A(λ_d) ≈ π)", false, nullptr,
-                               [](auto a) { return clamped_cosine_sg_cosine(a[0], a[1]); }));
-    q.methods.push_back(make_method("cosine-lobe-sg", "cosine ≈ 1.17·G(ω; n, 2.133), exact SG product (Pettineo 2016, SG series part 3)",
+                               {{"lambda_d", "lambda-d", SgCosine::lambda_d, "Tokuyoshi's VSGL papers: λ_d ≈ 2 by least squares (objective not stated)", ColumnKind::positive}},
+                               [](auto a) { return clamped_cosine_sg_cosine(a[0], a[1]); },
+                               [](auto a, auto p) { return clamped_cosine_sg_cosine(a[0], a[1], p[0]); }));
+    q.methods.push_back(make_method_with_parameters("cosine-lobe-sg", "cosine ≈ 1.17·G(ω; n, 2.133), exact SG product (Pettineo 2016, SG series part 3)",
                                "light leaks past the horizon", false, nullptr,
-                               [](auto a) { return clamped_cosine_cosine_lobe_sg(a[0], a[1]); }));
-    q.methods.push_back(make_method("hill-fitted", "Pettineo & Hill 2016 fitted irradiance (SG series part 3), c0 = 0.36",
+                               {{"amplitude", "cosine-lobe-sg", CosineLobeSg::amplitude, "Pettineo 2016, SG series part 3", ColumnKind::positive},
+                                {"sharpness", "cosine-lobe-sg", CosineLobeSg::sharpness, "Pettineo 2016, SG series part 3", ColumnKind::positive}},
+                               [](auto a) { return clamped_cosine_cosine_lobe_sg(a[0], a[1]); },
+                               [](auto a, auto p) { return clamped_cosine_cosine_lobe_sg(a[0], a[1], p[0], p[1]); }));
+    q.methods.push_back(make_method_with_parameters("hill-fitted", "Pettineo & Hill 2016 fitted irradiance (SG series part 3), c0 = 0.36",
                                "PUBLISHED FORM GOES NEGATIVE for λ ≲ 1 (the 'black splotches'); kept as published. Undefined at λ = 0", true,
                                sharpness_positive(0, "the fit divides by λ"),
-                               [](auto a) { return clamped_cosine_hill_fitted(a[0], a[1]); }));
-    q.methods.push_back(make_method("meder", "cosine ≈ 32.7080 G(ω; n, 0.0315) − 31.7003, Meder hemispherical integrals (Meder & Brüderlin 2018; PhySG; seed `blog`)",
+                               {{"c0", "hill-irradiance", HillIrradiance::c0, "Pettineo 2016, SG series part 3 (Hill's fit)", ColumnKind::positive}},
+                               [](auto a) { return clamped_cosine_hill_fitted(a[0], a[1]); },
+                               [](auto a, auto p) { return clamped_cosine_hill_fitted(a[0], a[1], p[0]); }));
+    q.methods.push_back(make_method_with_parameters("meder", "cosine ≈ 32.7080 G(ω; n, 0.0315) − 31.7003, Meder hemispherical integrals (Meder & Brüderlin 2018; PhySG; seed `blog`)",
                                "PUBLISHED FORM GOES NEGATIVE (difference of two large terms); kept as published. Loses ~5 bits to cancellation", true, nullptr,
-                               [](auto a) { return clamped_cosine_meder(a[0], a[1]); }));
-    q.methods.push_back(make_method("tokuyoshi2022", "cosine ≈ α(e^{λc}G(ω; n, λc) − 1), λc = 0.00084560872241480124, 2022 hemispherical integrals (seed `accurate-diffuse-sg-lighting`)",
+                               concat({{"amplitude", "cosine-sg", MederCosineSg::amplitude, "Meder & Brüderlin 2018 (PhySG)", ColumnKind::positive},
+                                       {"sharpness", "cosine-sg", MederCosineSg::sharpness, "Meder & Brüderlin 2018 (PhySG)", ColumnKind::positive},
+                                       {"offset", "cosine-sg", MederCosineSg::offset, "Meder & Brüderlin 2018 (PhySG)", ColumnKind::nonnegative}},
+                                      meder_logistic_parameters()),
+                               [](auto a) { return clamped_cosine_meder(a[0], a[1]); },
+                               [](auto a, auto p) { return clamped_cosine_meder(a[0], a[1], p[0], p[1], p[2], p[3], p[4], p[5], p[6]); }));
+    q.methods.push_back(make_method_with_parameters("tokuyoshi2022", "cosine ≈ α(e^{λc}G(ω; n, λc) − 1), λc = 0.00084560872241480124, 2022 hemispherical integrals (seed `accurate-diffuse-sg-lighting`)",
                                "cancellation between the two terms (×2364 amplification): ~1% in float, by design of λc; clamped at 0", false, nullptr,
-                               [](auto a) { return clamped_cosine_tokuyoshi2022(a[0], a[1]); }));
-    q.methods.push_back(make_method("tokuyoshi2024", "Tokuyoshi et al. 2024, erfc interpolation between the c = ±1 bounds", "", false, nullptr,
-                               [](auto a) { return clamped_cosine_tokuyoshi2024(a[0], a[1]); }));
-    q.methods.push_back(make_method("sglab", "sglab (this project): tokuyoshi2024's erfc interpolation with a refitted t(λ) and one even correction term (K/t)(e^{−t²} − c²e^{−t²c²}); constants from `sglab fit sglab` (paper_tables/own_method.md)",
+                               concat({{"lambda", "cosine-sharpness", Tokuyoshi2022Cosine::lambda, "Tokuyoshi 2022 (λc; α = α(λc) is derived from it)", ColumnKind::positive}},
+                                      tokuyoshi2022_steepness_parameters()),
+                               [](auto a) { return clamped_cosine_tokuyoshi2022(a[0], a[1]); },
+                               [](auto a, auto p) {
+                                 return clamped_cosine_tokuyoshi2022_with(a[0], a[1], p[0], tokuyoshi2022_alpha(p[0]), p[1], p[2], p[3]);
+                               }));
+    {
+      const std::string src = "Tokuyoshi et al. 2024, steepness t(λ) of the erfc interpolation";
+      q.methods.push_back(make_method_with_parameters("tokuyoshi2024", "Tokuyoshi et al. 2024, erfc interpolation between the c = ±1 bounds", "", false, nullptr,
+                               {{"A", "tokuyoshi2024-t", Tokuyoshi2024T::A, src, ColumnKind::positive},
+                                {"B", "tokuyoshi2024-t", Tokuyoshi2024T::B, src, ColumnKind::positive},
+                                {"C", "tokuyoshi2024-t", Tokuyoshi2024T::C, src, ColumnKind::positive},
+                                {"D", "tokuyoshi2024-t", Tokuyoshi2024T::D, src, ColumnKind::positive},
+                                {"E", "tokuyoshi2024-t", Tokuyoshi2024T::E, src, ColumnKind::positive}},
+                               [](auto a) { return clamped_cosine_tokuyoshi2024(a[0], a[1]); },
+                               [](auto a, auto p) { return clamped_cosine_tokuyoshi2024(a[0], a[1], p[0], p[1], p[2], p[3], p[4]); }));
+    }
+    {
+      const std::string src = "sglab (this project): constants of `sglab fit sglab` (paper_tables/own_method.md)";
+      using S = SglabDiffuse;
+      q.methods.push_back(make_method_with_parameters("sglab", "sglab (this project): tokuyoshi2024's erfc interpolation with a refitted t(λ) and one even correction term (K/t)(e^{−t²} − c²e^{−t²c²}); constants from `sglab fit sglab` (paper_tables/own_method.md)",
                                "fitted, not derived: max error 8.1e-5 of D(λ, 1) on a dense check (281 λ × 401 c), none guaranteed between points; in the back-facing tail the corrected even part is held at ≥ ½ of the uncorrected one (part of the fitted form, keeps the value positive)", false, nullptr,
-                               [](auto a) { return clamped_cosine_sglab(a[0], a[1]); }));
+                               {{"A", "sglab", S::A, src, ColumnKind::positive},
+                                {"B", "sglab", S::B, src, ColumnKind::positive},
+                                {"C", "sglab", S::C, src, ColumnKind::positive},
+                                {"D", "sglab", S::D, src, ColumnKind::positive},
+                                {"E", "sglab", S::E, src, ColumnKind::positive},
+                                {"k", "sglab", S::k, src, ColumnKind::positive},
+                                {"P", "sglab", S::P, src, ColumnKind::finite},
+                                {"Q", "sglab", S::Q, src, ColumnKind::positive}},
+                               [](auto a) { return clamped_cosine_sglab(a[0], a[1]); },
+                               [](auto a, auto p) {
+                                 using T = std::decay_t<decltype(a[0])>;
+                                 const SglabDiffuseParams<T> q{T(p[0]), T(p[1]), T(p[2]), T(p[3]), T(p[4]), T(p[5]), T(p[6]), T(p[7])};
+                                 return clamped_cosine_sglab_with(a[0], a[1], q);
+                               }));
+    }
     out.push_back(std::move(q));
   }
 

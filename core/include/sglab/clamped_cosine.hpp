@@ -3,6 +3,7 @@
 // The exact reference is clamped_cosine_reference() in reference.hpp.
 #pragma once
 
+#include "sglab/brdf.hpp"
 #include "sglab/hemispherical.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
@@ -27,7 +28,8 @@ T clamped_cosine_punctual_approx(const T& sharpness, const T& cosine) {
 // λ_d ≈ 2: "obtained by using the least square method" (seeds `two-vsgls` §1.1, `modified-fis`
 // §2.1). The seed further takes A(λ_d) ≈ π; this uses the exact A(λ_d) (A(2) = 0.98168·π).
 struct SgCosine {
-  static constexpr double lambda_d = 2.0;  // seeds `two-vsgls` Eq. 1, `modified-fis` Eq. 1
+  // λ_d ≈ 2 of Tokuyoshi's VSGL papers (LambertSharpness::seed, defined in brdf.hpp).
+  static constexpr double lambda_d = LambertSharpness::seed;
 };
 
 template <class T>
@@ -112,14 +114,18 @@ T hemispherical_product(const T& sharpness, const T& cosine, const T& sharpness2
   return exp(log_amp) * hemi(l3, c3);
 }
 
+// amplitude, lobe_sharpness, offset (the cosine fit) and p1…p4 (the Meder logistic of both
+// hemispherical integrals) default to the published values.
 template <class T>
 T clamped_cosine_meder(const T& sharpness, const T& cosine,
                        const T& amplitude = T(MederCosineSg::amplitude),
                        const T& lobe_sharpness = T(MederCosineSg::sharpness),
-                       const T& offset = T(MederCosineSg::offset)) {
-  auto hemi = [](const T& l, const T& c) { return hemispherical_meder(l, c); };
+                       const T& offset = T(MederCosineSg::offset), const T& p1 = T(MederLogistic::p1),
+                       const T& p2 = T(MederLogistic::p2), const T& p3 = T(MederLogistic::p3),
+                       const T& p4 = T(MederLogistic::p4)) {
+  auto hemi = [&](const T& l, const T& c) { return hemispherical_meder(l, c, p1, p2, p3, p4); };
   return amplitude * hemispherical_product(sharpness, cosine, lobe_sharpness, T(0), hemi) -
-         offset * hemispherical_meder(sharpness, clamp_cosine(cosine));
+         offset * hemi(sharpness, clamp_cosine(cosine));
 }
 
 // ---- tokuyoshi2022 ----------------------------------------------------------------------------
@@ -169,12 +175,16 @@ T tokuyoshi2022_alpha_c() {
 }
 
 // The method with a given cosine sharpness λc (and α = α(λc)); the fitter varies λc.
+// A, B, C: the 2022 steepness of both hemispherical integrals (published by default).
 template <class T>
-T clamped_cosine_tokuyoshi2022_with(const T& sharpness, const T& cosine, const T& lambda_c, const T& alpha) {
-  auto hemi = [](const T& l, const T& c) { return hemispherical_tokuyoshi2022(l, c); };
+T clamped_cosine_tokuyoshi2022_with(const T& sharpness, const T& cosine, const T& lambda_c, const T& alpha,
+                                    const T& A = T(Tokuyoshi2022Steepness::A),
+                                    const T& B = T(Tokuyoshi2022Steepness::B),
+                                    const T& C = T(Tokuyoshi2022Steepness::C)) {
+  auto hemi = [&](const T& l, const T& c) { return hemispherical_tokuyoshi2022(l, c, A, B, C); };
   // e^{λc}·G(ω;ξ,λ)G(ω;n,λc) = e^{λc + L} G(ω; ξ3, λ3)
   const T term1 = hemispherical_product(sharpness, cosine, lambda_c, lambda_c, hemi);
-  const T term0 = hemispherical_tokuyoshi2022(sharpness, clamp_cosine(cosine));
+  const T term0 = hemi(sharpness, clamp_cosine(cosine));
   return positive_part(alpha * (term1 - term0));
 }
 
@@ -273,9 +283,12 @@ T clamped_cosine_lower_over_2pi(const T& sharpness) {
   return exp(-l) * inner;
 }
 
+// A…E of t(λ) default to the published values; a constant set (`--constants`) passes others.
 template <class T>
-T clamped_cosine_tokuyoshi2024(const T& sharpness, const T& cosine) {
-  const T f = tokuyoshi2024_factor(tokuyoshi2024_t(sharpness), cosine);
+T clamped_cosine_tokuyoshi2024(const T& sharpness, const T& cosine, const T& A = T(Tokuyoshi2024T::A),
+                               const T& B = T(Tokuyoshi2024T::B), const T& C = T(Tokuyoshi2024T::C),
+                               const T& D = T(Tokuyoshi2024T::D), const T& E = T(Tokuyoshi2024T::E)) {
+  const T f = tokuyoshi2024_factor(tokuyoshi2024_t(sharpness, A, B, C, D, E), cosine);
   const T upper = clamped_cosine_upper_over_2pi(sharpness);
   const T lower = clamped_cosine_lower_over_2pi(sharpness);
   return two_pi<T>() * (lower + f * (upper - lower));

@@ -77,9 +77,12 @@ T meder_logistic(const T& steepness, const T& cosine) {
 }
 
 // H ≈ lower·(1 − s) + upper·s = upper·lerp(e^{−λ}, 1, s)  (Meder & Brüderlin 2018).
+// p1…p4 default to the published values; a constant set (`--constants`) passes others.
 template <class T>
-T hemispherical_meder(const T& sharpness, const T& cosine) {
-  const T s = meder_logistic(meder_steepness(sharpness), cosine);
+T hemispherical_meder(const T& sharpness, const T& cosine, const T& p1 = T(MederLogistic::p1),
+                      const T& p2 = T(MederLogistic::p2), const T& p3 = T(MederLogistic::p3),
+                      const T& p4 = T(MederLogistic::p4)) {
+  const T s = meder_logistic(meder_steepness(sharpness, p1, p2, p3, p4), cosine);
   return hemispherical_upper(sharpness) * bound_lerp(sharpness, s);
 }
 
@@ -124,9 +127,11 @@ T tokuyoshi2022_factor(const T& steepness, const T& cosine) {
 }
 
 // H ≈ 2π·lerp(e^{−λ}, 1, f)·(1 − e^{−λ})/λ  (Tokuyoshi 2022).
+// A, B, C default to the published values; a constant set (`--constants`) passes others.
 template <class T>
-T hemispherical_tokuyoshi2022(const T& sharpness, const T& cosine) {
-  const T f = tokuyoshi2022_factor(tokuyoshi2022_steepness(sharpness), cosine);
+T hemispherical_tokuyoshi2022(const T& sharpness, const T& cosine, const T& A = T(Tokuyoshi2022Steepness::A),
+                              const T& B = T(Tokuyoshi2022Steepness::B), const T& C = T(Tokuyoshi2022Steepness::C)) {
+  const T f = tokuyoshi2022_factor(tokuyoshi2022_steepness(sharpness, A, B, C), cosine);
   return hemispherical_upper(sharpness) * bound_lerp(sharpness, f);
 }
 
@@ -134,9 +139,11 @@ T hemispherical_tokuyoshi2022(const T& sharpness, const T& cosine) {
 // (Tokuyoshi et al. 2024, "Hierarchical light sampling with accurate spherical Gaussian
 // lighting"). A fraction in [0, 1], not an integral of the unnormalized SG.
 template <class T>
-T hemispherical_vmf_tokuyoshi2024(const T& sharpness, const T& cosine) {
+T hemispherical_vmf_tokuyoshi2024(const T& sharpness, const T& cosine, const T& A = T(Tokuyoshi2022Steepness::A),
+                                  const T& B = T(Tokuyoshi2022Steepness::B),
+                                  const T& C = T(Tokuyoshi2022Steepness::C)) {
   using std::exp;
-  const T f = tokuyoshi2022_factor(tokuyoshi2022_steepness(sharpness), cosine);
+  const T f = tokuyoshi2022_factor(tokuyoshi2022_steepness(sharpness, A, B, C), cosine);
   return bound_lerp(sharpness, f) / (T(1) + exp(-sharpness));
 }
 

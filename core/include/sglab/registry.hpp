@@ -5,6 +5,7 @@
 // registry; adding a method is one entry here.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <span>
@@ -32,7 +33,8 @@ enum class ColumnKind {
   positive,     // > 0, finite
   nonnegative,  // ≥ 0, finite
   angle,        // any finite value (radians)
-  unit_interval // [0, 1]
+  unit_interval, // [0, 1]
+  finite = angle  // any finite value (a constant of either sign)
 };
 
 // How far past ±1 an input cosine may be and still be taken as rounding (issue 2: 1 + 1e-6).
@@ -52,6 +54,30 @@ using MethodFn = std::function<T(std::span<const T>)>;
 template <class T>
 using BatchFn = std::function<void(std::span<const T> args, std::size_t arity, std::span<T> out)>;
 
+// ---- constants as data ----------------------------------------------------------------------
+// To give a method constants: define each published value once in its core header (a struct of
+// static constexpr doubles, as Tokuyoshi2024T), register the method with
+// make_method_with_parameters(…, {Parameter{…}, …}, published_fn, with_fn), and list the names in
+// the re-deriving fit's Fitter::parameters (fit/driver.hpp). Commands then accept the fit's
+// records through `--constants` (experiments/constant_sets.hpp) with no further change; the test
+// tests/constants_test.cpp checks the declarations and that each value is defined once.
+// A published constant a method (or the renderer, or the filter) depends on. Its value is defined
+// once in core, in the struct the registration cites (SgCosine, Tokuyoshi2024T, …); `sglab fit
+// FIT` re-derives it as the record parameter `name`; a ConstantSet (`--constants PATH`) replaces
+// it at run time. Printing `published` with 17 significant digits round-trips it.
+struct Parameter {
+  std::string name;    // as in the fit record: "lambda_d", "A", "p1", …
+  std::string fit;     // the `sglab fit` name that re-derives it ("" if none)
+  double published = 0;
+  std::string source;  // paper and equation
+  ColumnKind kind = ColumnKind::positive;  // its domain, checked with column_value_error
+};
+
+struct Method;
+// Returns `m` evaluating with `values` (one per m.parameters entry, same order) instead of the
+// published values. The published evaluators are not touched, so the published path costs nothing.
+using BindFn = std::function<Method(std::span<const double> values)>;
+
 struct Method {
   std::string name;
   std::string source;   // paper and equation
@@ -66,6 +92,10 @@ struct Method {
   MethodFn<mp50> eval_mp50;
   BatchFn<float> batch_float;
   BatchFn<double> batch_double;
+  // The method's constants (empty: none) and how to evaluate with other values (set when
+  // `parameters` is not empty). A bound method has no `bind` of its own: bind the base method.
+  std::vector<Parameter> parameters;
+  BindFn bind;
 };
 
 struct Quantity {
@@ -128,6 +158,64 @@ Method make_method(std::string name, std::string source, std::string flaws, bool
   set_evaluators(m, f);
   return m;
 }
+
+// A method with constants: `published` is the ordinary generic callable (the published path, as
+// in make_method); `with(args, p)` evaluates with the parameter values p (a std::span<const T>,
+// one per `parameters` entry, already converted to T).
+template <class F, class G>
+Method make_method_with_parameters(std::string name, std::string source, std::string flaws, bool may_be_negative,
+                                   std::function<std::optional<std::string>(std::span<const double>)> domain,
+                                   std::vector<Parameter> parameters, F published, G with) {
+  Method m = make_method(std::move(name), std::move(source), std::move(flaws), may_be_negative, std::move(domain),
+                         published);
+  m.parameters = std::move(parameters);
+  Method base = m;
+  m.bind = [base, with](std::span<const double> values) {
+    Method b = base;
+    const std::vector<double> v(values.begin(), values.end());
+    set_evaluators(b, [with, v](auto a) {
+      using T = typename decltype(a)::value_type;
+      // At most 8 constants per method: a fixed array keeps the bound path allocation-free.
+      std::array<T, 8> p{};
+      for (std::size_t i = 0; i < v.size() && i < p.size(); ++i) p[i] = T(v[i]);
+      return with(a, std::span<const T>(p.data(), v.size()));
+    });
+    return b;
+  };
+  return m;
+}
+
+// A set of constants that replace published ones: (fit, parameter) → value, with where each value
+// came from. Later `set` calls override earlier ones. Lookups not in the set give the published
+// value. Reading sets from files is the CLI's business (experiments/constant_sets.hpp).
+struct ConstantValue {
+  std::string fit;
+  std::string name;
+  double value = 0;
+  std::string provenance;  // "file F: fit lambda-d, objective …, precision …"
+};
+struct ConstantSet {
+  std::vector<ConstantValue> values;
+  void set(ConstantValue v);
+  const ConstantValue* find(std::string_view fit, std::string_view name) const;
+  // The parameter's value in this set (its published value when the set does not override it).
+  double value(const Parameter& p) const;
+  bool empty() const { return values.empty(); }
+};
+
+// `m` with every parameter the set overrides replaced (a copy of `m` when it overrides none).
+Method bind(const Method& m, const ConstantSet& set);
+
+// Every published constant the toolkit uses: each registry method's parameters, then the
+// constants of code that is not a registry method (the renderer's λ_d, the filter's λ_c), with
+// who uses it ("clamped-cosine/sg-cosine", "render", "filter").
+struct ConstantUse {
+  std::string user;
+  const Parameter* parameter;
+};
+std::vector<ConstantUse> constant_uses();
+// The standalone constants (render λ_d, filter λ_c) by user, nullptr if none.
+const Parameter* find_standalone_constant(std::string_view user, std::string_view name);
 
 // Registration hook for modules that add quantities (the glossy module, …). Each module defines
 // one function that appends its quantities; registry.cpp calls them in order.

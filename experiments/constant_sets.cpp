@@ -1,0 +1,168 @@
+#include "constant_sets.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "driver.hpp"
+
+namespace sglab::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+// One record into `set`. `file` names it in every message.
+void load_record(const std::string& file, ConstantSet& set) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw UsageError(fmt::format("--constants {}: cannot open the file", file));
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::exception& e) {
+    throw UsageError(fmt::format("--constants {}: not valid JSON: {}", file, e.what()));
+  }
+  if (!j.is_object()) throw UsageError(fmt::format("--constants {}: a fit record must be a JSON object", file));
+  if (!j.contains("fit") || !j["fit"].is_string())
+    throw UsageError(fmt::format("--constants {}: key 'fit': missing or not a string (the `sglab fit` name)", file));
+  const std::string fit_name = j["fit"].get<std::string>();
+  const fit::Fitter* f = fit::find_fitter(fit_name);
+  if (!f) {
+    std::vector<std::string> names;
+    for (const auto& g : fit::fitters()) names.push_back(g.name);
+    throw UsageError(fmt::format("--constants {}: key 'fit': unknown fit '{}' (fits: {})", file, fit_name, join(names)));
+  }
+  if (!j.contains("parameters") || !j["parameters"].is_object())
+    throw UsageError(fmt::format("--constants {}: key 'parameters': missing or not an object", file));
+  const auto& params = j["parameters"];
+  std::vector<std::string> known = f->parameters;
+  known.insert(known.end(), f->derived.begin(), f->derived.end());
+  for (const auto& [key, value] : params.items()) {
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': unknown parameter of fit '{}' (parameters: {})",
+                                   file, key, fit_name, join(known)));
+    if (!value.is_number())
+      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': not a number ({})", file, key, value.dump()));
+  }
+  for (const auto& name : f->parameters)
+    if (!params.contains(name))
+      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': missing (fit '{}' needs {})", file, name,
+                                   fit_name, join(f->parameters)));
+
+  std::string provenance = fmt::format("{}: fit {}", file, fit_name);
+  if (j.contains("objective") && j["objective"].is_string())
+    provenance += ", objective " + j["objective"].get<std::string>();
+  else
+    provenance += ", objective not stated (hand-written)";
+  if (j.contains("precision") && j["precision"].is_string()) provenance += ", precision " + j["precision"].get<std::string>();
+
+  const auto uses = fit::registry_parameters(*f);
+  for (const auto& name : f->parameters) {
+    const double v = params[name].get<double>();
+    // The domain of every registry parameter this value feeds (all finite; most positive).
+    for (const auto& u : uses) {
+      if (u.parameter->name != name) continue;
+      if (const auto error = column_value_error(Column{name, u.parameter->kind, ""}, v))
+        throw UsageError(fmt::format("--constants {}: key 'parameters.{}': {} (it is a constant of {})", file, name,
+                                     *error, u.user));
+    }
+    if (!std::isfinite(v))
+      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': not a finite number", file, name));
+    set.set({fit_name, name, v, provenance});
+  }
+}
+
+}  // namespace
+
+ConstantSet load_constant_sets(const std::vector<std::string>& paths) {
+  ConstantSet set;
+  for (const auto& p : paths) {
+    if (p == "published") {
+      set.values.clear();
+      continue;
+    }
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+      std::vector<std::string> files;
+      for (const auto& e : fs::directory_iterator(p))
+        if (e.is_regular_file() && e.path().extension() == ".json") files.push_back(e.path().string());
+      if (files.empty()) throw UsageError(fmt::format("--constants {}: the directory holds no fit record (*.json)", p));
+      std::sort(files.begin(), files.end());
+      for (const auto& f : files) load_record(f, set);
+    } else if (fs::exists(p, ec)) {
+      load_record(p, set);
+    } else {
+      throw UsageError(fmt::format("--constants {}: no such file or directory (a fit record, a directory of them, or "
+                                   "'published')",
+                                   p));
+    }
+  }
+  return set;
+}
+
+void add_constants_option(CLI::App& app, std::vector<std::string>& paths) {
+  app.add_option("--constants", paths,
+                 "constant set: a fit record (`sglab fit NAME --json`), a directory of them, or 'published'; "
+                 "repeatable, later sets override earlier ones")
+      ->take_all()
+      ->allow_extra_args(false);
+}
+
+std::vector<std::string> constants_arguments(const std::vector<std::string>& paths) {
+  std::vector<std::string> a;
+  for (const auto& p : paths) a.insert(a.end(), {"--constants", p});
+  return a;
+}
+
+double standalone_value(const ConstantSet& set, std::string_view user, std::string_view name) {
+  const Parameter* p = find_standalone_constant(user, name);
+  if (!p) throw std::logic_error(fmt::format("no standalone constant {} of {}", name, user));
+  return set.value(*p);
+}
+
+namespace {
+std::string provenance_of(const ConstantSet& set, const Parameter& p) {
+  const ConstantValue* v = p.fit.empty() ? nullptr : set.find(p.fit, p.name);
+  return v ? v->provenance : "published: " + p.source;
+}
+}  // namespace
+
+nlohmann::json constants_json(const ConstantSet& set, const std::vector<ConstantUse>& uses) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& u : uses)
+    a.push_back({{"user", u.user},
+                 {"fit", u.parameter->fit},
+                 {"name", u.parameter->name},
+                 {"value", set.value(*u.parameter)},
+                 {"published", u.parameter->published},
+                 {"provenance", provenance_of(set, *u.parameter)}});
+  return a;
+}
+
+std::string constants_text(const ConstantSet& set, const std::vector<ConstantUse>& uses, const std::string& prefix) {
+  std::string s;
+  for (const auto& u : uses)
+    s += fmt::format("{}{} {}.{} = {:.17g} ({})\n", prefix, u.user, u.parameter->fit, u.parameter->name,
+                     set.value(*u.parameter), provenance_of(set, *u.parameter));
+  return s;
+}
+
+std::vector<ConstantUse> method_constant_uses(const std::string& user, const Method& m) {
+  std::vector<ConstantUse> out;
+  for (const auto& p : m.parameters) out.push_back({user, &p});
+  return out;
+}
+
+}  // namespace sglab::cli

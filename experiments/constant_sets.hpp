@@ -1,0 +1,41 @@
+// Constant sets on the command line: `--constants PATH` (repeatable, later sets override earlier
+// ones), where PATH is one fit record (the JSON `sglab fit NAME --json FILE` writes; a hand-written
+// {"fit": "lambda-d", "parameters": {"lambda_d": 3.25}} is enough), a directory of them (what
+// `sglab fit all --json-dir DIR` writes), or `published` (every constant back to its published
+// value). The set replaces the published constants of the registry's methods (sglab::bind), the
+// renderer's λ_d and the filter's λ_c; every command that takes it names the set in its output.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "sglab/registry.hpp"
+
+namespace sglab::cli {
+
+// The sets named by --constants, in order. Bad input (unreadable or malformed file, unknown fit,
+// unknown or missing parameter, a value that is not a number or is outside the parameter's
+// domain) is a UsageError naming the file and the key, raised before anything is written.
+ConstantSet load_constant_sets(const std::vector<std::string>& paths);
+
+// Adds `--constants PATH` (repeatable) bound to `paths`.
+void add_constants_option(CLI::App& app, std::vector<std::string>& paths);
+// The option back as arguments (provenance, reproduce's steps).
+std::vector<std::string> constants_arguments(const std::vector<std::string>& paths);
+
+// The value of a standalone constant (user "render" or "filter", see sglab::constant_uses) in the
+// set, and its provenance.
+double standalone_value(const ConstantSet& set, std::string_view user, std::string_view name);
+
+// Each constant of `uses` with its value and provenance ("published: SOURCE" or the set's), as a
+// JSON array of {user, fit, name, value, published, provenance}.
+nlohmann::json constants_json(const ConstantSet& set, const std::vector<ConstantUse>& uses);
+// The same as text lines "USER FIT.NAME = VALUE (PROVENANCE)", one per constant, each prefixed.
+std::string constants_text(const ConstantSet& set, const std::vector<ConstantUse>& uses, const std::string& prefix);
+// The constants of one method (its registry parameters), as uses.
+std::vector<ConstantUse> method_constant_uses(const std::string& user, const Method& m);
+
+}  // namespace sglab::cli

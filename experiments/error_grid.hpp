@@ -1,0 +1,18 @@
+// The standard error grid of `sglab error-vs-time` for a (sharpness, cosine) quantity, reused by
+// `sglab fit` to judge a fit record by the error its constants give (not only by its digits).
+#pragma once
+
+#include "sglab/registry.hpp"
+
+namespace sglab::cli {
+
+struct GridError {
+  double max_error = 0;  // max |method − reference| / reference at c = 1, over the grid
+  double rms_error = 0;  // root mean square of the same
+};
+
+// `m` (double precision) against the quantity's reference on error-vs-time's full diffuse grid.
+// The grid's reference values are computed once per quantity and kept.
+GridError standard_grid_error(const Quantity& q, const Method& m);
+
+}  // namespace sglab::cli
