@@ -19,6 +19,7 @@
 #include "commands.hpp"
 #include "driver.hpp"
 #include "fit_record.hpp"
+#include "record.hpp"
 
 namespace sglab::cli {
 namespace {
