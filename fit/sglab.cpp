@@ -71,9 +71,10 @@ FitSpec make_spec(const std::vector<double>& start) {
   return spec;
 }
 
-// Tokuyoshi et al. 2024's A…E, and a correction that is off at λ → 0 and saturates at λ ≈ 4.
-const std::vector<double> kStart = {2.7360831611272558, 17.021297781741875, 4.0100826728510421,
-                                    15.219156263147211, 76.087896272360737, 0.035, 0.0, 15.6};
+// Tokuyoshi et al. 2024's A…E (defined once, in core), and a correction that is off at λ → 0 and
+// saturates at λ ≈ 4.
+const std::vector<double> kStart = {Tokuyoshi2024T::A, Tokuyoshi2024T::B, Tokuyoshi2024T::C, Tokuyoshi2024T::D,
+                                    Tokuyoshi2024T::E, 0.035, 0.0, 15.6};
 
 FitResult solve_lawson(Residual f) {
   std::vector<double> x = kStart;
