@@ -1,8 +1,9 @@
 // The native half of the Python module `sglab` (sglab._sglab; python/sglab/__init__.py is the
 // documented interface and calls these). Everything goes through the code the `sglab` command
 // runs: the method registry and its row checks (registry.hpp: row_error), the number parser of
-// `sglab eval` (parse_number.hpp), the fitters and their JSON record (fit/record.hpp), and the
-// scene loading, options and stats of `sglab render` (experiments/render_job.hpp).
+// `sglab eval` (parse_number.hpp), the constant sets of `--constants` (constant_sets.hpp: read by
+// load_constant_sets, applied by sglab::bind), the fitters and their JSON record
+// (fit_record.hpp), and the scene loading, options and stats of `sglab render` (render_job.hpp).
 //
 // Evaluation reads the caller's numpy arrays in place through their strides (broadcast views
 // included: a stride of 0 costs nothing), a chunk of rows at a time into a small interleaved
@@ -26,6 +27,7 @@
 #include <tbb/parallel_for.h>
 
 #include "commands.hpp"
+#include "constant_sets.hpp"
 #include "driver.hpp"
 #include "parse_number.hpp"
 #include "fit_record.hpp"
@@ -80,14 +82,25 @@ py::list methods_list(const std::string& quantity) {
     py::dict d(py::arg("name") = m.name, py::arg("source") = m.source, py::arg("flaws") = m.flaws,
                py::arg("may_be_negative") = m.may_be_negative, py::arg("has_domain_check") = bool(m.domain_error),
                py::arg("reference") = (m.name == q.reference_method));
-    // A method's declared parameters and published constants go here, as further keys of `d`,
-    // once the registry's Method carries them.
+    // Its constants, with the fields of `sglab eval --list --json`.
+    py::list parameters;
+    for (const auto& p : m.parameters)
+      parameters.append(py::dict(py::arg("name") = p.name, py::arg("fit") = p.fit, py::arg("published") = p.published,
+                                 py::arg("source") = p.source));
+    d["parameters"] = parameters;
     out.append(std::move(d));
   }
   return out;
 }
 
 // ---- evaluation ----------------------------------------------------------------------------
+
+// `m` with the constant sets of `sglab eval --constants` (paths in order, later ones override
+// earlier ones, "published" resets); `m` itself (a copy) with none. A bad set is the loader's
+// UsageError (naming the file and the key), a ValueError in Python.
+Method bound_method(const Method& m, const std::vector<std::string>& constants) {
+  return bind(m, cli::load_constant_sets(constants));
+}
 
 // Where an element sits in the broadcast shape: "3" in 1-D, "(2, 5)" otherwise, "()" for 0-d.
 std::string index_text(std::size_t flat, const std::vector<py::ssize_t>& shape) {
@@ -238,9 +251,11 @@ std::vector<std::string> element_values(std::size_t flat, const std::vector<cons
 // float32 or float64 arrays of one broadcast shape (the Python side broadcasts and casts) →
 // a new C-contiguous array of that shape and dtype.
 template <class T>
-py::array_t<T> eval_numeric(const std::string& quantity, const std::string& method, const std::vector<py::array>& columns) {
+py::array_t<T> eval_numeric(const std::string& quantity, const std::string& method, const std::vector<py::array>& columns,
+                            const std::vector<std::string>& constants) {
   const Quantity& q = quantity_named(quantity);
-  const Method& m = method_named(q, method);
+  const Method bound = bound_method(method_named(q, method), constants);
+  const Method& m = bound;
   const std::string_view precision = precision_name(std::is_same_v<T, float> ? Precision::float32 : Precision::float64);
   if (!batch_of<T>(m) || !evaluator_of<T>(m))
     throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry", m.name, q.name, precision));
@@ -280,9 +295,11 @@ py::array_t<T> eval_numeric(const std::string& quantity, const std::string& meth
 // `sglab eval`'s parser, or Python floats, taken exactly. Returns the values as 50-digit strings,
 // the text `sglab eval --precision mp50` prints.
 std::vector<std::string> eval_mp50(const std::string& quantity, const std::string& method,
-                                   const std::vector<std::vector<py::object>>& columns, const std::vector<py::ssize_t>& shape) {
+                                   const std::vector<std::vector<py::object>>& columns, const std::vector<py::ssize_t>& shape,
+                                   const std::vector<std::string>& constants) {
   const Quantity& q = quantity_named(quantity);
-  const Method& m = method_named(q, method);
+  const Method bound = bound_method(method_named(q, method), constants);
+  const Method& m = bound;
   if (!m.eval_mp50) throw std::logic_error(fmt::format("method '{}' of '{}' has no mp50 evaluator", m.name, q.name));
   if (columns.size() != q.columns.size())
     throw py::value_error(fmt::format("quantity '{}' takes {} columns, got {}", q.name, q.columns.size(), columns.size()));
@@ -427,9 +444,12 @@ PYBIND11_MODULE(_sglab, m) {
   });
   m.def("quantities", &quantities_list);
   m.def("methods", &methods_list, py::arg("quantity"));
-  m.def("eval_float", &eval_numeric<float>, py::arg("quantity"), py::arg("method"), py::arg("columns"));
-  m.def("eval_double", &eval_numeric<double>, py::arg("quantity"), py::arg("method"), py::arg("columns"));
-  m.def("eval_mp50", &eval_mp50, py::arg("quantity"), py::arg("method"), py::arg("columns"), py::arg("shape"));
+  m.def("eval_float", &eval_numeric<float>, py::arg("quantity"), py::arg("method"), py::arg("columns"),
+        py::arg("constants"));
+  m.def("eval_double", &eval_numeric<double>, py::arg("quantity"), py::arg("method"), py::arg("columns"),
+        py::arg("constants"));
+  m.def("eval_mp50", &eval_mp50, py::arg("quantity"), py::arg("method"), py::arg("columns"), py::arg("shape"),
+        py::arg("constants"));
   m.def("fits", &fits_list);
   m.def("fit", &run_fit, py::arg("name"), py::arg("objective"), py::arg("precision"));
   m.def(

@@ -3,9 +3,9 @@
 The same code as the ``sglab`` command (C++), not a re-implementation:
 
 - ``quantities()``, ``methods(quantity)``: the method registry (``sglab eval --list``), with each
-  method's source and known flaws.
+  method's source, known flaws and published constants.
 - ``eval(quantity, method, *, precision=None, constants=None, **columns)``: a method on numpy
-  arrays, with the checks and results of ``sglab eval``.
+  arrays, with the checks and results of ``sglab eval`` (``constants=``: its ``--constants``).
 - ``fits()``, ``fit(name, objective=None, precision=None)``: the Ceres fits of ``sglab fit``, the
   record as a dict (the JSON of ``sglab fit NAME --json FILE``).
 - ``render(scene, **options)``: ``sglab render`` into numpy arrays and the stats dict.
@@ -50,7 +50,11 @@ def methods(quantity: str) -> list[dict[str, Any]]:
     """The methods of ``quantity``: ``name``, ``source`` (paper and equation), ``flaws`` (known
     flaws as published, "" if none), ``may_be_negative`` (the published form goes negative and is
     kept so, to measure it), ``has_domain_check`` (the method rejects some inputs its columns
-    accept, e.g. sharpness 0 for a 2π/λ form) and ``reference`` (it is the quantity's reference).
+    accept, e.g. sharpness 0 for a 2π/λ form), ``reference`` (it is the quantity's reference) and
+    ``parameters``: the method's constants (empty if none), each ``{name, fit, published, source}``
+    as ``sglab eval --list --json`` lists them: the name in the fit record, the ``sglab fit`` that
+    re-derives it ("" if none), the published value and its paper and equation. ``eval``'s
+    ``constants=`` replaces them.
 
     Raises ValueError for an unknown quantity, listing the valid ones.
     """
@@ -70,6 +74,19 @@ def _as_array(value: Any, name: str) -> np.ndarray:
     if a.dtype.kind not in "fiub" or a.dtype.itemsize > 8:
         raise ValueError(f"column '{name}': expected real numbers, got an array of dtype {a.dtype}")
     return a
+
+
+def _constant_paths(constants: Any) -> list[str]:
+    """``eval``'s ``constants=`` as the arguments of ``--constants``, in order."""
+    if constants is None:
+        return []
+    items = [constants] if isinstance(constants, (str, os.PathLike)) else constants
+    ok = isinstance(items, (list, tuple)) and all(isinstance(c, (str, os.PathLike)) for c in items)
+    paths = [os.fspath(c) for c in items] if ok else []
+    if not ok or not all(isinstance(p, str) for p in paths):
+        raise ValueError(f"constants: expected a path (str or os.PathLike), 'published', or a list of them, "
+                         f"got {constants!r}")
+    return paths
 
 
 def eval(quantity: str, method: str, *, precision: str | None = None, constants: Any = None,
@@ -94,18 +111,24 @@ def eval(quantity: str, method: str, *, precision: str | None = None, constants:
     for broadcast and non-contiguous views); the batch loop runs with the GIL released, on all
     cores.
 
-    ``constants``: reserved for constant sets; not available in this build (ValueError if given).
+    ``constants``: a constant set replacing the method's published constants (see ``methods()``:
+    ``parameters``), as ``sglab eval --constants``: a fit record (the JSON of ``sglab fit NAME
+    --json FILE``, or a hand-written ``{"fit": "tokuyoshi2024-t", "parameters": {"A": …, …}}``),
+    a directory of them (``sglab fit all --json-dir DIR``), or "published" (every constant back to
+    its published value); a path (str or os.PathLike) or a list of them, later sets overriding
+    earlier ones. Constants of other methods in the set are ignored. None: the published values.
 
     Raises:
-      ValueError: an unknown quantity, method or precision; a missing or unknown column; shapes
+      ValueError: an unknown quantity, method or precision; a bad constant set (unreadable file,
+        not a fit record, unknown fit or parameter, a value missing, not a number or outside its
+        domain: the message names the file and the key); a missing or unknown column; shapes
         that do not broadcast; a value outside its column's domain (a negative sharpness,
         |cosine| > 1 + 1e-6, NaN, …) or outside the method's domain (e.g. sharpness 0 for a 2π/λ
         form). The message names the column, the index (in the broadcast shape) and the value.
       FloatingPointError: the method returned NaN or an infinity (never returned silently).
       RuntimeError: the method failed (e.g. a quadrature did not converge), naming the index.
     """
-    if constants is not None:
-        raise ValueError("constant sets are not available in this build")
+    sets = _constant_paths(constants)
     q = _quantity(quantity)
     names = [c["name"] for c in q["columns"]]
     missing = [n for n in names if n not in columns]
@@ -129,7 +152,7 @@ def eval(quantity: str, method: str, *, precision: str | None = None, constants:
             raise ValueError(f"sglab.eval('{quantity}', '{method}'): the columns do not broadcast: {shapes}") from None
         shape = arrays[0].shape if arrays else ()
         flat = [[x if isinstance(x, str) else builtins.float(x) for x in a.ravel().tolist()] for a in arrays]
-        text = _sglab.eval_mp50(quantity, method, flat, list(shape))
+        text = _sglab.eval_mp50(quantity, method, flat, list(shape), sets)
         out = np.empty(len(text), dtype=object)
         out[:] = text
         out = out.reshape(shape)
@@ -151,7 +174,7 @@ def eval(quantity: str, method: str, *, precision: str | None = None, constants:
         shapes = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
         raise ValueError(f"sglab.eval('{quantity}', '{method}'): the columns do not broadcast: {shapes}") from None
     native = _sglab.eval_float if dtype == np.float32 else _sglab.eval_double
-    out = native(quantity, method, arrays)
+    out = native(quantity, method, arrays, sets)
     return out[()] if out.ndim == 0 else out
 
 
@@ -165,7 +188,10 @@ def fit(name: str, objective: str | None = None, precision: str | None = None) -
     """Run one Ceres fit (``sglab fit NAME``) and return its record, the same dict as the JSON of
     ``sglab fit NAME --json FILE``: fit, objective, domain, parameters, published,
     relative_difference (None where nothing is published), final_cost, iterations, converged,
-    seconds.
+    seconds, objective_at_published, objective_at_fit, singular_values, cost_range_1pct,
+    precision and, when a registry method reads the fit's constants, standard_grid_error (that
+    method's error on ``sglab error-vs-time``'s grid with the published and the fitted values).
+    The record is a constant set: saved as JSON, ``eval(..., constants=PATH)`` reads it.
 
     ``objective``: one of ``fits()``'s objectives for ``name`` (default: its first).
     ``precision``: half, float or double (default float): the precision of the rounding terms of

@@ -20,6 +20,12 @@ class QuantityInfo(TypedDict):
     reference_method: str
     methods: list[str]
 
+class ParameterInfo(TypedDict):
+    name: str
+    fit: str
+    published: float
+    source: str
+
 class MethodInfo(TypedDict):
     name: str
     source: str
@@ -27,6 +33,7 @@ class MethodInfo(TypedDict):
     may_be_negative: bool
     has_domain_check: bool
     reference: bool
+    parameters: list[ParameterInfo]
 
 class FitInfo(TypedDict):
     name: str
@@ -40,7 +47,7 @@ def eval(
     method: str,
     *,
     precision: Literal["float", "double", "mp50"] | None = None,
-    constants: None = None,
+    constants: str | os.PathLike[str] | Sequence[str | os.PathLike[str]] | None = None,
     **columns: npt.ArrayLike,
 ) -> np.ndarray | np.floating[Any] | str: ...
 def fits() -> list[FitInfo]: ...

@@ -12,6 +12,7 @@ import io
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -37,8 +38,9 @@ def decimal(x, dtype):
     return np.format_float_scientific(dtype(x), unique=True)
 
 
-def cli_eval(quantity, method, columns, precision):
-    """`sglab eval` on the rows of `columns` (name → 1-D array or list of strings); the value texts."""
+def cli_eval(quantity, method, columns, precision, constants=()):
+    """`sglab eval` on the rows of `columns` (name → 1-D array or list of strings), with `--constants
+    PATH` for each of `constants`; the value texts."""
     names = list(columns)
     n = len(columns[names[0]])
     dtype = np.float32 if precision == "float" else np.float64
@@ -47,7 +49,8 @@ def cli_eval(quantity, method, columns, precision):
     w.writerow(names)
     for i in range(n):
         w.writerow([columns[c][i] if isinstance(columns[c][i], str) else decimal(columns[c][i], dtype) for c in names])
-    run = subprocess.run([SGLAB_EXE, "eval", quantity, "--method", method, "--precision", precision],
+    sets = [a for c in constants for a in ("--constants", os.fspath(c))]
+    run = subprocess.run([SGLAB_EXE, "eval", quantity, "--method", method, "--precision", precision, *sets],
                          input=text.getvalue(), capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     rows = list(csv.DictReader(io.StringIO(run.stdout)))
@@ -120,6 +123,16 @@ def test_registry_matches_cli_list():
         assert [(m["name"], m["source"], m["flaws"], m["may_be_negative"]) for m in ms] == \
                [(m["name"], m["source"], m["flaws"], m["may_be_negative"]) for m in jq["methods"]]
         assert sum(m["reference"] for m in ms) == (1 if jq["reference_method"] else 0)
+        # The constants, field for field (the published values exactly: JSON prints 17 digits).
+        assert [m["parameters"] for m in ms] == [m["parameters"] for m in jq["methods"]]
+    tokuyoshi = next(m for m in sglab.methods("clamped-cosine") if m["name"] == "tokuyoshi2024")
+    listed_tokuyoshi = next(m for q in listed["quantities"] if q["name"] == "clamped-cosine"
+                            for m in q["methods"] if m["name"] == "tokuyoshi2024")
+    assert [p["name"] for p in tokuyoshi["parameters"]] == ["A", "B", "C", "D", "E"]
+    assert all(p["fit"] == "tokuyoshi2024-t" and "Tokuyoshi" in p["source"] for p in tokuyoshi["parameters"])
+    assert [p["published"] for p in tokuyoshi["parameters"]] == [p["published"] for p in listed_tokuyoshi["parameters"]]
+    # A method without constants lists none.
+    assert next(m for m in sglab.methods("sg-integral") if m["name"] == "exact")["parameters"] == []
 
 
 def test_unknown_quantity_lists_valid_ones():
@@ -301,8 +314,10 @@ def test_bad_call_raises():
         sglab.eval("x", "y", sharpness=1.0)
     with pytest.raises(ValueError, match="unknown precision 'half'"):
         sglab.eval("sg-integral", "exact", precision="half", sharpness=1.0)
-    with pytest.raises(ValueError, match="constant sets are not available in this build"):
+    with pytest.raises(ValueError, match="constants: expected a path"):
         sglab.eval("sg-integral", "exact", constants={"x": 1}, sharpness=1.0)
+    with pytest.raises(ValueError, match="constants: expected a path"):
+        sglab.eval("sg-integral", "exact", constants=3, sharpness=1.0)
     with pytest.raises(ValueError, match="expected real numbers"):
         sglab.eval("sg-integral", "exact", sharpness=np.array([1 + 1j]))
 
@@ -311,6 +326,89 @@ def test_non_finite_result_is_never_returned():
     # 2π/λ overflows float at the smallest subnormal λ (> 0, so inside the domain).
     with pytest.raises(FloatingPointError, match=r"index 1 \(sharpness 1e-45\).*returned inf in float"):
         sglab.eval("sg-integral", "approx", sharpness=np.array([1, 1e-45], dtype=np.float32))
+
+
+# ---- constant sets (`sglab eval --constants`) ------------------------------------------------
+
+def tokuyoshi_published():
+    m = next(m for m in sglab.methods("clamped-cosine") if m["name"] == "tokuyoshi2024")
+    return {p["name"]: p["published"] for p in m["parameters"]}
+
+
+def write_record(directory, name, record):
+    path = os.path.join(directory, name)
+    with open(path, "w") as f:
+        json.dump(record, f)
+    return path
+
+
+def hand_written_set(directory):
+    """A hand-written tokuyoshi2024-t record: every constant moved by a different few per cent."""
+    values = {k: v * (1 + 0.03 * (i + 1)) for i, (k, v) in enumerate(tokuyoshi_published().items())}
+    return write_record(directory, "t.json", {"fit": "tokuyoshi2024-t", "parameters": values})
+
+
+@pytest.mark.parametrize("precision,dtype", [("float", np.float32), ("double", np.float64)])
+def test_constants_match_cli(precision, dtype):
+    grid = diffuse_error_grid()
+    cols = {k: v.astype(dtype) for k, v in grid.items()}
+    with tempfile.TemporaryDirectory() as d:
+        path = hand_written_set(d)
+        py = sglab.eval("clamped-cosine", "tokuyoshi2024", constants=path, **cols)
+        assert py.dtype == dtype and py.shape == cols["sharpness"].shape
+        assert_bits_equal(py, cli_eval("clamped-cosine", "tokuyoshi2024", cols, precision, [path]), dtype)
+        published = sglab.eval("clamped-cosine", "tokuyoshi2024", **cols)
+        # The set is applied: most of the grid moves (c = ±1 and the λ → 0 limit need not).
+        assert np.count_nonzero(py != published) > py.size // 2
+        # A PathLike and a list of one give the same; later sets override earlier ones.
+        import pathlib
+        assert np.array_equal(sglab.eval("clamped-cosine", "tokuyoshi2024", constants=pathlib.Path(path), **cols), py)
+        assert np.array_equal(sglab.eval("clamped-cosine", "tokuyoshi2024", constants=["published", path], **cols), py)
+        assert np.array_equal(sglab.eval("clamped-cosine", "tokuyoshi2024", constants=[path, "published"], **cols),
+                              published)
+        assert np.array_equal(sglab.eval("clamped-cosine", "tokuyoshi2024", constants="published", **cols), published)
+        # A directory of records, as `sglab fit all --json-dir` writes.
+        assert np.array_equal(sglab.eval("clamped-cosine", "tokuyoshi2024", constants=d, **cols), py)
+        # A method that reads none of the set's constants is unchanged.
+        assert np.array_equal(sglab.eval("clamped-cosine", "meder", constants=path, **cols),
+                              sglab.eval("clamped-cosine", "meder", **cols))
+
+
+def test_constants_mp50_match_cli():
+    cols = {"sharpness": ["0.001", "0.1", "2.5", "1e3"], "cosine": ["-1", "-0.3", "0.1", "0.9"]}
+    with tempfile.TemporaryDirectory() as d:
+        path = hand_written_set(d)
+        py = sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", constants=path, **cols)
+        assert list(py) == cli_eval("clamped-cosine", "tokuyoshi2024", cols, "mp50", [path])
+        assert list(py) != list(sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", **cols))
+
+
+def test_bad_constant_set_names_file_and_key():
+    good = tokuyoshi_published()
+    with tempfile.TemporaryDirectory() as d:
+        cases = [
+            ({"fit": "tokuyoshi2024-t", "parameters": {**good, "C": "x"}}, r"key 'parameters\.C': not a number"),
+            ({"fit": "tokuyoshi2024-t", "parameters": {k: v for k, v in good.items() if k != "D"}},
+             r"key 'parameters\.D': missing"),
+            ({"fit": "tokuyoshi2024-t", "parameters": {**good, "Z": 1.0}}, r"key 'parameters\.Z': unknown parameter"),
+            ({"fit": "tokuyoshi2024-t", "parameters": {**good, "A": -1.0}}, r"key 'parameters\.A':"),
+            ({"fit": "nope", "parameters": {}}, r"key 'fit': unknown fit 'nope'"),
+            ({"parameters": good}, r"key 'fit': missing"),
+        ]
+        for i, (record, message) in enumerate(cases):
+            path = write_record(d, f"bad{i}.json", record)
+            for precision in ("float", "double", "mp50"):
+                with pytest.raises(ValueError, match=re.escape(path) + ": " + message):
+                    sglab.eval("clamped-cosine", "tokuyoshi2024", precision=precision, constants=path,
+                               sharpness=[1.0], cosine=[0.5])
+        with open(os.path.join(d, "broken.json"), "w") as f:
+            f.write("{")
+        with pytest.raises(ValueError, match="broken.json: not valid JSON"):
+            sglab.eval("clamped-cosine", "tokuyoshi2024", constants=os.path.join(d, "broken.json"), sharpness=1.0,
+                       cosine=0.5)
+        with pytest.raises(ValueError, match="missing.json: no such file or directory"):
+            sglab.eval("clamped-cosine", "tokuyoshi2024", constants=os.path.join(d, "missing.json"), sharpness=1.0,
+                       cosine=0.5)
 
 
 # ---- fit -----------------------------------------------------------------------------------
@@ -323,6 +421,8 @@ def test_fit_record_is_the_cli_json():
         with open(path) as f:
             cli = json.load(f)
     assert list(rec) == list(cli)
+    assert rec["precision"] == cli["precision"] == "float"
+    assert rec["standard_grid_error"]["method"] == "clamped-cosine/sg-cosine"
     for k in cli:
         if k != "seconds":
             assert rec[k] == cli[k], k
