@@ -40,13 +40,16 @@ std::vector<ListedStep> parse_list(const std::string& text) {
 }
 
 // The file or directory paths a step's command line names: every word with a '/', and the part
-// after '=' of a NAME=PATH word; the inputs under scenes/ and plots/ are left out.
+// after '=' of a NAME=PATH word (each item of a comma list); the inputs under scenes/ and plots/ are left out.
 std::vector<std::string> output_paths(const ListedStep& s) {
   std::vector<std::string> paths;
   for (const auto& w : s.words) {
-    const std::string p = w.find('=') != std::string::npos ? w.substr(w.find('=') + 1) : w;
-    if (p.find('/') == std::string::npos || p.rfind("scenes/", 0) == 0 || p.rfind("plots/", 0) == 0) continue;
-    paths.push_back(p);
+    // NAME=PATH, and NAME=A,B,… lists (`--vary KEY=2,FIT.json,…`): each item on its own.
+    std::istringstream items(w.find('=') != std::string::npos ? w.substr(w.find('=') + 1) : w);
+    for (std::string p; std::getline(items, p, ',');) {
+      if (p.find('/') == std::string::npos || p.rfind("scenes/", 0) == 0 || p.rfind("plots/", 0) == 0) continue;
+      paths.push_back(p);
+    }
   }
   return paths;
 }
