@@ -1,4 +1,4 @@
-// ns per evaluation of every method of the core quantities, in float and double (issue 2, item 6).
+// ns per evaluation of every method of the core quantities, in float and double.
 // Methods come from the registry and run through their batch evaluators (one indirect call per
 // batch of 4096 seeded inputs), so the numbers are the methods' own cost. Run:
 //   build/benchmarks/sglab_core_bench [--benchmark_filter=clamped-cosine]

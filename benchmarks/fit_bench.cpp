@@ -1,4 +1,4 @@
-// Time of each Ceres fit (issue 3: "each fit well under a second; `sglab fit all` under 30 s").
+// Time of each Ceres fit (the target: each fit well under a second, `sglab fit all` under 30 s).
 // Targets are set up once per process (static grids of exact references) before timing starts,
 // so each iteration times the solve from the default starts, as FitResult::seconds does.
 #include <benchmark/benchmark.h>

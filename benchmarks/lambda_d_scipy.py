@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""lambda-d with scipy.optimize.least_squares on the same grid as fit/lambda_d.cpp (issue 3's
+"""lambda-d with scipy.optimize.least_squares on the same grid as fit/lambda_d.cpp (the Ceres-vs-scipy
 speed comparison): Gauss-Legendre, 20 nodes per sub-panel, panels [-1, 0] and [0, 1] each split
 into 4; residuals sqrt(2*pi*w_i) * (G(t_i; lambda)/A(lambda) - max(t_i, 0)/pi) with the analytic
 Jacobian (a fair comparison: Ceres uses exact derivatives too), one start at 2 and tolerances 1e-15,

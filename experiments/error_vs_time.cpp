@@ -93,7 +93,7 @@ void fill_reference(Grid& g, const Method& ref) {
   });
 }
 
-// Diffuse (sharpness, cosine) quantities: the (λ, c) grid of the error claims (SPEC.md §3), λ
+// Diffuse (sharpness, cosine) quantities: the (λ, c) grid of the error claims (docs/math.md §3), λ
 // log-spaced over [1e-3, 1e4], c uniform; errors relative to the reference at c = 1.
 Grid diffuse_grid(const Method& ref, bool quick) {
   Grid g;
@@ -164,7 +164,7 @@ Grid specular_grid(const Method& ref, bool quick) {
   return g;
 }
 
-// The poster's claims (seed `accurate-diffuse-sg-lighting`), checked on the double rows.
+// The poster's claims (Tokuyoshi 2022), checked on the double rows.
 std::string claims_section(const std::vector<Row>& rows) {
   auto find = [&](const std::string& m) -> const Row* {
     for (const auto& r : rows)

@@ -1,4 +1,4 @@
-// `sglab eval` (issue 2, item 4): evaluates one method of one registered quantity on every row of
+// `sglab eval`: evaluates one method of one registered quantity on every row of
 // a CSV and appends a `value` column. Everything it knows about quantities, columns and methods
 // comes from the registry (sglab::quantities()), so a method added there is evaluable here with
 // no change to this file.
@@ -231,7 +231,7 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
                                            row_location(source, table, r), method.name, q.name,
                                            *failures[r]));
     formatted[r] = format_value(results[r], digits);
-    // Never print a NaN or an infinity as if it were a result (SPEC.md §10).
+    // Never print a NaN or an infinity as if it were a result (docs/math.md §10).
     if (!is_finite_value(results[r]))
       throw std::runtime_error(
           fmt::format("{}: method '{}' of '{}' in {} returned {}, not a finite number",

@@ -1,5 +1,5 @@
 // `sglab filter SCENE.json --out IMAGE.exr --weights normal|lobe|lobe-depth|spatial [--scale 4] [--beta B]
-//  [--kappa K] [--nu V] [--width W] [--height H] [--stats FILE] …` (issue #7, item 3): computes the
+//  [--kappa K] [--nu V] [--width W] [--height H] [--stats FILE] …`: computes the
 // indirect light at 1/scale resolution, upsamples it with the chosen weights
 // (core/render/include/sglab/render/filtering.hpp) and writes a multi-layer OpenEXR (upsampled,
 // reference = the exact VPL sum at full resolution, error = upsampled − reference, low_res = the

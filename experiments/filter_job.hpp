@@ -1,4 +1,4 @@
-// What `sglab filter` and `sglab filter-sweep` share (issue #7): the options of an upsampling run
+// What `sglab filter` and `sglab filter-sweep` share: the options of an upsampling run
 // (scene, low-resolution source, weight parameters), their validation into UsageErrors that name
 // the option and value, the provenance arguments, and the stats record of a run.
 #pragma once

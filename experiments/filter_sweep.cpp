@@ -1,5 +1,5 @@
 // `sglab filter-sweep --scene S --roughness v1,v2,… [--scale s1,s2,…] [--weights spatial,normal,lobe,lobe-depth]
-//  [filter options] [--out DIR] [--tables-dir DIR] [--table NAME] [--quiet]` (issue #7, items 2–3):
+//  [filter options] [--out DIR] [--tables-dir DIR] [--table NAME] [--quiet]`:
 // the error of upsampled indirect light against the full-resolution exact VPL sum, per weighting,
 // over the floor's GGX roughness (`--set floor.roughness=v` at each point, after the job's own --set
 // overrides) and the upsampling scale. At each (roughness, scale) the G-buffers and the
@@ -198,7 +198,7 @@ void run(const Options& options) {
       "- **normal**: G(n_p; n_q, 1/σ_n²)·g(z_p − z_q, (σ_z z_p)²), σ_n² = {}, σ_z = {} (relative depth);\n"
       "- **lobe-depth**: the lobe-aware directional weight q_ω^β times the normal weighting's depth term (what the lobes "
       "alone change);\n"
-      "- **lobe**: lobe-aware q^β (seed `lobe-aware-filtering`, Eq. (12)/App. E for the lobes, App. A for the positions), "
+      "- **lobe**: lobe-aware q^β (Tokuyoshi 2015 (lobe-aware filtering), Eq. (12)/App. E for the lobes, App. A for the positions), "
       "β = {}, κ = {}, ν = {} scene units; diffuse lobe = SG of sharpness {:.4f} about the normal (= 2λ_c: App. D, the "
       "normal weight with σ_n² = (2λ_c + κ)/(βλ_cκ)), specular lobe = the GGX lobe's SG by the spherical warp "
       "(App. B: axis = reflected view, λ = (2/α²)/(4|ω_o·n|)).\n\n"

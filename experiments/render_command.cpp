@@ -1,4 +1,4 @@
-// `sglab render SCENE.json --out IMAGE.exr …` (issue 5, item 7): renders a scene with direct light
+// `sglab render SCENE.json --out IMAGE.exr …`: renders a scene with direct light
 // (shadow map), indirect light from VSGLs, and the exact VPL-sum reference, and writes a
 // multi-layer OpenEXR (direct, indirect, indirect_reference, error = indirect − reference) and a
 // stats JSON. Bad input (scene or options) stops with exit status 2 before anything is written;

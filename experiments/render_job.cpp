@@ -46,7 +46,7 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
   app.add_flag("--sg-cosine-a-pi", job.sg_cosine_a_is_pi, "with --diffuse sg-cosine: take A(λ_d) ≈ π as the 2015 poster does");
   add_constants_option(app, job.constants);
   // A repeated option takes its last value (so that a script can append an override).
-  for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--lambda-d"})
+  for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--kmeans-space"})
     if (auto* o = app.get_option_no_throw(name)) o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }
 

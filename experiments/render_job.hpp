@@ -66,7 +66,7 @@ void check_render_finite(const render::RenderResult& result);
 // and provenance in the job's constant set: the stats' "constants" field.
 nlohmann::json render_constants_json(const RenderJob& job);
 
-// The stats record of a finished render (the fields of issue 5 item 7 and what was built).
+// The stats record of a finished render (the fields `sglab render --stats` writes, and what was built).
 nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, const render::RenderOptions& options,
                             const render::RenderResult& result, const std::string& command);
 

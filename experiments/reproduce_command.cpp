@@ -120,7 +120,7 @@ std::vector<Step> steps(const Places& places) {
        {"plots/error_maps.py", out + "/error_map/error_map.csv", out + "/figures/error_maps"}, {"--quick"}, true},
       {"plot-own-method", "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried (paper_tables/own_method.md)",
        {"plots/own_method.py", out + "/error_map/error_map.csv", "plots/own_method_forms.csv", kKeyFigures}, {}, true},
-      // The VSGL renderer (issue 5): the three scenes, each with its stats JSON, then the sweeps.
+      // The VSGL renderer: the three scenes, each with its stats JSON, then the sweeps.
       {"render-cornell-glossy", "VSGL renderer: glossy Cornell box, 256×256, two VSGLs vs the exact VPL sum",
        {"render", "scenes/cornell-glossy.json", "--out", out + "/renders/cornell-glossy.exr", "--stats",
         out + "/renders/cornell-glossy.json", "--dump-csv", out + "/renders/cornell-glossy.csv", "--width", "256", "--height", "256"},
@@ -154,7 +154,7 @@ std::vector<Step> steps(const Places& places) {
             "/fits-objectives/lambda-d-l2-hemisphere.json",
         "--vsgl", "two", "--width", "256", "--height", "256", "--out", out + "/render_sweep", "--table", "vsgl_error_vs_lambda_d"},
        {"--width", "48", "--height", "48", "--rsm", "32"}},
-      // Lobe-aware filtering (issue 7): both weightings on cornell-glossy, then the roughness sweep.
+      // Lobe-aware filtering: both weightings on cornell-glossy, then the roughness sweep.
       {"filter-cornell-glossy-normal", "upsampling 1/4-resolution indirect light with normal/depth weights (EXR + stats)",
        {"filter", "scenes/cornell-glossy.json", "--weights", "normal", "--out", out + "/filtering/cornell-glossy-normal.exr",
         "--stats", out + "/filtering/cornell-glossy-normal.json"},

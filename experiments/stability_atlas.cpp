@@ -533,7 +533,7 @@ std::vector<Case> registry_cases(bool quick) {
   return out;
 }
 
-// ---- extra cases (SPEC.md §10, not registry quantities) ----------------------------------------
+// ---- extra cases (docs/math.md §10, not registry quantities) ----------------------------------------
 
 namespace {
 
@@ -580,7 +580,7 @@ Method generic_pseudo(std::string name, std::string source, DomainFn domain, F f
 Case opposite_integral_case(bool quick) {
   Quantity q;
   q.name = "sg-product-opposite";
-  q.description = "∫ G(ω; ξ1, λ) G(ω; ξ2, λ) dω with ξ2 at angle δ from −ξ1 (SPEC.md §1, §10: product sharpness → 0)";
+  q.description = "∫ G(ω; ξ1, λ) G(ω; ξ2, λ) dω with ξ2 at angle δ from −ξ1 (docs/math.md §1, §10: product sharpness → 0)";
   q.columns = {{"sharpness", ColumnKind::sharpness, "λ1 = λ2 = λ"},
                {"delta", ColumnKind::angle, "angle of ξ2 from −ξ1 (radians); 0 = exactly opposite"}};
   q.reference_method = "definition";
@@ -652,7 +652,7 @@ Case opposite_value_case(bool quick) {
 // y_ij = D·(0.6, 0.8, 0) + h·(i·(0, 0, 1) + j·(−0.8, 0.6, 0)), i, j ∈ {−1, 0, 1}, unit weights.
 // σ² = E‖y − μ‖² = 4h²/3 exactly (each in-plane axis has variance 2h²/3); h = 0 is a single point
 // (nine coincident VPLs, σ² = 0). `origin_at_first` selects the reference point o of the sums:
-// 0 (the seeds' E‖y‖² − ‖μ‖²) or the first VPL (vsgl.hpp's remedy).
+// 0 (the papers' E‖y‖² − ‖μ‖²) or the first VPL (vsgl.hpp's remedy).
 template <class T>
 T patch_variance(const T& distance, const T& spacing, bool origin_at_first) {
   const Vec3<T> centre = distance * Vec3<T>(T(0.6), T(0.8), T(0));
@@ -673,7 +673,7 @@ T patch_variance(const T& distance, const T& spacing, bool origin_at_first) {
 Case vsgl_variance_case() {
   Quantity q;
   q.name = "vsgl-variance";
-  q.description = "σ_v² of nine VPLs on a 3×3 patch of spacing h at distance D from the origin (vsgl.hpp; SPEC.md §7, §10)";
+  q.description = "σ_v² of nine VPLs on a 3×3 patch of spacing h at distance D from the origin (vsgl.hpp; docs/math.md §7, §10)";
   q.columns = {{"distance", ColumnKind::nonnegative, "D, the patch's distance from the origin"},
                {"spacing", ColumnKind::nonnegative, "h, the grid spacing (0: a single point)"}};
   q.reference_method = "exact";
@@ -681,7 +681,7 @@ Case vsgl_variance_case() {
     using T = typename decltype(a)::value_type;
     return T(4) * a[1] * a[1] / T(3);
   }));
-  q.methods.push_back(generic_pseudo("origin-zero", "sums relative to o = 0: σ² = E‖y‖² − ‖E y‖² (the seeds' form)", nullptr,
+  q.methods.push_back(generic_pseudo("origin-zero", "sums relative to o = 0: σ² = E‖y‖² − ‖E y‖² (the papers' form)", nullptr,
                                      [](auto a) { return patch_variance(a[0], a[1], false); }));
   q.methods.push_back(generic_pseudo("origin-first-vpl", "sums relative to o = the first VPL (vsgl.hpp's reference point)", nullptr,
                                      [](auto a) { return patch_variance(a[0], a[1], true); }));
@@ -718,7 +718,7 @@ Case vsgl_on_top_case() {
   Quantity q;
   q.name = "vsgl-on-top";
   q.description = "∫ L_in⟨ω·n⟩ dω / c_v of one VSGL (λ_v = 10) at a shading point `distance` from μ_v, σ_v² = variance "
-                  "(vsgl.hpp Eq. 7; SPEC.md §10: λ_σ → 0, ξ_μ undefined on top of μ_v; σ² = 0 a point light)";
+                  "(vsgl.hpp Eq. 7; docs/math.md §10: λ_σ → 0, ξ_μ undefined on top of μ_v; σ² = 0 a point light)";
   q.columns = {{"distance", ColumnKind::nonnegative, "‖μ_v − y_p‖"}, {"variance", ColumnKind::nonnegative, "σ_v²"}};
   q.reference_method = cc ? cc->reference_method : "reference";
   if (cc) {

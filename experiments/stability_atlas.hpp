@@ -1,9 +1,9 @@
-// The stability atlas (issue 6, item 2): every method of every registry quantity, in float and
-// double, evaluated over the stiff inputs of SPEC.md §10, with each output classified (NaN, Inf,
+// The stability atlas: every method of every registry quantity, in float and
+// double, evaluated over the stiff inputs of docs/math.md §10, with each output classified (NaN, Inf,
 // negative, wrong by more than 1 %, outside the method's domain) and its rounding error (the
 // method in float or double against the same method in 50 digits at the same input) kept apart
 // from its approximation error (against the quantity's reference method). Plus the stiff cases
-// of SPEC.md §10 that are not registry quantities (opposite SG lobes, degenerate VPL sets, the
+// of docs/math.md §10 that are not registry quantities (opposite SG lobes, degenerate VPL sets, the
 // shading point on top of a VSGL), as atlas-only quantities run through the same machinery.
 //
 // This file is the computation; `sglab stability` (stability.cpp) runs it and writes the tables.
@@ -22,7 +22,7 @@
 
 namespace sglab::atlas {
 
-// "Wrong" means off by more than this fraction (issue 6: "wrong-by-more-than-1 %").
+// "Wrong" means off by more than this fraction (1 %).
 inline constexpr double kWrongTolerance = 0.01;
 
 // The verdict on one output, in increasing severity; a cell of the heat map shows the most severe
@@ -193,7 +193,7 @@ struct Case {
 // quadratures at up to seconds per point) are computed on a spread subset of rows, as `note` says.
 std::vector<Case> registry_cases(bool quick);
 
-// The stiff cases of SPEC.md §10 that are not registry quantities: products of (nearly) opposite
+// The stiff cases of docs/math.md §10 that are not registry quantities: products of (nearly) opposite
 // SG lobes of equal sharpness (sg.hpp), and — from vsgl.hpp — degenerate VPL sets (a single point,
 // a patch far from the origin) and the shading point on top of μ_v.
 std::vector<Case> extra_cases(bool quick);

@@ -1,4 +1,4 @@
-// The sweep runner every `sglab sweep …` shares (issue 4 item 6, issue 6): a sweep is
+// The sweep runner every `sglab sweep …` shares: a sweep is
 //
 //   N parameter points (a fixed, deterministic order)  ──►  per-point CSV  ──►  summary
 //

@@ -1,5 +1,5 @@
 // `sglab sweep render --scene S [--vary KEY=SPEC]… [--vsgl CONFIG]… [render options] --out DIR
-//  [--table NAME] [--tables-dir DIR] [--shard i/N] [--threads N] [--fresh]` (issue 5, item 8):
+//  [--table NAME] [--tables-dir DIR] [--shard i/N] [--threads N] [--fresh]`:
 // the VSGL renderer's error against the exact VPL sum, and the cost of both, over a grid of scene
 // parameters and VSGL configurations.
 //

@@ -1,5 +1,5 @@
-// `sglab sweep specular --out DIR [--quick] [--shard i/N] [--threads N] [--tables-dir DIR] [--fresh]`
-// (issue 4, item 6): every method of the registry's `specular` quantity — enumerated, never
+// `sglab sweep specular --out DIR [--quick] [--shard i/N] [--threads N] [--tables-dir DIR] [--fresh]`:
+// every method of the registry's `specular` quantity — enumerated, never
 // named here — against the quantity's reference method, over
 //   roughness α (9 values log-spaced over [0.01, 1]) × light sharpness λ ∈ {1, 10, 100, 1e3, 1e4}
 //   × view_cos ∈ {1, 0.7, 0.3, 0.1} × up to 6 light positions above the horizon (sweep_specular.hpp), f0 = 0.04.

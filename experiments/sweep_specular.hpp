@@ -1,4 +1,4 @@
-// `sglab sweep specular` (issue 4, item 6): every method of the registry's `specular` quantity
+// `sglab sweep specular`: every method of the registry's `specular` quantity
 // against its reference over roughness × light sharpness × view angle × light position.
 // The CLI registration is add_sweep_specular (commands.hpp); this header exposes the grid, the
 // sweep definition and the summary so that tests can check them directly.

@@ -1,5 +1,5 @@
 // cosine-sg: the three-parameter fit a·G(ω; n, λ) − b ≈ ω·n over the upper hemisphere
-// (Meder & Brüderlin 2018, used by PhySG and seed `blog`: a = 32.7080, λ = 0.0315, b = 31.7003).
+// (Meder & Brüderlin 2018, used by PhySG (Zhang et al. 2021): a = 32.7080, λ = 0.0315, b = 31.7003).
 //
 // Stiffness: with a = e^λ/λ·k, b = k/λ the model is k(e^{λt} − 1)/λ = k(t + λt²/2 + …), so the
 // misfit is O(λ) and the least-squares cost falls like λ² as λ → 0 while a, b ~ 1/λ → ∞; the
@@ -35,7 +35,7 @@
 namespace sglab::fit {
 namespace {
 
-// Meder & Brüderlin 2018 (seed `blog`): i·n ≈ G(i; n, 0.0315, 32.7080) − 31.7003.
+// Meder & Brüderlin 2018 (as used by PhySG, Zhang et al. 2021): i·n ≈ G(i; n, 0.0315, 32.7080) − 31.7003.
 // The published values live in core (MederCosineSg, clamped_cosine.hpp).
 constexpr double kPublishedAmplitude = MederCosineSg::amplitude;
 constexpr double kPublishedSharpness = MederCosineSg::sharpness;
@@ -95,7 +95,7 @@ FitSpec base_spec() {
   FitSpec spec;
   spec.fit = "cosine-sg";
   spec.domain = "upper hemisphere";
-  spec.source = "Meder & Bruederlin 2018 (PhySG, seed blog)";
+  spec.source = "Meder & Bruederlin 2018 (PhySG, Zhang et al. 2021)";
   spec.names = {"amplitude", "sharpness", "offset"};
   spec.published = {kPublishedAmplitude, kPublishedSharpness, kPublishedOffset};
   return spec;
@@ -126,7 +126,7 @@ FitResult solve(const std::string& objective, const CosineSgResidual& f, double 
                        ? "l2-theta-bounded: int_0^{pi/2} (a G - b - cos)^2 dtheta, lambda >= " + std::string(buf)
                        : "l2-bounded: int_{w.n>0} (a G - b - w.n)^2 dw, lambda >= " + std::string(buf);
   spec.domain = "upper hemisphere";
-  spec.source = "Meder & Bruederlin 2018 (PhySG, seed blog)";
+  spec.source = "Meder & Bruederlin 2018 (PhySG, Zhang et al. 2021)";
   spec.names = {"amplitude", "sharpness", "offset"};
   spec.published = {kPublishedAmplitude, kPublishedSharpness, kPublishedOffset};
   spec.lower = {-1e12, lambda_min, -1e12};

@@ -1,7 +1,7 @@
 // cosine-sharpness: the sharpness λ of Tokuyoshi 2022's cosine approximation
 //   ω·n ≈ α(λ)(e^{λ}G(ω; n, λ) − 1) = α(λ)(e^{λt} − 1),  t = ω·n,  α = λ/(2e^λ − 2 − 2λ)
-// (seed `accurate-diffuse-sg-lighting`: λ = 0.0008456087 "by minimizing the sum of the
-// approximation error and a numerical error bound"; SPEC.md §3 gives 0.00084560872241480124 and
+// (Tokuyoshi 2022 (poster): λ = 0.0008456087 "by minimizing the sum of the
+// approximation error and a numerical error bound"; docs/math.md §3 gives 0.00084560872241480124 and
 // α = 1182.2467339678153). Not a least-squares problem: the objective is the scalar
 //
 //   E(λ) = e_approx(λ) + e_round(λ)

@@ -1,4 +1,4 @@
-// The shared fitting driver (issue 3): every published constant of SPEC.md §9 is re-derived by a
+// The shared fitting driver: every published constant of docs/math.md §9 is re-derived by a
 // Ceres fit set up here from one residual functor per fit.
 //
 // A fitter describes its problem as a FitSpec (parameter names, published values, bounds, starts)
@@ -7,7 +7,7 @@
 // error. Derivatives are automatic (ceres::Jet through the core templates), never finite
 // differences. The driver runs Levenberg–Marquardt from every listed start, keeps the best usable
 // solution (Solver::Summary::IsSolutionUsable and a converged termination type), times it and
-// returns a FitResult whose fields are exactly the JSON record of issue 3.
+// returns a FitResult whose fields are exactly the JSON record `sglab fit --json` writes.
 //
 // One-parameter fits whose objective is a sum of positive terms that never reaches zero (the
 // cosine sharpness: approximation error + rounding bound) are not least-squares problems:
@@ -308,7 +308,7 @@ struct Fitter {
 // is f.name): which methods, the renderer or the filter read them.
 std::vector<sglab::ConstantUse> registry_parameters(const Fitter& f);
 
-// Every fitter, in the order of SPEC.md §9.
+// Every fitter, in the order of docs/math.md §9.
 const std::vector<Fitter>& fitters();
 const Fitter* find_fitter(const std::string& name);
 
@@ -327,7 +327,7 @@ Fitter sglab_fitter();
 // Throws std::invalid_argument naming the offered objectives when `requested` is not one.
 std::string choose_objective(const Fitter& f, const std::string& requested);
 
-// Published σ_n² relation (seed `lobe-aware-filtering` App. D): σ_n² = (2λ_c + κ)/(βλ_cκ). The
+// Published σ_n² relation (Tokuyoshi 2015 (lobe-aware filtering) App. D): σ_n² = (2λ_c + κ)/(βλ_cκ). The
 // formula lives in core (sglab::normal_weight_variance, filtering_weights.hpp); this is the
 // fitters' double-valued name for it.
 inline double sigma_n2(double lambda_c, double beta, double kappa) {

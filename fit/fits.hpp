@@ -17,7 +17,7 @@ FitResult fit_lambda_d(const std::string& objective);
 FitResult fit_lambda_d_like_scipy();
 
 // lambda-c: the squared error ∫(G − q)² dμ of one objective at λ (the "integrated squared
-// fitting error" of seed `lobe-aware-filtering` App. D under that objective).
+// fitting error" of Tokuyoshi 2015 (lobe-aware filtering) App. D under that objective).
 double lambda_c_error(const std::string& objective, double lambda_c);
 
 // cosine-sharpness: E(λ) = max-norm approximation error + rounding bound for unit roundoff u.

@@ -1,4 +1,4 @@
-// hill-irradiance: c0 of Pettineo & Hill's fitted irradiance (SPEC.md §3 `hill-fitted`; Pettineo
+// hill-irradiance: c0 of Pettineo & Hill's fitted irradiance (docs/math.md §3 `hill-fitted`; Pettineo
 // 2016, SG series part 3: c0 = 0.36, c1 = 1/(4c0)), fitted against the exact clamped-cosine
 // integral. The published fit is known to fail (go negative) for λ ≲ 1, so the domain is
 // λ ∈ [1, 100] (20 log-spaced values) — where it is meant to work; c on Gauss–Legendre nodes,

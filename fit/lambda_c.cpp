@@ -1,5 +1,5 @@
 // lambda-c: λ_c of G(n_i; n_j, λ_c) = exp(λ_c(cos φ − 1)) fitting the diffuse lobe similarity
-// q(φ) = (sin φ + (π − φ) cos φ)/π (seed `lobe-aware-filtering` App. D, SPEC.md §8: λ_c = 0.9426,
+// q(φ) = (sin φ + (π − φ) cos φ)/π (Tokuyoshi 2015 (lobe-aware filtering) App. D, docs/math.md §8: λ_c = 0.9426,
 // "least squares", "integrated squared fitting error: 0.00245"; the objective is not stated), and
 // the derived σ_n² = (2λ_c + κ)/(βλ_cκ) (= 0.05404477 for β = 20, κ = 100).
 //

@@ -1,5 +1,5 @@
 // lambda-d: the sharpness λ_d of the normalized SG (vMF) that best fits the normalized clamped
-// cosine, ⟨ω·n⟩/π ≈ G(ω; n, λ_d)/A(λ_d) (SPEC.md §5; seeds `two-vsgls` Eq. 1, `modified-fis`
+// cosine, ⟨ω·n⟩/π ≈ G(ω; n, λ_d)/A(λ_d) (docs/math.md §5; Tokuyoshi 2015 (two-VSGL poster) Eq. 1, Tokuyoshi 2016
 // Eq. 1: "λ_d ≈ 2 … obtained by using the least square method", objective not stated; the public
 // VSGL code later uses 2.292504).
 //
@@ -20,7 +20,7 @@
 namespace sglab::fit {
 namespace {
 
-// Public VSGL implementation (Tokuyoshi): 2.292504 (the seeds give ≈ 2), defined in core.
+// Public VSGL implementation (Tokuyoshi): 2.292504 (the papers give ≈ 2), defined in core.
 constexpr double kPublishedLambdaD = LambertSharpness::vsgl_code;
 const double kPi = pi<double>();
 
@@ -58,7 +58,7 @@ FitSpec spec_for(const std::string& objective) {
                        : "l2-solid-angle: int_{S^2} (G/A - <w.n>/pi)^2 dw";
   spec.domain = objective == "l2-hemisphere" ? "upper hemisphere, w.n in [0, 1]"
                                              : "whole sphere (panels split at theta = pi/2)";
-  spec.source = "VSGL public code 2.292504 (seeds two-vsgls/modified-fis: ~2)";
+  spec.source = "VSGL public code 2.292504 (Tokuyoshi 2015 poster and 2016: ~2)";
   spec.names = {"lambda_d"};
   spec.published = {kPublishedLambdaD};
   spec.lower = {1e-6};

@@ -3,7 +3,7 @@
 // in H ≈ upper(λ)·lerp(e^{−λ}, 1, s(t, c)), fitted against the exact hemispherical integral
 // (core hemispherical_reference). Objective: ½ mean over log λ of ∫_{−1}^{1} (H/upper − H_ref/upper)² dc
 // (misfit of the normalized integral, which lies in [e^{−λ}, 1]); the paper's objective and
-// λ range are not given in SPEC.md. Domain: λ ∈ [0.01, 1000], 25 log-spaced values; c on
+// λ range are not given in the paper. Domain: λ ∈ [0.01, 1000], 25 log-spaced values; c on
 // Gauss–Legendre nodes, panels [−1, 0], [0, 1], 2 sub-panels × 20 nodes (2000 residuals).
 #include <string>
 

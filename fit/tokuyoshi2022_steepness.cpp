@@ -1,6 +1,6 @@
 // tokuyoshi2022-steepness: A, B, C of Tokuyoshi 2022's erf steepness
 //   k(λ) = λ√((λ/2 + A)/((λ + B)λ + C))   (published A = 0.6517328826907056,
-//   B = 1.3418280033141288, C = 7.2216687798956709; SPEC.md §2)
+//   B = 1.3418280033141288, C = 7.2216687798956709; docs/math.md §2)
 // in H ≈ upper(λ)·lerp(e^{−λ}, 1, ½ + ½ erf(kc)/erf(k)), fitted against the exact hemispherical
 // integral. Objective: ½ mean over log λ of ∫_{−1}^{1} (H/upper − H_ref/upper)² dc (the paper's
 // own objective and range are not stated). Domain and grid: as meder-logistic (λ ∈ [0.01, 1000],

@@ -1,5 +1,5 @@
 // tokuyoshi2024-t: A…E of Tokuyoshi et al. 2024's steepness
-//   t(λ) = λ√(½((λ + A)λ + B)/(((λ + C)λ + D)λ + E))   (SPEC.md §3; A = 2.7360831611272558,
+//   t(λ) = λ√(½((λ + A)λ + B)/(((λ + C)λ + D)λ + E))   (docs/math.md §3; A = 2.7360831611272558,
 //   B = 17.021297781741875, C = 4.0100826728510421, D = 15.219156263147211,
 //   E = 76.087896272360737)
 // in D ≈ 2π·lerp(lower, upper, f(t, c)), fitted against the exact clamped-cosine integral (core

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Error maps of the diffuse methods over (λ, c), like the error plots of the Tokuyoshi 2022
-poster (seed `accurate-diffuse-sg-lighting`).
+poster (Tokuyoshi 2022).
 
 Reads the long-format CSV written by `sglab error-map` (error_map.csv: method, sharpness, cosine,
 reference, value, error, smape) and draws, per method, the signed error (method − reference)/D(λ, 1)

@@ -57,14 +57,14 @@ TEST(AsgIntegral, ExactMatchesTwoDimensionalQuadrature) {
 TEST(AsgIntegral, ApproximationsAndTheirErrors) {
   // Sharp lobes: π/√(ηxηy) and B converge to the exact value.
   EXPECT_NEAR(asg_integral_approx(1e4, 1e2) / asg_integral_exact(1e4, 1e2), 1.0, 1e-12);
-  EXPECT_NEAR(asg_integral_seed(1e4, 1e2) / asg_integral_exact(1e4, 1e2), 1.0, 1e-12);
+  EXPECT_NEAR(asg_integral_as_printed(1e4, 1e2) / asg_integral_exact(1e4, 1e2), 1.0, 1e-12);
   // Isotropic: B reduces exactly to π(1 − e^{−η})/η.
-  EXPECT_NEAR(asg_integral_seed(2.0, 2.0), asg_integral_exact(2.0, 2.0), 1e-14);
+  EXPECT_NEAR(asg_integral_as_printed(2.0, 2.0), asg_integral_exact(2.0, 2.0), 1e-14);
   // Measured (printed for the report): relative errors on an anisotropic grid.
   for (auto [x, y] : {std::pair{10.0, 1.0}, {100.0, 3.0}, {1e3, 1.0}, {1e8, 1.0}, {30.0, 10.0}}) {
     const double e = asg_integral_exact(x, y);
-    std::printf("asg-integral eta=(%g, %g): approx rel err %+.3e, seed B rel err %+.3e\n", x, y,
-                asg_integral_approx(x, y) / e - 1, asg_integral_seed(x, y) / e - 1);
+    std::printf("asg-integral eta=(%g, %g): approx rel err %+.3e, published B rel err %+.3e\n", x, y,
+                asg_integral_approx(x, y) / e - 1, asg_integral_as_printed(x, y) / e - 1);
     EXPECT_GT(asg_integral_approx(x, y), e);  // the plane integral includes the tail beyond the disc
   }
 }
@@ -106,7 +106,7 @@ TEST(AsgAsgProduct, AlgebraicFormAgainstQuadrature) {
   const double exact = integrate_sphere([&](const Vec3d& w) { return asg_eval(w, g1) * asg_eval(w, g2); }, g1.z, 0.05, foci, clips);
   const double approx = asg_asg_product_integral(g1, g2);
   const double with_exact_b = asg_asg_product_integral(g1, g2, [](double x, double y) { return asg_integral_exact(x, y); });
-  std::printf("asg×asg: exact %.6e, seed form rel %+.3e, with exact B rel %+.3e\n", exact, approx / exact - 1, with_exact_b / exact - 1);
+  std::printf("asg×asg: exact %.6e, printed form rel %+.3e, with exact B rel %+.3e\n", exact, approx / exact - 1, with_exact_b / exact - 1);
   EXPECT_NEAR(approx / exact, 1.0, 0.02);
   EXPECT_NEAR(with_exact_b / exact, 1.0, 0.02);
   // Opposite lobes: C = 0.

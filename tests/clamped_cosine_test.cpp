@@ -26,7 +26,7 @@ struct Grid {
       for (double c : cosine) reference.push_back(clamped_cosine_reference(l, c));
     }
   }
-  // max over the grid of |method − reference| / D(λ, 1), the error measure of SPEC.md §3.
+  // max over the grid of |method − reference| / D(λ, 1), the error measure of docs/math.md §3.
   template <class F>
   double max_error(F f) const {
     double worst = 0;
@@ -42,21 +42,21 @@ const Grid& grid() {
 }
 
 TEST(ClampedCosine, Tokuyoshi2024WithinPointTwoPercent) {
-  // Issue 2's acceptance criterion (SPEC.md §3 measured ≈ 0.13 %).
+  // Required: within 0.2 % of D(λ, 1) (docs/math.md §3: measured ≈ 0.13–0.16 %).
   const double e = grid().max_error([](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); });
   std::printf("tokuyoshi2024 max error / D(λ,1): %.3e\n", e);
   EXPECT_LE(e, 2e-3);
 }
 
 TEST(ClampedCosine, Tokuyoshi2022WithinHalfPercent) {
-  // SPEC.md §3: "tokuyoshi2022 hemispherical part ≈ 0.5 %".
+  // docs/math.md §3 gives the 2022 hemispherical integral alone as ≈ 0.5 %.
   const double e = grid().max_error([](double l, double c) { return clamped_cosine_tokuyoshi2022(l, c); });
   std::printf("tokuyoshi2022 max error / D(λ,1): %.3e\n", e);
   EXPECT_LE(e, 5e-3);
 }
 
 TEST(ClampedCosine, MederWithinPointFifteenPercentSpecSaysPointEight) {
-  // SPEC.md §3 says ≈ 0.8 % on its (unstated) grid; this grid's worst point (λ = 10, c = 0.45) is
+  // docs/math.md §3 says ≈ 0.8 % on its (unstated) grid; this grid's worst point (λ = 10, c = 0.45) is
   // 1.23 %, the Meder hemispherical integral's own ~1.1 % error at λ ≈ 10. Bound: that, +25 %.
   const double e = grid().max_error([](double l, double c) { return clamped_cosine_meder(l, c); });
   std::printf("meder max error / D(λ,1): %.3e\n", e);
@@ -89,15 +89,15 @@ TEST(ClampedCosine, ExactWhereExactByConstruction) {
 }
 
 TEST(ClampedCosine, HillFittedGoesNegativeAsPublished) {
-  // The "black splotches" of seed `accurate-diffuse-sg-lighting`: kept as published, measured.
+  // The "black splotches" of Tokuyoshi 2022 (poster): kept as published, measured.
   EXPECT_LT(clamped_cosine_hill_fitted(0.1, 1.0), 0.0);
   EXPECT_GT(clamped_cosine_hill_fitted(10.0, 1.0), 0.0);
 }
 
-// Rounding error alone: the method in float against the same method in 50 digits (issue 2,
-// item 3), relative to the 50-digit D(λ, 1). Bounds: a few float ulps times each method's
+// Rounding error alone: the method in float against the same method in 50 digits,
+// relative to the 50-digit D(λ, 1). Bounds: a few float ulps times each method's
 // cancellation factor: ~1 for the single-term forms, ~32 for meder (32.7 − 31.7), and
-// 2/λc ≈ 2364 for tokuyoshi2022 (SPEC.md §3).
+// 2/λc ≈ 2364 for tokuyoshi2022 (docs/math.md §3).
 TEST(ClampedCosine, FloatRoundingAgainstFiftyDigits) {
   struct Case {
     const char* name;

@@ -1,5 +1,5 @@
 // `sglab eval` end to end: runs the built binary (SGLAB_EXE) on CSV files in a temporary directory
-// and compares its output with direct calls into core/, its error paths with what the issue
+// and compares its output with direct calls into core/, its error paths with the documented
 // requires (status, a message naming row, column and value, no output file), and --list with the
 // registry. Quantities and methods are enumerated from sglab::quantities(), never listed here.
 #include <sys/wait.h>
@@ -99,7 +99,7 @@ class EvalCommand : public sglab::test::TempDirTest {
   }
 };
 
-// A (λ, c) grid with the stiff cases of SPEC.md §10 that apply (λ = 0, 1e-8, 1e8; c = ±1).
+// A (λ, c) grid with the stiff cases of docs/math.md §10 that apply (λ = 0, 1e-8, 1e8; c = ±1).
 const std::vector<double> kSharpness{0, 1e-8, 1e-3, 0.5, 1, 2.5, 10, 123.456, 1e4, 1e8};
 const std::vector<double> kCosine{-1, -0.7, -0.1, 0, 0.3, 0.99, 1};
 
@@ -505,7 +505,7 @@ TEST_F(EvalCommand, ListExcludesEvaluationOptions) {
   EXPECT_NE(eval("--json").status, 0);
 }
 
-// ---- issue 2, "Done means" ------------------------------------------------------------------
+// ---- accuracy end to end --------------------------------------------------------------------
 
 // tokuyoshi2024 agrees with the reference within 0.2 % of the value at c = 1, for λ on a log grid
 // from 1e-3 to 1e4 and c in [-1, 1], both evaluated by the binary on one CSV.

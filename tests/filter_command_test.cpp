@@ -1,4 +1,4 @@
-// `sglab filter` and `sglab filter-sweep` end to end (issue #7, item 3): run the built binary
+// `sglab filter` and `sglab filter-sweep` end to end: run the built binary
 // (SGLAB_EXE) on a tiny scene; check the EXR layers, the stats JSON and the sweep's tables with
 // their command header; every bad input exits with status 2, names the option or field, and
 // writes nothing.

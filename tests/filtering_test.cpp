@@ -1,6 +1,6 @@
 // Upsampling with normal/depth-aware and lobe-aware weights (core/render/include/sglab/render/
-// filtering.hpp, issue #7 item 2): the range weights against core's filtering weights and the
-// seed's identities, the pass's bookkeeping (split, demodulation, remodulation) against the exact
+// filtering.hpp): the range weights against core's filtering weights and the
+// paper's identities, the pass's bookkeeping (split, demodulation, remodulation) against the exact
 // VPL sum, and its handling of bad parameters. The accuracy of each weighting over roughness is an
 // experiment (`sglab filter-sweep`, paper_tables/filtering.md), not asserted here.
 #include <cmath>

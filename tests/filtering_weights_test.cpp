@@ -1,15 +1,15 @@
 // Lobe-aware filtering weights (core/include/sglab/filtering_weights.hpp) against the direct
 // numerical integration of the similarity of the normalized lobes
-// (core/include/sglab/filtering_reference.hpp), issue #7 items 1 and 4.
+// (core/include/sglab/filtering_reference.hpp).
 //
 // Tolerances, per scalar type:
 //  • exact closed forms (Gaussian similarity of App. A, the diffuse q of App. D, the Tsai–Shih SG
 //    similarity) against quadrature: double ≤ 1e-13 relative (the quadrature is ≤ 1e-15 on its
 //    own, the closed forms lose a few ulps); mp50 against mp50 quadrature ≤ 1e-40; float against
 //    the double quadrature ≤ 3e-6 (a few float ulps times the forms' condition);
-//  • the seed's approximations (G(λ_c) for q, the Iwasaki form of Eq. (12), λ̄ = λκ/(λ + κ)):
+//  • the paper's approximations (G(λ_c) for q, the Iwasaki form of Eq. (12), λ̄ = λκ/(λ + κ)):
 //    bounds measured once over wide random samples and stated below with ≈ 30 % margin; they
-//    are properties of the published formulas (what the closing note of issue #7 quotes), and a
+//    are properties of the published formulas (the numbers paper_tables/filtering.md quotes), and a
 //    wrong exponent, factor or sharpness misses them by far;
 //  • identities (optimized = direct, diffuse lobe weight = normal weight): a few ulps × the size
 //    of the exponent, per type.
@@ -156,7 +156,7 @@ TEST(DiffuseLobeSimilarity, Mp50ClosedFormMatchesMp50Quadrature) {
   }
 }
 
-TEST(DiffuseLobeSimilarity, SgApproximationErrorIsTheSeedsFit) {
+TEST(DiffuseLobeSimilarity, SgApproximationErrorIsThePapersFit) {
   // q ≈ G(n_i; n_j, λ_c) with λ_c = 0.9426 (App. D). Measured max |G − q| over φ ∈ [0, π]: 0.1574
   // at φ ≈ 2.64 (G keeps a tail of e^{−2λ_c} = 0.15 at antipodal normals where q = 0); with
   // β = 20, max |G^β − q^β| = 0.0067 (at φ ≈ 0.22). Bounds 0.16 and 0.009, against quadrature.
@@ -178,7 +178,7 @@ TEST(DiffuseLobeSimilarity, KernelSharpnessExtensionAgainstSmoothedLobes) {
   // q ≈ G(n_i; n_j, λ_cκ/(2λ_c + κ)) (App. D) against the similarity of the two clamped cosines
   // each convolved with the vMF kernel of sharpness κ, by quadrature. Measured (κ ∈ {10, 100,
   // 1000}, c ∈ [−0.9, 0.99]): |Δq| ≤ 0.159 (at c = −0.9, the tail as above), and for β = 20,
-  // |Δw| ≤ 0.031 at κ = 10, ≤ 0.0041 at κ ≥ 100. κ = 1 is outside the seed's use: |Δw| = 0.35.
+  // |Δw| ≤ 0.031 at κ = 10, ≤ 0.0041 at κ ≥ 100. κ = 1 is outside the paper's use: |Δw| = 0.35.
   for (double kappa : {10.0, 100.0}) {
     for (double c : {0.99, 0.9, 0.5, -0.9}) {
       const double reference = lobe_similarity_reference(cosine_lobe(), cosine_lobe(), c, kappa, 1e-9);
@@ -190,8 +190,8 @@ TEST(DiffuseLobeSimilarity, KernelSharpnessExtensionAgainstSmoothedLobes) {
   }
 }
 
-TEST(DiffuseLobeWeight, ReducesToTheNormalWeightWithTheSeedsSigmaN2) {
-  // Item 4: the lobe-aware weight of a diffuse surface, q^β with q ≈ G(λ_cκ/(2λ_c + κ)), is the
+TEST(DiffuseLobeWeight, ReducesToTheNormalWeightWithThePapersSigmaN2) {
+  // The lobe-aware weight of a diffuse surface, q^β with q ≈ G(λ_cκ/(2λ_c + κ)), is the
   // normal-aware weight G(n_i; n_j, 1/σ_n²) with σ_n² = (2λ_c + κ)/(βλ_cκ) (App. D).
   EXPECT_NEAR(normal_weight_variance(kLambdaC, LobeAwareFiltering::beta, LobeAwareFiltering::kappa),
               LobeAwareFiltering::sigma_n2, 5e-9);  // published to 8 significant digits
@@ -324,7 +324,7 @@ TEST(SgLobeWeight, SmoothedLobesAgainstQuadratureOfConvolvedLobes) {
 }
 
 TEST(SgLobeWeight, OptimizedFormEqualsDirectForm) {
-  // Item 4: App. E's exp(β/2·log(4u/v²) + βu/v(c − 1)) equals Eq. (12)'s
+  // App. E's exp(β/2·log(4u/v²) + βu/v(c − 1)) equals Eq. (12)'s
   // (2√u/v)^β G(ξ_i; ξ_j, βu/v). Both round independently: the direct form's pow raises the
   // few-ulp error of 2√u/v to the power β, and both exponentials carry the rounding of their
   // argument |log w|, so the bound is ε(8 + 4β + 2|log w|) per type (ε = 2.2e-16, 1.2e-7, 1e-50).

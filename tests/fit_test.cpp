@@ -1,4 +1,4 @@
-// The fitters of fit/ (issue 3): each recovers known parameters from synthetic targets generated
+// The fitters of fit/: each recovers known parameters from synthetic targets generated
 // by its own model, and the reproducible published constants stay reproduced.
 #include <cmath>
 

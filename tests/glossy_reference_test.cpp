@@ -32,7 +32,7 @@ TEST(GlossyReference, ConvergesAgainstAFinerRule) {
                 c.light_cos, c.view_cos, c.light_azimuth, r, rf, r / rf - 1);
     EXPECT_NEAR(r / rf, 1.0, 1e-8);
   }
-  // The sharpest case of the issue: α = 0.01, λ = 1e4, light on the mirror direction.
+  // The sharpest case the specular sweep uses: α = 0.01, λ = 1e4, light on the mirror direction.
   const SpecularConfig sharp{0.01, 1e4, 0.5, 0.5, kPi, 0.04};
   EXPECT_NEAR(specular_reference(sharp) / specular_reference(sharp, fine), 1.0, 1e-8);
 }

@@ -63,7 +63,7 @@ const char* kScene = R"({
   ]
 })";
 
-// The longest message any rejected case may print (the issue's were up to 50 MB).
+// The longest message any rejected case may print (before the limits, 50 MB of input gave 50 MB of message).
 constexpr std::size_t kShortMessage = 1000;
 
 class Hardening : public ::testing::Test {

@@ -21,7 +21,7 @@ double max_error(double (*f)(double, double)) {
 }
 
 TEST(Hemispherical, ApproximationErrors) {
-  // Relative to H(λ, 1). SPEC.md §3 gives the 2022 hemispherical part as ≈ 0.5 %; Meder's logistic
+  // Relative to H(λ, 1). docs/math.md §3 gives the 2022 hemispherical part as ≈ 0.5 %; Meder's logistic
   // measures 1.15 % here (its worst point λ ≈ 10): bounds are those plus ~25 %.
   const double e22 = max_error([](double l, double c) { return hemispherical_tokuyoshi2022(l, c); });
   const double em = max_error([](double l, double c) { return hemispherical_meder(l, c); });

@@ -1,6 +1,6 @@
 // The exact references (core/include/sglab/reference.hpp) against closed forms, identities, an
-// independent formulation (SPEC.md §2's θ-integral with the I0 Bessel function), and their own
-// 50-digit evaluation. Issue 2 asks for ≤ 1e-12 relative in double over λ ∈ [0, 1e8], c ∈ [−1, 1].
+// independent formulation (docs/math.md §2's θ-integral with the I0 Bessel function), and their own
+// 50-digit evaluation. Required: ≤ 1e-12 relative in double over λ ∈ [0, 1e8], c ∈ [−1, 1].
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/special_functions/bessel.hpp>
 
@@ -13,11 +13,11 @@
 namespace sglab {
 namespace {
 
-constexpr double kRefTol = 1e-12;  // issue 2, item 3
+constexpr double kRefTol = 1e-12;  // the references' promised accuracy in double (README, Numerics)
 
 TEST(Reference, ClosedFormsAtPoles) {
   // c = 1 and c = −1: H is 2π(1 − e^{−λ})/λ and e^{−λ} times that; D is 2π·upper/lower of
-  // SPEC.md §3 (tokuyoshi2024's bounds, which are exact there). c = 0: by the mirror symmetry
+  // docs/math.md §3 (tokuyoshi2024's bounds, which are exact there). c = 0: by the mirror symmetry
   // about the horizon plane, H = A(λ)/2.
   for (double l : test::stiff_sharpnesses(4)) {
     SCOPED_TRACE(l);
@@ -59,7 +59,7 @@ TEST(Reference, ReflectionIdentities) {
   }
 }
 
-// SPEC.md §2's formulation, independent of ours: θ from n, θ0 = acos c,
+// docs/math.md §2's formulation, independent of ours: θ from n, θ0 = acos c,
 //   H = 2π ∫_0^{π/2} e^{λ(cos(θ − θ0) − 1)} Î0(λ sinθ sinθ0) sinθ dθ,  Î0(x) = e^{−x} I0(x),
 // with an extra cos θ for D, and a break point at θ0. Adaptive Gauss–Kronrod in double.
 double bessel_form(double l, double c, bool with_cosine) {

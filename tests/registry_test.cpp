@@ -1,4 +1,4 @@
-// The method registry (core/include/sglab/registry.hpp) and issue 2's stability criterion: no
+// The method registry (core/include/sglab/registry.hpp) and its stability requirement (docs/math.md §10): no
 // method returns NaN, Inf or a negative value in float or double over λ ∈ {0} ∪ [1e-8, 1e8],
 // c ∈ [−1, 1] (±1 exactly and a rounding step past them) — except where the published form
 // itself goes negative (`may_be_negative`, which must still be finite), and except points a
@@ -82,7 +82,7 @@ TEST(Registry, NamesAreUniqueAndReferencesExist) {
       EXPECT_NE(q.find(q.reference_method), nullptr) << q.name;
     }
   }
-  // Issue 2's list of quantities and methods.
+  // The quantities and methods the registry must provide.
   const std::map<std::string, std::vector<std::string>> required{
       {"sg-integral", {"exact", "approx"}},
       {"hemispherical", {"reference", "meder", "tokuyoshi2022", "vmf-tokuyoshi2024"}},

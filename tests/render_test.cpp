@@ -583,7 +583,7 @@ TEST(Pipeline, ImageErrorDefinitions) {
   EXPECT_DOUBLE_EQ(e.max_abs, 2);
 }
 
-// What a scene needs is built, and nothing else (issue 5, item 5).
+// What a scene needs is built, and nothing else.
 TEST(Pipeline, DiffuseOnlyBuildsNoSpecularVsgl) {
   RenderOptions o;
   o.rsm_resolution = 8;

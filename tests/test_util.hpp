@@ -38,7 +38,7 @@ inline std::mt19937_64 seeded_rng(std::uint64_t default_seed) {
 // log-spaced values from 10^lo to 10^hi, `per_decade` points per decade, ends included.
 inline std::vector<double> log_grid(double lo, double hi, int per_decade) { return stiff::log_grid(lo, hi, per_decade); }
 
-// The stiff sharpnesses of SPEC.md §10: 0 and 1e-8 … 1e8.
+// The stiff sharpnesses of docs/math.md §10: 0 and 1e-8 … 1e8.
 inline std::vector<double> stiff_sharpnesses(int per_decade = 2) { return stiff::sharpnesses(per_decade); }
 
 // Cosines including ±1 exactly, the float and double rounding steps inside and past ±1, 1 ± 1e-7,

@@ -460,7 +460,7 @@ TEST(VsglShading, ErrorFallsAsTheVsglCountGrows) {
   // own error). Glossy receivers: two > 16 and two > 64 only: from ≈ 16 clusters the error sits
   // at the floor of the receiver's ASG/SG approximation of GGX (≈ 0.06–0.11 here), where the
   // fluctuations between 16 and 64 clusters are of the same size as the differences.
-  // λ_d = the L2-optimal 2.292504 (not the seeds' default 2, whose poorer lobe fit raises the floor
+  // λ_d = the L2-optimal 2.292504 (not the papers' default 2, whose poorer lobe fit raises the floor
   // to ≈ 0.05 and hides the fall from 16 to 64 clusters).
   const ReflectiveShadowMap rsm = make_rsm({32, true, false, 21});
   const VplList vpls = prepare_vpls(rsm);

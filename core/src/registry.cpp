@@ -149,7 +149,7 @@ struct Standalone {
 };
 const std::vector<Standalone>& standalone_constants() {
   static const std::vector<Standalone> all{
-      {"render", {"lambda_d", "lambda-d", LambertSharpness::seed,
+      {"render", {"lambda_d", "lambda-d", LambertSharpness::papers,
                   "Tokuyoshi 2015 (two-VSGL poster) and 2016: λ_d ≈ 2, the diffuse VSGL's vMF sharpness "
                   "(the public VSGL code's 2.292504 is the L2 fit, `sglab fit lambda-d`)", ColumnKind::positive}},
       {"filter", {"lambda_c", "lambda-c", LobeAwareFiltering::lambda_c,

@@ -1,4 +1,4 @@
-// The core quantities of SPEC.md §1–3 and §6 and their methods.
+// The core quantities of docs/math.md §1–3 and §6 and their methods.
 #include <sstream>
 
 #include "sglab/clamped_cosine.hpp"
@@ -59,10 +59,10 @@ void register_core_quantities(std::vector<Quantity>& out) {
 
   // ---- sg-integral --------------------------------------------------------------------------
   {
-    Quantity q{"sg-integral", "A(λ) = ∫ G(ω; ξ, λ) dω over the sphere (SPEC.md §1)", {sharpness}, "exact", {}};
-    q.methods.push_back(make_method("exact", "2π(1 − e^{−2λ})/λ via expm1 (seeds `two-vsgls` §1, `modified-fis` §2)", "", false, nullptr,
+    Quantity q{"sg-integral", "A(λ) = ∫ G(ω; ξ, λ) dω over the sphere (docs/math.md §1)", {sharpness}, "exact", {}};
+    q.methods.push_back(make_method("exact", "2π(1 − e^{−2λ})/λ via expm1 (Tokuyoshi 2015 (two-VSGL poster) §1, Tokuyoshi 2016 §2)", "", false, nullptr,
                                [](auto a) { return sg_integral(a[0]); }));
-    q.methods.push_back(make_method("approx", "2π/λ (Iwasaki et al. 2012; seed `modified-fis` §4.2)",
+    q.methods.push_back(make_method("approx", "2π/λ (Iwasaki et al. 2012; Tokuyoshi 2016 §4.2)",
                                "overestimates by 1/(1 − e^{−2λ}); diverges as λ → 0", false,
                                sharpness_positive(0, "2π/λ diverges"),
                                [](auto a) { return sg_integral_approx(a[0]); }));
@@ -71,7 +71,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
 
   // ---- hemispherical ------------------------------------------------------------------------
   {
-    Quantity q{"hemispherical", "H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω (SPEC.md §2)", {sharpness, cosine}, "reference", {}};
+    Quantity q{"hemispherical", "H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω (docs/math.md §2)", {sharpness, cosine}, "reference", {}};
     q.methods.push_back(make_method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)", "", false, nullptr,
                                [](auto a) {
                                  using T = typename decltype(a)::value_type;
@@ -81,7 +81,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                meder_logistic_parameters(),
                                [](auto a) { return hemispherical_meder(a[0], a[1]); },
                                [](auto a, auto p) { return hemispherical_meder(a[0], a[1], p[0], p[1], p[2], p[3]); }));
-    q.methods.push_back(make_method_with_parameters("tokuyoshi2022", "Tokuyoshi 2022 (seed `accurate-diffuse-sg-lighting`), CDF of a Gaussian on a plane", "", false, nullptr,
+    q.methods.push_back(make_method_with_parameters("tokuyoshi2022", "Tokuyoshi 2022 (poster), CDF of a Gaussian on a plane", "", false, nullptr,
                                tokuyoshi2022_steepness_parameters(),
                                [](auto a) { return hemispherical_tokuyoshi2022(a[0], a[1]); },
                                [](auto a, auto p) { return hemispherical_tokuyoshi2022(a[0], a[1], p[0], p[1], p[2]); }));
@@ -95,21 +95,21 @@ void register_core_quantities(std::vector<Quantity>& out) {
 
   // ---- clamped-cosine -----------------------------------------------------------------------
   {
-    Quantity q{"clamped-cosine", "D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω, unit-amplitude SG (SPEC.md §3)", {sharpness, cosine}, "reference", {}};
+    Quantity q{"clamped-cosine", "D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω, unit-amplitude SG (docs/math.md §3)", {sharpness, cosine}, "reference", {}};
     q.methods.push_back(make_method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)", "", false, nullptr,
                                [](auto a) {
                                  using T = typename decltype(a)::value_type;
                                  return via_double_for_float<T>([](auto l, auto c) { return clamped_cosine_reference(l, c); }, a);
                                }));
-    q.methods.push_back(make_method("punctual", "A(λ)⟨c⟩: cosine pulled out of the integral (Wang et al. 2009; seed `modified-fis` §4.2)",
+    q.methods.push_back(make_method("punctual", "A(λ)⟨c⟩: cosine pulled out of the integral (Wang et al. 2009; Tokuyoshi 2016 §4.2)",
                                "zero for every c ≤ 0 (no light past the horizon); large error for broad lobes", false, nullptr,
                                [](auto a) { return clamped_cosine_punctual(a[0], a[1]); }));
-    q.methods.push_back(make_method("punctual-approx", "(2π/λ)⟨c⟩ (seed `modified-fis` §4.2, A(λ) ≈ 2π/λ)",
+    q.methods.push_back(make_method("punctual-approx", "(2π/λ)⟨c⟩ (Tokuyoshi 2016 §4.2, A(λ) ≈ 2π/λ)",
                                "as `punctual`, and diverges as λ → 0", false,
                                sharpness_positive(0, "the 2π/λ factor diverges"),
                                [](auto a) { return clamped_cosine_punctual_approx(a[0], a[1]); }));
-    q.methods.push_back(make_method_with_parameters("sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (seed `two-vsgls` §3.2)",
-                               "light leaks past the horizon; the Iwasaki product is poor for broad lobes; exact A(λ_d) used (the seed takes A(λ_d) ≈ π)", false, nullptr,
+    q.methods.push_back(make_method_with_parameters("sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2)",
+                               "light leaks past the horizon; the Iwasaki product is poor for broad lobes; exact A(λ_d) used (the paper takes A(λ_d) ≈ π)", false, nullptr,
                                {{"lambda_d", "lambda-d", SgCosine::lambda_d, "Tokuyoshi's VSGL papers: λ_d ≈ 2 by least squares (objective not stated)", ColumnKind::positive}},
                                [](auto a) { return clamped_cosine_sg_cosine(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_sg_cosine(a[0], a[1], p[0]); }));
@@ -125,7 +125,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                {{"c0", "hill-irradiance", HillIrradiance::c0, "Pettineo 2016, SG series part 3 (Hill's fit)", ColumnKind::positive}},
                                [](auto a) { return clamped_cosine_hill_fitted(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_hill_fitted(a[0], a[1], p[0]); }));
-    q.methods.push_back(make_method_with_parameters("meder", "cosine ≈ 32.7080 G(ω; n, 0.0315) − 31.7003, Meder hemispherical integrals (Meder & Brüderlin 2018; PhySG; seed `blog`)",
+    q.methods.push_back(make_method_with_parameters("meder", "cosine ≈ 32.7080 G(ω; n, 0.0315) − 31.7003, Meder hemispherical integrals (Meder & Brüderlin 2018; PhySG, Zhang et al. 2021)",
                                "PUBLISHED FORM GOES NEGATIVE (difference of two large terms); kept as published. Loses ~5 bits to cancellation", true, nullptr,
                                concat({{"amplitude", "cosine-sg", MederCosineSg::amplitude, "Meder & Brüderlin 2018 (PhySG)", ColumnKind::positive},
                                        {"sharpness", "cosine-sg", MederCosineSg::sharpness, "Meder & Brüderlin 2018 (PhySG)", ColumnKind::positive},
@@ -133,7 +133,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                       meder_logistic_parameters()),
                                [](auto a) { return clamped_cosine_meder(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_meder(a[0], a[1], p[0], p[1], p[2], p[3], p[4], p[5], p[6]); }));
-    q.methods.push_back(make_method_with_parameters("tokuyoshi2022", "cosine ≈ α(e^{λc}G(ω; n, λc) − 1), λc = 0.00084560872241480124, 2022 hemispherical integrals (seed `accurate-diffuse-sg-lighting`)",
+    q.methods.push_back(make_method_with_parameters("tokuyoshi2022", "cosine ≈ α(e^{λc}G(ω; n, λc) − 1), λc = 0.00084560872241480124, 2022 hemispherical integrals (Tokuyoshi 2022 (poster))",
                                "cancellation between the two terms (×2364 amplification): ~1% in float, by design of λc; clamped at 0", false, nullptr,
                                concat({{"lambda", "cosine-sharpness", Tokuyoshi2022Cosine::lambda, "Tokuyoshi 2022 (λc; α = α(λc) is derived from it)", ColumnKind::positive}},
                                       tokuyoshi2022_steepness_parameters()),
@@ -177,13 +177,13 @@ void register_core_quantities(std::vector<Quantity>& out) {
 
   // ---- product-integral ---------------------------------------------------------------------
   {
-    Quantity q{"product-integral", "∫ G(ω; ξ1, λ1) G(ω; ξ2, λ2) dω, cosine = ξ1·ξ2 (SPEC.md §1)",
+    Quantity q{"product-integral", "∫ G(ω; ξ1, λ1) G(ω; ξ2, λ2) dω, cosine = ξ1·ξ2 (docs/math.md §1)",
                {{"sharpness1", ColumnKind::sharpness, "λ1 ≥ 0"}, {"sharpness2", ColumnKind::sharpness, "λ2 ≥ 0"},
                 {"cosine", ColumnKind::cosine, "ξ1·ξ2"}},
                "exact", {}};
     q.methods.push_back(make_method("exact", "e^{L}·A(λ3) = 4π sinh(λ3)/(λ3 e^{λ1+λ2}) (Tsai & Shih 2006), no overflow", "", false, nullptr,
                                [](auto a) { return product_integral_exact(a[0], a[1], a[2]); }));
-    q.methods.push_back(make_method("iwasaki", "2π G(ξ1; ξ2, λ1λ2/(λ1+λ2))/(λ1+λ2) (Iwasaki et al. 2012; seed `lobe-aware-filtering` Eq. C.1)",
+    q.methods.push_back(make_method("iwasaki", "2π G(ξ1; ξ2, λ1λ2/(λ1+λ2))/(λ1+λ2) (Iwasaki et al. 2012; Tokuyoshi 2015 (lobe-aware filtering) Eq. C.1)",
                                "accurate only when λ1 or λ2 is large; diverges as λ1 + λ2 → 0", false,
                                [](std::span<const double> a) -> std::optional<std::string> {
                                  if (a[0] + a[1] > 0) return std::nullopt;
@@ -195,9 +195,9 @@ void register_core_quantities(std::vector<Quantity>& out) {
 
   // ---- vMF filtering ------------------------------------------------------------------------
   {
-    Quantity q{"vmf-sharpness", "vMF sharpness from the mean resultant length r (SPEC.md §6)",
+    Quantity q{"vmf-sharpness", "vMF sharpness from the mean resultant length r (docs/math.md §6)",
                {{"mean_length", ColumnKind::mean_length, "r = ‖mean of the lobes' average directions‖ ∈ [0, 1]"}}, "", {}};
-    q.methods.push_back(make_method("toksvig", "r/(1 − r) (Toksvig 2005; seeds `two-vsgls` §2.1, `modified-fis` §3.1)",
+    q.methods.push_back(make_method("toksvig", "r/(1 − r) (Toksvig 2005; Tokuyoshi 2015 (two-VSGL poster) §2.1, Tokuyoshi 2016 §3.1)",
                                "clamped to 1e8 as r → 1", false, nullptr,
                                [](auto a) { return vmf_sharpness_toksvig(a[0]); }));
     q.methods.push_back(make_method("banerjee", "r(3 − r²)/(1 − r²) (Banerjee et al. 2005)", "clamped to 1e8 as r → 1", false, nullptr,

@@ -1,4 +1,4 @@
-// The glossy quantities of SPEC.md §4–5 (issue 4): ASG integrals, the ASG × SG product integral,
+// The glossy quantities of docs/math.md §4–5: ASG integrals, the ASG × SG product integral,
 // and specular reflection of an SG light off GGX.
 #include <cmath>
 
@@ -84,7 +84,7 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
 
   // ---- asg-integral ---------------------------------------------------------------------------
   {
-    Quantity q{"asg-integral", "∫ Ĝ(ω; ξx, ξy, ξz, ηx, ηy) dω (SPEC.md §4)", {eta_x, eta_y}, "exact", {}};
+    Quantity q{"asg-integral", "∫ Ĝ(ω; ξx, ξy, ξz, ηx, ηy) dω (docs/math.md §4)", {eta_x, eta_y}, "exact", {}};
     q.methods.push_back(method("exact", "π∫_0^1 e^{−ηmin u} e^{−tu/2}I0(tu/2) du, t = |ηx − ηy| (derived in asg.hpp), tanh-sinh",
                                "float evaluates in double and rounds", nullptr,
                                [](auto a) { return asg_integral_exact(a[0], a[1]); }));
@@ -92,16 +92,16 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
                                "overestimates by the tail beyond the disc (≈ π e^{−(ηx+ηy)/2} I0(|ηx−ηy|/2)/ηmin); diverges as ηx or ηy → 0",
                                all_positive({0, 1}, "π/√(ηxηy) diverges"),
                                [](auto a) { return asg_integral_approx(a[0], a[1]); }));
-    q.methods.push_back(method("seed", "B(λx, λy) as printed in seed `lobe-aware-filtering` App. C, F(t) = 2π e^{−t/2}I0(t/2) exact",
+    q.methods.push_back(method("as-printed", "B(λx, λy) as printed in Tokuyoshi 2015 (lobe-aware filtering) App. C, F(t) = 2π e^{−t/2}I0(t/2) exact",
                                "undefined at ηmin = 0 (t/λy); see tests/asg_test.cpp for its measured error", all_positive({0, 1}, "B divides by λy"),
-                               [](auto a) { return asg_integral_seed(a[0], a[1]); }));
+                               [](auto a) { return asg_integral_as_printed(a[0], a[1]); }));
     out.push_back(std::move(q));
   }
 
   // ---- asg-sg-product-integral ------------------------------------------------------------------
   {
     Quantity q{"asg-sg-product-integral",
-               "∫ Ĝ(ω; x, y, z, ηx, ηy) G(ω; ξ, λ) dω, ASG in the standard frame, ξ = (s cos φ, s sin φ, cosine) (SPEC.md §4)",
+               "∫ Ĝ(ω; x, y, z, ηx, ηy) G(ω; ξ, λ) dω, ASG in the standard frame, ξ = (s cos φ, s sin φ, cosine) (docs/math.md §4)",
                {eta_x, eta_y, {"sharpness", ColumnKind::sharpness, "SG sharpness λ ≥ 0"},
                 {"cosine", ColumnKind::cosine, "ξ·ξz, cosine between the SG axis and the ASG axis"},
                 {"azimuth", ColumnKind::angle, "azimuth of ξ about ξz, from ξx (radians)"}},
@@ -110,7 +110,7 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
         "exact", "2D adaptive Gauss–Kronrod about the SG axis and the ASG axis (glossy_reference.hpp integrate_sphere)",
         "double quadrature (≤ 1e-6 relative); float rounds and mp50 converts the double result",
         [](std::span<const double> a) { return asg_sg_product_quadrature(a[0], a[1], a[2], a[3], a[4]); }));
-    q.methods.push_back(method("two-vsgls", "π Ĝ(ξ; ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ/2 (seed `two-vsgls` §3.2; Xu et al. 2013)",
+    q.methods.push_back(method("two-vsgls", "π Ĝ(ξ; ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ/2 (Tokuyoshi 2015 (two-VSGL poster) §3.2; Xu et al. 2013)",
                                "0 whenever ξ·ξz ≤ 0 (the ASG is evaluated at the SG axis); poor for broad lobes (plane approximation)",
                                [](std::span<const double> a) -> std::optional<std::string> {
                                  if ((a[0] + a[2] / 2) > 0 && (a[1] + a[2] / 2) > 0) return std::nullopt;
@@ -120,7 +120,7 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
                                  using T = typename decltype(a)::value_type;
                                  return asg_sg_product_two_vsgls(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4]), T(a[2]));
                                }));
-    q.methods.push_back(method("lobe-aware", "2π Ĝ(ξ; λxλy/(2λx+λy), λxλy/(2λy+λx))/√((2λx+λy)(2λy+λx)) AS PRINTED in seed `lobe-aware-filtering` App. C",
+    q.methods.push_back(method("lobe-aware", "2π Ĝ(ξ; λxλy/(2λx+λy), λxλy/(2λy+λx))/√((2λx+λy)(2λy+λx)) AS PRINTED in Tokuyoshi 2015 (lobe-aware filtering) App. C",
                                "AS PRINTED IT DOES NOT DEPEND ON THE SG SHARPNESS λ (evidently a typo: with λ in place of the second bandwidth of each pair it equals `two-vsgls` exactly); 0 whenever ξ·ξz ≤ 0",
                                all_positive({0, 1}, "the printed form is 0/0 at ηx = ηy = 0"),
                                [](auto a) { return asg_sg_product_lobe_aware_printed(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4])); }));
@@ -131,7 +131,7 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
   {
     Quantity q{"specular",
                "L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω, unit-amplitude SG light, GGX + height-correlated Smith + Schlick; "
-               "n = (0,0,1), ωo = (√(1−v²), 0, v), ξ = (s cos φ, s sin φ, light_cos) (issue 4)",
+               "n = (0,0,1), ωo = (√(1−v²), 0, v), ξ = (s cos φ, s sin φ, light_cos)",
                {{"roughness", ColumnKind::positive, "GGX α > 0"},
                 {"light_sharpness", ColumnKind::sharpness, "SG light sharpness λ ≥ 0"},
                 {"light_cos", ColumnKind::cosine, "cosine between the light axis and the normal"},
@@ -149,19 +149,19 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
       return "roughness below " + std::to_string(kMinReferenceRoughness).substr(0, 5) +
              ": the quadrature's cost grows without bound as α → 0 (the renderer's minimum α is the same)";
     };
-    q.methods.push_back(method("sg-warp", "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; seeds `two-vsgls` §1.1, `lobe-aware-filtering` App. B) × SG light, exact product integral (Tsai & Shih 2006), M at the lobe axis ξ_s (Wang et al. 2009)",
+    q.methods.push_back(method("sg-warp", "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; Tokuyoshi 2015 (two-VSGL poster) §1.1, Tokuyoshi 2015 (lobe-aware filtering) App. B) × SG light, exact product integral (Tsai & Shih 2006), M at the lobe axis ξ_s (Wang et al. 2009)",
                                "isotropic lobe about the mirror direction: wrong shape and position at grazing view and for rough surfaces; energy not normalized", nullptr,
                                [](auto a) { return specular_sg_warp(specular_input(a)); }));
     q.methods.push_back(method("sg-warp-product-axis", "as sg-warp with M at the product lobe's axis ξ_m = (λξ + λ_sξ_s)/‖…‖ instead of ξ_s (a variant, not Wang et al. 2009)",
                                "as sg-warp; a false 0 where ξ_m is at or below the horizon though the light still reaches the surface", nullptr,
                                [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::exact, false, FactorAt::product_axis); }));
-    q.methods.push_back(method("sg-warp-iwasaki", "as sg-warp with the Iwasaki et al. 2012 product integral (seed `lobe-aware-filtering` Eq. C.1)",
+    q.methods.push_back(method("sg-warp-iwasaki", "as sg-warp with the Iwasaki et al. 2012 product integral (Tokuyoshi 2015 (lobe-aware filtering) Eq. C.1)",
                                "as sg-warp; the Iwasaki product overestimates broad lobes (2π/(λ1+λ2) > 4π at small λ)", nullptr,
                                [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::iwasaki); }));
     q.methods.push_back(method("sg-warp-th2019", "as sg-warp with λ_h = 2/α² − 2 (Tokuyoshi & Harada 2019)",
                                "as sg-warp; λ_h = 0 at α = 1 (a constant lobe)", nullptr,
                                [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::exact, true); }));
-    q.methods.push_back(method("asg", "ASG lobe (Xu et al. 2013 warp, ηx = λ_h/8, ηy = λ_h/(8 v²)) × SG light, product integral of seed `two-vsgls` §3.2 (ν = λ/2), M at ξ_m",
+    q.methods.push_back(method("asg", "ASG lobe (Xu et al. 2013 warp, ηx = λ_h/8, ηy = λ_h/(8 v²)) × SG light, product integral of Tokuyoshi 2015 (two-VSGL poster) §3.2 (ν = λ/2), M at ξ_m",
                                "0 when the light axis is ≥ 90° from the mirror direction; the plane approximation of the product overestimates broad lobes; energy not normalized", nullptr,
                                [](auto a) { return specular_asg(specular_input(a)); }));
     q.methods.push_back(method("sg-warp-dvn", "refinement: vMF about the GGX dominant-visible-normal reflection (Tokuyoshi et al. 2024, λ_h = 2/α² − 2) as the VNDF reflection pdf, times F·G2/G1(ωo) at the product axis, exact product",

@@ -1,10 +1,10 @@
-// Anisotropic spherical Gaussians (ASG, Xu et al. 2013; SPEC.md §4):
+// Anisotropic spherical Gaussians (ASG, Xu et al. 2013; docs/math.md §4):
 //
 //   Ĝ(ω; ξx, ξy, ξz, ηx, ηy) = ⟨ω·ξz⟩ exp(−ηx(ω·ξx)² − ηy(ω·ξy)²),
 //
 // its integral (exact, and the published approximations), the ASG × SG product integral in the
 // two published forms, and the ASG × ASG product through the algebraic form
-// Ĝ(ω, A) = ⟨ω·ξz⟩ exp(−ωᵀAω) (seed `lobe-aware-filtering`, App. C).
+// Ĝ(ω, A) = ⟨ω·ξz⟩ exp(−ωᵀAω) (Tokuyoshi 2015 (lobe-aware filtering), App. C).
 //
 // Exact integral (derived here, checked against 2D quadrature in tests/asg_test.cpp).
 // On the upper hemisphere of ξz write ω = (x, y, z) in the frame (ξx, ξy, ξz). Projecting onto
@@ -95,7 +95,7 @@ T bessel_i0_scaled(const T& x_in) {
   }
 }
 
-// F(t) = ∫_0^{2π} exp(−t cos²φ) dφ = 2π e^{−t/2} I0(t/2), t ≥ 0 (seed `lobe-aware-filtering`
+// F(t) = ∫_0^{2π} exp(−t cos²φ) dφ = 2π e^{−t/2} I0(t/2), t ≥ 0 (Tokuyoshi 2015 (lobe-aware filtering)
 // App. C; closed form: G&R 3.339). In (0, 2π], no overflow.
 template <class T>
 T asg_F(const T& t) {
@@ -109,7 +109,7 @@ struct Asg {
   T eta_x, eta_y;   // bandwidths ≥ 0
 };
 
-// Ĝ(ω) (Xu et al. 2013, Eq. 4; seed `two-vsgls` §3.2). The exponent is ≤ 0: never overflows.
+// Ĝ(ω) (Xu et al. 2013, Eq. 4; Tokuyoshi 2015 (two-VSGL poster) §3.2). The exponent is ≤ 0: never overflows.
 template <class T>
 T asg_eval(const Vec3<T>& omega, const Asg<T>& g) {
   using std::exp;
@@ -171,7 +171,7 @@ T asg_integral_exact(const T& eta_x, const T& eta_y) {
   }
 }
 
-// π/√(ηxηy): the Gaussian integrated over the whole tangent plane (Xu et al. 2013; SPEC.md §4:
+// π/√(ηxηy): the Gaussian integrated over the whole tangent plane (Xu et al. 2013; docs/math.md §4:
 // "simple approximation for sharp lobes"). Diverges as ηx or ηy → 0 (as published). The roots
 // are taken separately so that ηxηy cannot overflow in float.
 template <class T>
@@ -180,11 +180,11 @@ T asg_integral_approx(const T& eta_x, const T& eta_y) {
   return pi<T>() / (sqrt(eta_x) * sqrt(eta_y));
 }
 
-// B(λx, λy) of seed `lobe-aware-filtering` App. C, as printed (λx ≥ λy, t = λx − λy):
+// B(λx, λy) of Tokuyoshi 2015 (lobe-aware filtering) App. C, as printed (λx ≥ λy, t = λx − λy):
 //   B = π/√(λxλy) − e^{−λy}/(2λx) · (F(t) − (t/λy) F(t + t/λy)).
 // The arguments are sorted so that λx ≥ λy. Undefined at λy = 0 (t/λy), as published.
 template <class T>
-T asg_integral_seed(const T& eta_x, const T& eta_y) {
+T asg_integral_as_printed(const T& eta_x, const T& eta_y) {
   using std::exp;
   const bool swap = value_of(eta_y) > value_of(eta_x);
   const T& lx = swap ? eta_y : eta_x;
@@ -207,7 +207,7 @@ T reduced_bandwidth(const T& a, const T& b) {
   return lo / (T(1) + lo / hi);
 }
 
-// Seed `two-vsgls` §3.2 (Xu et al. 2013, Eq. 11, with the SG written as exp(2ν(ω·ξ − 1)), i.e.
+// Tokuyoshi 2015 (two-VSGL poster) §3.2 (Xu et al. 2013, Eq. 11, with the SG written as exp(2ν(ω·ξ − 1)), i.e.
 // ν = λ/2 for G(ω; ξ, λ)):
 //   ∫ Ĝ(ω) G(ω; ξ, λ) dω ≈ π Ĝ(ξ; …, ηxν/(ηx+ν), ηyν/(ηy+ν)) / √((ηx+ν)(ηy+ν)).
 // The ASG is evaluated at the SG axis, so the result is 0 when ξ·ξz ≤ 0 (a known flaw).
@@ -220,7 +220,7 @@ T asg_sg_product_two_vsgls(const Asg<T>& g, const Vec3<T>& sg_axis, const T& sha
   return pi<T>() * asg_eval(sg_axis, reduced) / (sqrt(ax) * sqrt(ay));
 }
 
-// Seed `lobe-aware-filtering` App. C, AS PRINTED:
+// Tokuyoshi 2015 (lobe-aware filtering) App. C, AS PRINTED:
 //   ∫ Ĝ G dω ≈ 2π Ĝ(ξ; …, λxλy/(2λx + λy), λxλy/(2λy + λx)) / √((2λx + λy)(2λy + λx)).
 // As printed the right-hand side does not depend on the SG sharpness λ at all (the SG only
 // enters through the evaluation point ξ). Reading the second λx/λy of each pair as the SG's λ —
@@ -256,17 +256,17 @@ template <class T>
 using Mat3 = Eigen::Matrix<T, 3, 3>;
 
 // A = ηx ξxξxᵀ + ηy ξyξyᵀ, so that ωᵀAω = ηx(ω·ξx)² + ηy(ω·ξy)²; ξz is the eigenvector of the
-// smallest eigenvalue (0) (seed `lobe-aware-filtering` App. C).
+// smallest eigenvalue (0) (Tokuyoshi 2015 (lobe-aware filtering) App. C).
 template <class T>
 Mat3<T> asg_matrix(const Asg<T>& g) {
   return g.eta_x * g.x * g.x.transpose() + g.eta_y * g.y * g.y.transpose();
 }
 
 // ∫ Ĝ(ω, A1) Ĝ(ω, A2) dω ≈ C(ξz3, ξz1, ξz2) exp(−λ'z) B(λ'x − λ'z, λ'y − λ'z) with A3 = A1 + A2,
-// λ'x ≥ λ'y ≥ λ'z its eigenvalues, ξz3 the eigenvector of λ'z, C = ⟨ξz3·ξz1⟩⟨ξz3·ξz2⟩ (seed
-// `lobe-aware-filtering` App. C). The eigenvector's sign is free; it is chosen to face
-// ξz1 + ξz2 (the hemisphere both lobes live in). `integral` chooses B: the seed's
-// asg_integral_seed by default; any (ηx, ηy) → ∫ callable (e.g. asg_integral_exact) may be used.
+// λ'x ≥ λ'y ≥ λ'z its eigenvalues, ξz3 the eigenvector of λ'z, C = ⟨ξz3·ξz1⟩⟨ξz3·ξz2⟩ (
+// Tokuyoshi 2015 (lobe-aware filtering) App. C). The eigenvector's sign is free; it is chosen to face
+// ξz1 + ξz2 (the hemisphere both lobes live in). `integral` chooses B: the paper's
+// asg_integral_as_printed by default; any (ηx, ηy) → ∫ callable (e.g. asg_integral_exact) may be used.
 // Eigen::SelfAdjointEigenSolver returns the eigenvalues in increasing order.
 template <class T, class Integral>
 T asg_asg_product_integral(const Asg<T>& g1, const Asg<T>& g2, const Integral& integral) {
@@ -286,7 +286,7 @@ T asg_asg_product_integral(const Asg<T>& g1, const Asg<T>& g2, const Integral& i
 
 template <class T>
 T asg_asg_product_integral(const Asg<T>& g1, const Asg<T>& g2) {
-  return asg_asg_product_integral(g1, g2, [](const T& x, const T& y) { return asg_integral_seed(x, y); });
+  return asg_asg_product_integral(g1, g2, [](const T& x, const T& y) { return asg_integral_as_printed(x, y); });
 }
 
 }  // namespace sglab

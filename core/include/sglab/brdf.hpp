@@ -1,4 +1,4 @@
-// BRDF lobes as SGs and ASGs (SPEC.md §5), and the ground-truth GGX BRDF the glossy reference
+// BRDF lobes as SGs and ASGs (docs/math.md §5), and the ground-truth GGX BRDF the glossy reference
 // integrates.
 //
 // Everything here works in the tangent frame of the shading point: n = (0, 0, 1). Directions
@@ -20,14 +20,14 @@ struct SgLobe {
 };
 
 // ---- Lambert ---------------------------------------------------------------------------------
-// ⟨ω·n⟩/π ≈ G(ω; n, λ_d)/A(λ_d) (seeds `two-vsgls` Eq. 1, `modified-fis` Eq. 1).
+// ⟨ω·n⟩/π ≈ G(ω; n, λ_d)/A(λ_d) (Tokuyoshi 2015 (two-VSGL poster) Eq. 1, Tokuyoshi 2016 Eq. 1).
 struct LambertSharpness {
-  static constexpr double seed = 2.0;           // "λ_d ≈ 2 … least square method" (seeds)
-  static constexpr double vsgl_code = 2.292504;  // public VSGL implementation (SPEC.md §5)
+  static constexpr double papers = 2.0;         // "λ_d ≈ 2 … least square method" (Tokuyoshi 2015 poster and 2016)
+  static constexpr double vsgl_code = 2.292504;  // public VSGL implementation (docs/math.md §5)
 };
 
 template <class T>
-SgLobe<T> lambert_sg(const T& lambda_d = T(LambertSharpness::seed)) {
+SgLobe<T> lambert_sg(const T& lambda_d = T(LambertSharpness::papers)) {
   return {Vec3<T>(T(0), T(0), T(1)), lambda_d, T(T(1) / sg_integral(lambda_d))};
 }
 
@@ -61,7 +61,7 @@ T beckmann_ndf(const T& alpha, const T& cos_h) {
   return exp(-sin2_from_cos(cos_h) / (c2 * a2)) / (pi<T>() * a2 * c2 * c2);
 }
 
-// Normalized Blinn–Phong NDF (seed `lobe-aware-filtering` App. B): D = (n + 1)/(2π) (n·h)^n.
+// Normalized Blinn–Phong NDF (Tokuyoshi 2015 (lobe-aware filtering) App. B): D = (n + 1)/(2π) (n·h)^n.
 template <class T>
 T phong_ndf(const T& exponent, const T& cos_h) {
   using std::pow;
@@ -69,7 +69,7 @@ T phong_ndf(const T& exponent, const T& cos_h) {
   return (exponent + T(1)) / two_pi<T>() * pow(cos_h, exponent);
 }
 
-// NDF sharpness λ_h = 2/α² for Beckmann and GGX (seeds `two-vsgls` §1.1, `modified-fis` §2.1;
+// NDF sharpness λ_h = 2/α² for Beckmann and GGX (Tokuyoshi 2015 (two-VSGL poster) §1.1, Tokuyoshi 2016 §2.1;
 // Wang et al. 2009). It is the Beckmann exponent −tan²θ/α² ≈ −θ²/α² = −(λ_h/2)θ² matched to
 // the SG's exp(λ(cos θ − 1)) ≈ exp(−λθ²/2) near the peak.
 template <class T>
@@ -86,7 +86,7 @@ T ndf_sharpness_tokuyoshi_harada(const T& alpha) {
 }
 
 // GGX or Beckmann NDF as an SG about n: D(h) ≈ D(n)·G(h; n, λ_h), D(n) = 1/(πα²) (both NDFs
-// peak at 1/(πα²)). The seeds drop the normalization; seed `lobe-aware-filtering` App. B keeps
+// peak at 1/(πα²)). The papers drop the normalization; Tokuyoshi 2015 (lobe-aware filtering) App. B keeps
 // it as μ'.
 template <class T>
 SgLobe<T> microfacet_ndf_sg(const T& alpha, const T& lambda_h) {
@@ -100,7 +100,7 @@ template <class T>
 SgLobe<T> beckmann_ndf_sg(const T& alpha) {
   return microfacet_ndf_sg(alpha, ndf_sharpness_wang(alpha));
 }
-// Phong: λ' = n, μ' = (n + 1)/(2π) (seed `lobe-aware-filtering` App. B).
+// Phong: λ' = n, μ' = (n + 1)/(2π) (Tokuyoshi 2015 (lobe-aware filtering) App. B).
 template <class T>
 SgLobe<T> phong_ndf_sg(const T& exponent) {
   return {Vec3<T>(T(0), T(0), T(1)), exponent, T((exponent + T(1)) / two_pi<T>())};
@@ -206,7 +206,7 @@ inline constexpr double kMinWarpCosine = 1e-8;
 // by O(λ/λ_s) ≤ 1e-7 even at light sharpness 1e8.
 inline constexpr double kMinRoughness = 1e-8;
 
-// Spherical warp (Wang et al. 2009; seeds `two-vsgls` §1.1, `lobe-aware-filtering` App. B): the
+// Spherical warp (Wang et al. 2009; Tokuyoshi 2015 (two-VSGL poster) §1.1, Tokuyoshi 2015 (lobe-aware filtering) App. B): the
 // NDF lobe G(h; n, λ_h) becomes G(ω; ξ_s, λ_s), ξ_s = reflection of ωo about n,
 // λ_s = λ_h/(4|ξ_s·n|) (the Jacobian dω/dh = 4(ωo·h) at h = n, ξ_s·n = ωo·n). Amplitude kept.
 template <class T>
@@ -248,7 +248,7 @@ SgLobe<T> dvn_reflection_lobe(const T& alpha, const Vec3<T>& wo) {
   return {reflect_about(wo, m), T(ndf_sharpness_tokuyoshi_harada(alpha) * jac), T(1)};
 }
 
-// ASG warp of the NDF lobe G(h; n, λ_h) at the shading point (Xu et al. 2013 §6; seed `two-vsgls`
+// ASG warp of the NDF lobe G(h; n, λ_h) at the shading point (Xu et al. 2013 §6; Tokuyoshi 2015 (two-VSGL poster)
 // §3.2 "a specular lobe can be anisotropic … especially for shallow grazing angles").
 // Derivation (first order at h = n): tilting h by δ within the plane of incidence turns
 // ω = 2(ωo·h)h − ωo by 2δ; tilting it by δ perpendicular to that plane moves ω by 2(ωo·n)δ.
@@ -279,9 +279,9 @@ Asg<T> asg_warp(const T& lambda_h, const Vec3<T>& wo) {
   return g;
 }
 
-// M(ω) = F · G2/(4 cos θo), the BRDF·cosine without its NDF (seed `two-vsgls` §1.1:
+// M(ω) = F · G2/(4 cos θo), the BRDF·cosine without its NDF (Tokuyoshi 2015 (two-VSGL poster) §1.1:
 // ρ⟨ω·n⟩ = M(ω)D(ω_h)), written F·V·⟨ω·n⟩ (V as above) so that it is finite at grazing view.
-// Evaluated by the methods at the product lobe's axis ξ_m (seed `two-vsgls` §3.2).
+// Evaluated by the methods at the product lobe's axis ξ_m (Tokuyoshi 2015 (two-VSGL poster) §3.2).
 template <class T>
 T brdf_factor_m(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& w) {
   const T ci = w(2);

@@ -1,4 +1,4 @@
-// Diffuse lighting from an SG light: D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω, c = ξ·n (SPEC.md §3).
+// Diffuse lighting from an SG light: D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω, c = ξ·n (docs/math.md §3).
 // Every method returns D for a unit-amplitude SG; radiance is amplitude·albedo/π·D.
 // The exact reference is clamped_cosine_reference() in reference.hpp.
 #pragma once
@@ -11,25 +11,25 @@
 namespace sglab {
 
 // ---- punctual: the cosine pulled out of the integral ----------------------------------------
-// A(λ)·⟨c⟩ (Wang et al. 2009; seed `modified-fis` §4.2).
+// A(λ)·⟨c⟩ (Wang et al. 2009; Tokuyoshi 2016 §4.2).
 template <class T>
 T clamped_cosine_punctual(const T& sharpness, const T& cosine) {
   return sg_integral(sharpness) * positive_part(clamp_cosine(cosine));
 }
 
-// (2π/λ)⟨c⟩: the same with A(λ) ≈ 2π/λ (seed `modified-fis` §4.2). Diverges at λ = 0.
+// (2π/λ)⟨c⟩: the same with A(λ) ≈ 2π/λ (Tokuyoshi 2016 §4.2). Diverges at λ = 0.
 template <class T>
 T clamped_cosine_punctual_approx(const T& sharpness, const T& cosine) {
   return sg_integral_approx(sharpness) * positive_part(clamp_cosine(cosine));
 }
 
-// ---- sg-cosine: the cosine as a normalized SG, Iwasaki product (seed `two-vsgls` §3.2) ------
+// ---- sg-cosine: the cosine as a normalized SG, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2) ------
 // ⟨ω·n⟩ ≈ π G(ω; n, λ_d)/A(λ_d), so D ≈ π/A(λ_d) · 2π G(ξ; n, λλ_d/(λ+λ_d))/(λ + λ_d).
-// λ_d ≈ 2: "obtained by using the least square method" (seeds `two-vsgls` §1.1, `modified-fis`
-// §2.1). The seed further takes A(λ_d) ≈ π; this uses the exact A(λ_d) (A(2) = 0.98168·π).
+// λ_d ≈ 2: "obtained by using the least square method" (Tokuyoshi 2015 (two-VSGL poster) §1.1, Tokuyoshi 2016
+// §2.1). The paper further takes A(λ_d) ≈ π; this uses the exact A(λ_d) (A(2) = 0.98168·π).
 struct SgCosine {
-  // λ_d ≈ 2 of Tokuyoshi's VSGL papers (LambertSharpness::seed, defined in brdf.hpp).
-  static constexpr double lambda_d = LambertSharpness::seed;
+  // λ_d ≈ 2 of Tokuyoshi's VSGL papers (LambertSharpness::papers, defined in brdf.hpp).
+  static constexpr double lambda_d = LambertSharpness::papers;
 };
 
 template <class T>
@@ -57,8 +57,8 @@ T clamped_cosine_cosine_lobe_sg(const T& sharpness, const T& cosine,
 // ---- hill-fitted: Pettineo & Hill 2016 fitted irradiance ------------------------------------
 // Pettineo 2016, SG series part 3, "SGIrradianceFitted" (fit by Stephen Hill). c0 = 0.36 as
 // published; re-derived by `sglab fit hill-irradiance`.
-// Known flaw, kept as published: negative for λ ≲ 1 (the "black splotches" of seed
-// `accurate-diffuse-sg-lighting`), and undefined (1/λ) at λ = 0.
+// Known flaw, kept as published: negative for λ ≲ 1 (the "black splotches" of
+// Tokuyoshi 2022 (poster)), and undefined (1/λ) at λ = 0.
 // One rounding fix: x = √(1 − scale) is computed as √(1/λ − 2e^{−2λ}) (the same value), because
 // 1 − scale cancels to 0 in float for λ ≳ 1e7 and the published form then divides 0 by 0 at c = 0.
 struct HillIrradiance {
@@ -89,14 +89,14 @@ T clamped_cosine_hill_fitted(const T& sharpness, const T& cosine,
 }
 
 // ---- meder: ⟨ω·n⟩ ≈ a·G(ω; n, λ_m) − b, each term through the Meder hemispherical integral ----
-// Meder & Brüderlin 2018; used by PhySG and seed `blog` ("i.n = G(i; n, 0.0315, 32.7080) −
+// Meder & Brüderlin 2018; used by PhySG (Zhang et al. 2021) ("i.n = G(i; n, 0.0315, 32.7080) −
 // 31.7003"). Re-derived by `sglab fit cosine-sg`.
 // Known flaw, kept as published: the difference of the two terms can go negative (at grazing
 // and back-facing c for sharp lights, where the linear fit of the cosine undershoots 0).
 struct MederCosineSg {
-  static constexpr double amplitude = 32.7080;  // Meder & Brüderlin 2018, seed `blog`
-  static constexpr double sharpness = 0.0315;   // Meder & Brüderlin 2018, seed `blog`
-  static constexpr double offset = 31.7003;     // Meder & Brüderlin 2018, seed `blog`
+  static constexpr double amplitude = 32.7080;  // Meder & Brüderlin 2018
+  static constexpr double sharpness = 0.0315;   // Meder & Brüderlin 2018
+  static constexpr double offset = 31.7003;     // Meder & Brüderlin 2018
 };
 
 // ∫_{ω·n>0} G(ω;ξ,λ)·G(ω;n,λ2) dω through a given hemispherical-integral function: the product
@@ -129,15 +129,15 @@ T clamped_cosine_meder(const T& sharpness, const T& cosine,
 }
 
 // ---- tokuyoshi2022 ----------------------------------------------------------------------------
-// Seed `accurate-diffuse-sg-lighting`: ω·n ≈ α(e^{λc}G(ω; n, λc) − 1) (first-order Taylor form,
+// Tokuyoshi 2022 (poster): ω·n ≈ α(e^{λc}G(ω; n, λc) − 1) (first-order Taylor form,
 // normalized by the hemispherical integral), α = λc/(2e^{λc} − 2 − 2λc). Both terms through the
 // 2022 hemispherical integral; the difference clamped at 0. λc minimizes approximation error plus
 // a float32 numerical error bound (re-derived by `sglab fit cosine-sharpness`).
 struct Tokuyoshi2022Cosine {
-  // Seed `accurate-diffuse-sg-lighting` (0.0008456087), full digits from SPEC.md §3.
+  // Tokuyoshi 2022 (poster) (0.0008456087), full digits from docs/math.md §3.
   static constexpr const char* lambda_digits = "0.00084560872241480124";
   static constexpr double lambda = 0.00084560872241480124;
-  // α(λc) = λc/(2e^{λc} − 2 − 2λc), SPEC.md §3.
+  // α(λc) = λc/(2e^{λc} − 2 − 2λc), docs/math.md §3.
   static constexpr double alpha = 1182.2467339678153;
 };
 
@@ -195,14 +195,14 @@ T clamped_cosine_tokuyoshi2022(const T& sharpness, const T& cosine) {
 
 // ---- tokuyoshi2024 ----------------------------------------------------------------------------
 // Tokuyoshi et al. 2024, "Hierarchical light sampling with accurate spherical Gaussian lighting":
-// t(λ) = λ√(½((λ + A)λ + B)/(((λ + C)λ + D)λ + E)), constants as given in SPEC.md §3.
+// t(λ) = λ√(½((λ + A)λ + B)/(((λ + C)λ + D)λ + E)), constants as given in docs/math.md §3.
 // Re-derived by `sglab fit tokuyoshi2024-t`.
 struct Tokuyoshi2024T {
-  static constexpr double A = 2.7360831611272558;  // Tokuyoshi et al. 2024 (SPEC.md §3)
-  static constexpr double B = 17.021297781741875;  // Tokuyoshi et al. 2024 (SPEC.md §3)
-  static constexpr double C = 4.0100826728510421;  // Tokuyoshi et al. 2024 (SPEC.md §3)
-  static constexpr double D = 15.219156263147211;  // Tokuyoshi et al. 2024 (SPEC.md §3)
-  static constexpr double E = 76.087896272360737;  // Tokuyoshi et al. 2024 (SPEC.md §3)
+  static constexpr double A = 2.7360831611272558;  // Tokuyoshi et al. 2024 (docs/math.md §3)
+  static constexpr double B = 17.021297781741875;  // Tokuyoshi et al. 2024 (docs/math.md §3)
+  static constexpr double C = 4.0100826728510421;  // Tokuyoshi et al. 2024 (docs/math.md §3)
+  static constexpr double D = 15.219156263147211;  // Tokuyoshi et al. 2024 (docs/math.md §3)
+  static constexpr double E = 76.087896272360737;  // Tokuyoshi et al. 2024 (docs/math.md §3)
 };
 
 template <class T>

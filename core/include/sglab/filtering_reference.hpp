@@ -1,6 +1,6 @@
-// Exact references for the lobe-aware filtering weights (issue #7, item 1): the similarity
+// Exact references for the lobe-aware filtering weights: the similarity
 //   q_ij = ∫ c_i c_j / √(∫ c_i² ∫ c_j²),   c_i = a_i ⊛ b,
-// of two lobes a_i, a_j smoothed by a kernel b (seed `lobe-aware-filtering`, App. A and D; see
+// of two lobes a_i, a_j smoothed by a kernel b (Tokuyoshi 2015 (lobe-aware filtering), App. A and D; see
 // filtering_weights.hpp), by direct numerical integration of that definition. Nothing here uses
 // the closed forms or approximations under test (no Tsai–Shih product, no Iwasaki form, no
 // λ̄ = λκ/(λ + κ), no τ̄² = τ² + ν²): the convolutions are integrated too.

@@ -1,4 +1,4 @@
-// Lobe-aware filtering weights (issue #7, item 1; SPEC.md §8; seed `lobe-aware-filtering`:
+// Lobe-aware filtering weights (docs/math.md §8; Tokuyoshi 2015 (lobe-aware filtering):
 // Tokuyoshi, "Specular Lobe-Aware Filtering and Upsampling for Interactive Indirect Illumination",
 // supplemental material, appendices A, D and E).
 //
@@ -10,7 +10,7 @@
 // L² (App. A: p_i = g/(πτ̄²)^{m/4}; App. D: the factor 3/(2π) = 1/∫⟨n·ω⟩² dω), so q_ij is the
 // cosine between two functions: q ∈ [0, 1] by Cauchy–Schwarz and q_ii = 1.
 //
-// The Gaussian of the seed is g(x, σ²) = exp(−‖x‖²/(2σ²)): that is the convention under which
+// The Gaussian of the paper is g(x, σ²) = exp(−‖x‖²/(2σ²)): that is the convention under which
 // App. A's normalization (πτ̄²)^{m/4} makes ∫ p_i² = 1, and under which the normal-aware weight
 // G(n_i; n_j, 1/σ_n²) equals g(n_i − n_j, σ_n²) (‖n_i − n_j‖² = 2(1 − n_i·n_j)).
 //
@@ -33,7 +33,7 @@
 
 namespace sglab {
 
-// Published constants of seed `lobe-aware-filtering`, App. D (SPEC.md §8, §9).
+// Published constants of Tokuyoshi 2015 (lobe-aware filtering), App. D (docs/math.md §8, §9).
 struct LobeAwareFiltering {
   // "q_ij ≈ G(n_i, n_j, λ_c), where the lobe sharpness λ_c = 0.9426 is obtained by using the
   // least squares method" (App. D). Re-derived by `sglab fit lambda-c` (fit/lambda_c.cpp, which
@@ -258,7 +258,7 @@ T sg_lobe_similarity(const T& cosine, const T& sharpness_i, const T& sharpness_j
 }
 
 // The exact similarity of two SG lobes (no Iwasaki approximation): ∫G_iG_j/√(∫G_i²∫G_j²) with
-// the Tsai–Shih product integral ∫G_iG_j = e^{L}A(λ3) and ∫G_i² = A(2λ_i) (SPEC.md §1):
+// the Tsai–Shih product integral ∫G_iG_j = e^{L}A(λ3) and ∫G_i² = A(2λ_i) (docs/math.md §1):
 //   q_ij = e^{L} A(λ3)/√(A(2λ_i)A(2λ_j)),  clamped to [0, 1] against rounding.
 // This is the q of the paper's definition for SG lobes a_i = c_i (κ = ∞, or lobes already
 // smoothed exactly); valid for every λ ≥ 0 including 0, no overflow (A(λ) ≤ 4π, L ≤ 0).

@@ -1,4 +1,4 @@
-// Exact glossy reflection of an SG light (issue 4, item 3):
+// Exact glossy reflection of an SG light:
 //
 //   L = ∫ G(ω; ξ, λ) f(ωo, ω) ⟨ω·n⟩ dω,  f = GGX·height-correlated Smith·Schlick (brdf.hpp),
 //
@@ -221,7 +221,7 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width,
 // same minimum as the renderer's scenes (scene.hpp kMinSceneRoughness).
 inline constexpr double kMinReferenceRoughness = 1e-3;
 
-// ---- the specular configuration of issue 4 -------------------------------------------------
+// ---- the configuration of the `specular` quantity ---------------------------------------------
 // n = (0, 0, 1), ωo = (√(1 − v²), 0, v), light axis ξ = (s cos φ, s sin φ, c), s = √(1 − c²).
 struct SpecularConfig {
   double roughness;        // GGX α > 0

@@ -1,4 +1,4 @@
-// Hemispherical integral of an SG (SPEC.md §2):
+// Hemispherical integral of an SG (docs/math.md §2):
 //   H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω,  c = ξ·n.
 // Closed-form bounds, and the published approximations that interpolate between them. The exact
 // reference is in reference.hpp.
@@ -87,13 +87,13 @@ T hemispherical_meder(const T& sharpness, const T& cosine, const T& p1 = T(Meder
 }
 
 // ---- Tokuyoshi 2022, "Accurate Diffuse Lighting from Spherical Gaussian Lights" -------------
-// Seed `accurate-diffuse-sg-lighting` ("CDF of a Gaussian on a plane"). Steepness
-// k(λ) = λ √((λ/2 + A)/((λ + B)λ + C)); A, B, C as given in SPEC.md §2 (Tokuyoshi 2022).
+// Tokuyoshi 2022 (poster) ("CDF of a Gaussian on a plane"). Steepness
+// k(λ) = λ √((λ/2 + A)/((λ + B)λ + C)); A, B, C as given in docs/math.md §2 (Tokuyoshi 2022).
 // Re-derived by `sglab fit tokuyoshi2022-steepness`.
 struct Tokuyoshi2022Steepness {
-  static constexpr double A = 0.6517328826907056;  // Tokuyoshi 2022 (SPEC.md §2)
-  static constexpr double B = 1.3418280033141288;  // Tokuyoshi 2022 (SPEC.md §2)
-  static constexpr double C = 7.2216687798956709;  // Tokuyoshi 2022 (SPEC.md §2)
+  static constexpr double A = 0.6517328826907056;  // Tokuyoshi 2022 (docs/math.md §2)
+  static constexpr double B = 1.3418280033141288;  // Tokuyoshi 2022 (docs/math.md §2)
+  static constexpr double C = 7.2216687798956709;  // Tokuyoshi 2022 (docs/math.md §2)
 };
 
 template <class T>

@@ -1,4 +1,4 @@
-// Exact references by deterministic quadrature (SPEC.md §2 and §3), templated on the scalar
+// Exact references by deterministic quadrature (docs/math.md §2 and §3), templated on the scalar
 // type so that the same code gives a double reference (≤ 1e-12 relative) and a 50-digit one.
 //
 // Formulation. Measure directions by t = ω·ξ (the cosine from the lobe axis) and the azimuth φ
@@ -12,7 +12,7 @@
 //   g_H = 2ψ, g_D = 2(uψ + √m)              otherwise, ψ = atan2(√m, −u)
 // ψ = acos(−u/v) with v = s√(1 − t²), written as atan2 so that the endpoints |t| = s, where the
 // acos argument reaches ±1 through cancellation, stay exact (v² − u² = m exactly).
-// This is the θ-integral of SPEC.md §2 (I0 Bessel form) with the azimuth taken around ξ instead
+// This is the θ-integral of docs/math.md §2 (I0 Bessel form) with the azimuth taken around ξ instead
 // of n; the two are compared in tests/reference_test.cpp.
 //
 // Quadrature. The three panels [−1, −s], [−s, s], [s, 1] are smooth inside (the kinks at ±s are
@@ -122,7 +122,7 @@ T hemispherical_reference(const T& sharpness, const T& cosine) {
   return detail::integrate_over_cosine(sharpness, s, g);
 }
 
-// Exact D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω (SPEC.md §3, method `reference`).
+// Exact D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω (docs/math.md §3, method `reference`).
 template <class T>
 T clamped_cosine_reference(const T& sharpness, const T& cosine) {
   using std::atan2;

@@ -37,7 +37,7 @@ enum class ColumnKind {
   finite = angle  // any finite value (a constant of either sign)
 };
 
-// How far past ±1 an input cosine may be and still be taken as rounding (issue 2: 1 + 1e-6).
+// How far past ±1 an input cosine may be and still be taken as rounding (1 + 1e-6).
 inline constexpr double kCosineSlack = 1e-6;
 
 struct Column {
@@ -220,7 +220,7 @@ const Parameter* find_standalone_constant(std::string_view user, std::string_vie
 // Registration hook for modules that add quantities (the glossy module, …). Each module defines
 // one function that appends its quantities; registry.cpp calls them in order.
 void register_core_quantities(std::vector<Quantity>& out);
-// ASG integrals, ASG × SG product, specular reflection off GGX (SPEC.md §4–5, issue 4).
+// ASG integrals, ASG × SG product, specular reflection off GGX (docs/math.md §4–5).
 void register_glossy_quantities(std::vector<Quantity>& out);
 
 }  // namespace sglab

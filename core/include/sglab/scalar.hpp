@@ -22,7 +22,7 @@ struct Jet;
 namespace sglab {
 
 // 50 significant decimal digits: the "exact evaluation of the same formula" against which float
-// and double rounding error is measured (issue 2, item 3).
+// and double rounding error is measured.
 using mp50 = boost::multiprecision::cpp_bin_float_50;
 
 // ---- scalar traits -------------------------------------------------------------------------
@@ -95,7 +95,7 @@ T clamp(const T& x, const T& lo, const T& hi) {
 
 // A cosine that rounding may have pushed just past ±1 (|c| = 1 + 1 ulp from a dot product of
 // unit vectors): clamp it back, so acos/sqrt(1 - c²) never see an out-of-domain value
-// (SPEC.md §10: "|c| slightly above 1 from rounding").
+// (docs/math.md §10: "|c| slightly above 1 from rounding").
 template <class T>
 T clamp_cosine(const T& c) {
   return clamp(c, T(-1), T(1));
@@ -121,7 +121,7 @@ value_type_t<T> series_threshold(int neglected_power) {
 }
 
 // expm1(x)/x, exactly 1 at x = 0 and without the 0/0 there. Used by A(λ) = 4π·expm1(−2λ)/(−2λ)
-// (SPEC.md §1) and every (1 − e^{−λ})/λ factor. Series 1 + x/2 + x²/6 + x³/24 below the
+// (docs/math.md §1) and every (1 − e^{−λ})/λ factor. Series 1 + x/2 + x²/6 + x³/24 below the
 // threshold; expm1 is accurate everywhere else (Higham, "Accuracy and Stability of Numerical
 // Algorithms", §1.14.1).
 template <class T>

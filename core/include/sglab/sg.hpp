@@ -1,4 +1,4 @@
-// Spherical Gaussians and the von Mises–Fisher distribution (SPEC.md §1).
+// Spherical Gaussians and the von Mises–Fisher distribution (docs/math.md §1).
 //
 //   G(ω; ξ, λ) = exp(λ(ω·ξ − 1)),  A(λ) = ∫ G dω = 2π(1 − e^{−2λ})/λ,  vMF = G/A.
 #pragma once
@@ -29,14 +29,14 @@ T sg_eval_cos(const T& cosine, const T& sharpness) {
   return exp(sharpness * (clamp_cosine(cosine) - T(1)));
 }
 
-// A(λ) = 2π(1 − e^{−2λ})/λ = 4π·expm1(−2λ)/(−2λ); exactly 4π at λ = 0 (SPEC.md §1; seeds
-// `two-vsgls` §1, `modified-fis` §2).
+// A(λ) = 2π(1 − e^{−2λ})/λ = 4π·expm1(−2λ)/(−2λ); exactly 4π at λ = 0 (docs/math.md §1;
+// Tokuyoshi 2015 (two-VSGL poster) §1, Tokuyoshi 2016 §2).
 template <class T>
 T sg_integral(const T& sharpness) {
   return T(2) * two_pi<T>() * expm1_over_x(T(-2) * sharpness);
 }
 
-// The large-λ approximation A(λ) ≈ 2π/λ (Iwasaki et al. 2012; seed `modified-fis` §4.2).
+// The large-λ approximation A(λ) ≈ 2π/λ (Iwasaki et al. 2012; Tokuyoshi 2016 §4.2).
 // Diverges at λ = 0 (as published).
 template <class T>
 T sg_integral_approx(const T& sharpness) {
@@ -52,7 +52,7 @@ T vmf_eval(const Vec3<T>& omega, const Vec3<T>& axis, const T& sharpness) {
 // ---- products ------------------------------------------------------------------------------
 
 // G(ω;ξ1,λ1)·G(ω;ξ2,λ2) = e^{L}·G(ω; ξ3, λ3). Amplitude kept as its log L ≤ 0, which cannot
-// overflow (SPEC.md §1).
+// overflow (docs/math.md §1).
 template <class T>
 struct SgProduct {
   Vec3<T> axis;
@@ -71,7 +71,7 @@ T product_sharpness(const T& sharpness1, const T& sharpness2, const T& cosine) {
 }
 
 // L = λ3 − λ1 − λ2, computed as −λ1λ2‖ξ1 − ξ2‖²/(λ3 + λ1 + λ2) = −2λ1λ2(1 − c)/(λ3 + λ1 + λ2):
-// the same value without the cancellation of three large numbers (SPEC.md §1). 0 when both
+// the same value without the cancellation of three large numbers (docs/math.md §1). 0 when both
 // sharpnesses are 0.
 template <class T>
 T product_log_amplitude(const T& sharpness1, const T& sharpness2, const T& cosine,
@@ -116,7 +116,7 @@ T product_integral_exact(const T& sharpness1, const T& sharpness2, const T& cosi
   return exp(log_amplitude) * sg_integral(lambda3);
 }
 
-// Iwasaki et al. 2012 (seed `lobe-aware-filtering`, Eq. C.1):
+// Iwasaki et al. 2012 (Tokuyoshi 2015 (lobe-aware filtering), Eq. C.1):
 // ∫ G1 G2 dω ≈ 2π G(ξ1; ξ2, λ1λ2/(λ1+λ2))/(λ1+λ2). Accurate when λ1 or λ2 is large; diverges as
 // λ1 + λ2 → 0 (as published: +Inf at λ1 = λ2 = 0).
 template <class T>

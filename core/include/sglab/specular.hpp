@@ -1,4 +1,4 @@
-// Specular reflection of a unit-amplitude SG light off the GGX BRDF (issue 4, item 4): the
+// Specular reflection of a unit-amplitude SG light off the GGX BRDF: the
 // approximations measured against specular_reference() (glossy_reference.hpp).
 //
 // Input, as the registry's `specular` quantity: roughness α (GGX), light sharpness λ, light_cos,
@@ -39,7 +39,7 @@ T floored_roughness(const T& alpha) {
   return max(alpha, T(kMinRoughness));
 }
 
-// The product lobe's axis ξ_m = (λ ξ + λ_s ξ_s)/‖…‖ (seed `two-vsgls` §3.2), via sg_product,
+// The product lobe's axis ξ_m = (λ ξ + λ_s ξ_s)/‖…‖ (Tokuyoshi 2015 (two-VSGL poster) §3.2), via sg_product,
 // which returns ξ (a defined axis) when the two cancel.
 template <class T>
 Vec3<T> product_axis(const Vec3<T>& light_axis, const T& light_sharpness, const Vec3<T>& lobe_axis,
@@ -57,7 +57,7 @@ enum class FactorAt {
   product_axis,  // the product lobe's axis ξ_m = (λξ + λ_sξ_s)/‖…‖ (a variant; 0 when ξ_m is below the horizon)
 };
 
-// `sg-warp` (Wang et al. 2009; seeds `two-vsgls` §1.1 and §3.2, `lobe-aware-filtering` App. B):
+// `sg-warp` (Wang et al. 2009; Tokuyoshi 2015 (two-VSGL poster) §1.1 and §3.2, Tokuyoshi 2015 (lobe-aware filtering) App. B):
 // D(h) ≈ G(h; n, λ_h)/(πα²), warped to G(ω; ξ_s, λ_s/…) about the mirror direction, M evaluated
 // at the lobe axis ξ_s (as Wang et al. 2009; `factor_at` = product_axis: at ξ_m) and pulled out:
 //   L ≈ M(ξ_s)/(πα²) · ∫ G(ω; ξ_s, λ_s) G(ω; ξ, λ) dω,
@@ -80,9 +80,9 @@ T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductFor
   return lobe.amplitude * brdf_factor_m(alpha, in.f0, wo, xm) * integral;
 }
 
-// `asg` (seed `two-vsgls` §3.2; Xu et al. 2013): the NDF lobe warped to an ASG at the shading
-// point (asg_warp), the product integral in the seed's form (ν = λ/2), M at
-// ξ_m = (λξ + λ_sξz)/‖…‖ with Wang's isotropic λ_s (as the seed writes it):
+// `asg` (Tokuyoshi 2015 (two-VSGL poster) §3.2; Xu et al. 2013): the NDF lobe warped to an ASG at the shading
+// point (asg_warp), the product integral in the paper's form (ν = λ/2), M at
+// ξ_m = (λξ + λ_sξz)/‖…‖ with Wang's isotropic λ_s (as the paper writes it):
 //   L ≈ M(ξ_m)/(πα²) · π Ĝ(ξ; …, ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)).
 template <class T>
 T specular_asg(const SpecularInput<T>& in) {

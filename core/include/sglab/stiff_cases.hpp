@@ -1,4 +1,4 @@
-// The stiff inputs of SPEC.md §10 as value lists, shared by the core tests (tests/test_util.hpp)
+// The stiff inputs of docs/math.md §10 as value lists, shared by the core tests (tests/test_util.hpp)
 // and the stability atlas (`sglab stability`): sharpnesses from exactly 0 through 1e-8 … 1e8,
 // cosines with ±1 exactly and the rounding steps just inside and just past ±1 in both float and
 // double, and the r → 1 mean lengths of vMF filtering. Pure value lists; no I/O.
@@ -19,7 +19,7 @@ inline std::vector<double> log_grid(double lo, double hi, int per_decade) {
   return out;
 }
 
-// The stiff sharpnesses of SPEC.md §10: exactly 0, then 1e-8 … 1e8 (ascending).
+// The stiff sharpnesses of docs/math.md §10: exactly 0, then 1e-8 … 1e8 (ascending).
 inline std::vector<double> sharpnesses(int per_decade = 2) {
   std::vector<double> out{0.0};
   for (double l : log_grid(-8, 8, per_decade)) out.push_back(l);
@@ -60,7 +60,7 @@ inline std::vector<double> cosines(int interior = 16) {
   return out;
 }
 
-// Mean resultant lengths r of vMF filtering (SPEC.md §6) from 0 to 1, crowded towards r → 1
+// Mean resultant lengths r of vMF filtering (docs/math.md §6) from 0 to 1, crowded towards r → 1
 // where λ = r/(1 − r) blows up: 1 − 10^-k for k = 1 … 15, the last float and double below 1,
 // and exactly 1 (ascending).
 inline std::vector<double> mean_lengths() {

@@ -1,4 +1,4 @@
-// Filtering many lobes into one: vMF sharpness from the mean resultant length r (SPEC.md §6).
+// Filtering many lobes into one: vMF sharpness from the mean resultant length r (docs/math.md §6).
 #pragma once
 
 #include "sglab/scalar.hpp"
@@ -6,10 +6,10 @@
 namespace sglab {
 
 // The largest sharpness this toolkit hands out from a mean length: r → 1 would give +∞.
-// 1e8 is the top of the sharpness range every method is checked over (SPEC.md §10).
+// 1e8 is the top of the sharpness range every method is checked over (docs/math.md §10).
 inline constexpr double kMaxFilteredSharpness = 1e8;
 
-// Toksvig 2005 (seeds `two-vsgls` §2.1, `modified-fis` §3.1): λ = r/(1 − r), clamped to
+// Toksvig 2005 (Tokuyoshi 2015 (two-VSGL poster) §2.1, Tokuyoshi 2016 §3.1): λ = r/(1 − r), clamped to
 // kMaxFilteredSharpness as r → 1 (and for r rounded to exactly 1).
 template <class T>
 T vmf_sharpness_toksvig(const T& mean_length) {

@@ -1,25 +1,25 @@
-// Virtual spherical Gaussian lights (VSGLs; SPEC.md §7; seeds `two-vsgls` §2–3, `modified-fis`
+// Virtual spherical Gaussian lights (VSGLs; docs/math.md §7; Tokuyoshi 2015 (two-VSGL poster) §2–3, Tokuyoshi 2016
 // §3–4): the sums a VSGL is made of, the VSGL they define, and its incoming radiance at a
-// shading point as one SG (Eq. 7), with the two shading integrals the seeds use on it.
+// shading point as one SG (Eq. 7), with the two shading integrals the papers use on it.
 //
 // A VSGL stands for a set S of virtual point lights (VPLs). Per VPL i: power Φ_i (RGB), position
 // y_i, and per BRDF component (diffuse, specular) a reflection lobe R_i G(ω; ξ_i, λ_i)/A(λ_i).
-// The sums (seeds `two-vsgls` §2, `modified-fis` §3.3):
+// The sums (Tokuyoshi 2015 (two-VSGL poster) §2, Tokuyoshi 2016 §3.3):
 //   lobe (one per component):  P = Σ Φ_i R_i (RGB),  W = Σ w_i,  Ξ = Σ w_i ξ̄_i,  ξ̄_i = r(λ_i) ξ_i,
-//   position (shared by both components, `modified-fis` §3.2):
+//   position (shared by both components, Tokuyoshi 2016 §3.2):
 //                              W_y = Σ u_i,  S = Σ u_i (y_i − o),  Q = Σ u_i ‖y_i − o‖²,
 // where r(λ) is the mean resultant length of the vMF of sharpness λ (Toksvig: λ/(λ + 1)), o is a
 // REFERENCE POINT shared by every sum that is ever added to this one, and the scalar weights are
 //   w_i = Y(Φ_i R_i),  u_i = Y(Φ_i (R_d,i + R_s,i)),  Y = Rec. 709 luminance.
-// Choice (documented): the seeds weight directions and positions by the scalar Φ_i R_i; with RGB
+// Choice (documented): the papers weight directions and positions by the scalar Φ_i R_i; with RGB
 // power we use its luminance (the public VSGL code uses the channel sum; the two agree for grey
 // power). The amplitude c_v stays RGB.
 //
-// Why a reference point (SPEC.md §7, §10): σ² = Q/W_y − ‖S/W_y‖² is a difference of two numbers
+// Why a reference point (docs/math.md §7, §10): σ² = Q/W_y − ‖S/W_y‖² is a difference of two numbers
 // of size ‖μ − o‖² + σ²; its relative rounding error is ≈ ε(‖μ − o‖² + σ²)/σ². With o = 0 and VPLs
 // 1e6 units from the origin spread over 1e-2 (σ² ≈ 1e-4) that is ε·3e12/1e-4 ≈ 7: no digit of a
 // double is left (tests/vsgl_test.cpp prints it). With o near the set it is ≈ ε. Sums are plain sums, so they add (mip levels, clusters) exactly as the
-// seeds' GPU mip-maps do — provided they share o.
+// papers' GPU mip-maps do — provided they share o.
 #pragma once
 
 #include <cmath>
@@ -58,9 +58,9 @@ T luminance(const Rgb<T>& c) {
   return T(Rec709Luminance::red) * c(0) + T(Rec709Luminance::green) * c(1) + T(Rec709Luminance::blue) * c(2);
 }
 
-// How a lobe's sharpness becomes a mean direction length and back (SPEC.md §6).
+// How a lobe's sharpness becomes a mean direction length and back (docs/math.md §6).
 enum class SharpnessEstimator {
-  toksvig,   // r = λ/(λ + 1), λ = r/(1 − r): the seeds (Toksvig 2005)
+  toksvig,   // r = λ/(λ + 1), λ = r/(1 − r): the papers (Toksvig 2005)
   banerjee,  // λ = r(3 − r²)/(1 − r²): the public VSGL code (Banerjee et al. 2005)
 };
 
@@ -74,12 +74,12 @@ T vsgl_sharpness(const T& mean_length, SharpnessEstimator e) {
   return e == SharpnessEstimator::toksvig ? vmf_sharpness_toksvig(mean_length) : vmf_sharpness_banerjee(mean_length);
 }
 
-// ---- VPL reflection lobes (SPEC.md §5) ---------------------------------------------------------
+// ---- VPL reflection lobes (docs/math.md §5) ---------------------------------------------------------
 
-// Diffuse: ⟨ω·n⟩/π ≈ G(ω; n, λ_d)/A(λ_d) (seeds `two-vsgls` Eq. 1, `modified-fis` Eq. 1): axis n,
+// Diffuse: ⟨ω·n⟩/π ≈ G(ω; n, λ_d)/A(λ_d) (Tokuyoshi 2015 (two-VSGL poster) Eq. 1, Tokuyoshi 2016 Eq. 1): axis n,
 // sharpness λ_d, the same mean length r(λ_d) for every VPL (callers compute it once).
 
-// Specular (seeds `two-vsgls` §1.1, `modified-fis` §2.1): the NDF SG G(h; n, λ_h), λ_h = 2/α²,
+// Specular (Tokuyoshi 2015 (two-VSGL poster) §1.1, Tokuyoshi 2016 §2.1): the NDF SG G(h; n, λ_h), λ_h = 2/α²,
 // warped about ξ_s = 2(ω'·n)n − ω' (ω' = `incoming`, towards the light) to G(ω; ξ_s, λ_s),
 // λ_s = λ_h/(4|ξ_s·n|); normalized (Eq. 2) so that R_s carries the energy. Frame-free version of
 // brdf.hpp's spherical_warp, with the same floors (kMinRoughness on α, kMinWarpCosine on |ξ_s·n|).
@@ -179,8 +179,8 @@ void add_position(VsglPositionSums<T>& sums, const Id<T>& weight, const Id<Vec3<
 
 // ---- from sums to a VSGL ---------------------------------------------------------------------
 
-// The intensity SG c_v G(ω; ξ_v, λ_v) of one lobe component (seeds `two-vsgls` §2.1,
-// `modified-fis` §3.1): ξ̄_v = Ξ/W, ξ_v = ξ̄_v/‖ξ̄_v‖, λ_v from r = ‖ξ̄_v‖ (clamped to 1e8 as r → 1),
+// The intensity SG c_v G(ω; ξ_v, λ_v) of one lobe component (Tokuyoshi 2015 (two-VSGL poster) §2.1,
+// Tokuyoshi 2016 §3.1): ξ̄_v = Ξ/W, ξ_v = ξ̄_v/‖ξ̄_v‖, λ_v from r = ‖ξ̄_v‖ (clamped to 1e8 as r → 1),
 // c_v = P/A(λ_v). An empty lobe (W = 0) gives c_v = 0. r = 0 (lobes cancelling exactly) gives
 // λ_v = 0, a constant SG whose axis does not matter; (0, 0, 1) is returned.
 template <class T>
@@ -205,7 +205,7 @@ VsglIntensity<T> vsgl_intensity(const VsglLobeSums<T>& sums, SharpnessEstimator 
 
 // How the positional variance is defined.
 enum class VarianceConvention {
-  total,     // σ² = E‖y − μ‖² (seeds `two-vsgls` §2.2, `modified-fis` §3.2)
+  total,     // σ² = E‖y − μ‖² (Tokuyoshi 2015 (two-VSGL poster) §2.2, Tokuyoshi 2016 §3.2)
   per_axis,  // σ² = E‖y − μ‖²/2: the public VSGL code ("VPLs on a 2D plane: divide the total
              // variance by two"), the per-axis variance of the 2D Gaussian of Eq. 3
 };
@@ -234,13 +234,13 @@ VsglPosition<T> vsgl_position(const VsglPositionSums<T>& sums, const Id<Vec3<T>>
 // ---- incoming radiance at a shading point (Eq. 7) --------------------------------------------
 
 // The largest λ_σ = ‖μ − y_p‖²/σ² used: 1e8, the top of the sharpness range every method is
-// checked over (SPEC.md §10; = kMaxFilteredSharpness). Equivalently σ² is floored at
+// checked over (docs/math.md §10; = kMaxFilteredSharpness). Equivalently σ² is floored at
 // ‖μ − y_p‖²·1e-8 — THE FLOOR FOR A SINGLE VPL (σ² = 0): the VSGL is then a point light up to a
 // relative O(1/λ_σ) = 1e-8 (the SG of sharpness λ_σ has solid angle 2π/λ_σ, so
 // c_v/(2πσ²)·G(ω; ξ_μ, λ_σ) integrates against a smooth function h to c_v h(ξ_μ)/‖μ − y_p‖²·(1 + O(1/λ_σ))).
 inline constexpr double kMaxPositionalSharpness = 1e8;
 
-// G(ω; ξ_μ, λ_σ)/(2πσ²): the VSGL's positional Gaussian seen from y_p (seed `two-vsgls` Eq. 6),
+// G(ω; ξ_μ, λ_σ)/(2πσ²): the VSGL's positional Gaussian seen from y_p (Tokuyoshi 2015 (two-VSGL poster) Eq. 6),
 // with its normalization as a log so that tiny σ² cannot overflow.
 template <class T>
 struct VsglPositionalSg {
@@ -250,7 +250,7 @@ struct VsglPositionalSg {
   bool empty = true;  // a point light (σ² = 0) exactly at y_p: no defined direction, contributes 0
 };
 
-// Cases (SPEC.md §10):
+// Cases (docs/math.md §10):
 //  * y_p on top of μ (‖μ − y_p‖ = 0): λ_σ = 0, G ≡ 1 whatever ξ_μ; (0, 0, 1) is returned.
 //  * σ² small against ‖μ − y_p‖² (including σ² = 0): λ_σ = 1e8 and σ² := ‖μ − y_p‖²·1e-8.
 //  * both 0: empty.
@@ -321,7 +321,7 @@ T scaled_by_exp(const T& log_scale, const T& x) {
   return negative ? T(-r) : r;
 }
 
-// ---- shading (seeds `two-vsgls` §3.2, `modified-fis` §4.2) ----------------------------------
+// ---- shading (Tokuyoshi 2015 (two-VSGL poster) §3.2, Tokuyoshi 2016 §4.2) ----------------------------------
 
 // ∫ L_in(ω)⟨ω·n⟩ dω / c_v = e^{log_scale} D(λ_in, ξ_in·n) with D any clamped-cosine method of
 // clamped_cosine.hpp (a callable (λ, c) → D). Diffuse radiance is then c_v R_d/π times this.
@@ -332,7 +332,7 @@ T vsgl_clamped_cosine(const VsglIncomingSg<T>& in, const Id<Vec3<T>>& normal, co
   return scaled_by_exp(in.log_scale, T(method(in.sharpness, c)));
 }
 
-// The receiver's specular lobe as an ASG, set up once per shading point (seed `two-vsgls` §3.2):
+// The receiver's specular lobe as an ASG, set up once per shading point (Tokuyoshi 2015 (two-VSGL poster) §3.2):
 // GGX NDF ≈ G(h; n, λ_h)/(πα²), λ_h = 2/α², warped to an ASG about the mirror direction
 // (brdf.hpp asg_warp), Wang's isotropic λ_s for the product axis ξ_m. Built in the local frame
 // (t, b, n) of the shading point, which is how brdf.hpp writes it (n = z).
@@ -362,7 +362,7 @@ VsglSpecularReceiver<T> vsgl_specular_receiver(const Vec3<T>& normal, const Id<V
   return r;
 }
 
-// ∫ L_in(ω) f_s(ω_o, ω)⟨ω·n⟩ dω / c_v for the ASG method (specular.hpp `specular_asg`, the seed's
+// ∫ L_in(ω) f_s(ω_o, ω)⟨ω·n⟩ dω / c_v for the ASG method (specular.hpp `specular_asg`, the paper's
 // form):
 //   e^{log_scale} · M(ξ_m)/(πα²) · π Ĝ(ξ_in; …, ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ_in/2,
 // ξ_m = (λ_in ξ_in + λ_s ξ_z)/‖…‖. M = F·V·⟨ω·n⟩ is affine in Schlick's f0 (F = m⁵ + f0(1 − m⁵)),

@@ -55,8 +55,8 @@ VsglSums<double> vpl_sums(const Vpl& vpl, const Vec3& origin, double diffuse_mea
   if (!vpl.valid) return s;
   const Rgb pd = position == PositionWeight::specular ? Rgb(Rgb::Zero()) : Rgb(vpl.flux * vpl.diffuse_reflectance);
   const Rgb ps = vpl.glossy() && position != PositionWeight::diffuse ? Rgb(vpl.flux * vpl.specular_reflectance) : Rgb(Rgb::Zero());
-  // Position weight u_i = Y(Φ_i(R_d + R_s)) (seed `modified-fis` §3.2), also the importance; with
-  // one component only, Y(Φ_i R_d) or Y(Φ_i R_s) (seed `two-vsgls` §2.2).
+  // Position weight u_i = Y(Φ_i(R_d + R_s)) (Tokuyoshi 2016 §3.2), also the importance; with
+  // one component only, Y(Φ_i R_d) or Y(Φ_i R_s) (Tokuyoshi 2015 (two-VSGL poster) §2.2).
   const double u = luminance<double>(Rgb(pd + ps));
   if (!(u > 0)) return s;
   add_position(s.position, u, vpl.position, origin);
@@ -263,7 +263,7 @@ double fis_mass(const Pyramid& py, double total, int x, int y, double l) {
   return std::pow(4.0, t) * ((1 - t) * p0 + t * p1 / 4);
 }
 
-// Algorithm 1 of seed `modified-fis` §5.
+// Algorithm 1 of Tokuyoshi 2016 §5.
 double fis_level(const Pyramid& py, double total, int x, int y, double target, int iterations) {
   double lmin = 0, lmax = py.top();
   for (int k = 0; k < iterations; ++k) {

@@ -17,7 +17,7 @@ namespace {
 // The name of the registry quantity whose methods shade the diffuse part.
 constexpr std::string_view kClampedCosine = "clamped-cosine";
 
-// λ_in floor for the forms that divide by λ (SPEC.md §10: the checked range starts at 1e-8).
+// λ_in floor for the forms that divide by λ (docs/math.md §10: the checked range starts at 1e-8).
 constexpr double kMinDivisorSharpness = 1e-8;
 
 struct Named {

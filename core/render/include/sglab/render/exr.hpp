@@ -1,4 +1,4 @@
-// Multi-layer OpenEXR images (issue 5, item 7): one RGB layer per named image, channels
+// Multi-layer OpenEXR images: one RGB layer per named image, channels
 // `LAYER.R`, `LAYER.G`, `LAYER.B` (OpenEXR's layer naming convention), 32-bit float, ZIP
 // compression. encode_exr() produces the file's bytes in memory so that the caller can write them
 // atomically (temporary file + rename); read_exr() reads any scan-line EXR's channels back

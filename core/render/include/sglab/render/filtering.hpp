@@ -1,5 +1,5 @@
-// Upsampling indirect illumination with normal/depth-aware or lobe-aware weights (issue #7, item 2;
-// seed `lobe-aware-filtering`, the weights of core's filtering_weights.hpp).
+// Upsampling indirect illumination with normal/depth-aware or lobe-aware weights (
+// Tokuyoshi 2015 (lobe-aware filtering), the weights of core's filtering_weights.hpp).
 //
 // The indirect illumination is computed at 1/scale resolution — at the centres of scale × scale
 // pixel blocks, from the exact VPL sum (default) or from VSGLs — and brought back to full
@@ -25,7 +25,7 @@
 //             lobe weight exactly App. D's diffuse weight q^β = G(n_p; n_q, 1/σ_n²) with
 //             σ_n² = (2λ_c + κ)/(βλ_cκ) (the two SG lobes' Iwasaki similarity has sharpness
 //             λ̄/2 = λ_cκ/(2λ_c + κ)), so for diffuse surfaces the lobe-aware filter is the
-//             normal-aware one (item 4 of the issue);
+//             normal-aware one (App. D);
 //   specular  the GGX lobe as an SG by the spherical warp (App. B; Wang et al. 2009, brdf.hpp):
 //             axis = the reflection of the view about the normal, sharpness λ_h/(4|ω_o·n|),
 //             λ_h = 2/α².
@@ -70,13 +70,13 @@ std::string_view indirect_source_name(IndirectSource source);
 struct FilterParameters {
   int radius = 2;              // 2r × 2r low-resolution samples per pixel
   double spatial_sigma = 1.0;  // σ_s of the image-space Gaussian, in low-resolution pixels
-  // normal: σ_n² of the seed's Fig. D.2 (β = 20, κ = 100), so that on diffuse surfaces the two
+  // normal: σ_n² of the paper's Fig. D.2 (β = 20, κ = 100), so that on diffuse surfaces the two
   // weightings coincide at the default parameters.
   double sigma_n2 = LobeAwareFiltering::sigma_n2;
   // Relative: σ_z = depth_sigma × z_p. 0.02 had the lowest relative L2 of {0.01, 0.02, 0.05, 0.1,
   // 0.3} on cornell-glossy (128², scale 4, floor α = 0.2; 0.1905 vs 0.191 at 0.05, 0.199 at 0.01).
   double depth_sigma = 0.02;
-  // lobe: β and κ of the seed's Fig. D.2. ν in scene units: 0.2 had the lowest relative L2 of
+  // lobe: β and κ of the paper's Fig. D.2. ν in scene units: 0.2 had the lowest relative L2 of
   // {0.05, 0.1, 0.2, 0.3, 0.5, 1} on the same image (0.1832; 0.1843 at 0.1 and 0.3, 0.190 at 0.05
   // and 1). The Cornell box is 2 units wide; a low-resolution pixel at scale 4 spans ≈ 0.08 at its
   // back wall, and β = 20 narrows the positional Gaussian to √((τ̄_p² + τ̄_q²)/β) ≈ 0.065 there.

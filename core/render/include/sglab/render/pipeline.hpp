@@ -1,8 +1,8 @@
-// The whole renderer (issue 5): scene → G-buffer, shadow map → direct light; RSM (VPLs) → VSGLs →
+// The whole renderer: scene → G-buffer, shadow map → direct light; RSM (VPLs) → VSGLs →
 // indirect light; and the exact VPL sum → indirect_reference; error = indirect − reference.
 // Timings of every stage and what was built are returned with the images.
 //
-// What a scene does not need is left out (issue 5, item 5): without glossy VPLs no specular VSGL
+// What a scene does not need is left out: without glossy VPLs no specular VSGL
 // is built (vsgl_generation.cpp); without glossy receivers in view no specular shading, hence no
 // ASG, is evaluated; the reference evaluates the GGX layer only at glossy VPLs and receivers. The
 // result says what was built.

@@ -1,4 +1,4 @@
-// Ray casting against the scene's boxes, rectangles and spheres (issue 5, item 2), the camera's
+// Ray casting against the scene's boxes, rectangles and spheres, the camera's
 // primary rays, and the G-buffer of first hits (the ShadingPoints of vpl.hpp).
 //
 // No acceleration structure: scenes have a handful of objects and every ray here is a primary

@@ -1,8 +1,8 @@
-// The exact sum over all VPLs (issue 5, item 6): what the VSGLs approximate, with the true BRDFs at
+// The exact sum over all VPLs: what the VSGLs approximate, with the true BRDFs at
 // both ends and no SG anywhere, so that the measured error is the VSGL approximation's alone.
 //
 // VPL i at x_i with normal n_i, incoming direction ω'_i and flux Φ_i has radiant intensity
-//   I_i(ω) = Φ_i ρ_i(ω'_i, ω)⟨ω·n_i⟩            (seed `two-vsgls` §2.1, `modified-fis` §3.1),
+//   I_i(ω) = Φ_i ρ_i(ω'_i, ω)⟨ω·n_i⟩            (Tokuyoshi 2015 (two-VSGL poster) §2.1, Tokuyoshi 2016 §3.1),
 // ρ_i = R_d/π + GGX·G2·Schlick (material_brdf.hpp). The radiance it reflects at shading point y_p
 // towards the viewer ωo, with ω = (y_p − x_i)/d the direction from the VPL to the point, is
 //   L_i = I_i(ω) · f_p(ωo, −ω)⟨−ω·n_p⟩ / d²,
@@ -16,7 +16,7 @@
 // the exact on-axis irradiance factor of a uniform Lambertian disc of radius r_i (area = the
 // texel's cross-section at the VPL), which tends to 1/d² far away (relative change r_i²/d², < 1 %
 // beyond d = 10 r_i) and is bounded by 1/r_i² at the patch itself. No VPL is skipped. The
-// VSGLs need no such bound: their positional Gaussian spreads each cluster (seed `two-vsgls` §2.2).
+// VSGLs need no such bound: their positional Gaussian spreads each cluster (Tokuyoshi 2015 (two-VSGL poster) §2.2).
 #pragma once
 
 #include <vector>

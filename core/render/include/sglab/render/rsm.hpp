@@ -1,4 +1,4 @@
-// The reflective shadow map (Dachsbacher & Stamminger 2005; issue 5, item 3): the spotlight's
+// The reflective shadow map (Dachsbacher & Stamminger 2005): the spotlight's
 // view at RES × RES whose texels are the VPLs of vpl.hpp.
 //
 // Per texel: the first hit of the ray through the texel's centre gives position, normal (facing

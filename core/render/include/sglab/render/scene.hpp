@@ -1,4 +1,4 @@
-// The renderer's scene model (issue 5, item 1): a pinhole camera, one spotlight, and named objects
+// The renderer's scene model: a pinhole camera, one spotlight, and named objects
 // (axis-aligned boxes, rectangles, spheres) with a Lambert + GGX material each.
 //
 // The model is plain data; parse_scene() builds it from a JSON document (schema: scenes/README.md)

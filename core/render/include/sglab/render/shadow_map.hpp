@@ -1,6 +1,5 @@
 // The spotlight's view (shared by the shadow map and the reflective shadow map), the shadow map
-// (a depth image rendered from the light), and direct lighting with the true BRDF (issue 5,
-// item 2).
+// (a depth image rendered from the light), and direct lighting with the true BRDF.
 #pragma once
 
 #include <vector>

@@ -28,7 +28,7 @@ struct Vpl {
   Rgb specular_reflectance = Rgb::Zero();
   // r_i: radius of the disc whose area is the texel's cross-section at the VPL, √(Ω_i/π)·t_i
   // (Ω_i the texel's solid angle, t_i the distance from the light). The exact VPL sum uses it to
-  // bound 1/d² near the VPL (reference.hpp). Added by the scene/RSM side (issue 5).
+  // bound 1/d² near the VPL (reference.hpp). Added by the scene/RSM side.
   double footprint_radius = 0;
   bool glossy() const { return (f0 > 0).any(); }
 };

@@ -1,5 +1,5 @@
-// VSGL generation from a reflective shadow map (issue 5, item 3; SPEC.md §7; seeds `two-vsgls` §2,
-// `modified-fis` §3.3 and §5). Three modes:
+// VSGL generation from a reflective shadow map (docs/math.md §7; Tokuyoshi 2015 (two-VSGL poster) §2,
+// Tokuyoshi 2016 §3.3 and §5). Three modes:
 //
 //  * two     every valid RSM texel, one diffuse and (if any texel is glossy) one specular VSGL, EACH
 //            WITH ITS OWN positional Gaussian: the diffuse VSGL's μ_v, σ_v² weighted by Y(Φ_i R_d),
@@ -25,7 +25,7 @@
 //            measures the bias of the power and of the positional moments over seeds
 //            (paper_tables/vsgl_fis_bias.md).
 //            Identical clusters (same blocks and level) are merged, their weights added.
-//  * kmeans  N clusters by k-means over world position and normal (seed `modified-fis` §5):
+//  * kmeans  N clusters by k-means over world position and normal (Tokuyoshi 2016 §5):
 //            centres = N texels drawn as for fis (duplicates dropped), every valid texel assigned
 //            to the closest centre, no iterative update by default (as the paper), optional Lloyd
 //            iterations. Distance² = ‖y − c_y‖² + (β ℓ)²‖n − c_n‖²/4, ℓ = the RMS distance of all
@@ -37,7 +37,7 @@
 //
 // Every cluster has a diffuse VSGL (if its diffuse power is non-zero) and a specular VSGL only if a
 // VPL in it is glossy (non-zero specular power); the two share the cluster's positional Gaussian
-// (`modified-fis` §3.2) in every mode but `two`, which builds two clusters (diffuse only, specular
+// (Tokuyoshi 2016 §3.2) in every mode but `two`, which builds two clusters (diffuse only, specular
 // only). An RSM without glossy texels builds no specular VSGL at all.
 //
 // Sums are accumulated relative to a reference point (sglab/vsgl.hpp): the importance-weighted
@@ -74,12 +74,12 @@ struct VsglOptions {
   VsglMode mode = VsglMode::two;
   int count = 16;                  // N: clusters requested (fis, kmeans; `two` builds one)
   std::uint64_t seed = kDefaultVsglSeed;
-  // λ_d of the diffuse VPL lobe (and of `sg-cosine` at the receiver): the seeds' λ_d ≈ 2
-  // (LambertSharpness::seed, Tokuyoshi 2015 and 2016 supplements Eq. 1); the public VSGL code's
+  // λ_d of the diffuse VPL lobe (and of `sg-cosine` at the receiver): the papers' λ_d ≈ 2
+  // (LambertSharpness::papers, Tokuyoshi 2015 and 2016 supplements Eq. 1); the public VSGL code's
   // 2.292504 (= the L2-optimal 2.2925040546 of `sglab fit lambda-d`) is LambertSharpness::vsgl_code.
-  double lambda_d = LambertSharpness::seed;
-  SharpnessEstimator estimator = SharpnessEstimator::toksvig;  // the seeds
-  VarianceConvention variance = VarianceConvention::total;     // the seeds
+  double lambda_d = LambertSharpness::papers;
+  SharpnessEstimator estimator = SharpnessEstimator::toksvig;  // as in the papers
+  VarianceConvention variance = VarianceConvention::total;     // as in the papers
   // fis: K of Algorithm 1 (the mass each cluster should cover is K/N: K = 1 tiles the RSM, K > 1
   // makes clusters overlap) and the bisection's iteration count (the level is then known to
   // (top level)/2^iterations).
@@ -135,7 +135,7 @@ struct VsglStats {
 
 struct VsglSet {
   std::vector<VsglCluster> clusters;
-  double lambda_d = LambertSharpness::seed;
+  double lambda_d = LambertSharpness::papers;
   VsglStats stats;
 };
 

@@ -1,4 +1,4 @@
-// Shading from VSGLs (issue 5, item 4; seeds `two-vsgls` §3, `modified-fis` §4): the indirect
+// Shading from VSGLs (Tokuyoshi 2015 (two-VSGL poster) §3, Tokuyoshi 2016 §4): the indirect
 // radiance reflected towards ShadingPoint::view, summed over every VSGL lobe (diffuse and specular
 // VSGLs alike) of every cluster:
 //
@@ -9,24 +9,24 @@
 //                        sg-cosine        D = π/A(λ_d) · 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d)
 //                                         (the poster's form, exact A(λ_d) or, with
 //                                         sg_cosine_a_is_pi, its A(λ_d) ≈ π; λ_d is the VSGL set's)
-//                        punctual-approx  D = (2π/λ_in)⟨ξ_in·n⟩ (`modified-fis` §4.2)
+//                        punctual-approx  D = (2π/λ_in)⟨ξ_in·n⟩ (Tokuyoshi 2016 §4.2)
 //                        tokuyoshi2024    the erfc interpolation (most accurate published; the default)
 //                        sglab            this project's own refit of it with an even correction
 //                        reference        the quadrature (slow; exact D for the SG)
 //                        …and every other clamped-cosine method of the registry.
 //   specular:          the receiver's GGX lobe as an ASG (Xu et al. 2013 warp) × the incoming SG,
-//                      M(ω) at the product lobe's axis ξ_m (`two-vsgls` §3.2; specular.hpp `asg`);
+//                      M(ω) at the product lobe's axis ξ_m (Tokuyoshi 2015 (two-VSGL poster) §3.2; specular.hpp `asg`);
 //                      only for glossy receivers (ShadingPoint::glossy()) and only if requested.
 //
 // VSGL VISIBILITY is ignored by default, as in the 2015 poster (no visibility term): every VSGL
-// lights every shading point, and the render output says so (kVsglVisibilityNote). `modified-fis`
+// lights every shading point, and the render output says so (kVsglVisibilityNote). Tokuyoshi 2016
 // §4.1 (2016) multiplies by V(y_p, μ_v) from a shadow map at μ_v: pass `visible` (the renderer's
 // --visibility, visibility.hpp), with the reference's VPLs ray-cast for visibility too.
 //
 // Stiff cases: the shading point on μ_v (λ_σ = 0), σ_v² = 0 (λ_σ capped at 1e8: a point light to
 // 1e-8), tiny σ² (amplitudes in log form) — see sglab/vsgl.hpp. Methods whose published form
 // diverges at λ = 0 (punctual-approx, hill-fitted: 1/λ) are evaluated at λ_in ≥ 1e-8, the bottom
-// of the sharpness range they are measured over (SPEC.md §10); methods that go negative as
+// of the sharpness range they are measured over (docs/math.md §10); methods that go negative as
 // published (hill-fitted, meder) are NOT clamped: their flaw shows in the image.
 #pragma once
 
