@@ -565,7 +565,7 @@ std::vector<Case> registry_cases(bool quick) {
         }
         c.note = fmt::format(
             "reference: the quadrature for λ ≤ {:.0e}; past it (where the quadrature cannot reach) the closed-form "
-            "large-λ limit {} (relative error O(1/λ) ≤ 1e-8)",
+            "large-λ limit {} (relative error O(1/λ + λc⁴), ≤ 1e-8 on this grid)",
             kQuadratureMaxSharpness,
             q.name == "hemispherical" ? "(2π/λ)·½erfc(−c√(λ/2)) (→ 2π/λ at c > 0)"
                                       : "(2π/λ)(c·½erfc(−c√(λ/2)) + e^{−λc²/2}/√(2πλ)) (→ 2π⟨c⟩/λ)");

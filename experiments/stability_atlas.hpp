@@ -202,7 +202,9 @@ inline constexpr double kQuadratureMaxSharpness = 1e8;
 // The large-λ limits of H(λ, c) and D(λ, c): for λ → ∞ the unit SG is a planar Gaussian of
 // variance 1/λ per axis and total mass 2π/λ, and ω·n ≈ c + (the in-plane offset towards n), so
 //   H → (2π/λ)·½erfc(−c√(λ/2)),  D → (2π/λ)·(c·½erfc(−c√(λ/2)) + e^{−λc²/2}/√(2πλ)),
-// i.e. 2π/λ and 2π⟨c⟩/λ away from the horizon; the relative error is O(1/λ) (≤ 1e-8 past 1e8).
+// i.e. 2π/λ and 2π⟨c⟩/λ away from the horizon. Relative error O(1/λ + λc⁴) (the θ⁴ term of cos θ
+// in the back-facing tail): ≤ 1e-8 on the atlas grid past 1e8, whose back-facing cosines are
+// −1e-8 or ≤ −1/16 (where both values underflow to 0).
 double hemispherical_large_lambda(double lambda, double cosine);
 double clamped_cosine_large_lambda(double lambda, double cosine);
 

@@ -155,7 +155,8 @@ TEST(StabilityAtlas, NextFloatPastOneReachesFloatMethods) {
     EXPECT_TRUE(std::is_sorted(cosines.begin(), cosines.end()));
     EXPECT_EQ(g.values[0].front(), 0.0);
     EXPECT_EQ(g.values[0][1], 1e-8);
-    EXPECT_EQ(g.values[0].back(), 1e8);
+    EXPECT_NE(std::find(g.values[0].begin(), g.values[0].end(), 1e8), g.values[0].end());
+    EXPECT_EQ(g.values[0].back(), std::numeric_limits<double>::max());
 
     // A float method sees the rounded cosines; record them (evaluate runs in parallel).
     Quantity q;
@@ -338,9 +339,31 @@ TEST(StabilityAtlas, SharpnessGridReachesTheLargestFiniteValueOfEachType) {
   // A(λ) = 2π(1 − e^{−2λ})/λ is 2π/λ at the maxima (independent closed form; normal numbers).
   for (std::size_t r = 0; r < g.rows; ++r) {
     const double l = g.row(r)[0];
-    if (l == fmax) EXPECT_NEAR(ef[r].value / (2 * M_PI / fmax), 1.0, 1e-6);
-    if (l == dmax) EXPECT_NEAR(ed[r].value / (2 * M_PI / dmax), 1.0, 1e-14);
+    if (l == fmax) {
+      EXPECT_NEAR(ef[r].value / (2 * M_PI / fmax), 1.0, 1e-6);
+    }
+    if (l == dmax) {
+      EXPECT_NEAR(ed[r].value / (2 * M_PI / dmax), 1.0, 1e-14);
+    }
   }
+}
+
+TEST(StabilityAtlas, LargeLambdaLimitsMatchTheQuadratureAtItsReach) {
+  // The references past λ = 1e8 are the closed-form limits; where the quadrature still runs
+  // (λ = 1e8, 1e7) they agree with it to O(1/λ + λc⁴), across the horizon transition c ~ 1/√λ.
+  const Quantity* h = find_quantity("hemispherical");
+  const Quantity* d = find_quantity("clamped-cosine");
+  ASSERT_NE(h, nullptr);
+  ASSERT_NE(d, nullptr);
+  for (double l : {1e7, kQuadratureMaxSharpness})
+    for (double c : {-1.0, -1e-3, -1e-4, -1e-8, 0.0, 1e-8, 1e-4, 0.5, 1.0}) {
+      const std::vector<double> a{l, c};
+      const double hq = h->find("reference")->eval_double(a), dq = d->find("reference")->eval_double(a);
+      const double hl = hemispherical_large_lambda(l, c), dl = clamped_cosine_large_lambda(l, c);
+      const double tol = 5 / l + l * c * c * c * c;  // O(1/λ) and the θ⁴ term of cos θ in the tail
+      EXPECT_LE(std::fabs(hl - hq), tol * std::max(std::fabs(hq), 1e-300)) << "H at λ = " << l << ", c = " << c;
+      EXPECT_LE(std::fabs(dl - dq), tol * std::max(std::fabs(dq), 1e-300)) << "D at λ = " << l << ", c = " << c;
+    }
 }
 
 TEST(StabilityAtlas, NoMethodGivesNaNOrInfUpToTheMaxima) {
