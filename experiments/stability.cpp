@@ -127,6 +127,7 @@ void run(const Options& o) {
       for (std::size_t r = 0; r < g.rows; ++r) {
         const auto& e = reference_evals[r];
         if (!e.skipped && !e.out_of_domain && !e.threw && std::isfinite(e.value)) reference[r] = e.value;
+        else if (!c.limit_reference.empty() && std::isfinite(c.limit_reference[r])) reference[r] = c.limit_reference[r];
       }
       std::fprintf(stderr, "stability: %s: reference done in %.1f s\n", q.name.c_str(), seconds_since(t0));
     }
@@ -244,7 +245,9 @@ void run(const Options& o) {
   md += "Constants:\n\n" + constants_text(set, uses, "- ") + "\n";
   md +=
       "Every method of every registry quantity, in float and double, over the stiff inputs of docs/math.md §10 "
-      "(`core/include/sglab/stiff_cases.hpp`): sharpness {0} ∪ 1e-8 … 1e8, cosines ±1 exactly, the next float and double "
+      "(`core/include/sglab/stiff_cases.hpp`): sharpness {0} ∪ 1e-8 … 1e8 and a sparse tail "
+      "up to the largest finite value of each type (float rows stop at FLT_MAX ≈ 3.4e38, double rows go on to DBL_MAX ≈ "
+      "1.8e308), cosines ±1 exactly, the next float and double "
       "past and before ±1, 1 ± 1e-7, 0, ±1e-8 and a uniform interior, mean lengths r → 1, roughness α → 0 (1e-4) and 1, "
       "grazing view, light behind the surface; plus the atlas-only cases (opposite SG lobes, degenerate VPL sets, the "
       "shading point on top of a VSGL). A float row evaluates the input rounded to float.\n\n"

@@ -163,9 +163,19 @@ std::vector<double> column_values(ColumnKind kind, Level level) {
   switch (kind) {
     case ColumnKind::sharpness:
     case ColumnKind::nonnegative:
-      if (level == Level::full) return stiff::sharpnesses(4);
-      if (level == Level::coarse) return stiff::sharpnesses(1);
-      return {0.0, 1e-8, 1e-2, 1.0, 1e2, 1e4, 1e8};
+    {
+      // {0} ∪ 1e-8 … 1e8, then the extreme tail up to FLT_MAX and DBL_MAX (stiff_cases.hpp).
+      std::vector<double> v = level == Level::full     ? stiff::sharpnesses(4)
+                              : level == Level::coarse ? stiff::sharpnesses(1)
+                                                       : std::vector<double>{0.0, 1e-8, 1e-2, 1.0, 1e2, 1e4, 1e8};
+      const std::vector<double> tail = level == Level::full ? stiff::extreme_sharpnesses()
+                                       : level == Level::coarse
+                                           ? stiff::extreme_sharpnesses(true)
+                                           : std::vector<double>{double(std::numeric_limits<float>::max()),
+                                                                 std::numeric_limits<double>::max()};
+      v.insert(v.end(), tail.begin(), tail.end());
+      return v;
+    }
     case ColumnKind::cosine: {
       if (level == Level::full) return stiff::cosines(32);
       if (level == Level::coarse) return stiff::cosines(8);
@@ -295,6 +305,14 @@ void add_exact(const Method& m, const Grid& g, std::size_t r, Evaluation& e) {
   }
 }
 
+// Whether every input of row r is within float's range: the float grid stops at FLT_MAX (a
+// larger double input would round to Inf, which is not a float input but an overflow).
+bool representable_in_float(const Grid& g, std::size_t r) {
+  for (double v : g.row(r))
+    if (std::isfinite(v) && std::fabs(v) > double(std::numeric_limits<float>::max())) return false;
+  return true;
+}
+
 template <class T>
 Evaluation evaluate_row(const Quantity& q, const Method& m, const Grid& g, std::size_t r, bool rounding) {
   Evaluation e;
@@ -322,7 +340,7 @@ std::vector<Evaluation> evaluate(const Quantity& q, const Method& m, Precision p
   std::vector<Evaluation> out(g.rows);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, g.rows, 16), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t r = range.begin(); r != range.end(); ++r) {
-      if (!rows.empty() && !rows[r]) {
+      if ((!rows.empty() && !rows[r]) || (p == Precision::float32 && !representable_in_float(g, r))) {
         out[r].skipped = true;
         continue;
       }
@@ -504,21 +522,62 @@ constexpr ReferenceBudget kReferenceBudgets[] = {
 
 }  // namespace
 
+double hemispherical_large_lambda(double lambda, double cosine) {
+  const double c = std::clamp(cosine, -1.0, 1.0);
+  return 2 * std::numbers::pi / lambda * 0.5 * std::erfc(-c * std::sqrt(lambda / 2));
+}
+
+double clamped_cosine_large_lambda(double lambda, double cosine) {
+  const double c = std::clamp(cosine, -1.0, 1.0);
+  const double tail = std::exp(-lambda * c * c / 2) / std::sqrt(2 * std::numbers::pi * lambda);
+  return 2 * std::numbers::pi / lambda * (c * 0.5 * std::erfc(-c * std::sqrt(lambda / 2)) + tail);
+}
+
 std::vector<Case> registry_cases(bool quick) {
   std::vector<Case> out;
   for (const Quantity& q : quantities()) {
-    Case c{q, registry_grid(q, quick), {}, ""};
+    Case c{q, registry_grid(q, quick), {}, "", {}};
     if (!q.reference_method.empty()) {
       std::vector<char> eligible(c.grid.rows, 1);
       c.reference_rows = eligible;
       c.note = "reference on every row";
+      // Rows whose sharpness-like inputs exceed the quadrature's reach.
+      std::vector<char> reachable(c.grid.rows, 1);
+      bool any_unreachable = false;
+      for (std::size_t r = 0; r < c.grid.rows; ++r) {
+        const auto row = c.grid.row(r);
+        for (std::size_t k = 0; k < row.size(); ++k)
+          if ((q.columns[k].kind == ColumnKind::sharpness || q.columns[k].kind == ColumnKind::nonnegative) &&
+              row[k] > kQuadratureMaxSharpness)
+            reachable[r] = 0;
+        any_unreachable = any_unreachable || !reachable[r];
+      }
+      const bool quadrature = q.name == "hemispherical" || q.name == "clamped-cosine";
+      if (quadrature && any_unreachable) {
+        // The 1D quadrature references stop at λ = 1e8; past it, the closed-form large-λ limit.
+        c.reference_rows = reachable;
+        c.limit_reference.assign(c.grid.rows, std::numeric_limits<double>::quiet_NaN());
+        for (std::size_t r = 0; r < c.grid.rows; ++r) {
+          if (reachable[r]) continue;
+          const auto row = c.grid.row(r);
+          c.limit_reference[r] = q.name == "hemispherical" ? hemispherical_large_lambda(row[0], row[1])
+                                                           : clamped_cosine_large_lambda(row[0], row[1]);
+        }
+        c.note = fmt::format(
+            "reference: the quadrature for λ ≤ {:.0e}; past it (where the quadrature cannot reach) the closed-form "
+            "large-λ limit {} (relative error O(1/λ + λc⁴), ≤ 1e-8 on this grid)",
+            kQuadratureMaxSharpness,
+            q.name == "hemispherical" ? "(2π/λ)·½erfc(−c√(λ/2)) (→ 2π/λ at c > 0)"
+                                      : "(2π/λ)(c·½erfc(−c√(λ/2)) + e^{−λc²/2}/√(2πλ)) (→ 2π⟨c⟩/λ)");
+      }
       for (const auto& b : kReferenceBudgets) {
         if (b.quantity != q.name) continue;
+        for (std::size_t r = 0; r < c.grid.rows; ++r) eligible[r] = reachable[r];
         if (q.name == "specular") {
           const std::size_t ra = column_of(q, "roughness"), rl = column_of(q, "light_sharpness");
           for (std::size_t r = 0; r < c.grid.rows; ++r) {
             const auto row = c.grid.row(r);
-            eligible[r] = (ra < row.size() && row[ra] >= 0.1 && rl < row.size() && row[rl] <= 1e4) ? 1 : 0;
+            eligible[r] = (eligible[r] && ra < row.size() && row[ra] >= 0.1 && rl < row.size() && row[rl] <= 1e4) ? 1 : 0;
           }
         }
         const std::size_t n = quick ? b.rows_quick : b.rows_full;
@@ -616,7 +675,7 @@ Case opposite_integral_case(bool quick) {
                                        return product_integral_iwasaki(a[0], a[0], T(x1.dot(x2)));
                                      }));
   std::vector<double> deltas{0.0, 1e-12, 1e-8, 1e-6, 1e-4, 1e-2, 0.1, 1.0};
-  Case c{q, make_grid({"sharpness", "delta"}, {stiff::sharpnesses(quick ? 1 : 2), deltas}, 0, 1, false), {}, ""};
+  Case c{q, make_grid({"sharpness", "delta"}, {stiff::sharpnesses(quick ? 1 : 2), deltas}, 0, 1, false), {}, "", {}};
   c.reference_rows.assign(c.grid.rows, 1);
   c.note = "reference: the definition in 50 digits (no stable-form rewriting) at the same input";
   return c;
@@ -642,7 +701,7 @@ Case opposite_value_case(bool quick) {
     return T(exp(p.log_amplitude) * sg_eval(x1, p.axis, p.sharpness));
   }));
   std::vector<double> deltas{0.0, 1e-12, 1e-8, 1e-6, 1e-4, 1e-2, 0.1, 1.0};
-  Case c{q, make_grid({"sharpness", "delta"}, {stiff::sharpnesses(quick ? 1 : 2), deltas}, 0, 1, false), {}, ""};
+  Case c{q, make_grid({"sharpness", "delta"}, {stiff::sharpnesses(quick ? 1 : 2), deltas}, 0, 1, false), {}, "", {}};
   c.reference_rows.assign(c.grid.rows, 1);
   c.note = "reference: e^{−λ(1 + cos δ)} in 50 digits";
   return c;
@@ -685,7 +744,7 @@ Case vsgl_variance_case() {
                                      [](auto a) { return patch_variance(a[0], a[1], false); }));
   q.methods.push_back(generic_pseudo("origin-first-vpl", "sums relative to o = the first VPL (vsgl.hpp's reference point)", nullptr,
                                      [](auto a) { return patch_variance(a[0], a[1], true); }));
-  Case c{q, make_grid({"distance", "spacing"}, {{0.0, 1.0, 1e2, 1e4, 1e6, 1e8}, {0.0, 1e-6, 1e-3, 1.0, 1e3}}, 0, 1, false), {}, ""};
+  Case c{q, make_grid({"distance", "spacing"}, {{0.0, 1.0, 1e2, 1e4, 1e6, 1e8}, {0.0, 1e-6, 1e-3, 1.0, 1e3}}, 0, 1, false), {}, "", {}};
   c.reference_rows.assign(c.grid.rows, 1);
   c.note = "reference: the exact variance 4h²/3 of the patch (0 for a single point); a relative error where it is 0 "
            "means any non-zero σ²";
@@ -754,7 +813,7 @@ Case vsgl_on_top_case() {
     }
   }
   Case c{q, make_grid({"distance", "variance"}, {{0.0, 1e-12, 1e-8, 1e-4, 1.0, 1e4}, {0.0, 1e-12, 1e-6, 1.0, 1e6}}, 0, 1, false),
-         {}, ""};
+         {}, "", {}};
   c.reference_rows.assign(c.grid.rows, 1);
   c.note = "reference: the same VSGL pipeline in double with the clamped-cosine reference; float positions (μ = (1, 2, 3)) "
            "cannot resolve distances below ~1e-7, so float sees the shading point on top of μ_v there";

@@ -121,7 +121,9 @@ Grid make_grid(std::vector<std::string> names, std::vector<std::vector<double>> 
 // quantities have five and six columns). --quick takes every column one level down.
 enum class Level { full, coarse, minimal };
 // Values of a column kind over its documented domain and its extremes (stiff_cases.hpp):
-//   sharpness, nonnegative: {0} ∪ 1e-8 … 1e8 (4, 1 per decade; minimal 7 values);
+//   sharpness, nonnegative: {0} ∪ 1e-8 … 1e8 (4, 1 per decade; minimal 7 values), then a sparse
+//           tail up to FLT_MAX and DBL_MAX (stiff::extreme_sharpnesses: 14 values, coarse 4,
+//           minimal {FLT_MAX, DBL_MAX}); float rows stop at FLT_MAX (evaluate skips the others);
 //   cosine: ±1, the float and double rounding steps inside and past ±1, 0, ±1e-8 and a uniform
 //           interior (31, 7 values; minimal: ±(1 + 2^-23), ±1, ±0.5, 0);
 //   mean_length: 0 … 1 crowded at r → 1 (1 − 10^-k, the last float and double below 1, 1);
@@ -145,7 +147,8 @@ std::vector<double> line_peaks(const Grid& g, std::span<const double> values, bo
 // ---- evaluation -----------------------------------------------------------------------------
 
 // Evaluates `m` in precision p (float or double) at the rows with rows[r] != 0 (empty: every
-// row; the others come back `skipped`), the input rounded to p first (the domain check sees the
+// row; the others come back `skipped`, as do float rows with an input past FLT_MAX), the input
+// rounded to p first (the domain check sees the
 // rounded input), in parallel. reference/peak: per row, NaN where unknown (or empty spans: none).
 // rounding_rows: per row, whether to evaluate m in 50 digits at the same rounded input (empty:
 // nowhere).
@@ -187,7 +190,23 @@ struct Case {
   Grid grid;
   std::vector<char> reference_rows;  // empty: the quantity has no reference method
   std::string note;                  // how the reference was subset, what the case is
+  // Per row (or empty): a closed-form large-λ limit used as the reference where the reference
+  // method is not run (its quadrature cannot reach λ past kQuadratureMaxSharpness); NaN elsewhere.
+  std::vector<double> limit_reference;
 };
+
+// The largest sharpness (or ASG bandwidth) at which the quadrature references are run; past it
+// the atlas compares against closed-form large-λ limits (or not at all), as each case's note says.
+inline constexpr double kQuadratureMaxSharpness = 1e8;
+
+// The large-λ limits of H(λ, c) and D(λ, c): for λ → ∞ the unit SG is a planar Gaussian of
+// variance 1/λ per axis and total mass 2π/λ, and ω·n ≈ c + (the in-plane offset towards n), so
+//   H → (2π/λ)·½erfc(−c√(λ/2)),  D → (2π/λ)·(c·½erfc(−c√(λ/2)) + e^{−λc²/2}/√(2πλ)),
+// i.e. 2π/λ and 2π⟨c⟩/λ away from the horizon. Relative error O(1/λ + λc⁴) (the θ⁴ term of cos θ
+// in the back-facing tail): ≤ 1e-8 on the atlas grid past 1e8, whose back-facing cosines are
+// −1e-8 or ≤ −1/16 (where both values underflow to 0).
+double hemispherical_large_lambda(double lambda, double cosine);
+double clamped_cosine_large_lambda(double lambda, double cosine);
 
 // The registry quantities with their grids. Expensive references (the glossy quantities, double
 // quadratures at up to seconds per point) are computed on a spread subset of rows, as `note` says.

@@ -1,7 +1,8 @@
 // tests for experiments/stability_atlas.{hpp,cpp} (`sglab stability`): the counting logic on a
 // fake method with known NaN/Inf/negative/wrong/thrown/out-of-domain cells, the grids (the next
 // float past ±1 really reaches a float method), the cartesian indexing and peaks against direct
-// recomputation, and the atlas-only cases against closed forms.
+// recomputation, the atlas-only cases against closed forms, and the sharpness grid reaching
+// FLT_MAX and DBL_MAX with no NaN or Inf from any method there.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -154,7 +155,8 @@ TEST(StabilityAtlas, NextFloatPastOneReachesFloatMethods) {
     EXPECT_TRUE(std::is_sorted(cosines.begin(), cosines.end()));
     EXPECT_EQ(g.values[0].front(), 0.0);
     EXPECT_EQ(g.values[0][1], 1e-8);
-    EXPECT_EQ(g.values[0].back(), 1e8);
+    EXPECT_NE(std::find(g.values[0].begin(), g.values[0].end(), 1e8), g.values[0].end());
+    EXPECT_EQ(g.values[0].back(), std::numeric_limits<double>::max());
 
     // A float method sees the rounded cosines; record them (evaluate runs in parallel).
     Quantity q;
@@ -292,6 +294,97 @@ TEST(StabilityAtlas, ExtraCasesAgreeWithClosedForms) {
   for (const char* name : {"origin-zero", "origin-first-vpl"})
     EXPECT_NEAR(var->quantity.find(name)->eval_double(std::vector<double>{0.0, 1.0}), 4.0 / 3.0, 1e-14) << name;
   EXPECT_EQ(var->quantity.find("origin-first-vpl")->eval_double(std::vector<double>{1e8, 0.0}), 0.0);
+}
+
+TEST(StabilityAtlas, SharpnessGridReachesTheLargestFiniteValueOfEachType) {
+  const double fmax = double(std::numeric_limits<float>::max()), dmax = std::numeric_limits<double>::max();
+  for (Level level : {Level::full, Level::coarse, Level::minimal})
+    for (ColumnKind kind : {ColumnKind::sharpness, ColumnKind::nonnegative}) {
+      const auto v = column_values(kind, level);
+      EXPECT_TRUE(std::is_sorted(v.begin(), v.end()));
+      EXPECT_EQ(v.back(), dmax);
+      EXPECT_NE(std::find(v.begin(), v.end(), fmax), v.end());
+    }
+  // Float evaluates the rows up to FLT_MAX and skips the larger ones (they are not float inputs);
+  // double evaluates every row. A method that records its inputs sees both maxima.
+  const Quantity* sgi = find_quantity("sg-integral");
+  ASSERT_NE(sgi, nullptr);
+  const Grid g = registry_grid(*sgi, true);
+  std::mutex mu;
+  float seen_float = 0;
+  double seen_double = 0;
+  Method m = *sgi->find("exact");
+  const Method exact = m;
+  m.eval_float = [&](std::span<const float> a) {
+    std::lock_guard<std::mutex> lock(mu);
+    seen_float = std::max(seen_float, a[0]);
+    return exact.eval_float(a);
+  };
+  m.eval_double = [&](std::span<const double> a) {
+    std::lock_guard<std::mutex> lock(mu);
+    seen_double = std::max(seen_double, a[0]);
+    return exact.eval_double(a);
+  };
+  const auto ef = evaluate(*sgi, m, Precision::float32, g, {}, {}, {});
+  const auto ed = evaluate(*sgi, m, Precision::float64, g, {}, {}, {});
+  EXPECT_EQ(seen_float, std::numeric_limits<float>::max());
+  EXPECT_EQ(seen_double, dmax);
+  long skipped_float = 0;
+  for (std::size_t r = 0; r < g.rows; ++r) {
+    skipped_float += ef[r].skipped ? 1 : 0;
+    EXPECT_FALSE(ed[r].skipped);
+    EXPECT_EQ(ef[r].skipped, g.row(r)[0] > fmax) << describe_row(g, r, Precision::float64);
+  }
+  EXPECT_GT(skipped_float, 0);
+  // A(λ) = 2π(1 − e^{−2λ})/λ is 2π/λ at the maxima (independent closed form; normal numbers).
+  for (std::size_t r = 0; r < g.rows; ++r) {
+    const double l = g.row(r)[0];
+    if (l == fmax) {
+      EXPECT_NEAR(ef[r].value / (2 * M_PI / fmax), 1.0, 1e-6);
+    }
+    if (l == dmax) {
+      EXPECT_NEAR(ed[r].value / (2 * M_PI / dmax), 1.0, 1e-14);
+    }
+  }
+}
+
+TEST(StabilityAtlas, LargeLambdaLimitsMatchTheQuadratureAtItsReach) {
+  // The references past λ = 1e8 are the closed-form limits; where the quadrature still runs
+  // (λ = 1e8, 1e7) they agree with it to O(1/λ + λc⁴), across the horizon transition c ~ 1/√λ.
+  const Quantity* h = find_quantity("hemispherical");
+  const Quantity* d = find_quantity("clamped-cosine");
+  ASSERT_NE(h, nullptr);
+  ASSERT_NE(d, nullptr);
+  for (double l : {1e7, kQuadratureMaxSharpness})
+    for (double c : {-1.0, -1e-3, -1e-4, -1e-8, 0.0, 1e-8, 1e-4, 0.5, 1.0}) {
+      const std::vector<double> a{l, c};
+      const double hq = h->find("reference")->eval_double(a), dq = d->find("reference")->eval_double(a);
+      const double hl = hemispherical_large_lambda(l, c), dl = clamped_cosine_large_lambda(l, c);
+      const double tol = 5 / l + l * c * c * c * c;  // O(1/λ) and the θ⁴ term of cos θ in the tail
+      EXPECT_LE(std::fabs(hl - hq), tol * std::max(std::fabs(hq), 1e-300)) << "H at λ = " << l << ", c = " << c;
+      EXPECT_LE(std::fabs(dl - dq), tol * std::max(std::fabs(dq), 1e-300)) << "D at λ = " << l << ", c = " << c;
+    }
+}
+
+TEST(StabilityAtlas, NoMethodGivesNaNOrInfUpToTheMaxima) {
+  // Every method of every quantity of the (quick) atlas, float and double, over grids that reach
+  // FLT_MAX and DBL_MAX: no NaN and no Inf anywhere (a published pole is a domain error instead).
+  // The reference method runs where the atlas runs it (the quadratures stop at λ = 1e8).
+  std::vector<Case> cases = registry_cases(true);
+  for (auto& c : extra_cases(true)) cases.push_back(std::move(c));
+  for (const Case& c : cases)
+    for (const Method& m : c.quantity.methods) {
+      const bool is_ref = m.name == c.quantity.reference_method;
+      const std::span<const char> rows = is_ref ? std::span<const char>(c.reference_rows) : std::span<const char>();
+      for (Precision p : {Precision::float32, Precision::float64}) {
+        const auto ev = evaluate(c.quantity, m, p, c.grid, {}, {}, {}, rows);
+        const Tally t = tally(ev, tiny_of(p));
+        EXPECT_EQ(t.nan, 0) << c.quantity.name << "/" << m.name << " (" << precision_name(p) << ") first at "
+                            << (t.worst_flag_row < c.grid.rows ? describe_row(c.grid, t.worst_flag_row, p) : "");
+        EXPECT_EQ(t.inf, 0) << c.quantity.name << "/" << m.name << " (" << precision_name(p) << ")";
+        EXPECT_GT(t.points, 0) << c.quantity.name << "/" << m.name;
+      }
+    }
 }
 
 }  // namespace

@@ -109,12 +109,12 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                sharpness_positive(0, "the 2π/λ factor diverges"),
                                [](auto a) { return clamped_cosine_punctual_approx(a[0], a[1]); }));
     q.methods.push_back(make_method_with_parameters("sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2)",
-                               "light leaks past the horizon; the Iwasaki product is poor for broad lobes; exact A(λ_d) used (the paper takes A(λ_d) ≈ π)", false, nullptr,
+                               "light leaks past the horizon; the Iwasaki product is poor for broad lobes; exact A(λ_d) used (the paper takes A(λ_d) ≈ π); for sharp lights (λ → ∞) it tends to (π/A(λ_d))·e^{λ_d(c−1)}·2π/λ instead of 2π⟨c⟩/λ (off by up to 14 % of the peak 2π/λ, at c ≈ 0.6)", false, nullptr,
                                {{"lambda_d", "lambda-d", SgCosine::lambda_d, "Tokuyoshi's VSGL papers: λ_d ≈ 2 by least squares (objective not stated)", ColumnKind::positive}},
                                [](auto a) { return clamped_cosine_sg_cosine(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_sg_cosine(a[0], a[1], p[0]); }));
     q.methods.push_back(make_method_with_parameters("cosine-lobe-sg", "cosine ≈ 1.17·G(ω; n, 2.133), exact SG product (Pettineo 2016, SG series part 3)",
-                               "light leaks past the horizon", false, nullptr,
+                               "light leaks past the horizon; for sharp lights (λ → ∞) it tends to 1.17·e^{2.133(c−1)}·2π/λ instead of 2π⟨c⟩/λ (17 % high at c = 1)", false, nullptr,
                                {{"amplitude", "cosine-lobe-sg", CosineLobeSg::amplitude, "Pettineo 2016, SG series part 3", ColumnKind::positive},
                                 {"sharpness", "cosine-lobe-sg", CosineLobeSg::sharpness, "Pettineo 2016, SG series part 3", ColumnKind::positive}},
                                [](auto a) { return clamped_cosine_cosine_lobe_sg(a[0], a[1]); },

@@ -191,6 +191,17 @@ T asg_integral_as_printed(const T& eta_x, const T& eta_y) {
   const T& ly = swap ? eta_x : eta_y;
   const T t = lx - ly;
   const T r = t / ly;
+  if (value_of(r) > 1e6) {
+    // r·F(t + r) by the large-argument expansion e^{−z}I0(z) = (1 + 1/(8z) + 9/(128z²) + …)/√(2πz)
+    // (Abramowitz & Stegun 9.7.1), z = x/2, x = t + r: r·F(x) = 2√π·√r/√(1 + λy)·(1 + 1/(4x) + 9/(32x²))
+    // (r/x = 1/(1 + λy)), truncation ≤ 1e-18 at x > 1e6. The direct form's r = t/λy overflows
+    // (λx = 1e35, λy = 1e-8 in float) and gave ∞·0 = NaN; here √r = √t/√λy and 1/x = λy/(t(1 + λy)).
+    using std::sqrt;
+    const T inv_x = ly / (t * (T(1) + ly));
+    const T rF = T(2) * sqrt(pi<T>()) * (sqrt(t) / sqrt(ly)) / sqrt(T(1) + ly) *
+                 (T(1) + inv_x * (T(0.25) + inv_x * T(9.0 / 32)));
+    return asg_integral_approx(lx, ly) - exp(-ly) / (T(2) * lx) * (asg_F(t) - rF);
+  }
   return asg_integral_approx(lx, ly) - exp(-ly) / (T(2) * lx) * (asg_F(t) - r * asg_F(T(t + r)));
 }
 

@@ -46,6 +46,9 @@ T meder_steepness(const T& sharpness, const T& p1 = T(MederLogistic::p1),
                   const T& p4 = T(MederLogistic::p4)) {
   using std::sqrt;
   const T& l = sharpness;
+  // Above 1e4 divided through by λ²: the direct form's λ² overflows from λ ≈ 1.8e19 in float and
+  // 1.3e154 in double (∞/∞ = NaN). t = √λ·(p1 + p2/λ)/(1 + (p3 + p4/λ)/λ) → p1√λ.
+  if (value_of(l) > 1e4) return safe_sqrt(l) * (p1 + p2 / l) / (T(1) + (p3 + p4 / l) / l);
   return safe_sqrt(l) * (p1 * l * l + p2 * l) / (l * l + p3 * l + p4);
 }
 

@@ -31,8 +31,11 @@ T sg_eval_cos(const T& cosine, const T& sharpness) {
 
 // A(λ) = 2π(1 − e^{−2λ})/λ = 4π·expm1(−2λ)/(−2λ); exactly 4π at λ = 0 (docs/math.md §1;
 // Tokuyoshi 2015 (two-VSGL poster) §1, Tokuyoshi 2016 §2).
+// Past λ = 1 it is written 2π(1 − e^{−2λ})/λ directly: the expm1 form's −2λ overflows to −∞ for
+// λ > max/2 (FLT_MAX in float gave 0 instead of 2π/λ).
 template <class T>
 T sg_integral(const T& sharpness) {
+  if (value_of(sharpness) > 1) return two_pi<T>() * one_minus_exp_neg(T(2) * sharpness) / sharpness;
   return T(2) * two_pi<T>() * expm1_over_x(T(-2) * sharpness);
 }
 
@@ -63,9 +66,19 @@ struct SgProduct {
 // Product sharpness from the two sharpnesses and the cosine between the axes:
 // λ3² = λ1² + λ2² + 2λ1λ2c, written as (λ1 − λ2)² + 2λ1λ2(1 + c) so that opposite axes of equal
 // sharpness give exactly 0 instead of a rounding residue (or a negative square).
+// Past kProductScaleSharpness both forms below divide through by s = max(λ1, λ2) (λ3 and L are
+// homogeneous of degree 1 in (λ1, λ2)): the squares and products overflow from λ ≈ 1.8e19 in float
+// and 1.3e154 in double, which gave λ3 = ∞ and L = ∞/∞ = NaN.
+inline constexpr double kProductScaleSharpness = 1e18;  // (1e18)²·4 = 4e36 < FLT_MAX ≈ 3.4e38
+
 template <class T>
 T product_sharpness(const T& sharpness1, const T& sharpness2, const T& cosine) {
   const T c = clamp_cosine(cosine);
+  const T s = value_of(sharpness1) > value_of(sharpness2) ? sharpness1 : sharpness2;
+  if (value_of(s) > kProductScaleSharpness) {
+    const T u1 = sharpness1 / s, u2 = sharpness2 / s, du = u1 - u2;
+    return s * safe_sqrt(du * du + T(2) * u1 * u2 * (T(1) + c));
+  }
   const T d = sharpness1 - sharpness2;
   return safe_sqrt(d * d + T(2) * sharpness1 * sharpness2 * (T(1) + c));
 }
@@ -77,6 +90,11 @@ template <class T>
 T product_log_amplitude(const T& sharpness1, const T& sharpness2, const T& cosine,
                         const T& product_sharpness_value) {
   const T c = clamp_cosine(cosine);
+  const T s = value_of(sharpness1) > value_of(sharpness2) ? sharpness1 : sharpness2;
+  if (value_of(s) > kProductScaleSharpness) {  // L = s·L(λ1/s, λ2/s): no overflowing product
+    const T u1 = sharpness1 / s, u2 = sharpness2 / s;
+    return T(-2) * u1 * u2 * (T(1) - c) / (product_sharpness_value / s + u1 + u2) * s;
+  }
   const T denom = product_sharpness_value + sharpness1 + sharpness2;
   if (!(value_of(denom) > 0)) return T(0);
   return T(-2) * sharpness1 * sharpness2 * (T(1) - c) / denom;
@@ -88,7 +106,11 @@ T product_log_amplitude(const T& sharpness1, const T& sharpness2, const T& cosin
 template <class T>
 SgProduct<T> sg_product(const Vec3<T>& axis1, const T& sharpness1, const Vec3<T>& axis2,
                         const T& sharpness2) {
-  const Vec3<T> v = sharpness1 * axis1 + sharpness2 * axis2;
+  // ‖v‖ is only used for the direction: past kProductScaleSharpness v is scaled by 1/max(λ1, λ2)
+  // first (its squared norm overflows from λ ≈ 1.8e19 in float, and v/∞ gave a zero axis).
+  const T big = value_of(sharpness1) > value_of(sharpness2) ? sharpness1 : sharpness2;
+  const T scale = value_of(big) > kProductScaleSharpness ? T(T(1) / big) : T(1);
+  const Vec3<T> v = (sharpness1 * scale) * axis1 + (sharpness2 * scale) * axis2;
   const T cosine = clamp_cosine(T(axis1.dot(axis2)));
   // The stable scalar form of ‖v‖ (exact 0 for opposite axes of equal sharpness).
   const T lambda3 = product_sharpness(sharpness1, sharpness2, cosine);
@@ -111,6 +133,17 @@ SgProduct<T> sg_product(const Vec3<T>& axis1, const T& sharpness1, const Vec3<T>
 template <class T>
 T product_integral_exact(const T& sharpness1, const T& sharpness2, const T& cosine) {
   using std::exp;
+  const T s = value_of(sharpness1) > value_of(sharpness2) ? sharpness1 : sharpness2;
+  if (value_of(s) > kProductScaleSharpness) {
+    // In units of s = max(λ1, λ2): λ3 = s·r may overflow (λ1 = λ2 = FLT_MAX, c = 1 gave A(∞) = 0),
+    // but A(λ3) = (2π/s)/r·(1 − e^{−2λ3}) does not.
+    const T u1 = sharpness1 / s, u2 = sharpness2 / s;
+    const T r = product_sharpness(u1, u2, cosine);
+    const T log_amplitude = s * product_log_amplitude(u1, u2, cosine, r);
+    const T lambda3 = s * r;
+    const T area = value_of(lambda3) > 1 ? T(two_pi<T>() / s / r * one_minus_exp_neg(T(2) * lambda3)) : sg_integral(lambda3);
+    return exp(log_amplitude) * area;
+  }
   const T lambda3 = product_sharpness(sharpness1, sharpness2, cosine);
   const T log_amplitude = product_log_amplitude(sharpness1, sharpness2, cosine, lambda3);
   return exp(log_amplitude) * sg_integral(lambda3);
@@ -123,7 +156,10 @@ template <class T>
 T product_integral_iwasaki(const T& sharpness1, const T& sharpness2, const T& cosine) {
   const T sum = sharpness1 + sharpness2;
   if (!(value_of(sum) > 0)) return T(std::numeric_limits<value_type_t<T>>::infinity());
-  const T reduced = sharpness1 * sharpness2 / sum;
+  // λ1λ2/(λ1 + λ2) as the larger sharpness times (the smaller)/(sum) ≤ 1: λ1λ2 overflows from
+  // λ ≈ 1.8e19 in float, 1.3e154 in double (then ∞/∞ or ∞·0 = NaN in the exponent).
+  const T reduced = value_of(sharpness1) > value_of(sharpness2) ? T(sharpness1 * (sharpness2 / sum))
+                                                               : T(sharpness2 * (sharpness1 / sum));
   return two_pi<T>() * sg_eval_cos(cosine, reduced) / sum;
 }
 

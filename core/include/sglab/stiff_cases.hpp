@@ -26,6 +26,22 @@ inline std::vector<double> sharpnesses(int per_decade = 2) {
   return out;
 }
 
+// Sharpnesses past 1e8 up to the largest finite value of each type (ascending): a sparse log
+// tail (1e10 … 1e35 every 5 decades, then FLT_MAX; 1e50 … 1e300 every 50 decades, then DBL_MAX).
+// Float evaluates only the values it can represent (≤ FLT_MAX), so its grid ends at FLT_MAX and
+// double's at DBL_MAX. `coarse` keeps 1e16, FLT_MAX, 1e100 and DBL_MAX.
+inline std::vector<double> extreme_sharpnesses(bool coarse = false) {
+  const double fmax = static_cast<double>(std::numeric_limits<float>::max());
+  const double dmax = std::numeric_limits<double>::max();
+  if (coarse) return {1e16, fmax, 1e100, dmax};
+  std::vector<double> out;
+  for (int e = 10; e <= 35; e += 5) out.push_back(std::pow(10.0, e));
+  out.push_back(fmax);
+  for (int e = 50; e <= 300; e += 50) out.push_back(std::pow(10.0, e));
+  out.push_back(dmax);
+  return out;
+}
+
 // The next representable value past ±1 and just inside ±1, in float and in double. A float
 // cosine computed as a dot product of unit vectors can land on 1 + 2^-23 (the next float past
 // 1); the double steps 1 ± 2^-52 round to exactly ±1 when converted to float, so both are needed.
