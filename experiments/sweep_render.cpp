@@ -287,6 +287,12 @@ void run(const Options& o) {
   // another. Found by setting a marker through each key and seeing which field changed.
   std::vector<std::string> targets;
   for (std::size_t i = 0; i < vary.size(); ++i) {
+    if (vary[i].key == kLambdaDKey) {  // a render option, not a scene field
+      targets.push_back(kLambdaDKey);
+      for (std::size_t j = 0; j < i; ++j)
+        if (targets[j] == kLambdaDKey) throw UsageError(fmt::format("--vary {} is given twice", kLambdaDKey));
+      continue;
+    }
     nlohmann::json doc = base;
     try {
       render::apply_override(doc, vary[i].key + "=\"\u0001sglab-vary\"");

@@ -112,6 +112,20 @@ TEST_F(ConstantsCommand, RenderUsesTheSetsLambdaDAndSaysSo) {
   EXPECT_FALSE(fs::exists(path("bad.exr")));
 }
 
+// `sglab sweep render --vary vsgl.lambda_d=NUMBER,RECORD` renders one row per λ_d, a number or a
+// lambda-d fit record (vsgl.lambda_d is a render option, not a scene field).
+TEST_F(ConstantsCommand, RenderSweepVariesLambdaDOverNumbersAndRecords) {
+  write("ld.json", R"({"fit": "lambda-d", "parameters": {"lambda_d": 3.25}})");
+  const std::string scene = std::string(SGLAB_SOURCE_DIR) + "/scenes/cornell-glossy.json";
+  const Outcome run = sglab(fmt::format("sweep render --scene '{}' --vary vsgl.lambda_d=2,'{}' --vsgl two --width 16 --height 16 "
+                                        "--rsm 8 --out '{}' --table ld",
+                                        scene, path("ld.json").string(), path("sweep").string()));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::string table = read(path("sweep/ld.md"));
+  EXPECT_NE(table.find("| 2 | two |"), std::string::npos) << table;
+  EXPECT_NE(table.find("| 3.25 | two |"), std::string::npos) << table;
+}
+
 TEST_F(ConstantsCommand, MalformedSetsAreRejectedNamingFileAndKey) {
   struct Case {
     std::string name, text, key;
