@@ -34,16 +34,13 @@
 #include "sglab/hemispherical.hpp"
 #include "sweep.hpp"
 
+#include "test_util.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sglab::test::read_file;
 
 struct Result {
   int status = -1;

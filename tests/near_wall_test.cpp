@@ -21,16 +21,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "test_util.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sglab::test::read_file;
 
 // A plain CSV (no quoted fields: the near-wall outputs have none); lines starting with '#' skipped.
 struct Table {
