@@ -127,7 +127,7 @@ TEST(GaussianNdf, JetDerivatives) {
 // ---- the reference -----------------------------------------------------------------------------
 
 // The same L by an independent route: integrate over the half vector h (spherical coordinates
-// about n), ω = 2(ωo·h)h − ωo, dω = 4(ωo·h) dh, with Boost's adaptive Gauss–Kronrod (relative 1e-10)
+// about n), ω = 2(ωo·h)h − ωo, dω = 4(ωo·h) dh, with Boost's adaptive Gauss–Kronrod (relative 1e-10 inside, 1e-9 outside, 61 points, ≤ 12 bisections)
 // in θ_h ∈ [0, min(π/2, 8m)] (D < e^{−64} beyond) and φ_h, both split at the light's half vector.
 double half_vector_quadrature(const SpecularConfig& c) {
   using boost::math::quadrature::gauss_kronrod;
@@ -147,17 +147,13 @@ double half_vector_quadrature(const SpecularConfig& c) {
   };
   auto inner = [&](double phi) {
     auto g = [&](double t) { return integrand(t, phi); };
-    double s = 0;
-    if (theta_l < theta_max) {
-      s += gauss_kronrod<double, 31>::integrate(g, 0.0, theta_l, 25, 1e-11);
-      s += gauss_kronrod<double, 31>::integrate(g, theta_l, theta_max, 25, 1e-11);
-    } else {
-      s += gauss_kronrod<double, 31>::integrate(g, 0.0, theta_max, 25, 1e-11);
-    }
+    const double split = std::min(theta_l, theta_max);
+    double s = split > 0 ? gauss_kronrod<double, 61>::integrate(g, 0.0, split, 12, 1e-10) : 0.0;
+    if (split < theta_max) s += gauss_kronrod<double, 61>::integrate(g, split, theta_max, 12, 1e-10);
     return s;
   };
-  return gauss_kronrod<double, 31>::integrate(inner, phi_l - kPi, phi_l, 25, 1e-10) +
-         gauss_kronrod<double, 31>::integrate(inner, phi_l, phi_l + kPi, 25, 1e-10);
+  return gauss_kronrod<double, 61>::integrate(inner, phi_l - kPi, phi_l, 12, 1e-9) +
+         gauss_kronrod<double, 61>::integrate(inner, phi_l, phi_l + kPi, 12, 1e-9);
 }
 
 TEST(GaussianNdfReference, MatchesAnIndependentHalfVectorQuadrature) {
@@ -233,15 +229,14 @@ TEST(GaussianNdfMethods, StiffCasesAreFiniteInEveryPrecision) {
   const Quantity* q = find_quantity("specular-gaussian-ndf");
   ASSERT_NE(q, nullptr);
   EXPECT_EQ(q->reference_method, "reference");
-  const std::vector<std::vector<double>> rows = {
-      {1e-12, 1e8, 0.5, 0.5, kPi, 0.04},   // m → 0, λ → ∞
-      {0.3, 10.0, 0.5, 0.0, kPi, 0.04},    // grazing view
-      {0.3, 10.0, -0.7, 0.5, 0.0, 0.04},   // light behind the surface
-      {1.0, 0.0, 1.0, 1.0, 0.0, 1.0},      // broad everything
-      {0.01, 1e4, 1.0, 1e-9, kPi, 0.0},    // nearly grazing, sharp
-      {0.2, 1e-8, 0.0, 0.0, kPi, 0.5},     // grazing view, broad light at the horizon
-      {1e-4, 3e38, 1e-8, 0.0, kPi, 1.0},   // float's largest sharpness, grazing
-  };
+  // Every combination of the extremes: m → 0 and 1, λ = 0 … float's largest, grazing and normal
+  // view, the light behind, on and above the horizon, f0 = 0 and 1.
+  std::vector<std::vector<double>> rows;
+  for (double m : {1e-12, 1e-4, 0.3, 1.0})
+    for (double lambda : {0.0, 1e-8, 1e8, 3e38})
+      for (double view : {0.0, 1e-9, 0.5, 1.0})
+        for (double light : {-0.7, 0.0, 1e-8, 1.0})
+          for (double f0 : {0.0, 1.0}) rows.push_back({m, lambda, light, view, kPi, f0});
   for (const auto& m : q->methods) {
     if (m.name == "reference") continue;  // checked above; refuses m < 1e-3 (below)
     for (const auto& r : rows) {
@@ -279,7 +274,11 @@ TEST_F(GaussianNdfCommand, EvalEveryMethodAndPrecisionMatchesTheCore) {
       ASSERT_EQ(r.status, 0) << method << " " << precision << ": " << r.err;
       const std::string last = r.out.substr(r.out.rfind(',') + 1);
       const double v = std::strtod(last.c_str(), nullptr);
-      const double tol = precision == "float" ? 1e-5 : precision == "double" ? 1e-15 : 1e-6;  // mp50: 2D/1D quadratures
+      // float: ~100 ulp through the product and the warp; sg-warp-meder's cosine fit subtracts two
+      // terms ~32× larger than their difference (as the clamped-cosine `meder`), so ×30 more
+      // (measured 1.6e-5). mp50: the references are converted double quadratures (≤ 1e-6).
+      const double float_tol = method == "sg-warp-meder" ? 1e-4 : 1e-5;
+      const double tol = precision == "float" ? float_tol : precision == "double" ? 1e-15 : 1e-6;
       EXPECT_NEAR(v, value, tol * std::fabs(value)) << method << " " << precision << ": " << r.out;
     }
 }
