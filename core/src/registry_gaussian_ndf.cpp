@@ -37,7 +37,8 @@ void register_gaussian_ndf_quantities(std::vector<Quantity>& out) {
       "D ≈ G(h; n, 2/m², 1) warped to G(ω; p_D, (2/m²)/(4|n·ωo|)) (Wang et al. 2009) × SG light, exact product integral "
       "(Tsai & Shih 2006), M_o·(n·ω) at the lobe axis p_D: F(n·ωo)/(π n·ωo)",
       "isotropic lobe about the mirror direction (wrong shape at grazing view); the cosine and 1/(n·ω) taken at p_D; "
-      "the SG overestimates D by up to e^{θ⁴/(12m²)} (large m)",
+      "the SG overestimates D by up to e^{θ⁴/(12m²)} (large m); the product integral runs over the whole sphere, so a "
+      "light below the horizon still contributes (unbounded relative error there)",
       false, nullptr, [](auto a) { return specular_gaussian_ndf_sg_warp(specular_input(a)); }));
   q.methods.push_back(make_method(
       "sg-warp-meder",
