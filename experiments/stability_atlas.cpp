@@ -516,6 +516,9 @@ constexpr ReferenceBudget kReferenceBudgets[] = {
     {"specular", 16, 4,
      "the reference (adaptive 2D quadrature) takes 0.02–2 s per point and ~100 s at α = 1e-4 with grazing view, so "
      "it is compared on {} rows spread over those with roughness ≥ 0.1 and light sharpness ≤ 1e4"},
+    {"specular-gaussian-ndf", 16, 4,
+     "the reference (adaptive 2D quadrature) takes 0.01–1 s per point, more at small m with grazing view, so it is "
+     "compared on {} rows spread over those with roughness ≥ 0.1 and light sharpness ≤ 1e4"},
     {"asg-sg-product-integral", 40, 10,
      "the reference (2D quadrature, 20–200 ms per point) is compared on {} rows spread over the grid"},
 };
@@ -573,7 +576,7 @@ std::vector<Case> registry_cases(bool quick) {
       for (const auto& b : kReferenceBudgets) {
         if (b.quantity != q.name) continue;
         for (std::size_t r = 0; r < c.grid.rows; ++r) eligible[r] = reachable[r];
-        if (q.name == "specular") {
+        if (q.name == "specular" || q.name == "specular-gaussian-ndf") {
           const std::size_t ra = column_of(q, "roughness"), rl = column_of(q, "light_sharpness");
           for (std::size_t r = 0; r < c.grid.rows; ++r) {
             const auto row = c.grid.row(r);
