@@ -137,15 +137,16 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
     v.specular_shading = shading.specular;
     v.asg_evaluations = shading.specular ? v.glossy_receivers * v.vsgls.stats.specular_vsgls : 0;
     t0 = Clock::now();
+    const VsglShader shader(v.vsgls, shading);
     if (o.visibility) {
       const std::vector<CubeShadowMap> maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
       for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) {
         std::vector<char> visible(maps.size());
         for (std::size_t c = 0; c < maps.size(); ++c) visible[c] = maps[c].lit(g.points[k].position, g.points[k].normal) ? 1 : 0;
-        v.indirect[k] = shade_vsgls(g.points[k], v.vsgls, shading, visible);
+        v.indirect[k] = shader.shade(g.points[k], visible).total();
       });
     } else {
-      for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) { v.indirect[k] = shade_vsgls(g.points[k], v.vsgls, shading); });
+      for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) { v.indirect[k] = shader.shade(g.points[k]).total(); });
     }
     v.seconds.shading = seconds_since(t0);
     for (std::size_t k = 0; k < n; ++k) v.error[k] = v.indirect[k] - v.indirect_reference[k];

@@ -3,12 +3,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
-#include "sglab/clamped_cosine.hpp"
-#include "sglab/clamped_cosine_sglab.hpp"
-#include "sglab/reference.hpp"
+#include <Eigen/Core>
+
+#include "sglab/render/simd_dispatch.hpp"
 #include "sglab/vsgl.hpp"
 
 namespace sglab::render {
@@ -20,62 +22,207 @@ constexpr std::string_view kClampedCosine = "clamped-cosine";
 // λ_in floor for the forms that divide by λ (docs/math.md §10: the checked range starts at 1e-8).
 constexpr double kMinDivisorSharpness = 1e-8;
 
-struct Named {
-  std::string_view name;
-  DiffuseMethod method;
-};
-constexpr std::array<Named, 10> kSwitched = {{
-    {"reference", DiffuseMethod::reference},
-    {"punctual", DiffuseMethod::punctual},
-    {"punctual-approx", DiffuseMethod::punctual_approx},
-    {"sg-cosine", DiffuseMethod::sg_cosine},
-    {"cosine-lobe-sg", DiffuseMethod::cosine_lobe_sg},
-    {"hill-fitted", DiffuseMethod::hill_fitted},
-    {"meder", DiffuseMethod::meder},
-    {"tokuyoshi2022", DiffuseMethod::tokuyoshi2022},
-    {"tokuyoshi2024", DiffuseMethod::tokuyoshi2024},
-    {"sglab", DiffuseMethod::sglab},
-}};
-
 const Quantity& clamped_cosine_quantity() {
   const Quantity* q = find_quantity(kClampedCosine);
   if (!q) throw std::logic_error("registry has no clamped-cosine quantity");
   return *q;
 }
 
-// The shading loop, instantiated once per diffuse method (no per-evaluation dispatch).
-template <class D>
-VsglShading shade(const ShadingPoint& p, const VsglSet& set, const ShadingOptions& o, std::span<const char> visible,
-                  const D& clamped_cosine) {
-  VsglShading out;
-  const bool diffuse_receiver = (p.diffuse_reflectance > 0).any();
-  const bool glossy_receiver = o.specular && p.glossy();
-  if (!diffuse_receiver && !glossy_receiver) return out;
-  std::optional<VsglSpecularReceiver<double>> receiver;
-  if (glossy_receiver) receiver = vsgl_specular_receiver<double>(p.normal, p.view, p.roughness);
-  Rgb diffuse = Rgb::Zero();
-  auto add = [&](const VsglPositionalSg<double>& pos, const VsglLobe& lobe) {
-    const VsglIncomingSg<double> in = vsgl_incoming_sg<double>(pos, lobe.axis, lobe.sharpness);
-    if (diffuse_receiver) diffuse += lobe.amplitude * vsgl_clamped_cosine(in, p.normal, clamped_cosine);
-    if (receiver) {
-      const VsglSpecularFactor<double> f = vsgl_specular(in, *receiver);
-      out.specular += lobe.amplitude * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
-    }
-  };
-  for (std::size_t k = 0; k < set.clusters.size(); ++k) {
-    if (!visible.empty() && !visible[k]) continue;
-    const VsglCluster& c = set.clusters[k];
-    const VsglPositionalSg<double> pos =
-        vsgl_positional_sg<double>(c.mean, c.variance, p.position, c.log_two_pi_variance);
-    if (pos.empty) continue;
-    if (c.has_diffuse) add(pos, c.diffuse);
-    if (c.has_specular) add(pos, c.specular);
-  }
-  out.diffuse = diffuse * p.diffuse_reflectance / pi<double>();
-  return out;
+const Method& default_diffuse_method() {
+  const Method* m = clamped_cosine_quantity().find(kDefaultDiffuseMethod);
+  if (!m) throw std::logic_error("registry has no clamped-cosine method " + std::string(kDefaultDiffuseMethod));
+  return *m;
 }
 
+// The lobes of a set as arrays, in cluster order (diffuse lobe, then specular lobe).
+struct LobeArrays {
+  std::vector<double> mx, my, mz, variance, log_two_pi_variance, ax, ay, az, sharpness;
+  std::vector<Rgb> amplitude;
+  std::vector<std::size_t> cluster;
+  std::size_t size() const { return mx.size(); }
+};
+
+// Per point, per lobe: the incoming SG (Eq. 7) and its cosine with the normal.
+struct Incoming {
+  std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2;
+  std::vector<char> capped;
+  void resize(std::size_t n) {
+    for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2}) v->resize(n);
+    capped.resize(n);
+  }
+};
+
+// vsgl_positional_sg and vsgl_incoming_sg (vsgl.hpp) for every lobe at once, on components. The
+// log of the normalization where λ_σ is capped needs log(d²): those lobes are flagged (`capped`)
+// and finished by the caller.
+SGLAB_SIMD_CLONES void incoming_sgs(const LobeArrays& a, double px, double py, double pz, double nx, double ny,
+                                    double nz, Incoming& out) {
+  const std::size_t n = a.size();
+  const double cap = kMaxPositionalSharpness;
+  const double *mx = a.mx.data(), *my = a.my.data(), *mz = a.mz.data(), *var = a.variance.data(),
+               *lt = a.log_two_pi_variance.data(), *ax = a.ax.data(), *ay = a.ay.data(), *az = a.az.data(),
+               *lv = a.sharpness.data();
+  double *lam = out.sharpness.data(), *cosine = out.cosine.data(), *ls = out.log_scale.data(), *xx = out.xi_x.data(),
+         *xy = out.xi_y.data(), *xz = out.xi_z.data(), *dd = out.d2.data();
+  char* capped = out.capped.data();
+#pragma omp simd
+  for (std::size_t j = 0; j < n; ++j) {
+    // The positional SG G(ω; ξ_μ, λ_σ)/(2πσ²).
+    const double dx = mx[j] - px, dy = my[j] - py, dz = mz[j] - pz;
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    const bool has_distance = d2 > 0, has_variance = var[j] > 0;
+    const bool empty = !has_distance && !has_variance;
+    const double inv = has_distance ? 1 / std::sqrt(d2) : 0.0;
+    const double ux = has_distance ? dx * inv : 0.0, uy = has_distance ? dy * inv : 0.0,
+                 uz = has_distance ? dz * inv : 1.0;
+    const bool at_cap = !has_variance || !(var[j] * cap > d2);
+    const double lambda_sigma = at_cap ? cap : d2 / (has_variance ? var[j] : 1.0);
+    // The product with G(ω; −ξ_v, λ_v) (sg.hpp sg_product).
+    const double l1 = lv[j], l2 = lambda_sigma;
+    const double a1x = -ax[j], a1y = -ay[j], a1z = -az[j];
+    const double big = l1 > l2 ? l1 : l2;
+    const double scale = big > kProductScaleSharpness ? 1 / big : 1.0;
+    const double vx = (l1 * scale) * a1x + (l2 * scale) * ux, vy = (l1 * scale) * a1y + (l2 * scale) * uy,
+                 vz = (l1 * scale) * a1z + (l2 * scale) * uz;
+    const double c12 = clamp_cosine(a1x * ux + a1y * uy + a1z * uz);
+    const double l3 = product_sharpness(l1, l2, c12);
+    const double log_amplitude = product_log_amplitude(l1, l2, c12, l3);
+    const double vnorm = std::sqrt(vx * vx + vy * vy + vz * vz);
+    const bool use_v = vnorm > 0 && l3 > 0;
+    const double inv_v = use_v ? 1 / vnorm : 0.0;
+    const double ix = use_v ? vx * inv_v : a1x, iy = use_v ? vy * inv_v : a1y, iz = use_v ? vz * inv_v : a1z;
+    lam[j] = l3;
+    xx[j] = ix;
+    xy[j] = iy;
+    xz[j] = iz;
+    cosine[j] = clamp_cosine(ix * nx + iy * ny + iz * nz);
+    ls[j] = empty ? -std::numeric_limits<double>::infinity() : (at_cap ? 0.0 : -lt[j]) + log_amplitude;
+    dd[j] = d2;
+    capped[j] = !empty && at_cap;
+  }
+}
+
+// The largest log_scale for which e^{log_scale}·x is formed directly (vsgl.hpp scaled_by_exp), and
+// the smallest for which the vectorized exponential is used (below it Eigen's exp is clamped
+// rather than subnormal; scaled_by_exp's std::exp is used there).
+const double kDirectLimit = std::log(std::numeric_limits<double>::max()) / 2;
+constexpr double kVectorExpFloor = -700;
+
 }  // namespace
+
+struct VsglShader::Data {
+  LobeArrays lobes;
+  Method diffuse;          // bound where needed
+  bool floor_sharpness = false;
+  double diffuse_factor = 1;  // sg-cosine with A(λ_d) ≈ π
+  ShadingOptions options;
+};
+
+VsglShader::VsglShader(VsglShader&&) noexcept = default;
+VsglShader::~VsglShader() = default;
+std::size_t VsglShader::lobes() const { return data_->lobes.size(); }
+
+VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std::make_unique<Data>()) {
+  Data& d = *data_;
+  d.options = o;
+  const Method& method = o.diffuse ? *o.diffuse : default_diffuse_method();
+  d.diffuse = method;
+  // A parameter named lambda_d is the VSGL set's λ_d (the sharpness of the VPLs' diffuse lobes).
+  const auto lambda_d = std::find_if(method.parameters.begin(), method.parameters.end(),
+                                     [](const Parameter& p) { return p.name == "lambda_d"; });
+  if (lambda_d != method.parameters.end() && method.bind) {
+    std::vector<double> values;
+    for (const Parameter& p : method.parameters) values.push_back(&p == &*lambda_d ? set.lambda_d : p.published);
+    d.diffuse = method.bind(values);
+  }
+  if (!d.diffuse.batch_double) throw std::invalid_argument("diffuse method '" + method.name + "' has no batch evaluator");
+  d.floor_sharpness = bool(method.domain_error);
+  // A(λ_d) ≈ π: the exact form's π/A(λ_d) factor becomes 1.
+  if (o.sg_cosine_a_is_pi && method.name == "sg-cosine") d.diffuse_factor = sg_integral(set.lambda_d) / pi<double>();
+
+  LobeArrays& a = d.lobes;
+  auto add = [&](const VsglCluster& c, std::size_t k, const VsglLobe& lobe) {
+    a.mx.push_back(c.mean.x());
+    a.my.push_back(c.mean.y());
+    a.mz.push_back(c.mean.z());
+    a.variance.push_back(c.variance);
+    a.log_two_pi_variance.push_back(std::isnan(c.log_two_pi_variance) ? std::log(two_pi<double>() * c.variance)
+                                                                      : c.log_two_pi_variance);
+    a.ax.push_back(lobe.axis.x());
+    a.ay.push_back(lobe.axis.y());
+    a.az.push_back(lobe.axis.z());
+    a.sharpness.push_back(lobe.sharpness);
+    a.amplitude.push_back(lobe.amplitude);
+    a.cluster.push_back(k);
+  };
+  for (std::size_t k = 0; k < set.clusters.size(); ++k) {
+    const VsglCluster& c = set.clusters[k];
+    if (c.has_diffuse) add(c, k, c.diffuse);
+    if (c.has_specular) add(c, k, c.specular);
+  }
+}
+
+VsglShading VsglShader::shade(const ShadingPoint& p, std::span<const char> visible) const {
+  const Data& d = *data_;
+  const LobeArrays& a = d.lobes;
+  VsglShading out;
+  const bool diffuse_receiver = (p.diffuse_reflectance > 0).any();
+  const bool glossy_receiver = d.options.specular && p.glossy();
+  const std::size_t n = a.size();
+  if ((!diffuse_receiver && !glossy_receiver) || n == 0) return out;
+
+  struct Scratch {
+    Incoming in;
+    std::vector<double> args, value, scale;
+  };
+  thread_local Scratch s;
+  s.in.resize(n);
+  incoming_sgs(a, p.position.x(), p.position.y(), p.position.z(), p.normal.x(), p.normal.y(), p.normal.z(), s.in);
+  for (std::size_t j = 0; j < n; ++j)
+    if (s.in.capped[j]) s.in.log_scale[j] += -(std::log(two_pi<double>()) + std::log(s.in.d2[j]) - std::log(kMaxPositionalSharpness));
+  auto active = [&](std::size_t j) {
+    return s.in.log_scale[j] > -std::numeric_limits<double>::infinity() && (visible.empty() || visible[a.cluster[j]]);
+  };
+  // e^{log_scale}, vectorized (Eigen's packet exp).
+  s.scale.resize(n);
+  Eigen::Map<Eigen::ArrayXd>(s.scale.data(), Eigen::Index(n)) =
+      Eigen::Map<const Eigen::ArrayXd>(s.in.log_scale.data(), Eigen::Index(n)).max(kVectorExpFloor).exp();
+  auto scaled = [&](std::size_t j, double x) {
+    const double ls = s.in.log_scale[j];
+    if (x == 0) return 0.0;
+    return ls > kVectorExpFloor && ls < kDirectLimit ? s.scale[j] * x : scaled_by_exp(ls, x);
+  };
+
+  if (diffuse_receiver) {
+    // D(λ_in, ξ_in·n) for every lobe in one batch call (rows of (λ, c)).
+    s.args.resize(2 * n);
+    s.value.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      const bool on = s.in.log_scale[j] > -std::numeric_limits<double>::infinity();
+      const double l = s.in.sharpness[j];
+      s.args[2 * j] = on ? (d.floor_sharpness ? std::max(l, kMinDivisorSharpness) : l) : 1.0;
+      s.args[2 * j + 1] = on ? s.in.cosine[j] : 0.0;
+    }
+    d.diffuse.batch_double(s.args, 2, s.value);
+    Rgb diffuse = Rgb::Zero();
+    for (std::size_t j = 0; j < n; ++j)
+      if (active(j)) diffuse += a.amplitude[j] * scaled(j, d.diffuse_factor == 1 ? s.value[j] : d.diffuse_factor * s.value[j]);
+    out.diffuse = diffuse * p.diffuse_reflectance / pi<double>();
+  }
+  if (glossy_receiver) {
+    const VsglSpecularReceiver<double> receiver = vsgl_specular_receiver<double>(p.normal, p.view, p.roughness);
+    for (std::size_t j = 0; j < n; ++j) {
+      if (!active(j)) continue;
+      VsglIncomingSg<double> in;
+      in.axis = Vec3(s.in.xi_x[j], s.in.xi_y[j], s.in.xi_z[j]);
+      in.sharpness = s.in.sharpness[j];
+      in.log_scale = s.in.log_scale[j];
+      const VsglSpecularFactor<double> f = vsgl_specular(in, receiver);
+      out.specular += a.amplitude[j] * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
+    }
+  }
+  return out;
+}
 
 std::vector<std::string> diffuse_method_names() {
   std::vector<std::string> out;
@@ -84,8 +231,7 @@ std::vector<std::string> diffuse_method_names() {
 }
 
 ShadingOptions shading_options(std::string_view diffuse_method, bool specular) {
-  const Quantity& q = clamped_cosine_quantity();
-  const Method* m = q.find(diffuse_method);
+  const Method* m = clamped_cosine_quantity().find(diffuse_method);
   if (!m) {
     std::string names;
     for (const auto& n : diffuse_method_names()) names += (names.empty() ? "" : ", ") + n;
@@ -94,64 +240,17 @@ ShadingOptions shading_options(std::string_view diffuse_method, bool specular) {
   }
   ShadingOptions o;
   o.specular = specular;
-  o.diffuse = DiffuseMethod::registry;
-  o.registry_method = m;
-  for (const auto& s : kSwitched)
-    if (s.name == diffuse_method) o.diffuse = s.method;
+  o.diffuse = m;
   return o;
 }
 
 std::string diffuse_method_name(const ShadingOptions& o) {
-  if (o.diffuse == DiffuseMethod::registry) return o.registry_method ? o.registry_method->name : "?";
-  for (const auto& s : kSwitched)
-    if (s.method == o.diffuse) return std::string(s.name);
-  return "?";
+  return o.diffuse ? o.diffuse->name : std::string(kDefaultDiffuseMethod);
 }
 
 VsglShading shade_vsgls_parts(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& o,
                               std::span<const char> visible) {
-  const double lambda_d = set.lambda_d;
-  switch (o.diffuse) {
-    case DiffuseMethod::reference:
-      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_reference(l, c); });
-    case DiffuseMethod::punctual:
-      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_punctual(l, c); });
-    case DiffuseMethod::punctual_approx:
-      return shade(point, set, o, visible, [](double l, double c) {
-        return clamped_cosine_punctual_approx(std::max(l, kMinDivisorSharpness), c);
-      });
-    case DiffuseMethod::sg_cosine:
-    {
-      // A(λ_d) ≈ π: the exact form's π/A(λ_d) factor becomes 1.
-      const double a_pi_factor = o.sg_cosine_a_is_pi ? sg_integral(lambda_d) / pi<double>() : 1.0;
-      return shade(point, set, o, visible, [lambda_d, a_pi_factor](double l, double c) {
-        return a_pi_factor * clamped_cosine_sg_cosine(l, c, lambda_d);
-      });
-    }
-    case DiffuseMethod::cosine_lobe_sg:
-      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_cosine_lobe_sg(l, c); });
-    case DiffuseMethod::hill_fitted:
-      return shade(point, set, o, visible, [](double l, double c) {
-        return clamped_cosine_hill_fitted(std::max(l, kMinDivisorSharpness), c);
-      });
-    case DiffuseMethod::meder:
-      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_meder(l, c); });
-    case DiffuseMethod::tokuyoshi2022:
-      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_tokuyoshi2022(l, c); });
-    case DiffuseMethod::tokuyoshi2024:
-      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); });
-    case DiffuseMethod::sglab:
-      return shade(point, set, o, visible, [](double l, double c) { return clamped_cosine_sglab(l, c); });
-    case DiffuseMethod::registry: {
-      if (!o.registry_method) throw std::invalid_argument("ShadingOptions: diffuse == registry without a method");
-      const Method* m = o.registry_method;
-      return shade(point, set, o, visible, [m](double l, double c) {
-        const std::array<double, 2> a{std::max(l, kMinDivisorSharpness), c};
-        return m->eval_double(a);
-      });
-    }
-  }
-  return {};
+  return VsglShader(set, o).shade(point, visible);
 }
 
 }  // namespace sglab::render
