@@ -44,11 +44,9 @@ struct LobeArrays {
 
 // Per point, per lobe: the incoming SG (Eq. 7) and its cosine with the normal.
 struct Incoming {
-  std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2;
-  std::vector<char> capped;
+  std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2, capped;  // capped: 0 or 1
   void resize(std::size_t n) {
-    for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2}) v->resize(n);
-    capped.resize(n);
+    for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped}) v->resize(n);
   }
 };
 
@@ -64,19 +62,17 @@ SGLAB_SIMD_CLONES void incoming_sgs(const LobeArrays& a, double px, double py, d
                *lv = a.sharpness.data();
   double *lam = out.sharpness.data(), *cosine = out.cosine.data(), *ls = out.log_scale.data(), *xx = out.xi_x.data(),
          *xy = out.xi_y.data(), *xz = out.xi_z.data(), *dd = out.d2.data();
-  char* capped = out.capped.data();
+  double* capped = out.capped.data();
 #pragma omp simd
   for (std::size_t j = 0; j < n; ++j) {
     // The positional SG G(ω; ξ_μ, λ_σ)/(2πσ²).
+    const double variance = var[j], log_two_pi_variance = lt[j];  // loaded unconditionally: vectorizes
     const double dx = mx[j] - px, dy = my[j] - py, dz = mz[j] - pz;
     const double d2 = dx * dx + dy * dy + dz * dz;
-    const bool has_distance = d2 > 0, has_variance = var[j] > 0;
-    const bool empty = !has_distance && !has_variance;
-    const double inv = has_distance ? 1 / std::sqrt(d2) : 0.0;
-    const double ux = has_distance ? dx * inv : 0.0, uy = has_distance ? dy * inv : 0.0,
-                 uz = has_distance ? dz * inv : 1.0;
-    const bool at_cap = !has_variance || !(var[j] * cap > d2);
-    const double lambda_sigma = at_cap ? cap : d2 / (has_variance ? var[j] : 1.0);
+    // (Conditions are written out where used rather than kept as bools: that vectorizes.)
+    const double inv = d2 > 0 ? 1 / std::sqrt(d2) : 0.0;
+    const double ux = dx * inv, uy = dy * inv, uz = d2 > 0 ? dz * inv : 1.0;
+    const double lambda_sigma = variance * cap > d2 ? d2 / variance : cap;  // capped: also σ² = 0
     // The product with G(ω; −ξ_v, λ_v) (sg.hpp sg_product).
     const double l1 = lv[j], l2 = lambda_sigma;
     const double a1x = -ax[j], a1y = -ay[j], a1z = -az[j];
@@ -84,21 +80,28 @@ SGLAB_SIMD_CLONES void incoming_sgs(const LobeArrays& a, double px, double py, d
     const double scale = big > kProductScaleSharpness ? 1 / big : 1.0;
     const double vx = (l1 * scale) * a1x + (l2 * scale) * ux, vy = (l1 * scale) * a1y + (l2 * scale) * uy,
                  vz = (l1 * scale) * a1z + (l2 * scale) * uz;
-    const double c12 = clamp_cosine(a1x * ux + a1y * uy + a1z * uz);
-    const double l3 = product_sharpness(l1, l2, c12);
-    const double log_amplitude = product_log_amplitude(l1, l2, c12, l3);
+    // product_sharpness and product_log_amplitude (sg.hpp), branch-free so that the loop
+    // vectorizes: past kProductScaleSharpness both divide through by s = max(λ1, λ2).
+    const double c12 = std::min(std::max(a1x * ux + a1y * uy + a1z * uz, -1.0), 1.0);
+    const double u1 = l1 * scale, u2 = l2 * scale, du = u1 - u2;
+    const double q = du * du + 2 * u1 * u2 * (1 + c12);
+    const double l3 = (q > 0 ? std::sqrt(q > 0 ? q : 0.0) : 0.0) / scale;
+    const double denom = l3 * scale + u1 + u2;
+    const double log_amplitude = denom > 0 ? -2 * u1 * u2 * (1 - c12) / denom / scale : 0.0;
     const double vnorm = std::sqrt(vx * vx + vy * vy + vz * vz);
-    const bool use_v = vnorm > 0 && l3 > 0;
-    const double inv_v = use_v ? 1 / vnorm : 0.0;
-    const double ix = use_v ? vx * inv_v : a1x, iy = use_v ? vy * inv_v : a1y, iz = use_v ? vz * inv_v : a1z;
+    const double inv_v = vnorm > 0 && l3 > 0 ? 1 / vnorm : 0.0;
+    const double ix = inv_v > 0 ? vx * inv_v : a1x, iy = inv_v > 0 ? vy * inv_v : a1y, iz = inv_v > 0 ? vz * inv_v : a1z;
     lam[j] = l3;
     xx[j] = ix;
     xy[j] = iy;
     xz[j] = iz;
-    cosine[j] = clamp_cosine(ix * nx + iy * ny + iz * nz);
-    ls[j] = empty ? -std::numeric_limits<double>::infinity() : (at_cap ? 0.0 : -lt[j]) + log_amplitude;
+    cosine[j] = std::min(std::max(ix * nx + iy * ny + iz * nz, -1.0), 1.0);
+    // Empty (σ² = 0 at distance 0): no light; capped: log(1/(2πσ²)) is finished by the caller.
+    const double at_cap = variance * cap > d2 ? 0.0 : 1.0;
+    const double empty = d2 > 0 || variance > 0 ? 0.0 : 1.0;
+    ls[j] = empty > 0 ? -std::numeric_limits<double>::infinity() : (at_cap > 0 ? 0.0 : -log_two_pi_variance) + log_amplitude;
     dd[j] = d2;
-    capped[j] = !empty && at_cap;
+    capped[j] = empty > 0 ? 0.0 : at_cap;
   }
 }
 
@@ -179,7 +182,7 @@ VsglShading VsglShader::shade(const ShadingPoint& p, std::span<const char> visib
   s.in.resize(n);
   incoming_sgs(a, p.position.x(), p.position.y(), p.position.z(), p.normal.x(), p.normal.y(), p.normal.z(), s.in);
   for (std::size_t j = 0; j < n; ++j)
-    if (s.in.capped[j]) s.in.log_scale[j] += -(std::log(two_pi<double>()) + std::log(s.in.d2[j]) - std::log(kMaxPositionalSharpness));
+    if (s.in.capped[j] != 0) s.in.log_scale[j] += -(std::log(two_pi<double>()) + std::log(s.in.d2[j]) - std::log(kMaxPositionalSharpness));
   auto active = [&](std::size_t j) {
     return s.in.log_scale[j] > -std::numeric_limits<double>::infinity() && (visible.empty() || visible[a.cluster[j]]);
   };
