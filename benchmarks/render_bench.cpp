@@ -13,6 +13,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -48,8 +49,9 @@ Rgb old_reference(const ShadingPoint& p, const VplList& list) {
   return sum;
 }
 
-// The old shading loop with the diffuse method (tokuyoshi2024, the default) called directly.
-Rgb old_shading(const ShadingPoint& p, const VsglSet& set) {
+// The old shading loop, the diffuse method `method` (a callable (λ, c) → D) called directly.
+template <class D>
+Rgb old_shading(const ShadingPoint& p, const VsglSet& set, const D& method) {
   using sglab::VsglIncomingSg, sglab::VsglPositionalSg, sglab::VsglSpecularFactor, sglab::VsglSpecularReceiver;
   VsglShading out;
   const bool diffuse_receiver = (p.diffuse_reflectance > 0).any();
@@ -62,7 +64,7 @@ Rgb old_shading(const ShadingPoint& p, const VsglSet& set) {
     const VsglIncomingSg<double> in = sglab::vsgl_incoming_sg<double>(pos, lobe.axis, lobe.sharpness);
     if (diffuse_receiver)
       diffuse += lobe.amplitude *
-                 sglab::vsgl_clamped_cosine(in, p.normal, [](double l, double c) { return sglab::clamped_cosine_tokuyoshi2024(l, c); });
+                 sglab::vsgl_clamped_cosine(in, p.normal, method);
     if (receiver) {
       const VsglSpecularFactor<double> f = sglab::vsgl_specular(in, *receiver);
       out.specular += lobe.amplitude * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
@@ -141,7 +143,9 @@ void BM_Reference(benchmark::State& state) {
 }
 BENCHMARK(BM_Reference)->Arg(1)->Arg(0)->ArgNames({"peer"})->Unit(benchmark::kMillisecond);
 
-// range(0): VSGL mode (0 = two, 1 = fis with range(1) clusters); range(2): peer.
+// range(0): VSGL mode (0 = two, 1 = fis with range(1) clusters); range(2): peer; range(3): diffuse
+// method, 0 = tokuyoshi2024 (the default; its evaluation dominates), 1 = punctual (D nearly free:
+// what is left is the renderer's own cost per lobe).
 void BM_Shading(benchmark::State& state) {
   const Setting& s = setting();
   VsglOptions vo;
@@ -149,30 +153,38 @@ void BM_Shading(benchmark::State& state) {
   vo.count = int(state.range(1));
   const VsglSet set = build_vsgls(s.rsm, vo);
   const bool peer = state.range(2) == 1;
-  const VsglShader shader(set, shading_options(sglab::render::kDefaultDiffuseMethod));
+  const bool punctual = state.range(3) == 1;
+  const VsglShader shader(set, shading_options(punctual ? "punctual" : "tokuyoshi2024"));
+  auto old = [&](const ShadingPoint& p) {
+    return punctual ? old_shading(p, set, [](double l, double c) { return sglab::clamped_cosine_punctual(l, c); })
+                    : old_shading(p, set, [](double l, double c) { return sglab::clamped_cosine_tokuyoshi2024(l, c); });
+  };
   std::size_t points = 0;
   for (auto _ : state) {
     for (std::size_t k = 0; k < s.points.size(); k += kPointStride) {
-      const Rgb v = peer ? old_shading(s.points[k], set) : shader.shade(s.points[k]).total();
+      const Rgb v = peer ? old(s.points[k]) : shader.shade(s.points[k]).total();
       benchmark::DoNotOptimize(v);
       ++points;
     }
   }
   double worst = 0;
   for (std::size_t k = 0; k < s.points.size(); k += kPointStride)
-    worst = std::max(worst, relative_difference(old_shading(s.points[k], set), shader.shade(s.points[k]).total()));
+    worst = std::max(worst, relative_difference(old(s.points[k]), shader.shade(s.points[k]).total()));
   const double pairs = double(points) * double(shader.lobes());
   state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["lobes"] = double(shader.lobes());
   state.counters["max_rel_diff"] = worst;
-  state.SetLabel(peer ? "peer: old one-lobe-at-a-time loop" : "sglab: arrays + registry batch");
+  state.SetLabel(std::string(peer ? "peer: old one-lobe-at-a-time loop" : "sglab: arrays + registry batch") +
+                 (punctual ? ", punctual" : ", tokuyoshi2024"));
 }
 BENCHMARK(BM_Shading)
-    ->Args({0, 2, 1})
-    ->Args({0, 2, 0})
-    ->Args({1, 64, 1})
-    ->Args({1, 64, 0})
-    ->ArgNames({"fis", "count", "peer"})
+    ->Args({0, 2, 1, 0})
+    ->Args({0, 2, 0, 0})
+    ->Args({1, 64, 1, 0})
+    ->Args({1, 64, 0, 0})
+    ->Args({1, 64, 1, 1})
+    ->Args({1, 64, 0, 1})
+    ->ArgNames({"fis", "count", "peer", "punctual"})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
