@@ -3,12 +3,12 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <stdexcept>
-
-#include <Eigen/Core>
 
 #include "sglab/render/simd_dispatch.hpp"
 #include "sglab/vsgl.hpp"
@@ -36,7 +36,7 @@ const Method& default_diffuse_method() {
 
 // The lobes of a set as arrays, in cluster order (diffuse lobe, then specular lobe).
 struct LobeArrays {
-  std::vector<double> mx, my, mz, variance, log_two_pi_variance, ax, ay, az, sharpness;
+  std::vector<double> mx, my, mz, variance, log_two_pi_variance, ax, ay, az, sharpness, amp_r, amp_g, amp_b;
   std::vector<Rgb> amplitude;
   std::vector<std::size_t> cluster;
   std::size_t size() const { return mx.size(); }
@@ -106,10 +106,65 @@ SGLAB_SIMD_CLONES void incoming_sgs(const LobeArrays& a, double px, double py, d
 }
 
 // The largest log_scale for which e^{log_scale}·x is formed directly (vsgl.hpp scaled_by_exp), and
-// the smallest for which the vectorized exponential is used (below it Eigen's exp is clamped
-// rather than subnormal; scaled_by_exp's std::exp is used there).
+// the smallest for which the vectorized exponential below is used; outside, scaled_by_exp is.
 const double kDirectLimit = std::log(std::numeric_limits<double>::max()) / 2;
 constexpr double kVectorExpFloor = -700;
+
+// e^x for x in [kVectorExpFloor, kDirectLimit], on plain arithmetic so that loops calling it
+// vectorize: x = k ln2 + r, |r| ≤ ln2/2 (Cody & Waite 1980: ln2 in two parts, the first with
+// trailing zero bits so that k·ln2_hi is exact), e^r by its Taylor series to r¹³ (remainder
+// < 0.4^14/14! ≈ 3e-17 relative), 2^k written into the exponent bits. k is rounded with the
+// 1.5·2^52 trick, which leaves k in the low bits of the sum. Within 2 ulp of std::exp.
+[[gnu::always_inline]] inline double exp_in_range(double x) {
+  constexpr double log2e = 1.4426950408889634074;   // 1/ln 2
+  constexpr double ln2_hi = 6.93147180369123816490e-01;  // ln 2, upper part (fdlibm's e_exp.c)
+  constexpr double ln2_lo = 1.90821492927058770002e-10;  // ln 2 − ln2_hi
+  constexpr double round_shift = 6755399441055744.0;      // 1.5·2^52
+  const double t = x * log2e + round_shift;
+  const double k = t - round_shift;
+  const double r = (x - k * ln2_hi) - k * ln2_lo;
+  // Horner, 1/13! … 1/0! (written out: a loop over an array of them does not vectorize).
+  double p = 1.0 / 6227020800.0;
+  p = p * r + 1.0 / 479001600.0;
+  p = p * r + 1.0 / 39916800.0;
+  p = p * r + 1.0 / 3628800.0;
+  p = p * r + 1.0 / 362880.0;
+  p = p * r + 1.0 / 40320.0;
+  p = p * r + 1.0 / 5040.0;
+  p = p * r + 1.0 / 720.0;
+  p = p * r + 1.0 / 120.0;
+  p = p * r + 1.0 / 24.0;
+  p = p * r + 1.0 / 6.0;
+  p = p * r + 0.5;
+  p = p * r + 1.0;
+  p = p * r + 1.0;
+  const std::uint64_t k_bits = std::bit_cast<std::uint64_t>(t) - std::bit_cast<std::uint64_t>(round_shift);
+  return p * std::bit_cast<double>((k_bits + 1023) << 52);
+}
+
+// Σ_j amplitude_j · e^{log_scale_j} · factor · value_j over the lobes with mask_j = 1, as
+// scaled_by_exp forms each term; lobes whose log_scale is outside the vectorized range (and not
+// −∞: no light) get fallback_j = 1 and are left to the caller.
+SGLAB_SIMD_CLONES void weighted_sum(std::size_t n, const double* log_scale, const double* value, const double* mask,
+                                    const double* amp_r, const double* amp_g, const double* amp_b, double factor,
+                                    double* fallback, double* out) {
+  double s0 = 0, s1 = 0, s2 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2)
+  for (std::size_t j = 0; j < n; ++j) {
+    const double ls = log_scale[j], x = factor * value[j], m = mask[j];
+    // (Single comparisons combined as 0/1 factors, not &&: that vectorizes.)
+    const double in_range = (ls > kVectorExpFloor ? 1.0 : 0.0) * (ls < kDirectLimit ? 1.0 : 0.0);
+    const double lit = (ls > -std::numeric_limits<double>::infinity() ? 1.0 : 0.0) * (x != 0 ? 1.0 : 0.0) * m;
+    fallback[j] = lit * (1 - in_range);
+    const double w = lit * in_range > 0 ? exp_in_range(in_range > 0 ? ls : 0.0) * x : 0.0;
+    s0 += amp_r[j] * w;
+    s1 += amp_g[j] * w;
+    s2 += amp_b[j] * w;
+  }
+  out[0] = s0;
+  out[1] = s1;
+  out[2] = s2;
+}
 
 }  // namespace
 
@@ -156,6 +211,9 @@ VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std:
     a.az.push_back(lobe.axis.z());
     a.sharpness.push_back(lobe.sharpness);
     a.amplitude.push_back(lobe.amplitude);
+    a.amp_r.push_back(lobe.amplitude(0));
+    a.amp_g.push_back(lobe.amplitude(1));
+    a.amp_b.push_back(lobe.amplitude(2));
     a.cluster.push_back(k);
   };
   for (std::size_t k = 0; k < set.clusters.size(); ++k) {
@@ -176,7 +234,7 @@ VsglShading VsglShader::shade(const ShadingPoint& p, std::span<const char> visib
 
   struct Scratch {
     Incoming in;
-    std::vector<double> args, value, scale;
+    std::vector<double> args, value, mask, fallback;
   };
   thread_local Scratch s;
   s.in.resize(n);
@@ -186,30 +244,27 @@ VsglShading VsglShader::shade(const ShadingPoint& p, std::span<const char> visib
   auto active = [&](std::size_t j) {
     return s.in.log_scale[j] > -std::numeric_limits<double>::infinity() && (visible.empty() || visible[a.cluster[j]]);
   };
-  // e^{log_scale}, vectorized (Eigen's packet exp).
-  s.scale.resize(n);
-  Eigen::Map<Eigen::ArrayXd>(s.scale.data(), Eigen::Index(n)) =
-      Eigen::Map<const Eigen::ArrayXd>(s.in.log_scale.data(), Eigen::Index(n)).max(kVectorExpFloor).exp();
-  auto scaled = [&](std::size_t j, double x) {
-    const double ls = s.in.log_scale[j];
-    if (x == 0) return 0.0;
-    return ls > kVectorExpFloor && ls < kDirectLimit ? s.scale[j] * x : scaled_by_exp(ls, x);
-  };
 
   if (diffuse_receiver) {
     // D(λ_in, ξ_in·n) for every lobe in one batch call (rows of (λ, c)).
     s.args.resize(2 * n);
     s.value.resize(n);
+    s.mask.resize(n);
+    s.fallback.resize(n);
     for (std::size_t j = 0; j < n; ++j) {
-      const bool on = s.in.log_scale[j] > -std::numeric_limits<double>::infinity();
+      const bool on = active(j);
       const double l = s.in.sharpness[j];
       s.args[2 * j] = on ? (d.floor_sharpness ? std::max(l, kMinDivisorSharpness) : l) : 1.0;
       s.args[2 * j + 1] = on ? s.in.cosine[j] : 0.0;
+      s.mask[j] = on ? 1.0 : 0.0;
     }
     d.diffuse.batch_double(s.args, 2, s.value);
-    Rgb diffuse = Rgb::Zero();
+    double sum[3];
+    weighted_sum(n, s.in.log_scale.data(), s.value.data(), s.mask.data(), a.amp_r.data(), a.amp_g.data(), a.amp_b.data(),
+                 d.diffuse_factor, s.fallback.data(), sum);
+    Rgb diffuse(sum[0], sum[1], sum[2]);
     for (std::size_t j = 0; j < n; ++j)
-      if (active(j)) diffuse += a.amplitude[j] * scaled(j, d.diffuse_factor == 1 ? s.value[j] : d.diffuse_factor * s.value[j]);
+      if (s.fallback[j] != 0) diffuse += a.amplitude[j] * scaled_by_exp(s.in.log_scale[j], d.diffuse_factor * s.value[j]);
     out.diffuse = diffuse * p.diffuse_reflectance / pi<double>();
   }
   if (glossy_receiver) {
