@@ -607,5 +607,24 @@ TEST(VsglShading, SpecularIsTheRegistryAsgMethod) {
   EXPECT_LT(worst, 1e-9);
 }
 
+// Many points at once (VsglShader::shade on a span, as `sglab render` calls it) give each point's
+// one-at-a-time value: the batches only regroup the same evaluations.
+TEST(VsglShading, ManyPointsAtOnceEqualOneAtATime) {
+  for (const bool glossy : {false, true}) {
+    const VsglSet set = build_vsgls(make_rsm({16, glossy, false, 21}), options(VsglMode::kmeans, 8));
+    for (const std::string& name : {std::string("tokuyoshi2024"), std::string("sg-cosine")}) {
+      const VsglShader shader(set, shading_options(name));
+      const auto pts = receivers(glossy);
+      std::vector<VsglShading> many(pts.size());
+      shader.shade(pts, many);
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        const VsglShading one = shader.shade(pts[i]);
+        EXPECT_LE(max_rel(many[i].diffuse, one.diffuse), 1e-14) << name << " point " << i;
+        EXPECT_LE(max_rel(many[i].specular, one.specular), 1e-14) << name << " point " << i;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sglab::render

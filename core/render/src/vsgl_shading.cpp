@@ -54,15 +54,15 @@ struct Incoming {
 // log of the normalization where λ_σ is capped needs log(d²): those lobes are flagged (`capped`)
 // and finished by the caller.
 SGLAB_SIMD_CLONES void incoming_sgs(const LobeArrays& a, double px, double py, double pz, double nx, double ny,
-                                    double nz, Incoming& out) {
+                                    double nz, Incoming& out, std::size_t offset) {
   const std::size_t n = a.size();
   const double cap = kMaxPositionalSharpness;
   const double *mx = a.mx.data(), *my = a.my.data(), *mz = a.mz.data(), *var = a.variance.data(),
                *lt = a.log_two_pi_variance.data(), *ax = a.ax.data(), *ay = a.ay.data(), *az = a.az.data(),
                *lv = a.sharpness.data();
-  double *lam = out.sharpness.data(), *cosine = out.cosine.data(), *ls = out.log_scale.data(), *xx = out.xi_x.data(),
-         *xy = out.xi_y.data(), *xz = out.xi_z.data(), *dd = out.d2.data();
-  double* capped = out.capped.data();
+  double *lam = out.sharpness.data() + offset, *cosine = out.cosine.data() + offset, *ls = out.log_scale.data() + offset,
+         *xx = out.xi_x.data() + offset, *xy = out.xi_y.data() + offset, *xz = out.xi_z.data() + offset,
+         *dd = out.d2.data() + offset, *capped = out.capped.data() + offset;
 #pragma omp simd
   for (std::size_t j = 0; j < n; ++j) {
     // The positional SG G(ω; ξ_μ, λ_σ)/(2πσ²).
@@ -224,62 +224,94 @@ VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std:
 }
 
 VsglShading VsglShader::shade(const ShadingPoint& p, std::span<const char> visible) const {
+  VsglShading out;
+  shade_block(std::span<const ShadingPoint>(&p, 1), visible, std::span<VsglShading>(&out, 1));
+  return out;
+}
+
+void VsglShader::shade(std::span<const ShadingPoint> points, std::span<VsglShading> out) const {
+  if (out.size() != points.size()) throw std::invalid_argument("VsglShader::shade: points and out differ in size");
+  // Blocks of points whose lobes make batches of about kRows rows (few lobes: many points).
+  constexpr std::size_t kRows = 512;
+  const std::size_t per_block = std::max<std::size_t>(1, kRows / std::max<std::size_t>(1, lobes()));
+  for (std::size_t b = 0; b < points.size(); b += per_block) {
+    const std::size_t m = std::min(per_block, points.size() - b);
+    shade_block(points.subspan(b, m), {}, out.subspan(b, m));
+  }
+}
+
+void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<const char> visible,
+                             std::span<VsglShading> out) const {
   const Data& d = *data_;
   const LobeArrays& a = d.lobes;
-  VsglShading out;
-  const bool diffuse_receiver = (p.diffuse_reflectance > 0).any();
-  const bool glossy_receiver = d.options.specular && p.glossy();
-  const std::size_t n = a.size();
-  if ((!diffuse_receiver && !glossy_receiver) || n == 0) return out;
+  const std::size_t n = a.size(), rows = n * points.size();
+  for (auto& o : out) o = VsglShading{};
+  if (n == 0) return;
 
   struct Scratch {
     Incoming in;
     std::vector<double> args, value, mask, fallback;
   };
   thread_local Scratch s;
-  s.in.resize(n);
-  incoming_sgs(a, p.position.x(), p.position.y(), p.position.z(), p.normal.x(), p.normal.y(), p.normal.z(), s.in);
-  for (std::size_t j = 0; j < n; ++j)
-    if (s.in.capped[j] != 0) s.in.log_scale[j] += -(std::log(two_pi<double>()) + std::log(s.in.d2[j]) - std::log(kMaxPositionalSharpness));
-  auto active = [&](std::size_t j) {
-    return s.in.log_scale[j] > -std::numeric_limits<double>::infinity() && (visible.empty() || visible[a.cluster[j]]);
+  s.in.resize(rows);
+  s.args.resize(2 * rows);
+  s.value.resize(rows);
+  s.mask.resize(rows);
+  s.fallback.resize(rows);
+  // The incoming SG of every (point, lobe), row i·n + j.
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const ShadingPoint& p = points[i];
+    incoming_sgs(a, p.position.x(), p.position.y(), p.position.z(), p.normal.x(), p.normal.y(), p.normal.z(), s.in, i * n);
+  }
+  for (std::size_t r = 0; r < rows; ++r)
+    if (s.in.capped[r] != 0)
+      s.in.log_scale[r] += -(std::log(two_pi<double>()) + std::log(s.in.d2[r]) - std::log(kMaxPositionalSharpness));
+  auto active = [&](std::size_t r) {
+    return s.in.log_scale[r] > -std::numeric_limits<double>::infinity() && (visible.empty() || visible[a.cluster[r % n]]);
   };
 
-  if (diffuse_receiver) {
-    // D(λ_in, ξ_in·n) for every lobe in one batch call (rows of (λ, c)).
-    s.args.resize(2 * n);
-    s.value.resize(n);
-    s.mask.resize(n);
-    s.fallback.resize(n);
-    for (std::size_t j = 0; j < n; ++j) {
-      const bool on = active(j);
-      const double l = s.in.sharpness[j];
-      s.args[2 * j] = on ? (d.floor_sharpness ? std::max(l, kMinDivisorSharpness) : l) : 1.0;
-      s.args[2 * j + 1] = on ? s.in.cosine[j] : 0.0;
-      s.mask[j] = on ? 1.0 : 0.0;
-    }
-    d.diffuse.batch_double(s.args, 2, s.value);
-    double sum[3];
-    weighted_sum(n, s.in.log_scale.data(), s.value.data(), s.mask.data(), a.amp_r.data(), a.amp_g.data(), a.amp_b.data(),
-                 d.diffuse_factor, s.fallback.data(), sum);
-    Rgb diffuse(sum[0], sum[1], sum[2]);
-    for (std::size_t j = 0; j < n; ++j)
-      if (s.fallback[j] != 0) diffuse += a.amplitude[j] * scaled_by_exp(s.in.log_scale[j], d.diffuse_factor * s.value[j]);
-    out.diffuse = diffuse * p.diffuse_reflectance / pi<double>();
-  }
-  if (glossy_receiver) {
-    const VsglSpecularReceiver<double> receiver = vsgl_specular_receiver<double>(p.normal, p.view, p.roughness);
-    for (std::size_t j = 0; j < n; ++j) {
-      if (!active(j)) continue;
-      VsglIncomingSg<double> in;
-      in.axis = Vec3(s.in.xi_x[j], s.in.xi_y[j], s.in.xi_z[j]);
-      in.sharpness = s.in.sharpness[j];
-      in.log_scale = s.in.log_scale[j];
-      const VsglSpecularFactor<double> f = vsgl_specular(in, receiver);
-      out.specular += a.amplitude[j] * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
+  // D(λ_in, ξ_in·n) for every (point, lobe) in one batch call (rows of (λ, c)); points that reflect
+  // no diffuse light get masked rows.
+  bool any_diffuse = false;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const bool diffuse_receiver = (points[i].diffuse_reflectance > 0).any();
+    any_diffuse = any_diffuse || diffuse_receiver;
+    for (std::size_t r = i * n; r < (i + 1) * n; ++r) {
+      const bool on = diffuse_receiver && active(r);
+      const double l = s.in.sharpness[r];
+      s.args[2 * r] = on ? (d.floor_sharpness ? std::max(l, kMinDivisorSharpness) : l) : 1.0;
+      s.args[2 * r + 1] = on ? s.in.cosine[r] : 0.0;
+      s.mask[r] = on ? 1.0 : 0.0;
     }
   }
-  return out;
+  if (any_diffuse) d.diffuse.batch_double(s.args, 2, s.value);
+
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const ShadingPoint& p = points[i];
+    const std::size_t r0 = i * n;
+    if ((p.diffuse_reflectance > 0).any()) {
+      double sum[3];
+      weighted_sum(n, s.in.log_scale.data() + r0, s.value.data() + r0, s.mask.data() + r0, a.amp_r.data(),
+                   a.amp_g.data(), a.amp_b.data(), d.diffuse_factor, s.fallback.data() + r0, sum);
+      Rgb diffuse(sum[0], sum[1], sum[2]);
+      for (std::size_t j = 0; j < n; ++j)
+        if (s.fallback[r0 + j] != 0)
+          diffuse += a.amplitude[j] * scaled_by_exp(s.in.log_scale[r0 + j], d.diffuse_factor * s.value[r0 + j]);
+      out[i].diffuse = diffuse * p.diffuse_reflectance / pi<double>();
+    }
+    if (d.options.specular && p.glossy()) {
+      const VsglSpecularReceiver<double> receiver = vsgl_specular_receiver<double>(p.normal, p.view, p.roughness);
+      for (std::size_t j = 0; j < n; ++j) {
+        if (!active(r0 + j)) continue;
+        VsglIncomingSg<double> in;
+        in.axis = Vec3(s.in.xi_x[r0 + j], s.in.xi_y[r0 + j], s.in.xi_z[r0 + j]);
+        in.sharpness = s.in.sharpness[r0 + j];
+        in.log_scale = s.in.log_scale[r0 + j];
+        const VsglSpecularFactor<double> f = vsgl_specular(in, receiver);
+        out[i].specular += a.amplitude[j] * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
+      }
+    }
+  }
 }
 
 std::vector<std::string> diffuse_method_names() {

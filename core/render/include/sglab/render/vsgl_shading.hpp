@@ -91,9 +91,13 @@ class VsglShader {
   // empty, has one entry per cluster: 0 = V(y_p, μ_v) = 0, the cluster is skipped (Tokuyoshi 2016
   // supplement §4.1; visibility.hpp).
   VsglShading shade(const ShadingPoint& point, std::span<const char> visible = {}) const;
+  // Many points at once (every cluster visible): out[i] for points[i]. The diffuse method is then
+  // called on batches of (point, lobe) rows, wide even for a few lobes.
+  void shade(std::span<const ShadingPoint> points, std::span<VsglShading> out) const;
   std::size_t lobes() const;
 
  private:
+  void shade_block(std::span<const ShadingPoint> points, std::span<const char> visible, std::span<VsglShading> out) const;
   struct Data;
   std::unique_ptr<Data> data_;
 };
