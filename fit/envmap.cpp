@@ -512,8 +512,8 @@ constexpr int kDirectLobes = 2;
 // The finest pyramid level of the Ceres fit: the full map unless the estimated number of Jacobian
 // nonzeros (3 residuals × 7 parameters × the lobes reaching a texel, taken as min(N, 16)) exceeds
 // the budget.
-std::size_t ceres_finest_level(const std::vector<EnvMap>& levels, const EnvFitOptions& o) {
-  const double per_texel = 3.0 * kStride * std::min(o.lobes, 16);
+std::size_t ceres_finest_level(const std::vector<EnvMap>& levels, int lobes, const EnvFitOptions& o) {
+  const double per_texel = 3.0 * kStride * std::min(lobes, 16);
   for (std::size_t k = 0; k < levels.size(); ++k)
     if (double(levels[k].size()) * per_texel <= o.jacobian_budget) return k;
   return levels.size() - 1;
@@ -562,12 +562,18 @@ struct Setup {
 EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
   const Setup setup(map, o);
   const auto& maps = setup.maps;
-  const std::size_t finest = ceres_finest_level(maps, o), start = std::max(finest, setup.start);
   // The lobe ladder: N, ⌈N/2⌉, … down to kDirectLobes; the first rung is fitted from its initial
-  // axes coarse to fine, every later one from the previous rung's lobes plus new ones.
+  // axes coarse to fine, every later one from the previous rung's lobes plus new ones, all on the
+  // finest level of N (ceres_finest_level): each rung then starts from the previous rung's
+  // optimum on the same data, so the error does not grow along the ladder. (A rung n < N is thus
+  // fitted on a level no finer than `--lobes n` alone would use.)
   std::vector<int> ladder{o.lobes};
   while (ladder.front() > kDirectLobes) ladder.insert(ladder.begin(), (ladder.front() + 1) / 2);
   const int N0 = ladder.front();
+  const std::size_t finest = ceres_finest_level(maps, o.lobes, o);
+  std::size_t start = 0, unused = 0;
+  choose_levels(maps, N0, kDenseBudget, unused, start);
+  start = std::max(finest, start);
   Level level = make_level(maps[start]);
   std::vector<Cluster> init;
   if (o.init == "kmeans") {
