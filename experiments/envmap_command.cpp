@@ -25,6 +25,7 @@
 #include "envmap.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/render/environment.hpp"
+#include "sglab/render/environment_scene.hpp"
 #include "sglab/render/exr.hpp"
 
 namespace sglab::cli {
@@ -42,7 +43,7 @@ EnvMap load_map(const std::string& path) {
 
 // ---- the mixture as a fit record (the JSON of `sglab fit --json`) ---------------------------
 
-const char* const kLobeFields[7] = {"axis_x", "axis_y", "axis_z", "sharpness", "r", "g", "b"};
+using render::kMixtureLobeFields;
 
 nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::EnvFitOptions& o, const std::string& map_path,
                                       const EnvMap& map) {
@@ -55,7 +56,7 @@ nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::Env
   for (std::size_t k = 0; k < r.mixture.size(); ++k) {
     const auto& l = r.mixture[k];
     const double v[7] = {l.axis(0), l.axis(1), l.axis(2), l.sharpness, l.amplitude[0], l.amplitude[1], l.amplitude[2]};
-    for (int f = 0; f < 7; ++f) p[fmt::format("lobe{}.{}", k, kLobeFields[f])] = v[f];
+    for (int f = 0; f < 7; ++f) p[fmt::format("lobe{}.{}", k, kMixtureLobeFields[f])] = v[f];
   }
   j["parameters"] = p;
   j["final_cost"] = r.final_cost;
@@ -71,38 +72,11 @@ nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::Env
 }
 
 SgMixture read_mixture(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw UsageError("mixture '" + path + "': no such file");
-  nlohmann::json j;
   try {
-    in >> j;
-  } catch (const std::exception& e) {
-    throw UsageError("mixture '" + path + "' is not JSON (" + e.what() + ")");
+    return render::load_mixture(path);
+  } catch (const EnvironmentError& e) {
+    throw UsageError(e.what());
   }
-  if (!j.contains("parameters") || !j["parameters"].is_object()) throw UsageError("mixture '" + path + "' has no \"parameters\" object");
-  const auto& p = j["parameters"];
-  SgMixture m;
-  for (std::size_t k = 0;; ++k) {
-    if (!p.contains(fmt::format("lobe{}.axis_x", k))) break;
-    double v[7];
-    for (int f = 0; f < 7; ++f) {
-      const std::string key = fmt::format("lobe{}.{}", k, kLobeFields[f]);
-      if (!p.contains(key) || !p[key].is_number() || !std::isfinite(p[key].get<double>()))
-        throw UsageError("mixture '" + path + "': \"" + key + "\" missing or not a finite number");
-      v[f] = p[key].get<double>();
-    }
-    SgLight l;
-    l.axis = Vec3<double>(v[0], v[1], v[2]);
-    if (!(l.axis.norm() > 0.5)) throw UsageError(fmt::format("mixture '{}': lobe{} has no unit axis", path, k));
-    l.axis.normalize();
-    l.sharpness = v[3];
-    l.amplitude = {v[4], v[5], v[6]};
-    if (!(v[3] >= 0) || v[4] < 0 || v[5] < 0 || v[6] < 0)
-      throw UsageError(fmt::format("mixture '{}': lobe{} has a negative sharpness or amplitude", path, k));
-    m.push_back(l);
-  }
-  if (m.empty()) throw UsageError("mixture '" + path + "' has no lobes (parameters lobe0.axis_x …)");
-  return m;
 }
 
 std::string join_command(const std::string& head, const std::vector<std::string>& args) {
