@@ -5,11 +5,13 @@
 //   sglab envmap lobes --env NAME=MAP.exr … [--tables-dir DIR]    paper_tables/envmap_lobes.{md,csv}
 // The renderer here is a small dedicated one (a sphere and a plane under a distant environment,
 // V = 1), not the VSGL scene renderer of `sglab render`.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -23,6 +25,7 @@
 #include "envmap.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/render/environment.hpp"
+#include "sglab/render/environment_scene.hpp"
 #include "sglab/render/exr.hpp"
 
 namespace sglab::cli {
@@ -40,7 +43,7 @@ EnvMap load_map(const std::string& path) {
 
 // ---- the mixture as a fit record (the JSON of `sglab fit --json`) ---------------------------
 
-const char* const kLobeFields[7] = {"axis_x", "axis_y", "axis_z", "sharpness", "r", "g", "b"};
+using render::kMixtureLobeFields;
 
 nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::EnvFitOptions& o, const std::string& map_path,
                                       const EnvMap& map) {
@@ -53,7 +56,7 @@ nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::Env
   for (std::size_t k = 0; k < r.mixture.size(); ++k) {
     const auto& l = r.mixture[k];
     const double v[7] = {l.axis(0), l.axis(1), l.axis(2), l.sharpness, l.amplitude[0], l.amplitude[1], l.amplitude[2]};
-    for (int f = 0; f < 7; ++f) p[fmt::format("lobe{}.{}", k, kLobeFields[f])] = v[f];
+    for (int f = 0; f < 7; ++f) p[fmt::format("lobe{}.{}", k, kMixtureLobeFields[f])] = v[f];
   }
   j["parameters"] = p;
   j["final_cost"] = r.final_cost;
@@ -69,38 +72,11 @@ nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::Env
 }
 
 SgMixture read_mixture(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw UsageError("mixture '" + path + "': no such file");
-  nlohmann::json j;
   try {
-    in >> j;
-  } catch (const std::exception& e) {
-    throw UsageError("mixture '" + path + "' is not JSON (" + e.what() + ")");
+    return render::load_mixture(path);
+  } catch (const EnvironmentError& e) {
+    throw UsageError(e.what());
   }
-  if (!j.contains("parameters") || !j["parameters"].is_object()) throw UsageError("mixture '" + path + "' has no \"parameters\" object");
-  const auto& p = j["parameters"];
-  SgMixture m;
-  for (std::size_t k = 0;; ++k) {
-    if (!p.contains(fmt::format("lobe{}.axis_x", k))) break;
-    double v[7];
-    for (int f = 0; f < 7; ++f) {
-      const std::string key = fmt::format("lobe{}.{}", k, kLobeFields[f]);
-      if (!p.contains(key) || !p[key].is_number() || !std::isfinite(p[key].get<double>()))
-        throw UsageError("mixture '" + path + "': \"" + key + "\" missing or not a finite number");
-      v[f] = p[key].get<double>();
-    }
-    SgLight l;
-    l.axis = Vec3<double>(v[0], v[1], v[2]);
-    if (!(l.axis.norm() > 0.5)) throw UsageError(fmt::format("mixture '{}': lobe{} has no unit axis", path, k));
-    l.axis.normalize();
-    l.sharpness = v[3];
-    l.amplitude = {v[4], v[5], v[6]};
-    if (!(v[3] >= 0) || v[4] < 0 || v[5] < 0 || v[6] < 0)
-      throw UsageError(fmt::format("mixture '{}': lobe{} has a negative sharpness or amplitude", path, k));
-    m.push_back(l);
-  }
-  if (m.empty()) throw UsageError("mixture '" + path + "' has no lobes (parameters lobe0.axis_x …)");
-  return m;
 }
 
 std::string join_command(const std::string& head, const std::vector<std::string>& args) {
@@ -332,12 +308,28 @@ void run_lobes(const LobesArgs& args) {
         }
     };
     add_image(0, env.map);
-    for (int n : a.lobes) {
+    // One Ceres fit at the largest N gives every N of its lobe ladder (fit/envmap.hpp: the rung
+    // at n is the fit `sglab fit envmap --lobes n` makes, its time counted from the start);
+    // lobe counts off the ladder are fitted on their own.
+    std::map<int, fit::EnvFitResult> ceres_fits;
+    for (int n : a.lobes)
       if (std::size_t(n) > env.map.size()) throw UsageError(fmt::format("--lobes {} exceeds {}'s pixel count", n, env.name));
+    auto ceres_fit = [&](int n, bool ladder) {
       fit::EnvFitOptions o;
       o.lobes = n;
       o.init = "kmeans";
-      const auto fc = fit::fit_envmap_ceres(env.map, o);
+      if (ladder) o.on_stage = [&](const fit::EnvFitResult& r) { ceres_fits.emplace(int(r.mixture.size()), r); };
+      const auto r = fit::fit_envmap_ceres(env.map, o);
+      ceres_fits.emplace(int(r.mixture.size()), r);
+    };
+    ceres_fit(*std::max_element(a.lobes.begin(), a.lobes.end()), true);
+    for (int n : a.lobes)
+      if (!ceres_fits.count(n)) ceres_fit(n, false);
+    for (int n : a.lobes) {
+      fit::EnvFitOptions o;
+      o.lobes = n;
+      o.init = "kmeans";
+      const auto& fc = ceres_fits.at(n);
       const auto fe = fit::fit_envmap_vmf_em(env.map, o);
       std::fprintf(stderr, "envmap lobes: %s N = %d: ceres relative error %.4g in %.2f s (on %d×%d); vMF EM %.4g in %.2f s\n",
                    env.name.c_str(), n, fc.error.relative, fc.seconds, fc.fit_width, fc.fit_height, fe.error.relative, fe.seconds);
@@ -392,7 +384,7 @@ void run_lobes(const LobesArgs& args) {
                    "Generated by `" + command + "` (" + fmt::format("{:.0f}", seconds) + " s). ";
   md += "Each environment (equirectangular, z up; written by `sglab envmap make`) is fitted with N RGB SG lobes "
         "by `sglab fit envmap` (Ceres Levenberg–Marquardt, solid-angle-weighted L2, k-means initial axes, coarse to fine "
-        "up to the level shown) and, beside it in the same run, by EM for a von Mises–Fisher mixture (Banerjee et al. 2005) "
+        "up to the level shown, N > 2 grown from the fit at N/2 by lobes placed on the residual) and, beside it in the same run, by EM for a von Mises–Fisher mixture (Banerjee et al. 2005) "
         "with least-squares amplitudes. Fit error = solid-angle-weighted relative L2 of the mixture's texel means (4×4 "
         "points per texel) against the map; times are wall seconds on this machine (2 threads, shared: compare ratios).\n\n"
         "Shading (`sglab envmap render`, visibility ignored, V = 1): a unit sphere seen orthographically (" +
@@ -406,12 +398,17 @@ void run_lobes(const LobesArgs& args) {
         "every entry. The tables below give relative L2 (‖v − r‖/‖r‖ over pixels and channels).\n\n"
         "Scale and reading notes: the images are small (" + std::to_string(a.sphere_res) + "² sphere) so that the whole "
         "run takes minutes; the specular layer (1) and (2) quadratures cost one GGX evaluation per texel and pixel. "
-        "The Ceres fit is dense, so N is fitted jointly on the finest level whose Jacobian has at most 6·10⁶ entries "
+        "The Ceres problem is sparse (one residual block per 8×8-texel tile, touching the lobes that reach it; CGNR steps); "
+        "N is fitted jointly on the finest level whose estimated Jacobian has at most 1.5·10⁶ nonzeros "
         "(column \"fitted on\"); lobes at that level's sharpness bound are then refined alone on the finer levels. "
+        "The Ceres fits of one environment are the rungs of one fit at the largest N (N = 1 is fitted on its own): "
+        "every rung is fitted on that fit's level, which for N ≤ 8 is coarser than `sglab fit envmap --lobes N` alone "
+        "would use; the Ceres seconds of a rung count from the start of that fit (the time to reach N, the rungs below "
+        "it included). "
         "The sky's sun is a uniform disk (2°) far brighter than the sky: it carries most of the map's L2 norm and no "
-        "Gaussian matches its edge, which sets the sky's error floor. \"cap\" in the fit table: Levenberg–Marquardt "
-        "stopped at its iteration cap (60 per level) before its tolerances; that fit's error is what the capped run "
-        "reached, not the optimum (on the 4-lobe mixture with N ≫ 4 the problem is degenerate and LM crawls).\n\n";
+"Gaussian matches its edge, which sets the sky's error floor. \"cap\" in the fit table: Levenberg–Marquardt "
+        "stopped at its iteration cap (60 per solve) before its tolerances in at least one solve of the fit; that fit's error is what the capped run "
+        "reached, not the optimum.\n\n";
   md += "## Quadrature convergence of layer (1)\n\nRelative L2 change of the sphere's shading between 1 and 2×2 "
         "sub-texels per texel (specular at roughness " + fmt::format("{}", a.roughness.front()) + ", the sharpest lobe):\n\n"
         "| environment | diffuse | specular |\n|---|---|---|\n" + quadrature_md;

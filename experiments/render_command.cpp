@@ -14,6 +14,7 @@
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
+#include "environment_render.hpp"
 #include "render_job.hpp"
 #include "sglab/render/exr.hpp"
 
@@ -57,6 +58,7 @@ void run(const Options& o) {
   if (o.out.empty()) throw UsageError("render needs --out IMAGE.exr");
   check_output_paths({{"--out", o.out}, {"--stats", o.stats}, {"--dump-csv", o.dump_csv}}, {{"scene", o.job.scene_path}});
   const render::Scene scene = load_scene(o.job);
+  const auto environment = prepare_environment(scene, o.job.scene_path);
   render::RenderOptions options = render_options(o.job);
   check_render_memory(scene, options, !o.dump_csv.empty());
   std::string command = "sglab render " + quote_if_needed(o.job.scene_path) + " --out " + quote_if_needed(o.out);
@@ -92,13 +94,12 @@ void run(const Options& o) {
                  scene.camera.height, options.rsm_resolution, options.rsm_resolution, o.job.vsgl.c_str());
   const render::RenderResult r = render::render_scene(scene, options);
   check_render_finite(r);
-  const nlohmann::json stats = render_stats(o.job, scene, options, r, command);
+  nlohmann::json stats = render_stats(o.job, scene, options, r, command);
+  std::vector<render::ImageLayer> layers = {
+      {"direct", r.direct}, {"indirect", r.indirect}, {"indirect_reference", r.indirect_reference}, {"error", r.error}};
+  if (environment) add_environment(scene, *environment, layers, stats);
 
-  const std::string exr = render::encode_exr(r.width, r.height,
-                                             {{"direct", r.direct},
-                                              {"indirect", r.indirect},
-                                              {"indirect_reference", r.indirect_reference},
-                                              {"error", r.error}},
+  const std::string exr = render::encode_exr(r.width, r.height, layers,
                                              {{"sglab_command", command}, {"sglab_notes", stats["notes"].get<std::string>()}});
   OutputSet outputs;
   outputs.add(o.out, exr);

@@ -26,6 +26,7 @@ struct Level {
   std::vector<double> omega;                 // solid angle
   std::vector<std::array<double, 3>> value;  // target radiance
   double texel_variance = 0;                 // s² = δ²/12 of the box filter, δ = π/H
+  bool grid = true;  // texels in row-major width × height order (else an irregular subset)
 };
 
 // Sharpnesses are bounded below by kMinSharpness and above, per level, by 4/δ² = 1/(3s²) (a lobe
@@ -56,8 +57,9 @@ Level make_level(const EnvMap& m) {
 // Parameters of lobe j in one array: axis (3), log λ (1), RGB amplitude (3).
 constexpr int kStride = 7;
 
-// Residuals of `count` texels starting at `first`, for every lobe (parameter blocks axis, log λ,
-// amplitude per lobe), analytic derivatives.
+// Residuals of a tile of texels (indices into the level) for the lobes that reach it (parameter
+// blocks axis, log λ, amplitude per lobe), analytic derivatives: the problem is sparse, each tile
+// touching only the lobes not below kCutoff of their peak on it (active_lobes).
 // A texel holds the mean of the map over its area, so the model is the mean of each lobe over the
 // texel, approximated by the lobe convolved with the texel's box filter as a Gaussian: the
 // variances add, 1/λ' = 1/λ + s² (s² = δ²/12), and the amplitude scales by q = λ'/λ = 1/(1 + λs²)
@@ -66,9 +68,9 @@ constexpr int kStride = 7;
 // d = ω·ξ − 1 and u = log λ: ∂/∂u = μ g q² λ(qd − s²), ∂/∂ξ = μ q g λq ω, ∂/∂μ = q g.
 class MixtureCost final : public ceres::CostFunction {
  public:
-  MixtureCost(const Level* level, std::size_t first, std::size_t count, int lobes, bool log_objective)
-      : level_(level), first_(first), count_(count), lobes_(lobes), log_(log_objective) {
-    set_num_residuals(int(3 * count));
+  MixtureCost(const Level* level, std::vector<int> texels, int lobes, bool log_objective)
+      : level_(level), texels_(std::move(texels)), lobes_(lobes), log_(log_objective) {
+    set_num_residuals(int(3 * texels_.size()));
     for (int j = 0; j < lobes; ++j) {
       mutable_parameter_block_sizes()->push_back(3);
       mutable_parameter_block_sizes()->push_back(1);
@@ -77,7 +79,7 @@ class MixtureCost final : public ceres::CostFunction {
   }
 
   bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
-    const std::size_t T = count_;
+    const std::size_t T = texels_.size();
     const int N = lobes_;
     std::vector<double> g(T * std::size_t(N)), d(T * std::size_t(N));
     std::vector<double> lambda(std::size_t(N), 0.0), q(std::size_t(N), 0.0);
@@ -88,7 +90,7 @@ class MixtureCost final : public ceres::CostFunction {
       q[std::size_t(j)] = 1 / (1 + lambda[std::size_t(j)] * s2);
       const double blurred = lambda[std::size_t(j)] * q[std::size_t(j)];
       for (std::size_t t = 0; t < T; ++t) {
-        const Vec3d& w = level_->dirs[first_ + t];
+        const Vec3d& w = level_->dirs[std::size_t(texels_[t])];
         const double c = w(0) * a[0] + w(1) * a[1] + w(2) * a[2];
         d[t * std::size_t(N) + std::size_t(j)] = c - 1;
         // q·G(ω; ξ, λq): the texel-blurred lobe without its amplitude
@@ -98,11 +100,12 @@ class MixtureCost final : public ceres::CostFunction {
     // s_t·f'(m): the factor every derivative of residual (t, c) carries.
     std::vector<double> scale(3 * T);
     for (std::size_t t = 0; t < T; ++t) {
-      const double s = std::sqrt(level_->omega[first_ + t]);
+      const std::size_t i = std::size_t(texels_[t]);
+      const double s = std::sqrt(level_->omega[i]);
       for (int c = 0; c < 3; ++c) {
         double m = 0;
         for (int j = 0; j < N; ++j) m += p[3 * j + 2][c] * g[t * std::size_t(N) + std::size_t(j)];
-        const double y = level_->value[first_ + t][std::size_t(c)];
+        const double y = level_->value[i][std::size_t(c)];
         if (log_) {
           residuals[3 * t + std::size_t(c)] = s * (std::log1p(m) - std::log1p(y));
           scale[3 * t + std::size_t(c)] = s / (1 + m);
@@ -122,7 +125,7 @@ class MixtureCost final : public ceres::CostFunction {
       for (std::size_t t = 0; t < T; ++t) {
         const double gt = g[t * std::size_t(N) + std::size_t(j)];
         const double dt = d[t * std::size_t(N) + std::size_t(j)];
-        const Vec3d& w = level_->dirs[first_ + t];
+        const Vec3d& w = level_->dirs[std::size_t(texels_[t])];
         for (int c = 0; c < 3; ++c) {
           const std::size_t r = 3 * t + std::size_t(c);
           const double sc = scale[r];
@@ -142,10 +145,76 @@ class MixtureCost final : public ceres::CostFunction {
 
  private:
   const Level* level_;
-  std::size_t first_, count_;
+  std::vector<int> texels_;
   int lobes_;
   bool log_;
 };
+
+// A lobe is left out of a tile's residuals where its texel-blurred value is below kCutoff of its
+// peak on every texel of the tile (e^{λq(cos γ − 1)} < kCutoff at the tile's nearest point), with
+// a margin of kMarginTexels texel widths for the axes' motion during one solve; the active sets
+// are recomputed after each solve until they no longer change (solve_level).
+constexpr double kCutoff = 1e-6;
+constexpr double kMarginTexels = 3;
+constexpr int kTileSide = 8;  // texels per tile side
+
+// Tiles of at most kTileSide² texels: their texels, centre direction and angular radius.
+struct Tile {
+  std::vector<int> texels;
+  Vec3d centre;
+  double radius = 0;
+};
+
+std::vector<Tile> make_tiles(const Level& level) {
+  std::vector<Tile> tiles;
+  if (!level.grid) {  // an irregular texel subset: one tile per kTileSide² texels in order
+    const std::size_t size = level.dirs.size(), chunk = kTileSide * kTileSide;
+    for (std::size_t first = 0; first < size; first += chunk) {
+      Tile t;
+      for (std::size_t k = first; k < std::min(size, first + chunk); ++k) t.texels.push_back(int(k));
+      tiles.push_back(std::move(t));
+    }
+  } else {
+    for (int v0 = 0; v0 < level.height; v0 += kTileSide)
+      for (int u0 = 0; u0 < level.width; u0 += kTileSide) {
+        Tile t;
+        for (int v = v0; v < std::min(level.height, v0 + kTileSide); ++v)
+          for (int u = u0; u < std::min(level.width, u0 + kTileSide); ++u) t.texels.push_back(v * level.width + u);
+        tiles.push_back(std::move(t));
+      }
+  }
+  const double half_texel = M_PI / double(level.height);  // ≥ half a texel's diagonal
+  for (auto& t : tiles) {
+    Vec3d sum = Vec3d::Zero();
+    for (int i : t.texels) sum += level.dirs[std::size_t(i)];
+    t.centre = sum.norm() > 1e-12 ? Vec3d(sum.normalized()) : level.dirs[std::size_t(t.texels.front())];
+    double r = 0;
+    for (int i : t.texels) r = std::max(r, std::acos(std::clamp(t.centre.dot(level.dirs[std::size_t(i)]), -1.0, 1.0)));
+    t.radius = r + half_texel;
+  }
+  return tiles;
+}
+
+// The lobes that reach each tile (see kCutoff) for parameters x of N lobes.
+std::vector<std::vector<int>> active_lobes(const Level& level, const std::vector<Tile>& tiles, const std::vector<double>& x, int N) {
+  const double margin = kMarginTexels * M_PI / double(level.height);
+  std::vector<Vec3d> axis(static_cast<std::size_t>(N));
+  std::vector<double> reach(static_cast<std::size_t>(N));
+  for (int j = 0; j < N; ++j) {
+    const double* b = x.data() + std::size_t(kStride * j);
+    axis[std::size_t(j)] = Vec3d(b[0], b[1], b[2]).normalized();
+    const double lambda = std::exp(b[3]), blurred = lambda / (1 + lambda * level.texel_variance);
+    const double cos_reach = 1 + std::log(kCutoff) / blurred;  // e^{λq(cos γ − 1)} = kCutoff
+    reach[std::size_t(j)] = cos_reach <= -1 ? 2 * M_PI : std::acos(cos_reach) + margin;
+  }
+  std::vector<std::vector<int>> out(tiles.size());
+  for (std::size_t k = 0; k < tiles.size(); ++k)
+    for (int j = 0; j < N; ++j) {
+      const double gamma = std::acos(std::clamp(tiles[k].centre.dot(axis[std::size_t(j)]), -1.0, 1.0));
+      if (gamma - tiles[k].radius <= reach[std::size_t(j)]) out[k].push_back(j);
+    }
+  return out;
+}
 
 struct Solve {
   int iterations = 0;
@@ -154,43 +223,62 @@ struct Solve {
 };
 
 // LM on one level. shape_fixed: axes and sharpnesses constant (the linear amplitude problem).
+// The problem is sparse (one residual block per tile, touching its active lobes) and solved by
+// CGNR (conjugate gradients on the normal equations, Jacobi preconditioner: the normal matrix is
+// never formed, which at N = 128 costs ten times less per step than a sparse Cholesky of the
+// nearly dense 896 × 896 matrix); when a solve changes the active sets, the problem is rebuilt and solved
+// again from where it stopped (at most kRebuilds times).
+constexpr int kRebuilds = 2;
+
 Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_fixed, const EnvFitOptions& o) {
-  ceres::Problem problem;
-  const std::size_t chunk = 256;
-  std::vector<double*> blocks;
-  for (int j = 0; j < N; ++j) {
-    double* base = x.data() + std::size_t(kStride * j);
-    blocks.push_back(base);
-    blocks.push_back(base + 3);
-    blocks.push_back(base + 4);
-  }
+  const std::vector<Tile> tiles = make_tiles(level);
   const bool log_objective = o.objective == "log-l2";
-  for (std::size_t first = 0; first < level.dirs.size(); first += chunk) {
-    const std::size_t count = std::min(chunk, level.dirs.size() - first);
-    problem.AddResidualBlock(new MixtureCost(&level, first, count, N, log_objective), nullptr, blocks);
-  }
-  for (int j = 0; j < N; ++j) {
-    double* base = x.data() + std::size_t(kStride * j);
-    problem.SetManifold(base, new ceres::SphereManifold<3>());
-    problem.SetParameterLowerBound(base + 3, 0, std::log(kMinSharpness));
-    problem.SetParameterUpperBound(base + 3, 0, std::log(max_sharpness(level)));
-    for (int c = 0; c < 3; ++c) problem.SetParameterLowerBound(base + 4, c, 0.0);
-    if (shape_fixed) {
-      problem.SetParameterBlockConstant(base);
-      problem.SetParameterBlockConstant(base + 3);
+  std::vector<std::vector<int>> active = active_lobes(level, tiles, x, N);
+  Solve result;
+  result.converged = true;
+  for (int round = 0; round < kRebuilds; ++round) {
+    ceres::Problem problem;
+    for (std::size_t k = 0; k < tiles.size(); ++k) {
+      if (active[k].empty()) continue;
+      std::vector<double*> blocks;
+      for (int j : active[k]) {
+        double* base = x.data() + std::size_t(kStride * j);
+        blocks.insert(blocks.end(), {base, base + 3, base + 4});
+      }
+      problem.AddResidualBlock(new MixtureCost(&level, tiles[k].texels, int(active[k].size()), log_objective), nullptr, blocks);
     }
+    for (int j = 0; j < N; ++j) {
+      double* base = x.data() + std::size_t(kStride * j);
+      if (!problem.HasParameterBlock(base)) continue;  // reaches no texel of this level
+      problem.SetManifold(base, new ceres::SphereManifold<3>());
+      problem.SetParameterLowerBound(base + 3, 0, std::log(kMinSharpness));
+      problem.SetParameterUpperBound(base + 3, 0, std::log(max_sharpness(level)));
+      for (int c = 0; c < 3; ++c) problem.SetParameterLowerBound(base + 4, c, 0.0);
+      if (shape_fixed) {
+        problem.SetParameterBlockConstant(base);
+        problem.SetParameterBlockConstant(base + 3);
+      }
+    }
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::CGNR;
+    so.preconditioner_type = ceres::JACOBI;
+    so.num_threads = o.threads;
+    so.max_num_iterations = o.max_iterations;
+    so.function_tolerance = 1e-6;
+    so.gradient_tolerance = 1e-12;
+    so.parameter_tolerance = 1e-9;
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    result.iterations += int(summary.iterations.size());
+    result.converged = summary.termination_type == ceres::CONVERGENCE;
+    result.cost = summary.final_cost;
+    if (shape_fixed) break;  // the active sets depend on axes and sharpnesses only
+    auto next = active_lobes(level, tiles, x, N);
+    if (next == active) break;
+    active = std::move(next);
   }
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  so.num_threads = o.threads;
-  so.max_num_iterations = o.max_iterations;
-  so.function_tolerance = 1e-6;
-  so.gradient_tolerance = 1e-12;
-  so.parameter_tolerance = 1e-9;
-  so.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  return {int(summary.iterations.size()), summary.termination_type == ceres::CONVERGENCE, summary.final_cost};
+  return result;
 }
 
 // Points of a spherical Fibonacci lattice (González 2010, "Measurement of areas on a sphere using
@@ -353,15 +441,18 @@ SgMixture unpack(const std::vector<double>& x, int N) {
   return m;
 }
 
-// The result from the finest level's parameters x: mixture, error against the full map, time.
+// The result from the finest level's parameters x: mixture, error against the full map, time
+// since t0 less `excluded` (the error evaluations of earlier stages; this one's is added to it).
 void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::vector<double>& x, double cost,
-            std::chrono::steady_clock::time_point t0) {
+            std::chrono::steady_clock::time_point t0, double& excluded) {
   r.final_cost = cost;
   r.fit_width = level.width;
   r.fit_height = level.height;
   r.mixture = unpack(x, int(x.size()) / kStride);
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto t1 = std::chrono::steady_clock::now();
+  r.seconds = std::chrono::duration<double>(t1 - t0).count() - excluded;
   r.error = envmap_error(map, rasterize_mixture(r.mixture, map.width, map.height, kErrorSupersample));
+  excluded += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 }
 
 // On each level finer than the last one fitted (the Jacobian budget stops the full joint fit
@@ -385,6 +476,7 @@ void refine_sharp_lobes(const std::vector<EnvMap>& maps, std::size_t finest, std
     sub.width = full.width;
     sub.height = full.height;
     sub.texel_variance = full.texel_variance;
+    sub.grid = false;
     const double s2 = full.texel_variance;
     for (std::size_t t = 0; t < full.dirs.size(); ++t) {
       bool near = false;
@@ -414,6 +506,44 @@ void refine_sharp_lobes(const std::vector<EnvMap>& maps, std::size_t finest, std
   }
 }
 
+// Lobe counts up to kDirectLobes are fitted directly; larger ones by doubling (fit_envmap_ceres).
+constexpr int kDirectLobes = 2;
+
+// The finest pyramid level of the Ceres fit: the full map unless the estimated number of Jacobian
+// nonzeros (3 residuals × 7 parameters × the lobes reaching a texel, taken as min(N, 16)) exceeds
+// the budget.
+std::size_t ceres_finest_level(const std::vector<EnvMap>& levels, int lobes, const EnvFitOptions& o) {
+  const double per_texel = 3.0 * kStride * std::min(lobes, 16);
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    if (double(levels[k].size()) * per_texel <= o.jacobian_budget) return k;
+  return levels.size() - 1;
+}
+
+// Appends m − n lobes to the n lobes of x: weighted spherical k-means on the positive part of the
+// residual (target − model, texel-blurred model of MixtureCost), each cluster's sharpness from its
+// mean resultant length and its amplitude from its share of the residual's power (pack).
+void add_lobes(const Level& level, std::vector<double>& x, int n, int m, unsigned seed) {
+  Level residual = level;
+  const SgMixture current = unpack(x, n);
+  const double s2 = level.texel_variance;
+  for (std::size_t t = 0; t < level.dirs.size(); ++t) {
+    std::array<double, 3> model{0, 0, 0};
+    for (const auto& l : current) {
+      const double q = 1 / (1 + l.sharpness * s2);
+      const double g = q * std::exp(std::min(0.0, l.sharpness * q * (level.dirs[t].dot(l.axis) - 1)));
+      for (int c = 0; c < 3; ++c) model[std::size_t(c)] += l.amplitude[std::size_t(c)] * g;
+    }
+    for (int c = 0; c < 3; ++c)
+      residual.value[t][std::size_t(c)] = std::max(0.0, level.value[t][std::size_t(c)] - model[std::size_t(c)]);
+  }
+  const auto extra = pack(spherical_kmeans(residual, texel_weights(residual), m - n, seed), residual);
+  x.insert(x.end(), extra.begin(), extra.end());
+}
+
+// The vMF-EM fit's working level: the finest whose dense N-lobe Jacobian (3 residuals × 7N
+// parameters per texel) would have at most this many entries.
+constexpr double kDenseBudget = 6e6;
+
 // What both fits start from: validated options, the clock, the pyramid and its levels.
 struct Setup {
   std::chrono::steady_clock::time_point t0;
@@ -423,7 +553,7 @@ struct Setup {
     validate(map, o);
     t0 = std::chrono::steady_clock::now();
     maps = pyramid(map);
-    choose_levels(maps, o.lobes, o.jacobian_budget, finest, start);
+    choose_levels(maps, o.lobes, kDenseBudget, finest, start);
   }
 };
 
@@ -432,31 +562,58 @@ struct Setup {
 EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
   const Setup setup(map, o);
   const auto& maps = setup.maps;
-  const std::size_t start = setup.start, finest = setup.finest;
-  const int N = o.lobes;
+  // The lobe ladder: N, ⌈N/2⌉, … down to kDirectLobes; the first rung is fitted from its initial
+  // axes coarse to fine, every later one from the previous rung's lobes plus new ones, all on the
+  // finest level of N (ceres_finest_level): each rung then starts from the previous rung's
+  // optimum on the same data, so the error does not grow along the ladder. (A rung n < N is thus
+  // fitted on a level no finer than `--lobes n` alone would use.)
+  std::vector<int> ladder{o.lobes};
+  while (ladder.front() > kDirectLobes) ladder.insert(ladder.begin(), (ladder.front() + 1) / 2);
+  const int N0 = ladder.front();
+  const std::size_t finest = ceres_finest_level(maps, o.lobes, o);
+  std::size_t start = 0, unused = 0;
+  choose_levels(maps, N0, kDenseBudget, unused, start);
+  start = std::max(finest, start);
   Level level = make_level(maps[start]);
   std::vector<Cluster> init;
   if (o.init == "kmeans") {
-    init = spherical_kmeans(level, texel_weights(level), N, o.seed);
+    init = spherical_kmeans(level, texel_weights(level), N0, o.seed);
   } else {
-    for (const auto& a : fibonacci_axes(N)) init.push_back({a, std::min(double(N), max_sharpness(level)), 1.0 / N});
+    for (const auto& a : fibonacci_axes(N0)) init.push_back({a, std::min(double(N0), max_sharpness(level)), 1.0 / N0});
   }
   std::vector<double> x = pack(init, level);
   EnvFitResult r;
   r.method = "ceres";
   r.converged = true;
-  Solve s = solve_level(level, x, N, true, o);
+  double excluded = 0;
+  Solve s = solve_level(level, x, N0, true, o);
   r.iterations += s.iterations;
   for (std::size_t k = start + 1; k-- > finest;) {
     if (k != start) level = make_level(maps[k]);
-    s = solve_level(level, x, N, false, o);
+    s = solve_level(level, x, N0, false, o);
     r.iterations += s.iterations;
     r.converged = r.converged && s.converged;
   }
-  const double cost = s.cost;
-  refine_sharp_lobes(maps, finest, x, N, o, r);
-  finish(r, map, level, x, cost, setup.t0);
-  return r;
+  for (std::size_t rung = 0;; ++rung) {
+    const int n = ladder[rung];
+    if (rung > 0) {
+      // New lobes where the fit of the previous rung falls short; LM then only lowers the cost
+      // of that fit (the amplitude solve can keep the new lobes at 0), so the cost on this level
+      // does not rise with N.
+      add_lobes(level, x, ladder[rung - 1], n, o.seed + unsigned(rung));
+      s = solve_level(level, x, n, true, o);
+      r.iterations += s.iterations;
+      s = solve_level(level, x, n, false, o);
+      r.iterations += s.iterations;
+      r.converged = r.converged && s.converged;
+    }
+    std::vector<double> refined = x;
+    EnvFitResult stage = r;
+    refine_sharp_lobes(maps, finest, refined, n, o, stage);
+    finish(stage, map, level, refined, s.cost, setup.t0, excluded);
+    if (rung + 1 == ladder.size()) return stage;
+    if (o.on_stage) o.on_stage(stage);
+  }
 }
 
 EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
@@ -512,7 +669,8 @@ EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
   }
   std::vector<double> x = pack(cl, level);
   const Solve s = solve_level(level, x, N, true, o);
-  finish(r, map, level, x, s.cost, setup.t0);
+  double excluded = 0;
+  finish(r, map, level, x, s.cost, setup.t0, excluded);
   return r;
 }
 

@@ -5,17 +5,22 @@
 //    Parameters per lobe: the axis ξ_j on ceres::SphereManifold<3>, u_j = log λ_j, and the RGB
 //    amplitude μ_j ≥ 0 (bounds). Residuals r_{t,c} = √Ω_t (model − target) (objective "l2") or
 //    √Ω_t (log(1 + model) − log(1 + target)) ("log-l2"), one per texel t and channel c, with
-//    analytic derivatives. Coarse to fine: the map is halved (solid-angle-weighted 2 × 2 means)
+//    analytic derivatives. The problem is sparse: one residual block per 8 × 8-texel tile,
+//    touching only the lobes that reach the tile (not below 1e-6 of their peak there), solved by
+//    LM with CGNR steps. Coarse to fine: the map is halved (solid-angle-weighted 2 × 2 means)
 //    down to a 32-texel-wide level; the fit starts there and is refined on each finer level up to
-//    the finest one whose dense Jacobian stays under a budget (jacobian_budget entries), so a
-//    large N is solved on a coarser map. On every level the model of a texel is the lobe blurred
+//    the finest one whose estimated Jacobian nonzeros stay under jacobian_budget, so a large N
+//    is solved on a coarser map. On every level the model of a texel is the lobe blurred
 //    by the texel (1/λ' = 1/λ + δ²/12, integral kept; δ = π/H), so lobes sharper than a texel
 //    are fitted to texel means instead of falling between texel centres; λ ∈ [1e-2, 4/δ²]. On
 //    the levels finer than the budget allows, the lobes at the sharpness bound are refitted alone
-//    on the texels around them, the other lobes held fixed (a sun resolved on the full map). Initial axes:
-//    a Fibonacci lattice (λ = N) or weighted spherical k-means (λ from each cluster's mean
-//    resultant length, Banerjee et al. 2005); initial amplitudes by the same least squares with
-//    axes and sharpnesses held fixed (a non-negative linear least-squares problem).
+//    on the texels around them, the other lobes held fixed (a sun resolved on the full map).
+//    Lobe ladder: N ≤ 2 lobes are fitted directly from their initial axes: a Fibonacci lattice
+//    (λ = N) or weighted spherical k-means (λ from each cluster's mean resultant length, Banerjee
+//    et al. 2005), initial amplitudes by the same least squares with axes and sharpnesses held
+//    fixed (a non-negative linear least-squares problem). A larger N is fitted from the fit at
+//    ⌈N/2⌉ plus new lobes placed by k-means on the positive residual: LM starts from a point no
+//    worse than the fit at ⌈N/2⌉ and only lowers the cost, so the error does not grow with N.
 //  • fit_envmap_vmf_em: the simple alternative: EM for a mixture of von Mises–Fisher densities
 //    (Banerjee et al. 2005, "Clustering on the unit hypersphere using von Mises–Fisher
 //    distributions", soft assignments, κ by their r̄(3 − r̄²)/(1 − r̄²)) on the texel directions
@@ -27,6 +32,7 @@
 // fit (that error evaluation excluded).
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "sglab/envmap.hpp"
@@ -35,14 +41,19 @@ namespace sglab::fit {
 
 inline constexpr int kErrorSupersample = 4;
 
+struct EnvFitResult;
+
 struct EnvFitOptions {
   int lobes = 8;
   std::string init = "fibonacci";  // fibonacci | kmeans
   std::string objective = "l2";    // l2 | log-l2
-  double jacobian_budget = 6e6;    // residuals × parameters of the finest level fitted
+  double jacobian_budget = 1.5e6;  // Ceres: estimated Jacobian nonzeros of the finest level fitted
   int threads = 2;
   int max_iterations = 60;         // Levenberg–Marquardt iterations per level
   unsigned seed = 1;               // k-means++ seeding (printed by the callers)
+  // Ceres: called with the result of every rung of the lobe ladder below N (⌈N/2⌉, ⌈N/4⌉, … ≥ 1;
+  // seconds counted from the start of the whole fit), so one fit at N = 128 also gives 64, 32, ….
+  std::function<void(const EnvFitResult&)> on_stage;
 };
 
 struct EnvFitResult {

@@ -277,11 +277,45 @@ bool contains(const Shape& shape, const Vec3& p) {
   return std::fabs(d.dot(n)) <= 1e-12 * (1 + d.norm()) && u >= 0 && u <= 1 && v >= 0 && v <= 1;
 }
 
+// "environment": {"exr" | "generate" (+ "width"), and/or "mixture"; "lobes", "diffuse", "specular"}.
+SceneEnvironment parse_environment(const json& e) {
+  const std::string path = "environment";
+  check_keys(e, path, {"exr", "generate", "width", "mixture", "lobes", "diffuse", "specular"});
+  SceneEnvironment env;
+  auto text = [&](const char* key, std::string& out) {
+    if (!e.contains(key)) return;
+    const json& v = e.at(key);
+    if (!v.is_string() || v.get<std::string>().empty()) fail(join(path, key), fmt::format("expected a non-empty string, got {} {}", type_name(v), shown(v)));
+    out = v.get<std::string>();
+  };
+  auto integer = [&](const char* key, int& out, int lo, int hi) {
+    if (!e.contains(key)) return;
+    const json& v = e.at(key);
+    if (!v.is_number_integer() || v.get<long long>() < lo || v.get<long long>() > hi)
+      fail(join(path, key), fmt::format("{} is not an integer in [{}, {}]", shown(v), lo, hi));
+    out = int(v.get<long long>());
+  };
+  text("exr", env.exr);
+  text("generate", env.generate);
+  text("mixture", env.mixture);
+  text("diffuse", env.diffuse);
+  text("specular", env.specular);
+  integer("width", env.width, 8, 4096);
+  integer("lobes", env.lobes, 1, 1024);
+  if (env.width % 2 != 0) fail(join(path, "width"), fmt::format("{} is odd (the map is width × width/2)", env.width));
+  if (!env.exr.empty() && !env.generate.empty()) fail(path, "give \"exr\" or \"generate\", not both");
+  if (env.exr.empty() && env.generate.empty() && env.mixture.empty()) fail(path, "needs \"exr\", \"generate\" or \"mixture\"");
+  if (!env.generate.empty() && env.generate != "sky" && env.generate != "studio" && env.generate != "mixture")
+    fail(join(path, "generate"), fmt::format("\"{}\" is not sky, studio or mixture", clip_text(env.generate)));
+  return env;
+}
+
 }  // namespace
 
 Scene parse_scene(const nlohmann::json& document) {
-  check_keys(document, "", {"description", "camera", "light", "objects"});
+  check_keys(document, "", {"description", "camera", "light", "objects", "environment"});
   Scene scene;
+  if (document.contains("environment")) scene.environment = parse_environment(document.at("environment"));
   if (document.contains("description")) {
     if (!document.at("description").is_string()) fail("description", "expected a string");
     scene.description = document.at("description").get<std::string>();

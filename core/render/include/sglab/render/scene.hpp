@@ -8,6 +8,7 @@
 // Angles are degrees in JSON and radians here.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <variant>
@@ -91,11 +92,24 @@ struct Spotlight {
 // keeps their texels' solid angles within a factor 1/cos³ ≈ 1500 of each other.
 inline constexpr double kMaxConeAngleDegrees = 85;
 
+// A distant environment lighting the scene with V = 1 (environment_scene.hpp), in addition to
+// the spotlight: a map (an EXR, or one sglab generates) and/or an SG mixture record. Without a
+// mixture, one is fitted at render time with `lobes` lobes; without a map there is no layer (1).
+struct SceneEnvironment {
+  std::string exr;       // path (relative paths: from the scene file's directory)
+  std::string generate;  // or "sky" | "studio" | "mixture": the map `sglab envmap make` writes
+  int width = 256;       // of the generated map (height width/2)
+  std::string mixture;   // path of a mixture record (`sglab fit envmap --json`)
+  int lobes = 16;        // of the fit made at render time when there is no mixture
+  std::string diffuse = "tokuyoshi2024", specular = "sg-warp";  // registry methods of layer (3)
+};
+
 struct Scene {
   std::string description;
   Camera camera;
   Spotlight light;
   std::vector<Object> objects;
+  std::optional<SceneEnvironment> environment;
 
   bool has_glossy() const;
   // Index of the object called `name`, or -1.

@@ -1,0 +1,105 @@
+// The scene's distant environment in `sglab render` (environment_render.hpp).
+#include "environment_render.hpp"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "commands.hpp"
+#include "envmap.hpp"
+#include "sglab/render/environment_scene.hpp"
+#include "sglab/render/raycast.hpp"
+
+namespace sglab::cli {
+
+std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scene, const std::string& scene_path) {
+  if (!scene.environment) return std::nullopt;
+  const auto& e = *scene.environment;
+  namespace fs = std::filesystem;
+  auto resolve = [&](const std::string& p) {
+    const fs::path path(p);
+    return path.is_absolute() ? p : (fs::path(scene_path).parent_path() / path).string();
+  };
+  PreparedEnvironment out;
+  try {
+    if (!e.exr.empty()) {
+      out.map = render::load_environment(resolve(e.exr));
+      out.source["map"] = resolve(e.exr);
+    } else if (!e.generate.empty()) {
+      if (e.generate == "sky") {
+        render::SkyOptions o;
+        o.width = e.width;
+        o.height = e.width / 2;
+        out.map = render::make_sky(o);
+      } else if (e.generate == "studio") {
+        render::StudioOptions o;
+        o.width = e.width;
+        o.height = e.width / 2;
+        out.map = render::make_studio(o);
+      } else {
+        out.map = rasterize_mixture(render::synthetic_mixture(), e.width, e.width / 2, 4);
+      }
+      out.source["map"] = fmt::format("generated: sglab envmap make {} --width {}", e.generate, e.width);
+    }
+    if (!e.mixture.empty()) {
+      out.mixture = render::load_mixture(resolve(e.mixture));
+      out.source["mixture"] = resolve(e.mixture);
+    }
+  } catch (const render::EnvironmentError& x) {
+    throw UsageError(std::string("environment: ") + x.what());
+  }
+  if (e.mixture.empty()) {
+    fit::EnvFitOptions o;
+    o.lobes = e.lobes;
+    o.init = "kmeans";
+    fit::EnvFitResult r;
+    try {
+      r = fit::fit_envmap_ceres(*out.map, o);
+    } catch (const std::invalid_argument& x) {
+      throw UsageError(std::string("environment.lobes: ") + x.what());
+    }
+    out.mixture = r.mixture;
+    out.source["mixture"] = fmt::format("fitted at render time: sglab fit envmap --lobes {} --init kmeans (seed {})", e.lobes, o.seed);
+    out.source["fit_relative_error"] = r.error.relative;
+    out.source["fit_seconds"] = r.seconds;
+  }
+  out.source["lobes"] = out.mixture.size();
+  return out;
+}
+
+namespace {
+nlohmann::ordered_json error_json(const render::ShadingError& e) {
+  return {{"relative_l2", e.relative_l2}, {"smape", e.smape}, {"brightness_weighted", e.brightness_weighted}};
+}
+}  // namespace
+
+void add_environment(const render::Scene& scene, const PreparedEnvironment& env, std::vector<render::ImageLayer>& layers,
+                     nlohmann::json& stats) {
+  const auto& e = *scene.environment;
+  const render::GBuffer g = render::render_gbuffer(scene);
+  render::EnvironmentLayers l;
+  try {
+    l = render::shade_environment(scene, g, env.map ? &*env.map : nullptr, env.mixture, e.diffuse, e.specular);
+  } catch (const std::invalid_argument& x) {
+    throw UsageError(std::string("environment: ") + x.what());
+  }
+  nlohmann::ordered_json s = env.source;
+  s["visibility"] = "ignored (V = 1)";
+  s["diffuse_method"] = e.diffuse;
+  s["specular_method"] = e.specular;
+  s["layers"] = "environment_map: the map by texel quadrature (2×2 sub-texels); environment_mixture: the mixture exactly "
+                "(diffuse: clamped-cosine reference per lobe; specular: quadrature of its texel means); environment_approx: "
+                "the mixture with the methods. Scene +y is the environment's zenith.";
+  if (env.map) {
+    layers.push_back({"environment_map", l.map});
+    s["quadrature_change_1_to_2x2"] = l.quadrature_change;
+    s["fit_part"] = error_json(render::shading_error(l.mixture, l.map, l.image));
+    s["total"] = error_json(render::shading_error(l.approximation, l.map, l.image));
+  }
+  s["approximation_part"] = error_json(render::shading_error(l.approximation, l.mixture, l.image));
+  layers.push_back({"environment_mixture", l.mixture});
+  layers.push_back({"environment_approx", l.approximation});
+  stats["environment"] = s;
+}
+
+}  // namespace sglab::cli

@@ -1,0 +1,33 @@
+// The scene's distant environment in `sglab render` (render_command.cpp): loading (or generating)
+// the map, reading or fitting the mixture, and the three layers (environment_scene.hpp) as EXR
+// layers and stats.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sglab/envmap.hpp"
+#include "sglab/render/exr.hpp"
+#include "sglab/render/scene.hpp"
+
+namespace sglab::cli {
+
+struct PreparedEnvironment {
+  std::optional<EnvMap> map;
+  SgMixture mixture;
+  nlohmann::ordered_json source;  // what was loaded, generated or fitted (for the stats)
+};
+
+// Before anything is rendered or written: loads the scene's environment (paths relative to the
+// scene file's directory). Bad input throws UsageError naming the value (exit status 2).
+std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scene, const std::string& scene_path);
+
+// Shades the environment at the camera's first hits: EXR layers environment_map (when there is a
+// map), environment_mixture, environment_approx, and stats["environment"].
+void add_environment(const render::Scene& scene, const PreparedEnvironment& env, std::vector<render::ImageLayer>& layers,
+                     nlohmann::json& stats);
+
+}  // namespace sglab::cli
