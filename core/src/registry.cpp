@@ -46,6 +46,7 @@ const std::vector<Quantity>& quantities() {
     std::vector<Quantity> out;
     register_core_quantities(out);
     register_glossy_quantities(out);
+    install_simd_batch_evaluators(out);
     return out;
   }();
   return all;
