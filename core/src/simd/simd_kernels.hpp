@@ -4,7 +4,7 @@
 // in core/include/sglab (the definition): the same operations in the same order, the same stable
 // forms, and every `if` on a value turned into a select between both branches (branches that only
 // extreme inputs take, λ > 1e4 or λ > 1e18, are evaluated only when a lane needs them). The
-// scalar code's transcendental calls (std::exp, expm1, erf, erfc) become SLEEF's, sqrt the
+// scalar code's transcendental calls (std::exp, expm1, erf, erfc) become glibc libmvec's, sqrt the
 // hardware instruction (correctly rounded, as std::sqrt); the
 // Taylor series of the c = ±1 bounds below λ = 1 are summed by Horner's rule over a fixed number
 // of terms instead of a forward sum stopped at ε. tests/simd_test.cpp holds every kernel to its
@@ -17,7 +17,6 @@
 #include <cstddef>
 #include <limits>
 
-#include <sleef.h>
 #include <xsimd/xsimd.hpp>
 
 #include "simd_table.hpp"
@@ -50,29 +49,31 @@ constexpr double kLarge = 1e4;
 template <class B>
 using value_t = typename B::value_type;
 
-// The transcendental functions: SLEEF's vector functions for this unit's instruction set
-// (SGLAB_SLEEF_D/F, defined by the including unit, name e.g. Sleef_erfcd8_u15avx512f), with
-// SLEEF's stated bounds: exp, expm1, erf 1.0 ulp, erfc 1.5 ulp. (xsimd's own erf/erfc were
-// measured 34 and 1.8e4 ulps off in double, and NaN past |x| ≈ 1e75; docs/simd.md.)
+// The transcendental functions: glibc's vector math library libmvec, the variants for this unit's
+// instruction set (SGLAB_VEC_D/F, defined by the including unit; e.g. _ZGVeN8v_erfc is erfc on 8
+// doubles with AVX-512, in the x86-64 vector function ABI). glibc states ≤ 4 ulp for every libmvec
+// function; tests/simd_test.cpp measures the kernels built on them. (xsimd's own erf/erfc were
+// measured 34 and 1.8e4 ulps off in double and NaN past |x| ≈ 1e75; SLEEF 3.5's erfc is accurate
+// but 2.7× slower than libmvec's in double: docs/simd.md.)
 template <class B>
-inline B sl_exp(const B& x) {
-  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_SLEEF_D(exp, u10)(x));
-  else return B(SGLAB_SLEEF_F(exp, u10)(x));
+inline B vm_exp(const B& x) {
+  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(exp)(x));
+  else return B(SGLAB_VEC_F(exp)(x));
 }
 template <class B>
-inline B sl_expm1(const B& x) {
-  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_SLEEF_D(expm1, u10)(x));
-  else return B(SGLAB_SLEEF_F(expm1, u10)(x));
+inline B vm_expm1(const B& x) {
+  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(expm1)(x));
+  else return B(SGLAB_VEC_F(expm1)(x));
 }
 template <class B>
-inline B sl_erf(const B& x) {
-  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_SLEEF_D(erf, u10)(x));
-  else return B(SGLAB_SLEEF_F(erf, u10)(x));
+inline B vm_erf(const B& x) {
+  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(erf)(x));
+  else return B(SGLAB_VEC_F(erf)(x));
 }
 template <class B>
-inline B sl_erfc(const B& x) {
-  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_SLEEF_D(erfc, u15)(x));
-  else return B(SGLAB_SLEEF_F(erfc, u15)(x));
+inline B vm_erfc(const B& x) {
+  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(erfc)(x));
+  else return B(SGLAB_VEC_F(erfc)(x));
 }
 
 template <class B>
@@ -105,7 +106,7 @@ inline B expm1_over_x(const B& x, const B& em) {
 }
 template <class B>
 inline B expm1_over_x(const B& x) {
-  return expm1_over_x(x, sl_expm1(x));
+  return expm1_over_x(x, vm_expm1(x));
 }
 
 // A(λ) (sg.hpp sg_integral): one expm1(−2λ) serves both branches (−(2λ) = (−2)λ exactly).
@@ -113,7 +114,7 @@ template <class B>
 inline B sg_integral(const B& l) {
   using T = value_t<B>;
   const B x = T(-2) * l;
-  const B em = sl_expm1(x);
+  const B em = vm_expm1(x);
   return xsimd::select(l > B(T(1)), kTwoPi<T> * -em / l, T(2) * kTwoPi<T> * expm1_over_x(x, em));
 }
 
@@ -158,7 +159,7 @@ inline B product_integral_exact(const B& s1, const B& s2, const B& cosine) {
   using T = value_t<B>;
   const B l3 = product_sharpness(s1, s2, cosine);
   const B la = product_log_amplitude(s1, s2, cosine, l3);
-  B r = sl_exp(la) * sg_integral(l3);
+  B r = vm_exp(la) * sg_integral(l3);
   const B s = larger(s1, s2);
   const auto big = s > B(T(kScale));
   if (xsimd::any(big)) {
@@ -166,9 +167,9 @@ inline B product_integral_exact(const B& s1, const B& s2, const B& cosine) {
     const B rr = product_sharpness(u1, u2, cosine);
     const B log_amplitude = s * product_log_amplitude(u1, u2, cosine, rr);
     const B lambda3 = s * rr;
-    const B area = xsimd::select(lambda3 > B(T(1)), kTwoPi<T> / s / rr * -sl_expm1(-(T(2) * lambda3)),
+    const B area = xsimd::select(lambda3 > B(T(1)), kTwoPi<T> / s / rr * -vm_expm1(-(T(2) * lambda3)),
                                  sg_integral(lambda3));
-    r = xsimd::select(big, sl_exp(log_amplitude) * area, r);
+    r = xsimd::select(big, vm_exp(log_amplitude) * area, r);
   }
   return r;
 }
@@ -178,9 +179,9 @@ inline B product_integral_exact(const B& s1, const B& s2, const B& cosine) {
 template <class B>
 inline B upper_times_lerp(const B& l, const B& s) {
   using T = value_t<B>;
-  const B em = sl_expm1(-l);
+  const B em = vm_expm1(-l);
   const B upper = kTwoPi<T> * expm1_over_x(-l, em);
-  const B lerp = sl_exp(-l) + s * -em;
+  const B lerp = vm_exp(-l) + s * -em;
   return upper * lerp;
 }
 
@@ -200,12 +201,12 @@ inline B meder_logistic(const B& t, const B& cosine) {
   const B c = clamp_cosine(cosine);
   const B opc = T(1) + c;
   const auto nonneg = c >= B(T(0));
-  const B em_t = sl_expm1(-t);
-  const B e_t = sl_exp(-t);
+  const B em_t = vm_expm1(-t);
+  const B e_t = vm_exp(-t);
   // e^{−tc} for c ≥ 0 and e^{tc} for c < 0 are both e^{(−t)|c|} (the same rounded product).
-  const B g = sl_exp(-t * xsimd::abs(c));
+  const B g = vm_exp(-t * xsimd::abs(c));
   const B x = xsimd::select(nonneg, -t * opc, t * opc);
-  const B em_x = sl_expm1(x);
+  const B em_x = vm_expm1(x);
   const B ex_x = expm1_over_x(x, em_x);
   // t < 1
   const B den_s = expm1_over_x(-t, em_t);
@@ -240,7 +241,7 @@ inline B tokuyoshi2022_factor(const B& k, const B& cosine) {
   using T = value_t<B>;
   const B c = clamp_cosine(cosine);
   const B ratio = xsimd::select(k < B(series_threshold4<T>()), c * (T(1) + k * k * (T(1) - c * c) / T(3)),
-                                sl_erf(k * c) / sl_erf(k));
+                                vm_erf(k * c) / vm_erf(k));
   return clamp01(T(0.5) + T(0.5) * ratio);
 }
 
@@ -253,8 +254,8 @@ template <class B>
 inline B hemispherical_vmf_tokuyoshi2024(const B& l, const B& c, const B* p) {
   using T = value_t<B>;
   const B f = tokuyoshi2022_factor(tokuyoshi2022_steepness(l, p), c);
-  const B e = sl_exp(-l);
-  return (e + f * -sl_expm1(-l)) / (T(1) + e);
+  const B e = vm_exp(-l);
+  return (e + f * -vm_expm1(-l)) / (T(1) + e);
 }
 
 // ∫_{ω·n>0} G(ω;ξ,λ)G(ω;n,λ2)·e^{extra} dω through `hemi` (clamped_cosine.hpp hemispherical_product).
@@ -265,7 +266,7 @@ inline B hemispherical_product(const B& l, const B& cosine, const B& l2, const B
   const B l3 = product_sharpness(l, l2, c);
   const B la = product_log_amplitude(l, l2, c, l3) + extra;
   const B c3 = xsimd::select(l3 > B(T(0)), clamp_cosine((l * c + l2) / l3), B(T(1)));
-  return sl_exp(la) * hemi(l3, c3);
+  return vm_exp(la) * hemi(l3, c3);
 }
 
 // ---- the c = ±1 bounds of D over 2π (clamped_cosine.hpp) ---------------------------------------
@@ -297,7 +298,7 @@ inline void bound_series(const B& l, B& upper, B& inner) {
 template <class B>
 inline void tokuyoshi2024_bounds(const B& l, B& upper, B& lower) {
   using T = value_t<B>;
-  const B e = sl_exp(-l);
+  const B e = vm_exp(-l);
   const B ex = expm1_over_x(-l);
   upper = (T(1) - ex) / l;
   lower = e * ((ex - e) / l);
@@ -332,7 +333,7 @@ struct CcSgCosine {
     const B& ld = p[0];
     const B sum = l + ld;
     const B reduced = xsimd::select(l > ld, l * (ld / sum), ld * (l / sum));
-    const B iwasaki = kTwoPi<T> * sl_exp(reduced * (clamp_cosine(cosine) - T(1))) / sum;
+    const B iwasaki = kTwoPi<T> * vm_exp(reduced * (clamp_cosine(cosine) - T(1))) / sum;
     return xsimd::select(sum > B(T(0)), p[1] * iwasaki, p[1] * B(std::numeric_limits<T>::infinity()));
   }
 };
@@ -351,7 +352,7 @@ struct CcHillFitted {
     const B& c0 = p[0];
     const B c = clamp_cosine(cosine);
     const B c1 = T(1) / (T(4) * c0);
-    const B eml = sl_exp(-l);
+    const B eml = vm_exp(-l);
     const B em2l = eml * eml;
     const B rl = T(1) / l;
     const B scale = T(1) + T(2) * em2l - rl;
@@ -398,8 +399,8 @@ struct CcTokuyoshi2024 {
     const B c = clamp_cosine(cosine);
     const B c2m1 = c * c - T(1);
     const B q = t * t * c2m1;
-    const B tail = sl_exp(-t * t * c * c) * t * c2m1 * expm1_over_x(q) / two_sqrt_pi<T>();
-    const B f = clamp01(T(0.5) * (c * sl_erfc(-t * c) + sl_erfc(t)) - tail);
+    const B tail = vm_exp(-t * t * c * c) * t * c2m1 * expm1_over_x(q) / two_sqrt_pi<T>();
+    const B f = clamp01(T(0.5) * (c * vm_erfc(-t * c) + vm_erfc(t)) - tail);
     B upper, lower;
     tokuyoshi2024_bounds(l, upper, lower);
     return kTwoPi<T> * (lower + f * (upper - lower));
@@ -423,7 +424,7 @@ struct CcSglab {
       k_over_t = xsimd::select(big, k / (((Q * r + P) * r + T(1)) * tb), k_over_t);
     }
     // sglab_bounds_over_2pi
-    const B e = sl_exp(-l);
+    const B e = vm_exp(-l);
     B upper = ((l - T(1)) + e) / l / l;
     B lower = e * (((T(1) - e) / l - e) / l);
     const auto small = l < B(T(1));
@@ -438,9 +439,9 @@ struct CcSglab {
     const B a = xsimd::abs(c);
     const B x = (T(1) - a) * (T(1) + a);
     const B tt = t * t;
-    const B gauss = sl_exp(-tt * a * a);
+    const B gauss = vm_exp(-tt * a * a);
     const B tail = gauss * t * x * expm1_over_x(-tt * x);
-    const B g = T(0.5) * (sl_erfc(t) - a * sl_erfc(t * a)) + tail / two_sqrt_pi<T>();
+    const B g = T(0.5) * (vm_erfc(t) - a * vm_erfc(t * a)) + tail / two_sqrt_pi<T>();
     const B corrected = g + k_over_t * (gauss * x - t * tail);
     const B half = T(0.5) * g;
     const B f = clamp01(positive_part(c) + xsimd::select(corrected > half, corrected, half));
