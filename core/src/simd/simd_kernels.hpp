@@ -55,24 +55,48 @@ using value_t = typename B::value_type;
 // function; tests/simd_test.cpp measures the kernels built on them. (xsimd's own erf/erfc were
 // measured 34 and 1.8e4 ulps off in double and NaN past |x| ≈ 1e75; SLEEF 3.5's erfc is accurate
 // but 2.7× slower than libmvec's in double: docs/simd.md.)
+// Arguments past the point where the result has rounded to its limit (exp → 0, expm1 → −1,
+// erfc → 0 or 2, erf → ±1, in T) are clamped to that point first: the same result, but libmvec
+// takes a slow per-lane path for such lanes (measured: 3× the whole kernel's cost in double).
+template <class T>
+struct Saturation {
+  // exp(x) = 0 and expm1(x) = −1 (rounded) below these; erfc(x) = 0 above and 2 below −erfc_neg.
+  static constexpr T exp_lo = sizeof(T) == 8 ? T(-746) : T(-104);
+  static constexpr T expm1_lo = sizeof(T) == 8 ? T(-40) : T(-20);
+  static constexpr T erfc_hi = sizeof(T) == 8 ? T(28) : T(11);
+  static constexpr T erfc_lo = sizeof(T) == 8 ? T(-7) : T(-5);
+  static constexpr T erf_abs = sizeof(T) == 8 ? T(7) : T(5);
+};
 template <class B>
-inline B vm_exp(const B& x) {
-  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(exp)(x));
+inline B clamp_to(const B& x, value_t<B> lo, value_t<B> hi) {
+  return xsimd::select(x < B(lo), B(lo), xsimd::select(x > B(hi), B(hi), x));
+}
+template <class B>
+inline B vm_exp(const B& x0) {
+  using T = value_t<B>;
+  const B x = xsimd::select(x0 < B(Saturation<T>::exp_lo), B(Saturation<T>::exp_lo), x0);
+  if constexpr (sizeof(T) == 8) return B(SGLAB_VEC_D(exp)(x));
   else return B(SGLAB_VEC_F(exp)(x));
 }
 template <class B>
-inline B vm_expm1(const B& x) {
-  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(expm1)(x));
+inline B vm_expm1(const B& x0) {
+  using T = value_t<B>;
+  const B x = xsimd::select(x0 < B(Saturation<T>::expm1_lo), B(Saturation<T>::expm1_lo), x0);
+  if constexpr (sizeof(T) == 8) return B(SGLAB_VEC_D(expm1)(x));
   else return B(SGLAB_VEC_F(expm1)(x));
 }
 template <class B>
-inline B vm_erf(const B& x) {
-  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(erf)(x));
+inline B vm_erf(const B& x0) {
+  using T = value_t<B>;
+  const B x = clamp_to(x0, -Saturation<T>::erf_abs, Saturation<T>::erf_abs);
+  if constexpr (sizeof(T) == 8) return B(SGLAB_VEC_D(erf)(x));
   else return B(SGLAB_VEC_F(erf)(x));
 }
 template <class B>
-inline B vm_erfc(const B& x) {
-  if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(erfc)(x));
+inline B vm_erfc(const B& x0) {
+  using T = value_t<B>;
+  const B x = clamp_to(x0, Saturation<T>::erfc_lo, Saturation<T>::erfc_hi);
+  if constexpr (sizeof(T) == 8) return B(SGLAB_VEC_D(erfc)(x));
   else return B(SGLAB_VEC_F(erfc)(x));
 }
 
@@ -280,15 +304,30 @@ constexpr double factorial(int n) {
   for (int i = 2; i <= n; ++i) f *= i;  // exact in double up to 22!
   return f;
 }
+// The coefficients 1/(n+1)! and n/(n+1)!, n = 1 … N, evaluated at compile time.
+template <class T>
+struct SeriesCoefficients {
+  T upper[kSeriesTerms<T> + 1];
+  T inner[kSeriesTerms<T> + 1];
+  constexpr SeriesCoefficients() : upper{}, inner{} {
+    for (int n = 1; n <= kSeriesTerms<T>; ++n) {
+      upper[n] = T(1.0 / factorial(n + 1));
+      inner[n] = T(double(n) / factorial(n + 1));
+    }
+  }
+};
+template <class T>
+constexpr SeriesCoefficients<T> kSeries{};
+
 template <class B>
 inline void bound_series(const B& l, B& upper, B& inner) {
   using T = value_t<B>;
   constexpr int N = kSeriesTerms<T>;
   const B u = -l;
-  B su(T(1.0 / factorial(N + 1))), sl(T(double(N) / factorial(N + 1)));
+  B su(kSeries<T>.upper[N]), sl(kSeries<T>.inner[N]);
   for (int n = N - 1; n >= 1; --n) {
-    su = su * u + T(1.0 / factorial(n + 1));
-    sl = sl * u + T(double(n) / factorial(n + 1));
+    su = su * u + kSeries<T>.upper[n];
+    sl = sl * u + kSeries<T>.inner[n];
   }
   upper = su;
   inner = sl;
