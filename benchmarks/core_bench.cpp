@@ -9,7 +9,6 @@
 // SGLAB_SIMD=sse2|avx2|avx512 forces the vectorized evaluators' instruction set.
 #include <benchmark/benchmark.h>
 #include <time.h>
-#include <xmmintrin.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -216,7 +215,6 @@ void print_ratios() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (std::getenv("TMP_FTZ")) _mm_setcsr(_mm_getcsr() | 0x8040);
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--ratios") == 0) {
       std::printf("inputs: %zu per batch, seed %llu; ns per evaluation, median of 9 runs of thread CPU time\n\n", kBatch,
