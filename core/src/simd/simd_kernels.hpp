@@ -75,40 +75,38 @@ template <class B>
 inline B clamp_to(const B& x, value_t<B> lo, value_t<B> hi) {
   return xsimd::select(x < B(lo), B(lo), xsimd::select(x > B(hi), B(hi), x));
 }
+// libmvec's `fn` on the batch x (of type B) in B's precision.
+#define SGLAB_VEC(fn, x)                                                      \
+  [&] {                                                                       \
+    if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(fn)(x));      \
+    else return B(SGLAB_VEC_F(fn)(x));                                        \
+  }()
 template <class B>
 inline B vm_exp(const B& x0) {
   using T = value_t<B>;
   const auto under = x0 < B(Saturation<T>::exp_lo);
   const B x = xsimd::select(under, B(T(0)), x0);
-  B r;
-  if constexpr (sizeof(T) == 8) r = B(SGLAB_VEC_D(exp)(x));
-  else r = B(SGLAB_VEC_F(exp)(x));
-  return xsimd::select(under, B(T(0)), r);
+  return xsimd::select(under, B(T(0)), SGLAB_VEC(exp, x));
 }
 template <class B>
 inline B vm_expm1(const B& x0) {
   using T = value_t<B>;
   const B x = xsimd::select(x0 < B(Saturation<T>::expm1_lo), B(Saturation<T>::expm1_lo), x0);
-  if constexpr (sizeof(T) == 8) return B(SGLAB_VEC_D(expm1)(x));
-  else return B(SGLAB_VEC_F(expm1)(x));
+  return SGLAB_VEC(expm1, x);
 }
 template <class B>
 inline B vm_erf(const B& x0) {
   using T = value_t<B>;
   const B x = clamp_to(x0, -Saturation<T>::erf_abs, Saturation<T>::erf_abs);
-  if constexpr (sizeof(T) == 8) return B(SGLAB_VEC_D(erf)(x));
-  else return B(SGLAB_VEC_F(erf)(x));
+  return SGLAB_VEC(erf, x);
 }
 template <class B>
 inline B vm_erfc(const B& x0) {
   using T = value_t<B>;
-  const auto under = x0 > B(Saturation<T>::erfc_hi);
   const B x = clamp_to(x0, Saturation<T>::erfc_lo, Saturation<T>::erfc_hi);
-  B r;
-  if constexpr (sizeof(T) == 8) r = B(SGLAB_VEC_D(erfc)(x));
-  else r = B(SGLAB_VEC_F(erfc)(x));
-  return xsimd::select(under, B(T(0)), r);
+  return xsimd::select(x0 > B(Saturation<T>::erfc_hi), B(T(0)), SGLAB_VEC(erfc, x));
 }
+#undef SGLAB_VEC
 
 template <class B>
 inline B clamp01(const B& x) {
