@@ -1,16 +1,28 @@
 // ns per evaluation of every method of the core quantities, in float and double.
 // Methods come from the registry and run through their batch evaluators (one indirect call per
-// batch of 4096 seeded inputs), so the numbers are the methods' own cost. Run:
+// batch of 4096 seeded inputs), so the numbers are the methods' own cost. Beside each vectorized
+// method: `/scalar`, its scalar template in an inlined loop (what the batch evaluator was before
+// vectorization), and `/port`, the naive peer (core/include/sglab/peer_ports.hpp: the printed
+// formulas with std:: math), on the same inputs. Run:
 //   build/benchmarks/sglab_core_bench [--benchmark_filter=clamped-cosine]
+//   build/benchmarks/sglab_core_bench --ratios   (one table: medians of CPU time, every ISA, ratios)
+// SGLAB_SIMD=sse2|avx2|avx512 forces the vectorized evaluators' instruction set.
 #include <benchmark/benchmark.h>
+#include <time.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <deque>
+#include <functional>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "sglab/clamped_cosine_sglab.hpp"
+#include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/simd.hpp"
 
 namespace {
 
@@ -82,9 +94,134 @@ void register_scalar(const std::vector<double>& in) {
   });
 }
 
+// The scalar templates of the vectorized methods in an inlined loop: the registry's batch
+// evaluators before vectorization (set_evaluators' loop), for the before/after columns.
+template <class T> T s_punctual(T l, T c) { return sglab::clamped_cosine_punctual(l, c); }
+template <class T> T s_punctual_approx(T l, T c) { return sglab::clamped_cosine_punctual_approx(l, c); }
+template <class T> T s_sg_cosine(T l, T c) { return sglab::clamped_cosine_sg_cosine(l, c); }
+template <class T> T s_cosine_lobe_sg(T l, T c) { return sglab::clamped_cosine_cosine_lobe_sg(l, c); }
+template <class T> T s_hill(T l, T c) { return sglab::clamped_cosine_hill_fitted(l, c); }
+template <class T> T s_meder(T l, T c) { return sglab::clamped_cosine_meder(l, c); }
+template <class T> T s_tok22(T l, T c) { return sglab::clamped_cosine_tokuyoshi2022(l, c); }
+template <class T> T s_tok24(T l, T c) { return sglab::clamped_cosine_tokuyoshi2024(l, c); }
+template <class T> T s_sglab(T l, T c) { return sglab::clamped_cosine_sglab(l, c); }
+template <class T> T s_h_meder(T l, T c) { return sglab::hemispherical_meder(l, c); }
+template <class T> T s_h_tok22(T l, T c) { return sglab::hemispherical_tokuyoshi2022(l, c); }
+template <class T> T s_h_vmf(T l, T c) { return sglab::hemispherical_vmf_tokuyoshi2024(l, c); }
+
+#define SCALAR(q, m, fn) sglab::peer::Port{q, m, &sglab::peer::port_batch<float, fn<float>>, &sglab::peer::port_batch<double, fn<double>>}
+const sglab::peer::Port kScalarLoops[] = {
+    SCALAR("clamped-cosine", "punctual", s_punctual),       SCALAR("clamped-cosine", "punctual-approx", s_punctual_approx),
+    SCALAR("clamped-cosine", "sg-cosine", s_sg_cosine),     SCALAR("clamped-cosine", "cosine-lobe-sg", s_cosine_lobe_sg),
+    SCALAR("clamped-cosine", "hill-fitted", s_hill),        SCALAR("clamped-cosine", "meder", s_meder),
+    SCALAR("clamped-cosine", "tokuyoshi2022", s_tok22),     SCALAR("clamped-cosine", "tokuyoshi2024", s_tok24),
+    SCALAR("clamped-cosine", "sglab", s_sglab),             SCALAR("hemispherical", "meder", s_h_meder),
+    SCALAR("hemispherical", "tokuyoshi2022", s_h_tok22),    SCALAR("hemispherical", "vmf-tokuyoshi2024", s_h_vmf),
+};
+#undef SCALAR
+const sglab::peer::Port* find_scalar_loop(std::string_view q, std::string_view m) {
+  for (const auto& p : kScalarLoops)
+    if (p.quantity == q && p.method == m) return &p;
+  return nullptr;
+}
+
+template <class T>
+auto loop_of(const sglab::peer::Port& p) {
+  if constexpr (std::is_same_v<T, float>) return p.batch_float;
+  else return p.batch_double;
+}
+
+// A raw batch loop (a port or a scalar loop) under Google Benchmark.
+template <class T>
+void run_loop(benchmark::State& state, void (*loop)(const T*, T*, std::size_t), const std::vector<double>& in) {
+  std::vector<T> args(in.begin(), in.end());
+  std::vector<T> out(kBatch);
+  for (auto _ : state) {
+    loop(args.data(), out.data(), kBatch);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
+  state.counters["ns/eval"] = benchmark::Counter(
+      static_cast<double>(state.iterations() * kBatch), benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
+}
+
+// ---- --ratios: one table, medians of thread CPU time ---------------------------------------------
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+// Median over `reps` runs (each ≥ 20 ms of CPU time, after a warm-up) of CPU ns per evaluation.
+double median_ns(const std::function<void()>& batch, int reps) {
+  batch();
+  int calls = 1;
+  for (;;) {
+    const double t0 = thread_cpu_seconds();
+    for (int i = 0; i < calls; ++i) batch();
+    if (thread_cpu_seconds() - t0 >= 0.02 || calls >= (1 << 16)) break;
+    calls *= 2;
+  }
+  std::vector<double> ns;
+  for (int r = 0; r < reps; ++r) {
+    const double t0 = thread_cpu_seconds();
+    for (int i = 0; i < calls; ++i) batch();
+    ns.push_back(1e9 * (thread_cpu_seconds() - t0) / (double(calls) * double(kBatch)));
+  }
+  std::nth_element(ns.begin(), ns.begin() + reps / 2, ns.end());
+  return ns[reps / 2];
+}
+
+void print_ratios() {
+  const int reps = 9;
+  const auto isas = sglab::simd::supported_isas();
+  std::printf("| method | precision | scalar loop (before) |");
+  for (auto isa : isas) std::printf(" sglab %s |", std::string(sglab::simd::isa_name(isa)).c_str());
+  std::printf(" naive port | port / sglab %s | scalar / sglab %s |\n|---|---|---|",
+              std::string(sglab::simd::isa_name(isas.back())).c_str(), std::string(sglab::simd::isa_name(isas.back())).c_str());
+  for (std::size_t i = 0; i < isas.size() + 3; ++i) std::printf("---|");
+  std::printf("\n");
+  for (const auto& port : sglab::peer::kPorts) {
+    const sglab::Quantity* q = sglab::find_quantity(port.quantity);
+    const sglab::Method* m = q->find(port.method);
+    const auto in = make_inputs(*q);
+    const auto* scalar = find_scalar_loop(port.quantity, port.method);
+    auto row = [&](auto zero) {
+      using T = decltype(zero);
+      std::vector<T> args(in.begin(), in.end());
+      std::vector<T> out(kBatch);
+      const double t_scalar = median_ns([&] { loop_of<T>(*scalar)(args.data(), out.data(), kBatch); }, reps);
+      std::vector<double> t_isa;
+      for (auto isa : isas) {
+        sglab::simd::force_isa(isa);
+        t_isa.push_back(median_ns([&] {
+          if constexpr (std::is_same_v<T, float>) m->batch_float(args, 2, out);
+          else m->batch_double(args, 2, out);
+        }, reps));
+      }
+      const double t_port = median_ns([&] { loop_of<T>(port)(args.data(), out.data(), kBatch); }, reps);
+      std::printf("| %s/%s | %s | %.1f |", std::string(port.quantity).c_str(), std::string(port.method).c_str(),
+                  std::is_same_v<T, float> ? "float" : "double", t_scalar);
+      for (double t : t_isa) std::printf(" %.1f |", t);
+      std::printf(" %.1f | %.2f× | %.2f× |\n", t_port, t_port / t_isa.back(), t_scalar / t_isa.back());
+      std::fflush(stdout);
+    };
+    row(0.0f);
+    row(0.0);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--ratios") == 0) {
+      std::printf("inputs: %zu per batch, seed %llu; ns per evaluation, median of 9 runs of thread CPU time\n\n", kBatch,
+                  static_cast<unsigned long long>(kSeed));
+      print_ratios();
+      return 0;
+    }
   static std::vector<std::vector<double>> inputs;  // kept alive for the registered lambdas
   inputs.reserve(sglab::quantities().size());
   for (const auto& q : sglab::quantities()) {
@@ -111,6 +248,21 @@ int main(int argc, char** argv) {
         bf->Iterations(1);
         bd->Iterations(1);
       }
+      // The vectorized methods: the scalar loop they replaced, and the naive peer.
+      if (const auto* port = sglab::peer::find_port(q.name, m.name)) {
+        const auto* scalar = find_scalar_loop(q.name, m.name);
+        for (const char* p : {"float", "double"}) {
+          const bool f = std::string(p) == "float";
+          benchmark::RegisterBenchmark((q.name + "/" + m.name + "/" + p + "/scalar-loop").c_str(), [scalar, f, &in](benchmark::State& s) {
+            if (f) run_loop<float>(s, scalar->batch_float, in);
+            else run_loop<double>(s, scalar->batch_double, in);
+          });
+          benchmark::RegisterBenchmark((q.name + "/" + m.name + "/" + p + "/port").c_str(), [port, f, &in](benchmark::State& s) {
+            if (f) run_loop<float>(s, port->batch_float, in);
+            else run_loop<double>(s, port->batch_double, in);
+          });
+        }
+      }
       // The run-time constants path (`--constants`): the method bound to its published values,
       // beside the published path above, to show what binding costs.
       if (!m.parameters.empty()) {
@@ -124,7 +276,8 @@ int main(int argc, char** argv) {
       }
     }
   }
-  std::printf("inputs: %zu per batch, seed %llu\n", kBatch, static_cast<unsigned long long>(kSeed));
+  std::printf("inputs: %zu per batch, seed %llu; vectorized evaluators: %s\n", kBatch, static_cast<unsigned long long>(kSeed),
+              std::string(sglab::simd::isa_name(sglab::simd::active_isa())).c_str());
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

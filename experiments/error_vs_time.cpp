@@ -22,6 +22,7 @@
 #include "commands.hpp"
 #include "constant_sets.hpp"
 #include "error_grid.hpp"
+#include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
 
 namespace sglab::cli {
@@ -38,6 +39,7 @@ struct Options {
 struct Row {
   std::string method, precision;
   double rmse = 0, max_error = 0, max_error_sharp = 0, max_rounding = 0, ns_per_eval = 0;
+  double port_ns_per_eval = NAN;  // the naive peer port's cost on the same inputs (NaN: no port)
   long negatives = 0, non_finite = 0, out_of_domain = 0;
   std::string flaws;
 };
@@ -303,6 +305,14 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
       r.rmse = counted ? std::sqrt(sum_sq / double(counted)) : NAN;
       r.ns_per_eval = is_float ? time_ns_per_eval<float>(m.batch_float, timing_f, arity, repeats)
                                : time_ns_per_eval<double>(m.batch_double, g.timing, arity, repeats);
+      // The naive peer (sglab/peer_ports.hpp) on the same inputs, timed the same way.
+      if (const auto* port = peer::find_port(q->name, m.name)) {
+        const auto pf = port->batch_float;
+        const auto pd = port->batch_double;
+        r.port_ns_per_eval =
+            is_float ? time_ns_per_eval<float>([pf](auto a, std::size_t, auto o) { pf(a.data(), o.data(), o.size()); }, timing_f, arity, repeats)
+                     : time_ns_per_eval<double>([pd](auto a, std::size_t, auto o) { pd(a.data(), o.data(), o.size()); }, g.timing, arity, repeats);
+      }
       rows.push_back(r);
     }
   }
@@ -340,7 +350,10 @@ void run(const Options& o) {
       "Per quantity, every registered method against the quantity's reference, in float and double. Rounding: the "
       "method in that precision against the same formula in 50 digits on the same input, shown apart from the "
       "approximation error. Cost: median ns per evaluation over seeded inputs on this machine (one core, warm-up, "
-      "median of repeats). `neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n",
+      "median of repeats), through the registry's batch evaluators (vectorized for the diffuse methods: docs/simd.md); "
+      "beside it the same inputs through a naive scalar port of the published formula (std:: math, no stable forms: "
+      "`core/include/sglab/peer_ports.hpp`, a speed baseline, not a method) and the port's time over sglab's. "
+      "`neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n",
       command);
   for (const Quantity* q : qs) {
     std::vector<ConstantUse> uses;
@@ -361,16 +374,19 @@ void run(const Options& o) {
                          r.out_of_domain);
     md += fmt::format(
         "\n## {}\n\nErrors are {}, over {} ({} points).\n\n"
-        "| method | precision | RMSE | max error | max error, {} | max rounding error | ns/eval | neg |\n"
-        "|---|---|---|---|---|---|---|---|\n",
+        "| method | precision | RMSE | max error | max error, {} | max rounding error | ns/eval | naive port ns/eval | port / sglab | neg |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n",
         q->name, g.error_label, g.description, g.size(), g.subset_label);
     for (const auto& r : rows) {
       if (r.method == q->reference_method) {
-        md += fmt::format("| {} (reference) | {} | — | — | — | — | {:.0f} | — |\n", r.method, r.precision, r.ns_per_eval);
+        md += fmt::format("| {} (reference) | {} | — | — | — | — | {:.0f} | — | — | — |\n", r.method, r.precision, r.ns_per_eval);
         continue;
       }
-      md += fmt::format("| {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2e} | {:.1f} | {} |\n", r.method, r.precision, r.rmse,
-                        r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval, r.negatives);
+      const bool port = std::isfinite(r.port_ns_per_eval);
+      md += fmt::format("| {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2e} | {:.1f} | {} | {} | {} |\n", r.method, r.precision, r.rmse,
+                        r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval,
+                        port ? fmt::format("{:.1f}", r.port_ns_per_eval) : "—",
+                        port ? fmt::format("{:.1f}×", r.port_ns_per_eval / r.ns_per_eval) : "—", r.negatives);
     }
     if (q->name == "clamped-cosine") md += claims_section(rows);
   }

@@ -219,16 +219,13 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
     if (auto e = row_error(q, m, checked)) failure = Failure{Failure::input, i, std::move(e->message), e->column};
   });
   if (failure) return failure;
-  try {
-    batch_of<T>(m)(args, k, std::span<T>(out + begin, len));
-  } catch (const std::exception&) {
-    // Find the row: the same method, one row at a time.
-    for (std::size_t r = 0; r < len; ++r) {
-      try {
-        out[begin + r] = evaluator_of<T>(m)(std::span<const T>(args.data() + r * k, k));
-      } catch (const std::exception& e) {
-        return Failure{Failure::method_threw, begin + r, e.what(), std::nullopt};
-      }
+  // One row at a time through the scalar definition, so that every value equals `sglab eval`'s to
+  // the last bit (the registry's vectorized batch evaluators may differ in the last bits).
+  for (std::size_t r = 0; r < len; ++r) {
+    try {
+      out[begin + r] = evaluator_of<T>(m)(std::span<const T>(args.data() + r * k, k));
+    } catch (const std::exception& e) {
+      return Failure{Failure::method_threw, begin + r, e.what(), std::nullopt};
     }
   }
   for (std::size_t r = 0; r < len; ++r)

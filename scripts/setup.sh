@@ -20,7 +20,7 @@ packages=(
   build-essential cmake pkg-config
   libceres-dev libeigen3-dev libboost-dev libboost-math-dev
   libopenexr-dev libfmt-dev libgtest-dev libbenchmark-dev
-  libcli11-dev nlohmann-json3-dev libtbb-dev
+  libcli11-dev nlohmann-json3-dev libtbb-dev libxsimd-dev
   python3 python3-matplotlib python3-numpy python3-scipy
   python3-dev pybind11-dev python3-pybind11 python3-pytest
 )

@@ -222,5 +222,9 @@ const Parameter* find_standalone_constant(std::string_view user, std::string_vie
 void register_core_quantities(std::vector<Quantity>& out);
 // ASG integrals, ASG × SG product, specular reflection off GGX (docs/math.md §4–5).
 void register_glossy_quantities(std::vector<Quantity>& out);
+// Replaces the batch evaluators of the vectorized methods (and of their bound versions) with the
+// SIMD kernels of core/src/simd (docs/simd.md); run after every module registered. The scalar
+// evaluators stay the definition.
+void install_simd_batch_evaluators(std::vector<Quantity>& quantities);
 
 }  // namespace sglab

@@ -1,0 +1,189 @@
+// THE NAIVE PEER, NOT A METHOD. Straight scalar ports of the published formulas of docs/math.md
+// §2–3, written as a shader author would write them: std:: math, the printed forms, no stable
+// rewrites, no series, no clamping beyond what the formula prints, no special cases. They exist
+// only as the speed baseline that sglab's batch evaluators are timed against, on the same inputs
+// in the same binary (benchmarks/core_bench.cpp, `sglab error-vs-time`'s cost columns). They are
+// not in the registry, are not checked for accuracy, and overflow or divide 0 by 0 where the
+// printed forms do (e.g. Meder's e^{t} in float for λ ≳ 2700). The published constants come
+// from their single definitions in core (the structs the registry cites).
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <string_view>
+
+#include "sglab/clamped_cosine_sglab.hpp"
+
+namespace sglab::peer {
+
+template <class T>
+constexpr T kPi = T(3.141592653589793238462643383279502884L);
+
+// ---- hemispherical integrals (docs/math.md §2) --------------------------------------------------
+template <class T>
+T hemi_upper(T l) {
+  return T(2) * kPi<T> * (T(1) - std::exp(-l)) / l;
+}
+
+// Meder & Brüderlin 2018: t(λ), a = e^t, b = e^{tc}, s = (ab − 1)/((a − 1)(b + 1)).
+template <class T>
+T hemi_meder(T l, T c) {
+  const T p1 = T(MederLogistic::p1), p2 = T(MederLogistic::p2), p3 = T(MederLogistic::p3), p4 = T(MederLogistic::p4);
+  const T t = std::sqrt(l) * (p1 * l * l + p2 * l) / (l * l + p3 * l + p4);
+  const T a = std::exp(t), b = std::exp(t * c);
+  const T s = (a * b - T(1)) / ((a - T(1)) * (b + T(1)));
+  const T upper = hemi_upper(l), lower = std::exp(-l) * upper;
+  return lower * (T(1) - s) + upper * s;
+}
+
+// Tokuyoshi 2022: k(λ), f = ½ + ½ erf(kc)/erf(k), H = 2π·lerp(e^{−λ}, 1, f)(1 − e^{−λ})/λ.
+template <class T>
+T hemi_tokuyoshi2022_factor(T l, T c) {
+  const T A = T(Tokuyoshi2022Steepness::A), B = T(Tokuyoshi2022Steepness::B), C = T(Tokuyoshi2022Steepness::C);
+  const T k = l * std::sqrt((l / T(2) + A) / ((l + B) * l + C));
+  return T(0.5) + T(0.5) * std::erf(k * c) / std::erf(k);
+}
+template <class T>
+T hemi_tokuyoshi2022(T l, T c) {
+  const T f = hemi_tokuyoshi2022_factor(l, c);
+  const T e = std::exp(-l);
+  return (e + f * (T(1) - e)) * hemi_upper(l);
+}
+// Tokuyoshi et al. 2024: lerp(e^{−λ}, 1, f)/(1 + e^{−λ}).
+template <class T>
+T hemi_vmf_tokuyoshi2024(T l, T c) {
+  const T f = hemi_tokuyoshi2022_factor(l, c);
+  const T e = std::exp(-l);
+  return (e + f * (T(1) - e)) / (T(1) + e);
+}
+
+// ---- clamped cosine (docs/math.md §3) -----------------------------------------------------------
+template <class T>
+T sg_integral(T l) {
+  return T(2) * kPi<T> * (T(1) - std::exp(-T(2) * l)) / l;
+}
+template <class T>
+T cc_punctual(T l, T c) {
+  return sg_integral(l) * std::max(c, T(0));
+}
+template <class T>
+T cc_punctual_approx(T l, T c) {
+  return T(2) * kPi<T> / l * std::max(c, T(0));
+}
+// 2π G(ξ; n, λλ_d/(λ + λ_d))·π/((λ + λ_d)A(λ_d)).
+template <class T>
+T cc_sg_cosine(T l, T c) {
+  const T ld = T(SgCosine::lambda_d);
+  return T(2) * kPi<T> * std::exp(l * ld / (l + ld) * (c - T(1))) * kPi<T> / ((l + ld) * sg_integral(ld));
+}
+// 1.17 × the SG inner product as in Pettineo's shader code: λ3 = ‖λ1ξ1 + λ2ξ2‖,
+// e^{λ3 − λ1 − λ2}·2π(1 − e^{−2λ3})/λ3.
+template <class T>
+T sg_inner_product(T l1, T l2, T c) {
+  const T l3 = std::sqrt(l1 * l1 + l2 * l2 + T(2) * l1 * l2 * c);
+  return std::exp(l3 - l1 - l2) * T(2) * kPi<T> * (T(1) - std::exp(T(-2) * l3)) / l3;
+}
+template <class T>
+T cc_cosine_lobe_sg(T l, T c) {
+  return T(CosineLobeSg::amplitude) * sg_inner_product(l, T(CosineLobeSg::sharpness), c);
+}
+// Hill's fit as printed in Pettineo 2016.
+template <class T>
+T cc_hill_fitted(T l, T c) {
+  const T c0 = T(HillIrradiance::c0), c1 = T(1) / (T(4) * c0);
+  const T eml = std::exp(-l), em2l = eml * eml, rl = T(1) / l;
+  const T scale = T(1) + T(2) * em2l - rl;
+  const T bias = (eml - em2l) * rl - em2l;
+  const T x = std::sqrt(T(1) - scale);
+  const T x0 = c0 * c, x1 = c1 * x;
+  const T n = x0 + x1;
+  const T y = std::abs(x0) <= x1 ? n * n / x : std::clamp(c, T(0), T(1));
+  return (scale * y + bias) * T(2) * kPi<T> * rl;
+}
+// a·H(product SG) − b·H(λ, c), the product as λ3 = ‖λξ + λ_m n‖, e^{λ3 − λ − λ_m}, axis cosine
+// (λc + λ_m)/λ3.
+template <class T, class Hemi>
+T hemi_product(T l, T c, T l2, T extra, Hemi hemi) {
+  const T l3 = std::sqrt(l * l + l2 * l2 + T(2) * l * l2 * c);
+  return std::exp(l3 - l - l2 + extra) * hemi(l3, (l * c + l2) / l3);
+}
+template <class T>
+T cc_meder(T l, T c) {
+  return T(MederCosineSg::amplitude) * hemi_product(l, c, T(MederCosineSg::sharpness), T(0), hemi_meder<T>) -
+         T(MederCosineSg::offset) * hemi_meder(l, c);
+}
+// α(e^{λc}G(ω; n, λc) − 1) through the 2022 hemispherical integral, clamped at 0.
+template <class T>
+T cc_tokuyoshi2022(T l, T c) {
+  const T lc = T(Tokuyoshi2022Cosine::lambda), alpha = T(Tokuyoshi2022Cosine::alpha);
+  return std::max(alpha * (hemi_product(l, c, lc, lc, hemi_tokuyoshi2022<T>) - hemi_tokuyoshi2022(l, c)), T(0));
+}
+// Tokuyoshi et al. 2024: t(λ), f, upper, lower as printed; D = 2π·lerp(lower, upper, f).
+template <class T>
+T cc_tokuyoshi2024(T l, T c) {
+  using K = Tokuyoshi2024T;
+  const T t = l * std::sqrt(T(0.5) * ((l + T(K::A)) * l + T(K::B)) / (((l + T(K::C)) * l + T(K::D)) * l + T(K::E)));
+  const T f = std::clamp(T(0.5) * (c * std::erfc(-t * c) + std::erfc(t)) -
+                             std::exp(-t * t * c * c) * std::expm1(t * t * (c * c - T(1))) / (T(2) * std::sqrt(kPi<T>) * t),
+                         T(0), T(1));
+  const T e = std::exp(-l);
+  const T upper = (T(1) - (T(1) - e) / l) / l;
+  const T lower = e * ((T(1) - e) / l - e) / l;
+  return T(2) * kPi<T> * (lower + f * (upper - lower));
+}
+// sglab (paper_tables/own_method.md): tokuyoshi2024's form with its own t(λ) and the even
+// correction (K/t)(e^{−t²} − c²e^{−t²c²}), K = kλ²/(λ² + Pλ + Q), the even part held at ≥ ½ of f0's.
+template <class T>
+T cc_sglab(T l, T c) {
+  using S = SglabDiffuse;
+  const T t = l * std::sqrt(T(0.5) * ((l + T(S::A)) * l + T(S::B)) / (((l + T(S::C)) * l + T(S::D)) * l + T(S::E)));
+  const T K = T(S::k) * l * l / ((l + T(S::P)) * l + T(S::Q));
+  const T f0 = T(0.5) * (c * std::erfc(-t * c) + std::erfc(t)) -
+               std::exp(-t * t * c * c) * std::expm1(t * t * (c * c - T(1))) / (T(2) * std::sqrt(kPi<T>) * t);
+  const T g = f0 - std::max(c, T(0));
+  const T corrected = g + K / t * (std::exp(-t * t) - c * c * std::exp(-t * t * c * c));
+  const T f = std::clamp(std::max(c, T(0)) + std::max(corrected, T(0.5) * g), T(0), T(1));
+  const T e = std::exp(-l);
+  const T upper = (T(1) - (T(1) - e) / l) / l;
+  const T lower = e * ((T(1) - e) / l - e) / l;
+  return T(2) * kPi<T> * (lower + f * (upper - lower));
+}
+
+// ---- by name ----------------------------------------------------------------------------------
+// The port's batch loop over interleaved (λ, c) rows, the port inlined (one call per batch).
+template <class T, T (*F)(T, T)>
+void port_batch(const T* args, T* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) out[i] = F(args[2 * i], args[2 * i + 1]);
+}
+
+struct Port {
+  std::string_view quantity, method;
+  void (*batch_float)(const float*, float*, std::size_t);
+  void (*batch_double)(const double*, double*, std::size_t);
+};
+
+#define SGLAB_PEER_PORT(q, m, fn) Port{q, m, &port_batch<float, fn<float>>, &port_batch<double, fn<double>>}
+inline constexpr Port kPorts[] = {
+    SGLAB_PEER_PORT("clamped-cosine", "punctual", cc_punctual),
+    SGLAB_PEER_PORT("clamped-cosine", "punctual-approx", cc_punctual_approx),
+    SGLAB_PEER_PORT("clamped-cosine", "sg-cosine", cc_sg_cosine),
+    SGLAB_PEER_PORT("clamped-cosine", "cosine-lobe-sg", cc_cosine_lobe_sg),
+    SGLAB_PEER_PORT("clamped-cosine", "hill-fitted", cc_hill_fitted),
+    SGLAB_PEER_PORT("clamped-cosine", "meder", cc_meder),
+    SGLAB_PEER_PORT("clamped-cosine", "tokuyoshi2022", cc_tokuyoshi2022),
+    SGLAB_PEER_PORT("clamped-cosine", "tokuyoshi2024", cc_tokuyoshi2024),
+    SGLAB_PEER_PORT("clamped-cosine", "sglab", cc_sglab),
+    SGLAB_PEER_PORT("hemispherical", "meder", hemi_meder),
+    SGLAB_PEER_PORT("hemispherical", "tokuyoshi2022", hemi_tokuyoshi2022),
+    SGLAB_PEER_PORT("hemispherical", "vmf-tokuyoshi2024", hemi_vmf_tokuyoshi2024),
+};
+#undef SGLAB_PEER_PORT
+
+// The naive port of `quantity/method`, or nullptr if there is none.
+inline const Port* find_port(std::string_view quantity, std::string_view method) {
+  for (const auto& p : kPorts)
+    if (p.quantity == quantity && p.method == method) return &p;
+  return nullptr;
+}
+
+}  // namespace sglab::peer

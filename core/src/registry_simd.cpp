@@ -1,0 +1,198 @@
+// The vectorized batch evaluators (docs/simd.md): run-time choice of the instruction set, and the
+// installation of the kernels of simd/simd_kernels.hpp as the registry's batch_float/batch_double
+// of the diffuse methods (and of their bound versions, whose constants are passed to the kernel).
+// The scalar templates stay the definition: eval_float/eval_double/eval_mp50 are untouched.
+#include <array>
+#include <atomic>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "sglab/clamped_cosine.hpp"
+#include "sglab/registry.hpp"
+#include "sglab/simd.hpp"
+#include "simd/simd_table.hpp"
+
+namespace sglab {
+namespace simd {
+
+std::string_view isa_name(Isa isa) {
+  switch (isa) {
+    case Isa::sse2: return "sse2";
+    case Isa::avx2: return "avx2";
+    case Isa::avx512: return "avx512";
+  }
+  return "?";
+}
+
+std::optional<Isa> parse_isa(std::string_view name) {
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
+    if (isa_name(isa) == name) return isa;
+  return std::nullopt;
+}
+
+bool isa_supported(Isa isa) {
+  __builtin_cpu_init();
+  switch (isa) {
+    case Isa::sse2: return true;  // every x86-64 CPU
+    case Isa::avx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    // The flags simd_avx512.cpp is compiled with (libgcc also checks that the OS saves the
+    // AVX-512 state).
+    case Isa::avx512:
+      return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+             __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  }
+  return false;
+}
+
+std::vector<Isa> supported_isas() {
+  std::vector<Isa> out;
+  for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
+    if (isa_supported(isa)) out.push_back(isa);
+  return out;
+}
+
+namespace {
+
+const simd_detail::KernelTable& table_of(Isa isa) {
+  switch (isa) {
+    case Isa::sse2: return simd_detail::kernels_sse2();
+    case Isa::avx2: return simd_detail::kernels_avx2();
+    case Isa::avx512: return simd_detail::kernels_avx512();
+  }
+  return simd_detail::kernels_sse2();
+}
+
+std::atomic<const simd_detail::KernelTable*> g_table{nullptr};
+std::atomic<int> g_isa{-1};
+
+Isa initial_isa() {
+  if (const char* env = std::getenv("SGLAB_SIMD"); env && *env) {
+    const auto isa = parse_isa(env);
+    if (!isa) throw std::invalid_argument("SGLAB_SIMD='" + std::string(env) + "': expected sse2, avx2 or avx512");
+    if (!isa_supported(*isa))
+      throw std::invalid_argument("SGLAB_SIMD='" + std::string(env) + "': this CPU cannot run " + std::string(env));
+    return *isa;
+  }
+  return supported_isas().back();
+}
+
+const simd_detail::KernelTable& active_table() {
+  const simd_detail::KernelTable* t = g_table.load(std::memory_order_acquire);
+  if (t) return *t;
+  const Isa isa = initial_isa();
+  g_isa.store(static_cast<int>(isa));
+  t = &table_of(isa);
+  g_table.store(t, std::memory_order_release);
+  return *t;
+}
+
+}  // namespace
+
+Isa active_isa() {
+  active_table();
+  return static_cast<Isa>(g_isa.load());
+}
+
+void force_isa(Isa isa) {
+  if (!isa_supported(isa))
+    throw std::invalid_argument("force_isa: this CPU cannot run " + std::string(isa_name(isa)));
+  g_isa.store(static_cast<int>(isa));
+  g_table.store(&table_of(isa), std::memory_order_release);
+}
+
+}  // namespace simd
+
+namespace {
+
+using simd_detail::Kernel;
+using Params = std::span<const double>;
+
+// The kernel's constants in T, as the scalar registration forms them: T(value) for each, plus
+// what the scalar code derives from them (sg-cosine's π/A(λ_d), tokuyoshi2022's α(λc)).
+// `published`: the values are the published ones (tokuyoshi2022 then takes the published α, as
+// clamped_cosine_tokuyoshi2022 does, instead of recomputing it).
+template <class T>
+std::array<T, 8> kernel_params(Kernel k, Params v, bool published) {
+  std::array<T, 8> p{};
+  for (std::size_t i = 0; i < v.size() && i < p.size(); ++i) p[i] = T(v[i]);
+  switch (k) {
+    case Kernel::cc_sg_cosine: p[1] = pi<T>() / sg_integral(p[0]); break;
+    case Kernel::cc_tokuyoshi2022:
+      p[4] = published ? tokuyoshi2022_alpha_c<T>() : tokuyoshi2022_alpha(p[0]);
+      break;
+    default: break;
+  }
+  return p;
+}
+
+template <class T>
+BatchFn<T> simd_batch(Kernel k, std::array<T, 8> p) {
+  return [k, p](std::span<const T> args, std::size_t arity, std::span<T> out) {
+    if (arity != 2 || args.size() < 2 * out.size())
+      throw std::invalid_argument("vectorized batch evaluator: expected rows of (sharpness, cosine)");
+    const auto& t = simd::active_table();
+    const int i = static_cast<int>(k);
+    if constexpr (std::is_same_v<T, float>) t.f[i](args.data(), out.data(), out.size(), p.data());
+    else t.d[i](args.data(), out.data(), out.size(), p.data());
+  };
+}
+
+void set_simd_batches(Method& m, Kernel k, Params values, bool published) {
+  m.batch_float = simd_batch<float>(k, kernel_params<float>(k, values, published));
+  m.batch_double = simd_batch<double>(k, kernel_params<double>(k, values, published));
+}
+
+struct Entry {
+  const char* quantity;
+  const char* method;
+  Kernel kernel;
+};
+constexpr Entry kEntries[] = {
+    {"clamped-cosine", "punctual", Kernel::cc_punctual},
+    {"clamped-cosine", "punctual-approx", Kernel::cc_punctual_approx},
+    {"clamped-cosine", "sg-cosine", Kernel::cc_sg_cosine},
+    {"clamped-cosine", "cosine-lobe-sg", Kernel::cc_cosine_lobe_sg},
+    {"clamped-cosine", "hill-fitted", Kernel::cc_hill_fitted},
+    {"clamped-cosine", "meder", Kernel::cc_meder},
+    {"clamped-cosine", "tokuyoshi2022", Kernel::cc_tokuyoshi2022},
+    {"clamped-cosine", "tokuyoshi2024", Kernel::cc_tokuyoshi2024},
+    {"clamped-cosine", "sglab", Kernel::cc_sglab},
+    {"hemispherical", "meder", Kernel::hemi_meder},
+    {"hemispherical", "tokuyoshi2022", Kernel::hemi_tokuyoshi2022},
+    {"hemispherical", "vmf-tokuyoshi2024", Kernel::hemi_vmf_tokuyoshi2024},
+};
+
+}  // namespace
+
+const std::vector<std::string>& simd::vectorized_methods() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const auto& e : kEntries) out.push_back(std::string(e.quantity) + "/" + e.method);
+    return out;
+  }();
+  return names;
+}
+
+void install_simd_batch_evaluators(std::vector<Quantity>& quantities) {
+  for (auto& q : quantities) {
+    for (auto& m : q.methods) {
+      for (const auto& e : kEntries) {
+        if (q.name != e.quantity || m.name != e.method) continue;
+        std::vector<double> published;
+        for (const auto& p : m.parameters) published.push_back(p.published);
+        set_simd_batches(m, e.kernel, published, true);
+        if (m.bind) {
+          m.bind = [scalar_bind = m.bind, k = e.kernel](std::span<const double> values) {
+            Method b = scalar_bind(values);
+            set_simd_batches(b, k, values, false);
+            return b;
+          };
+        }
+      }
+    }
+  }
+}
+
+}  // namespace sglab

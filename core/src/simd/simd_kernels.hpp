@@ -1,0 +1,566 @@
+// Vectorized batch evaluators of the diffuse methods (docs/simd.md), written once on xsimd batch
+// types and compiled once per instruction set (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp, each
+// with its -m flags). Each kernel is the lane-wise transcription of the method's scalar template
+// in core/include/sglab (the definition): the same operations in the same order, the same stable
+// forms, and every `if` on a value turned into a select between both branches (branches that only
+// extreme inputs take, λ > 1e4 or λ > 1e18, are evaluated only when a lane needs them). The
+// scalar code's transcendental calls (std::exp, expm1, erf, erfc) become glibc libmvec's, sqrt the
+// hardware instruction (correctly rounded, as std::sqrt); the
+// Taylor series of the c = ±1 bounds below λ = 1 are summed by Horner's rule over a fixed number
+// of terms instead of a forward sum stopped at ε. tests/simd_test.cpp holds every kernel to its
+// template.
+//
+// Everything here has internal linkage or is a template on the xsimd architecture: nothing
+// compiled with -mavx512f may be merged by the linker into code that runs on a smaller machine.
+#pragma once
+
+#include <cstddef>
+#include <limits>
+
+#include <xsimd/xsimd.hpp>
+
+#include "simd_table.hpp"
+
+namespace sglab::simd_detail {
+namespace {
+
+template <class T>
+constexpr T kPi = T(3.141592653589793238462643383279502884L);
+template <class T>
+constexpr T kTwoPi = T(6.283185307179586476925286766559005768L);
+// 2√π as the scalar code forms it: T(2)·sqrt(pi<T>()) (sqrt is correctly rounded).
+template <class T>
+inline T two_sqrt_pi() {
+  if constexpr (sizeof(T) == 4) return T(2) * __builtin_sqrtf(kPi<float>);
+  else return T(2) * __builtin_sqrt(kPi<double>);
+}
+// series_threshold<T>(4) of scalar.hpp: ε^{1/4}.
+template <class T>
+inline T series_threshold4() {
+  if constexpr (sizeof(T) == 4) return __builtin_powf(1.1920928955078125e-7f, 0.25f);
+  else return __builtin_pow(2.220446049250313080847e-16, 0.25);
+}
+// The product forms' rescaling threshold (sg.hpp kProductScaleSharpness) and the large-λ
+// threshold of the steepness polynomials (1e4 in every template). Both round down in float, so
+// `x > T(threshold)` selects the same lanes as the scalar `value_of(x) > threshold` in double.
+constexpr double kScale = 1e18;
+constexpr double kLarge = 1e4;
+
+template <class B>
+using value_t = typename B::value_type;
+
+// The transcendental functions: glibc's vector math library libmvec, the variants for this unit's
+// instruction set (SGLAB_VEC_D/F, defined by the including unit; e.g. _ZGVeN8v_erfc is erfc on 8
+// doubles with AVX-512, in the x86-64 vector function ABI). glibc states ≤ 4 ulp for every libmvec
+// function; tests/simd_test.cpp measures the kernels built on them. (xsimd's own erf/erfc were
+// measured 34 and 1.8e4 ulps off in double and NaN past |x| ≈ 1e75; SLEEF 3.5's erfc is accurate
+// but 2.7× slower than libmvec's in double: docs/simd.md.)
+// Arguments past the point where the result has rounded to its limit (expm1 → −1, erfc → 2,
+// erf → ±1, in T) are clamped to that point first: the same result, but libmvec takes a slow
+// per-lane scalar path for such lanes. For the same reason, results that would be subnormal (exp
+// and erfc below the smallest normal number, FLT_MIN or DBL_MIN) are returned as 0: the one
+// deliberate difference from the scalar path, always < 2·FLT_MIN (2·DBL_MIN) in absolute value
+// (measured: the scalar fallbacks took 60 % of tokuyoshi2024's float batch).
+template <class T>
+struct Saturation {
+  // e^x < min normal for x < ln(min normal) = −87.33654 (float), −708.39642 (double).
+  static constexpr T exp_lo = sizeof(T) == 8 ? T(-708.3964185322641) : T(-87.33654f);
+  // erfc(x) < 2·min normal (float: 1.28e-38 at 9.19) above these; = 2 (rounded) below erfc_lo.
+  static constexpr T erfc_hi = sizeof(T) == 8 ? T(26.54) : T(9.19);
+  static constexpr T erfc_lo = sizeof(T) == 8 ? T(-7) : T(-5);
+  static constexpr T expm1_lo = sizeof(T) == 8 ? T(-40) : T(-20);
+  static constexpr T erf_abs = sizeof(T) == 8 ? T(7) : T(5);
+};
+template <class B>
+inline B clamp_to(const B& x, value_t<B> lo, value_t<B> hi) {
+  return xsimd::select(x < B(lo), B(lo), xsimd::select(x > B(hi), B(hi), x));
+}
+// libmvec's `fn` on the batch x (of type B) in B's precision.
+#define SGLAB_VEC(fn, x)                                                      \
+  [&] {                                                                       \
+    if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(fn)(x));      \
+    else return B(SGLAB_VEC_F(fn)(x));                                        \
+  }()
+template <class B>
+inline B vm_exp(const B& x0) {
+  using T = value_t<B>;
+  const auto under = x0 < B(Saturation<T>::exp_lo);
+  const B x = xsimd::select(under, B(T(0)), x0);
+  return xsimd::select(under, B(T(0)), SGLAB_VEC(exp, x));
+}
+template <class B>
+inline B vm_expm1(const B& x0) {
+  using T = value_t<B>;
+  const B x = xsimd::select(x0 < B(Saturation<T>::expm1_lo), B(Saturation<T>::expm1_lo), x0);
+  return SGLAB_VEC(expm1, x);
+}
+template <class B>
+inline B vm_erf(const B& x0) {
+  using T = value_t<B>;
+  const B x = clamp_to(x0, -Saturation<T>::erf_abs, Saturation<T>::erf_abs);
+  return SGLAB_VEC(erf, x);
+}
+template <class B>
+inline B vm_erfc(const B& x0) {
+  using T = value_t<B>;
+  const B x = clamp_to(x0, Saturation<T>::erfc_lo, Saturation<T>::erfc_hi);
+  return xsimd::select(x0 > B(Saturation<T>::erfc_hi), B(T(0)), SGLAB_VEC(erfc, x));
+}
+#undef SGLAB_VEC
+
+template <class B>
+inline B clamp01(const B& x) {
+  using T = value_t<B>;
+  return xsimd::select(x < B(T(0)), B(T(0)), xsimd::select(x > B(T(1)), B(T(1)), x));
+}
+template <class B>
+inline B clamp_cosine(const B& x) {
+  using T = value_t<B>;
+  return xsimd::select(x < B(T(-1)), B(T(-1)), xsimd::select(x > B(T(1)), B(T(1)), x));
+}
+template <class B>
+inline B positive_part(const B& x) {
+  using T = value_t<B>;
+  return xsimd::select(x > B(T(0)), x, B(T(0)));
+}
+template <class B>
+inline B safe_sqrt(const B& x) {
+  using T = value_t<B>;
+  return xsimd::select(x > B(T(0)), xsimd::sqrt(x), B(T(0)));
+}
+
+// expm1(x)/x given em = expm1(x) (scalar.hpp expm1_over_x).
+template <class B>
+inline B expm1_over_x(const B& x, const B& em) {
+  using T = value_t<B>;
+  const B series = T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(24))));
+  return xsimd::select(xsimd::abs(x) < B(series_threshold4<T>()), series, em / x);
+}
+template <class B>
+inline B expm1_over_x(const B& x) {
+  return expm1_over_x(x, vm_expm1(x));
+}
+
+// A(λ) (sg.hpp sg_integral): one expm1(−2λ) serves both branches (−(2λ) = (−2)λ exactly).
+template <class B>
+inline B sg_integral(const B& l) {
+  using T = value_t<B>;
+  const B x = T(-2) * l;
+  const B em = vm_expm1(x);
+  return xsimd::select(l > B(T(1)), kTwoPi<T> * -em / l, T(2) * kTwoPi<T> * expm1_over_x(x, em));
+}
+
+// ---- SG products (sg.hpp) --------------------------------------------------------------------
+template <class B>
+inline B larger(const B& a, const B& b) {
+  return xsimd::select(a > b, a, b);
+}
+
+template <class B>
+inline B product_sharpness(const B& s1, const B& s2, const B& cosine) {
+  using T = value_t<B>;
+  const B c = clamp_cosine(cosine);
+  const B d = s1 - s2;
+  B r = safe_sqrt(d * d + T(2) * s1 * s2 * (T(1) + c));
+  const B s = larger(s1, s2);
+  const auto big = s > B(T(kScale));
+  if (xsimd::any(big)) {
+    const B u1 = s1 / s, u2 = s2 / s, du = u1 - u2;
+    r = xsimd::select(big, s * safe_sqrt(du * du + T(2) * u1 * u2 * (T(1) + c)), r);
+  }
+  return r;
+}
+
+template <class B>
+inline B product_log_amplitude(const B& s1, const B& s2, const B& cosine, const B& l3) {
+  using T = value_t<B>;
+  const B c = clamp_cosine(cosine);
+  const B denom = l3 + s1 + s2;
+  B r = xsimd::select(denom > B(T(0)), T(-2) * s1 * s2 * (T(1) - c) / denom, B(T(0)));
+  const B s = larger(s1, s2);
+  const auto big = s > B(T(kScale));
+  if (xsimd::any(big)) {
+    const B u1 = s1 / s, u2 = s2 / s;
+    r = xsimd::select(big, T(-2) * u1 * u2 * (T(1) - c) / (l3 / s + u1 + u2) * s, r);
+  }
+  return r;
+}
+
+template <class B>
+inline B product_integral_exact(const B& s1, const B& s2, const B& cosine) {
+  using T = value_t<B>;
+  const B l3 = product_sharpness(s1, s2, cosine);
+  const B la = product_log_amplitude(s1, s2, cosine, l3);
+  B r = vm_exp(la) * sg_integral(l3);
+  const B s = larger(s1, s2);
+  const auto big = s > B(T(kScale));
+  if (xsimd::any(big)) {
+    const B u1 = s1 / s, u2 = s2 / s;
+    const B rr = product_sharpness(u1, u2, cosine);
+    const B log_amplitude = s * product_log_amplitude(u1, u2, cosine, rr);
+    const B lambda3 = s * rr;
+    const B area = xsimd::select(lambda3 > B(T(1)), kTwoPi<T> / s / rr * -vm_expm1(-(T(2) * lambda3)),
+                                 sg_integral(lambda3));
+    r = xsimd::select(big, vm_exp(log_amplitude) * area, r);
+  }
+  return r;
+}
+
+// ---- hemispherical (hemispherical.hpp) -------------------------------------------------------
+// upper(λ)·lerp(e^{−λ}, 1, s) with e^{−λ} and expm1(−λ) computed once.
+template <class B>
+inline B upper_times_lerp(const B& l, const B& s) {
+  using T = value_t<B>;
+  const B em = vm_expm1(-l);
+  const B upper = kTwoPi<T> * expm1_over_x(-l, em);
+  const B lerp = vm_exp(-l) + s * -em;
+  return upper * lerp;
+}
+
+template <class B>
+inline B meder_steepness(const B& l, const B* p) {
+  using T = value_t<B>;
+  const B &p1 = p[0], &p2 = p[1], &p3 = p[2], &p4 = p[3];
+  B t = safe_sqrt(l) * (p1 * l * l + p2 * l) / (l * l + p3 * l + p4);
+  const auto big = l > B(T(kLarge));
+  if (xsimd::any(big)) t = xsimd::select(big, safe_sqrt(l) * (p1 + p2 / l) / (T(1) + (p3 + p4 / l) / l), t);
+  return t;
+}
+
+template <class B>
+inline B meder_logistic(const B& t, const B& cosine) {
+  using T = value_t<B>;
+  const B c = clamp_cosine(cosine);
+  const B opc = T(1) + c;
+  const auto nonneg = c >= B(T(0));
+  const B em_t = vm_expm1(-t);
+  const B e_t = vm_exp(-t);
+  // e^{−tc} for c ≥ 0 and e^{tc} for c < 0 are both e^{(−t)|c|} (the same rounded product).
+  const B g = vm_exp(-t * xsimd::abs(c));
+  const B x = xsimd::select(nonneg, -t * opc, t * opc);
+  const B em_x = vm_expm1(x);
+  const B ex_x = expm1_over_x(x, em_x);
+  // t < 1
+  const B den_s = expm1_over_x(-t, em_t);
+  const B s_pos = opc * ex_x / (den_s * (T(1) + g));
+  const B s_neg = e_t * opc * ex_x / (den_s * (T(1) + g));
+  // t ≥ 1
+  const B den_b = -em_t;
+  const B b_pos = -em_x / (den_b * (T(1) + g));
+  const B num = xsimd::select(t * opc < B(T(1)), e_t * em_x, g - e_t);
+  const B b_neg = num / (den_b * (T(1) + g));
+  return xsimd::select(t < B(T(1)), xsimd::select(nonneg, s_pos, s_neg), xsimd::select(nonneg, b_pos, b_neg));
+}
+
+template <class B>
+inline B hemispherical_meder(const B& l, const B& c, const B* p) {
+  return upper_times_lerp(l, meder_logistic(meder_steepness(l, p), c));
+}
+
+template <class B>
+inline B tokuyoshi2022_steepness(const B& l, const B* p) {
+  using T = value_t<B>;
+  const B &A = p[0], &Bc = p[1], &C = p[2];
+  B k = l * xsimd::sqrt((l / T(2) + A) / ((l + Bc) * l + C));
+  const auto big = l > B(T(kLarge));
+  if (xsimd::any(big))
+    k = xsimd::select(big, xsimd::sqrt(l) * xsimd::sqrt((T(0.5) + A / l) / (T(1) + (Bc + C / l) / l)), k);
+  return k;
+}
+
+template <class B>
+inline B tokuyoshi2022_factor(const B& k, const B& cosine) {
+  using T = value_t<B>;
+  const B c = clamp_cosine(cosine);
+  const B ratio = xsimd::select(k < B(series_threshold4<T>()), c * (T(1) + k * k * (T(1) - c * c) / T(3)),
+                                vm_erf(k * c) / vm_erf(k));
+  return clamp01(T(0.5) + T(0.5) * ratio);
+}
+
+template <class B>
+inline B hemispherical_tokuyoshi2022(const B& l, const B& c, const B* p) {
+  return upper_times_lerp(l, tokuyoshi2022_factor(tokuyoshi2022_steepness(l, p), c));
+}
+
+template <class B>
+inline B hemispherical_vmf_tokuyoshi2024(const B& l, const B& c, const B* p) {
+  using T = value_t<B>;
+  const B f = tokuyoshi2022_factor(tokuyoshi2022_steepness(l, p), c);
+  const B e = vm_exp(-l);
+  return (e + f * -vm_expm1(-l)) / (T(1) + e);
+}
+
+// ∫_{ω·n>0} G(ω;ξ,λ)G(ω;n,λ2)·e^{extra} dω through `hemi` (clamped_cosine.hpp hemispherical_product).
+template <class B, class Hemi>
+inline B hemispherical_product(const B& l, const B& cosine, const B& l2, const B& extra, const Hemi& hemi) {
+  using T = value_t<B>;
+  const B c = clamp_cosine(cosine);
+  const B l3 = product_sharpness(l, l2, c);
+  const B la = product_log_amplitude(l, l2, c, l3) + extra;
+  const B c3 = xsimd::select(l3 > B(T(0)), clamp_cosine((l * c + l2) / l3), B(T(1)));
+  return vm_exp(la) * hemi(l3, c3);
+}
+
+// ---- the c = ±1 bounds of D over 2π (clamped_cosine.hpp) ---------------------------------------
+// Below λ = 1: Σ_{n≥1} u^{n−1}/(n+1)! and Σ_{n≥1} n u^{n−1}/(n+1)! with u = −λ, by Horner's rule
+// over N terms, N the first at which the coefficient drops below ε/50 of the sum's smallest
+// value (1/3 and 0.26 at λ = 1): 20 in double, 13 in float.
+template <class T>
+constexpr int kSeriesTerms = sizeof(T) == 4 ? 13 : 20;
+constexpr double factorial(int n) {
+  double f = 1;
+  for (int i = 2; i <= n; ++i) f *= i;  // exact in double up to 22!
+  return f;
+}
+// The coefficients 1/(n+1)! and n/(n+1)!, n = 1 … N, evaluated at compile time.
+template <class T>
+struct SeriesCoefficients {
+  T upper[kSeriesTerms<T> + 1];
+  T inner[kSeriesTerms<T> + 1];
+  constexpr SeriesCoefficients() : upper{}, inner{} {
+    for (int n = 1; n <= kSeriesTerms<T>; ++n) {
+      upper[n] = T(1.0 / factorial(n + 1));
+      inner[n] = T(double(n) / factorial(n + 1));
+    }
+  }
+};
+template <class T>
+constexpr SeriesCoefficients<T> kSeries{};
+
+template <class B>
+inline void bound_series(const B& l, B& upper, B& inner) {
+  using T = value_t<B>;
+  constexpr int N = kSeriesTerms<T>;
+  const B u = -l;
+  B su(kSeries<T>.upper[N]), sl(kSeries<T>.inner[N]);
+  for (int n = N - 1; n >= 1; --n) {
+    su = su * u + kSeries<T>.upper[n];
+    sl = sl * u + kSeries<T>.inner[n];
+  }
+  upper = su;
+  inner = sl;
+}
+
+// tokuyoshi2024's bounds: clamped_cosine_upper_over_2pi and clamped_cosine_lower_over_2pi.
+template <class B>
+inline void tokuyoshi2024_bounds(const B& l, B& upper, B& lower) {
+  using T = value_t<B>;
+  const B e = vm_exp(-l);
+  const B ex = expm1_over_x(-l);
+  upper = (T(1) - ex) / l;
+  lower = e * ((ex - e) / l);
+  const auto small = l < B(T(1));
+  if (xsimd::any(small)) {
+    B su, si;
+    bound_series(l, su, si);
+    upper = xsimd::select(small, su, upper);
+    lower = xsimd::select(small, e * si, lower);
+  }
+}
+
+// ---- the kernels: one per (quantity, method); p are the constants broadcast ------------------
+struct CcPunctual {
+  template <class B>
+  static B eval(const B& l, const B& c, const B*) {
+    return sg_integral(l) * positive_part(clamp_cosine(c));
+  }
+};
+struct CcPunctualApprox {
+  template <class B>
+  static B eval(const B& l, const B& c, const B*) {
+    using T = value_t<B>;
+    return kTwoPi<T> / l * positive_part(clamp_cosine(c));
+  }
+};
+// p: λ_d, π/A(λ_d).
+struct CcSgCosine {
+  template <class B>
+  static B eval(const B& l, const B& cosine, const B* p) {
+    using T = value_t<B>;
+    const B& ld = p[0];
+    const B sum = l + ld;
+    const B reduced = xsimd::select(l > ld, l * (ld / sum), ld * (l / sum));
+    const B iwasaki = kTwoPi<T> * vm_exp(reduced * (clamp_cosine(cosine) - T(1))) / sum;
+    return xsimd::select(sum > B(T(0)), p[1] * iwasaki, p[1] * B(std::numeric_limits<T>::infinity()));
+  }
+};
+// p: amplitude, sharpness.
+struct CcCosineLobeSg {
+  template <class B>
+  static B eval(const B& l, const B& c, const B* p) {
+    return p[0] * product_integral_exact(l, p[1], c);
+  }
+};
+// p: c0.
+struct CcHillFitted {
+  template <class B>
+  static B eval(const B& l, const B& cosine, const B* p) {
+    using T = value_t<B>;
+    const B& c0 = p[0];
+    const B c = clamp_cosine(cosine);
+    const B c1 = T(1) / (T(4) * c0);
+    const B eml = vm_exp(-l);
+    const B em2l = eml * eml;
+    const B rl = T(1) / l;
+    const B scale = T(1) + T(2) * em2l - rl;
+    const B bias = (eml - em2l) * rl - em2l;
+    const B x = xsimd::sqrt(rl - T(2) * em2l);
+    const B x0 = c0 * c;
+    const B x1 = c1 * x;
+    const B n = x0 + x1;
+    const B y = xsimd::select(xsimd::abs(x0) <= x1, n * n / x, clamp01(c));
+    return (scale * y + bias) * kTwoPi<T> * rl;
+  }
+};
+// p: amplitude, sharpness, offset, p1…p4.
+struct CcMeder {
+  template <class B>
+  static B eval(const B& l, const B& cosine, const B* p) {
+    using T = value_t<B>;
+    auto hemi = [p](const B& ll, const B& cc) { return hemispherical_meder(ll, cc, p + 3); };
+    return p[0] * hemispherical_product(l, cosine, p[1], B(T(0)), hemi) - p[2] * hemi(l, clamp_cosine(cosine));
+  }
+};
+// p: λc, A, B, C, α.
+struct CcTokuyoshi2022 {
+  template <class B>
+  static B eval(const B& l, const B& cosine, const B* p) {
+    auto hemi = [p](const B& ll, const B& cc) { return hemispherical_tokuyoshi2022(ll, cc, p + 1); };
+    const B term1 = hemispherical_product(l, cosine, p[0], p[0], hemi);
+    const B term0 = hemi(l, clamp_cosine(cosine));
+    return positive_part(p[4] * (term1 - term0));
+  }
+};
+// p: A…E.
+struct CcTokuyoshi2024 {
+  template <class B>
+  static B eval(const B& l, const B& cosine, const B* p) {
+    using T = value_t<B>;
+    const B &A = p[0], &Bc = p[1], &C = p[2], &D = p[3], &E = p[4];
+    B t = l * xsimd::sqrt(T(0.5) * ((l + A) * l + Bc) / (((l + C) * l + D) * l + E));
+    const auto big = l > B(T(kLarge));
+    if (xsimd::any(big))
+      t = xsimd::select(big, xsimd::sqrt(l) * xsimd::sqrt(T(0.5) * (T(1) + (A + Bc / l) / l) /
+                                                           (T(1) + (C + (D + E / l) / l) / l)),
+                        t);
+    const B c = clamp_cosine(cosine);
+    const B c2m1 = c * c - T(1);
+    const B q = t * t * c2m1;
+    const B tail = vm_exp(-t * t * c * c) * t * c2m1 * expm1_over_x(q) / two_sqrt_pi<T>();
+    const B f = clamp01(T(0.5) * (c * vm_erfc(-t * c) + vm_erfc(t)) - tail);
+    B upper, lower;
+    tokuyoshi2024_bounds(l, upper, lower);
+    return kTwoPi<T> * (lower + f * (upper - lower));
+  }
+};
+// p: A, B, C, D, E, k, P, Q (clamped_cosine_sglab.hpp).
+struct CcSglab {
+  template <class B>
+  static B eval(const B& l, const B& cosine, const B* p) {
+    using T = value_t<B>;
+    const B &A = p[0], &Bc = p[1], &C = p[2], &D = p[3], &E = p[4], &k = p[5], &P = p[6], &Q = p[7];
+    // sglab_steepness
+    const B s = xsimd::sqrt(T(0.5) * ((l + A) * l + Bc) / (((l + C) * l + D) * l + E));
+    B t = l * s;
+    B k_over_t = k * l / (((l + P) * l + Q) * s);
+    const auto big = l > B(T(kLarge));
+    if (xsimd::any(big)) {
+      const B r = T(1) / l;
+      const B tb = xsimd::sqrt(T(0.5) * l * ((Bc * r + A) * r + T(1)) / (((E * r + D) * r + C) * r + T(1)));
+      t = xsimd::select(big, tb, t);
+      k_over_t = xsimd::select(big, k / (((Q * r + P) * r + T(1)) * tb), k_over_t);
+    }
+    // sglab_bounds_over_2pi
+    const B e = vm_exp(-l);
+    B upper = ((l - T(1)) + e) / l / l;
+    B lower = e * (((T(1) - e) / l - e) / l);
+    const auto small = l < B(T(1));
+    if (xsimd::any(small)) {
+      B su, si;
+      bound_series(l, su, si);
+      upper = xsimd::select(small, su, upper);
+      lower = xsimd::select(small, e * si, lower);
+    }
+    // sglab_factor
+    const B c = clamp_cosine(cosine);
+    const B a = xsimd::abs(c);
+    const B x = (T(1) - a) * (T(1) + a);
+    const B tt = t * t;
+    const B gauss = vm_exp(-tt * a * a);
+    const B tail = gauss * t * x * expm1_over_x(-tt * x);
+    const B g = T(0.5) * (vm_erfc(t) - a * vm_erfc(t * a)) + tail / two_sqrt_pi<T>();
+    const B corrected = g + k_over_t * (gauss * x - t * tail);
+    const B half = T(0.5) * g;
+    const B f = clamp01(positive_part(c) + xsimd::select(corrected > half, corrected, half));
+    return kTwoPi<T> * (lower + f * (upper - lower));
+  }
+};
+struct HemiMeder {
+  template <class B>
+  static B eval(const B& l, const B& c, const B* p) {
+    return hemispherical_meder(l, c, p);
+  }
+};
+struct HemiTokuyoshi2022 {
+  template <class B>
+  static B eval(const B& l, const B& c, const B* p) {
+    return hemispherical_tokuyoshi2022(l, c, p);
+  }
+};
+struct HemiVmfTokuyoshi2024 {
+  template <class B>
+  static B eval(const B& l, const B& c, const B* p) {
+    return hemispherical_vmf_tokuyoshi2024(l, c, p);
+  }
+};
+
+// ---- the batch driver ---------------------------------------------------------------------
+// Rows of (λ, c) are de-interleaved into lane arrays; the last partial batch is padded with
+// (1, 0), a point inside every method's domain, and only its valid lanes are stored.
+template <class Arch, class T, class K>
+void run(const T* args, T* out, std::size_t n, const T* params) {
+  using B = xsimd::batch<T, Arch>;
+  constexpr std::size_t W = B::size;
+  B p[8];
+  for (int i = 0; i < 8; ++i) p[i] = B(params[i]);
+  alignas(64) T l[W];
+  alignas(64) T c[W];
+  std::size_t i = 0;
+  for (; i + W <= n; i += W) {
+    for (std::size_t k = 0; k < W; ++k) {
+      l[k] = args[2 * (i + k)];
+      c[k] = args[2 * (i + k) + 1];
+    }
+    K::eval(B::load_aligned(l), B::load_aligned(c), p).store_unaligned(out + i);
+  }
+  if (i < n) {
+    const std::size_t rest = n - i;
+    for (std::size_t k = 0; k < W; ++k) {
+      l[k] = k < rest ? args[2 * (i + k)] : T(1);
+      c[k] = k < rest ? args[2 * (i + k) + 1] : T(0);
+    }
+    alignas(64) T o[W];
+    K::eval(B::load_aligned(l), B::load_aligned(c), p).store_aligned(o);
+    for (std::size_t k = 0; k < rest; ++k) out[i + k] = o[k];
+  }
+}
+
+template <class Arch, class T>
+constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
+    &run<Arch, T, CcPunctual>,    &run<Arch, T, CcPunctualApprox>, &run<Arch, T, CcSgCosine>,
+    &run<Arch, T, CcCosineLobeSg>, &run<Arch, T, CcHillFitted>,    &run<Arch, T, CcMeder>,
+    &run<Arch, T, CcTokuyoshi2022>, &run<Arch, T, CcTokuyoshi2024>, &run<Arch, T, CcSglab>,
+    &run<Arch, T, HemiMeder>,     &run<Arch, T, HemiTokuyoshi2022>, &run<Arch, T, HemiVmfTokuyoshi2024>};
+
+template <class Arch>
+KernelTable make_table(const char* isa) {
+  KernelTable t{isa, {}, {}};
+  for (int i = 0; i < static_cast<int>(Kernel::count); ++i) {
+    t.f[i] = kernel_list<Arch, float>[i];
+    t.d[i] = kernel_list<Arch, double>[i];
+  }
+  return t;
+}
+
+}  // namespace
+}  // namespace sglab::simd_detail

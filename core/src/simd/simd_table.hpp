@@ -1,0 +1,45 @@
+// The table of vectorized batch evaluators one instruction-set translation unit provides
+// (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp). Internal to sglab_core: registry_simd.cpp
+// picks a table at run time and installs its entries as the registry's batch evaluators.
+// Deliberately free of any other header: the per-ISA units are compiled with -mavx2/-mavx512f, and
+// an inline non-template function odr-used there could be picked by the linker for the whole
+// program (and then execute AVX-512 code on a machine without it).
+#pragma once
+
+#include <cstddef>
+
+namespace sglab::simd_detail {
+
+// One entry per vectorized (quantity, method). Order is the table's index.
+enum class Kernel : int {
+  cc_punctual,
+  cc_punctual_approx,
+  cc_sg_cosine,       // p: λ_d, π/A(λ_d) (precomputed with the scalar template)
+  cc_cosine_lobe_sg,  // p: amplitude, sharpness
+  cc_hill_fitted,     // p: c0
+  cc_meder,           // p: amplitude, sharpness, offset, p1…p4
+  cc_tokuyoshi2022,   // p: λc, A, B, C, α(λc) (α precomputed with the scalar template)
+  cc_tokuyoshi2024,   // p: A…E
+  cc_sglab,           // p: A, B, C, D, E, k, P, Q
+  hemi_meder,         // p: p1…p4
+  hemi_tokuyoshi2022, // p: A, B, C
+  hemi_vmf_tokuyoshi2024,  // p: A, B, C
+  count
+};
+
+// Evaluates n rows of (sharpness, cosine), interleaved in `args`, into `out`, with the method's
+// constants `params` (already in T).
+template <class T>
+using KernelFn = void (*)(const T* args, T* out, std::size_t n, const T* params);
+
+struct KernelTable {
+  const char* isa;  // "sse2", "avx2", "avx512"
+  KernelFn<float> f[static_cast<int>(Kernel::count)];
+  KernelFn<double> d[static_cast<int>(Kernel::count)];
+};
+
+const KernelTable& kernels_sse2();
+const KernelTable& kernels_avx2();
+const KernelTable& kernels_avx512();
+
+}  // namespace sglab::simd_detail

@@ -1,0 +1,238 @@
+// The vectorized batch evaluators (core/src/simd, docs/simd.md) against the scalar templates they
+// transcribe, on every instruction set this CPU runs (forced one at a time), in float and double,
+// with the published constants and with other (bound) constants: over the stiff grid of
+// docs/math.md §10 (with the extreme sharpnesses up to the type's largest value), the error grid of
+// `sglab error-vs-time`, and seeded random points.
+//
+// Tolerance: |batch − scalar| ≤ k·ε·max(|D(λ, 1)|, |scalar|, Σ|terms|), ε the type's machine
+// epsilon: k ulps of the value at c = 1 for the same λ (the normalization of every error in
+// paper_tables/error_vs_time.md, so the allowance is in the "max rounding error" column's unit),
+// or, for two forms that subtract larger terms by design (hill-fitted, meder), of the sum of the
+// terms' magnitudes (the formula's own condition number; term_magnitude); tokuyoshi2022's
+// designed ×2364 amplification is in its k. The two paths differ only in the transcendental functions (glibc libmvec's
+// vector exp, expm1, erf, erfc against glibc's scalar ones; glibc states ≤ 4 ulp for libmvec, and
+// the scalar ones are within 1–2) and in the Horner sum of the bound series below λ = 1: k = 4
+// unless tolerance_ulps says otherwise, with the reason. Values below the smallest normal number are compared absolutely (xsimd does
+// returns exp and erfc results below the smallest normal number as 0, a difference < 2·min normal). Also: no NaN, Inf or negative value where the
+// scalar path has none (for the two methods published as going negative, meder and hill-fitted,
+// a sign flip is accepted only where the scalar value is itself within the allowance of 0).
+#include <cfloat>
+#include <cmath>
+#include <map>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sglab/clamped_cosine.hpp"
+#include "sglab/registry.hpp"
+#include "sglab/simd.hpp"
+#include "test_util.hpp"
+
+namespace {
+
+using namespace sglab;
+
+// k of the header, per "quantity/method", with the reason.
+const std::map<std::string, double>& tolerance_ulps() {
+  static const std::map<std::string, double> k{
+      // Products of one exp/expm1 with exact arithmetic: the two libraries' ulps add.
+      {"clamped-cosine/punctual", 4},
+      {"clamped-cosine/punctual-approx", 4},
+      {"clamped-cosine/sg-cosine", 4},
+      {"clamped-cosine/cosine-lobe-sg", 4},
+      // hill-fitted and meder return a difference of larger terms; they are measured against the
+      // sum of the terms' magnitudes instead (their condition number; see term_magnitude). Each
+      // meder term is itself a product of ~6 transcendental results: 8 ulps.
+      {"clamped-cosine/hill-fitted", 4},
+      {"clamped-cosine/meder", 8},
+      // α(term1 − term0) with α ≈ 1182 and each term ≈ H(λ, ·) ≈ D(λ, 1)·2/α at small λ: 4 ulps of
+      // each term are 8·1182 ≈ 4·2364 ulps of D(λ, 1) by design of λc (docs/math.md §3), and inside
+      // each term the factor ½ + ½ erf(kc)/erf(k) cancels near c = −1 (measured: up to 656 ulps of
+      // D(λ, 1) at λ = 10, c = −1; 1.1e4 at λ = 1e-3): 8·2364.
+      {"clamped-cosine/tokuyoshi2022", 8 * 2364},
+      // lerp(lower, upper, f) with f from two erfc, exp, expm1 (each ≤ 2 ulp apart), and the
+      // Horner sum of the bounds: ≤ 4.
+      {"clamped-cosine/tokuyoshi2024", 4},
+      {"clamped-cosine/sglab", 4},
+      {"hemispherical/meder", 4},
+      {"hemispherical/tokuyoshi2022", 4},
+      {"hemispherical/vmf-tokuyoshi2024", 4},
+  };
+  return k;
+}
+
+// For the forms that return a difference of larger terms, Σ|term| (in double, with the method's
+// constants p as bound): the rounding of each term, not of the small difference, is what both
+// paths carry. hill-fitted: (scale·y + bias)·2π/λ, with scale = 1 + 2e^{−2λ} − 1/λ and
+// bias = (e^{−λ} − e^{−2λ})/λ − e^{−2λ}, each summand's magnitude; meder: a·H(product) + b·H.
+// 0 for every other method (the value itself is the scale).
+double term_magnitude(const std::string& name, const std::vector<double>& p, double l, double cosine) {
+  const double c = std::clamp(cosine, -1.0, 1.0);
+  if (name == "clamped-cosine/hill-fitted") {
+    const double c0 = p[0], c1 = 1 / (4 * c0), eml = std::exp(-l), em2l = eml * eml, rl = 1 / l;
+    const double x = std::sqrt(std::max(rl - 2 * em2l, 0.0)), x0 = c0 * c, x1 = c1 * x;
+    const double y = std::fabs(x0) <= x1 ? (x0 + x1) * (x0 + x1) / x : std::clamp(c, 0.0, 1.0);
+    return (y * (1 + 2 * em2l + rl) + (eml + em2l) * rl + em2l) * two_pi<double>() * rl;
+  }
+  if (name == "clamped-cosine/meder") {
+    auto hemi = [&](double ll, double cc) { return hemispherical_meder(ll, cc, p[3], p[4], p[5], p[6]); };
+    return p[0] * hemispherical_product(l, c, p[1], 0.0, hemi) + p[2] * hemi(l, c);
+  }
+  return 0;
+}
+
+struct Point {
+  double l, c;
+};
+
+// The stiff grid (docs/math.md §10: λ = 0, 1e-8 … 1e8 and the extreme tail to DBL_MAX; cosines
+// with the rounding steps around ±1), the error grid of `sglab error-vs-time` (λ ∈ [1e-3, 1e4],
+// 4 per decade, × 41 cosines) and 4096 seeded random points (λ log-uniform, c uniform).
+std::vector<Point> points() {
+  std::vector<Point> out;
+  std::vector<double> ls = test::stiff_sharpnesses(4);
+  for (double l : stiff::extreme_sharpnesses()) ls.push_back(l);
+  for (double l : ls)
+    for (double c : test::stiff_cosines(32)) out.push_back({l, c});
+  for (int i = 0; i <= 28; ++i)
+    for (int j = 0; j <= 40; ++j) out.push_back({std::pow(10.0, -3 + i / 4.0), -1 + 2.0 * j / 40});
+  auto rng = test::seeded_rng(20261201);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int k = 0; k < 4096; ++k) out.push_back({std::pow(10.0, -3 + 7 * u(rng)), -1 + 2 * u(rng)});
+  return out;
+}
+
+struct Worst {
+  double ulps = 0;
+  Point at{};
+  double scalar = 0, batch = 0;
+};
+
+template <class T>
+void check(const std::string& name, const Method& m, const std::vector<double>& params, const std::vector<Point>& pts, double k,
+           const std::string& label) {
+  std::vector<T> args;
+  std::vector<T> ref, peak;
+  std::vector<Point> used;
+  for (const auto& p : pts) {
+    if (p.l > double(std::numeric_limits<T>::max())) continue;  // not a T
+    const T a[2] = {T(p.l), T(p.c)};
+    const double row[2] = {double(a[0]), double(a[1])};
+    if (m.domain_error && m.domain_error(row)) continue;
+    const T one[2] = {a[0], T(1)};
+    args.insert(args.end(), {a[0], a[1]});
+    used.push_back(p);
+    if constexpr (std::is_same_v<T, float>) {
+      ref.push_back(m.eval_float(a));
+      peak.push_back(m.eval_float(one));
+    } else {
+      ref.push_back(m.eval_double(a));
+      peak.push_back(m.eval_double(one));
+    }
+  }
+  std::vector<T> out(ref.size());
+  if constexpr (std::is_same_v<T, float>) m.batch_float(args, 2, out);
+  else m.batch_double(args, 2, out);
+  const double eps = std::numeric_limits<T>::epsilon(), tiny = std::numeric_limits<T>::min();
+  Worst w;
+  int failures = 0;
+  for (std::size_t i = 0; i < ref.size(); ++i) {
+    const double s = ref[i], v = out[i];
+    const auto where = [&] {
+      return ::testing::Message() << label << " at λ = " << used[i].l << ", c = " << used[i].c << ": scalar " << s
+                                  << ", batch " << v;
+    };
+    if (std::isfinite(s) && !std::isfinite(v)) {
+      if (++failures <= 5) ADD_FAILURE() << where() << " (new NaN/Inf)";
+      continue;
+    }
+    if (!std::isfinite(s)) continue;  // the scalar path's own (none expected on these grids)
+    const double scale = std::max({std::fabs(double(peak[i])), std::fabs(s),
+                                   term_magnitude(name, params, double(args[2 * i]), double(args[2 * i + 1]))});
+    // A method whose published form goes negative (meder, hill-fitted) returns a difference that
+    // cancels to ~0: within its rounding allowance of 0 the sign is rounding, not a new negative.
+    const bool signless = m.may_be_negative && s <= k * eps * scale;
+    if (s >= 0 && v < 0 && !signless && ++failures <= 5) ADD_FAILURE() << where() << " (new negative value)";
+    const double d = std::fabs(v - s);
+    if (d < 2 * tiny) continue;  // subnormal results are returned as 0 (docs/simd.md)
+    const double ulps = d / (eps * scale);
+    if (ulps > w.ulps) w = {ulps, used[i], s, v};
+    if (ulps > k && ++failures <= 5) ADD_FAILURE() << where() << ": " << ulps << " ulps of max(|D(λ, 1)|, |D|) > " << k;
+  }
+  std::printf("[ simd     ] %-40s %-7s %zu points, max %.3g ulps (tolerance %g) at λ = %g, c = %g\n", label.c_str(),
+              sizeof(T) == 4 ? "float" : "double", ref.size(), w.ulps, k, w.at.l, w.at.c);
+}
+
+// Every vectorized method × every supported instruction set × float and double, published
+// constants and a bound set (each constant × 1.1).
+TEST(Simd, EveryKernelMatchesItsScalarTemplate) {
+  const auto pts = points();
+  const auto isas = simd::supported_isas();
+  ASSERT_FALSE(isas.empty());
+  for (const auto isa : isas) {
+    simd::force_isa(isa);
+    ASSERT_EQ(simd::active_isa(), isa);
+    for (const auto& name : simd::vectorized_methods()) {
+      const auto slash = name.find('/');
+      const Quantity* q = find_quantity(name.substr(0, slash));
+      ASSERT_NE(q, nullptr) << name;
+      const Method* m = q->find(name.substr(slash + 1));
+      ASSERT_NE(m, nullptr) << name;
+      const double k = tolerance_ulps().at(name);
+      const std::string label = std::string(simd::isa_name(isa)) + " " + name;
+      std::vector<double> published, values;
+      for (const auto& p : m->parameters) {
+        published.push_back(p.published);
+        values.push_back(p.published * 1.1);
+      }
+      check<float>(name, *m, published, pts, k, label);
+      check<double>(name, *m, published, pts, k, label);
+      if (m->bind) {
+        const Method b = m->bind(values);
+        check<float>(name, b, values, pts, k, label + " [bound ×1.1]");
+        check<double>(name, b, values, pts, k, label + " [bound ×1.1]");
+      }
+    }
+  }
+  simd::force_isa(isas.back());
+}
+
+// The batch evaluators handle every length (the partial last vector) and leave nothing else
+// written: a row's value does not depend on its position in the batch.
+TEST(Simd, PartialBatchesAndPositions) {
+  const Method* m = find_quantity("clamped-cosine")->find("tokuyoshi2024");
+  for (const auto isa : simd::supported_isas()) {
+    simd::force_isa(isa);
+    for (std::size_t n : {1u, 3u, 7u, 15u, 17u, 33u}) {
+      std::vector<double> args;
+      for (std::size_t i = 0; i < n; ++i) args.insert(args.end(), {0.5 + double(i), 0.1});
+      std::vector<double> out(n + 1, -7.0);
+      m->batch_double(args, 2, std::span<double>(out.data(), n));
+      EXPECT_EQ(out[n], -7.0) << simd::isa_name(isa) << " wrote past the batch, n = " << n;
+      std::vector<double> single(1);
+      for (std::size_t i = 0; i < n; ++i) {
+        m->batch_double(std::span<const double>(args.data() + 2 * i, 2), 2, single);
+        EXPECT_EQ(single[0], out[i]) << simd::isa_name(isa) << " row " << i << " of " << n;
+      }
+    }
+  }
+  simd::force_isa(simd::supported_isas().back());
+}
+
+TEST(Simd, IsaNamesAndForcing) {
+  EXPECT_EQ(simd::parse_isa("avx2"), simd::Isa::avx2);
+  EXPECT_FALSE(simd::parse_isa("avx3"));
+  EXPECT_TRUE(simd::isa_supported(simd::Isa::sse2));
+  for (const auto isa : {simd::Isa::sse2, simd::Isa::avx2, simd::Isa::avx512})
+    if (!simd::isa_supported(isa)) {
+      EXPECT_THROW(simd::force_isa(isa), std::invalid_argument);
+    }
+  std::printf("[ simd     ] this CPU runs:");
+  for (const auto isa : simd::supported_isas()) std::printf(" %s", std::string(simd::isa_name(isa)).c_str());
+  std::printf("\n");
+}
+
+}  // namespace
