@@ -2,18 +2,14 @@
 // itself on the CLI11 app through one add_*_command function listed in main.cpp.
 #pragma once
 
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
-namespace sglab::cli {
+#include "input_error.hpp"  // UsageError: bad input, exit status 2
 
-// Thrown by a command for bad input: main prints the message and exits with status 2.
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+namespace sglab::cli {
 
 // One registration function per sub-command, each defined in its own file.
 void add_eval_command(CLI::App& app);  // eval_command.cpp: `sglab eval`
