@@ -20,29 +20,16 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "commands.hpp"
+#include "error_vs_time.hpp"
+#include "experiment_command.hpp"
 #include "constant_sets.hpp"
 #include "error_grid.hpp"
 #include "sglab/registry.hpp"
 #include "registry.hpp"
 
 namespace sglab::cli {
+namespace error_vs_time {
 namespace {
-
-struct Options {
-  std::vector<std::string> quantities = {"clamped-cosine", "specular"};
-  std::string out_dir = "results/error_vs_time";
-  std::string tables_dir = "paper_tables";
-  bool quick = false;
-  std::vector<std::string> constants;  // --constants: refit rows beside the published ones
-};
-
-struct Row {
-  std::string method, precision;
-  double rmse = 0, max_error = 0, max_error_sharp = 0, max_rounding = 0, ns_per_eval = 0;
-  long negatives = 0, non_finite = 0, out_of_domain = 0;
-  std::string flaws;
-};
 
 // Median wall time per evaluation of `batch` over `args` (rows of `arity`): one warm-up call, then
 // `repeats` timed runs of enough batch calls to last ≥ 20 ms each.
@@ -193,8 +180,10 @@ std::string claims_section(const std::vector<Row>& rows) {
 }
 
 }  // namespace
+}  // namespace error_vs_time
 
 GridError standard_grid_error(const Quantity& q, const Method& m) {
+  using namespace error_vs_time;
   static std::mutex mutex;
   static std::map<std::string, Grid> grids;
   const Grid* g;
@@ -221,6 +210,7 @@ GridError standard_grid_error(const Quantity& q, const Method& m) {
   return e;
 }
 
+namespace error_vs_time {
 namespace {
 
 bool is_diffuse(const Quantity& q) {
@@ -318,68 +308,93 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
   return rows;
 }
 
-void run(const Options& o) {
+}  // namespace
+
+Result compute(const Options& o) {
   std::vector<const Quantity*> qs;
   for (const auto& name : o.quantities) qs.push_back(&checked_quantity(name));
-  std::string command = "sglab error-vs-time";
+  Result result;
+  std::string& command = result.provenance.command;
+  command = "sglab error-vs-time";
   if (o.quantities != Options{}.quantities) command += " --quantity " + fmt::format("{}", fmt::join(o.quantities, " "));
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
   const ConstantSet set = load_constant_sets(o.constants);
-  std::string csv =
-      "quantity,method,precision,rmse,max_error,max_error_subset,max_rounding_error,ns_per_eval,negatives,non_finite,"
-      "out_of_domain\n";
-  const Provenance provenance{command, o.quick};
-  std::string md = std::string(
-      "# Error against run time\n\n"
-      "Per quantity, every registered method against the quantity's reference, in float and double. Rounding: the "
-      "method in that precision against the same formula in 50 digits on the same input, shown apart from the "
-      "approximation error. Cost: median ns per evaluation over seeded inputs on this machine (one core, warm-up, "
-      "median of repeats). `neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n");
   for (const Quantity* q : qs) {
+    Section s;
+    s.quantity = q->name;
+    s.reference_method = q->reference_method;
     std::vector<ConstantUse> uses;
     for (const auto& m : q->methods) {
       const auto u = method_constant_uses(q->name + "/" + m.name, m);
       uses.insert(uses.end(), u.begin(), u.end());
     }
     if (!uses.empty())
-      md += fmt::format("\nConstants of {} ({}; rows `NAME [constants]` use the set's values, the others the "
-                        "published ones):\n\n{}",
-                        q->name, o.constants.empty() ? std::string("published") : fmt::format("{}", fmt::join(o.constants, ", ")),
-                        constants_text(set, uses, "- "));
+      s.constants = fmt::format("\nConstants of {} ({}; rows `NAME [constants]` use the set's values, the others the "
+                                "published ones):\n\n{}",
+                                q->name, o.constants.empty() ? std::string("published") : fmt::format("{}", fmt::join(o.constants, ", ")),
+                                constants_text(set, uses, "- "));
     Grid g;
-    const std::vector<Row> rows = measure(*q, o.quick, g, set);
-    for (const auto& r : rows)
-      csv += fmt::format("{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.4g},{},{},{}\n", q->name, r.method, r.precision, r.rmse,
+    s.rows = measure(*q, o.quick, g, set);
+    s.grid_description = g.description;
+    s.error_label = g.error_label;
+    s.subset_label = g.subset_label;
+    s.arity = g.arity;
+    s.args = g.args;
+    result.sections.push_back(std::move(s));
+  }
+  return result;
+}
+
+Tables tables(const Result& result) {
+  Tables t;
+  std::string& csv = t.csv;
+  std::string& md = t.markdown;
+  csv =
+      "quantity,method,precision,rmse,max_error,max_error_subset,max_rounding_error,ns_per_eval,negatives,non_finite,"
+      "out_of_domain\n";
+  md = std::string(
+      "# Error against run time\n\n"
+      "Per quantity, every registered method against the quantity's reference, in float and double. Rounding: the "
+      "method in that precision against the same formula in 50 digits on the same input, shown apart from the "
+      "approximation error. Cost: median ns per evaluation over seeded inputs on this machine (one core, warm-up, "
+      "median of repeats). `neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n");
+  for (const Section& s : result.sections) {
+    md += s.constants;
+    for (const auto& r : s.rows)
+      csv += fmt::format("{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.4g},{},{},{}\n", s.quantity, r.method, r.precision, r.rmse,
                          r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval, r.negatives, r.non_finite,
                          r.out_of_domain);
     md += fmt::format(
         "\n## {}\n\nErrors are {}, over {} ({} points).\n\n"
         "| method | precision | RMSE | max error | max error, {} | max rounding error | ns/eval | neg |\n"
         "|---|---|---|---|---|---|---|---|\n",
-        q->name, g.error_label, g.description, g.size(), g.subset_label);
-    for (const auto& r : rows) {
-      if (r.method == q->reference_method) {
+        s.quantity, s.error_label, s.grid_description, s.points(), s.subset_label);
+    for (const auto& r : s.rows) {
+      if (r.method == s.reference_method) {
         md += fmt::format("| {} (reference) | {} | — | — | — | — | {:.0f} | — |\n", r.method, r.precision, r.ns_per_eval);
         continue;
       }
       md += fmt::format("| {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2e} | {:.1f} | {} |\n", r.method, r.precision, r.rmse,
                         r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval, r.negatives);
     }
-    if (q->name == "clamped-cosine") md += claims_section(rows);
+    if (s.quantity == "clamped-cosine") md += claims_section(s.rows);
   }
-
-  std::filesystem::create_directories(o.out_dir);
-  std::filesystem::create_directories(o.tables_dir);
-  write_file_atomically(std::filesystem::path(o.out_dir) / "error_vs_time.csv", csv);
-  write_table(o.tables_dir, "error_vs_time", provenance, md, csv);
-  std::fputs((markdown_header(provenance) + md).c_str(), stdout);
+  return t;
 }
 
-}  // namespace
+void write(const Options& o, const Result& result) {
+  const Tables t = tables(result);
+  write_file_atomically(std::filesystem::path(o.out_dir) / "error_vs_time.csv", t.csv);
+  write_table(o.tables_dir, "error_vs_time", result.provenance, t.markdown, t.csv);
+  std::fputs((markdown_header(result.provenance) + t.markdown).c_str(), stdout);
+}
+
+
+}  // namespace error_vs_time
 
 void add_error_vs_time_command(CLI::App& app) {
-  auto opts = std::make_shared<Options>();
+  auto opts = std::make_shared<error_vs_time::Options>();
   auto* sub = app.add_subcommand("error-vs-time",
                                  "Every method's error (float, double), rounding error vs 50 digits, and ns/eval");
   sub->add_option("--quantity", opts->quantities,
@@ -388,24 +403,27 @@ void add_error_vs_time_command(CLI::App& app) {
   sub->add_option("--tables", opts->tables_dir, "directory for the paper tables")->capture_default_str();
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
   add_constants_option(*sub, opts->constants);
-  sub->callback([opts] { run(*opts); });
+  sub->callback([opts] { error_vs_time::write(*opts, error_vs_time::compute(*opts)); });
 }
 
 }  // namespace sglab::cli
 
 namespace sglab::experiments {
 
+std::vector<Step> error_vs_time_steps(const Places& p) {
+  return std::vector<Step>{
+      sglab_step("error-vs-time",
+                 "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
+                 {"error-vs-time", "--out", p.out + "/error_vs_time", "--constants", p.out + "/fits"}, {"--quick"},
+                 "--tables", true),
+      plot_step("plot-error-vs-time", "Pareto figure of error against time",
+                {"plots/error_vs_time.py", p.out + "/error_vs_time/error_vs_time.csv", p.key_figures()})};
+}
+
 Experiment error_vs_time_experiment() {
-  return {"error-vs-time", "every method against its reference, in float and double, beside its cost (error_vs_time.*)",
-          cli::add_error_vs_time_command, [](const Places& p) {
-            return std::vector<Step>{
-                sglab_step("error-vs-time",
-                           "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
-                           {"error-vs-time", "--out", p.out + "/error_vs_time", "--constants", p.out + "/fits"}, {"--quick"},
-                           "--tables", true),
-                plot_step("plot-error-vs-time", "Pareto figure of error against time",
-                          {"plots/error_vs_time.py", p.out + "/error_vs_time/error_vs_time.csv", p.key_figures()})};
-          }};
+  return {"error-vs-time",
+          "every method against its reference, in float and double, beside its cost (error_vs_time.*)",
+          cli::add_error_vs_time_command, error_vs_time_steps};
 }
 
 }  // namespace sglab::experiments

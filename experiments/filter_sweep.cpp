@@ -20,7 +20,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "commands.hpp"
+#include "experiment_command.hpp"
 #include "csv.hpp"
 #include "filter_job.hpp"
 #include "parse_number.hpp"
@@ -297,25 +297,28 @@ void add_filter_sweep_command(CLI::App& app) {
 namespace sglab::experiments {
 
 // Lobe-aware filtering: both weightings on cornell-glossy (`sglab filter`), then the roughness sweep.
+std::vector<Step> filtering_steps(const Places& p) {
+  std::vector<Step> v;
+  for (const char* weights : {"normal", "lobe"}) {
+    const std::string base = p.out + "/filtering/cornell-glossy-" + weights;
+    v.push_back(sglab_step(std::string("filter-cornell-glossy-") + weights,
+                           std::string("upsampling 1/4-resolution indirect light with ") +
+                               (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") + " weights (EXR + stats)",
+                           {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--out", base + ".exr", "--stats",
+                            base + ".json"},
+                           {"--width", "64", "--height", "64"}, "", true));
+  }
+  v.push_back(sglab_step("filter-sweep",
+                         "upsampling error per weighting over the floor's roughness on cornell-glossy (paper_tables/filtering.*)",
+                         {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", p.out + "/filtering"},
+                         {"--width", "64", "--height", "64"}, "--tables-dir", true));
+  return v;
+}
+
 Experiment filtering_experiment() {
-  return {"filter-sweep", "upsampling error per weighting (normal/depth vs lobe-aware) over the floor's roughness (filtering.*)",
-          cli::add_filter_sweep_command, [](const Places& p) {
-            std::vector<Step> v;
-            for (const char* weights : {"normal", "lobe"}) {
-              const std::string base = p.out + "/filtering/cornell-glossy-" + weights;
-              v.push_back(sglab_step(std::string("filter-cornell-glossy-") + weights,
-                                     std::string("upsampling 1/4-resolution indirect light with ") +
-                                         (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") + " weights (EXR + stats)",
-                                     {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--out", base + ".exr", "--stats",
-                                      base + ".json"},
-                                     {"--width", "64", "--height", "64"}, "", true));
-            }
-            v.push_back(sglab_step("filter-sweep",
-                                   "upsampling error per weighting over the floor's roughness on cornell-glossy (paper_tables/filtering.*)",
-                                   {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", p.out + "/filtering"},
-                                   {"--width", "64", "--height", "64"}, "--tables-dir", true));
-            return v;
-          }};
+  return {"filter-sweep",
+          "upsampling error per weighting (normal/depth vs lobe-aware) over the floor's roughness (filtering.*)",
+          cli::add_filter_sweep_command, filtering_steps};
 }
 
 }  // namespace sglab::experiments

@@ -41,7 +41,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "commands.hpp"
+#include "experiment_command.hpp"
 #include "csv.hpp"
 #include "render_job.hpp"
 #include "sglab/registry.hpp"
@@ -385,34 +385,35 @@ namespace sglab::experiments {
 // diffuse method the renderer takes (every clamped-cosine method of the registry but its
 // reference), and one SMAPE map per method (near_wall_vsgl_vs_vpl_sum.png). Not the poster's
 // figure: that is `near-wall` (each method against the exact integral).
+std::vector<Step> near_wall_steps(const Places& p) {
+  std::vector<Step> v;
+  std::vector<std::string> plot = {"plots/near_wall_vsgl_vs_vpl_sum.py", p.key_figures()};
+  const std::string reference = find_quantity("clamped-cosine")->reference_method;
+  for (const auto& m : render::diffuse_method_names()) {
+    if (m == reference) continue;
+    v.push_back(render_step(p, "render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (one VSGL against the VPL sum)",
+                            "scenes/sg-light-near-wall.json", "near-wall-" + m, 160, 120, {"--width", "64", "--height", "48"},
+                            {"--diffuse", m}));
+    plot.push_back(m + "=" + p.out + "/renders/near-wall-" + m + ".csv");
+  }
+  v.push_back(plot_step("plot-near-wall-vsgl-vs-vpl-sum", "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot));
+  // The poster's figure (Tokuyoshi 2022, Fig. b-d): every clamped-cosine method of the
+  // registry against the exact integral per pixel, and the sweep over the light's sharpness and distance.
+  v.push_back(sglab_step("near-wall",
+                         "sharp SG light near a wall: each diffuse method against the exact integral (paper_tables/near_wall_smape*)",
+                         {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", p.out + "/near_wall/pixels.csv",
+                          "--sweep-sharpness", "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
+                         {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}, "--tables-dir"));
+  v.push_back(plot_step("plot-near-wall-smape", "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
+                        {"plots/near_wall_smape.py", p.out + "/near_wall/pixels.csv", p.key_figures(),
+                         p.tables + "/near_wall_smape.csv"}));
+  return v;
+}
+
 Experiment near_wall_experiment() {
-  return {"near-wall", "sharp SG light near a wall (Tokuyoshi 2022 poster): each diffuse method against the exact integral",
-          cli::add_near_wall_command, [](const Places& p) {
-            std::vector<Step> v;
-            std::vector<std::string> plot = {"plots/near_wall_vsgl_vs_vpl_sum.py", p.key_figures()};
-            const std::string reference = find_quantity("clamped-cosine")->reference_method;
-            for (const auto& m : render::diffuse_method_names()) {
-              if (m == reference) continue;
-              const std::string base = p.out + "/renders/near-wall-" + m;
-              v.push_back(sglab_step("render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (one VSGL against the VPL sum)",
-                                     {"render", "scenes/sg-light-near-wall.json", "--diffuse", m, "--out", base + ".exr", "--stats",
-                                      base + ".json", "--dump-csv", base + ".csv", "--width", "160", "--height", "120"},
-                                     {"--width", "64", "--height", "48"}, "", true));
-              plot.push_back(m + "=" + base + ".csv");
-            }
-            v.push_back(plot_step("plot-near-wall-vsgl-vs-vpl-sum", "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot));
-            // The poster's figure (Tokuyoshi 2022, Fig. b-d): every clamped-cosine method of the
-            // registry against the exact integral per pixel, and the sweep over the light's sharpness and distance.
-            v.push_back(sglab_step("near-wall",
-                                   "sharp SG light near a wall: each diffuse method against the exact integral (paper_tables/near_wall_smape*)",
-                                   {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", p.out + "/near_wall/pixels.csv",
-                                    "--sweep-sharpness", "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
-                                   {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}, "--tables-dir"));
-            v.push_back(plot_step("plot-near-wall-smape", "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
-                                  {"plots/near_wall_smape.py", p.out + "/near_wall/pixels.csv", p.key_figures(),
-                                   p.tables + "/near_wall_smape.csv"}));
-            return v;
-          }};
+  return {"near-wall",
+          "sharp SG light near a wall (Tokuyoshi 2022 poster): each diffuse method against the exact integral",
+          cli::add_near_wall_command, near_wall_steps};
 }
 
 }  // namespace sglab::experiments

@@ -28,7 +28,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "commands.hpp"
+#include "experiment_command.hpp"
 #include "csv.hpp"
 #include "fits.hpp"
 #include "sglab/clamped_cosine.hpp"
@@ -147,15 +147,18 @@ void add_poster_plots_command(CLI::App& app) {
 
 namespace sglab::experiments {
 
+std::vector<Step> poster_plots_steps(const Places& p) {
+  return std::vector<Step>{
+      sglab_step("poster-plots",
+                 "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE (paper_tables/*.csv)",
+                 {"poster-plots"}, {}, "--tables-dir"),
+      plot_step("plot-poster-plots", "figures of the poster's two plots", {"plots/poster_plots.py", p.tables, p.key_figures()})};
+}
+
 Experiment poster_plots_experiment() {
-  return {"poster-plots", "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE",
-          cli::add_poster_plots_command, [](const Places& p) {
-            return std::vector<Step>{
-                sglab_step("poster-plots",
-                           "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE (paper_tables/*.csv)",
-                           {"poster-plots"}, {}, "--tables-dir"),
-                plot_step("plot-poster-plots", "figures of the poster's two plots", {"plots/poster_plots.py", p.tables, p.key_figures()})};
-          }};
+  return {"poster-plots",
+          "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE",
+          cli::add_poster_plots_command, poster_plots_steps};
 }
 
 }  // namespace sglab::experiments

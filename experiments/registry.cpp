@@ -20,6 +20,17 @@ Step plot_step(std::string name, std::string what, std::vector<std::string> args
   return {std::move(name), std::move(what), std::move(args), std::move(quick_args), true, "", false};
 }
 
+// `sglab render SCENE` with its stats JSON and pixel CSV under OUT/renders/BASE.*.
+Step render_step(const Places& p, std::string name, std::string what, const std::string& scene, const std::string& base,
+                 int width, int height, std::vector<std::string> quick, std::vector<std::string> extra) {
+  const std::string path = p.out + "/renders/" + base;
+  std::vector<std::string> args = {"render", scene};
+  args.insert(args.end(), extra.begin(), extra.end());
+  args.insert(args.end(), {"--out", path + ".exr", "--stats", path + ".json", "--dump-csv", path + ".csv", "--width",
+                           std::to_string(width), "--height", std::to_string(height)});
+  return sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "", true);
+}
+
 std::vector<Step> all_steps(const Places& places) {
   std::vector<Step> out;
   for (const auto& e : experiment_registry()) {

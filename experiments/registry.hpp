@@ -46,6 +46,11 @@ Step sglab_step(std::string name, std::string what, std::vector<std::string> arg
 // A step running `python3 SCRIPT ARGS…` (a figure).
 Step plot_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args = {});
 
+// `sglab render SCENE EXTRA… --out OUT/renders/BASE.exr --stats ….json --dump-csv ….csv --width W
+// --height H` (it takes the constant sets).
+Step render_step(const Places& p, std::string name, std::string what, const std::string& scene, const std::string& base,
+                 int width, int height, std::vector<std::string> quick, std::vector<std::string> extra = {});
+
 struct Experiment {
   std::string name;     // "error-vs-time"
   std::string summary;  // one line for `sglab --help`

@@ -33,7 +33,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "commands.hpp"
+#include "experiment_command.hpp"
 #include "constant_sets.hpp"
 #include "parse_number.hpp"
 #include "render_job.hpp"
@@ -429,50 +429,53 @@ void add_sweep_render(CLI::App& sweep) {
 
 namespace sglab::experiments {
 
+std::vector<Step> sweep_render_steps(const Places& p) {
+  const std::string scene = "scenes/cornell-glossy.json", sweep_out = p.out + "/render_sweep";
+  const std::vector<std::string> coarse = {"--width", "48", "--height", "48", "--rsm", "32"};
+  const auto sweep = [&](std::string name, std::string what, std::vector<std::string> configuration,
+                         std::vector<std::string> quick) {
+    std::vector<std::string> args = {"sweep", "render", "--scene", scene};
+    args.insert(args.end(), configuration.begin(), configuration.end());
+    return sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true);
+  };
+  std::vector<Step> v = {
+      sweep("sweep-render-count", "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
+            {"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--vsgl", "kmeans:16", "--vsgl", "kmeans:64", "--width",
+             "512", "--height", "512", "--out", sweep_out},
+            {"--width", "64", "--height", "64"}),
+      sweep("sweep-render-roughness-distance",
+            "VSGL error against floor roughness × light distance on cornell-glossy "
+            "(paper_tables/vsgl_error_vs_roughness_distance.*)",
+            {"--vary", "floor.roughness=0.01:1:8:log", "--vary", "light.distance=0.4:1.4:3", "--vsgl", "two", "--vsgl",
+             "fis:64", "--out", sweep_out},
+            coarse),
+      sweep("sweep-render-lambda-d",
+            "VSGL error against λ_d on cornell-glossy: the papers' 2, the L2 fit and the other objectives' fits "
+            "(paper_tables/vsgl_error_vs_lambda_d.*)",
+            {"--vary",
+             "vsgl.lambda_d=2," + p.out + "/fits/lambda-d.json," + p.out + "/fits-objectives/lambda-d-l2-theta.json," +
+                 p.out + "/fits-objectives/lambda-d-l2-hemisphere.json",
+             "--vsgl", "two", "--width", "256", "--height", "256", "--out", sweep_out, "--table", "vsgl_error_vs_lambda_d"},
+            coarse)};
+  // Tokuyoshi 2016 §4.1 visibility on cornell-glossy: the same configurations without and
+  // with it (each against the reference that makes the same assumption).
+  for (const bool vis : {false, true}) {
+    const std::string on = vis ? "on" : "off";
+    std::vector<std::string> configuration = {"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--width", "128",
+                                              "--height", "128", "--out", sweep_out, "--table", "vsgl_visibility_" + on};
+    if (vis) configuration.push_back("--visibility");
+    v.push_back(sweep("sweep-render-visibility-" + on,
+                      std::string("VSGL error on cornell-glossy ") + (vis ? "with" : "without") +
+                          " visibility (paper_tables/vsgl_visibility_" + on + ".*)",
+                      configuration, coarse));
+  }
+  return v;
+}
+
 Experiment sweep_render_experiment() {
-  return {"sweep-render", "`sglab sweep render`: VSGL error and time over VSGL counts, roughness × distance, λ_d, visibility",
-          nullptr, [](const Places& p) {
-            const std::string scene = "scenes/cornell-glossy.json", sweep_out = p.out + "/render_sweep";
-            const std::vector<std::string> coarse = {"--width", "48", "--height", "48", "--rsm", "32"};
-            const auto sweep = [&](std::string name, std::string what, std::vector<std::string> configuration,
-                                   std::vector<std::string> quick) {
-              std::vector<std::string> args = {"sweep", "render", "--scene", scene};
-              args.insert(args.end(), configuration.begin(), configuration.end());
-              return sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true);
-            };
-            std::vector<Step> v = {
-                sweep("sweep-render-count", "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
-                      {"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--vsgl", "kmeans:16", "--vsgl", "kmeans:64", "--width",
-                       "512", "--height", "512", "--out", sweep_out},
-                      {"--width", "64", "--height", "64"}),
-                sweep("sweep-render-roughness-distance",
-                      "VSGL error against floor roughness × light distance on cornell-glossy "
-                      "(paper_tables/vsgl_error_vs_roughness_distance.*)",
-                      {"--vary", "floor.roughness=0.01:1:8:log", "--vary", "light.distance=0.4:1.4:3", "--vsgl", "two", "--vsgl",
-                       "fis:64", "--out", sweep_out},
-                      coarse),
-                sweep("sweep-render-lambda-d",
-                      "VSGL error against λ_d on cornell-glossy: the papers' 2, the L2 fit and the other objectives' fits "
-                      "(paper_tables/vsgl_error_vs_lambda_d.*)",
-                      {"--vary",
-                       "vsgl.lambda_d=2," + p.out + "/fits/lambda-d.json," + p.out + "/fits-objectives/lambda-d-l2-theta.json," +
-                           p.out + "/fits-objectives/lambda-d-l2-hemisphere.json",
-                       "--vsgl", "two", "--width", "256", "--height", "256", "--out", sweep_out, "--table", "vsgl_error_vs_lambda_d"},
-                      coarse)};
-            // Tokuyoshi 2016 §4.1 visibility on cornell-glossy: the same configurations without and
-            // with it (each against the reference that makes the same assumption).
-            for (const bool vis : {false, true}) {
-              const std::string on = vis ? "on" : "off";
-              std::vector<std::string> configuration = {"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--width", "128",
-                                                        "--height", "128", "--out", sweep_out, "--table", "vsgl_visibility_" + on};
-              if (vis) configuration.push_back("--visibility");
-              v.push_back(sweep("sweep-render-visibility-" + on,
-                                std::string("VSGL error on cornell-glossy ") + (vis ? "with" : "without") +
-                                    " visibility (paper_tables/vsgl_visibility_" + on + ".*)",
-                                configuration, coarse));
-            }
-            return v;
-          }};
+  return {"sweep-render",
+          "`sglab sweep render`: VSGL error and time over VSGL counts, roughness × distance, λ_d, visibility",
+          nullptr, sweep_render_steps};
 }
 
 }  // namespace sglab::experiments

@@ -25,7 +25,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "commands.hpp"
+#include "experiment_command.hpp"
 #include "parse_number.hpp"
 #include "resource_limits.hpp"
 #include "sglab/registry.hpp"
@@ -497,16 +497,19 @@ void add_sweep_specular(CLI::App& sweep) {
 
 namespace sglab::experiments {
 
+std::vector<Step> sweep_specular_steps(const Places& p) {
+  return std::vector<Step>{
+      sglab_step("sweep-specular",
+                 "specular methods against the GGX reference over roughness (paper_tables/specular_vs_roughness.*)",
+                 {"sweep", "specular", "--out", p.out + "/specular"}, {"--quick"}, "--tables-dir", true),
+      plot_step("plot-specular", "specular error against roughness, one line per method",
+                {"plots/specular_vs_roughness.py", p.out + "/specular/specular_summary.csv", p.key_figures()})};
+}
+
 Experiment sweep_specular_experiment() {
-  return {"sweep-specular", "`sglab sweep specular`: specular methods against the GGX reference over roughness",
-          nullptr, [](const Places& p) {
-            return std::vector<Step>{
-                sglab_step("sweep-specular",
-                           "specular methods against the GGX reference over roughness (paper_tables/specular_vs_roughness.*)",
-                           {"sweep", "specular", "--out", p.out + "/specular"}, {"--quick"}, "--tables-dir", true),
-                plot_step("plot-specular", "specular error against roughness, one line per method",
-                          {"plots/specular_vs_roughness.py", p.out + "/specular/specular_summary.csv", p.key_figures()})};
-          }};
+  return {"sweep-specular",
+          "`sglab sweep specular`: specular methods against the GGX reference over roughness",
+          nullptr, sweep_specular_steps};
 }
 
 }  // namespace sglab::experiments

@@ -5,29 +5,12 @@
 #include <vector>
 
 #include "registry.hpp"
-#include "sglab/registry.hpp"
-#include "sglab/render/vsgl_shading.hpp"
 
 namespace sglab::cli {
 void add_stability_command(CLI::App& app);  // stability.cpp: `sglab stability`
 }  // namespace sglab::cli
 
 namespace sglab::experiments {
-namespace {
-
-// `sglab render SCENE` with its stats JSON and pixel CSV under OUT/renders/BASE.*.
-Step render_step(const Places& p, std::string name, std::string what, const std::string& scene, const std::string& base,
-                 int width, int height, std::vector<std::string> quick, std::vector<std::string> extra = {}) {
-  const std::string path = p.out + "/renders/" + base;
-  std::vector<std::string> args = {"render", scene};
-  args.insert(args.end(), extra.begin(), extra.end());
-  args.insert(args.end(), {"--out", path + ".exr", "--stats", path + ".json", "--dump-csv", path + ".csv", "--width",
-                           std::to_string(width), "--height", std::to_string(height)});
-  return sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "", true);
-}
-
-}  // namespace
-
 Experiment fits_experiment() {
   return {"fits", "`sglab fit`: re-derive every published constant (constants.*), and the λ_d fits under other objectives",
           nullptr, [](const Places& p) {

@@ -24,7 +24,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "commands.hpp"
+#include "experiment_command.hpp"
 #include "csv.hpp"
 #include "render_job.hpp"
 #include "sglab/render/rsm.hpp"
@@ -203,13 +203,16 @@ void add_vsgl_fis_bias_command(CLI::App& app) {
 
 namespace sglab::experiments {
 
+std::vector<Step> vsgl_fis_bias_steps(const Places&) {
+  return std::vector<Step>{sglab_step(
+      "vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over 64 seeds (paper_tables/vsgl_fis_bias.*)",
+      {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"}, "--tables-dir")};
+}
+
 Experiment vsgl_fis_bias_experiment() {
-  return {"vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over seeds (vsgl_fis_bias.*)",
-          cli::add_vsgl_fis_bias_command, [](const Places&) {
-            return std::vector<Step>{sglab_step(
-                "vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over 64 seeds (paper_tables/vsgl_fis_bias.*)",
-                {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"}, "--tables-dir")};
-          }};
+  return {"vsgl-fis-bias",
+          "bias of the FIS VSGLs' sums against the exact sums over seeds (vsgl_fis_bias.*)",
+          cli::add_vsgl_fis_bias_command, vsgl_fis_bias_steps};
 }
 
 }  // namespace sglab::experiments

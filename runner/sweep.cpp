@@ -195,6 +195,83 @@ CsvTable read_sweep_points(const fs::path& path) {
   return read_csv(in, path.string());
 }
 
+namespace {
+
+// Whether the outputs of an earlier run of the same sweep and shard are there, whole and unaltered:
+// the manifest's identity, and a per-point CSV holding exactly this shard's points.
+bool finished_earlier(const SweepDefinition& d, const Shard& shard, SweepRunResult& result, std::size_t points,
+                      const std::function<void(const std::string&)>& say) {
+  if (!fs::exists(result.manifest) || !fs::exists(result.points_csv)) return false;
+  bool same = false;
+  try {
+    const nlohmann::json m = nlohmann::json::parse(read_text(result.manifest));
+    same = m.is_object() && m.value("sweep", "") == d.name && m.value("args", std::vector<std::string>{}) == d.args &&
+           m.value("grid", "") == d.grid && m.value("points", std::size_t(0)) == d.point_count &&
+           m.value("shard", "") == shard.text() && m.value("columns", std::vector<std::string>{}) == with_point(d.columns) &&
+           m.value("version", "") == kCodeVersion &&
+           // The CSV as the manifest recorded it: a deleted or edited row is not "finished".
+           m.value("points_fnv1a", "") == fnv1a_hex(read_text(result.points_csv));
+  } catch (const std::exception&) {
+    same = false;  // an unreadable or foreign manifest: the output is not known to be finished
+  }
+  if (!same) return false;
+  LoadedRows rows;
+  try {
+    rows = rows_by_point(read_sweep_points(result.points_csv), d, shard);
+  } catch (const InputError& e) {
+    rows.problem = e.what();
+  }
+  if (rows.problem.empty() && rows.by_point.size() == points) {
+    say(fmt::format("all {} points finished earlier ({}); nothing to compute", points, result.points_csv.string()));
+    result.resumed = points;
+    return true;
+  }
+  say("the earlier output " + result.points_csv.string() + " is incomplete or altered; recomputing");
+  return false;
+}
+
+// The rows of the points a checkpoint of the same sweep (fingerprint `print`) holds, into
+// rows/done (by position in `mine`); how many. A foreign, altered or unreadable checkpoint is ignored.
+std::size_t load_checkpoint(const fs::path& checkpoint, const std::string& print, const SweepDefinition& d, const Shard& shard,
+                            const std::vector<std::size_t>& mine, std::vector<std::vector<SweepRow>>& rows, std::vector<char>& done,
+                            const std::function<void(const std::string&)>& say) {
+  if (!fs::exists(checkpoint)) return 0;
+  const std::string text = read_text(checkpoint);
+  const std::string first = text.substr(0, text.find('\n'));
+  const std::string body = first.size() < text.size() ? text.substr(first.size() + 1) : std::string();
+  if (first.rfind(kCheckpointMagic + print + " ", 0) != 0) {
+    say("ignoring the checkpoint " + checkpoint.string() + " of a different sweep or grid");
+    return 0;
+  }
+  if (first != kCheckpointMagic + print + " " + fnv1a_hex(body)) {
+    say("ignoring the checkpoint " + checkpoint.string() + ": its rows were altered or cut short");
+    return 0;
+  }
+  std::istringstream in(body);
+  LoadedRows loaded;
+  try {
+    loaded = rows_by_point(read_csv(in, checkpoint.string()), d, shard);
+  } catch (const InputError& e) {
+    loaded.problem = e.what();
+  }
+  if (!loaded.problem.empty()) {
+    say("ignoring the unreadable checkpoint " + checkpoint.string() + ": " + loaded.problem);
+    return 0;
+  }
+  std::size_t resumed = 0;
+  for (std::size_t j = 0; j < mine.size(); ++j) {
+    auto it = loaded.by_point.find(mine[j]);
+    if (it == loaded.by_point.end()) continue;
+    rows[j] = std::move(it->second);
+    done[j] = 1;
+    ++resumed;
+  }
+  say(fmt::format("resuming: {} of {} points finished earlier (checkpoint {})", resumed, mine.size(), checkpoint.string()));
+  return resumed;
+}
+
+}  // namespace
+
 // ---- running ------------------------------------------------------------------------------------
 
 SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
@@ -214,34 +291,9 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   };
 
   // 1. Finished earlier? Same manifest identity and a per-point CSV holding exactly our points.
-  if (fs::exists(result.manifest) && fs::exists(result.points_csv)) {
-    bool same = false;
-    try {
-      const nlohmann::json m = nlohmann::json::parse(read_text(result.manifest));
-      same = m.is_object() && m.value("sweep", "") == d.name && m.value("args", std::vector<std::string>{}) == d.args &&
-             m.value("grid", "") == d.grid && m.value("points", std::size_t(0)) == d.point_count &&
-             m.value("shard", "") == o.shard.text() && m.value("columns", std::vector<std::string>{}) == with_point(d.columns) &&
-             m.value("version", "") == kCodeVersion &&
-             // The CSV as the manifest recorded it: a deleted or edited row is not "finished".
-             m.value("points_fnv1a", "") == fnv1a_hex(read_text(result.points_csv));
-    } catch (const std::exception&) {
-      same = false;  // an unreadable or foreign manifest: the output is not known to be finished
-    }
-    if (same) {
-      LoadedRows rows;
-      try {
-        rows = rows_by_point(read_sweep_points(result.points_csv), d, o.shard);
-      } catch (const InputError& e) {
-        rows.problem = e.what();
-      }
-      if (rows.problem.empty() && rows.by_point.size() == mine.size()) {
-        say(fmt::format("all {} points finished earlier ({}); nothing to compute", mine.size(), result.points_csv.string()));
-        result.resumed = mine.size();
-        result.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
-        return result;
-      }
-      say("the earlier output " + result.points_csv.string() + " is incomplete or altered; recomputing");
-    }
+  if (finished_earlier(d, o.shard, result, mine.size(), say)) {
+    result.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
+    return result;
   }
   if (g_summary_only.load() > 0)
     throw InputError(fmt::format("{}: {} is not the finished output of the sweep `sglab {}` as defined here (another "
@@ -252,37 +304,7 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   std::vector<std::vector<SweepRow>> rows(mine.size());
   std::vector<char> done(mine.size(), 0);
   const std::string print = fingerprint(d, o.shard);
-  if (fs::exists(checkpoint)) {
-    const std::string text = read_text(checkpoint);
-    const std::string first = text.substr(0, text.find('\n'));
-    const std::string body = first.size() < text.size() ? text.substr(first.size() + 1) : std::string();
-    if (first.rfind(kCheckpointMagic + print + " ", 0) != 0) {
-      say("ignoring the checkpoint " + checkpoint.string() + " of a different sweep or grid");
-    } else if (first != kCheckpointMagic + print + " " + fnv1a_hex(body)) {
-      say("ignoring the checkpoint " + checkpoint.string() + ": its rows were altered or cut short");
-    } else {
-      std::istringstream in(body);
-      LoadedRows loaded;
-      try {
-        loaded = rows_by_point(read_csv(in, checkpoint.string()), d, o.shard);
-      } catch (const InputError& e) {
-        loaded.problem = e.what();
-      }
-      if (!loaded.problem.empty()) {
-        say("ignoring the unreadable checkpoint " + checkpoint.string() + ": " + loaded.problem);
-      } else {
-        for (std::size_t j = 0; j < mine.size(); ++j) {
-          auto it = loaded.by_point.find(mine[j]);
-          if (it == loaded.by_point.end()) continue;
-          rows[j] = std::move(it->second);
-          done[j] = 1;
-          ++result.resumed;
-        }
-        say(fmt::format("resuming: {} of {} points finished earlier (checkpoint {})", result.resumed, mine.size(),
-                        checkpoint.string()));
-      }
-    }
-  }
+  result.resumed = load_checkpoint(checkpoint, print, d, o.shard, mine, rows, done, say);
 
   std::vector<std::size_t> todo;  // positions in `mine`
   for (std::size_t j = 0; j < mine.size(); ++j)

@@ -14,7 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "csv.hpp"
 #include "sglab/render/scene.hpp"
 

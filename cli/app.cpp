@@ -1,0 +1,69 @@
+// The `sglab` app: every command on one CLI11 app, and run_sglab, which runs one command line
+// in-process (main.cpp, `sglab reproduce`, and the tests that parse every reproduce step).
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include "commands.hpp"
+#include "registry.hpp"
+#include "sglab/text_limits.hpp"
+
+namespace sglab::cli {
+
+// One line per general tool (each defined in its own file), then every registered experiment's
+// own command; the help ends with the registry's experiments.
+void add_all_commands(CLI::App& app) {
+  add_eval_command(app);
+  add_fit_command(app);
+  add_reproduce_command(app);
+  add_render_command(app);
+  add_sweep_command(app);
+  add_merge_command(app);
+  add_filter_command(app);
+  add_envmap_command(app);
+  std::string footer = "\nExperiments (`sglab reproduce` runs each; `sglab reproduce --list` shows the steps):\n";
+  for (const auto& e : experiments::experiment_registry()) {
+    if (e.add_command) e.add_command(app);
+    footer += "  " + e.name + std::string(e.name.size() < 16 ? 16 - e.name.size() : 1, ' ') + e.summary + "\n";
+  }
+  app.footer(footer);
+}
+
+int run_sglab(std::vector<std::string> args) {
+  CLI::App app{"sglab: spherical Gaussian lighting research toolkit"};
+  app.require_subcommand(1);
+  add_all_commands(app);
+  // CLI11 would report an unknown command as "A subcommand is required".
+  std::string names;
+  bool known = false;
+  for (const auto* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+    names += (names.empty() ? "" : ", ") + sub->get_name();
+    known = known || (!args.empty() && sub->check_name(args.front()));
+  }
+  if (!args.empty() && !args.front().empty() && args.front()[0] != '-' && !known) {
+    std::fprintf(stderr, "sglab: error: unknown command '%s' (commands: %s)\n", clip_text(args.front()).c_str(), names.c_str());
+    return 2;
+  }
+  try {
+    std::reverse(args.begin(), args.end());  // CLI11 takes the vector form last-argument-first
+    app.parse(args);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; every parse error is bad usage: exit status 2 (CLI11's own
+    // codes, 104–109, would say nothing the message does not).
+    const int status = app.exit(e);
+    return status == 0 ? 0 : 2;
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "sglab: error: %s\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "sglab: error: out of memory\n");
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sglab: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace sglab::cli
