@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "driver.hpp"
 #include "sglab/text_limits.hpp"
 

@@ -8,13 +8,17 @@
 // The reference is computed once on the grid (TBB) and shared by every method.
 // Writes DIR/error_map.csv (long format: one row per method × λ × c), DIR/error_map_summary.csv
 // and DIR/error_map.md (per method: largest |error| and where, RMSE, share of the plane > 1 %).
+#include "error_map.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,58 +26,51 @@
 #include <tbb/parallel_for.h>
 
 #include "atomic_file.hpp"
-#include "commands.hpp"
 #include "constant_sets.hpp"
+#include "experiment_command.hpp"
+#include "registry.hpp"
 #include "sglab/registry.hpp"
 
 namespace sglab::cli {
+namespace error_map {
 namespace {
 
-struct Options {
-  std::string out_dir = "results/error_map";
-  std::string quantity = "clamped-cosine";
-  int size = -1;  // points per axis; -1 (not given): 200 (40 with --quick)
-  double lambda_min = 1e-3, lambda_max = 1e4;
-  bool quick = false;
-  std::vector<std::string> constants;  // --constants
-};
-
-struct Summary {
-  std::string method;
-  double max_abs = 0, at_lambda = 0, at_cosine = 0, rmse = 0, share_over_1pct = 0, median_smape = 0, max_smape = 0;
-  long out_of_domain = 0, non_finite = 0;
-};
-
-void run(const Options& o) {
+const Quantity& checked_quantity(const Options& o) {
   const Quantity* q = find_quantity(o.quantity);
   if (!q) throw UsageError("error-map: unknown quantity '" + o.quantity + "'");
   if (q->reference_method.empty() || q->columns.size() != 2 || q->columns[0].kind != ColumnKind::sharpness ||
       q->columns[1].kind != ColumnKind::cosine)
     throw UsageError("error-map: quantity '" + o.quantity + "' is not a (sharpness, cosine) quantity with a reference");
+  return *q;
+}
+
+// λ log-spaced over [lambda_min, lambda_max], c uniform over [−1, 1], both ends included; the
+// last c is exactly 1, so D(λ, 1) is on the grid.
+void fill_grid(const Options& o, Result& r) {
   const int n = o.size >= 0 ? o.size : (o.quick ? 40 : 200);
   if (n < 2 || n > 2000) throw UsageError(fmt::format("error-map: --size must be in [2, 2000], got {}", n));
   if (!(o.lambda_min > 0) || !(o.lambda_max > o.lambda_min) || !std::isfinite(o.lambda_max))
     throw UsageError(fmt::format("error-map: need 0 < --lambda-min < --lambda-max, got {} and {}", o.lambda_min, o.lambda_max));
-  const Method& ref = *q->find(q->reference_method);
-  const ConstantSet set = load_constant_sets(o.constants);
-
-  // λ log-spaced over [lambda_min, lambda_max], c uniform over [−1, 1], both ends included; the
-  // last c is exactly 1, so D(λ, 1) is on the grid.
-  std::vector<double> ls(static_cast<std::size_t>(n)), cs(static_cast<std::size_t>(n));
+  std::vector<double>&ls = r.sharpness, &cs = r.cosine;
+  ls.resize(static_cast<std::size_t>(n));
+  cs.resize(static_cast<std::size_t>(n));
   const double l0 = std::log10(o.lambda_min), l1 = std::log10(o.lambda_max);
   for (int i = 0; i < n; ++i) ls[std::size_t(i)] = std::pow(10.0, l0 + (l1 - l0) * i / (n - 1));
   for (int j = 0; j < n; ++j) cs[std::size_t(j)] = -1.0 + 2.0 * j / (n - 1);
   cs.back() = 1.0;
-  const std::size_t points = ls.size() * cs.size();
+}
 
+// The reference on the grid, once (TBB), shared by every method.
+void fill_reference(const Method& ref, Result& r) {
+  const std::vector<double>&ls = r.sharpness, &cs = r.cosine;
   const auto t_start = std::chrono::steady_clock::now();
   std::fprintf(stderr, "error-map: reference (%s) on %zu × %zu points…\n", ref.name.c_str(), ls.size(), cs.size());
-  std::vector<double> reference(points);
+  r.reference.assign(r.points(), 0);
   std::atomic<std::size_t> rows_done{0};
   tbb::parallel_for(std::size_t(0), ls.size(), [&](std::size_t i) {
     for (std::size_t j = 0; j < cs.size(); ++j) {
       const double a[2] = {ls[i], cs[j]};
-      reference[i * cs.size() + j] = ref.eval_double(a);
+      r.reference[i * cs.size() + j] = ref.eval_double(a);
     }
     const std::size_t d = ++rows_done;
     if (d % std::max<std::size_t>(1, ls.size() / 10) == 0)
@@ -81,70 +78,83 @@ void run(const Options& o) {
   });
   std::fprintf(stderr, "error-map: reference done in %.1f s\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
-  for (double v : reference)
+  for (double v : r.reference)
     if (!std::isfinite(v) || v < 0) throw std::runtime_error("error-map: the reference is not finite and non-negative on the grid");
+}
 
-  std::string csv = "method,sharpness,cosine,reference,value,error,smape\n";
-  csv.reserve(points * 90 * q->methods.size());
-  std::vector<Summary> summaries;
-  for (const auto& published : q->methods) {
-    if (published.name == ref.name) continue;
-    const Method m = bind(published, set);
-    std::vector<double> value(points, std::numeric_limits<double>::quiet_NaN());
-    std::vector<char> in_domain(points, 1);
-    tbb::parallel_for(std::size_t(0), points, [&](std::size_t k) {
-      const double a[2] = {ls[k / cs.size()], cs[k % cs.size()]};
-      if (m.domain_error && m.domain_error(a)) {
-        in_domain[k] = 0;
-        return;
-      }
-      value[k] = m.eval_double(a);
-    });
-    Summary s;
-    s.method = m.name;
-    double sum_sq = 0;
-    long counted = 0, over = 0;
-    std::vector<double> smapes;
-    for (std::size_t k = 0; k < points; ++k) {
-      const std::size_t i = k / cs.size(), j = k % cs.size();
-      const double pole = reference[i * cs.size() + cs.size() - 1];  // D(λ, 1)
-      std::string err, smape, val;
-      if (!in_domain[k]) {
-        ++s.out_of_domain;
-      } else if (!std::isfinite(value[k])) {
-        ++s.non_finite;
-        val = fmt::format("{}", value[k]);
-      } else {
-        const double e = (value[k] - reference[k]) / pole;
-        const double denom = std::fabs(value[k]) + std::fabs(reference[k]);
-        const double sm = denom > 0 ? 2 * std::fabs(value[k] - reference[k]) / denom : 0.0;
-        sum_sq += e * e;
-        ++counted;
-        if (std::fabs(e) > 0.01) ++over;
-        if (std::fabs(e) > s.max_abs) {
-          s.max_abs = std::fabs(e);
-          s.at_lambda = ls[i];
-          s.at_cosine = cs[j];
-        }
-        smapes.push_back(sm);
-        val = fmt::format("{:.10g}", value[k]);
-        err = fmt::format("{:.6e}", e);
-        smape = fmt::format("{:.6e}", sm);
-      }
-      csv += fmt::format("{},{:.10g},{:.10g},{:.10g},{},{},{}\n", m.name, ls[i], cs[j], reference[k], val, err, smape);
+// One method's values on the grid and its summary.
+MethodMap method_map(const Method& m, const Result& r) {
+  const std::size_t points = r.points(), nc = r.cosine.size();
+  MethodMap out;
+  out.value.assign(points, std::numeric_limits<double>::quiet_NaN());
+  out.in_domain.assign(points, 1);
+  tbb::parallel_for(std::size_t(0), points, [&](std::size_t k) {
+    const double a[2] = {r.sharpness[k / nc], r.cosine[k % nc]};
+    if (m.domain_error && m.domain_error(a)) {
+      out.in_domain[k] = 0;
+      return;
     }
-    s.rmse = counted ? std::sqrt(sum_sq / double(counted)) : std::nan("");
-    s.share_over_1pct = counted ? double(over) / double(counted) : std::nan("");
-    if (!smapes.empty()) {
-      std::nth_element(smapes.begin(), smapes.begin() + std::ptrdiff_t(smapes.size() / 2), smapes.end());
-      s.median_smape = smapes[smapes.size() / 2];
-      s.max_smape = *std::max_element(smapes.begin(), smapes.end());
+    out.value[k] = m.eval_double(a);
+  });
+  Summary& s = out.summary;
+  s.method = m.name;
+  double sum_sq = 0;
+  long counted = 0, over = 0;
+  std::vector<double> smapes;
+  for (std::size_t k = 0; k < points; ++k) {
+    if (!out.in_domain[k]) {
+      ++s.out_of_domain;
+    } else if (!std::isfinite(out.value[k])) {
+      ++s.non_finite;
+    } else {
+      const double e = r.error(out, k);
+      sum_sq += e * e;
+      ++counted;
+      if (std::fabs(e) > 0.01) ++over;
+      if (std::fabs(e) > s.max_abs) {
+        s.max_abs = std::fabs(e);
+        s.at_lambda = r.sharpness[k / nc];
+        s.at_cosine = r.cosine[k % nc];
+      }
+      smapes.push_back(r.smape(out, k));
     }
-    summaries.push_back(s);
-    std::fprintf(stderr, "error-map: %s: max |error| %.3e at λ = %.4g, c = %.4g\n", m.name.c_str(), s.max_abs, s.at_lambda, s.at_cosine);
   }
+  s.rmse = counted ? std::sqrt(sum_sq / double(counted)) : std::nan("");
+  s.share_over_1pct = counted ? double(over) / double(counted) : std::nan("");
+  if (!smapes.empty()) {
+    std::nth_element(smapes.begin(), smapes.begin() + std::ptrdiff_t(smapes.size() / 2), smapes.end());
+    s.median_smape = smapes[smapes.size() / 2];
+    s.max_smape = *std::max_element(smapes.begin(), smapes.end());
+  }
+  std::fprintf(stderr, "error-map: %s: max |error| %.3e at λ = %.4g, c = %.4g\n", m.name.c_str(), s.max_abs, s.at_lambda, s.at_cosine);
+  return out;
+}
 
-  std::string command = fmt::format("sglab error-map --quantity {}", o.quantity);
+}  // namespace
+
+double Result::error(const MethodMap& m, std::size_t k) const {
+  const double pole = reference[(k / cosine.size() + 1) * cosine.size() - 1];  // D(λ, 1)
+  return (m.value[k] - reference[k]) / pole;
+}
+
+double Result::smape(const MethodMap& m, std::size_t k) const {
+  const double denom = std::fabs(m.value[k]) + std::fabs(reference[k]);
+  return denom > 0 ? 2 * std::fabs(m.value[k] - reference[k]) / denom : 0.0;
+}
+
+Result compute(const Options& o) {
+  const Quantity* q = &checked_quantity(o);
+  Result r;
+  fill_grid(o, r);
+  r.quantity = q->name;
+  r.reference_method = q->reference_method;
+  const ConstantSet set = load_constant_sets(o.constants);
+  fill_reference(*q->find(q->reference_method), r);
+  for (const auto& published : q->methods)
+    if (published.name != r.reference_method) r.methods.push_back(method_map(bind(published, set), r));
+
+  std::string& command = r.provenance.command;
+  command = fmt::format("sglab error-map --quantity {}", o.quantity);
   if (o.size >= 0) command += fmt::format(" --size {}", o.size);
   if (o.lambda_min != 1e-3 || o.lambda_max != 1e4) command += fmt::format(" --lambda-min {} --lambda-max {}", o.lambda_min, o.lambda_max);
   if (o.quick) command += " --quick";
@@ -154,48 +164,65 @@ void run(const Options& o) {
     const auto u = method_constant_uses(q->name + "/" + m.name, m);
     uses.insert(uses.end(), u.begin(), u.end());
   }
-  std::string summary_csv = "method,max_abs_error,at_sharpness,at_cosine,rmse,share_over_1pct,median_smape,max_smape,out_of_domain,non_finite\n";
-  std::string md = fmt::format(
-      "<!-- Generated by `{}`; do not edit by hand. -->\n# Error maps: {}\n\n"
-      "Each method in double against `{}` on {} × {} points: λ log-spaced over [{:g}, {:g}], c uniform over [−1, 1]. "
-      "**error** = (method − reference)/D(λ, 1) (signed; the normalization of docs/math.md §3); **SMAPE** = 2|m − r|/(|m| + |r|), "
-      "the poster's pointwise measure (2 where one side is 0). Maps: `plots/error_maps.py`.\n\n"
-      "| method | max abs error | at (λ, c) | RMSE | share > 1 % | median SMAPE | max SMAPE | out of domain | non-finite |\n"
-      "|---|---|---|---|---|---|---|---|---|\n",
-      command, o.quantity, ref.name, ls.size(), cs.size(), o.lambda_min, o.lambda_max);
-  if (!uses.empty()) {
-    // The constants each method ran with, after the table header would split the table: so before it.
-    const std::string table_head = md.substr(md.rfind("| method |"));
-    md.resize(md.size() - table_head.size());
-    md += "Constants:\n\n" + constants_text(set, uses, "- ") + "\n" + table_head;
-  }
-  for (const auto& s : summaries) {
-    summary_csv += fmt::format("{},{:.6e},{:.10g},{:.10g},{:.6e},{:.6f},{:.6e},{:.6e},{},{}\n", s.method, s.max_abs, s.at_lambda,
-                               s.at_cosine, s.rmse, s.share_over_1pct, s.median_smape, s.max_smape, s.out_of_domain, s.non_finite);
-    md += fmt::format("| {} | {:.3e} | ({:.3g}, {:.3f}) | {:.3e} | {:.1f} % | {:.2e} | {:.2f} | {} | {} |\n", s.method, s.max_abs,
-                      s.at_lambda, s.at_cosine, s.rmse, 100 * s.share_over_1pct, s.median_smape, s.max_smape, s.out_of_domain,
-                      s.non_finite);
-  }
-
-  namespace fs = std::filesystem;
-  fs::create_directories(o.out_dir);
-  auto write = [](const fs::path& path, const std::string& text) {
-    AtomicFile f(path);
-    f.write(text);
-    f.commit();
-  };
-  write(fs::path(o.out_dir) / "error_map.csv", csv);
-  write(fs::path(o.out_dir) / "error_map_summary.csv", "# Generated by `" + command + "`.\n" + summary_csv);
-  write(fs::path(o.out_dir) / "error_map.md", md);
-  std::fputs(md.c_str(), stdout);
-  std::fprintf(stderr, "error-map: %.1f s; wrote %s/error_map{.csv,_summary.csv,.md}\n",
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), o.out_dir.c_str());
+  if (!uses.empty()) r.constants = constants_text(set, uses, "- ");
+  return r;
 }
 
-}  // namespace
+Tables tables(const Result& r) {
+  Tables t;
+  const std::size_t nc = r.cosine.size();
+  t.points_csv = "method,sharpness,cosine,reference,value,error,smape\n";
+  t.points_csv.reserve(r.points() * 90 * r.methods.size());
+  for (const MethodMap& m : r.methods)
+    for (std::size_t k = 0; k < r.points(); ++k) {
+      std::string err, smape, val;
+      if (m.in_domain[k] && !std::isfinite(m.value[k])) {
+        val = fmt::format("{}", m.value[k]);
+      } else if (m.in_domain[k]) {
+        val = fmt::format("{:.10g}", m.value[k]);
+        err = fmt::format("{:.6e}", r.error(m, k));
+        smape = fmt::format("{:.6e}", r.smape(m, k));
+      }
+      t.points_csv += fmt::format("{},{:.10g},{:.10g},{:.10g},{},{},{}\n", m.summary.method, r.sharpness[k / nc], r.cosine[k % nc],
+                                  r.reference[k], val, err, smape);
+    }
+  t.summary_csv = "method,max_abs_error,at_sharpness,at_cosine,rmse,share_over_1pct,median_smape,max_smape,out_of_domain,non_finite\n";
+  t.markdown = fmt::format(
+      "# Error maps: {}\n\n"
+      "Each method in double against `{}` on {} × {} points: λ log-spaced over [{:g}, {:g}], c uniform over [−1, 1]. "
+      "**error** = (method − reference)/D(λ, 1) (signed; the normalization of docs/math.md §3); **SMAPE** = 2|m − r|/(|m| + |r|), "
+      "the poster's pointwise measure (2 where one side is 0). Maps: `plots/error_maps.py`.\n\n",
+      r.quantity, r.reference_method, r.sharpness.size(), nc, r.sharpness.front(), r.sharpness.back());
+  // The constants each method ran with, before the table (after its header it would split it).
+  if (!r.constants.empty()) t.markdown += "Constants:\n\n" + r.constants + "\n";
+  t.markdown +=
+      "| method | max abs error | at (λ, c) | RMSE | share > 1 % | median SMAPE | max SMAPE | out of domain | non-finite |\n"
+      "|---|---|---|---|---|---|---|---|---|\n";
+  for (const MethodMap& m : r.methods) {
+    const Summary& s = m.summary;
+    t.summary_csv += fmt::format("{},{:.6e},{:.10g},{:.10g},{:.6e},{:.6f},{:.6e},{:.6e},{},{}\n", s.method, s.max_abs, s.at_lambda,
+                                 s.at_cosine, s.rmse, s.share_over_1pct, s.median_smape, s.max_smape, s.out_of_domain, s.non_finite);
+    t.markdown += fmt::format("| {} | {:.3e} | ({:.3g}, {:.3f}) | {:.3e} | {:.1f} % | {:.2e} | {:.2f} | {} | {} |\n", s.method, s.max_abs,
+                              s.at_lambda, s.at_cosine, s.rmse, 100 * s.share_over_1pct, s.median_smape, s.max_smape, s.out_of_domain,
+                              s.non_finite);
+  }
+  return t;
+}
+
+void write(const Options& o, const Result& r) {
+  namespace fs = std::filesystem;
+  const Tables t = tables(r);
+  write_file_atomically(fs::path(o.out_dir) / "error_map.csv", t.points_csv);
+  write_table(o.out_dir, "error_map_summary", r.provenance, "", t.summary_csv);
+  write_table(o.out_dir, "error_map", r.provenance, t.markdown, "");
+  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  std::fprintf(stderr, "error-map: wrote %s/error_map{.csv,_summary.csv,.md}\n", o.out_dir.c_str());
+}
+
+}  // namespace error_map
 
 void add_error_map_command(CLI::App& app) {
-  auto opts = std::make_shared<Options>();
+  auto opts = std::make_shared<error_map::Options>();
   auto* sub = app.add_subcommand("error-map", "Signed error of each diffuse method over the (λ, c) plane, against the reference");
   sub->add_option("--out", opts->out_dir, "directory for error_map.csv, error_map_summary.csv, error_map.md")->capture_default_str();
   add_constants_option(*sub, opts->constants);
@@ -204,7 +231,29 @@ void add_error_map_command(CLI::App& app) {
   sub->add_option("--lambda-min", opts->lambda_min, "smallest sharpness")->capture_default_str();
   sub->add_option("--lambda-max", opts->lambda_max, "largest sharpness")->capture_default_str();
   sub->add_flag("--quick", opts->quick, "40 × 40 points");
-  sub->callback([opts] { run(*opts); });
+  sub->callback([opts] { error_map::write(*opts, error_map::compute(*opts)); });
 }
 
 }  // namespace sglab::cli
+
+namespace sglab::experiments {
+
+std::vector<Step> error_map_steps(const Places& p) {
+  return std::vector<Step>{
+      sglab_step("error-map", "signed error of each diffuse method over (λ, c) against the reference",
+                 {"error-map", "--out", p.out + "/error_map"}, {"--quick"}, "", true),
+      plot_step("plot-error-maps", "error maps of the diffuse methods, one panel per method",
+                {"plots/error_maps.py", p.out + "/error_map/error_map.csv", p.out + "/figures/error_maps"}, {"--quick"}),
+      plot_step("plot-own-method",
+                "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried "
+                "(paper_tables/own_method.md)",
+                {"plots/own_method.py", p.out + "/error_map/error_map.csv", "plots/own_method_forms.csv", p.key_figures()})};
+}
+
+Experiment error_map_experiment() {
+  return {"error-map",
+          "signed error of each diffuse method over the (λ, c) plane, and sglab's own method (own_method.md)",
+          cli::add_error_map_command, error_map_steps};
+}
+
+}  // namespace sglab::experiments

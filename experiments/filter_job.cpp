@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "commands.hpp"
+#include "experiment_command.hpp"
 #include "resource_limits.hpp"
 #include "constant_sets.hpp"
 #include "sglab/filtering_weights.hpp"

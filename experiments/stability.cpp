@@ -18,7 +18,7 @@
 #include <tbb/parallel_for.h>
 
 #include "atomic_file.hpp"
-#include "commands.hpp"
+#include "experiment_command.hpp"
 #include "constant_sets.hpp"
 #include "csv.hpp"
 #include "stability_atlas.hpp"

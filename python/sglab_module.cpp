@@ -26,7 +26,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "constant_sets.hpp"
 #include "driver.hpp"
 #include "parse_number.hpp"

@@ -28,7 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "atomic_file.hpp"
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "sglab/asg.hpp"
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/hemispherical.hpp"

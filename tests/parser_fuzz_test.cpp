@@ -19,8 +19,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "commands.hpp"
 #include "constant_sets.hpp"
+#include "input_error.hpp"
 #include "csv.hpp"
 #include "sglab/render/scene.hpp"
 

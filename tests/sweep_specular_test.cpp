@@ -19,7 +19,7 @@
 
 #include <gtest/gtest.h>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "csv.hpp"
 #include "parse_number.hpp"
 #include "sglab/registry.hpp"

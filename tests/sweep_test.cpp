@@ -1,4 +1,4 @@
-// The sweep runner of experiments/sweep.hpp, through its library functions: --shard parsing,
+// The sweep runner of runner/sweep.hpp, through its library functions: --shard parsing,
 // sharding partitions the points exactly, the per-point CSV is exactly the rows of every point in
 // order, resume computes only what an interrupted run did not finish and gives the same bytes,
 // merge joins shards into the unsharded bytes and refuses missing points, duplicated points,
@@ -21,7 +21,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "sweep.hpp"
 #include "test_util.hpp"
 

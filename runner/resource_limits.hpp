@@ -13,15 +13,15 @@
 
 #include <fmt/core.h>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::runner {
 
-// a·b, or UsageError "WHAT: A × B overflows" when it does not fit in std::size_t.
+// a·b, or InputError "WHAT: A × B overflows" when it does not fit in std::size_t.
 inline std::size_t checked_mul(std::size_t a, std::size_t b, const std::string& what) {
   if (a != 0 && b > std::numeric_limits<std::size_t>::max() / a)
-    throw UsageError(fmt::format("{}: {} × {} is too large to count", what, a, b));
+    throw InputError(fmt::format("{}: {} × {} is too large to count", what, a, b));
   return a * b;
 }
 
@@ -32,31 +32,15 @@ inline std::size_t physical_memory_bytes() {
   return checked_mul(std::size_t(pages), std::size_t(page), "physical memory");
 }
 
-// Refuses (UsageError) `what` when its estimated `bytes` exceed the machine's physical memory.
+// Refuses (InputError) `what` when its estimated `bytes` exceed the machine's physical memory.
 inline void check_memory(double bytes, const std::string& what) {
   const std::size_t have = physical_memory_bytes();
   if (have > 0 && !(bytes <= double(have)))
-    throw UsageError(fmt::format("{} would need about {:.3g} GB of memory; this machine has {:.3g} GB", what, bytes / 1e9,
+    throw InputError(fmt::format("{} would need about {:.3g} GB of memory; this machine has {:.3g} GB", what, bytes / 1e9,
                                  double(have) / 1e9));
-}
-
-// A CLI11 check for an unsigned integer option: decimal digits only (no sign, so "-1" is not
-// wrapped to 2^64 − 1), no overflow (2^64 is not saturated), at most `max`.
-inline CLI::Validator unsigned_at_most(std::uint64_t max) {
-  return CLI::Validator(
-      [max](std::string& text) -> std::string {
-        std::uint64_t v = 0;
-        const char* end = text.data() + text.size();
-        const auto r = std::from_chars(text.data(), end, v);
-        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || r.ec != std::errc() ||
-            r.ptr != end || v > max)
-          return fmt::format("{} is not an integer in [0, {}]", clip_text(text), max);
-        return {};
-      },
-      fmt::format("INT in [0, {}]", max));
 }
 
 // The largest thread count accepted by --threads (more is an error, not an allocation failure).
 inline constexpr std::size_t kMaxThreads = 4096;
 
-}  // namespace sglab::cli
+}  // namespace sglab::runner

@@ -16,9 +16,9 @@
 
 #include <fmt/core.h>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 
-namespace sglab::cli {
+namespace sglab::runner {
 namespace {
 
 [[noreturn]] void throw_errno(const std::string& what, const std::filesystem::path& path) {
@@ -170,7 +170,7 @@ void AtomicFile::publish() {
   // The target may have become a special file since the command's checks: never replace one.
   struct stat st {};
   if (::lstat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-    throw UsageError(fmt::format("'{}' is {}; refusing to replace it with an output file", target_.string(), file_kind(st)));
+    throw InputError(fmt::format("'{}' is {}; refusing to replace it with an output file", target_.string(), file_kind(st)));
   if (::rename(temp_.c_str(), target_.c_str()) != 0)
     throw_errno("cannot rename the output to", target_);
   committed_ = true;
@@ -200,15 +200,15 @@ void check_output_paths(const std::vector<NamedPath>& outputs, const std::vector
     if (o.path.empty()) continue;
     struct stat st {};
     if (::lstat(o.path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-      throw UsageError(fmt::format("{} '{}' is {}; an output must be a regular file (or not exist yet)", o.option,
+      throw InputError(fmt::format("{} '{}' is {}; an output must be a regular file (or not exist yet)", o.option,
                                    o.path.string(), file_kind(st)));
     for (const NamedPath& in : inputs)
       if (!in.path.empty() && same(o.path, in.path))
-        throw UsageError(fmt::format("{} '{}' is the input {}; refusing to overwrite an input", o.option, o.path.string(),
+        throw InputError(fmt::format("{} '{}' is the input {}; refusing to overwrite an input", o.option, o.path.string(),
                                      in.option));
     for (std::size_t j = 0; j < i; ++j)
       if (!outputs[j].path.empty() && same(o.path, outputs[j].path))
-        throw UsageError(fmt::format("{} '{}' is also the output of {}; each output needs its own file", o.option,
+        throw InputError(fmt::format("{} '{}' is also the output of {}; each output needs its own file", o.option,
                                      o.path.string(), outputs[j].option));
   }
 }
@@ -244,4 +244,4 @@ void write_file_atomically(const std::filesystem::path& target, std::string_view
   f.commit();
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::runner

@@ -8,8 +8,9 @@
 #include <string_view>
 
 #include "sglab/scalar.hpp"
+#include "input_error.hpp"
 
-namespace sglab::cli {
+namespace sglab::runner {
 
 // Why a text is not accepted as a number ("is not a number", "is out of the range of float").
 // The message does not repeat the text: the caller names the row, column and value.
@@ -31,4 +32,4 @@ extern template float parse_decimal<float>(std::string_view);
 extern template double parse_decimal<double>(std::string_view);
 extern template mp50 parse_decimal<mp50>(std::string_view);
 
-}  // namespace sglab::cli
+}  // namespace sglab::runner

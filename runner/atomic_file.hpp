@@ -17,7 +17,9 @@
 #include <string_view>
 #include <vector>
 
-namespace sglab::cli {
+#include "input_error.hpp"
+
+namespace sglab::runner {
 
 class AtomicFile {
  public:
@@ -51,7 +53,7 @@ struct NamedPath {
   std::filesystem::path path;
 };
 
-// Refuses (UsageError, exit status 2) an output that would destroy data or not be a plain file:
+// Refuses (InputError, exit status 2) an output that would destroy data or not be a plain file:
 // an output equal to one of `inputs` or to another output (also through a hard link or a
 // symbolic link), or an existing path that is not a regular file (a directory, a device such as
 // /dev/full, a FIFO, a socket, or a symbolic link, which the rename would replace). Empty output
@@ -74,4 +76,4 @@ class OutputSet {
 // creating the target's parent directories first.
 void write_file_atomically(const std::filesystem::path& target, std::string_view bytes);
 
-}  // namespace sglab::cli
+}  // namespace sglab::runner

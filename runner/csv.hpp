@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
-namespace sglab::cli {
+#include "input_error.hpp"
+
+namespace sglab::runner {
 
 struct CsvRecord {
   std::vector<std::string> fields;  // the field texts, unquoted
@@ -27,7 +29,7 @@ struct CsvTable {
 };
 
 // Reads a whole table. `source` names the input in messages (a path, or "<stdin>"). Throws
-// UsageError naming the line for malformed input: no header, an unterminated quote, a row
+// InputError naming the line for malformed input: no header, an unterminated quote, a row
 // whose field count differs from the header's, or a duplicate column name (columns are found
 // by name, so a duplicate would be ambiguous). A UTF-8 byte-order mark before the header is
 // skipped (spreadsheet programs write one), and so are blank lines at the end. An input beyond
@@ -37,4 +39,4 @@ CsvTable read_csv(std::istream& in, const std::string& source);
 // Appends one record to `out`: fields joined by commas, quoted only where needed, then "\n".
 void append_csv_record(std::string& out, std::span<const std::string> fields);
 
-}  // namespace sglab::cli
+}  // namespace sglab::runner

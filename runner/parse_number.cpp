@@ -6,7 +6,7 @@
 #include <string>
 #include <system_error>
 
-namespace sglab::cli {
+namespace sglab::runner {
 namespace {
 
 bool is_digit(char ch) {
@@ -88,4 +88,4 @@ template float parse_decimal<float>(std::string_view);
 template double parse_decimal<double>(std::string_view);
 template mp50 parse_decimal<mp50>(std::string_view);
 
-}  // namespace sglab::cli
+}  // namespace sglab::runner

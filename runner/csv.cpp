@@ -8,10 +8,10 @@
 
 #include <fmt/core.h>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::runner {
 namespace {
 
 class Parser {
@@ -50,7 +50,7 @@ class Parser {
     const std::size_t start = i_;
     while (!ends_field(i_)) {
       if (s_[i_] == '"')
-        throw UsageError(
+        throw InputError(
             fmt::format("{}: line {}: a double quote inside an unquoted field "
                         "(quote the whole field and double the quote)",
                         source_, line_));
@@ -65,7 +65,7 @@ class Parser {
     ++i_;  // opening quote
     for (;;) {
       if (at_end())
-        throw UsageError(
+        throw InputError(
             fmt::format("{}: line {}: quoted field is never closed", source_, start_line));
       const char ch = s_[i_++];
       if (ch == '"') {
@@ -77,7 +77,7 @@ class Parser {
       field += ch;
     }
     if (!ends_field(i_))
-      throw UsageError(
+      throw InputError(
           fmt::format("{}: line {}: text after the closing quote of a field", source_, line_));
     return field;
   }
@@ -104,13 +104,13 @@ CsvTable read_csv(std::istream& in, const std::string& source) {
   // Read in blocks so that an input beyond the limit is refused before it fills the memory.
   for (char block[1 << 16]; in.read(block, sizeof block) || in.gcount() > 0;) {
     text.append(block, std::size_t(in.gcount()));
-    if (const auto error = input_size_error(text.size(), kMaxCsvBytes, "the input")) throw UsageError(source + ": " + *error);
+    if (const auto error = input_size_error(text.size(), kMaxCsvBytes, "the input")) throw InputError(source + ": " + *error);
   }
   if (in.bad()) throw std::runtime_error(source + ": read error");
   std::string_view body = text;
   constexpr std::string_view kBom = "\xEF\xBB\xBF";
   if (body.starts_with(kBom)) body.remove_prefix(kBom.size());
-  if (body.empty()) throw UsageError(source + ": the input is empty; expected a CSV header line");
+  if (body.empty()) throw InputError(source + ": the input is empty; expected a CSV header line");
 
   Parser parser(body, source);
   CsvTable table;
@@ -118,7 +118,7 @@ CsvTable read_csv(std::istream& in, const std::string& source) {
   for (std::size_t i = 0; i < table.header.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (table.header[i] == table.header[j])
-        throw UsageError(fmt::format("{}: line 1: column '{}' appears twice in the header", source,
+        throw InputError(fmt::format("{}: line 1: column '{}' appears twice in the header", source,
                                      clip_text(table.header[i])));
   while (!parser.at_end()) {
     CsvRecord record;
@@ -127,7 +127,7 @@ CsvTable read_csv(std::istream& in, const std::string& source) {
     if (record.fields.size() == 1 && record.fields[0].empty() && table.header.size() > 1 && parser.only_line_ends_left())
       break;  // blank lines at the end of the input
     if (record.fields.size() != table.header.size())
-      throw UsageError(fmt::format("{}: row {} (line {}) has {} field{}, the header has {}", source,
+      throw InputError(fmt::format("{}: row {} (line {}) has {} field{}, the header has {}", source,
                                    table.rows.size() + 1, record.line, record.fields.size(),
                                    record.fields.size() == 1 ? "" : "s", table.header.size()));
     table.rows.push_back(std::move(record));
@@ -153,4 +153,4 @@ void append_csv_record(std::string& out, std::span<const std::string> fields) {
   out += '\n';
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::runner

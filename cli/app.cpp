@@ -1,32 +1,33 @@
-// `sglab`: the command-line front of the toolkit. Parses arguments and calls core/, fit/ and the
-// experiments; computes nothing itself.
+// The `sglab` app: every command on one CLI11 app, and run_sglab, which runs one command line
+// in-process (main.cpp, `sglab reproduce`, and the tests that parse every reproduce step).
 #include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <new>
 
 #include "commands.hpp"
+#include "registry.hpp"
 #include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 
-// One line per sub-command (each defined in its own file).
+// One line per general tool (each defined in its own file), then every registered experiment's
+// own command; the help ends with the registry's experiments.
 void add_all_commands(CLI::App& app) {
   add_eval_command(app);
   add_fit_command(app);
-  add_error_vs_time_command(app);
   add_reproduce_command(app);
-  add_stability_command(app);
-  add_error_map_command(app);
   add_render_command(app);
   add_sweep_command(app);
   add_merge_command(app);
   add_filter_command(app);
-  add_filter_sweep_command(app);
-  add_near_wall_command(app);
-  add_poster_plots_command(app);
-  add_vsgl_fis_bias_command(app);
   add_envmap_command(app);
+  std::string footer = "\nExperiments (`sglab reproduce` runs each; `sglab reproduce --list` shows the steps):\n";
+  for (const auto& e : experiments::experiment_registry()) {
+    if (e.add_command) e.add_command(app);
+    footer += "  " + e.name + std::string(e.name.size() < 16 ? 16 - e.name.size() : 1, ' ') + e.summary + "\n";
+  }
+  app.footer(footer);
 }
 
 int run_sglab(std::vector<std::string> args) {
@@ -66,7 +67,3 @@ int run_sglab(std::vector<std::string> args) {
 }
 
 }  // namespace sglab::cli
-
-int main(int argc, char** argv) {
-  return sglab::cli::run_sglab(std::vector<std::string>(argv + 1, argv + argc));
-}

@@ -49,8 +49,9 @@
 #include <vector>
 
 #include "csv.hpp"
+#include "input_error.hpp"
 
-namespace sglab::cli {
+namespace sglab::runner {
 
 // ---- sharding ---------------------------------------------------------------------------------
 
@@ -65,7 +66,7 @@ struct Shard {
   std::string file_suffix() const;
 };
 
-// Parses "i/N" (decimal, 0 ≤ i < N). Throws UsageError naming the text for anything else
+// Parses "i/N" (decimal, 0 ≤ i < N). Throws InputError naming the text for anything else
 // ("0/0", "3/2", "x", "1/", "-1/2", "1/2/3").
 Shard parse_shard(const std::string& text);
 
@@ -127,7 +128,7 @@ std::filesystem::path sweep_points_path(const std::filesystem::path& dir, const 
 std::filesystem::path sweep_manifest_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);
 std::filesystem::path sweep_checkpoint_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);
 
-// Reads a per-point CSV (UsageError naming the file if it is missing or malformed).
+// Reads a per-point CSV (InputError naming the file if it is missing or malformed).
 CsvTable read_sweep_points(const std::filesystem::path& path);
 
 // ---- merging shards ---------------------------------------------------------------------------
@@ -141,7 +142,7 @@ struct MergedSweep {
 
 // Joins the shard outputs found in `inputs` (directories, searched for NAME_sweep.shard-*.json,
 // or manifest files) into `out_dir`/NAME_points.csv and NAME_sweep.json, one pair per sweep name
-// found, exactly as an unsharded run would have written them. Throws UsageError, naming the file
+// found, exactly as an unsharded run would have written them. Throws InputError, naming the file
 // and the value, when the shards disagree (name, arguments, grid, point count, columns), when a
 // per-point CSV's header differs from its manifest, when a point appears twice (in two shards or
 // twice in one), when a point is missing, when a point index is not an integer in range, or when
@@ -149,7 +150,7 @@ struct MergedSweep {
 // that is not a plain file name, a field of the wrong type, or a per-point CSV whose row count or
 // fingerprint differs from its manifest's is refused.
 // `check_args`, if given, is called with each manifest's "args" and path before anything is
-// written, and throws UsageError for a command line its caller will not run.
+// written, and throws InputError for a command line its caller will not run.
 std::vector<MergedSweep> merge_sweep_shards(
     const std::vector<std::filesystem::path>& inputs, const std::filesystem::path& out_dir,
     const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args = {});
@@ -198,7 +199,7 @@ std::string fnv1a_hex(std::string_view text);
 
 // While one exists (sglab merge running a sweep's own command to derive its summary), run_sweep
 // computes nothing: if the output in the directory is not the finished output of the sweep the
-// local definition describes, it throws UsageError instead of recomputing the sweep.
+// local definition describes, it throws InputError instead of recomputing the sweep.
 struct SummaryOnlyScope {
   SummaryOnlyScope();
   ~SummaryOnlyScope();
@@ -210,4 +211,4 @@ struct SummaryOnlyScope {
 // for NaN (a statistic over no points).
 std::string csv_number(double x);
 
-}  // namespace sglab::cli
+}  // namespace sglab::runner

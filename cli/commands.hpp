@@ -1,0 +1,37 @@
+// The `sglab` command is a thin shell: each general tool's sub-command lives in its own file in
+// cli/ and registers itself on the CLI11 app through one add_*_command function listed in
+// main.cpp; each experiment's own command comes from the experiment registry
+// (experiments/registry.hpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "input_error.hpp"  // UsageError: bad input, exit status 2
+
+namespace sglab::cli {
+
+// One registration function per general tool, each defined in its own file.
+void add_eval_command(CLI::App& app);  // eval_command.cpp: `sglab eval`
+void add_fit_command(CLI::App& app);   // fit_command.cpp: `sglab fit`
+void add_reproduce_command(CLI::App& app);      // reproduce_command.cpp: `sglab reproduce`
+void add_render_command(CLI::App& app);         // render_command.cpp: `sglab render`
+void add_sweep_command(CLI::App& app);          // sweep_command.cpp: `sglab sweep KIND`
+void add_merge_command(CLI::App& app);          // merge_command.cpp: `sglab merge` (joins sweep shards)
+void add_filter_command(CLI::App& app);         // filter_command.cpp: `sglab filter`
+void add_envmap_command(CLI::App& app);         // envmap_command.cpp: `sglab envmap make|render|lobes`
+void add_fit_envmap_command(CLI::App& fit);     // envmap_command.cpp: `sglab fit envmap` (called by add_fit_command)
+// One registration function per sweep kind, called by add_sweep_command on the `sweep` sub-command.
+void add_sweep_specular(CLI::App& sweep);       // experiments/sweep_specular.cpp: `sglab sweep specular`
+void add_sweep_render(CLI::App& sweep);         // experiments/sweep_render.cpp: `sglab sweep render`
+
+// All of the above and every registered experiment's command, on one app; the help lists the
+// experiments (main.cpp).
+void add_all_commands(CLI::App& app);
+// Runs one sglab command line (arguments without the program name) in-process, exactly as from
+// the shell; returns the exit status. `sglab reproduce` runs its steps through this.
+int run_sglab(std::vector<std::string> args);
+
+}  // namespace sglab::cli

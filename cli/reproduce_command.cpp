@@ -1,0 +1,27 @@
+// `sglab reproduce`: the main job, run by experiments/reproduce.cpp over the experiment registry;
+// each step's `sglab` command line runs in-process through run_sglab.
+#include <memory>
+
+#include "commands.hpp"
+#include "reproduce.hpp"
+
+namespace sglab::cli {
+
+void add_reproduce_command(CLI::App& app) {
+  auto opts = std::make_shared<experiments::ReproduceOptions>();
+  auto* sub = app.add_subcommand("reproduce", "Regenerate every table and figure (resumes: finished steps are skipped)");
+  sub->add_option("--out", opts->out, "directory for results and figures (default: results, or results/quick with --quick)");
+  sub->add_option("--tables-dir", opts->tables_dir,
+                  "directory for the tables and key figures (default: paper_tables, or OUT/tables with --quick)");
+  sub->add_flag("--quick", opts->quick, "coarser grids; writes under results/quick/, never into paper_tables/");
+  sub->add_flag("--list", opts->list, "print each step and its command line in this mode, run nothing");
+  sub->add_flag("--force", opts->force, "redo finished steps");
+  sub->add_option("--only", opts->only, "run only these steps");
+  sub->add_option("--constants", opts->constants,
+                  "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
+                  "repeatable, later sets override earlier ones)")
+      ->allow_extra_args(false);
+  sub->callback([opts] { experiments::run_reproduce(*opts, [](const std::vector<std::string>& args) { return run_sglab(args); }); });
+}
+
+}  // namespace sglab::cli

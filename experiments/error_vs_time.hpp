@@ -1,0 +1,63 @@
+// `sglab error-vs-time` as a library: for every method of the diffuse (clamped-cosine) and
+// specular quantities, in float and double, its approximation error against the quantity's
+// reference on a fixed grid, its rounding error against the same formula in 50 digits, and its
+// cost in ns per evaluation; then the tables (paper_tables/error_vs_time.{md,csv}).
+#pragma once
+
+#include <cstddef>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "table.hpp"
+
+namespace sglab::cli::error_vs_time {
+
+struct Options {
+  std::vector<std::string> quantities = {"clamped-cosine", "specular"};
+  std::string out_dir = "results/error_vs_time";
+  std::string tables_dir = "paper_tables";
+  bool quick = false;
+  std::vector<std::string> constants;  // --constants: refit rows beside the published ones
+};
+
+struct Row {
+  std::string method, precision;
+  double rmse = 0, max_error = 0, max_error_sharp = 0, max_rounding = 0, ns_per_eval = 0;
+  double port_ns_per_eval = NAN;  // the naive peer port's cost on the same inputs (NaN: no port)
+  long negatives = 0, non_finite = 0, out_of_domain = 0;
+  std::string flaws;
+};
+
+// One quantity: the grid its errors are measured on, and one row per method and precision (the
+// reference's own row carries only its cost).
+struct Section {
+  std::string quantity, reference_method;
+  std::string grid_description, error_label, subset_label;
+  std::size_t arity = 0;
+  std::vector<double> args;  // the grid's points × arity
+  std::string constants;     // Markdown: the constants the methods ran with ("" if none)
+  std::vector<Row> rows;
+  std::size_t points() const { return arity ? args.size() / arity : 0; }
+};
+
+struct Result {
+  runner::Provenance provenance;  // the command line that reproduces it
+  std::vector<Section> sections;
+};
+
+// Measures every quantity of `o` (InputError for an unknown quantity or a bad constant set).
+Result compute(const Options& o);
+
+struct Tables {
+  std::string markdown, csv;  // without the provenance header
+};
+Tables tables(const Result& result);
+
+// OUT/error_vs_time.csv and TABLES/error_vs_time.{md,csv}; the Markdown also on stdout.
+void write(const Options& o, const Result& result);
+// Refuses (InputError) output paths that name an input, each other or a non-regular file; called
+// before the (long) measurement.
+void check_outputs(const Options& o);
+
+}  // namespace sglab::cli::error_vs_time

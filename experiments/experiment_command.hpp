@@ -1,0 +1,35 @@
+// What an experiment's own `sglab` command needs: CLI11, and the runner's input error (bad input:
+// the message names the value, exit status 2). The command registers itself through the
+// experiment registry (registry.hpp), not through cli/.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <string>
+#include <system_error>
+
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "input_error.hpp"
+#include "sglab/text_limits.hpp"
+
+namespace sglab::cli {
+
+// A CLI11 check for an unsigned integer option: decimal digits only (no sign, so "-1" is not
+// wrapped to 2^64 − 1), no overflow (2^64 is not saturated), at most `max`.
+inline CLI::Validator unsigned_at_most(std::uint64_t max) {
+  return CLI::Validator(
+      [max](std::string& text) -> std::string {
+        std::uint64_t v = 0;
+        const char* end = text.data() + text.size();
+        const auto r = std::from_chars(text.data(), end, v);
+        if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || r.ec != std::errc() ||
+            r.ptr != end || v > max)
+          return fmt::format("{} is not an integer in [0, {}]", clip_text(text), max);
+        return {};
+      },
+      fmt::format("INT in [0, {}]", max));
+}
+
+}  // namespace sglab::cli

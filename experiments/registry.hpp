@@ -1,0 +1,89 @@
+// The typed experiment registry: every experiment sglab runs, its one-line summary, the `sglab`
+// command it registers (if it has its own), and the steps `sglab reproduce` runs for it given the
+// places a run writes to. Read by `sglab reproduce` (its step list, --list) and by `sglab --help`
+// (the list of experiments). Adding an experiment: one file defining NAME_experiment(), and its
+// name in SGLAB_EXPERIMENTS below.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}  // namespace CLI
+
+namespace sglab::experiments {
+
+// Where a run writes: a full run writes its tables and the figures README.md shows into
+// paper_tables/ (the others into OUT/figures); a --quick run writes everything under
+// results/quick/ (tables in results/quick/tables/) and never touches paper_tables/.
+struct Places {
+  std::string out;     // per-step outputs: CSVs, renders, fit records, other figures
+  std::string tables;  // the tables, and the key figures in TABLES/figures
+  std::string key_figures() const { return tables + "/figures"; }
+};
+
+// One step of `sglab reproduce`: an ordinary `sglab` command line (or a python3 plot script),
+// run in-process, so that every table it writes is headed by the very command a user can run.
+struct Step {
+  std::string name;
+  std::string what;
+  std::vector<std::string> args;        // the sglab command line (without "sglab")
+  std::vector<std::string> quick_args;  // appended with --quick
+  bool python = false;                  // args are a python3 script and its arguments instead
+  // The option through which the step's command takes the directory of its tables ("--tables",
+  // "--tables-dir"); empty for a step that writes no table. Every table-writing step gets it
+  // explicitly, so that no step relies on a default that points into paper_tables/.
+  std::string tables_option;
+  // The step's command takes a constant set (`sglab reproduce --constants` is passed on to it).
+  bool takes_constants = false;
+};
+
+// A step running `sglab ARGS` (with QUICK_ARGS appended in a --quick run).
+Step sglab_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args = {},
+                std::string tables_option = "", bool takes_constants = false);
+// A step running `python3 SCRIPT ARGS…` (a figure).
+Step plot_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args = {});
+
+// `sglab render SCENE EXTRA… --out OUT/renders/BASE.exr --stats ….json --dump-csv ….csv --width W
+// --height H` (it takes the constant sets).
+Step render_step(const Places& p, std::string name, std::string what, const std::string& scene, const std::string& base,
+                 int width, int height, std::vector<std::string> quick, std::vector<std::string> extra = {});
+
+struct Experiment {
+  std::string name;     // "error-vs-time"
+  std::string summary;  // one line for `sglab --help`
+  // Registers the experiment's own `sglab` command; null when general tools of cli/ (render,
+  // fit, filter, envmap, sweep) run its steps.
+  void (*add_command)(CLI::App& app) = nullptr;
+  std::function<std::vector<Step>(const Places&)> steps;
+};
+
+// The experiments, in the order `sglab reproduce` runs them (a step may read an earlier one's
+// outputs: the λ_d render sweep reads the fits). One line per experiment: NAME_experiment() is
+// defined in the experiment's own file.
+#define SGLAB_EXPERIMENTS(X) \
+  X(fits)                    \
+  X(error_vs_time)           \
+  X(sweep_specular)          \
+  X(stability)               \
+  X(error_map)               \
+  X(renders)                 \
+  X(sweep_render)            \
+  X(filtering)               \
+  X(vsgl_fis_bias)           \
+  X(near_wall)               \
+  X(poster_plots)            \
+  X(envmap)
+
+#define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();
+SGLAB_EXPERIMENTS(SGLAB_DECLARE_EXPERIMENT)
+#undef SGLAB_DECLARE_EXPERIMENT
+
+const std::vector<Experiment>& experiment_registry();
+
+// Every step of every experiment, in order.
+std::vector<Step> all_steps(const Places& places);
+
+}  // namespace sglab::experiments

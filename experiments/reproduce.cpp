@@ -1,0 +1,184 @@
+#include "reproduce.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include "atomic_file.hpp"
+#include "input_error.hpp"
+#include "sweep.hpp"
+#include "table.hpp"
+
+namespace sglab::experiments {
+namespace {
+
+using runner::fnv1a_hex;
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& a : v) s += (s.empty() ? "" : " ") + a;
+  return s;
+}
+
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string file_fnv1a(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return fnv1a_hex(bytes.str());
+}
+
+// One line "file PATH FNV1A" per argument that names a regular file now (a scene, a script, an
+// output; "NAME=PATH" arguments too), for a step's marker.
+std::string files_state(const std::vector<std::string>& args) {
+  namespace fs = std::filesystem;
+  std::string state;
+  for (const auto& a : args) {
+    const auto eq = a.find('=');
+    for (const std::string& path : {a, eq == std::string::npos ? std::string() : a.substr(eq + 1)}) {
+      std::error_code ec;
+      if (path.empty() || !fs::is_regular_file(path, ec)) continue;
+      state += "file " + path + " " + file_fnv1a(path) + "\n";
+    }
+  }
+  return state;
+}
+
+// Size and modification time of every regular file under `roots` (the files a step may write:
+// OUT/ and paper_tables/), to find what a step wrote.
+using Snapshot = std::map<std::string, std::pair<std::uintmax_t, std::filesystem::file_time_type>>;
+Snapshot snapshot(const std::vector<std::string>& roots) {
+  namespace fs = std::filesystem;
+  Snapshot out;
+  for (const auto& root : roots) {
+    std::error_code ec;
+    if (!fs::is_directory(root, ec)) continue;
+    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+      if (it->is_regular_file(ec) && it->path().string().find("/.steps/") == std::string::npos)
+        out[it->path().string()] = {it->file_size(ec), it->last_write_time(ec)};
+  }
+  return out;
+}
+
+// "output PATH FNV1A" for every file written or changed between two snapshots.
+std::string outputs_state(const Snapshot& before, const Snapshot& after) {
+  std::string state;
+  for (const auto& [path, stamp] : after) {
+    const auto it = before.find(path);
+    if (it == before.end() || it->second != stamp) state += "output " + path + " " + file_fnv1a(path) + "\n";
+  }
+  return state;
+}
+
+// Whether every "output PATH FNV1A" line of a marker still holds.
+bool outputs_intact(const std::string& marker) {
+  std::istringstream in(marker);
+  for (std::string l; std::getline(in, l);) {
+    if (l.rfind("output ", 0) != 0) continue;
+    const auto space = l.rfind(' ');
+    const std::string path = l.substr(7, space - 7);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec) || file_fnv1a(path) != l.substr(space + 1)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Places reproduce_places(const ReproduceOptions& o) {
+  Places p;
+  p.out = !o.out.empty() ? o.out : o.quick ? "results/quick" : "results";
+  p.tables = !o.tables_dir.empty() ? o.tables_dir : o.quick ? p.out + "/tables" : "paper_tables";
+  return p;
+}
+
+// The command line of step `s` in this mode (without "sglab" / "python3").
+std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o, const Places& p) {
+  std::vector<std::string> args = s.args;
+  if (o.quick) args.insert(args.end(), s.quick_args.begin(), s.quick_args.end());
+  if (!s.tables_option.empty()) args.insert(args.end(), {s.tables_option, p.tables});
+  if (s.takes_constants)
+    for (const auto& c : o.constants) args.insert(args.end(), {"--constants", c});
+  return args;
+}
+
+void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
+  namespace fs = std::filesystem;
+  const Places p = reproduce_places(o);
+  const auto all = all_steps(p);
+  if (o.list) {  // the steps of this mode and their command lines; nothing is run or written
+    for (const auto& s : all) std::printf("%s\t%s%s\n", s.name.c_str(), s.python ? "python3 " : "sglab ", join(step_args(s, o, p)).c_str());
+    return;
+  }
+  const fs::path markers = fs::path(p.out) / ".steps";
+  fs::create_directories(markers);
+  for (const auto& name : o.only) {
+    bool known = false;
+    for (const auto& s : all) known = known || s.name == name;
+    if (!known) throw runner::InputError("reproduce: unknown step '" + name + "'");
+  }
+  // Every table a --quick run writes says so, whatever the step's own options.
+  std::optional<runner::QuickRunScope> quick_scope;
+  if (o.quick) quick_scope.emplace();
+  const auto t_start = std::chrono::steady_clock::now();
+  int done = 0, skipped = 0;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    const Step& s = all[k];
+    if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), s.name) == o.only.end()) continue;
+    const std::vector<std::string> args = step_args(s, o, p);
+    const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
+    const fs::path marker = markers / (s.name + ".done");
+    if (!o.force && fs::exists(marker)) {
+      std::ifstream in(marker);
+      std::stringstream text;
+      text << in.rdbuf();
+      // Done only if the command, and every file it named (inputs and outputs), are as the
+      // marker recorded them: an edited scene or a deleted output reruns the step.
+      std::string recorded;  // the marker without its "output" lines
+      std::istringstream lines(text.str());
+      for (std::string l; std::getline(lines, l);)
+        if (l.rfind("output ", 0) != 0) recorded += l + "\n";
+      if (recorded == line + "\n" + files_state(args) && outputs_intact(text.str())) {
+        std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all.size(), s.name.c_str(), line.c_str());
+        ++skipped;
+        continue;
+      }
+    }
+    std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all.size(), s.name.c_str(), s.what.c_str(), line.c_str());
+    const auto t0 = std::chrono::steady_clock::now();
+    const Snapshot before = snapshot({p.out, p.tables});
+    int status;
+    if (s.python) {
+      // Debian's interpreter, which has python3-matplotlib; a python3 earlier on PATH (pyenv,
+      // a venv) may not.
+      std::string cmd = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+      for (const auto& a : args) cmd += " " + shell_quote(a);
+      status = std::system(cmd.c_str());
+    } else {
+      status = run_sglab(args);
+    }
+    if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
+    runner::AtomicFile m(marker);
+    m.write(line + "\n" + files_state(args) + outputs_state(before, snapshot({p.out, p.tables})));
+    m.commit();
+    ++done;
+    std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s\n", k + 1, all.size(), s.name.c_str(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::printf("reproduce: %d steps run, %d already done, %.1f s; outputs in %s/, tables in %s/\n", done, skipped,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), p.out.c_str(), p.tables.c_str());
+}
+
+}  // namespace sglab::experiments

@@ -1,0 +1,39 @@
+// `sglab reproduce`: the main job. Runs the steps of the experiment registry in order and records
+// a marker per finished step so that an interrupted run resumes where it stopped (a step's outputs
+// are written atomically, so a step without its marker is simply redone). The marker records the
+// fingerprint of every file the step names and of every file it wrote under OUT/ and the tables
+// directory, so a changed input or a deleted or altered output also reruns it.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "registry.hpp"
+
+namespace sglab::experiments {
+
+struct ReproduceOptions {
+  std::string out;         // default: results, or results/quick with --quick
+  std::string tables_dir;  // default: paper_tables, or OUT/tables with --quick
+  bool quick = false;
+  bool force = false;
+  bool list = false;
+  std::vector<std::string> only;
+  std::vector<std::string> constants;  // --constants: appended to every step whose command takes a constant set
+};
+
+// Where a run with these options writes.
+Places reproduce_places(const ReproduceOptions& o);
+
+// The command line of step `s` in this mode (without "sglab" / "python3"): its arguments, its
+// quick arguments with --quick, its tables directory, and the constant sets.
+std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o, const Places& p);
+
+// Runs `sglab ARGS` in-process and returns its exit status (the CLI's run_sglab).
+using SglabRunner = std::function<int(const std::vector<std::string>& args)>;
+
+// Runs (or with --list prints) the registry's steps.
+void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab);
+
+}  // namespace sglab::experiments

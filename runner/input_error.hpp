@@ -1,0 +1,21 @@
+// The runner's error for bad input (a malformed file, an option value out of range, an output
+// that would destroy data): the message names the value. The `sglab` command prints it and exits
+// with status 2, writing nothing; the Python module raises it as a ValueError.
+#pragma once
+
+#include <stdexcept>
+
+namespace sglab::runner {
+
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace sglab::runner
+
+// The experiments and the commands (namespace sglab::cli) name the runner's helpers unqualified
+// and call its error UsageError.
+namespace sglab::cli {
+using namespace sglab::runner;
+using UsageError = runner::InputError;
+}  // namespace sglab::cli

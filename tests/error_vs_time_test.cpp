@@ -1,0 +1,98 @@
+// error-vs-time as a library (experiments/error_vs_time.hpp): the errors it reports for the
+// clamped-cosine methods against an independent quadrature of D(λ, c) on the same grid.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "clamped_cosine_quadrature.hpp"
+#include "error_vs_time.hpp"
+#include "sglab/registry.hpp"
+
+namespace evt = sglab::cli::error_vs_time;
+
+namespace {
+
+const evt::Result& quick_result() {
+  static const evt::Result r = [] {
+    evt::Options o;
+    o.quantities = {"clamped-cosine"};
+    o.quick = true;
+    return evt::compute(o);
+  }();
+  return r;
+}
+
+}  // namespace
+
+TEST(ErrorVsTime, GridAndProvenance) {
+  const evt::Result& r = quick_result();
+  ASSERT_EQ(r.sections.size(), 1u);
+  const evt::Section& s = r.sections[0];
+  EXPECT_EQ(s.quantity, "clamped-cosine");
+  EXPECT_EQ(s.arity, 2u);
+  EXPECT_GT(s.points(), 100u);
+  EXPECT_EQ(r.provenance.command, "sglab error-vs-time --quantity clamped-cosine --quick");
+  EXPECT_EQ(r.provenance.mode(), "quick run");
+  const evt::Tables t = evt::tables(r);
+  // One CSV row per method row, after the header.
+  std::size_t lines = 0;
+  for (char ch : t.csv) lines += ch == '\n';
+  EXPECT_EQ(lines, s.rows.size() + 1);
+  EXPECT_NE(t.markdown.find("## clamped-cosine"), std::string::npos);
+}
+
+// Every double row's RMSE and max error, recomputed here against the independent quadrature
+// (error = |m − D|/D(λ, 1), the registry's method evaluated on the result's own grid points).
+TEST(ErrorVsTime, ErrorsMatchAnIndependentReference) {
+  const evt::Section& s = quick_result().sections[0];
+  const sglab::Quantity* q = sglab::find_quantity("clamped-cosine");
+  ASSERT_NE(q, nullptr);
+  std::vector<double> exact(s.points()), pole(s.points());
+  for (std::size_t k = 0; k < s.points(); ++k) {
+    exact[k] = sglab::test::clamped_cosine_quadrature(s.args[2 * k], s.args[2 * k + 1]);
+    pole[k] = sglab::test::clamped_cosine_quadrature(s.args[2 * k], 1.0);
+  }
+  int checked = 0;
+  for (const evt::Row& row : s.rows) {
+    if (row.precision != "double" || row.method == s.reference_method) continue;
+    const sglab::Method* m = q->find(row.method);
+    ASSERT_NE(m, nullptr) << row.method;
+    double sum_sq = 0, max_error = 0;
+    long counted = 0;
+    for (std::size_t k = 0; k < s.points(); ++k) {
+      const std::span<const double> a(&s.args[2 * k], 2);
+      if (m->domain_error && m->domain_error(a)) continue;
+      const double v = m->eval_double(a);
+      if (!std::isfinite(v)) continue;
+      const double e = std::fabs(v - exact[k]) / pole[k];
+      sum_sq += e * e;
+      max_error = std::max(max_error, e);
+      ++counted;
+    }
+    const double rmse = std::sqrt(sum_sq / double(counted));
+    // The reference agrees with the quadrature to ~1e-12 of D(λ, 1): the reported errors agree to far
+    // better than their own size.
+    EXPECT_NEAR(row.rmse, rmse, 1e-9 + 1e-6 * rmse) << row.method;
+    EXPECT_NEAR(row.max_error, max_error, 1e-9 + 1e-6 * max_error) << row.method;
+    ++checked;
+  }
+  EXPECT_GE(checked, 8);
+}
+
+// punctual-approx, (2π/λ)⟨c⟩, written here: its reported max error is the quadrature's.
+TEST(ErrorVsTime, PunctualApproxFromItsFormula) {
+  const evt::Section& s = quick_result().sections[0];
+  double max_error = 0;
+  for (std::size_t k = 0; k < s.points(); ++k) {
+    const double l = s.args[2 * k], c = s.args[2 * k + 1];
+    const double v = 2 * std::numbers::pi / l * std::max(c, 0.0);
+    max_error = std::max(max_error, std::fabs(v - sglab::test::clamped_cosine_quadrature(l, c)) /
+                                        sglab::test::clamped_cosine_quadrature(l, 1.0));
+  }
+  for (const evt::Row& row : s.rows)
+    if (row.method == "punctual-approx" && row.precision == "double") EXPECT_NEAR(row.max_error, max_error, 1e-6 * max_error);
+}

@@ -1,0 +1,110 @@
+// `sglab reproduce` as a library (experiments/reproduce.hpp over the experiment registry):
+// every step's command line, full and --quick, parses with the real `sglab` app (a renamed option
+// breaks this test, not the main job), and where each mode writes.
+#include <algorithm>
+#include <exception>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <gtest/gtest.h>
+
+#include "commands.hpp"
+#include "registry.hpp"
+#include "reproduce.hpp"
+#include "sglab/registry.hpp"
+
+namespace ex = sglab::experiments;
+
+namespace {
+
+// Thrown by the app once every option and requirement is processed, before any command runs
+// (CLI11 calls the main app's parse-complete callback before the subcommands' callbacks).
+struct Parsed {};
+
+std::vector<ex::Step> steps(const ex::ReproduceOptions& o) { return ex::all_steps(ex::reproduce_places(o)); }
+
+void expect_every_step_parses(const ex::ReproduceOptions& o) {
+  const ex::Places p = ex::reproduce_places(o);
+  int parsed = 0;
+  for (const ex::Step& s : ex::all_steps(p)) {
+    if (s.python) continue;
+    CLI::App app{"sglab"};
+    app.require_subcommand(1);
+    sglab::cli::add_all_commands(app);
+    app.parse_complete_callback([] { throw Parsed{}; });
+    std::vector<std::string> args = ex::step_args(s, o, p);
+    const std::string line = [&] {
+      std::string l;
+      for (const auto& a : args) l += " " + a;
+      return l;
+    }();
+    std::reverse(args.begin(), args.end());  // CLI11 takes the vector form last-argument-first
+    try {
+      app.parse(args);
+      ADD_FAILURE() << s.name << ": parsed without reaching the end of parsing: sglab" << line;
+    } catch (const Parsed&) {
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << s.name << ": sglab" << line << ": " << e.what();
+    }
+    ++parsed;
+  }
+  EXPECT_GE(parsed, 25);
+}
+
+}  // namespace
+
+TEST(Reproduce, EveryFullStepParses) { expect_every_step_parses({}); }
+
+TEST(Reproduce, EveryQuickStepParsesWithConstants) {
+  ex::ReproduceOptions o;
+  o.quick = true;
+  o.constants = {"published"};
+  expect_every_step_parses(o);
+}
+
+TEST(Reproduce, StepNamesAreUniqueAndEveryExperimentHasSteps) {
+  std::set<std::string> names;
+  for (const ex::Step& s : steps({})) EXPECT_TRUE(names.insert(s.name).second) << "duplicate step " << s.name;
+  for (const auto& e : ex::experiment_registry()) {
+    EXPECT_FALSE(e.summary.empty()) << e.name;
+    EXPECT_FALSE(e.steps(ex::reproduce_places({})).empty()) << e.name;
+  }
+}
+
+// A --quick run writes under results/quick/ and never names paper_tables/; a full run gives every
+// table-writing step the tables directory explicitly.
+TEST(Reproduce, QuickNeverTouchesPaperTables) {
+  ex::ReproduceOptions o;
+  o.quick = true;
+  const ex::Places p = ex::reproduce_places(o);
+  EXPECT_EQ(p.out, "results/quick");
+  EXPECT_EQ(p.tables, "results/quick/tables");
+  for (const ex::Step& s : ex::all_steps(p))
+    for (const auto& a : ex::step_args(s, o, p)) EXPECT_EQ(a.find("paper_tables"), std::string::npos) << s.name << ": " << a;
+  const ex::Places full = ex::reproduce_places({});
+  for (const ex::Step& s : ex::all_steps(full)) {
+    if (s.tables_option.empty()) continue;
+    const auto args = ex::step_args(s, {}, full);
+    const auto it = std::find(args.begin(), args.end(), s.tables_option);
+    ASSERT_NE(it, args.end()) << s.name;
+    EXPECT_EQ(*(it + 1), "paper_tables") << s.name;
+  }
+}
+
+// The near-wall renders: one per diffuse method the renderer takes, but the reference; the
+// output names keep the form renders/near-wall-METHOD.*.
+TEST(Reproduce, NearWallRendersEveryRendererMethod) {
+  std::set<std::string> rendered;
+  for (const ex::Step& s : steps({}))
+    if (s.name.rfind("render-near-wall-", 0) == 0) rendered.insert(s.name.substr(17));
+  const sglab::Quantity* q = sglab::find_quantity("clamped-cosine");
+  ASSERT_NE(q, nullptr);
+  for (const auto& m : q->methods) {
+    if (m.name == q->reference_method) continue;
+    EXPECT_TRUE(rendered.count(m.name)) << m.name;
+  }
+  for (const char* m : {"sg-cosine", "punctual-approx", "hill-fitted", "meder", "tokuyoshi2022", "tokuyoshi2024", "sglab"})
+    EXPECT_TRUE(rendered.count(m)) << m;
+}
