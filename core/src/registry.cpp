@@ -46,6 +46,7 @@ const std::vector<Quantity>& quantities() {
     std::vector<Quantity> out;
     register_core_quantities(out);
     register_glossy_quantities(out);
+    register_stiff_quantities(out);
     return out;
   }();
   return all;
