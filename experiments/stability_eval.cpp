@@ -130,10 +130,12 @@ bool float_is_rounded_double(const Grid& g, std::span<const Evaluation> f, std::
 
 // ---- rounding probe -------------------------------------------------------------------------
 
-RoundingProbe probe_rounding(const Method& m, const Grid& g, double max_seconds) {
-  using clock = std::chrono::steady_clock;
-  RoundingProbe p;
-  // Probe rows: the middle value of every column, then a quarter and three quarters along.
+namespace {
+using Clock = std::chrono::steady_clock;
+
+// Probe rows: the middle value of every column, then a quarter and three quarters along, those
+// inside the method's domain.
+std::vector<std::vector<double>> probe_rows(const Method& m, const Grid& g) {
   std::vector<std::vector<double>> rows;
   for (double frac : {0.5, 0.25, 0.75}) {
     std::vector<double> row;
@@ -141,28 +143,38 @@ RoundingProbe probe_rounding(const Method& m, const Grid& g, double max_seconds)
     if (m.domain_error && m.domain_error(row)) continue;
     rows.push_back(row);
   }
+  return rows;
+}
+
+// Seconds per double evaluation at `row`: the first call warms up (thread-local quadrature
+// tables); the fastest of the next three is timed, against scheduling noise.
+double double_seconds(const Method& m, const std::vector<double>& row) {
+  const auto t0 = Clock::now();
+  (void)m.eval_double(row);
+  const double warm = std::chrono::duration<double>(Clock::now() - t0).count();
+  double seconds = warm;
+  for (int k = 0; k < 3 && warm < 1; ++k) {
+    const auto t1 = Clock::now();
+    (void)m.eval_double(row);
+    const double s = std::chrono::duration<double>(Clock::now() - t1).count();
+    seconds = k == 0 ? s : std::min(seconds, s);
+  }
+  return seconds;
+}
+}  // namespace
+
+RoundingProbe probe_rounding(const Method& m, const Grid& g, double max_seconds) {
+  RoundingProbe p;
+  const std::vector<std::vector<double>> rows = probe_rows(m, g);
   if (rows.empty()) {
     p.reason = "no probe row inside the method's domain";
     return p;
   }
   // A method whose double evaluation takes milliseconds (the 2D glossy quadratures) has a
-  // converted double result or a 2D quadrature as its mp50 evaluator: not swept. The first call
-  // warms up (thread-local quadrature tables); the fastest of the next three is timed.
-  {
-    const auto t0 = clock::now();
-    (void)m.eval_double(rows[0]);
-    const double warm = std::chrono::duration<double>(clock::now() - t0).count();
-    double seconds = warm;
-    for (int k = 0; k < 3 && warm < 1; ++k) {  // the fastest of three, against scheduling noise
-      const auto t1 = clock::now();
-      (void)m.eval_double(rows[0]);
-      const double s = std::chrono::duration<double>(clock::now() - t1).count();
-      seconds = k == 0 ? s : std::min(seconds, s);
-    }
-    if (seconds > 5e-3) {
-      p.reason = fmt::format("a quadrature ({:.2g} s per point in double): its 50-digit form is not swept", seconds);
-      return p;
-    }
+  // converted double result or a 2D quadrature as its mp50 evaluator: not swept.
+  if (const double seconds = double_seconds(m, rows[0]); seconds > 5e-3) {
+    p.reason = fmt::format("a quadrature ({:.2g} s per point in double): its 50-digit form is not swept", seconds);
+    return p;
   }
   // The 50-digit evaluator: one call (it includes lazy initialization of Boost's 50-digit
   // constants; the 1D quadratures take ~0.5 s here and stop the probe), then the fastest of the
@@ -172,7 +184,7 @@ RoundingProbe probe_rounding(const Method& m, const Grid& g, double max_seconds)
   for (std::size_t k = 0; k <= rows.size(); ++k) {
     const auto& row = rows[k == 0 ? 0 : k - 1];
     const std::vector<mp50> a(row.begin(), row.end());
-    const auto t0 = clock::now();
+    const auto t0 = Clock::now();
     mp50 v;
     try {
       v = m.eval_mp50(a);
@@ -180,7 +192,7 @@ RoundingProbe probe_rounding(const Method& m, const Grid& g, double max_seconds)
       p.reason = std::string("the 50-digit evaluation throws: ") + e.what();
       return p;
     }
-    const double s = std::chrono::duration<double>(clock::now() - t0).count();
+    const double s = std::chrono::duration<double>(Clock::now() - t0).count();
     if (k == 0) {
       if (s > 0.1) {
         p.seconds_per_point = s;
