@@ -31,7 +31,8 @@ struct Options {
 
 // Bad usage before anything is computed: an unknown quantity, or outputs that cannot be written
 // (a directory option naming something else than a directory, an output that is a special file,
-// or the same file named twice). Returns the outputs in the order of `files`.
+// or the same file named twice). Returns the five outputs: DIR/stability{.csv,_cells.csv,.md},
+// TABLES/stability{.csv,.md}.
 std::vector<std::filesystem::path> checked_outputs(const Options& o) {
   namespace fs = std::filesystem;
   for (const auto& name : o.only)
