@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "driver.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -22,17 +23,23 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
-// One record into `set`. `file` names it in every message.
+// One record into `set`. `file` names it in every message; a record is untrusted text, so its
+// size and nesting are bounded and the values a message quotes are clipped (text_limits.hpp).
 void load_record(const std::string& file, ConstantSet& set) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw UsageError(fmt::format("--constants {}: cannot open the file", file));
+  std::error_code ec;
+  if (const auto size = fs::file_size(file, ec); !ec)
+    if (const auto error = input_size_error(size, kMaxJsonBytes, "a fit record"))
+      throw UsageError(fmt::format("--constants {}: {}", file, *error));
   std::stringstream text;
   text << in.rdbuf();
+  if (const auto error = json_nesting_error(text.str())) throw UsageError(fmt::format("--constants {}: {}", file, *error));
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text.str());
   } catch (const nlohmann::json::exception& e) {
-    throw UsageError(fmt::format("--constants {}: not valid JSON: {}", file, e.what()));
+    throw UsageError(fmt::format("--constants {}: not valid JSON: {}", file, clip_text(e.what(), 400)));
   }
   if (!j.is_object()) throw UsageError(fmt::format("--constants {}: a fit record must be a JSON object", file));
   if (!j.contains("fit") || !j["fit"].is_string())
@@ -42,7 +49,7 @@ void load_record(const std::string& file, ConstantSet& set) {
   if (!f) {
     std::vector<std::string> names;
     for (const auto& g : fit::fitters()) names.push_back(g.name);
-    throw UsageError(fmt::format("--constants {}: key 'fit': unknown fit '{}' (fits: {})", file, fit_name, join(names)));
+    throw UsageError(fmt::format("--constants {}: key 'fit': unknown fit '{}' (fits: {})", file, clip_text(fit_name), join(names)));
   }
   if (!j.contains("parameters") || !j["parameters"].is_object())
     throw UsageError(fmt::format("--constants {}: key 'parameters': missing or not an object", file));
@@ -52,9 +59,10 @@ void load_record(const std::string& file, ConstantSet& set) {
   for (const auto& [key, value] : params.items()) {
     if (std::find(known.begin(), known.end(), key) == known.end())
       throw UsageError(fmt::format("--constants {}: key 'parameters.{}': unknown parameter of fit '{}' (parameters: {})",
-                                   file, key, fit_name, join(known)));
+                                   file, clip_text(key), fit_name, join(known)));
     if (!value.is_number())
-      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': not a number ({})", file, key, value.dump()));
+      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': not a number ({})", file, key,
+                                   clip_text(value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))));
   }
   for (const auto& name : f->parameters)
     if (!params.contains(name))
@@ -63,10 +71,11 @@ void load_record(const std::string& file, ConstantSet& set) {
 
   std::string provenance = fmt::format("{}: fit {}", file, fit_name);
   if (j.contains("objective") && j["objective"].is_string())
-    provenance += ", objective " + j["objective"].get<std::string>();
+    provenance += ", objective " + clip_text(j["objective"].get<std::string>(), 300);
   else
     provenance += ", objective not stated (hand-written)";
-  if (j.contains("precision") && j["precision"].is_string()) provenance += ", precision " + j["precision"].get<std::string>();
+  if (j.contains("precision") && j["precision"].is_string())
+    provenance += ", precision " + clip_text(j["precision"].get<std::string>());
 
   const auto uses = fit::registry_parameters(*f);
   for (const auto& name : f->parameters) {

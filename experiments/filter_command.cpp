@@ -40,6 +40,7 @@ void run(const Options& options) {
   check_filter_parameters(o.job.parameters);
   render::FilterInputOptions input_options = filter_input_options(o.job);
   const render::Scene scene = load_scene(o.job.render);
+  check_filter_memory(scene, input_options);
 
   std::string command = "sglab filter " + quote_argument(o.job.render.scene_path) + " --out " + quote_argument(o.out) +
                         " --weights " + o.weights;

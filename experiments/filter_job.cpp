@@ -1,6 +1,7 @@
 // Options, validation and stats shared by `sglab filter` and `sglab filter-sweep` (filter_job.hpp).
 #include "filter_job.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -95,6 +96,21 @@ render::FilterWeights parse_weights_option(const std::string& text) {
   const auto w = render::parse_filter_weights(text);
   if (!w) throw UsageError(fmt::format("--weights '{}' is not one of normal, lobe, lobe-depth, spatial", text));
   return *w;
+}
+
+void check_filter_memory(const render::Scene& scene, const render::FilterInputOptions& o, std::size_t runs) {
+  const double w = scene.camera.width, h = scene.camera.height, scale = std::max(o.scale, 1);
+  const double pixels = w * h, low = std::ceil(w / scale) * std::ceil(h / scale);
+  const double rgb = sizeof(render::Rgb), sample = sizeof(render::FilterSample);
+  // A full-resolution pixel: its G-buffer sample; reference, upsampled, error and low-resolution
+  // layers; hit and glossy flags; four float RGB layers in the EXR image and again in its encoding.
+  const double per_pixel = sample + 4 * rgb + 2 + 2 * 4 * 3 * sizeof(float);
+  // A low-resolution sample: its G-buffer sample and its diffuse, specular and whole indirect light.
+  const double per_low = sample + 3 * rgb;
+  const double vpls = double(o.rsm_resolution) * double(o.rsm_resolution) * 256;  // ~256 B a VPL, as a render
+  const double bytes = double(runs) * (pixels * per_pixel + low * per_low) + vpls;
+  check_memory(bytes, fmt::format("{}a {}×{} filter run at 1/{} resolution (RSM {}²)", runs > 1 ? fmt::format("{} × ", runs) : "",
+                                  scene.camera.width, scene.camera.height, o.scale, o.rsm_resolution));
 }
 
 std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale) {

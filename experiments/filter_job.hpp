@@ -39,6 +39,10 @@ nlohmann::json filter_constants_json(const FilterJob& job);
 render::FilterInputOptions filter_input_options(const FilterJob& job);
 void check_filter_parameters(const render::FilterParameters& p);
 render::FilterWeights parse_weights_option(const std::string& text);
+// Refuses (UsageError, exit status 2) a run whose estimated memory exceeds the machine's, saying
+// how much it would need, before anything is allocated: `runs` sets of filter inputs of `scene` at
+// o.scale kept at once (filter-sweep keeps one per point), with their output layers.
+void check_filter_memory(const render::Scene& scene, const render::FilterInputOptions& o, std::size_t runs = 1);
 
 // The job's options as command-line arguments after the scene path (for provenance).
 std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale = true);

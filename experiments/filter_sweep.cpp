@@ -8,6 +8,7 @@
 // roughness. Every point's scene is validated before anything runs (exit status 2 naming the
 // value). Outputs: DIR/NAME_points.csv (every row, all statistics and times) and
 // TABLES/NAME.{md,csv} headed by the command.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -118,6 +119,12 @@ void run(const Options& options) {
     } catch (const UsageError& e) {
       throw UsageError(fmt::format("--roughness {}: {}", a, e.what()));
     }
+  }
+
+  if (!scenes.empty() && !scales.empty()) {  // every point's inputs are kept: all at the finest scale bound it
+    render::FilterInputOptions finest = input_options;
+    finest.scale = *std::min_element(scales.begin(), scales.end());
+    check_filter_memory(scenes.front(), finest, scenes.size() * scales.size());
   }
 
   std::vector<std::string> args = {"filter-sweep", "--scene",   o.job.render.scene_path, "--roughness", o.roughness,

@@ -133,8 +133,7 @@ render::RenderOptions render_options(const RenderJob& job) {
       // RenderOptions holds a plain pointer: bound methods live for the rest of the process.
       static std::deque<Method> bound;
       bound.push_back(bind(*m, set));
-      o.shading.diffuse = render::DiffuseMethod::registry;
-      o.shading.registry_method = &bound.back();
+      o.shading.diffuse = &bound.back();
     }
   }
   return o;

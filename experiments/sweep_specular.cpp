@@ -8,6 +8,10 @@
 // references are classified within the point.
 // Outputs: DIR/specular_points.csv (the runner's per-point CSV, sweep.hpp), then, derived from
 // that file alone, DIR/specular_summary.csv and TABLES/specular_vs_roughness.{md,csv}.
+// `--brdf gaussian` measures the `specular-gaussian-ndf` quantity instead (the Gaussian-angle NDF
+// BRDF, each method against that BRDF's own reference) on the same grid, into
+// DIR/specular-gaussian_points.csv, DIR/specular_gaussian_summary.csv and
+// TABLES/specular_gaussian_vs_roughness.{md,csv}.
 #include "sweep_specular.hpp"
 
 #include <algorithm>
@@ -34,10 +38,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const Quantity& specular_quantity() {
-  const Quantity* q = find_quantity("specular");
+const char* quantity_name(SpecularBrdf brdf) { return brdf == SpecularBrdf::ggx ? "specular" : "specular-gaussian-ndf"; }
+
+const Quantity& specular_quantity(SpecularBrdf brdf) {
+  const Quantity* q = find_quantity(quantity_name(brdf));
   if (!q || q->reference_method.empty() || !q->find(q->reference_method))
-    throw std::logic_error("sweep specular: the registry has no `specular` quantity with a reference method");
+    throw std::logic_error(std::string("sweep specular: the registry has no `") + quantity_name(brdf) +
+                           "` quantity with a reference method");
   return *q;
 }
 
@@ -121,24 +128,27 @@ bool specular_position_near_lobe(const std::string& position) {
   return position == "mirror" || position == "toward-normal" || position == "toward-horizon" || position == "side";
 }
 
-SweepDefinition specular_sweep_definition(bool quick) {
-  const Quantity& q = specular_quantity();
+SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
+  const Quantity& q = specular_quantity(brdf);
   const Method& reference = *q.find(q.reference_method);
   const std::vector<const Method*> methods = measured_methods(q);
   const SpecularGrid g = specular_grid(quick);
 
   SweepDefinition d;
-  d.name = "specular";
+  const bool gaussian = brdf == SpecularBrdf::gaussian;
+  d.name = gaussian ? "specular-gaussian" : "specular";
   d.args = {"sweep", "specular"};
+  if (gaussian) d.args.insert(d.args.end(), {"--brdf", "gaussian"});
   if (quick) d.args.push_back("--quick");
   std::string method_names;
   for (const Method* m : methods) method_names += (method_names.empty() ? "" : ", ") + m->name;
   std::string position_names;
   for (const auto& p : specular_light_positions(0.1, 1, 0.7)) position_names += (position_names.empty() ? "" : ", ") + p.name;
   d.grid = fmt::format(
-      "roughness {{{}}} × light_sharpness {{{}}} × view_cos {{{}}}; f0 {}; positions {{{}}} (offsets in the lobe's widths "
+      "{}roughness {{{}}} × light_sharpness {{{}}} × view_cos {{{}}}; f0 {}; positions {{{}}} (offsets in the lobe's widths "
       "min(√(1/λ + 2α²), π/6) in the plane of incidence, min(√(1/λ + 2α²v²), π/6) across; above the horizon only, "
       "no duplicates); reference `{}`; methods {{{}}}; near zero below {} of the point's largest reference",
+      gaussian ? "BRDF: Gaussian-angle NDF (`specular-gaussian-ndf`, roughness = the NDF width m); " : "",
       join_numbers(g.roughness), join_numbers(g.light_sharpness), join_numbers(g.view_cos), csv_number(g.f0),
       position_names, reference.name, method_names, csv_number(kSpecularNearZero));
   d.point_count = g.point_count();
@@ -331,7 +341,8 @@ std::string short_group(const std::string& g) {
 
 }  // namespace
 
-std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command) {
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command,
+                                      SpecularBrdf brdf) {
   std::vector<std::string> methods;
   std::map<std::string, std::vector<std::string>> groups;  // by → values in order
   std::map<std::tuple<std::string, std::string, std::string>, const SpecularSummaryRow*> cell;
@@ -392,13 +403,27 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
   for (const auto& r : rows)
     if (r.by == "all") near_zero = std::max(near_zero, r.stats.near_zero), points = std::max(points, r.stats.points);
 
+  // What is compared with what: the BRDF, the quantity, the per-point file.
+  const bool gaussian = brdf == SpecularBrdf::gaussian;
+  const std::string title = gaussian ? "Specular reflection of an SG light off the Gaussian-angle NDF BRDF: error against m"
+                                     : "Specular reflection of an SG light off GGX: error against roughness";
+  const std::string model =
+      gaussian ? "Every method of the `specular-gaussian-ndf` quantity (`sglab eval --list`): the SG approximations of the "
+                 "Cook–Torrance-style BRDF of Wang et al. 2009 (NDF e^{−(θ_h/m)²} ≈ G(h; n, 2/m²) warped about the mirror "
+                 "direction, M_o = F·S/(π(n·ω)(n·ωo)) at the lobe axis; `sg-warp-meder` is the form of the blog post "
+                 "\"Rendering using Spherical Gaussians\", the cosine as Meder & Brüderlin 2018's SG as in PhySG) against "
+                 "`reference`, THE SAME BRDF integrated exactly (adaptive 2D quadrature, ≤ 1e-6 relative), not against GGX: "
+                 "unit-amplitude SG light, D = e^{−(θ_h/m)²} with D(n) = 1, V-cavity S (Cook & Torrance 1982), Schlick "
+                 "f0 = 0.04 (docs/math.md §5). In the tables below **α is the NDF width m** (radians; ≈ the Beckmann/GGX α "
+                 "at small angles), over m"
+               : "Every method of the `specular` quantity (`sglab eval --list`) against `reference` (adaptive 2D "
+                 "quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated Smith and Schlick "
+                 "f0 = 0.04, over roughness α";
   std::string md = fmt::format(
       "<!-- Generated by `{0}`; do not edit by hand. -->\n"
-      "# Specular reflection of an SG light off GGX: error against roughness\n\n"
-      "Command: `{0}` (per-point data: `specular_points.csv` in its `--out` directory; sharded runs joined by "
-      "`sglab merge` give the same file). Every method of the `specular` quantity (`sglab eval --list`) against "
-      "`reference` (adaptive 2D quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated "
-      "Smith and Schlick f0 = 0.04, over roughness α ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
+      "# {9}\n\n"
+      "Command: `{0}` (per-point data: `{11}_points.csv` in its `--out` directory; sharded runs joined by "
+      "`sglab merge` give the same file). {10} ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
       "× light positions {{{4}}} in the lobe's own frame: the mirror direction; one in-plane width toward the normal and "
       "toward the horizon; one and three widths across the plane of incidence (the lobe is cos θo narrower across it: "
       "in-plane width min(√(1/λ + 2α²), π/6), across min(√(1/λ + 2α²cos²θo), π/6)); the normal. Only lights above the "
@@ -412,7 +437,8 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
       "SMAPE, RMSE and the maximum and counted. The scaled error |v − r| / (the peak), over all rows, covers them "
       "(\"RMSE scaled\", \"max scaled\"). All numbers in %.\n\n",
       command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
-      csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff));
+      csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff), title, model,
+      gaussian ? "specular-gaussian" : "specular");
   md += "## Brightness-weighted error Σ|v − r|/Σr (%) by roughness α\n\n" + rtable("roughness", "α", weighted);
   md += fmt::format("## SMAPE (%) over rows ≥ {:g} % of the point's peak, by roughness α\n\n", 100 * kSpecularBrightCutoff) +
         rtable("roughness", "α", bright);
@@ -456,30 +482,33 @@ struct SpecularOptions {
   std::size_t threads = 0;
   bool quick = false;
   bool fresh = false;
+  std::string brdf = "ggx";  // ggx | gaussian
 };
 
 void run_specular(const SpecularOptions& o) {
-  const SweepDefinition d = specular_sweep_definition(o.quick);
+  const SpecularBrdf brdf = o.brdf == "gaussian" ? SpecularBrdf::gaussian : SpecularBrdf::ggx;
+  const std::string base = brdf == SpecularBrdf::gaussian ? "specular_gaussian" : "specular";
+  const SweepDefinition d = specular_sweep_definition(o.quick, brdf);
   const SweepRunResult r = run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
   if (r.sharded) return;
   const auto rows = summarize_specular_points(read_sweep_points(r.points_csv), r.points_csv.string());
   std::string command = "sglab";
   for (const auto& a : d.args) command += " " + a;
   const std::string csv = specular_summary_csv(rows);
-  const std::string md = specular_summary_markdown(rows, command);
+  const std::string md = specular_summary_markdown(rows, command, brdf);
   fs::create_directories(o.tables_dir);
   const std::pair<fs::path, std::string> outputs[] = {
-      {fs::path(o.out) / "specular_summary.csv", csv},
-      {fs::path(o.tables_dir) / "specular_vs_roughness.csv", "# Generated by `" + command + "`; do not edit by hand.\n" + csv},
-      {fs::path(o.tables_dir) / "specular_vs_roughness.md", md}};
+      {fs::path(o.out) / (base + "_summary.csv"), csv},
+      {fs::path(o.tables_dir) / (base + "_vs_roughness.csv"), "# Generated by `" + command + "`; do not edit by hand.\n" + csv},
+      {fs::path(o.tables_dir) / (base + "_vs_roughness.md"), md}};
   for (const auto& [path, text] : outputs) {
     AtomicFile f(path);
     f.write(text);
     f.commit();
   }
   std::fputs(md.c_str(), stdout);
-  std::fprintf(stderr, "sweep specular: wrote %s/specular_summary.csv and %s/specular_vs_roughness.{md,csv} (%.1f s)\n",
-               o.out.c_str(), o.tables_dir.c_str(), r.seconds);
+  std::fprintf(stderr, "sweep specular: wrote %s/%s_summary.csv and %s/%s_vs_roughness.{md,csv} (%.1f s)\n", o.out.c_str(),
+               base.c_str(), o.tables_dir.c_str(), base.c_str(), r.seconds);
 }
 
 }  // namespace
@@ -493,6 +522,11 @@ void add_sweep_specular(CLI::App& sweep) {
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`");
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str()->check(unsigned_at_most(kMaxThreads));
   sub->add_option("--tables-dir", o->tables_dir, "directory for specular_vs_roughness.{md,csv}")->capture_default_str();
+  sub->add_option("--brdf", o->brdf,
+                  "ggx (the `specular` quantity) or gaussian (the Gaussian-angle NDF BRDF, `specular-gaussian-ndf`; "
+                  "tables specular_gaussian_vs_roughness.{md,csv})")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ggx", "gaussian"}));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
   sub->callback([o] { run_specular(*o); });
 }

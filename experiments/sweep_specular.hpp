@@ -33,6 +33,12 @@ inline constexpr double kSpecularBrightCutoff = 0.1;
 // Schlick f0 of the sweep: a dielectric of index 1.5, ((1.5 − 1)/(1.5 + 1))² = 0.04.
 inline constexpr double kSpecularF0 = 0.04;
 
+// The BRDF a sweep measures: GGX (the `specular` quantity, the default) or the Gaussian-angle
+// NDF BRDF of Wang et al. 2009 (the `specular-gaussian-ndf` quantity, docs/math.md §5; its
+// `roughness` is the NDF width m). Each has its own per-point CSV and tables
+// (specular_vs_roughness.*, specular_gaussian_vs_roughness.*).
+enum class SpecularBrdf { ggx, gaussian };
+
 struct SpecularGrid {
   std::vector<double> roughness;        // GGX α, log-spaced over [0.01, 1]
   std::vector<double> light_sharpness;  // λ
@@ -83,7 +89,7 @@ bool specular_position_near_lobe(const std::string& position);
 // empty; scaled_error = |value − reference|/scale whenever there is a value. Numbers are printed
 // with the shortest text that reads back to the same double, so any row can be re-evaluated with
 // `sglab eval specular`.
-SweepDefinition specular_sweep_definition(bool quick);
+SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf = SpecularBrdf::ggx);
 
 // One summary row: the statistics of one method over one group of rows.
 struct SpecularSummaryRow {
@@ -115,6 +121,7 @@ std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows);
 
 // The paper table (Markdown), headed by `command`; the grid it states is read from the rows'
 // groups (so it describes the CSV the rows came from).
-std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command);
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command,
+                                      SpecularBrdf brdf = SpecularBrdf::ggx);
 
 }  // namespace sglab::cli

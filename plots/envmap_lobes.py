@@ -19,6 +19,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from _common import save_figure, save_figures  # noqa: E402
 
 
 def rows_of(path):
@@ -69,8 +70,7 @@ def main() -> int:
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=6)
     fig.tight_layout()
-    for ext in ("png", "pdf"):
-        fig.savefig(os.path.join(out_dir, f"envmap_error_vs_lobes.{ext}"), dpi=110)
+    save_figures(fig, out_dir, "envmap_error_vs_lobes", dpi=110)
     plt.close(fig)
 
     pix = rows_of(images)
@@ -99,7 +99,7 @@ def main() -> int:
             ax.imshow(img, interpolation="nearest")
             ax.set_title(f"{env}: " + ("map" if n == 0 else f"{n} lobes"), fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(out_dir, "envmap_reconstructions.png"), dpi=110)
+    save_figure(fig, os.path.join(out_dir, "envmap_reconstructions.png"), dpi=110)
     plt.close(fig)
     print(f"wrote {out_dir}/envmap_error_vs_lobes.{{png,pdf}} and envmap_reconstructions.png")
     return 0

@@ -25,6 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import LogNorm, SymLogNorm  # noqa: E402
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # noqa: E402
 import numpy as np  # noqa: E402
+from _common import save_figures  # noqa: E402
 
 LINTHRESH = 1e-4  # below 0.01 % the colour scale is linear
 
@@ -33,11 +34,7 @@ FORMATS = ["png", "pdf"]  # --quick: PNG only
 
 
 def save(fig, out_dir, stem):
-    for ext in FORMATS:
-        path = os.path.join(out_dir, f"{stem}.{ext}")
-        tmp = os.path.join(out_dir, f".{stem}.{ext}.tmp")
-        fig.savefig(tmp, format=ext, dpi=120)
-        os.replace(tmp, path)  # atomic: never a half-written figure
+    save_figures(fig, out_dir, stem, FORMATS, dpi=120)
 
 
 def plain_log_x(ax):

@@ -13,6 +13,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from _common import save_figures  # noqa: E402
 
 
 def main() -> int:
@@ -45,12 +46,7 @@ def main() -> int:
             ax.grid(True, which="both", alpha=0.3)
         row[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
-    for ext in ("png", "pdf"):
-        path = os.path.join(out_dir, f"error_vs_time.{ext}")
-        tmp = path + ".tmp"
-        fig.savefig(tmp, format=ext, dpi=150)
-        os.replace(tmp, path)  # never a half-written figure
-    print(f"wrote {out_dir}/error_vs_time.png and .pdf", file=sys.stderr)
+    save_figures(fig, out_dir, "error_vs_time", dpi=150, report=True)
     return 0
 
 

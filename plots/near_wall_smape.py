@@ -10,7 +10,6 @@ usage: near_wall_smape.py DUMP.csv OUT_DIR [TABLE.csv]
 """
 import csv
 import math
-import os
 import sys
 
 import matplotlib
@@ -18,6 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from _common import save_figures  # noqa: E402
 
 
 def main() -> int:
@@ -64,13 +64,7 @@ def main() -> int:
         ax.set_title(f"{m}: mean SMAPE {np.nanmean(maps[m]):.3g}", fontsize=8)
     fig.colorbar(im, ax=axes.ravel().tolist(), shrink=0.8, label="SMAPE against the exact integral (0–2)")
     fig.suptitle("Sharp SG light near a wall: each clamped-cosine method against the exact SG × cosine integral", fontsize=10)
-    os.makedirs(out_dir, exist_ok=True)
-    for ext in ("png", "pdf"):
-        path = os.path.join(out_dir, f"near_wall_smape.{ext}")
-        tmp = path + ".tmp"
-        fig.savefig(tmp, format=ext, dpi=130)
-        os.replace(tmp, path)  # never a half-written figure
-    print(f"wrote {out_dir}/near_wall_smape.png and .pdf", file=sys.stderr)
+    save_figures(fig, out_dir, "near_wall_smape", dpi=130, report=True)
     return 0
 
 

@@ -17,6 +17,7 @@ import matplotlib.pyplot as plt
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _common import save_figures  # noqa: E402
 from render_images import read_dump  # noqa: E402
 
 
@@ -55,12 +56,7 @@ def main() -> int:
     os.makedirs(out_dir, exist_ok=True)
     inputs = [a.split("=", 1) for a in sys.argv[2:]]
     fig = figure([(method, read_dump(path)[0]) for method, path in inputs])
-    for ext in ("png", "pdf"):
-        path = os.path.join(out_dir, f"near_wall_vsgl_vs_vpl_sum.{ext}")
-        tmp = path + ".tmp"
-        fig.savefig(tmp, format=ext, dpi=150)
-        os.replace(tmp, path)  # never a half-written figure
-    print(f"wrote {out_dir}/near_wall_vsgl_vs_vpl_sum.png and .pdf", file=sys.stderr)
+    save_figures(fig, out_dir, "near_wall_vsgl_vs_vpl_sum", dpi=150, report=True)
     return 0
 
 

@@ -21,16 +21,13 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from _common import save_figures  # noqa: E402
 
 METHODS = ["tokuyoshi2024", "sglab"]
 
 
 def save(fig, out_dir, stem):
-    for ext in ("png", "pdf"):
-        path = os.path.join(out_dir, f"{stem}.{ext}")
-        tmp = os.path.join(out_dir, f".{stem}.{ext}.tmp")
-        fig.savefig(tmp, format=ext, dpi=120)
-        os.replace(tmp, path)
+    save_figures(fig, out_dir, stem, dpi=120)
 
 
 def read_maps(path):

@@ -14,6 +14,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from _common import save_figure  # noqa: E402
 
 LAMBDA_STAR = 0.0008456087  # the poster's printed optimum (for the marker only)
 
@@ -24,11 +25,7 @@ def read(path):
 
 
 def save(fig, out_dir, name):
-    os.makedirs(out_dir, exist_ok=True)
-    path = os.path.join(out_dir, name)
-    tmp = path + ".tmp"
-    fig.savefig(tmp, format="png", dpi=140)
-    os.replace(tmp, path)
+    path = save_figure(fig, os.path.join(out_dir, name), dpi=140)
     print(f"wrote {path}", file=sys.stderr)
 
 

@@ -17,6 +17,10 @@ import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np  # noqa: E402
 
+# plots/_common.py sits beside this file (in the Python package too: sglab._plots).
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from _common import save_figure  # noqa: E402
+
 LAYERS = ("direct", "indirect", "indirect_reference", "error")
 
 
@@ -79,9 +83,7 @@ def main() -> int:
         im, command = read_dump(path)
         name = os.path.splitext(os.path.basename(path))[0]
         fig = figure(im, f"{name}" + (f"  ({command})" if command else ""))
-        target = os.path.join(out_dir, f"{name}.png")
-        fig.savefig(target + ".tmp", format="png", dpi=80)
-        os.replace(target + ".tmp", target)  # never a half-written figure
+        target = save_figure(fig, os.path.join(out_dir, f"{name}.png"), dpi=80)
         plt.close(fig)
         print(f"wrote {target}")
     return 0

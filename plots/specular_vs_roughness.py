@@ -18,6 +18,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
+from _common import save_figures  # noqa: E402
 
 PANELS = (
     ("smape", "SMAPE (%)", "mean 2|v − r|/(|v| + |r|)"),
@@ -65,12 +66,7 @@ def main() -> int:
     fig.suptitle("Specular reflection of an SG light off GGX: each method against the reference "
                  "(all light sharpnesses and views of the sweep)", fontsize=10)
     fig.tight_layout()
-    for ext in ("png", "pdf"):
-        path = os.path.join(out_dir, f"specular_vs_roughness.{ext}")
-        tmp = path + ".tmp"
-        fig.savefig(tmp, format=ext, dpi=150)
-        os.replace(tmp, path)  # never a half-written figure
-    print(f"wrote {out_dir}/specular_vs_roughness.png and .pdf", file=sys.stderr)
+    save_figures(fig, out_dir, "specular_vs_roughness", dpi=150, report=True)
     return 0
 
 

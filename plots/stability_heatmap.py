@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import BoundaryNorm, ListedColormap  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 import numpy as np  # noqa: E402
+from _common import save_figures  # noqa: E402
 
 # The verdicts of experiments/stability_atlas.hpp (Flag), in increasing severity, then one more
 # shade for "ok" cells that had no reference to compare against (finite and ≥ 0 only).
@@ -48,11 +49,7 @@ def tick_labels(values):
 
 
 def save(fig, out_dir, stem, formats, dpi):
-    for ext in formats:
-        path = os.path.join(out_dir, f"{stem}.{ext}")
-        tmp = os.path.join(out_dir, f".{stem}.{ext}.tmp")
-        fig.savefig(tmp, format=ext, dpi=dpi)
-        os.replace(tmp, path)  # atomic: never a half-written figure
+    save_figures(fig, out_dir, stem, formats, dpi)
 
 
 def draw(task):

@@ -3,14 +3,17 @@
 # (Release) and builds what the job needs. Run as root on a fresh machine; safe to re-run.
 #   bash scripts/setup.sh          the `sglab` binary and the Python module (build/python)
 #   bash scripts/setup.sh --tests  everything: sglab, the test executables CTest runs, benchmarks
+#   bash scripts/setup.sh --fuzz   also clang: the libFuzzer targets in ./build-fuzz (docs/testing.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 targets=(--target sglab sglab_python)
+fuzz=0
 case "${1:-}" in
   "") ;;
   --tests) targets=() ;;
-  *) echo "setup: unknown option '$1' (expected nothing or --tests)" >&2; exit 2 ;;
+  --fuzz) fuzz=1 ;;
+  *) echo "setup: unknown option '$1' (expected nothing, --tests or --fuzz)" >&2; exit 2 ;;
 esac
 
 packages=(
@@ -21,6 +24,7 @@ packages=(
   python3 python3-matplotlib python3-numpy python3-scipy
   python3-dev pybind11-dev python3-pybind11 python3-pytest
 )
+if ((fuzz)); then packages+=(clang-14 libclang-rt-14-dev); fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -32,5 +36,10 @@ if ((${#missing[@]})); then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
+if ((fuzz)); then
+  CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DSGLAB_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >&2
+  cmake --build build-fuzz -j"$jobs" --target fuzz_csv fuzz_scene fuzz_manifest >&2
+  exit 0
+fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >&2
 cmake --build build -j"$jobs" "${targets[@]}" >&2

@@ -15,40 +15,24 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include "test_util.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int status = -1;
-  std::string out, err;
-};
+using Outcome = sglab::test::CommandResult;
+const auto read = sglab::test::read_file;
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class ConstantsCommand : public ::testing::Test {
+class ConstantsCommand : public sglab::test::TempDirTest {
  protected:
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "sglab-constants-test-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
+    TempDirTest::SetUp();
     write("in.csv", "sharpness,cosine\n3,0.25\n");
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path path(const std::string& name) const { return dir_ / name; }
   void write(const std::string& name, const std::string& text) const {
     fs::create_directories(path(name).parent_path());
     std::ofstream(path(name)) << text;
-  }
-  Outcome sglab(const std::string& args) const {
-    const std::string command = fmt::format("'{}' {} > '{}' 2> '{}'", SGLAB_EXE, args, path("stdout").string(), path("stderr").string());
-    const int raw = std::system(command.c_str());
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, read(path("stdout")), read(path("stderr"))};
   }
   // eval clamped-cosine METHOD at (λ = 3, c = 0.25) with the given --constants arguments.
   double value(const std::string& method, const std::string& constants, Outcome* run_out = nullptr) const {
@@ -58,7 +42,6 @@ class ConstantsCommand : public ::testing::Test {
     const std::string last = run.out.substr(run.out.rfind(',') + 1);
     return std::strtod(last.c_str(), nullptr);
   }
-  fs::path dir_;
 };
 
 // π/A(λ_d)·2πG(ξ; n, λλ_d/(λ+λ_d))/(λ + λ_d), A(λ) = 2π(1 − e^{−2λ})/λ, at λ = 3, c = 0.25.

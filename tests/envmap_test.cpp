@@ -34,12 +34,7 @@ using sglab::SgLight;
 using sglab::SgMixture;
 using Vec3d = sglab::Vec3<double>;
 
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sglab::test::read_file;
 
 class TempDir {
  public:
@@ -156,23 +151,10 @@ TEST(EnvMapFit, RecoversSyntheticMixture) {
 
 // ---- the CLI on bad input ---------------------------------------------------------------------
 
-struct Result {
-  int status = -1;
-  std::string out, err;
-};
+using Result = sglab::test::CommandResult;
 
-class EnvMapCommand : public ::testing::Test {
+class EnvMapCommand : public sglab::test::TempDirTest {
  protected:
-  Result sglab(const std::string& args) const {
-    const std::string command =
-        fmt::format("'{}' {} > '{}' 2> '{}'", SGLAB_EXE, args, (dir_ / "stdout").string(), (dir_ / "stderr").string());
-    const int raw = std::system(command.c_str());
-    Result r;
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    r.out = read_file(dir_ / "stdout");
-    r.err = read_file(dir_ / "stderr");
-    return r;
-  }
   // `sglab fit envmap FILE --lobes N --json … --exr …`: must exit 2 naming `what`, and write
   // neither output.
   void expect_rejected(const std::string& file, int lobes, const std::string& what) {
@@ -184,7 +166,6 @@ class EnvMapCommand : public ::testing::Test {
     EXPECT_FALSE(fs::exists(dir_ / "out.exr"));
   }
   EnvMap uniform(int w, int h, float value = 1) const { return {w, h, std::vector<std::array<float, 3>>(std::size_t(w * h), {value, value, value})}; }
-  TempDir dir_;
 };
 
 TEST_F(EnvMapCommand, FitsAndWritesRecordAndReconstruction) {

@@ -16,17 +16,7 @@ namespace sglab::render {
 namespace {
 
 // A glossy floor, a Lambert wall and a Lambert box under a spotlight (as render_command_test).
-const char* kTinyScene = R"({
-  "camera": {"position": [0, 1, 2.5], "look_at": [0, 0.4, 0], "fov": 50, "width": 24, "height": 20},
-  "light": {"target": [0, 0, 0], "direction": [0, -1, -0.5], "distance": 1.2, "cone_angle": 30, "falloff": 4, "power": 5},
-  "objects": [
-    {"name": "floor", "type": "rectangle", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [2, 0, 0],
-     "material": {"albedo": 0.4, "f0": 0.5, "roughness": 0.3}},
-    {"name": "wall", "type": "rectangle", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0],
-     "material": {"albedo": [0.7, 0.6, 0.5]}},
-    {"name": "crate", "type": "box", "min": [0.3, 0, -0.6], "max": [0.7, 0.4, -0.2], "material": {"albedo": 0.5}}
-  ]
-})";
+const std::string kTinyScene = sglab::test::SmallScene{.width = 24, .height = 20}.json();
 
 Scene tiny_scene() { return parse_scene(parse_scene_text(kTinyScene, "tiny")); }
 

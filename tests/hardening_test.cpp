@@ -48,31 +48,18 @@ struct Result {
   double seconds = 0;
 };
 
-// A glossy floor and a Lambert wall under a spotlight (as in render_command_test.cpp).
-const char* kScene = R"({
-  "camera": {"position": [0, 1, 2.5], "look_at": [0, 0.4, 0], "fov": 50, "width": 12, "height": 10},
-  "light": {"target": [0, 0, 0], "direction": [0, -1, -0.7], "distance": 1.2, "cone_angle": 30, "falloff": 4, "power": 5},
-  "objects": [
-    {"name": "floor", "type": "rectangle", "corner": [-1, 0, -1], "edge_u": [0, 0, 2], "edge_v": [2, 0, 0],
-     "material": {"albedo": 0.4, "f0": 0.5, "roughness": 0.3}},
-    {"name": "wall", "type": "rectangle", "corner": [-1, 0, -1], "edge_u": [2, 0, 0], "edge_v": [0, 2, 0],
-     "material": {"albedo": [0.7, 0.6, 0.5]}}
-  ]
-})";
+// A glossy floor and a Lambert wall under a spotlight.
+const std::string kScene = sglab::test::SmallScene{.light_direction = "[0, -1, -0.7]", .crate = false}.json();
 
 // The longest message any rejected case may print (before the limits, 50 MB of input gave 50 MB of message).
 constexpr std::size_t kShortMessage = 1000;
 
-class Hardening : public ::testing::Test {
+class Hardening : public sglab::test::TempDirTest {
  protected:
   void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "sglab-hardening-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
+    TempDirTest::SetUp();
     std::ofstream(path("scene.json")) << kScene;
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path path(const std::string& name) const { return dir_ / name; }
   std::string p(const std::string& name) const { return "'" + path(name).string() + "'"; }
 
   // Runs `sglab ARGS` (ARGS is shell text) with `stdin_text` on standard input.
@@ -97,7 +84,6 @@ class Hardening : public ::testing::Test {
     for (const auto& e : fs::directory_iterator(dir_))
       EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
   }
-  fs::path dir_;
 };
 
 #define EXPECT_REFUSED(r, needle)                                          \
@@ -184,6 +170,41 @@ TEST_F(Hardening, Group05_OutputSetIsAllOrNothing) {
   set.add(path("blocker") / "stats.json", "{}");
   EXPECT_ANY_THROW(set.commit());
   EXPECT_EQ(read_file(path("keep.exr")), "old image");
+  expect_no_temporaries();
+}
+
+// 5, continued: the commands with several outputs check them all before computing anything, so
+// a second output that cannot be written leaves the first untouched and writes nothing at all.
+TEST_F(Hardening, Group05_TablePairsAreOneSet) {
+  // `sweep render`: NAME.csv exists, NAME.md is a directory.
+  fs::create_directories(path("tables") / "t.md");
+  std::ofstream(path("tables") / "t.csv") << "old table";
+  Result r = sglab("sweep render --scene " + p("scene.json") + " --rsm 8 --shadow-map 64 --out sw --tables-dir tables --table t");
+  EXPECT_REFUSED(r, "is a directory");
+  EXPECT_LT(r.seconds, 10);
+  EXPECT_EQ(read_file(path("tables") / "t.csv"), "old table");
+  EXPECT_FALSE(fs::exists(path("sw"))) << "the sweep ran before its outputs were checked";
+  // A table that would replace the scene it reads.
+  std::ofstream(path("tables") / "s.csv") << read_file(path("scene.json"));
+  r = sglab("sweep render --scene tables/s.csv --rsm 8 --shadow-map 64 --out sw --tables-dir tables --table s");
+  EXPECT_REFUSED(r, "refusing to overwrite an input");
+  EXPECT_EQ(read_file(path("tables") / "s.csv"), read_file(path("scene.json")));
+  EXPECT_FALSE(fs::exists(path("sw")));
+
+  // `error-vs-time`: --out's CSV exists, the tables' Markdown is a directory; then --out and
+  // --tables the same directory (the two CSVs would be one file).
+  std::ofstream(path("keep.csv")) << "old";
+  fs::create_directories(path("evt"));
+  std::ofstream(path("evt") / "error_vs_time.csv") << "old per-method table";
+  fs::create_directories(path("evt_tables") / "error_vs_time.md");
+  r = sglab("error-vs-time --quick --quantity clamped-cosine --out evt --tables evt_tables");
+  EXPECT_REFUSED(r, "is a directory");
+  EXPECT_LT(r.seconds, 10);
+  EXPECT_EQ(read_file(path("evt") / "error_vs_time.csv"), "old per-method table");
+  EXPECT_FALSE(fs::exists(path("evt_tables") / "error_vs_time.csv"));
+  r = sglab("error-vs-time --quick --quantity clamped-cosine --out evt --tables evt");
+  EXPECT_REFUSED(r, "each output needs its own file");
+  EXPECT_EQ(read_file(path("evt") / "error_vs_time.csv"), "old per-method table");
   expect_no_temporaries();
 }
 
@@ -421,6 +442,47 @@ TEST_F(Hardening, Group15_LongValuesAreClipped) {
   EXPECT_REFUSED(r, "bytes)");
 }
 
+// 15 and 1, continued: a constant set (`--constants FILE`) is untrusted text too: deep nesting,
+// long values, names and keys, and malformed JSON with a long token give short messages.
+TEST_F(Hardening, Group15_ConstantSetMessagesAreShort) {
+  const std::string eval = "eval clamped-cosine --method sg-cosine --constants record.json";
+  const std::string input = "sharpness,cosine\n3,0.25\n";
+  const std::string x(100000, 'x');
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"{\"fit\": " + std::string(65000, '[') + std::string(65000, ']') + "}", "nested deeper than 64"},
+      {R"({"fit": "lambda-d", "parameters": {"lambda_d": ")" + x + R"("}})", "not a number"},
+      {R"({"fit": ")" + x + R"(", "parameters": {}})", "unknown fit"},
+      {R"({"fit": "lambda-d", "parameters": {")" + x + R"(": 1}})", "unknown parameter"},
+      {R"({"fit": "lambda-d", "parameters": {"lambda_d": ")" + x, "not valid JSON"},
+      {R"({"fit": "lambda-d", "parameters": {"lambda_d": 3.25}, "objective": ")" + x + R"("}, 1)", "not valid JSON"},
+  };
+  for (const auto& [record, needle] : cases) {
+    std::ofstream(path("record.json")) << record;
+    const Result r = sglab(eval, input);
+    EXPECT_REFUSED(r, needle);
+    EXPECT_NE(r.err.find("record.json"), std::string::npos) << r.err.substr(0, 2000);
+  }
+}
+
+// 14 and 17, continued (a finding of the scene fuzz target, tests/fuzz/fuzz_scene.cpp): a --set
+// value that is not JSON is taken as text; text that is not UTF-8 used to pass validation and
+// then make the render or the sweep fail with a raw JSON exception (exit 1) when the scene was
+// serialised. It is refused up front.
+TEST_F(Hardening, Group17_SetValueNotUtf8IsRefused) {
+  const std::string bad = " --set \"$(printf 'description=caf\\351')\"";  // Latin-1 é: byte 0xE9 alone
+  Result r = sglab(render_args() + " --out out.exr --stats out.json" + bad);
+  EXPECT_REFUSED(r, "not valid UTF-8 text");
+  EXPECT_NE(r.err.find("--set description=caf"), std::string::npos) << r.err;
+  r = sglab("sweep render --scene " + p("scene.json") + " --rsm 8 --shadow-map 64 --out sw" + bad);
+  EXPECT_REFUSED(r, "not valid UTF-8 text");
+  EXPECT_FALSE(fs::exists(path("out.exr")));
+  EXPECT_FALSE(fs::exists(path("out.json")));
+  EXPECT_FALSE(fs::exists(path("sw")));
+  // The same text as valid UTF-8 (é = C3 A9) is accepted.
+  r = sglab(render_args() + " --out out.exr --set \"$(printf 'description=caf\\303\\251')\"");
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
 // 16. Sizes are checked before they are allocated, with how much would be needed.
 TEST_F(Hardening, Group16_UpFrontSizes) {
   Result r = sglab(render_args() + " --out out.exr --width 16384 --height 16384");
@@ -439,6 +501,23 @@ TEST_F(Hardening, Group16_UpFrontSizes) {
   m["points"] = "2";
   std::ofstream(path("shards") / "toy_sweep.shard-0-of-2.json") << m.dump();
   EXPECT_REFUSED(sglab("merge --out merged shards"), "'points' is \"2\", expected a non-negative integer");
+}
+
+// 16, continued: `filter` and `filter-sweep` estimate their memory before allocating (the
+// documented maximum image, 16384², needs ~100 GB of G-buffers and layers).
+TEST_F(Hardening, Group16_FilterMemoryUpFront) {
+  Result r = sglab("filter " + p("scene.json") + " --weights normal --out f.exr --stats f.json --quiet --width 16384 --height 16384");
+  EXPECT_REFUSED(r, "GB of memory");
+  EXPECT_NE(r.err.find("16384×16384 filter run"), std::string::npos) << r.err;
+  EXPECT_LT(r.seconds, 10);
+  EXPECT_FALSE(fs::exists(path("f.exr")));
+  EXPECT_FALSE(fs::exists(path("f.json")));
+  r = sglab("filter-sweep --scene " + p("scene.json") +
+            " --roughness 0.1,0.2 --scale 1,2 --weights normal --out fs --quiet --width 16384 --height 16384");
+  EXPECT_REFUSED(r, "GB of memory");
+  EXPECT_NE(r.err.find("4 × a 16384×16384 filter run at 1/1 resolution"), std::string::npos) << r.err;
+  EXPECT_LT(r.seconds, 10);
+  EXPECT_FALSE(fs::exists(path("fs")));
 }
 
 // 17. Minor: NUL bytes, stdin as a directory, a trailing blank line, a subnormal λ.

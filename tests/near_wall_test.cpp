@@ -61,23 +61,17 @@ Table read_table(const fs::path& p) {
   return t;
 }
 
-class NearWall : public ::testing::Test {
+class NearWall : public sglab::test::TempDirTest {
  protected:
-  void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "sglab-near-wall-test-XXXXXX").string();
-    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path path(const std::string& name) const { return dir_ / name; }
-  int sglab(const std::string& args, std::string* err = nullptr) const {
-    const std::string command = fmt::format("'{}' {} > '{}' 2> '{}'", SGLAB_EXE, args, path("stdout").string(), path("stderr").string());
-    const int raw = std::system(command.c_str());
-    if (err) *err = read_file(path("stderr"));
-    return WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  // The exit status of `sglab ARGS`; its standard output is kept in out_, its standard error in *err.
+  int sglab(const std::string& args, std::string* err = nullptr) {
+    const auto r = TempDirTest::sglab(args);
+    out_ = r.out;
+    if (err) *err = r.err;
+    return r.status;
   }
   std::string scene() const { return std::string(SGLAB_SOURCE_DIR) + "/scenes/sg-light-near-wall-poster.json"; }
-  fs::path dir_;
+  std::string out_;
 };
 
 TEST_F(NearWall, EveryPixelIsEvalAndTheTableIsTheDumps) {
@@ -92,7 +86,7 @@ TEST_F(NearWall, EveryPixelIsEvalAndTheTableIsTheDumps) {
 
   // The compared methods are the registry's clamped-cosine methods, all of them.
   ASSERT_EQ(sglab("eval --list --json"), 0);
-  const auto list = nlohmann::json::parse(read_file(path("stdout")));
+  const auto list = nlohmann::json::parse(out_);
   std::vector<std::string> registry;
   std::string reference;
   for (const auto& q : list.at("quantities"))

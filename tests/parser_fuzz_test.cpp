@@ -5,7 +5,12 @@
 // parsed value or the parser's own error (UsageError, SceneError) with a short message — never
 // another exception, a crash or a message as long as the input. Fixed seeds, printed on failure,
 // so a failure reproduces; a few thousand cases a parser, about a second.
+#include <unistd.h>
+
+#include <cmath>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <sstream>
 #include <string>
@@ -15,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "constant_sets.hpp"
 #include "csv.hpp"
 #include "sglab/render/scene.hpp"
 
@@ -112,6 +118,35 @@ TEST(ParserFuzz, SceneReaderFailsOnlyWithShortSceneErrors) {
       FAIL() << "seed " << seed << ": unexpected " << typeid(e).name() << ": " << std::string(e.what()).substr(0, 300);
     }
   }
+}
+
+// The constant-set reader (`--constants FILE`): a fit record as `sglab fit NAME --json` writes it,
+// mutated; each result is either a set or the reader's UsageError with a short message.
+const char* kFitRecord = R"({
+  "fit": "lambda-c",
+  "parameters": {"lambda_c": 0.63, "sigma_n2": 0.054},
+  "objective": "least squares of the filter's normal weight",
+  "precision": "double"
+})";
+
+TEST(ParserFuzz, ConstantSetReaderFailsOnlyWithShortUsageErrors) {
+  const auto dir = std::filesystem::temp_directory_path() / ("sglab-parser-fuzz-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "record.json";
+  const std::vector<std::string> records = {kFitRecord, R"({"fit": "lambda-d", "parameters": {"lambda_d": 3.25}})"};
+  for (std::uint64_t seed = 1; seed <= 3000; ++seed) {
+    std::mt19937_64 rng(seed);
+    std::ofstream(file, std::ios::binary) << mutate(records[seed % records.size()], rng);
+    try {
+      const auto set = sglab::cli::load_constant_sets({file.string()});
+      for (const auto& v : set.values) ASSERT_TRUE(std::isfinite(v.value)) << "seed " << seed;
+    } catch (const sglab::cli::UsageError& e) {
+      ASSERT_LT(std::string(e.what()).size(), kMaxMessage) << "seed " << seed << ": " << std::string(e.what()).substr(0, 300);
+    } catch (const std::exception& e) {
+      FAIL() << "seed " << seed << ": unexpected " << typeid(e).name() << ": " << std::string(e.what()).substr(0, 300);
+    }
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -450,7 +450,8 @@ TEST(Reference, BoundIsTheDiscFactor) {
   v.flux = Rgb(1, 1, 1);
   v.diffuse_reflectance = Rgb(1, 1, 1);
   v.footprint_radius = 0.01;
-  VplList list{{v}, false};
+  VplList list;  // built by hand: reference_radiance converts it to arrays
+  list.vpls = {v};
   ShadingPoint p;
   p.normal = Vec3(0, -1, 0);
   p.view = Vec3(0, -1, 0);

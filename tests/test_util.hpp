@@ -59,6 +59,52 @@ inline std::string read_file(const std::filesystem::path& p) {
   return s.str();
 }
 
+// The small scene of the end-to-end render, filter and hardening tests (JSON text): a glossy floor
+// (albedo 0.4, F0 0.5, roughness 0.3), a Lambert wall and, with `crate`, a Lambert box, under a
+// spotlight (distance 1.2, falloff 4, power 5) aimed from `light_direction` at `light_target`.
+struct SmallScene {
+  int width = 12, height = 10;
+  std::string light_target = "[0, 0, 0]", light_direction = "[0, -1, -0.5]";
+  int cone_angle = 30;
+  bool crate = true;
+
+  std::string json() const {
+    return "{\n  \"camera\": {\"position\": [0, 1, 2.5], \"look_at\": [0, 0.4, 0], \"fov\": 50, \"width\": " +
+           std::to_string(width) + ", \"height\": " + std::to_string(height) + "},\n  \"light\": {\"target\": " + light_target +
+           ", \"direction\": " + light_direction + ", \"distance\": 1.2, \"cone_angle\": " + std::to_string(cone_angle) +
+           ", \"falloff\": 4, \"power\": 5},\n  \"objects\": [\n"
+           "    {\"name\": \"floor\", \"type\": \"rectangle\", \"corner\": [-1, 0, -1], \"edge_u\": [0, 0, 2], \"edge_v\": [2, 0, 0],\n"
+           "     \"material\": {\"albedo\": 0.4, \"f0\": 0.5, \"roughness\": 0.3}},\n"
+           "    {\"name\": \"wall\", \"type\": \"rectangle\", \"corner\": [-1, 0, -1], \"edge_u\": [2, 0, 0], \"edge_v\": [0, 2, 0],\n"
+           "     \"material\": {\"albedo\": [0.7, 0.6, 0.5]}}" +
+           (crate ? ",\n    {\"name\": \"crate\", \"type\": \"box\", \"min\": [0.3, 0, -0.6], \"max\": [0.7, 0.4, -0.2], "
+                    "\"material\": {\"albedo\": 0.5}}"
+                  : "") +
+           "\n  ]\n}";
+  }
+};
+
+// For an image read by sglab::render::read_exr: each of `layers` has R, G and B channels, and the
+// layer "error" is `value` − `reference` pixel by pixel, up to the float rounding of the stored
+// layers. Returns the sum of `reference` over every pixel and channel (its energy).
+template <class Image>
+double expect_error_layer(const Image& image, const std::vector<std::string>& layers, const std::string& value,
+                          const std::string& reference) {
+  for (const auto& layer : layers)
+    for (const char* c : {"R", "G", "B"}) EXPECT_TRUE(image.channels.count(layer + "." + c)) << layer << c;
+  double energy = 0;
+  for (const std::string c : {"R", "G", "B"}) {
+    const auto& e = image.channels.at("error." + c);
+    const auto& v = image.channels.at(value + "." + c);
+    const auto& ref = image.channels.at(reference + "." + c);
+    for (std::size_t k = 0; k < e.size(); ++k) {
+      EXPECT_NEAR(e[k], v[k] - ref[k], 1e-6 * (std::fabs(v[k]) + std::fabs(ref[k])) + 1e-30);
+      energy += ref[k];
+    }
+  }
+  return energy;
+}
+
 struct CommandResult {
   int status = -1;  // exit status (-1: did not exit normally)
   std::string out, err;

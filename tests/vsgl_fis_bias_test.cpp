@@ -17,17 +17,13 @@
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/scene.hpp"
 #include "sglab/render/vsgl_generation.hpp"
+#include "test_util.hpp"
 
 namespace {
 
 using namespace sglab::render;
 
-std::string read_file(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sglab::test::read_file;
 
 struct TableRow {
   double bias = 0, se = 0;

@@ -335,14 +335,19 @@ TEST(VsglSingleVplLimit, ShadingConvergesToThePointLight) {
       {"tokuyoshi2024", [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); }, point_cosine, 1e-7},
       {"sg-cosine", [&](double l, double c) { return clamped_cosine_sg_cosine(l, c, lambda_d); }, point_sg_cosine, 1e-7},
   };
+  // The four VPLs at ±s along e1 and e2 around y, summed.
+  const auto cluster = [&](double s) {
+    VsglSums<double> sums;
+    for (const V3& off : {V3(s * e1), V3(-s * e1), V3(s * e2), V3(-s * e2)}) {
+      add_position(sums.position, luminance(phi_r), V3(y + off), y);
+      add_lobe(sums.diffuse, phi_r, nv, vmf_mean_length_toksvig(lambda_d));
+    }
+    return sums;
+  };
   for (const auto& m : methods) {
     double previous = 1;
     for (double s : {1e-1, 1e-2, 1e-3, 1e-4, 0.0}) {
-      VsglSums<double> sums;
-      for (const V3& off : {V3(s * e1), V3(-s * e1), V3(s * e2), V3(-s * e2)}) {
-        add_position(sums.position, luminance(phi_r), V3(y + off), y);
-        add_lobe(sums.diffuse, phi_r, nv, vmf_mean_length_toksvig(lambda_d));
-      }
+      const VsglSums<double> sums = cluster(s);
       const VsglPosition<double> p = vsgl_position(sums.position, y);
       EXPECT_LE(test::relative_error(p.variance, s * s), 1e-12);
       const VsglIntensity<double> v = vsgl_intensity(sums.diffuse);
@@ -366,11 +371,7 @@ TEST(VsglSingleVplLimit, ShadingConvergesToThePointLight) {
   // Specular at a glossy receiver (f0 = 1: M's Fresnel is 1).
   double previous = 1;
   for (double s : {1e-1, 1e-2, 1e-3, 1e-4, 0.0}) {
-    VsglSums<double> sums;
-    for (const V3& off : {V3(s * e1), V3(-s * e1), V3(s * e2), V3(-s * e2)}) {
-      add_position(sums.position, luminance(phi_r), V3(y + off), y);
-      add_lobe(sums.diffuse, phi_r, nv, vmf_mean_length_toksvig(lambda_d));
-    }
+    const VsglSums<double> sums = cluster(s);
     const VsglPosition<double> p = vsgl_position(sums.position, y);
     const VsglIntensity<double> v = vsgl_intensity(sums.diffuse);
     const VsglIncomingSg<double> in = vsgl_incoming_sg(vsgl_positional_sg(p.mean, p.variance, yp), v.axis, v.sharpness);

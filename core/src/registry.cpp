@@ -10,6 +10,10 @@
 
 namespace sglab {
 
+// Specular reflection off the Gaussian-angle NDF BRDF of Wang et al. 2009 (registry_gaussian_ndf.cpp,
+// docs/math.md §5); declared here rather than in registry.hpp, which every command includes.
+void register_gaussian_ndf_quantities(std::vector<Quantity>& out);
+
 std::string_view precision_name(Precision p) {
   switch (p) {
     case Precision::float32: return "float";
@@ -46,6 +50,7 @@ const std::vector<Quantity>& quantities() {
     std::vector<Quantity> out;
     register_core_quantities(out);
     register_glossy_quantities(out);
+    register_gaussian_ndf_quantities(out);
     register_stiff_quantities(out);
     return out;
   }();

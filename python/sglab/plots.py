@@ -15,6 +15,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from ._plots import _common
 from ._plots import near_wall_vsgl_vs_vpl_sum as _near_wall_vsgl_vs_vpl_sum
 from ._plots import render_images as _render_images
 
@@ -65,7 +66,4 @@ def method_error(quantity: str, methods: Sequence[str], *, relative_to: float | 
 def save(fig, path: str | os.PathLike, **savefig_args) -> None:
     """Write ``fig`` to ``path`` (format from the extension) via a temporary file and a rename, so
     that a figure is never half-written."""
-    path = os.fspath(path)
-    tmp = path + ".tmp"
-    fig.savefig(tmp, format=os.path.splitext(path)[1].lstrip(".") or "png", **savefig_args)
-    os.replace(tmp, path)
+    _common.save_figure(fig, path, **savefig_args)

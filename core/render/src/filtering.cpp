@@ -203,6 +203,7 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
   in.low_indirect.assign(m, Rgb::Zero());
   VsglSet vsgls;
   if (o.source == IndirectSource::vsgl) vsgls = build_vsgls(rsm, o.vsgl);
+  const VsglShader shader(vsgls, o.shading);
   for_each_row(in.low_width, in.low_height, "low-res indirect", o.progress, [&](std::size_t k, int, int) {
     const FilterSample& s = in.low[k];
     if (!s.valid) return;
@@ -215,7 +216,7 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
       diffuse = reference_radiance(d, vpls);
       specular = s.point.glossy() ? reference_radiance(g, vpls) : Rgb::Zero();
     } else {
-      const VsglShading parts = shade_vsgls_parts(s.point, vsgls, o.shading);
+      const VsglShading parts = shader.shade(s.point);
       diffuse = parts.diffuse;
       specular = parts.specular;
     }

@@ -22,17 +22,14 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Runs body(k) for every pixel k with hit[k], parallel over rows, reporting progress in 5 % steps.
-template <class Body>
-void for_each_pixel(const GBuffer& g, std::string_view stage, const RenderOptions& o, const Body& body) {
+// Runs row_body(j) for every image row j, in parallel, reporting progress in 5 % steps.
+template <class RowBody>
+void for_each_row(const GBuffer& g, std::string_view stage, const RenderOptions& o, const RowBody& row_body) {
   std::atomic<int> rows_done{0}, reported{0};
   if (o.progress) o.progress(stage, 0.0);
   tbb::parallel_for(tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& rows) {
     for (int j = rows.begin(); j < rows.end(); ++j) {
-      for (int i = 0; i < g.width; ++i) {
-        const std::size_t k = std::size_t(j) * std::size_t(g.width) + std::size_t(i);
-        if (g.hit[k]) body(k);
-      }
+      row_body(j);
       const int done = ++rows_done;
       if (o.progress) {
         const int step = 20 * done / g.height;  // 0 … 20
@@ -44,6 +41,17 @@ void for_each_pixel(const GBuffer& g, std::string_view stage, const RenderOption
     }
   });
   if (o.progress) o.progress(stage, 1.0);
+}
+
+// Runs body(k) for every pixel k with hit[k], parallel over rows.
+template <class Body>
+void for_each_pixel(const GBuffer& g, std::string_view stage, const RenderOptions& o, const Body& body) {
+  for_each_row(g, stage, o, [&](int j) {
+    for (int i = 0; i < g.width; ++i) {
+      const std::size_t k = std::size_t(j) * std::size_t(g.width) + std::size_t(i);
+      if (g.hit[k]) body(k);
+    }
+  });
 }
 
 }  // namespace
@@ -137,15 +145,30 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
     v.specular_shading = shading.specular;
     v.asg_evaluations = shading.specular ? v.glossy_receivers * v.vsgls.stats.specular_vsgls : 0;
     t0 = Clock::now();
+    const VsglShader shader(v.vsgls, shading);
     if (o.visibility) {
       const std::vector<CubeShadowMap> maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
       for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) {
         std::vector<char> visible(maps.size());
         for (std::size_t c = 0; c < maps.size(); ++c) visible[c] = maps[c].lit(g.points[k].position, g.points[k].normal) ? 1 : 0;
-        v.indirect[k] = shade_vsgls(g.points[k], v.vsgls, shading, visible);
+        v.indirect[k] = shader.shade(g.points[k], visible).total();
       });
     } else {
-      for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) { v.indirect[k] = shade_vsgls(g.points[k], v.vsgls, shading); });
+      // A row's hit pixels at once, so that the diffuse method runs on wide batches.
+      for_each_row(g, "vsgl shading", o, [&](int j) {
+        std::vector<ShadingPoint> points;
+        std::vector<std::size_t> pixels;
+        for (int i = 0; i < g.width; ++i) {
+          const std::size_t k = std::size_t(j) * std::size_t(g.width) + std::size_t(i);
+          if (g.hit[k]) {
+            points.push_back(g.points[k]);
+            pixels.push_back(k);
+          }
+        }
+        std::vector<VsglShading> shaded(points.size());
+        shader.shade(points, shaded);
+        for (std::size_t i = 0; i < pixels.size(); ++i) v.indirect[pixels[i]] = shaded[i].total();
+      });
     }
     v.seconds.shading = seconds_since(t0);
     for (std::size_t k = 0; k < n; ++k) v.error[k] = v.indirect[k] - v.indirect_reference[k];

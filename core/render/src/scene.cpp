@@ -329,6 +329,11 @@ void apply_override(nlohmann::json& document, const std::string& assignment) {
   if (const auto error = input_size_error(assignment.size(), kMaxJsonBytes, "the value"))
     throw SceneError(fmt::format("{}: {}", where, *error));
   if (const auto error = json_nesting_error(text)) throw SceneError(fmt::format("{}: {}", where, *error));
+  try {  // a scene holds UTF-8 only (a scene file's JSON cannot hold anything else): the commands serialise it
+    (void)json(assignment).dump();
+  } catch (const json::type_error&) {
+    throw SceneError(fmt::format("--set {}: not valid UTF-8 text", clip_text(assignment)));
+  }
   json value;
   try {
     value = json::parse(text);

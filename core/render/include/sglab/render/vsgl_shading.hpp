@@ -30,6 +30,7 @@
 // published (hill-fitted, meder) are NOT clamped: their flaw shows in the image.
 #pragma once
 
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -44,15 +45,17 @@ namespace sglab::render {
 inline constexpr std::string_view kVsglVisibilityNote =
     "VSGL visibility ignored (as in the papers): every VSGL lights every shading point";
 
-enum class DiffuseMethod {
-  reference, punctual, punctual_approx, sg_cosine, cosine_lobe_sg, hill_fitted, meder, tokuyoshi2022, tokuyoshi2024,
-  sglab,     // this project's own approximation (clamped_cosine_sglab.hpp)
-  registry,  // any other clamped-cosine method, evaluated through the registry (slower)
-};
+// The clamped-cosine method a render uses when none is named.
+inline constexpr std::string_view kDefaultDiffuseMethod = "tokuyoshi2024";
 
 struct ShadingOptions {
-  DiffuseMethod diffuse = DiffuseMethod::tokuyoshi2024;
-  const Method* registry_method = nullptr;  // the method, for diffuse == registry
+  // The clamped-cosine method giving D: an entry of the registry's clamped-cosine quantity, or a
+  // copy of one bound to a constant set (registry.hpp bind). nullptr: kDefaultDiffuseMethod. It
+  // must outlive the shading. Any method the registry lists works, through its batch evaluator
+  // (Method::batch_double, one call per shading point for all its lobes). A parameter named
+  // "lambda_d" (sg-cosine's) is the VSGL set's λ_d: an unbound method is bound to it. Methods
+  // whose domain excludes λ = 0 (Method::domain_error set) are evaluated at λ_in ≥ 1e-8.
+  const Method* diffuse = nullptr;
   bool specular = true;                     // ASG specular on glossy receivers
   // sg-cosine only: take A(λ_d) ≈ π as the two-VSGL poster does (Tokuyoshi 2015 supplement §3.2,
   // after Iwasaki et al. 2012), i.e. D = 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d); false: the
@@ -73,9 +76,33 @@ struct VsglShading {
   Rgb total() const { return diffuse + specular; }
 };
 
-// Indirect radiance at `point` towards point.view from every VSGL of `set`. `visible`, if not
-// empty, has one entry per cluster: 0 = V(y_p, μ_v) = 0, the cluster is skipped (Tokuyoshi 2016
-// supplement §4.1; visibility.hpp).
+// A VSGL set prepared for shading many points with one set of options: the lobes as arrays
+// (cluster order, each cluster's diffuse lobe then its specular lobe) and the diffuse method bound.
+// shade() is const and may run on many threads at once. Per point, the incoming SG of every lobe
+// (positional Gaussian × intensity SG, Eq. 7) is computed in one vectorized loop
+// (simd_dispatch.hpp), D for all lobes in one batch call of the method, e^{log_scale} vectorized;
+// the sums run in lobe order, as the one-lobe-at-a-time form, so results agree with it to rounding.
+class VsglShader {
+ public:
+  VsglShader(const VsglSet& set, const ShadingOptions& options);
+  VsglShader(VsglShader&&) noexcept;
+  ~VsglShader();
+  // Indirect radiance at `point` towards point.view from every VSGL of the set. `visible`, if not
+  // empty, has one entry per cluster: 0 = V(y_p, μ_v) = 0, the cluster is skipped (Tokuyoshi 2016
+  // supplement §4.1; visibility.hpp).
+  VsglShading shade(const ShadingPoint& point, std::span<const char> visible = {}) const;
+  // Many points at once (every cluster visible): out[i] for points[i]. The diffuse method is then
+  // called on batches of (point, lobe) rows, wide even for a few lobes.
+  void shade(std::span<const ShadingPoint> points, std::span<VsglShading> out) const;
+  std::size_t lobes() const;
+
+ private:
+  void shade_block(std::span<const ShadingPoint> points, std::span<const char> visible, std::span<VsglShading> out) const;
+  struct Data;
+  std::unique_ptr<Data> data_;
+};
+
+// One point (builds a VsglShader per call: use VsglShader for many points).
 VsglShading shade_vsgls_parts(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& options,
                               std::span<const char> visible = {});
 inline Rgb shade_vsgls(const ShadingPoint& point, const VsglSet& set, const ShadingOptions& options,

@@ -1,0 +1,35 @@
+"""What the figure scripts of plots/ share: a figure file appears whole or not at all.
+
+Each file is written to a hidden temporary file next to it and renamed over it (atomic on one file
+system), so an interrupted or failed plot never leaves a half-written PNG or PDF behind. Also used
+by the Python package (sglab.plots.save), which ships a copy of this module in sglab._plots.
+"""
+import os
+import sys
+
+
+def save_figure(fig, path, **savefig_args):
+    """Writes ``fig`` to ``path`` (format from the extension unless ``format`` is given), through a
+    temporary file and a rename. Creates the directory. Returns ``path``."""
+    path = os.fspath(path)
+    directory, name = os.path.split(path)
+    if directory:
+        os.makedirs(directory, exist_ok=True)
+    tmp = os.path.join(directory, f".{name}.tmp")
+    savefig_args.setdefault("format", os.path.splitext(name)[1].lstrip(".") or "png")
+    try:
+        fig.savefig(tmp, **savefig_args)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    return path
+
+
+def save_figures(fig, out_dir, stem, formats=("png", "pdf"), dpi=150, report=False):
+    """``fig`` as OUT_DIR/STEM.EXT for each of ``formats`` (save_figure each); with ``report``, says
+    so on stderr. Returns the paths."""
+    paths = [save_figure(fig, os.path.join(out_dir, f"{stem}.{ext}"), dpi=dpi) for ext in formats]
+    if report:
+        print("wrote " + " and ".join(paths), file=sys.stderr)
+    return paths
