@@ -1,14 +1,17 @@
-// The stability atlas: every method of every registry quantity, in float and
-// double, evaluated over the stiff inputs of docs/math.md §10, with each output classified (NaN, Inf,
-// negative, wrong by more than 1 %, outside the method's domain) and its rounding error (the
-// method in float or double against the same method in 50 digits at the same input) kept apart
-// from its approximation error (against the quantity's reference method). Plus the stiff cases
-// of docs/math.md §10 that are not registry quantities (opposite SG lobes, degenerate VPL sets, the
-// shading point on top of a VSGL), as atlas-only quantities run through the same machinery.
+// The stability atlas: every method of every registry quantity, in float and double, evaluated
+// over the stiff inputs of docs/math.md §10, with each output classified (NaN, Inf, negative,
+// wrong by more than 1 %, outside the method's domain) and its rounding error (the method in float
+// or double against the same method in 50 digits at the same input) kept apart from its
+// approximation error (against the quantity's reference method). The registry is the only method
+// list: the stiff cases that are not formulas of their own (opposite SG lobes, degenerate VPL
+// sets, the shading point on top of a VSGL) are registry quantities too (core/src/registry_stiff.cpp),
+// and what the atlas needs to know per quantity is data on it (Column::stiff_values,
+// Quantity::reference_reach).
 //
-// This file is the computation; `sglab stability` (stability.cpp) runs it and writes the tables.
-// Everything here is deterministic: evaluations run in parallel into per-row slots, and tallies
-// are taken serially in row order (ties go to the first row).
+// This header is the computation (compute) and its tables (stability_tables.cpp); `sglab
+// stability` (stability.cpp) runs it and writes the tables. Everything here is deterministic:
+// evaluations run in parallel into per-row slots, and tallies are taken serially in row order
+// (ties go to the first row).
 #pragma once
 
 #include <cstddef>
@@ -121,6 +124,7 @@ Grid make_grid(std::vector<std::string> names, std::vector<std::vector<double>> 
 // quantities have five and six columns). --quick takes every column one level down.
 enum class Level { full, coarse, minimal };
 // Values of a column kind over its documented domain and its extremes (stiff_cases.hpp):
+// (A column with Column::stiff_values takes those instead.)
 //   sharpness, nonnegative: {0} ∪ 1e-8 … 1e8 (4, 1 per decade; minimal 7 values), then a sparse
 //           tail up to FLT_MAX and DBL_MAX (stiff::extreme_sharpnesses: 14 values, coarse 4,
 //           minimal {FLT_MAX, DBL_MAX}); float rows stop at FLT_MAX (evaluate skips the others);
@@ -189,33 +193,17 @@ struct Case {
   Quantity quantity;
   Grid grid;
   std::vector<char> reference_rows;  // empty: the quantity has no reference method
-  std::string note;                  // how the reference was subset, what the case is
-  // Per row (or empty): a closed-form large-λ limit used as the reference where the reference
-  // method is not run (its quadrature cannot reach λ past kQuadratureMaxSharpness); NaN elsewhere.
+  std::string note;                  // where the reference is run, and what stands in elsewhere
+  // Per row (or empty): the closed-form large-sharpness limit used as the reference where the
+  // reference method is not run (ReferenceReach::limit); NaN elsewhere.
   std::vector<double> limit_reference;
 };
 
-// The largest sharpness (or ASG bandwidth) at which the quadrature references are run; past it
-// the atlas compares against closed-form large-λ limits (or not at all), as each case's note says.
-inline constexpr double kQuadratureMaxSharpness = 1e8;
-
-// The large-λ limits of H(λ, c) and D(λ, c): for λ → ∞ the unit SG is a planar Gaussian of
-// variance 1/λ per axis and total mass 2π/λ, and ω·n ≈ c + (the in-plane offset towards n), so
-//   H → (2π/λ)·½erfc(−c√(λ/2)),  D → (2π/λ)·(c·½erfc(−c√(λ/2)) + e^{−λc²/2}/√(2πλ)),
-// i.e. 2π/λ and 2π⟨c⟩/λ away from the horizon. Relative error O(1/λ + λc⁴) (the θ⁴ term of cos θ
-// in the back-facing tail): ≤ 1e-8 on the atlas grid past 1e8, whose back-facing cosines are
-// −1e-8 or ≤ −1/16 (where both values underflow to 0).
-double hemispherical_large_lambda(double lambda, double cosine);
-double clamped_cosine_large_lambda(double lambda, double cosine);
-
-// The registry quantities with their grids. Expensive references (the glossy quantities, double
-// quadratures at up to seconds per point) are computed on a spread subset of rows, as `note` says.
-std::vector<Case> registry_cases(bool quick);
-
-// The stiff cases of docs/math.md §10 that are not registry quantities: products of (nearly) opposite
-// SG lobes of equal sharpness (sg.hpp), and — from vsgl.hpp — degenerate VPL sets (a single point,
-// a patch far from the origin) and the shading point on top of μ_v.
-std::vector<Case> extra_cases(bool quick);
+// The cases of `quantities` (the registry's by default) with their grids (registry_grid), and the
+// rows their reference is run on (Quantity::reference_reach): every row by default; within the
+// reach, with the closed-form limit past it; or, for a reference too slow for the whole grid
+// (the glossy double quadratures, up to seconds a point), a spread subset of the affordable rows.
+std::vector<Case> registry_cases(bool quick, std::span<const Quantity> quantities = sglab::quantities());
 
 // Whether the 50-digit evaluator of m is usable as "the same formula in 50 digits": it must be
 // cheaper than `max_seconds` per point (the 50-digit quadratures take ~0.5 s) and not merely the
@@ -232,5 +220,69 @@ RoundingProbe probe_rounding(const Method& m, const Grid& g, double max_seconds 
 // "name=value; name=value" for row r, the values as evaluated in precision p (9 significant
 // digits for float, 17 for double).
 std::string describe_row(const Grid& g, std::size_t r, Precision p);
+
+// ---- the whole atlas ------------------------------------------------------------------------
+
+// At most this many rows per (method, precision) get the 50-digit evaluation (spread over the
+// grid); the closed forms take 20–500 µs each in 50 digits.
+inline constexpr std::size_t kRoundingRowsFull = 4000, kRoundingRowsQuick = 300;
+// Below this fraction of a method's largest value on the grid, values are negligible when
+// normalizing its rounding error (a choice: far below any rounding error of interest, 1e-16).
+inline constexpr double kNegligible = 1e-20;
+
+// One method in one precision: its counts, its heat-map cells, and the rows (as describe_row)
+// where its worst verdict and errors occur ("" where not measured).
+struct PrecisionResult {
+  Precision precision = Precision::float32;
+  Tally tally;
+  std::vector<Cell> cells;
+  std::string worst_flag_at, rel_at, peak_at, rounding_at, rounding_peak_at;
+  // Where the rounding error that matters occurs: over the peak where there is one, else relative.
+  const std::string& rounding_where() const { return rounding_peak_at.empty() ? rounding_at : rounding_peak_at; }
+};
+
+struct MethodResult {
+  std::string name, flaws;
+  bool is_reference = false;
+  std::string rounding_note;               // why the rounding error was not measured, if it was not
+  std::vector<PrecisionResult> precisions;  // float, then double
+};
+
+struct QuantityResult {
+  Quantity quantity;  // as evaluated (methods bound to the constant set)
+  Grid grid;
+  std::string note;
+  std::vector<MethodResult> methods;
+};
+
+struct Options {
+  bool quick = false;
+  std::vector<std::string> only;  // quantity names; empty: all
+  ConstantSet constants;          // replaces the methods' published constants
+};
+
+struct Result {
+  std::vector<QuantityResult> quantities;
+  std::size_t rounding_rows = 0;  // the 50-digit budget per (method, precision)
+  double seconds = 0;
+};
+
+// Runs the atlas over `quantities` (the registry by default), printing progress to stderr.
+// Throws std::invalid_argument naming an unknown quantity in `only` before computing anything.
+Result compute(const Options& options, std::span<const Quantity> quantities = sglab::quantities());
+
+// One method of a case in float and double against the reference values (per row, NaN where
+// unknown; `reference_evals` the reference method's own double evaluations, reused when m is it).
+MethodResult compute_method(const Case& c, const Method& m, std::span<const double> reference,
+                            std::span<const Evaluation> reference_evals, bool quick);
+
+// ---- tables (stability_tables.cpp) ---------------------------------------------------------
+
+// One row per quantity × method × precision.
+std::string summary_csv(const Result& r);
+// The heat-map cells (plots/stability_heatmap.py).
+std::string cells_csv(const Result& r);
+// The Markdown report: `command` heads it, `constants` lists the constants in use.
+std::string markdown(const Result& r, const std::string& constants);
 
 }  // namespace sglab::atlas

@@ -1,12 +1,14 @@
 // tests for experiments/stability_atlas.{hpp,cpp} (`sglab stability`): the counting logic on a
 // fake method with known NaN/Inf/negative/wrong/thrown/out-of-domain cells, the grids (the next
 // float past ±1 really reaches a float method), the cartesian indexing and peaks against direct
-// recomputation, the atlas-only cases against closed forms, and the sharpness grid reaching
-// FLT_MAX and DBL_MAX with no NaN or Inf from any method there.
+// recomputation, the stiff-case quantities against closed forms, the sharpness grid reaching
+// FLT_MAX and DBL_MAX with no NaN or Inf from any method there, and the registry as the atlas's
+// only method list (a quantity given as registry data reaches the atlas and its tables).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <set>
 #include <stdexcept>
@@ -62,6 +64,23 @@ Quantity fake_quantity() {
   return q;
 }
 
+// The counts of the fake method on its 3 × 4 grid, against the fake reference on every row.
+void expect_fake_counts(const Tally& t) {
+  EXPECT_EQ(t.points, 12);
+  EXPECT_EQ(t.out_of_domain, 1);
+  EXPECT_EQ(t.nan, 1);
+  EXPECT_EQ(t.inf, 1);
+  EXPECT_EQ(t.throws, 1);
+  EXPECT_EQ(t.negative, 1);
+  // Compared: every finite, evaluated output: 12 − dom − NaN − Inf − throw = 8.
+  EXPECT_EQ(t.compared, 8);
+  // > 1 % of |ref|: the negative one, the 5 % one, the 50 % one. > 1 % of the peak: not the 50 %
+  // one (its reference is 1e-3, 5e-4 off, against a peak of (1 + 1)(1 + 1) + 1e-3 on the λ = 1 line).
+  EXPECT_EQ(t.wrong_relative, 3);
+  EXPECT_EQ(t.wrong_peak, 2);
+  EXPECT_EQ(t.worst_flag, Flag::nan);
+}
+
 Grid fake_grid() { return make_grid({"sharpness", "cosine"}, {{0.0, 1.0, 10.0}, {-1.0, -0.5, 0.5, 1.0}}, 0, 1, true); }
 
 TEST(StabilityAtlas, FakeMethodGetsExactlyItsCounts) {
@@ -75,19 +94,7 @@ TEST(StabilityAtlas, FakeMethodGetsExactlyItsCounts) {
   for (Precision p : {Precision::float32, Precision::float64}) {
     std::vector<Evaluation> ev = evaluate(q, q.methods[0], p, g, reference, peak, rounding);
     const Tally t = tally(ev, tiny_of(p));
-    EXPECT_EQ(t.points, 12);
-    EXPECT_EQ(t.out_of_domain, 1);
-    EXPECT_EQ(t.nan, 1);
-    EXPECT_EQ(t.inf, 1);
-    EXPECT_EQ(t.throws, 1);
-    EXPECT_EQ(t.negative, 1);
-    // Compared: every finite, evaluated output: 12 − dom − NaN − Inf − throw = 8.
-    EXPECT_EQ(t.compared, 8);
-    // > 1 % of |ref|: the negative one, the 5 % one, the 50 % one. > 1 % of the peak: not the 50 %
-    // one (its reference is 1e-3, 5e-4 off, against a peak of (1 + 1)(1 + 1) + 1e-3 on the λ = 1 line).
-    EXPECT_EQ(t.wrong_relative, 3);
-    EXPECT_EQ(t.wrong_peak, 2);
-    EXPECT_EQ(t.worst_flag, Flag::nan);
+    expect_fake_counts(t);
     EXPECT_EQ(g.row(t.worst_flag_row), (std::vector<double>{1.0, -0.5}));
     // The worst relative error: the negative output, |−0.25 − ref| / ref at (10, 0.5).
     const double ref_neg = fake_reference(10, 0.5);
@@ -264,36 +271,31 @@ TEST(StabilityAtlas, AtlasFindsHillNegativesLikeADirectCount) {
   EXPECT_EQ(rejected, long(g.y_size()));  // λ = 0: one row per cosine
 }
 
-TEST(StabilityAtlas, ExtraCasesAgreeWithClosedForms) {
-  const auto extras = extra_cases(true);
-  auto find = [&](const std::string& name) -> const Case* {
-    for (const auto& c : extras)
-      if (c.quantity.name == name) return &c;
-    return nullptr;
-  };
+TEST(StabilityAtlas, StiffQuantitiesAgreeWithClosedForms) {
+  // The stiff cases of docs/math.md §10 are registry quantities (core/src/registry_stiff.cpp).
   // Exactly opposite axes of equal sharpness: the product is the constant e^{−2λ}, ∫ = 4π e^{−2λ}.
-  const Case* opp = find("sg-product-opposite");
+  const Quantity* opp = find_quantity("sg-product-opposite");
   ASSERT_NE(opp, nullptr);
   for (double l : {0.0, 1e-3, 1.0, 30.0}) {
     const std::vector<double> a{l, 0.0};
     const double exact = 4 * M_PI * std::exp(-2 * l);
     for (const char* name : {"definition", "sg_product", "product_integral_exact"})
-      EXPECT_NEAR(opp->quantity.find(name)->eval_double(a) / exact, 1.0, 1e-14) << name << " at λ = " << l;
+      EXPECT_NEAR(opp->find(name)->eval_double(a) / exact, 1.0, 1e-14) << name << " at λ = " << l;
   }
   // Nearly opposite (δ = 0.1): ∫ = e^{λ3−2λ}·2π(1 − e^{−2λ3})/λ3 with λ3 = 2λ sin(δ/2).
   for (double l : {0.5, 20.0}) {
     const double d = 0.1, l3 = 2 * l * std::sin(d / 2);
     const double exact = std::exp(l3 - 2 * l) * 2 * M_PI * (-std::expm1(-2 * l3)) / l3;
     const std::vector<double> a{l, d};
-    EXPECT_NEAR(opp->quantity.find("sg_product")->eval_double(a) / exact, 1.0, 1e-12);
+    EXPECT_NEAR(opp->find("sg_product")->eval_double(a) / exact, 1.0, 1e-12);
   }
   // A 3 × 3 patch of spacing h has σ² = 4h²/3; at the origin both reference points get it to
   // rounding, and a single point far away has σ² = 0 exactly with o at the first VPL.
-  const Case* var = find("vsgl-variance");
+  const Quantity* var = find_quantity("vsgl-variance");
   ASSERT_NE(var, nullptr);
   for (const char* name : {"origin-zero", "origin-first-vpl"})
-    EXPECT_NEAR(var->quantity.find(name)->eval_double(std::vector<double>{0.0, 1.0}), 4.0 / 3.0, 1e-14) << name;
-  EXPECT_EQ(var->quantity.find("origin-first-vpl")->eval_double(std::vector<double>{1e8, 0.0}), 0.0);
+    EXPECT_NEAR(var->find(name)->eval_double(std::vector<double>{0.0, 1.0}), 4.0 / 3.0, 1e-14) << name;
+  EXPECT_EQ(var->find("origin-first-vpl")->eval_double(std::vector<double>{1e8, 0.0}), 0.0);
 }
 
 TEST(StabilityAtlas, SharpnessGridReachesTheLargestFiniteValueOfEachType) {
@@ -349,7 +351,7 @@ TEST(StabilityAtlas, SharpnessGridReachesTheLargestFiniteValueOfEachType) {
 }
 
 TEST(StabilityAtlas, LargeLambdaLimitsMatchTheQuadratureAtItsReach) {
-  // The references past λ = 1e8 are the closed-form limits; where the quadrature still runs
+  // The references past λ = 1e8 are the closed-form limits (Quantity::reference_reach); where the quadrature still runs
   // (λ = 1e8, 1e7) they agree with it to O(1/λ + λc⁴), across the horizon transition c ~ 1/√λ.
   const Quantity* h = find_quantity("hemispherical");
   const Quantity* d = find_quantity("clamped-cosine");
@@ -359,7 +361,8 @@ TEST(StabilityAtlas, LargeLambdaLimitsMatchTheQuadratureAtItsReach) {
     for (double c : {-1.0, -1e-3, -1e-4, -1e-8, 0.0, 1e-8, 1e-4, 0.5, 1.0}) {
       const std::vector<double> a{l, c};
       const double hq = h->find("reference")->eval_double(a), dq = d->find("reference")->eval_double(a);
-      const double hl = hemispherical_large_lambda(l, c), dl = clamped_cosine_large_lambda(l, c);
+      ASSERT_TRUE(h->reference_reach.limit && d->reference_reach.limit);
+      const double hl = h->reference_reach.limit(a), dl = d->reference_reach.limit(a);
       const double tol = 5 / l + l * c * c * c * c;  // O(1/λ) and the θ⁴ term of cos θ in the tail
       EXPECT_LE(std::fabs(hl - hq), tol * std::max(std::fabs(hq), 1e-300)) << "H at λ = " << l << ", c = " << c;
       EXPECT_LE(std::fabs(dl - dq), tol * std::max(std::fabs(dq), 1e-300)) << "D at λ = " << l << ", c = " << c;
@@ -370,8 +373,7 @@ TEST(StabilityAtlas, NoMethodGivesNaNOrInfUpToTheMaxima) {
   // Every method of every quantity of the (quick) atlas, float and double, over grids that reach
   // FLT_MAX and DBL_MAX: no NaN and no Inf anywhere (a published pole is a domain error instead).
   // The reference method runs where the atlas runs it (the quadratures stop at λ = 1e8).
-  std::vector<Case> cases = registry_cases(true);
-  for (auto& c : extra_cases(true)) cases.push_back(std::move(c));
+  const std::vector<Case> cases = registry_cases(true);
   for (const Case& c : cases)
     for (const Method& m : c.quantity.methods) {
       const bool is_ref = m.name == c.quantity.reference_method;
@@ -385,6 +387,90 @@ TEST(StabilityAtlas, NoMethodGivesNaNOrInfUpToTheMaxima) {
         EXPECT_GT(t.points, 0) << c.quantity.name << "/" << m.name;
       }
     }
+}
+
+TEST(StabilityAtlas, AtlasMethodsAreTheRegistrysMethods) {
+  // No method list of its own: the atlas's cases are the registry's quantities and methods, in order.
+  const auto& all = quantities();
+  for (bool quick : {false, true}) {
+    const auto cases = registry_cases(quick);
+    ASSERT_EQ(cases.size(), all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      EXPECT_EQ(cases[i].quantity.name, all[i].name);
+      ASSERT_EQ(cases[i].quantity.methods.size(), all[i].methods.size()) << all[i].name;
+      for (std::size_t k = 0; k < all[i].methods.size(); ++k)
+        EXPECT_EQ(cases[i].quantity.methods[k].name, all[i].methods[k].name) << all[i].name;
+      EXPECT_EQ(cases[i].grid.column_names.size(), all[i].columns.size()) << all[i].name;
+      EXPECT_GT(cases[i].grid.rows, 0u) << all[i].name;
+    }
+  }
+  for (const char* name : {"sg-product-opposite", "sg-product-opposite-value", "vsgl-variance", "vsgl-on-top"})
+    EXPECT_NE(find_quantity(name), nullptr) << name;
+  // vsgl-on-top wraps every clamped-cosine method: a diffuse method added to the registry reaches it too.
+  const Quantity* cc = find_quantity("clamped-cosine");
+  const Quantity* top = find_quantity("vsgl-on-top");
+  ASSERT_NE(cc, nullptr);
+  ASSERT_NE(top, nullptr);
+  EXPECT_EQ(top->reference_method, cc->reference_method);
+  ASSERT_EQ(top->methods.size(), cc->methods.size());
+  for (std::size_t k = 0; k < cc->methods.size(); ++k) EXPECT_EQ(top->methods[k].name, cc->methods[k].name);
+}
+
+// A quantity that exists only in this test, handed to the atlas as registry data: the fake method
+// above, a reference method that cannot run past λ = 5 (it throws there), and the closed form
+// standing in past that reach. Its columns carry their stiff values.
+Quantity test_only_quantity() {
+  Quantity q = fake_quantity();
+  q.name = "test-only";
+  q.columns[0].stiff_values = {0.0, 1.0, 10.0};
+  q.columns[1].stiff_values = {-1.0, -0.5, 0.5, 1.0};
+  q.reference_method = "ref";
+  Method ref;
+  ref.name = "ref";
+  set_evaluators(ref, [](auto a) {
+    using T = typename decltype(a)::value_type;
+    if (static_cast<double>(a[0]) > 5) throw std::runtime_error("past the reference's reach");
+    return T(fake_reference(static_cast<double>(a[0]), static_cast<double>(a[1])));
+  });
+  q.methods.push_back(ref);
+  q.reference_reach.max_sharpness = 5;
+  q.reference_reach.limit = [](std::span<const double> a) { return fake_reference(a[0], a[1]); };
+  q.reference_reach.limit_formula = "(the fake reference)";
+  return q;
+}
+
+TEST(StabilityAtlas, AQuantityGivenAsRegistryDataReachesTheAtlas) {
+  const std::vector<Quantity> registry{test_only_quantity()};
+  Options o;
+  o.quick = true;
+  const Result r = compute(o, registry);
+  ASSERT_EQ(r.quantities.size(), 1u);
+  const QuantityResult& q = r.quantities[0];
+  EXPECT_EQ(q.grid.rows, 12u);  // the columns' stiff values, 3 × 4
+  EXPECT_NE(q.note.find("(the fake reference)"), std::string::npos) << q.note;
+  ASSERT_EQ(q.methods.size(), 2u);
+  EXPECT_EQ(q.methods[0].name, "fake");
+  ASSERT_EQ(q.methods[0].precisions.size(), 2u);
+  // The counts of FakeMethodGetsExactlyItsCounts: the reference is known on every row, from the
+  // reference method within its reach and from the closed form past it.
+  for (const PrecisionResult& p : q.methods[0].precisions) {
+    expect_fake_counts(p.tally);
+    EXPECT_EQ(p.worst_flag_at, "sharpness=1; cosine=-0.5");
+  }
+  // The reference method ran only within its reach: λ ∈ {0, 1}, 8 rows, none thrown.
+  EXPECT_TRUE(q.methods[1].is_reference);
+  EXPECT_EQ(q.methods[1].precisions[1].tally.points, 8);
+  EXPECT_EQ(q.methods[1].precisions[1].tally.throws, 0);
+  // The tables carry it.
+  EXPECT_NE(summary_csv(r).find("\ntest-only,fake,float,12,1,1,1,1,1,8,3,2,"), std::string::npos) << summary_csv(r);
+  EXPECT_NE(cells_csv(r).find("\ntest-only,fake,double,sharpness,"), std::string::npos);
+  EXPECT_NE(markdown(r, "").find("## test-only"), std::string::npos);
+}
+
+TEST(StabilityAtlas, UnknownQuantityIsRefusedBeforeComputing) {
+  Options o;
+  o.only = {"no-such-quantity"};
+  EXPECT_THROW(compute(o), std::invalid_argument);
 }
 
 }  // namespace

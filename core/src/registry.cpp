@@ -51,6 +51,7 @@ const std::vector<Quantity>& quantities() {
     register_core_quantities(out);
     register_glossy_quantities(out);
     register_gaussian_ndf_quantities(out);
+    register_stiff_quantities(out);
     install_simd_batch_evaluators(out);
     return out;
   }();

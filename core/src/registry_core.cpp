@@ -1,4 +1,7 @@
 // The core quantities of docs/math.md §1–3 and §6 and their methods.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include "sglab/clamped_cosine.hpp"
@@ -51,6 +54,28 @@ std::vector<Parameter> concat(std::vector<Parameter> a, const std::vector<Parame
   return a;
 }
 
+// The large-λ limits of H(λ, c) and D(λ, c), which stand in for the quadrature references past
+// kQuadratureMaxSharpness: for λ → ∞ the unit SG is a planar Gaussian of variance 1/λ per axis and
+// total mass 2π/λ, and ω·n ≈ c + (the in-plane offset towards n), so
+//   H → (2π/λ)·½erfc(−c√(λ/2)),  D → (2π/λ)·(c·½erfc(−c√(λ/2)) + e^{−λc²/2}/√(2πλ)),
+// i.e. 2π/λ and 2π⟨c⟩/λ away from the horizon. Relative error O(1/λ + λc⁴) (the θ⁴ term of cos θ
+// in the back-facing tail): ≤ 1e-8 on the stiff grid past 1e8, whose back-facing cosines are
+// −1e-8 or ≤ −1/16 (where both values underflow to 0).
+ReferenceReach large_sharpness_reach(double (*limit)(double lambda, double c), std::string formula) {
+  ReferenceReach r;
+  r.max_sharpness = kQuadratureMaxSharpness;
+  r.limit = [limit](std::span<const double> a) { return limit(a[0], std::clamp(a[1], -1.0, 1.0)); };
+  r.limit_formula = std::move(formula) + " (relative error O(1/λ + λc⁴), ≤ 1e-8 on the stiff grid)";
+  return r;
+}
+double hemispherical_large_sharpness(double lambda, double c) {
+  return 2 * std::numbers::pi / lambda * 0.5 * std::erfc(-c * std::sqrt(lambda / 2));
+}
+double clamped_cosine_large_sharpness(double lambda, double c) {
+  const double tail = std::exp(-lambda * c * c / 2) / std::sqrt(2 * std::numbers::pi * lambda);
+  return 2 * std::numbers::pi / lambda * (c * 0.5 * std::erfc(-c * std::sqrt(lambda / 2)) + tail);
+}
+
 }  // namespace
 
 void register_core_quantities(std::vector<Quantity>& out) {
@@ -90,6 +115,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                tokuyoshi2022_steepness_parameters(),
                                [](auto a) { return hemispherical_vmf_tokuyoshi2024(a[0], a[1]); },
                                [](auto a, auto p) { return hemispherical_vmf_tokuyoshi2024(a[0], a[1], p[0], p[1], p[2]); }));
+    q.reference_reach = large_sharpness_reach(hemispherical_large_sharpness, "(2π/λ)·½erfc(−c√(λ/2)) (→ 2π/λ at c > 0)");
     out.push_back(std::move(q));
   }
 
@@ -172,6 +198,8 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                  return clamped_cosine_sglab_with(a[0], a[1], q);
                                }));
     }
+    q.reference_reach = large_sharpness_reach(clamped_cosine_large_sharpness,
+                                              "(2π/λ)(c·½erfc(−c√(λ/2)) + e^{−λc²/2}/√(2πλ)) (→ 2π⟨c⟩/λ)");
     out.push_back(std::move(q));
   }
 

@@ -53,6 +53,11 @@ void register_gaussian_ndf_quantities(std::vector<Quantity>& out) {
       "as sg-warp-meder with the cosine kept exactly: the product lobe's SG × clamped-cosine integral by its 1D quadrature reference",
       "as sg-warp-meder without the cosine fit's error (isolates it); a 1D quadrature per value (mp50 slow)",
       false, nullptr, [](auto a) { return specular_gaussian_ndf_sg_exact_cosine(specular_input(a)); }));
+  // Too slow a reference for a whole stiff grid: the stability atlas compares a spread subset.
+  q.reference_reach = {kQuadratureMaxSharpness, nullptr, "", 16, 4,
+                       [](std::span<const double> a) { return a[0] >= 0.1 && a[1] <= 1e4; },
+                       "the reference (adaptive 2D quadrature) takes 0.01–1 s per point, more at small m with grazing view",
+                       "those with roughness ≥ 0.1 and light sharpness ≤ 1e4"};
   out.push_back(std::move(q));
 }
 

@@ -124,6 +124,10 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
                                "AS PRINTED IT DOES NOT DEPEND ON THE SG SHARPNESS λ (evidently a typo: with λ in place of the second bandwidth of each pair it equals `two-vsgls` exactly); 0 whenever ξ·ξz ≤ 0",
                                all_positive({0, 1}, "the printed form is 0/0 at ηx = ηy = 0"),
                                [](auto a) { return asg_sg_product_lobe_aware_printed(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4])); }));
+    q.reference_reach.max_sharpness = kQuadratureMaxSharpness;
+    q.reference_reach.rows = 40;
+    q.reference_reach.rows_quick = 10;
+    q.reference_reach.cost = "the reference (2D quadrature) takes 20–200 ms per point";
     out.push_back(std::move(q));
   }
 
@@ -167,6 +171,13 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
     q.methods.push_back(method("sg-warp-dvn", "refinement: vMF about the GGX dominant-visible-normal reflection (Tokuyoshi et al. 2024, λ_h = 2/α² − 2) as the VNDF reflection pdf, times F·G2/G1(ωo) at the product axis, exact product",
                                "isotropic lobe (no grazing anisotropy); F·G2/G1 taken at one direction", nullptr,
                                [](auto a) { return specular_sg_warp_dvn(specular_input(a)); }));
+    q.reference_reach.max_sharpness = kQuadratureMaxSharpness;
+    q.reference_reach.rows = 16;
+    q.reference_reach.rows_quick = 4;
+    q.reference_reach.affordable = [](std::span<const double> a) { return a[0] >= 0.1 && a[1] <= 1e4; };
+    q.reference_reach.cost =
+        "the reference (adaptive 2D quadrature) takes 0.02–2 s per point and ~100 s at α = 1e-4 with grazing view";
+    q.reference_reach.affordable_rows = "those with roughness ≥ 0.1 and light sharpness ≤ 1e4";
     out.push_back(std::move(q));
   }
 }

@@ -7,10 +7,12 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "sglab/scalar.hpp"
@@ -44,6 +46,10 @@ struct Column {
   std::string name;
   ColumnKind kind;
   std::string description;
+  // The values sweeps over stiff inputs (the stability atlas) take for this column; empty: the
+  // atlas's values for the column's kind. `stiff_values_quick` for a quick run (empty: the same).
+  std::vector<double> stiff_values = {};
+  std::vector<double> stiff_values_quick = {};
 };
 
 template <class T>
@@ -98,15 +104,46 @@ struct Method {
   BindFn bind;
 };
 
+// The largest sharpness (or ASG bandwidth) at which sweeps over stiff inputs run the quadrature
+// references (reference.hpp, glossy_reference.hpp); past it they use a closed-form limit or none.
+inline constexpr double kQuadratureMaxSharpness = 1e8;
+
+// Where a quantity's reference method may be run by sweeps over stiff inputs (the stability
+// atlas). The default: on every row.
+struct ReferenceReach {
+  // Not past this value in any sharpness or nonnegative column (a quadrature's reach) …
+  double max_sharpness = std::numeric_limits<double>::infinity();
+  // … where the closed-form large-sharpness limit of the quantity stands in (nullptr: nothing is
+  // compared there); `limit_formula` says what it is and how close.
+  std::function<double(std::span<const double>)> limit = nullptr;
+  std::string limit_formula = {};
+  // A reference too slow for the whole grid: at most `rows` rows (`rows_quick` in a quick run; 0:
+  // every row), spread over those where `affordable` holds (nullptr: all). `cost` says why, and
+  // `affordable_rows` which rows those are.
+  std::size_t rows = 0, rows_quick = 0;
+  std::function<bool(std::span<const double>)> affordable = nullptr;
+  std::string cost = {};
+  std::string affordable_rows = {};
+};
+
 struct Quantity {
   std::string name;
   std::string description;
   std::vector<Column> columns;
   std::string reference_method;  // the method others are measured against ("" if none)
   std::vector<Method> methods;
+  ReferenceReach reference_reach = {};
 
   const Method* find(std::string_view method_name) const;
 };
+
+// The method's evaluator for the scalar type T (float, double or mp50), for code templated on T.
+template <class T>
+T eval_as(const Method& m, std::span<const T> args) {
+  if constexpr (std::is_same_v<T, float>) return m.eval_float(args);
+  else if constexpr (std::is_same_v<T, double>) return m.eval_double(args);
+  else return m.eval_mp50(args);
+}
 
 // Every quantity, in a stable order.
 const std::vector<Quantity>& quantities();
@@ -222,6 +259,10 @@ const Parameter* find_standalone_constant(std::string_view user, std::string_vie
 void register_core_quantities(std::vector<Quantity>& out);
 // ASG integrals, ASG × SG product, specular reflection off GGX (docs/math.md §4–5).
 void register_glossy_quantities(std::vector<Quantity>& out);
+// The stiff cases of docs/math.md §10 that are not formulas of their own: (nearly) opposite SG
+// lobes, degenerate VPL sets, the shading point on top of a VSGL. Registered last: the last one
+// wraps the clamped-cosine methods registered before it.
+void register_stiff_quantities(std::vector<Quantity>& out);
 // Replaces the batch evaluators of the vectorized methods (and of their bound versions) with the
 // SIMD kernels of core/src/simd (docs/simd.md); run after every module registered. The scalar
 // evaluators stay the definition.
