@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "envmap.hpp"
 #include "sglab/render/environment_scene.hpp"
 #include "sglab/render/raycast.hpp"
