@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "registry.hpp"
+#include "sglab/simd.hpp"
 #include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
@@ -43,6 +44,12 @@ int run_sglab(std::vector<std::string> args) {
   }
   if (!args.empty() && !args.front().empty() && args.front()[0] != '-' && !known) {
     std::fprintf(stderr, "sglab: error: unknown command '%s' (commands: %s)\n", clip_text(args.front()).c_str(), names.c_str());
+    return 2;
+  }
+  try {
+    (void)simd::active_isa();  // a bad SGLAB_SIMD is bad input: refused before any work
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "sglab: error: %s\n", e.what());
     return 2;
   }
   try {

@@ -419,6 +419,10 @@ TEST_F(Hardening, Group13_ParseErrorsExit2) {
   EXPECT_REFUSED(sglab("render"), "scene");
   EXPECT_REFUSED(sglab("render x.json --width abc --out o.exr"), "abc");
   EXPECT_EQ(sglab("--help").status, 0);
+  // The vector-unit override is input too: a bad SGLAB_SIMD exits 2 naming it, before any work.
+  const auto simd = run_shell("SGLAB_SIMD=avx9000 '" + std::string(SGLAB_EXE) + "' eval sg-integral --method exact");
+  EXPECT_EQ(simd.status, 2) << simd.err;
+  EXPECT_NE(simd.err.find("SGLAB_SIMD='avx9000'"), std::string::npos) << simd.err;
 }
 
 // 14. Messages name the right value and the right cause.

@@ -11,6 +11,7 @@
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
+#include "sglab/text_limits.hpp"
 #include "simd/simd_table.hpp"
 
 namespace sglab {
@@ -70,9 +71,9 @@ std::atomic<int> g_isa{-1};
 Isa initial_isa() {
   if (const char* env = std::getenv("SGLAB_SIMD"); env && *env) {
     const auto isa = parse_isa(env);
-    if (!isa) throw std::invalid_argument("SGLAB_SIMD='" + std::string(env) + "': expected sse2, avx2 or avx512");
+    if (!isa) throw std::invalid_argument("SGLAB_SIMD='" + clip_text(env) + "': expected sse2, avx2 or avx512");
     if (!isa_supported(*isa))
-      throw std::invalid_argument("SGLAB_SIMD='" + std::string(env) + "': this CPU cannot run " + std::string(env));
+      throw std::invalid_argument("SGLAB_SIMD='" + clip_text(env) + "': this CPU cannot run it");
     return *isa;
   }
   return supported_isas().back();
