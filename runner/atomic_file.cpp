@@ -17,6 +17,7 @@
 #include <fmt/core.h>
 
 #include "input_error.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::runner {
 namespace {
@@ -195,6 +196,11 @@ void check_output_paths(const std::vector<NamedPath>& outputs, const std::vector
     ec.clear();
     return eq;
   };
+  // Commands record their paths in JSON (stats, manifests, markers), which holds only UTF-8.
+  for (const auto* list : {&outputs, &inputs})
+    for (const NamedPath& p : *list)
+      if (!valid_utf8(p.path.string()))
+        throw InputError(fmt::format("{} '{}' is not valid UTF-8; rename it", p.option, clip_text(p.path.string())));
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const NamedPath& o = outputs[i];
     if (o.path.empty()) continue;

@@ -485,6 +485,16 @@ TEST_F(Hardening, Group17_SetValueNotUtf8IsRefused) {
   // The same text as valid UTF-8 (é = C3 A9) is accepted.
   r = sglab(render_args() + " --out out.exr --set \"$(printf 'description=caf\\303\\251')\"");
   EXPECT_EQ(r.status, 0) << r.err;
+  // Paths are recorded in the stats JSON too: an output or scene path that is not UTF-8 is
+  // refused before the render, and nothing is written.
+  fs::remove(path("out.exr"));
+  r = sglab(render_args() + " --out \"$(printf 'caf\\351.exr')\" --stats out.json");
+  EXPECT_REFUSED(r, "is not valid UTF-8");
+  fs::copy_file(path("scene.json"), path("caf\351.json"));
+  r = sglab(render_args("caf\351.json") + " --out out.exr --stats out.json");
+  EXPECT_REFUSED(r, "is not valid UTF-8");
+  EXPECT_FALSE(fs::exists(path("out.exr")));
+  EXPECT_FALSE(fs::exists(path("out.json")));
 }
 
 // 16. Sizes are checked before they are allocated, with how much would be needed.

@@ -46,6 +46,32 @@ inline std::string clip_text(std::string_view s, std::size_t max_chars = kMaxQuo
   return out;
 }
 
+// Whether `s` is well-formed UTF-8 (RFC 3629: no overlong forms, no surrogates, at most
+// U+10FFFF). JSON holds only UTF-8, so text a command records in JSON (paths in stats and
+// manifests) must be.
+inline bool valid_utf8(std::string_view s) {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto b = static_cast<unsigned char>(s[i]);
+    std::size_t n = 0;
+    unsigned long cp = 0, min = 0;
+    if (b < 0x80) { ++i; continue; }
+    if ((b & 0xe0) == 0xc0) n = 1, cp = b & 0x1f, min = 0x80;
+    else if ((b & 0xf0) == 0xe0) n = 2, cp = b & 0x0f, min = 0x800;
+    else if ((b & 0xf8) == 0xf0) n = 3, cp = b & 0x07, min = 0x10000;
+    else return false;
+    for (std::size_t k = 1; k <= n; ++k) {
+      if (i + k >= s.size()) return false;
+      const auto c = static_cast<unsigned char>(s[i + k]);
+      if ((c & 0xc0) != 0x80) return false;
+      cp = (cp << 6) | (c & 0x3f);
+    }
+    if (cp < min || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff)) return false;
+    i += n + 1;
+  }
+  return true;
+}
+
 // Why `text` (JSON) nests too deep for the parser, or nullopt. Counts [ and { outside strings.
 inline std::optional<std::string> json_nesting_error(std::string_view text, std::size_t max_depth = kMaxJsonDepth) {
   std::size_t depth = 0;
