@@ -168,12 +168,18 @@ std::string claims_section(const std::vector<Row>& rows) {
       "- \"More accurate … than Meder and Brüderlin\": tokuyoshi2022 max error {:.3e} vs meder {:.3e} (RMSE {:.3e} vs "
       "{:.3e}): **{}**.\n",
       t->max_error, m->max_error, t->rmse, m->rmse, t->max_error < m->max_error && t->rmse < m->rmse ? "holds" : "does not hold");
-  s += fmt::format("- \"… and slightly faster\": tokuyoshi2022 {:.1f} ns vs meder {:.1f} ns per evaluation (double): **{}** "
-                   "({:+.0f} %).\n",
-                   t->ns_per_eval, m->ns_per_eval, t->ns_per_eval < m->ns_per_eval ? "holds" : "does not hold",
-                   100 * (t->ns_per_eval / m->ns_per_eval - 1));
-  s += fmt::format("- \"Pettineo and Hill's fit is faster\": hill-fitted {:.1f} ns vs tokuyoshi2022 {:.1f} ns: **{}**.\n",
-                   h->ns_per_eval, t->ns_per_eval, h->ns_per_eval < t->ns_per_eval ? "holds" : "does not hold");
+  // Speed, by two CPU measures: sglab's (vectorized) batch and the naive scalar port a shader author
+  // would write. The poster timed GPU shaders; neither is that, so each verdict names its measure.
+  auto faster = [](double a, double b) { return a < b ? "holds" : "does not hold"; };
+  auto speed = [&](const Row* a, const Row* b) {
+    return fmt::format("sglab batch {:.1f} vs {:.1f} ns (**{}**, {:+.0f} %); naive scalar port {:.1f} vs {:.1f} ns (**{}**, {:+.0f} %)",
+                       a->ns_per_eval, b->ns_per_eval, faster(a->ns_per_eval, b->ns_per_eval),
+                       100 * (a->ns_per_eval / b->ns_per_eval - 1), a->port_ns_per_eval, b->port_ns_per_eval,
+                       faster(a->port_ns_per_eval, b->port_ns_per_eval), 100 * (a->port_ns_per_eval / b->port_ns_per_eval - 1));
+  };
+  s += "- \"… and slightly faster\" (tokuyoshi2022 vs meder, double; the poster timed GPU shaders, these are CPU "
+       "measures): " + speed(t, m) + ".\n";
+  s += "- \"Pettineo and Hill's fit is faster\" (hill-fitted vs tokuyoshi2022): " + speed(h, t) + ".\n";
   s += fmt::format("- \"… but produces black splotches\": hill-fitted is negative at {} of the grid's points (clamped to 0 "
                    "in a shader: black; where: `paper_tables/stability.md`); tokuyoshi2022 at {}: **{}**. meder, for comparison, at {}.\n",
                    h->negatives, t->negatives, h->negatives > 0 && t->negatives == 0 ? "holds" : "does not hold", m->negatives);
