@@ -441,7 +441,8 @@ std::vector<Step> sweep_render_steps(const Places& p) {
   const std::vector<std::string> coarse = {"--width", "48", "--height", "48", "--rsm", "32"};
   const auto sweep = [&](std::string name, std::string what, std::vector<std::string> configuration,
                          std::vector<std::string> quick) {
-    std::vector<std::string> args = {"sweep", "render", "--scene", scene};
+    // A 128² RSM (13k VPLs) in every full sweep: the vectorized reference makes it affordable.
+    std::vector<std::string> args = {"sweep", "render", "--scene", scene, "--rsm", "128"};
     args.insert(args.end(), configuration.begin(), configuration.end());
     return sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true);
   };
@@ -449,11 +450,11 @@ std::vector<Step> sweep_render_steps(const Places& p) {
       sweep("sweep-render-count", "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
             {"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--vsgl", "kmeans:16", "--vsgl", "kmeans:64", "--width",
              "512", "--height", "512", "--out", sweep_out},
-            {"--width", "64", "--height", "64"}),
+            {"--width", "64", "--height", "64", "--rsm", "32"}),
       sweep("sweep-render-roughness-distance",
             "VSGL error against floor roughness × light distance on cornell-glossy "
             "(paper_tables/vsgl_error_vs_roughness_distance.*)",
-            {"--vary", "floor.roughness=0.01:1:8:log", "--vary", "light.distance=0.4:1.4:3", "--vsgl", "two", "--vsgl",
+            {"--vary", "floor.roughness=0.01:1:12:log", "--vary", "light.distance=0.4:1.4:5", "--vsgl", "two", "--vsgl",
              "fis:64", "--out", sweep_out},
             coarse),
       sweep("sweep-render-lambda-d",
