@@ -38,7 +38,7 @@ struct RenderOptions {
 // Image error of `value` against `reference` over the pixels where mask != 0, all channels:
 //   rmse        = √(mean (v − r)²)
 //   smape       = mean 2|v − r|/(|v| + |r|)  ∈ [0, 2] (a term with v = r = 0 counts 0; the
-//                 definition of experiments/sweep.hpp's ErrorStats, so all tables agree)
+//                 definition of runner/sweep.hpp's ErrorStats, so all tables agree)
 //   relative_l2 = ‖v − r‖₂/‖r‖₂ (0 if both are 0)
 //   max_abs     = max |v − r|
 struct ImageError {
