@@ -16,8 +16,9 @@
 
 namespace sglab::peer {
 
+// π: the project's one definition (scalar.hpp).
 template <class T>
-constexpr T kPi = T(3.141592653589793238462643383279502884L);
+const T kPi = pi<T>();
 
 // ---- hemispherical integrals (docs/math.md §2) --------------------------------------------------
 template <class T>

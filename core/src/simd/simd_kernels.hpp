@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <limits>
 
+#include <boost/math/constants/constants.hpp>
 #include <xsimd/xsimd.hpp>
 
 #include "simd_table.hpp"
@@ -24,10 +25,11 @@
 namespace sglab::simd_detail {
 namespace {
 
+// π and 2π from the same Boost constants as the scalar code's pi<T>() and two_pi<T>() (scalar.hpp).
 template <class T>
-constexpr T kPi = T(3.141592653589793238462643383279502884L);
+constexpr T kPi = boost::math::constants::pi<T>();
 template <class T>
-constexpr T kTwoPi = T(6.283185307179586476925286766559005768L);
+constexpr T kTwoPi = boost::math::constants::two_pi<T>();
 // 2√π as the scalar code forms it: T(2)·sqrt(pi<T>()) (sqrt is correctly rounded).
 template <class T>
 inline T two_sqrt_pi() {
