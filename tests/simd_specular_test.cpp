@@ -22,7 +22,8 @@
 //   own rounding is what both paths carry (term_magnitude below, computed in double).
 // - S, the condition of the point: the largest change of the scalar value when one input moves
 //   by 4 ulps (relative; the angle absolute 4ε·max(1, |φ|)), and twice the scalar path's own
-//   error (against the same template in the next precision: double for float, mp50 for double). The products exp(λ3 − λ1 − λ2) have
+//   error (against the same template in the next precision: double for float, mp50 for double;
+//   computed only where the difference exceeds the rest of the allowance: mp50 is slow). The products exp(λ3 − λ1 − λ2) have
 //   the condition number |L| (up to ~700 before underflow), and the lobe sharpness reaches 1e13 at
 //   α = 1e-3 at grazing view: one ulp in the lobe's cosine (a 3-term dot product rounded twice by
 //   either path) moves the value by λ_s·ε relative. No fixed ulp count can hold there; the
@@ -57,7 +58,7 @@ const std::map<std::string, double>& tolerance_ulps() {
   static const std::map<std::string, double> k{
       // The exact product (one exp, one expm1), the warp and M (sqrt, divisions, Schlick's
       // fifth power) and sin/cos: 4 ulps for the libraries plus the short rational chain
-      // (measured: ≤ 2.3 ulps in float, ≤ 5.7 in double).
+      // (measured: ≤ 3.8 ulps in float, ≤ 5.7 in double).
       {"specular/sg-warp", 8},
       {"specular/sg-warp-product-axis", 8},
       {"specular/sg-warp-iwasaki", 8},
@@ -137,12 +138,6 @@ Reference<T> reference(const std::string& name, const Method& m, const std::vect
         const double sb = eval(m, b);
         if (std::isfinite(sb)) cond = std::max(cond, std::fabs(sb - s));
       }
-    // The scalar path's own rounding error: the template in the next precision on the same inputs.
-    using Up = std::conditional_t<std::is_same_v<T, float>, double, mp50>;
-    std::array<Up, 6> up;
-    for (int j = 0; j < 6; ++j) up[j] = Up(double(a[j]));
-    const double exact = static_cast<double>(eval(m, up));
-    if (std::isfinite(exact)) cond = std::max(cond, 2 * std::fabs(s - exact));
     ref.args.insert(ref.args.end(), a.begin(), a.end());
     ref.rows.push_back(r);
     ref.value.push_back(s);
@@ -155,6 +150,18 @@ Reference<T> reference(const std::string& name, const Method& m, const std::vect
     ref.scale.push_back(std::max({std::fabs(s), term_magnitude(name, r), std::isfinite(peak) ? std::fabs(peak) : 0.0}));
   }
   return ref;
+}
+
+// The scalar path's own rounding error at row i: the template in the next precision on the same
+// inputs. Costly in mp50, so computed only for rows whose difference exceeds the rest of the
+// allowance (the allowance is the same either way).
+template <class T>
+double own_error(const Method& m, const Reference<T>& ref, std::size_t i) {
+  using Up = std::conditional_t<std::is_same_v<T, float>, double, mp50>;
+  std::array<Up, 6> up;
+  for (int j = 0; j < 6; ++j) up[j] = Up(double(ref.args[6 * i + j]));
+  const double exact = static_cast<double>(eval(m, up));
+  return std::isfinite(exact) ? std::fabs(ref.value[i] - exact) : 0.0;
 }
 
 template <class T>
@@ -178,10 +185,11 @@ void check(const Method& m, const Reference<T>& ref, double k, const std::string
       continue;
     }
     if (!std::isfinite(s)) continue;
-    const double allowance = k * eps * ref.scale[i] + 2 * ref.condition[i];
+    double allowance = k * eps * ref.scale[i] + 2 * ref.condition[i];
+    const double d = std::fabs(v - s);
+    if (d > allowance) allowance = k * eps * ref.scale[i] + 2 * std::max(ref.condition[i], 2 * own_error(m, ref, i));
     const bool signless = m.may_be_negative && s <= allowance;
     if (s >= 0 && v < 0 && !signless && ++failures <= 5) ADD_FAILURE() << where() << " (new negative value)";
-    const double d = std::fabs(v - s);
     if (d < 2 * tiny) continue;  // subnormal results are returned as 0 (docs/simd.md)
     if (d > allowance && ++failures <= 5)
       ADD_FAILURE() << where() << ": |difference| " << d << " > " << allowance << " (" << k << " ulps of " << ref.scale[i]
