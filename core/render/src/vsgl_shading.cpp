@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "sglab/render/simd_dispatch.hpp"
+#include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/vsgl.hpp"
 
 namespace sglab::render {
@@ -299,7 +300,7 @@ void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<con
           diffuse += a.amplitude[j] * scaled_by_exp(s.in.log_scale[r0 + j], d.diffuse_factor * s.value[r0 + j]);
       out[i].diffuse = diffuse * p.diffuse_reflectance / pi<double>();
     }
-    if (d.options.specular && p.glossy()) {
+    if (d.options.specular && !d.options.specular_method && p.glossy()) {
       const VsglSpecularReceiver<double> receiver = vsgl_specular_receiver<double>(p.normal, p.view, p.roughness);
       for (std::size_t j = 0; j < n; ++j) {
         if (!active(r0 + j)) continue;
@@ -312,6 +313,10 @@ void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<con
       }
     }
   }
+  if (d.options.specular && d.options.specular_method)  // a registry method (vsgl_specular_methods.cpp)
+    shade_specular_with_method(*d.options.specular_method, points, n,
+                               {s.in.xi_x.data(), s.in.xi_y.data(), s.in.xi_z.data(), s.in.sharpness.data(), s.in.log_scale.data()},
+                               a.amplitude, active, out);
 }
 
 std::vector<std::string> diffuse_method_names() {
