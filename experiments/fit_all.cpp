@@ -182,7 +182,12 @@ Result compute(const Options& o, const std::function<void(const Judged&)>& each)
   r.provenance.command = "sglab fit all";
   const auto add = [&](fit::FitResult f, const Judgement& jd, bool record) {
     r.judged.push_back({std::move(f), jd, record});
-    if (each) each(r.judged.back());
+    const Judged& j = r.judged.back();
+    if (each) each(j);
+    // Each record as soon as its fit is done: a later failure keeps the finished ones.
+    if (record && !o.json_dir.empty())
+      write_file_atomically(std::filesystem::path(o.json_dir) / (j.result.fit + ".json"),
+                            fit_record_json(j.result, j.judgement, o.precision).dump(2) + "\n");
   };
   for (const auto& f : fit::fitters()) {
     fit::FitResult result = run_one(f, "", o);
@@ -210,11 +215,6 @@ Tables tables(const Result& r) {
 }
 
 void write(const Options& o, const Result& r) {
-  if (!o.json_dir.empty())
-    for (const Judged& j : r.judged)
-      if (j.record)
-        write_file_atomically(std::filesystem::path(o.json_dir) / (j.result.fit + ".json"),
-                              fit_record_json(j.result, j.judgement, o.precision).dump(2) + "\n");
   const Tables t = tables(r);
   const std::filesystem::path d(o.tables_dir);
   write_file_atomically(d / "constants.md", t.markdown);

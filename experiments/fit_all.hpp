@@ -28,7 +28,7 @@ fit::FitResult run_one(const fit::Fitter& f, const std::string& objective, const
 struct Judged {
   fit::FitResult result;
   Judgement judgement;
-  bool record = false;  // the fit's default objective: its record goes to --json-dir
+  bool record = false;  // the fit's default objective: its record went to --json-dir
 };
 
 struct Result {
@@ -37,7 +37,8 @@ struct Result {
   double seconds = 0;
 };
 
-// Runs every fit; `each` (if set) is called as each one finishes (the console lines).
+// Runs every fit; `each` (if set) is called as each one finishes (the console lines). With
+// --json-dir, each default objective's record is written there as soon as its fit is done.
 Result compute(const Options& o, const std::function<void(const Judged&)>& each = {});
 
 struct Tables {
@@ -45,7 +46,7 @@ struct Tables {
 };
 Tables tables(const Result& r);
 
-// TABLES/constants.{md,csv,tex} and, with --json-dir, one record per fit.
+// TABLES/constants.{md,csv,tex}.
 void write(const Options& o, const Result& r);
 
 // Formats shared with the console lines: correct digits (−log10|value/published − 1|, "-" if not
