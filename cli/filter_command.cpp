@@ -30,49 +30,26 @@ struct Options {
   bool quiet = false;
 };
 
-void run(const Options& options) {
-  Options o = options;
-  apply_filter_constants(o.job);
-  if (o.out.empty()) throw UsageError("filter needs --out IMAGE.exr");
-  if (o.weights.empty()) throw UsageError("filter needs --weights normal|lobe|spatial");
-  check_output_paths({{"--out", o.out}, {"--stats", o.stats}}, {{"scene", o.job.render.scene_path}});
-  const render::FilterWeights weights = parse_weights_option(o.weights);
-  check_filter_parameters(o.job.parameters);
-  render::FilterInputOptions input_options = filter_input_options(o.job);
-  const render::Scene scene = load_scene(o.job.render);
-  check_filter_memory(scene, input_options);
-
+std::string command_line(const Options& o) {
   std::string command = "sglab filter " + quote_argument(o.job.render.scene_path) + " --out " + quote_argument(o.out) +
                         " --weights " + o.weights;
   for (const auto& a : filter_job_arguments(o.job)) command += " " + quote_argument(a);
   if (!o.stats.empty()) command += " --stats " + quote_argument(o.stats);
+  return command;
+}
 
-  const auto start = std::chrono::steady_clock::now();
-  if (!o.quiet) {
-    input_options.progress = [start](std::string_view stage, double fraction) {
-      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::fprintf(stderr, "filter: %-20.*s %3.0f %%  (%.1f s)\n", int(stage.size()), stage.data(), 100 * fraction, s);
-    };
-    std::fprintf(stderr, "filter: %s, %d×%d pixels, indirect at 1/%d (%s), RSM %d×%d, weights %s\n",
-                 o.job.render.scene_path.c_str(), scene.camera.width, scene.camera.height, o.job.scale, o.job.source.c_str(),
-                 input_options.rsm_resolution, input_options.rsm_resolution, o.weights.c_str());
-  }
-  render::FilterInputs in;
-  render::FilterResult r;
-  try {
-    in = render::prepare_filter_inputs(scene, input_options);
-    r = render::upsample_indirect(in, weights, o.job.parameters);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
-
-  // The low-resolution image, each sample repeated over its block (for viewing beside the others).
+// The low-resolution image, each sample repeated over its block (for viewing beside the others).
+std::vector<render::Rgb> low_res_image(const render::FilterInputs& in) {
   std::vector<render::Rgb> low(std::size_t(in.width) * std::size_t(in.height), render::Rgb::Zero());
   for (int j = 0; j < in.height; ++j)
     for (int i = 0; i < in.width; ++i)
       low[std::size_t(j) * std::size_t(in.width) + std::size_t(i)] =
           in.low_indirect[std::size_t(j / in.scale) * std::size_t(in.low_width) + std::size_t(i / in.scale)];
+  return low;
+}
 
+nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rsm_resolution, const render::FilterInputs& in,
+                            const render::FilterResult& r, const std::string& command) {
   nlohmann::json stats;
   stats["command"] = command;
   stats["scene"] = o.job.render.scene_path;
@@ -84,10 +61,10 @@ void run(const Options& options) {
   stats["low_width"] = in.low_width;
   stats["low_height"] = in.low_height;
   stats["source"] = std::string(render::indirect_source_name(in.source));
-  stats["weights"] = std::string(render::filter_weights_name(weights));
+  stats["weights"] = std::string(render::filter_weights_name(r.weights));
   stats["parameters"] = filter_parameters_json(o.job.parameters);
   stats["constants"] = filter_constants_json(o.job);
-  stats["rsm_resolution"] = input_options.rsm_resolution;
+  stats["rsm_resolution"] = rsm_resolution;
   stats["vpl_count"] = in.vpl_count;
   std::size_t hit = 0, glossy = 0;
   for (std::size_t k = 0; k < in.hit.size(); ++k) hit += in.hit[k] != 0, glossy += in.glossy[k] != 0;
@@ -108,13 +85,47 @@ void run(const Options& options) {
       "Indirect light only (no direct light). Diffuse and specular parts are upsampled separately, demodulated by "
       "albedo and f0 and remodulated with each pixel's material (core/render/include/sglab/render/filtering.hpp). "
       "Reference: the exact VPL sum at every full-resolution pixel (reference.hpp). Times: wall clock, all cores.";
+  return stats;
+}
 
-  const std::string exr = render::encode_exr(in.width, in.height,
-                                             {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low}},
-                                             {{"sglab_command", command}});
+void run(const Options& options) {
+  Options o = options;
+  apply_filter_constants(o.job);
+  if (o.out.empty()) throw UsageError("filter needs --out IMAGE.exr");
+  if (o.weights.empty()) throw UsageError("filter needs --weights normal|lobe|spatial");
+  check_output_paths({{"--out", o.out}, {"--stats", o.stats}}, {{"scene", o.job.render.scene_path}});
+  const render::FilterWeights weights = parse_weights_option(o.weights);
+  check_filter_parameters(o.job.parameters);
+  render::FilterInputOptions input_options = filter_input_options(o.job);
+  const render::Scene scene = load_scene(o.job.render);
+  check_filter_memory(scene, input_options);
+  const std::string command = command_line(o);
+
+  const auto start = std::chrono::steady_clock::now();
+  if (!o.quiet) {
+    input_options.progress = [start](std::string_view stage, double fraction) {
+      const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::fprintf(stderr, "filter: %-20.*s %3.0f %%  (%.1f s)\n", int(stage.size()), stage.data(), 100 * fraction, s);
+    };
+    std::fprintf(stderr, "filter: %s, %d×%d pixels, indirect at 1/%d (%s), RSM %d×%d, weights %s\n",
+                 o.job.render.scene_path.c_str(), scene.camera.width, scene.camera.height, o.job.scale, o.job.source.c_str(),
+                 input_options.rsm_resolution, input_options.rsm_resolution, o.weights.c_str());
+  }
+  render::FilterInputs in;
+  render::FilterResult r;
+  try {
+    in = render::prepare_filter_inputs(scene, input_options);
+    r = render::upsample_indirect(in, weights, o.job.parameters);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+
+  const std::string exr = render::encode_exr(
+      in.width, in.height, {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low_res_image(in)}},
+      {{"sglab_command", command}});
   OutputSet outputs;
   outputs.add(o.out, exr);
-  if (!o.stats.empty()) outputs.add(o.stats, stats.dump(2) + "\n");
+  if (!o.stats.empty()) outputs.add(o.stats, filter_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
   outputs.commit();
 
   std::printf(

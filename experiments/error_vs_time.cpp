@@ -233,6 +233,61 @@ const Quantity& checked_quantity(const std::string& name) {
   return *q;
 }
 
+// Each method with its published constants and, when the constant set changes any of them, again
+// with the set's values ("NAME [constants]"), side by side.
+std::vector<Method> method_variants(const Quantity& q, const ConstantSet& set) {
+  std::vector<Method> variants;
+  for (const auto& m : q.methods) {
+    if (m.name == q.reference_method) continue;
+    variants.push_back(m);
+    Method b = bind(m, set);
+    if (!b.parameters.empty() && !b.bind) {  // bind() returned a bound copy: the set changed it
+      b.name = m.name + " [constants]";
+      variants.push_back(std::move(b));
+    }
+  }
+  return variants;
+}
+
+// The errors of method m in float or double on every point of g: counts, maxima, RMSE, rounding.
+void measure_errors(const Method& m, bool is_float, const Grid& g, Row& r) {
+  const std::size_t n = g.size(), arity = g.arity;
+  double sum_sq = 0;
+  long counted = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::span<const double> a(&g.args[arity * k], arity);
+    if (m.domain_error && m.domain_error(a)) {
+      ++r.out_of_domain;
+      continue;
+    }
+    double v;
+    std::vector<float> af(a.begin(), a.end());
+    if (is_float) {
+      v = m.eval_float(af);
+    } else {
+      v = m.eval_double(a);
+    }
+    if (!std::isfinite(v)) {
+      ++r.non_finite;
+      continue;
+    }
+    if (v < 0) ++r.negatives;
+    const double e = std::fabs(v - g.reference[k]) / g.scale[k];
+    sum_sq += e * e;
+    ++counted;
+    r.max_error = std::max(r.max_error, e);
+    if (g.in_subset[k]) r.max_error_sharp = std::max(r.max_error_sharp, e);
+    // Rounding: the same formula in 50 digits on the same (float- or double-rounded) input.
+    if (g.rounding[k]) {
+      std::vector<mp50> am;
+      for (std::size_t c = 0; c < arity; ++c) am.push_back(is_float ? mp50(af[c]) : mp50(a[c]));
+      const double exact = static_cast<double>(m.eval_mp50(am));
+      r.max_rounding = std::max(r.max_rounding, std::fabs(v - exact) / g.scale[k]);
+    }
+  }
+  r.rmse = counted ? std::sqrt(sum_sq / double(counted)) : NAN;
+}
+
 // Every method of q against its reference on q's grid, in float and double, plus the
 // reference's own cost.
 std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const ConstantSet& set) {
@@ -241,22 +296,11 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
   const Method& ref = *q->find(q->reference_method);
   grid_out = diffuse ? diffuse_grid(ref, quick) : specular_grid(ref, quick);
   const Grid& g = grid_out;
-  const std::size_t n = g.size(), arity = g.arity;
+  const std::size_t arity = g.arity;
   const std::vector<float> timing_f(g.timing.begin(), g.timing.end());
   const int repeats = quick ? 5 : 15;
 
-  // Each method with its published constants and, when the constant set changes any of them, again
-  // with the set's values ("NAME [constants]"), side by side.
-  std::vector<Method> variants;
-  for (const auto& m : q->methods) {
-    if (m.name == q->reference_method) continue;
-    variants.push_back(m);
-    Method b = bind(m, set);
-    if (!b.parameters.empty() && !b.bind) {  // bind() returned a bound copy: the set changed it
-      b.name = m.name + " [constants]";
-      variants.push_back(std::move(b));
-    }
-  }
+  const std::vector<Method> variants = method_variants(qr, set);
   std::vector<Row> rows;
   for (const auto& m : variants) {
     for (const char* precision : {"float", "double"}) {
@@ -266,40 +310,7 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
       r.precision = precision;
       r.flaws = m.flaws;
       const bool is_float = std::string(precision) == "float";
-      double sum_sq = 0;
-      long counted = 0;
-      for (std::size_t k = 0; k < n; ++k) {
-        const std::span<const double> a(&g.args[arity * k], arity);
-        if (m.domain_error && m.domain_error(a)) {
-          ++r.out_of_domain;
-          continue;
-        }
-        double v;
-        std::vector<float> af(a.begin(), a.end());
-        if (is_float) {
-          v = m.eval_float(af);
-        } else {
-          v = m.eval_double(a);
-        }
-        if (!std::isfinite(v)) {
-          ++r.non_finite;
-          continue;
-        }
-        if (v < 0) ++r.negatives;
-        const double e = std::fabs(v - g.reference[k]) / g.scale[k];
-        sum_sq += e * e;
-        ++counted;
-        r.max_error = std::max(r.max_error, e);
-        if (g.in_subset[k]) r.max_error_sharp = std::max(r.max_error_sharp, e);
-        // Rounding: the same formula in 50 digits on the same (float- or double-rounded) input.
-        if (g.rounding[k]) {
-          std::vector<mp50> am;
-          for (std::size_t c = 0; c < arity; ++c) am.push_back(is_float ? mp50(af[c]) : mp50(a[c]));
-          const double exact = static_cast<double>(m.eval_mp50(am));
-          r.max_rounding = std::max(r.max_rounding, std::fabs(v - exact) / g.scale[k]);
-        }
-      }
-      r.rmse = counted ? std::sqrt(sum_sq / double(counted)) : NAN;
+      measure_errors(m, is_float, g, r);
       r.ns_per_eval = is_float ? time_ns_per_eval<float>(m.batch_float, timing_f, arity, repeats)
                                : time_ns_per_eval<double>(m.batch_double, g.timing, arity, repeats);
       // The naive peer (sglab/peer_ports.hpp) on the same inputs, timed the same way.

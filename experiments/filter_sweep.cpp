@@ -8,11 +8,14 @@
 // roughness. Every point's scene is validated before anything runs (exit status 2 naming the
 // value). Outputs: DIR/NAME_points.csv (every row, all statistics and times) and
 // TABLES/NAME.{md,csv} headed by the command.
+#include "filter_sweep.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,26 +26,15 @@
 #include "table.hpp"
 #include "experiment_command.hpp"
 #include "csv.hpp"
-#include "filter_job.hpp"
 #include "parse_number.hpp"
 #include "sweep.hpp"  // csv_number
 #include "registry.hpp"
 
 namespace sglab::cli {
+namespace filter_sweep {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Options {
-  FilterJob job;
-  std::string roughness = "0.02,0.05,0.1,0.2,0.4,0.7";
-  std::string scales = "2,4,8";
-  std::string weights = "spatial,normal,lobe,lobe-depth";
-  std::string out = "results/filtering";
-  std::string tables_dir = "paper_tables";
-  std::string table = "filtering";
-  bool quiet = false;
-};
 
 std::vector<std::string> split(const std::string& text) {
   std::vector<std::string> parts;
@@ -55,35 +47,21 @@ std::vector<std::string> split(const std::string& text) {
   return parts;
 }
 
-struct Row {
-  int scale;
-  double roughness;
-  render::FilterWeights weights;
-  render::FilterResult result;
-  const render::FilterInputs* inputs;  // of its point (alive while the row is written)
-};
-
 // A statistic for the CSV: "" when it has no finite value (relative L2 over a subset whose reference
 // is 0, e.g. receivers no VPL reaches, is +∞ in image_error's convention).
 std::string stat_number(double x) { return std::isfinite(x) ? csv_number(x) : std::string(); }
 
 std::string cell(double x, const char* format = "{:.4f}") { return std::isfinite(x) ? fmt::format(fmt::runtime(format), x) : "–"; }
 
-void run(const Options& options) {
-  Options o = options;
-  apply_filter_constants(o.job);
-  if (o.job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
-  if (o.table.empty() || o.table.find_first_of("/\\ ") != std::string::npos)
-    throw UsageError(fmt::format("--table '{}' is not a file name", o.table));
-  std::vector<double> roughness;
+// --roughness, --scale and --weights (InputError naming the bad item).
+void parse_lists(const Options& o, Result& r) {
   for (const auto& t : split(o.roughness)) {
     try {
-      roughness.push_back(parse_decimal<double>(t));
+      r.roughness.push_back(parse_decimal<double>(t));
     } catch (const NumberError& e) {
       throw UsageError(fmt::format("--roughness: '{}' {}", t, e.what()));
     }
   }
-  std::vector<int> scales;
   for (const auto& t : split(o.scales)) {
     double x = 0;
     try {
@@ -92,13 +70,13 @@ void run(const Options& options) {
       throw UsageError(fmt::format("--scale: '{}' {}", t, e.what()));
     }
     if (x != std::floor(x) || x < 1 || x > 64) throw UsageError(fmt::format("--scale: '{}' is not an integer in [1, 64]", t));
-    scales.push_back(int(x));
+    r.scales.push_back(int(x));
   }
-  std::vector<render::FilterWeights> weights;
-  for (const auto& t : split(o.weights)) weights.push_back(parse_weights_option(t));
-  check_filter_parameters(o.job.parameters);
-  render::FilterInputOptions input_options = filter_input_options(o.job);
-  // Every point's scene first: a bad roughness stops here, naming it.
+  for (const auto& t : split(o.weights)) r.weights.push_back(parse_weights_option(t));
+}
+
+// Every point's scene first: a bad roughness stops here, naming it.
+std::vector<render::Scene> point_scenes(const Options& o, const std::vector<double>& roughness) {
   const nlohmann::json base = load_scene_document(o.job.render.scene_path, o.job.render.overrides);
   std::vector<render::Scene> scenes;
   for (const double a : roughness) {
@@ -115,82 +93,103 @@ void run(const Options& options) {
       throw UsageError(fmt::format("--roughness {}: {}", a, e.what()));
     }
   }
+  return scenes;
+}
 
-  if (!scenes.empty() && !scales.empty()) {  // every point's inputs are kept: all at the finest scale bound it
-    render::FilterInputOptions finest = input_options;
-    finest.scale = *std::min_element(scales.begin(), scales.end());
-    check_filter_memory(scenes.front(), finest, scenes.size() * scales.size());
-  }
-
+std::string command_line(const Options& o) {
   std::vector<std::string> args = {"filter-sweep", "--scene",   o.job.render.scene_path, "--roughness", o.roughness,
                                    "--scale",      o.scales,    "--weights",             o.weights};
   for (const auto& a : filter_job_arguments(o.job, false)) args.push_back(a);
   if (o.table != Options{}.table) args.insert(args.end(), {"--table", o.table});
   std::string command = "sglab";
   for (const auto& a : args) command += " " + quote_argument(a);
+  return command;
+}
 
+Point point_summary(const render::FilterInputs& in) {
+  Point p{in.width, in.height, in.vpl_count, 0, 0, in.seconds.low_res, in.seconds.reference};
+  for (std::size_t k = 0; k < in.hit.size(); ++k) p.pixels_hit += in.hit[k] != 0, p.glossy_receivers += in.glossy[k] != 0;
+  return p;
+}
+
+// Point (scale s, roughness k); the reference of roughness k is computed once, at its first scale,
+// and kept (with its point's inputs) while the roughness's other scales use it.
+void compute_points(const Options& o, const std::vector<render::Scene>& scenes, render::FilterInputOptions input_options,
+                    Result& r) {
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [start] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  // Point (scale s, roughness k); the reference of roughness k is computed once, at its first scale.
-  std::vector<render::FilterInputs> inputs(scenes.size() * scales.size());
-  std::vector<Row> rows;
+  const std::size_t n = scenes.size() * r.scales.size();
   for (std::size_t k = 0; k < scenes.size(); ++k) {
-    for (std::size_t s = 0; s < scales.size(); ++s) {
-      const std::size_t point = k * scales.size() + s;
+    render::FilterInputs first;
+    for (std::size_t s = 0; s < r.scales.size(); ++s) {
+      const std::size_t point = k * r.scales.size() + s;
       if (!o.quiet) {
-        std::fprintf(stderr, "filter-sweep [%zu/%zu] floor.roughness=%g, scale %d (%.1f s)\n", point + 1, inputs.size(),
-                     roughness[k], scales[s], elapsed());
+        std::fprintf(stderr, "filter-sweep [%zu/%zu] floor.roughness=%g, scale %d (%.1f s)\n", point + 1, n, r.roughness[k],
+                     r.scales[s], elapsed());
         input_options.progress = [&](std::string_view stage, double fraction) {
           if (fraction == 1.0) std::fprintf(stderr, "  %.*s done (%.1f s)\n", int(stage.size()), stage.data(), elapsed());
         };
       }
-      input_options.scale = scales[s];
-      input_options.reference = s == 0 ? nullptr : &inputs[k * scales.size()].reference;
+      input_options.scale = r.scales[s];
+      input_options.reference = s == 0 ? nullptr : &first.reference;
       try {
-        inputs[point] = render::prepare_filter_inputs(scenes[k], input_options);
-        for (const auto w : weights)
-          rows.push_back({scales[s], roughness[k], w, render::upsample_indirect(inputs[point], w, o.job.parameters), &inputs[point]});
+        render::FilterInputs inputs = render::prepare_filter_inputs(scenes[k], input_options);
+        for (const auto w : r.weights)
+          r.rows.push_back({r.scales[s], r.roughness[k], w, render::upsample_indirect(inputs, w, o.job.parameters), point});
+        r.points.push_back(point_summary(inputs));
+        if (s == 0) first = std::move(inputs);
       } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
       }
+      r.points.back().seconds_reference = first.seconds.reference;  // the reference's time, also for the rows that reused it
     }
   }
-  // The reference's time, for the rows that reused it.
-  for (std::size_t k = 0; k < scenes.size(); ++k)
-    for (std::size_t s = 1; s < scales.size(); ++s)
-      inputs[k * scales.size() + s].seconds.reference = inputs[k * scales.size()].seconds.reference;
+  r.seconds = elapsed();
+}
 
-  // Every row, every statistic.
+std::string points_csv(const Result& r) {
   std::string points;
   append_csv_record(points, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "smape", "rmse", "max_abs",
                                                      "glossy_relative_l2", "glossy_smape", "glossy_rmse", "diffuse_relative_l2",
                                                      "diffuse_smape", "diffuse_rmse", "fallback_pixels", "pixels_hit",
                                                      "glossy_receivers", "vpl_count", "seconds_low_res", "seconds_upsampling",
                                                      "seconds_reference"});
-  for (const Row& r : rows) {
-    std::size_t hit = 0, glossy = 0;
-    for (std::size_t k = 0; k < r.inputs->hit.size(); ++k) hit += r.inputs->hit[k] != 0, glossy += r.inputs->glossy[k] != 0;
-    const auto& e = r.result;
+  for (const Row& row : r.rows) {
+    const Point& p = r.points[row.point];
+    const auto& e = row.result;
     append_csv_record(points, std::vector<std::string>{
-                                  std::to_string(r.scale), csv_number(r.roughness), std::string(render::filter_weights_name(r.weights)), stat_number(e.all.relative_l2),
+                                  std::to_string(row.scale), csv_number(row.roughness), std::string(render::filter_weights_name(row.weights)), stat_number(e.all.relative_l2),
                                   stat_number(e.all.smape), stat_number(e.all.rmse), stat_number(e.all.max_abs), stat_number(e.glossy.relative_l2),
                                   stat_number(e.glossy.smape), stat_number(e.glossy.rmse), stat_number(e.diffuse.relative_l2),
                                   stat_number(e.diffuse.smape), stat_number(e.diffuse.rmse), std::to_string(e.fallback_pixels),
-                                  std::to_string(hit), std::to_string(glossy), std::to_string(r.inputs->vpl_count),
-                                  csv_number(r.inputs->seconds.low_res), stat_number(e.seconds), csv_number(r.inputs->seconds.reference)});
+                                  std::to_string(p.pixels_hit), std::to_string(p.glossy_receivers), std::to_string(p.vpl_count),
+                                  csv_number(p.seconds_low_res), stat_number(e.seconds), csv_number(p.seconds_reference)});
   }
-  const Provenance provenance{command};
-  write_table(o.out, o.table + "_points", provenance, "", points);
+  return points;
+}
 
-  // The Markdown summary: relative L2 and SMAPE per weighting, all pixels and by receiver kind.
-  const auto find = [&](int scale, double a, render::FilterWeights w) -> const Row* {
-    for (const Row& r : rows)
-      if (r.scale == scale && r.roughness == a && r.weights == w) return &r;
-    return nullptr;
-  };
+// The CSV table: one row per (roughness, weights), the statistics of the Markdown table.
+std::string summary_csv(const Result& r) {
+  std::string csv;
+  append_csv_record(csv, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
+                                                  "diffuse_relative_l2", "smape", "glossy_smape", "diffuse_smape", "rmse",
+                                                  "fallback_pixels"});
+  for (const Row& row : r.rows) {
+    const auto& e = row.result;
+    append_csv_record(csv, std::vector<std::string>{std::to_string(row.scale), csv_number(row.roughness), std::string(render::filter_weights_name(row.weights)),
+                                                    stat_number(e.all.relative_l2), stat_number(e.glossy.relative_l2),
+                                                    stat_number(e.diffuse.relative_l2), stat_number(e.all.smape),
+                                                    stat_number(e.glossy.smape), stat_number(e.diffuse.smape), stat_number(e.all.rmse),
+                                                    std::to_string(e.fallback_pixels)});
+  }
+  return csv;
+}
+
+std::string markdown_intro(const Result& r) {
+  const Options& o = r.options;
   const auto& p = o.job.parameters;
-  const auto& in0 = inputs.front();
-  std::string md = fmt::format(
+  const Point& in0 = r.points.front();
+  return fmt::format(
       "# Upsampling indirect light: normal/depth-aware vs lobe-aware weights over the floor's roughness\n\n"
       "Scene `{}`{}, {}×{} pixels; indirect light computed at 1/scale resolution (scale {{{}}}; {} low-resolution "
       "source, RSM {}² → {} VPLs at the first point) and upsampled by joint bilateral upsampling over {}×{} low-resolution samples "
@@ -210,81 +209,108 @@ void run(const Options& options) {
       "with RMSE, max error and times: `{}_points.csv` in the `--out` directory.\n\n",
       o.job.render.scene_path,
       o.job.render.overrides.empty() ? "" : fmt::format(" with `--set {}`", fmt::join(o.job.render.overrides, "`, `--set ")),
-      in0.width, in0.height, fmt::join(scales, ", "), o.job.source, input_options.rsm_resolution, in0.vpl_count,
+      in0.width, in0.height, fmt::join(r.scales, ", "), o.job.source, r.rsm_resolution, in0.vpl_count,
       2 * p.radius, 2 * p.radius, p.spatial_sigma, p.sigma_n2, p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness, o.table);
+}
 
-  const auto has = [&](render::FilterWeights w) {
-    for (const auto x : weights)
-      if (x == w) return true;
-    return false;
-  };
-  // Each weighting other than spatial and normal is also given relative to normal.
-  std::vector<render::FilterWeights> compared;
-  if (has(render::FilterWeights::normal))
-    for (const auto w : weights)
-      if (w != render::FilterWeights::normal && w != render::FilterWeights::spatial) compared.push_back(w);
+// One Markdown table: relative L2 or SMAPE over a subset of pixels (0 all, 1 glossy, 2 diffuse
+// receivers), per weighting, and each weighting in `compared` relative to normal.
+std::string markdown_table(const Result& r, bool smape, int subset, const std::vector<render::FilterWeights>& compared) {
   const char* subset_names[] = {"all pixels", "glossy receivers", "diffuse receivers"};
-  for (const bool smape : {false, true}) {
-    for (int subset = 0; subset < 3; ++subset) {
-      const auto pick = [subset, smape](const Row* r) {
-        if (!r) return std::numeric_limits<double>::quiet_NaN();
-        const render::ImageError& e = subset == 0 ? r->result.all : subset == 1 ? r->result.glossy : r->result.diffuse;
-        return smape ? e.smape : e.relative_l2;
-      };
-      md += fmt::format("## {}, {}\n\n| scale | floor α |", smape ? "SMAPE" : "Relative L2", subset_names[subset]);
-      std::string rule = "|---|---|";
-      for (const auto w : weights) {
-        md += fmt::format(" {} |", render::filter_weights_name(w));
-        rule += "---|";
-      }
-      for (const auto w : compared) {
-        md += fmt::format(" {} vs normal |", render::filter_weights_name(w));
-        rule += "---|";
-      }
-      md += "\n" + rule + "\n";
-      for (const int sc : scales)
-        for (const double a : roughness) {
-          md += fmt::format("| {} | {:g} |", sc, a);
-          // (appended piecewise: GCC 12 warns falsely (-Wrestrict) on " " + std::string + " |")
-          for (const auto w : weights) md += fmt::format(" {} |", cell(pick(find(sc, a, w))));
-          for (const auto w : compared)
-            md += fmt::format(" {} |", cell(percent_change(pick(find(sc, a, w)), pick(find(sc, a, render::FilterWeights::normal))),
-                                            "{:+.1f} %"));
-          md += "\n";
-        }
+  const auto find = [&](int scale, double a, render::FilterWeights w) -> const Row* {
+    for (const Row& row : r.rows)
+      if (row.scale == scale && row.roughness == a && row.weights == w) return &row;
+    return nullptr;
+  };
+  const auto pick = [subset, smape](const Row* row) {
+    if (!row) return std::numeric_limits<double>::quiet_NaN();
+    const render::ImageError& e = subset == 0 ? row->result.all : subset == 1 ? row->result.glossy : row->result.diffuse;
+    return smape ? e.smape : e.relative_l2;
+  };
+  std::string md = fmt::format("## {}, {}\n\n| scale | floor α |", smape ? "SMAPE" : "Relative L2", subset_names[subset]);
+  std::string rule = "|---|---|";
+  for (const auto w : r.weights) {
+    md += fmt::format(" {} |", render::filter_weights_name(w));
+    rule += "---|";
+  }
+  for (const auto w : compared) {
+    md += fmt::format(" {} vs normal |", render::filter_weights_name(w));
+    rule += "---|";
+  }
+  md += "\n" + rule + "\n";
+  for (const int sc : r.scales)
+    for (const double a : r.roughness) {
+      md += fmt::format("| {} | {:g} |", sc, a);
+      // (appended piecewise: GCC 12 warns falsely (-Wrestrict) on " " + std::string + " |")
+      for (const auto w : r.weights) md += fmt::format(" {} |", cell(pick(find(sc, a, w))));
+      for (const auto w : compared)
+        md += fmt::format(" {} |", cell(percent_change(pick(find(sc, a, w)), pick(find(sc, a, render::FilterWeights::normal))),
+                                        "{:+.1f} %"));
       md += "\n";
     }
-  }
+  return md + "\n";
+}
+
+// The Markdown summary: relative L2 and SMAPE per weighting, all pixels and by receiver kind.
+std::string markdown(const Result& r) {
+  std::string md = markdown_intro(r);
+  // Each weighting other than spatial and normal is also given relative to normal.
+  std::vector<render::FilterWeights> compared;
+  if (std::find(r.weights.begin(), r.weights.end(), render::FilterWeights::normal) != r.weights.end())
+    for (const auto w : r.weights)
+      if (w != render::FilterWeights::normal && w != render::FilterWeights::spatial) compared.push_back(w);
+  for (const bool smape : {false, true})
+    for (int subset = 0; subset < 3; ++subset) md += markdown_table(r, smape, subset, compared);
   std::size_t fallbacks = 0;
-  for (const Row& r : rows) fallbacks += r.result.fallback_pixels;
+  for (const Row& row : r.rows) fallbacks += row.result.fallback_pixels;
   md += fmt::format(
       "Pixels whose range weights all underflowed (they fall back to spatial weights): {} over all rows. Times "
       "(wall clock, all cores) are in the per-row CSV.\n",
       fallbacks);
-
-  // The CSV table: one row per (roughness, weights), the statistics of the Markdown table.
-  std::string csv;
-  append_csv_record(csv, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
-                                                  "diffuse_relative_l2", "smape", "glossy_smape", "diffuse_smape", "rmse",
-                                                  "fallback_pixels"});
-  for (const Row& r : rows) {
-    const auto& e = r.result;
-    append_csv_record(csv, std::vector<std::string>{std::to_string(r.scale), csv_number(r.roughness), std::string(render::filter_weights_name(r.weights)),
-                                                    stat_number(e.all.relative_l2), stat_number(e.glossy.relative_l2),
-                                                    stat_number(e.diffuse.relative_l2), stat_number(e.all.smape),
-                                                    stat_number(e.glossy.smape), stat_number(e.diffuse.smape), stat_number(e.all.rmse),
-                                                    std::to_string(e.fallback_pixels)});
-  }
-  write_table(o.tables_dir, o.table, provenance, md, csv);
-  std::fputs((markdown_header(provenance) + md).c_str(), stdout);
-  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n", o.tables_dir.c_str(), o.table.c_str(),
-               o.out.c_str(), o.table.c_str(), elapsed());
+  return md;
 }
 
 }  // namespace
 
+Result compute(const Options& options) {
+  Result r;
+  r.options = options;
+  Options& o = r.options;
+  apply_filter_constants(o.job);
+  if (o.job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
+  if (o.table.empty() || o.table.find_first_of("/\\ ") != std::string::npos)
+    throw UsageError(fmt::format("--table '{}' is not a file name", o.table));
+  parse_lists(o, r);
+  check_filter_parameters(o.job.parameters);
+  const render::FilterInputOptions input_options = filter_input_options(o.job);
+  r.rsm_resolution = input_options.rsm_resolution;
+  const std::vector<render::Scene> scenes = point_scenes(o, r.roughness);
+  if (!scenes.empty() && !r.scales.empty()) {  // bounded as if every point's inputs were kept, all at the finest scale
+    render::FilterInputOptions finest = input_options;
+    finest.scale = *std::min_element(r.scales.begin(), r.scales.end());
+    check_filter_memory(scenes.front(), finest, scenes.size() * r.scales.size());
+  }
+  r.provenance.command = command_line(o);
+  compute_points(o, scenes, input_options, r);
+  return r;
+}
+
+Tables tables(const Result& r) { return {points_csv(r), markdown(r), summary_csv(r)}; }
+
+void write(const Result& r) {
+  const Options& o = r.options;
+  const Tables t = tables(r);
+  write_table(o.out, o.table + "_points", r.provenance, "", t.points_csv);
+  write_table(o.tables_dir, o.table, r.provenance, t.markdown, t.csv);
+  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n", o.tables_dir.c_str(), o.table.c_str(),
+               o.out.c_str(), o.table.c_str(), r.seconds);
+}
+
+}  // namespace filter_sweep
+
 void add_filter_sweep_command(CLI::App& app) {
-  auto opts = std::make_shared<Options>();
+  auto opts = std::make_shared<filter_sweep::Options>();
   auto* sub = app.add_subcommand("filter-sweep",
                                  "Upsampling error per weighting (spatial, normal, lobe) over the floor's roughness (paper_tables/filtering.*)");
   sub->add_option("--scene", opts->job.render.scene_path, "scene JSON with an object named floor")->required();
@@ -296,7 +322,7 @@ void add_filter_sweep_command(CLI::App& app) {
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
   sub->add_option("--scale", opts->scales, "scales (the indirect light at 1/SCALE resolution), comma-separated")->capture_default_str();
   add_filter_job_options(*sub, opts->job, false);
-  sub->callback([opts] { run(*opts); });
+  sub->callback([opts] { filter_sweep::write(filter_sweep::compute(*opts)); });
 }
 
 }  // namespace sglab::cli

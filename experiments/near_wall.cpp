@@ -24,6 +24,8 @@
 // Outputs: TABLES/near_wall_smape.{md,csv} (method,mean_smape,max_smape,pixels, ranked by mean),
 // --dump the per-pixel CSV (λ_in, c, each method's D) for the maps and the test, and with
 // --sweep-sharpness/--sweep-distance TABLES/near_wall_smape_sweep.{md,csv}.
+#include "near_wall.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -52,6 +54,7 @@
 #include "registry.hpp"
 
 namespace sglab::cli {
+namespace near_wall {
 namespace {
 
 namespace fs = std::filesystem;
@@ -60,20 +63,6 @@ using nlohmann::json;
 
 constexpr std::string_view kQuantity = "clamped-cosine";
 const std::string kTable = "near_wall_smape";
-
-struct SgLight {
-  Vec3 position = Vec3::Zero();  // μ
-  Vec3 axis = Vec3::UnitZ();     // ξ, unit
-  double sharpness = 0, amplitude = 0, radius = 0, distance = 0;
-};
-
-struct Options {
-  RenderJob job;  // scene path, --set, --width, --height
-  std::string dump;
-  std::string tables_dir = "paper_tables";
-  std::vector<double> sweep_sharpness, sweep_distance;
-  int sweep_width = 96, sweep_height = 72;
-};
 
 Vec3 vec3_field(const json& o, const std::string& key) {
   const std::string where = "sg_light." + key;
@@ -152,15 +141,6 @@ Compared compared_methods() {
   return c;
 }
 
-struct Pixel {
-  bool lit = false;
-  int object = -1;
-  double sharpness = 0, cosine = 0;
-  double log_radiance_scale = 0;  // log(R_d/π · c · e^{log_scale}): radiance = e^{this} · D
-  double reference = 0;
-  std::vector<double> value;      // D per compared method (NaN outside its domain)
-};
-
 double smape(double v, double r) {
   const double s = std::fabs(v) + std::fabs(r);
   return s > 0 ? 2 * std::fabs(v - r) / s : 0.0;
@@ -192,12 +172,6 @@ std::vector<Pixel> render_pixels(const render::Scene& scene, const SgLight& ligh
   });
   return out;
 }
-
-struct MethodError {
-  std::string method;
-  double mean = 0, max = 0;
-  std::size_t pixels = 0;
-};
 
 // Mean and max SMAPE per method over the lit pixels where the method is defined, ranked by mean.
 std::vector<MethodError> method_errors(const std::vector<Pixel>& pixels, const Compared& c) {
@@ -246,122 +220,168 @@ const char* kWhat =
     "0–2 scale; the common factor R_d/π · c_in cancels, so it is the SMAPE of the radiance. `pixels`: lit pixels where "
     "the method is defined. Ranked by mean SMAPE.";
 
-void write_table(const Options& o, const SgLight& light, const std::vector<MethodError>& errors, int width, int height) {
-  std::string csv;
-  append_csv_record(csv, std::vector<std::string>{"method", "mean_smape", "max_smape", "pixels"});
-  for (const auto& e : errors)
-    append_csv_record(csv, std::vector<std::string>{e.method, csv_number(e.mean), csv_number(e.max), std::to_string(e.pixels)});
+std::string method_table_markdown(const Result& r) {
+  const Options& o = r.options;
   std::string md = fmt::format(
       "# Near-wall SG light: each diffuse method against the exact integral (Tokuyoshi 2022, poster Fig. b–d)\n\n"
       "Scene `{}`, {}×{} pixels; SG light: {}.\n\n{}\n\n"
       "| rank | method | mean SMAPE | max SMAPE | pixels |\n|---|---|---|---|---|\n",
-      o.job.scene_path, width, height, light_text(light), kWhat);
-  for (std::size_t i = 0; i < errors.size(); ++i)
-    md += fmt::format("| {} | `{}` | {:.4g} | {:.4g} | {} |\n", i + 1, errors[i].method, errors[i].mean, errors[i].max, errors[i].pixels);
+      o.job.scene_path, r.width, r.height, light_text(r.light), kWhat);
+  for (std::size_t i = 0; i < r.errors.size(); ++i)
+    md += fmt::format("| {} | `{}` | {:.4g} | {:.4g} | {} |\n", i + 1, r.errors[i].method, r.errors[i].mean, r.errors[i].max,
+                      r.errors[i].pixels);
   std::vector<std::string> order;
-  for (const auto& e : errors) order.push_back(fmt::format("`{}` ({:.3g})", e.method, e.mean));
+  for (const auto& e : r.errors) order.push_back(fmt::format("`{}` ({:.3g})", e.method, e.mean));
   md += fmt::format("\nRanking by mean SMAPE, lowest first: {}.\n", fmt::join(order, " < "));
-  const Provenance provenance{command_line(o)};
-  write_table(o.tables_dir, kTable, provenance, md, csv);
-  std::fputs((markdown_header(provenance) + md).c_str(), stdout);
+  return md;
+}
+
+std::string method_table_csv(const std::vector<MethodError>& errors) {
+  std::string csv;
+  append_csv_record(csv, std::vector<std::string>{"method", "mean_smape", "max_smape", "pixels"});
+  for (const auto& e : errors)
+    append_csv_record(csv, std::vector<std::string>{e.method, csv_number(e.mean), csv_number(e.max), std::to_string(e.pixels)});
+  return csv;
 }
 
 // No comment line: the dump is itself a valid input of `sglab eval clamped-cosine` (columns
 // sharpness, cosine), which is how tests/near_wall_test.cpp checks every pixel.
-void write_dump(const std::string& path, const std::vector<Pixel>& pixels, const Compared& c, int width) {
+std::string dump_csv(const Result& r) {
   std::string csv;
-  std::vector<std::string> header{"i", "j", "object", "sharpness", "cosine", "log_radiance_scale", c.reference->name};
-  for (const Method* m : c.methods) header.push_back(m->name);
+  std::vector<std::string> header{"i", "j", "object", "sharpness", "cosine", "log_radiance_scale", r.reference};
+  header.insert(header.end(), r.methods.begin(), r.methods.end());
   append_csv_record(csv, header);
-  for (std::size_t k = 0; k < pixels.size(); ++k) {
-    const Pixel& p = pixels[k];
+  for (std::size_t k = 0; k < r.pixels.size(); ++k) {
+    const Pixel& p = r.pixels[k];
     if (!p.lit) continue;
-    std::vector<std::string> row{std::to_string(k % std::size_t(width)), std::to_string(k / std::size_t(width)),
+    std::vector<std::string> row{std::to_string(k % std::size_t(r.width)), std::to_string(k / std::size_t(r.width)),
                                  std::to_string(p.object), csv_number(p.sharpness), csv_number(p.cosine),
                                  csv_number(p.log_radiance_scale), csv_number(p.reference)};
     for (const double v : p.value) row.push_back(csv_number(v));
     append_csv_record(csv, row);
   }
-  write_file_atomically(path, csv);
+  return csv;
 }
 
-void run_sweep(const Options& o, const json& document, const Compared& c) {
-  const std::vector<double> sharpness = o.sweep_sharpness.empty() ? std::vector<double>{parse_sg_light(document, o.job.scene_path).sharpness} : o.sweep_sharpness;
-  const std::vector<double> distance = o.sweep_distance.empty() ? std::vector<double>{parse_sg_light(document, o.job.scene_path).distance} : o.sweep_distance;
+// The sweep's values: the given lists, or the scene's own value.
+std::vector<double> or_scene(const std::vector<double>& given, double scene) { return given.empty() ? std::vector<double>{scene} : given; }
+
+// The document with the sweep point's sharpness and distance set.
+json at_point(const json& document, double sharpness, double distance) {
+  json doc = document;
+  doc["sg_light"]["sharpness"] = sharpness;
+  doc["sg_light"]["distance"] = distance;
+  return doc;
+}
+
+std::vector<SweepPoint> compute_sweep(const Options& o, const json& document, const SgLight& light, const Compared& c) {
   RenderJob job = o.job;
   job.width = o.sweep_width;
   job.height = o.sweep_height;
-  std::string csv;
-  append_csv_record(csv, std::vector<std::string>{"sharpness", "distance", "method", "mean_smape", "max_smape", "pixels"});
-  std::string md = fmt::format(
+  std::vector<SweepPoint> sweep;
+  for (const double s : or_scene(o.sweep_sharpness, light.sharpness))
+    for (const double d : or_scene(o.sweep_distance, light.distance)) {
+      const json doc = at_point(document, s, d);
+      const SgLight l = parse_sg_light(doc, o.job.scene_path);
+      sweep.push_back({s, d, method_errors(render_pixels(geometry(doc, l, job), l, c), c)});
+    }
+  return sweep;
+}
+
+void sweep_tables(const Result& r, Tables& t) {
+  const Options& o = r.options;
+  append_csv_record(t.sweep_csv, std::vector<std::string>{"sharpness", "distance", "method", "mean_smape", "max_smape", "pixels"});
+  std::string& md = t.sweep_markdown;
+  md = fmt::format(
       "# Near-wall SG light: mean SMAPE against the exact integral over the light's sharpness and distance\n\n"
       "Scene `{}` at {}×{} pixels with `sg_light.sharpness` and `sg_light.distance` (from the wall) varied. {}\n\n",
       o.job.scene_path, o.sweep_width, o.sweep_height, kWhat);
   std::string header = "| λ | distance |", rule = "|---|---|";
-  for (const Method* m : c.methods) {
-    header += fmt::format(" `{}` |", m->name);
+  for (const auto& m : r.methods) {
+    header += fmt::format(" `{}` |", m);
     rule += "---|";
   }
   md += header + " best |\n" + rule + "---|\n";
-  std::vector<std::size_t> wins(c.methods.size(), 0);
-  for (const double s : sharpness)
-    for (const double d : distance) {
-      json doc = document;
-      doc["sg_light"]["sharpness"] = s;
-      doc["sg_light"]["distance"] = d;
-      const SgLight light = parse_sg_light(doc, o.job.scene_path);
-      const std::vector<MethodError> errors = method_errors(render_pixels(geometry(doc, light, job), light, c), c);
-      md += fmt::format("| {:g} | {:g} |", s, d);
-      for (const Method* m : c.methods) {
-        const auto it = std::find_if(errors.begin(), errors.end(), [&](const MethodError& e) { return e.method == m->name; });
-        md += fmt::format(" {:.3g} |", it->mean);
-        append_csv_record(csv, std::vector<std::string>{csv_number(s), csv_number(d), it->method, csv_number(it->mean),
-                                                        csv_number(it->max), std::to_string(it->pixels)});
-      }
-      md += fmt::format(" `{}` |\n", errors.front().method);
-      for (std::size_t i = 0; i < c.methods.size(); ++i)
-        if (c.methods[i]->name == errors.front().method) ++wins[i];
+  std::vector<std::size_t> wins(r.methods.size(), 0);
+  for (const SweepPoint& p : r.sweep) {
+    md += fmt::format("| {:g} | {:g} |", p.sharpness, p.distance);
+    for (std::size_t i = 0; i < r.methods.size(); ++i) {
+      const auto it = std::find_if(p.errors.begin(), p.errors.end(), [&](const MethodError& e) { return e.method == r.methods[i]; });
+      md += fmt::format(" {:.3g} |", it->mean);
+      append_csv_record(t.sweep_csv, std::vector<std::string>{csv_number(p.sharpness), csv_number(p.distance), it->method,
+                                                              csv_number(it->mean), csv_number(it->max), std::to_string(it->pixels)});
+      if (r.methods[i] == p.errors.front().method) ++wins[i];
     }
+    md += fmt::format(" `{}` |\n", p.errors.front().method);
+  }
   std::vector<std::string> won;
-  for (std::size_t i = 0; i < c.methods.size(); ++i)
-    if (wins[i]) won.push_back(fmt::format("`{}` in {}", c.methods[i]->name, wins[i]));
-  md += fmt::format("\nLowest mean SMAPE: {} of {} configurations.\n", fmt::join(won, ", "), sharpness.size() * distance.size());
-  const Provenance provenance{command_line(o)};
-  write_table(o.tables_dir, kTable + "_sweep", provenance, md, csv);
-  std::fputs((markdown_header(provenance) + md).c_str(), stdout);
+  for (std::size_t i = 0; i < r.methods.size(); ++i)
+    if (wins[i]) won.push_back(fmt::format("`{}` in {}", r.methods[i], wins[i]));
+  md += fmt::format("\nLowest mean SMAPE: {} of {} configurations.\n", fmt::join(won, ", "), r.sweep.size());
 }
 
-void run(const Options& o) {
-  if (o.job.scene_path.empty()) throw UsageError("near-wall needs --scene SCENE.json");
+void check_sweep_options(const Options& o) {
   if (o.sweep_width < 1 || o.sweep_width > 4096 || o.sweep_height < 1 || o.sweep_height > 4096)
     throw UsageError(fmt::format("--sweep-width/--sweep-height {}×{} is outside [1, 4096]", o.sweep_width, o.sweep_height));
   for (const double s : o.sweep_sharpness)
     if (!(std::isfinite(s) && s >= 0)) throw UsageError(fmt::format("--sweep-sharpness {}: must be a non-negative sharpness", s));
   for (const double d : o.sweep_distance)
     if (!(std::isfinite(d) && d > 0)) throw UsageError(fmt::format("--sweep-distance {}: must be positive", d));
-  const json document = load_scene_document(o.job.scene_path, o.job.overrides);
-  const SgLight light = parse_sg_light(document, o.job.scene_path);
-  const render::Scene scene = geometry(document, light, o.job);
-  const Compared c = compared_methods();
-  // Validate every sweep point's scene before anything runs.
-  for (const double s : o.sweep_sharpness.empty() ? std::vector<double>{light.sharpness} : o.sweep_sharpness)
-    for (const double d : o.sweep_distance.empty() ? std::vector<double>{light.distance} : o.sweep_distance) {
-      json doc = document;
-      doc["sg_light"]["sharpness"] = s;
-      doc["sg_light"]["distance"] = d;
-      geometry(doc, parse_sg_light(doc, o.job.scene_path), o.job);
-    }
-  const std::vector<Pixel> pixels = render_pixels(scene, light, c);
-  const std::vector<MethodError> errors = method_errors(pixels, c);
-  if (!o.dump.empty()) write_dump(o.dump, pixels, c, scene.camera.width);
-  write_table(o, light, errors, scene.camera.width, scene.camera.height);
-  if (!o.sweep_sharpness.empty() || !o.sweep_distance.empty()) run_sweep(o, document, c);
 }
 
 }  // namespace
 
+Result compute(const Options& o) {
+  if (o.job.scene_path.empty()) throw UsageError("near-wall needs --scene SCENE.json");
+  check_sweep_options(o);
+  Result r;
+  r.options = o;
+  r.provenance.command = command_line(o);
+  const json document = load_scene_document(o.job.scene_path, o.job.overrides);
+  r.light = parse_sg_light(document, o.job.scene_path);
+  const render::Scene scene = geometry(document, r.light, o.job);
+  const Compared c = compared_methods();
+  r.reference = c.reference->name;
+  for (const Method* m : c.methods) r.methods.push_back(m->name);
+  // Validate every sweep point's scene before anything runs.
+  for (const double s : or_scene(o.sweep_sharpness, r.light.sharpness))
+    for (const double d : or_scene(o.sweep_distance, r.light.distance)) {
+      const json doc = at_point(document, s, d);
+      geometry(doc, parse_sg_light(doc, o.job.scene_path), o.job);
+    }
+  r.width = scene.camera.width;
+  r.height = scene.camera.height;
+  r.pixels = render_pixels(scene, r.light, c);
+  r.errors = method_errors(r.pixels, c);
+  r.swept = !o.sweep_sharpness.empty() || !o.sweep_distance.empty();
+  if (r.swept) r.sweep = compute_sweep(o, document, r.light, c);
+  return r;
+}
+
+Tables tables(const Result& r) {
+  Tables t;
+  t.markdown = method_table_markdown(r);
+  t.csv = method_table_csv(r.errors);
+  if (!r.options.dump.empty()) t.dump_csv = dump_csv(r);
+  if (r.swept) sweep_tables(r, t);
+  return t;
+}
+
+void write(const Result& r) {
+  const Options& o = r.options;
+  const Tables t = tables(r);
+  if (!o.dump.empty()) write_file_atomically(o.dump, t.dump_csv);
+  write_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
+  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  if (!r.swept) return;
+  write_table(o.tables_dir, kTable + "_sweep", r.provenance, t.sweep_markdown, t.sweep_csv);
+  std::fputs((markdown_header(r.provenance) + t.sweep_markdown).c_str(), stdout);
+}
+
+}  // namespace near_wall
+
 void add_near_wall_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<near_wall::Options>();
   auto* sub = app.add_subcommand(
       "near-wall", "Tokuyoshi 2022 poster's figure: per pixel, each clamped-cosine method against the exact integral for a sharp SG light near a wall");
   sub->add_option("--scene", o->job.scene_path, "near-wall scene JSON with an sg_light (scenes/sg-light-near-wall-poster.json)");
@@ -374,7 +394,7 @@ void add_near_wall_command(CLI::App& app) {
   sub->add_option("--sweep-distance", o->sweep_distance, "light distances from the wall of the sweep")->delimiter(',');
   sub->add_option("--sweep-width", o->sweep_width, "image width of each sweep point")->capture_default_str();
   sub->add_option("--sweep-height", o->sweep_height, "image height of each sweep point")->capture_default_str();
-  sub->callback([o] { run(*o); });
+  sub->callback([o] { near_wall::write(near_wall::compute(*o)); });
 }
 
 }  // namespace sglab::cli

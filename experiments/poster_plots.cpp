@@ -15,6 +15,8 @@
 //     λ (log-spaced 0.01 … 1000). Compared as the normalized integral H/A(λ) ∈ [0, 1] (the vMF
 //     form returns H/A itself), so that every λ is on one scale; the poster does not say which
 //     normalization its RMSE plot uses.
+#include "poster_plots.hpp"
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -38,12 +40,15 @@
 #include "registry.hpp"
 
 namespace sglab::cli {
+namespace poster_plots {
 namespace {
 
 namespace fs = std::filesystem;
 
 // float32 unit roundoff 2^-24 (the poster's numerical error bound is for float shaders).
 constexpr double kFloatUnitRoundoff = 0x1.0p-24;
+// Points of t ∈ [0, 1] (uniform, both ends) for the measured float error and the curves.
+constexpr int kT = 1001;
 
 std::vector<double> log_grid(double a, double b, int n) {
   std::vector<double> v;
@@ -59,14 +64,8 @@ float cosine_term_float(double lambda, double t) {
 // α(e^{λt} − 1) in double without cancellation.
 double cosine_term_exact(double lambda, double t) { return tokuyoshi2022_alpha(lambda) * std::expm1(lambda * t); }
 
-std::string header_line(const std::string& command) { return csv_header(Provenance{command}); }
-
-void write_cosine_term(const fs::path& dir, const std::string& command) {
-  const double star = Tokuyoshi2022Cosine::lambda;
-  constexpr int kT = 1001;
-  std::string csv = header_line(command);
-  append_csv_record(csv, std::vector<std::string>{"lambda", "approximation_error", "float_error_bound", "sum",
-                                                  "measured_float_error"});
+std::vector<CosineTermRow> cosine_term_rows() {
+  std::vector<CosineTermRow> rows;
   for (const double l : log_grid(1e-6, 1e-1, 101)) {
     const double approx = fit::cosine_sharpness_objective(l, 0);
     const double sum = fit::cosine_sharpness_objective(l, kFloatUnitRoundoff);
@@ -75,23 +74,23 @@ void write_cosine_term(const fs::path& dir, const std::string& command) {
       const double t = double(k) / (kT - 1);
       measured = std::max(measured, std::fabs(double(cosine_term_float(l, t)) - cosine_term_exact(l, t)));
     }
-    append_csv_record(csv, std::vector<std::string>{csv_number(l), csv_number(approx), csv_number(sum - approx),
-                                                    csv_number(sum), csv_number(measured)});
+    rows.push_back({l, approx, sum - approx, sum, measured});
   }
-  write_file_atomically(dir / "cosine_term_error.csv", csv);
+  return rows;
+}
 
-  std::string curves = header_line(command);
-  append_csv_record(curves, std::vector<std::string>{"lambda", "t", "approximation_error", "float_difference"});
+std::vector<CurvePoint> cosine_term_curves() {
+  const double star = Tokuyoshi2022Cosine::lambda;
+  std::vector<CurvePoint> curves;
   for (const double l : {star / 10, star, star * 10})
     for (int k = 0; k < kT; ++k) {
       const double t = double(k) / (kT - 1);
-      append_csv_record(curves, std::vector<std::string>{csv_number(l), csv_number(t), csv_number(cosine_term_exact(l, t) - t),
-                                                         csv_number(double(cosine_term_float(l, t)) - t)});
+      curves.push_back({l, t, cosine_term_exact(l, t) - t, double(cosine_term_float(l, t)) - t});
     }
-  write_file_atomically(dir / "cosine_term_error_curves.csv", curves);
+  return curves;
 }
 
-void write_hemispherical_rmse(const fs::path& dir, const std::string& command) {
+std::vector<HemisphericalRmse> hemispherical_rmse() {
   const Quantity* q = find_quantity("hemispherical");
   if (!q) throw std::logic_error("the registry has no hemispherical quantity");
   const Method* ref = q->find(q->reference_method);
@@ -116,31 +115,62 @@ void write_hemispherical_rmse(const fs::path& dir, const std::string& command) {
     }
     for (std::size_t j = 0; j < methods.size(); ++j) rmse[i][j] = std::sqrt(sum[j] / kC);
   });
-  std::string csv = header_line(command);
-  append_csv_record(csv, std::vector<std::string>{"lambda", "method", "rmse_normalized"});
+  std::vector<HemisphericalRmse> out;
   for (std::size_t i = 0; i < lambdas.size(); ++i)
-    for (std::size_t j = 0; j < methods.size(); ++j)
-      append_csv_record(csv, std::vector<std::string>{csv_number(lambdas[i]), methods[j]->name, csv_number(rmse[i][j])});
-  write_file_atomically(dir / "hemispherical_rmse.csv", csv);
+    for (std::size_t j = 0; j < methods.size(); ++j) out.push_back({lambdas[i], methods[j]->name, rmse[i][j]});
+  return out;
 }
-
-struct Options {
-  std::string tables_dir = "paper_tables";
-};
 
 }  // namespace
 
+Result compute(const Options& o) {
+  Result r;
+  r.options = o;
+  r.provenance.command = "sglab poster-plots" + (o.tables_dir == "paper_tables" ? std::string() : " --tables-dir " + o.tables_dir);
+  r.cosine_term = cosine_term_rows();
+  r.curves = cosine_term_curves();
+  r.hemispherical = hemispherical_rmse();
+  return r;
+}
+
+Tables tables(const Result& r) {
+  Tables t;
+  t.cosine_term_csv = csv_header(r.provenance);
+  append_csv_record(t.cosine_term_csv, std::vector<std::string>{"lambda", "approximation_error", "float_error_bound", "sum",
+                                                                "measured_float_error"});
+  for (const CosineTermRow& c : r.cosine_term)
+    append_csv_record(t.cosine_term_csv, std::vector<std::string>{csv_number(c.lambda), csv_number(c.approximation_error),
+                                                                  csv_number(c.float_error_bound), csv_number(c.sum),
+                                                                  csv_number(c.measured_float_error)});
+  t.curves_csv = csv_header(r.provenance);
+  append_csv_record(t.curves_csv, std::vector<std::string>{"lambda", "t", "approximation_error", "float_difference"});
+  for (const CurvePoint& c : r.curves)
+    append_csv_record(t.curves_csv, std::vector<std::string>{csv_number(c.lambda), csv_number(c.t), csv_number(c.approximation_error),
+                                                             csv_number(c.float_difference)});
+  t.hemispherical_csv = csv_header(r.provenance);
+  append_csv_record(t.hemispherical_csv, std::vector<std::string>{"lambda", "method", "rmse_normalized"});
+  for (const HemisphericalRmse& h : r.hemispherical)
+    append_csv_record(t.hemispherical_csv, std::vector<std::string>{csv_number(h.lambda), h.method, csv_number(h.rmse_normalized)});
+  return t;
+}
+
+void write(const Result& r) {
+  const fs::path dir = r.options.tables_dir;
+  const Tables t = tables(r);
+  write_file_atomically(dir / "cosine_term_error.csv", t.cosine_term_csv);
+  write_file_atomically(dir / "cosine_term_error_curves.csv", t.curves_csv);
+  write_file_atomically(dir / "hemispherical_rmse.csv", t.hemispherical_csv);
+  std::fprintf(stderr, "poster-plots: wrote %s/cosine_term_error{,_curves}.csv and hemispherical_rmse.csv\n", r.options.tables_dir.c_str());
+}
+
+}  // namespace poster_plots
+
 void add_poster_plots_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<poster_plots::Options>();
   auto* sub = app.add_subcommand("poster-plots",
                                  "Tokuyoshi 2022 poster's two plots: cosine-term error against the float bound, hemispherical RMSE (CSV)");
   sub->add_option("--tables-dir", o->tables_dir, "directory for cosine_term_error*.csv and hemispherical_rmse.csv")->capture_default_str();
-  sub->callback([o] {
-    const std::string command = "sglab poster-plots" + (o->tables_dir == "paper_tables" ? std::string() : " --tables-dir " + o->tables_dir);
-    write_cosine_term(o->tables_dir, command);
-    write_hemispherical_rmse(o->tables_dir, command);
-    std::fprintf(stderr, "poster-plots: wrote %s/cosine_term_error{,_curves}.csv and hemispherical_rmse.csv\n", o->tables_dir.c_str());
-  });
+  sub->callback([o] { poster_plots::write(poster_plots::compute(*o)); });
 }
 
 }  // namespace sglab::cli

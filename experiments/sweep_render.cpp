@@ -19,6 +19,8 @@
 // Outputs: DIR/NAME_points.csv (the runner's per-point CSV, sweep.hpp) and, derived from that file
 // alone, TABLES/NAME.{md,csv} headed by the command (TABLES: --tables-dir, default DIR). NAME defaults to vsgl_error_vs_count without
 // --vary, else vsgl_error_vs_ + the last component of each key ("vsgl_error_vs_roughness_distance").
+#include "sweep_render.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -36,24 +38,16 @@
 #include "experiment_command.hpp"
 #include "constant_sets.hpp"
 #include "parse_number.hpp"
-#include "render_job.hpp"
 #include "resource_limits.hpp"
 #include "sglab/text_limits.hpp"
 #include "sweep.hpp"
 #include "registry.hpp"
 
 namespace sglab::cli {
+namespace sweep_render {
 namespace {
 
-// The --vary key that sets the diffuse VSGL's λ_d instead of a scene field.
-const std::string kLambdaDKey = "vsgl.lambda_d";
-
 namespace fs = std::filesystem;
-
-struct Vary {
-  std::string key, spec;  // spec as given (for the command line)
-  std::vector<double> values;
-};
 
 struct VsglConfig {
   std::string text;  // as given: "two", "fis:16"
@@ -62,17 +56,6 @@ struct VsglConfig {
   std::string label() const {
     return render::vsgl_mode_is_whole_rsm(mode) ? std::string(vsgl_mode_name(mode)) : fmt::format("{} {}", vsgl_mode_name(mode), count);
   }
-};
-
-struct Options {
-  RenderJob job;
-  std::vector<std::string> vary, vsgl;
-  std::string out = "results/sweep_render";
-  std::string tables_dir;  // empty: the --out directory
-  std::string table;
-  std::string shard;
-  std::size_t threads = 1;
-  bool fresh = false;
 };
 
 bool try_parse_decimal(const std::string& text, double& x) {
@@ -92,6 +75,17 @@ double parse_value(const std::string& text, const std::string& where) {
   }
 }
 
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> parts;
+  for (std::size_t start = 0;;) {
+    const auto at = text.find(separator, start);
+    parts.push_back(text.substr(start, at == std::string::npos ? std::string::npos : at - start));
+    if (at == std::string::npos) break;
+    start = at + 1;
+  }
+  return parts;
+}
+
 Vary parse_vary(const std::string& text) {
   const std::string where = "--vary " + text;
   const auto eq = text.find('=');
@@ -99,21 +93,10 @@ Vary parse_vary(const std::string& text) {
     throw UsageError(where + ": expected KEY=a:b:n[:log|:lin] or KEY=v1,v2,…");
   Vary v{text.substr(0, eq), text.substr(eq + 1), {}};
   if (v.spec.find(':') == std::string::npos) {
-    for (std::size_t start = 0;;) {
-      const auto comma = v.spec.find(',', start);
-      v.values.push_back(parse_value(v.spec.substr(start, comma == std::string::npos ? std::string::npos : comma - start), where));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    for (const auto& item : split(v.spec, ',')) v.values.push_back(parse_value(item, where));
     return v;
   }
-  std::vector<std::string> parts;
-  for (std::size_t start = 0;;) {
-    const auto colon = v.spec.find(':', start);
-    parts.push_back(v.spec.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
-    if (colon == std::string::npos) break;
-    start = colon + 1;
-  }
+  std::vector<std::string> parts = split(v.spec, ':');
   bool log_spaced = false;
   if (parts.size() == 4) {
     if (parts[3] == "log") {
@@ -136,6 +119,37 @@ Vary parse_vary(const std::string& text) {
     v.values.push_back(x);
   }
   return v;
+}
+
+// vsgl.lambda_d=v1,v2,… may name fit records (`sglab fit lambda-d --json FILE`) instead of numbers.
+Vary parse_lambda_d_vary(const std::string& text, std::vector<std::string>& sources) {
+  Vary l{kLambdaDKey, text.substr(kLambdaDKey.size() + 1), {}};
+  for (const auto& item : split(l.spec, ',')) {
+    double x;
+    if (try_parse_decimal(item, x)) {
+      sources.push_back(fmt::format("{} (given)", item));
+    } else {
+      const ConstantSet set = load_constant_sets({item});
+      const ConstantValue* c = set.find("lambda-d", "lambda_d");
+      if (!c) throw UsageError(fmt::format("--vary {}: '{}' holds no lambda-d fit", kLambdaDKey, item));
+      x = c->value;
+      sources.push_back(fmt::format("{:.10g} ({})", x, c->provenance));
+    }
+    l.values.push_back(x);
+  }
+  return l;
+}
+
+std::vector<Vary> parse_varies(const Options& o, std::vector<std::string>& lambda_d_sources) {
+  std::vector<Vary> vary;
+  for (const auto& v : o.vary)
+    vary.push_back(v.rfind(kLambdaDKey + "=", 0) == 0 && v.find(':') == std::string::npos ? parse_lambda_d_vary(v, lambda_d_sources)
+                                                                                          : parse_vary(v));
+  for (const auto& v : vary)
+    if (v.key == kLambdaDKey)
+      for (double x : v.values)
+        if (!(std::isfinite(x) && x > 0)) throw UsageError(fmt::format("--vary {}: λ_d = {} is not a positive number", v.key, x));
+  return vary;
 }
 
 VsglConfig parse_vsgl_config(const std::string& text) {
@@ -174,98 +188,11 @@ std::string quote_if_needed(const std::string& s) {
   return q + "'";
 }
 
-// The summary table (Markdown and CSV) from the per-point CSV alone.
-void write_summary(const CsvTable& t, const std::vector<Vary>& vary, const std::string& command, const Options& o,
-                   const std::string& name, const std::vector<std::string>& lambda_d_sources) {
-  const auto col = [&](const std::string& c) {
-    const auto i = t.column(c);
-    if (i == CsvTable::npos) throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
-    return i;
-  };
-  const auto num = [](const std::string& s) { return s.empty() ? NAN : std::stod(s); };
-  std::string md = fmt::format(
-      "# VSGL indirect light against the exact VPL sum\n\n"
-      "Scene `{}`{}. Error of the VSGL indirect layer against the exact sum over every VPL (true BRDFs at both "
-      "ends, same visibility assumption: {}), over the pixels that hit geometry, all channels: relative L2 = "
-      "‖v − r‖/‖r‖, SMAPE = mean 2|v − r|/(|v| + |r|), RMSE in W/(m² sr). Lobes: VSGLs built (diffuse + specular). "
-      "Times: wall clock on this machine, all cores; VSGL = generation + shading of every pixel; speedup = "
-      "reference / VSGL.\n\n",
-      o.job.scene_path,
-      o.job.overrides.empty() ? "" : " with " + fmt::format("`--set {}`", fmt::join(o.job.overrides, "`, `--set ")),
-      o.job.visibility ? "VSGL visibility from a cube shadow map at each μ_v (Tokuyoshi 2016 §4.1), VPL visibility by ray casting"
-                       : "none");
-  md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
-        constants_text(load_constant_sets(o.job.constants), {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
-        "\n";
-  if (!lambda_d_sources.empty())
-    md += fmt::format("Varied {}: {}.\n\n", kLambdaDKey, fmt::join(lambda_d_sources, "; "));
-  std::string header = "|", rule = "|";
-  for (const auto& v : vary) {
-    header += fmt::format(" {} |", v.key);
-    rule += "---|";
-  }
-  header += " VSGLs | lobes (specular) | VPLs | relative L2 | SMAPE | RMSE | VSGL ms | reference s | speedup |\n";
-  rule += "---|---|---|---|---|---|---|---|---|\n";
-  md += header + rule;
-  for (const auto& row : t.rows) {
-    const auto& f = row.fields;
-    md += "|";
-    for (const auto& v : vary) md += fmt::format(" {:.4g} |", num(f[col(v.key)]));
-    const double vsgl_ms = 1e3 * (num(f[col("seconds_vsgl")]) + num(f[col("seconds_shading")]));
-    md += fmt::format(" {} | {} ({}) | {} | {:.4f} | {:.4f} | {:.4g} | {:.3g} | {:.3g} | {:.0f}× |\n", f[col("vsgl")],
-                      f[col("vsgl_count")], f[col("specular_vsgls")], f[col("vpl_count")], num(f[col("relative_l2")]),
-                      num(f[col("smape")]), num(f[col("rmse")]), vsgl_ms, num(f[col("seconds_reference")]),
-                      num(f[col("speedup")]));
-  }
-  std::string csv;
-  append_csv_record(csv, t.header);
-  for (const auto& row : t.rows) append_csv_record(csv, row.fields);
-  const fs::path tables_dir = o.tables_dir.empty() ? fs::path(o.out) : fs::path(o.tables_dir);
-  const Provenance provenance{command};
-  write_table(tables_dir, name, provenance, md, csv);
-  std::fputs((markdown_header(provenance) + md).c_str(), stdout);
-  std::fprintf(stderr, "sweep render: wrote %s/%s.{md,csv}\n", tables_dir.c_str(), name.c_str());
-}
+fs::path tables_dir(const Options& o) { return o.tables_dir.empty() ? fs::path(o.out) : fs::path(o.tables_dir); }
 
-void run(const Options& o) {
-  if (o.job.scene_path.empty()) throw UsageError("sweep render needs --scene SCENE.json");
-  std::vector<Vary> vary;
-  std::vector<std::string> lambda_d_sources;  // where each varied λ_d came from
-  for (const auto& v : o.vary) {
-    // vsgl.lambda_d=v1,v2,… may name fit records (`sglab fit lambda-d --json FILE`) instead of numbers.
-    if (v.rfind(kLambdaDKey + "=", 0) == 0 && v.find(':') == std::string::npos) {
-      Vary l{kLambdaDKey, v.substr(kLambdaDKey.size() + 1), {}};
-      for (std::size_t start = 0;;) {
-        const auto comma = l.spec.find(',', start);
-        const std::string item = l.spec.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        double x;
-        if (try_parse_decimal(item, x)) {
-          lambda_d_sources.push_back(fmt::format("{} (given)", item));
-        } else {
-          const ConstantSet set = load_constant_sets({item});
-          const ConstantValue* c = set.find("lambda-d", "lambda_d");
-          if (!c) throw UsageError(fmt::format("--vary {}: '{}' holds no lambda-d fit", kLambdaDKey, item));
-          x = c->value;
-          lambda_d_sources.push_back(fmt::format("{:.10g} ({})", x, c->provenance));
-        }
-        l.values.push_back(x);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
-      }
-      vary.push_back(l);
-      continue;
-    }
-    vary.push_back(parse_vary(v));
-  }
-  for (const auto& v : vary)
-    if (v.key == kLambdaDKey)
-      for (double x : v.values)
-        if (!(std::isfinite(x) && x > 0)) throw UsageError(fmt::format("--vary {}: λ_d = {} is not a positive number", v.key, x));
-  std::vector<VsglConfig> configs;
-  for (const auto& c : o.vsgl.empty() ? std::vector<std::string>{"two"} : o.vsgl) configs.push_back(parse_vsgl_config(c));
-  const render::RenderOptions options = render_options(o.job);  // validates --rsm, --diffuse, …
-  const nlohmann::json base = load_scene_document(o.job.scene_path, o.job.overrides);
-
+// NAME: --table, else vsgl_error_vs_count without --vary, else vsgl_error_vs_ + each key's last
+// component. The table pair is checked before anything runs (it is written only after the sweep).
+std::string checked_table_name(const Options& o, const std::vector<Vary>& vary) {
   std::string name = o.table;
   if (name.empty()) {
     name = "vsgl_error_vs_count";
@@ -275,17 +202,17 @@ void run(const Options& o) {
     }
   }
   if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table '{}' is not a file name", name));
-  {  // the table pair is checked before anything runs (it is written only after the whole sweep)
-    const fs::path tables_dir = o.tables_dir.empty() ? fs::path(o.out) : fs::path(o.tables_dir);
-    std::vector<NamedPath> inputs{{"--scene", o.job.scene_path}};
-    for (const auto& c : o.job.constants) inputs.push_back({"--constants", c});
-    check_output_paths({{"--table (CSV)", tables_dir / (name + ".csv")}, {"--table (Markdown)", tables_dir / (name + ".md")}},
-                       inputs);
-  }
+  std::vector<NamedPath> inputs{{"--scene", o.job.scene_path}};
+  for (const auto& c : o.job.constants) inputs.push_back({"--constants", c});
+  check_output_paths({{"--table (CSV)", tables_dir(o) / (name + ".csv")}, {"--table (Markdown)", tables_dir(o) / (name + ".md")}},
+                     inputs);
+  return name;
+}
 
-  // Each --vary must set its own field: two keys naming one field (floor.roughness and
-  // objects.0.roughness, or the same key twice) would label rows with one value and render
-  // another. Found by setting a marker through each key and seeing which field changed.
+// Each --vary must set its own field: two keys naming one field (floor.roughness and
+// objects.0.roughness, or the same key twice) would label rows with one value and render
+// another. Found by setting a marker through each key and seeing which field changed.
+void check_distinct_fields(const std::vector<Vary>& vary, const nlohmann::json& base) {
   std::vector<std::string> targets;
   for (std::size_t i = 0; i < vary.size(); ++i) {
     if (vary[i].key == kLambdaDKey) {  // a render option, not a scene field
@@ -307,20 +234,34 @@ void run(const Options& o) {
         throw UsageError(fmt::format("--vary {} and --vary {} set the same field ({}); give each field once",
                                      clip_text(vary[j].key), clip_text(vary[i].key), clip_text(targets[i])));
   }
+}
 
-  std::size_t points = 1;
-  for (const auto& v : vary) points = checked_mul(points, v.values.size(), "sweep render: the --vary point count");
-  if (points > 100000) throw UsageError(fmt::format("sweep render: {} points is too many (at most 100000)", points));
-  // Point k's values (the last --vary fastest) and its overrides.
-  const auto values_of = [vary](std::size_t k) {
+// The grid's points: point k's values (the last --vary fastest) and its scene.
+struct Grid {
+  std::vector<Vary> vary;
+  nlohmann::json base;  // the scene document after --set
+  RenderJob job;
+
+  std::size_t points() const {
+    std::size_t n = 1;
+    for (const auto& v : vary) n = checked_mul(n, v.values.size(), "sweep render: the --vary point count");
+    return n;
+  }
+  std::vector<double> values_of(std::size_t k) const {
     std::vector<double> x(vary.size());
     for (std::size_t i = vary.size(); i-- > 0;) {
       x[i] = vary[i].values[k % vary[i].values.size()];
       k /= vary[i].values.size();
     }
     return x;
-  };
-  const auto scene_of = [vary, values_of, base, job = o.job](std::size_t k) {
+  }
+  std::string describe(std::size_t k) const {
+    std::string s;
+    const auto x = values_of(k);
+    for (std::size_t i = 0; i < vary.size(); ++i) s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", vary[i].key, x[i]);
+    return s.empty() ? std::string("the scene") : s;
+  }
+  render::Scene scene_of(std::size_t k) const {
     nlohmann::json doc = base;
     const auto x = values_of(k);
     for (std::size_t i = 0; i < vary.size(); ++i) {
@@ -339,83 +280,165 @@ void run(const Options& o) {
       for (std::size_t i = 0; i < vary.size(); ++i) at += fmt::format("{}{}={}", at.empty() ? "" : ", ", vary[i].key, x[i]);
       throw UsageError(fmt::format("at {}: {}", at.empty() ? "the scene" : at, e.what()));
     }
-  };
-  for (std::size_t k = 0; k < points; ++k) scene_of(k);  // every point's scene is valid before anything runs
-  check_render_memory(scene_of(0), options);
+  }
+};
 
+// Point k's rows: its G-buffer, RSM and VPL sum once, then each configuration's VSGLs.
+std::vector<SweepRow> point_rows(const Grid& g, const std::vector<VsglConfig>& configs, const render::RenderOptions& options,
+                                 std::size_t k) {
+  const render::Scene scene = g.scene_of(k);
+  const auto x = g.values_of(k);
+  std::vector<render::VsglOptions> variants;
+  for (const auto& c : configs) {
+    render::VsglOptions v;
+    v.mode = c.mode;
+    v.count = c.count;
+    v.seed = g.job.seed;
+    v.lambda_d = options.vsgl.lambda_d;  // the constant set's λ_d …
+    for (std::size_t i = 0; i < g.vary.size(); ++i)
+      if (g.vary[i].key == kLambdaDKey) v.lambda_d = x[i];  // … unless varied
+    v.kmeans_space = options.vsgl.kmeans_space;
+    variants.push_back(v);
+  }
+  // An arena of its own: the render's parallel loops use every core even when the runner runs
+  // points one at a time.
+  tbb::task_arena arena;
+  const std::vector<render::RenderResult> results = arena.execute([&] { return render::render_scene_variants(scene, options, variants); });
+  std::vector<SweepRow> rows;
+  for (std::size_t c = 0; c < configs.size(); ++c) {
+    const render::RenderResult& r = results[c];
+    const auto& st = r.vsgls.stats;
+    const double vsgl_seconds = r.seconds.vsgl + r.seconds.shading;
+    SweepRow row;
+    for (const double v : x) row.push_back(csv_number(v));
+    row.insert(row.end(), {configs[c].label(), st.mode, std::to_string(st.requested),
+                           std::to_string(st.diffuse_vsgls + st.specular_vsgls), std::to_string(st.specular_vsgls),
+                           std::to_string(r.vpl_count), std::to_string(r.pixels_hit), csv_number(r.error_metrics.relative_l2),
+                           csv_number(r.error_metrics.smape), csv_number(r.error_metrics.rmse), csv_number(r.error_metrics.max_abs),
+                           csv_number(r.seconds.rsm), csv_number(r.seconds.vsgl), csv_number(r.seconds.shading),
+                           csv_number(r.seconds.reference), csv_number(vsgl_seconds > 0 ? r.seconds.reference / vsgl_seconds : 0.0)});
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+// The sweep's identity for the runner: its arguments, a complete description of its grid, columns.
+SweepDefinition definition(const Options& o, const Grid& g, const std::vector<VsglConfig>& configs, const std::string& name) {
   SweepDefinition d;
   d.name = name;
   d.args = {"sweep", "render", "--scene", o.job.scene_path};
-  for (const auto& v : vary) d.args.insert(d.args.end(), {"--vary", v.key + "=" + v.spec});
+  for (const auto& v : g.vary) d.args.insert(d.args.end(), {"--vary", v.key + "=" + v.spec});
   for (const auto& c : configs) d.args.insert(d.args.end(), {"--vsgl", c.text});
   for (const auto& a : render_job_arguments(o.job, false)) d.args.push_back(a);
   d.args.insert(d.args.end(), {"--table", name});
   // The scene's contents (after --set), not only its path: an edited scene file is another grid.
-  std::string grid = fmt::format("scene {} (contents fnv1a {}); overrides {{{}}}; ", o.job.scene_path, fnv1a_hex(base.dump()),
+  std::string grid = fmt::format("scene {} (contents fnv1a {}); overrides {{{}}}; ", o.job.scene_path, fnv1a_hex(g.base.dump()),
                                  fmt::join(o.job.overrides, ", "));
-  for (const auto& v : vary) grid += fmt::format("{} {{{}}} × ", v.key, fmt::join(v.values, ", "));
+  for (const auto& v : g.vary) grid += fmt::format("{} {{{}}} × ", v.key, fmt::join(v.values, ", "));
   std::string labels;
   for (const auto& c : configs) labels += (labels.empty() ? "" : ", ") + c.label();
   grid += fmt::format("VSGLs {{{}}}; diffuse {}; RSM {}; shadow map {}; seed {}", labels, o.job.diffuse, o.job.rsm, o.job.shadow_map, o.job.seed);
   d.grid = grid;
-  d.point_count = points;
-  for (const auto& v : vary) d.columns.push_back(v.key);
+  d.point_count = g.points();
+  for (const auto& v : g.vary) d.columns.push_back(v.key);
   d.columns.insert(d.columns.end(), kColumns.begin(), kColumns.end());
-  d.describe = [vary, values_of](std::size_t k) {
-    std::string s;
-    const auto x = values_of(k);
-    for (std::size_t i = 0; i < vary.size(); ++i) s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", vary[i].key, x[i]);
-    return s.empty() ? std::string("the scene") : s;
-  };
-  d.compute = [scene_of, values_of, configs, options, vary, seed = o.job.seed](std::size_t k) {
-    const render::Scene scene = scene_of(k);
-    const auto point = values_of(k);
-    std::vector<render::VsglOptions> variants;
-    for (const auto& c : configs) {
-      render::VsglOptions v;
-      v.mode = c.mode;
-      v.count = c.count;
-      v.seed = seed;
-      v.lambda_d = options.vsgl.lambda_d;  // the constant set's λ_d …
-      for (std::size_t i = 0; i < vary.size(); ++i)
-        if (vary[i].key == kLambdaDKey) v.lambda_d = point[i];  // … unless varied
-      v.kmeans_space = options.vsgl.kmeans_space;
-      variants.push_back(v);
-    }
-    // An arena of its own: the render's parallel loops use every core even when the runner runs
-    // points one at a time.
-    tbb::task_arena arena;
-    const std::vector<render::RenderResult> results = arena.execute([&] { return render::render_scene_variants(scene, options, variants); });
-    const auto x = values_of(k);
-    std::vector<SweepRow> rows;
-    for (std::size_t c = 0; c < configs.size(); ++c) {
-      const render::RenderResult& r = results[c];
-      const auto& st = r.vsgls.stats;
-      const double vsgl_seconds = r.seconds.vsgl + r.seconds.shading;
-      SweepRow row;
-      for (const double v : x) row.push_back(csv_number(v));
-      row.insert(row.end(), {configs[c].label(), st.mode, std::to_string(st.requested),
-                             std::to_string(st.diffuse_vsgls + st.specular_vsgls), std::to_string(st.specular_vsgls),
-                             std::to_string(r.vpl_count), std::to_string(r.pixels_hit), csv_number(r.error_metrics.relative_l2),
-                             csv_number(r.error_metrics.smape), csv_number(r.error_metrics.rmse), csv_number(r.error_metrics.max_abs),
-                             csv_number(r.seconds.rsm), csv_number(r.seconds.vsgl), csv_number(r.seconds.shading),
-                             csv_number(r.seconds.reference), csv_number(vsgl_seconds > 0 ? r.seconds.reference / vsgl_seconds : 0.0)});
-      rows.push_back(std::move(row));
-    }
-    return rows;
-  };
-
-  const SweepRunResult r = run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
-  if (r.sharded) return;
-  std::string command = "sglab";
-  for (const auto& a : d.args) command += " " + quote_if_needed(a);
-  write_summary(read_sweep_points(r.points_csv), vary, command, o, name, lambda_d_sources);
+  return d;
 }
 
 }  // namespace
 
+Result compute(const Options& o) {
+  if (o.job.scene_path.empty()) throw UsageError("sweep render needs --scene SCENE.json");
+  Result r;
+  r.options = o;
+  auto grid = std::make_shared<Grid>();
+  grid->vary = parse_varies(o, r.lambda_d_sources);
+  grid->job = o.job;
+  std::vector<VsglConfig> configs;
+  for (const auto& c : o.vsgl.empty() ? std::vector<std::string>{"two"} : o.vsgl) configs.push_back(parse_vsgl_config(c));
+  const render::RenderOptions options = render_options(o.job);  // validates --rsm, --diffuse, …
+  grid->base = load_scene_document(o.job.scene_path, o.job.overrides);
+  r.name = checked_table_name(o, grid->vary);
+  check_distinct_fields(grid->vary, grid->base);
+  const std::size_t points = grid->points();
+  if (points > 100000) throw UsageError(fmt::format("sweep render: {} points is too many (at most 100000)", points));
+  for (std::size_t k = 0; k < points; ++k) grid->scene_of(k);  // every point's scene is valid before anything runs
+  check_render_memory(grid->scene_of(0), options);
+
+  SweepDefinition d = definition(o, *grid, configs, r.name);
+  d.describe = [grid](std::size_t k) { return grid->describe(k); };
+  d.compute = [grid, configs, options](std::size_t k) { return point_rows(*grid, configs, options, k); };
+  const SweepRunResult run = run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
+  r.vary = grid->vary;
+  r.provenance.command = "sglab";
+  for (const auto& a : d.args) r.provenance.command += " " + quote_if_needed(a);
+  r.sharded = run.sharded;
+  if (!r.sharded) r.points = read_sweep_points(run.points_csv);
+  return r;
+}
+
+// The summary table (Markdown and CSV) from the per-point CSV alone.
+Tables tables(const Result& r) {
+  const CsvTable& t = r.points;
+  const Options& o = r.options;
+  const auto col = [&](const std::string& c) {
+    const auto i = t.column(c);
+    if (i == CsvTable::npos) throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
+    return i;
+  };
+  const auto num = [](const std::string& s) { return s.empty() ? NAN : std::stod(s); };
+  std::string md = fmt::format(
+      "# VSGL indirect light against the exact VPL sum\n\n"
+      "Scene `{}`{}. Error of the VSGL indirect layer against the exact sum over every VPL (true BRDFs at both "
+      "ends, same visibility assumption: {}), over the pixels that hit geometry, all channels: relative L2 = "
+      "‖v − r‖/‖r‖, SMAPE = mean 2|v − r|/(|v| + |r|), RMSE in W/(m² sr). Lobes: VSGLs built (diffuse + specular). "
+      "Times: wall clock on this machine, all cores; VSGL = generation + shading of every pixel; speedup = "
+      "reference / VSGL.\n\n",
+      o.job.scene_path,
+      o.job.overrides.empty() ? "" : " with " + fmt::format("`--set {}`", fmt::join(o.job.overrides, "`, `--set ")),
+      o.job.visibility ? "VSGL visibility from a cube shadow map at each μ_v (Tokuyoshi 2016 §4.1), VPL visibility by ray casting"
+                       : "none");
+  md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
+        constants_text(load_constant_sets(o.job.constants), {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
+        "\n";
+  if (!r.lambda_d_sources.empty())
+    md += fmt::format("Varied {}: {}.\n\n", kLambdaDKey, fmt::join(r.lambda_d_sources, "; "));
+  std::string header = "|", rule = "|";
+  for (const auto& v : r.vary) {
+    header += fmt::format(" {} |", v.key);
+    rule += "---|";
+  }
+  header += " VSGLs | lobes (specular) | VPLs | relative L2 | SMAPE | RMSE | VSGL ms | reference s | speedup |\n";
+  rule += "---|---|---|---|---|---|---|---|---|\n";
+  md += header + rule;
+  for (const auto& row : t.rows) {
+    const auto& f = row.fields;
+    md += "|";
+    for (const auto& v : r.vary) md += fmt::format(" {:.4g} |", num(f[col(v.key)]));
+    const double vsgl_ms = 1e3 * (num(f[col("seconds_vsgl")]) + num(f[col("seconds_shading")]));
+    md += fmt::format(" {} | {} ({}) | {} | {:.4f} | {:.4f} | {:.4g} | {:.3g} | {:.3g} | {:.0f}× |\n", f[col("vsgl")],
+                      f[col("vsgl_count")], f[col("specular_vsgls")], f[col("vpl_count")], num(f[col("relative_l2")]),
+                      num(f[col("smape")]), num(f[col("rmse")]), vsgl_ms, num(f[col("seconds_reference")]),
+                      num(f[col("speedup")]));
+  }
+  std::string csv;
+  append_csv_record(csv, t.header);
+  for (const auto& row : t.rows) append_csv_record(csv, row.fields);
+  return {md, csv};
+}
+
+void write(const Result& r) {
+  if (r.sharded) return;
+  const Tables t = tables(r);
+  write_table(tables_dir(r.options), r.name, r.provenance, t.markdown, t.csv);
+  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  std::fprintf(stderr, "sweep render: wrote %s/%s.{md,csv}\n", tables_dir(r.options).c_str(), r.name.c_str());
+}
+
+}  // namespace sweep_render
+
 void add_sweep_render(CLI::App& sweep) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<sweep_render::Options>();
   auto* sub = sweep.add_subcommand("render", "VSGL error against the exact VPL sum, and both times, over scene parameters × VSGL configurations");
   sub->add_option("--scene", o->job.scene_path, "scene JSON (schema: scenes/README.md)");
   sub->add_option("--vary", o->vary, "KEY=a:b:n (linear), KEY=a:b:n:log, or KEY=v1,v2,… (repeatable: Cartesian product)");
@@ -429,7 +452,7 @@ void add_sweep_render(CLI::App& sweep) {
       ->capture_default_str()
       ->check(unsigned_at_most(kMaxThreads));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
-  sub->callback([o] { run(*o); });
+  sub->callback([o] { sweep_render::write(sweep_render::compute(*o)); });
 }
 
 }  // namespace sglab::cli

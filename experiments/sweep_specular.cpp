@@ -213,6 +213,30 @@ SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
 
 // ---- summary ----------------------------------------------------------------------------------
 
+namespace {
+
+// Per (group, value, method): per point Σ|v − r| and Σ r over rows with a value; the bright rows' SMAPE.
+struct Brightness {
+  std::map<std::string, std::pair<double, double>> points;  // point key → (Σ|v − r|, Σ r)
+  double smape_sum = 0;
+  std::size_t bright = 0;
+};
+
+// The brightness-weighted error and the bright rows' SMAPE of one summary row.
+void add_brightness(const Brightness& b, SpecularSummaryRow& row) {
+  double sum = 0;
+  for (const auto& [point, e] : b.points)
+    if (e.second > 0) {
+      sum += e.first / e.second;
+      ++row.weighted_points;
+    }
+  if (row.weighted_points) row.weighted_error = sum / double(row.weighted_points);
+  row.bright_rows = b.bright;
+  if (row.bright_rows) row.bright_smape = b.smape_sum / double(row.bright_rows);
+}
+
+}  // namespace
+
 std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, const std::string& source) {
   auto column = [&](const std::string& name) {
     const std::size_t c = t.column(name);
@@ -244,12 +268,6 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
                                {"all", CsvTable::npos, false, {}}};
   std::vector<std::string> methods;
   std::map<std::tuple<std::size_t, std::string, std::string>, ErrorAccumulator> acc;  // (group, value, method)
-  // Per (group, value, method): per point Σ|v − r| and Σ r over rows with a value; the bright rows' SMAPE.
-  struct Brightness {
-    std::map<std::string, std::pair<double, double>> points;  // point key → (Σ|v − r|, Σ r)
-    double smape_sum = 0;
-    std::size_t bright = 0;
-  };
   std::map<std::tuple<std::size_t, std::string, std::string>, Brightness> brightness;
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
     const CsvRecord& r = t.rows[i];
@@ -284,17 +302,7 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
         const auto it = acc.find({g, key, method});
         if (it == acc.end()) continue;
         SpecularSummaryRow row{groups[g].by, key, method, it->second.stats()};
-        if (const auto b = brightness.find({g, key, method}); b != brightness.end()) {
-          double sum = 0;
-          for (const auto& [point, e] : b->second.points)
-            if (e.second > 0) {
-              sum += e.first / e.second;
-              ++row.weighted_points;
-            }
-          if (row.weighted_points) row.weighted_error = sum / double(row.weighted_points);
-          row.bright_rows = b->second.bright;
-          if (row.bright_rows) row.bright_smape = b->second.smape_sum / double(row.bright_rows);
-        }
+        if (const auto b = brightness.find({g, key, method}); b != brightness.end()) add_brightness(b->second, row);
         if (row.stats.worst < t.rows.size()) {
           const auto& w = t.rows[row.stats.worst].fields;
           row.worst_roughness = w[c_roughness];
@@ -341,48 +349,34 @@ std::string short_group(const std::string& g) {
   }
 }
 
-}  // namespace
-
-std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command,
-                                      SpecularBrdf brdf) {
+// The summary rows indexed for the tables: the methods and each `by`'s group values in order.
+struct SummaryIndex {
   std::vector<std::string> methods;
   std::map<std::string, std::vector<std::string>> groups;  // by → values in order
   std::map<std::tuple<std::string, std::string, std::string>, const SpecularSummaryRow*> cell;
-  for (const auto& r : rows) {
-    if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
-    auto& g = groups[r.by];
-    if (std::find(g.begin(), g.end(), r.group) == g.end()) g.push_back(r.group);
-    cell[{r.by, r.group, r.method}] = &r;
+
+  explicit SummaryIndex(const std::vector<SpecularSummaryRow>& rows) {
+    for (const auto& r : rows) {
+      if (std::find(methods.begin(), methods.end(), r.method) == methods.end()) methods.push_back(r.method);
+      auto& g = groups[r.by];
+      if (std::find(g.begin(), g.end(), r.group) == g.end()) g.push_back(r.group);
+      cell[{r.by, r.group, r.method}] = &r;
+    }
   }
-  auto values = [&](const std::string& by) {
+  std::string values(const std::string& by) {
     std::string s;
     for (const auto& g : groups[by]) s += (s.empty() ? "" : ", ") + short_group(g);
     return s;
-  };
-  auto header = [&](const std::string& first) {
-    std::string h = "| " + first + " |", rule = "|---|";
+  }
+  // One table: a row per group value of `by`, a column per method, `show` of the summary row.
+  template <class Show>
+  std::string rtable(const std::string& by, const std::string& first, Show show) {
+    std::string s = "| " + first + " |", rule = "|---|";
     for (const auto& m : methods) {
-      h += fmt::format(" {} |", m);
+      s += fmt::format(" {} |", m);
       rule += "---|";
     }
-    return h + "\n" + rule + "\n";
-  };
-  // One table: a row per group value of `by`, a column per method, `show` of the cell.
-  auto table = [&](const std::string& by, const std::string& first, auto show) {
-    std::string s = header(first);
-    for (const auto& g : groups[by]) {
-      s += "| " + short_group(g) + " |";
-      for (const auto& m : methods) {
-        const auto it = cell.find({by, g, m});
-        s += fmt::format(" {} |", it == cell.end() ? std::string("—") : show(it->second->stats));
-      }
-      s += "\n";
-    }
-    return s + "\n";
-  };
-  // As `table`, with `show` of the whole summary row (for the statistics beside ErrorStats).
-  auto rtable = [&](const std::string& by, const std::string& first, auto show) {
-    std::string s = header(first);
+    s += "\n" + rule + "\n";
     for (const auto& g : groups[by]) {
       s += "| " + short_group(g) + " |";
       for (const auto& m : methods) {
@@ -392,20 +386,22 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
       s += "\n";
     }
     return s + "\n";
-  };
-  auto weighted = [](const SpecularSummaryRow& r) { return percent(r.weighted_error); };
-  auto bright = [](const SpecularSummaryRow& r) { return percent(r.bright_smape); };
-  auto smape = [](const ErrorStats& s) { return percent(s.smape); };
-  auto max_rel = [](const ErrorStats& s) { return percent(s.max_relative); };
-  auto rmse = [](const ErrorStats& s) { return percent(s.rmse_relative); };
-  auto rmse_scaled = [](const ErrorStats& s) { return percent(s.rmse_scaled); };
-  auto both = [](const ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
+  }
+  // As `rtable`, with `show` of the row's ErrorStats.
+  template <class Show>
+  std::string table(const std::string& by, const std::string& first, Show show) {
+    return rtable(by, first, [&](const SpecularSummaryRow& r) { return show(r.stats); });
+  }
+};
 
+// What is compared with what: the BRDF, the quantity, the grid, the measures.
+std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIndex& x, const std::string& command,
+                          SpecularBrdf brdf) {
   std::size_t near_zero = 0, points = 0;
   for (const auto& r : rows)
     if (r.by == "all") near_zero = std::max(near_zero, r.stats.near_zero), points = std::max(points, r.stats.points);
+  const auto values = [&](const std::string& by) { return x.values(by); };
 
-  // What is compared with what: the BRDF, the quantity, the per-point file.
   const bool gaussian = brdf == SpecularBrdf::gaussian;
   const std::string title = gaussian ? "Specular reflection of an SG light off the Gaussian-angle NDF BRDF: error against m"
                                      : "Specular reflection of an SG light off GGX: error against roughness";
@@ -421,7 +417,7 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
                : "Every method of the `specular` quantity (`sglab eval --list`) against `reference` (adaptive 2D "
                  "quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated Smith and Schlick "
                  "f0 = 0.04, over roughness α";
-  std::string md = markdown_header(Provenance{command}) + fmt::format(
+  return markdown_header(Provenance{command}) + fmt::format(
       "# {9}\n\n"
       "Command: `{0}` (per-point data: `{11}_points.csv` in its `--out` directory; sharded runs joined by "
       "`sglab merge` give the same file). {10} ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
@@ -440,6 +436,41 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
       command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
       csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff), title, model,
       gaussian ? "specular-gaussian" : "specular");
+}
+
+// The whole grid: every statistic per method.
+std::string whole_grid_table(const std::vector<SpecularSummaryRow>& rows) {
+  std::string md;
+  md += "## Over the whole grid\n\n| method | brightness-weighted | bright SMAPE | SMAPE | max relative | RMSE | RMSE scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    if (r.by != "all") continue;
+    const ErrorStats& s = r.stats;
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.method, percent(r.weighted_error),
+                      percent(r.bright_smape), percent(s.smape), percent(s.max_relative),
+                      percent(s.rmse_relative), percent(s.rmse_scaled), percent(s.max_scaled), s.near_zero, s.missing,
+                      r.worst_roughness.empty() ? "—"
+                                                : fmt::format("{}, {}, {}, {}", short_group(r.worst_roughness),
+                                                              short_group(r.worst_light_sharpness),
+                                                              short_group(r.worst_view_cos), r.worst_position));
+  }
+  return md;
+}
+
+}  // namespace
+
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command,
+                                      SpecularBrdf brdf) {
+  SummaryIndex x(rows);
+  auto weighted = [](const SpecularSummaryRow& r) { return percent(r.weighted_error); };
+  auto bright = [](const SpecularSummaryRow& r) { return percent(r.bright_smape); };
+  auto smape = [](const ErrorStats& s) { return percent(s.smape); };
+  auto max_rel = [](const ErrorStats& s) { return percent(s.max_relative); };
+  auto rmse = [](const ErrorStats& s) { return percent(s.rmse_relative); };
+  auto rmse_scaled = [](const ErrorStats& s) { return percent(s.rmse_scaled); };
+  auto both = [](const ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
+  const auto rtable = [&](const std::string& by, const std::string& first, auto show) { return x.rtable(by, first, show); };
+  const auto table = [&](const std::string& by, const std::string& first, auto show) { return x.table(by, first, show); };
+  std::string md = summary_intro(rows, x, command, brdf);
   md += "## Brightness-weighted error Σ|v − r|/Σr (%) by roughness α\n\n" + rtable("roughness", "α", weighted);
   md += fmt::format("## SMAPE (%) over rows ≥ {:g} % of the point's peak, by roughness α\n\n", 100 * kSpecularBrightCutoff) +
         rtable("roughness", "α", bright);
@@ -457,19 +488,7 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
   md += "By view angle (all α, λ, positions):\n\n" + table("view_cos", "view_cos", both);
   md += "By light sharpness:\n\n" + table("light_sharpness", "λ", both);
   md += "By light position:\n\n" + table("position", "position", both);
-  md += "## Over the whole grid\n\n| method | brightness-weighted | bright SMAPE | SMAPE | max relative | RMSE | RMSE scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& r : rows) {
-    if (r.by != "all") continue;
-    const ErrorStats& s = r.stats;
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.method, percent(r.weighted_error),
-                      percent(r.bright_smape), percent(s.smape), percent(s.max_relative),
-                      percent(s.rmse_relative), percent(s.rmse_scaled), percent(s.max_scaled), s.near_zero, s.missing,
-                      r.worst_roughness.empty() ? "—"
-                                                : fmt::format("{}, {}, {}, {}", short_group(r.worst_roughness),
-                                                              short_group(r.worst_light_sharpness),
-                                                              short_group(r.worst_view_cos), r.worst_position));
-  }
-  return md;
+  return md + whole_grid_table(rows);
 }
 
 // ---- the command ----------------------------------------------------------------------------------

@@ -274,6 +274,115 @@ std::size_t load_checkpoint(const fs::path& checkpoint, const std::string& print
 
 // ---- running ------------------------------------------------------------------------------------
 
+namespace {
+
+// One run over this shard's points: the rows of every finished point (from a checkpoint or computed
+// here), the checkpoint and the progress lines; `mutex` guards them while points are computed in
+// parallel.
+struct PointRun {
+  const SweepDefinition& d;
+  const SweepRunOptions& o;
+  const std::vector<std::size_t>& mine;  // this shard's points
+  const std::string& label;
+  fs::path checkpoint;
+  std::string print;  // the sweep's fingerprint, the checkpoint's identity
+  std::vector<std::vector<SweepRow>> rows;
+  std::vector<char> done;
+  std::vector<std::size_t> todo;  // positions in `mine`
+  std::size_t resumed = 0, finished = 0;
+  std::mutex mutex;
+  Clock::time_point last_checkpoint, last_progress, t_compute;
+
+  PointRun(const SweepDefinition& d_, const SweepRunOptions& o_, const std::vector<std::size_t>& mine_, const std::string& label_)
+      : d(d_), o(o_), mine(mine_), label(label_), rows(mine_.size()), done(mine_.size(), 0) {}
+
+  // The CSV text of every finished point in point order (the checkpoint and the final output).
+  std::string csv_text() const {
+    std::string text;
+    append_csv_record(text, with_point(d.columns));
+    std::vector<std::string> fields;
+    for (std::size_t j = 0; j < mine.size(); ++j) {
+      if (!done[j]) continue;
+      for (const auto& r : rows[j]) {
+        fields.assign(1, std::to_string(mine[j]));
+        fields.insert(fields.end(), r.begin(), r.end());
+        append_csv_record(text, fields);
+      }
+    }
+    return text;
+  }
+
+  void write_checkpoint() {  // caller holds the mutex
+    const std::string body = csv_text();
+    write_file_atomically(checkpoint, kCheckpointMagic + print + " " + fnv1a_hex(body) + "\n" + body);
+    last_checkpoint = Clock::now();
+  }
+
+  void progress(std::size_t j, bool force) {  // caller holds the mutex
+    const auto now = Clock::now();
+    if (o.quiet || (!force && std::chrono::duration<double>(now - last_progress).count() < o.progress_seconds)) return;
+    last_progress = now;
+    const double elapsed = std::chrono::duration<double>(now - t_compute).count();
+    const double rate = elapsed > 0 ? double(finished) / elapsed : 0;
+    const std::size_t total_done = resumed + finished;
+    const double eta = rate > 0 ? double(todo.size() - finished) / rate : NAN;
+    std::fprintf(stderr, "%s: %zu/%zu points (%.1f %%), %.3g points/s, ETA %s; finished %s\n", label.c_str(),
+                 total_done, mine.size(), 100.0 * double(total_done) / double(std::max<std::size_t>(mine.size(), 1)), rate,
+                 format_seconds(eta).c_str(),
+                 d.describe ? d.describe(mine[j]).c_str() : fmt::format("point {}", mine[j]).c_str());
+  }
+
+  // Computes the point at position j of `mine`, checks its rows and records them.
+  void compute_point(std::size_t j) {
+    std::vector<SweepRow> point_rows = d.compute(mine[j]);
+    if (point_rows.empty())  // a point without rows could not be told from a missing one
+      throw std::logic_error(fmt::format("sweep {}: point {} gave no rows", d.name, mine[j]));
+    for (const auto& row : point_rows)
+      if (row.size() != d.columns.size())
+        throw std::logic_error(fmt::format("sweep {}: point {} gave a row of {} fields for {} columns", d.name,
+                                           mine[j], row.size(), d.columns.size()));
+    std::lock_guard lock(mutex);
+    rows[j] = std::move(point_rows);
+    done[j] = 1;
+    ++finished;
+    progress(j, false);
+    if (std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= o.checkpoint_seconds && finished < todo.size())
+      write_checkpoint();
+  }
+
+  // Every point of `todo` on o.threads threads; on an error, what was finished is kept in the
+  // checkpoint (the next run resumes from it) and the error goes on.
+  template <class Say>
+  void compute_todo(const Say& say) {
+    last_checkpoint = last_progress = t_compute = Clock::now();
+    tbb::task_arena arena(o.threads > 0 ? int(o.threads) : tbb::task_arena::automatic);
+    try {
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t t = r.begin(); t != r.end(); ++t) {
+            if (tbb::is_current_task_group_canceling()) return;  // another point failed
+            compute_point(todo[t]);
+          }
+        });
+      });
+    } catch (...) {
+      std::lock_guard lock(mutex);
+      if (finished > 0) {
+        try {
+          write_checkpoint();
+          say(fmt::format("stopped by an error; {} finished points kept in {}", resumed + finished, checkpoint.string()));
+        } catch (const std::exception& e) {
+          say(std::string("could not write the checkpoint: ") + e.what());
+        }
+      }
+      throw;
+    }
+    progress(todo.back(), true);
+  }
+};
+
+}  // namespace
+
 SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   if (!d.compute) throw std::logic_error("run_sweep: sweep '" + d.name + "' has no compute function");
   const auto t_start = Clock::now();
@@ -282,7 +391,6 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   result.points_csv = sweep_points_path(o.out_dir, d.name, o.shard);
   result.manifest = sweep_manifest_path(o.out_dir, d.name, o.shard);
   result.sharded = o.shard.sharded();
-  const fs::path checkpoint = sweep_checkpoint_path(o.out_dir, d.name, o.shard);
   const std::vector<std::size_t> mine = shard_points(d.point_count, o.shard);
   result.points = mine.size();
   const std::string label = "sweep " + d.name + (o.shard.sharded() ? " [shard " + o.shard.text() + "]" : "");
@@ -301,109 +409,29 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
                                  label, result.points_csv.string(), clip_text(join(d.args, " "), 400)));
 
   // 2. A checkpoint of the same sweep: its points are done.
-  std::vector<std::vector<SweepRow>> rows(mine.size());
-  std::vector<char> done(mine.size(), 0);
-  const std::string print = fingerprint(d, o.shard);
-  result.resumed = load_checkpoint(checkpoint, print, d, o.shard, mine, rows, done, say);
-
-  std::vector<std::size_t> todo;  // positions in `mine`
+  PointRun run(d, o, mine, label);
+  run.checkpoint = sweep_checkpoint_path(o.out_dir, d.name, o.shard);
+  run.print = fingerprint(d, o.shard);
+  result.resumed = run.resumed = load_checkpoint(run.checkpoint, run.print, d, o.shard, mine, run.rows, run.done, say);
   for (std::size_t j = 0; j < mine.size(); ++j)
-    if (!done[j]) todo.push_back(j);
+    if (!run.done[j]) run.todo.push_back(j);
 
-  const std::vector<std::string> header = with_point(d.columns);
-  // The CSV text of every finished point in point order (the checkpoint and the final output).
-  auto csv_text = [&] {
-    std::string text;
-    append_csv_record(text, header);
-    std::vector<std::string> fields;
-    for (std::size_t j = 0; j < mine.size(); ++j) {
-      if (!done[j]) continue;
-      for (const auto& r : rows[j]) {
-        fields.assign(1, std::to_string(mine[j]));
-        fields.insert(fields.end(), r.begin(), r.end());
-        append_csv_record(text, fields);
-      }
-    }
-    return text;
-  };
-
-  std::mutex mutex;  // guards rows/done (after compute), counters, checkpoint and progress
-  std::size_t finished = 0;
-  auto last_checkpoint = Clock::now(), last_progress = Clock::now();
-  const auto t_compute = Clock::now();
-  auto write_checkpoint = [&] {  // caller holds the mutex
-    const std::string body = csv_text();
-    write_file_atomically(checkpoint, kCheckpointMagic + print + " " + fnv1a_hex(body) + "\n" + body);
-    last_checkpoint = Clock::now();
-  };
-  auto progress = [&](std::size_t j, bool force) {  // caller holds the mutex
-    const auto now = Clock::now();
-    if (o.quiet || (!force && std::chrono::duration<double>(now - last_progress).count() < o.progress_seconds)) return;
-    last_progress = now;
-    const double elapsed = std::chrono::duration<double>(now - t_compute).count();
-    const double rate = elapsed > 0 ? double(finished) / elapsed : 0;
-    const std::size_t total_done = result.resumed + finished;
-    const double eta = rate > 0 ? double(todo.size() - finished) / rate : NAN;
-    std::fprintf(stderr, "%s: %zu/%zu points (%.1f %%), %.3g points/s, ETA %s; finished %s\n", label.c_str(),
-                 total_done, mine.size(), 100.0 * double(total_done) / double(std::max<std::size_t>(mine.size(), 1)), rate,
-                 format_seconds(eta).c_str(),
-                 d.describe ? d.describe(mine[j]).c_str() : fmt::format("point {}", mine[j]).c_str());
-  };
-
-  if (!todo.empty()) {
-    say(fmt::format("computing {} of {} points ({} total in the grid{})", todo.size(), mine.size(), d.point_count,
+  // 3. The other points.
+  if (!run.todo.empty()) {
+    say(fmt::format("computing {} of {} points ({} total in the grid{})", run.todo.size(), mine.size(), d.point_count,
                     o.shard.sharded() ? ", shard " + o.shard.text() : ""));
-    tbb::task_arena arena(o.threads > 0 ? int(o.threads) : tbb::task_arena::automatic);
-    try {
-      arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t t = r.begin(); t != r.end(); ++t) {
-            if (tbb::is_current_task_group_canceling()) return;  // another point failed
-            const std::size_t j = todo[t];
-            std::vector<SweepRow> point_rows = d.compute(mine[j]);
-            if (point_rows.empty())  // a point without rows could not be told from a missing one
-              throw std::logic_error(fmt::format("sweep {}: point {} gave no rows", d.name, mine[j]));
-            for (const auto& row : point_rows)
-              if (row.size() != d.columns.size())
-                throw std::logic_error(fmt::format("sweep {}: point {} gave a row of {} fields for {} columns", d.name,
-                                                   mine[j], row.size(), d.columns.size()));
-            std::lock_guard lock(mutex);
-            rows[j] = std::move(point_rows);
-            done[j] = 1;
-            ++finished;
-            progress(j, false);
-            if (std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= o.checkpoint_seconds &&
-                finished < todo.size())
-              write_checkpoint();
-          }
-        });
-      });
-    } catch (...) {
-      // Keep what was finished: the next run resumes from it.
-      std::lock_guard lock(mutex);
-      if (finished > 0) {
-        try {
-          write_checkpoint();
-          say(fmt::format("stopped by an error; {} finished points kept in {}", result.resumed + finished,
-                          checkpoint.string()));
-        } catch (const std::exception& e) {
-          say(std::string("could not write the checkpoint: ") + e.what());
-        }
-      }
-      throw;
-    }
-    result.computed = finished;
-    progress(todo.back(), true);
+    run.compute_todo(say);
+    result.computed = run.finished;
   }
 
   std::size_t row_count = 0;
-  for (const auto& r : rows) row_count += r.size();
-  const std::string csv = csv_text();
+  for (const auto& r : run.rows) row_count += r.size();
+  const std::string csv = run.csv_text();
   write_file_atomically(result.points_csv, csv);
   result.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
   write_file_atomically(result.manifest, manifest_json(d, o.shard, row_count, result.seconds, csv).dump(2) + "\n");
   std::error_code ec;
-  fs::remove(checkpoint, ec);
+  fs::remove(run.checkpoint, ec);
   say(fmt::format("{} points ({} computed, {} resumed), {} rows in {:.1f} s -> {}", mine.size(), result.computed,
                   result.resumed, row_count, result.seconds, result.points_csv.string()));
   return result;

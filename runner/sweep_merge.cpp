@@ -110,6 +110,135 @@ std::vector<ShardFile> find_shards(
   return out;
 }
 
+// Every shard of one sweep must define the same sweep.
+void check_same_sweep(const std::string& name, const std::vector<const ShardFile*>& group) {
+  const ShardFile& first = *group.front();
+  for (const ShardFile* s : group)
+    for (const char* key : {"args", "grid", "points", "columns"})
+      if (s->json[key] != first.json[key])
+        throw InputError(fmt::format("merge: sweep '{}': '{}' differs between {} ({}) and {} ({})", name, key,
+                                     first.manifest.string(), clip_text(first.json[key].dump()), s->manifest.string(),
+                                     clip_text(s->json[key].dump())));
+}
+
+// Each shard's CSV as its manifest recorded it (a deleted row changes both), read before the
+// per-point tables are sized: a manifest cannot make merge allocate for points no file holds.
+std::vector<CsvTable> read_shard_tables(const std::string& name, const std::vector<const ShardFile*>& group, std::size_t n) {
+  std::vector<CsvTable> tables;
+  std::size_t total_rows = 0;
+  for (const ShardFile* s : group) {
+    const std::string text = read_text(s->points);
+    if (fnv1a_hex(text) != s->json["points_fnv1a"].get<std::string>())
+      throw InputError(fmt::format("merge: {}: its contents differ from what {} recorded (rows deleted or edited)",
+                                   s->points.string(), s->manifest.string()));
+    std::istringstream in(text);
+    tables.push_back(read_csv(in, s->points.string()));
+    if (tables.back().rows.size() != s->json["rows"].get<std::size_t>())
+      throw InputError(fmt::format("merge: {}: {} rows, its manifest {} says {}", s->points.string(),
+                                   tables.back().rows.size(), s->manifest.string(), s->json["rows"].get<std::size_t>()));
+    total_rows += tables.back().rows.size();
+  }
+  if (n > total_rows)
+    throw InputError(fmt::format("merge: sweep '{}': the manifests say {} points, the shards hold {} rows in all", name, n,
+                                 total_rows));
+  return tables;
+}
+
+void check_header(const ShardFile& s, const CsvTable& t, const std::vector<std::string>& header) {
+  if (t.header == header) return;
+  std::string diff;
+  for (std::size_t c = 0; c < std::max(t.header.size(), header.size()); ++c) {
+    const std::string a = c < t.header.size() ? t.header[c] : "(none)", b = c < header.size() ? header[c] : "(none)";
+    if (a != b) {
+      diff = fmt::format("column {} is '{}', expected '{}'", c + 1, a, b);
+      break;
+    }
+  }
+  throw InputError(fmt::format("merge: {}: header mismatch: {}", s.points.string(), diff));
+}
+
+// The rows of shard `s` into their points; each point belongs to its shard, once, with contiguous rows.
+void assign_rows(const ShardFile& s, const CsvTable& t, std::vector<std::vector<std::vector<std::string>>>& rows,
+                 std::vector<const ShardFile*>& owner) {
+  const std::size_t n = rows.size();
+  std::size_t previous = n;  // the point of the previous row (rows of a point are contiguous)
+  for (const auto& r : t.rows) {
+    const auto k = parse_index(r.fields[0]);
+    if (!k || *k >= n)
+      throw InputError(fmt::format("merge: {}: line {}: point '{}' is not an index in [0, {})", s.points.string(), r.line,
+                                   r.fields[0], n));
+    if (!s.shard.contains(*k))
+      throw InputError(fmt::format("merge: {}: line {}: point {} does not belong to shard {}", s.points.string(), r.line, *k,
+                                   s.shard.text()));
+    if (owner[*k] && owner[*k] != &s)
+      throw InputError(fmt::format("merge: point {} appears twice: in {} and in {}", *k, owner[*k]->points.string(),
+                                   s.points.string()));
+    if (owner[*k] == &s && previous != *k)
+      throw InputError(fmt::format("merge: {}: line {}: point {} appears twice (its rows are not contiguous)", s.points.string(),
+                                   r.line, *k));
+    owner[*k] = &s;
+    previous = *k;
+    rows[*k].push_back(r.fields);
+  }
+}
+
+void check_no_missing(const std::string& name, const std::vector<const ShardFile*>& group, const std::vector<const ShardFile*>& owner) {
+  std::vector<std::size_t> missing;
+  for (std::size_t k = 0; k < owner.size(); ++k)
+    if (!owner[k]) missing.push_back(k);
+  if (missing.empty()) return;
+  std::string list, found;
+  for (std::size_t i = 0; i < std::min<std::size_t>(missing.size(), 8); ++i) list += (i ? ", " : "") + std::to_string(missing[i]);
+  for (const ShardFile* s : group) found += (found.empty() ? "" : ", ") + s->shard.text();
+  throw InputError(fmt::format("merge: sweep '{}': {} of {} points missing (first: {}{}); shards found: {}", name, missing.size(),
+                               owner.size(), list, missing.size() > 8 ? ", …" : "", found));
+}
+
+// One sweep's merged per-point CSV and manifest, checked and ready to write.
+struct Pending {
+  MergedSweep merged;
+  fs::path manifest_path;
+  std::string csv, manifest;
+};
+
+Pending merge_group(const std::string& name, const std::vector<const ShardFile*>& group, const fs::path& out_dir) {
+  check_same_sweep(name, group);
+  const ShardFile& first = *group.front();
+  const auto n = first.json["points"].get<std::size_t>();
+  const auto header = first.json["columns"].get<std::vector<std::string>>();
+  const std::vector<CsvTable> tables = read_shard_tables(name, group, n);
+  std::vector<std::vector<std::vector<std::string>>> rows(n);
+  std::vector<const ShardFile*> owner(n, nullptr);
+  double seconds = 0;
+  std::vector<std::string> sources;
+  for (std::size_t g = 0; g < group.size(); ++g) {
+    const ShardFile* s = group[g];
+    seconds += s->json.contains("seconds") && s->json["seconds"].is_number() ? s->json["seconds"].get<double>() : 0.0;
+    sources.push_back(s->points.string());
+    check_header(*s, tables[g], header);
+    assign_rows(*s, tables[g], rows, owner);
+  }
+  check_no_missing(name, group, owner);
+  Pending p;
+  std::size_t row_count = 0;
+  append_csv_record(p.csv, header);
+  for (const auto& point_rows : rows)
+    for (const auto& r : point_rows) {
+      append_csv_record(p.csv, r);
+      ++row_count;
+    }
+  nlohmann::json m = first.json;
+  m["shard"] = Shard{}.text();
+  m["rows"] = row_count;
+  m["seconds"] = seconds;
+  m["merged_from"] = sources;
+  m["points_fnv1a"] = fnv1a_hex(p.csv);
+  p.manifest = m.dump(2) + "\n";
+  p.merged = {name, first.json["args"].get<std::vector<std::string>>(), sweep_points_path(out_dir, name, Shard{}), n, group.size()};
+  p.manifest_path = sweep_manifest_path(out_dir, name, Shard{});
+  return p;
+}
+
 }  // namespace
 
 std::vector<MergedSweep> merge_sweep_shards(
@@ -119,113 +248,8 @@ std::vector<MergedSweep> merge_sweep_shards(
   const std::vector<ShardFile> shards = find_shards(inputs, check_args);
   std::map<std::string, std::vector<const ShardFile*>> by_name;
   for (const auto& s : shards) by_name[s.json["sweep"].get<std::string>()].push_back(&s);
-
-  struct Pending {
-    MergedSweep merged;
-    fs::path manifest_path;
-    std::string csv, manifest;
-  };
   std::vector<Pending> pending;
-  for (const auto& [name, group] : by_name) {
-    const ShardFile& first = *group.front();
-    for (const ShardFile* s : group)
-      for (const char* key : {"args", "grid", "points", "columns"})
-        if (s->json[key] != first.json[key])
-          throw InputError(fmt::format("merge: sweep '{}': '{}' differs between {} ({}) and {} ({})", name, key,
-                                       first.manifest.string(), clip_text(first.json[key].dump()), s->manifest.string(),
-                                       clip_text(s->json[key].dump())));
-    const auto n = first.json["points"].get<std::size_t>();
-    const auto header = first.json["columns"].get<std::vector<std::string>>();
-    // Each shard's CSV as its manifest recorded it (a deleted row changes both), read before the
-    // per-point tables are sized: a manifest cannot make merge allocate for points no file holds.
-    std::vector<CsvTable> tables;
-    std::size_t total_rows = 0;
-    for (const ShardFile* s : group) {
-      const std::string text = read_text(s->points);
-      if (fnv1a_hex(text) != s->json["points_fnv1a"].get<std::string>())
-        throw InputError(fmt::format("merge: {}: its contents differ from what {} recorded (rows deleted or edited)",
-                                     s->points.string(), s->manifest.string()));
-      std::istringstream in(text);
-      tables.push_back(read_csv(in, s->points.string()));
-      if (tables.back().rows.size() != s->json["rows"].get<std::size_t>())
-        throw InputError(fmt::format("merge: {}: {} rows, its manifest {} says {}", s->points.string(),
-                                     tables.back().rows.size(), s->manifest.string(), s->json["rows"].get<std::size_t>()));
-      total_rows += tables.back().rows.size();
-    }
-    if (n > total_rows)
-      throw InputError(fmt::format("merge: sweep '{}': the manifests say {} points, the shards hold {} rows in all", name, n,
-                                   total_rows));
-    std::vector<std::vector<std::vector<std::string>>> rows(n);
-    std::vector<const ShardFile*> owner(n, nullptr);
-    double seconds = 0;
-    std::vector<std::string> sources;
-    for (std::size_t g = 0; g < group.size(); ++g) {
-      const ShardFile* s = group[g];
-      const double shard_seconds = s->json.contains("seconds") && s->json["seconds"].is_number() ? s->json["seconds"].get<double>() : 0.0;
-      seconds += shard_seconds;
-      sources.push_back(s->points.string());
-      const CsvTable& t = tables[g];
-      if (t.header != header) {
-        std::string diff;
-        for (std::size_t c = 0; c < std::max(t.header.size(), header.size()); ++c) {
-          const std::string a = c < t.header.size() ? t.header[c] : "(none)", b = c < header.size() ? header[c] : "(none)";
-          if (a != b) {
-            diff = fmt::format("column {} is '{}', expected '{}'", c + 1, a, b);
-            break;
-          }
-        }
-        throw InputError(fmt::format("merge: {}: header mismatch: {}", s->points.string(), diff));
-      }
-      std::size_t previous = n;  // the point of the previous row (rows of a point are contiguous)
-      for (const auto& r : t.rows) {
-        const auto k = parse_index(r.fields[0]);
-        if (!k || *k >= n)
-          throw InputError(fmt::format("merge: {}: line {}: point '{}' is not an index in [0, {})", s->points.string(),
-                                       r.line, r.fields[0], n));
-        if (!s->shard.contains(*k))
-          throw InputError(fmt::format("merge: {}: line {}: point {} does not belong to shard {}", s->points.string(),
-                                       r.line, *k, s->shard.text()));
-        if (owner[*k] && owner[*k] != s)
-          throw InputError(fmt::format("merge: point {} appears twice: in {} and in {}", *k, owner[*k]->points.string(),
-                                       s->points.string()));
-        if (owner[*k] == s && previous != *k)
-          throw InputError(fmt::format("merge: {}: line {}: point {} appears twice (its rows are not contiguous)",
-                                       s->points.string(), r.line, *k));
-        owner[*k] = s;
-        previous = *k;
-        rows[*k].push_back(r.fields);
-      }
-    }
-    std::vector<std::size_t> missing;
-    for (std::size_t k = 0; k < n; ++k)
-      if (!owner[k]) missing.push_back(k);
-    if (!missing.empty()) {
-      std::string list, found;
-      for (std::size_t i = 0; i < std::min<std::size_t>(missing.size(), 8); ++i) list += (i ? ", " : "") + std::to_string(missing[i]);
-      for (const ShardFile* s : group) found += (found.empty() ? "" : ", ") + s->shard.text();
-      throw InputError(fmt::format("merge: sweep '{}': {} of {} points missing (first: {}{}); shards found: {}", name,
-                                   missing.size(), n, list, missing.size() > 8 ? ", …" : "", found));
-    }
-    Pending p;
-    std::size_t row_count = 0;
-    append_csv_record(p.csv, header);
-    for (const auto& point_rows : rows)
-      for (const auto& r : point_rows) {
-        append_csv_record(p.csv, r);
-        ++row_count;
-      }
-    nlohmann::json m = first.json;
-    m["shard"] = Shard{}.text();
-    m["rows"] = row_count;
-    m["seconds"] = seconds;
-    m["merged_from"] = sources;
-    m["points_fnv1a"] = fnv1a_hex(p.csv);
-    p.manifest = m.dump(2) + "\n";
-    p.merged = {name, first.json["args"].get<std::vector<std::string>>(), sweep_points_path(out_dir, name, Shard{}), n,
-                group.size()};
-    p.manifest_path = sweep_manifest_path(out_dir, name, Shard{});
-    pending.push_back(std::move(p));
-  }
+  for (const auto& [name, group] : by_name) pending.push_back(merge_group(name, group, out_dir));
   // Everything checked: write.
   fs::create_directories(out_dir);
   std::vector<MergedSweep> out;

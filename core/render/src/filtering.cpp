@@ -153,28 +153,17 @@ double filter_range_weight(const FilterSample& p, const FilterSample& q, bool sp
   return 0.0;
 }
 
-FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions& o) {
-  if (o.scale < 1 || o.scale > 64) throw std::invalid_argument(fmt::format("scale {} is outside [1, 64]", o.scale));
-  if (o.rsm_resolution < 1) throw std::invalid_argument(fmt::format("rsm resolution {} is below 1", o.rsm_resolution));
-  if (o.source == IndirectSource::vsgl)
-    if (const auto error = vsgl_options_error(o.vsgl)) throw std::invalid_argument(*error);
+namespace {
 
-  FilterInputs in;
+// The full- and low-resolution G-buffers (the low one at the centres of the scale × scale blocks,
+// clamped into the image for a last, partial block).
+void fill_gbuffers(const Scene& scene, const FilterInputOptions& o, FilterInputs& in) {
   const Camera& cam = scene.camera;
-  in.width = cam.width;
-  in.height = cam.height;
-  in.scale = o.scale;
-  in.source = o.source;
-  in.low_width = (cam.width + o.scale - 1) / o.scale;
-  in.low_height = (cam.height + o.scale - 1) / o.scale;
   const std::size_t n = std::size_t(in.width) * std::size_t(in.height);
-  const std::size_t m = std::size_t(in.low_width) * std::size_t(in.low_height);
   // One pixel's angle at the image centre: 2 tan(fov/2)/height.
   const double pixel_angle = 2 * std::tan(0.5 * cam.vertical_fov) / double(cam.height);
-
-  auto t0 = Clock::now();
   in.full.resize(n);
-  in.low.resize(m);
+  in.low.resize(std::size_t(in.low_width) * std::size_t(in.low_height));
   in.hit.assign(n, 0);
   in.glossy.assign(n, 0);
   for_each_row(in.width, in.height, "g-buffer", o.progress, [&](std::size_t k, int i, int j) {
@@ -182,22 +171,15 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
     in.hit[k] = in.full[k].valid;
     in.glossy[k] = in.full[k].valid && in.full[k].point.glossy();
   });
-  // Low resolution: the centres of the scale × scale blocks (clamped into the image for a last,
-  // partial block).
   for_each_row(in.low_width, in.low_height, "g-buffer (low)", {}, [&](std::size_t k, int i, int j) {
     const double px = std::min(o.scale * (i + 0.5), double(in.width)), py = std::min(o.scale * (j + 0.5), double(in.height));
     in.low[k] = sample_at(scene, px, py, o.scale * pixel_angle);
   });
-  in.seconds.gbuffer = seconds_since(t0);
+}
 
-  t0 = Clock::now();
-  const ReflectiveShadowMap rsm = render_rsm(scene, o.rsm_resolution);
-  const VplList vpls = prepare_vpls(rsm);
-  in.vpl_count = vpls.vpls.size();
-  in.seconds.rsm = seconds_since(t0);
-
-  // The low-resolution indirect light, split into its diffuse and specular parts.
-  t0 = Clock::now();
+// The low-resolution indirect light, split into its diffuse and specular parts.
+void fill_low_res_indirect(const ReflectiveShadowMap& rsm, const VplList& vpls, const FilterInputOptions& o, FilterInputs& in) {
+  const std::size_t m = in.low.size();
   in.low_diffuse.assign(m, Rgb::Zero());
   in.low_specular.assign(m, Rgb::Zero());
   in.low_indirect.assign(m, Rgb::Zero());
@@ -224,6 +206,38 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
     in.low_diffuse[k] = demodulate(diffuse, s.point.diffuse_reflectance);
     in.low_specular[k] = demodulate(specular, s.point.f0);
   });
+}
+
+}  // namespace
+
+FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions& o) {
+  if (o.scale < 1 || o.scale > 64) throw std::invalid_argument(fmt::format("scale {} is outside [1, 64]", o.scale));
+  if (o.rsm_resolution < 1) throw std::invalid_argument(fmt::format("rsm resolution {} is below 1", o.rsm_resolution));
+  if (o.source == IndirectSource::vsgl)
+    if (const auto error = vsgl_options_error(o.vsgl)) throw std::invalid_argument(*error);
+
+  FilterInputs in;
+  const Camera& cam = scene.camera;
+  in.width = cam.width;
+  in.height = cam.height;
+  in.scale = o.scale;
+  in.source = o.source;
+  in.low_width = (cam.width + o.scale - 1) / o.scale;
+  in.low_height = (cam.height + o.scale - 1) / o.scale;
+  const std::size_t n = std::size_t(in.width) * std::size_t(in.height);
+
+  auto t0 = Clock::now();
+  fill_gbuffers(scene, o, in);
+  in.seconds.gbuffer = seconds_since(t0);
+
+  t0 = Clock::now();
+  const ReflectiveShadowMap rsm = render_rsm(scene, o.rsm_resolution);
+  const VplList vpls = prepare_vpls(rsm);
+  in.vpl_count = vpls.vpls.size();
+  in.seconds.rsm = seconds_since(t0);
+
+  t0 = Clock::now();
+  fill_low_res_indirect(rsm, vpls, o, in);
   in.seconds.low_res = seconds_since(t0);
 
   t0 = Clock::now();

@@ -1,0 +1,66 @@
+// `sglab filter-sweep` as a library: the error of upsampled indirect light against the
+// full-resolution exact VPL sum, per weighting, over the floor's GGX roughness and the upsampling
+// scale (compute), then its tables: the per-row CSV and the summary (Markdown and CSV).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "filter_job.hpp"
+#include "table.hpp"
+
+namespace sglab::cli::filter_sweep {
+
+struct Options {
+  FilterJob job;
+  std::string roughness = "0.02,0.05,0.1,0.2,0.4,0.7";  // comma-separated, as given
+  std::string scales = "2,4,8";
+  std::string weights = "spatial,normal,lobe,lobe-depth";
+  std::string out = "results/filtering";
+  std::string tables_dir = "paper_tables";
+  std::string table = "filtering";
+  bool quiet = false;
+};
+
+// One (roughness, scale) point's inputs, as the tables use them (the G-buffers themselves are
+// released when compute returns).
+struct Point {
+  int width = 0, height = 0;
+  std::size_t vpl_count = 0, pixels_hit = 0, glossy_receivers = 0;
+  double seconds_low_res = 0, seconds_reference = 0;  // the reference's time also on the rows that reused it
+};
+
+struct Row {
+  int scale = 1;
+  double roughness = 0;
+  render::FilterWeights weights = render::FilterWeights::normal;
+  render::FilterResult result;
+  std::size_t point = 0;  // index into Result::points
+};
+
+struct Result {
+  runner::Provenance provenance;  // the command line that reproduces it
+  Options options;                // as run: the constant set applied to the filter parameters
+  std::vector<double> roughness;
+  std::vector<int> scales;
+  std::vector<render::FilterWeights> weights;
+  int rsm_resolution = 0;
+  std::vector<Point> points;  // point k·scales + s: roughness k, scale s
+  std::vector<Row> rows;      // per point, one row per weighting
+  double seconds = 0;         // wall clock of compute
+};
+
+// Validates every option and every point's scene first (InputError naming the value), then
+// computes every point; the reference of a roughness is computed once, at its first scale.
+Result compute(const Options& o);
+
+struct Tables {
+  std::string points_csv, markdown, csv;  // without the provenance header
+};
+Tables tables(const Result& r);
+
+// OUT/TABLE_points.csv and TABLES/TABLE.{md,csv}; the Markdown also on stdout.
+void write(const Result& r);
+
+}  // namespace sglab::cli::filter_sweep
