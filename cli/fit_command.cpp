@@ -4,16 +4,20 @@
 // gives value (%.17g), published value and correct digits (−log10|rel diff|) per parameter.
 // `fit all` writes paper_tables/constants.{md,csv,tex}, each headed by the command.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "atomic_file.hpp"
 #include "table.hpp"
@@ -227,30 +231,61 @@ void write_tables(const std::vector<Judged>& judged, const std::string& dir, con
   write_file(d / "constants.tex", tex);
 }
 
+// `fit all`'s solves: each fitter's default objective (its record for --json-dir), then the other
+// objectives of the diffuse fits (for the tables only, so that a --json-dir holds one record per
+// fit and is a constant set).
+struct FitJob {
+  const fit::Fitter* fitter;
+  std::string objective;  // empty: the fitter's default
+};
+
+std::vector<FitJob> all_fit_jobs() {
+  std::vector<FitJob> jobs;
+  for (const auto& f : fit::fitters()) {
+    jobs.push_back({&f, ""});
+    for (const char* extra : {"l2-relative", "minimax"})
+      if (std::find(f.objectives.begin(), f.objectives.end(), extra) != f.objectives.end()) jobs.push_back({&f, extra});
+  }
+  return jobs;
+}
+
+// Runs every job, in parallel (each fit is independent and runs Ceres single-threaded; the
+// results do not depend on the order). Jobs are started by a shared counter, Lawson minimax fits
+// (tens of solves each) first so that the longest does not start last.
+std::vector<Judged> run_fit_jobs(const std::vector<FitJob>& jobs, const FitArgs& a) {
+  std::vector<std::size_t> order(jobs.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  const auto is_minimax = [&](std::size_t i) {
+    const auto& o = jobs[i].objective.empty() ? jobs[i].fitter->objectives.front() : jobs[i].objective;
+    return o == "minimax";
+  };
+  std::stable_partition(order.begin(), order.end(), is_minimax);
+  std::vector<Judged> results(jobs.size());
+  std::atomic<std::size_t> next{0};
+  const int workers = tbb::this_task_arena::max_concurrency();
+  tbb::parallel_for(0, workers, [&](int) {
+    for (std::size_t k; (k = next++) < order.size();) {
+      const FitJob& job = jobs[order[k]];
+      FitArgs args = a;
+      args.objective = job.objective;
+      fit::FitResult r = run_one(*job.fitter, args, job.objective.empty());
+      const Judgement jd = judge(*job.fitter, r);
+      results[order[k]] = {std::move(r), jd};
+    }
+  });
+  return results;
+}
+
 void run_fit(const FitArgs& a) {
   if (a.name == "all") {
     const auto t0 = std::chrono::steady_clock::now();
-    std::vector<Judged> results;
-    for (const auto& f : fit::fitters()) {
-      fit::FitResult r = run_one(f, a, true);
-      const Judgement jd = judge(f, r);
-      print_result(r, jd);
-      if (!a.json_dir.empty()) {
-        write_file(std::filesystem::path(a.json_dir) / (f.name + ".json"),
-                   fit_record_json(r, jd, a.precision).dump(2) + "\n");
-      }
-      results.push_back({std::move(r), jd});
-      // The other objectives of the diffuse fits, for the tables only (a --json-dir holds one
-      // record per fit: the default objective's, so that it is a constant set).
-      for (const char* extra : {"l2-relative", "minimax"}) {
-        if (std::find(f.objectives.begin(), f.objectives.end(), extra) == f.objectives.end()) continue;
-        FitArgs other = a;
-        other.objective = extra;
-        fit::FitResult e = run_one(f, other, false);
-        const Judgement je = judge(f, e);
-        print_result(e, je);
-        results.push_back({std::move(e), je});
-      }
+    const auto jobs = all_fit_jobs();
+    const std::vector<Judged> results = run_fit_jobs(jobs, a);
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+      print_result(results[i].result, results[i].judgement);
+      if (jobs[i].objective.empty() && !a.json_dir.empty())
+        write_file(std::filesystem::path(a.json_dir) / (jobs[i].fitter->name + ".json"),
+                   fit_record_json(results[i].result, results[i].judgement, a.precision).dump(2) + "\n");
     }
     write_tables(results, a.tables_dir, "sglab fit all");
     std::fprintf(stderr, "sglab fit all: %.2f s; wrote %s/constants.{md,csv,tex}\n",
