@@ -4,14 +4,18 @@
 #include "fit_all.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "atomic_file.hpp"
 #include "input_error.hpp"
@@ -176,32 +180,58 @@ fit::FitResult run_one(const fit::Fitter& f, const std::string& objective, const
   return f.run(o);
 }
 
+namespace {
+
+// `fit all`'s solves: each fitter's default objective (its record for --json-dir), then the other
+// objectives of the diffuse fits (for the tables only, so that a --json-dir holds one record per
+// fit and is a constant set).
+struct FitJob {
+  const fit::Fitter* fitter;
+  std::string objective;  // empty: the fitter's default
+};
+
+std::vector<FitJob> all_fit_jobs() {
+  std::vector<FitJob> jobs;
+  for (const auto& f : fit::fitters()) {
+    jobs.push_back({&f, ""});
+    for (const char* extra : {"l2-relative", "minimax"})
+      if (std::find(f.objectives.begin(), f.objectives.end(), extra) != f.objectives.end()) jobs.push_back({&f, extra});
+  }
+  return jobs;
+}
+
+}  // namespace
+
+// The jobs run in parallel (each fit is independent and runs Ceres single-threaded; the results do
+// not depend on the order), started by a shared counter with the Lawson minimax fits (tens of
+// solves each) first so that the longest does not start last. Each record is written as soon as
+// its fit is done (a later failure keeps the finished ones); `each` sees the fits in job order.
 Result compute(const Options& o, const std::function<void(const Judged&)>& each) {
   const auto t0 = std::chrono::steady_clock::now();
   Result r;
   r.provenance.command = "sglab fit all";
-  const auto add = [&](fit::FitResult f, const Judgement& jd, bool record) {
-    r.judged.push_back({std::move(f), jd, record});
-    const Judged& j = r.judged.back();
-    if (each) each(j);
-    // Each record as soon as its fit is done: a later failure keeps the finished ones.
-    if (record && !o.json_dir.empty())
-      write_file_atomically(std::filesystem::path(o.json_dir) / (j.result.fit + ".json"),
-                            fit_record_json(j.result, j.judgement, o.precision).dump(2) + "\n");
-  };
-  for (const auto& f : fit::fitters()) {
-    fit::FitResult result = run_one(f, "", o);
-    const Judgement jd = judge(f, result);
-    add(std::move(result), jd, true);
-    // The other objectives of the diffuse fits, for the tables only (a --json-dir holds one
-    // record per fit: the default objective's, so that it is a constant set).
-    for (const char* extra : {"l2-relative", "minimax"}) {
-      if (std::find(f.objectives.begin(), f.objectives.end(), extra) == f.objectives.end()) continue;
-      fit::FitResult e = run_one(f, extra, o);
-      const Judgement je = judge(f, e);
-      add(std::move(e), je, false);
+  const std::vector<FitJob> jobs = all_fit_jobs();
+  std::vector<std::size_t> order(jobs.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_partition(order.begin(), order.end(), [&](std::size_t i) {
+    return (jobs[i].objective.empty() ? jobs[i].fitter->objectives.front() : jobs[i].objective) == "minimax";
+  });
+  r.judged.resize(jobs.size());
+  std::atomic<std::size_t> next{0};
+  tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(), [&](int) {
+    for (std::size_t k; (k = next++) < order.size();) {
+      const FitJob& job = jobs[order[k]];
+      fit::FitResult f = run_one(*job.fitter, job.objective, o);
+      const Judgement jd = judge(*job.fitter, f);
+      Judged& j = r.judged[order[k]];
+      j = {std::move(f), jd, job.objective.empty()};
+      if (j.record && !o.json_dir.empty())
+        write_file_atomically(std::filesystem::path(o.json_dir) / (j.result.fit + ".json"),
+                              fit_record_json(j.result, j.judgement, o.precision).dump(2) + "\n");
     }
-  }
+  });
+  if (each)
+    for (const Judged& j : r.judged) each(j);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <sys/resource.h>
+
 #include "atomic_file.hpp"
 #include "input_error.hpp"
 #include "sweep.hpp"
@@ -95,6 +97,37 @@ bool outputs_intact(const std::string& marker) {
   return true;
 }
 
+// CPU seconds (user + system) used so far by this process's threads and its waited-for children
+// (the python3 steps).
+double cpu_seconds() {
+  double s = 0;
+  for (int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+    rusage u{};
+    getrusage(who, &u);
+    s += double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  }
+  return s;
+}
+
+// OUT/reproduce_times.csv: one row per step of this run (wall and CPU seconds; a step done earlier
+// has status "skipped"), rewritten after every step so that an interrupted run keeps its times.
+struct StepTimes {
+  std::string rows;
+  void add(const std::string& step, const char* status, double wall, double cpu) {
+    rows += step + "," + status + "," + (wall >= 0 ? fmt_seconds(wall) + "," + fmt_seconds(cpu) : ",") + "\n";
+  }
+  static std::string fmt_seconds(double s) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.2f", s);
+    return b;
+  }
+  void write(const std::filesystem::path& path, const std::string& command) const {
+    runner::AtomicFile f(path);
+    f.write(runner::csv_header(runner::Provenance{command}) + "step,status,wall_seconds,cpu_seconds\n" + rows);
+    f.commit();
+  }
+};
+
 }  // namespace
 
 Places reproduce_places(const ReproduceOptions& o) {
@@ -133,6 +166,13 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
   std::optional<runner::QuickRunScope> quick_scope;
   if (o.quick) quick_scope.emplace();
   const auto t_start = std::chrono::steady_clock::now();
+  const double cpu_start = cpu_seconds();
+  const fs::path times_csv = fs::path(p.out) / "reproduce_times.csv";
+  std::string command = "sglab reproduce";
+  if (o.quick) command += " --quick";
+  if (o.force) command += " --force";
+  for (const auto& name : o.only) command += " --only " + name;
+  StepTimes times;
   int done = 0, skipped = 0;
   for (std::size_t k = 0; k < all.size(); ++k) {
     const Step& s = all[k];
@@ -153,11 +193,13 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
       if (recorded == line + "\n" + files_state(args) && outputs_intact(text.str())) {
         std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all.size(), s.name.c_str(), line.c_str());
         ++skipped;
+        times.add(s.name, "skipped", -1, -1);
         continue;
       }
     }
     std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all.size(), s.name.c_str(), s.what.c_str(), line.c_str());
     const auto t0 = std::chrono::steady_clock::now();
+    const double cpu0 = cpu_seconds();
     const Snapshot before = snapshot({p.out, p.tables});
     int status;
     if (s.python) {
@@ -174,11 +216,17 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
     m.write(line + "\n" + files_state(args) + outputs_state(before, snapshot({p.out, p.tables})));
     m.commit();
     ++done;
-    std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s\n", k + 1, all.size(), s.name.c_str(),
-                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), cpu = cpu_seconds() - cpu0;
+    std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all.size(), s.name.c_str(), wall, cpu);
+    times.add(s.name, "run", wall, cpu);
+    times.write(times_csv, command);
   }
-  std::printf("reproduce: %d steps run, %d already done, %.1f s; outputs in %s/, tables in %s/\n", done, skipped,
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(), p.out.c_str(), p.tables.c_str());
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  const double cpu = cpu_seconds() - cpu_start;
+  times.add("total", "", wall, cpu);
+  times.write(times_csv, command);
+  std::printf("reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in %s\n",
+              done, skipped, wall, cpu, p.out.c_str(), p.tables.c_str(), times_csv.string().c_str());
 }
 
 }  // namespace sglab::experiments

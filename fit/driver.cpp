@@ -189,23 +189,28 @@ FitResult run_least_squares(const FitSpec& spec,
   if (!have) throw std::runtime_error(spec.fit + ": no start gave a usable Ceres solution");
   best.seconds = seconds_since(t0);
   finish(spec, best_x, best);
-  if (!spec.judge) return best;
-  // Self-judgement: the objective at the published values, the scaled Jacobian's singular values
-  // and the +1 % cost ranges (after the timing: not part of the fit's cost).
+  // Self-judgement after the timing: not part of the fit's cost.
+  if (spec.judge) judge_least_squares(spec, make_cost, best_x, best);
+  return best;
+}
+
+void judge_least_squares(const FitSpec& spec, const std::function<ceres::CostFunction*()>& make_cost,
+                         const std::vector<double>& x, FitResult& r) {
+  const std::size_t k = spec.names.size();
   std::unique_ptr<ceres::CostFunction> cf(make_cost());
   bool published = true;
   for (double v : spec.published) published = published && std::isfinite(v);
-  if (published) best.published_cost = least_squares_cost(*cf, spec.published, nullptr);
+  if (published) r.published_cost = least_squares_cost(*cf, spec.published, nullptr);
   std::vector<double> jac;
-  least_squares_cost(*cf, best_x, &jac);
+  least_squares_cost(*cf, x, &jac);
   Eigen::MatrixXd J = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       jac.data(), cf->num_residuals(), static_cast<Eigen::Index>(k));
-  for (std::size_t j = 0; j < k; ++j) J.col(static_cast<Eigen::Index>(j)) *= best_x[j];
+  for (std::size_t j = 0; j < k; ++j) J.col(static_cast<Eigen::Index>(j)) *= x[j];
   const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(J).singularValues();
-  best.singular_values.assign(sv.data(), sv.data() + sv.size());
-  const auto cost = [&](const std::vector<double>& x) { return least_squares_cost(*cf, x, nullptr); };
-  for (std::size_t j = 0; j < k; ++j) best.cost_range.push_back(one_percent_range(cost, best_x, j));
-  return best;
+  r.singular_values.assign(sv.data(), sv.data() + sv.size());
+  const auto cost = [&](const std::vector<double>& p) { return least_squares_cost(*cf, p, nullptr); };
+  r.cost_range.clear();
+  for (std::size_t j = 0; j < k; ++j) r.cost_range.push_back(one_percent_range(cost, x, j));
 }
 
 FitResult run_scalar_fit(const FitSpec& spec,

@@ -120,6 +120,13 @@ struct FitSpec {
 FitResult run_least_squares(const FitSpec& spec,
                             const std::function<ceres::CostFunction*()>& make_cost);
 
+// The self-judgement of a least-squares fit at x, as run_least_squares does it when spec.judge:
+// the objective at the published values, the singular values of the scaled Jacobian and the
+// +1 % cost ranges, into r. For a caller that solves many times with judge = false (a Lawson
+// loop) and judges only the solution it keeps.
+void judge_least_squares(const FitSpec& spec, const std::function<ceres::CostFunction*()>& make_cost,
+                         const std::vector<double>& x, FitResult& r);
+
 // Scalar minimization in u = log(parameter) (all parameters positive): make_function returns a
 // FirstOrderFunction of u.
 FitResult run_scalar_fit(const FitSpec& spec,

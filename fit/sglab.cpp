@@ -80,12 +80,16 @@ FitResult solve_lawson(Residual f) {
   std::vector<double> x = kStart;
   std::vector<double> w(f.size(), 1.0 / f.size());
   FitResult best;
+  std::vector<double> best_x, best_sqrt_w;  // the kept round's solution and weights, judged once at the end
   double best_max = HUGE_VAL, seconds = 0;
   int iterations = 0;
   std::string trajectory;
+  const auto make_cost = [&] { return make_autodiff<8>(f, f.size()); };
   for (int round = 0; round < kLawsonRounds; ++round) {
     for (std::size_t i = 0; i < w.size(); ++i) f.sqrt_w[i] = std::sqrt(w[i]);
-    FitResult r = run_least_squares(make_spec(x), [&] { return make_autodiff<8>(f, f.size()); });
+    FitSpec spec = make_spec(x);
+    spec.judge = false;
+    FitResult r = run_least_squares(spec, make_cost);
     seconds += r.seconds;
     iterations += r.iterations;
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = r.parameters[i].value;
@@ -106,8 +110,13 @@ FitResult solve_lawson(Residual f) {
     if (max_e < best_max) {
       best_max = max_e;
       best = r;
+      best_x = x;
+      best_sqrt_w = f.sqrt_w;
     }
   }
+  // The kept round's self-judgement (on its weighted objective), as its own solve would have made it.
+  f.sqrt_w = best_sqrt_w;
+  judge_least_squares(make_spec(kStart), make_cost, best_x, best);
   best.seconds = seconds;
   best.iterations = iterations;
   char buf[128];
