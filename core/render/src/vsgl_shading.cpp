@@ -132,13 +132,53 @@ void VsglShader::shade(std::span<const ShadingPoint> points, std::span<VsglShadi
 
 namespace {
 
+// The specular receivers of a block's glossy points as arrays (simd_detail::SpecularReceivers).
+struct Receivers {
+  std::vector<std::size_t> point;
+  std::vector<double> tx, ty, tz, bx, by, bz, nx, ny, nz, wox, woy, woz, xx, xy, xz, yx, yy, yz, zx, zy, zz, eta_x, eta_y,
+      lambda_s, ndf_amplitude, roughness, f0_r, f0_g, f0_b;
+  std::array<std::vector<double>*, 29> all() {
+    return {&tx, &ty, &tz, &bx, &by, &bz, &nx, &ny, &nz, &wox, &woy, &woz, &xx, &xy, &xz, &yx, &yy, &yz, &zx, &zy, &zz,
+            &eta_x, &eta_y, &lambda_s, &ndf_amplitude, &roughness, &f0_r, &f0_g, &f0_b};
+  }
+  void clear() {
+    point.clear();
+    for (auto* v : all()) v->clear();
+  }
+  void push(std::size_t i, const VsglSpecularReceiver<double>& r, const Rgb& f0) {
+    point.push_back(i);
+    const double values[] = {r.tangent.x(),    r.tangent.y(),    r.tangent.z(),    r.bitangent.x(),  r.bitangent.y(),
+                             r.bitangent.z(),  r.normal.x(),     r.normal.y(),     r.normal.z(),     r.view_local.x(),
+                             r.view_local.y(), r.view_local.z(), r.lobe.x.x(),     r.lobe.x.y(),     r.lobe.x.z(),
+                             r.lobe.y.x(),     r.lobe.y.y(),     r.lobe.y.z(),     r.lobe.z.x(),     r.lobe.z.y(),
+                             r.lobe.z.z(),     r.lobe.eta_x,     r.lobe.eta_y,     r.lambda_s,       r.ndf_amplitude,
+                             r.roughness,      f0(0),            f0(1),            f0(2)};
+    std::size_t k = 0;
+    for (auto* v : all()) v->push_back(values[k++]);
+  }
+  simd_detail::SpecularReceivers view() const {
+    simd_detail::SpecularReceivers v;
+    v.count = point.size();
+    v.point = point.data();
+    v.tx = tx.data(), v.ty = ty.data(), v.tz = tz.data(), v.bx = bx.data(), v.by = by.data(), v.bz = bz.data();
+    v.nx = nx.data(), v.ny = ny.data(), v.nz = nz.data(), v.wox = wox.data(), v.woy = woy.data(), v.woz = woz.data();
+    v.xx = xx.data(), v.xy = xy.data(), v.xz = xz.data(), v.yx = yx.data(), v.yy = yy.data(), v.yz = yz.data();
+    v.zx = zx.data(), v.zy = zy.data(), v.zz = zz.data(), v.eta_x = eta_x.data(), v.eta_y = eta_y.data();
+    v.lambda_s = lambda_s.data(), v.ndf_amplitude = ndf_amplitude.data(), v.roughness = roughness.data();
+    v.f0_r = f0_r.data(), v.f0_g = f0_g.data(), v.f0_b = f0_b.data();
+    return v;
+  }
+};
+
 // Per thread, reused: no allocation per block once the arrays have grown.
 struct Scratch {
   std::vector<double> px, py, pz, nx, ny, nz, diffuse, visible;  // per point; visible: per lobe
   std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2, capped, mask, fallback;  // per row
   std::vector<double> args_double, value_double;
   std::vector<float> args_float, value_float;
-  std::vector<double> sum_r, sum_g, sum_b;  // per point
+  std::vector<double> sum_r, sum_g, sum_b;  // per point (or per glossy point)
+  Receivers receivers;                      // the glossy points
+  std::vector<double> spec_fallback;        // per (lobe, glossy point)
   void resize(std::size_t points, std::size_t rows, std::size_t lobes, bool single) {
     for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &diffuse, &sum_r, &sum_g, &sum_b}) v->resize(points);
     for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped, &mask, &fallback})
@@ -221,21 +261,36 @@ void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<con
   }
 
   if (!d.options.specular) return;
-  for (std::size_t i = 0; i < m; ++i) {
-    const ShadingPoint& p = points[i];
-    if (!p.glossy()) continue;
-    const VsglSpecularReceiver<double> receiver = vsgl_specular_receiver<double>(p.normal, p.view, p.roughness);
-    for (std::size_t j = 0; j < n; ++j) {
-      const std::size_t r = j * m + i;
-      if (!(s.log_scale[r] > -std::numeric_limits<double>::infinity()) || (!visible.empty() && !visible[a.cluster[j]]))
-        continue;
-      VsglIncomingSg<double> sg;
-      sg.axis = Vec3(s.xi_x[r], s.xi_y[r], s.xi_z[r]);
-      sg.sharpness = s.sharpness[r];
-      sg.log_scale = s.log_scale[r];
-      const VsglSpecularFactor<double> f = vsgl_specular(sg, receiver);
-      out[i].specular += a.amplitude[j] * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
+  // The block's glossy points: their specular receivers (vsgl.hpp) as arrays, then every
+  // (lobe, glossy point) in one vectorized pass; rows outside its exponential's range one by one.
+  Receivers& g = s.receivers;
+  g.clear();
+  for (std::size_t i = 0; i < m; ++i)
+    if (points[i].glossy()) g.push(i, vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness), points[i].f0);
+  const std::size_t gn = g.point.size();
+  if (gn == 0) return;
+  s.spec_fallback.resize(n * gn);
+  for (auto* v : {&s.sum_r, &s.sum_g, &s.sum_b}) v->resize(std::max(m, gn));
+  const std::size_t fallbacks = t.specular(lobes, m, in, g.view(), kDirectLimit, s.spec_fallback.data(), s.sum_r.data(),
+                                           s.sum_g.data(), s.sum_b.data());
+  for (std::size_t k = 0; k < gn; ++k) {
+    const std::size_t i = g.point[k];
+    Rgb specular(s.sum_r[k], s.sum_g[k], s.sum_b[k]);
+    if (fallbacks > 0) {
+      const VsglSpecularReceiver<double> receiver =
+          vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness);
+      for (std::size_t j = 0; j < n; ++j) {
+        if (s.spec_fallback[j * gn + k] == 0) continue;
+        const std::size_t r = j * m + i;
+        VsglIncomingSg<double> sg;
+        sg.axis = Vec3(s.xi_x[r], s.xi_y[r], s.xi_z[r]);
+        sg.sharpness = s.sharpness[r];
+        sg.log_scale = s.log_scale[r];
+        const VsglSpecularFactor<double> f = vsgl_specular(sg, receiver);
+        specular += a.amplitude[j] * (f.at_f0_zero + points[i].f0 * (f.at_f0_one - f.at_f0_zero));
+      }
     }
+    out[i].specular = specular;
   }
 }
 

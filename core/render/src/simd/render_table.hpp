@@ -78,6 +78,24 @@ using WeightedSumFn = std::size_t (*)(const LobeView& lobes, std::size_t m, cons
                                       const double* mask, double factor, double direct_limit, double* fallback, double* out_r,
                                       double* out_g, double* out_b);
 
+// The block's glossy points as arrays: vsgl.hpp's VsglSpecularReceiver (local frame t, b, n; ω_o
+// in it; the ASG lobe x, y, z, ηx, ηy; λ_s; 1/(πα²); α) and the point's f0.
+struct SpecularReceivers {
+  std::size_t count = 0;
+  const std::size_t* point;  // the point's index in the block
+  const double *tx, *ty, *tz, *bx, *by, *bz, *nx, *ny, *nz, *wox, *woy, *woz;
+  const double *xx, *xy, *xz, *yx, *yy, *yz, *zx, *zy, *zz, *eta_x, *eta_y, *lambda_s, *ndf_amplitude, *roughness;
+  const double *f0_r, *f0_g, *f0_b;
+};
+
+// out_{r,g,b}[g] = Σ_j amp_j · (at_f0_zero + f0·(at_f0_one − at_f0_zero)) of vsgl.hpp's
+// vsgl_specular for every lobe j (mask: its cluster visible and log_scale > −∞) and glossy point g,
+// in lobe order. Rows (j·count + g) whose exponent is outside the vectorized exponential's range
+// get fallback = 1 (returned: how many) and are left to the caller.
+using SpecularFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const IncomingRows& rows,
+                                   const SpecularReceivers& receivers, double direct_limit, double* fallback,
+                                   double* out_r, double* out_g, double* out_b);
+
 struct RenderKernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   VplSumFn<double> vpl_sum_d[4];
@@ -86,6 +104,7 @@ struct RenderKernelTable {
   IncomingFn<float> incoming_f;
   WeightedSumFn<double> weighted_sum_d;
   WeightedSumFn<float> weighted_sum_f;
+  SpecularFn specular;
 };
 
 const RenderKernelTable& render_kernels_sse2();
