@@ -280,7 +280,7 @@ void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<con
       const VsglSpecularReceiver<double> receiver =
           vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness);
       for (std::size_t j = 0; j < n; ++j) {
-        if (s.spec_fallback[j * gn + k] == 0) continue;
+        if (s.spec_fallback[gn >= n ? j * gn + k : k * n + j] == 0) continue;
         const std::size_t r = j * m + i;
         VsglIncomingSg<double> sg;
         sg.axis = Vec3(s.xi_x[r], s.xi_y[r], s.xi_z[r]);

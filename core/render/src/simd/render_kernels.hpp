@@ -247,75 +247,115 @@ std::size_t weighted_sum(const LobeView& a, std::size_t m, const double* log_sca
   return fallbacks;
 }
 
-// vsgl_specular (vsgl.hpp) for every (lobe, glossy point): asg_sg_product_two_vsgls (asg.hpp),
-// scaled_by_exp, the product axis ξ_m (sg.hpp sg_product) and brdf_factor_m (brdf.hpp) at f0 = 0
-// and 1, on components and branch-free. e^{log_scale} and the ASG's exponential are taken as one
-// exponential of their sum (the same value to rounding).
+// vsgl_specular (vsgl.hpp) of lobe j's row i (the incoming SG) at glossy point g: asg_sg_product_two_vsgls
+// (asg.hpp), scaled_by_exp, the product axis ξ_m (sg.hpp sg_product) and brdf_factor_m (brdf.hpp)
+// at f0 = 0 and 1, on components and branch-free; returns the lobe's contribution per channel
+// without its amplitude's. e^{log_scale} and the ASG's exponential are taken as one exponential
+// of their sum (the same value to rounding). `fallback` = 1: the exponent is outside the
+// vectorized exponential's range (the contribution is then 0 here and left to the caller).
+struct SpecularTerm {
+  double r, g, b, fallback;
+};
+[[gnu::always_inline]] inline SpecularTerm specular_term(const SpecularReceivers& p, std::size_t g, double ls, double l,
+                                                         double wx, double wy, double wz, double visible,
+                                                         double direct_limit) {
+  // ξ_in in the local frame.
+  const double x0 = wx * p.tx[g] + wy * p.ty[g] + wz * p.tz[g];
+  const double x1 = wx * p.bx[g] + wy * p.by[g] + wz * p.bz[g];
+  const double x2 = wx * p.nx[g] + wy * p.ny[g] + wz * p.nz[g];
+  // ∫ Ĝ G ≈ π Ĝ(ξ; ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ/2 (reduced_bandwidth).
+  const double nu = l / 2, ex = p.eta_x[g], ey = p.eta_y[g];
+  const double lox = ex <= nu ? ex : nu, hix = ex <= nu ? nu : ex, loy = ey <= nu ? ey : nu, hiy = ey <= nu ? nu : ey;
+  const double rx = lox > 0 ? lox / (1 + lox / hix) : 0.0, ry = loy > 0 ? loy / (1 + loy / hiy) : 0.0;
+  const double zx = p.zx[g], zy = p.zy[g], zz = p.zz[g];
+  const double cz = x0 * zx + x1 * zy + x2 * zz;
+  const double cx = x0 * p.xx[g] + x1 * p.xy[g] + x2 * p.xz[g];
+  const double cy = x0 * p.yx[g] + x1 * p.yy[g] + x2 * p.yz[g];
+  const double exponent = ls + (-rx * cx * cx - ry * cy * cy);
+  const double factor = cz * (kPi / (sqrt_(ex + nu) * sqrt_(ey + nu))) * p.ndf_amplitude[g];
+  const double lit = (ls > -std::numeric_limits<double>::infinity() ? 1.0 : 0.0) * (cz > 0 ? 1.0 : 0.0) * visible;
+  const double in_range = (exponent > kVectorExpFloor ? 1.0 : 0.0) * (ls < direct_limit ? 1.0 : 0.0);
+  const double scale = lit * in_range > 0 ? exp_in_range(in_range > 0 ? exponent : 0.0) * factor : 0.0;
+  // ξ_m: the axis of the product of G(ξ_in, λ) and G(ξ_z, λ_s).
+  const double ls2 = p.lambda_s[g];
+  const double big = l > ls2 ? l : ls2, sc = big > kProductScale ? 1 / big : 1.0;
+  const double u1 = l * sc, u2 = ls2 * sc;
+  const double vx = u1 * x0 + u2 * zx, vy = u1 * x1 + u2 * zy, vz = u1 * x2 + u2 * zz;
+  const double c12 = clamp1(cz), du = u1 - u2, q = du * du + 2 * u1 * u2 * (1 + c12);
+  const double vnorm = sqrt_(vx * vx + vy * vy + vz * vz);
+  const double inv_v = vnorm > 0 && q > 0 ? 1 / vnorm : 0.0;
+  const double mx = inv_v > 0 ? vx * inv_v : x0, my = inv_v > 0 ? vy * inv_v : x1, mz = inv_v > 0 ? vz * inv_v : x2;
+  // M(ξ_m) = F·V·⟨ξ_m·n⟩ with F = m⁵ (f0 = 0) and 1 (f0 = 1); the half vector as brdf.hpp's.
+  const double wox = p.wox[g], woy = p.woy[g], woz = p.woz[g], alpha = p.roughness[g];
+  double hx = wox + mx, hy = woy + my, hz = woz + mz;
+  const double hn = sqrt_(hx * hx + hy * hy + hz * hz);
+  const double inv_h = hn > 0 ? 1 / hn : 0.0;
+  hx = hn > 0 ? hx * inv_h : 0.0;
+  hy = hn > 0 ? hy * inv_h : 0.0;
+  hz = hn > 0 ? hz * inv_h : 1.0;
+  const double coh = wox * hx + woy * hy + woz * hz;
+  const double c = coh < 0 ? 0.0 : (coh > 1 ? 1.0 : coh), mm = 1 - c, m2 = mm * mm, m5 = m2 * m2 * mm;
+  const double a2 = alpha * alpha, co = woz, ci = mz;
+  const double cco = clamp1(co), cci = clamp1(ci);
+  const double so = sqrt_(co * co + a2 * ((1 - cco) * (1 + cco))), si = sqrt_(ci * ci + a2 * ((1 - cci) * (1 + cci)));
+  const double den = ci * so + co * si;
+  const double vis = ci > 0 && co >= 0 && den > 0 ? 1 / (2 * den) : 0.0;
+  const double one = scale * (vis * ci), zero = scale * (m5 * vis * ci);
+  return {zero + p.f0_r[g] * (one - zero), zero + p.f0_g[g] * (one - zero), zero + p.f0_b[g] * (one - zero),
+          lit * (1 - in_range)};
+}
+
+// Every (lobe, glossy point), each point's sum in lobe order. The loop runs over the longer of
+// the two: glossy points (few lobes) or lobes (few glossy points in a block: many lobes).
 std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows, const SpecularReceivers& p,
                      double direct_limit, double* fallback, double* out_r, double* out_g, double* out_b) {
-  const std::size_t gn = p.count;
-  for (std::size_t g = 0; g < gn; ++g) out_r[g] = out_g[g] = out_b[g] = 0;
+  const std::size_t gn = p.count, n = a.n;
   std::size_t fallbacks = 0;
-  for (std::size_t j = 0; j < a.n; ++j) {
-    const double ar = a.amp_r[j], ag = a.amp_g[j], ab = a.amp_b[j];
-    const double visible = a.visible ? a.visible[j] : 1.0;
-    const std::size_t r0 = j * m;
-    const double *lam = rows.sharpness + r0, *lsj = rows.log_scale + r0, *ix = rows.xi_x + r0, *iy = rows.xi_y + r0,
-                 *iz = rows.xi_z + r0;
-    double* fj = fallback + j * gn;
-    std::size_t count = 0;
+  if (gn >= n) {
+    for (std::size_t g = 0; g < gn; ++g) out_r[g] = out_g[g] = out_b[g] = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double ar = a.amp_r[j], ag = a.amp_g[j], ab = a.amp_b[j];
+      const double visible = a.visible ? a.visible[j] : 1.0;
+      const std::size_t r0 = j * m;
+      const double *lam = rows.sharpness + r0, *lsj = rows.log_scale + r0, *ix = rows.xi_x + r0,
+                   *iy = rows.xi_y + r0, *iz = rows.xi_z + r0;
+      double* fj = fallback + j * gn;
+      std::size_t count = 0;
 #pragma omp simd reduction(+ : count)
-    for (std::size_t g = 0; g < gn; ++g) {
-      const std::size_t i = p.point[g];
-      const double ls = lsj[i], l = lam[i], wx = ix[i], wy = iy[i], wz = iz[i];
-      // ξ_in in the local frame.
-      const double x0 = wx * p.tx[g] + wy * p.ty[g] + wz * p.tz[g];
-      const double x1 = wx * p.bx[g] + wy * p.by[g] + wz * p.bz[g];
-      const double x2 = wx * p.nx[g] + wy * p.ny[g] + wz * p.nz[g];
-      // ∫ Ĝ G ≈ π Ĝ(ξ; ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ/2 (reduced_bandwidth).
-      const double nu = l / 2, ex = p.eta_x[g], ey = p.eta_y[g];
-      const double lox = ex <= nu ? ex : nu, hix = ex <= nu ? nu : ex, loy = ey <= nu ? ey : nu, hiy = ey <= nu ? nu : ey;
-      const double rx = lox > 0 ? lox / (1 + lox / hix) : 0.0, ry = loy > 0 ? loy / (1 + loy / hiy) : 0.0;
-      const double cz = x0 * p.zx[g] + x1 * p.zy[g] + x2 * p.zz[g];
-      const double cx = x0 * p.xx[g] + x1 * p.xy[g] + x2 * p.xz[g];
-      const double cy = x0 * p.yx[g] + x1 * p.yy[g] + x2 * p.yz[g];
-      const double exponent = ls + (-rx * cx * cx - ry * cy * cy);
-      const double factor = cz * (kPi / (sqrt_(ex + nu) * sqrt_(ey + nu))) * p.ndf_amplitude[g];
-      const double lit = (ls > -std::numeric_limits<double>::infinity() ? 1.0 : 0.0) * (cz > 0 ? 1.0 : 0.0) * visible;
-      const double in_range = (exponent > kVectorExpFloor ? 1.0 : 0.0) * (ls < direct_limit ? 1.0 : 0.0);
-      const double fb = lit * (1 - in_range);
-      fj[g] = fb;
-      count += fb > 0 ? 1 : 0;
-      const double scale = lit * in_range > 0 ? exp_in_range(in_range > 0 ? exponent : 0.0) * factor : 0.0;
-      // ξ_m: the axis of the product of G(ξ_in, λ) and G(ξ_z, λ_s).
-      const double ls2 = p.lambda_s[g];
-      const double big = l > ls2 ? l : ls2, sc = big > kProductScale ? 1 / big : 1.0;
-      const double u1 = l * sc, u2 = ls2 * sc;
-      const double vx = u1 * x0 + u2 * p.zx[g], vy = u1 * x1 + u2 * p.zy[g], vz = u1 * x2 + u2 * p.zz[g];
-      const double c12 = clamp1(cz), du = u1 - u2, q = du * du + 2 * u1 * u2 * (1 + c12);
-      const double vnorm = sqrt_(vx * vx + vy * vy + vz * vz);
-      const double inv_v = vnorm > 0 && q > 0 ? 1 / vnorm : 0.0;
-      const double mx = inv_v > 0 ? vx * inv_v : x0, my = inv_v > 0 ? vy * inv_v : x1, mz = inv_v > 0 ? vz * inv_v : x2;
-      // M(ξ_m) = F·V·⟨ξ_m·n⟩ with F = m⁵ (f0 = 0) and 1 (f0 = 1).
-      const double wox = p.wox[g], woy = p.woy[g], woz = p.woz[g], alpha = p.roughness[g];
-      double hx = wox + mx, hy = woy + my, hz = woz + mz;
-      const double hn = sqrt_(hx * hx + hy * hy + hz * hz);
-      const double inv_h = hn > 0 ? 1 / hn : 0.0;
-      hx = hn > 0 ? hx * inv_h : 0.0;
-      hy = hn > 0 ? hy * inv_h : 0.0;
-      hz = hn > 0 ? hz * inv_h : 1.0;
-      const double coh = wox * hx + woy * hy + woz * hz;
-      const double c = coh < 0 ? 0.0 : (coh > 1 ? 1.0 : coh), mm = 1 - c, m2 = mm * mm, m5 = m2 * m2 * mm;
-      const double a2 = alpha * alpha, co = woz, ci = mz;
-      const double cco = clamp1(co), cci = clamp1(ci);
-      const double so = sqrt_(co * co + a2 * ((1 - cco) * (1 + cco))), si = sqrt_(ci * ci + a2 * ((1 - cci) * (1 + cci)));
-      const double den = ci * so + co * si;
-      const double vis = ci > 0 && co >= 0 && den > 0 ? 1 / (2 * den) : 0.0;
-      const double one = scale * (vis * ci), zero = scale * (m5 * vis * ci);
-      out_r[g] += ar * (zero + p.f0_r[g] * (one - zero));
-      out_g[g] += ag * (zero + p.f0_g[g] * (one - zero));
-      out_b[g] += ab * (zero + p.f0_b[g] * (one - zero));
+      for (std::size_t g = 0; g < gn; ++g) {
+        const std::size_t i = p.point[g];
+        const SpecularTerm t = specular_term(p, g, lsj[i], lam[i], ix[i], iy[i], iz[i], visible, direct_limit);
+        fj[g] = t.fallback;
+        count += t.fallback > 0 ? 1 : 0;
+        out_r[g] += ar * t.r;
+        out_g[g] += ag * t.g;
+        out_b[g] += ab * t.b;
+      }
+      fallbacks += count;
     }
+    return fallbacks;
+  }
+  const double *lsr = rows.log_scale, *lam = rows.sharpness, *ix = rows.xi_x, *iy = rows.xi_y, *iz = rows.xi_z,
+               *vis = a.visible, *amp_r = a.amp_r, *amp_g = a.amp_g, *amp_b = a.amp_b;
+  for (std::size_t g = 0; g < gn; ++g) {
+    const std::size_t i = p.point[g];
+    double* fg = fallback + g * n;
+    double s0 = 0, s1 = 0, s2 = 0;
+    std::size_t count = 0;
+#pragma omp simd reduction(+ : s0, s1, s2, count)
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t r = j * m + i;
+      const SpecularTerm t =
+          specular_term(p, g, lsr[r], lam[r], ix[r], iy[r], iz[r], vis ? vis[j] : 1.0, direct_limit);
+      fg[j] = t.fallback;
+      count += t.fallback > 0 ? 1 : 0;
+      s0 += amp_r[j] * t.r;
+      s1 += amp_g[j] * t.g;
+      s2 += amp_b[j] * t.b;
+    }
+    out_r[g] = s0;
+    out_g[g] = s1;
+    out_b[g] = s2;
     fallbacks += count;
   }
   return fallbacks;

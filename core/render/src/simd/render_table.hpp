@@ -89,9 +89,11 @@ struct SpecularReceivers {
 };
 
 // out_{r,g,b}[g] = Σ_j amp_j · (at_f0_zero + f0·(at_f0_one − at_f0_zero)) of vsgl.hpp's
-// vsgl_specular for every lobe j (mask: its cluster visible and log_scale > −∞) and glossy point g,
-// in lobe order. Rows (j·count + g) whose exponent is outside the vectorized exponential's range
-// get fallback = 1 (returned: how many) and are left to the caller.
+// vsgl_specular for every lobe j (mask: its cluster visible and log_scale > −∞) and glossy point g
+// (in lobe order, or partly in vector lanes when there are more lobes than glossy points: the same
+// to rounding). Rows whose exponent is outside the vectorized exponential's range get fallback = 1
+// (returned: how many; at j·count + g if count ≥ lobes, else at g·lobes + j) and are left to the
+// caller.
 using SpecularFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const IncomingRows& rows,
                                    const SpecularReceivers& receivers, double direct_limit, double* fallback,
                                    double* out_r, double* out_g, double* out_b);
