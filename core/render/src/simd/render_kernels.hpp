@@ -123,6 +123,10 @@ std::size_t incoming(const LobeView& a, const PointBlock& b, double sharpness_fl
     const double mx = a.mx[j], my = a.my[j], mz = a.mz[j], l1 = a.sharpness[j];
     const double a1x = -a.ax[j], a1y = -a.ay[j], a1z = -a.az[j];
     const double visible = a.visible ? a.visible[j] : 1.0;
+    // sg_product's rescaling past kProductScale by s = max(λ_v, λ_σ): λ_σ ≤ kCap < kProductScale,
+    // so it is needed exactly when λ_v > kProductScale, and s = λ_v.
+    static_assert(kCap < kProductScale);
+    const double s = l1 > kProductScale ? l1 : 1.0, scale = l1 > kProductScale ? 1 / l1 : 1.0;
     const std::size_t r0 = j * m;
     double *lam = out.sharpness + r0, *cosine = out.cosine + r0, *ls = out.log_scale + r0, *xx = out.xi_x + r0,
            *xy = out.xi_y + r0, *xz = out.xi_z + r0, *dd = out.d2 + r0, *capped = out.capped + r0,
@@ -137,10 +141,8 @@ std::size_t incoming(const LobeView& a, const PointBlock& b, double sharpness_fl
       const double inv = d2 > 0 ? 1 / sqrt_(d2) : 0.0;
       const double ux = dx * inv, uy = dy * inv, uz = d2 > 0 ? dz * inv : 1.0;
       const double lambda_sigma = variance * kCap > d2 ? d2 / variance : kCap;  // capped: also σ² = 0
-      // The product with G(ω; −ξ_v, λ_v).
+      // The product with G(ω; −ξ_v, λ_v) (s and scale: hoisted above).
       const double l2 = lambda_sigma;
-      const double big = l1 > l2 ? l1 : l2;
-      const double s = big > kProductScale ? big : 1.0, scale = big > kProductScale ? 1 / big : 1.0;
       const double u1 = l1 * scale, u2 = l2 * scale;
       const double vx = u1 * a1x + u2 * ux, vy = u1 * a1y + u2 * uy, vz = u1 * a1z + u2 * uz;
       const double c12 = clamp1(a1x * ux + a1y * uy + a1z * uz);
