@@ -20,9 +20,11 @@
 #include <vector>
 
 #include "sglab/clamped_cosine_sglab.hpp"
+#include "sglab/gaussian_ndf.hpp"
 #include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
+#include "sglab/specular.hpp"
 
 namespace {
 
@@ -41,6 +43,9 @@ std::vector<double> make_inputs(const sglab::Quantity& q) {
       switch (col.kind) {
         case sglab::ColumnKind::sharpness: args.push_back(std::pow(10.0, -3 + 7 * u(rng))); break;
         case sglab::ColumnKind::cosine: args.push_back(-1 + 2 * u(rng)); break;
+        // The specular columns: roughness log-uniform in [1e-2, 1], the azimuth over a turn.
+        case sglab::ColumnKind::positive: args.push_back(std::pow(10.0, -2 * u(rng))); break;
+        case sglab::ColumnKind::angle: args.push_back(2 * 3.141592653589793 * u(rng)); break;
         default: args.push_back(u(rng)); break;
       }
     }
@@ -109,6 +114,24 @@ template <class T> T s_h_meder(T l, T c) { return sglab::hemispherical_meder(l, 
 template <class T> T s_h_tok22(T l, T c) { return sglab::hemispherical_tokuyoshi2022(l, c); }
 template <class T> T s_h_vmf(T l, T c) { return sglab::hemispherical_vmf_tokuyoshi2024(l, c); }
 
+// The specular methods' scalar templates over rows of (α, λ, light_cos, view_cos, φ, f0).
+template <class T> T s_spec(T a, T l, T lc, T v, T phi, T f0) { return sglab::specular_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}); }
+template <class T> T s_spec_pa(T a, T l, T lc, T v, T phi, T f0) {
+  return sglab::specular_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}, sglab::SgProductForm::exact, false, sglab::FactorAt::product_axis);
+}
+template <class T> T s_spec_iw(T a, T l, T lc, T v, T phi, T f0) {
+  return sglab::specular_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}, sglab::SgProductForm::iwasaki);
+}
+template <class T> T s_spec_th(T a, T l, T lc, T v, T phi, T f0) {
+  return sglab::specular_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}, sglab::SgProductForm::exact, true);
+}
+template <class T> T s_spec_asg(T a, T l, T lc, T v, T phi, T f0) { return sglab::specular_asg(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}); }
+template <class T> T s_spec_dvn(T a, T l, T lc, T v, T phi, T f0) { return sglab::specular_sg_warp_dvn(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}); }
+template <class T> T s_gndf(T a, T l, T lc, T v, T phi, T f0) { return sglab::specular_gaussian_ndf_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}); }
+template <class T> T s_gndf_meder(T a, T l, T lc, T v, T phi, T f0) {
+  return sglab::specular_gaussian_ndf_sg_meder(sglab::SpecularInput<T>{a, l, lc, v, phi, f0});
+}
+
 #define SCALAR(q, m, fn) sglab::peer::Port{q, m, &sglab::peer::port_batch<float, fn<float>>, &sglab::peer::port_batch<double, fn<double>>}
 const sglab::peer::Port kScalarLoops[] = {
     SCALAR("clamped-cosine", "punctual", s_punctual),       SCALAR("clamped-cosine", "punctual-approx", s_punctual_approx),
@@ -117,7 +140,13 @@ const sglab::peer::Port kScalarLoops[] = {
     SCALAR("clamped-cosine", "tokuyoshi2022", s_tok22),     SCALAR("clamped-cosine", "tokuyoshi2024", s_tok24),
     SCALAR("clamped-cosine", "sglab", s_sglab),             SCALAR("hemispherical", "meder", s_h_meder),
     SCALAR("hemispherical", "tokuyoshi2022", s_h_tok22),    SCALAR("hemispherical", "vmf-tokuyoshi2024", s_h_vmf),
+#define SCALAR6(q, m, fn) sglab::peer::Port{q, m, &sglab::peer::port_batch6<float, fn<float>>, &sglab::peer::port_batch6<double, fn<double>>}
+    SCALAR6("specular", "sg-warp", s_spec),                 SCALAR6("specular", "sg-warp-product-axis", s_spec_pa),
+    SCALAR6("specular", "sg-warp-iwasaki", s_spec_iw),      SCALAR6("specular", "sg-warp-th2019", s_spec_th),
+    SCALAR6("specular", "asg", s_spec_asg),                 SCALAR6("specular", "sg-warp-dvn", s_spec_dvn),
+    SCALAR6("specular-gaussian-ndf", "sg-warp", s_gndf),    SCALAR6("specular-gaussian-ndf", "sg-warp-meder", s_gndf_meder),
 };
+#undef SCALAR6
 #undef SCALAR
 const sglab::peer::Port* find_scalar_loop(std::string_view q, std::string_view m) {
   for (const auto& p : kScalarLoops)
@@ -196,8 +225,8 @@ void print_ratios() {
       for (auto isa : isas) {
         sglab::simd::force_isa(isa);
         t_isa.push_back(median_ns([&] {
-          if constexpr (std::is_same_v<T, float>) m->batch_float(args, 2, out);
-          else m->batch_double(args, 2, out);
+          if constexpr (std::is_same_v<T, float>) m->batch_float(args, q->columns.size(), out);
+          else m->batch_double(args, q->columns.size(), out);
         }, reps));
       }
       const double t_port = median_ns([&] { loop_of<T>(port)(args.data(), out.data(), kBatch); }, reps);

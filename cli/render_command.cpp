@@ -17,6 +17,7 @@
 #include "environment_render.hpp"
 #include "render_job.hpp"
 #include "sglab/render/exr.hpp"
+#include "sglab/render/vsgl_specular_methods.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -26,6 +27,7 @@ struct Options {
   std::string out;
   std::string stats;
   std::string dump_csv;
+  std::string specular{render::kDefaultSpecularMethod};  // --specular
   bool quiet = false;
 };
 
@@ -60,9 +62,15 @@ void run(const Options& o) {
   const render::Scene scene = load_scene(o.job);
   const auto environment = prepare_environment(scene, o.job.scene_path);
   render::RenderOptions options = render_options(o.job);
+  try {
+    options.shading.specular_method = render::find_specular_method(o.specular);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--specular: {}", e.what()));
+  }
   check_render_memory(scene, options, !o.dump_csv.empty());
   std::string command = "sglab render " + quote_if_needed(o.job.scene_path) + " --out " + quote_if_needed(o.out);
   for (const auto& a : render_job_arguments(o.job)) command += " " + quote_if_needed(a);
+  if (o.specular != render::kDefaultSpecularMethod) command += " --specular " + quote_if_needed(o.specular);
   if (!o.stats.empty()) command += " --stats " + quote_if_needed(o.stats);
   if (!o.dump_csv.empty()) command += " --dump-csv " + quote_if_needed(o.dump_csv);
 
@@ -95,6 +103,7 @@ void run(const Options& o) {
   const render::RenderResult r = render::render_scene(scene, options);
   check_render_finite(r);
   nlohmann::json stats = render_stats(o.job, scene, options, r, command);
+  stats["specular_method"] = o.specular;
   std::vector<render::ImageLayer> layers = {
       {"direct", r.direct}, {"indirect", r.indirect}, {"indirect_reference", r.indirect_reference}, {"error", r.error}};
   if (environment) add_environment(scene, *environment, layers, stats);
@@ -114,7 +123,8 @@ void run(const Options& o) {
       "  indirect vs reference: relative L2 %.4g, SMAPE %.4g, RMSE %.4g\n"
       "  wrote %s%s%s\n",
       o.job.scene_path.c_str(), r.width, r.height, r.vpl_count, std::size_t(stats["vsgl_count"]), r.vsgls.stats.specular_vsgls,
-      r.specular_shading ? "ASG specular shading on glossy receivers" : "no specular shading (no glossy receiver or VSGL)",
+      r.specular_shading ? ("specular shading (" + o.specular + ") on glossy receivers").c_str()
+                         : "no specular shading (no glossy receiver or VSGL)",
       s.rsm, s.vsgl, s.shading, s.reference, stats["speedup_vsgl_over_reference"].get<double>(), r.error_metrics.relative_l2,
       r.error_metrics.smape, r.error_metrics.rmse, o.out.c_str(), o.stats.empty() ? "" : " and ", o.stats.c_str());
 }
@@ -129,6 +139,10 @@ void add_render_command(CLI::App& app) {
   sub->add_option("--stats", opts->stats, "output stats JSON");
   sub->add_option("--dump-csv", opts->dump_csv, "also write every pixel's layers as CSV (for plots/render_images.py)");
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
+  sub->add_option("--specular", opts->specular,
+                  "specular VSGL shading: vsgl-asg (the default: the renderer's own ASG form, Tokuyoshi 2015/2016) or "
+                  "any `specular` method of `sglab eval --list` but its quadrature reference (sg-warp, asg, sg-warp-dvn, …)")
+      ->default_str(std::string(render::kDefaultSpecularMethod));
   add_render_job_options(*sub, opts->job);
   sub->callback([opts] { run(*opts); });
 }

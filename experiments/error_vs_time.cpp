@@ -373,7 +373,7 @@ Tables tables(const Result& result) {
       "Per quantity, every registered method against the quantity's reference, in float and double. Rounding: the "
       "method in that precision against the same formula in 50 digits on the same input, shown apart from the "
       "approximation error. Cost: median ns per evaluation over seeded inputs on this machine (one core, warm-up, "
-      "median of repeats), through the registry's batch evaluators (vectorized for the diffuse methods: docs/simd.md); "
+      "median of repeats), through the registry's batch evaluators (vectorized for the diffuse and specular methods: docs/simd.md); "
       "beside it the same inputs through a naive scalar port of the published formula (std:: math, no stable forms: "
       "`core/include/sglab/peer_ports.hpp`, a speed baseline, not a method) and the port's time over sglab's. "
       "`neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n");

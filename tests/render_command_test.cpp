@@ -103,6 +103,7 @@ TEST_F(RenderCommand, BadInputExitsTwoNamesTheFieldAndWritesNothing) {
       {"scene.json", "--rsm 0", "--rsm 0 is outside"},
       {"scene.json", "--width 0", "--width 0 is outside"},
       {"scene.json", "--diffuse cosine", "--diffuse: unknown diffuse method 'cosine'"},
+      {"scene.json", "--specular ggx", "--specular: unknown specular method 'ggx'"},
       {"scene.json", "--vsgl kmeans --count 0", "--count 0 is outside"},
   };
   for (const auto& c : cases) {

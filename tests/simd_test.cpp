@@ -181,6 +181,7 @@ TEST(Simd, EveryKernelMatchesItsScalarTemplate) {
       ASSERT_NE(q, nullptr) << name;
       const Method* m = q->find(name.substr(slash + 1));
       ASSERT_NE(m, nullptr) << name;
+      if (q->columns.size() != 2) continue;  // the specular kernels: tests/simd_specular_test.cpp
       const double k = tolerance_ulps().at(name);
       const std::string label = std::string(simd::isa_name(isa)) + " " + name;
       std::vector<double> published, values;
@@ -202,20 +203,28 @@ TEST(Simd, EveryKernelMatchesItsScalarTemplate) {
 
 // The batch evaluators handle every length (the partial last vector) and leave nothing else
 // written: a row's value does not depend on its position in the batch.
+// A diffuse kernel (rows of 2) and a specular one (rows of 6, core/src/simd/simd_specular.hpp).
 TEST(Simd, PartialBatchesAndPositions) {
-  const Method* m = find_quantity("clamped-cosine")->find("tokuyoshi2024");
+  const Method* diffuse = find_quantity("clamped-cosine")->find("tokuyoshi2024");
+  const Method* specular = find_quantity("specular")->find("sg-warp-dvn");
   for (const auto isa : simd::supported_isas()) {
     simd::force_isa(isa);
-    for (std::size_t n : {1u, 3u, 7u, 15u, 17u, 33u}) {
-      std::vector<double> args;
-      for (std::size_t i = 0; i < n; ++i) args.insert(args.end(), {0.5 + double(i), 0.1});
-      std::vector<double> out(n + 1, -7.0);
-      m->batch_double(args, 2, std::span<double>(out.data(), n));
-      EXPECT_EQ(out[n], -7.0) << simd::isa_name(isa) << " wrote past the batch, n = " << n;
-      std::vector<double> single(1);
-      for (std::size_t i = 0; i < n; ++i) {
-        m->batch_double(std::span<const double>(args.data() + 2 * i, 2), 2, single);
-        EXPECT_EQ(single[0], out[i]) << simd::isa_name(isa) << " row " << i << " of " << n;
+    for (const Method* m : {diffuse, specular}) {
+      const std::size_t arity = m == diffuse ? 2 : 6;
+      for (std::size_t n : {1u, 3u, 7u, 15u, 17u, 33u}) {
+        std::vector<double> args;
+        for (std::size_t i = 0; i < n; ++i) {
+          if (m == diffuse) args.insert(args.end(), {0.5 + double(i), 0.1});
+          else args.insert(args.end(), {0.1 + 0.02 * double(i), 10.0, 0.6, 0.7, 3.0, 0.04});
+        }
+        std::vector<double> out(n + 1, -7.0);
+        m->batch_double(args, arity, std::span<double>(out.data(), n));
+        EXPECT_EQ(out[n], -7.0) << simd::isa_name(isa) << " wrote past the batch, n = " << n;
+        std::vector<double> single(1);
+        for (std::size_t i = 0; i < n; ++i) {
+          m->batch_double(std::span<const double>(args.data() + arity * i, arity), arity, single);
+          EXPECT_EQ(single[0], out[i]) << simd::isa_name(isa) << " " << m->name << " row " << i << " of " << n;
+        }
       }
     }
   }

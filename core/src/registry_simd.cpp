@@ -1,6 +1,6 @@
 // The vectorized batch evaluators (docs/simd.md): run-time choice of the instruction set, and the
 // installation of the kernels of simd/simd_kernels.hpp as the registry's batch_float/batch_double
-// of the diffuse methods (and of their bound versions, whose constants are passed to the kernel).
+// of the diffuse and specular methods (and of their bound versions, whose constants are passed to the kernel).
 // The scalar templates stay the definition: eval_float/eval_double/eval_mp50 are untouched.
 #include <array>
 #include <atomic>
@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "sglab/brdf.hpp"
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
@@ -115,8 +116,8 @@ using Params = std::span<const double>;
 // `published`: the values are the published ones (tokuyoshi2022 then takes the published α, as
 // clamped_cosine_tokuyoshi2022 does, instead of recomputing it).
 template <class T>
-std::array<T, 8> kernel_params(Kernel k, Params v, bool published) {
-  std::array<T, 8> p{};
+std::array<T, simd_detail::kKernelParams> kernel_params(Kernel k, Params v, bool published) {
+  std::array<T, simd_detail::kKernelParams> p{};
   for (std::size_t i = 0; i < v.size() && i < p.size(); ++i) p[i] = T(v[i]);
   switch (k) {
     case Kernel::cc_sg_cosine: p[1] = pi<T>() / sg_integral(p[0]); break;
@@ -125,14 +126,21 @@ std::array<T, 8> kernel_params(Kernel k, Params v, bool published) {
       break;
     default: break;
   }
+  if (simd_detail::kernel_arity(k) == 6) {
+    // The specular kernels: the floors of brdf.hpp first, then the method's own constants.
+    std::array<T, simd_detail::kKernelParams> q{T(kMinRoughness), T(kMinWarpCosine)};
+    for (std::size_t i = 0; i < v.size() && i + 2 < q.size(); ++i) q[i + 2] = T(v[i]);
+    return q;
+  }
   return p;
 }
 
 template <class T>
-BatchFn<T> simd_batch(Kernel k, std::array<T, 8> p) {
+BatchFn<T> simd_batch(Kernel k, std::array<T, simd_detail::kKernelParams> p) {
   return [k, p](std::span<const T> args, std::size_t arity, std::span<T> out) {
-    if (arity != 2 || args.size() < 2 * out.size())
-      throw std::invalid_argument("vectorized batch evaluator: expected rows of (sharpness, cosine)");
+    if (arity != simd_detail::kernel_arity(k) || args.size() < arity * out.size())
+      throw std::invalid_argument("vectorized batch evaluator: expected rows of " + std::to_string(simd_detail::kernel_arity(k)) +
+                                  " values, got " + std::to_string(arity));
     const auto& t = simd::active_table();
     const int i = static_cast<int>(k);
     if constexpr (std::is_same_v<T, float>) t.f[i](args.data(), out.data(), out.size(), p.data());
@@ -163,7 +171,24 @@ constexpr Entry kEntries[] = {
     {"hemispherical", "meder", Kernel::hemi_meder},
     {"hemispherical", "tokuyoshi2022", Kernel::hemi_tokuyoshi2022},
     {"hemispherical", "vmf-tokuyoshi2024", Kernel::hemi_vmf_tokuyoshi2024},
+    {"specular", "sg-warp", Kernel::spec_sg_warp},
+    {"specular", "sg-warp-product-axis", Kernel::spec_sg_warp_product_axis},
+    {"specular", "sg-warp-iwasaki", Kernel::spec_sg_warp_iwasaki},
+    {"specular", "sg-warp-th2019", Kernel::spec_sg_warp_th2019},
+    {"specular", "asg", Kernel::spec_asg},
+    {"specular", "sg-warp-dvn", Kernel::spec_sg_warp_dvn},
+    {"specular-gaussian-ndf", "sg-warp", Kernel::gndf_sg_warp},
+    {"specular-gaussian-ndf", "sg-warp-meder", Kernel::gndf_sg_warp_meder},
 };
+
+// The constants a kernel takes that its method does not declare as parameters (the published
+// values the scalar template uses by default): sg-warp-meder's clamped_cosine_meder.
+std::vector<double> builtin_constants(Kernel k) {
+  if (k == Kernel::gndf_sg_warp_meder)
+    return {MederCosineSg::amplitude, MederCosineSg::sharpness, MederCosineSg::offset, MederLogistic::p1,
+            MederLogistic::p2,        MederLogistic::p3,        MederLogistic::p4};
+  return {};
+}
 
 }  // namespace
 
@@ -183,6 +208,7 @@ void install_simd_batch_evaluators(std::vector<Quantity>& quantities) {
         if (q.name != e.quantity || m.name != e.method) continue;
         std::vector<double> published;
         for (const auto& p : m.parameters) published.push_back(p.published);
+        if (m.parameters.empty()) published = builtin_constants(e.kernel);
         set_simd_batches(m, e.kernel, published, true);
         if (m.bind) {
           m.bind = [scalar_bind = m.bind, k = e.kernel](std::span<const double> values) {

@@ -1,5 +1,5 @@
 // THE NAIVE PEER, NOT A METHOD. Straight scalar ports of the published formulas of docs/math.md
-// §2–3, written as a shader author would write them: std:: math, the printed forms, no stable
+// §2–3 and §5, written as a shader author would write them: std:: math, the printed forms, no stable
 // rewrites, no series, no clamping beyond what the formula prints, no special cases. They exist
 // only as the speed baseline that sglab's batch evaluators are timed against, on the same inputs
 // in the same binary (benchmarks/core_bench.cpp, `sglab error-vs-time`'s cost columns). They are
@@ -150,11 +150,146 @@ T cc_sglab(T l, T c) {
   return T(2) * kPi<T> * (lower + f * (upper - lower));
 }
 
+// ---- specular (docs/math.md §5): SG light × GGX, and the Gaussian-angle NDF ---------------------
+// As a shader writes them: vectors in a small struct, normalize = v/length, the Frostbite
+// height-correlated Smith visibility, Schlick with pow(·, 5), Pettineo's SG inner product, no
+// floors (grazing view divides by 0 as the printed warp does). Arguments as the registry's rows:
+// roughness α, light sharpness λ, light_cos, view_cos, light_azimuth φ, f0.
+template <class T>
+struct V3 {
+  T x, y, z;
+};
+template <class T>
+V3<T> operator+(V3<T> a, V3<T> b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+template <class T>
+V3<T> operator*(T s, V3<T> a) { return {s * a.x, s * a.y, s * a.z}; }
+template <class T>
+T dot(V3<T> a, V3<T> b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class T>
+T length(V3<T> a) { return std::sqrt(dot(a, a)); }
+template <class T>
+V3<T> normalize(V3<T> a) { return (T(1) / length(a)) * a; }
+template <class T>
+V3<T> cross(V3<T> a, V3<T> b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+
+// ∫ G(ω; a1, λ1) G(ω; a2, λ2) dω (Pettineo's SGInnerProduct).
+template <class T>
+T sg_inner_product(V3<T> a1, T l1, V3<T> a2, T l2) {
+  const T um = length(l1 * a1 + l2 * a2);
+  return T(2) * kPi<T> * std::exp(um - l1 - l2) * (T(1) - std::exp(T(-2) * um)) / um;
+}
+// F·V·⟨ω·n⟩ at ω = w: Schlick, Frostbite's height-correlated Smith V = 0.5/(…).
+template <class T>
+T ggx_factor_m(T a, T f0, V3<T> wo, V3<T> w) {
+  const V3<T> h = normalize(wo + w);
+  const T nl = std::max(w.z, T(0)), nv = wo.z, a2 = a * a;
+  const T f = f0 + (T(1) - f0) * std::pow(T(1) - dot(wo, h), T(5));
+  const T vis = T(0.5) / (nl * std::sqrt(nv * nv * (T(1) - a2) + a2) + nv * std::sqrt(nl * nl * (T(1) - a2) + a2));
+  return f * vis * nl;
+}
+template <class T>
+V3<T> view_of(T v) { return {std::sqrt(T(1) - v * v), T(0), v}; }
+template <class T>
+V3<T> light_of(T lc, T phi) {
+  const T s = std::sqrt(T(1) - lc * lc);
+  return {s * std::cos(phi), s * std::sin(phi), lc};
+}
+
+// Wang et al. 2009: λ_h = 2/α² (or Tokuyoshi & Harada 2019's 2/α² − 2), warped about the mirror
+// direction to λ_h/(4 n·ωo), amplitude 1/(πα²), M at the lobe axis (or at the product axis);
+// the exact product integral (or Iwasaki et al. 2012's).
+template <class T, bool kIwasaki, bool kTh2019, bool kProductAxis>
+T spec_sg_warp_form(T a, T l, T lc, T v, T phi, T f0) {
+  const V3<T> wo = view_of(v), xi = light_of(lc, phi);
+  const V3<T> axis{-wo.x, -wo.y, wo.z};
+  const T lh = kTh2019 ? T(2) / (a * a) - T(2) : T(2) / (a * a);
+  const T ls = lh / (T(4) * wo.z);
+  const T integral = kIwasaki ? T(2) * kPi<T> * std::exp(ls * l / (ls + l) * (dot(axis, xi) - T(1))) / (ls + l)
+                              : sg_inner_product(axis, ls, xi, l);
+  const V3<T> xm = kProductAxis ? normalize(l * xi + ls * axis) : axis;
+  return ggx_factor_m(a, f0, wo, xm) * integral / (kPi<T> * a * a);
+}
+template <class T>
+T spec_sg_warp(T a, T l, T lc, T v, T phi, T f0) { return spec_sg_warp_form<T, false, false, false>(a, l, lc, v, phi, f0); }
+template <class T>
+T spec_sg_warp_product_axis(T a, T l, T lc, T v, T phi, T f0) { return spec_sg_warp_form<T, false, false, true>(a, l, lc, v, phi, f0); }
+template <class T>
+T spec_sg_warp_iwasaki(T a, T l, T lc, T v, T phi, T f0) { return spec_sg_warp_form<T, true, false, false>(a, l, lc, v, phi, f0); }
+template <class T>
+T spec_sg_warp_th2019(T a, T l, T lc, T v, T phi, T f0) { return spec_sg_warp_form<T, false, true, false>(a, l, lc, v, phi, f0); }
+
+// Xu et al. 2013's ASG warp (ηx = λ_h/8, ηy = λ_h/(8 v²)) and Tokuyoshi 2015's ASG × SG
+// product (ν = λ/2), M at the product axis.
+template <class T>
+T spec_asg(T a, T l, T lc, T v, T phi, T f0) {
+  const V3<T> wo = view_of(v), xi = light_of(lc, phi);
+  const V3<T> z{-wo.x, -wo.y, wo.z};
+  const V3<T> y = normalize(cross(V3<T>{T(0), T(0), T(1)}, wo));
+  const V3<T> x = cross(y, z);
+  const T lh = T(2) / (a * a), ex = lh / T(8), ey = lh / (T(8) * v * v), nu = l / T(2);
+  const T cx = dot(xi, x), cy = dot(xi, y);
+  const T asg = std::max(dot(xi, z), T(0)) * std::exp(-ex * nu / (ex + nu) * cx * cx - ey * nu / (ey + nu) * cy * cy);
+  const T integral = kPi<T> * asg / std::sqrt((ex + nu) * (ey + nu));
+  const V3<T> xm = normalize(l * xi + (lh / (T(4) * v)) * z);
+  return ggx_factor_m(a, f0, wo, xm) * integral / (kPi<T> * a * a);
+}
+
+// The vMF about the GGX dominant-visible-normal reflection (Tokuyoshi et al. 2024), times
+// F·G2/G1(ωo) at the product axis.
+template <class T>
+T spec_sg_warp_dvn(T a, T l, T lc, T v, T phi, T f0) {
+  const V3<T> wo = view_of(v), xi = light_of(lc, phi);
+  const T a2 = a * a;
+  const V3<T> m = normalize(V3<T>{a2 * wo.x, a2 * wo.y, std::sqrt(a2 * (wo.x * wo.x + wo.y * wo.y) + wo.z * wo.z) + wo.z});
+  const T om = dot(wo, m);
+  const V3<T> axis = (T(2) * om) * m + T(-1) * wo;
+  const T ll = (T(2) / a2 - T(2)) * m.z / (T(4) * om);
+  const T integral = sg_inner_product(axis, ll, xi, l) / (T(2) * kPi<T> * (T(1) - std::exp(T(-2) * ll)) / ll);
+  const V3<T> xm = normalize(l * xi + ll * axis);
+  if (xm.z <= T(0)) return T(0);
+  const V3<T> h = normalize(wo + xm);
+  const T f = f0 + (T(1) - f0) * std::pow(T(1) - dot(wo, h), T(5));
+  auto lambda = [a2](T c) { return (std::sqrt(T(1) + a2 * (T(1) - c * c) / (c * c)) - T(1)) / T(2); };
+  const T lo = lambda(v), li = lambda(xm.z);
+  return f * (T(1) + lo) / (T(1) + lo + li) * integral;
+}
+
+// The Gaussian-angle NDF (Wang et al. 2009, as restated with Meder's cosine by PhySG): the warped
+// lobe G(ω; mirror, (2/m²)/(4 n·ωo)), F(n·ωo)/(π n·ωo)·∫G G; or F/(π (n·ωo)²)·e^{λ3−λ−λ_D}·Meder's
+// clamped cosine of the product lobe.
+template <class T>
+T gndf_sg_warp(T m, T l, T lc, T v, T phi, T f0) {
+  const V3<T> wo = view_of(v), xi = light_of(lc, phi);
+  const V3<T> axis{-wo.x, -wo.y, wo.z};
+  const T ld = T(2) / (m * m) / (T(4) * v);
+  const T f = f0 + (T(1) - f0) * std::pow(T(1) - v, T(5));
+  return f / (kPi<T> * v) * sg_inner_product(axis, ld, xi, l);
+}
+template <class T>
+T gndf_sg_warp_meder(T m, T l, T lc, T v, T phi, T f0) {
+  const V3<T> wo = view_of(v), xi = light_of(lc, phi);
+  const V3<T> axis{-wo.x, -wo.y, wo.z};
+  const T ld = T(2) / (m * m) / (T(4) * v);
+  const V3<T> p = l * xi + ld * axis;
+  const T l3 = length(p);
+  const T f = f0 + (T(1) - f0) * std::pow(T(1) - v, T(5));
+  return f / (kPi<T> * v * v) * std::exp(l3 - l - ld) * cc_meder(l3, p.z / l3);
+}
+
 // ---- by name ----------------------------------------------------------------------------------
 // The port's batch loop over interleaved (λ, c) rows, the port inlined (one call per batch).
 template <class T, T (*F)(T, T)>
 void port_batch(const T* args, T* out, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) out[i] = F(args[2 * i], args[2 * i + 1]);
+}
+
+// The same over rows of the six `specular` columns.
+template <class T, T (*F)(T, T, T, T, T, T)>
+void port_batch6(const T* args, T* out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const T* a = args + 6 * i;
+    out[i] = F(a[0], a[1], a[2], a[3], a[4], a[5]);
+  }
 }
 
 struct Port {
@@ -177,7 +312,17 @@ inline constexpr Port kPorts[] = {
     SGLAB_PEER_PORT("hemispherical", "meder", hemi_meder),
     SGLAB_PEER_PORT("hemispherical", "tokuyoshi2022", hemi_tokuyoshi2022),
     SGLAB_PEER_PORT("hemispherical", "vmf-tokuyoshi2024", hemi_vmf_tokuyoshi2024),
+#define SGLAB_PEER_PORT6(q, m, fn) Port{q, m, &port_batch6<float, fn<float>>, &port_batch6<double, fn<double>>}
+    SGLAB_PEER_PORT6("specular", "sg-warp", spec_sg_warp),
+    SGLAB_PEER_PORT6("specular", "sg-warp-product-axis", spec_sg_warp_product_axis),
+    SGLAB_PEER_PORT6("specular", "sg-warp-iwasaki", spec_sg_warp_iwasaki),
+    SGLAB_PEER_PORT6("specular", "sg-warp-th2019", spec_sg_warp_th2019),
+    SGLAB_PEER_PORT6("specular", "asg", spec_asg),
+    SGLAB_PEER_PORT6("specular", "sg-warp-dvn", spec_sg_warp_dvn),
+    SGLAB_PEER_PORT6("specular-gaussian-ndf", "sg-warp", gndf_sg_warp),
+    SGLAB_PEER_PORT6("specular-gaussian-ndf", "sg-warp-meder", gndf_sg_warp_meder),
 };
+#undef SGLAB_PEER_PORT6
 #undef SGLAB_PEER_PORT
 
 // The naive port of `quantity/method`, or nullptr if there is none.

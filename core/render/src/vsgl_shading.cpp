@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/vsgl.hpp"
 #include "simd/render_table.hpp"
 
@@ -179,6 +180,8 @@ struct Scratch {
   std::vector<double> sum_r, sum_g, sum_b;  // per point (or per glossy point)
   Receivers receivers;                      // the glossy points
   std::vector<double> spec_fallback;        // per (lobe, glossy point)
+  // The incoming SGs point-major, for a registry specular method (vsgl_specular_methods.hpp).
+  std::vector<double> by_point_xi_x, by_point_xi_y, by_point_xi_z, by_point_sharpness, by_point_log_scale;
   void resize(std::size_t points, std::size_t rows, std::size_t lobes, bool single) {
     for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &diffuse, &sum_r, &sum_g, &sum_b}) v->resize(points);
     for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped, &mask, &fallback})
@@ -261,6 +264,30 @@ void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<con
   }
 
   if (!d.options.specular) return;
+  if (d.options.specular_method) {
+    // A registry method (vsgl_specular_methods.cpp): it reads the incoming SGs point-major
+    // (row i·n + j), so the block's rows are handed over in that order.
+    for (auto* v : {&s.by_point_xi_x, &s.by_point_xi_y, &s.by_point_xi_z, &s.by_point_sharpness, &s.by_point_log_scale})
+      v->resize(rows);
+    for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t i = 0; i < m; ++i) {
+        const std::size_t from = j * m + i, to = i * n + j;
+        s.by_point_xi_x[to] = s.xi_x[from];
+        s.by_point_xi_y[to] = s.xi_y[from];
+        s.by_point_xi_z[to] = s.xi_z[from];
+        s.by_point_sharpness[to] = s.sharpness[from];
+        s.by_point_log_scale[to] = s.log_scale[from];
+      }
+    const auto active = [&](std::size_t r) {
+      return s.by_point_log_scale[r] > -std::numeric_limits<double>::infinity() &&
+             (visible.empty() || visible[a.cluster[r % n]]);
+    };
+    shade_specular_with_method(*d.options.specular_method, points, n,
+                               {s.by_point_xi_x.data(), s.by_point_xi_y.data(), s.by_point_xi_z.data(),
+                                s.by_point_sharpness.data(), s.by_point_log_scale.data()},
+                               a.amplitude, active, out);
+    return;
+  }
   // The block's glossy points: their specular receivers (vsgl.hpp) as arrays, then every
   // (lobe, glossy point) in one vectorized pass; rows outside its exponential's range one by one.
   Receivers& g = s.receivers;

@@ -1,4 +1,4 @@
-// The diffuse kernels of simd_kernels.hpp for avx2 (compiled with -mavx2 -mfma (core/CMakeLists.txt)). Run only when the CPU
+// The kernels of simd_kernels.hpp (diffuse) and simd_specular.hpp for avx2 (compiled with -mavx2 -mfma (core/CMakeLists.txt)). Run only when the CPU
 // supports it (registry_simd.cpp checks before selecting this table).
 #include <immintrin.h>
 
@@ -13,6 +13,10 @@ __m256d _ZGVdN4v_erf(__m256d);
 __m256 _ZGVdN8v_erff(__m256);
 __m256d _ZGVdN4v_erfc(__m256d);
 __m256 _ZGVdN8v_erfcf(__m256);
+__m256d _ZGVdN4v_sin(__m256d);
+__m256 _ZGVdN8v_sinf(__m256);
+__m256d _ZGVdN4v_cos(__m256d);
+__m256 _ZGVdN8v_cosf(__m256);
 }
 #define SGLAB_VEC_D(fn) _ZGVdN4v_##fn
 #define SGLAB_VEC_F(fn) _ZGVdN8v_##fn##f

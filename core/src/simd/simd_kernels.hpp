@@ -108,6 +108,15 @@ inline B vm_erfc(const B& x0) {
   const B x = clamp_to(x0, Saturation<T>::erfc_lo, Saturation<T>::erfc_hi);
   return xsimd::select(x0 > B(Saturation<T>::erfc_hi), B(T(0)), SGLAB_VEC(erfc, x));
 }
+// sin and cos (the specular kernels' light azimuth): libmvec's for every finite argument.
+template <class B>
+inline B vm_sin(const B& x) {
+  return SGLAB_VEC(sin, x);
+}
+template <class B>
+inline B vm_cos(const B& x) {
+  return SGLAB_VEC(cos, x);
+}
 #undef SGLAB_VEC
 
 template <class B>
@@ -516,6 +525,14 @@ struct HemiVmfTokuyoshi2024 {
   }
 };
 
+}  // namespace
+}  // namespace sglab::simd_detail
+
+#include "simd_specular.hpp"
+
+namespace sglab::simd_detail {
+namespace {
+
 // ---- the batch driver ---------------------------------------------------------------------
 // Rows of (λ, c) are de-interleaved into lane arrays; the last partial batch is padded with
 // (1, 0), a point inside every method's domain, and only its valid lanes are stored.
@@ -523,8 +540,8 @@ template <class Arch, class T, class K>
 void run(const T* args, T* out, std::size_t n, const T* params) {
   using B = xsimd::batch<T, Arch>;
   constexpr std::size_t W = B::size;
-  B p[8];
-  for (int i = 0; i < 8; ++i) p[i] = B(params[i]);
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
   alignas(64) T l[W];
   alignas(64) T c[W];
   std::size_t i = 0;
@@ -547,12 +564,44 @@ void run(const T* args, T* out, std::size_t n, const T* params) {
   }
 }
 
+// The specular kernels' driver: rows of 6 columns (roughness, light_sharpness, light_cos,
+// view_cos, light_azimuth, f0), de-interleaved the same way; padding (0.5, 1, 0.5, 0.5, 0, 0.04).
+template <class Arch, class T, class K>
+void run_specular(const T* args, T* out, std::size_t n, const T* params) {
+  using B = xsimd::batch<T, Arch>;
+  constexpr std::size_t W = B::size;
+  constexpr std::size_t kArity = 6;
+  constexpr T kPad[kArity] = {T(0.5), T(1), T(0.5), T(0.5), T(0), T(0.04)};
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
+  alignas(64) T col[kArity][W];
+  for (std::size_t i = 0; i < n; i += W) {
+    const std::size_t rest = n - i < W ? n - i : W;
+    for (std::size_t k = 0; k < W; ++k)
+      for (std::size_t j = 0; j < kArity; ++j) col[j][k] = k < rest ? args[kArity * (i + k) + j] : kPad[j];
+    B a[kArity];
+    for (std::size_t j = 0; j < kArity; ++j) a[j] = B::load_aligned(col[j]);
+    const B r = K::eval(a, p);
+    if (rest == W) {
+      r.store_unaligned(out + i);
+    } else {
+      alignas(64) T o[W];
+      r.store_aligned(o);
+      for (std::size_t k = 0; k < rest; ++k) out[i + k] = o[k];
+    }
+  }
+}
+
 template <class Arch, class T>
 constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
     &run<Arch, T, CcPunctual>,    &run<Arch, T, CcPunctualApprox>, &run<Arch, T, CcSgCosine>,
     &run<Arch, T, CcCosineLobeSg>, &run<Arch, T, CcHillFitted>,    &run<Arch, T, CcMeder>,
     &run<Arch, T, CcTokuyoshi2022>, &run<Arch, T, CcTokuyoshi2024>, &run<Arch, T, CcSglab>,
-    &run<Arch, T, HemiMeder>,     &run<Arch, T, HemiTokuyoshi2022>, &run<Arch, T, HemiVmfTokuyoshi2024>};
+    &run<Arch, T, HemiMeder>,     &run<Arch, T, HemiTokuyoshi2022>, &run<Arch, T, HemiVmfTokuyoshi2024>,
+    &run_specular<Arch, T, SpecSgWarp<false, false, false>>, &run_specular<Arch, T, SpecSgWarp<false, false, true>>,
+    &run_specular<Arch, T, SpecSgWarp<true, false, false>>,  &run_specular<Arch, T, SpecSgWarp<false, true, false>>,
+    &run_specular<Arch, T, SpecAsg>,                         &run_specular<Arch, T, SpecSgWarpDvn>,
+    &run_specular<Arch, T, GndfSgWarp>,                      &run_specular<Arch, T, GndfSgWarpMeder>};
 
 template <class Arch>
 KernelTable make_table(const char* isa) {

@@ -1,4 +1,4 @@
-// The diffuse kernels of simd_kernels.hpp for sse2 (x86-64 baseline: no extra flags). Run only when the CPU
+// The kernels of simd_kernels.hpp (diffuse) and simd_specular.hpp for sse2 (x86-64 baseline: no extra flags). Run only when the CPU
 // supports it (registry_simd.cpp checks before selecting this table).
 #include <immintrin.h>
 
@@ -13,6 +13,10 @@ __m128d _ZGVbN2v_erf(__m128d);
 __m128 _ZGVbN4v_erff(__m128);
 __m128d _ZGVbN2v_erfc(__m128d);
 __m128 _ZGVbN4v_erfcf(__m128);
+__m128d _ZGVbN2v_sin(__m128d);
+__m128 _ZGVbN4v_sinf(__m128);
+__m128d _ZGVbN2v_cos(__m128d);
+__m128 _ZGVbN4v_cosf(__m128);
 }
 #define SGLAB_VEC_D(fn) _ZGVbN2v_##fn
 #define SGLAB_VEC_F(fn) _ZGVbN4v_##fn##f

@@ -24,11 +24,27 @@ enum class Kernel : int {
   hemi_meder,         // p: p1…p4
   hemi_tokuyoshi2022, // p: A, B, C
   hemi_vmf_tokuyoshi2024,  // p: A, B, C
+  // The specular quantities: rows of (roughness, light_sharpness, light_cos, view_cos,
+  // light_azimuth, f0) (simd_specular.hpp).
+  spec_sg_warp,
+  spec_sg_warp_product_axis,
+  spec_sg_warp_iwasaki,
+  spec_sg_warp_th2019,
+  spec_asg,
+  spec_sg_warp_dvn,
+  gndf_sg_warp,        // `specular-gaussian-ndf`
+  gndf_sg_warp_meder,  // p: the Meder cosine SG's amplitude, sharpness, offset, p1…p4
   count
 };
 
-// Evaluates n rows of (sharpness, cosine), interleaved in `args`, into `out`, with the method's
-// constants `params` (already in T).
+// Constants per kernel (unused entries are 0).
+constexpr int kKernelParams = 10;
+
+// Values per row: 2 (sharpness, cosine) for the diffuse kernels, 6 for the specular ones.
+constexpr std::size_t kernel_arity(Kernel k) { return k >= Kernel::spec_sg_warp ? 6 : 2; }
+
+// Evaluates n rows of kernel_arity values (e.g. (sharpness, cosine)), interleaved in `args`, into
+// `out`, with the method's constants `params` (already in T).
 template <class T>
 using KernelFn = void (*)(const T* args, T* out, std::size_t n, const T* params);
 

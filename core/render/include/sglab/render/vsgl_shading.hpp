@@ -17,6 +17,8 @@
 //   specular:          the receiver's GGX lobe as an ASG (Xu et al. 2013 warp) × the incoming SG,
 //                      M(ω) at the product lobe's axis ξ_m (Tokuyoshi 2015 (two-VSGL poster) §3.2; specular.hpp `asg`);
 //                      only for glossy receivers (ShadingPoint::glossy()) and only if requested.
+//                      The default, `vsgl-asg`; any method of the registry's `specular` quantity
+//                      instead through ShadingOptions::specular_method (vsgl_specular_methods.hpp).
 //
 // VSGL VISIBILITY is ignored by default, as in the 2015 poster (no visibility term): every VSGL
 // lights every shading point, and the render output says so (kVsglVisibilityNote). Tokuyoshi 2016
@@ -57,6 +59,9 @@ struct ShadingOptions {
   // whose domain excludes λ = 0 (Method::domain_error set) are evaluated at λ_in ≥ 1e-8.
   const Method* diffuse = nullptr;
   bool specular = true;                     // ASG specular on glossy receivers
+  // The specular method: a method of the registry's `specular` quantity
+  // (vsgl_specular_methods.hpp); nullptr: the VSGL ASG form below (kDefaultSpecularMethod).
+  const Method* specular_method = nullptr;
   // sg-cosine only: take A(λ_d) ≈ π as the two-VSGL poster does (Tokuyoshi 2015 supplement §3.2,
   // after Iwasaki et al. 2012), i.e. D = 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d); false: the
   // exact A(λ_d).

@@ -1,0 +1,52 @@
+// Specular VSGL shading by any method of the registry's `specular` quantity (`sglab render
+// --specular METHOD`). The default stays the renderer's own form, `vsgl-asg` (vsgl.hpp
+// vsgl_specular: Tokuyoshi 2015 (two-VSGL poster) §3.2 and Tokuyoshi 2016 §4, the receiver's GGX
+// lobe as an ASG, Xu et al. 2013), computed lobe by lobe in the receiver's tangent frame.
+//
+// With a registry method, each (shading point, lobe) becomes a row of the quantity's columns in
+// its local frame: n = the point's normal, ωo = its view at azimuth 0 (tangent t = the view's
+// projection on the tangent plane, b = n × t; any tangent at normal view), ξ = the incoming SG's
+// axis (vsgl_shading.hpp, Eq. 7): roughness α, light sharpness λ_in, light_cos = ξ·n,
+// view_cos = ωo·n (clamped to [0, 1]), light_azimuth = atan2(ξ·b, ξ·t), f0. Every method is affine
+// in Schlick's f0 (F = f0 + (1 − f0)(1 − ωo·h)⁵ is a factor of each), so it is evaluated at f0 = 0
+// and f0 = 1 and interpolated per channel, as vsgl-asg is. The value is for a unit-amplitude SG
+// light: times the lobe's amplitude and e^{log_scale} (vsgl.hpp scaled_by_exp). All rows of a
+// block of points go through the method's batch evaluator in one call (the SIMD kernels,
+// docs/simd.md).
+#pragma once
+
+#include <functional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sglab/registry.hpp"
+#include "sglab/render/vpl.hpp"
+
+namespace sglab::render {
+
+struct VsglShading;
+
+// The default specular shading: the renderer's VSGL ASG form (not a registry method).
+inline constexpr std::string_view kDefaultSpecularMethod = "vsgl-asg";
+
+// kDefaultSpecularMethod, then the registry's `specular` methods except its quadrature reference.
+std::vector<std::string> specular_method_names();
+
+// The registry method of that name, or nullptr for kDefaultSpecularMethod. Throws
+// std::invalid_argument naming the bad name and listing the valid ones.
+const Method* find_specular_method(std::string_view name);
+
+// The incoming SGs of `lobes` lobes for each of `points` (row i·lobes + j, vsgl_shading.cpp).
+struct IncomingLobes {
+  const double *xi_x, *xi_y, *xi_z, *sharpness, *log_scale;
+};
+
+// Adds to out[i].specular the specular radiance of every glossy point from every lobe j with
+// active(i·lobes + j), through `method`'s batch evaluator; amplitude[j] is lobe j's.
+void shade_specular_with_method(const Method& method, std::span<const ShadingPoint> points, std::size_t lobes,
+                                const IncomingLobes& in, std::span<const Rgb> amplitude,
+                                const std::function<bool(std::size_t)>& active, std::span<VsglShading> out);
+
+}  // namespace sglab::render

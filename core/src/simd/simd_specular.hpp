@@ -1,0 +1,295 @@
+// Vectorized batch evaluators of the specular methods (docs/simd.md): quantity `specular` (GGX,
+// core/include/sglab/specular.hpp) and `specular-gaussian-ndf` (gaussian_ndf.hpp). Included by
+// simd_kernels.hpp, after its scalar-function transcriptions (product integrals, A(λ), Meder's
+// clamped cosine), and compiled with it once per instruction set.
+//
+// Each kernel is the lane-wise transcription of the method's scalar template (the definition):
+// the same frame (n = (0, 0, 1), ωo = (√(1 − v²), 0, v), ξ = (s cos φ, s sin φ, light_cos)), the
+// same operations in the same order (the 3-vectors' dot products as Eigen sums them,
+// a0 + (a1 + a2)), the same floors (roughness and |ξ_s·n|, passed in as constants from brdf.hpp
+// so they are defined once), and every `if` on a value turned into a select of both branches.
+// sin and cos of the light azimuth come from libmvec, like every other transcendental function.
+// Everything here has internal linkage or is a template (see simd_kernels.hpp).
+#pragma once
+
+namespace sglab::simd_detail {
+namespace {
+
+// Parameters of every specular kernel: p[0] = kMinRoughness, p[1] = kMinWarpCosine (brdf.hpp);
+// gndf_sg_warp_meder adds the Meder cosine SG and logistic constants at p[2…8].
+template <class B>
+struct V3 {
+  B x, y, z;
+};
+// In Eigen's order for fixed 3-vectors (measured on this build): double sums its first two
+// products as one SSE2 packet, (a0b0 + a1b1) + a2b2; float (no packet of 3) a0b0 + (a1b1 + a2b2).
+template <class B>
+inline B dot(const V3<B>& a, const V3<B>& b) {
+  if constexpr (sizeof(value_t<B>) == 8) return (a.x * b.x + a.y * b.y) + a.z * b.z;
+  else return a.x * b.x + (a.y * b.y + a.z * b.z);
+}
+template <class B>
+inline B norm(const V3<B>& a) {
+  return xsimd::sqrt(dot(a, a));
+}
+template <class B>
+inline V3<B> divided(const V3<B>& a, const B& s) {
+  return {a.x / s, a.y / s, a.z / s};
+}
+template <class M, class B>
+inline V3<B> select3(const M& m, const V3<B>& a, const V3<B>& b) {
+  return {xsimd::select(m, a.x, b.x), xsimd::select(m, a.y, b.y), xsimd::select(m, a.z, b.z)};
+}
+// brdf.hpp sin2_from_cos: (1 − c)(1 + c) of the clamped cosine.
+template <class B>
+inline B sin2_from_cos(const B& c) {
+  using T = value_t<B>;
+  const B cc = clamp_cosine(c);
+  return (T(1) - cc) * (T(1) + cc);
+}
+
+// One row of the `specular` columns, in the frame above (specular.hpp specular_view,
+// specular_light_axis; floored_roughness).
+template <class B>
+struct SpecularRow {
+  B alpha, light_sharpness, f0;
+  V3<B> wo, xi;
+};
+template <class B>
+inline SpecularRow<B> specular_row(const B* a, const B* p) {
+  using T = value_t<B>;
+  SpecularRow<B> r;
+  r.alpha = xsimd::select(a[0] < p[0], p[0], a[0]);
+  r.light_sharpness = a[1];
+  const B v = clamp01(a[3]);
+  r.wo = {safe_sqrt(sin2_from_cos(v)), B(T(0)), v};
+  const B c = clamp_cosine(a[2]);
+  const B s = safe_sqrt(sin2_from_cos(c));
+  r.xi = {s * vm_cos(a[4]), s * vm_sin(a[4]), c};
+  r.f0 = a[5];
+  return r;
+}
+
+// The reflection of ωo about n, 2(ωo·n)n − ωo = (−ωo.x, 0, ωo.z) exactly (ωo.y = 0).
+template <class B>
+inline V3<B> mirror_of(const V3<B>& wo) {
+  using T = value_t<B>;
+  return {-wo.x, B(T(0)), wo.z};
+}
+// spherical_warp's sharpness λ_h/(4 max(|ξ_s·n|, kMinWarpCosine)).
+template <class B>
+inline B warped_sharpness(const B& lambda_h, const B& cos_axis, const B& min_cos) {
+  using T = value_t<B>;
+  const B c = xsimd::abs(cos_axis);
+  return lambda_h / (T(4) * xsimd::select(c < min_cos, min_cos, c));
+}
+
+// sg_product(a1, s1, a2, s2): the axis, the sharpness and the log amplitude (sg.hpp).
+template <class B>
+struct Product {
+  V3<B> axis;
+  B sharpness, log_amplitude;
+};
+template <class B>
+inline Product<B> sg_product(const V3<B>& a1, const B& s1, const V3<B>& a2, const B& s2) {
+  using T = value_t<B>;
+  const B big = larger(s1, s2);
+  const B scale = xsimd::select(big > B(T(kScale)), T(1) / big, B(T(1)));
+  const B k1 = s1 * scale, k2 = s2 * scale;
+  const V3<B> v{k1 * a1.x + k2 * a2.x, k1 * a1.y + k2 * a2.y, k1 * a1.z + k2 * a2.z};
+  const B cosine = clamp_cosine(dot(a1, a2));
+  Product<B> out;
+  out.sharpness = product_sharpness(s1, s2, cosine);
+  out.log_amplitude = product_log_amplitude(s1, s2, cosine, out.sharpness);
+  const B vn = norm(v);
+  out.axis = select3((vn > B(T(0))) & (out.sharpness > B(T(0))), divided(v, vn), a1);
+  return out;
+}
+
+// Iwasaki et al. 2012's product integral (sg.hpp product_integral_iwasaki).
+template <class B>
+inline B product_integral_iwasaki(const B& s1, const B& s2, const B& cosine) {
+  using T = value_t<B>;
+  const B sum = s1 + s2;
+  const B reduced = xsimd::select(s1 > s2, s1 * (s2 / sum), s2 * (s1 / sum));
+  const B r = kTwoPi<T> * vm_exp(reduced * (clamp_cosine(cosine) - T(1))) / sum;
+  return xsimd::select(sum > B(T(0)), r, B(std::numeric_limits<T>::infinity()));
+}
+
+// ---- brdf.hpp ----------------------------------------------------------------------------------
+template <class B>
+inline V3<B> half_vector(const V3<B>& wo, const V3<B>& wi) {
+  using T = value_t<B>;
+  const V3<B> h{wo.x + wi.x, wo.y + wi.y, wo.z + wi.z};
+  const B length = norm(h);
+  return select3(length > B(T(0)), divided(h, length), V3<B>{B(T(0)), B(T(0)), B(T(1))});
+}
+template <class B>
+inline B fresnel_schlick(const B& f0, const B& cos_oh) {
+  using T = value_t<B>;
+  const B m = T(1) - clamp01(cos_oh);
+  const B m2 = m * m;
+  return f0 + (T(1) - f0) * m2 * m2 * m;
+}
+template <class B>
+inline B smith_root(const B& alpha, const B& c) {
+  return xsimd::sqrt(c * c + alpha * alpha * sin2_from_cos(c));
+}
+template <class B>
+inline B smith_visibility_ggx(const B& alpha, const B& co, const B& ci) {
+  using T = value_t<B>;
+  const B zero(T(0));
+  const auto off = ((!(co > zero)) & (!(ci > zero))) | (co < zero) | (ci < zero);
+  const B den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
+  return xsimd::select(off | (!(den > zero)), zero, T(1) / (T(2) * den));
+}
+template <class B>
+inline B brdf_factor_m(const B& alpha, const B& f0, const V3<B>& wo, const V3<B>& w) {
+  using T = value_t<B>;
+  const B zero(T(0));
+  const B ci = w.z;
+  const V3<B> h = half_vector(wo, w);
+  const B m = fresnel_schlick(f0, dot(wo, h)) * smith_visibility_ggx(alpha, wo.z, ci) * ci;
+  return xsimd::select((!(ci > zero)) | (wo.z < zero), zero, m);
+}
+// specular.hpp smith_g2_over_g1o.
+template <class B>
+inline B smith_g2_over_g1o(const B& alpha, const B& co, const B& ci) {
+  using T = value_t<B>;
+  const B zero(T(0));
+  const B so = smith_root(alpha, co), si = smith_root(alpha, ci);
+  const B den = ci * so + co * si;
+  return xsimd::select((!(ci > zero)) | (co < zero) | (!(den > zero)), zero, (so + co) * ci / den);
+}
+
+// ---- the `specular` kernels ---------------------------------------------------------------------
+// specular_sg_warp(in, form, tokuyoshi_harada_sharpness, factor_at).
+template <bool kIwasaki, bool kTokuyoshiHarada, bool kProductAxis>
+struct SpecSgWarp {
+  template <class B>
+  static B eval(const B* a, const B* p) {
+    using T = value_t<B>;
+    const SpecularRow<B> r = specular_row(a, p);
+    const B two_over_a2 = T(2) / (r.alpha * r.alpha);
+    const B lambda_h = kTokuyoshiHarada ? positive_part(B(two_over_a2 - T(2))) : two_over_a2;
+    const B amplitude = T(1) / (kPi<T> * r.alpha * r.alpha);
+    const V3<B> axis = mirror_of(r.wo);
+    const B ls = warped_sharpness(lambda_h, axis.z, p[1]);
+    const B cosine = clamp_cosine(dot(axis, r.xi));
+    const B integral = kIwasaki ? product_integral_iwasaki(ls, r.light_sharpness, cosine)
+                                : product_integral_exact(ls, r.light_sharpness, cosine);
+    const V3<B> xm = kProductAxis ? sg_product(r.xi, r.light_sharpness, axis, ls).axis : axis;
+    return amplitude * brdf_factor_m(r.alpha, r.f0, r.wo, xm) * integral;
+  }
+};
+
+// specular_asg: asg_warp, asg_sg_product_two_vsgls, M at the product axis.
+template <class B>
+inline B reduced_bandwidth(const B& a, const B& b) {
+  using T = value_t<B>;
+  const auto a_small = a <= b;
+  const B lo = xsimd::select(a_small, a, b), hi = xsimd::select(a_small, b, a);
+  return xsimd::select(lo > B(T(0)), lo / (T(1) + lo / hi), B(T(0)));
+}
+struct SpecAsg {
+  template <class B>
+  static B eval(const B* a, const B* p) {
+    using T = value_t<B>;
+    const B zero(T(0)), one(T(1));
+    const SpecularRow<B> r = specular_row(a, p);
+    const B lambda_h = T(2) / (r.alpha * r.alpha);
+    const B amplitude = T(1) / (kPi<T> * r.alpha * r.alpha);
+    // asg_warp
+    const V3<B> z = mirror_of(r.wo);
+    const B s = xsimd::sqrt(r.wo.x * r.wo.x + r.wo.y * r.wo.y);
+    const V3<B> y = select3(s > zero, V3<B>{-r.wo.y / s, r.wo.x / s, zero}, V3<B>{zero, one, zero});
+    V3<B> x{y.y * z.z - y.z * z.y, y.z * z.x - y.x * z.z, y.x * z.y - y.y * z.x};
+    x = divided(x, norm(x));
+    const B c = xsimd::select(r.wo.z < p[1], p[1], r.wo.z);
+    const B eta_x = lambda_h / T(8), eta_y = lambda_h / (T(8) * c * c);
+    const B ls = warped_sharpness(lambda_h, r.wo.z, p[1]);
+    // asg_sg_product_two_vsgls
+    const B nu = r.light_sharpness / T(2);
+    const B ax = eta_x + nu, ay = eta_y + nu;
+    const B rx = reduced_bandwidth(eta_x, nu), ry = reduced_bandwidth(eta_y, nu);
+    const B cz = dot(r.xi, z), cx = dot(r.xi, x), cy = dot(r.xi, y);
+    const B asg = xsimd::select(cz > zero, cz * vm_exp(-rx * cx * cx - ry * cy * cy), zero);
+    const B integral = kPi<T> * asg / (xsimd::sqrt(ax) * xsimd::sqrt(ay));
+    const V3<B> xm = sg_product(r.xi, r.light_sharpness, z, ls).axis;
+    return amplitude * brdf_factor_m(r.alpha, r.f0, r.wo, xm) * integral;
+  }
+};
+
+// specular_sg_warp_dvn: dvn_reflection_lobe (ggx_dominant_visible_normal), the normalized exact
+// product, F·G2/G1(ωo) at the product axis.
+struct SpecSgWarpDvn {
+  template <class B>
+  static B eval(const B* a, const B* p) {
+    using T = value_t<B>;
+    const B zero(T(0));
+    const SpecularRow<B> r = specular_row(a, p);
+    const V3<B>& wo = r.wo;
+    const B a2 = r.alpha * r.alpha;
+    const B len2 = a2 * (wo.x * wo.x + wo.y * wo.y);
+    const B t = xsimd::sqrt(len2 + wo.z * wo.z);
+    // ωo.z ≥ 0 here (view_cos is clamped to [0, 1]): the scalar code's first form.
+    const V3<B> mv{a2 * wo.x, a2 * wo.y, t + wo.z};
+    const V3<B> m = divided(mv, norm(mv));
+    const B om = dot(wo, m);
+    const B abs_om = xsimd::abs(om);
+    const B jac = m.z / (T(4) * xsimd::select(abs_om < p[1], p[1], abs_om));
+    const B twice = T(2) * om;
+    const V3<B> axis{twice * m.x - wo.x, twice * m.y - wo.y, twice * m.z - wo.z};
+    const B ll = positive_part(B(T(2) / a2 - T(2))) * jac;
+    const B cosine = clamp_cosine(dot(axis, r.xi));
+    const B integral = product_integral_exact(ll, r.light_sharpness, cosine) / sg_integral(ll);
+    const V3<B> xm = sg_product(r.xi, r.light_sharpness, axis, ll).axis;
+    const B ci = xm.z;
+    const V3<B> h = half_vector(wo, xm);
+    const B weight = fresnel_schlick(r.f0, dot(wo, h)) * smith_g2_over_g1o(r.alpha, wo.z, ci);
+    return xsimd::select(ci > zero, weight * integral, zero);
+  }
+};
+
+// ---- the `specular-gaussian-ndf` kernels (gaussian_ndf.hpp) -------------------------------------
+// gaussian_ndf_setup: the warped lobe of G(h; n, 2/m², 1), n·ωo floored, F(n·ωo).
+template <class B>
+struct GndfSetup {
+  SpecularRow<B> row;
+  V3<B> axis;
+  B sharpness, cos_o, fresnel;
+};
+template <class B>
+inline GndfSetup<B> gndf_setup(const B* a, const B* p) {
+  using T = value_t<B>;
+  GndfSetup<B> s;
+  s.row = specular_row(a, p);
+  s.cos_o = xsimd::select(s.row.wo.z < p[1], p[1], s.row.wo.z);
+  s.axis = mirror_of(s.row.wo);
+  s.sharpness = warped_sharpness(B(T(2) / (s.row.alpha * s.row.alpha)), s.axis.z, p[1]);
+  s.fresnel = fresnel_schlick(s.row.f0, s.cos_o);
+  return s;
+}
+struct GndfSgWarp {
+  template <class B>
+  static B eval(const B* a, const B* p) {
+    using T = value_t<B>;
+    const GndfSetup<B> s = gndf_setup(a, p);
+    const B integral = product_integral_exact(s.sharpness, s.row.light_sharpness, clamp_cosine(dot(s.axis, s.row.xi)));
+    return s.fresnel / (kPi<T> * s.cos_o) * integral;
+  }
+};
+// p[2…8]: the Meder cosine SG's amplitude, sharpness, offset and the logistic's p1…p4 (CcMeder).
+struct GndfSgWarpMeder {
+  template <class B>
+  static B eval(const B* a, const B* p) {
+    using T = value_t<B>;
+    const GndfSetup<B> s = gndf_setup(a, p);
+    const Product<B> pr = sg_product(s.row.xi, s.row.light_sharpness, s.axis, s.sharpness);
+    return s.fresnel / (kPi<T> * s.cos_o * s.cos_o) * vm_exp(pr.log_amplitude) *
+           CcMeder::eval(pr.sharpness, clamp_cosine(pr.axis.z), p + 2);
+  }
+};
+
+}  // namespace
+}  // namespace sglab::simd_detail

@@ -1,0 +1,248 @@
+// The vectorized batch evaluators of the specular methods (core/src/simd/simd_specular.hpp,
+// docs/simd.md) against the scalar templates they transcribe (specular.hpp, gaussian_ndf.hpp), on
+// every instruction set this CPU runs (forced one at a time), in float and double: over a stiff
+// grid (roughness 1e-3 … 1 and the 1e-8 floor, light sharpness 0 … 1e8 and FLT_MAX/DBL_MAX,
+// the light at, below and past the horizon, grazing and normal view, azimuths around the mirror
+// direction, f0 = 0.04 and 1) and seeded random points spread like the error grid (roughness and
+// λ log-uniform over [1e-3, 1] and [1e-3, 1e4], the cosines and azimuth uniform).
+//
+// Tolerance: |batch − scalar| ≤ k·ε·max(|scalar|, |peak|, Σ|terms|) + 2·S, ε the type's machine
+// epsilon.
+// - k ulps of the point's peak: the value for the same surface, view and light sharpness with the
+//   light on the mirror direction (light_cos = view_cos, azimuth π), as the diffuse kernels are
+//   held to k ulps of the value at c = 1 (tests/simd_test.cpp). In a lobe's tail the value is a
+//   small remainder of quantities of the peak's size (the half vector of nearly opposite ωo and
+//   ξ_m at grazing view, e^{L} of a subnormal L scaled back up by 1/(n·ωo)²), so ulps of the
+//   value itself mean nothing there; what a renderer sums is the error relative to the peak.
+//   The two paths run the same operations in the same order and differ in the libraries'
+//   transcendental results (libmvec exp, expm1, sin, cos against glibc's scalar ones: ≤ 4 ulp
+//   stated, 1–2 measured), in the contraction of a·b + c into one fused multiply-add where the
+//   compiler chose it (AVX2, AVX-512 units), and in the subnormal results returned as 0.
+//   Σ|terms| for sg-warp-meder: its cosine is 32.7·G − 31.7, a difference of larger terms, whose
+//   own rounding is what both paths carry (term_magnitude below, computed in double).
+// - S, the condition of the point: the largest change of the scalar value when one input moves
+//   by 4 ulps (relative; the angle absolute 4ε·max(1, |φ|)), and twice the scalar path's own
+//   error (against the same template in the next precision: double for float, mp50 for double;
+//   computed only where the difference exceeds the rest of the allowance: mp50 is slow). The products exp(λ3 − λ1 − λ2) have
+//   the condition number |L| (up to ~700 before underflow), and the lobe sharpness reaches 1e13 at
+//   α = 1e-3 at grazing view: one ulp in the lobe's cosine (a 3-term dot product rounded twice by
+//   either path) moves the value by λ_s·ε relative. No fixed ulp count can hold there; the
+//   scalar template's own sensitivity to its inputs' last bits is the yardstick for the rounding
+//   of the intermediates that carry them.
+// Also: no NaN, Inf or negative value where the scalar path has none (sg-warp-meder, published as
+// going negative, may flip sign only within the allowance of 0). Results below the smallest
+// normal number compare absolutely (libmvec's subnormal lanes are returned as 0, docs/simd.md).
+#include <cfloat>
+#include <cmath>
+#include <map>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sglab/clamped_cosine.hpp"
+#include "sglab/gaussian_ndf.hpp"
+#include "sglab/registry.hpp"
+#include "sglab/simd.hpp"
+#include "test_util.hpp"
+
+namespace {
+
+using namespace sglab;
+using Row = std::array<double, 6>;  // roughness, light_sharpness, light_cos, view_cos, light_azimuth, f0
+
+// k per method, with the reason (see the header).
+const std::map<std::string, double>& tolerance_ulps() {
+  static const std::map<std::string, double> k{
+      // The exact product (one exp, one expm1), the warp and M (sqrt, divisions, Schlick's
+      // fifth power) and sin/cos: 4 ulps for the libraries plus the short rational chain
+      // (measured: ≤ 3.8 ulps in float, ≤ 5.7 in double).
+      {"specular/sg-warp", 8},
+      {"specular/sg-warp-product-axis", 8},
+      {"specular/sg-warp-iwasaki", 8},
+      {"specular/sg-warp-th2019", 8},
+      {"specular/asg", 8},
+      // The dominant visible normal, its reflection and the normalized product: two more norms.
+      {"specular/sg-warp-dvn", 8},
+      {"specular-gaussian-ndf/sg-warp", 8},
+      // Meder's cosine: two hemispherical integrals of ~6 transcendental results each, measured
+      // against the sum of their magnitudes (measured: ≤ 14 ulps).
+      {"specular-gaussian-ndf/sg-warp-meder", 16},
+  };
+  return k;
+}
+
+// Σ|terms| of sg-warp-meder: F/(π co²)·e^{L}·(a·H(product) + b·H(λ3, c3)) (gaussian_ndf.hpp), in
+// double with the published Meder constants. 0 for every other method.
+double term_magnitude(const std::string& name, const Row& r) {
+  if (name != "specular-gaussian-ndf/sg-warp-meder") return 0;
+  const SpecularInput<double> in{r[0], r[1], r[2], r[3], r[4], r[5]};
+  return std::fabs(detail::specular_gaussian_ndf_with_cosine(in, [](double l, double c) {
+    auto hemi = [](double ll, double cc) { return hemispherical_meder(ll, cc); };
+    return MederCosineSg::amplitude * hemispherical_product(l, c, MederCosineSg::sharpness, 0.0, hemi) +
+           MederCosineSg::offset * hemi(l, c);
+  }));
+}
+
+std::vector<Row> stiff_rows() {
+  std::vector<Row> out;
+  const double pi = two_pi<double>() / 2;
+  for (double a : {1e-8, 1e-3, 1e-2, 0.1, 0.3, 1.0})
+    for (double l : {0.0, 1e-3, 0.1, 1.0, 10.0, 1e3, 1e4, 1e8, double(FLT_MAX), DBL_MAX})
+      for (double lc : {-1.0, -0.5, -1e-8, 0.0, 1e-8, 0.3, 0.8, 1.0, stiff::float_after_one()})
+        for (double v : {0.0, 1e-8, 1e-3, 0.5, 1.0})
+          for (double phi : {0.0, pi / 2, pi, 3.0})
+            for (double f0 : {0.04, 1.0}) out.push_back({a, l, lc, v, phi, f0});
+  return out;
+}
+
+std::vector<Row> random_rows() {
+  std::vector<Row> out;
+  auto rng = test::seeded_rng(20261202);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int k = 0; k < 4096; ++k)
+    out.push_back({std::pow(10.0, -3 * u(rng)), std::pow(10.0, -3 + 7 * u(rng)), -1 + 2 * u(rng), u(rng),
+                   two_pi<double>() * u(rng), u(rng)});
+  return out;
+}
+
+template <class T>
+T eval(const Method& m, const std::array<T, 6>& a) {
+  return eval_as<T>(m, std::span<const T>(a.data(), 6));
+}
+
+// The scalar values, their condition S and scale (see the header), for the rows T can represent.
+template <class T>
+struct Reference {
+  std::vector<T> args;
+  std::vector<Row> rows;
+  std::vector<double> value, condition, scale;
+};
+template <class T>
+Reference<T> reference(const std::string& name, const Method& m, const std::vector<Row>& rows) {
+  Reference<T> ref;
+  const double eps = std::numeric_limits<T>::epsilon();
+  for (const Row& r : rows) {
+    if (r[1] > double(std::numeric_limits<T>::max())) continue;
+    std::array<T, 6> a;
+    for (int j = 0; j < 6; ++j) a[j] = T(r[j]);
+    const double s = eval(m, a);
+    double cond = 0;
+    for (int j = 0; j < 6; ++j)
+      for (double sign : {-1.0, 1.0}) {
+        std::array<T, 6> b = a;
+        const double step = j == 4 ? 4 * eps * std::max(1.0, std::fabs(r[j])) : 4 * eps * std::fabs(double(a[j]));
+        b[j] = T(double(a[j]) + sign * step);
+        const double sb = eval(m, b);
+        if (std::isfinite(sb)) cond = std::max(cond, std::fabs(sb - s));
+      }
+    ref.args.insert(ref.args.end(), a.begin(), a.end());
+    ref.rows.push_back(r);
+    ref.value.push_back(s);
+    ref.condition.push_back(cond);
+    // The point's peak: the same surface, view and light with the light on the mirror direction.
+    std::array<T, 6> mirror = a;
+    mirror[2] = a[3];
+    mirror[4] = T(two_pi<double>() / 2);
+    const double peak = eval(m, mirror);
+    ref.scale.push_back(std::max({std::fabs(s), term_magnitude(name, r), std::isfinite(peak) ? std::fabs(peak) : 0.0}));
+  }
+  return ref;
+}
+
+// The scalar path's own rounding error at row i: the template in the next precision on the same
+// inputs. Costly in mp50, so computed only for rows whose difference exceeds the rest of the
+// allowance (the allowance is the same either way).
+template <class T>
+double own_error(const Method& m, const Reference<T>& ref, std::size_t i) {
+  using Up = std::conditional_t<std::is_same_v<T, float>, double, mp50>;
+  std::array<Up, 6> up;
+  for (int j = 0; j < 6; ++j) up[j] = Up(double(ref.args[6 * i + j]));
+  const double exact = static_cast<double>(eval(m, up));
+  return std::isfinite(exact) ? std::fabs(ref.value[i] - exact) : 0.0;
+}
+
+template <class T>
+void check(const Method& m, const Reference<T>& ref, double k, const std::string& label) {
+  std::vector<T> out(ref.value.size());
+  if constexpr (std::is_same_v<T, float>) m.batch_float(ref.args, 6, out);
+  else m.batch_double(ref.args, 6, out);
+  const double eps = std::numeric_limits<T>::epsilon(), tiny = std::numeric_limits<T>::min();
+  double worst = 0, worst_cond = 0;
+  std::size_t at = 0;
+  int failures = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double s = ref.value[i], v = out[i];
+    const Row& r = ref.rows[i];
+    const auto where = [&] {
+      return ::testing::Message() << label << " at (α, λ, light_cos, view_cos, φ, f0) = (" << r[0] << ", " << r[1] << ", "
+                                  << r[2] << ", " << r[3] << ", " << r[4] << ", " << r[5] << "): scalar " << s << ", batch " << v;
+    };
+    if (std::isfinite(s) && !std::isfinite(v)) {
+      if (++failures <= 5) ADD_FAILURE() << where() << " (new NaN/Inf)";
+      continue;
+    }
+    if (!std::isfinite(s)) continue;
+    double allowance = k * eps * ref.scale[i] + 2 * ref.condition[i];
+    const double d = std::fabs(v - s);
+    if (d > allowance) allowance = k * eps * ref.scale[i] + 2 * std::max(ref.condition[i], 2 * own_error(m, ref, i));
+    const bool signless = m.may_be_negative && s <= allowance;
+    if (s >= 0 && v < 0 && !signless && ++failures <= 5) ADD_FAILURE() << where() << " (new negative value)";
+    if (d < 2 * tiny) continue;  // subnormal results are returned as 0 (docs/simd.md)
+    if (d > allowance && ++failures <= 5)
+      ADD_FAILURE() << where() << ": |difference| " << d << " > " << allowance << " (" << k << " ulps of " << ref.scale[i]
+                    << " + 2 × condition " << ref.condition[i] << ")";
+    // Report in ulps of the scale where the condition term does not dominate.
+    if (ref.condition[i] <= k * eps * ref.scale[i] && ref.scale[i] > 0) {
+      const double ulps = d / (eps * ref.scale[i]);
+      if (ulps > worst) worst = ulps, at = i;
+    } else {
+      worst_cond = std::max(worst_cond, d / allowance);
+    }
+  }
+  std::printf("[ simd     ] %-48s %-6s %6zu rows: well-conditioned max %.3g ulps (k = %g) at row %zu; "
+              "ill-conditioned max %.3g of the allowance\n",
+              label.c_str(), sizeof(T) == 4 ? "float" : "double", out.size(), worst, k, at, worst_cond);
+}
+
+bool is_specular(const std::string& name) { return name.rfind("specular", 0) == 0; }
+
+TEST(SimdSpecular, EveryKernelMatchesItsScalarTemplate) {
+  std::vector<Row> rows = stiff_rows();
+  for (const Row& r : random_rows()) rows.push_back(r);
+  const auto isas = simd::supported_isas();
+  int methods = 0;
+  for (const auto& name : simd::vectorized_methods()) {
+    if (!is_specular(name)) continue;
+    ++methods;
+    const auto slash = name.find('/');
+    const Quantity* q = find_quantity(name.substr(0, slash));
+    ASSERT_NE(q, nullptr) << name;
+    const Method* m = q->find(name.substr(slash + 1));
+    ASSERT_NE(m, nullptr) << name;
+    const double k = tolerance_ulps().at(name);
+    const auto rf = reference<float>(name, *m, rows);
+    const auto rd = reference<double>(name, *m, rows);
+    for (const auto isa : isas) {
+      simd::force_isa(isa);
+      const std::string label = std::string(simd::isa_name(isa)) + " " + name;
+      check<float>(*m, rf, k, label);
+      check<double>(*m, rd, k, label);
+    }
+  }
+  EXPECT_EQ(methods, 8);  // specular: 6, specular-gaussian-ndf: 2 (sg-warp-exact-cosine stays scalar)
+  simd::force_isa(isas.back());
+}
+
+// Partial batches and row positions: tests/simd_test.cpp (PartialBatchesAndPositions).
+
+// A batch called with the wrong row length is refused, naming it.
+TEST(SimdSpecular, WrongArityIsRefused) {
+  const Method* m = find_quantity("specular")->find("asg");
+  std::vector<double> args(4, 0.5), out(2);
+  EXPECT_THROW(m->batch_double(args, 2, out), std::invalid_argument);
+}
+
+}  // namespace
