@@ -120,32 +120,35 @@ double relative_difference(const Rgb& a, const Rgb& b) {
   return worst;
 }
 
-// peer = 1: the old loop; 0: the library.
+// peer = 1: the old loop; 0: the library; range(1) = 1: the library's float path (--precision float).
 void BM_Reference(benchmark::State& state) {
   const Setting& s = setting();
   const bool peer = state.range(0) == 1;
+  const Precision precision = state.range(1) == 1 ? Precision::single : Precision::double_;
   std::size_t points = 0;
   double worst = 0;
   for (auto _ : state) {
     for (std::size_t k = 0; k < s.points.size(); k += kPointStride) {
-      const Rgb v = peer ? old_reference(s.points[k], s.vpls) : reference_radiance(s.points[k], s.vpls);
+      const Rgb v = peer ? old_reference(s.points[k], s.vpls) : reference_radiance(s.points[k], s.vpls, nullptr, precision);
       benchmark::DoNotOptimize(v);
       ++points;
     }
   }
   for (std::size_t k = 0; k < s.points.size(); k += kPointStride)
-    worst = std::max(worst, relative_difference(old_reference(s.points[k], s.vpls), reference_radiance(s.points[k], s.vpls)));
+    worst = std::max(worst, relative_difference(old_reference(s.points[k], s.vpls),
+                                                reference_radiance(s.points[k], s.vpls, nullptr, precision)));
   const double pairs = double(points) * double(s.vpls.vpls.size());
   state.counters["ns_per_pixel_vpl"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["vpls"] = double(s.vpls.vpls.size());
   state.counters["max_rel_diff"] = worst;
-  state.SetLabel(peer ? "peer: old one-VPL-at-a-time loop" : "sglab: vectorized arrays");
+  state.SetLabel(peer ? "peer: old one-VPL-at-a-time loop"
+                      : (precision == Precision::single ? "sglab: vectorized arrays, float" : "sglab: vectorized arrays"));
 }
-BENCHMARK(BM_Reference)->Arg(1)->Arg(0)->ArgNames({"peer"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Reference)->Args({1, 0})->Args({0, 0})->Args({0, 1})->ArgNames({"peer", "float"})->Unit(benchmark::kMillisecond);
 
 // range(0): VSGL mode (0 = two, 1 = fis with range(1) clusters); range(2): peer; range(3): diffuse
 // method, 0 = tokuyoshi2024 (the default; its evaluation dominates), 1 = punctual (D nearly free:
-// what is left is the renderer's own cost per lobe).
+// what is left is the renderer's own cost per lobe); range(4) = 1: the float path (--precision float).
 void BM_Shading(benchmark::State& state) {
   const Setting& s = setting();
   VsglOptions vo;
@@ -154,7 +157,10 @@ void BM_Shading(benchmark::State& state) {
   const VsglSet set = build_vsgls(s.rsm, vo);
   const bool peer = state.range(2) == 1;
   const bool punctual = state.range(3) == 1;
-  const VsglShader shader(set, shading_options(punctual ? "punctual" : "tokuyoshi2024"));
+  ShadingOptions options = shading_options(punctual ? "punctual" : "tokuyoshi2024");
+  const bool single = state.range(4) == 1;
+  if (single) options.precision = Precision::single;
+  const VsglShader shader(set, options);
   auto old = [&](const ShadingPoint& p) {
     return punctual ? old_shading(p, set, [](double l, double c) { return sglab::clamped_cosine_punctual(l, c); })
                     : old_shading(p, set, [](double l, double c) { return sglab::clamped_cosine_tokuyoshi2024(l, c); });
@@ -184,16 +190,18 @@ void BM_Shading(benchmark::State& state) {
   state.counters["lobes"] = double(shader.lobes());
   state.counters["max_rel_diff"] = worst;
   state.SetLabel(std::string(peer ? "peer: old one-lobe-at-a-time loop" : "sglab: arrays + registry batch") +
-                 (punctual ? ", punctual" : ", tokuyoshi2024"));
+                 (punctual ? ", punctual" : ", tokuyoshi2024") + (single ? ", float" : ""));
 }
 BENCHMARK(BM_Shading)
-    ->Args({0, 2, 1, 0})
-    ->Args({0, 2, 0, 0})
-    ->Args({1, 64, 1, 0})
-    ->Args({1, 64, 0, 0})
-    ->Args({1, 64, 1, 1})
-    ->Args({1, 64, 0, 1})
-    ->ArgNames({"fis", "count", "peer", "punctual"})
+    ->Args({0, 2, 1, 0, 0})
+    ->Args({0, 2, 0, 0, 0})
+    ->Args({0, 2, 0, 0, 1})
+    ->Args({1, 64, 1, 0, 0})
+    ->Args({1, 64, 0, 0, 0})
+    ->Args({1, 64, 0, 0, 1})
+    ->Args({1, 64, 1, 1, 0})
+    ->Args({1, 64, 0, 1, 0})
+    ->ArgNames({"fis", "count", "peer", "punctual", "float"})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

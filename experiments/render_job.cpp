@@ -44,9 +44,14 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
   app.add_flag("--visibility", job.visibility,
                "VSGL visibility from a cube shadow map at each mu_v (Tokuyoshi 2016); the reference ray-casts VPL visibility");
   app.add_flag("--sg-cosine-a-pi", job.sg_cosine_a_is_pi, "with --diffuse sg-cosine: take A(λ_d) ≈ π as the 2015 poster does");
+  app.add_option("--precision", job.precision,
+                 "arithmetic of the VPL-sum reference and of the diffuse method in VSGL shading: double, or float "
+                 "(within 1e-5 relative L2 of double: docs/simd.md)")
+      ->capture_default_str();
   add_constants_option(app, job.constants);
   // A repeated option takes its last value (so that a script can append an override).
-  for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--kmeans-space"})
+  for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--kmeans-space",
+                           "--precision"})
     if (auto* o = app.get_option_no_throw(name)) o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }
 
@@ -114,9 +119,12 @@ render::RenderOptions render_options(const RenderJob& job) {
   else if (job.kmeans_space != "world")
     throw UsageError(fmt::format("--kmeans-space '{}' is neither world nor image", job.kmeans_space));
   if (const auto error = render::vsgl_options_error(o.vsgl)) throw UsageError("VSGL options: " + *error);
+  if (job.precision != "float" && job.precision != "double")
+    throw UsageError(fmt::format("--precision '{}' is neither float nor double", job.precision));
   try {
     o.shading = render::shading_options(job.diffuse);
     o.shading.sg_cosine_a_is_pi = job.sg_cosine_a_is_pi;
+    o.shading.precision = job.precision == "float" ? render::Precision::single : render::Precision::double_;
   } catch (const std::invalid_argument& e) {
     throw UsageError(fmt::format("--diffuse: {}", e.what()));
   }
@@ -166,6 +174,7 @@ std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vs
   if (job.sg_cosine_a_is_pi) a.push_back("--sg-cosine-a-pi");
   if (job.visibility) a.push_back("--visibility");
   if (job.kmeans_space != "world") a.insert(a.end(), {"--kmeans-space", job.kmeans_space});
+  if (job.precision != RenderJob{}.precision) a.insert(a.end(), {"--precision", job.precision});
   for (const auto& c : constants_arguments(job.constants)) a.push_back(c);
   return a;
 }
@@ -253,6 +262,8 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
                 {"of", "indirect against indirect_reference, over the pixels that hit geometry, all channels"}};
   j["power"] = {{"light", rgb_json(scene.light.power)}, {"rsm_flux", rgb_json(r.rsm_flux)}};
   j["visibility"] = options.visibility;
+  j["precision"] = job.precision;
+  j["instruction_set"] = std::string(render::kernel_isa());  // sglab::simd::active_isa(): registry and renderer
   j["notes"] =
       std::string(options.visibility
                       ? "VSGL visibility V(y_p, mu_v) from a cube shadow map at each VSGL's mean (Tokuyoshi 2016 supplement "

@@ -32,6 +32,7 @@ struct RenderJob {
   std::string kmeans_space = "world";  // --kmeans-space world | image
   bool visibility = false;             // --visibility: VSGL and VPL visibility (Tokuyoshi 2016 §4.1)
   std::vector<std::string> constants;  // --constants (constant_sets.hpp): λ_d and the diffuse method's constants
+  std::string precision = "double";    // --precision float | double: the renderer's vectorized loops (vpl.hpp Precision)
 };
 
 // Adds the options every render-like command has (--vsgl … --seed) to `app`, bound to `job`.

@@ -127,7 +127,8 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
   t0 = Clock::now();
   for_each_pixel(g, "reference (VPL sum)", o,
                  [&](std::size_t k) {
-                   r.indirect_reference[k] = reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr);
+                   r.indirect_reference[k] =
+                       reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr, o.shading.precision);
                  });
   r.seconds.reference = seconds_since(t0);
 
@@ -154,10 +155,14 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
         v.indirect[k] = shader.shade(g.points[k], visible).total();
       });
     } else {
-      // A row's hit pixels at once, so that the diffuse method runs on wide batches.
+      // A row's hit pixels at once, so that the diffuse method runs on wide batches (per-thread
+      // arrays, reused row after row).
       for_each_row(g, "vsgl shading", o, [&](int j) {
-        std::vector<ShadingPoint> points;
-        std::vector<std::size_t> pixels;
+        thread_local std::vector<ShadingPoint> points;
+        thread_local std::vector<std::size_t> pixels;
+        thread_local std::vector<VsglShading> shaded;
+        points.clear();
+        pixels.clear();
         for (int i = 0; i < g.width; ++i) {
           const std::size_t k = std::size_t(j) * std::size_t(g.width) + std::size_t(i);
           if (g.hit[k]) {
@@ -165,7 +170,7 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
             pixels.push_back(k);
           }
         }
-        std::vector<VsglShading> shaded(points.size());
+        shaded.resize(points.size());
         shader.shade(points, shaded);
         for (std::size_t i = 0; i < pixels.size(); ++i) v.indirect[pixels[i]] = shaded[i].total();
       });

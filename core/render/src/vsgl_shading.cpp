@@ -3,16 +3,14 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
-#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 
-#include "sglab/render/simd_dispatch.hpp"
 #include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/vsgl.hpp"
+#include "simd/render_table.hpp"
 
 namespace sglab::render {
 namespace {
@@ -43,129 +41,20 @@ struct LobeArrays {
   std::size_t size() const { return mx.size(); }
 };
 
-// Per point, per lobe: the incoming SG (Eq. 7) and its cosine with the normal.
-struct Incoming {
-  std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2, capped;  // capped: 0 or 1
-  void resize(std::size_t n) {
-    for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped}) v->resize(n);
-  }
-};
-
-// vsgl_positional_sg and vsgl_incoming_sg (vsgl.hpp) for every lobe at once, on components. The
-// log of the normalization where λ_σ is capped needs log(d²): those lobes are flagged (`capped`)
-// and finished by the caller.
-SGLAB_SIMD_CLONES void incoming_sgs(const LobeArrays& a, double px, double py, double pz, double nx, double ny,
-                                    double nz, Incoming& out, std::size_t offset) {
-  const std::size_t n = a.size();
-  const double cap = kMaxPositionalSharpness;
-  const double *mx = a.mx.data(), *my = a.my.data(), *mz = a.mz.data(), *var = a.variance.data(),
-               *lt = a.log_two_pi_variance.data(), *ax = a.ax.data(), *ay = a.ay.data(), *az = a.az.data(),
-               *lv = a.sharpness.data();
-  double *lam = out.sharpness.data() + offset, *cosine = out.cosine.data() + offset, *ls = out.log_scale.data() + offset,
-         *xx = out.xi_x.data() + offset, *xy = out.xi_y.data() + offset, *xz = out.xi_z.data() + offset,
-         *dd = out.d2.data() + offset, *capped = out.capped.data() + offset;
-#pragma omp simd
-  for (std::size_t j = 0; j < n; ++j) {
-    // The positional SG G(ω; ξ_μ, λ_σ)/(2πσ²).
-    const double variance = var[j], log_two_pi_variance = lt[j];  // loaded unconditionally: vectorizes
-    const double dx = mx[j] - px, dy = my[j] - py, dz = mz[j] - pz;
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    // (Conditions are written out where used rather than kept as bools: that vectorizes.)
-    const double inv = d2 > 0 ? 1 / std::sqrt(d2) : 0.0;
-    const double ux = dx * inv, uy = dy * inv, uz = d2 > 0 ? dz * inv : 1.0;
-    const double lambda_sigma = variance * cap > d2 ? d2 / variance : cap;  // capped: also σ² = 0
-    // The product with G(ω; −ξ_v, λ_v) (sg.hpp sg_product).
-    const double l1 = lv[j], l2 = lambda_sigma;
-    const double a1x = -ax[j], a1y = -ay[j], a1z = -az[j];
-    const double big = l1 > l2 ? l1 : l2;
-    const double scale = big > kProductScaleSharpness ? 1 / big : 1.0;
-    const double vx = (l1 * scale) * a1x + (l2 * scale) * ux, vy = (l1 * scale) * a1y + (l2 * scale) * uy,
-                 vz = (l1 * scale) * a1z + (l2 * scale) * uz;
-    // product_sharpness and product_log_amplitude (sg.hpp), branch-free so that the loop
-    // vectorizes: past kProductScaleSharpness both divide through by s = max(λ1, λ2).
-    const double c12 = std::min(std::max(a1x * ux + a1y * uy + a1z * uz, -1.0), 1.0);
-    const double u1 = l1 * scale, u2 = l2 * scale, du = u1 - u2;
-    const double q = du * du + 2 * u1 * u2 * (1 + c12);
-    const double l3 = (q > 0 ? std::sqrt(q > 0 ? q : 0.0) : 0.0) / scale;
-    const double denom = l3 * scale + u1 + u2;
-    const double log_amplitude = denom > 0 ? -2 * u1 * u2 * (1 - c12) / denom / scale : 0.0;
-    const double vnorm = std::sqrt(vx * vx + vy * vy + vz * vz);
-    const double inv_v = vnorm > 0 && l3 > 0 ? 1 / vnorm : 0.0;
-    const double ix = inv_v > 0 ? vx * inv_v : a1x, iy = inv_v > 0 ? vy * inv_v : a1y, iz = inv_v > 0 ? vz * inv_v : a1z;
-    lam[j] = l3;
-    xx[j] = ix;
-    xy[j] = iy;
-    xz[j] = iz;
-    cosine[j] = std::min(std::max(ix * nx + iy * ny + iz * nz, -1.0), 1.0);
-    // Empty (σ² = 0 at distance 0): no light; capped: log(1/(2πσ²)) is finished by the caller.
-    const double at_cap = variance * cap > d2 ? 0.0 : 1.0;
-    const double empty = d2 > 0 || variance > 0 ? 0.0 : 1.0;
-    ls[j] = empty > 0 ? -std::numeric_limits<double>::infinity() : (at_cap > 0 ? 0.0 : -log_two_pi_variance) + log_amplitude;
-    dd[j] = d2;
-    capped[j] = empty > 0 ? 0.0 : at_cap;
-  }
+// The lobes as the kernels see them.
+simd_detail::LobeView view_of(const LobeArrays& a) {
+  simd_detail::LobeView v;
+  v.n = a.size();
+  v.mx = a.mx.data(), v.my = a.my.data(), v.mz = a.mz.data(), v.variance = a.variance.data();
+  v.log_two_pi_variance = a.log_two_pi_variance.data();
+  v.ax = a.ax.data(), v.ay = a.ay.data(), v.az = a.az.data(), v.sharpness = a.sharpness.data();
+  v.amp_r = a.amp_r.data(), v.amp_g = a.amp_g.data(), v.amp_b = a.amp_b.data();
+  v.visible = nullptr;
+  return v;
 }
 
-// The largest log_scale for which e^{log_scale}·x is formed directly (vsgl.hpp scaled_by_exp), and
-// the smallest for which the vectorized exponential below is used; outside, scaled_by_exp is.
+// The largest log_scale for which e^{log_scale}·x is formed directly (vsgl.hpp scaled_by_exp's).
 const double kDirectLimit = std::log(std::numeric_limits<double>::max()) / 2;
-constexpr double kVectorExpFloor = -700;
-
-// e^x for x in [kVectorExpFloor, kDirectLimit], on plain arithmetic so that loops calling it
-// vectorize: x = k ln2 + r, |r| ≤ ln2/2 (Cody & Waite 1980: ln2 in two parts, the first with
-// trailing zero bits so that k·ln2_hi is exact), e^r by its Taylor series to r¹³ (remainder
-// < 0.4^14/14! ≈ 3e-17 relative), 2^k written into the exponent bits. k is rounded with the
-// 1.5·2^52 trick, which leaves k in the low bits of the sum. Within 2 ulp of std::exp.
-[[gnu::always_inline]] inline double exp_in_range(double x) {
-  constexpr double log2e = 1.4426950408889634074;   // 1/ln 2
-  constexpr double ln2_hi = 6.93147180369123816490e-01;  // ln 2, upper part (fdlibm's e_exp.c)
-  constexpr double ln2_lo = 1.90821492927058770002e-10;  // ln 2 − ln2_hi
-  constexpr double round_shift = 6755399441055744.0;      // 1.5·2^52
-  const double t = x * log2e + round_shift;
-  const double k = t - round_shift;
-  const double r = (x - k * ln2_hi) - k * ln2_lo;
-  // Horner, 1/13! … 1/0! (written out: a loop over an array of them does not vectorize).
-  double p = 1.0 / 6227020800.0;
-  p = p * r + 1.0 / 479001600.0;
-  p = p * r + 1.0 / 39916800.0;
-  p = p * r + 1.0 / 3628800.0;
-  p = p * r + 1.0 / 362880.0;
-  p = p * r + 1.0 / 40320.0;
-  p = p * r + 1.0 / 5040.0;
-  p = p * r + 1.0 / 720.0;
-  p = p * r + 1.0 / 120.0;
-  p = p * r + 1.0 / 24.0;
-  p = p * r + 1.0 / 6.0;
-  p = p * r + 0.5;
-  p = p * r + 1.0;
-  p = p * r + 1.0;
-  const std::uint64_t k_bits = std::bit_cast<std::uint64_t>(t) - std::bit_cast<std::uint64_t>(round_shift);
-  return p * std::bit_cast<double>((k_bits + 1023) << 52);
-}
-
-// Σ_j amplitude_j · e^{log_scale_j} · factor · value_j over the lobes with mask_j = 1, as
-// scaled_by_exp forms each term; lobes whose log_scale is outside the vectorized range (and not
-// −∞: no light) get fallback_j = 1 and are left to the caller.
-SGLAB_SIMD_CLONES void weighted_sum(std::size_t n, const double* log_scale, const double* value, const double* mask,
-                                    const double* amp_r, const double* amp_g, const double* amp_b, double factor,
-                                    double* fallback, double* out) {
-  double s0 = 0, s1 = 0, s2 = 0;
-#pragma omp simd reduction(+ : s0, s1, s2)
-  for (std::size_t j = 0; j < n; ++j) {
-    const double ls = log_scale[j], x = factor * value[j], m = mask[j];
-    // (Single comparisons combined as 0/1 factors, not &&: that vectorizes.)
-    const double in_range = (ls > kVectorExpFloor ? 1.0 : 0.0) * (ls < kDirectLimit ? 1.0 : 0.0);
-    const double lit = (ls > -std::numeric_limits<double>::infinity() ? 1.0 : 0.0) * (x != 0 ? 1.0 : 0.0) * m;
-    fallback[j] = lit * (1 - in_range);
-    const double w = lit * in_range > 0 ? exp_in_range(in_range > 0 ? ls : 0.0) * x : 0.0;
-    s0 += amp_r[j] * w;
-    s1 += amp_g[j] * w;
-    s2 += amp_b[j] * w;
-  }
-  out[0] = s0;
-  out[1] = s1;
-  out[2] = s2;
-}
 
 }  // namespace
 
@@ -232,91 +121,204 @@ VsglShading VsglShader::shade(const ShadingPoint& p, std::span<const char> visib
 
 void VsglShader::shade(std::span<const ShadingPoint> points, std::span<VsglShading> out) const {
   if (out.size() != points.size()) throw std::invalid_argument("VsglShader::shade: points and out differ in size");
-  // Blocks of points whose lobes make batches of about kRows rows (few lobes: many points).
-  constexpr std::size_t kRows = 512;
-  const std::size_t per_block = std::max<std::size_t>(1, kRows / std::max<std::size_t>(1, lobes()));
+  // Blocks of points whose lobes make batches of about kRows rows (few lobes: many points), a
+  // multiple of kLanes points (the loops run over a block's points: no scalar remainder).
+  constexpr std::size_t kRows = 4096, kLanes = 16;
+  const std::size_t per_block = std::max(kLanes, kRows / std::max<std::size_t>(1, lobes()) / kLanes * kLanes);
   for (std::size_t b = 0; b < points.size(); b += per_block) {
     const std::size_t m = std::min(per_block, points.size() - b);
     shade_block(points.subspan(b, m), {}, out.subspan(b, m));
   }
 }
 
+namespace {
+
+// The specular receivers of a block's glossy points as arrays (simd_detail::SpecularReceivers).
+struct Receivers {
+  std::vector<std::size_t> point;
+  std::vector<double> tx, ty, tz, bx, by, bz, nx, ny, nz, wox, woy, woz, xx, xy, xz, yx, yy, yz, zx, zy, zz, eta_x, eta_y,
+      lambda_s, ndf_amplitude, roughness, f0_r, f0_g, f0_b;
+  std::array<std::vector<double>*, 29> all() {
+    return {&tx, &ty, &tz, &bx, &by, &bz, &nx, &ny, &nz, &wox, &woy, &woz, &xx, &xy, &xz, &yx, &yy, &yz, &zx, &zy, &zz,
+            &eta_x, &eta_y, &lambda_s, &ndf_amplitude, &roughness, &f0_r, &f0_g, &f0_b};
+  }
+  void clear() {
+    point.clear();
+    for (auto* v : all()) v->clear();
+  }
+  void push(std::size_t i, const VsglSpecularReceiver<double>& r, const Rgb& f0) {
+    point.push_back(i);
+    const double values[] = {r.tangent.x(),    r.tangent.y(),    r.tangent.z(),    r.bitangent.x(),  r.bitangent.y(),
+                             r.bitangent.z(),  r.normal.x(),     r.normal.y(),     r.normal.z(),     r.view_local.x(),
+                             r.view_local.y(), r.view_local.z(), r.lobe.x.x(),     r.lobe.x.y(),     r.lobe.x.z(),
+                             r.lobe.y.x(),     r.lobe.y.y(),     r.lobe.y.z(),     r.lobe.z.x(),     r.lobe.z.y(),
+                             r.lobe.z.z(),     r.lobe.eta_x,     r.lobe.eta_y,     r.lambda_s,       r.ndf_amplitude,
+                             r.roughness,      f0(0),            f0(1),            f0(2)};
+    std::size_t k = 0;
+    for (auto* v : all()) v->push_back(values[k++]);
+  }
+  simd_detail::SpecularReceivers view() const {
+    simd_detail::SpecularReceivers v;
+    v.count = point.size();
+    v.point = point.data();
+    v.tx = tx.data(), v.ty = ty.data(), v.tz = tz.data(), v.bx = bx.data(), v.by = by.data(), v.bz = bz.data();
+    v.nx = nx.data(), v.ny = ny.data(), v.nz = nz.data(), v.wox = wox.data(), v.woy = woy.data(), v.woz = woz.data();
+    v.xx = xx.data(), v.xy = xy.data(), v.xz = xz.data(), v.yx = yx.data(), v.yy = yy.data(), v.yz = yz.data();
+    v.zx = zx.data(), v.zy = zy.data(), v.zz = zz.data(), v.eta_x = eta_x.data(), v.eta_y = eta_y.data();
+    v.lambda_s = lambda_s.data(), v.ndf_amplitude = ndf_amplitude.data(), v.roughness = roughness.data();
+    v.f0_r = f0_r.data(), v.f0_g = f0_g.data(), v.f0_b = f0_b.data();
+    return v;
+  }
+};
+
+// Per thread, reused: no allocation per block once the arrays have grown.
+struct Scratch {
+  std::vector<double> px, py, pz, nx, ny, nz, diffuse, visible;  // per point; visible: per lobe
+  std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2, capped, mask, fallback;  // per row
+  std::vector<double> args_double, value_double;
+  std::vector<float> args_float, value_float;
+  std::vector<double> sum_r, sum_g, sum_b;  // per point (or per glossy point)
+  Receivers receivers;                      // the glossy points
+  std::vector<double> spec_fallback;        // per (lobe, glossy point)
+  // The incoming SGs point-major, for a registry specular method (vsgl_specular_methods.hpp).
+  std::vector<double> by_point_xi_x, by_point_xi_y, by_point_xi_z, by_point_sharpness, by_point_log_scale;
+  void resize(std::size_t points, std::size_t rows, std::size_t lobes, bool single) {
+    for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &diffuse, &sum_r, &sum_g, &sum_b}) v->resize(points);
+    for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped, &mask, &fallback})
+      v->resize(rows);
+    visible.resize(lobes);
+    if (single) {
+      args_float.resize(2 * rows);
+      value_float.resize(rows);
+    } else {
+      args_double.resize(2 * rows);
+      value_double.resize(rows);
+    }
+  }
+};
+
+}  // namespace
+
 void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<const char> visible,
                              std::span<VsglShading> out) const {
   const Data& d = *data_;
   const LobeArrays& a = d.lobes;
-  const std::size_t n = a.size(), rows = n * points.size();
+  const std::size_t n = a.size(), m = points.size(), rows = n * m;
   for (auto& o : out) o = VsglShading{};
-  if (n == 0) return;
-
-  struct Scratch {
-    Incoming in;
-    std::vector<double> args, value, mask, fallback;
-  };
+  if (n == 0 || m == 0) return;
+  const bool single = d.options.precision == Precision::single;
   thread_local Scratch s;
-  s.in.resize(rows);
-  s.args.resize(2 * rows);
-  s.value.resize(rows);
-  s.mask.resize(rows);
-  s.fallback.resize(rows);
-  // The incoming SG of every (point, lobe), row i·n + j.
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const ShadingPoint& p = points[i];
-    incoming_sgs(a, p.position.x(), p.position.y(), p.position.z(), p.normal.x(), p.normal.y(), p.normal.z(), s.in, i * n);
-  }
-  for (std::size_t r = 0; r < rows; ++r)
-    if (s.in.capped[r] != 0)
-      s.in.log_scale[r] += -(std::log(two_pi<double>()) + std::log(s.in.d2[r]) - std::log(kMaxPositionalSharpness));
-  auto active = [&](std::size_t r) {
-    return s.in.log_scale[r] > -std::numeric_limits<double>::infinity() && (visible.empty() || visible[a.cluster[r % n]]);
-  };
+  s.resize(m, rows, n, single);
 
-  // D(λ_in, ξ_in·n) for every (point, lobe) in one batch call (rows of (λ, c)); points that reflect
-  // no diffuse light get masked rows.
+  // The block's points as arrays.
   bool any_diffuse = false;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const bool diffuse_receiver = (points[i].diffuse_reflectance > 0).any();
+  for (std::size_t i = 0; i < m; ++i) {
+    const ShadingPoint& p = points[i];
+    s.px[i] = p.position.x(), s.py[i] = p.position.y(), s.pz[i] = p.position.z();
+    s.nx[i] = p.normal.x(), s.ny[i] = p.normal.y(), s.nz[i] = p.normal.z();
+    const bool diffuse_receiver = (p.diffuse_reflectance > 0).any();
+    s.diffuse[i] = diffuse_receiver ? 1.0 : 0.0;
     any_diffuse = any_diffuse || diffuse_receiver;
-    for (std::size_t r = i * n; r < (i + 1) * n; ++r) {
-      const bool on = diffuse_receiver && active(r);
-      const double l = s.in.sharpness[r];
-      s.args[2 * r] = on ? (d.floor_sharpness ? std::max(l, kMinDivisorSharpness) : l) : 1.0;
-      s.args[2 * r + 1] = on ? s.in.cosine[r] : 0.0;
-      s.mask[r] = on ? 1.0 : 0.0;
+  }
+  simd_detail::LobeView lobes = view_of(a);
+  if (!visible.empty()) {
+    for (std::size_t j = 0; j < n; ++j) s.visible[j] = visible[a.cluster[j]] ? 1.0 : 0.0;
+    lobes.visible = s.visible.data();
+  }
+  const simd_detail::PointBlock block{m, s.px.data(), s.py.data(), s.pz.data(), s.nx.data(), s.ny.data(), s.nz.data(),
+                                      s.diffuse.data()};
+  simd_detail::IncomingRows in{s.sharpness.data(), s.cosine.data(), s.log_scale.data(), s.xi_x.data(), s.xi_y.data(),
+                               s.xi_z.data(), s.d2.data(), s.capped.data(), s.mask.data()};
+  const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
+
+  // The incoming SG of every (lobe, point), row j·m + i, and the diffuse method's rows (λ, c).
+  const double floor = d.floor_sharpness ? kMinDivisorSharpness : 0.0;
+  const std::size_t capped = single ? t.incoming_f(lobes, block, floor, in, s.args_float.data())
+                                    : t.incoming_d(lobes, block, floor, in, s.args_double.data());
+  if (capped > 0)
+    for (std::size_t r = 0; r < rows; ++r)
+      if (s.capped[r] != 0)
+        s.log_scale[r] += -(std::log(two_pi<double>()) + std::log(s.d2[r]) - std::log(kMaxPositionalSharpness));
+
+  // D(λ_in, ξ_in·n) for every row in one batch call; e^{log_scale}-weighted sums per point.
+  if (any_diffuse) {
+    const std::size_t fallbacks =
+        single ? (d.diffuse.batch_float(s.args_float, 2, s.value_float),
+                  t.weighted_sum_f(lobes, m, s.log_scale.data(), s.value_float.data(), s.mask.data(), d.diffuse_factor,
+                                   kDirectLimit, s.fallback.data(), s.sum_r.data(), s.sum_g.data(), s.sum_b.data()))
+               : (d.diffuse.batch_double(s.args_double, 2, s.value_double),
+                  t.weighted_sum_d(lobes, m, s.log_scale.data(), s.value_double.data(), s.mask.data(),
+                                   d.diffuse_factor, kDirectLimit, s.fallback.data(), s.sum_r.data(), s.sum_g.data(),
+                                   s.sum_b.data()));
+    for (std::size_t i = 0; i < m; ++i) {
+      if (s.diffuse[i] == 0) continue;
+      Rgb diffuse(s.sum_r[i], s.sum_g[i], s.sum_b[i]);
+      if (fallbacks > 0)
+        for (std::size_t j = 0; j < n; ++j) {
+          const std::size_t r = j * m + i;
+          const double value = single ? double(s.value_float[r]) : s.value_double[r];
+          if (s.fallback[r] != 0) diffuse += a.amplitude[j] * scaled_by_exp(s.log_scale[r], d.diffuse_factor * value);
+        }
+      out[i].diffuse = diffuse * points[i].diffuse_reflectance / pi<double>();
     }
   }
-  if (any_diffuse) d.diffuse.batch_double(s.args, 2, s.value);
 
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const ShadingPoint& p = points[i];
-    const std::size_t r0 = i * n;
-    if ((p.diffuse_reflectance > 0).any()) {
-      double sum[3];
-      weighted_sum(n, s.in.log_scale.data() + r0, s.value.data() + r0, s.mask.data() + r0, a.amp_r.data(),
-                   a.amp_g.data(), a.amp_b.data(), d.diffuse_factor, s.fallback.data() + r0, sum);
-      Rgb diffuse(sum[0], sum[1], sum[2]);
-      for (std::size_t j = 0; j < n; ++j)
-        if (s.fallback[r0 + j] != 0)
-          diffuse += a.amplitude[j] * scaled_by_exp(s.in.log_scale[r0 + j], d.diffuse_factor * s.value[r0 + j]);
-      out[i].diffuse = diffuse * p.diffuse_reflectance / pi<double>();
-    }
-    if (d.options.specular && !d.options.specular_method && p.glossy()) {
-      const VsglSpecularReceiver<double> receiver = vsgl_specular_receiver<double>(p.normal, p.view, p.roughness);
+  if (!d.options.specular) return;
+  if (d.options.specular_method) {
+    // A registry method (vsgl_specular_methods.cpp): it reads the incoming SGs point-major
+    // (row i·n + j), so the block's rows are handed over in that order.
+    for (auto* v : {&s.by_point_xi_x, &s.by_point_xi_y, &s.by_point_xi_z, &s.by_point_sharpness, &s.by_point_log_scale})
+      v->resize(rows);
+    for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t i = 0; i < m; ++i) {
+        const std::size_t from = j * m + i, to = i * n + j;
+        s.by_point_xi_x[to] = s.xi_x[from];
+        s.by_point_xi_y[to] = s.xi_y[from];
+        s.by_point_xi_z[to] = s.xi_z[from];
+        s.by_point_sharpness[to] = s.sharpness[from];
+        s.by_point_log_scale[to] = s.log_scale[from];
+      }
+    const auto active = [&](std::size_t r) {
+      return s.by_point_log_scale[r] > -std::numeric_limits<double>::infinity() &&
+             (visible.empty() || visible[a.cluster[r % n]]);
+    };
+    shade_specular_with_method(*d.options.specular_method, points, n,
+                               {s.by_point_xi_x.data(), s.by_point_xi_y.data(), s.by_point_xi_z.data(),
+                                s.by_point_sharpness.data(), s.by_point_log_scale.data()},
+                               a.amplitude, active, out);
+    return;
+  }
+  // The block's glossy points: their specular receivers (vsgl.hpp) as arrays, then every
+  // (lobe, glossy point) in one vectorized pass; rows outside its exponential's range one by one.
+  Receivers& g = s.receivers;
+  g.clear();
+  for (std::size_t i = 0; i < m; ++i)
+    if (points[i].glossy()) g.push(i, vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness), points[i].f0);
+  const std::size_t gn = g.point.size();
+  if (gn == 0) return;
+  s.spec_fallback.resize(n * gn);
+  for (auto* v : {&s.sum_r, &s.sum_g, &s.sum_b}) v->resize(std::max(m, gn));
+  const std::size_t fallbacks = t.specular(lobes, m, in, g.view(), kDirectLimit, s.spec_fallback.data(), s.sum_r.data(),
+                                           s.sum_g.data(), s.sum_b.data());
+  for (std::size_t k = 0; k < gn; ++k) {
+    const std::size_t i = g.point[k];
+    Rgb specular(s.sum_r[k], s.sum_g[k], s.sum_b[k]);
+    if (fallbacks > 0) {
+      const VsglSpecularReceiver<double> receiver =
+          vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness);
       for (std::size_t j = 0; j < n; ++j) {
-        if (!active(r0 + j)) continue;
-        VsglIncomingSg<double> in;
-        in.axis = Vec3(s.in.xi_x[r0 + j], s.in.xi_y[r0 + j], s.in.xi_z[r0 + j]);
-        in.sharpness = s.in.sharpness[r0 + j];
-        in.log_scale = s.in.log_scale[r0 + j];
-        const VsglSpecularFactor<double> f = vsgl_specular(in, receiver);
-        out[i].specular += a.amplitude[j] * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
+        if (s.spec_fallback[gn >= n ? j * gn + k : k * n + j] == 0) continue;
+        const std::size_t r = j * m + i;
+        VsglIncomingSg<double> sg;
+        sg.axis = Vec3(s.xi_x[r], s.xi_y[r], s.xi_z[r]);
+        sg.sharpness = s.sharpness[r];
+        sg.log_scale = s.log_scale[r];
+        const VsglSpecularFactor<double> f = vsgl_specular(sg, receiver);
+        specular += a.amplitude[j] * (f.at_f0_zero + points[i].f0 * (f.at_f0_one - f.at_f0_zero));
       }
     }
+    out[i].specular = specular;
   }
-  if (d.options.specular && d.options.specular_method)  // a registry method (vsgl_specular_methods.cpp)
-    shade_specular_with_method(*d.options.specular_method, points, n,
-                               {s.in.xi_x.data(), s.in.xi_y.data(), s.in.xi_z.data(), s.in.sharpness.data(), s.in.log_scale.data()},
-                               a.amplitude, active, out);
 }
 
 std::vector<std::string> diffuse_method_names() {

@@ -28,15 +28,18 @@ namespace sglab::render {
 
 // The VPLs as structure-of-arrays for the vectorized sum: one array per field, the Lambert VPLs
 // and the glossy ones apart (only the latter need the GGX layer), each padded with zero-flux
-// entries to a multiple of kVplLanes so that the inner loop has no remainder.
-struct VplArrays {
+// entries to a multiple of kVplLanes so that the inner loop has no remainder. T: double, or float
+// for the float path (the double values rounded).
+template <class T>
+struct VplArraysT {
   static constexpr std::size_t kVplLanes = 16;
   std::size_t count = 0;  // VPLs (without the padding)
   // position, normal, incoming direction ω', r_i², Φ_i R_d,i/π per channel
-  std::vector<double> x, y, z, nx, ny, nz, ix, iy, iz, r2, lambert_r, lambert_g, lambert_b;
+  std::vector<T> x, y, z, nx, ny, nz, ix, iy, iz, r2, lambert_r, lambert_g, lambert_b;
   // glossy VPLs only: Φ_i, f0, α, n_i·ω'
-  std::vector<double> flux_r, flux_g, flux_b, f0_r, f0_g, f0_b, alpha, cos_incoming;
+  std::vector<T> flux_r, flux_g, flux_b, f0_r, f0_g, f0_b, alpha, cos_incoming;
 };
+using VplArrays = VplArraysT<double>;
 
 // The VPLs of an RSM prepared for summation: valid texels with non-zero flux only.
 struct VplList {
@@ -44,6 +47,7 @@ struct VplList {
   bool any_glossy = false;
   // `vpls` as arrays (prepare_vpls fills them; a list built by hand is converted per call).
   VplArrays lambert, glossy;
+  VplArraysT<float> lambert_float, glossy_float;  // the same in float (Precision::single)
 };
 VplList prepare_vpls(const ReflectiveShadowMap& rsm);
 // Fills list.lambert and list.glossy from list.vpls.
@@ -52,10 +56,12 @@ void prepare_vpl_arrays(VplList& list);
 // Σ_i L_i at one shading point (radiance, W/(m² sr) per channel). With `visibility_scene`, each
 // term is multiplied by V(y_p, x_i) by ray casting against that scene (visibility.hpp), the
 // reference of VSGLs with visibility (Tokuyoshi 2016 supplement §4.1).
-// Without visibility the sum is vectorized over the VPL arrays (double precision; the terms are
-// summed in a different order than one by one, so the result agrees with the plain loop to
-// rounding). With visibility each term needs a ray cast, and the plain loop is used.
+// Without visibility the sum is vectorized over the VPL arrays (the terms are summed in a
+// different order than one by one, so the result agrees with the plain loop to rounding), in
+// double or, with Precision::single, in float (each lane's partial sum in float, the lanes added in
+// double). With visibility each term needs a ray cast, and the plain loop (double) is used.
 struct Scene;
-Rgb reference_radiance(const ShadingPoint& point, const VplList& vpls, const Scene* visibility_scene = nullptr);
+Rgb reference_radiance(const ShadingPoint& point, const VplList& vpls, const Scene* visibility_scene = nullptr,
+                       Precision precision = Precision::double_);
 
 }  // namespace sglab::render

@@ -4,6 +4,7 @@
 // Units: positions in scene units, flux in W per channel, radiance in W/(m² sr) per channel.
 #pragma once
 
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -12,6 +13,15 @@ namespace sglab::render {
 
 using Vec3 = Eigen::Vector3d;
 using Rgb = Eigen::Array3d;
+
+// The arithmetic of the renderer's vectorized loops: double (the default), or float where the
+// result stays within 1e-5 relative of the double path (`sglab render --precision`; which parts
+// and the measured difference: reference.hpp, vsgl_shading.hpp).
+enum class Precision { single, double_ };
+
+// The instruction set the renderer's vectorized loops run on: always sglab::simd::active_isa()'s
+// (sglab/simd.hpp; SGLAB_SIMD selects it for the registry and the renderer alike).
+std::string_view kernel_isa();
 
 // One virtual point light = one RSM texel (Dachsbacher & Stamminger 2005).
 struct Vpl {

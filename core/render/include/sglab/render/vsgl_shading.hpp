@@ -66,6 +66,10 @@ struct ShadingOptions {
   // after Iwasaki et al. 2012), i.e. D = 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d); false: the
   // exact A(λ_d).
   bool sg_cosine_a_is_pi = false;
+  // Precision::single: the diffuse method runs in float (Method::batch_float, its arguments λ_in
+  // and ξ_in·n rounded to float); the incoming SGs, the e^{log_scale} weights, the sums and the
+  // specular part stay double.
+  Precision precision = Precision::double_;
 };
 
 // Options for a clamped-cosine method named as in the registry. Throws std::invalid_argument
@@ -83,10 +87,11 @@ struct VsglShading {
 
 // A VSGL set prepared for shading many points with one set of options: the lobes as arrays
 // (cluster order, each cluster's diffuse lobe then its specular lobe) and the diffuse method bound.
-// shade() is const and may run on many threads at once. Per point, the incoming SG of every lobe
-// (positional Gaussian × intensity SG, Eq. 7) is computed in one vectorized loop
-// (simd_dispatch.hpp), D for all lobes in one batch call of the method, e^{log_scale} vectorized;
-// the sums run in lobe order, as the one-lobe-at-a-time form, so results agree with it to rounding.
+// shade() is const and may run on many threads at once. Points are shaded in blocks, as arrays: the
+// incoming SG of every (lobe, point) (positional Gaussian × intensity SG, Eq. 7) in loops
+// vectorized over the block's points (core/render/src/simd/), D for all of them in one batch call
+// of the method, the e^{log_scale}-weighted sums vectorized; each point's sum runs in lobe order,
+// as the one-lobe-at-a-time form, so results agree with it to rounding. No allocation per block.
 class VsglShader {
  public:
   VsglShader(const VsglSet& set, const ShadingOptions& options);

@@ -1,0 +1,31 @@
+// The renderer's kernel table: the one of the instruction set the whole program uses
+// (sglab/simd.hpp active_isa(), which also reads SGLAB_SIMD and is what force_isa changes).
+#include <numbers>
+
+#include "render_table.hpp"
+#include "sglab/render/vsgl_shading.hpp"
+#include "sglab/sg.hpp"
+#include "sglab/simd.hpp"
+#include "sglab/vsgl.hpp"
+
+namespace sglab::render {
+namespace simd_detail {
+
+static_assert(kPi == std::numbers::pi);
+static_assert(kCap == kMaxPositionalSharpness);
+static_assert(kProductScale == kProductScaleSharpness);
+
+const RenderKernelTable& render_kernels() {
+  switch (simd::active_isa()) {
+    case simd::Isa::sse2: return render_kernels_sse2();
+    case simd::Isa::avx2: return render_kernels_avx2();
+    case simd::Isa::avx512: return render_kernels_avx512();
+  }
+  return render_kernels_sse2();
+}
+
+}  // namespace simd_detail
+
+std::string_view kernel_isa() { return simd_detail::render_kernels().isa; }
+
+}  // namespace sglab::render

@@ -1,0 +1,386 @@
+// The renderer's vectorized loops (render_table.hpp), written once as plain loops over arrays
+// marked `#pragma omp simd` (-fopenmp-simd: no OpenMP run time) and compiled once per instruction
+// set (render_sse2.cpp, render_avx2.cpp, render_avx512.cpp). Conditions are written as selects and
+// 0/1 factors rather than branches and &&: that vectorizes.
+//
+// Everything here has internal linkage: nothing compiled with -mavx512f may be merged by the
+// linker into code that runs on a smaller machine (no std::min/max or other inline templates from
+// library headers; sqrt is the builtin, which -fno-math-errno makes the instruction).
+#pragma once
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "render_table.hpp"
+
+namespace sglab::render::simd_detail {
+namespace {
+
+
+[[gnu::always_inline]] inline double sqrt_(double x) { return __builtin_sqrt(x); }
+[[gnu::always_inline]] inline float sqrt_(float x) { return __builtin_sqrtf(x); }
+template <class T>
+[[gnu::always_inline]] inline T clamp1(T x) {
+  const T lo = x < T(-1) ? T(-1) : x;
+  return lo > T(1) ? T(1) : lo;
+}
+
+// ---- the exact VPL sum ------------------------------------------------------------------------
+
+// The GGX layer of brdf_cosine (material_brdf.hpp) for unit n, wo, wi with co = n·wo, ci = n·wi:
+// D(h)·V·ci, and wo·h for the Fresnel factor. ggx_ndf and smith_visibility_ggx (brdf.hpp)
+// branch-free.
+template <class T>
+struct GgxLayer {
+  T dv, cos_oh;
+};
+template <class T>
+[[gnu::always_inline]] inline GgxLayer<T> ggx_layer(T alpha, T nx, T ny, T nz, T wox, T woy, T woz, T wix, T wiy,
+                                                    T wiz, T co, T ci) {
+  T hx = wox + wix, hy = woy + wiy, hz = woz + wiz;
+  const T h2 = hx * hx + hy * hy + hz * hz;
+  const T inv = h2 > 0 ? T(1) / sqrt_(h2) : T(0);  // Eigen's normalized(): h = 0 stays 0
+  hx *= inv;
+  hy *= inv;
+  hz *= inv;
+  const T a2 = alpha * alpha, ch = clamp1(nx * hx + ny * hy + nz * hz);
+  const T dn = (1 - ch) * (1 + ch) + a2 * ch * ch;
+  const T ndf = ch > 0 ? a2 / (T(kPi) * dn * dn) : T(0);
+  const T cco = clamp1(co), cci = clamp1(ci);
+  const T so = sqrt_(co * co + a2 * ((1 - cco) * (1 + cco))), si = sqrt_(ci * ci + a2 * ((1 - cci) * (1 + cci)));
+  const T den = ci * so + co * si;
+  const T vis = (co > 0 || ci > 0) && co >= 0 && ci >= 0 && den > 0 ? T(1) / (2 * den) : T(0);
+  const T dv = ndf * vis * ci;
+  return {co >= 0 && dv > 0 ? dv : T(0), wox * hx + woy * hy + woz * hz};
+}
+
+// fresnel_schlick (brdf.hpp) without the branches of its clamp.
+template <class T>
+[[gnu::always_inline]] inline T schlick(T f0, T cos_oh) {
+  const T c = cos_oh < 0 ? T(0) : (cos_oh > 1 ? T(1) : cos_oh);
+  const T m = 1 - c, m2 = m * m;
+  return f0 + (1 - f0) * m2 * m2 * m;
+}
+
+// Σ_i over one VPL array in T. kGlossyVpl: the array's VPLs have a GGX layer; kGlossyReceiver:
+// the point has one. Each lane sums its terms in T; the lanes are added in double.
+template <class T, bool kGlossyVpl, bool kGlossyReceiver>
+void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
+  const std::size_t n = a.n;
+  const T *x = a.x, *y = a.y, *z = a.z, *nx = a.nx, *ny = a.ny, *nz = a.nz, *r2 = a.r2, *lr = a.lambert_r,
+          *lg = a.lambert_g, *lb = a.lambert_b;
+  const T *ix = a.ix, *iy = a.iy, *iz = a.iz, *fr = a.flux_r, *fg = a.flux_g, *fb = a.flux_b, *f0r = a.f0_r,
+          *f0g = a.f0_g, *f0b = a.f0_b, *al = a.alpha, *ci = a.cos_incoming;
+  T s0 = 0, s1 = 0, s2 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2)
+  for (std::size_t i = 0; i < n; ++i) {
+    const T ox = p.px - x[i], oy = p.py - y[i], oz = p.pz - z[i];
+    const T d2 = ox * ox + oy * oy + oz * oz;
+    const T inv = T(1) / sqrt_(d2);  // d2 = 0 gives NaN below, masked by `on`
+    const T wx = ox * inv, wy = oy * inv, wz = oz * inv;  // ω: from the VPL towards the point
+    const T cv = wx * nx[i] + wy * ny[i] + wz * nz[i];
+    const T cp = -(wx * p.nx + wy * p.ny + wz * p.nz);
+    const bool on = d2 > 0 && cv > 0 && cp > 0;
+    // Φ_i·I_i(ω)/Φ_i, I_i = ρ_i(ω'_i, ω)⟨ω·n_i⟩ (reciprocal, so either argument order).
+    T e0 = lr[i] * cv, e1 = lg[i] * cv, e2 = lb[i] * cv;
+    if constexpr (kGlossyVpl) {
+      const GgxLayer<T> g = ggx_layer<T>(al[i], nx[i], ny[i], nz[i], ix[i], iy[i], iz[i], wx, wy, wz, ci[i], cv);
+      e0 += fr[i] * (g.dv * schlick(f0r[i], g.cos_oh));
+      e1 += fg[i] * (g.dv * schlick(f0g[i], g.cos_oh));
+      e2 += fb[i] * (g.dv * schlick(f0b[i], g.cos_oh));
+    }
+    T q0 = p.rd[0] * cp, q1 = p.rd[1] * cp, q2 = p.rd[2] * cp;
+    if constexpr (kGlossyReceiver) {
+      const GgxLayer<T> g = ggx_layer<T>(p.alpha, p.nx, p.ny, p.nz, p.vx, p.vy, p.vz, -wx, -wy, -wz, p.cos_view, cp);
+      q0 += g.dv * schlick(p.f0[0], g.cos_oh);
+      q1 += g.dv * schlick(p.f0[1], g.cos_oh);
+      q2 += g.dv * schlick(p.f0[2], g.cos_oh);
+    }
+    const T k = T(1) / (d2 + r2[i]);
+    s0 += on ? e0 * q0 * k : T(0);
+    s1 += on ? e1 * q1 * k : T(0);
+    s2 += on ? e2 * q2 * k : T(0);
+  }
+  out[0] += double(s0);
+  out[1] += double(s1);
+  out[2] += double(s2);
+}
+
+// ---- VSGL shading -----------------------------------------------------------------------------
+
+// vsgl_positional_sg and vsgl_incoming_sg (vsgl.hpp) for every (lobe, point), lobe-major, each
+// inner loop vectorized over the block's points; sg.hpp's sg_product, product_sharpness and
+// product_log_amplitude branch-free (past kProductScale both divide through by s = max(λ1, λ2)).
+template <class T>
+std::size_t incoming(const LobeView& a, const PointBlock& b, double sharpness_floor, IncomingRows& out, T* args) {
+  const std::size_t m = b.m;
+  const double *px = b.px, *py = b.py, *pz = b.pz, *pnx = b.nx, *pny = b.ny, *pnz = b.nz, *pd = b.diffuse;
+  std::size_t capped_rows = 0;
+  for (std::size_t j = 0; j < a.n; ++j) {
+    const double variance = a.variance[j], log_two_pi_variance = a.log_two_pi_variance[j];
+    const double mx = a.mx[j], my = a.my[j], mz = a.mz[j], l1 = a.sharpness[j];
+    const double a1x = -a.ax[j], a1y = -a.ay[j], a1z = -a.az[j];
+    const double visible = a.visible ? a.visible[j] : 1.0;
+    // sg_product's rescaling past kProductScale by s = max(λ_v, λ_σ): λ_σ ≤ kCap < kProductScale,
+    // so it is needed exactly when λ_v > kProductScale, and s = λ_v.
+    static_assert(kCap < kProductScale);
+    const double s = l1 > kProductScale ? l1 : 1.0, scale = l1 > kProductScale ? 1 / l1 : 1.0;
+    const std::size_t r0 = j * m;
+    double *lam = out.sharpness + r0, *cosine = out.cosine + r0, *ls = out.log_scale + r0, *xx = out.xi_x + r0,
+           *xy = out.xi_y + r0, *xz = out.xi_z + r0, *dd = out.d2 + r0, *capped = out.capped + r0,
+           *mask = out.mask + r0;
+    T* arg = args + 2 * r0;
+    std::size_t count = 0;
+#pragma omp simd reduction(+ : count)
+    for (std::size_t i = 0; i < m; ++i) {
+      // The positional SG G(ω; ξ_μ, λ_σ)/(2πσ²).
+      const double dx = mx - px[i], dy = my - py[i], dz = mz - pz[i];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      const double inv = d2 > 0 ? 1 / sqrt_(d2) : 0.0;
+      const double ux = dx * inv, uy = dy * inv, uz = d2 > 0 ? dz * inv : 1.0;
+      const double lambda_sigma = variance * kCap > d2 ? d2 / variance : kCap;  // capped: also σ² = 0
+      // The product with G(ω; −ξ_v, λ_v) (s and scale: hoisted above).
+      const double l2 = lambda_sigma;
+      const double u1 = l1 * scale, u2 = l2 * scale;
+      const double vx = u1 * a1x + u2 * ux, vy = u1 * a1y + u2 * uy, vz = u1 * a1z + u2 * uz;
+      const double c12 = clamp1(a1x * ux + a1y * uy + a1z * uz);
+      const double du = u1 - u2;
+      const double q = du * du + 2 * u1 * u2 * (1 + c12);
+      const double l3_scaled = q > 0 ? sqrt_(q > 0 ? q : 0.0) : 0.0, l3 = l3_scaled * s;
+      const double denom = l3_scaled + u1 + u2;
+      const double log_amplitude = denom > 0 ? -2 * u1 * u2 * (1 - c12) / denom * s : 0.0;
+      const double vnorm = sqrt_(vx * vx + vy * vy + vz * vz);
+      const double inv_v = vnorm > 0 && l3 > 0 ? 1 / vnorm : 0.0;
+      const double ix = inv_v > 0 ? vx * inv_v : a1x, iy = inv_v > 0 ? vy * inv_v : a1y,
+                   iz = inv_v > 0 ? vz * inv_v : a1z;
+      const double c = clamp1(ix * pnx[i] + iy * pny[i] + iz * pnz[i]);
+      lam[i] = l3;
+      xx[i] = ix;
+      xy[i] = iy;
+      xz[i] = iz;
+      cosine[i] = c;
+      // Empty (σ² = 0 at distance 0): no light; capped: log(1/(2πσ²)) is finished by the caller.
+      const double at_cap = variance * kCap > d2 ? 0.0 : 1.0;
+      const double empty = d2 > 0 || variance > 0 ? 0.0 : 1.0;
+      ls[i] = empty > 0 ? -std::numeric_limits<double>::infinity()
+                        : (at_cap > 0 ? 0.0 : -log_two_pi_variance) + log_amplitude;
+      dd[i] = d2;
+      const double cap_flag = empty > 0 ? 0.0 : at_cap;
+      capped[i] = cap_flag;
+      count += cap_flag > 0 ? 1 : 0;
+      // The diffuse method's row.
+      const double on = pd[i] * visible * (1 - empty);
+      const double l = l3 > sharpness_floor ? l3 : sharpness_floor;
+      arg[2 * i] = on > 0 ? T(l) : T(1);
+      arg[2 * i + 1] = on > 0 ? T(c) : T(0);
+      mask[i] = on;
+    }
+    capped_rows += count;
+  }
+  return capped_rows;
+}
+
+// The smallest log_scale for which the vectorized exponential below is used (the largest is the
+// caller's direct_limit); outside, the caller uses scaled_by_exp.
+constexpr double kVectorExpFloor = -700;
+
+// e^x for x in [kVectorExpFloor, kDirectLimit], on plain arithmetic so that loops calling it
+// vectorize: x = k ln2 + r, |r| ≤ ln2/2 (Cody & Waite 1980: ln2 in two parts, the first with
+// trailing zero bits so that k·ln2_hi is exact), e^r by its Taylor series to r¹³ (remainder
+// < 0.4^14/14! ≈ 3e-17 relative), 2^k written into the exponent bits. k is rounded with the
+// 1.5·2^52 trick, which leaves k in the low bits of the sum. Within 2 ulp of std::exp.
+[[gnu::always_inline]] inline double exp_in_range(double x) {
+  constexpr double log2e = 1.4426950408889634074;         // 1/ln 2
+  constexpr double ln2_hi = 6.93147180369123816490e-01;   // ln 2, upper part (fdlibm's e_exp.c)
+  constexpr double ln2_lo = 1.90821492927058770002e-10;   // ln 2 − ln2_hi
+  constexpr double round_shift = 6755399441055744.0;      // 1.5·2^52
+  const double t = x * log2e + round_shift;
+  const double k = t - round_shift;
+  const double r = (x - k * ln2_hi) - k * ln2_lo;
+  // Horner, 1/13! … 1/0! (written out: a loop over an array of them does not vectorize).
+  double p = 1.0 / 6227020800.0;
+  p = p * r + 1.0 / 479001600.0;
+  p = p * r + 1.0 / 39916800.0;
+  p = p * r + 1.0 / 3628800.0;
+  p = p * r + 1.0 / 362880.0;
+  p = p * r + 1.0 / 40320.0;
+  p = p * r + 1.0 / 5040.0;
+  p = p * r + 1.0 / 720.0;
+  p = p * r + 1.0 / 120.0;
+  p = p * r + 1.0 / 24.0;
+  p = p * r + 1.0 / 6.0;
+  p = p * r + 0.5;
+  p = p * r + 1.0;
+  p = p * r + 1.0;
+  const std::uint64_t k_bits = std::bit_cast<std::uint64_t>(t) - std::bit_cast<std::uint64_t>(round_shift);
+  return p * std::bit_cast<double>((k_bits + 1023) << 52);
+}
+
+template <class T>
+std::size_t weighted_sum(const LobeView& a, std::size_t m, const double* log_scale, const T* value,
+                         const double* mask, double factor, double direct_limit, double* fallback, double* out_r,
+                         double* out_g, double* out_b) {
+  for (std::size_t i = 0; i < m; ++i) out_r[i] = out_g[i] = out_b[i] = 0;
+  std::size_t fallbacks = 0;
+  for (std::size_t j = 0; j < a.n; ++j) {
+    const double ar = a.amp_r[j], ag = a.amp_g[j], ab = a.amp_b[j];
+    const std::size_t r0 = j * m;
+    const double *lsj = log_scale + r0, *mj = mask + r0;
+    const T* vj = value + r0;
+    double* fj = fallback + r0;
+    std::size_t count = 0;
+#pragma omp simd reduction(+ : count)
+    for (std::size_t i = 0; i < m; ++i) {
+      const double ls = lsj[i], x = factor * double(vj[i]);
+      const double in_range = (ls > kVectorExpFloor ? 1.0 : 0.0) * (ls < direct_limit ? 1.0 : 0.0);
+      const double lit = (ls > -std::numeric_limits<double>::infinity() ? 1.0 : 0.0) * (x != 0 ? 1.0 : 0.0) * mj[i];
+      const double fb = lit * (1 - in_range);
+      fj[i] = fb;
+      count += fb > 0 ? 1 : 0;
+      const double w = lit * in_range > 0 ? exp_in_range(in_range > 0 ? ls : 0.0) * x : 0.0;
+      out_r[i] += ar * w;
+      out_g[i] += ag * w;
+      out_b[i] += ab * w;
+    }
+    fallbacks += count;
+  }
+  return fallbacks;
+}
+
+// vsgl_specular (vsgl.hpp) of lobe j's row i (the incoming SG) at glossy point g: asg_sg_product_two_vsgls
+// (asg.hpp), scaled_by_exp, the product axis ξ_m (sg.hpp sg_product) and brdf_factor_m (brdf.hpp)
+// at f0 = 0 and 1, on components and branch-free; returns the lobe's contribution per channel
+// without its amplitude's. e^{log_scale} and the ASG's exponential are taken as one exponential
+// of their sum (the same value to rounding). `fallback` = 1: the exponent is outside the
+// vectorized exponential's range (the contribution is then 0 here and left to the caller).
+struct SpecularTerm {
+  double r, g, b, fallback;
+};
+[[gnu::always_inline]] inline SpecularTerm specular_term(const SpecularReceivers& p, std::size_t g, double ls, double l,
+                                                         double wx, double wy, double wz, double visible,
+                                                         double direct_limit) {
+  // ξ_in in the local frame.
+  const double x0 = wx * p.tx[g] + wy * p.ty[g] + wz * p.tz[g];
+  const double x1 = wx * p.bx[g] + wy * p.by[g] + wz * p.bz[g];
+  const double x2 = wx * p.nx[g] + wy * p.ny[g] + wz * p.nz[g];
+  // ∫ Ĝ G ≈ π Ĝ(ξ; ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ/2 (reduced_bandwidth).
+  const double nu = l / 2, ex = p.eta_x[g], ey = p.eta_y[g];
+  const double lox = ex <= nu ? ex : nu, hix = ex <= nu ? nu : ex, loy = ey <= nu ? ey : nu, hiy = ey <= nu ? nu : ey;
+  const double rx = lox > 0 ? lox / (1 + lox / hix) : 0.0, ry = loy > 0 ? loy / (1 + loy / hiy) : 0.0;
+  const double zx = p.zx[g], zy = p.zy[g], zz = p.zz[g];
+  const double cz = x0 * zx + x1 * zy + x2 * zz;
+  const double cx = x0 * p.xx[g] + x1 * p.xy[g] + x2 * p.xz[g];
+  const double cy = x0 * p.yx[g] + x1 * p.yy[g] + x2 * p.yz[g];
+  const double exponent = ls + (-rx * cx * cx - ry * cy * cy);
+  const double factor = cz * (kPi / (sqrt_(ex + nu) * sqrt_(ey + nu))) * p.ndf_amplitude[g];
+  const double lit = (ls > -std::numeric_limits<double>::infinity() ? 1.0 : 0.0) * (cz > 0 ? 1.0 : 0.0) * visible;
+  const double in_range = (exponent > kVectorExpFloor ? 1.0 : 0.0) * (ls < direct_limit ? 1.0 : 0.0);
+  const double scale = lit * in_range > 0 ? exp_in_range(in_range > 0 ? exponent : 0.0) * factor : 0.0;
+  // ξ_m: the axis of the product of G(ξ_in, λ) and G(ξ_z, λ_s).
+  const double ls2 = p.lambda_s[g];
+  const double big = l > ls2 ? l : ls2, sc = big > kProductScale ? 1 / big : 1.0;
+  const double u1 = l * sc, u2 = ls2 * sc;
+  const double vx = u1 * x0 + u2 * zx, vy = u1 * x1 + u2 * zy, vz = u1 * x2 + u2 * zz;
+  const double c12 = clamp1(cz), du = u1 - u2, q = du * du + 2 * u1 * u2 * (1 + c12);
+  const double vnorm = sqrt_(vx * vx + vy * vy + vz * vz);
+  const double inv_v = vnorm > 0 && q > 0 ? 1 / vnorm : 0.0;
+  const double mx = inv_v > 0 ? vx * inv_v : x0, my = inv_v > 0 ? vy * inv_v : x1, mz = inv_v > 0 ? vz * inv_v : x2;
+  // M(ξ_m) = F·V·⟨ξ_m·n⟩ with F = m⁵ (f0 = 0) and 1 (f0 = 1); the half vector as brdf.hpp's.
+  const double wox = p.wox[g], woy = p.woy[g], woz = p.woz[g], alpha = p.roughness[g];
+  double hx = wox + mx, hy = woy + my, hz = woz + mz;
+  const double hn = sqrt_(hx * hx + hy * hy + hz * hz);
+  const double inv_h = hn > 0 ? 1 / hn : 0.0;
+  hx = hn > 0 ? hx * inv_h : 0.0;
+  hy = hn > 0 ? hy * inv_h : 0.0;
+  hz = hn > 0 ? hz * inv_h : 1.0;
+  const double coh = wox * hx + woy * hy + woz * hz;
+  const double c = coh < 0 ? 0.0 : (coh > 1 ? 1.0 : coh), mm = 1 - c, m2 = mm * mm, m5 = m2 * m2 * mm;
+  const double a2 = alpha * alpha, co = woz, ci = mz;
+  const double cco = clamp1(co), cci = clamp1(ci);
+  const double so = sqrt_(co * co + a2 * ((1 - cco) * (1 + cco))), si = sqrt_(ci * ci + a2 * ((1 - cci) * (1 + cci)));
+  const double den = ci * so + co * si;
+  const double vis = ci > 0 && co >= 0 && den > 0 ? 1 / (2 * den) : 0.0;
+  const double one = scale * (vis * ci), zero = scale * (m5 * vis * ci);
+  return {zero + p.f0_r[g] * (one - zero), zero + p.f0_g[g] * (one - zero), zero + p.f0_b[g] * (one - zero),
+          lit * (1 - in_range)};
+}
+
+// Every (lobe, glossy point), each point's sum in lobe order. The loop runs over the longer of
+// the two: glossy points (few lobes) or lobes (few glossy points in a block: many lobes).
+std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows, const SpecularReceivers& p,
+                     double direct_limit, double* fallback, double* out_r, double* out_g, double* out_b) {
+  const std::size_t gn = p.count, n = a.n;
+  std::size_t fallbacks = 0;
+  if (gn >= n) {
+    for (std::size_t g = 0; g < gn; ++g) out_r[g] = out_g[g] = out_b[g] = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double ar = a.amp_r[j], ag = a.amp_g[j], ab = a.amp_b[j];
+      const double visible = a.visible ? a.visible[j] : 1.0;
+      const std::size_t r0 = j * m;
+      const double *lam = rows.sharpness + r0, *lsj = rows.log_scale + r0, *ix = rows.xi_x + r0,
+                   *iy = rows.xi_y + r0, *iz = rows.xi_z + r0;
+      double* fj = fallback + j * gn;
+      std::size_t count = 0;
+#pragma omp simd reduction(+ : count)
+      for (std::size_t g = 0; g < gn; ++g) {
+        const std::size_t i = p.point[g];
+        const SpecularTerm t = specular_term(p, g, lsj[i], lam[i], ix[i], iy[i], iz[i], visible, direct_limit);
+        fj[g] = t.fallback;
+        count += t.fallback > 0 ? 1 : 0;
+        out_r[g] += ar * t.r;
+        out_g[g] += ag * t.g;
+        out_b[g] += ab * t.b;
+      }
+      fallbacks += count;
+    }
+    return fallbacks;
+  }
+  const double *lsr = rows.log_scale, *lam = rows.sharpness, *ix = rows.xi_x, *iy = rows.xi_y, *iz = rows.xi_z,
+               *vis = a.visible, *amp_r = a.amp_r, *amp_g = a.amp_g, *amp_b = a.amp_b;
+  for (std::size_t g = 0; g < gn; ++g) {
+    const std::size_t i = p.point[g];
+    double* fg = fallback + g * n;
+    double s0 = 0, s1 = 0, s2 = 0;
+    std::size_t count = 0;
+#pragma omp simd reduction(+ : s0, s1, s2, count)
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t r = j * m + i;
+      const SpecularTerm t =
+          specular_term(p, g, lsr[r], lam[r], ix[r], iy[r], iz[r], vis ? vis[j] : 1.0, direct_limit);
+      fg[j] = t.fallback;
+      count += t.fallback > 0 ? 1 : 0;
+      s0 += amp_r[j] * t.r;
+      s1 += amp_g[j] * t.g;
+      s2 += amp_b[j] * t.b;
+    }
+    out_r[g] = s0;
+    out_g[g] = s1;
+    out_b[g] = s2;
+    fallbacks += count;
+  }
+  return fallbacks;
+}
+
+RenderKernelTable make_render_table(const char* isa) {
+  RenderKernelTable t{};
+  t.isa = isa;
+  t.vpl_sum_d[0] = vpl_sum<double, false, false>;
+  t.vpl_sum_d[1] = vpl_sum<double, false, true>;
+  t.vpl_sum_d[2] = vpl_sum<double, true, false>;
+  t.vpl_sum_d[3] = vpl_sum<double, true, true>;
+  t.vpl_sum_f[0] = vpl_sum<float, false, false>;
+  t.vpl_sum_f[1] = vpl_sum<float, false, true>;
+  t.vpl_sum_f[2] = vpl_sum<float, true, false>;
+  t.vpl_sum_f[3] = vpl_sum<float, true, true>;
+  t.incoming_d = incoming<double>;
+  t.incoming_f = incoming<float>;
+  t.weighted_sum_d = weighted_sum<double>;
+  t.weighted_sum_f = weighted_sum<float>;
+  t.specular = specular;
+  return t;
+}
+
+}  // namespace
+}  // namespace sglab::render::simd_detail

@@ -1,0 +1,119 @@
+// The renderer's vectorized loops as one table per instruction set (render_sse2.cpp,
+// render_avx2.cpp, render_avx512.cpp, each compiled with its -m flags). The table to run is the
+// one of the instruction set the registry's batch evaluators use (sglab/simd.hpp active_isa():
+// one selection, one SGLAB_SIMD override, for the whole program); render_dispatch.cpp picks it.
+// Internal to sglab_render. Deliberately free of any other header (see core/src/simd/simd_table.hpp:
+// nothing compiled with -mavx512f may be merged by the linker into code a smaller CPU runs).
+#pragma once
+
+#include <cstddef>
+
+namespace sglab::render::simd_detail {
+
+// π as the renderer's scalar code has it (std::numbers::pi); vsgl.hpp kMaxPositionalSharpness;
+// sg.hpp kProductScaleSharpness. Copies (this header includes nothing): render_dispatch.cpp
+// checks them against the definitions at compile time.
+inline constexpr double kPi = 3.141592653589793116;
+inline constexpr double kCap = 1e8;
+inline constexpr double kProductScale = 1e18;
+
+// ---- the exact VPL sum (reference.cpp) ----
+
+// One VPL array (VplArrays, reference.hpp) in T, padded to a multiple of the lane count.
+template <class T>
+struct VplView {
+  std::size_t n = 0;
+  const T *x, *y, *z, *nx, *ny, *nz, *ix, *iy, *iz, *r2, *lambert_r, *lambert_g, *lambert_b;
+  const T *flux_r, *flux_g, *flux_b, *f0_r, *f0_g, *f0_b, *alpha, *cos_incoming;  // glossy arrays only
+};
+
+// What the sum needs of the shading point.
+template <class T>
+struct Receiver {
+  T px, py, pz, nx, ny, nz, vx, vy, vz;
+  T rd[3];     // R_d,p/π
+  T f0[3];
+  T alpha;     // GGX α
+  T cos_view;  // n_p·ω_o
+};
+
+// Adds Σ_i over the array to out[0..2]. Index: 2·(VPLs glossy) + (receiver glossy).
+template <class T>
+using VplSumFn = void (*)(const VplView<T>& vpls, const Receiver<T>& point, double* out);
+
+// ---- VSGL shading (vsgl_shading.cpp) ----
+
+// The lobes of a VSGL set as arrays (cluster order), double.
+struct LobeView {
+  std::size_t n = 0;
+  const double *mx, *my, *mz, *variance, *log_two_pi_variance, *ax, *ay, *az, *sharpness, *amp_r, *amp_g, *amp_b;
+  const double* visible;  // per lobe 0 or 1 (the lobe's cluster is visible), or nullptr: all
+};
+
+// A block of m shading points as arrays.
+struct PointBlock {
+  std::size_t m = 0;
+  const double *px, *py, *pz, *nx, *ny, *nz;
+  const double* diffuse;  // 1: the point reflects diffuse light
+};
+
+// Per (lobe j, point i), row j·m + i: the incoming SG and its cosine with the normal.
+struct IncomingRows {
+  double *sharpness, *cosine, *log_scale, *xi_x, *xi_y, *xi_z, *d2, *capped, *mask;
+};
+
+// The incoming SGs of every (lobe, point) row, and the diffuse method's argument rows (λ, c)
+// interleaved in `args` (T = the precision the method runs in), λ floored at `sharpness_floor`
+// (0: none); rows that need no D get (1, 0) and mask 0. Returns the number of capped rows (their
+// log_scale is finished by the caller, which needs log).
+template <class T>
+using IncomingFn = std::size_t (*)(const LobeView& lobes, const PointBlock& points, double sharpness_floor,
+                                   IncomingRows& out, T* args);
+
+// out_{r,g,b}[i] = Σ_j amp_j · e^{log_scale} · factor · value over the rows with mask 1, in lobe
+// order; rows whose log_scale is outside the vectorized exponential's range (or ≥ direct_limit,
+// vsgl.hpp scaled_by_exp's) get fallback = 1 (returned: how many) and are left to the caller.
+template <class T>
+using WeightedSumFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const double* log_scale, const T* value,
+                                      const double* mask, double factor, double direct_limit, double* fallback, double* out_r,
+                                      double* out_g, double* out_b);
+
+// The block's glossy points as arrays: vsgl.hpp's VsglSpecularReceiver (local frame t, b, n; ω_o
+// in it; the ASG lobe x, y, z, ηx, ηy; λ_s; 1/(πα²); α) and the point's f0.
+struct SpecularReceivers {
+  std::size_t count = 0;
+  const std::size_t* point;  // the point's index in the block
+  const double *tx, *ty, *tz, *bx, *by, *bz, *nx, *ny, *nz, *wox, *woy, *woz;
+  const double *xx, *xy, *xz, *yx, *yy, *yz, *zx, *zy, *zz, *eta_x, *eta_y, *lambda_s, *ndf_amplitude, *roughness;
+  const double *f0_r, *f0_g, *f0_b;
+};
+
+// out_{r,g,b}[g] = Σ_j amp_j · (at_f0_zero + f0·(at_f0_one − at_f0_zero)) of vsgl.hpp's
+// vsgl_specular for every lobe j (mask: its cluster visible and log_scale > −∞) and glossy point g
+// (in lobe order, or partly in vector lanes when there are more lobes than glossy points: the same
+// to rounding). Rows whose exponent is outside the vectorized exponential's range get fallback = 1
+// (returned: how many; at j·count + g if count ≥ lobes, else at g·lobes + j) and are left to the
+// caller.
+using SpecularFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const IncomingRows& rows,
+                                   const SpecularReceivers& receivers, double direct_limit, double* fallback,
+                                   double* out_r, double* out_g, double* out_b);
+
+struct RenderKernelTable {
+  const char* isa;  // "sse2", "avx2", "avx512"
+  VplSumFn<double> vpl_sum_d[4];
+  VplSumFn<float> vpl_sum_f[4];
+  IncomingFn<double> incoming_d;
+  IncomingFn<float> incoming_f;
+  WeightedSumFn<double> weighted_sum_d;
+  WeightedSumFn<float> weighted_sum_f;
+  SpecularFn specular;
+};
+
+const RenderKernelTable& render_kernels_sse2();
+const RenderKernelTable& render_kernels_avx2();
+const RenderKernelTable& render_kernels_avx512();
+
+// The table of the instruction set sglab::simd::active_isa() names.
+const RenderKernelTable& render_kernels();
+
+}  // namespace sglab::render::simd_detail
