@@ -1,8 +1,11 @@
 // Shading a sphere and a plane under an environment, V = 1 (environment.hpp).
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include <Eigen/Geometry>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "sglab/brdf.hpp"
@@ -11,6 +14,7 @@
 #include "sglab/registry.hpp"
 #include "sglab/render/environment.hpp"
 #include "sglab/render/pipeline.hpp"
+#include "simd/render_table.hpp"
 
 namespace sglab::render {
 
@@ -126,11 +130,34 @@ std::vector<Rgb> integrate_diffuse(const EnvMap& map, const EnvImage& image, int
   });
 }
 
+// The same quadrature as integrate() with the GGX weight (ggx_brdf_cosine, brdf.hpp, in the world
+// frame), through the renderer's vectorized loop on the nodes as arrays.
 std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, double roughness, double f0, int supersample) {
-  return integrate(map, image, supersample, [roughness, f0](const Frame& f, const Vec3& wo, const Vec3& w) {
-    if (!(w.dot(f.n) > 0)) return 0.0;
-    return ggx_brdf_cosine(roughness, f0, wo, f.local(w));
+  const auto n = nodes(map, supersample);
+  std::vector<double> arrays(6 * n.size());
+  double *x = arrays.data(), *y = x + n.size(), *z = y + n.size(), *wr = z + n.size(), *wg = wr + n.size(),
+         *wb = wg + n.size();
+  for (std::size_t k = 0; k < n.size(); ++k) {
+    const auto& v = map.texels[n[k].texel];
+    x[k] = n[k].dir(0);
+    y[k] = n[k].dir(1);
+    z[k] = n[k].dir(2);
+    wr[k] = n[k].omega * v[0];
+    wg[k] = n[k].omega * v[1];
+    wb[k] = n[k].omega * v[2];
+  }
+  const simd_detail::EnvNodes view{n.size(), x, y, z, wr, wg, wb};
+  const auto sum = simd_detail::render_kernels().env_specular_sum;
+  std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
+  tbb::parallel_for(std::size_t(0), image.points.size(), [&](std::size_t k) {
+    const auto& p = image.points[k];
+    const simd_detail::EnvReceiver r{p.normal(0), p.normal(1), p.normal(2), p.view(0), p.view(1), p.view(2),
+                                     p.normal.dot(p.view), roughness, f0};
+    double s[3] = {0, 0, 0};
+    sum(view, r, s);
+    out[std::size_t(p.pixel)] = Rgb(s[0], s[1], s[2]);
   });
+  return out;
 }
 
 namespace {
@@ -157,23 +184,56 @@ std::vector<Rgb> mixture_diffuse_reference(const SgMixture& m, const EnvImage& i
   });
 }
 
-std::vector<Rgb> mixture_diffuse_method(const SgMixture& m, const EnvImage& image, const std::string& method) {
-  const Method& md = registry_method("clamped-cosine", method);
-  return mixture_shading(m, image, [&md](const Frame& f, const EnvShadingPoint&, const SgLight& l) {
-    const double a[2] = {l.sharpness, std::clamp(l.axis.dot(f.n), -1.0, 1.0)};
-    return md.eval_double(std::span<const double>(a, 2)) / M_PI;
+namespace {
+// A registry method over every (point, lobe) pair, through its batch evaluator in blocks of
+// points: `row` writes one pair's arguments (arity of them); the values are scaled and summed per
+// point in lobe order, as mixture_shading does.
+template <class Row>
+std::vector<Rgb> mixture_method_shading(const SgMixture& m, const EnvImage& image, const Method& md, std::size_t arity,
+                                        double scale, const Row& row) {
+  std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
+  const std::size_t lobes = m.size();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, image.points.size(), 32), [&](const auto& range) {
+    std::vector<double> args(arity * lobes * range.size()), values(lobes * range.size());
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      const Frame f = view_frame(image.points[k]);
+      for (std::size_t j = 0; j < lobes; ++j)
+        row(f, image.points[k], m[j], &args[arity * ((k - range.begin()) * lobes + j)]);
+    }
+    md.batch_double(args, arity, values);
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      Rgb sum = Rgb::Zero();
+      for (std::size_t j = 0; j < lobes; ++j) {
+        const auto& l = m[j];
+        sum += values[(k - range.begin()) * lobes + j] * scale * Rgb(l.amplitude[0], l.amplitude[1], l.amplitude[2]);
+      }
+      out[std::size_t(image.points[k].pixel)] = sum;
+    }
   });
+  return out;
+}
+}  // namespace
+
+std::vector<Rgb> mixture_diffuse_method(const SgMixture& m, const EnvImage& image, const std::string& method) {
+  return mixture_method_shading(m, image, registry_method("clamped-cosine", method), 2, 1 / M_PI,
+                                [](const Frame& f, const EnvShadingPoint&, const SgLight& l, double* a) {
+                                  a[0] = l.sharpness;
+                                  a[1] = std::clamp(l.axis.dot(f.n), -1.0, 1.0);
+                                });
 }
 
 std::vector<Rgb> mixture_specular_method(const SgMixture& m, const EnvImage& image, const std::string& method,
                                          double roughness, double f0) {
-  const Method& md = registry_method("specular", method);
-  return mixture_shading(m, image, [&md, roughness, f0](const Frame& f, const EnvShadingPoint& p, const SgLight& l) {
-    const Vec3 xi = f.local(l.axis);
-    const double a[6] = {roughness, l.sharpness, std::clamp(xi(2), -1.0, 1.0), std::clamp(p.view.dot(f.n), 0.0, 1.0),
-                         std::atan2(xi(1), xi(0)), f0};
-    return md.eval_double(std::span<const double>(a, 6));
-  });
+  return mixture_method_shading(m, image, registry_method("specular", method), 6, 1.0,
+                                [roughness, f0](const Frame& f, const EnvShadingPoint& p, const SgLight& l, double* a) {
+                                  const Vec3 xi = f.local(l.axis);
+                                  a[0] = roughness;
+                                  a[1] = l.sharpness;
+                                  a[2] = std::clamp(xi(2), -1.0, 1.0);
+                                  a[3] = std::clamp(p.view.dot(f.n), 0.0, 1.0);
+                                  a[4] = std::atan2(xi(1), xi(0));
+                                  a[5] = f0;
+                                });
 }
 
 ShadingError shading_error(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const EnvImage& image) {

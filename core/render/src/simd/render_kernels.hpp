@@ -363,6 +363,29 @@ std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows,
   return fallbacks;
 }
 
+// ---- environment quadrature ------------------------------------------------------------------
+
+// The GGX texel quadrature of environment_shading.cpp's integrate_specular: each lane sums its
+// nodes' terms, the lanes are added in double.
+void env_specular_sum(const EnvNodes& a, const EnvReceiver& p, double* out) {
+  const std::size_t n = a.n;
+  const double *x = a.x, *y = a.y, *z = a.z, *wr = a.wr, *wg = a.wg, *wb = a.wb;
+  double s0 = 0, s1 = 0, s2 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2)
+  for (std::size_t k = 0; k < n; ++k) {
+    const double ci = p.nx * x[k] + p.ny * y[k] + p.nz * z[k];
+    const GgxLayer<double> g =
+        ggx_layer(p.alpha, p.nx, p.ny, p.nz, p.wox, p.woy, p.woz, x[k], y[k], z[k], p.cos_view, ci);
+    const double w = ci > 0 ? g.dv * schlick(p.f0, g.cos_oh) : 0.0;
+    s0 += w * wr[k];
+    s1 += w * wg[k];
+    s2 += w * wb[k];
+  }
+  out[0] += s0;
+  out[1] += s1;
+  out[2] += s2;
+}
+
 RenderKernelTable make_render_table(const char* isa) {
   RenderKernelTable t{};
   t.isa = isa;
@@ -379,6 +402,7 @@ RenderKernelTable make_render_table(const char* isa) {
   t.weighted_sum_d = weighted_sum<double>;
   t.weighted_sum_f = weighted_sum<float>;
   t.specular = specular;
+  t.env_specular_sum = env_specular_sum;
   return t;
 }
 

@@ -98,6 +98,22 @@ using SpecularFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const I
                                    const SpecularReceivers& receivers, double direct_limit, double* fallback,
                                    double* out_r, double* out_g, double* out_b);
 
+// ---- environment quadrature (environment_shading.cpp) ----
+
+// A map's quadrature nodes as arrays: unit direction and ω·L per channel (solid angle times radiance).
+struct EnvNodes {
+  std::size_t n = 0;
+  const double *x, *y, *z, *wr, *wg, *wb;
+};
+
+// The shading point: unit normal and view, n·ω_o, GGX α and Schlick f0 (one for every channel).
+struct EnvReceiver {
+  double nx, ny, nz, wox, woy, woz, cos_view, alpha, f0;
+};
+
+// out[0..2] = Σ_k ggx_brdf_cosine(α, f0, ω_o, ω_k) · (ω·L)_k (brdf.hpp; 0 below the horizon).
+using EnvSpecularSumFn = void (*)(const EnvNodes& nodes, const EnvReceiver& point, double* out);
+
 struct RenderKernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   VplSumFn<double> vpl_sum_d[4];
@@ -107,6 +123,7 @@ struct RenderKernelTable {
   WeightedSumFn<double> weighted_sum_d;
   WeightedSumFn<float> weighted_sum_f;
   SpecularFn specular;
+  EnvSpecularSumFn env_specular_sum;
 };
 
 const RenderKernelTable& render_kernels_sse2();
