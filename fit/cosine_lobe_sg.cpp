@@ -19,13 +19,12 @@ namespace {
 constexpr double kAmplitude = CosineLobeSg::amplitude;
 constexpr double kSharpness = CosineLobeSg::sharpness;
 
-struct Model {
-  std::vector<double> t;
+// a·G(t; λ) at t = ω·n.
+struct ScaledSg {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    return p[0] * sg_eval_cos(T(t[i]), p[1]);
-  }
+  T operator()(const T& t, const T* p) const { return p[0] * sg_eval_cos(t, p[1]); }
 };
+using Model = AxisModel<ScaledSg>;
 using Residual = GridResidual<Model>;
 
 Residual problem(const std::string& objective) {

@@ -40,19 +40,17 @@ namespace {
 constexpr double kPublishedAmplitude = MederCosineSg::amplitude;
 constexpr double kPublishedSharpness = MederCosineSg::sharpness;
 constexpr double kPublishedOffset = MederCosineSg::offset;
-const double kPi = pi<double>();
 
-struct CosineSgModel {
-  std::vector<double> t;
+// a·G(t; λ) − b at t = ω·n.
+struct OffsetSg {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    return p[0] * sg_eval_cos(T(t[i]), p[1]) - p[2];
-  }
+  T operator()(const T& t, const T* p) const { return p[0] * sg_eval_cos(t, p[1]) - p[2]; }
 };
+using CosineSgModel = AxisModel<OffsetSg>;
 using CosineSgResidual = GridResidual<CosineSgModel>;
 
 CosineSgResidual problem(const std::string& objective) {
-  const AxisGrid a = objective == "l2-theta-bounded" ? theta_axis_grid({0.0, kPi / 2}, 4)
+  const AxisGrid a = objective == "l2-theta-bounded" ? theta_axis_grid({0.0, pi<double>() / 2}, 4)
                                                      : solid_angle_axis_grid({0.0, 1.0}, 4);
   return axis_problem<CosineSgModel>(a, [](double t) { return t; });
 }

@@ -194,6 +194,17 @@ AxisGrid solid_angle_axis_grid(const std::vector<double>& breaks, int subdivisio
 // (θ = π/2), 4 sub-panels: "l2-theta" θ ∈ [0, π], "l2-hemisphere" t ∈ [0, 1], else t ∈ [−1, 1].
 AxisGrid clamped_cosine_axis_grid(const std::string& objective);
 
+// The model of a fit on an AxisGrid: Curve's `template <class T> T operator()(const T& t, const T* p)
+// const` at node i's t.
+template <class Curve>
+struct AxisModel {
+  std::vector<double> t;
+  template <class T>
+  T operator()(const T* p, std::size_t i) const {
+    return Curve{}(T(t[i]), p);
+  }
+};
+
 // A GridResidual on the axis grid a with targets target(t_i); Model holds the nodes as its member `t`.
 template <class Model, class Target>
 GridResidual<Model> axis_problem(const AxisGrid& a, Target target) {

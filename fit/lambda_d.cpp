@@ -22,20 +22,18 @@ namespace {
 
 // Public VSGL implementation (Tokuyoshi): 2.292504 (the papers give ≈ 2), defined in core.
 constexpr double kPublishedLambdaD = LambertSharpness::vsgl_code;
-const double kPi = pi<double>();
 
-struct LambdaDModel {
-  std::vector<double> t;
+// G(t; λ_d)/A(λ_d): the normalized SG at t = ω·n.
+struct NormalizedSg {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    return sg_eval_cos(T(t[i]), p[0]) / sg_integral(p[0]);
-  }
+  T operator()(const T& t, const T* p) const { return sg_eval_cos(t, p[0]) / sg_integral(p[0]); }
 };
+using LambdaDModel = AxisModel<NormalizedSg>;
 using LambdaDResidual = GridResidual<LambdaDModel>;
 
 LambdaDResidual problem(const std::string& objective) {
   return axis_problem<LambdaDModel>(clamped_cosine_axis_grid(objective),
-                                    [](double t) { return std::max(t, 0.0) / kPi; });
+                                    [](double t) { return std::max(t, 0.0) / pi<double>(); });
 }
 
 FitSpec spec_for(const std::string& objective) {
