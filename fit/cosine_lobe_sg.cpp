@@ -18,30 +18,17 @@ namespace {
 // The published values live in core (CosineLobeSg, clamped_cosine.hpp).
 constexpr double kAmplitude = CosineLobeSg::amplitude;
 constexpr double kSharpness = CosineLobeSg::sharpness;
-const double kPi = pi<double>();
 
-struct Model {
-  std::vector<double> t;
+// a·G(t; λ) at t = ω·n.
+struct ScaledSg {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    return p[0] * sg_eval_cos(T(t[i]), p[1]);
-  }
+  T operator()(const T& t, const T* p) const { return p[0] * sg_eval_cos(t, p[1]); }
 };
+using Model = AxisModel<ScaledSg>;
 using Residual = GridResidual<Model>;
 
 Residual problem(const std::string& objective) {
-  Residual f;
-  const bool theta = objective == "l2-theta";
-  const Quadrature q = theta ? gauss_legendre({0.0, kPi / 2, kPi}, 4)
-                       : objective == "l2-hemisphere" ? gauss_legendre({0.0, 1.0}, 4)
-                                                      : gauss_legendre({-1.0, 0.0, 1.0}, 4);
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    const double t = theta ? std::cos(q.x[i]) : q.x[i];
-    f.model.t.push_back(t);
-    f.sqrt_w.push_back(std::sqrt(theta ? q.w[i] : 2 * kPi * q.w[i]));
-    f.target.push_back(std::max(t, 0.0));
-  }
-  return f;
+  return axis_problem<Model>(clamped_cosine_axis_grid(objective), [](double t) { return std::max(t, 0.0); });
 }
 
 FitSpec spec_for(const std::string& objective) {
@@ -60,10 +47,9 @@ FitSpec spec_for(const std::string& objective) {
   return spec;
 }
 
-FitResult solve(const FitSpec& spec, const Residual& f) {
-  return run_least_squares(spec, [&] { return make_autodiff<2>(f, f.size()); });
+FitResult solve(const std::string& objective, const Residual& f) {
+  return solve_least_squares<2>(spec_for(objective), f);
 }
-FitResult solve(const std::string& objective, const Residual& f) { return solve(spec_for(objective), f); }
 
 // minimax and l2-relative on the whole-sphere grid (driver.hpp); the cosine's value at c = 1 is 1.
 FitResult solve_objective(const std::string& objective) {

@@ -40,28 +40,19 @@ namespace {
 constexpr double kPublishedAmplitude = MederCosineSg::amplitude;
 constexpr double kPublishedSharpness = MederCosineSg::sharpness;
 constexpr double kPublishedOffset = MederCosineSg::offset;
-const double kPi = pi<double>();
 
-struct CosineSgModel {
-  std::vector<double> t;
+// a·G(t; λ) − b at t = ω·n.
+struct OffsetSg {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    return p[0] * sg_eval_cos(T(t[i]), p[1]) - p[2];
-  }
+  T operator()(const T& t, const T* p) const { return p[0] * sg_eval_cos(t, p[1]) - p[2]; }
 };
+using CosineSgModel = AxisModel<OffsetSg>;
 using CosineSgResidual = GridResidual<CosineSgModel>;
 
 CosineSgResidual problem(const std::string& objective) {
-  const bool theta = objective == "l2-theta-bounded";
-  const Quadrature q = theta ? gauss_legendre({0.0, kPi / 2}, 4) : gauss_legendre({0.0, 1.0}, 4);
-  CosineSgResidual f;
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    const double t = theta ? std::cos(q.x[i]) : q.x[i];
-    f.model.t.push_back(t);
-    f.sqrt_w.push_back(std::sqrt(theta ? q.w[i] : 2 * kPi * q.w[i]));
-    f.target.push_back(t);
-  }
-  return f;
+  const AxisGrid a = objective == "l2-theta-bounded" ? theta_axis_grid({0.0, pi<double>() / 2}, 4)
+                                                     : solid_angle_axis_grid({0.0, 1.0}, 4);
+  return axis_problem<CosineSgModel>(a, [](double t) { return t; });
 }
 
 // Misfit residuals √w_i(aG_i − b − t_i) followed by the rounding residuals √w_i·u(|aG_i| + |b|).
@@ -114,7 +105,7 @@ FitResult solve_rounding(const std::string& precision) {
   for (double l : {7 * std::sqrt(f.u), 2 * std::sqrt(f.u), 20 * std::sqrt(f.u), 1.0, 0.1, 0.01, 0.001}) {
     if (l > 1e-8) spec.starts.push_back({std::exp(l) / l, l, 1 / l});
   }
-  return run_least_squares(spec, [&] { return make_autodiff<3>(f, f.size()); });
+  return solve_least_squares<3>(spec, f);
 }
 
 FitResult solve(const std::string& objective, const CosineSgResidual& f, double lambda_min) {
@@ -132,7 +123,7 @@ FitResult solve(const std::string& objective, const CosineSgResidual& f, double 
   spec.lower = {-1e12, lambda_min, -1e12};
   spec.upper = {1e12, 50.0, 1e12};
   spec.starts = starts(lambda_min);
-  return run_least_squares(spec, [&] { return make_autodiff<3>(f, f.size()); });
+  return solve_least_squares<3>(spec, f);
 }
 
 }  // namespace

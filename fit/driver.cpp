@@ -13,6 +13,8 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include "sglab/scalar.hpp"
+
 namespace sglab::fit {
 
 Quadrature gauss_legendre(const std::vector<double>& breaks, int subdivisions) {
@@ -42,6 +44,35 @@ Quadrature gauss_legendre(const std::vector<double>& breaks, int subdivisions) {
     }
   }
   return q;
+}
+
+AxisGrid theta_axis_grid(const std::vector<double>& breaks, int subdivisions) {
+  const Quadrature q = gauss_legendre(breaks, subdivisions);
+  AxisGrid a;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    a.t.push_back(std::cos(q.x[i]));
+    a.w.push_back(q.w[i]);
+  }
+  return a;
+}
+
+AxisGrid solid_angle_axis_grid(const std::vector<double>& breaks, int subdivisions) {
+  const Quadrature q = gauss_legendre(breaks, subdivisions);
+  AxisGrid a;
+  a.t = q.x;
+  for (std::size_t i = 0; i < q.size(); ++i) a.w.push_back(2 * sglab::pi<double>() * q.w[i]);
+  return a;
+}
+
+AxisGrid clamped_cosine_axis_grid(const std::string& objective) {
+  const double pi = sglab::pi<double>();
+  if (objective == "l2-theta") return theta_axis_grid({0.0, pi / 2, pi}, 4);
+  if (objective == "l2-hemisphere") return solid_angle_axis_grid({0.0, 1.0}, 4);
+  return solid_angle_axis_grid({-1.0, 0.0, 1.0}, 4);
+}
+
+bool all_published(const FitSpec& spec) {
+  return std::all_of(spec.published.begin(), spec.published.end(), [](double v) { return std::isfinite(v); });
 }
 
 std::vector<double> log_spaced(double lo, double hi, int n) {
@@ -134,7 +165,22 @@ std::pair<double, double> one_percent_range(const std::function<double(const std
 
 namespace {
 
-bool converged_termination(ceres::TerminationType t) { return t == ceres::CONVERGENCE; }
+// Keeps the best of the starts (Solver::Summary or GradientProblemSolver::Summary): usable
+// solutions only; converged ones first; among those (or among none), the lowest cost. Returns
+// whether `summary` replaced the best so far (the caller then keeps its parameters).
+template <class Summary>
+bool keep_if_better(const Summary& summary, bool& have, FitResult& best) {
+  if (!summary.IsSolutionUsable()) return false;
+  const bool conv = summary.termination_type == ceres::CONVERGENCE;
+  const bool better = !have || (conv && !best.converged) ||
+                      (conv == best.converged && summary.final_cost < best.final_cost);
+  if (!better) return false;
+  have = true;
+  best.final_cost = summary.final_cost;
+  best.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  best.converged = conv;
+  return true;
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -173,18 +219,7 @@ FitResult run_least_squares(const FitSpec& spec,
     options.num_threads = 1;
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
-    if (!summary.IsSolutionUsable()) continue;
-    const bool conv = converged_termination(summary.termination_type);
-    // Prefer converged solutions; among those (or among none), the lowest cost.
-    const bool better = !have || (conv && !best.converged) ||
-                        (conv == best.converged && summary.final_cost < best.final_cost);
-    if (better) {
-      have = true;
-      best_x = x;
-      best.final_cost = summary.final_cost;
-      best.iterations = static_cast<int>(summary.iterations.size()) - 1;
-      best.converged = conv;
-    }
+    if (keep_if_better(summary, have, best)) best_x = x;
   }
   if (!have) throw std::runtime_error(spec.fit + ": no start gave a usable Ceres solution");
   best.seconds = seconds_since(t0);
@@ -198,9 +233,7 @@ void judge_least_squares(const FitSpec& spec, const std::function<ceres::CostFun
                          const std::vector<double>& x, FitResult& r) {
   const std::size_t k = spec.names.size();
   std::unique_ptr<ceres::CostFunction> cf(make_cost());
-  bool published = true;
-  for (double v : spec.published) published = published && std::isfinite(v);
-  if (published) r.published_cost = least_squares_cost(*cf, spec.published, nullptr);
+  if (all_published(spec)) r.published_cost = least_squares_cost(*cf, spec.published, nullptr);
   std::vector<double> jac;
   least_squares_cost(*cf, x, &jac);
   Eigen::MatrixXd J = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
@@ -232,18 +265,9 @@ FitResult run_scalar_fit(const FitSpec& spec,
     options.logging_type = ceres::SILENT;
     ceres::GradientProblemSolver::Summary summary;
     ceres::Solve(options, problem, u.data(), &summary);
-    if (!summary.IsSolutionUsable()) continue;
-    const bool conv = converged_termination(summary.termination_type);
-    const bool better = !have || (conv && !best.converged) ||
-                        (conv == best.converged && summary.final_cost < best.final_cost);
-    if (better) {
-      have = true;
-      best_x.resize(u.size());
-      for (std::size_t i = 0; i < u.size(); ++i) best_x[i] = std::exp(u[i]);
-      best.final_cost = summary.final_cost;
-      best.iterations = static_cast<int>(summary.iterations.size()) - 1;
-      best.converged = conv;
-    }
+    if (!keep_if_better(summary, have, best)) continue;
+    best_x.resize(u.size());
+    for (std::size_t i = 0; i < u.size(); ++i) best_x[i] = std::exp(u[i]);
   }
   if (!have) throw std::runtime_error(spec.fit + ": no start gave a usable Ceres solution");
   best.seconds = seconds_since(t0);
@@ -255,8 +279,8 @@ FitResult run_scalar_fit(const FitSpec& spec,
     double c = std::nan("");
     return ff->Evaluate(u.data(), &c, nullptr) ? c : std::nan("");
   };
-  bool published = true;
-  for (double v : spec.published) published = published && std::isfinite(v) && v > 0;
+  const bool published = all_published(spec) && std::all_of(spec.published.begin(), spec.published.end(),
+                                                             [](double v) { return v > 0; });  // log-parameters
   if (published) best.published_cost = cost(spec.published);
   for (std::size_t j = 0; j < best_x.size(); ++j) best.cost_range.push_back(one_percent_range(cost, best_x, j));
   return best;

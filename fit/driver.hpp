@@ -147,6 +147,13 @@ ceres::FirstOrderFunction* make_autodiff_scalar(const Functor& f) {
   return new ceres::AutoDiffFirstOrderFunction<Functor, K>(new Functor(f));
 }
 
+// The least-squares fit of `spec` on a residual functor f (f.size() residuals, K parameters): the
+// call every fit file makes of run_least_squares.
+template <int K, class Residual>
+FitResult solve_least_squares(const FitSpec& spec, const Residual& f) {
+  return run_least_squares(spec, [&] { return make_autodiff<K>(f, f.size()); });
+}
+
 // Residuals r_i = √w_i·(model(p, i) − target_i) of a Model with
 // `template <class T> T operator()(const T* p, std::size_t i) const` (node i of the grid).
 template <class Model>
@@ -176,6 +183,49 @@ struct GridResidual {
     for (std::size_t i = 0; i < target.size(); ++i) target[i] = model(truth.data(), i);
   }
 };
+
+// ---- the polar axis of the one-dimensional fits ------------------------------------------
+// A function of t = ω·n alone integrates over the sphere as 2π∫ f(t) dt (the azimuth gives 2π);
+// the "theta" objectives weigh it uniformly in angle instead, ∫ f(cos θ) dθ. An AxisGrid holds the
+// nodes t_i and weights w_i of one of these rules.
+struct AxisGrid {
+  std::vector<double> t, w;
+  std::size_t size() const { return t.size(); }
+};
+// Gauss–Legendre in θ on the panels between `breaks` (radians), each split into `subdivisions`:
+// t = cos θ, w = dθ.
+AxisGrid theta_axis_grid(const std::vector<double>& breaks, int subdivisions);
+// Gauss–Legendre in t on the panels between `breaks`: w = 2π dt (solid angle).
+AxisGrid solid_angle_axis_grid(const std::vector<double>& breaks, int subdivisions);
+// The grids of the clamped-cosine fits (lambda-d, cosine-lobe-sg), split at its kink t = 0
+// (θ = π/2), 4 sub-panels: "l2-theta" θ ∈ [0, π], "l2-hemisphere" t ∈ [0, 1], else t ∈ [−1, 1].
+AxisGrid clamped_cosine_axis_grid(const std::string& objective);
+
+// The model of a fit on an AxisGrid: Curve's `template <class T> T operator()(const T& t, const T* p)
+// const` at node i's t.
+template <class Curve>
+struct AxisModel {
+  std::vector<double> t;
+  template <class T>
+  T operator()(const T* p, std::size_t i) const {
+    return Curve{}(T(t[i]), p);
+  }
+};
+
+// A GridResidual on the axis grid a with targets target(t_i); Model holds the nodes as its member `t`.
+template <class Model, class Target>
+GridResidual<Model> axis_problem(const AxisGrid& a, Target target) {
+  GridResidual<Model> f;
+  f.model.t = a.t;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    f.sqrt_w.push_back(std::sqrt(a.w[i]));
+    f.target.push_back(target(a.t[i]));
+  }
+  return f;
+}
+
+// True when every published value is finite (a cost at the published values exists).
+bool all_published(const FitSpec& spec);
 
 // The FitResult fields that describe the parameters x (fit, objective, values, published, derived).
 FitResult finish_at(const FitSpec& spec, const std::vector<double>& x);
@@ -221,7 +271,7 @@ FitResult run_minimax(FitSpec spec, GridResidual<Model> f, std::vector<double> s
   for (int round = 0; round < rounds; ++round) {
     for (std::size_t i = 0; i < n; ++i) f.sqrt_w[i] = std::sqrt(w[i]);
     inner.starts = {x};
-    last = run_least_squares(inner, [&] { return make_autodiff<K>(f, f.size()); });
+    last = solve_least_squares<K>(inner, f);
     iterations += last.iterations;
     seconds += last.seconds;
     for (std::size_t k = 0; k < x.size(); ++k) x[k] = last.parameters[k].value;
@@ -243,9 +293,7 @@ FitResult run_minimax(FitSpec spec, GridResidual<Model> f, std::vector<double> s
   r.iterations = iterations;
   r.converged = last.converged;
   r.seconds = seconds;
-  bool published = true;
-  for (double v : spec.published) published = published && std::isfinite(v);
-  if (published) r.published_cost = max_abs(spec.published.data());
+  if (all_published(spec)) r.published_cost = max_abs(spec.published.data());
   for (std::size_t j = 0; j < best_x.size(); ++j)
     r.cost_range.push_back(one_percent_range([&](const std::vector<double>& p) { return max_abs(p.data()); }, best_x, j));
   r.notes.push_back("minimax by Lawson's reweighted least squares, " + std::to_string(rounds) + " rounds from the L2 fit");
@@ -257,15 +305,12 @@ FitResult run_minimax(FitSpec spec, GridResidual<Model> f, std::vector<double> s
 template <int K, class Model>
 FitResult solve_with_objective(const std::string& objective, const GridResidual<Model>& f, FitSpec spec,
                                const std::string& relative_text, const std::string& minimax_text) {
-  const auto l2 = [](const GridResidual<Model>& g, const FitSpec& s) {
-    return run_least_squares(s, [&] { return make_autodiff<K>(g, g.size()); });
-  };
   if (objective == "l2-relative") {
     spec.objective = relative_text;
-    return l2(relative_problem(f), spec);
+    return solve_least_squares<K>(spec, relative_problem(f));
   }
-  if (objective != "minimax") return l2(f, spec);
-  const FitResult first = l2(f, spec);
+  if (objective != "minimax") return solve_least_squares<K>(spec, f);
+  const FitResult first = solve_least_squares<K>(spec, f);
   std::vector<double> x;
   for (std::size_t k = 0; k < spec.names.size(); ++k) x.push_back(first.parameters[k].value);
   spec.objective = minimax_text;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "driver.hpp"
@@ -39,6 +40,27 @@ GridResidual<Model> lambda_cosine_problem(LambdaCosineGrid g, std::vector<double
   r.target = targets(g);
   r.model.g = std::move(g);
   return r;
+}
+
+// The fitter of an approximation on a (λ, c) grid: objectives l2-normalized (the default: spec's own
+// plain L2 fit), l2-relative and minimax (solve_with_objective); its recovery test solves the
+// default. `problem` returns the fit's reference problem (built once), `spec` its FitSpec, whose
+// names are the fitter's parameters.
+template <int K, class Model>
+Fitter lambda_cosine_fitter(std::string name, std::string description, const GridResidual<Model>& (*problem)(),
+                            FitSpec (*spec)()) {
+  Fitter f;
+  f.name = std::move(name);
+  f.description = std::move(description);
+  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
+  f.parameters = spec().names;
+  f.run = [problem, spec](const FitOptions& o) {
+    return solve_with_objective<K>(o.objective, problem(), spec(), kRelativeObjective2d, kMinimaxObjective2d);
+  };
+  f.synthetic = synthetic_recovery(problem, [spec](const GridResidual<Model>& p) {
+    return solve_least_squares<K>(spec(), p);
+  });
+  return f;
 }
 
 }  // namespace sglab::fit

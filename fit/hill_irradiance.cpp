@@ -51,34 +51,21 @@ FitSpec make_spec() {
   return spec;
 }
 
-FitResult solve(const Residual& f, const FitSpec& spec = make_spec()) {
-  return run_least_squares(spec, [&] { return make_autodiff<1>(f, f.size()); });
-}
-
-// The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
-FitResult solve_objective(const std::string& objective) {
-  return solve_with_objective<1>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
-}
-
 }  // namespace
 
-FitResult fit_hill_irradiance() {
-  const Residual& f = reference_problem();
-  FitResult r = solve(f);
-  const auto brent = boost::math::tools::brent_find_minima(
-      [&](double c0) { return f.squared_error(&c0); }, 0.05, 2.0, 40);
-  add_brent_note(r, 0, brent.first);
-  return r;
-}
-
 Fitter hill_irradiance_fitter() {
-  Fitter f;
-  f.name = "hill-irradiance";
-  f.description = "c0 of the Pettineo/Hill fitted SG irradiance";
-  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
-  f.parameters = {"c0"};
-  f.run = [](const FitOptions& o) { return o.objective == "l2-normalized" ? fit_hill_irradiance() : solve_objective(o.objective); };
-  f.synthetic = synthetic_recovery(reference_problem, [](const auto& p) { return solve(p); });
+  Fitter f = lambda_cosine_fitter<1>("hill-irradiance", "c0 of the Pettineo/Hill fitted SG irradiance",
+                                     reference_problem, make_spec);
+  // The default fit, cross-checked by an independent 1D minimization of the same objective.
+  f.run = [run = f.run](const FitOptions& o) {
+    FitResult r = run(o);
+    if (o.objective != "l2-normalized") return r;
+    const Residual& p = reference_problem();
+    const auto brent = boost::math::tools::brent_find_minima(
+        [&](double c0) { return p.squared_error(&c0); }, 0.05, 2.0, 40);
+    add_brent_note(r, 0, brent.first);
+    return r;
+  };
   return f;
 }
 

@@ -97,8 +97,7 @@ FitSpec spec_for(const std::string& objective, double beta, double kappa) {
 }
 
 FitResult solve(const std::string& objective, const LambdaCResidual& f, double beta, double kappa) {
-  return run_least_squares(spec_for(objective, beta, kappa),
-                           [&] { return make_autodiff<1>(f, f.size()); });
+  return solve_least_squares<1>(spec_for(objective, beta, kappa), f);
 }
 
 std::string fmt(const char* format, double a, double b = 0, double c = 0) {

@@ -22,31 +22,18 @@ namespace {
 
 // Public VSGL implementation (Tokuyoshi): 2.292504 (the papers give ≈ 2), defined in core.
 constexpr double kPublishedLambdaD = LambertSharpness::vsgl_code;
-const double kPi = pi<double>();
 
-struct LambdaDModel {
-  std::vector<double> t;
+// G(t; λ_d)/A(λ_d): the normalized SG at t = ω·n.
+struct NormalizedSg {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    return sg_eval_cos(T(t[i]), p[0]) / sg_integral(p[0]);
-  }
+  T operator()(const T& t, const T* p) const { return sg_eval_cos(t, p[0]) / sg_integral(p[0]); }
 };
+using LambdaDModel = AxisModel<NormalizedSg>;
 using LambdaDResidual = GridResidual<LambdaDModel>;
 
 LambdaDResidual problem(const std::string& objective) {
-  LambdaDResidual f;
-  const bool theta = objective == "l2-theta";
-  const Quadrature q = theta ? gauss_legendre({0.0, kPi / 2, kPi}, 4)
-                       : objective == "l2-hemisphere" ? gauss_legendre({0.0, 1.0}, 4)
-                                                      : gauss_legendre({-1.0, 0.0, 1.0}, 4);
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    const double t = theta ? std::cos(q.x[i]) : q.x[i];
-    const double w = theta ? q.w[i] : 2 * kPi * q.w[i];
-    f.model.t.push_back(t);
-    f.sqrt_w.push_back(std::sqrt(w));
-    f.target.push_back(std::max(t, 0.0) / kPi);
-  }
-  return f;
+  return axis_problem<LambdaDModel>(clamped_cosine_axis_grid(objective),
+                                    [](double t) { return std::max(t, 0.0) / pi<double>(); });
 }
 
 FitSpec spec_for(const std::string& objective) {
@@ -67,10 +54,9 @@ FitSpec spec_for(const std::string& objective) {
   return spec;
 }
 
-FitResult solve(const FitSpec& spec, const LambdaDResidual& f) {
-  return run_least_squares(spec, [&] { return make_autodiff<1>(f, f.size()); });
+FitResult solve(const std::string& objective, const LambdaDResidual& f) {
+  return solve_least_squares<1>(spec_for(objective), f);
 }
-FitResult solve(const std::string& objective, const LambdaDResidual& f) { return solve(spec_for(objective), f); }
 
 }  // namespace
 
@@ -85,7 +71,7 @@ FitResult fit_lambda_d_like_scipy() {
   FitSpec spec = spec_for("l2-solid-angle");
   spec.starts = {{2.0}};                    // benchmarks/lambda_d_scipy.py: x0 = 2
   spec.tolerances = {1e-15, 1e-15, 1e-15};  // its ftol = gtol = xtol = 1e-15
-  return solve(spec, grid);
+  return solve_least_squares<1>(spec, grid);
 }
 
 Fitter lambda_d_fitter() {

@@ -47,26 +47,12 @@ FitSpec make_spec() {
   return spec;
 }
 
-FitResult solve(const MederResidual& f, const FitSpec& spec = make_spec()) {
-  return run_least_squares(spec, [&] { return make_autodiff<4>(f, f.size()); });
-}
-
-// The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
-FitResult solve_objective(const std::string& objective) {
-  return solve_with_objective<4>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
-}
-
 }  // namespace
 
 Fitter meder_logistic_fitter() {
-  Fitter f;
-  f.name = "meder-logistic";
-  f.description = "Meder & Bruederlin logistic steepness t(lambda)";
-  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
-  f.parameters = {"p1", "p2", "p3", "p4"};
-  f.run = [](const FitOptions& o) { return solve_objective(o.objective); };
-  f.synthetic = synthetic_recovery(reference_problem, [](const auto& p) { return solve(p); });
-  return f;
+  return lambda_cosine_fitter<4>("meder-logistic",
+                                 "Meder & Bruederlin logistic steepness t(lambda)",
+                                 reference_problem, make_spec);
 }
 
 }  // namespace sglab::fit

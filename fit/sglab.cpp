@@ -89,7 +89,7 @@ FitResult solve_lawson(Residual f) {
     for (std::size_t i = 0; i < w.size(); ++i) f.sqrt_w[i] = std::sqrt(w[i]);
     FitSpec spec = make_spec(x);
     spec.judge = false;
-    FitResult r = run_least_squares(spec, make_cost);
+    FitResult r = solve_least_squares<8>(spec, f);
     seconds += r.seconds;
     iterations += r.iterations;
     for (std::size_t i = 0; i < x.size(); ++i) x[i] = r.parameters[i].value;
@@ -128,7 +128,7 @@ FitResult solve_lawson(Residual f) {
 
 // Synthetic recovery: one unweighted least-squares solve against the model's own values.
 FitResult solve_plain(const Residual& f) {
-  return run_least_squares(make_spec(kStart), [&] { return make_autodiff<8>(f, f.size()); });
+  return solve_least_squares<8>(make_spec(kStart), f);
 }
 
 }  // namespace

@@ -48,26 +48,12 @@ FitSpec make_spec() {
   return spec;
 }
 
-FitResult solve(const Residual& f, const FitSpec& spec = make_spec()) {
-  return run_least_squares(spec, [&] { return make_autodiff<3>(f, f.size()); });
-}
-
-// The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
-FitResult solve_objective(const std::string& objective) {
-  return solve_with_objective<3>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
-}
-
 }  // namespace
 
 Fitter tokuyoshi2022_steepness_fitter() {
-  Fitter f;
-  f.name = "tokuyoshi2022-steepness";
-  f.description = "Tokuyoshi 2022 erf steepness k(lambda)";
-  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
-  f.parameters = {"A", "B", "C"};
-  f.run = [](const FitOptions& o) { return solve_objective(o.objective); };
-  f.synthetic = synthetic_recovery(reference_problem, [](const auto& p) { return solve(p); });
-  return f;
+  return lambda_cosine_fitter<3>("tokuyoshi2022-steepness",
+                                 "Tokuyoshi 2022 erf steepness k(lambda)",
+                                 reference_problem, make_spec);
 }
 
 }  // namespace sglab::fit

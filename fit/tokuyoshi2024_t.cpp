@@ -57,26 +57,12 @@ FitSpec make_spec() {
   return spec;
 }
 
-FitResult solve(const Residual& f, const FitSpec& spec = make_spec()) {
-  return run_least_squares(spec, [&] { return make_autodiff<5>(f, f.size()); });
-}
-
-// The objective's fit: l2-normalized (the default), l2-relative or minimax (driver.hpp).
-FitResult solve_objective(const std::string& objective) {
-  return solve_with_objective<5>(objective, reference_problem(), make_spec(), kRelativeObjective2d, kMinimaxObjective2d);
-}
-
 }  // namespace
 
 Fitter tokuyoshi2024_t_fitter() {
-  Fitter f;
-  f.name = "tokuyoshi2024-t";
-  f.description = "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor";
-  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
-  f.parameters = {"A", "B", "C", "D", "E"};
-  f.run = [](const FitOptions& o) { return solve_objective(o.objective); };
-  f.synthetic = synthetic_recovery(reference_problem, [](const auto& p) { return solve(p); });
-  return f;
+  return lambda_cosine_fitter<5>("tokuyoshi2024-t",
+                                 "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor",
+                                 reference_problem, make_spec);
 }
 
 }  // namespace sglab::fit

@@ -1,11 +1,29 @@
-"""What the figure scripts of plots/ share: a figure file appears whole or not at all.
+"""What the figure scripts of plots/ share: their command line and tables; a figure file appears
+whole or not at all.
 
 Each file is written to a hidden temporary file next to it and renamed over it (atomic on one file
 system), so an interrupted or failed plot never leaves a half-written PNG or PDF behind. Also used
 by the Python package (sglab.plots.save), which ships a copy of this module in sglab._plots.
 """
+import csv
 import os
 import sys
+
+
+def arguments(doc, count):
+    """The script's ``count`` command-line arguments; with any other number, prints the usage ``doc``
+    on stderr and exits with status 2."""
+    if len(sys.argv) != count + 1:
+        print(doc, file=sys.stderr)
+        sys.exit(2)
+    return sys.argv[1:]
+
+
+def read_table(path):
+    """The rows (dicts by column) of a CSV table written by sglab, its provenance lines (those
+    starting with '#') skipped."""
+    with open(path, newline="") as f:
+        return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
 def save_figure(fig, path, **savefig_args):

@@ -11,7 +11,6 @@ Reads paper_tables/envmap_lobes.csv and DIR/envmap_images.csv (both written by
 Computes nothing the CSVs do not already hold.
 usage: envmap_lobes.py ENVMAP_LOBES.csv ENVMAP_IMAGES.csv OUT_DIR
 """
-import csv
 import os
 import sys
 
@@ -19,20 +18,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from _common import save_figure, save_figures  # noqa: E402
-
-
-def rows_of(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(line for line in f if not line.startswith("#")))
+from _common import arguments, read_table, save_figure, save_figures  # noqa: E402
 
 
 def main() -> int:
-    if len(sys.argv) != 4:
-        print(__doc__, file=sys.stderr)
-        return 2
-    table, images, out_dir = sys.argv[1:]
-    rows = rows_of(table)
+    table, images, out_dir = arguments(__doc__, 3)
+    rows = read_table(table)
     if not rows or "ceres_relative_error" not in rows[0]:
         print(f"{table}: not an envmap_lobes CSV", file=sys.stderr)
         return 2

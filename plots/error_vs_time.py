@@ -5,7 +5,6 @@ Reads the CSV written by `sglab error-vs-time` and writes error_vs_time.png and 
 output directory. Computes nothing the CSV does not already hold.
 usage: error_vs_time.py RESULTS.csv OUT_DIR
 """
-import csv
 import os
 import sys
 
@@ -13,16 +12,12 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from _common import save_figures  # noqa: E402
+from _common import arguments, read_table, save_figures  # noqa: E402
 
 
 def main() -> int:
-    if len(sys.argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    src, out_dir = sys.argv[1], sys.argv[2]
-    with open(src, newline="") as f:
-        rows = [r for r in csv.DictReader(f) if r["max_error"] not in ("", "nan", "0.000000e+00")]
+    src, out_dir = arguments(__doc__, 2)
+    rows = [r for r in read_table(src) if r["max_error"] not in ("", "nan", "0.000000e+00")]
     os.makedirs(out_dir, exist_ok=True)
     quantities = list(dict.fromkeys(r["quantity"] for r in rows))
     titles = {"clamped-cosine": ("Diffuse SG lighting", "all λ ∈ [1e-3, 1e4]", "λ ≥ 1", "max |error| / D(λ, 1)"),

@@ -6,7 +6,6 @@ bound against lambda, their sum, and the measured float error) and hemispherical
 each hemispherical method against the exact integral, per lambda). Computes nothing.
 usage: poster_plots.py TABLES_DIR OUT_DIR
 """
-import csv
 import os
 import sys
 
@@ -14,14 +13,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from _common import save_figure  # noqa: E402
+from _common import arguments, read_table, save_figure  # noqa: E402
 
 LAMBDA_STAR = 0.0008456087  # the poster's printed optimum (for the marker only)
-
-
-def read(path):
-    with open(path, newline="") as f:
-        return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
 def save(fig, out_dir, name):
@@ -30,13 +24,10 @@ def save(fig, out_dir, name):
 
 
 def main() -> int:
-    if len(sys.argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    tables, out_dir = sys.argv[1], sys.argv[2]
+    tables, out_dir = arguments(__doc__, 2)
 
-    curves = read(os.path.join(tables, "cosine_term_error_curves.csv"))
-    per_lambda = read(os.path.join(tables, "cosine_term_error.csv"))
+    curves = read_table(os.path.join(tables, "cosine_term_error_curves.csv"))
+    per_lambda = read_table(os.path.join(tables, "cosine_term_error.csv"))
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4))
     for lam in sorted({r["lambda"] for r in curves}, key=float):
         rows = [r for r in curves if r["lambda"] == lam]
@@ -64,7 +55,7 @@ def main() -> int:
     fig.tight_layout()
     save(fig, out_dir, "cosine_term_error.png")
 
-    rmse = read(os.path.join(tables, "hemispherical_rmse.csv"))
+    rmse = read_table(os.path.join(tables, "hemispherical_rmse.csv"))
     fig, ax = plt.subplots(figsize=(6, 4))
     # Normalized by A(λ), the vMF form of Tokuyoshi et al. 2024 is the 2022 form exactly: dashed, so
     # that both curves show where they coincide.

@@ -9,7 +9,6 @@ light position (rows with by = roughness), bottom row only the positions near th
 (by = roughness_near_lobe). Computes nothing the CSV does not already hold.
 usage: specular_vs_roughness.py SUMMARY.csv OUT_DIR
 """
-import csv
 import os
 import sys
 
@@ -18,7 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
-from _common import save_figures  # noqa: E402
+from _common import arguments, read_table, save_figures  # noqa: E402
 
 PANELS = (
     ("smape", "SMAPE (%)", "mean 2|v − r|/(|v| + |r|)"),
@@ -28,12 +27,8 @@ PANELS = (
 
 
 def main() -> int:
-    if len(sys.argv) != 3:
-        print(__doc__, file=sys.stderr)
-        return 2
-    src, out_dir = sys.argv[1], sys.argv[2]
-    with open(src, newline="") as f:
-        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    src, out_dir = arguments(__doc__, 2)
+    rows = read_table(src)
     groups = (("roughness", "all light positions"), ("roughness_near_lobe", "light within one width of the mirror direction"))
     if not any(r["by"] == "roughness" for r in rows):
         print(f"{src}: no rows with by = roughness (not a specular sweep summary?)", file=sys.stderr)

@@ -63,15 +63,22 @@ TEST(ClampedCosine, MederWithinPointFifteenPercentSpecSaysPointEight) {
   EXPECT_LE(e, 1.5e-2);
 }
 
-TEST(ClampedCosine, ExactWhereExactByConstruction) {
-  // tokuyoshi2024 interpolates between the exact c = ±1 values (f = 1 at c = 1, 0 at c = −1).
+// `method` equals the exact D(λ, c) at the poles c = ±1 (relative 1e-13) over the stiff sharpnesses,
+// wherever D(λ, −1) > 1e-290 (clear of underflow).
+template <class F>
+void expect_exact_at_the_poles(F method) {
   for (double l : test::stiff_sharpnesses(4)) {
-    EXPECT_LE(test::relative_error(clamped_cosine_tokuyoshi2024(l, 1.0), clamped_cosine_reference(l, 1.0)), 1e-13) << l;
+    EXPECT_LE(test::relative_error(method(l, 1.0), clamped_cosine_reference(l, 1.0)), 1e-13) << l;
     const double lower = clamped_cosine_reference(l, -1.0);
     if (lower > 1e-290) {
-      EXPECT_LE(test::relative_error(clamped_cosine_tokuyoshi2024(l, -1.0), lower), 1e-13) << l;
+      EXPECT_LE(test::relative_error(method(l, -1.0), lower), 1e-13) << l;
     }
   }
+}
+
+TEST(ClampedCosine, ExactWhereExactByConstruction) {
+  // tokuyoshi2024 interpolates between the exact c = ±1 values (f = 1 at c = 1, 0 at c = −1).
+  expect_exact_at_the_poles([](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); });
   // Every method tends to the right value for a very sharp light well above the horizon
   // (D → 2πc/λ): the punctual forms are exact in that limit, to O(1/λ).
   for (double c : {0.3, 0.8, 1.0}) {
@@ -153,13 +160,7 @@ TEST(ClampedCosine, SglabMaxErrorOnFixedGridFloat) {
 }
 
 TEST(ClampedCosine, SglabExactAtThePolesAndForAConstantLight) {
-  for (double l : test::stiff_sharpnesses(4)) {
-    EXPECT_LE(test::relative_error(clamped_cosine_sglab(l, 1.0), clamped_cosine_reference(l, 1.0)), 1e-13) << l;
-    const double lower = clamped_cosine_reference(l, -1.0);
-    if (lower > 1e-290) {
-      EXPECT_LE(test::relative_error(clamped_cosine_sglab(l, -1.0), lower), 1e-13) << l;
-    }
-  }
+  expect_exact_at_the_poles([](double l, double c) { return clamped_cosine_sglab(l, c); });
   for (double c : {-1.0, -0.3, 0.0, 0.6, 1.0}) EXPECT_NEAR(clamped_cosine_sglab(0.0, c), pi<double>(), 1e-14) << c;
 }
 

@@ -190,10 +190,7 @@ class EnvMapCommand : public sglab::test::TempDirTest {
   void expect_rejected(const std::string& file, int lobes, const std::string& what) {
     const Result r = sglab(fmt::format("fit envmap '{}' --lobes {} --json '{}' --exr '{}'", (dir_ / file).string(), lobes,
                                        (dir_ / "out.json").string(), (dir_ / "out.exr").string()));
-    EXPECT_EQ(r.status, 2) << file << ": " << r.err;
-    EXPECT_NE(r.err.find(what), std::string::npos) << file << ": " << r.err;
-    EXPECT_FALSE(fs::exists(dir_ / "out.json"));
-    EXPECT_FALSE(fs::exists(dir_ / "out.exr"));
+    expect_bad_input(r, file, what, {"out.json", "out.exr"});
   }
   EnvMap uniform(int w, int h, float value = 1) const { return {w, h, std::vector<std::array<float, 3>>(std::size_t(w * h), {value, value, value})}; }
 };
@@ -328,13 +325,7 @@ TEST_F(SceneEnvironment, RejectsBadInput) {
       {{{"mixture", "one.json"}, {"colour", 1}}, "environment.colour"},
       {nlohmann::json::object(), "environment"},
   };
-  for (const auto& [env, what] : cases) {
-    const Result r = render(scene(env));
-    EXPECT_EQ(r.status, 2) << env.dump() << ": " << r.err;
-    EXPECT_NE(r.err.find(what), std::string::npos) << env.dump() << ": " << r.err;
-    EXPECT_FALSE(fs::exists(dir_ / "out.exr")) << env.dump();
-    EXPECT_FALSE(fs::exists(dir_ / "stats.json")) << env.dump();
-  }
+  for (const auto& [env, what] : cases) expect_bad_input(render(scene(env)), env.dump(), what, {"out.exr", "stats.json"});
 }
 
 }  // namespace

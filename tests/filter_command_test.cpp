@@ -104,13 +104,7 @@ TEST_F(FilterCommand, BadInputExitsTwoNamesItAndWritesNothing) {
       {"--weights normal --set floor.roughness=-0.5", "objects[0].material.roughness: -0.5 is negative"},
       {"--weights normal --width 0", "--width 0"},
   };
-  for (const auto& c : cases) {
-    const Result r = filter(c.extra);
-    EXPECT_EQ(r.status, 2) << c.extra << ": " << r.err;
-    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.extra << ": " << r.err;
-    EXPECT_FALSE(fs::exists(path("out.exr"))) << c.extra;
-    EXPECT_FALSE(fs::exists(path("stats.json"))) << c.extra;
-  }
+  for (const auto& c : cases) expect_bad_input(filter(c.extra), c.extra, c.expected, {"out.exr", "stats.json"});
   const Result r = sglab(fmt::format("filter-sweep --scene '{}' --roughness 0.1,abc --out '{}' --tables-dir '{}' --quiet",
                                      path("scene.json").string(), path("sweep").string(), path("tables").string()));
   EXPECT_EQ(r.status, 2);

@@ -106,13 +106,8 @@ TEST_F(RenderCommand, BadInputExitsTwoNamesTheFieldAndWritesNothing) {
       {"scene.json", "--specular ggx", "--specular: unknown specular method 'ggx'"},
       {"scene.json", "--vsgl kmeans --count 0", "--count 0 is outside"},
   };
-  for (const auto& c : cases) {
-    const Result r = render(c.scene, c.extra);
-    EXPECT_EQ(r.status, 2) << c.scene << " " << c.extra << "\n" << r.err;
-    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.scene << " " << c.extra << "\n  stderr: " << r.err;
-    EXPECT_FALSE(fs::exists(path("out.exr"))) << c.extra;
-    EXPECT_FALSE(fs::exists(path("stats.json"))) << c.extra;
-  }
+  for (const auto& c : cases)
+    expect_bad_input(render(c.scene, c.extra), c.scene + " " + c.extra, c.expected, {"out.exr", "stats.json"});
   // The light inside the crate names the field that placed it.
   const Result r = render("scene.json", "--set 'light.target=[0.5,0.1,-0.4]' --set light.distance=0.05");
   EXPECT_EQ(r.status, 2);
@@ -183,12 +178,8 @@ TEST_F(RenderCommand, SweepRejectsBadInputBeforeRunning) {
            {"--vary lamp.power=1,2", "--vary lamp.power: --set lamp.power: no top-level key or object named \"lamp\""},
            {"--vsgl fis", "--vsgl fis: fis and kmeans need a count"},
            {"--vsgl three:4", "--vsgl three:4: expected two, two-shared, fis:N or kmeans:N"},
-       }) {
-    const Result r = sglab("sweep render " + common + " " + c.args);
-    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.err;
-    EXPECT_NE(r.err.find(c.expected), std::string::npos) << c.args << "\n  stderr: " << r.err;
-    EXPECT_FALSE(fs::exists(path("tables"))) << c.args;
-  }
+       })
+    expect_bad_input(sglab("sweep render " + common + " " + c.args), c.args, c.expected, {"tables"});
 }
 
 }  // namespace

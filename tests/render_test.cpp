@@ -58,16 +58,9 @@ Object rectangle(const std::string& name, Vec3 corner, Vec3 u, Vec3 v, Material 
 Scene floor_scene(double half, const Material& m, const Vec3& light_position, const Vec3& light_direction,
                   double cone_degrees, double falloff_degrees) {
   Scene s;
-  s.camera.position = Vec3(0.2, 2.5, 2.0);
-  s.camera.look_at = Vec3(0, 0, 0);
-  s.camera.vertical_fov = 50 * kDeg;
-  s.camera.width = 24;
-  s.camera.height = 20;
-  s.light.position = light_position;
-  s.light.direction = light_direction.normalized();
-  s.light.cone_angle = cone_degrees * kDeg;
-  s.light.falloff = falloff_degrees * kDeg;
-  s.light.power = Rgb(3, 2, 1);
+  s.camera = {.position = Vec3(0.2, 2.5, 2.0), .look_at = Vec3(0, 0, 0), .vertical_fov = 50 * kDeg, .width = 24, .height = 20};
+  s.light = {.position = light_position, .direction = light_direction.normalized(), .cone_angle = cone_degrees * kDeg,
+             .falloff = falloff_degrees * kDeg, .power = Rgb(3, 2, 1)};
   s.objects.push_back(rectangle("floor", Vec3(-half, 0, -half), Vec3(0, 0, 2 * half), Vec3(2 * half, 0, 0), m));
   return s;
 }
@@ -391,16 +384,9 @@ double brute_brdf_cosine(const Rgb& albedo, const Rgb& f0, double alpha, const V
 
 TEST(Reference, VplSumMatchesBruteForce) {
   Scene s;
-  s.camera.position = Vec3(0.3, 1.2, 2.5);
-  s.camera.look_at = Vec3(0, 0.3, 0);
-  s.camera.vertical_fov = 60 * kDeg;
-  s.camera.width = 10;
-  s.camera.height = 8;
-  s.light.position = Vec3(-0.2, 1.4, 0.6);
-  s.light.direction = Vec3(0.1, -1, -0.5).normalized();
-  s.light.cone_angle = 35 * kDeg;
-  s.light.falloff = 5 * kDeg;
-  s.light.power = Rgb(5, 4, 3);
+  s.camera = {.position = Vec3(0.3, 1.2, 2.5), .look_at = Vec3(0, 0.3, 0), .vertical_fov = 60 * kDeg, .width = 10, .height = 8};
+  s.light = {.position = Vec3(-0.2, 1.4, 0.6), .direction = Vec3(0.1, -1, -0.5).normalized(), .cone_angle = 35 * kDeg,
+             .falloff = 5 * kDeg, .power = Rgb(5, 4, 3)};
   s.objects.push_back(rectangle("floor", Vec3(-1, 0, -1), Vec3(0, 0, 2), Vec3(2, 0, 0), glossy(0.4, 0.7, 0.25)));
   s.objects.push_back(rectangle("back", Vec3(-1, 0, -1), Vec3(2, 0, 0), Vec3(0, 1.5, 0), lambert(0.7)));
   s.objects.push_back(Object{"ball", Sphere{Vec3(0.3, 0.25, 0), 0.25}, glossy(0.2, 0.9, 0.1)});

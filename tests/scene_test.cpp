@@ -51,6 +51,19 @@ std::string error_after(const std::string& assignment) {
 
 bool starts_with(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
 
+// An assignment the scene must refuse, and the start of the message naming why.
+struct Refusal {
+  std::string assignment, expected_prefix;
+};
+
+void expect_refused(const std::vector<Refusal>& cases) {
+  for (const auto& c : cases) {
+    const std::string message = error_after(c.assignment);
+    EXPECT_TRUE(starts_with(message, c.expected_prefix)) << c.assignment << "\n  got:      " << message
+                                                         << "\n  expected: " << c.expected_prefix << "…";
+  }
+}
+
 TEST(Scene, ParsesTheBaseScene) {
   const Scene s = parse_scene(base_scene());
   EXPECT_EQ(s.description, "test");
@@ -112,10 +125,7 @@ TEST(Scene, OverridesLandOnTheNamedField) {
 }
 
 TEST(Scene, BadOverridesNameTheKey) {
-  struct Case {
-    std::string assignment, expected_prefix;
-  };
-  const std::vector<Case> cases = {
+  expect_refused({
       {"floor.roughness", "--set floor.roughness: expected KEY=VALUE"},
       {"=3", "--set =3: expected KEY=VALUE"},
       {"lamp.power=3", "--set lamp.power: no top-level key or object named \"lamp\" (objects: floor, block, ball)"},
@@ -123,23 +133,11 @@ TEST(Scene, BadOverridesNameTheKey) {
       {"light.beam.width=3", "--set light.beam.width: light.beam does not exist"},
       {"objects.7.radius=1", "--set objects.7.radius: objects has 3 elements"},
       {"light.distance.x=1", "--set light.distance.x: light.distance is 2, which has no field \"x\""},
-  };
-  for (const auto& c : cases) {
-    json doc = base_scene();
-    try {
-      apply_override(doc, c.assignment);
-      ADD_FAILURE() << c.assignment << " was accepted";
-    } catch (const SceneError& e) {
-      EXPECT_TRUE(starts_with(e.what(), c.expected_prefix)) << c.assignment << " → " << e.what();
-    }
-  }
+  });
 }
 
 TEST(Scene, EveryBadFieldIsNamed) {
-  struct Case {
-    std::string assignment, expected_prefix;
-  };
-  const std::vector<Case> cases = {
+  expect_refused({
       // unknown keys, at every level
       {"colour=1", "colour: unknown key"},
       {"camera.zoom=2", "camera.zoom: unknown key"},
@@ -188,12 +186,7 @@ TEST(Scene, EveryBadFieldIsNamed) {
       {"ball.name=\"light\"", "objects[2].name: \"light\" is reserved"},
       {"objects=[]", "objects: expected a non-empty array"},
       {"light.cone_angle=1e999", "light.cone_angle: "},  // overflows: rejected either as text or as not finite
-  };
-  for (const auto& c : cases) {
-    const std::string message = error_after(c.assignment);
-    EXPECT_TRUE(starts_with(message, c.expected_prefix)) << c.assignment << "\n  got:      " << message
-                                                         << "\n  expected: " << c.expected_prefix << "…";
-  }
+  });
 }
 
 TEST(Scene, MalformedJsonNamesTheSourceAndLine) {

@@ -85,11 +85,7 @@ std::string expected_toy_csv(std::size_t n, const Shard& shard = {}) {
 }
 
 SweepRunOptions quiet(const fs::path& dir, Shard shard = {}) {
-  SweepRunOptions o;
-  o.out_dir = dir;
-  o.shard = shard;
-  o.quiet = true;
-  return o;
+  return {.out_dir = dir, .shard = shard, .quiet = true};
 }
 
 // ---- --shard ------------------------------------------------------------------------------------

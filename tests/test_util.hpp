@@ -137,6 +137,14 @@ class TempDirTest : public ::testing::Test {
     std::filesystem::remove(err);
     return r;
   }
+  // A run refused as bad input: exit status 2, `expected` in standard error and none of `outputs`
+  // (names in dir_) written. `what` names the case in the failure messages.
+  void expect_bad_input(const CommandResult& r, const std::string& what, const std::string& expected,
+                        const std::vector<std::string>& outputs) const {
+    EXPECT_EQ(r.status, 2) << what << "\n" << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << what << "\n  stderr: " << r.err;
+    for (const auto& o : outputs) EXPECT_FALSE(std::filesystem::exists(path(o))) << what << ": " << o;
+  }
 #ifdef SGLAB_EXE
   // `sglab ARGS` in dir_ (ARGS as shell words: quote paths).
   CommandResult sglab(const std::string& args, const std::filesystem::path& stdin_file = "/dev/null") const {

@@ -92,11 +92,7 @@ std::string fmt_rgb(const Rgb& c) {
 double max_rel(const Rgb& a, const Rgb& b) { return ((a - b).abs() / b.abs().max(1e-300)).maxCoeff(); }
 
 VsglOptions options(VsglMode mode, int count, std::uint64_t seed = kDefaultVsglSeed) {
-  VsglOptions o;
-  o.mode = mode;
-  o.count = count;
-  o.seed = seed;
-  return o;
+  return {.mode = mode, .count = count, .seed = seed};
 }
 
 // ---- two ---------------------------------------------------------------------------------------

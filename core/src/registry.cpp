@@ -3,6 +3,7 @@
 #include "sglab/registry.hpp"
 
 #include "sglab/brdf.hpp"
+#include "sglab/enum_names.hpp"
 #include "sglab/filtering_weights.hpp"
 
 #include <cmath>
@@ -14,21 +15,14 @@ namespace sglab {
 // docs/math.md §5); declared here rather than in registry.hpp, which every command includes.
 void register_gaussian_ndf_quantities(std::vector<Quantity>& out);
 
-std::string_view precision_name(Precision p) {
-  switch (p) {
-    case Precision::float32: return "float";
-    case Precision::float64: return "double";
-    case Precision::mp50: return "mp50";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<Precision> kPrecisionNames[] = {
+    {Precision::float32, "float"}, {Precision::float64, "double"}, {Precision::mp50, "mp50"}};
+}  // namespace
 
-std::optional<Precision> parse_precision(std::string_view name) {
-  if (name == "float") return Precision::float32;
-  if (name == "double") return Precision::float64;
-  if (name == "mp50") return Precision::mp50;
-  return std::nullopt;
-}
+std::string_view precision_name(Precision p) { return enum_name(kPrecisionNames, p); }
+
+std::optional<Precision> parse_precision(std::string_view name) { return parse_enum(kPrecisionNames, name); }
 
 int round_trip_digits(Precision p) {
   switch (p) {

@@ -25,14 +25,19 @@ DomainFn sharpness_positive(std::size_t column, std::string why) {
   };
 }
 
-// The reference in float is the double reference rounded (no float quadrature of its own).
-template <class T, class F>
-T via_double_for_float(F f, std::span<const T> a) {
-  if constexpr (std::is_same_v<T, float>) {
-    return static_cast<float>(f(double(a[0]), double(a[1])));
-  } else {
-    return f(a[0], a[1]);
-  }
+// The `reference` method of a (λ, c) quantity: reference(λ, c), a quadrature of reference.hpp. In
+// float it is the double reference rounded (no float quadrature of its own).
+template <class F>
+Method quadrature_reference_method(F reference) {
+  return make_method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)",
+                     "", false, nullptr, [reference](auto a) {
+                       using T = typename decltype(a)::value_type;
+                       if constexpr (std::is_same_v<T, float>) {
+                         return static_cast<float>(reference(double(a[0]), double(a[1])));
+                       } else {
+                         return reference(a[0], a[1]);
+                       }
+                     });
 }
 
 // The constants of each method (defined once in core's headers; see Parameter in registry.hpp).
@@ -97,11 +102,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
   // ---- hemispherical ------------------------------------------------------------------------
   {
     Quantity q{"hemispherical", "H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω (docs/math.md §2)", {sharpness, cosine}, "reference", {}};
-    q.methods.push_back(make_method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)", "", false, nullptr,
-                               [](auto a) {
-                                 using T = typename decltype(a)::value_type;
-                                 return via_double_for_float<T>([](auto l, auto c) { return hemispherical_reference(l, c); }, a);
-                               }));
+    q.methods.push_back(quadrature_reference_method([](auto l, auto c) { return hemispherical_reference(l, c); }));
     q.methods.push_back(make_method_with_parameters("meder", "Meder & Brüderlin 2018, logistic interpolation between the c = ±1 bounds", "", false, nullptr,
                                meder_logistic_parameters(),
                                [](auto a) { return hemispherical_meder(a[0], a[1]); },
@@ -122,11 +123,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
   // ---- clamped-cosine -----------------------------------------------------------------------
   {
     Quantity q{"clamped-cosine", "D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω, unit-amplitude SG (docs/math.md §3)", {sharpness, cosine}, "reference", {}};
-    q.methods.push_back(make_method("reference", "1D tanh-sinh quadrature in t = ω·ξ, azimuth in closed form (core/include/sglab/reference.hpp)", "", false, nullptr,
-                               [](auto a) {
-                                 using T = typename decltype(a)::value_type;
-                                 return via_double_for_float<T>([](auto l, auto c) { return clamped_cosine_reference(l, c); }, a);
-                               }));
+    q.methods.push_back(quadrature_reference_method([](auto l, auto c) { return clamped_cosine_reference(l, c); }));
     q.methods.push_back(make_method("punctual", "A(λ)⟨c⟩: cosine pulled out of the integral (Wang et al. 2009; Tokuyoshi 2016 §4.2)",
                                "zero for every c ≤ 0 (no light past the horizon); large error for broad lobes", false, nullptr,
                                [](auto a) { return clamped_cosine_punctual(a[0], a[1]); }));

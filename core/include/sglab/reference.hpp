@@ -104,47 +104,41 @@ T integrate_over_cosine(const T& sharpness, const T& s, const G& g) {
   return total;
 }
 
+// ∫_{−1}^{1} e^{λ(t−1)} g(t) dt for an azimuthal integral g of the formulation above, given by
+// `whole(u)` where the circle is wholly above the horizon (u ≥ 0, m ≤ 0) and `partial(u, √m)` where
+// it is partly visible (m > 0); wholly below, g = 0.
+template <class T, class Whole, class Partial>
+T integrate_azimuthal(const T& sharpness, const T& cosine, const Whole& whole, const Partial& partial) {
+  using std::sqrt;
+  const T c = clamp_cosine(cosine);
+  const T s = sqrt((T(1) - c) * (T(1) + c));
+  auto g = [&](const T& t, const T& s_minus_t, const T& s_plus_t) -> T {
+    const T u = t * c;
+    const T m = s_minus_t * s_plus_t;
+    if (!(m > 0)) return u >= 0 ? whole(u) : T(0);
+    return partial(u, sqrt(m));
+  };
+  return integrate_over_cosine(sharpness, s, g);
+}
+
 }  // namespace detail
 
 // Exact H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω. Valid for λ ≥ 0, any c (clamped to [−1, 1]).
 template <class T>
 T hemispherical_reference(const T& sharpness, const T& cosine) {
   using std::atan2;
-  using std::sqrt;
-  const T c = clamp_cosine(cosine);
-  const T s = sqrt((T(1) - c) * (T(1) + c));
-  auto g = [&](const T& t, const T& s_minus_t, const T& s_plus_t) -> T {
-    const T u = t * c;
-    const T m = s_minus_t * s_plus_t;
-    if (!(m > 0)) return u >= 0 ? two_pi<T>() : T(0);
-    return T(2) * atan2(sqrt(m), -u);
-  };
-  return detail::integrate_over_cosine(sharpness, s, g);
+  return detail::integrate_azimuthal(
+      sharpness, cosine, [](const T&) { return two_pi<T>(); },
+      [](const T& u, const T& root) -> T { return T(2) * atan2(root, -u); });
 }
 
 // Exact D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω (docs/math.md §3, method `reference`).
 template <class T>
 T clamped_cosine_reference(const T& sharpness, const T& cosine) {
   using std::atan2;
-  using std::sqrt;
-  const T c = clamp_cosine(cosine);
-  const T s = sqrt((T(1) - c) * (T(1) + c));
-  auto g = [&](const T& t, const T& s_minus_t, const T& s_plus_t) -> T {
-    const T u = t * c;
-    const T m = s_minus_t * s_plus_t;
-    if (!(m > 0)) return u >= 0 ? two_pi<T>() * u : T(0);
-    const T root = sqrt(m);
-    return T(2) * (u * atan2(root, -u) + root);
-  };
-  return detail::integrate_over_cosine(sharpness, s, g);
-}
-
-// Float has no reference of its own: it is evaluated in double and rounded.
-inline float hemispherical_reference(float sharpness, float cosine) {
-  return static_cast<float>(hemispherical_reference<double>(sharpness, cosine));
-}
-inline float clamped_cosine_reference(float sharpness, float cosine) {
-  return static_cast<float>(clamped_cosine_reference<double>(sharpness, cosine));
+  return detail::integrate_azimuthal(
+      sharpness, cosine, [](const T& u) -> T { return two_pi<T>() * u; },
+      [](const T& u, const T& root) -> T { return T(2) * (u * atan2(root, -u) + root); });
 }
 
 }  // namespace sglab

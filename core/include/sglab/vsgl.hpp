@@ -24,6 +24,7 @@
 
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <type_traits>
 
 #include <Eigen/Core>
@@ -95,67 +96,54 @@ SgLobe<T> vpl_specular_lobe(const Vec3<T>& normal, const Vec3<T>& incoming, cons
 
 // ---- sums ------------------------------------------------------------------------------------
 
+// Sums add and scale member by member: Derived lists its members once, in
+// `static auto members(S& s)` (a std::tie of s's members, S = Derived or const Derived).
+template <class Derived, class T>
+struct MemberwiseSums {
+  Derived& operator+=(const Derived& o) {
+    auto& self = static_cast<Derived&>(*this);
+    std::apply([&](auto&... a) { std::apply([&](const auto&... b) { ((a += b), ...); }, Derived::members(o)); },
+               Derived::members(self));
+    return self;
+  }
+  Derived& operator*=(const T& s) {
+    auto& self = static_cast<Derived&>(*this);
+    std::apply([&](auto&... a) { ((a *= s), ...); }, Derived::members(self));
+    return self;
+  }
+  friend Derived operator+(Derived a, const Derived& b) { return a += b; }
+  friend Derived operator*(Derived a, const T& s) { return a *= s; }
+};
+
 template <class T>
-struct VsglLobeSums {
+struct VsglLobeSums : MemberwiseSums<VsglLobeSums<T>, T> {
   Rgb<T> power = Rgb<T>::Zero();                // Σ Φ_i R_i
   T weight = T(0);                              // Σ w_i
   Vec3<T> mean_direction = Vec3<T>::Zero();     // Σ w_i ξ̄_i
 
-  VsglLobeSums& operator+=(const VsglLobeSums& o) {
-    power += o.power;
-    weight += o.weight;
-    mean_direction += o.mean_direction;
-    return *this;
-  }
-  VsglLobeSums& operator*=(const T& s) {
-    power *= s;
-    weight *= s;
-    mean_direction *= s;
-    return *this;
-  }
+  template <class S>
+  static auto members(S& s) { return std::tie(s.power, s.weight, s.mean_direction); }
   bool empty() const { return !(value_of(weight) > 0); }
 };
 
 template <class T>
-struct VsglPositionSums {
+struct VsglPositionSums : MemberwiseSums<VsglPositionSums<T>, T> {
   T weight = T(0);                       // Σ u_i
   Vec3<T> offset = Vec3<T>::Zero();      // Σ u_i (y_i − o)
   T squared_offset = T(0);               // Σ u_i ‖y_i − o‖²
 
-  VsglPositionSums& operator+=(const VsglPositionSums& o) {
-    weight += o.weight;
-    offset += o.offset;
-    squared_offset += o.squared_offset;
-    return *this;
-  }
-  VsglPositionSums& operator*=(const T& s) {
-    weight *= s;
-    offset *= s;
-    squared_offset *= s;
-    return *this;
-  }
+  template <class S>
+  static auto members(S& s) { return std::tie(s.weight, s.offset, s.squared_offset); }
 };
 
 // Everything one cluster accumulates: the shared position and the two lobes.
 template <class T>
-struct VsglSums {
+struct VsglSums : MemberwiseSums<VsglSums<T>, T> {
   VsglPositionSums<T> position;
   VsglLobeSums<T> diffuse, specular;
 
-  VsglSums& operator+=(const VsglSums& o) {
-    position += o.position;
-    diffuse += o.diffuse;
-    specular += o.specular;
-    return *this;
-  }
-  VsglSums& operator*=(const T& s) {
-    position *= s;
-    diffuse *= s;
-    specular *= s;
-    return *this;
-  }
-  friend VsglSums operator+(VsglSums a, const VsglSums& b) { return a += b; }
-  friend VsglSums operator*(VsglSums a, const T& s) { return a *= s; }
+  template <class S>
+  static auto members(S& s) { return std::tie(s.position, s.diffuse, s.specular); }
 };
 
 // One lobe of one VPL: power Φ_i R_i (RGB), unit axis ξ_i, mean length r(λ_i) (precomputed by
