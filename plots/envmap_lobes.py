@@ -64,7 +64,7 @@ def main() -> int:
     save_figures(fig, out_dir, "envmap_error_vs_lobes", dpi=110)
     plt.close(fig)
 
-    pix = rows_of(images)
+    pix = read_table(images)
     envs_i = list(dict.fromkeys(r["environment"] for r in pix))
     panels = {e: sorted({int(r["lobes"]) for r in pix if r["environment"] == e}) for e in envs_i}
     ncol = max(len(v) for v in panels.values())

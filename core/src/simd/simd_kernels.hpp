@@ -352,6 +352,20 @@ inline void bound_series(const B& l, B& upper, B& inner) {
   inner = sl;
 }
 
+// Below λ = 1 both pairs of bounds (tokuyoshi2024's and sglab's, the same two integrals over 2π)
+// cancel in closed form: there they are bound_series's (the lower one times e = e^{−λ}).
+template <class B>
+inline void series_below_one(const B& l, const B& e, B& upper, B& lower) {
+  using T = value_t<B>;
+  const auto small = l < B(T(1));
+  if (xsimd::any(small)) {
+    B su, si;
+    bound_series(l, su, si);
+    upper = xsimd::select(small, su, upper);
+    lower = xsimd::select(small, e * si, lower);
+  }
+}
+
 // tokuyoshi2024's bounds: clamped_cosine_upper_over_2pi and clamped_cosine_lower_over_2pi.
 template <class B>
 inline void tokuyoshi2024_bounds(const B& l, B& upper, B& lower) {
@@ -360,13 +374,7 @@ inline void tokuyoshi2024_bounds(const B& l, B& upper, B& lower) {
   const B ex = expm1_over_x(-l);
   upper = (T(1) - ex) / l;
   lower = e * ((ex - e) / l);
-  const auto small = l < B(T(1));
-  if (xsimd::any(small)) {
-    B su, si;
-    bound_series(l, su, si);
-    upper = xsimd::select(small, su, upper);
-    lower = xsimd::select(small, e * si, lower);
-  }
+  series_below_one(l, e, upper, lower);
 }
 
 // ---- the kernels: one per (quantity, method); p are the constants broadcast ------------------
@@ -485,13 +493,7 @@ struct CcSglab {
     const B e = vm_exp(-l);
     B upper = ((l - T(1)) + e) / l / l;
     B lower = e * (((T(1) - e) / l - e) / l);
-    const auto small = l < B(T(1));
-    if (xsimd::any(small)) {
-      B su, si;
-      bound_series(l, su, si);
-      upper = xsimd::select(small, su, upper);
-      lower = xsimd::select(small, e * si, lower);
-    }
+    series_below_one(l, e, upper, lower);
     // sglab_factor
     const B c = clamp_cosine(cosine);
     const B a = xsimd::abs(c);
