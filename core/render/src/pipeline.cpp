@@ -79,7 +79,9 @@ ImageError image_error(const std::vector<Rgb>& value, const std::vector<Rgb>& re
   return e;
 }
 
-std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& o, const std::vector<VsglOptions>& variants) {
+namespace {
+
+void check_render_options(const RenderOptions& o, const std::vector<VsglOptions>& variants) {
   if (o.rsm_resolution < 1) throw std::invalid_argument("rsm resolution " + std::to_string(o.rsm_resolution) + " is below 1");
   if (o.visibility && (o.visibility_map_resolution < 1 || o.visibility_map_resolution > 4096))
     throw std::invalid_argument("visibility map resolution " + std::to_string(o.visibility_map_resolution) + " is outside [1, 4096]");
@@ -87,10 +89,18 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
     throw std::invalid_argument("shadow map resolution " + std::to_string(o.shadow_map_resolution) + " is below 1");
   for (const auto& v : variants)
     if (const auto error = vsgl_options_error(v)) throw std::invalid_argument(*error);
+}
 
-  // What every variant shares: G-buffer, direct light, RSM, reference.
-  RenderResult common;
-  RenderResult& r = common;
+// What every variant shares: G-buffer, direct light, RSM and VPLs, the reference.
+struct CommonPass {
+  GBuffer g;
+  ReflectiveShadowMap rsm;
+  RenderResult result;  // every field but the VSGL ones
+};
+
+CommonPass render_common(const Scene& scene, const RenderOptions& o) {
+  CommonPass c;
+  RenderResult& r = c.result;
   r.width = scene.camera.width;
   r.height = scene.camera.height;
   const std::size_t n = std::size_t(r.width) * std::size_t(r.height);
@@ -98,7 +108,8 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
   r.indirect_reference.assign(n, Rgb::Zero());
 
   auto t0 = Clock::now();
-  const GBuffer g = render_gbuffer(scene);
+  c.g = render_gbuffer(scene);
+  const GBuffer& g = c.g;
   r.seconds.gbuffer = seconds_since(t0);
   r.hit = g.hit;
   for (std::size_t k = 0; k < n; ++k)
@@ -115,8 +126,8 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
   r.seconds.direct = seconds_since(t0);
 
   t0 = Clock::now();
-  const ReflectiveShadowMap rsm = render_rsm(scene, o.rsm_resolution);
-  const VplList vpls = prepare_vpls(rsm);
+  c.rsm = render_rsm(scene, o.rsm_resolution);
+  const VplList vpls = prepare_vpls(c.rsm);
   r.seconds.rsm = seconds_since(t0);
   r.vpl_count = vpls.vpls.size();
   for (const Vpl& v : vpls.vpls) {
@@ -131,55 +142,71 @@ std::vector<RenderResult> render_scene_variants(const Scene& scene, const Render
                        reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr, o.shading.precision);
                  });
   r.seconds.reference = seconds_since(t0);
+  return c;
+}
 
-  std::vector<RenderResult> results;
-  for (const VsglOptions& variant : variants) {
-    RenderResult v = common;
-    v.indirect.assign(n, Rgb::Zero());
-    v.error.assign(n, Rgb::Zero());
-    t0 = Clock::now();
-    v.vsgls = build_vsgls(rsm, variant);
-    v.seconds.vsgl = seconds_since(t0);
-    // No glossy receiver in view, or no specular VSGL: no specular shading at all.
-    ShadingOptions shading = o.shading;
-    shading.specular = shading.specular && v.glossy_receivers > 0 && v.vsgls.stats.specular_vsgls > 0;
-    v.specular_shading = shading.specular;
-    v.asg_evaluations = shading.specular ? v.glossy_receivers * v.vsgls.stats.specular_vsgls : 0;
-    t0 = Clock::now();
-    const VsglShader shader(v.vsgls, shading);
-    if (o.visibility) {
-      const std::vector<CubeShadowMap> maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
-      for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) {
-        std::vector<char> visible(maps.size());
-        for (std::size_t c = 0; c < maps.size(); ++c) visible[c] = maps[c].lit(g.points[k].position, g.points[k].normal) ? 1 : 0;
-        v.indirect[k] = shader.shade(g.points[k], visible).total();
-      });
-    } else {
-      // A row's hit pixels at once, so that the diffuse method runs on wide batches (per-thread
-      // arrays, reused row after row).
-      for_each_row(g, "vsgl shading", o, [&](int j) {
-        thread_local std::vector<ShadingPoint> points;
-        thread_local std::vector<std::size_t> pixels;
-        thread_local std::vector<VsglShading> shaded;
-        points.clear();
-        pixels.clear();
-        for (int i = 0; i < g.width; ++i) {
-          const std::size_t k = std::size_t(j) * std::size_t(g.width) + std::size_t(i);
-          if (g.hit[k]) {
-            points.push_back(g.points[k]);
-            pixels.push_back(k);
-          }
-        }
-        shaded.resize(points.size());
-        shader.shade(points, shaded);
-        for (std::size_t i = 0; i < pixels.size(); ++i) v.indirect[pixels[i]] = shaded[i].total();
-      });
-    }
-    v.seconds.shading = seconds_since(t0);
-    for (std::size_t k = 0; k < n; ++k) v.error[k] = v.indirect[k] - v.indirect_reference[k];
-    v.error_metrics = image_error(v.indirect, v.indirect_reference, v.hit);
-    results.push_back(std::move(v));
+// Every hit pixel shaded by the VSGLs into v.indirect.
+void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, const VsglShader& shader, RenderResult& v) {
+  if (o.visibility) {
+    const std::vector<CubeShadowMap> maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
+    for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) {
+      std::vector<char> visible(maps.size());
+      for (std::size_t c = 0; c < maps.size(); ++c) visible[c] = maps[c].lit(g.points[k].position, g.points[k].normal) ? 1 : 0;
+      v.indirect[k] = shader.shade(g.points[k], visible).total();
+    });
+    return;
   }
+  // A row's hit pixels at once, so that the diffuse method runs on wide batches (per-thread
+  // arrays, reused row after row).
+  for_each_row(g, "vsgl shading", o, [&](int j) {
+    thread_local std::vector<ShadingPoint> points;
+    thread_local std::vector<std::size_t> pixels;
+    thread_local std::vector<VsglShading> shaded;
+    points.clear();
+    pixels.clear();
+    for (int i = 0; i < g.width; ++i) {
+      const std::size_t k = std::size_t(j) * std::size_t(g.width) + std::size_t(i);
+      if (g.hit[k]) {
+        points.push_back(g.points[k]);
+        pixels.push_back(k);
+      }
+    }
+    shaded.resize(points.size());
+    shader.shade(points, shaded);
+    for (std::size_t i = 0; i < pixels.size(); ++i) v.indirect[pixels[i]] = shaded[i].total();
+  });
+}
+
+// One variant: its VSGLs from the shared RSM, their shading and the error against the reference.
+RenderResult render_variant(const Scene& scene, const RenderOptions& o, const CommonPass& c, const VsglOptions& variant) {
+  RenderResult v = c.result;
+  const std::size_t n = std::size_t(v.width) * std::size_t(v.height);
+  v.indirect.assign(n, Rgb::Zero());
+  v.error.assign(n, Rgb::Zero());
+  auto t0 = Clock::now();
+  v.vsgls = build_vsgls(c.rsm, variant);
+  v.seconds.vsgl = seconds_since(t0);
+  // No glossy receiver in view, or no specular VSGL: no specular shading at all.
+  ShadingOptions shading = o.shading;
+  shading.specular = shading.specular && v.glossy_receivers > 0 && v.vsgls.stats.specular_vsgls > 0;
+  v.specular_shading = shading.specular;
+  v.asg_evaluations = shading.specular ? v.glossy_receivers * v.vsgls.stats.specular_vsgls : 0;
+  t0 = Clock::now();
+  const VsglShader shader(v.vsgls, shading);
+  shade_vsgls(scene, o, c.g, shader, v);
+  v.seconds.shading = seconds_since(t0);
+  for (std::size_t k = 0; k < n; ++k) v.error[k] = v.indirect[k] - v.indirect_reference[k];
+  v.error_metrics = image_error(v.indirect, v.indirect_reference, v.hit);
+  return v;
+}
+
+}  // namespace
+
+std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& o, const std::vector<VsglOptions>& variants) {
+  check_render_options(o, variants);
+  const CommonPass common = render_common(scene, o);
+  std::vector<RenderResult> results;
+  for (const VsglOptions& variant : variants) results.push_back(render_variant(scene, o, common, variant));
   return results;
 }
 
