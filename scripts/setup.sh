@@ -22,7 +22,7 @@ packages=(
   libopenexr-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libtbb-dev libxsimd-dev
   python3 python3-matplotlib python3-numpy python3-scipy
-  python3-dev pybind11-dev python3-pybind11 python3-pytest
+  python3-dev pybind11-dev python3-pybind11 python3-pytest python3-pyflakes
 )
 if ((fuzz)); then packages+=(clang-14 libclang-rt-14-dev); fi
 missing=()
