@@ -22,6 +22,8 @@
 
 #include <fmt/format.h>
 
+#include "vsgl_fis_bias.hpp"
+
 #include "atomic_file.hpp"
 #include "table.hpp"
 #include "experiment_command.hpp"
@@ -32,7 +34,7 @@
 #include "sweep.hpp"
 #include "registry.hpp"
 
-namespace sglab::cli {
+namespace sglab::cli::vsgl_fis_bias {
 namespace {
 
 namespace fs = std::filesystem;
@@ -42,12 +44,6 @@ const std::vector<std::string> kScenes = {"scenes/cornell-glossy.json", "scenes/
 const std::vector<int> kCounts = {4, 16, 64};
 constexpr int kRandomResolution = 8;
 constexpr std::uint64_t kRandomRsmSeed = 20161001;  // arbitrary, fixed
-
-struct Options {
-  int seeds = 64;
-  int rsm = 64;
-  std::string tables_dir = "paper_tables";
-};
 
 // A random RSM: every field independent of the others.
 render::ReflectiveShadowMap random_rsm(int res, std::uint64_t seed) {
@@ -119,7 +115,42 @@ struct Stat {  // running mean and variance (Welford)
   double standard_error() const { return n > 1 ? std::sqrt(m2 / (n - 1) / n) : NAN; }
 };
 
-void run(const Options& o) {
+// The rows of one RSM: per N, the four sums' means over the seeds against the exact sums.
+void rsm_rows(const std::string& name, const render::ReflectiveShadowMap& rsm, int seeds, std::vector<Row>& out) {
+  const Exact e = exact_sums(rsm);
+  const double sigma = std::sqrt(e.s.second / e.s.importance);
+  for (const int n : kCounts) {
+    Stat importance, power, second;
+    Stat first[3];
+    for (int seed = 1; seed <= seeds; ++seed) {
+      render::VsglOptions v;
+      v.mode = render::VsglMode::fis;
+      v.count = n;
+      v.seed = std::uint64_t(seed);
+      const Sums s = estimate(render::build_vsgls(rsm, v), e.mean);
+      importance.add(s.importance);
+      power.add(s.power);
+      second.add(s.second);
+      for (int k = 0; k < 3; ++k) first[k].add(s.first(k));
+    }
+    const Vec3 first_mean(first[0].mean, first[1].mean, first[2].mean);
+    const double first_scale = e.s.importance * sigma;
+    const double first_se = std::sqrt(std::pow(first[0].standard_error(), 2) + std::pow(first[1].standard_error(), 2) +
+                                      std::pow(first[2].standard_error(), 2));
+    out.push_back({name, n, "importance", e.s.importance, importance.mean, (importance.mean - e.s.importance) / e.s.importance,
+                   importance.standard_error() / e.s.importance});
+    out.push_back({name, n, "total_power", e.s.power, power.mean, (power.mean - e.s.power) / e.s.power,
+                   power.standard_error() / e.s.power});
+    out.push_back({name, n, "first_moment", e.s.first.norm(), first_mean.norm(), (first_mean - e.s.first).norm() / first_scale,
+                   first_se / first_scale});
+    out.push_back({name, n, "second_moment", e.s.second, second.mean, (second.mean - e.s.second) / e.s.second,
+                   second.standard_error() / e.s.second});
+  }
+}
+
+}  // namespace
+
+Result compute(const Options& o) {
   if (o.seeds < 2 || o.seeds > 100000) throw UsageError(fmt::format("--seeds {} is outside [2, 100000]", o.seeds));
   if (o.rsm < 1 || o.rsm > 1024) throw UsageError(fmt::format("--rsm {} is outside [1, 1024]", o.rsm));
   std::vector<std::pair<std::string, render::ReflectiveShadowMap>> rsms;
@@ -130,11 +161,19 @@ void run(const Options& o) {
   }
   rsms.emplace_back(fmt::format("random {0}×{0} RSM (seed {1})", kRandomResolution, kRandomRsmSeed),
                     random_rsm(kRandomResolution, kRandomRsmSeed));
-  std::string command = fmt::format("sglab vsgl-fis-bias --seeds {} --rsm {}", o.seeds, o.rsm);
-  std::string csv;
-  append_csv_record(csv, std::vector<std::string>{"rsm", "n", "quantity", "exact", "mean_estimate", "relative_bias",
-                                                  "standard_error", "seeds"});
-  std::string md = fmt::format(
+  Result r;
+  r.options = o;
+  r.provenance.command = fmt::format("sglab vsgl-fis-bias --seeds {} --rsm {}", o.seeds, o.rsm);
+  for (const auto& [name, rsm] : rsms) rsm_rows(name, rsm, o.seeds, r.rows);
+  return r;
+}
+
+Tables tables(const Result& r) {
+  const Options& o = r.options;
+  Tables t;
+  append_csv_record(t.csv, std::vector<std::string>{"rsm", "n", "quantity", "exact", "mean_estimate", "relative_bias",
+                                                    "standard_error", "seeds"});
+  t.markdown = fmt::format(
       "# Bias of the FIS VSGLs (Tokuyoshi 2016, modified FIS) against the exact sums\n\n"
       "Each row: N FIS VSGLs built with seeds 1 … {} from one RSM ({}×{} for the shipped scenes), their sums compared "
       "with the exact sums over every texel (u = Y(Φ(R_d + R_s)) the importance, ȳ the importance-weighted mean): "
@@ -146,57 +185,37 @@ void run(const Options& o) {
       "| RSM | N | total power bias | ± s.e. | first moment bias | ± s.e. | second moment bias | ± s.e. | importance bias |\n"
       "|---|---|---|---|---|---|---|---|---|\n",
       o.seeds, o.rsm, o.rsm);
-  for (const auto& [name, rsm] : rsms) {
-    const Exact e = exact_sums(rsm);
-    const double sigma = std::sqrt(e.s.second / e.s.importance);
-    for (const int n : kCounts) {
-      Stat importance, power, second;
-      Stat first[3];
-      for (int seed = 1; seed <= o.seeds; ++seed) {
-        render::VsglOptions v;
-        v.mode = render::VsglMode::fis;
-        v.count = n;
-        v.seed = std::uint64_t(seed);
-        const Sums s = estimate(render::build_vsgls(rsm, v), e.mean);
-        importance.add(s.importance);
-        power.add(s.power);
-        second.add(s.second);
-        for (int k = 0; k < 3; ++k) first[k].add(s.first(k));
-      }
-      const Vec3 first_mean(first[0].mean, first[1].mean, first[2].mean);
-      const double first_scale = e.s.importance * sigma;
-      const double first_se = std::sqrt(std::pow(first[0].standard_error(), 2) + std::pow(first[1].standard_error(), 2) +
-                                        std::pow(first[2].standard_error(), 2));
-      struct Row { const char* q; double exact, mean, bias, se; };
-      const Row rows[] = {
-          {"importance", e.s.importance, importance.mean, (importance.mean - e.s.importance) / e.s.importance,
-           importance.standard_error() / e.s.importance},
-          {"total_power", e.s.power, power.mean, (power.mean - e.s.power) / e.s.power, power.standard_error() / e.s.power},
-          {"first_moment", (e.s.first).norm(), first_mean.norm(), (first_mean - e.s.first).norm() / first_scale, first_se / first_scale},
-          {"second_moment", e.s.second, second.mean, (second.mean - e.s.second) / e.s.second, second.standard_error() / e.s.second},
-      };
-      for (const Row& r : rows)
-        append_csv_record(csv, std::vector<std::string>{name, std::to_string(n), r.q, csv_number(r.exact), csv_number(r.mean),
-                                                        csv_number(r.bias), csv_number(r.se), std::to_string(o.seeds)});
-      md += fmt::format("| {} | {} | {:+.2f} % | {:.2f} % | {:.2f} % | {:.2f} % | {:+.2f} % | {:.2f} % | {:+.1e} |\n", name, n,
-                        100 * rows[1].bias, 100 * rows[1].se, 100 * rows[2].bias, 100 * rows[2].se, 100 * rows[3].bias,
-                        100 * rows[3].se, rows[0].bias);
-    }
+  for (const Row& row : r.rows)
+    append_csv_record(t.csv, std::vector<std::string>{row.rsm, std::to_string(row.n), row.quantity, csv_number(row.exact),
+                                                      csv_number(row.mean), csv_number(row.bias),
+                                                      csv_number(row.standard_error), std::to_string(o.seeds)});
+  // One Markdown line per (RSM, N): its four rows, importance first.
+  for (std::size_t i = 0; i + 3 < r.rows.size(); i += 4) {
+    const Row* q = &r.rows[i];
+    t.markdown += fmt::format("| {} | {} | {:+.2f} % | {:.2f} % | {:.2f} % | {:.2f} % | {:+.2f} % | {:.2f} % | {:+.1e} |\n",
+                              q[0].rsm, q[0].n, 100 * q[1].bias, 100 * q[1].standard_error, 100 * q[2].bias,
+                              100 * q[2].standard_error, 100 * q[3].bias, 100 * q[3].standard_error, q[0].bias);
   }
-  const Provenance provenance{command};
-  write_table(o.tables_dir, "vsgl_fis_bias", provenance, md, csv);
-  std::fputs((markdown_header(provenance) + md).c_str(), stdout);
+  return t;
 }
 
-}  // namespace
+void write(const Result& r) {
+  const Tables t = tables(r);
+  write_table(r.options.tables_dir, "vsgl_fis_bias", r.provenance, t.markdown, t.csv);
+  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+}
+
+}  // namespace sglab::cli::vsgl_fis_bias
+
+namespace sglab::cli {
 
 void add_vsgl_fis_bias_command(CLI::App& app) {
-  auto o = std::make_shared<Options>();
+  auto o = std::make_shared<vsgl_fis_bias::Options>();
   auto* sub = app.add_subcommand("vsgl-fis-bias", "bias of the FIS VSGLs' sums (power, moments) against the exact sums, over seeds");
   sub->add_option("--seeds", o->seeds, "seeds 1 … S per RSM and N")->capture_default_str();
   sub->add_option("--rsm", o->rsm, "RSM resolution of the shipped scenes")->capture_default_str();
   sub->add_option("--tables-dir", o->tables_dir, "directory for vsgl_fis_bias.{md,csv}")->capture_default_str();
-  sub->callback([o] { run(*o); });
+  sub->callback([o] { vsgl_fis_bias::write(vsgl_fis_bias::compute(*o)); });
 }
 
 }  // namespace sglab::cli

@@ -4,7 +4,9 @@
 // mean of the FIS estimates over seeds 1 … 64 (the table's seeds) is compared with it. Fails if
 // |bias| exceeds the table's |bias| + 3 of its standard errors, i.e. if a change makes FIS worse
 // than what the committed table claims (regenerate the table with the full reproduce step).
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -14,10 +16,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "input_error.hpp"
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/scene.hpp"
 #include "sglab/render/vsgl_generation.hpp"
 #include "test_util.hpp"
+#include "vsgl_fis_bias.hpp"
 
 namespace {
 
@@ -83,6 +87,40 @@ TEST(VsglFisBias, ShippedScenesTotalPowerNoWorseThanTheTable) {
           << it->second.bias << " ± " << it->second.se;
     }
   }
+}
+
+// The experiment's compute() on small RSMs: the importance is exact by construction (every cluster
+// gets W/N), and the exact total power is the texels' sum computed here independently.
+TEST(VsglFisBias, ComputeAgainstTheTexelSums) {
+  namespace fb = sglab::cli::vsgl_fis_bias;
+  std::filesystem::current_path(SGLAB_SOURCE_DIR);  // the experiment reads scenes/ relative to the checkout
+  fb::Options o;
+  o.seeds = 3;
+  o.rsm = 16;
+  const fb::Result r = fb::compute(o);
+  ASSERT_EQ(r.rows.size(), 4u * 3u * 4u);  // 3 shipped scenes + a random RSM, N = 4, 16, 64, four sums
+  for (const auto& row : r.rows)
+    if (row.quantity == "importance") {
+      EXPECT_LE(std::fabs(row.bias), 1e-12) << row.rsm << " N = " << row.n;
+    }
+  for (const std::string name : {"scenes/cornell-glossy.json", "scenes/diffuse-only.json", "scenes/sg-light-near-wall.json"}) {
+    const Scene scene = parse_scene(parse_scene_text(read_file(name), name));
+    double exact = 0;
+    for (const Vpl& v : render_rsm(scene, o.rsm).texels) {
+      if (!v.valid) continue;
+      exact += (v.flux * v.diffuse_reflectance).sum();
+      if (v.glossy()) exact += (v.flux * v.specular_reflectance).sum();
+    }
+    const auto it = std::find_if(r.rows.begin(), r.rows.end(),
+                                 [&](const fb::Row& row) { return row.rsm == name && row.quantity == "total_power"; });
+    ASSERT_NE(it, r.rows.end()) << name;
+    EXPECT_NEAR(it->exact, exact, 1e-12 * exact) << name;
+  }
+  const fb::Tables t = fb::tables(r);
+  EXPECT_EQ(std::count(t.csv.begin(), t.csv.end(), '\n'), 1 + 48);
+  EXPECT_NE(t.markdown.find("| random 8×8 RSM"), std::string::npos);
+  o.seeds = 1;
+  EXPECT_THROW(fb::compute(o), sglab::runner::InputError);
 }
 
 }  // namespace
