@@ -37,8 +37,9 @@ struct Result {
   double seconds = 0;
 };
 
-// Runs every fit; `each` (if set) is called as each one finishes (the console lines). With
-// --json-dir, each default objective's record is written there as soon as its fit is done.
+// Runs every fit, in parallel; `each` (if set) is then called on each result in fitter order (the
+// console lines). With --json-dir, each default objective's record is written there as soon as its
+// fit is done.
 Result compute(const Options& o, const std::function<void(const Judged&)>& each = {});
 
 struct Tables {

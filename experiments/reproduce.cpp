@@ -165,6 +165,9 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
   // Every table a --quick run writes says so, whatever the step's own options.
   std::optional<runner::QuickRunScope> quick_scope;
   if (o.quick) quick_scope.emplace();
+  // --force recomputes the sweeps too, not only reruns their commands (which would resume).
+  std::optional<runner::FreshSweepScope> fresh_scope;
+  if (o.force) fresh_scope.emplace();
   const auto t_start = std::chrono::steady_clock::now();
   const double cpu_start = cpu_seconds();
   const fs::path times_csv = fs::path(p.out) / "reproduce_times.csv";

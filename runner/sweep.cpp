@@ -495,10 +495,17 @@ std::string csv_number(double x) {
   return fmt::format("{}", x);
 }
 
+namespace {
+std::atomic<int> g_fresh_scopes{0};
+}  // namespace
+
+FreshSweepScope::FreshSweepScope() { g_fresh_scopes.fetch_add(1); }
+FreshSweepScope::~FreshSweepScope() { g_fresh_scopes.fetch_sub(1); }
+
 SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
                                  const std::string& shard_text, std::size_t threads, bool fresh) {
   const Shard shard = shard_text.empty() ? Shard{} : parse_shard(shard_text);
-  if (fresh)
+  if (fresh || g_fresh_scopes.load() > 0)
     for (const auto& p : {sweep_points_path(out_dir, definition.name, shard), sweep_manifest_path(out_dir, definition.name, shard),
                           sweep_checkpoint_path(out_dir, definition.name, shard)})
       std::filesystem::remove(p);

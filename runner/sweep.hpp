@@ -118,10 +118,22 @@ struct SweepRunResult {
 SweepRunResult run_sweep(const SweepDefinition& definition, const SweepRunOptions& options);
 
 // What every `sglab sweep KIND` command does with its common options: parse `shard_text` ("" =
-// the whole grid), with `fresh` delete this shard's finished output and checkpoint first, run the
-// sweep, and for a shard print how to merge (the caller then writes no summary: r.sharded).
+// the whole grid), with `fresh` (or inside a FreshSweepScope) delete this shard's finished output
+// and checkpoint first, run the sweep, and for a shard print how to merge (the caller then writes
+// no summary: r.sharded).
 SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
                                  const std::string& shard_text, std::size_t threads, bool fresh);
+
+// While one exists, every run_sweep_command starts afresh as with `fresh`: `sglab reproduce
+// --force` holds one, so that a forced rerun recomputes its sweeps instead of resuming
+// checkpoints that an earlier build of the same version wrote (their fingerprint does not cover
+// the code).
+struct FreshSweepScope {
+  FreshSweepScope();
+  ~FreshSweepScope();
+  FreshSweepScope(const FreshSweepScope&) = delete;
+  FreshSweepScope& operator=(const FreshSweepScope&) = delete;
+};
 
 // The file names of the runner's outputs (for callers and tests).
 std::filesystem::path sweep_points_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);

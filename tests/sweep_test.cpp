@@ -159,6 +159,25 @@ TEST_F(SweepTest, WritesEveryPointInOrderOnce) {
   EXPECT_EQ(sglab::cli::run_sweep(changed.definition(), quiet(dir_)).computed, toy.n);
 }
 
+// `sglab reproduce --force` holds a FreshSweepScope: inside it a finished sweep is computed again
+// (not found finished), outside it the same call computes nothing.
+TEST_F(SweepTest, FreshScopeRecomputesAFinishedSweep) {
+  Toy first;
+  EXPECT_EQ(sglab::runner::run_sweep_command(first.definition(), dir_.string(), "", 1, false).computed, first.n);
+  Toy again;
+  EXPECT_EQ(sglab::runner::run_sweep_command(again.definition(), dir_.string(), "", 1, false).computed, 0u);
+  Toy forced;
+  {
+    const sglab::runner::FreshSweepScope scope;
+    const auto r = sglab::runner::run_sweep_command(forced.definition(), dir_.string(), "", 1, false);
+    EXPECT_EQ(r.computed, forced.n);
+    EXPECT_EQ(r.resumed, 0u);
+    EXPECT_EQ(read_file(r.points_csv), expected_toy_csv(forced.n));
+  }
+  Toy after;
+  EXPECT_EQ(sglab::runner::run_sweep_command(after.definition(), dir_.string(), "", 1, false).computed, 0u);
+}
+
 TEST_F(SweepTest, ShardsWriteTheirOwnPoints) {
   Toy toy;
   for (std::size_t i = 0; i < 4; ++i) {
