@@ -153,15 +153,9 @@ std::string row_location(const std::string& source, const CsvTable& table, std::
   return fmt::format("{}: row {} (line {})", source, row + 1, table.rows[row].line);
 }
 
-// Evaluates `method` on every row; returns the formatted values, one per row.
-template <class T>
-std::vector<std::string> evaluate(const Quantity& q, const Method& method, Precision precision,
-                                  const CsvTable& table, const std::string& source) {
-  const MethodFn<T>& fn = evaluator<T>(method);
-  if (!fn)
-    throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry",
-                                       method.name, q.name, precision_name(precision)));
-
+// The input column of each of the quantity's arguments, in order; UsageError naming a missing
+// column, or the input's own 'value' column (which eval appends).
+std::vector<std::size_t> argument_columns(const Quantity& q, const CsvTable& table, const std::string& source) {
   std::vector<std::size_t> index;
   for (const auto& c : q.columns) {
     const std::size_t i = table.column(c.name);
@@ -176,9 +170,15 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
     throw UsageError(fmt::format(
         "{}: line 1 (header): the input already has a column '{}', which eval appends; rename it",
         source, kValueColumn));
+  return index;
+}
 
-  // Parse and validate every row before evaluating any: bad input is reported as such, in row
-  // order, and never after some results were computed.
+// Every row's arguments parsed as T (row-major, q.columns.size() a row) and validated, before any
+// is evaluated: bad input is reported as such, in row order, and never after some results were
+// computed.
+template <class T>
+std::vector<T> parse_arguments(const Quantity& q, const Method& method, const CsvTable& table,
+                               const std::vector<std::size_t>& index, const std::string& source) {
   const std::size_t rows = table.rows.size();
   const std::size_t k = q.columns.size();
   std::vector<T> args(rows * k);
@@ -207,10 +207,24 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
                                    fmt::join(values, ", "), method.name, q.name, error->message));
     }
   }
+  return args;
+}
+
+// Evaluates `method` on every row; returns the formatted values, one per row.
+template <class T>
+std::vector<std::string> evaluate(const Quantity& q, const Method& method, Precision precision,
+                                  const CsvTable& table, const std::string& source) {
+  const MethodFn<T>& fn = evaluator<T>(method);
+  if (!fn)
+    throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry",
+                                       method.name, q.name, precision_name(precision)));
+  const std::vector<T> args = parse_arguments<T>(q, method, table, argument_columns(q, table, source), source);
 
   // Rows are independent and the quadrature references are slow (up to about a second per row in
   // mp50), so spread them over the cores. Failures are recorded per row and reported below in
   // row order, so the message does not depend on scheduling.
+  const std::size_t rows = table.rows.size();
+  const std::size_t k = q.columns.size();
   std::vector<T> results(rows);
   std::vector<std::optional<std::string>> failures(rows);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows), [&](const auto& range) {

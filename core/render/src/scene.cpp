@@ -354,12 +354,11 @@ nlohmann::json parse_scene_text(const std::string& text, const std::string& sour
   }
 }
 
-void apply_override(nlohmann::json& document, const std::string& assignment) {
-  const auto eq = assignment.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw SceneError(fmt::format("--set {}: expected KEY=VALUE (e.g. floor.roughness=0.1)", clip_text(assignment)));
-  const std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
-  const std::string where = "--set " + clip_text(key);
+namespace {
+
+// The VALUE of `--set KEY=VALUE` (`assignment`; `text` is VALUE) as JSON: parsed, or else the bare
+// text as a string. SceneError for a value too large or too deeply nested, or not UTF-8.
+json override_value(const std::string& assignment, const std::string& text, const std::string& where) {
   if (const auto error = input_size_error(assignment.size(), kMaxJsonBytes, "the value"))
     throw SceneError(fmt::format("{}: {}", where, *error));
   if (const auto error = json_nesting_error(text)) throw SceneError(fmt::format("{}: {}", where, *error));
@@ -368,12 +367,15 @@ void apply_override(nlohmann::json& document, const std::string& assignment) {
   } catch (const json::type_error&) {
     throw SceneError(fmt::format("--set {}: not valid UTF-8 text", clip_text(assignment)));
   }
-  json value;
   try {
-    value = json::parse(text);
+    return json::parse(text);
   } catch (const json::exception&) {
-    value = text;  // bare text (or a number JSON cannot hold, e.g. 1e999): a string
+    return text;  // bare text (or a number JSON cannot hold, e.g. 1e999): a string
   }
+}
+
+// KEY's dot-separated components, none empty.
+std::vector<std::string> key_parts(const std::string& key, const std::string& where) {
   std::vector<std::string> parts;
   for (std::size_t start = 0;;) {
     const auto dot = key.find('.', start);
@@ -382,58 +384,81 @@ void apply_override(nlohmann::json& document, const std::string& assignment) {
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
-  if (!document.is_object()) throw SceneError(fmt::format("{}: the scene is not a JSON object", where));
-  json* current = &document;
+  return parts;
+}
+
+// Where an override is in the document: the node and its path as error messages name it.
+struct OverrideTarget {
+  json* node = nullptr;
   std::string path;
+};
+
+// The first object of "objects" named `name`; SceneError listing the names if there is none.
+OverrideTarget named_object(json& document, const std::string& name, const std::string& where) {
+  std::string names;
+  OverrideTarget found;
+  if (document.contains("objects") && document["objects"].is_array()) {
+    auto& objects = document["objects"];
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      if (!objects[i].is_object() || !objects[i].contains("name") || !objects[i]["name"].is_string()) continue;
+      const std::string n = objects[i]["name"].get<std::string>();
+      names += (names.empty() ? "" : ", ") + n;
+      if (n == name && !found.node) found = {&objects[i], fmt::format("objects[{}]", i)};
+    }
+  }
+  if (!found.node)
+    throw SceneError(fmt::format("{}: no top-level key or object named \"{}\" (objects: {})", where, clip_text(name), clip_text(names)));
+  return found;
+}
+
+// Moves `t` to its element or field `part` (`last`: the key's final component, which may be new).
+void step_into(OverrideTarget& t, const std::string& part, bool last, const std::string& where) {
+  json& current = *t.node;
+  if (current.is_array()) {
+    char* end = nullptr;
+    const unsigned long index = std::strtoul(part.c_str(), &end, 10);
+    if (*end != '\0' || index >= current.size())
+      throw SceneError(fmt::format("{}: {} has {} elements; \"{}\" is not an index of it", where, t.path, current.size(), clip_text(part)));
+    t.node = &current[index];
+    t.path += fmt::format("[{}]", index);
+    return;
+  }
+  if (!current.is_object())
+    throw SceneError(fmt::format("{}: {} is {}, which has no field \"{}\"", where, t.path, shown(current), clip_text(part)));
+  if (current.contains(part)) {
+    t.node = &current[part];
+    t.path = join(t.path, part);
+  } else if ((part == "albedo" || part == "roughness" || part == "f0") && current.contains("material") &&
+             current["material"].is_object()) {
+    t.node = &current["material"][part];  // shorthand: NAME.roughness = NAME.material.roughness
+    t.path = join(join(t.path, "material"), part);
+  } else if (last) {
+    t.node = &current[part];  // a new key: parse_scene decides whether the schema has it
+    t.path = join(t.path, part);
+  } else {
+    throw SceneError(fmt::format("{}: {} does not exist", where, join(t.path, part)));
+  }
+}
+
+}  // namespace
+
+void apply_override(nlohmann::json& document, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(fmt::format("--set {}: expected KEY=VALUE (e.g. floor.roughness=0.1)", clip_text(assignment)));
+  const std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  const std::string where = "--set " + clip_text(key);
+  json value = override_value(assignment, text, where);
+  const std::vector<std::string> parts = key_parts(key, where);
+  if (!document.is_object()) throw SceneError(fmt::format("{}: the scene is not a JSON object", where));
+  OverrideTarget target{&document, ""};
   std::size_t k = 0;
-  if (!document.contains(parts[0]) && parts.size() > 1) {
-    // An object's name.
-    std::string names;
-    if (document.contains("objects") && document["objects"].is_array()) {
-      auto& objects = document["objects"];
-      for (std::size_t i = 0; i < objects.size(); ++i) {
-        if (!objects[i].is_object() || !objects[i].contains("name") || !objects[i]["name"].is_string()) continue;
-        const std::string name = objects[i]["name"].get<std::string>();
-        names += (names.empty() ? "" : ", ") + name;
-        if (name == parts[0] && current == &document) {
-          current = &objects[i];
-          path = fmt::format("objects[{}]", i);
-          k = 1;
-        }
-      }
-    }
-    if (current == &document)
-      throw SceneError(fmt::format("{}: no top-level key or object named \"{}\" (objects: {})", where, clip_text(parts[0]), clip_text(names)));
+  if (!document.contains(parts[0]) && parts.size() > 1) {  // an object's name
+    target = named_object(document, parts[0], where);
+    k = 1;
   }
-  for (; k < parts.size(); ++k) {
-    const std::string& part = parts[k];
-    const bool last = k + 1 == parts.size();
-    if (current->is_array()) {
-      char* end = nullptr;
-      const unsigned long index = std::strtoul(part.c_str(), &end, 10);
-      if (*end != '\0' || index >= current->size())
-        throw SceneError(fmt::format("{}: {} has {} elements; \"{}\" is not an index of it", where, path, current->size(), clip_text(part)));
-      current = &(*current)[index];
-      path += fmt::format("[{}]", index);
-      continue;
-    }
-    if (!current->is_object())
-      throw SceneError(fmt::format("{}: {} is {}, which has no field \"{}\"", where, path, shown(*current), clip_text(part)));
-    if (current->contains(part)) {
-      current = &(*current)[part];
-      path = join(path, part);
-    } else if ((part == "albedo" || part == "roughness" || part == "f0") && current->contains("material") &&
-               (*current)["material"].is_object()) {
-      current = &(*current)["material"][part];  // shorthand: NAME.roughness = NAME.material.roughness
-      path = join(join(path, "material"), part);
-    } else if (last) {
-      current = &(*current)[part];  // a new key: parse_scene decides whether the schema has it
-      path = join(path, part);
-    } else {
-      throw SceneError(fmt::format("{}: {} does not exist", where, join(path, part)));
-    }
-  }
-  *current = std::move(value);
+  for (; k < parts.size(); ++k) step_into(target, parts[k], k + 1 == parts.size(), where);
+  *target.node = std::move(value);
 }
 
 }  // namespace sglab::render
