@@ -301,11 +301,7 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
       for (const auto& method : methods) {
         const auto it = acc.find({g, key, method});
         if (it == acc.end()) continue;
-        SpecularSummaryRow row;
-        row.by = groups[g].by;
-        row.group = key;
-        row.method = method;
-        row.stats = it->second.stats();
+        SpecularSummaryRow row{.by = groups[g].by, .group = key, .method = method, .stats = it->second.stats()};
         if (const auto b = brightness.find({g, key, method}); b != brightness.end()) add_brightness(b->second, row);
         if (row.stats.worst < t.rows.size()) {
           const auto& w = t.rows[row.stats.worst].fields;

@@ -106,7 +106,7 @@ struct SpecularSummaryRow {
   double bright_smape = std::numeric_limits<double>::quiet_NaN();
   std::size_t bright_rows = 0;
   // The inputs of the row with the largest relative error ("" if none).
-  std::string worst_roughness, worst_light_sharpness, worst_view_cos, worst_position;
+  std::string worst_roughness{}, worst_light_sharpness{}, worst_view_cos{}, worst_position{};
 };
 
 // The summary derived from a per-point CSV alone (the file the sweep or `sglab merge` wrote):
