@@ -24,6 +24,7 @@
 #include "commands.hpp"
 #include "envmap.hpp"
 #include "envmap_lobes.hpp"
+#include "experiment_command.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/render/environment.hpp"
 #include "sglab/render/environment_scene.hpp"
@@ -281,8 +282,7 @@ void add_envmap_command(CLI::App& app) {
     sub->add_option("--lobes", a->lobes, "lobe counts")->capture_default_str();
     sub->add_option("--roughness", a->roughness, "GGX roughnesses")->capture_default_str();
     sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")->capture_default_str();
-    sub->add_option("--out", a->out, "directory for envmap_images.csv")->capture_default_str();
-    sub->add_option("--tables-dir", a->tables_dir, "where envmap_lobes.{md,csv} go")->capture_default_str();
+    add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go");
     sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
     sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
   }

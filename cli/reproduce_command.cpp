@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "constant_sets.hpp"
 #include "reproduce.hpp"
 
 namespace sglab::cli {
@@ -17,10 +18,9 @@ void add_reproduce_command(CLI::App& app) {
   sub->add_flag("--list", opts->list, "print each step and its command line in this mode, run nothing");
   sub->add_flag("--force", opts->force, "redo finished steps");
   sub->add_option("--only", opts->only, "run only these steps");
-  sub->add_option("--constants", opts->constants,
-                  "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
-                  "repeatable, later sets override earlier ones)")
-      ->allow_extra_args(false);
+  add_constants_option(*sub, opts->constants,
+                       "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
+                       "repeatable, later sets override earlier ones)");
   sub->callback([opts] { experiments::run_reproduce(*opts, [](const std::vector<std::string>& args) { return run_sglab(args); }); });
 }
 

@@ -121,10 +121,12 @@ ConstantSet load_constant_sets(const std::vector<std::string>& paths) {
   return set;
 }
 
-void add_constants_option(CLI::App& app, std::vector<std::string>& paths) {
-  app.add_option("--constants", paths,
-                 "constant set: a fit record (`sglab fit NAME --json`), a directory of them, or 'published'; "
-                 "repeatable, later sets override earlier ones")
+const char* const kConstantsOptionHelp =
+    "constant set: a fit record (`sglab fit NAME --json`), a directory of them, or 'published'; "
+    "repeatable, later sets override earlier ones";
+
+void add_constants_option(CLI::App& app, std::vector<std::string>& paths, const std::string& what) {
+  app.add_option("--constants", paths, what)
       ->take_all()
       ->allow_extra_args(false);
 }

@@ -21,8 +21,10 @@ namespace sglab::cli {
 // domain) is a UsageError naming the file and the key, raised before anything is written.
 ConstantSet load_constant_sets(const std::vector<std::string>& paths);
 
-// Adds `--constants PATH` (repeatable) bound to `paths`.
-void add_constants_option(CLI::App& app, std::vector<std::string>& paths);
+// Adds `--constants PATH` (repeatable) bound to `paths`; `what` is its help line (the default
+// describes a constant set; `sglab reproduce` says which of its steps get it).
+extern const char* const kConstantsOptionHelp;
+void add_constants_option(CLI::App& app, std::vector<std::string>& paths, const std::string& what = kConstantsOptionHelp);
 // The option back as arguments (provenance, reproduce's steps).
 std::vector<std::string> constants_arguments(const std::vector<std::string>& paths);
 

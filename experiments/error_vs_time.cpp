@@ -455,8 +455,8 @@ void add_error_vs_time_command(CLI::App& app) {
                                  "Every method's error (float, double), rounding error vs 50 digits, and ns/eval");
   sub->add_option("--quantity", opts->quantities,
                   "quantities: (sharpness, cosine) quantities with a reference, and specular")->capture_default_str();
-  sub->add_option("--out", opts->out_dir, "directory for the per-method CSV")->capture_default_str();
-  sub->add_option("--tables", opts->tables_dir, "directory for the paper tables")->capture_default_str();
+  add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for the per-method CSV", "directory for the paper tables",
+                     "--tables");
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
   add_constants_option(*sub, opts->constants);
   sub->callback([opts] {

@@ -32,4 +32,14 @@ inline CLI::Validator unsigned_at_most(std::uint64_t max) {
       fmt::format("INT in [0, {}]", max));
 }
 
+// The two places an experiment's command writes to (registry.hpp: Places), declared alike by
+// every command that has both: `--out DIR` for its per-run outputs (CSVs, images) and
+// TABLES_OPTION DIR for its tables ("--tables-dir"; "--tables" in the older commands), each
+// described by what it holds, with its default shown.
+inline void add_places_options(CLI::App& app, std::string& out, std::string& tables_dir, const std::string& out_holds,
+                               const std::string& tables_holds, const char* tables_option = "--tables-dir") {
+  app.add_option("--out", out, out_holds)->capture_default_str();
+  app.add_option(tables_option, tables_dir, tables_holds)->capture_default_str();
+}
+
 }  // namespace sglab::cli

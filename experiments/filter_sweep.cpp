@@ -316,8 +316,7 @@ void add_filter_sweep_command(CLI::App& app) {
   sub->add_option("--scene", opts->job.render.scene_path, "scene JSON with an object named floor")->required();
   sub->add_option("--roughness", opts->roughness, "floor GGX roughness values, comma-separated")->capture_default_str();
   sub->add_option("--weights", opts->weights, "weightings, comma-separated (spatial, normal, lobe, lobe-depth)")->capture_default_str();
-  sub->add_option("--out", opts->out, "directory for the per-row CSV")->capture_default_str();
-  sub->add_option("--tables-dir", opts->tables_dir, "directory for NAME.md and NAME.csv")->capture_default_str();
+  add_places_options(*sub, opts->out, opts->tables_dir, "directory for the per-row CSV", "directory for NAME.md and NAME.csv");
   sub->add_option("--table", opts->table, "table name")->capture_default_str();
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
   sub->add_option("--scale", opts->scales, "scales (the indirect light at 1/SCALE resolution), comma-separated")->capture_default_str();

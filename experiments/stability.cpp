@@ -112,8 +112,8 @@ void add_stability_command(CLI::App& app) {
   auto opts = std::make_shared<Options>();
   auto* sub = app.add_subcommand("stability",
                                  "Stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method over the stiff inputs");
-  sub->add_option("--out", opts->out_dir, "directory for stability.csv, stability_cells.csv, stability.md")->capture_default_str();
-  sub->add_option("--tables", opts->tables_dir, "directory for the paper tables")->capture_default_str();
+  add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for stability.csv, stability_cells.csv, stability.md",
+                     "directory for the paper tables", "--tables");
   add_constants_option(*sub, opts->constants);
   sub->add_option("--quantity", opts->only, "only these quantities (repeatable; default: all)");
   sub->add_flag("--quick", opts->quick, "coarser grids, fewer 50-digit evaluations");
