@@ -259,6 +259,8 @@ std::vector<ErrorCase> error_cases() {
   const std::string cc = "clamped-cosine --method tokuyoshi2024";
   std::vector<ErrorCase> cases{
       {"missing column", cc, "sharpness,foo\n1,2\n", {"missing column 'cosine'", "line 1"}},
+      {"value column in the input", cc, "sharpness,cosine,value\n1,0.5,3\n",
+       {"line 1 (header)", "already has a column 'value'", "rename it"}},
       {"non-number", cc, "sharpness,cosine\n1,0.5\nabc,0.5\n",
        {"row 2 (line 3)", "column 'sharpness'", "value 'abc'", "not a number"}},
       {"empty field", cc, "sharpness,cosine\n1,0.5\n2,0.5\n3,\n",

@@ -132,8 +132,21 @@ TEST(Scene, BadOverridesNameTheKey) {
       {"floor..roughness=3", "--set floor..roughness: empty component"},
       {"light.beam.width=3", "--set light.beam.width: light.beam does not exist"},
       {"objects.7.radius=1", "--set objects.7.radius: objects has 3 elements"},
+      {"objects.x.radius=1", "--set objects.x.radius: objects has 3 elements; \"x\" is not an index of it"},
+      {"objects.1x.radius=1", "--set objects.1x.radius: objects has 3 elements; \"1x\" is not an index of it"},
       {"light.distance.x=1", "--set light.distance.x: light.distance is 2, which has no field \"x\""},
   });
+}
+
+TEST(Scene, OverridesNeedAnObjectDocument) {
+  for (json doc : {json::array({1, 2}), json("scene"), json(3)}) {
+    try {
+      apply_override(doc, "light.power=3");
+      ADD_FAILURE() << "accepted an override of " << doc.dump();
+    } catch (const SceneError& e) {
+      EXPECT_STREQ(e.what(), "--set light.power: the scene is not a JSON object") << doc.dump();
+    }
+  }
 }
 
 TEST(Scene, EveryBadFieldIsNamed) {
