@@ -1,6 +1,8 @@
 // VSGL generation: two / two-shared / fis / kmeans (see vsgl_generation.hpp for the method and its choices).
 #include "sglab/render/vsgl_generation.hpp"
 
+#include "sglab/enum_names.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,23 +18,14 @@
 
 namespace sglab::render {
 
-std::string_view vsgl_mode_name(VsglMode m) {
-  switch (m) {
-    case VsglMode::two: return "two";
-    case VsglMode::two_shared: return "two-shared";
-    case VsglMode::fis: return "fis";
-    case VsglMode::kmeans: return "kmeans";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<VsglMode> kVsglModeNames[] = {
+    {VsglMode::two, "two"}, {VsglMode::two_shared, "two-shared"}, {VsglMode::fis, "fis"}, {VsglMode::kmeans, "kmeans"}};
+}  // namespace
 
-std::optional<VsglMode> parse_vsgl_mode(std::string_view name) {
-  if (name == "two") return VsglMode::two;
-  if (name == "two-shared") return VsglMode::two_shared;
-  if (name == "fis") return VsglMode::fis;
-  if (name == "kmeans") return VsglMode::kmeans;
-  return std::nullopt;
-}
+std::string_view vsgl_mode_name(VsglMode m) { return enum_name(kVsglModeNames, m); }
+
+std::optional<VsglMode> parse_vsgl_mode(std::string_view name) { return parse_enum(kVsglModeNames, name); }
 
 std::optional<std::string> vsgl_options_error(const VsglOptions& o) {
   auto bad = [](const char* field, double value, const char* why) {
