@@ -45,7 +45,7 @@ std::vector<double> make_inputs(const sglab::Quantity& q) {
         case sglab::ColumnKind::cosine: args.push_back(-1 + 2 * u(rng)); break;
         // The specular columns: roughness log-uniform in [1e-2, 1], the azimuth over a turn.
         case sglab::ColumnKind::positive: args.push_back(std::pow(10.0, -2 * u(rng))); break;
-        case sglab::ColumnKind::angle: args.push_back(2 * 3.141592653589793 * u(rng)); break;
+        case sglab::ColumnKind::angle: args.push_back(sglab::two_pi<double>() * u(rng)); break;
         default: args.push_back(u(rng)); break;
       }
     }
