@@ -45,7 +45,7 @@ std::vector<double> make_inputs(const sglab::Quantity& q) {
         case sglab::ColumnKind::cosine: args.push_back(-1 + 2 * u(rng)); break;
         // The specular columns: roughness log-uniform in [1e-2, 1], the azimuth over a turn.
         case sglab::ColumnKind::positive: args.push_back(std::pow(10.0, -2 * u(rng))); break;
-        case sglab::ColumnKind::angle: args.push_back(2 * 3.141592653589793 * u(rng)); break;
+        case sglab::ColumnKind::angle: args.push_back(sglab::two_pi<double>() * u(rng)); break;
         default: args.push_back(u(rng)); break;
       }
     }
@@ -100,54 +100,41 @@ void register_scalar(const std::vector<double>& in) {
 }
 
 // The scalar templates of the vectorized methods in an inlined loop: the registry's batch
-// evaluators before vectorization (set_evaluators' loop), for the before/after columns.
-template <class T> T s_punctual(T l, T c) { return sglab::clamped_cosine_punctual(l, c); }
-template <class T> T s_punctual_approx(T l, T c) { return sglab::clamped_cosine_punctual_approx(l, c); }
-template <class T> T s_sg_cosine(T l, T c) { return sglab::clamped_cosine_sg_cosine(l, c); }
-template <class T> T s_cosine_lobe_sg(T l, T c) { return sglab::clamped_cosine_cosine_lobe_sg(l, c); }
-template <class T> T s_hill(T l, T c) { return sglab::clamped_cosine_hill_fitted(l, c); }
-template <class T> T s_meder(T l, T c) { return sglab::clamped_cosine_meder(l, c); }
-template <class T> T s_tok22(T l, T c) { return sglab::clamped_cosine_tokuyoshi2022(l, c); }
-template <class T> T s_tok24(T l, T c) { return sglab::clamped_cosine_tokuyoshi2024(l, c); }
-template <class T> T s_sglab(T l, T c) { return sglab::clamped_cosine_sglab(l, c); }
-template <class T> T s_h_meder(T l, T c) { return sglab::hemispherical_meder(l, c); }
-template <class T> T s_h_tok22(T l, T c) { return sglab::hemispherical_tokuyoshi2022(l, c); }
-template <class T> T s_h_vmf(T l, T c) { return sglab::hemispherical_vmf_tokuyoshi2024(l, c); }
-
-// The specular methods' scalar templates over rows of (α, λ, light_cos, view_cos, φ, f0).
-template <class T> T s_spec(T a, T l, T lc, T v, T phi, T f0) { return sglab::specular_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}); }
-template <class T> T s_spec_pa(T a, T l, T lc, T v, T phi, T f0) {
-  return sglab::specular_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}, sglab::SgProductForm::exact, false, sglab::FactorAt::product_axis);
-}
-template <class T> T s_spec_iw(T a, T l, T lc, T v, T phi, T f0) {
-  return sglab::specular_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}, sglab::SgProductForm::iwasaki);
-}
-template <class T> T s_spec_th(T a, T l, T lc, T v, T phi, T f0) {
-  return sglab::specular_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}, sglab::SgProductForm::exact, true);
-}
-template <class T> T s_spec_asg(T a, T l, T lc, T v, T phi, T f0) { return sglab::specular_asg(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}); }
-template <class T> T s_spec_dvn(T a, T l, T lc, T v, T phi, T f0) { return sglab::specular_sg_warp_dvn(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}); }
-template <class T> T s_gndf(T a, T l, T lc, T v, T phi, T f0) { return sglab::specular_gaussian_ndf_sg_warp(sglab::SpecularInput<T>{a, l, lc, v, phi, f0}); }
-template <class T> T s_gndf_meder(T a, T l, T lc, T v, T phi, T f0) {
-  return sglab::specular_gaussian_ndf_sg_meder(sglab::SpecularInput<T>{a, l, lc, v, phi, f0});
-}
-
-#define SCALAR(q, m, fn) sglab::peer::Port{q, m, &sglab::peer::port_batch<float, fn<float>>, &sglab::peer::port_batch<double, fn<double>>}
+// evaluators before vectorization (set_evaluators' loop), for the before/after columns. A loop
+// calls its template through a captureless lambda, inlined into the port's batch loop:
+// SCALAR(quantity, method, fn) calls fn(λ, c) (its default constants); SCALAR6(quantity, method,
+// call) evaluates `call` on the SpecularInput `in` of a row of (α, λ, light_cos, view_cos, φ, f0).
+#define SCALAR_LOOP(T, fn) &sglab::peer::port_batch<T, +[](T l, T c) { return fn(l, c); }>
+#define SCALAR(q, m, fn) sglab::peer::Port{q, m, SCALAR_LOOP(float, fn), SCALAR_LOOP(double, fn)}
+#define SCALAR6_LOOP(T, ...)                                                    \
+  &sglab::peer::port_batch6<T, +[](T a, T l, T lc, T v, T phi, T f0) {          \
+    const sglab::SpecularInput<T> in{a, l, lc, v, phi, f0};                     \
+    return __VA_ARGS__;                                                         \
+  }>
+#define SCALAR6(q, m, ...) sglab::peer::Port{q, m, SCALAR6_LOOP(float, __VA_ARGS__), SCALAR6_LOOP(double, __VA_ARGS__)}
 const sglab::peer::Port kScalarLoops[] = {
-    SCALAR("clamped-cosine", "punctual", s_punctual),       SCALAR("clamped-cosine", "punctual-approx", s_punctual_approx),
-    SCALAR("clamped-cosine", "sg-cosine", s_sg_cosine),     SCALAR("clamped-cosine", "cosine-lobe-sg", s_cosine_lobe_sg),
-    SCALAR("clamped-cosine", "hill-fitted", s_hill),        SCALAR("clamped-cosine", "meder", s_meder),
-    SCALAR("clamped-cosine", "tokuyoshi2022", s_tok22),     SCALAR("clamped-cosine", "tokuyoshi2024", s_tok24),
-    SCALAR("clamped-cosine", "sglab", s_sglab),             SCALAR("hemispherical", "meder", s_h_meder),
-    SCALAR("hemispherical", "tokuyoshi2022", s_h_tok22),    SCALAR("hemispherical", "vmf-tokuyoshi2024", s_h_vmf),
-#define SCALAR6(q, m, fn) sglab::peer::Port{q, m, &sglab::peer::port_batch6<float, fn<float>>, &sglab::peer::port_batch6<double, fn<double>>}
-    SCALAR6("specular", "sg-warp", s_spec),                 SCALAR6("specular", "sg-warp-product-axis", s_spec_pa),
-    SCALAR6("specular", "sg-warp-iwasaki", s_spec_iw),      SCALAR6("specular", "sg-warp-th2019", s_spec_th),
-    SCALAR6("specular", "asg", s_spec_asg),                 SCALAR6("specular", "sg-warp-dvn", s_spec_dvn),
-    SCALAR6("specular-gaussian-ndf", "sg-warp", s_gndf),    SCALAR6("specular-gaussian-ndf", "sg-warp-meder", s_gndf_meder),
+    SCALAR("clamped-cosine", "punctual", sglab::clamped_cosine_punctual),
+    SCALAR("clamped-cosine", "punctual-approx", sglab::clamped_cosine_punctual_approx),
+    SCALAR("clamped-cosine", "sg-cosine", sglab::clamped_cosine_sg_cosine), SCALAR("clamped-cosine", "cosine-lobe-sg", sglab::clamped_cosine_cosine_lobe_sg),
+    SCALAR("clamped-cosine", "hill-fitted", sglab::clamped_cosine_hill_fitted), SCALAR("clamped-cosine", "meder", sglab::clamped_cosine_meder),
+    SCALAR("clamped-cosine", "tokuyoshi2022", sglab::clamped_cosine_tokuyoshi2022),
+    SCALAR("clamped-cosine", "tokuyoshi2024", sglab::clamped_cosine_tokuyoshi2024), SCALAR("clamped-cosine", "sglab", sglab::clamped_cosine_sglab),
+    SCALAR("hemispherical", "meder", sglab::hemispherical_meder), SCALAR("hemispherical", "tokuyoshi2022", sglab::hemispherical_tokuyoshi2022),
+    SCALAR("hemispherical", "vmf-tokuyoshi2024", sglab::hemispherical_vmf_tokuyoshi2024),
+    SCALAR6("specular", "sg-warp", sglab::specular_sg_warp(in)),
+    SCALAR6("specular", "sg-warp-product-axis",
+            sglab::specular_sg_warp(in, sglab::SgProductForm::exact, false, sglab::FactorAt::product_axis)),
+    SCALAR6("specular", "sg-warp-iwasaki", sglab::specular_sg_warp(in, sglab::SgProductForm::iwasaki)),
+    SCALAR6("specular", "sg-warp-th2019", sglab::specular_sg_warp(in, sglab::SgProductForm::exact, true)),
+    SCALAR6("specular", "asg", sglab::specular_asg(in)),
+    SCALAR6("specular", "sg-warp-dvn", sglab::specular_sg_warp_dvn(in)),
+    SCALAR6("specular-gaussian-ndf", "sg-warp", sglab::specular_gaussian_ndf_sg_warp(in)),
+    SCALAR6("specular-gaussian-ndf", "sg-warp-meder", sglab::specular_gaussian_ndf_sg_meder(in)),
 };
 #undef SCALAR6
+#undef SCALAR6_LOOP
 #undef SCALAR
+#undef SCALAR_LOOP
 const sglab::peer::Port* find_scalar_loop(std::string_view q, std::string_view m) {
   for (const auto& p : kScalarLoops)
     if (p.quantity == q && p.method == m) return &p;

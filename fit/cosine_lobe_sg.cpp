@@ -32,17 +32,12 @@ Residual problem(const std::string& objective) {
 }
 
 FitSpec spec_for(const std::string& objective) {
-  FitSpec spec;
-  spec.fit = "cosine-lobe-sg";
+  FitSpec spec = fit_spec("cosine-lobe-sg", "Pettineo 2016, SG series part 3",
+                          {{"amplitude", kAmplitude, 1e-6, 100.0}, {"sharpness", kSharpness, 1e-6, 100.0}});
   spec.objective = objective == "l2-theta"        ? "l2-theta: int_0^pi (a G - <cos>)^2 dtheta"
                    : objective == "l2-hemisphere" ? "l2-hemisphere: int_{w.n>0} (a G - w.n)^2 dw"
                                                   : "l2-sphere: int_{S^2} (a G - <w.n>)^2 dw";
   spec.domain = objective == "l2-hemisphere" ? "upper hemisphere" : "whole sphere (split at theta = pi/2)";
-  spec.source = "Pettineo 2016, SG series part 3";
-  spec.names = {"amplitude", "sharpness"};
-  spec.published = {kAmplitude, kSharpness};
-  spec.lower = {1e-6, 1e-6};
-  spec.upper = {100.0, 100.0};
   spec.starts = {{1.0, 2.0}, {0.5, 0.5}, {3.0, 8.0}};
   return spec;
 }

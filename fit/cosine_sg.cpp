@@ -82,25 +82,24 @@ std::vector<std::vector<double>> starts(double lambda_min) {
   return out;
 }
 
-FitSpec base_spec() {
-  FitSpec spec;
-  spec.fit = "cosine-sg";
+// The fit's parameters with the sharpness bounded below by lambda_min (the stopping point of the
+// λ → 0 trajectory, see the file comment).
+FitSpec bounded_spec(double lambda_min) {
+  FitSpec spec = fit_spec("cosine-sg", "Meder & Bruederlin 2018 (PhySG, Zhang et al. 2021)",
+                          {{"amplitude", kPublishedAmplitude, -1e12, 1e12},
+                           {"sharpness", kPublishedSharpness, lambda_min, 50.0},
+                           {"offset", kPublishedOffset, -1e12, 1e12}});
   spec.domain = "upper hemisphere";
-  spec.source = "Meder & Bruederlin 2018 (PhySG, Zhang et al. 2021)";
-  spec.names = {"amplitude", "sharpness", "offset"};
-  spec.published = {kPublishedAmplitude, kPublishedSharpness, kPublishedOffset};
   return spec;
 }
 
 FitResult solve_rounding(const std::string& precision) {
   CosineSgRoundingResidual f{problem("l2-bounded"), unit_roundoff(precision)};
-  FitSpec spec = base_spec();
+  FitSpec spec = bounded_spec(1e-8);
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.17g", f.u);
   spec.objective = "l2-rounding (" + precision + "): int_{w.n>0} (a G - b - w.n)^2 + (u (|a G| + |b|))^2 dw, u = " +
                    std::string(buf) + ", lambda >= 1e-8";
-  spec.lower = {-1e12, 1e-8, -1e12};
-  spec.upper = {1e12, 50.0, 1e12};
   // The balance point is λ ≈ 7√u (half: 0.16); start around it and on a fixed ladder.
   for (double l : {7 * std::sqrt(f.u), 2 * std::sqrt(f.u), 20 * std::sqrt(f.u), 1.0, 0.1, 0.01, 0.001}) {
     if (l > 1e-8) spec.starts.push_back({std::exp(l) / l, l, 1 / l});
@@ -109,19 +108,12 @@ FitResult solve_rounding(const std::string& precision) {
 }
 
 FitResult solve(const std::string& objective, const CosineSgResidual& f, double lambda_min) {
-  FitSpec spec;
-  spec.fit = "cosine-sg";
+  FitSpec spec = bounded_spec(lambda_min);
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6g", lambda_min);
   spec.objective = objective == "l2-theta-bounded"
                        ? "l2-theta-bounded: int_0^{pi/2} (a G - b - cos)^2 dtheta, lambda >= " + std::string(buf)
                        : "l2-bounded: int_{w.n>0} (a G - b - w.n)^2 dw, lambda >= " + std::string(buf);
-  spec.domain = "upper hemisphere";
-  spec.source = "Meder & Bruederlin 2018 (PhySG, Zhang et al. 2021)";
-  spec.names = {"amplitude", "sharpness", "offset"};
-  spec.published = {kPublishedAmplitude, kPublishedSharpness, kPublishedOffset};
-  spec.lower = {-1e12, lambda_min, -1e12};
-  spec.upper = {1e12, 50.0, 1e12};
   spec.starts = starts(lambda_min);
   return solve_least_squares<3>(spec, f);
 }
@@ -187,7 +179,7 @@ Fitter cosine_sg_fitter() {
   f.name = "cosine-sg";
   f.description = "a G(w; n, lambda) - b ~ w.n on the hemisphere (Meder & Bruederlin)";
   f.objectives = {"l2-bounded", "l2-theta-bounded", "l2-rounding"};
-  f.parameters = {"amplitude", "sharpness", "offset"};
+  f.parameters = bounded_spec(kPublishedSharpness).names;
   f.run = fit_cosine_sg;
   f.synthetic = synthetic_recovery([] { return problem("l2-bounded"); },
                                    [](const auto& p) { return solve("l2-bounded", p, kPublishedSharpness); });

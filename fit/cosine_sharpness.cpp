@@ -80,15 +80,13 @@ double cosine_sharpness_objective(double lambda, double unit_roundoff) {
 
 FitResult fit_cosine_sharpness(const FitOptions& o) {
   const double u = unit_roundoff(o.precision);
-  FitSpec spec;
-  spec.fit = "cosine-sharpness";
+  // Positive by its log parameterization: no bounds.
+  FitSpec spec = fit_spec("cosine-sharpness", "Tokuyoshi 2022 (accurate diffuse SG lighting), for float32",
+                          {{"lambda", kPublishedLambda, -HUGE_VAL, HUGE_VAL}});
   spec.objective = "max-plus-rounding: [alpha(e^l - 1) - 1] + alpha*u*(e^l + 1), u = 2^" +
                    std::to_string(static_cast<int>(std::lround(std::log2(u)))) + " (" +
                    o.precision + ")";
   spec.domain = "upper hemisphere, w.n in [0, 1] (max-norm: attained at w.n = 1)";
-  spec.source = "Tokuyoshi 2022 (accurate diffuse SG lighting), for float32";
-  spec.names = {"lambda"};
-  spec.published = {kPublishedLambda};
   spec.starts = {{std::sqrt(12 * u)}, {1e-3}, {1e-1}, {1e-6}};
   spec.derived = [](const std::vector<double>& x) {
     std::vector<std::pair<NamedValue, double>> out;

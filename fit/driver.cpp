@@ -71,6 +71,19 @@ AxisGrid clamped_cosine_axis_grid(const std::string& objective) {
   return solid_angle_axis_grid({-1.0, 0.0, 1.0}, 4);
 }
 
+FitSpec fit_spec(std::string fit, std::string source, const std::vector<FitParameter>& parameters) {
+  FitSpec spec;
+  spec.fit = std::move(fit);
+  spec.source = std::move(source);
+  for (const FitParameter& p : parameters) {
+    spec.names.push_back(p.name);
+    spec.published.push_back(p.published);
+    spec.lower.push_back(p.lower);
+    spec.upper.push_back(p.upper);
+  }
+  return spec;
+}
+
 bool all_published(const FitSpec& spec) {
   return std::all_of(spec.published.begin(), spec.published.end(), [](double v) { return std::isfinite(v); });
 }

@@ -115,6 +115,19 @@ struct FitSpec {
   std::function<std::vector<std::pair<NamedValue, double>>(const std::vector<double>&)> derived;
 };
 
+// One fitted parameter as a fit states it: its name, published value (NaN where none is
+// published) and bounds (−∞/∞ for none).
+struct FitParameter {
+  std::string name;
+  double published;
+  double lower;
+  double upper;
+};
+
+// The FitSpec of `fit` whose published values come from `source`, with one FitParameter per
+// parameter, in order (names, published, lower, upper); objective, domain and starts are the caller's.
+FitSpec fit_spec(std::string fit, std::string source, const std::vector<FitParameter>& parameters);
+
 // Least squares: one cost function (fresh per start, Ceres takes ownership) over all parameters
 // as a single block.
 FitResult run_least_squares(const FitSpec& spec,

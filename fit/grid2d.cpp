@@ -1,6 +1,7 @@
 #include "grid2d.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include "driver.hpp"
 #include "sglab/clamped_cosine.hpp"
@@ -40,6 +41,18 @@ std::vector<double> clamped_cosine_targets(const LambdaCosineGrid& g) {
              (two_pi<double>() * clamped_cosine_upper_over_2pi<double>(g.lambda[i]));
   }
   return out;
+}
+
+FitSpec lambda_cosine_spec(const LambdaCosineFit& fit) {
+  FitSpec spec = fit_spec(fit.name, fit.source, fit.parameters);
+  spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (" + fit.target.misfit + ")^2 dc";
+  char domain[128];
+  std::snprintf(domain, sizeof domain, "lambda in [%g, %g] (%d log-spaced), c in [-1, 1] (Gauss, split at 0)",
+                fit.lambda.min, fit.lambda.max, fit.lambda.count);
+  spec.domain = domain;
+  spec.starts.push_back(spec.published);
+  spec.starts.insert(spec.starts.end(), fit.starts.begin(), fit.starts.end());
+  return spec;
 }
 
 }  // namespace sglab::fit

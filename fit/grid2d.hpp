@@ -5,6 +5,7 @@
 // computed once per grid.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,24 +43,81 @@ GridResidual<Model> lambda_cosine_problem(LambdaCosineGrid g, std::vector<double
   return r;
 }
 
-// The fitter of an approximation on a (λ, c) grid: objectives l2-normalized (the default: spec's own
-// plain L2 fit), l2-relative and minimax (solve_with_objective); its recovery test solves the
-// default. `problem` returns the fit's reference problem (built once), `spec` its FitSpec, whose
-// names are the fitter's parameters.
-template <int K, class Model>
-Fitter lambda_cosine_fitter(std::string name, std::string description, const GridResidual<Model>& (*problem)(),
-                            FitSpec (*spec)()) {
+// The model of a fit on a (λ, c) grid: Curve's
+// `template <class T> T operator()(const T& lambda, const T& c, const T* p) const` at node i.
+template <class Curve>
+struct LambdaCosineModel {
+  LambdaCosineGrid g;
+  template <class T>
+  T operator()(const T* p, std::size_t i) const {
+    return Curve{}(T(g.lambda[i]), T(g.cosine[i]), p);
+  }
+};
+
+// The normalized exact values a (λ, c) fit is measured against, and how its misfit reads in the
+// objective's text.
+struct LambdaCosineTarget {
+  std::vector<double> (*values)(const LambdaCosineGrid&);
+  std::string misfit;
+};
+inline const LambdaCosineTarget kHemisphericalTarget{hemispherical_targets, "H/upper - H_ref/upper"};
+inline const LambdaCosineTarget kClampedCosineTarget{clamped_cosine_targets, "D/D(l,1) - D_ref/D(l,1)"};
+
+// The λ axis of a (λ, c) fit: `count` values log-spaced over [min, max]. Its c axis is always
+// Gauss–Legendre on [−1, 0] and [0, 1], kLambdaCosineSubdivisions sub-panels × 20 nodes each.
+struct LambdaAxis {
+  double min, max;
+  int count;
+};
+inline constexpr int kLambdaCosineSubdivisions = 2;
+
+// One fit of an approximation on a (λ, c) grid, all but its model: the published values are its
+// first start, then `starts`.
+struct LambdaCosineFit {
+  std::string name;
+  std::string description;
+  std::string source;
+  LambdaCosineTarget target;
+  LambdaAxis lambda;
+  std::vector<FitParameter> parameters;
+  std::vector<std::vector<double>> starts;
+};
+
+// The fit's FitSpec under its default objective (l2-normalized: ½ mean over log λ of
+// ∫_{−1}^{1} misfit² dc), its domain text derived from its grid.
+FitSpec lambda_cosine_spec(const LambdaCosineFit& fit);
+
+// The fit's reference problem, built on first use and kept: once per Curve (each Curve is the model
+// of one fit, so `fit` is the same on every call).
+template <class Curve>
+const GridResidual<LambdaCosineModel<Curve>>& lambda_cosine_reference(const LambdaCosineFit& fit) {
+  static const GridResidual<LambdaCosineModel<Curve>> f = lambda_cosine_problem<LambdaCosineModel<Curve>>(
+      lambda_cosine_grid(fit.lambda.min, fit.lambda.max, fit.lambda.count, kLambdaCosineSubdivisions),
+      fit.target.values);
+  return f;
+}
+
+// The fitter of an approximation on a (λ, c) grid with K parameters: objectives l2-normalized (the
+// default: the plain L2 fit of lambda_cosine_spec), l2-relative and minimax (solve_with_objective);
+// its recovery test solves the default.
+template <int K, class Curve>
+Fitter lambda_cosine_fitter(const LambdaCosineFit& fit) {
+  if (fit.parameters.size() != std::size_t(K))
+    throw std::logic_error("fit " + fit.name + ": " + std::to_string(fit.parameters.size()) + " parameters, K = " +
+                           std::to_string(K));
   Fitter f;
-  f.name = std::move(name);
-  f.description = std::move(description);
+  f.name = fit.name;
+  f.description = fit.description;
   f.objectives = {"l2-normalized", "l2-relative", "minimax"};
-  f.parameters = spec().names;
-  f.run = [problem, spec](const FitOptions& o) {
-    return solve_with_objective<K>(o.objective, problem(), spec(), kRelativeObjective2d, kMinimaxObjective2d);
+  for (const FitParameter& p : fit.parameters) f.parameters.push_back(p.name);
+  f.run = [fit](const FitOptions& o) {
+    return solve_with_objective<K>(o.objective, lambda_cosine_reference<Curve>(fit), lambda_cosine_spec(fit),
+                                   kRelativeObjective2d, kMinimaxObjective2d);
   };
-  f.synthetic = synthetic_recovery(problem, [spec](const GridResidual<Model>& p) {
-    return solve_least_squares<K>(spec(), p);
-  });
+  f.synthetic = synthetic_recovery([fit] { return lambda_cosine_reference<Curve>(fit); },
+                                   [fit](const GridResidual<LambdaCosineModel<Curve>>& p) {
+                                     return solve_least_squares<K>(lambda_cosine_spec(fit), p);
+                                   });
   return f;
 }
 

@@ -19,50 +19,34 @@
 namespace sglab::fit {
 namespace {
 
-constexpr double kC0 = HillIrradiance::c0;  // published value, defined in core (clamped_cosine.hpp)
-
-struct Model {
-  LambdaCosineGrid g;
+// D_hill/D(λ, 1).
+struct HillCurve {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    const T l(g.lambda[i]);
-    return clamped_cosine_hill_fitted(l, T(g.cosine[i]), p[0]) /
-           (two_pi<T>() * clamped_cosine_upper_over_2pi(l));
+  T operator()(const T& l, const T& c, const T* p) const {
+    return clamped_cosine_hill_fitted(l, c, p[0]) / (two_pi<T>() * clamped_cosine_upper_over_2pi(l));
   }
 };
-using Residual = GridResidual<Model>;
 
-const Residual& reference_problem() {
-  static const Residual f = lambda_cosine_problem<Model>(lambda_cosine_grid(1, 100, 20, 2), clamped_cosine_targets);
-  return f;
-}
-
-FitSpec make_spec() {
-  FitSpec spec;
-  spec.fit = "hill-irradiance";
-  spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (D/D(l,1) - D_ref/D(l,1))^2 dc";
-  spec.domain = "lambda in [1, 100] (20 log-spaced), c in [-1, 1] (Gauss, split at 0)";
-  spec.source = "Pettineo 2016 (Hill's fit), SG series part 3";
-  spec.names = {"c0"};
-  spec.published = {kC0};
-  spec.lower = {0.05};
-  spec.upper = {2.0};
-  spec.starts = {{kC0}, {0.2}, {0.6}};
-  return spec;
+LambdaCosineFit hill_fit() {
+  // c0 = 0.36 as published, defined in core (HillIrradiance, clamped_cosine.hpp).
+  return {"hill-irradiance", "c0 of the Pettineo/Hill fitted SG irradiance",
+          "Pettineo 2016 (Hill's fit), SG series part 3", kClampedCosineTarget, {1, 100, 20},
+          {{"c0", HillIrradiance::c0, 0.05, 2.0}}, {{0.2}, {0.6}}};
 }
 
 }  // namespace
 
 Fitter hill_irradiance_fitter() {
-  Fitter f = lambda_cosine_fitter<1>("hill-irradiance", "c0 of the Pettineo/Hill fitted SG irradiance",
-                                     reference_problem, make_spec);
-  // The default fit, cross-checked by an independent 1D minimization of the same objective.
-  f.run = [run = f.run](const FitOptions& o) {
+  const LambdaCosineFit fit = hill_fit();
+  Fitter f = lambda_cosine_fitter<1, HillCurve>(fit);
+  // The default fit, cross-checked by an independent 1D minimization of the same objective over
+  // the fit's own bounds.
+  f.run = [run = f.run, fit](const FitOptions& o) {
     FitResult r = run(o);
     if (o.objective != "l2-normalized") return r;
-    const Residual& p = reference_problem();
+    const auto& p = lambda_cosine_reference<HillCurve>(fit);
     const auto brent = boost::math::tools::brent_find_minima(
-        [&](double c0) { return p.squared_error(&c0); }, 0.05, 2.0, 40);
+        [&](double c0) { return p.squared_error(&c0); }, fit.parameters[0].lower, fit.parameters[0].upper, 40);
     add_brent_note(r, 0, brent.first);
     return r;
   };

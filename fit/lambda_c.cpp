@@ -71,19 +71,13 @@ const std::vector<std::string>& objectives() {
 }
 
 FitSpec spec_for(const std::string& objective, double beta, double kappa) {
-  FitSpec spec;
-  spec.fit = "lambda-c";
+  FitSpec spec = fit_spec("lambda-c", "Tokuyoshi lobe-aware filtering, App. D", {{"lambda_c", kPublishedLambdaC, 1e-3, 50.0}});
   const bool rel = objective.rfind("rel", 0) == 0;
   const bool sin_measure = objective.find("-sin-") != std::string::npos;
   const bool half = objective.find("halfpi") != std::string::npos;
   spec.objective = objective + ": int " + (rel ? "((G - q)/q)^2 " : "(G - q)^2 ") +
                    (sin_measure ? "sin(phi) dphi" : "dphi");
   spec.domain = half ? "phi in [0, pi/2]" : "phi in [0, pi] (panels split at pi/2)";
-  spec.source = "Tokuyoshi lobe-aware filtering, App. D";
-  spec.names = {"lambda_c"};
-  spec.published = {kPublishedLambdaC};
-  spec.lower = {1e-3};
-  spec.upper = {50.0};
   spec.starts = {{1.0}, {0.3}, {3.0}};
   spec.derived = [beta, kappa](const std::vector<double>& x) {
     std::vector<std::pair<NamedValue, double>> out;

@@ -37,19 +37,14 @@ LambdaDResidual problem(const std::string& objective) {
 }
 
 FitSpec spec_for(const std::string& objective) {
-  FitSpec spec;
-  spec.fit = "lambda-d";
+  FitSpec spec = fit_spec("lambda-d", "VSGL public code 2.292504 (Tokuyoshi 2015 poster and 2016: ~2)",
+                          {{"lambda_d", kPublishedLambdaD, 1e-6, 100.0}});
   spec.objective = objective == "l2-theta" ? "l2-theta: int_0^pi (G/A - <cos>/pi)^2 dtheta"
                    : objective == "l2-hemisphere"
                        ? "l2-hemisphere: int_{w.n>0} (G/A - w.n/pi)^2 dw"
                        : "l2-solid-angle: int_{S^2} (G/A - <w.n>/pi)^2 dw";
   spec.domain = objective == "l2-hemisphere" ? "upper hemisphere, w.n in [0, 1]"
                                              : "whole sphere (panels split at theta = pi/2)";
-  spec.source = "VSGL public code 2.292504 (Tokuyoshi 2015 poster and 2016: ~2)";
-  spec.names = {"lambda_d"};
-  spec.published = {kPublishedLambdaD};
-  spec.lower = {1e-6};
-  spec.upper = {100.0};
   spec.starts = {{2.0}, {0.5}, {8.0}};
   return spec;
 }

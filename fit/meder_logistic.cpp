@@ -14,45 +14,24 @@
 namespace sglab::fit {
 namespace {
 
-// Meder & Brüderlin 2018 (4 decimals as published), defined in core (MederLogistic).
-constexpr double kP1 = MederLogistic::p1, kP2 = MederLogistic::p2, kP3 = MederLogistic::p3, kP4 = MederLogistic::p4;
-
-struct MederModel {
-  LambdaCosineGrid g;
+// t(λ) in H ≈ upper(λ)·lerp(e^{−λ}, 1, s(t, c)), normalized by upper(λ).
+struct MederCurve {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    const T l(g.lambda[i]);
-    const T t = meder_steepness(l, p[0], p[1], p[2], p[3]);
-    return bound_lerp(l, meder_logistic(t, T(g.cosine[i])));
+  T operator()(const T& l, const T& c, const T* p) const {
+    return bound_lerp(l, meder_logistic(meder_steepness(l, p[0], p[1], p[2], p[3]), c));
   }
 };
-using MederResidual = GridResidual<MederModel>;
-
-const MederResidual& reference_problem() {
-  static const MederResidual f = lambda_cosine_problem<MederModel>(lambda_cosine_grid(0.01, 1000, 25, 2), hemispherical_targets);
-  return f;
-}
-
-FitSpec make_spec() {
-  FitSpec spec;
-  spec.fit = "meder-logistic";
-  spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (H/upper - H_ref/upper)^2 dc";
-  spec.domain = "lambda in [0.01, 1000] (25 log-spaced), c in [-1, 1] (Gauss, split at 0)";
-  spec.source = "Meder & Bruederlin 2018";
-  spec.names = {"p1", "p2", "p3", "p4"};
-  spec.published = {kP1, kP2, kP3, kP4};
-  spec.lower = {0, 0, 0, 1e-6};
-  spec.upper = {1e3, 1e3, 1e3, 1e3};
-  spec.starts = {{kP1, kP2, kP3, kP4}, {1, 5, 3, 5}, {3, 20, 12, 20}};
-  return spec;
-}
 
 }  // namespace
 
 Fitter meder_logistic_fitter() {
-  return lambda_cosine_fitter<4>("meder-logistic",
-                                 "Meder & Bruederlin logistic steepness t(lambda)",
-                                 reference_problem, make_spec);
+  // The published values (4 decimals) are defined in core (MederLogistic).
+  using M = MederLogistic;
+  return lambda_cosine_fitter<4, MederCurve>(
+      {"meder-logistic", "Meder & Bruederlin logistic steepness t(lambda)", "Meder & Bruederlin 2018",
+       kHemisphericalTarget, {0.01, 1000, 25},
+       {{"p1", M::p1, 0, 1e3}, {"p2", M::p2, 0, 1e3}, {"p3", M::p3, 0, 1e3}, {"p4", M::p4, 1e-6, 1e3}},
+       {{1, 5, 3, 5}, {3, 20, 12, 20}}});
 }
 
 }  // namespace sglab::fit

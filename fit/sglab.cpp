@@ -23,16 +23,15 @@ namespace {
 
 constexpr int kLawsonRounds = 30;
 
-struct Model {
-  LambdaCosineGrid g;
+struct SglabCurve {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    const T l(g.lambda[i]);
+  T operator()(const T& l, const T& c, const T* p) const {
     const SglabDiffuseParams<T> q{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]};
     // D/D(λ, 1) = (lower + f(upper − lower))/upper
-    return clamped_cosine_sglab_with(l, T(g.cosine[i]), q) / (two_pi<T>() * clamped_cosine_upper_over_2pi(l));
+    return clamped_cosine_sglab_with(l, c, q) / (two_pi<T>() * clamped_cosine_upper_over_2pi(l));
   }
 };
+using Model = LambdaCosineModel<SglabCurve>;
 using Residual = GridResidual<Model>;
 
 // The error grid plus the stiff cases, each point with unit weight.
@@ -56,17 +55,13 @@ const Residual& reference_problem() {
 }
 
 FitSpec make_spec(const std::vector<double>& start) {
+  // Nothing is published: the comparison column holds the constants compiled into core.
   using S = SglabDiffuse;
-  FitSpec spec;
-  spec.fit = "sglab";
+  FitSpec spec = fit_spec("sglab", "sglab (this project); start: Tokuyoshi et al. 2024's t(lambda)",
+                          {{"A", S::A, 1e-6, 1e4}, {"B", S::B, 1e-6, 1e4}, {"C", S::C, 1e-6, 1e4}, {"D", S::D, 1e-6, 1e4},
+                           {"E", S::E, 1e-6, 1e4}, {"k", S::k, 0, 1}, {"P", S::P, -100, 100}, {"Q", S::Q, 1e-6, 1e4}});
   spec.objective = "minimax: max |D - D_ref|/D_ref(l,1), Lawson IRLS of Ceres least squares";
   spec.domain = "lambda in [1e-3, 1e4] (16 per decade) x c in [-1, 1] (step 1/40), plus the stiff cases";
-  spec.source = "sglab (this project); start: Tokuyoshi et al. 2024's t(lambda)";
-  spec.names = {"A", "B", "C", "D", "E", "k", "P", "Q"};
-  // Nothing is published: the comparison column holds the constants compiled into core.
-  spec.published = {S::A, S::B, S::C, S::D, S::E, S::k, S::P, S::Q};
-  spec.lower = {1e-6, 1e-6, 1e-6, 1e-6, 1e-6, 0, -100, 1e-6};
-  spec.upper = {1e4, 1e4, 1e4, 1e4, 1e4, 1, 100, 1e4};
   spec.starts = {start};
   return spec;
 }
@@ -138,7 +133,7 @@ Fitter sglab_fitter() {
   f.name = "sglab";
   f.description = "sglab's own diffuse approximation: refitted t(lambda) and the even correction K(lambda)";
   f.objectives = {"minimax"};
-  f.parameters = {"A", "B", "C", "D", "E", "k", "P", "Q"};
+  f.parameters = make_spec(kStart).names;
   f.run = [](const FitOptions&) { return solve_lawson(reference_problem()); };
   f.synthetic = synthetic_recovery(reference_problem, solve_plain);
   return f;

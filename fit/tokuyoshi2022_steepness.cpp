@@ -15,45 +15,24 @@
 namespace sglab::fit {
 namespace {
 
-// Tokuyoshi 2022, defined in core (Tokuyoshi2022Steepness, hemispherical.hpp).
-constexpr double kA = Tokuyoshi2022Steepness::A, kB = Tokuyoshi2022Steepness::B, kC = Tokuyoshi2022Steepness::C;
-
-struct Model {
-  LambdaCosineGrid g;
+// k(λ) in H ≈ upper(λ)·lerp(e^{−λ}, 1, ½ + ½ erf(kc)/erf(k)), normalized by upper(λ).
+struct Tokuyoshi2022Curve {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    const T l(g.lambda[i]);
-    const T k = tokuyoshi2022_steepness(l, p[0], p[1], p[2]);
-    return bound_lerp(l, tokuyoshi2022_factor(k, T(g.cosine[i])));
+  T operator()(const T& l, const T& c, const T* p) const {
+    return bound_lerp(l, tokuyoshi2022_factor(tokuyoshi2022_steepness(l, p[0], p[1], p[2]), c));
   }
 };
-using Residual = GridResidual<Model>;
-
-const Residual& reference_problem() {
-  static const Residual f = lambda_cosine_problem<Model>(lambda_cosine_grid(0.01, 1000, 25, 2), hemispherical_targets);
-  return f;
-}
-
-FitSpec make_spec() {
-  FitSpec spec;
-  spec.fit = "tokuyoshi2022-steepness";
-  spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (H/upper - H_ref/upper)^2 dc";
-  spec.domain = "lambda in [0.01, 1000] (25 log-spaced), c in [-1, 1] (Gauss, split at 0)";
-  spec.source = "Tokuyoshi 2022 (accurate diffuse SG lighting)";
-  spec.names = {"A", "B", "C"};
-  spec.published = {kA, kB, kC};
-  spec.lower = {1e-6, 1e-6, 1e-6};
-  spec.upper = {1e3, 1e3, 1e3};
-  spec.starts = {{kA, kB, kC}, {1, 1, 1}, {0.3, 3, 20}};
-  return spec;
-}
 
 }  // namespace
 
 Fitter tokuyoshi2022_steepness_fitter() {
-  return lambda_cosine_fitter<3>("tokuyoshi2022-steepness",
-                                 "Tokuyoshi 2022 erf steepness k(lambda)",
-                                 reference_problem, make_spec);
+  // The published values are defined in core (Tokuyoshi2022Steepness, hemispherical.hpp).
+  using S = Tokuyoshi2022Steepness;
+  return lambda_cosine_fitter<3, Tokuyoshi2022Curve>(
+      {"tokuyoshi2022-steepness", "Tokuyoshi 2022 erf steepness k(lambda)",
+       "Tokuyoshi 2022 (accurate diffuse SG lighting)", kHemisphericalTarget, {0.01, 1000, 25},
+       {{"A", S::A, 1e-6, 1e3}, {"B", S::B, 1e-6, 1e3}, {"C", S::C, 1e-6, 1e3}},
+       {{1, 1, 1}, {0.3, 3, 20}}});
 }
 
 }  // namespace sglab::fit

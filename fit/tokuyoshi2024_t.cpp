@@ -20,49 +20,29 @@
 namespace sglab::fit {
 namespace {
 
-// Tokuyoshi et al. 2024, defined in core (Tokuyoshi2024T, clamped_cosine.hpp).
-constexpr double kA = Tokuyoshi2024T::A, kB = Tokuyoshi2024T::B, kC = Tokuyoshi2024T::C, kD = Tokuyoshi2024T::D,
-                 kE = Tokuyoshi2024T::E;
-
-struct Model {
-  LambdaCosineGrid g;
+// D/D(λ, 1) = (lower + f(upper − lower))/upper with t(λ) in f unclamped.
+struct Tokuyoshi2024Curve {
   template <class T>
-  T operator()(const T* p, std::size_t i) const {
-    const T l(g.lambda[i]);
+  T operator()(const T& l, const T& c, const T* p) const {
     const T t = tokuyoshi2024_t(l, p[0], p[1], p[2], p[3], p[4]);
-    const T f = tokuyoshi2024_factor_unclamped(t, T(g.cosine[i]));
+    const T f = tokuyoshi2024_factor_unclamped(t, c);
     const T upper = clamped_cosine_upper_over_2pi(l);
     const T lower = clamped_cosine_lower_over_2pi(l);
     return (lower + f * (upper - lower)) / upper;
   }
 };
-using Residual = GridResidual<Model>;
-
-const Residual& reference_problem() {
-  static const Residual f = lambda_cosine_problem<Model>(lambda_cosine_grid(0.01, 1000, 25, 2), clamped_cosine_targets);
-  return f;
-}
-
-FitSpec make_spec() {
-  FitSpec spec;
-  spec.fit = "tokuyoshi2024-t";
-  spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (D/D(l,1) - D_ref/D(l,1))^2 dc";
-  spec.domain = "lambda in [0.01, 1000] (25 log-spaced), c in [-1, 1] (Gauss, split at 0)";
-  spec.source = "Tokuyoshi et al. 2024 (hierarchical light sampling)";
-  spec.names = {"A", "B", "C", "D", "E"};
-  spec.published = {kA, kB, kC, kD, kE};
-  spec.lower = {1e-6, 1e-6, 1e-6, 1e-6, 1e-6};
-  spec.upper = {1e4, 1e4, 1e4, 1e4, 1e4};
-  spec.starts = {{kA, kB, kC, kD, kE}, {1, 10, 1, 10, 50}, {5, 30, 8, 30, 150}};
-  return spec;
-}
 
 }  // namespace
 
 Fitter tokuyoshi2024_t_fitter() {
-  return lambda_cosine_fitter<5>("tokuyoshi2024-t",
-                                 "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor",
-                                 reference_problem, make_spec);
+  // The published values are defined in core (Tokuyoshi2024T, clamped_cosine.hpp).
+  using P = Tokuyoshi2024T;
+  return lambda_cosine_fitter<5, Tokuyoshi2024Curve>(
+      {"tokuyoshi2024-t", "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor",
+       "Tokuyoshi et al. 2024 (hierarchical light sampling)", kClampedCosineTarget, {0.01, 1000, 25},
+       {{"A", P::A, 1e-6, 1e4}, {"B", P::B, 1e-6, 1e4}, {"C", P::C, 1e-6, 1e4}, {"D", P::D, 1e-6, 1e4},
+        {"E", P::E, 1e-6, 1e4}},
+       {{1, 10, 1, 10, 50}, {5, 30, 8, 30, 150}}});
 }
 
 }  // namespace sglab::fit

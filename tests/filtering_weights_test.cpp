@@ -55,7 +55,7 @@ TEST(FilteringReference, SmoothedRingIntegralMatchesAzimuthalQuadratureOfTheSmoo
       return profile(std::cos(theta) * std::cos(phi) + std::sin(theta) * std::sin(phi) * std::cos(az));
     };
     const double direct =
-        2 * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(g, 0.0, 3.141592653589793, 12, 1e-13);
+        2 * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(g, 0.0, pi<double>(), 12, 1e-13);
     EXPECT_LE(test::relative_error(ring, direct), tol)
         << "kappa=" << kappa << " theta=" << theta << " phi=" << phi;
   };
@@ -162,7 +162,7 @@ TEST(DiffuseLobeSimilarity, SgApproximationErrorIsThePapersFit) {
   // β = 20, max |G^β − q^β| = 0.0067 (at φ ≈ 0.22). Bounds 0.16 and 0.009, against quadrature.
   double max_q = 0, max_w = 0;
   for (int i = 0; i <= 40; ++i) {
-    const double phi = 3.141592653589793 * i / 40, c = std::cos(phi);
+    const double phi = pi<double>() * i / 40, c = std::cos(phi);
     const double reference = lobe_similarity_reference(cosine_lobe(), cosine_lobe(), c, kInf);
     max_q = std::max(max_q, std::fabs(diffuse_lobe_similarity_sg(c, kLambdaC, kInf) - reference));
     max_w = std::max(max_w, std::fabs(diffuse_lobe_weight(c, kLambdaC, 20.0, kInf) -

@@ -46,6 +46,7 @@
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
+#include "simd_test_util.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -167,8 +168,7 @@ double own_error(const Method& m, const Reference<T>& ref, std::size_t i) {
 template <class T>
 void check(const Method& m, const Reference<T>& ref, double k, const std::string& label) {
   std::vector<T> out(ref.value.size());
-  if constexpr (std::is_same_v<T, float>) m.batch_float(ref.args, 6, out);
-  else m.batch_double(ref.args, 6, out);
+  test::batch_as<T>(m, ref.args, 6, out);
   const double eps = std::numeric_limits<T>::epsilon(), tiny = std::numeric_limits<T>::min();
   double worst = 0, worst_cond = 0;
   std::size_t at = 0;
@@ -217,11 +217,8 @@ TEST(SimdSpecular, EveryKernelMatchesItsScalarTemplate) {
   for (const auto& name : simd::vectorized_methods()) {
     if (!is_specular(name)) continue;
     ++methods;
-    const auto slash = name.find('/');
-    const Quantity* q = find_quantity(name.substr(0, slash));
-    ASSERT_NE(q, nullptr) << name;
-    const Method* m = q->find(name.substr(slash + 1));
-    ASSERT_NE(m, nullptr) << name;
+    const Method* m = test::find_quantity_method(name).method;
+    ASSERT_NE(m, nullptr);
     const double k = tolerance_ulps().at(name);
     const auto rf = reference<float>(name, *m, rows);
     const auto rd = reference<double>(name, *m, rows);

@@ -29,6 +29,7 @@
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
+#include "simd_test_util.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -134,8 +135,7 @@ void check(const std::string& name, const Method& m, const std::vector<double>& 
     }
   }
   std::vector<T> out(ref.size());
-  if constexpr (std::is_same_v<T, float>) m.batch_float(args, 2, out);
-  else m.batch_double(args, 2, out);
+  test::batch_as<T>(m, args, 2, out);
   const double eps = std::numeric_limits<T>::epsilon(), tiny = std::numeric_limits<T>::min();
   Worst w;
   int failures = 0;
@@ -176,11 +176,8 @@ TEST(Simd, EveryKernelMatchesItsScalarTemplate) {
     simd::force_isa(isa);
     ASSERT_EQ(simd::active_isa(), isa);
     for (const auto& name : simd::vectorized_methods()) {
-      const auto slash = name.find('/');
-      const Quantity* q = find_quantity(name.substr(0, slash));
-      ASSERT_NE(q, nullptr) << name;
-      const Method* m = q->find(name.substr(slash + 1));
-      ASSERT_NE(m, nullptr) << name;
+      const auto [q, m] = test::find_quantity_method(name);
+      ASSERT_NE(m, nullptr);
       if (q->columns.size() != 2) continue;  // the specular kernels: tests/simd_specular_test.cpp
       const double k = tolerance_ulps().at(name);
       const std::string label = std::string(simd::isa_name(isa)) + " " + name;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "sglab/clamped_cosine.hpp"
@@ -335,57 +336,50 @@ TEST(VsglSingleVplLimit, ShadingConvergesToThePointLight) {
       {"tokuyoshi2024", [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); }, point_cosine, 1e-7},
       {"sg-cosine", [&](double l, double c) { return clamped_cosine_sg_cosine(l, c, lambda_d); }, point_sg_cosine, 1e-7},
   };
-  // The four VPLs at ±s along e1 and e2 around y, summed.
+  // The four VPLs at ±s along e1 and e2 around y, summed, as their intensity SG and the incoming
+  // SG at the receiver.
   const auto cluster = [&](double s) {
     VsglSums<double> sums;
     for (const V3& off : {V3(s * e1), V3(-s * e1), V3(s * e2), V3(-s * e2)}) {
       add_position(sums.position, luminance(phi_r), V3(y + off), y);
       add_lobe(sums.diffuse, phi_r, nv, vmf_mean_length_toksvig(lambda_d));
     }
-    return sums;
+    const VsglPosition<double> p = vsgl_position(sums.position, y);
+    EXPECT_LE(test::relative_error(p.variance, s * s), 1e-12);
+    const VsglIntensity<double> v = vsgl_intensity(sums.diffuse);
+    EXPECT_LE(test::relative_error(v.sharpness, lambda_d), 1e-14);
+    return std::pair(v, vsgl_incoming_sg(vsgl_positional_sg(p.mean, p.variance, yp), v.axis, v.sharpness));
   };
-  for (const auto& m : methods) {
+  // Quadratic convergence: each tenfold shrink of s divides the error by ≈ 100 (≤ 1/80 asserted;
+  // linear convergence would give 1/10), until λ_σ = d²/s² reaches the 1e8 cap (s ≤ 1.6e-4 here),
+  // from where the cluster is the capped point light of σ² = 0, within tol_at_zero.
+  const auto expect_converges = [](const char* name, double tol_at_zero, const std::function<double(double)>& error_at) {
     double previous = 1;
     for (double s : {1e-1, 1e-2, 1e-3, 1e-4, 0.0}) {
-      const VsglSums<double> sums = cluster(s);
-      const VsglPosition<double> p = vsgl_position(sums.position, y);
-      EXPECT_LE(test::relative_error(p.variance, s * s), 1e-12);
-      const VsglIntensity<double> v = vsgl_intensity(sums.diffuse);
-      EXPECT_LE(test::relative_error(v.sharpness, lambda_d), 1e-14);
-      const VsglIncomingSg<double> in = vsgl_incoming_sg(vsgl_positional_sg(p.mean, p.variance, yp), v.axis, v.sharpness);
-      const C3 diffuse = v.amplitude * vsgl_clamped_cosine(in, np, m.d);
-      const double err = ((diffuse / phi_r - m.point).abs()).maxCoeff() / m.point;
-      std::printf("%-16s s = %-6g rel. error %.3e\n", m.name, s, err);
-      // Quadratic convergence: each tenfold shrink of s divides the error by ≈ 100 (≤ 1/80
-      // asserted; linear convergence would give 1/10), until λ_σ = d²/s² reaches the 1e8 cap
-      // (s ≤ 1.6e-4 here), from where the cluster is the capped point light of σ² = 0.
+      const double err = error_at(s);
+      std::printf("%-16s s = %-6g rel. error %.3e\n", name, s, err);
       if (s == 1e-2 || s == 1e-3) {
-        EXPECT_LE(err, previous / 80) << m.name << " s " << s;
+        EXPECT_LE(err, previous / 80) << name << " s " << s;
       }
       if (s < 1.6e-4) {
-        EXPECT_LE(err, m.tol_at_zero) << m.name << " s " << s;
+        EXPECT_LE(err, tol_at_zero) << name << " s " << s;
       }
       previous = err;
     }
+  };
+  for (const auto& m : methods) {
+    expect_converges(m.name, m.tol_at_zero, [&](double s) {
+      const auto [v, in] = cluster(s);
+      const C3 diffuse = v.amplitude * vsgl_clamped_cosine(in, np, m.d);
+      return ((diffuse / phi_r - m.point).abs()).maxCoeff() / m.point;
+    });
   }
   // Specular at a glossy receiver (f0 = 1: M's Fresnel is 1).
-  double previous = 1;
-  for (double s : {1e-1, 1e-2, 1e-3, 1e-4, 0.0}) {
-    const VsglSums<double> sums = cluster(s);
-    const VsglPosition<double> p = vsgl_position(sums.position, y);
-    const VsglIntensity<double> v = vsgl_intensity(sums.diffuse);
-    const VsglIncomingSg<double> in = vsgl_incoming_sg(vsgl_positional_sg(p.mean, p.variance, yp), v.axis, v.sharpness);
+  expect_converges("asg specular", 1e-6, [&](double s) {
+    const auto [v, in] = cluster(s);
     const VsglSpecularFactor<double> f = vsgl_specular(in, rec);
-    const double err = std::abs(f.at_f0_one * v.amplitude(0) / phi_r(0) - point_specular) / point_specular;
-    std::printf("%-16s s = %-6g rel. error %.3e\n", "asg specular", s, err);
-    if (s == 1e-2 || s == 1e-3) {
-      EXPECT_LE(err, previous / 80) << s;
-    }
-    if (s < 1.6e-4) {
-      EXPECT_LE(err, 1e-6) << s;
-    }
-    previous = err;
-  }
+    return std::abs(f.at_f0_one * v.amplitude(0) / phi_r(0) - point_specular) / point_specular;
+  });
 }
 
 // ---- the specular receiver in an arbitrary frame ---------------------------------------------

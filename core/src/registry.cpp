@@ -18,6 +18,11 @@ void register_gaussian_ndf_quantities(std::vector<Quantity>& out);
 namespace {
 constexpr EnumName<Precision> kPrecisionNames[] = {
     {Precision::float32, "float"}, {Precision::float64, "double"}, {Precision::mp50, "mp50"}};
+constexpr EnumName<ColumnKind> kColumnKindNames[] = {
+    {ColumnKind::sharpness, "sharpness"},     {ColumnKind::cosine, "cosine"},
+    {ColumnKind::mean_length, "mean_length"}, {ColumnKind::positive, "positive"},
+    {ColumnKind::nonnegative, "nonnegative"}, {ColumnKind::angle, "angle"},
+    {ColumnKind::unit_interval, "unit_interval"}};
 }  // namespace
 
 std::string_view precision_name(Precision p) { return enum_name(kPrecisionNames, p); }
@@ -90,18 +95,7 @@ std::optional<std::string> column_value_error(const Column& column, double v) {
   return std::nullopt;
 }
 
-std::string_view column_kind_name(ColumnKind kind) {
-  switch (kind) {
-    case ColumnKind::sharpness: return "sharpness";
-    case ColumnKind::cosine: return "cosine";
-    case ColumnKind::mean_length: return "mean_length";
-    case ColumnKind::positive: return "positive";
-    case ColumnKind::nonnegative: return "nonnegative";
-    case ColumnKind::angle: return "angle";
-    case ColumnKind::unit_interval: return "unit_interval";
-  }
-  return "?";
-}
+std::string_view column_kind_name(ColumnKind kind) { return enum_name(kColumnKindNames, kind); }
 
 std::optional<RowError> row_error(const Quantity& q, const Method& m, std::span<const double> row) {
   for (std::size_t j = 0; j < q.columns.size(); ++j)

@@ -6,6 +6,7 @@
 
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/registry.hpp"
+#include "registry_specular.hpp"
 
 namespace sglab {
 
@@ -14,12 +15,7 @@ void register_gaussian_ndf_quantities(std::vector<Quantity>& out) {
              "L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω, unit-amplitude SG light, f = F·S·D/(π (n·ω)(n·ωo)) with the "
              "Gaussian-angle NDF D = e^{−(θ_h/m)²} (D(n) = 1), V-cavity S and Schlick F (Wang et al. 2009; docs/math.md §5); "
              "n = (0,0,1), ωo = (√(1−v²), 0, v), ξ = (s cos φ, s sin φ, light_cos)",
-             {{"roughness", ColumnKind::positive, "the NDF's angular width m > 0 (radians; ≈ Beckmann/GGX α at small angles)"},
-              {"light_sharpness", ColumnKind::sharpness, "SG light sharpness λ ≥ 0"},
-              {"light_cos", ColumnKind::cosine, "cosine between the light axis and the normal"},
-              {"view_cos", ColumnKind::unit_interval, "cosine between the view direction and the normal, in [0, 1]"},
-              {"light_azimuth", ColumnKind::angle, "light azimuth from the view's azimuth (radians; π with light_cos = view_cos is the mirror direction)"},
-              {"f0", ColumnKind::unit_interval, "Schlick reflectance at normal incidence"}},
+             specular_columns("the NDF's angular width m > 0 (radians; ≈ Beckmann/GGX α at small angles)"),
              "reference",
              {}};
   q.methods.push_back(make_method(

@@ -6,6 +6,7 @@
 #include "sglab/glossy_reference.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/specular.hpp"
+#include "registry_specular.hpp"
 
 namespace sglab {
 namespace {
@@ -78,6 +79,15 @@ double asg_sg_product_quadrature(double eta_x, double eta_y, double lambda, doub
 
 }  // namespace
 
+std::vector<Column> specular_columns(std::string roughness) {
+  return {{"roughness", ColumnKind::positive, std::move(roughness)},
+          {"light_sharpness", ColumnKind::sharpness, "SG light sharpness λ ≥ 0"},
+          {"light_cos", ColumnKind::cosine, "cosine between the light axis and the normal"},
+          {"view_cos", ColumnKind::unit_interval, "cosine between the view direction and the normal, in [0, 1]"},
+          {"light_azimuth", ColumnKind::angle, "light azimuth from the view's azimuth (radians; π with light_cos = view_cos is the mirror direction)"},
+          {"f0", ColumnKind::unit_interval, "Schlick reflectance at normal incidence"}};
+}
+
 void register_glossy_quantities(std::vector<Quantity>& out) {
   const Column eta_x{"eta_x", ColumnKind::nonnegative, "ASG bandwidth ηx ≥ 0 (along ξx)"};
   const Column eta_y{"eta_y", ColumnKind::nonnegative, "ASG bandwidth ηy ≥ 0 (along ξy)"};
@@ -136,13 +146,7 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
     Quantity q{"specular",
                "L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω, unit-amplitude SG light, GGX + height-correlated Smith + Schlick; "
                "n = (0,0,1), ωo = (√(1−v²), 0, v), ξ = (s cos φ, s sin φ, light_cos)",
-               {{"roughness", ColumnKind::positive, "GGX α > 0"},
-                {"light_sharpness", ColumnKind::sharpness, "SG light sharpness λ ≥ 0"},
-                {"light_cos", ColumnKind::cosine, "cosine between the light axis and the normal"},
-                {"view_cos", ColumnKind::unit_interval, "cosine between the view direction and the normal, in [0, 1]"},
-                {"light_azimuth", ColumnKind::angle, "light azimuth from the view's azimuth (radians; π with light_cos = view_cos is the mirror direction)"},
-                {"f0", ColumnKind::unit_interval, "Schlick reflectance at normal incidence"}},
-               "reference", {}};
+               specular_columns("GGX α > 0"), "reference", {}};
     q.methods.push_back(double_only_method(
         "reference", "adaptive 2D Gauss–Kronrod about the light axis and the mirror/dominant-visible-normal directions (glossy_reference.hpp)",
         "double quadrature, ≤ 1e-6 relative (checked against a finer rule and Monte Carlo); float rounds and mp50 converts the double result (an mp50 2D quadrature is too slow)",

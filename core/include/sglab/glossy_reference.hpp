@@ -116,6 +116,69 @@ double gauss_kronrod_absolute(const G& g, double a, double b, double abs_tol, in
   return gauss_kronrod_absolute(g, a, m, 0.5 * abs_tol, depth - 1) +
          gauss_kronrod_absolute(g, m, b, 0.5 * abs_tol, depth - 1);
 }
+
+// A focus in the polar coordinates (θ, φ) about the pole (frame e1, e2), its width floored.
+struct FocusPolar {
+  double theta, phi, width;
+};
+inline std::vector<FocusPolar> foci_polar(std::span<const SphereFocus> foci, const Vec3d& pole, const Vec3d& e1,
+                                          const Vec3d& e2, double min_width) {
+  std::vector<FocusPolar> polar;
+  for (const auto& fc : foci) {
+    const double ct = std::clamp(fc.dir.dot(pole), -1.0, 1.0);
+    const double st = std::hypot(fc.dir.dot(e1), fc.dir.dot(e2));
+    polar.push_back({std::atan2(st, ct), std::atan2(fc.dir.dot(e2), fc.dir.dot(e1)), std::max(fc.width, min_width)});
+  }
+  return polar;
+}
+
+// Σ over the panels [br_i, br_{i+1}] of `panel(a, b)`, skipping empty ones, in order.
+template <class Panel>
+double sum_panels(const std::vector<double>& br, const Panel& panel) {
+  double sum = 0;
+  for (std::size_t i = 0; i + 1 < br.size(); ++i) {
+    if (!(br[i + 1] > br[i])) continue;
+    sum += panel(br[i], br[i + 1]);
+  }
+  return sum;
+}
+
+// The sorted θ panel ends of a meridian visible on [lo, hi]: geometric about the pole (width
+// w_pole) and each focus, and about both ends (horizons or the poles: G2 vanishes there on the
+// scale of the narrowest lobe).
+inline std::vector<double> theta_breaks(double lo, double hi, double w_pole, const std::vector<FocusPolar>& polar,
+                                        double ratio) {
+  const double pi = boost::math::constants::pi<double>();
+  std::vector<double> br{lo, hi};
+  add_geometric_breaks(br, 0.0, 0.25 * w_pole, lo, hi, ratio);
+  for (const auto& fp : polar) add_geometric_breaks(br, fp.theta, 0.25 * fp.width, lo, hi, ratio);
+  double w_min = w_pole;
+  for (const auto& fp : polar) w_min = std::min(w_min, fp.width);
+  if (lo > 0) add_geometric_breaks(br, lo, 0.25 * w_min, lo, hi, ratio);
+  if (hi < pi) add_geometric_breaks(br, hi, 0.25 * w_min, lo, hi, ratio);
+  std::sort(br.begin(), br.end());
+  return br;
+}
+
+// The sorted φ panel ends on [−π, π]: each focus azimuth (off the pole axis) and its geometric
+// neighbours at the angular width w_f/sin θ_f it subtends, wrapped into [−π, π].
+inline std::vector<double> azimuth_breaks(const std::vector<FocusPolar>& polar, double ratio) {
+  const double pi = boost::math::constants::pi<double>();
+  std::vector<double> br{-pi, pi};
+  for (const auto& fp : polar) {
+    if (fp.theta <= 0 || fp.theta >= pi) continue;  // on the pole axis: no azimuthal structure
+    const double w = 0.25 * fp.width / std::sin(fp.theta);
+    std::vector<double> local;
+    add_geometric_breaks(local, 0.0, w, -pi, pi, ratio);
+    for (double d : local) {
+      double x = fp.phi + d;
+      x = std::remainder(x, 2 * pi);
+      if (x > -pi && x < pi) br.push_back(x);
+    }
+  }
+  std::sort(br.begin(), br.end());
+  return br;
+}
 }  // namespace detail
 
 // ∫_{S²} f(ω) dω for an f that is zero outside ∩_k {ω·clip_k > 0} and peaked at `pole` (width
@@ -129,22 +192,12 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width,
   Vec3d e1, e2;
   detail::orthonormal_frame(pole, e1, e2);
   const double w_pole = std::max(pole_width, q.min_width);
+  const std::vector<detail::FocusPolar> polar = detail::foci_polar(foci, pole, e1, e2, q.min_width);
 
-  struct FocusPolar {
-    double theta, phi, width;
-  };
-  std::vector<FocusPolar> polar;
-  for (const auto& fc : foci) {
-    const double ct = std::clamp(fc.dir.dot(pole), -1.0, 1.0);
-    const double st = std::hypot(fc.dir.dot(e1), fc.dir.dot(e2));
-    polar.push_back({std::atan2(st, ct), std::atan2(fc.dir.dot(e2), fc.dir.dot(e1)),
-                     std::max(fc.width, q.min_width)});
-  }
-
+  // The θ integral along the meridian of azimuth φ, over where every clip is visible.
   // abs_tol < 0: one 15-point rule per panel (the coarse first pass that sets the scale).
   auto inner = [&](double phi, double abs_tol) -> double {
-    const double cp = std::cos(phi), sp = std::sin(phi);
-    const Vec3d e = cp * e1 + sp * e2;
+    const Vec3d e = std::cos(phi) * e1 + std::sin(phi) * e2;
     double lo = 0, hi = pi;
     for (const auto& c : clips) {
       double l, h;
@@ -153,51 +206,25 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width,
       hi = std::min(hi, h);
       if (!(hi > lo)) return 0.0;
     }
-    std::vector<double> br{lo, hi};
-    detail::add_geometric_breaks(br, 0.0, 0.25 * w_pole, lo, hi, q.ratio);
-    for (const auto& fp : polar) detail::add_geometric_breaks(br, fp.theta, 0.25 * fp.width, lo, hi, q.ratio);
-    // Both ends are horizons (or the poles): G2 vanishes there on the scale of the narrowest lobe.
-    double w_min = w_pole;
-    for (const auto& fp : polar) w_min = std::min(w_min, fp.width);
-    if (lo > 0) detail::add_geometric_breaks(br, lo, 0.25 * w_min, lo, hi, q.ratio);
-    if (hi < pi) detail::add_geometric_breaks(br, hi, 0.25 * w_min, lo, hi, q.ratio);
-    std::sort(br.begin(), br.end());
+    const std::vector<double> br = detail::theta_breaks(lo, hi, w_pole, polar, q.ratio);
     auto g = [&](double theta) -> double {
       const double st = std::sin(theta);
       const Vec3d w = std::cos(theta) * pole + st * e;
       return f(w) * st;
     };
-    double sum = 0;
     const double share = abs_tol / double(br.size());
-    for (std::size_t i = 0; i + 1 < br.size(); ++i) {
-      if (!(br[i + 1] > br[i])) continue;
-      sum += abs_tol < 0 ? gauss_kronrod<double, 15>::integrate(g, br[i], br[i + 1], 0, 0.0)
-                         : detail::gauss_kronrod_absolute(g, br[i], br[i + 1], share, q.max_depth);
-    }
-    return sum;
+    return detail::sum_panels(br, [&](double a, double b) {
+      return abs_tol < 0 ? gauss_kronrod<double, 15>::integrate(g, a, b, 0, 0.0)
+                         : detail::gauss_kronrod_absolute(g, a, b, share, q.max_depth);
+    });
   };
 
-  std::vector<double> br{-pi, pi};
-  for (const auto& fp : polar) {
-    if (fp.theta <= 0 || fp.theta >= pi) continue;  // on the pole axis: no azimuthal structure
-    const double w = 0.25 * fp.width / std::sin(fp.theta);
-    // The focus azimuth and its geometric neighbours, wrapped into [−π, π].
-    std::vector<double> local;
-    detail::add_geometric_breaks(local, 0.0, w, -pi, pi, q.ratio);
-    for (double d : local) {
-      double x = fp.phi + d;
-      x = std::remainder(x, 2 * pi);
-      if (x > -pi && x < pi) br.push_back(x);
-    }
-  }
-  std::sort(br.begin(), br.end());
+  const std::vector<double> br = detail::azimuth_breaks(polar, q.ratio);
   // Pass 1: one rule per panel in θ and φ — the panels already follow the peaks, so this is
   // within a few percent, enough to turn the relative target into an absolute one.
-  double coarse = 0;
-  for (std::size_t i = 0; i + 1 < br.size(); ++i) {
-    if (!(br[i + 1] > br[i])) continue;
-    coarse += gauss_kronrod<double, 15>::integrate([&](double phi) { return inner(phi, -1.0); }, br[i], br[i + 1], 0, 0.0);
-  }
+  const double coarse = detail::sum_panels(br, [&](double a, double b) {
+    return gauss_kronrod<double, 15>::integrate([&](double phi) { return inner(phi, -1.0); }, a, b, 0, 0.0);
+  });
   if (!(coarse > 0)) return 0.0;  // the integrand is 0 (or underflows) everywhere the panels look
   // Pass 2: absolute tolerance τ = tolerance·coarse for the outer rule. The inner integrals are
   // made 1000× more accurate per radian of φ: the outer rule sees their error as noise in I(φ)
@@ -206,13 +233,10 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width,
   const double tau = q.tolerance * coarse;
   const double inner_tol = 1e-3 * tau / (2 * pi);
   const double outer_share = tau / double(br.size());
-  double total = 0;
-  for (std::size_t i = 0; i + 1 < br.size(); ++i) {
-    if (!(br[i + 1] > br[i])) continue;
-    total += detail::gauss_kronrod_absolute([&](double phi) { return inner(phi, inner_tol); }, br[i], br[i + 1],
-                                            outer_share, q.max_depth);
-  }
-  return total;
+  return detail::sum_panels(br, [&](double a, double b) {
+    return detail::gauss_kronrod_absolute([&](double phi) { return inner(phi, inner_tol); }, a, b, outer_share,
+                                          q.max_depth);
+  });
 }
 
 // The smallest GGX α the specular reference accepts. Its panels follow the BRDF lobe, whose

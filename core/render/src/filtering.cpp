@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "sglab/brdf.hpp"
+#include "sglab/enum_names.hpp"
 #include "sglab/render/reference.hpp"
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/vsgl_shading.hpp"
@@ -80,33 +81,26 @@ bool has_part(const FilterSample& s, bool specular) {
 
 }  // namespace
 
+namespace {
+constexpr EnumName<FilterWeights> kFilterWeightsNames[] = {{FilterWeights::spatial, "spatial"},
+                                                          {FilterWeights::normal, "normal"},
+                                                          {FilterWeights::lobe, "lobe"},
+                                                          {FilterWeights::lobe_depth, "lobe-depth"}};
+constexpr EnumName<IndirectSource> kIndirectSourceNames[] = {{IndirectSource::exact, "exact"},
+                                                            {IndirectSource::vsgl, "vsgl"}};
+}  // namespace
+
 std::optional<FilterWeights> parse_filter_weights(std::string_view name) {
-  if (name == "spatial") return FilterWeights::spatial;
-  if (name == "normal") return FilterWeights::normal;
-  if (name == "lobe") return FilterWeights::lobe;
-  if (name == "lobe-depth") return FilterWeights::lobe_depth;
-  return std::nullopt;
+  return parse_enum(kFilterWeightsNames, name);
 }
 
-std::string_view filter_weights_name(FilterWeights weights) {
-  switch (weights) {
-    case FilterWeights::spatial: return "spatial";
-    case FilterWeights::normal: return "normal";
-    case FilterWeights::lobe: return "lobe";
-    case FilterWeights::lobe_depth: return "lobe-depth";
-  }
-  return "?";
-}
+std::string_view filter_weights_name(FilterWeights weights) { return enum_name(kFilterWeightsNames, weights); }
 
 std::optional<IndirectSource> parse_indirect_source(std::string_view name) {
-  if (name == "exact") return IndirectSource::exact;
-  if (name == "vsgl") return IndirectSource::vsgl;
-  return std::nullopt;
+  return parse_enum(kIndirectSourceNames, name);
 }
 
-std::string_view indirect_source_name(IndirectSource source) {
-  return source == IndirectSource::exact ? "exact" : "vsgl";
-}
+std::string_view indirect_source_name(IndirectSource source) { return enum_name(kIndirectSourceNames, source); }
 
 std::optional<std::string> filter_parameters_error(const FilterParameters& p) {
   auto positive = [](double x) { return std::isfinite(x) && x > 0; };

@@ -1,6 +1,8 @@
 // VSGL generation: two / two-shared / fis / kmeans (see vsgl_generation.hpp for the method and its choices).
 #include "sglab/render/vsgl_generation.hpp"
 
+#include "sglab/enum_names.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,23 +18,14 @@
 
 namespace sglab::render {
 
-std::string_view vsgl_mode_name(VsglMode m) {
-  switch (m) {
-    case VsglMode::two: return "two";
-    case VsglMode::two_shared: return "two-shared";
-    case VsglMode::fis: return "fis";
-    case VsglMode::kmeans: return "kmeans";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<VsglMode> kVsglModeNames[] = {
+    {VsglMode::two, "two"}, {VsglMode::two_shared, "two-shared"}, {VsglMode::fis, "fis"}, {VsglMode::kmeans, "kmeans"}};
+}  // namespace
 
-std::optional<VsglMode> parse_vsgl_mode(std::string_view name) {
-  if (name == "two") return VsglMode::two;
-  if (name == "two-shared") return VsglMode::two_shared;
-  if (name == "fis") return VsglMode::fis;
-  if (name == "kmeans") return VsglMode::kmeans;
-  return std::nullopt;
-}
+std::string_view vsgl_mode_name(VsglMode m) { return enum_name(kVsglModeNames, m); }
+
+std::optional<VsglMode> parse_vsgl_mode(std::string_view name) { return parse_enum(kVsglModeNames, name); }
 
 std::optional<std::string> vsgl_options_error(const VsglOptions& o) {
   auto bad = [](const char* field, double value, const char* why) {
@@ -314,86 +307,101 @@ std::vector<VsglCluster> build_fis(const ReflectiveShadowMap& rsm, const Prepare
 }
 
 // ---- k-means ------------------------------------------------------------------------------------
-std::vector<VsglCluster> build_kmeans(const ReflectiveShadowMap& rsm, const Prepared& p, const VsglOptions& o,
-                                      std::size_t& merged) {
-  // Centres: N texels drawn by importance (the fis sampler), duplicates dropped.
-  std::vector<std::pair<int, int>> centre_texels;
+// Texel i's image-space coordinates (texel units; the map is row-major).
+Eigen::Vector2d texel_coordinates(const ReflectiveShadowMap& rsm, std::size_t i) {
+  return Eigen::Vector2d(double(i % std::size_t(rsm.resolution)), double(i / std::size_t(rsm.resolution)));
+}
+
+// The k-means centres: the texel each was seeded at, its position, normal and image-space position.
+struct KmeansCentres {
+  std::vector<std::pair<int, int>> texels;
+  std::vector<Vec3> position, normal;
+  std::vector<Eigen::Vector2d> image;  // texel coordinates
+  std::size_t size() const { return texels.size(); }
+};
+
+// N texels drawn by importance (the fis sampler), duplicates dropped (counted in `merged`).
+KmeansCentres kmeans_seed(const ReflectiveShadowMap& rsm, const Prepared& p, const VsglOptions& o,
+                          std::size_t& merged) {
+  KmeansCentres c;
   {
     const Pyramid py = build_pyramid(rsm, p, o);
     for (const auto& t : sample_texels(py, o.count, o.seed)) {
-      if (std::find(centre_texels.begin(), centre_texels.end(), t) != centre_texels.end()) { ++merged; continue; }
-      centre_texels.push_back(t);
+      if (std::find(c.texels.begin(), c.texels.end(), t) != c.texels.end()) { ++merged; continue; }
+      c.texels.push_back(t);
     }
   }
-  const std::size_t k = centre_texels.size();
-  std::vector<Vec3> cy(k), cn(k);
-  std::vector<Eigen::Vector2d> ci(k);  // image-space centres (texel coordinates)
-  const bool image = o.kmeans_space == VsglOptions::KmeansSpace::image;
-  for (std::size_t j = 0; j < k; ++j) {
-    const Vpl& v = rsm.at(centre_texels[j].first, centre_texels[j].second);
-    cy[j] = v.position;
-    cn[j] = v.normal;
-    ci[j] = Eigen::Vector2d(centre_texels[j].first, centre_texels[j].second);
+  for (const auto& [x, y] : c.texels) {
+    const Vpl& v = rsm.at(x, y);
+    c.position.push_back(v.position);
+    c.normal.push_back(v.normal);
+    c.image.push_back(Eigen::Vector2d(x, y));
   }
-  // ℓ² = E‖y − ȳ‖² of all VPLs (relative to the weighted mean, so no cancellation).
-  const Sums all = sum_texels(rsm, nullptr, rsm.texels.size(), p.origin, p, o.estimator);
-  const double ell2 = vsgl_position(all.position, p.origin).variance;
-  const double normal_coef = o.kmeans_normal_weight * o.kmeans_normal_weight * ell2 / 4;
+  return c;
+}
 
-  const std::size_t n = rsm.texels.size();
-  std::vector<int> label(n, -1);
-  auto assign = [&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-        if (!(p.importance[i] > 0)) { label[i] = -1; continue; }
-        const Vpl& v = rsm.texels[i];
-        const Eigen::Vector2d t(double(i % std::size_t(rsm.resolution)), double(i / std::size_t(rsm.resolution)));
-        double best = std::numeric_limits<double>::infinity();
-        int arg = 0;
-        for (std::size_t j = 0; j < k; ++j) {
-          const double d = image ? (t - ci[j]).squaredNorm()
-                                 : (v.position - cy[j]).squaredNorm() + normal_coef * (v.normal - cn[j]).squaredNorm();
-          if (d < best) { best = d; arg = int(j); }
-        }
-        label[i] = arg;
+// Each VPL with importance > 0 to its nearest centre (label −1 for the others): in image space, or
+// by ‖y − ȳ‖² + normal_coef·‖n − n̄‖² in world space.
+void kmeans_assign(const ReflectiveShadowMap& rsm, const Prepared& p, const KmeansCentres& c, bool image,
+                   double normal_coef, std::vector<int>& label) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, label.size()), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      if (!(p.importance[i] > 0)) { label[i] = -1; continue; }
+      const Vpl& v = rsm.texels[i];
+      const Eigen::Vector2d t = texel_coordinates(rsm, i);
+      double best = std::numeric_limits<double>::infinity();
+      int arg = 0;
+      for (std::size_t j = 0; j < c.size(); ++j) {
+        const double d = image ? (t - c.image[j]).squaredNorm()
+                               : (v.position - c.position[j]).squaredNorm() +
+                                     normal_coef * (v.normal - c.normal[j]).squaredNorm();
+        if (d < best) { best = d; arg = int(j); }
       }
-    });
-  };
-  assign();
-  for (int it = 0; it < o.kmeans_iterations; ++it) {
-    // Lloyd update: importance-weighted mean position (relative to the old centre) and mean normal.
-    std::vector<double> w(k, 0.0);
-    std::vector<Vec3> dy(k, Vec3::Zero()), sn(k, Vec3::Zero());
-    std::vector<Eigen::Vector2d> st(k, Eigen::Vector2d::Zero());
-    for (std::size_t i = 0; i < n; ++i) {
-      if (label[i] < 0) continue;
-      const std::size_t j = std::size_t(label[i]);
-      const double u = p.importance[i];
-      w[j] += u;
-      dy[j] += u * (rsm.texels[i].position - cy[j]);
-      sn[j] += u * rsm.texels[i].normal;
-      st[j] += u * Eigen::Vector2d(double(i % std::size_t(rsm.resolution)), double(i / std::size_t(rsm.resolution)));
+      label[i] = arg;
     }
-    for (std::size_t j = 0; j < k; ++j) {
-      if (!(w[j] > 0)) continue;  // an empty cluster keeps its centre
-      cy[j] += dy[j] / w[j];
-      ci[j] = st[j] / w[j];
-      if (sn[j].norm() > 0) cn[j] = sn[j].normalized();
-    }
-    assign();
+  });
+}
+
+// Lloyd update: importance-weighted mean position (relative to the old centre), image position and
+// normal of each cluster; an empty cluster keeps its centre.
+void kmeans_update(const ReflectiveShadowMap& rsm, const Prepared& p, const std::vector<int>& label, KmeansCentres& c) {
+  const std::size_t k = c.size();
+  std::vector<double> w(k, 0.0);
+  std::vector<Vec3> dy(k, Vec3::Zero()), sn(k, Vec3::Zero());
+  std::vector<Eigen::Vector2d> st(k, Eigen::Vector2d::Zero());
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    if (label[i] < 0) continue;
+    const std::size_t j = std::size_t(label[i]);
+    const double u = p.importance[i];
+    w[j] += u;
+    dy[j] += u * (rsm.texels[i].position - c.position[j]);
+    sn[j] += u * rsm.texels[i].normal;
+    st[j] += u * texel_coordinates(rsm, i);
   }
-  // Texels of each cluster, in texel order (counting sort), summed relative to the centre.
+  for (std::size_t j = 0; j < k; ++j) {
+    if (!(w[j] > 0)) continue;
+    c.position[j] += dy[j] / w[j];
+    c.image[j] = st[j] / w[j];
+    if (sn[j].norm() > 0) c.normal[j] = sn[j].normalized();
+  }
+}
+
+// One VSGL per non-empty cluster: its texels in texel order (counting sort), summed relative to the
+// centre.
+std::vector<VsglCluster> kmeans_clusters(const ReflectiveShadowMap& rsm, const Prepared& p, const VsglOptions& o,
+                                         const KmeansCentres& c, const std::vector<int>& label) {
+  const std::size_t k = c.size();
   std::vector<std::vector<std::size_t>> members(k);
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t i = 0; i < label.size(); ++i)
     if (label[i] >= 0) members[std::size_t(label[i])].push_back(i);
   std::vector<VsglCluster> out(k);
   std::vector<char> keep(k, 0);
   tbb::parallel_for(std::size_t(0), k, [&](std::size_t j) {
     if (members[j].empty()) return;
-    const Sums s = sum_texels(rsm, &members[j], members[j].size(), cy[j], p, o.estimator);
-    out[j] = vsgl_cluster(s, cy[j], o);
-    out[j].texel_x = centre_texels[j].first;
-    out[j].texel_y = centre_texels[j].second;
+    const Sums s = sum_texels(rsm, &members[j], members[j].size(), c.position[j], p, o.estimator);
+    out[j] = vsgl_cluster(s, c.position[j], o);
+    out[j].texel_x = c.texels[j].first;
+    out[j].texel_y = c.texels[j].second;
     out[j].texels = members[j].size();
     keep[j] = 1;
   });
@@ -401,6 +409,23 @@ std::vector<VsglCluster> build_kmeans(const ReflectiveShadowMap& rsm, const Prep
   for (std::size_t j = 0; j < k; ++j)
     if (keep[j]) kept.push_back(out[j]);
   return kept;
+}
+
+std::vector<VsglCluster> build_kmeans(const ReflectiveShadowMap& rsm, const Prepared& p, const VsglOptions& o,
+                                      std::size_t& merged) {
+  KmeansCentres centres = kmeans_seed(rsm, p, o, merged);
+  // ℓ² = E‖y − ȳ‖² of all VPLs (relative to the weighted mean, so no cancellation).
+  const Sums all = sum_texels(rsm, nullptr, rsm.texels.size(), p.origin, p, o.estimator);
+  const double ell2 = vsgl_position(all.position, p.origin).variance;
+  const double normal_coef = o.kmeans_normal_weight * o.kmeans_normal_weight * ell2 / 4;
+  const bool image = o.kmeans_space == VsglOptions::KmeansSpace::image;
+  std::vector<int> label(rsm.texels.size(), -1);
+  kmeans_assign(rsm, p, centres, image, normal_coef, label);
+  for (int it = 0; it < o.kmeans_iterations; ++it) {
+    kmeans_update(rsm, p, label, centres);
+    kmeans_assign(rsm, p, centres, image, normal_coef, label);
+  }
+  return kmeans_clusters(rsm, p, o, centres, label);
 }
 
 }  // namespace
