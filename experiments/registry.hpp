@@ -38,7 +38,12 @@ struct Step {
   std::string tables_option;
   // The step's command takes a constant set (`sglab reproduce --constants` is passed on to it).
   bool takes_constants = false;
+  // Its tables carry wall-clock times: `sglab reproduce` runs it with nothing beside it.
+  bool timed = false;
 };
+
+// The step, marked as one whose tables carry wall-clock times.
+Step timed(Step s);
 
 // A step running `sglab ARGS` (with QUICK_ARGS appended in a --quick run).
 Step sglab_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args = {},

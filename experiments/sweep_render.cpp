@@ -510,7 +510,7 @@ std::vector<Step> sweep_render_steps(const Places& p) {
     // within 1e-5 relative L2 of double, is below every printed digit.
     std::vector<std::string> args = {"sweep", "render", "--scene", scene, "--rsm", "128", "--precision", "float"};
     args.insert(args.end(), configuration.begin(), configuration.end());
-    return sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true);
+    return timed(sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true));
   };
   std::vector<Step> v = {
       sweep("sweep-render-count", "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
