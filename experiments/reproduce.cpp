@@ -135,8 +135,9 @@ std::pair<int, double> run_python(const std::vector<std::string>& args) {
 }
 
 // The plot steps, one at a time on a thread of their own, beside the sglab steps of the main
-// thread: nothing reads a figure, and a plot's inputs are written by earlier sglab steps. Before a
-// timed step (and at the end) everything queued is waited for; the first failure is rethrown there.
+// thread: nothing reads a figure, and a plot's inputs are written by earlier sglab steps. A plot
+// starts with the next sglab step that is not timed (or at the end); before a timed step
+// everything started is waited for. The first failure is rethrown there.
 class PlotQueue {
  public:
   void push(std::function<void()> job) {
@@ -205,16 +206,119 @@ std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o, con
   return args;
 }
 
+namespace {
+
+// One run of the steps: the markers, the step times, and the plots running beside.
+class StepRun {
+ public:
+  StepRun(const ReproduceOptions& o, const SglabRunner& run_sglab, const Places& p, const std::vector<Step>& all)
+      : o_(o), run_sglab_(run_sglab), p_(p), all_(all), markers_(std::filesystem::path(p.out) / ".steps"),
+        times_csv_(std::filesystem::path(p.out) / "reproduce_times.csv"), figures_{p.key_figures(), p.out + "/figures"} {
+    std::filesystem::create_directories(markers_);
+    command_ = "sglab reproduce";
+    if (o.quick) command_ += " --quick";
+    if (o.force) command_ += " --force";
+    for (const auto& name : o.only) command_ += " --only " + name;
+  }
+
+  // Step k: skipped if done earlier, else run now (an sglab step) or queued (a plot).
+  void schedule(std::size_t k) {
+    const Step& s = all_[k];
+    const std::vector<std::string> args = step_args(s, o_, p_);
+    const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
+    const std::filesystem::path marker = markers_ / (s.name + ".done");
+    if (!o_.force && done_earlier(marker, line, args)) {
+      const std::lock_guard guard(lock_);
+      std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all_.size(), s.name.c_str(), line.c_str());
+      ++skipped_;
+      times_.add(s.name, "skipped", -1, -1);
+      return;
+    }
+    if (s.timed) {
+      plots_.wait();  // its tables carry times: nothing runs beside it (waiting plots stay waiting)
+    } else if (!s.python) {
+      start_waiting_plots();  // they run beside this step
+    }
+    auto job = [this, k, args, line, marker] { run(k, args, line, marker); };
+    if (s.python) waiting_.push_back(std::move(job));
+    else job();
+  }
+
+  // Runs what is left, then writes the total: the wall and CPU time since `start` (CPU: this
+  // process and its finished children).
+  void finish_since(std::chrono::steady_clock::time_point start, double cpu_start) {
+    start_waiting_plots();
+    plots_.wait();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double cpu = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN) - cpu_start;
+    times_.add("total", "", wall, cpu);
+    times_.write(times_csv_, command_);
+    std::printf("reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in %s\n",
+                done_, skipped_, wall, cpu, p_.out.c_str(), p_.tables.c_str(), times_csv_.string().c_str());
+  }
+
+ private:
+  void start_waiting_plots() {
+    for (auto& job : waiting_) plots_.push(std::move(job));
+    waiting_.clear();
+  }
+
+  // Runs step k and records its marker and times. What each kind of step writes: the plots only
+  // figures, the sglab steps everything else, so that steps running side by side keep apart.
+  void run(std::size_t k, const std::vector<std::string>& args, const std::string& line, const std::filesystem::path& marker) {
+    const Step& s = all_[k];
+    {
+      const std::lock_guard guard(lock_);
+      std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all_.size(), s.name.c_str(), s.what.c_str(), line.c_str());
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<std::string> roots = s.python ? figures_ : std::vector<std::string>{p_.out, p_.tables};
+    const std::vector<std::string> except = s.python ? std::vector<std::string>{} : figures_;
+    const Snapshot before = snapshot(roots, except);
+    const double cpu0 = cpu_seconds();
+    int status;
+    double cpu;
+    if (s.python) {
+      std::tie(status, cpu) = run_python(args);
+    } else {
+      status = run_sglab_(args);
+      cpu = cpu_seconds() - cpu0;  // the plot thread's own CPU is negligible (it waits)
+    }
+    if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
+    runner::AtomicFile m(marker);
+    m.write(line + "\n" + files_state(args) + outputs_state(before, snapshot(roots, except)));
+    m.commit();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::lock_guard guard(lock_);
+    ++done_;
+    std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all_.size(), s.name.c_str(), wall, cpu);
+    times_.add(s.name, s.python ? "run beside" : "run", wall, cpu);
+    times_.write(times_csv_, command_);
+  }
+
+  const ReproduceOptions& o_;
+  const SglabRunner& run_sglab_;
+  const Places& p_;
+  const std::vector<Step>& all_;
+  const std::filesystem::path markers_, times_csv_;
+  const std::vector<std::string> figures_;
+  std::string command_;
+  std::mutex lock_;  // times, the counters and the log lines, shared with the plot thread
+  StepTimes times_;
+  int done_ = 0, skipped_ = 0;
+  PlotQueue plots_;
+  std::vector<std::function<void()>> waiting_;  // plots not started yet: they start beside the next untimed sglab step
+};
+
+}  // namespace
+
 void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
-  namespace fs = std::filesystem;
   const Places p = reproduce_places(o);
   const auto all = all_steps(p);
   if (o.list) {  // the steps of this mode and their command lines; nothing is run or written
     for (const auto& s : all) std::printf("%s\t%s%s\n", s.name.c_str(), s.python ? "python3 " : "sglab ", join(step_args(s, o, p)).c_str());
     return;
   }
-  const fs::path markers = fs::path(p.out) / ".steps";
-  fs::create_directories(markers);
   for (const auto& name : o.only) {
     bool known = false;
     for (const auto& s : all) known = known || s.name == name;
@@ -226,73 +330,12 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
   // --force recomputes the sweeps too, not only reruns their commands (which would resume).
   std::optional<runner::FreshSweepScope> fresh_scope;
   if (o.force) fresh_scope.emplace();
-  const auto t_start = std::chrono::steady_clock::now();
+  const auto start = std::chrono::steady_clock::now();
   const double cpu_start = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN);
-  const fs::path times_csv = fs::path(p.out) / "reproduce_times.csv";
-  std::string command = "sglab reproduce";
-  if (o.quick) command += " --quick";
-  if (o.force) command += " --force";
-  for (const auto& name : o.only) command += " --only " + name;
-  StepTimes times;
-  int done = 0, skipped = 0;
-  std::mutex lock;  // times, the counters and the log lines, shared with the plot thread
-  // What each kind of step writes: the plots only figures, the sglab steps everything else.
-  const std::vector<std::string> figures = {p.key_figures(), p.out + "/figures"};
-  PlotQueue plots;
-  for (std::size_t k = 0; k < all.size(); ++k) {
-    const Step& s = all[k];
-    if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), s.name) == o.only.end()) continue;
-    const std::vector<std::string> args = step_args(s, o, p);
-    const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
-    const fs::path marker = markers / (s.name + ".done");
-    if (!o.force && done_earlier(marker, line, args)) {
-      const std::lock_guard guard(lock);
-      std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all.size(), s.name.c_str(), line.c_str());
-      ++skipped;
-      times.add(s.name, "skipped", -1, -1);
-      continue;
-    }
-    if (s.timed) plots.wait();  // its tables carry times: nothing runs beside it
-    const auto run = [&, k, args, line, marker] {
-      const Step& s = all[k];
-      {
-        const std::lock_guard guard(lock);
-        std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all.size(), s.name.c_str(), s.what.c_str(), line.c_str());
-      }
-      const auto t0 = std::chrono::steady_clock::now();
-      const std::vector<std::string> roots = s.python ? figures : std::vector<std::string>{p.out, p.tables};
-      const std::vector<std::string> except = s.python ? std::vector<std::string>{} : figures;
-      const Snapshot before = snapshot(roots, except);
-      const double cpu0 = cpu_seconds();
-      int status;
-      double cpu;
-      if (s.python) {
-        std::tie(status, cpu) = run_python(args);
-      } else {
-        status = run_sglab(args);
-        cpu = cpu_seconds() - cpu0;  // the plot thread's own CPU is negligible (it waits)
-      }
-      if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
-      runner::AtomicFile m(marker);
-      m.write(line + "\n" + files_state(args) + outputs_state(before, snapshot(roots, except)));
-      m.commit();
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const std::lock_guard guard(lock);
-      ++done;
-      std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all.size(), s.name.c_str(), wall, cpu);
-      times.add(s.name, s.python ? "run beside" : "run", wall, cpu);
-      times.write(times_csv, command);
-    };
-    if (s.python) plots.push(run);
-    else run();
-  }
-  plots.wait();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  const double cpu = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN) - cpu_start;
-  times.add("total", "", wall, cpu);
-  times.write(times_csv, command);
-  std::printf("reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in %s\n",
-              done, skipped, wall, cpu, p.out.c_str(), p.tables.c_str(), times_csv.string().c_str());
+  StepRun run(o, run_sglab, p, all);
+  for (std::size_t k = 0; k < all.size(); ++k)
+    if (o.only.empty() || std::find(o.only.begin(), o.only.end(), all[k].name) != o.only.end()) run.schedule(k);
+  run.finish_since(start, cpu_start);
 }
 
 }  // namespace sglab::experiments
