@@ -471,10 +471,10 @@ namespace sglab::experiments {
 
 std::vector<Step> error_vs_time_steps(const Places& p) {
   return std::vector<Step>{
-      sglab_step("error-vs-time",
-                 "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
-                 {"error-vs-time", "--out", p.out + "/error_vs_time", "--constants", p.out + "/fits"}, {"--quick"},
-                 "--tables", true),
+      timed(sglab_step("error-vs-time",
+                       "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
+                       {"error-vs-time", "--out", p.out + "/error_vs_time", "--constants", p.out + "/fits"}, {"--quick"},
+                       "--tables", true)),
       plot_step("plot-error-vs-time", "Pareto figure of error against time",
                 {"plots/error_vs_time.py", p.out + "/error_vs_time/error_vs_time.csv", p.key_figures()})};
 }

@@ -16,6 +16,11 @@ Step sglab_step(std::string name, std::string what, std::vector<std::string> arg
   return {std::move(name), std::move(what), std::move(args), std::move(quick_args), false, std::move(tables_option), takes_constants};
 }
 
+Step timed(Step s) {
+  s.timed = true;
+  return s;
+}
+
 Step plot_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args) {
   return {std::move(name), std::move(what), std::move(args), std::move(quick_args), true, "", false};
 }

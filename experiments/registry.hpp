@@ -38,7 +38,12 @@ struct Step {
   std::string tables_option;
   // The step's command takes a constant set (`sglab reproduce --constants` is passed on to it).
   bool takes_constants = false;
+  // Its tables carry wall-clock times: `sglab reproduce` runs it with nothing beside it.
+  bool timed = false;
 };
+
+// The step, marked as one whose tables carry wall-clock times.
+Step timed(Step s);
 
 // A step running `sglab ARGS` (with QUICK_ARGS appended in a --quick run).
 Step sglab_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args = {},
@@ -61,21 +66,23 @@ struct Experiment {
 };
 
 // The experiments, in the order `sglab reproduce` runs them (a step may read an earlier one's
-// outputs: the λ_d render sweep reads the fits). One line per experiment: NAME_experiment() is
-// defined in the experiment's own file.
+// outputs: the λ_d render sweep reads the fits). Those with timed steps come first, then the
+// longest untimed one (stability), so that the plots have untimed steps to run beside. One line
+// per experiment:
+// NAME_experiment() is defined in the experiment's own file.
 #define SGLAB_EXPERIMENTS(X) \
   X(fits)                    \
   X(error_vs_time)           \
-  X(sweep_specular)          \
+  X(sweep_render)            \
+  X(envmap)                  \
   X(stability)               \
+  X(sweep_specular)          \
   X(error_map)               \
   X(renders)                 \
-  X(sweep_render)            \
   X(filtering)               \
   X(vsgl_fis_bias)           \
   X(near_wall)               \
-  X(poster_plots)            \
-  X(envmap)
+  X(poster_plots)
 
 #define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();
 SGLAB_EXPERIMENTS(SGLAB_DECLARE_EXPERIMENT)

@@ -6,12 +6,22 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <future>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
+#include <spawn.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include "atomic_file.hpp"
 #include "input_error.hpp"
@@ -27,12 +37,6 @@ std::string join(const std::vector<std::string>& v) {
   std::string s;
   for (const auto& a : v) s += (s.empty() ? "" : " ") + a;
   return s;
-}
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
 }
 
 std::string file_fnv1a(const std::string& path) {
@@ -61,14 +65,20 @@ std::string files_state(const std::vector<std::string>& args) {
 // Size and modification time of every regular file under `roots` (the files a step may write:
 // OUT/ and paper_tables/), to find what a step wrote.
 using Snapshot = std::map<std::string, std::pair<std::uintmax_t, std::filesystem::file_time_type>>;
-Snapshot snapshot(const std::vector<std::string>& roots) {
+// Files below a path in `except` are left out.
+Snapshot snapshot(const std::vector<std::string>& roots, const std::vector<std::string>& except = {}) {
   namespace fs = std::filesystem;
+  const auto excluded = [&](const std::string& path) {
+    for (const auto& e : except)
+      if (path.rfind(e + "/", 0) == 0) return true;
+    return path.find("/.steps/") != std::string::npos;
+  };
   Snapshot out;
   for (const auto& root : roots) {
     std::error_code ec;
     if (!fs::is_directory(root, ec)) continue;
     for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
-      if (it->is_regular_file(ec) && it->path().string().find("/.steps/") == std::string::npos)
+      if (it->is_regular_file(ec) && !excluded(it->path().string()))
         out[it->path().string()] = {it->file_size(ec), it->last_write_time(ec)};
   }
   return out;
@@ -97,16 +107,65 @@ bool outputs_intact(const std::string& marker) {
   return true;
 }
 
-// CPU seconds (user + system) used so far by this process's threads and its waited-for children
-// (the python3 steps).
-double cpu_seconds() {
-  double s = 0;
-  for (int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
-    rusage u{};
-    getrusage(who, &u);
-    s += double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+// CPU seconds (user + system) used so far by this process's threads (the sglab steps), or with
+// RUSAGE_CHILDREN by its finished children (the python steps, each also timed by run_python).
+double cpu_seconds(int who = RUSAGE_SELF) {
+  rusage u{};
+  getrusage(who, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Runs `python3 ARGS` (Debian's interpreter, which has python3-matplotlib; a python3 earlier on
+// PATH, from pyenv or a venv, may not) and returns its exit status and CPU seconds.
+std::pair<int, double> run_python(const std::vector<std::string>& args) {
+  const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  std::vector<std::string> words = {python};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawnp(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return {127, 0.0};
+  int status = 0;
+  rusage u{};
+  while (wait4(pid, &status, 0, &u) < 0)
+    if (errno != EINTR) return {127, 0.0};
+  const double cpu = double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, cpu};
+}
+
+// The plot steps, one at a time on a thread of their own, beside the sglab steps of the main
+// thread: nothing reads a figure, and a plot's inputs are written by earlier sglab steps. A plot
+// starts with the next sglab step that is not timed (or at the end); before a timed step
+// everything started is waited for. The first failure is rethrown there.
+class PlotQueue {
+ public:
+  void push(std::function<void()> job) {
+    last_ = std::async(std::launch::async, [before = std::move(last_), job = std::move(job)]() mutable {
+      if (before.valid()) before.get();
+      job();
+    });
   }
-  return s;
+  void wait() {
+    if (last_.valid()) last_.get();
+  }
+
+ private:
+  std::future<void> last_;
+};
+
+// Whether the step's marker says it is done: the command, and every file it named (inputs and
+// outputs), are as the marker recorded them (an edited scene or a deleted output reruns it).
+bool done_earlier(const std::filesystem::path& marker, const std::string& line, const std::vector<std::string>& args) {
+  if (!std::filesystem::exists(marker)) return false;
+  std::ifstream in(marker);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string recorded;  // the marker without its "output" lines
+  std::istringstream lines(text.str());
+  for (std::string l; std::getline(lines, l);)
+    if (l.rfind("output ", 0) != 0) recorded += l + "\n";
+  return recorded == line + "\n" + files_state(args) && outputs_intact(text.str());
 }
 
 // OUT/reproduce_times.csv: one row per step of this run (wall and CPU seconds; a step done earlier
@@ -147,16 +206,119 @@ std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o, con
   return args;
 }
 
+namespace {
+
+// One run of the steps: the markers, the step times, and the plots running beside.
+class StepRun {
+ public:
+  StepRun(const ReproduceOptions& o, const SglabRunner& run_sglab, const Places& p, const std::vector<Step>& all)
+      : o_(o), run_sglab_(run_sglab), p_(p), all_(all), markers_(std::filesystem::path(p.out) / ".steps"),
+        times_csv_(std::filesystem::path(p.out) / "reproduce_times.csv"), figures_{p.key_figures(), p.out + "/figures"} {
+    std::filesystem::create_directories(markers_);
+    command_ = "sglab reproduce";
+    if (o.quick) command_ += " --quick";
+    if (o.force) command_ += " --force";
+    for (const auto& name : o.only) command_ += " --only " + name;
+  }
+
+  // Step k: skipped if done earlier, else run now (an sglab step) or queued (a plot).
+  void schedule(std::size_t k) {
+    const Step& s = all_[k];
+    const std::vector<std::string> args = step_args(s, o_, p_);
+    const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
+    const std::filesystem::path marker = markers_ / (s.name + ".done");
+    if (!o_.force && done_earlier(marker, line, args)) {
+      const std::lock_guard guard(lock_);
+      std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all_.size(), s.name.c_str(), line.c_str());
+      ++skipped_;
+      times_.add(s.name, "skipped", -1, -1);
+      return;
+    }
+    if (s.timed) {
+      plots_.wait();  // its tables carry times: nothing runs beside it (waiting plots stay waiting)
+    } else if (!s.python) {
+      start_waiting_plots();  // they run beside this step
+    }
+    auto job = [this, k, args, line, marker] { run(k, args, line, marker); };
+    if (s.python) waiting_.push_back(std::move(job));
+    else job();
+  }
+
+  // Runs what is left, then writes the total: the wall and CPU time since `start` (CPU: this
+  // process and its finished children).
+  void finish_since(std::chrono::steady_clock::time_point start, double cpu_start) {
+    start_waiting_plots();
+    plots_.wait();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double cpu = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN) - cpu_start;
+    times_.add("total", "", wall, cpu);
+    times_.write(times_csv_, command_);
+    std::printf("reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in %s\n",
+                done_, skipped_, wall, cpu, p_.out.c_str(), p_.tables.c_str(), times_csv_.string().c_str());
+  }
+
+ private:
+  void start_waiting_plots() {
+    for (auto& job : waiting_) plots_.push(std::move(job));
+    waiting_.clear();
+  }
+
+  // Runs step k and records its marker and times. What each kind of step writes: the plots only
+  // figures, the sglab steps everything else, so that steps running side by side keep apart.
+  void run(std::size_t k, const std::vector<std::string>& args, const std::string& line, const std::filesystem::path& marker) {
+    const Step& s = all_[k];
+    {
+      const std::lock_guard guard(lock_);
+      std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all_.size(), s.name.c_str(), s.what.c_str(), line.c_str());
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<std::string> roots = s.python ? figures_ : std::vector<std::string>{p_.out, p_.tables};
+    const std::vector<std::string> except = s.python ? std::vector<std::string>{} : figures_;
+    const Snapshot before = snapshot(roots, except);
+    const double cpu0 = cpu_seconds();
+    int status;
+    double cpu;
+    if (s.python) {
+      std::tie(status, cpu) = run_python(args);
+    } else {
+      status = run_sglab_(args);
+      cpu = cpu_seconds() - cpu0;  // the plot thread's own CPU is negligible (it waits)
+    }
+    if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
+    runner::AtomicFile m(marker);
+    m.write(line + "\n" + files_state(args) + outputs_state(before, snapshot(roots, except)));
+    m.commit();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::lock_guard guard(lock_);
+    ++done_;
+    std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all_.size(), s.name.c_str(), wall, cpu);
+    times_.add(s.name, s.python ? "run beside" : "run", wall, cpu);
+    times_.write(times_csv_, command_);
+  }
+
+  const ReproduceOptions& o_;
+  const SglabRunner& run_sglab_;
+  const Places& p_;
+  const std::vector<Step>& all_;
+  const std::filesystem::path markers_, times_csv_;
+  const std::vector<std::string> figures_;
+  std::string command_;
+  std::mutex lock_;  // times, the counters and the log lines, shared with the plot thread
+  StepTimes times_;
+  int done_ = 0, skipped_ = 0;
+  PlotQueue plots_;
+  std::vector<std::function<void()>> waiting_;  // plots not started yet: they start beside the next untimed sglab step
+};
+
+}  // namespace
+
 void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
-  namespace fs = std::filesystem;
   const Places p = reproduce_places(o);
   const auto all = all_steps(p);
   if (o.list) {  // the steps of this mode and their command lines; nothing is run or written
     for (const auto& s : all) std::printf("%s\t%s%s\n", s.name.c_str(), s.python ? "python3 " : "sglab ", join(step_args(s, o, p)).c_str());
     return;
   }
-  const fs::path markers = fs::path(p.out) / ".steps";
-  fs::create_directories(markers);
   for (const auto& name : o.only) {
     bool known = false;
     for (const auto& s : all) known = known || s.name == name;
@@ -168,68 +330,12 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
   // --force recomputes the sweeps too, not only reruns their commands (which would resume).
   std::optional<runner::FreshSweepScope> fresh_scope;
   if (o.force) fresh_scope.emplace();
-  const auto t_start = std::chrono::steady_clock::now();
-  const double cpu_start = cpu_seconds();
-  const fs::path times_csv = fs::path(p.out) / "reproduce_times.csv";
-  std::string command = "sglab reproduce";
-  if (o.quick) command += " --quick";
-  if (o.force) command += " --force";
-  for (const auto& name : o.only) command += " --only " + name;
-  StepTimes times;
-  int done = 0, skipped = 0;
-  for (std::size_t k = 0; k < all.size(); ++k) {
-    const Step& s = all[k];
-    if (!o.only.empty() && std::find(o.only.begin(), o.only.end(), s.name) == o.only.end()) continue;
-    const std::vector<std::string> args = step_args(s, o, p);
-    const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
-    const fs::path marker = markers / (s.name + ".done");
-    if (!o.force && fs::exists(marker)) {
-      std::ifstream in(marker);
-      std::stringstream text;
-      text << in.rdbuf();
-      // Done only if the command, and every file it named (inputs and outputs), are as the
-      // marker recorded them: an edited scene or a deleted output reruns the step.
-      std::string recorded;  // the marker without its "output" lines
-      std::istringstream lines(text.str());
-      for (std::string l; std::getline(lines, l);)
-        if (l.rfind("output ", 0) != 0) recorded += l + "\n";
-      if (recorded == line + "\n" + files_state(args) && outputs_intact(text.str())) {
-        std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all.size(), s.name.c_str(), line.c_str());
-        ++skipped;
-        times.add(s.name, "skipped", -1, -1);
-        continue;
-      }
-    }
-    std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all.size(), s.name.c_str(), s.what.c_str(), line.c_str());
-    const auto t0 = std::chrono::steady_clock::now();
-    const double cpu0 = cpu_seconds();
-    const Snapshot before = snapshot({p.out, p.tables});
-    int status;
-    if (s.python) {
-      // Debian's interpreter, which has python3-matplotlib; a python3 earlier on PATH (pyenv,
-      // a venv) may not.
-      std::string cmd = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-      for (const auto& a : args) cmd += " " + shell_quote(a);
-      status = std::system(cmd.c_str());
-    } else {
-      status = run_sglab(args);
-    }
-    if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
-    runner::AtomicFile m(marker);
-    m.write(line + "\n" + files_state(args) + outputs_state(before, snapshot({p.out, p.tables})));
-    m.commit();
-    ++done;
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), cpu = cpu_seconds() - cpu0;
-    std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all.size(), s.name.c_str(), wall, cpu);
-    times.add(s.name, "run", wall, cpu);
-    times.write(times_csv, command);
-  }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  const double cpu = cpu_seconds() - cpu_start;
-  times.add("total", "", wall, cpu);
-  times.write(times_csv, command);
-  std::printf("reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in %s\n",
-              done, skipped, wall, cpu, p.out.c_str(), p.tables.c_str(), times_csv.string().c_str());
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN);
+  StepRun run(o, run_sglab, p, all);
+  for (std::size_t k = 0; k < all.size(); ++k)
+    if (o.only.empty() || std::find(o.only.begin(), o.only.end(), all[k].name) != o.only.end()) run.schedule(k);
+  run.finish_since(start, cpu_start);
 }
 
 }  // namespace sglab::experiments

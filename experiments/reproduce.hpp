@@ -3,6 +3,8 @@
 // are written atomically, so a step without its marker is simply redone). The marker records the
 // fingerprint of every file the step names and of every file it wrote under OUT/ and the tables
 // directory, so a changed input or a deleted or altered output also reruns it.
+// The plot steps (python3) run one at a time beside the sglab steps, which run one at a time in
+// order; a step whose tables carry wall-clock times (Step::timed) runs with nothing beside it.
 #pragma once
 
 #include <functional>

@@ -11,7 +11,9 @@
 //    Cartesian product, the last varying fastest; none: one point, the scene as given.
 //  • --vsgl CONFIG           two | fis:N | kmeans:N, repeatable (default: two). Every configuration
 //    is measured at every point against one shared reference: a point renders its G-buffer, RSM
-//    and VPL sum once, then generates and shades each configuration's VSGLs.
+//    and VPL sum once, then generates and shades each configuration's VSGLs. Consecutive points
+//    whose scenes are equal (only vsgl.lambda_d varies) share one G-buffer, RSM and VPL sum, and
+//    report the time it took.
 // A point is one parameter combination; its rows are its configurations. Points run one at a time
 // (--threads 1 by default) because their timings are part of the result; each render uses all
 // cores itself. Every point's scene is validated before anything runs (a bad value stops the
@@ -27,6 +29,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -261,7 +264,12 @@ struct Grid {
     for (std::size_t i = 0; i < vary.size(); ++i) s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", vary[i].key, x[i]);
     return s.empty() ? std::string("the scene") : s;
   }
-  render::Scene scene_of(std::size_t k) const {
+  render::Scene scene_of(std::size_t k) const { return scene_from(document_of(k), k); }
+  // Equal for two points whose scenes are equal (a varied λ_d is not part of the scene).
+  std::string scene_key(std::size_t k) const { return document_of(k).dump(); }
+
+ private:
+  nlohmann::json document_of(std::size_t k) const {
     nlohmann::json doc = base;
     const auto x = values_of(k);
     for (std::size_t i = 0; i < vary.size(); ++i) {
@@ -273,6 +281,10 @@ struct Grid {
         throw UsageError(fmt::format("--vary {}: {}", vary[i].key, e.what()));
       }
     }
+    return doc;
+  }
+  render::Scene scene_from(const nlohmann::json& doc, std::size_t k) const {
+    const auto x = values_of(k);
     try {
       return scene_from_document(doc, job);
     } catch (const UsageError& e) {
@@ -283,9 +295,30 @@ struct Grid {
   }
 };
 
-// Point k's rows: its G-buffer, RSM and VPL sum once, then each configuration's VSGLs.
+// The last common pass (G-buffer, RSM, VPL sum) and the scene it was made of: points that differ
+// only in vsgl.lambda_d have one scene, and share it (with the times it took).
+struct CommonPassMemo {
+  std::mutex mutex;
+  std::string scene_key;
+  std::shared_ptr<const render::CommonPass> pass;
+
+  std::shared_ptr<const render::CommonPass> get(const render::Scene& scene, const std::string& key,
+                                                const render::RenderOptions& options) {
+    {
+      const std::lock_guard lock(mutex);
+      if (pass && key == scene_key) return pass;
+    }
+    auto made = std::make_shared<const render::CommonPass>(render::render_common(scene, options));
+    const std::lock_guard lock(mutex);
+    scene_key = key;
+    pass = made;
+    return made;
+  }
+};
+
+// Point k's rows: its G-buffer, RSM and VPL sum once (or the memo's), then each configuration's VSGLs.
 std::vector<SweepRow> point_rows(const Grid& g, const std::vector<VsglConfig>& configs, const render::RenderOptions& options,
-                                 std::size_t k) {
+                                 CommonPassMemo& memo, std::size_t k) {
   const render::Scene scene = g.scene_of(k);
   const auto x = g.values_of(k);
   std::vector<render::VsglOptions> variants;
@@ -303,7 +336,10 @@ std::vector<SweepRow> point_rows(const Grid& g, const std::vector<VsglConfig>& c
   // An arena of its own: the render's parallel loops use every core even when the runner runs
   // points one at a time.
   tbb::task_arena arena;
-  const std::vector<render::RenderResult> results = arena.execute([&] { return render::render_scene_variants(scene, options, variants); });
+  const std::vector<render::RenderResult> results = arena.execute([&] {
+    const auto common = memo.get(scene, g.scene_key(k), options);
+    return render::render_scene_variants(scene, options, *common, variants);
+  });
   std::vector<SweepRow> rows;
   for (std::size_t c = 0; c < configs.size(); ++c) {
     const render::RenderResult& r = results[c];
@@ -367,7 +403,8 @@ Result compute(const Options& o) {
 
   SweepDefinition d = definition(o, *grid, configs, r.name);
   d.describe = [grid](std::size_t k) { return grid->describe(k); };
-  d.compute = [grid, configs, options](std::size_t k) { return point_rows(*grid, configs, options, k); };
+  auto memo = std::make_shared<CommonPassMemo>();
+  d.compute = [grid, configs, options, memo](std::size_t k) { return point_rows(*grid, configs, options, *memo, k); };
   const SweepRunResult run = run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
   r.vary = grid->vary;
   r.provenance.command = "sglab";
@@ -393,11 +430,15 @@ Tables tables(const Result& r) {
       "ends, same visibility assumption: {}), over the pixels that hit geometry, all channels: relative L2 = "
       "‖v − r‖/‖r‖, SMAPE = mean 2|v − r|/(|v| + |r|), RMSE in W/(m² sr). Lobes: VSGLs built (diffuse + specular). "
       "Times: wall clock on this machine, all cores; VSGL = generation + shading of every pixel; speedup = "
-      "reference / VSGL.\n\n",
+      "reference / VSGL. Arithmetic: {}.\n\n",
       o.job.scene_path,
       o.job.overrides.empty() ? "" : " with " + fmt::format("`--set {}`", fmt::join(o.job.overrides, "`, `--set ")),
       o.job.visibility ? "VSGL visibility from a cube shadow map at each μ_v (Tokuyoshi 2016 §4.1), VPL visibility by ray casting"
-                       : "none");
+                       : "none",
+      o.job.precision == "float"
+          ? "float (`--precision float`) for the VPL sum and the VSGLs' diffuse method, the rest in double; within "
+            "1e-5 relative L2 of the double path (docs/simd.md)"
+          : "double");
   md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
         constants_text(load_constant_sets(o.job.constants), {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
         "\n";
@@ -465,9 +506,11 @@ std::vector<Step> sweep_render_steps(const Places& p) {
   const auto sweep = [&](std::string name, std::string what, std::vector<std::string> configuration,
                          std::vector<std::string> quick) {
     // A 128² RSM (13k VPLs) in every full sweep: the vectorized reference makes it affordable.
-    std::vector<std::string> args = {"sweep", "render", "--scene", scene, "--rsm", "128"};
+    // Float arithmetic (see the tables' text), which halves the reference's time: its rounding,
+    // within 1e-5 relative L2 of double, is below every printed digit.
+    std::vector<std::string> args = {"sweep", "render", "--scene", scene, "--rsm", "128", "--precision", "float"};
     args.insert(args.end(), configuration.begin(), configuration.end());
-    return sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true);
+    return timed(sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true));
   };
   std::vector<Step> v = {
       sweep("sweep-render-count", "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",

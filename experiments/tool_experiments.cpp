@@ -92,8 +92,8 @@ Experiment envmap_experiment() {
                                      {"envmap", "make", kind, "--out", path}));
               lobes.insert(lobes.end(), {"--env", std::string(kind) + "=" + path});
             }
-            v.push_back(sglab_step("envmap-lobes", "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)", lobes,
-                                   {"--quick"}, "--tables-dir"));
+            v.push_back(timed(sglab_step("envmap-lobes", "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)",
+                                         lobes, {"--quick"}, "--tables-dir")));
             v.push_back(plot_step("plot-envmap", "environment error against N, and each map beside its reconstructions",
                                   {"plots/envmap_lobes.py", p.tables + "/envmap_lobes.csv", p.out + "/envmap/envmap_images.csv",
                                    p.key_figures()}));

@@ -5,9 +5,11 @@
 // where the list says. Also `sglab sweep render --out DIR` writes its table into DIR. The whole
 // --quick run (about a minute) is not run here.
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
+
 
 #include <gtest/gtest.h>
 
@@ -136,6 +138,42 @@ TEST_F(ReproduceCommand, QuickStepsWriteIntoResultsQuick) {
   EXPECT_TRUE(fs::exists(path("results/quick/.steps/fit-all.done")));
   EXPECT_FALSE(fs::exists(path("paper_tables"))) << r.err;
   EXPECT_FALSE(fs::exists(path("results/fits"))) << "a --quick run keeps out of the full run's results/";
+}
+
+// Plot steps run beside the sglab steps: each step's marker lists only what it wrote itself (the
+// plots' figures, the sglab step's table and CSV), and the step times say which ran beside.
+TEST_F(ReproduceCommand, PlotsRunBesideAndEachMarkerHoldsItsOwnOutputs) {
+  link_inputs();
+  const auto r = sglab("reproduce --quick --only error-map plot-error-maps plot-own-method render-cornell-glossy");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto marker = [&](const std::string& step) {
+    std::ifstream in(path("results/quick/.steps/" + step + ".done"));
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  const auto outputs = [&](const std::string& step) {
+    std::vector<std::string> paths;
+    std::istringstream lines(marker(step));
+    for (std::string l; std::getline(lines, l);)
+      if (l.rfind("output ", 0) == 0) paths.push_back(l.substr(7, l.rfind(' ') - 7));
+    return paths;
+  };
+  for (const char* plot : {"plot-error-maps", "plot-own-method"}) {
+    const auto written = outputs(plot);
+    EXPECT_FALSE(written.empty()) << plot << "\n" << r.err;
+    for (const auto& w : written) EXPECT_NE(w.find("/figures/"), std::string::npos) << plot << " claims " << w;
+  }
+  for (const char* step : {"error-map", "render-cornell-glossy"}) {
+    const auto written = outputs(step);
+    EXPECT_FALSE(written.empty()) << step << "\n" << r.err;
+    for (const auto& w : written) EXPECT_EQ(w.find("/figures/"), std::string::npos) << step << " claims " << w;
+  }
+  std::ifstream times(path("results/quick/reproduce_times.csv"));
+  std::stringstream text;
+  text << times.rdbuf();
+  EXPECT_NE(text.str().find("plot-error-maps,run beside,"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("render-cornell-glossy,run,"), std::string::npos) << text.str();
 }
 
 // `sglab sweep render --out DIR` without --tables-dir: the table goes into DIR too.

@@ -2,13 +2,17 @@
 // the same point, over the camera's first hits of a shipped scene; and the reference with VPL
 // visibility never exceeds the reference without it (every term is non-negative and is kept or
 // dropped), and drops light somewhere in a scene with occluders.
+#include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "sglab/render/material_brdf.hpp"
 #include "sglab/render/raycast.hpp"
 #include "sglab/render/reference.hpp"
 #include "sglab/render/rsm.hpp"
@@ -62,6 +66,66 @@ TEST(Visibility, ReferenceWithVisibilityNeverExceedsWithout) {
     lost += (without - with).sum();
   }
   EXPECT_GT(lost, 0);
+}
+
+// occluded(scene, ray, t) is cast_ray's nearest hit being nearer than t, over random segments
+// between random points of the box's volume (many start inside or beyond an object).
+TEST(Visibility, OccludedAgreesWithNearestHit) {
+  const Scene scene = cornell(8);
+  const unsigned seed = 20261202;
+  std::printf("seed %u\n", seed);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  std::size_t blocked = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 a(u(rng), u(rng) + 1, u(rng)), b(u(rng), u(rng) + 1, u(rng));
+    const double t = (b - a).norm();
+    const Ray ray{a, (b - a) / t};
+    const auto hit = cast_ray(scene, ray);
+    const bool nearer = hit && hit->distance < t;
+    ASSERT_EQ(occluded(scene, ray, t), nearer) << "segment " << k << ", seed " << seed;
+    blocked += nearer ? 1 : 0;
+  }
+  EXPECT_GT(blocked, 1000u);
+  EXPECT_LT(blocked, 19000u);
+}
+
+// The reference with visibility against the plain sum written out term by term: each VPL's
+// intensity and the receiver's BRDF (material_brdf.hpp), kept where cast_ray finds nothing between
+// the point and the VPL (the same offset and tolerance as vpl_visible).
+TEST(Visibility, ReferenceWithVisibilityIsThePlainMaskedSum) {
+  const Scene scene = cornell(20);
+  const GBuffer g = render_gbuffer(scene);
+  const VplList vpls = prepare_vpls(render_rsm(scene, 16));
+  std::size_t checked = 0;
+  for (std::size_t k = 0; k < g.points.size(); ++k) {
+    if (!g.hit[k]) continue;
+    const ShadingPoint& p = g.points[k];
+    Rgb plain = Rgb::Zero(), magnitude = Rgb::Zero();
+    for (const Vpl& v : vpls.vpls) {
+      const Vec3 offset = p.position - v.position;
+      const double d2 = offset.squaredNorm();
+      if (!(d2 > 0)) continue;
+      const Vec3 omega = offset / std::sqrt(d2);
+      if (!(omega.dot(v.normal) > 0) || !(-omega.dot(p.normal) > 0)) continue;
+      const Vec3 origin = p.position + 1e-7 * std::sqrt(d2) * p.normal;
+      const double t = (v.position - origin).norm();
+      const auto hit = cast_ray(scene, Ray{origin, (v.position - origin).normalized()});
+      const Rgb term = v.flux * brdf_cosine(v.diffuse_reflectance, v.f0, v.roughness, v.normal, v.incoming, omega) *
+                       brdf_cosine(p.diffuse_reflectance, p.f0, p.roughness, p.normal, p.view, -omega) /
+                       (d2 + v.footprint_radius * v.footprint_radius);
+      magnitude += term;
+      if (!hit || hit->distance >= t * (1 - 1e-6)) plain += term;
+    }
+    for (Precision precision : {Precision::double_, Precision::single}) {
+      const Rgb value = reference_radiance(p, vpls, &scene, precision);
+      const double tolerance = precision == Precision::single ? 1e-5 : 1e-13;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(value(c), plain(c), tolerance * magnitude(c) + 1e-300) << "pixel " << k << " channel " << c;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 200u);
 }
 
 }  // namespace

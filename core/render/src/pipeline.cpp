@@ -91,60 +91,6 @@ void check_render_options(const RenderOptions& o, const std::vector<VsglOptions>
     if (const auto error = vsgl_options_error(v)) throw std::invalid_argument(*error);
 }
 
-// What every variant shares: G-buffer, direct light, RSM and VPLs, the reference.
-struct CommonPass {
-  GBuffer g;
-  ReflectiveShadowMap rsm;
-  RenderResult result;  // every field but the VSGL ones
-};
-
-CommonPass render_common(const Scene& scene, const RenderOptions& o) {
-  CommonPass c;
-  RenderResult& r = c.result;
-  r.width = scene.camera.width;
-  r.height = scene.camera.height;
-  const std::size_t n = std::size_t(r.width) * std::size_t(r.height);
-  r.direct.assign(n, Rgb::Zero());
-  r.indirect_reference.assign(n, Rgb::Zero());
-
-  auto t0 = Clock::now();
-  c.g = render_gbuffer(scene);
-  const GBuffer& g = c.g;
-  r.seconds.gbuffer = seconds_since(t0);
-  r.hit = g.hit;
-  for (std::size_t k = 0; k < n; ++k)
-    if (g.hit[k]) {
-      ++r.pixels_hit;
-      if (g.points[k].glossy()) ++r.glossy_receivers;
-    }
-
-  t0 = Clock::now();
-  const ShadowMap shadow = render_shadow_map(scene, o.shadow_map_resolution);
-  r.seconds.shadow_map = seconds_since(t0);
-  t0 = Clock::now();
-  for_each_pixel(g, "direct", o, [&](std::size_t k) { r.direct[k] = direct_radiance(scene, shadow, g.points[k]); });
-  r.seconds.direct = seconds_since(t0);
-
-  t0 = Clock::now();
-  c.rsm = render_rsm(scene, o.rsm_resolution);
-  const VplList vpls = prepare_vpls(c.rsm);
-  r.seconds.rsm = seconds_since(t0);
-  r.vpl_count = vpls.vpls.size();
-  for (const Vpl& v : vpls.vpls) {
-    r.rsm_flux += v.flux;
-    if (v.glossy()) ++r.glossy_vpls;
-  }
-
-  t0 = Clock::now();
-  for_each_pixel(g, "reference (VPL sum)", o,
-                 [&](std::size_t k) {
-                   r.indirect_reference[k] =
-                       reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr, o.shading.precision);
-                 });
-  r.seconds.reference = seconds_since(t0);
-  return c;
-}
-
 // Every hit pixel shaded by the VSGLs into v.indirect.
 void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, const VsglShader& shader, RenderResult& v) {
   if (o.visibility) {
@@ -202,9 +148,62 @@ RenderResult render_variant(const Scene& scene, const RenderOptions& o, const Co
 
 }  // namespace
 
+CommonPass render_common(const Scene& scene, const RenderOptions& o) {
+  check_render_options(o, {});
+  CommonPass c;
+  RenderResult& r = c.result;
+  r.width = scene.camera.width;
+  r.height = scene.camera.height;
+  const std::size_t n = std::size_t(r.width) * std::size_t(r.height);
+  r.direct.assign(n, Rgb::Zero());
+  r.indirect_reference.assign(n, Rgb::Zero());
+
+  auto t0 = Clock::now();
+  c.g = render_gbuffer(scene);
+  const GBuffer& g = c.g;
+  r.seconds.gbuffer = seconds_since(t0);
+  r.hit = g.hit;
+  for (std::size_t k = 0; k < n; ++k)
+    if (g.hit[k]) {
+      ++r.pixels_hit;
+      if (g.points[k].glossy()) ++r.glossy_receivers;
+    }
+
+  t0 = Clock::now();
+  const ShadowMap shadow = render_shadow_map(scene, o.shadow_map_resolution);
+  r.seconds.shadow_map = seconds_since(t0);
+  t0 = Clock::now();
+  for_each_pixel(g, "direct", o, [&](std::size_t k) { r.direct[k] = direct_radiance(scene, shadow, g.points[k]); });
+  r.seconds.direct = seconds_since(t0);
+
+  t0 = Clock::now();
+  c.rsm = render_rsm(scene, o.rsm_resolution);
+  const VplList vpls = prepare_vpls(c.rsm);
+  r.seconds.rsm = seconds_since(t0);
+  r.vpl_count = vpls.vpls.size();
+  for (const Vpl& v : vpls.vpls) {
+    r.rsm_flux += v.flux;
+    if (v.glossy()) ++r.glossy_vpls;
+  }
+
+  t0 = Clock::now();
+  for_each_pixel(g, "reference (VPL sum)", o,
+                 [&](std::size_t k) {
+                   r.indirect_reference[k] =
+                       reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr, o.shading.precision);
+                 });
+  r.seconds.reference = seconds_since(t0);
+  return c;
+}
+
 std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& o, const std::vector<VsglOptions>& variants) {
   check_render_options(o, variants);
-  const CommonPass common = render_common(scene, o);
+  return render_scene_variants(scene, o, render_common(scene, o), variants);
+}
+
+std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& o, const CommonPass& common,
+                                                const std::vector<VsglOptions>& variants) {
+  check_render_options(o, variants);
   std::vector<RenderResult> results;
   for (const VsglOptions& variant : variants) results.push_back(render_variant(scene, o, common, variant));
   return results;

@@ -106,6 +106,12 @@ std::optional<Hit> cast_ray(const Scene& scene, const Ray& ray) {
   return best;
 }
 
+bool occluded(const Scene& scene, const Ray& ray, double t_max) {
+  for (const auto& object : scene.objects)
+    if (intersect(object.shape, ray, 0.0, t_max)) return true;
+  return false;
+}
+
 Ray camera_ray(const Camera& camera, double px, double py) {
   const Vec3 forward = (camera.look_at - camera.position).normalized();
   const Vec3 right = forward.cross(camera.up).normalized();

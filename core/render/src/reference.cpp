@@ -12,30 +12,10 @@
 namespace sglab::render {
 namespace {
 
-// ---- the plain loop: one VPL at a time (used with visibility, which ray-casts every term) ----
-
-Rgb reference_radiance_loop(const ShadingPoint& p, const VplList& list, const Scene* visibility_scene) {
-  Rgb sum = Rgb::Zero();
-  for (const Vpl& v : list.vpls) {
-    const Vec3 offset = p.position - v.position;
-    const double d2 = offset.squaredNorm();
-    if (!(d2 > 0)) continue;  // the point is the VPL: ω undefined, and ⟨ω·n_i⟩⟨−ω·n_p⟩ → 0 on a surface
-    const Vec3 omega = offset / std::sqrt(d2);  // from the VPL towards the point
-    const double cos_vpl = omega.dot(v.normal), cos_point = -omega.dot(p.normal);
-    if (!(cos_vpl > 0) || !(cos_point > 0)) continue;
-    if (visibility_scene && !vpl_visible(*visibility_scene, p.position, p.normal, v.position)) continue;
-    // I_i(ω)/Φ_i = ρ_i(ω'_i, ω)⟨ω·n_i⟩ (reciprocal, so either argument order of brdf_cosine).
-    const Rgb emitted = brdf_cosine(v.diffuse_reflectance, v.f0, v.roughness, v.normal, v.incoming, omega);
-    const Rgb reflected = brdf_cosine(p.diffuse_reflectance, p.f0, p.roughness, p.normal, p.view, -omega);
-    sum += v.flux * emitted * reflected / (d2 + v.footprint_radius * v.footprint_radius);
-  }
-  return sum;
-}
-
 // ---- the vectorized sum: the same terms over the VPL arrays (simd/render_kernels.hpp) ----------
 
 template <class T>
-simd_detail::VplView<T> view_of(const VplArraysT<T>& a) {
+simd_detail::VplView<T> view_of(const VplArraysT<T>& a, const T* visible) {
   simd_detail::VplView<T> v;
   v.n = a.x.size();
   v.x = a.x.data(), v.y = a.y.data(), v.z = a.z.data(), v.nx = a.nx.data(), v.ny = a.ny.data(), v.nz = a.nz.data();
@@ -44,12 +24,34 @@ simd_detail::VplView<T> view_of(const VplArraysT<T>& a) {
   v.flux_r = a.flux_r.data(), v.flux_g = a.flux_g.data(), v.flux_b = a.flux_b.data();
   v.f0_r = a.f0_r.data(), v.f0_g = a.f0_g.data(), v.f0_b = a.f0_b.data();
   v.alpha = a.alpha.data(), v.cos_incoming = a.cos_incoming.data();
+  v.visible = visible;
   return v;
 }
 
+// V(y_p, x_i) of every VPL in the arrays' order (each array padded with 0), by ray casting; only
+// where the term is not already 0 by its cosines (the kernel masks those itself).
+template <class T>
+struct VisibilityMasks {
+  std::vector<T> lambert, glossy;
+  void fill(const VplList& list, const ShadingPoint& p, const Scene& scene) {
+    lambert.assign(list.lambert.x.size(), T(0));
+    glossy.assign(list.glossy.x.size(), T(0));
+    std::size_t l = 0, g = 0;
+    for (const Vpl& v : list.vpls) {
+      T& visible = v.glossy() ? glossy[g++] : lambert[l++];
+      const Vec3 offset = p.position - v.position;
+      const double d2 = offset.squaredNorm();
+      if (!(d2 > 0)) continue;
+      const Vec3 omega = offset / std::sqrt(d2);  // from the VPL towards the point
+      if (!(omega.dot(v.normal) > 0) || !(-omega.dot(p.normal) > 0)) continue;
+      visible = vpl_visible(scene, p.position, p.normal, v.position) ? T(1) : T(0);
+    }
+  }
+};
+
 template <class T>
 void vpl_sums(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert, const VplArraysT<T>& glossy,
-              const ShadingPoint& p, double* out) {
+              const ShadingPoint& p, const VisibilityMasks<T>* masks, double* out) {
   simd_detail::Receiver<T> r{T(p.position.x()), T(p.position.y()), T(p.position.z()), T(p.normal.x()),
                              T(p.normal.y()),   T(p.normal.z()),   T(p.view.x()),     T(p.view.y()),
                              T(p.view.z()),     {},                {},                T(p.roughness),
@@ -59,8 +61,8 @@ void vpl_sums(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert,
     r.f0[c] = T(p.f0(c));
   }
   const int glossy_receiver = p.glossy() ? 1 : 0;
-  sum[glossy_receiver](view_of(lambert), r, out);
-  sum[2 + glossy_receiver](view_of(glossy), r, out);
+  sum[glossy_receiver](view_of(lambert, masks ? masks->lambert.data() : nullptr), r, out);
+  sum[2 + glossy_receiver](view_of(glossy, masks ? masks->glossy.data() : nullptr), r, out);
 }
 
 template <class T>
@@ -140,19 +142,31 @@ void prepare_vpl_arrays(VplList& list) {
   fill_arrays(list.vpls, list.lambert_float, list.glossy_float);
 }
 
+template <class T>
+Rgb sum_with(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert, const VplArraysT<T>& glossy,
+             const ShadingPoint& p, const VplList& list, const Scene* visibility_scene) {
+  double out[3] = {0, 0, 0};
+  if (visibility_scene) {
+    thread_local VisibilityMasks<T> masks;  // reused: one allocation per thread, not per point
+    masks.fill(list, p, *visibility_scene);
+    vpl_sums(sum, lambert, glossy, p, &masks, out);
+  } else {
+    vpl_sums<T>(sum, lambert, glossy, p, nullptr, out);
+  }
+  return Rgb(out[0], out[1], out[2]);
+}
+
 Rgb reference_radiance(const ShadingPoint& p, const VplList& list, const Scene* visibility_scene, Precision precision) {
-  if (visibility_scene) return reference_radiance_loop(p, list, visibility_scene);
   if (list.lambert.count + list.glossy.count != list.vpls.size() ||
       list.lambert_float.count + list.glossy_float.count != list.vpls.size()) {  // built by hand: convert
     VplList prepared = list;
     prepare_vpl_arrays(prepared);
-    return reference_radiance(p, prepared, nullptr, precision);
+    return reference_radiance(p, prepared, visibility_scene, precision);
   }
   const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
-  double sum[3] = {0, 0, 0};
-  if (precision == Precision::single) vpl_sums(t.vpl_sum_f, list.lambert_float, list.glossy_float, p, sum);
-  else vpl_sums(t.vpl_sum_d, list.lambert, list.glossy, p, sum);
-  return Rgb(sum[0], sum[1], sum[2]);
+  if (precision == Precision::single)
+    return sum_with(t.vpl_sum_f, list.lambert_float, list.glossy_float, p, list, visibility_scene);
+  return sum_with(t.vpl_sum_d, list.lambert, list.glossy, p, list, visibility_scene);
 }
 
 }  // namespace sglab::render

@@ -54,8 +54,7 @@ bool vpl_visible(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& x
   const Vec3 origin = p + 1e-7 * d * n;
   const Vec3 dir = (x - origin).normalized();
   const double t = (x - origin).norm();
-  const auto hit = cast_ray(scene, Ray{origin, dir});
-  return !hit || hit->distance >= t * (1 - 1e-6);
+  return !occluded(scene, Ray{origin, dir}, t * (1 - 1e-6));
 }
 
 }  // namespace sglab::render

@@ -197,76 +197,77 @@ struct Scratch {
   }
 };
 
-}  // namespace
-
-void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<const char> visible,
-                             std::span<VsglShading> out) const {
-  const Data& d = *data_;
-  const LobeArrays& a = d.lobes;
-  const std::size_t n = a.size(), m = points.size(), rows = n * m;
-  for (auto& o : out) o = VsglShading{};
-  if (n == 0 || m == 0) return;
-  const bool single = d.options.precision == Precision::single;
-  thread_local Scratch s;
-  s.resize(m, rows, n, single);
-
-  // The block's points as arrays.
-  bool any_diffuse = false;
-  for (std::size_t i = 0; i < m; ++i) {
-    const ShadingPoint& p = points[i];
-    s.px[i] = p.position.x(), s.py[i] = p.position.y(), s.pz[i] = p.position.z();
-    s.nx[i] = p.normal.x(), s.ny[i] = p.normal.y(), s.nz[i] = p.normal.z();
-    const bool diffuse_receiver = (p.diffuse_reflectance > 0).any();
-    s.diffuse[i] = diffuse_receiver ? 1.0 : 0.0;
-    any_diffuse = any_diffuse || diffuse_receiver;
-  }
-  simd_detail::LobeView lobes = view_of(a);
-  if (!visible.empty()) {
-    for (std::size_t j = 0; j < n; ++j) s.visible[j] = visible[a.cluster[j]] ? 1.0 : 0.0;
-    lobes.visible = s.visible.data();
-  }
-  const simd_detail::PointBlock block{m, s.px.data(), s.py.data(), s.pz.data(), s.nx.data(), s.ny.data(), s.nz.data(),
-                                      s.diffuse.data()};
-  simd_detail::IncomingRows in{s.sharpness.data(), s.cosine.data(), s.log_scale.data(), s.xi_x.data(), s.xi_y.data(),
-                               s.xi_z.data(), s.d2.data(), s.capped.data(), s.mask.data()};
+// One block's shading: the lobes, the block's points and the incoming-SG rows as the kernels see
+// them, and the per-thread arrays they fill.
+struct BlockPass {
+  const LobeArrays& a;
+  std::span<const ShadingPoint> points;
+  std::span<const char> visible;  // per cluster, or empty: all visible
+  std::span<VsglShading> out;
+  Scratch& s;
   const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
+  std::size_t n = a.size(), m = points.size(), rows = n * m;
+  simd_detail::LobeView lobes = view_of(a);
+  simd_detail::PointBlock block{};
+  simd_detail::IncomingRows in{};
+  bool any_diffuse = false;
+
+  // The block's points as arrays, and the lobes' visibility.
+  void prepare(bool single) {
+    s.resize(m, rows, n, single);
+    for (std::size_t i = 0; i < m; ++i) {
+      const ShadingPoint& p = points[i];
+      s.px[i] = p.position.x(), s.py[i] = p.position.y(), s.pz[i] = p.position.z();
+      s.nx[i] = p.normal.x(), s.ny[i] = p.normal.y(), s.nz[i] = p.normal.z();
+      const bool diffuse_receiver = (p.diffuse_reflectance > 0).any();
+      s.diffuse[i] = diffuse_receiver ? 1.0 : 0.0;
+      any_diffuse = any_diffuse || diffuse_receiver;
+    }
+    if (!visible.empty()) {
+      for (std::size_t j = 0; j < n; ++j) s.visible[j] = visible[a.cluster[j]] ? 1.0 : 0.0;
+      lobes.visible = s.visible.data();
+    }
+    block = {m, s.px.data(), s.py.data(), s.pz.data(), s.nx.data(), s.ny.data(), s.nz.data(), s.diffuse.data()};
+    in = {s.sharpness.data(), s.cosine.data(), s.log_scale.data(), s.xi_x.data(), s.xi_y.data(),
+          s.xi_z.data(),      s.d2.data(),     s.capped.data(),    s.mask.data()};
+  }
 
   // The incoming SG of every (lobe, point), row j·m + i, and the diffuse method's rows (λ, c).
-  const double floor = d.floor_sharpness ? kMinDivisorSharpness : 0.0;
-  const std::size_t capped = single ? t.incoming_f(lobes, block, floor, in, s.args_float.data())
-                                    : t.incoming_d(lobes, block, floor, in, s.args_double.data());
-  if (capped > 0)
-    for (std::size_t r = 0; r < rows; ++r)
-      if (s.capped[r] != 0)
-        s.log_scale[r] += -(std::log(two_pi<double>()) + std::log(s.d2[r]) - std::log(kMaxPositionalSharpness));
+  void incoming(bool single, bool floor_sharpness) {
+    const double floor = floor_sharpness ? kMinDivisorSharpness : 0.0;
+    const std::size_t capped = single ? t.incoming_f(lobes, block, floor, in, s.args_float.data())
+                                      : t.incoming_d(lobes, block, floor, in, s.args_double.data());
+    if (capped > 0)
+      for (std::size_t r = 0; r < rows; ++r)
+        if (s.capped[r] != 0)
+          s.log_scale[r] += -(std::log(two_pi<double>()) + std::log(s.d2[r]) - std::log(kMaxPositionalSharpness));
+  }
 
   // D(λ_in, ξ_in·n) for every row in one batch call; e^{log_scale}-weighted sums per point.
-  if (any_diffuse) {
+  void diffuse(const Method& method, double factor, bool single) {
     const std::size_t fallbacks =
-        single ? (d.diffuse.batch_float(s.args_float, 2, s.value_float),
-                  t.weighted_sum_f(lobes, m, s.log_scale.data(), s.value_float.data(), s.mask.data(), d.diffuse_factor,
-                                   kDirectLimit, s.fallback.data(), s.sum_r.data(), s.sum_g.data(), s.sum_b.data()))
-               : (d.diffuse.batch_double(s.args_double, 2, s.value_double),
-                  t.weighted_sum_d(lobes, m, s.log_scale.data(), s.value_double.data(), s.mask.data(),
-                                   d.diffuse_factor, kDirectLimit, s.fallback.data(), s.sum_r.data(), s.sum_g.data(),
-                                   s.sum_b.data()));
+        single ? (method.batch_float(s.args_float, 2, s.value_float),
+                  t.weighted_sum_f(lobes, m, s.log_scale.data(), s.value_float.data(), s.mask.data(), factor, kDirectLimit,
+                                   s.fallback.data(), s.sum_r.data(), s.sum_g.data(), s.sum_b.data()))
+               : (method.batch_double(s.args_double, 2, s.value_double),
+                  t.weighted_sum_d(lobes, m, s.log_scale.data(), s.value_double.data(), s.mask.data(), factor, kDirectLimit,
+                                   s.fallback.data(), s.sum_r.data(), s.sum_g.data(), s.sum_b.data()));
     for (std::size_t i = 0; i < m; ++i) {
       if (s.diffuse[i] == 0) continue;
-      Rgb diffuse(s.sum_r[i], s.sum_g[i], s.sum_b[i]);
+      Rgb sum(s.sum_r[i], s.sum_g[i], s.sum_b[i]);
       if (fallbacks > 0)
         for (std::size_t j = 0; j < n; ++j) {
           const std::size_t r = j * m + i;
           const double value = single ? double(s.value_float[r]) : s.value_double[r];
-          if (s.fallback[r] != 0) diffuse += a.amplitude[j] * scaled_by_exp(s.log_scale[r], d.diffuse_factor * value);
+          if (s.fallback[r] != 0) sum += a.amplitude[j] * scaled_by_exp(s.log_scale[r], factor * value);
         }
-      out[i].diffuse = diffuse * points[i].diffuse_reflectance / pi<double>();
+      out[i].diffuse = sum * points[i].diffuse_reflectance / pi<double>();
     }
   }
 
-  if (!d.options.specular) return;
-  if (d.options.specular_method) {
-    // A registry method (vsgl_specular_methods.cpp): it reads the incoming SGs point-major
-    // (row i·n + j), so the block's rows are handed over in that order.
+  // A registry method (vsgl_specular_methods.cpp): it reads the incoming SGs point-major
+  // (row i·n + j), so the block's rows are handed over in that order.
+  void specular_with(const Method& method) {
     for (auto* v : {&s.by_point_xi_x, &s.by_point_xi_y, &s.by_point_xi_z, &s.by_point_sharpness, &s.by_point_log_scale})
       v->resize(rows);
     for (std::size_t j = 0; j < n; ++j)
@@ -282,43 +283,64 @@ void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<con
       return s.by_point_log_scale[r] > -std::numeric_limits<double>::infinity() &&
              (visible.empty() || visible[a.cluster[r % n]]);
     };
-    shade_specular_with_method(*d.options.specular_method, points, n,
+    shade_specular_with_method(method, points, n,
                                {s.by_point_xi_x.data(), s.by_point_xi_y.data(), s.by_point_xi_z.data(),
                                 s.by_point_sharpness.data(), s.by_point_log_scale.data()},
                                a.amplitude, active, out);
-    return;
   }
-  // The block's glossy points: their specular receivers (vsgl.hpp) as arrays, then every
-  // (lobe, glossy point) in one vectorized pass; rows outside its exponential's range one by one.
-  Receivers& g = s.receivers;
-  g.clear();
-  for (std::size_t i = 0; i < m; ++i)
-    if (points[i].glossy()) g.push(i, vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness), points[i].f0);
-  const std::size_t gn = g.point.size();
-  if (gn == 0) return;
-  s.spec_fallback.resize(n * gn);
-  for (auto* v : {&s.sum_r, &s.sum_g, &s.sum_b}) v->resize(std::max(m, gn));
-  const std::size_t fallbacks = t.specular(lobes, m, in, g.view(), kDirectLimit, s.spec_fallback.data(), s.sum_r.data(),
-                                           s.sum_g.data(), s.sum_b.data());
-  for (std::size_t k = 0; k < gn; ++k) {
-    const std::size_t i = g.point[k];
-    Rgb specular(s.sum_r[k], s.sum_g[k], s.sum_b[k]);
-    if (fallbacks > 0) {
-      const VsglSpecularReceiver<double> receiver =
-          vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness);
-      for (std::size_t j = 0; j < n; ++j) {
-        if (s.spec_fallback[gn >= n ? j * gn + k : k * n + j] == 0) continue;
-        const std::size_t r = j * m + i;
-        VsglIncomingSg<double> sg;
-        sg.axis = Vec3(s.xi_x[r], s.xi_y[r], s.xi_z[r]);
-        sg.sharpness = s.sharpness[r];
-        sg.log_scale = s.log_scale[r];
-        const VsglSpecularFactor<double> f = vsgl_specular(sg, receiver);
-        specular += a.amplitude[j] * (f.at_f0_zero + points[i].f0 * (f.at_f0_one - f.at_f0_zero));
+
+  // The default ASG specular: the block's glossy points' specular receivers (vsgl.hpp) as arrays,
+  // then every (lobe, glossy point) in one vectorized pass; rows outside its exponential's range
+  // one by one.
+  void specular_asg() {
+    Receivers& g = s.receivers;
+    g.clear();
+    for (std::size_t i = 0; i < m; ++i)
+      if (points[i].glossy()) g.push(i, vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness), points[i].f0);
+    const std::size_t gn = g.point.size();
+    if (gn == 0) return;
+    s.spec_fallback.resize(n * gn);
+    for (auto* v : {&s.sum_r, &s.sum_g, &s.sum_b}) v->resize(std::max(m, gn));
+    const std::size_t fallbacks = t.specular(lobes, m, in, g.view(), kDirectLimit, s.spec_fallback.data(), s.sum_r.data(),
+                                             s.sum_g.data(), s.sum_b.data());
+    for (std::size_t k = 0; k < gn; ++k) {
+      const std::size_t i = g.point[k];
+      Rgb specular(s.sum_r[k], s.sum_g[k], s.sum_b[k]);
+      if (fallbacks > 0) {
+        const VsglSpecularReceiver<double> receiver =
+            vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness);
+        for (std::size_t j = 0; j < n; ++j) {
+          if (s.spec_fallback[gn >= n ? j * gn + k : k * n + j] == 0) continue;
+          const std::size_t r = j * m + i;
+          VsglIncomingSg<double> sg;
+          sg.axis = Vec3(s.xi_x[r], s.xi_y[r], s.xi_z[r]);
+          sg.sharpness = s.sharpness[r];
+          sg.log_scale = s.log_scale[r];
+          const VsglSpecularFactor<double> f = vsgl_specular(sg, receiver);
+          specular += a.amplitude[j] * (f.at_f0_zero + points[i].f0 * (f.at_f0_one - f.at_f0_zero));
+        }
       }
+      out[i].specular = specular;
     }
-    out[i].specular = specular;
   }
+};
+
+}  // namespace
+
+void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<const char> visible,
+                             std::span<VsglShading> out) const {
+  const Data& d = *data_;
+  for (auto& o : out) o = VsglShading{};
+  if (d.lobes.size() == 0 || points.empty()) return;
+  const bool single = d.options.precision == Precision::single;
+  thread_local Scratch scratch;
+  BlockPass pass{d.lobes, points, visible, out, scratch};
+  pass.prepare(single);
+  pass.incoming(single, d.floor_sharpness);
+  if (pass.any_diffuse) pass.diffuse(d.diffuse, d.diffuse_factor, single);
+  if (!d.options.specular) return;
+  if (d.options.specular_method) pass.specular_with(*d.options.specular_method);
+  else pass.specular_asg();
 }
 
 std::vector<std::string> diffuse_method_names() {

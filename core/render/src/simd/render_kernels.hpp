@@ -65,14 +65,15 @@ template <class T>
 }
 
 // Σ_i over one VPL array in T. kGlossyVpl: the array's VPLs have a GGX layer; kGlossyReceiver:
-// the point has one. Each lane sums its terms in T; the lanes are added in double.
-template <class T, bool kGlossyVpl, bool kGlossyReceiver>
-void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
+// the point has one; kMasked: each term is multiplied by a.visible[i]. Each lane sums its terms in
+// T; the lanes are added in double.
+template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
+void vpl_sum_terms(const VplView<T>& a, const Receiver<T>& p, double* out) {
   const std::size_t n = a.n;
   const T *x = a.x, *y = a.y, *z = a.z, *nx = a.nx, *ny = a.ny, *nz = a.nz, *r2 = a.r2, *lr = a.lambert_r,
           *lg = a.lambert_g, *lb = a.lambert_b;
   const T *ix = a.ix, *iy = a.iy, *iz = a.iz, *fr = a.flux_r, *fg = a.flux_g, *fb = a.flux_b, *f0r = a.f0_r,
-          *f0g = a.f0_g, *f0b = a.f0_b, *al = a.alpha, *ci = a.cos_incoming;
+          *f0g = a.f0_g, *f0b = a.f0_b, *al = a.alpha, *ci = a.cos_incoming, *visible = a.visible;
   T s0 = 0, s1 = 0, s2 = 0;
 #pragma omp simd reduction(+ : s0, s1, s2)
   for (std::size_t i = 0; i < n; ++i) {
@@ -82,7 +83,8 @@ void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
     const T wx = ox * inv, wy = oy * inv, wz = oz * inv;  // ω: from the VPL towards the point
     const T cv = wx * nx[i] + wy * ny[i] + wz * nz[i];
     const T cp = -(wx * p.nx + wy * p.ny + wz * p.nz);
-    const bool on = d2 > 0 && cv > 0 && cp > 0;
+    bool on = d2 > 0 && cv > 0 && cp > 0;
+    if constexpr (kMasked) on = on && visible[i] != 0;
     // Φ_i·I_i(ω)/Φ_i, I_i = ρ_i(ω'_i, ω)⟨ω·n_i⟩ (reciprocal, so either argument order).
     T e0 = lr[i] * cv, e1 = lg[i] * cv, e2 = lb[i] * cv;
     if constexpr (kGlossyVpl) {
@@ -106,6 +108,12 @@ void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
   out[0] += double(s0);
   out[1] += double(s1);
   out[2] += double(s2);
+}
+
+template <class T, bool kGlossyVpl, bool kGlossyReceiver>
+void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
+  if (a.visible) vpl_sum_terms<T, kGlossyVpl, kGlossyReceiver, true>(a, p, out);
+  else vpl_sum_terms<T, kGlossyVpl, kGlossyReceiver, false>(a, p, out);
 }
 
 // ---- VSGL shading -----------------------------------------------------------------------------

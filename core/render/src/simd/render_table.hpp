@@ -25,6 +25,7 @@ struct VplView {
   std::size_t n = 0;
   const T *x, *y, *z, *nx, *ny, *nz, *ix, *iy, *iz, *r2, *lambert_r, *lambert_g, *lambert_b;
   const T *flux_r, *flux_g, *flux_b, *f0_r, *f0_g, *f0_b, *alpha, *cos_incoming;  // glossy arrays only
+  const T* visible = nullptr;  // per VPL 0 or 1 (V(y_p, x_i) by ray casting), or nullptr: all visible
 };
 
 // What the sum needs of the shading point.

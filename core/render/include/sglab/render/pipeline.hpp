@@ -76,4 +76,18 @@ RenderResult render_scene(const Scene& scene, const RenderOptions& options);
 std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& options,
                                                 const std::vector<VsglOptions>& variants);
 
+// What every VSGL variant of one scene shares, with the times it took: the G-buffer, direct light,
+// RSM and VPLs, and the reference (the VPL sum). It does not depend on options.vsgl, so variants
+// that differ in nothing else (λ_d, the mode, the count) can reuse one.
+struct CommonPass {
+  GBuffer g;
+  ReflectiveShadowMap rsm;
+  RenderResult result;  // every field but the VSGL ones
+};
+CommonPass render_common(const Scene& scene, const RenderOptions& options);
+// The variants over a common pass that render_common made of the same scene with the same options
+// (options.vsgl aside).
+std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& options, const CommonPass& common,
+                                                const std::vector<VsglOptions>& variants);
+
 }  // namespace sglab::render

@@ -46,6 +46,10 @@ struct Hit {
   int object = -1;
 };
 std::optional<Hit> cast_ray(const Scene& scene, const Ray& ray);
+// Whether any shape is hit at a distance in (0, t_max): the same answer as cast_ray's nearest hit
+// being nearer than t_max (each shape's intersect returns its nearest hit in the range), found
+// without the nearest hit's position and normal and stopping at the first shape hit.
+bool occluded(const Scene& scene, const Ray& ray, double t_max);
 
 // The primary ray through image point (px, py) in pixel units: (0, 0) is the top-left corner of
 // the image, (width, height) the bottom-right; pixel (i, j)'s centre is (i + ½, j + ½).

@@ -56,10 +56,11 @@ void prepare_vpl_arrays(VplList& list);
 // Σ_i L_i at one shading point (radiance, W/(m² sr) per channel). With `visibility_scene`, each
 // term is multiplied by V(y_p, x_i) by ray casting against that scene (visibility.hpp), the
 // reference of VSGLs with visibility (Tokuyoshi 2016 supplement §4.1).
-// Without visibility the sum is vectorized over the VPL arrays (the terms are summed in a
-// different order than one by one, so the result agrees with the plain loop to rounding), in
-// double or, with Precision::single, in float (each lane's partial sum in float, the lanes added in
-// double). With visibility each term needs a ray cast, and the plain loop (double) is used.
+// The sum is vectorized over the VPL arrays (the terms are summed in a different order than one by
+// one, so the result agrees with the plain loop to rounding), in double or, with
+// Precision::single, in float (each lane's partial sum in float, the lanes added in double). With
+// visibility, V is found first for every VPL whose term is not already 0 by its cosines (a ray
+// cast each), and the vectorized sum masks the terms with it.
 struct Scene;
 Rgb reference_radiance(const ShadingPoint& point, const VplList& vpls, const Scene* visibility_scene = nullptr,
                        Precision precision = Precision::double_);
