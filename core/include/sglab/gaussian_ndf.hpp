@@ -188,7 +188,10 @@ inline double specular_gaussian_ndf_reference(const SpecularConfig& c, const Sph
   const Vec3d wo = specular_view(c.view_cos);
   const Vec3d xi = specular_light_axis(c.light_cos, c.light_azimuth);
   const double m = c.roughness, lambda = c.light_sharpness, f0 = c.f0;
-  auto f = [&](const Vec3d& w) -> double { return sg_eval(w, xi, lambda) * gaussian_ndf_brdf_cosine(m, f0, wo, w); };
+  auto f = [&](const Vec3d& w) -> double {
+    const double light = sg_eval(w, xi, lambda);
+    return light == 0 ? 0.0 : light * gaussian_ndf_brdf_cosine(m, f0, wo, w);  // as specular_reference
+  };
   const double pole_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
   const SphereFocus foci[1] = {{reflect_about(wo, Vec3d(0, 0, 1)), std::min(1.0, m * std::max(wo(2), 1e-3))}};
   const Vec3d clips[1] = {Vec3d(0, 0, 1)};
