@@ -71,7 +71,8 @@ def load(src):
     """{method: (lambdas, cosines, error[c, λ], smape[c, λ])} from the long CSV."""
     raw = OrderedDict()
     with open(src, newline="") as f:
-        reader = csv.reader(f)  # by column index: DictReader costs seconds on the 360k rows
+        # By column index (DictReader costs seconds on the 360k rows); provenance lines skipped.
+        reader = csv.reader(line for line in f if not line.startswith("#"))
         col = {name: k for k, name in enumerate(next(reader))}
         km, kl, kc, ke, ks = (col[c] for c in ("method", "sharpness", "cosine", "error", "smape"))
         for r in reader:
