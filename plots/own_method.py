@@ -22,7 +22,6 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from _common import save_figures  # noqa: E402
-from error_maps import load  # noqa: E402
 
 METHODS = ["tokuyoshi2024", "sglab"]
 
@@ -32,14 +31,23 @@ def save(fig, out_dir, stem):
 
 
 def read_maps(path):
-    """{method: (lambdas, cosines, error[c, λ])} of METHODS, by error_maps.load (the same CSV)."""
-    data = load(path)
+    rows = {m: [] for m in METHODS}
+    with open(path, newline="") as f:
+        for r in csv.DictReader(line for line in f if not line.startswith("#")):
+            if r["method"] in rows:
+                rows[r["method"]].append((float(r["sharpness"]), float(r["cosine"]), float(r["error"])))
     maps = {}
-    for m in METHODS:
-        if m not in data:
+    for m, v in rows.items():
+        if not v:
             sys.exit(f"own_method.py: no rows for method {m} in {path}")
-        ls, cs, err, _ = data[m]
-        maps[m] = (ls, cs, err)
+        a = np.array(v)
+        ls, cs = np.unique(a[:, 0]), np.unique(a[:, 1])
+        grid = np.full((len(cs), len(ls)), np.nan)
+        li = {x: i for i, x in enumerate(ls)}
+        ci = {x: i for i, x in enumerate(cs)}
+        for l, c, e in v:
+            grid[ci[c], li[l]] = e
+        maps[m] = (ls, cs, grid)
     return maps
 
 
