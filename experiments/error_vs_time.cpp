@@ -33,25 +33,34 @@ namespace error_vs_time {
 namespace {
 
 // Median wall time per evaluation of `batch` over `args` (rows of `arity`): one warm-up call, then
-// `repeats` timed runs of enough batch calls to last ≥ 20 ms each.
+// `repeats` timed runs of enough batch calls to last ≥ 20 ms each. The number of calls comes from
+// the faster of two single calls after the warm-up, with a 25 % margin (no doubling search whose
+// runs are thrown away: that cost as much as the timed runs); a timed run that still ends under
+// 20 ms doubles it and starts the runs again. A warm-up of ≥ 20 ms (the references) means 1 call.
 template <class T>
 double time_ns_per_eval(const BatchFn<T>& batch, const std::vector<T>& args, std::size_t arity, int repeats) {
+  constexpr double kMinRun = 0.02;  // seconds per timed run
+  constexpr int kMaxCalls = 1 << 20;
   std::vector<T> out(args.size() / arity);
-  batch(args, arity, out);
   using clock = std::chrono::steady_clock;
-  int calls = 1;
-  for (;;) {  // calibrate: calls per timed run
+  auto run = [&](int calls) {
     const auto t0 = clock::now();
     for (int i = 0; i < calls; ++i) batch(args, arity, out);
-    const double s = std::chrono::duration<double>(clock::now() - t0).count();
-    if (s >= 0.02 || calls >= (1 << 20)) break;
-    calls *= 2;
+    return std::chrono::duration<double>(clock::now() - t0).count();
+  };
+  int calls = 1;
+  if (run(1) < kMinRun) {
+    const double one = std::min(run(1), run(1));
+    calls = one > 0 ? int(std::clamp(std::ceil(1.25 * kMinRun / one), 1.0, double(kMaxCalls))) : kMaxCalls;
   }
   std::vector<double> per_eval;
-  for (int r = 0; r < repeats; ++r) {
-    const auto t0 = clock::now();
-    for (int i = 0; i < calls; ++i) batch(args, arity, out);
-    const double s = std::chrono::duration<double>(clock::now() - t0).count();
+  while (int(per_eval.size()) < repeats) {
+    const double s = run(calls);
+    if (s < kMinRun && calls < kMaxCalls) {  // too short after all: longer runs, from the start
+      calls = std::min(2 * calls, kMaxCalls);
+      per_eval.clear();
+      continue;
+    }
     per_eval.push_back(1e9 * s / (double(calls) * double(out.size())));
   }
   std::nth_element(per_eval.begin(), per_eval.begin() + repeats / 2, per_eval.end());

@@ -164,6 +164,12 @@ TEST(GaussianNdfReference, MatchesAnIndependentHalfVectorQuadrature) {
       {0.05, 1e3, 0.9, 0.9, 3.2, 0.04},   // sharp light beside a narrow lobe
       {1.0, 0.0, 1.0, 0.5, 0.0, 1.0},     // constant light: the directional albedo
       {0.2, 30, 0.95, 1.0, 0.0, 0.04},    // normal view
+      // Exactly grazing view: the mirror direction is a point singularity on the horizon (the pole there)
+      {0.2, 1, 1, 0, kPi / 2, 1},         // broad light at the normal
+      {1.0, 0.0, -1.0, 0.0, 0.0, 0.0},    // constant light
+      {1.0, 1e-4, -1, 0, 0, 0.5},         // broad light at −n
+      {0.5, 30, 0.3, 0, kPi, 0.04},       // light beside the mirror direction
+      {0.2, 1e3, -1e-8, 0, kPi, 0},       // sharp light at the mirror direction
   };
   for (const auto& c : cases) {
     const double ref = specular_gaussian_ndf_reference(c), hv = half_vector_quadrature(c);

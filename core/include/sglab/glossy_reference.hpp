@@ -282,7 +282,10 @@ inline double specular_reference(const SpecularConfig& c, const SphereQuadrature
   const double lambda = c.light_sharpness;
   const Vec3d n(0, 0, 1);
   auto f = [&](const Vec3d& w) -> double {
-    return sg_eval(w, xi, lambda) * ggx_brdf_cosine(alpha, c.f0, wo, w);
+    const double light = sg_eval(w, xi, lambda);
+    // Where the light underflows to 0 (λ‖ω − ξ‖²/2 past ~745: most nodes of a sharp light) the
+    // BRDF is not evaluated: it is finite, so the product is the same 0 either way.
+    return light == 0 ? 0.0 : light * ggx_brdf_cosine(alpha, c.f0, wo, w);
   };
   const double pole_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
   const double lobe_width = std::min(1.0, 2.0 * alpha * std::max(wo(2), 1e-3));
