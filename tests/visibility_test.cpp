@@ -35,7 +35,7 @@ Scene cornell(int size) {
 TEST(Visibility, CubeShadowMapAgreesWithRayCasting) {
   const Scene scene = cornell(48);
   const GBuffer g = render_gbuffer(scene);
-  for (const Vec3 origin : {Vec3(0.3, 1.2, 0.2), Vec3(-0.5, 0.4, 0.5)}) {
+  for (const Vec3& origin : {Vec3(0.3, 1.2, 0.2), Vec3(-0.5, 0.4, 0.5)}) {
     const CubeShadowMap map = render_cube_shadow_map(scene, origin, 512);
     std::size_t points = 0, agree = 0, occluded = 0;
     for (std::size_t k = 0; k < g.points.size(); ++k) {
