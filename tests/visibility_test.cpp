@@ -18,6 +18,7 @@
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/scene.hpp"
 #include "sglab/render/visibility.hpp"
+#include "sglab/simd.hpp"
 
 namespace {
 
@@ -97,6 +98,7 @@ TEST(Visibility, ReferenceWithVisibilityIsThePlainMaskedSum) {
   const Scene scene = cornell(20);
   const GBuffer g = render_gbuffer(scene);
   const VplList vpls = prepare_vpls(render_rsm(scene, 16));
+  const sglab::simd::Isa initial = sglab::simd::active_isa();
   std::size_t checked = 0;
   for (std::size_t k = 0; k < g.points.size(); ++k) {
     if (!g.hit[k]) continue;
@@ -117,12 +119,18 @@ TEST(Visibility, ReferenceWithVisibilityIsThePlainMaskedSum) {
       magnitude += term;
       if (!hit || hit->distance >= t * (1 - 1e-6)) plain += term;
     }
-    for (Precision precision : {Precision::double_, Precision::single}) {
-      const Rgb value = reference_radiance(p, vpls, &scene, precision);
-      const double tolerance = precision == Precision::single ? 1e-5 : 1e-13;
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(value(c), plain(c), tolerance * magnitude(c) + 1e-300) << "pixel " << k << " channel " << c;
+    // Every instruction set's loops (a VPL wrongly kept or dropped moves the sum by far more).
+    for (const sglab::simd::Isa isa : sglab::simd::supported_isas()) {
+      sglab::simd::force_isa(isa);
+      for (Precision precision : {Precision::double_, Precision::single}) {
+        const Rgb value = reference_radiance(p, vpls, &scene, precision);
+        const double tolerance = precision == Precision::single ? 1e-5 : 1e-13;
+        for (int c = 0; c < 3; ++c)
+          EXPECT_NEAR(value(c), plain(c), tolerance * magnitude(c) + 1e-300)
+              << "pixel " << k << " channel " << c << " on " << sglab::simd::isa_name(isa);
+      }
     }
+    sglab::simd::force_isa(initial);
     ++checked;
   }
   EXPECT_GT(checked, 200u);

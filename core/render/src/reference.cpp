@@ -4,6 +4,9 @@
 #include <cmath>
 #include <algorithm>
 #include <numbers>
+#include <type_traits>
+#include <utility>
+#include <variant>
 
 #include "sglab/render/material_brdf.hpp"
 #include "sglab/render/visibility.hpp"
@@ -28,23 +31,48 @@ simd_detail::VplView<T> view_of(const VplArraysT<T>& a, const T* visible) {
   return v;
 }
 
-// V(y_p, x_i) of every VPL in the arrays' order (each array padded with 0), by ray casting; only
-// where the term is not already 0 by its cosines (the kernel masks those itself).
+// The scene's shapes as the visibility kernel reads them (render_table.hpp Occluders).
+struct OccluderArrays {
+  std::vector<double> box, rectangle, sphere;
+  explicit OccluderArrays(const Scene& scene) {
+    for (const auto& object : scene.objects) {
+      if (const auto* b = std::get_if<Box>(&object.shape)) {
+        box.insert(box.end(), {b->min.x(), b->min.y(), b->min.z(), b->max.x(), b->max.y(), b->max.z()});
+      } else if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
+        const Vec3 n = r->edge_u.cross(r->edge_v).normalized();  // as intersect(Rectangle) has it
+        rectangle.insert(rectangle.end(), {r->corner.x(), r->corner.y(), r->corner.z(), r->edge_u.x(), r->edge_u.y(),
+                                           r->edge_u.z(), r->edge_v.x(), r->edge_v.y(), r->edge_v.z(), n.x(), n.y(), n.z(),
+                                           r->edge_u.squaredNorm(), r->edge_v.squaredNorm()});
+      } else if (const auto* sp = std::get_if<Sphere>(&object.shape)) {
+        sphere.insert(sphere.end(), {sp->center.x(), sp->center.y(), sp->center.z(), sp->radius});
+      }
+    }
+  }
+  simd_detail::Occluders view() const {
+    return {box.size() / 6, rectangle.size() / 14, sphere.size() / 4, box.data(), rectangle.data(), sphere.data()};
+  }
+};
+
+// V(y_p, x_i) of every VPL in the arrays' order (each array padded with 0), by the vectorized ray
+// casting of vpl_visible; 0 where the term is already 0 by its cosines.
 template <class T>
 struct VisibilityMasks {
   std::vector<T> lambert, glossy;
+  std::vector<double> scratch;
   void fill(const VplList& list, const ShadingPoint& p, const Scene& scene) {
-    lambert.assign(list.lambert.x.size(), T(0));
-    glossy.assign(list.glossy.x.size(), T(0));
-    std::size_t l = 0, g = 0;
-    for (const Vpl& v : list.vpls) {
-      T& visible = v.glossy() ? glossy[g++] : lambert[l++];
-      const Vec3 offset = p.position - v.position;
-      const double d2 = offset.squaredNorm();
-      if (!(d2 > 0)) continue;
-      const Vec3 omega = offset / std::sqrt(d2);  // from the VPL towards the point
-      if (!(omega.dot(v.normal) > 0) || !(-omega.dot(p.normal) > 0)) continue;
-      visible = vpl_visible(scene, p.position, p.normal, v.position) ? T(1) : T(0);
+    const OccluderArrays shapes(scene);
+    const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
+    const double position[3] = {p.position.x(), p.position.y(), p.position.z()};
+    const double normal[3] = {p.normal.x(), p.normal.y(), p.normal.z()};
+    for (auto [arrays, mask] : {std::pair{&list.lambert, &lambert}, std::pair{&list.glossy, &glossy}}) {
+      mask->resize(arrays->x.size());
+      scratch.resize(8 * simd_detail::kVisibilityBlock);
+      simd_detail::VplView<double> v{};
+      v.n = arrays->x.size();
+      v.x = arrays->x.data(), v.y = arrays->y.data(), v.z = arrays->z.data();
+      v.nx = arrays->nx.data(), v.ny = arrays->ny.data(), v.nz = arrays->nz.data();
+      if constexpr (std::is_same_v<T, float>) t.visibility_f(v, position, normal, shapes.view(), scratch.data(), mask->data());
+      else t.visibility_d(v, position, normal, shapes.view(), scratch.data(), mask->data());
     }
   }
 };

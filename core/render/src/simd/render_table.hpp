@@ -42,6 +42,24 @@ struct Receiver {
 template <class T>
 using VplSumFn = void (*)(const VplView<T>& vpls, const Receiver<T>& point, double* out);
 
+// ---- VPL visibility (reference.cpp, with visibility) ----
+
+// The scene's shapes as intersect() (raycast.cpp) sees them: boxes (min xyz, max xyz: 6 values),
+// rectangles (corner, edge_u, edge_v, the unit normal of edge_u × edge_v, |edge_u|², |edge_v|²:
+// 14 values), spheres (centre, radius: 4 values).
+struct Occluders {
+  std::size_t boxes = 0, rectangles = 0, spheres = 0;
+  const double *box = nullptr, *rectangle = nullptr, *sphere = nullptr;
+};
+
+// For a point (position p, normal n) and every VPL of a (double) array: out[i] = 1 where the
+// term is not 0 by its cosines and vpl_visible (visibility.cpp) finds the VPL visible, else 0 —
+// the same arithmetic, ray by ray, so the same answer. scratch: 8·kVisibilityBlock doubles.
+inline constexpr std::size_t kVisibilityBlock = 256;
+template <class M>
+using VisibilityFn = void (*)(const VplView<double>& vpls, const double* p, const double* n, const Occluders& shapes,
+                              double* scratch, M* out);
+
 // ---- VSGL shading (vsgl_shading.cpp) ----
 
 // The lobes of a VSGL set as arrays (cluster order), double.
@@ -119,6 +137,8 @@ struct RenderKernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   VplSumFn<double> vpl_sum_d[4];
   VplSumFn<float> vpl_sum_f[4];
+  VisibilityFn<double> visibility_d;
+  VisibilityFn<float> visibility_f;
   IncomingFn<double> incoming_d;
   IncomingFn<float> incoming_f;
   WeightedSumFn<double> weighted_sum_d;
