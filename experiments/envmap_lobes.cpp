@@ -188,7 +188,7 @@ Environment compute_environment(const Result& r, const LoadedEnv& env, const std
     std::fprintf(stderr, "envmap lobes: %s N = %d: ceres relative error %.4g in %.2f s (on %d×%d); vMF EM %.4g in %.2f s\n",
                  env.name.c_str(), c.lobes, c.ceres.error.relative, c.ceres.seconds, c.ceres.fit_width, c.ceres.fit_height,
                  c.vmf_relative, c.vmf_seconds);
-    const EnvMap recon = rasterize_mixture(c.ceres.mixture, env.map.width, env.map.height, fit::kErrorSupersample);
+    const EnvMap& recon = c.ceres.texel_means;  // the mixture rasterized as its fit error saw it
     if (shows_image(a, c.lobes)) images[k] = small_image(recon);
     for (std::size_t gi = 0; gi < geometries.size(); ++gi)
       c.geometries.push_back(shade_fit(a, r, c.ceres.mixture, recon, geometries[gi], map, gi));
