@@ -90,6 +90,29 @@ EnvMap small_image(const EnvMap& m) {
   return small;
 }
 
+// A diffuse shading (a function of the normal only) evaluated once per distinct normal: the plane
+// has one normal for all its view directions. `shade` is called on the image of the distinct
+// points, so every value is the one the same call gives for that point (the diffuse quadratures
+// per pixel, of the map and of the mixture's reference per lobe, were a large part of the run).
+template <class Shade>
+std::vector<render::Rgb> per_distinct_normal(const render::EnvImage& image, const Shade& shade) {
+  render::EnvImage distinct;
+  std::vector<std::size_t> slot(image.points.size());
+  for (std::size_t k = 0; k < image.points.size(); ++k) {
+    const auto& p = image.points[k];
+    std::size_t s = 0;
+    while (s < distinct.points.size() && distinct.points[s].normal != p.normal) ++s;
+    if (s == distinct.points.size()) distinct.points.push_back({int(s), p.normal, p.view});
+    slot[k] = s;
+  }
+  distinct.width = int(distinct.points.size());
+  distinct.height = 1;
+  const std::vector<render::Rgb> values = shade(distinct);
+  std::vector<render::Rgb> out(std::size_t(image.width) * std::size_t(image.height), render::Rgb::Zero());
+  for (std::size_t k = 0; k < image.points.size(); ++k) out[std::size_t(image.points[k].pixel)] = values[slot[k]];
+  return out;
+}
+
 // Layer (1) of one environment: the map's exact shading per geometry (specular per roughness).
 struct MapShading {
   std::vector<std::vector<render::Rgb>> diffuse, specular;  // [geometry], [geometry × roughness]
@@ -99,7 +122,7 @@ MapShading shade_map(const Options& a, const LoadedEnv& env, const std::vector<G
   std::fprintf(stderr, "envmap lobes: %s (%d×%d): exact shading of the map …\n", env.name.c_str(), env.map.width, env.map.height);
   MapShading s;
   for (const auto& g : geometries) {
-    s.diffuse.push_back(render::integrate_diffuse(env.map, g.image));
+    s.diffuse.push_back(per_distinct_normal(g.image, [&](const auto& im) { return render::integrate_diffuse(env.map, im); }));
     for (double r : a.roughness) s.specular.push_back(render::integrate_specular(env.map, g.image, r, a.f0));
   }
   // Quadrature convergence at 2×2 sub-texels on the hardest case (sphere, smallest roughness).
@@ -130,33 +153,12 @@ std::map<int, fit::EnvFitResult> ceres_fits(const Options& a, const EnvMap& map)
   return fits;
 }
 
-// render::mixture_diffuse_reference evaluated once per distinct normal: the value depends on the
-// normal only, and the plane has one normal for all its view directions. Every value is the one
-// the same call gives for that point (a quadrature per pixel and lobe: a large part of the run).
-std::vector<render::Rgb> diffuse_reference(const SgMixture& mixture, const render::EnvImage& image) {
-  render::EnvImage distinct;
-  std::vector<std::size_t> slot(image.points.size());
-  for (std::size_t k = 0; k < image.points.size(); ++k) {
-    const auto& p = image.points[k];
-    std::size_t s = 0;
-    while (s < distinct.points.size() && distinct.points[s].normal != p.normal) ++s;
-    if (s == distinct.points.size()) distinct.points.push_back({int(s), p.normal, p.view});
-    slot[k] = s;
-  }
-  distinct.width = int(distinct.points.size());
-  distinct.height = 1;
-  const auto values = render::mixture_diffuse_reference(mixture, distinct);
-  std::vector<render::Rgb> out(std::size_t(image.width) * std::size_t(image.height), render::Rgb::Zero());
-  for (std::size_t k = 0; k < image.points.size(); ++k) out[std::size_t(image.points[k].pixel)] = values[slot[k]];
-  return out;
-}
-
 // Layers (2) and (3) of one fit on one geometry, against the map's layer (1).
 GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixture, const EnvMap& recon, const Geometry& g,
                        const MapShading& map, std::size_t gi) {
   GeometryRows rows;
   // Diffuse: layer 2 by the clamped-cosine reference per lobe, layer 3 per method.
-  const auto mix_d = diffuse_reference(mixture, g.image);
+  const auto mix_d = per_distinct_normal(g.image, [&](const auto& im) { return render::mixture_diffuse_reference(mixture, im); });
   rows.diffuse.fit = render::shading_error(mix_d, map.diffuse[gi], g.image);
   for (const auto& m : r.diffuse_methods) {
     const auto approx = render::mixture_diffuse_method(mixture, g.image, m);
