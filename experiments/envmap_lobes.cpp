@@ -3,7 +3,7 @@
 //
 // The work runs in parallel without changing a number: the environments are independent; within
 // one, the Ceres lobe ladder (one fit at the largest N) is sequential, while the vMF-EM fits and
-// the shading of every N are independent of each other. Every value is computed by the same
+// the shading of every N are independent of each other (compute() says how they are scheduled). Every value is computed by the same
 // calls as in a sequential run and stored in its place, and the tables are formatted afterwards in
 // the sequential order.
 #include "envmap_lobes.hpp"
@@ -12,12 +12,12 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <map>
 #include <mutex>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
 #include "atomic_file.hpp"
 #include "input_error.hpp"
@@ -90,6 +90,29 @@ EnvMap small_image(const EnvMap& m) {
   return small;
 }
 
+// A diffuse shading (a function of the normal only) evaluated once per distinct normal: the plane
+// has one normal for all its view directions. `shade` is called on the image of the distinct
+// points, so every value is the one the same call gives for that point (the diffuse quadratures
+// per pixel, of the map and of the mixture's reference per lobe, were a large part of the run).
+template <class Shade>
+std::vector<render::Rgb> per_distinct_normal(const render::EnvImage& image, const Shade& shade) {
+  render::EnvImage distinct;
+  std::vector<std::size_t> slot(image.points.size());
+  for (std::size_t k = 0; k < image.points.size(); ++k) {
+    const auto& p = image.points[k];
+    std::size_t s = 0;
+    while (s < distinct.points.size() && distinct.points[s].normal != p.normal) ++s;
+    if (s == distinct.points.size()) distinct.points.push_back({int(s), p.normal, p.view});
+    slot[k] = s;
+  }
+  distinct.width = int(distinct.points.size());
+  distinct.height = 1;
+  const std::vector<render::Rgb> values = shade(distinct);
+  std::vector<render::Rgb> out(std::size_t(image.width) * std::size_t(image.height), render::Rgb::Zero());
+  for (std::size_t k = 0; k < image.points.size(); ++k) out[std::size_t(image.points[k].pixel)] = values[slot[k]];
+  return out;
+}
+
 // Layer (1) of one environment: the map's exact shading per geometry (specular per roughness).
 struct MapShading {
   std::vector<std::vector<render::Rgb>> diffuse, specular;  // [geometry], [geometry × roughness]
@@ -99,7 +122,7 @@ MapShading shade_map(const Options& a, const LoadedEnv& env, const std::vector<G
   std::fprintf(stderr, "envmap lobes: %s (%d×%d): exact shading of the map …\n", env.name.c_str(), env.map.width, env.map.height);
   MapShading s;
   for (const auto& g : geometries) {
-    s.diffuse.push_back(render::integrate_diffuse(env.map, g.image));
+    s.diffuse.push_back(per_distinct_normal(g.image, [&](const auto& im) { return render::integrate_diffuse(env.map, im); }));
     for (double r : a.roughness) s.specular.push_back(render::integrate_specular(env.map, g.image, r, a.f0));
   }
   // Quadrature convergence at 2×2 sub-texels on the hardest case (sphere, smallest roughness).
@@ -135,7 +158,7 @@ GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixtu
                        const MapShading& map, std::size_t gi) {
   GeometryRows rows;
   // Diffuse: layer 2 by the clamped-cosine reference per lobe, layer 3 per method.
-  const auto mix_d = render::mixture_diffuse_reference(mixture, g.image);
+  const auto mix_d = per_distinct_normal(g.image, [&](const auto& im) { return render::mixture_diffuse_reference(mixture, im); });
   rows.diffuse.fit = render::shading_error(mix_d, map.diffuse[gi], g.image);
   for (const auto& m : r.diffuse_methods) {
     const auto approx = render::mixture_diffuse_method(mixture, g.image, m);
@@ -160,35 +183,19 @@ GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixtu
 
 bool shows_image(const Options& a, int n) { return n == 4 || n == 32 || n == 128 || n == a.lobes.back(); }
 
-// Everything of one environment: layer (1) and the Ceres ladder side by side with the vMF-EM
-// fits, then the shading of every N.
-Environment compute_environment(const Result& r, const LoadedEnv& env, const std::vector<Geometry>& geometries) {
+// The shading of one environment's fits (layers (2) and (3) of every N, and the figure's images),
+// once its Ceres fits and the map's layer (1) are known.
+void shade_environment(const Result& r, const LoadedEnv& env, const std::vector<Geometry>& geometries,
+                       const std::map<int, fit::EnvFitResult>& fits, const MapShading& map, Environment& out) {
   const Options& a = r.options;
-  Environment out;
-  out.name = env.name;
-  out.counts.resize(a.lobes.size());
-  MapShading map;
-  std::map<int, fit::EnvFitResult> fits;
-  tbb::parallel_invoke([&] { map = shade_map(a, env, geometries, out); }, [&] { fits = ceres_fits(a, env.map); },
-                       [&] {
-                         tbb::parallel_for(std::size_t(0), a.lobes.size(), [&](std::size_t k) {
-                           fit::EnvFitOptions o;
-                           o.lobes = a.lobes[k];
-                           o.init = "kmeans";
-                           const auto fe = fit::fit_envmap_vmf_em(env.map, o);
-                           out.counts[k].vmf_relative = fe.error.relative;
-                           out.counts[k].vmf_seconds = fe.seconds;
-                         });
-                       });
   std::vector<EnvMap> images(a.lobes.size());
   tbb::parallel_for(std::size_t(0), a.lobes.size(), [&](std::size_t k) {
     LobeCount& c = out.counts[k];
     c.lobes = a.lobes[k];
     c.ceres = fits.at(c.lobes);
-    std::fprintf(stderr, "envmap lobes: %s N = %d: ceres relative error %.4g in %.2f s (on %d×%d); vMF EM %.4g in %.2f s\n",
-                 env.name.c_str(), c.lobes, c.ceres.error.relative, c.ceres.seconds, c.ceres.fit_width, c.ceres.fit_height,
-                 c.vmf_relative, c.vmf_seconds);
-    const EnvMap recon = rasterize_mixture(c.ceres.mixture, env.map.width, env.map.height, fit::kErrorSupersample);
+    std::fprintf(stderr, "envmap lobes: %s N = %d: ceres relative error %.4g in %.2f s (on %d×%d)\n", env.name.c_str(), c.lobes,
+                 c.ceres.error.relative, c.ceres.seconds, c.ceres.fit_width, c.ceres.fit_height);
+    const EnvMap& recon = c.ceres.texel_means;  // the mixture rasterized as its fit error saw it
     if (shows_image(a, c.lobes)) images[k] = small_image(recon);
     for (std::size_t gi = 0; gi < geometries.size(); ++gi)
       c.geometries.push_back(shade_fit(a, r, c.ceres.mixture, recon, geometries[gi], map, gi));
@@ -196,7 +203,6 @@ Environment compute_environment(const Result& r, const LoadedEnv& env, const std
   out.images.push_back({0, small_image(env.map)});
   for (std::size_t k = 0; k < a.lobes.size(); ++k)
     if (shows_image(a, a.lobes[k])) out.images.push_back({a.lobes[k], std::move(images[k])});
-  return out;
 }
 
 }  // namespace
@@ -213,8 +219,45 @@ Result compute(const Options& o) {
   const std::vector<Geometry> geometries = {{"sphere", render::sphere_image(a.sphere_res)},
                                             {"plane", render::plane_image(a.sphere_res, a.sphere_res / 2)}};
   for (const auto& g : geometries) r.geometries.push_back(g.name);
+  // Each environment's Ceres ladder is one long sequential chain: the chains run on threads of
+  // their own from the start, each going on to the shading of its environment once the map's
+  // layer (1) is there, while this thread computes every layer (1) and then every vMF-EM fit.
+  // (Each thread's TBB loops run in its own arena, so a chain never waits behind other work.)
   r.environments.resize(envs.size());
-  tbb::parallel_for(std::size_t(0), envs.size(), [&](std::size_t e) { r.environments[e] = compute_environment(r, envs[e], geometries); });
+  std::vector<MapShading> maps(envs.size());
+  std::promise<void> maps_done;
+  std::shared_future<void> maps_ready = maps_done.get_future().share();
+  std::vector<std::future<void>> chains;
+  for (std::size_t e = 0; e < envs.size(); ++e) {
+    r.environments[e].name = envs[e].name;
+    r.environments[e].counts.resize(a.lobes.size());
+    chains.push_back(std::async(std::launch::async, [&, e] {
+      const auto fits = ceres_fits(a, envs[e].map);
+      maps_ready.get();  // rethrows a failure of the layer (1) shading
+      shade_environment(r, envs[e], geometries, fits, maps[e], r.environments[e]);
+    }));
+  }
+  try {
+    tbb::parallel_for(std::size_t(0), envs.size(),
+                      [&](std::size_t e) { maps[e] = shade_map(a, envs[e], geometries, r.environments[e]); });
+    maps_done.set_value();
+  } catch (...) {
+    maps_done.set_exception(std::current_exception());
+    for (auto& c : chains) c.wait();
+    throw;
+  }
+  tbb::parallel_for(std::size_t(0), envs.size() * a.lobes.size(), [&](std::size_t i) {
+    const std::size_t e = i / a.lobes.size(), k = i % a.lobes.size();
+    fit::EnvFitOptions fo;
+    fo.lobes = a.lobes[k];
+    fo.init = "kmeans";
+    const auto fe = fit::fit_envmap_vmf_em(envs[e].map, fo);
+    r.environments[e].counts[k].vmf_relative = fe.error.relative;
+    r.environments[e].counts[k].vmf_seconds = fe.seconds;
+    std::fprintf(stderr, "envmap lobes: %s N = %d: vMF EM relative error %.4g in %.2f s\n", envs[e].name.c_str(), a.lobes[k],
+                 fe.error.relative, fe.seconds);
+  });
+  for (auto& c : chains) c.get();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return r;
 }

@@ -12,6 +12,8 @@
 
 #include <ceres/ceres.h>
 #include <ceres/sphere_manifold.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "sglab/vmf_filtering.hpp"
 
@@ -314,7 +316,12 @@ void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::v
   r.mixture = unpack(x, int(x.size()) / kStride);
   const auto t1 = std::chrono::steady_clock::now();
   r.seconds = std::chrono::duration<double>(t1 - t0).count() - excluded;
-  r.error = envmap_error(map, rasterize_mixture(r.mixture, map.width, map.height, kErrorSupersample));
+  // rasterize_mixture's texel means, its rows in parallel (each row is computed alone: the same values)
+  r.texel_means = EnvMap{map.width, map.height, std::vector<std::array<float, 3>>(map.size())};
+  tbb::parallel_for(tbb::blocked_range<int>(0, map.height, 8), [&](const tbb::blocked_range<int>& rows) {
+    rasterize_mixture_rows(r.mixture, kErrorSupersample, rows.begin(), rows.end(), r.texel_means);
+  });
+  r.error = envmap_error(map, r.texel_means);
   excluded += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 }
 
@@ -486,7 +493,7 @@ EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
   const std::vector<double> w = texel_weights(level);
   std::vector<Cluster> cl = spherical_kmeans(level, w, N, o.seed);
   const std::size_t T = level.dirs.size();
-  std::vector<double> logp(static_cast<std::size_t>(N));
+  std::vector<double> logp(static_cast<std::size_t>(N)), log_norm(static_cast<std::size_t>(N));
   std::vector<Vec3d> sum(static_cast<std::size_t>(N));
   std::vector<double> wsum(static_cast<std::size_t>(N));
   double previous = -INFINITY;
@@ -496,12 +503,16 @@ EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
     std::fill(sum.begin(), sum.end(), Vec3d::Zero());
     std::fill(wsum.begin(), wsum.end(), 0.0);
     double loglik = 0;
+    // log(weight/A(λ)) of each component, which the texel loop adds to λ(ω·ξ − 1)
+    for (int j = 0; j < N; ++j) {
+      const auto& c = cl[std::size_t(j)];
+      log_norm[std::size_t(j)] = std::log(std::max(c.weight, 1e-300)) - std::log(sg_integral(c.sharpness));
+    }
     for (std::size_t t = 0; t < T; ++t) {
       double mx = -INFINITY;
       for (int j = 0; j < N; ++j) {
         const auto& c = cl[std::size_t(j)];
-        const double lp = std::log(std::max(c.weight, 1e-300)) - std::log(sg_integral(c.sharpness)) +
-                          c.sharpness * (level.dirs[t].dot(c.axis) - 1);
+        const double lp = log_norm[std::size_t(j)] + c.sharpness * (level.dirs[t].dot(c.axis) - 1);
         logp[std::size_t(j)] = lp;
         mx = std::max(mx, lp);
       }

@@ -60,6 +60,7 @@ struct EnvFitResult {
   std::string method;      // "ceres" | "vmf-em"
   SgMixture mixture;
   EnvMapError error;       // against the full map
+  EnvMap texel_means;      // the mixture's texel means on the full map's grid (what `error` compares)
   double seconds = 0;
   int iterations = 0;      // LM iterations (all levels) or EM iterations
   bool converged = false;  // every level's LM stopped on a tolerance (not the iteration cap)

@@ -125,6 +125,60 @@ TEST(EnvMapQuadrature, SpecularMatchesSpecularReference) {
   EXPECT_NEAR(value, ref, 1e-3 * ref);
 }
 
+// Fit options with the k-means start and k-means++ seed `seed` (printed).
+sglab::fit::EnvFitOptions kmeans_options(int lobes, unsigned seed) {
+  sglab::fit::EnvFitOptions o;
+  o.lobes = lobes;
+  o.init = "kmeans";
+  o.seed = seed;
+  std::printf("[ seed     ] k-means++ seed %u\n", o.seed);
+  return o;
+}
+
+// rasterize_mixture against its definition, written out independently: each texel the mean of the
+// mixture at envmap_direction's s × s points (s = 1, 3), per float within 2 ulp (the fast form
+// takes the points' sines and cosines once per row and column); rows filled in two separate calls
+// give the same map.
+TEST(EnvMapRaster, TexelMeansMatchTheirDefinition) {
+  const SgMixture m = sglab::render::synthetic_mixture();
+  const int w = 48, h = 24;
+  for (int s : {1, 3}) {
+    const EnvMap fast = sglab::rasterize_mixture(m, w, h, s);
+    EnvMap halves{w, h, std::vector<std::array<float, 3>>(std::size_t(w * h))};
+    sglab::rasterize_mixture_rows(m, s, 0, 7, halves);
+    sglab::rasterize_mixture_rows(m, s, 7, h, halves);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        double sum[3] = {0, 0, 0};
+        for (int sy = 0; sy < s; ++sy)
+          for (int sx = 0; sx < s; ++sx)
+            for (const auto& l : m) {
+              const Vec3d d = sglab::envmap_direction(w, h, u + (sx + 0.5) / s, v + (sy + 0.5) / s);
+              const double g = std::exp(l.sharpness * (d.dot(l.axis) - 1));
+              for (int c = 0; c < 3; ++c) sum[c] += l.amplitude[std::size_t(c)] * g;
+            }
+        for (int c = 0; c < 3; ++c) {
+          const float ref = float(sum[c] / (s * s)), got = fast.at(u, v)[std::size_t(c)];
+          EXPECT_NEAR(got, ref, 2 * std::numeric_limits<float>::epsilon() * ref) << "s " << s << " texel " << u << "," << v;
+          EXPECT_EQ(halves.at(u, v)[std::size_t(c)], got) << "s " << s << " texel " << u << "," << v;
+        }
+      }
+  }
+}
+
+// The fit keeps the texel means its error was measured on: the error recomputed from them.
+TEST(EnvMapFit, KeepsTheTexelMeansOfItsError) {
+  const EnvMap map = sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 64, 32, 2);
+  const sglab::fit::EnvFitOptions o = kmeans_options(3, 7);
+  for (const auto& r : {sglab::fit::fit_envmap_ceres(map, o), sglab::fit::fit_envmap_vmf_em(map, o)}) {
+    ASSERT_EQ(r.texel_means.width, map.width);
+    ASSERT_EQ(r.texel_means.height, map.height);
+    const EnvMap direct = sglab::rasterize_mixture(r.mixture, map.width, map.height, sglab::fit::kErrorSupersample);
+    EXPECT_EQ(r.texel_means.texels, direct.texels) << r.method;
+    EXPECT_EQ(sglab::envmap_error(map, direct).relative, r.error.relative) << r.method;
+  }
+}
+
 // A known 4-lobe mixture rasterized as texel means (8 × 8 points per texel) of a 128×64 map is
 // recovered by the Ceres fit (k-means start, coarse to fine ending on the full map): axes within
 // 1e-3 rad, sharpness and amplitudes within 1 % relative. The fit models a texel mean by the
@@ -132,11 +186,7 @@ TEST(EnvMapQuadrature, SpecularMatchesSpecularReference) {
 TEST(EnvMapFit, RecoversSyntheticMixture) {
   const SgMixture truth = sglab::render::synthetic_mixture();
   const EnvMap map = sglab::rasterize_mixture(truth, 128, 64, 8);
-  sglab::fit::EnvFitOptions o;
-  o.lobes = int(truth.size());
-  o.init = "kmeans";
-  o.seed = 3;
-  std::printf("[ seed     ] k-means++ seed %u\n", o.seed);
+  const sglab::fit::EnvFitOptions o = kmeans_options(int(truth.size()), 3);
   const auto r = sglab::fit::fit_envmap_ceres(map, o);
   EXPECT_EQ(r.fit_width, 128);
   EXPECT_LT(r.error.relative, 3e-3);
@@ -161,11 +211,7 @@ TEST(EnvMapFit, RecoversSyntheticMixture) {
 // N = 128 of this map once reached 0.30).
 TEST(EnvMapFit, LadderErrorDoesNotGrowWithN) {
   const EnvMap map = sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 128, 64, 8);
-  sglab::fit::EnvFitOptions o;
-  o.lobes = 16;
-  o.init = "kmeans";
-  o.seed = 5;
-  std::printf("[ seed     ] k-means++ seed %u\n", o.seed);
+  sglab::fit::EnvFitOptions o = kmeans_options(16, 5);
   std::vector<std::pair<int, double>> rungs;
   o.on_stage = [&](const sglab::fit::EnvFitResult& r) { rungs.emplace_back(int(r.mixture.size()), r.error.relative); };
   const auto last = sglab::fit::fit_envmap_ceres(map, o);

@@ -73,17 +73,35 @@ inline std::array<double, 3> mixture_eval(const SgMixture& m, const Vec3<double>
   return out;
 }
 
-// The mixture at every texel: the average of supersample × supersample points per texel
-// (supersample = 1: the texel centre).
-inline EnvMap rasterize_mixture(const SgMixture& m, int width, int height, int supersample = 1) {
-  EnvMap map{width, height, std::vector<std::array<float, 3>>(std::size_t(width) * std::size_t(height))};
-  const double inv = 1.0 / double(supersample * supersample);
-  for (int v = 0; v < height; ++v) {
+// Rows [v0, v1) of rasterize_mixture(m, map.width, map.height, supersample) into `map` (already
+// sized): the rows are independent, so a caller may fill them in parallel. The sample directions
+// are envmap_direction's, with its sines and cosines taken once per sample column (φ) and row (θ).
+inline void rasterize_mixture_rows(const SgMixture& m, int supersample, int v0, int v1, EnvMap& map) {
+  const int width = map.width, height = map.height, s = supersample;
+  const double inv = 1.0 / double(s * s);
+  std::vector<double> cos_phi(std::size_t(width) * std::size_t(s)), sin_phi(cos_phi.size());
+  for (int u = 0; u < width; ++u)
+    for (int sx = 0; sx < s; ++sx) {
+      const double x = u + (sx + 0.5) / s;
+      const double phi = 2 * M_PI * x / double(width) - M_PI;
+      cos_phi[std::size_t(u * s + sx)] = std::cos(phi);
+      sin_phi[std::size_t(u * s + sx)] = std::sin(phi);
+    }
+  std::vector<double> sin_theta(static_cast<std::size_t>(s)), cos_theta(static_cast<std::size_t>(s));  // per sample row of row v
+  for (int v = v0; v < v1; ++v) {
+    for (int sy = 0; sy < s; ++sy) {
+      const double y = v + (sy + 0.5) / s;
+      const double theta = M_PI * y / double(height);
+      sin_theta[std::size_t(sy)] = std::sin(theta);
+      cos_theta[std::size_t(sy)] = std::cos(theta);
+    }
     for (int u = 0; u < width; ++u) {
       std::array<double, 3> sum{0, 0, 0};
-      for (int sy = 0; sy < supersample; ++sy) {
-        for (int sx = 0; sx < supersample; ++sx) {
-          const auto w = envmap_direction(width, height, u + (sx + 0.5) / supersample, v + (sy + 0.5) / supersample);
+      for (int sy = 0; sy < s; ++sy) {
+        for (int sx = 0; sx < s; ++sx) {
+          const std::size_t k = std::size_t(u * s + sx);
+          const double st = sin_theta[std::size_t(sy)];
+          const Vec3<double> w(st * cos_phi[k], st * sin_phi[k], cos_theta[std::size_t(sy)]);
           const auto x = mixture_eval(m, w);
           for (int c = 0; c < 3; ++c) sum[c] += x[c];
         }
@@ -92,6 +110,13 @@ inline EnvMap rasterize_mixture(const SgMixture& m, int width, int height, int s
       for (int c = 0; c < 3; ++c) t[c] = float(sum[c] * inv);
     }
   }
+}
+
+// The mixture at every texel: the average of supersample × supersample points per texel
+// (supersample = 1: the texel centre).
+inline EnvMap rasterize_mixture(const SgMixture& m, int width, int height, int supersample = 1) {
+  EnvMap map{width, height, std::vector<std::array<float, 3>>(std::size_t(width) * std::size_t(height))};
+  rasterize_mixture_rows(m, supersample, 0, height, map);
   return map;
 }
 
