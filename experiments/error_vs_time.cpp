@@ -33,13 +33,15 @@ namespace error_vs_time {
 namespace {
 
 // Median wall time per evaluation of `batch` over `args` (rows of `arity`): one warm-up call, then
-// `repeats` timed runs of enough batch calls to last ≥ 20 ms each. The number of calls comes from
+// `repeats` timed runs of enough batch calls to last ≥ 10 ms each. The number of calls comes from
 // the faster of two single calls after the warm-up, with a 25 % margin (no doubling search whose
 // runs are thrown away: that cost as much as the timed runs); a timed run that still ends under
-// 20 ms doubles it and starts the runs again. A warm-up of ≥ 20 ms (the references) means 1 call.
+// 10 ms doubles it and starts the runs again. A warm-up of ≥ 10 ms (the references) means 1 call.
+// 10 ms is thousands of batch calls of the fast methods, several scheduler ticks, and far above the
+// clock's resolution.
 template <class T>
 double time_ns_per_eval(const BatchFn<T>& batch, const std::vector<T>& args, std::size_t arity, int repeats) {
-  constexpr double kMinRun = 0.02;  // seconds per timed run
+  constexpr double kMinRun = 0.01;  // seconds per timed run
   constexpr int kMaxCalls = 1 << 20;
   std::vector<T> out(args.size() / arity);
   using clock = std::chrono::steady_clock;
@@ -318,7 +320,7 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
   const Grid& g = grid_out;
   const std::size_t arity = g.arity;
   const std::vector<float> timing_f(g.timing.begin(), g.timing.end());
-  // Timed runs per cost (each ≥ 20 ms); the median of 7 is as stable as that of 15 against
+  // Timed runs per cost (each ≥ 10 ms); the median of 7 is as stable as that of 15 against
   // the odd slow run, at half the time.
   const int repeats = quick ? 5 : 7;
 
@@ -406,7 +408,7 @@ Tables tables(const Result& result) {
       "Per quantity, every registered method against the quantity's reference, in float and double. Rounding: the "
       "method in that precision against the same formula in 50 digits on the same input, shown apart from the "
       "approximation error. Cost: median ns per evaluation over seeded inputs on this machine (one core, warm-up, "
-      "median of 7 runs of ≥ 20 ms each), through the registry's batch evaluators (vectorized for the diffuse and specular methods: docs/simd.md); "
+      "median of 7 runs of ≥ 10 ms each), through the registry's batch evaluators (vectorized for the diffuse and specular methods: docs/simd.md); "
       "beside it the same inputs through a naive scalar port of the published formula (std:: math, no stable forms: "
       "`core/include/sglab/peer_ports.hpp`, a speed baseline, not a method) and the port's time over sglab's. "
       "`neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n");

@@ -67,8 +67,8 @@ struct Experiment {
 
 // The experiments, in the order `sglab reproduce` runs them (a step may read an earlier one's
 // outputs: the λ_d render sweep reads the fits). Those with timed steps come first, then the
-// longest untimed one (stability), so that the plots have untimed steps to run beside. One line
-// per experiment:
+// untimed ones, long ones (stability, sweep specular) at both ends, so that the plots have
+// untimed steps to run beside. One line per experiment:
 // NAME_experiment() is defined in the experiment's own file.
 #define SGLAB_EXPERIMENTS(X) \
   X(fits)                    \
@@ -76,13 +76,13 @@ struct Experiment {
   X(sweep_render)            \
   X(envmap)                  \
   X(stability)               \
-  X(sweep_specular)          \
   X(error_map)               \
   X(renders)                 \
   X(filtering)               \
   X(vsgl_fis_bias)           \
   X(near_wall)               \
-  X(poster_plots)
+  X(poster_plots)            \
+  X(sweep_specular)
 
 #define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();
 SGLAB_EXPERIMENTS(SGLAB_DECLARE_EXPERIMENT)

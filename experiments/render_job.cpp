@@ -48,10 +48,12 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
                  "arithmetic of the VPL-sum reference and of the diffuse method in VSGL shading: double, or float "
                  "(within 1e-5 relative L2 of double: docs/simd.md)")
       ->capture_default_str();
+  app.add_option("--reference-precision", job.reference_precision,
+                 "arithmetic of the VPL-sum reference alone: double or float (default: --precision's)");
   add_constants_option(app, job.constants);
   // A repeated option takes its last value (so that a script can append an override).
   for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--kmeans-space",
-                           "--precision"})
+                           "--precision", "--reference-precision"})
     if (auto* o = app.get_option_no_throw(name)) o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }
 
@@ -121,6 +123,10 @@ render::RenderOptions render_options(const RenderJob& job) {
   if (const auto error = render::vsgl_options_error(o.vsgl)) throw UsageError("VSGL options: " + *error);
   if (job.precision != "float" && job.precision != "double")
     throw UsageError(fmt::format("--precision '{}' is neither float nor double", job.precision));
+  if (!job.reference_precision.empty() && job.reference_precision != "float" && job.reference_precision != "double")
+    throw UsageError(fmt::format("--reference-precision '{}' is neither float nor double", job.reference_precision));
+  if (!job.reference_precision.empty())
+    o.reference_precision = job.reference_precision == "float" ? render::Precision::single : render::Precision::double_;
   try {
     o.shading = render::shading_options(job.diffuse);
     o.shading.sg_cosine_a_is_pi = job.sg_cosine_a_is_pi;
@@ -175,6 +181,7 @@ std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vs
   if (job.visibility) a.push_back("--visibility");
   if (job.kmeans_space != "world") a.insert(a.end(), {"--kmeans-space", job.kmeans_space});
   if (job.precision != RenderJob{}.precision) a.insert(a.end(), {"--precision", job.precision});
+  if (!job.reference_precision.empty()) a.insert(a.end(), {"--reference-precision", job.reference_precision});
   for (const auto& c : constants_arguments(job.constants)) a.push_back(c);
   return a;
 }
@@ -263,6 +270,7 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
   j["power"] = {{"light", rgb_json(scene.light.power)}, {"rsm_flux", rgb_json(r.rsm_flux)}};
   j["visibility"] = options.visibility;
   j["precision"] = job.precision;
+  j["reference_precision"] = job.reference_precision.empty() ? job.precision : job.reference_precision;
   j["instruction_set"] = std::string(render::kernel_isa());  // sglab::simd::active_isa(): registry and renderer
   j["notes"] =
       std::string(options.visibility

@@ -33,6 +33,7 @@ struct RenderJob {
   bool visibility = false;             // --visibility: VSGL and VPL visibility (Tokuyoshi 2016 §4.1)
   std::vector<std::string> constants;  // --constants (constant_sets.hpp): λ_d and the diffuse method's constants
   std::string precision = "double";    // --precision float | double: the renderer's vectorized loops (vpl.hpp Precision)
+  std::string reference_precision;     // --reference-precision float | double: the VPL sum alone (empty: --precision)
 };
 
 // Adds the options every render-like command has (--vsgl … --seed) to `app`, bound to `job`.

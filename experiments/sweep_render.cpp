@@ -13,7 +13,7 @@
 //    is measured at every point against one shared reference: a point renders its G-buffer, RSM
 //    and VPL sum once, then generates and shades each configuration's VSGLs. Consecutive points
 //    whose scenes are equal (only vsgl.lambda_d varies) share one G-buffer, RSM and VPL sum, and
-//    report the time it took.
+//    report the time it took. The direct layer is not rendered (--shadow-map has no effect here).
 // A point is one parameter combination; its rows are its configurations. Points run one at a time
 // (--threads 1 by default) because their timings are part of the result; each render uses all
 // cores itself. Every point's scene is validated before anything runs (a bad value stops the
@@ -392,7 +392,8 @@ Result compute(const Options& o) {
   grid->job = o.job;
   std::vector<VsglConfig> configs;
   for (const auto& c : o.vsgl.empty() ? std::vector<std::string>{"two"} : o.vsgl) configs.push_back(parse_vsgl_config(c));
-  const render::RenderOptions options = render_options(o.job);  // validates --rsm, --diffuse, …
+  render::RenderOptions options = render_options(o.job);  // validates --rsm, --diffuse, …
+  options.direct = false;  // the rows measure the indirect layer alone
   grid->base = load_scene_document(o.job.scene_path, o.job.overrides);
   r.name = checked_table_name(o, grid->vary);
   check_distinct_fields(grid->vary, grid->base);
@@ -412,6 +413,15 @@ Result compute(const Options& o) {
   r.sharded = run.sharded;
   if (!r.sharded) r.points = read_sweep_points(run.points_csv);
   return r;
+}
+
+// What the table says of --precision and --reference-precision.
+static std::string arithmetic_text(const RenderJob& job) {
+  const std::string reference = job.reference_precision.empty() ? job.precision : job.reference_precision;
+  if (job.precision == "double" && reference == "double") return "double";
+  return fmt::format("the VPL sum (reference) in {}, the VSGLs' diffuse method in {}, the rest in double; float is within "
+                     "1e-5 relative L2 of the double path (docs/simd.md)",
+                     reference, job.precision);
 }
 
 // The summary table (Markdown and CSV) from the per-point CSV alone.
@@ -435,10 +445,7 @@ Tables tables(const Result& r) {
       o.job.overrides.empty() ? "" : " with " + fmt::format("`--set {}`", fmt::join(o.job.overrides, "`, `--set ")),
       o.job.visibility ? "VSGL visibility from a cube shadow map at each μ_v (Tokuyoshi 2016 §4.1), VPL visibility by ray casting"
                        : "none",
-      o.job.precision == "float"
-          ? "float (`--precision float`) for the VPL sum and the VSGLs' diffuse method, the rest in double; within "
-            "1e-5 relative L2 of the double path (docs/simd.md)"
-          : "double");
+      arithmetic_text(o.job));
   md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
         constants_text(load_constant_sets(o.job.constants), {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
         "\n";
@@ -506,16 +513,24 @@ std::vector<Step> sweep_render_steps(const Places& p) {
   const auto sweep = [&](std::string name, std::string what, std::vector<std::string> configuration,
                          std::vector<std::string> quick) {
     // A 128² RSM (13k VPLs) in every full sweep: the vectorized reference makes it affordable.
-    // Float arithmetic (see the tables' text), which halves the reference's time: its rounding,
-    // within 1e-5 relative L2 of double, is below every printed digit.
-    std::vector<std::string> args = {"sweep", "render", "--scene", scene, "--rsm", "128", "--precision", "float"};
+    std::vector<std::string> args = {"sweep", "render", "--scene", scene, "--rsm", "128"};
     args.insert(args.end(), configuration.begin(), configuration.end());
     return timed(sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true));
   };
+  // The VPL sum in float (`--reference-precision float`, which halves the reference's time) where
+  // that leaves every printed digit as in double (checked against double runs); the tables say
+  // which. Not in the roughness × distance sweep: on its near-mirror floors (α = 0.01) float moves
+  // the error metrics by up to 1e-4 relative, a printed digit. The VSGLs' diffuse method stays in
+  // double everywhere: in float its far tails (e^{-2λ} below 1e-38) flush to 0, which moves SMAPE
+  // where both images are that dark.
+  const auto with_float_reference = [](std::vector<std::string> configuration) {
+    configuration.insert(configuration.end(), {"--reference-precision", "float"});
+    return configuration;
+  };
   std::vector<Step> v = {
       sweep("sweep-render-count", "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
-            {"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--vsgl", "kmeans:16", "--vsgl", "kmeans:64", "--width",
-             "512", "--height", "512", "--out", sweep_out},
+            with_float_reference({"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--vsgl", "kmeans:16", "--vsgl",
+                                  "kmeans:64", "--width", "512", "--height", "512", "--out", sweep_out}),
             {"--width", "64", "--height", "64", "--rsm", "32"}),
       sweep("sweep-render-roughness-distance",
             "VSGL error against floor roughness × light distance on cornell-glossy "
@@ -529,7 +544,8 @@ std::vector<Step> sweep_render_steps(const Places& p) {
             {"--vary",
              "vsgl.lambda_d=2," + p.out + "/fits/lambda-d.json," + p.out + "/fits-objectives/lambda-d-l2-theta.json," +
                  p.out + "/fits-objectives/lambda-d-l2-hemisphere.json",
-             "--vsgl", "two", "--width", "256", "--height", "256", "--out", sweep_out, "--table", "vsgl_error_vs_lambda_d"},
+             "--vsgl", "two", "--width", "256", "--height", "256", "--out", sweep_out, "--table", "vsgl_error_vs_lambda_d",
+             "--reference-precision", "float"},
             coarse)};
   // Tokuyoshi 2016 §4.1 visibility on cornell-glossy: the same configurations without and
   // with it (each against the reference that makes the same assumption).
@@ -538,6 +554,7 @@ std::vector<Step> sweep_render_steps(const Places& p) {
     std::vector<std::string> configuration = {"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--width", "128",
                                               "--height", "128", "--out", sweep_out, "--table", "vsgl_visibility_" + on};
     if (vis) configuration.push_back("--visibility");
+    configuration = with_float_reference(configuration);
     v.push_back(sweep("sweep-render-visibility-" + on,
                       std::string("VSGL error on cornell-glossy ") + (vis ? "with" : "without") +
                           " visibility (paper_tables/vsgl_visibility_" + on + ".*)",

@@ -77,6 +77,24 @@ TEST(RenderPrecision, FloatIsWithinTheStatedBoundOfDouble) {
   EXPECT_GT(reference.relative_l2, 0) << "the float path did not run";
 }
 
+// reference_precision sets the VPL sum's arithmetic alone: the VSGL shading is the double path's
+// to the bit, the reference within the float bound of double but not equal to it.
+TEST(RenderPrecision, ReferencePrecisionLeavesTheShadingAlone) {
+  const Scene scene = cornell(32);
+  RenderOptions o;
+  o.rsm_resolution = 16;
+  o.shadow_map_resolution = 128;
+  o.vsgl.mode = VsglMode::fis;
+  o.vsgl.count = 16;
+  const RenderResult d = render_scene(scene, o);
+  o.reference_precision = Precision::single;
+  const RenderResult f = render_scene(scene, o);
+  for (std::size_t k = 0; k < d.indirect.size(); ++k) ASSERT_TRUE((f.indirect[k] == d.indirect[k]).all()) << k;
+  const ImageError reference = image_error(f.indirect_reference, d.indirect_reference, d.hit);
+  EXPECT_LE(reference.relative_l2, 1e-5);
+  EXPECT_GT(reference.relative_l2, 0) << "the float VPL sum did not run";
+}
+
 // force_isa (what SGLAB_SIMD sets at start-up) selects the renderer's loops too; every instruction
 // set renders the same image to rounding (FMA contraction differs between them).
 TEST(RenderDispatch, OneInstructionSetForRegistryAndRenderer) {

@@ -169,12 +169,14 @@ CommonPass render_common(const Scene& scene, const RenderOptions& o) {
       if (g.points[k].glossy()) ++r.glossy_receivers;
     }
 
-  t0 = Clock::now();
-  const ShadowMap shadow = render_shadow_map(scene, o.shadow_map_resolution);
-  r.seconds.shadow_map = seconds_since(t0);
-  t0 = Clock::now();
-  for_each_pixel(g, "direct", o, [&](std::size_t k) { r.direct[k] = direct_radiance(scene, shadow, g.points[k]); });
-  r.seconds.direct = seconds_since(t0);
+  if (o.direct) {
+    t0 = Clock::now();
+    const ShadowMap shadow = render_shadow_map(scene, o.shadow_map_resolution);
+    r.seconds.shadow_map = seconds_since(t0);
+    t0 = Clock::now();
+    for_each_pixel(g, "direct", o, [&](std::size_t k) { r.direct[k] = direct_radiance(scene, shadow, g.points[k]); });
+    r.seconds.direct = seconds_since(t0);
+  }
 
   t0 = Clock::now();
   c.rsm = render_rsm(scene, o.rsm_resolution);
@@ -190,7 +192,8 @@ CommonPass render_common(const Scene& scene, const RenderOptions& o) {
   for_each_pixel(g, "reference (VPL sum)", o,
                  [&](std::size_t k) {
                    r.indirect_reference[k] =
-                       reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr, o.shading.precision);
+                       reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr,
+                                          o.reference_precision.value_or(o.shading.precision));
                  });
   r.seconds.reference = seconds_since(t0);
   return c;

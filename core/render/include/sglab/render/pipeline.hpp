@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -30,6 +31,11 @@ struct RenderOptions {
   // (this resolution per face) and, on the reference's side, VPL visibility by ray casting.
   bool visibility = false;
   int visibility_map_resolution = 256;
+  // Arithmetic of the VPL sum (reference.hpp); unset: shading.precision's.
+  std::optional<Precision> reference_precision;
+  // The direct layer and its shadow map. A sweep, which measures the indirect layer alone, leaves
+  // them out (RenderResult::direct is then 0 and its time too).
+  bool direct = true;
   // Called as stages progress (stage name, fraction done in [0, 1]), from worker threads too; at
   // most ~20 calls per stage. May be empty.
   std::function<void(std::string_view stage, double fraction)> progress;
