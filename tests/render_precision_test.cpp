@@ -77,15 +77,21 @@ TEST(RenderPrecision, FloatIsWithinTheStatedBoundOfDouble) {
   EXPECT_GT(reference.relative_l2, 0) << "the float path did not run";
 }
 
-// reference_precision sets the VPL sum's arithmetic alone: the VSGL shading is the double path's
-// to the bit, the reference within the float bound of double but not equal to it.
-TEST(RenderPrecision, ReferencePrecisionLeavesTheShadingAlone) {
-  const Scene scene = cornell(32);
+// A small render of 16 fis VSGLs: 16² RSM, 128² shadow map.
+RenderOptions small_fis16() {
   RenderOptions o;
   o.rsm_resolution = 16;
   o.shadow_map_resolution = 128;
   o.vsgl.mode = VsglMode::fis;
   o.vsgl.count = 16;
+  return o;
+}
+
+// reference_precision sets the VPL sum's arithmetic alone: the VSGL shading is the double path's
+// to the bit, the reference within the float bound of double but not equal to it.
+TEST(RenderPrecision, ReferencePrecisionLeavesTheShadingAlone) {
+  const Scene scene = cornell(32);
+  RenderOptions o = small_fis16();
   const RenderResult d = render_scene(scene, o);
   o.reference_precision = Precision::single;
   const RenderResult f = render_scene(scene, o);
@@ -96,14 +102,10 @@ TEST(RenderPrecision, ReferencePrecisionLeavesTheShadingAlone) {
 }
 
 // force_isa (what SGLAB_SIMD sets at start-up) selects the renderer's loops too; every instruction
-// set renders the same image to rounding (FMA contraction differs between them).
+// set renders the same image to rounding.
 TEST(RenderDispatch, OneInstructionSetForRegistryAndRenderer) {
   const Scene scene = cornell(32);
-  RenderOptions o;
-  o.rsm_resolution = 16;
-  o.shadow_map_resolution = 128;
-  o.vsgl.mode = VsglMode::fis;
-  o.vsgl.count = 16;
+  RenderOptions o = small_fis16();
   const simd::Isa initial = simd::active_isa();
   std::vector<RenderResult> results;
   for (const simd::Isa isa : simd::supported_isas()) {

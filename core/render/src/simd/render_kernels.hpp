@@ -144,6 +144,18 @@ void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
     miss = !zero && t0 > t1 ? 1.0 : miss;                                    \
   }
 
+// Every ray of a block against every shape of one kind (`count` shapes of `stride` values from
+// `shapes`): live[i] becomes 0 where hit(shape, i, tmax) says the ray is blocked.
+template <class Hit>
+[[gnu::always_inline]] inline void block_rays(const double* shapes, std::size_t count, std::size_t stride, std::size_t n,
+                                              const double* tm, double* live, const Hit& hit) {
+  for (std::size_t k = 0; k < count; ++k) {
+    const double* s = shapes + stride * k;
+#pragma omp simd
+    for (std::size_t i = 0; i < n; ++i) live[i] = hit(s, i, tm[i]) ? 0.0 : live[i];
+  }
+}
+
 template <class M>
 void vpl_visibility_block(const VplView<double>& a, std::size_t begin, std::size_t n, const double* p, const double* pn,
                           const Occluders& shapes, double* scratch, M* out) {
@@ -185,36 +197,26 @@ void vpl_visibility_block(const VplView<double>& a, std::size_t begin, std::size
       live[i] = hit ? 0.0 : live[i];
     }
   }
-  for (std::size_t k = 0; k < shapes.rectangles; ++k) {  // intersect(Rectangle)
-    const double* s = shapes.rectangle + 14 * k;
-#pragma omp simd
-    for (std::size_t i = 0; i < n; ++i) {
-      const double tmax = tm[i];
-      const double denom = dot3(s[9], s[10], s[11], dx[i], dy[i], dz[i]);
-      const double t = dot3(s[9], s[10], s[11], s[0] - ox[i], s[1] - oy[i], s[2] - oz[i]) / (denom == 0 ? 1.0 : denom);
-      const double hx = ox[i] + t * dx[i] - s[0], hy = oy[i] + t * dy[i] - s[1], hz = oz[i] + t * dz[i] - s[2];
-      const double u = dot3(hx, hy, hz, s[3], s[4], s[5]) / s[12], v = dot3(hx, hy, hz, s[6], s[7], s[8]) / s[13];
-      const bool hit = denom != 0 && t > 0 && t < tmax && !(u < 0 || u > 1 || v < 0 || v > 1);
-      live[i] = hit ? 0.0 : live[i];
-    }
-  }
-  for (std::size_t k = 0; k < shapes.spheres; ++k) {  // intersect(Sphere)
-    const double* s = shapes.sphere + 4 * k;
-#pragma omp simd
-    for (std::size_t i = 0; i < n; ++i) {
-      const double tmax = tm[i];
-      const double fx = ox[i] - s[0], fy = oy[i] - s[1], fz = oz[i] - s[2];
-      const double b = dot3(fx, fy, fz, dx[i], dy[i], dz[i]), r2 = s[3] * s[3];
-      const double gx = fx - b * dx[i], gy = fy - b * dy[i], gz = fz - b * dz[i];
-      const double disc = r2 - dot3(gx, gy, gz, gx, gy, gz);
-      const double c = dot3(fx, fy, fz, fx, fy, fz) - r2;
-      const double q = -b - __builtin_copysign(sqrt_(disc < 0 ? 0.0 : disc), b);
-      const double ta = q == 0 ? 0.0 : c / (q == 0 ? 1.0 : q), tb = q;
-      const double lo = ta > tb ? tb : ta, hi = ta > tb ? ta : tb;
-      const bool hit = !(disc < 0) && ((lo > 0 && lo < tmax) || (hi > 0 && hi < tmax));
-      live[i] = hit ? 0.0 : live[i];
-    }
-  }
+  block_rays(shapes.rectangle, shapes.rectangles, 14, n, tm, live,  // intersect(Rectangle)
+             [&](const double* s, std::size_t i, double tmax) [[gnu::always_inline]] {
+               const double denom = dot3(s[9], s[10], s[11], dx[i], dy[i], dz[i]);
+               const double t = dot3(s[9], s[10], s[11], s[0] - ox[i], s[1] - oy[i], s[2] - oz[i]) / (denom == 0 ? 1.0 : denom);
+               const double hx = ox[i] + t * dx[i] - s[0], hy = oy[i] + t * dy[i] - s[1], hz = oz[i] + t * dz[i] - s[2];
+               const double u = dot3(hx, hy, hz, s[3], s[4], s[5]) / s[12], v = dot3(hx, hy, hz, s[6], s[7], s[8]) / s[13];
+               return denom != 0 && t > 0 && t < tmax && !(u < 0 || u > 1 || v < 0 || v > 1);
+             });
+  block_rays(shapes.sphere, shapes.spheres, 4, n, tm, live,  // intersect(Sphere)
+             [&](const double* s, std::size_t i, double tmax) [[gnu::always_inline]] {
+               const double fx = ox[i] - s[0], fy = oy[i] - s[1], fz = oz[i] - s[2];
+               const double b = dot3(fx, fy, fz, dx[i], dy[i], dz[i]), r2 = s[3] * s[3];
+               const double gx = fx - b * dx[i], gy = fy - b * dy[i], gz = fz - b * dz[i];
+               const double disc = r2 - dot3(gx, gy, gz, gx, gy, gz);
+               const double c = dot3(fx, fy, fz, fx, fy, fz) - r2;
+               const double q = -b - __builtin_copysign(sqrt_(disc < 0 ? 0.0 : disc), b);
+               const double ta = q == 0 ? 0.0 : c / (q == 0 ? 1.0 : q), tb = q;
+               const double lo = ta > tb ? tb : ta, hi = ta > tb ? ta : tb;
+               return !(disc < 0) && ((lo > 0 && lo < tmax) || (hi > 0 && hi < tmax));
+             });
 #pragma omp simd
   for (std::size_t i = 0; i < n; ++i) out[i] = M(live[i]);
 }
