@@ -65,12 +65,12 @@ std::string files_state(const std::vector<std::string>& args) {
 // Size and modification time of every regular file under `roots` (the files a step may write:
 // OUT/ and paper_tables/), to find what a step wrote.
 using Snapshot = std::map<std::string, std::pair<std::uintmax_t, std::filesystem::file_time_type>>;
-// Files below a path in `except` are left out.
+// Files that are, or lie below, a path in `except` are left out, and so are the markers.
 Snapshot snapshot(const std::vector<std::string>& roots, const std::vector<std::string>& except = {}) {
   namespace fs = std::filesystem;
   const auto excluded = [&](const std::string& path) {
     for (const auto& e : except)
-      if (path.rfind(e + "/", 0) == 0) return true;
+      if (path == e || path.rfind(e + "/", 0) == 0) return true;
     return path.find("/.steps/") != std::string::npos;
   };
   Snapshot out;
@@ -272,8 +272,10 @@ class StepRun {
       std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all_.size(), s.name.c_str(), s.what.c_str(), line.c_str());
     }
     const auto t0 = std::chrono::steady_clock::now();
+    // The step times are written by either thread at any time: nobody's output.
     const std::vector<std::string> roots = s.python ? figures_ : std::vector<std::string>{p_.out, p_.tables};
-    const std::vector<std::string> except = s.python ? std::vector<std::string>{} : figures_;
+    std::vector<std::string> except = {times_csv_.string()};
+    if (!s.python) except.insert(except.end(), figures_.begin(), figures_.end());
     const Snapshot before = snapshot(roots, except);
     const double cpu0 = cpu_seconds();
     int status;

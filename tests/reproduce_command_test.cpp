@@ -167,13 +167,20 @@ TEST_F(ReproduceCommand, PlotsRunBesideAndEachMarkerHoldsItsOwnOutputs) {
   for (const char* step : {"error-map", "render-cornell-glossy"}) {
     const auto written = outputs(step);
     EXPECT_FALSE(written.empty()) << step << "\n" << r.err;
-    for (const auto& w : written) EXPECT_EQ(w.find("/figures/"), std::string::npos) << step << " claims " << w;
+    for (const auto& w : written) {
+      EXPECT_EQ(w.find("/figures/"), std::string::npos) << step << " claims " << w;
+      EXPECT_EQ(w.find("reproduce_times.csv"), std::string::npos) << step << " claims " << w;
+    }
   }
   std::ifstream times(path("results/quick/reproduce_times.csv"));
   std::stringstream text;
   text << times.rdbuf();
   EXPECT_NE(text.str().find("plot-error-maps,run beside,"), std::string::npos) << text.str();
   EXPECT_NE(text.str().find("render-cornell-glossy,run,"), std::string::npos) << text.str();
+  // A second run finds every step done (no marker holds a file another step rewrote since).
+  const auto again = sglab("reproduce --quick --only error-map plot-error-maps plot-own-method render-cornell-glossy");
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_NE(again.out.find("0 steps run, 4 already done"), std::string::npos) << again.out << again.err;
 }
 
 // `sglab sweep render --out DIR` without --tables-dir: the table goes into DIR too.
