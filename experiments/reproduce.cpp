@@ -109,10 +109,13 @@ bool outputs_intact(const std::string& marker) {
 
 // CPU seconds (user + system) used so far by this process's threads (the sglab steps), or with
 // RUSAGE_CHILDREN by its finished children (the python steps, each also timed by run_python).
+double seconds_of(const rusage& u) {
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 double cpu_seconds(int who = RUSAGE_SELF) {
   rusage u{};
   getrusage(who, &u);
-  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  return seconds_of(u);
 }
 
 // Runs `python3 ARGS` (Debian's interpreter, which has python3-matplotlib; a python3 earlier on
@@ -130,8 +133,7 @@ std::pair<int, double> run_python(const std::vector<std::string>& args) {
   rusage u{};
   while (wait4(pid, &status, 0, &u) < 0)
     if (errno != EINTR) return {127, 0.0};
-  const double cpu = double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, cpu};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, seconds_of(u)};
 }
 
 // The plot steps, one at a time on a thread of their own, beside the sglab steps of the main

@@ -51,10 +51,10 @@ bool vpl_visible(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& x
   const Vec3 to = x - p;
   const double d = to.norm();
   if (!(d > 0)) return true;
-  const Vec3 origin = p + 1e-7 * d * n;
+  const Vec3 origin = p + kVplRayLift * d * n;
   const Vec3 dir = (x - origin).normalized();
   const double t = (x - origin).norm();
-  return !occluded(scene, Ray{origin, dir}, t * (1 - 1e-6));
+  return !occluded(scene, Ray{origin, dir}, t * kVplRayReach);
 }
 
 }  // namespace sglab::render

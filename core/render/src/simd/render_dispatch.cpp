@@ -3,6 +3,7 @@
 #include <numbers>
 
 #include "render_table.hpp"
+#include "sglab/render/visibility.hpp"
 #include "sglab/render/vsgl_shading.hpp"
 #include "sglab/sg.hpp"
 #include "sglab/simd.hpp"
@@ -14,6 +15,7 @@ namespace simd_detail {
 static_assert(kPi == std::numbers::pi);
 static_assert(kCap == kMaxPositionalSharpness);
 static_assert(kProductScale == kProductScaleSharpness);
+static_assert(kRayLift == kVplRayLift && kRayReach == kVplRayReach);
 
 const RenderKernelTable& render_kernels() {
   switch (simd::active_isa()) {

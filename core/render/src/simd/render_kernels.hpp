@@ -164,7 +164,7 @@ void vpl_visibility_block(const VplView<double>& a, std::size_t begin, std::size
                *nz = a.nz + begin;
   out += begin;
   const double px = p[0], py = p[1], pz = p[2], qx = pn[0], qy = pn[1], qz = pn[2];
-  // The rays of vpl_visible: from p lifted by 1e-7·d along n towards x_i, up to t·(1 − 1e-6); live
+  // The rays of vpl_visible: from p lifted by kRayLift·d along n towards x_i, up to t·kRayReach; live
   // where the term's cosines are positive (reference.cpp's test) and nothing has blocked it yet.
 #pragma omp simd
   for (std::size_t i = 0; i < n; ++i) {
@@ -174,12 +174,12 @@ void vpl_visibility_block(const VplView<double>& a, std::size_t begin, std::size
     const double cv = dot3(wx, wy, wz, nx[i], ny[i], nz[i]), cp = -dot3(wx, wy, wz, qx, qy, qz);
     const bool on = d2 > 0 && cv > 0 && cp > 0;
     const double tx = x[i] - px, ty = y[i] - py, tz = z[i] - pz;
-    const double lift = 1e-7 * sqrt_(dot3(tx, ty, tz, tx, ty, tz));
+    const double lift = kRayLift * sqrt_(dot3(tx, ty, tz, tx, ty, tz));
     ox[i] = px + lift * qx, oy[i] = py + lift * qy, oz[i] = pz + lift * qz;
     const double ux = x[i] - ox[i], uy = y[i] - oy[i], uz = z[i] - oz[i];
     const double len = sqrt_(dot3(ux, uy, uz, ux, uy, uz));
     dx[i] = ux / len, dy[i] = uy / len, dz[i] = uz / len;
-    tm[i] = len * (1 - 1e-6);
+    tm[i] = len * kRayReach;
     live[i] = on ? 1.0 : 0.0;
   }
   for (std::size_t b = 0; b < shapes.boxes; ++b) {  // intersect(Box)

@@ -16,6 +16,9 @@ namespace sglab::render::simd_detail {
 inline constexpr double kPi = 3.141592653589793116;
 inline constexpr double kCap = 1e8;
 inline constexpr double kProductScale = 1e18;
+// visibility.hpp kVplRayLift and kVplRayReach.
+inline constexpr double kRayLift = 1e-7;
+inline constexpr double kRayReach = 1 - 1e-6;
 
 // ---- the exact VPL sum (reference.cpp) ----
 

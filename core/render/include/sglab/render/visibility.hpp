@@ -28,9 +28,16 @@ CubeShadowMap render_cube_shadow_map(const Scene& scene, const Vec3& origin, int
 // One cube shadow map per cluster of `set`, at its μ_v.
 std::vector<CubeShadowMap> vsgl_shadow_maps(const Scene& scene, const VsglSet& set, int resolution);
 
+// vpl_visible's segment (sglab's own choice, not a paper's): it starts kVplRayLift of the distance
+// off p's surface along n and must reach kVplRayReach of the way to x, so that neither end's own
+// surface blocks it through rounding (relative errors of a few 1e-16 are far below both).
+inline constexpr double kVplRayLift = 1e-7;
+inline constexpr double kVplRayReach = 1 - 1e-6;
+
 // Whether nothing lies between the surface point p (normal n) and the VPL at x (on a surface):
-// a ray from p, nudged off its surface by 1e-7 of the distance along n, towards x, hits nothing
-// before 1 − 1e-6 of the way.
+// a ray from p, nudged off its surface by kVplRayLift of the distance along n, towards x, hits
+// nothing before kVplRayReach of the way. The reference's vectorized twin (reference.cpp) rounds
+// as this does, operation for operation.
 bool vpl_visible(const Scene& scene, const Vec3& p, const Vec3& n, const Vec3& x);
 
 }  // namespace sglab::render
