@@ -356,7 +356,7 @@ Tables tables(const Result& r) {
           for (std::size_t m = 0; m < r.specular_methods.size(); ++m) {
             row(g, "specular", s.roughness, r.specular_methods[m], "approximation", s.methods[m].approximation);
             row(g, "specular", s.roughness, r.specular_methods[m], "total", s.methods[m].total);
-            specular_md += " " + num(s.methods[m].approximation.relative_l2) + " |";
+            specular_md += fmt::format(" {} |", num(s.methods[m].approximation.relative_l2));
           }
           specular_md += "\n";
         }

@@ -91,7 +91,9 @@ std::string code_only(const std::string& s) {
       if (i < out.size()) out[i] = out[i + 1] = ' ', i += 2;
     } else if (out.compare(i, 2, "R\"") == 0) {
       const std::size_t open = out.find('(', i);
-      const std::string close = ")" + out.substr(i + 2, open - i - 2) + "\"";
+      // Built by appends: GCC 12 reports a false -Wrestrict on `")" + std::string&&`.
+      std::string close = ")";
+      close.append(out, i + 2, open - i - 2).push_back('"');
       const std::size_t end = out.find(close, open);
       for (std::size_t k = i; k < end + close.size(); ++k) out[k] = ' ';
       i = end + close.size();

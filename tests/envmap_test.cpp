@@ -220,8 +220,12 @@ TEST(EnvMapFit, LadderErrorDoesNotGrowWithN) {
   for (std::size_t k = 0; k < rungs.size(); ++k) {
     std::printf("N = %d: relative error %.4g\n", rungs[k].first, rungs[k].second);
     EXPECT_EQ(rungs[k].first, 2 << k);
-    if (k > 0) EXPECT_LE(rungs[k].second, rungs[k - 1].second + 1e-3) << "N = " << rungs[k].first;
-    if (rungs[k].first >= 4) EXPECT_LT(rungs[k].second, 1e-2) << "N = " << rungs[k].first;
+    if (k > 0) {
+      EXPECT_LE(rungs[k].second, rungs[k - 1].second + 1e-3) << "N = " << rungs[k].first;
+    }
+    if (rungs[k].first >= 4) {
+      EXPECT_LT(rungs[k].second, 1e-2) << "N = " << rungs[k].first;
+    }
   }
 }
 

@@ -94,5 +94,7 @@ TEST(ErrorVsTime, PunctualApproxFromItsFormula) {
                                         sglab::test::clamped_cosine_quadrature(l, 1.0));
   }
   for (const evt::Row& row : s.rows)
-    if (row.method == "punctual-approx" && row.precision == "double") EXPECT_NEAR(row.max_error, max_error, 1e-6 * max_error);
+    if (row.method == "punctual-approx" && row.precision == "double") {
+      EXPECT_NEAR(row.max_error, max_error, 1e-6 * max_error);
+    }
 }

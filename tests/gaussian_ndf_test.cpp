@@ -78,7 +78,9 @@ TEST(GaussianNdf, SgApproximationBoundsAndSmallMError) {
     }
     const double predicted = std::exp(-2.0) * m * m / 3;
     std::printf("m %-6g sup|G − D| %.6e  e^-2 m²/3 %.6e  ratio %.5f\n", m, sup, predicted, sup / predicted);
-    if (m <= 0.03) EXPECT_NEAR(sup / predicted, 1.0, 0.01) << "m " << m;
+    if (m <= 0.03) {
+      EXPECT_NEAR(sup / predicted, 1.0, 0.01) << "m " << m;
+    }
   }
 }
 
@@ -251,7 +253,9 @@ TEST(GaussianNdfMethods, StiffCasesAreFiniteInEveryPrecision) {
       const float f = m.eval_float(rf);
       EXPECT_TRUE(std::isfinite(d)) << m.name << " double " << d;
       EXPECT_TRUE(std::isfinite(f)) << m.name << " float " << f;
-      if (!m.may_be_negative) EXPECT_GE(d, 0) << m.name;
+      if (!m.may_be_negative) {
+        EXPECT_GE(d, 0) << m.name;
+      }
       if (m.name != "sg-warp-exact-cosine") {  // its mp50 form is a 50-digit quadrature (slow)
         std::vector<mp50> rm(r.begin(), r.end());
         EXPECT_TRUE(boost::multiprecision::isfinite(m.eval_mp50(rm))) << m.name << " mp50";

@@ -100,7 +100,9 @@ TEST(SpecularPositions, GeometryAboveTheHorizonNoDuplicates) {
         return std::any_of(ps.begin(), ps.end(), [](const LightPosition& p) { return p.name == "toward-horizon"; });
       }();
       // toward-horizon is kept iff its elevation asin(v) − w stays above the horizon (v < 1).
-      if (v < 1) EXPECT_EQ(has, std::asin(v) - w.in_plane > 1e-12) << "toward-horizon";
+      if (v < 1) {
+        EXPECT_EQ(has, std::asin(v) - w.in_plane > 1e-12) << "toward-horizon";
+      }
       if (v == 1) {
         // mirror (= normal), one width (toward-normal = toward-horizon = side), three widths if above the horizon
         EXPECT_EQ(ps.size(), std::cos(3 * w.across) > 1e-12 ? 3u : 2u);

@@ -62,8 +62,13 @@ struct Toy {
     d.compute = [this](std::size_t k) {
       if (++calls == fail_on_call) throw std::runtime_error("toy: interrupted");
       std::vector<SweepRow> rows;
-      for (std::size_t j = 0; j < 1 + k % 3; ++j)
-        rows.push_back({std::to_string(k * k + j), "p" + std::to_string(k) + "," + std::to_string(j)});
+      for (std::size_t j = 0; j < 1 + k % 3; ++j) {
+        std::string label = "p";  // appends: GCC 12 reports a false -Wrestrict on `"p" + std::string&&`
+        label += std::to_string(k);
+        label += ",";
+        label += std::to_string(j);
+        rows.push_back({std::to_string(k * k + j), label});
+      }
       std::lock_guard lock(mutex);
       computed.insert(k);
       return rows;
