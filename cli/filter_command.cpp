@@ -72,15 +72,19 @@ std::vector<render::Rgb> low_res_image(const render::FilterInputs& in) {
   return low;
 }
 
+// What both passes' stats begin with.
+nlohmann::json stats_head(const Options& o, const render::Scene& scene, int width, int height, const std::string& command) {
+  return {{"command", command},
+          {"scene", o.job.render.scene_path},
+          {"scene_description", scene.description},
+          {"overrides", o.job.render.overrides},
+          {"width", width},
+          {"height", height}};
+}
+
 nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rsm_resolution, const render::FilterInputs& in,
                             const render::FilterResult& r, const std::string& command) {
-  nlohmann::json stats;
-  stats["command"] = command;
-  stats["scene"] = o.job.render.scene_path;
-  stats["scene_description"] = scene.description;
-  stats["overrides"] = o.job.render.overrides;
-  stats["width"] = in.width;
-  stats["height"] = in.height;
+  nlohmann::json stats = stats_head(o, scene, in.width, in.height, command);
   stats["scale"] = in.scale;
   stats["low_width"] = in.low_width;
   stats["low_height"] = in.low_height;
@@ -161,13 +165,7 @@ void run_upsampling(const Options& o, const render::FilterWeights weights) {
 
 nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int rsm_resolution, const render::DenoiseInputs& in,
                              const render::DenoiseResult& r, const std::string& command) {
-  nlohmann::json stats;
-  stats["command"] = command;
-  stats["scene"] = o.job.render.scene_path;
-  stats["scene_description"] = scene.description;
-  stats["overrides"] = o.job.render.overrides;
-  stats["width"] = in.width;
-  stats["height"] = in.height;
+  nlohmann::json stats = stats_head(o, scene, in.width, in.height, command);
   stats["noisy"] = render::noisy_spec_name(in.noisy);
   stats["noisy_seed"] = in.seed;
   stats["weights"] = std::string(render::filter_weights_name(r.weights));

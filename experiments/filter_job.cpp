@@ -20,7 +20,7 @@ void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
   if (with_scale)
     app.add_option("--scale", job.scale, "the indirect light is computed at 1/SCALE resolution, then upsampled")->capture_default_str();
   app.add_option("--source", job.source, "low-resolution indirect light: exact (VPL sum) or vsgl")->capture_default_str();
-  app.add_option("--radius", p.radius, "2R × 2R low-resolution samples per pixel")->capture_default_str();
+  app.add_option("--radius", p.radius, "upsampling: 2R × 2R low-resolution samples per pixel; --noisy: the window's half-width R in pixels (default M for interleaved:M, 4 for random:K)")->capture_default_str();
   app.add_option("--spatial-sigma", p.spatial_sigma, "image-space Gaussian σ_s, in low-resolution pixels")->capture_default_str();
   app.add_option("--sigma-n2", p.sigma_n2, "normal weights: σ_n² of G(n_p; n_q, 1/σ_n²) (Tokuyoshi 2015, lobe-aware filtering, Fig. D.2: 0.05404477)")
       ->capture_default_str();

@@ -71,6 +71,13 @@ std::string stat_number(double x) { return std::isfinite(x) ? csv_number(x) : st
 
 std::string cell(double x, const char* format) { return std::isfinite(x) ? fmt::format(fmt::runtime(format), x) : "–"; }
 
+void check_job_and_table(FilterJob& job, const std::string& table) {
+  apply_filter_constants(job);
+  if (job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
+  if (table.empty() || table.find_first_of("/\\ ") != std::string::npos)
+    throw UsageError(fmt::format("--table '{}' is not a file name", clip_text(table)));
+}
+
 std::vector<double> parse_roughness_list(const std::string& text) {
   std::vector<double> values;
   for (const auto& t : split(text)) {
@@ -370,10 +377,7 @@ Result compute(const Options& options) {
   Result r;
   r.options = options;
   Options& o = r.options;
-  apply_filter_constants(o.job);
-  if (o.job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
-  if (o.table.empty() || o.table.find_first_of("/\\ ") != std::string::npos)
-    throw UsageError(fmt::format("--table '{}' is not a file name", o.table));
+  check_job_and_table(o.job, o.table);
   parse_lists(o, r);
   check_filter_parameters(o.job.parameters);
   const render::FilterInputOptions input_options = filter_input_options(o.job);
@@ -501,12 +505,13 @@ std::vector<Step> filtering_steps(const Places& p) {
                          "upsampling error per weighting over the floor's roughness on cornell-glossy (paper_tables/filtering.*)",
                          {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", p.out + "/filtering"},
                          {"--width", "64", "--height", "64"}, "--tables-dir", true));
-  v.push_back(sglab_step("filter-sweep-denoise",
+  // Its table carries the filter's time per pixel: nothing runs beside it.
+  v.push_back(timed(sglab_step("filter-sweep-denoise",
                          "filtering noisy interleaved VPL images: error per weighting over the floor's roughness × M on "
                          "cornell-glossy (paper_tables/filtering_denoise.*)",
                          {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--noisy", "interleaved:2,interleaved:4,interleaved:8",
                           "--out", p.out + "/filtering"},
-                         {"--width", "64", "--height", "64"}, "--tables-dir", true));
+                         {"--width", "64", "--height", "64"}, "--tables-dir", true)));
   v.push_back(plot_step("plot-filtering-denoise",
                         "crops of the glossy floor and a diffuse wall: noisy, normal- and lobe-filtered, exact, at two roughnesses",
                         {"plots/filtering_denoise.py", p.out + "/filtering/filtering_denoise_images.csv", p.key_figures()}));

@@ -70,6 +70,8 @@ std::vector<std::string> split(const std::string& text);  // at commas, empty it
 std::string stat_number(double x);
 // A Markdown cell: "–" when not finite.
 std::string cell(double x, const char* format = "{:.4f}");
+// Applies the constant set to the job, then: a scene is given, the table name is a file name.
+void check_job_and_table(FilterJob& job, const std::string& table);
 std::vector<double> parse_roughness_list(const std::string& text);               // --roughness (UsageError)
 std::vector<render::FilterWeights> parse_weights_list(const std::string& text);  // --weights (UsageError)
 // The job's scene with `floor.roughness` set to each value (after the job's own --set overrides);

@@ -5,8 +5,8 @@ the noisy interleaved image, the image filtered with normal/depth-aware weights,
 with lobe-aware weights, and the exact VPL sum. Each panel's title gives the crop's relative L2
 against the exact sum.
 
-Crops (fractions of the image, for scenes/cornell-glossy.json's camera): the floor in front of the
-sphere and the box, and the left (red) wall. Tone mapping (display only): the four panels of a crop
+Crops (fractions of the image, for scenes/cornell-glossy.json's camera): the floor's front band (with
+the box's and the sphere's reflections in it), and the left (red) wall. Tone mapping (display only): the four panels of a crop
 share one scale, the 99th percentile of the exact crop; clipped to [0, 1], gamma 1/2.2. Computes
 nothing else.
 usage: filtering_denoise.py IMAGES.csv OUT_DIR
@@ -22,7 +22,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from _common import arguments, read_table, save_figures  # noqa: E402
 
 # (name, x0, x1, y0, y1) as fractions of the width and height (y down).
-CROPS = (("glossy floor", 0.18, 0.82, 0.76, 0.98), ("diffuse wall (left)", 0.02, 0.24, 0.15, 0.65))
+CROPS = (("glossy floor", 0.1, 0.9, 0.83, 1.0), ("diffuse wall (left)", 0.02, 0.19, 0.15, 0.75))
 LAYERS = (("noisy", "noisy"), ("normal", "normal-filtered"), ("lobe", "lobe-filtered"), ("exact", "exact VPL sum"))
 
 

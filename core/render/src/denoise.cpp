@@ -137,8 +137,6 @@ DenoiseInputs prepare_denoise_inputs(const Scene& scene, const DenoiseInputOptio
   in.noisy = o.noisy;
   in.seed = o.seed;
   const std::size_t n = std::size_t(in.width) * std::size_t(in.height);
-  if (o.reference && o.reference->size() != n)
-    throw std::invalid_argument(fmt::format("the reference given has {} pixels, the image {}", o.reference->size(), n));
 
   auto t0 = Clock::now();
   fill_full_gbuffer(scene, o.progress, in.full, in.hit, in.glossy);
@@ -178,15 +176,7 @@ DenoiseInputs prepare_denoise_inputs(const Scene& scene, const DenoiseInputOptio
   in.seconds.noisy = seconds_since(t0);
 
   t0 = Clock::now();
-  if (o.reference) {
-    in.reference = *o.reference;
-    return in;  // seconds.reference stays 0: nothing was computed
-  }
-  in.reference.assign(n, Rgb::Zero());
-  for_each_row(in.width, in.height, "reference (VPL sum)", o.progress, [&](std::size_t k, int, int) {
-    if (in.full[k].valid) in.reference[k] = reference_radiance(in.full[k].point, vpls);
-  });
-  in.seconds.reference = seconds_since(t0);
+  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference)) in.seconds.reference = seconds_since(t0);
   return in;
 }
 

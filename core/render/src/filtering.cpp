@@ -78,6 +78,21 @@ std::pair<Rgb, Rgb> split_vpl_sum(const ShadingPoint& point, const VplList& vpls
   return {reference_radiance(d, vpls), point.glossy() ? reference_radiance(g, vpls) : Rgb::Zero()};
 }
 
+bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given, int width,
+                    const std::function<void(std::string_view, double)>& progress, std::vector<Rgb>& reference) {
+  const std::size_t n = full.size();
+  if (given) {
+    if (given->size() != n) throw std::invalid_argument(fmt::format("the reference given has {} pixels, the image {}", given->size(), n));
+    reference = *given;
+    return false;
+  }
+  reference.assign(n, Rgb::Zero());
+  for_each_row(width, int(n / std::size_t(width)), "reference (VPL sum)", progress, [&](std::size_t k, int, int) {
+    if (full[k].valid) reference[k] = reference_radiance(full[k].point, vpls);
+  });
+  return true;
+}
+
 ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const std::vector<char>& hit,
                                const std::vector<char>& glossy) {
   std::vector<char> diffuse_mask(hit.size(), 0);
@@ -212,8 +227,6 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
   in.source = o.source;
   in.low_width = (cam.width + o.scale - 1) / o.scale;
   in.low_height = (cam.height + o.scale - 1) / o.scale;
-  const std::size_t n = std::size_t(in.width) * std::size_t(in.height);
-
   auto t0 = Clock::now();
   fill_gbuffers(scene, o, in);
   in.seconds.gbuffer = seconds_since(t0);
@@ -229,17 +242,8 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
   in.seconds.low_res = seconds_since(t0);
 
   t0 = Clock::now();
-  if (o.reference) {
-    if (o.reference->size() != n)
-      throw std::invalid_argument(fmt::format("the reference given has {} pixels, the image {}", o.reference->size(), n));
-    in.reference = *o.reference;
-    return in;  // seconds.reference stays 0: nothing was computed
-  }
-  in.reference.assign(n, Rgb::Zero());
-  for_each_row(in.width, in.height, "reference (VPL sum)", o.progress, [&](std::size_t k, int, int) {
-    if (in.full[k].valid) in.reference[k] = reference_radiance(in.full[k].point, vpls);
-  });
-  in.seconds.reference = seconds_since(t0);
+  // seconds.reference stays 0 when the reference was given: nothing was computed.
+  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference)) in.seconds.reference = seconds_since(t0);
   return in;
 }
 

@@ -56,6 +56,11 @@ void fill_full_gbuffer(const Scene& scene, const std::function<void(std::string_
 // The VPL sum of each part at a point: (diffuse, specular), each with the other layer switched off.
 std::pair<Rgb, Rgb> split_vpl_sum(const ShadingPoint& point, const VplList& vpls);
 
+// The exact VPL sum at every valid sample (0 elsewhere): `given` if not null (its size must be the
+// samples'; std::invalid_argument otherwise), else computed. Returns whether it was computed.
+bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given, int width,
+                    const std::function<void(std::string_view, double)>& progress, std::vector<Rgb>& reference);
+
 // Per-channel a/b with 0 where b is 0.
 Rgb demodulate(const Rgb& value, const Rgb& reflectance);
 
