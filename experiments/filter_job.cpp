@@ -11,6 +11,7 @@
 #include "resource_limits.hpp"
 #include "constant_sets.hpp"
 #include "sglab/filtering_weights.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 
@@ -19,7 +20,7 @@ void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
   if (with_scale)
     app.add_option("--scale", job.scale, "the indirect light is computed at 1/SCALE resolution, then upsampled")->capture_default_str();
   app.add_option("--source", job.source, "low-resolution indirect light: exact (VPL sum) or vsgl")->capture_default_str();
-  app.add_option("--radius", p.radius, "2R × 2R low-resolution samples per pixel")->capture_default_str();
+  app.add_option("--radius", p.radius, "upsampling: 2R × 2R low-resolution samples per pixel; --noisy: the window's half-width R in pixels (default M for interleaved:M, 4 for random:K)")->capture_default_str();
   app.add_option("--spatial-sigma", p.spatial_sigma, "image-space Gaussian σ_s, in low-resolution pixels")->capture_default_str();
   app.add_option("--sigma-n2", p.sigma_n2, "normal weights: σ_n² of G(n_p; n_q, 1/σ_n²) (Tokuyoshi 2015, lobe-aware filtering, Fig. D.2: 0.05404477)")
       ->capture_default_str();
@@ -98,6 +99,26 @@ render::FilterWeights parse_weights_option(const std::string& text) {
   return *w;
 }
 
+render::NoisySpec parse_noisy_option(const std::string& text) {
+  const auto spec = render::parse_noisy_spec(text);
+  if (!spec) throw UsageError(fmt::format("--noisy '{}' is not {}", clip_text(text), render::kNoisySpecForms));
+  return *spec;
+}
+
+int denoise_radius(const render::NoisySpec& spec, std::optional<int> radius) {
+  if (!radius) return render::default_denoise_radius(spec);
+  if (const auto error = render::denoise_radius_error(spec, *radius)) throw UsageError(fmt::format("--{}", *error));
+  return *radius;
+}
+
+render::DenoiseInputOptions denoise_input_options(const FilterJob& job, const render::NoisySpec& spec, std::uint64_t seed) {
+  render::DenoiseInputOptions o;
+  o.noisy = spec;
+  o.seed = seed;
+  o.rsm_resolution = render_options(job.render).rsm_resolution;  // validates --rsm
+  return o;
+}
+
 void check_filter_memory(const render::Scene& scene, const render::FilterInputOptions& o, std::size_t runs) {
   const double w = scene.camera.width, h = scene.camera.height, scale = std::max(o.scale, 1);
   const double pixels = w * h, low = std::ceil(w / scale) * std::ceil(h / scale);
@@ -113,16 +134,18 @@ void check_filter_memory(const render::Scene& scene, const render::FilterInputOp
                                   scene.camera.width, scene.camera.height, o.scale, o.rsm_resolution));
 }
 
-std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale) {
+std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale, bool with_upsampling) {
   const FilterJob defaults;
   const auto& p = job.parameters;
   const auto& d = defaults.parameters;
   std::vector<std::string> a;
   auto number = [](double x) { return fmt::format("{}", x); };
-  if (with_scale) a.insert(a.end(), {"--scale", std::to_string(job.scale)});
-  a.insert(a.end(), {"--source", job.source});
-  if (p.radius != d.radius) a.insert(a.end(), {"--radius", std::to_string(p.radius)});
-  if (p.spatial_sigma != d.spatial_sigma) a.insert(a.end(), {"--spatial-sigma", number(p.spatial_sigma)});
+  if (with_upsampling) {
+    if (with_scale) a.insert(a.end(), {"--scale", std::to_string(job.scale)});
+    a.insert(a.end(), {"--source", job.source});
+    if (p.radius != d.radius) a.insert(a.end(), {"--radius", std::to_string(p.radius)});
+    if (p.spatial_sigma != d.spatial_sigma) a.insert(a.end(), {"--spatial-sigma", number(p.spatial_sigma)});
+  }
   if (p.sigma_n2 != d.sigma_n2) a.insert(a.end(), {"--sigma-n2", number(p.sigma_n2)});
   if (p.depth_sigma != d.depth_sigma) a.insert(a.end(), {"--depth-sigma", number(p.depth_sigma)});
   if (p.beta != d.beta) a.insert(a.end(), {"--beta", number(p.beta)});
@@ -130,7 +153,7 @@ std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_sc
   if (p.nu != d.nu) a.insert(a.end(), {"--nu", number(p.nu)});
   if (p.diffuse_sharpness != d.diffuse_sharpness) a.insert(a.end(), {"--diffuse-sharpness", number(p.diffuse_sharpness)});
   if (job.render.rsm != defaults.render.rsm) a.insert(a.end(), {"--rsm", std::to_string(job.render.rsm)});
-  if (job.source == "vsgl") {
+  if (with_upsampling && job.source == "vsgl") {
     a.insert(a.end(), {"--vsgl", job.render.vsgl, "--diffuse", job.render.diffuse});
     const auto mode = render::parse_vsgl_mode(job.render.vsgl);
     if (!mode || !render::vsgl_mode_is_whole_rsm(*mode)) a.insert(a.end(), {"--count", std::to_string(job.render.count)});

@@ -3,6 +3,8 @@
 // the option and value, the provenance arguments, and the stats record of a run.
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render_job.hpp"
+#include "sglab/render/denoise.hpp"
 #include "sglab/render/filtering.hpp"
 
 namespace sglab::cli {
@@ -44,8 +47,18 @@ render::FilterWeights parse_weights_option(const std::string& text);
 // o.scale kept at once (filter-sweep keeps one per point), with their output layers.
 void check_filter_memory(const render::Scene& scene, const render::FilterInputOptions& o, std::size_t runs = 1);
 
+// --noisy interleaved:M|random:K (UsageError quoting the clipped value and the valid forms).
+render::NoisySpec parse_noisy_option(const std::string& text);
+// The denoise pass's radius: `radius` if given (UsageError if below M for interleaved input or
+// outside [1, 16]), else default_denoise_radius(spec).
+int denoise_radius(const render::NoisySpec& spec, std::optional<int> radius);
+// The noisy input's options from the job (--rsm) and the noisy-input seed.
+render::DenoiseInputOptions denoise_input_options(const FilterJob& job, const render::NoisySpec& spec, std::uint64_t seed);
+
 // The job's options as command-line arguments after the scene path (for provenance).
-std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale = true);
+// with_upsampling = false leaves out the upsampling pass's own options (--scale, --source, --radius,
+// --spatial-sigma and the VSGL source's): the noisy-input pass states its radius itself.
+std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale = true, bool with_upsampling = true);
 
 // The parameters as JSON (every one, with its meaning's units).
 nlohmann::json filter_parameters_json(const render::FilterParameters& p);

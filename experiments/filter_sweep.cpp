@@ -28,13 +28,33 @@
 #include "csv.hpp"
 #include "parse_number.hpp"
 #include "sweep.hpp"  // csv_number
+#include "denoise_sweep.hpp"
 #include "registry.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace filter_sweep {
 namespace {
 
 namespace fs = std::filesystem;
+
+// --roughness, --scale and --weights (InputError naming the bad item).
+void parse_lists(const Options& o, Result& r) {
+  r.roughness = parse_roughness_list(o.roughness);
+  for (const auto& t : split(o.scales)) {
+    double x = 0;
+    try {
+      x = parse_decimal<double>(t);
+    } catch (const NumberError& e) {
+      throw UsageError(fmt::format("--scale: '{}' {}", clip_text(t), e.what()));
+    }
+    if (x != std::floor(x) || x < 1 || x > 64) throw UsageError(fmt::format("--scale: '{}' is not an integer in [1, 64]", clip_text(t)));
+    r.scales.push_back(int(x));
+  }
+  r.weights = parse_weights_list(o.weights);
+}
+
+}  // namespace
 
 std::vector<std::string> split(const std::string& text) {
   std::vector<std::string> parts;
@@ -47,37 +67,37 @@ std::vector<std::string> split(const std::string& text) {
   return parts;
 }
 
-// A statistic for the CSV: "" when it has no finite value (relative L2 over a subset whose reference
-// is 0, e.g. receivers no VPL reaches, is +∞ in image_error's convention).
 std::string stat_number(double x) { return std::isfinite(x) ? csv_number(x) : std::string(); }
 
-std::string cell(double x, const char* format = "{:.4f}") { return std::isfinite(x) ? fmt::format(fmt::runtime(format), x) : "–"; }
+std::string cell(double x, const char* format) { return std::isfinite(x) ? fmt::format(fmt::runtime(format), x) : "–"; }
 
-// --roughness, --scale and --weights (InputError naming the bad item).
-void parse_lists(const Options& o, Result& r) {
-  for (const auto& t : split(o.roughness)) {
-    try {
-      r.roughness.push_back(parse_decimal<double>(t));
-    } catch (const NumberError& e) {
-      throw UsageError(fmt::format("--roughness: '{}' {}", t, e.what()));
-    }
-  }
-  for (const auto& t : split(o.scales)) {
-    double x = 0;
-    try {
-      x = parse_decimal<double>(t);
-    } catch (const NumberError& e) {
-      throw UsageError(fmt::format("--scale: '{}' {}", t, e.what()));
-    }
-    if (x != std::floor(x) || x < 1 || x > 64) throw UsageError(fmt::format("--scale: '{}' is not an integer in [1, 64]", t));
-    r.scales.push_back(int(x));
-  }
-  for (const auto& t : split(o.weights)) r.weights.push_back(parse_weights_option(t));
+void check_job_and_table(FilterJob& job, const std::string& table) {
+  apply_filter_constants(job);
+  if (job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
+  if (table.empty() || table.find_first_of("/\\ ") != std::string::npos)
+    throw UsageError(fmt::format("--table '{}' is not a file name", clip_text(table)));
 }
 
-// Every point's scene first: a bad roughness stops here, naming it.
-std::vector<render::Scene> point_scenes(const Options& o, const std::vector<double>& roughness) {
-  const nlohmann::json base = load_scene_document(o.job.render.scene_path, o.job.render.overrides);
+std::vector<double> parse_roughness_list(const std::string& text) {
+  std::vector<double> values;
+  for (const auto& t : split(text)) {
+    try {
+      values.push_back(parse_decimal<double>(t));
+    } catch (const NumberError& e) {
+      throw UsageError(fmt::format("--roughness: '{}' {}", clip_text(t), e.what()));
+    }
+  }
+  return values;
+}
+
+std::vector<render::FilterWeights> parse_weights_list(const std::string& text) {
+  std::vector<render::FilterWeights> weights;
+  for (const auto& t : split(text)) weights.push_back(parse_weights_option(t));
+  return weights;
+}
+
+std::vector<render::Scene> roughness_scenes(const FilterJob& job, const std::vector<double>& roughness) {
+  const nlohmann::json base = load_scene_document(job.render.scene_path, job.render.overrides);
   std::vector<render::Scene> scenes;
   for (const double a : roughness) {
     nlohmann::json doc = base;
@@ -88,13 +108,39 @@ std::vector<render::Scene> point_scenes(const Options& o, const std::vector<doub
       throw UsageError(fmt::format("--roughness {}: {}", a, e.what()));
     }
     try {
-      scenes.push_back(scene_from_document(doc, o.job.render));
+      scenes.push_back(scene_from_document(doc, job.render));
     } catch (const UsageError& e) {
       throw UsageError(fmt::format("--roughness {}: {}", a, e.what()));
     }
   }
   return scenes;
 }
+
+namespace {
+
+// The measured reason for the scale-2 rows (filtering.md's own text; the numbers of the ν runs are
+// from `sglab filter scenes/cornell-glossy.json --scale 2 --set floor.roughness=A --weights W [--nu V]`
+// at 128², the table's image).
+constexpr const char* kScaleTwoNote =
+    "**Scale 2, measured.** At scale 2 `lobe` is worse than `normal` in relative L2 at every roughness but better in "
+    "SMAPE (the tables above). It is not a few bright pixels: over the other 99 % `lobe` is still worse at scale 2 (the "
+    "table just above). It is not the lobes: `lobe-depth` (the lobe directions with normal's depth term) is within "
+    "−0.2 … +0.5 % of `normal` at scale 2. It is App. A's positional term, whose Gaussian has variance "
+    "(τ̄_p² + τ̄_q²)/β ≈ 2ν²/β (σ ≈ 0.063 scene units at ν = 0.2, about the spacing of the low-resolution samples at "
+    "scale 2): it keeps fewer samples than the depth term, which sharpens edges (lower SMAPE) and interpolates smooth "
+    "bright regions worse (higher relative L2). ν trades one for the other; at α = 0.2 no ν reaches normal's relative L2 "
+    "(the best, 0.2239 at ν = 1, costs SMAPE 0.0897 against 0.0812), at α = 0.02 only a narrow band near ν = 0.28 "
+    "matches normal in both "
+    "(`sglab filter scenes/cornell-glossy.json --scale 2 --set floor.roughness=A --weights lobe --nu V`, 128²; normal: "
+    "relative L2 0.6372, SMAPE 0.1262 at α = 0.02; 0.2230, 0.0812 at α = 0.2):\n\n"
+    "| ν | α = 0.02: rel. L2 | SMAPE | α = 0.2: rel. L2 | SMAPE |\n|---|---|---|---|---|\n"
+    "| 0.05 | 0.7241 | 0.1041 | 0.2500 | 0.0599 |\n| 0.1 | 0.6957 | 0.1179 | 0.2358 | 0.0718 |\n"
+    "| 0.2 (default) | 0.6512 | 0.1222 | 0.2268 | 0.0784 |\n| 0.25 | 0.6396 | 0.1240 | 0.2256 | 0.0793 |\n"
+    "| 0.3 | 0.6321 | 0.1267 | 0.2249 | 0.0805 |\n| 0.4 | 0.6238 | 0.1320 | 0.2243 | 0.0833 |\n"
+    "| 1 | 0.6141 | 0.1444 | 0.2239 | 0.0897 |\n\n"
+    "So the scale-2 result is the positional term at a footprint where the low-resolution image is already close to the "
+    "reference; ν = 0.2 (the best relative L2 at scale 4, the default) is kept, and this table reports what it costs at "
+    "scale 2.\n";
 
 std::string command_line(const Options& o) {
   std::vector<std::string> args = {"filter-sweep", "--scene",   o.job.render.scene_path, "--roughness", o.roughness,
@@ -252,6 +298,60 @@ std::string markdown_table(const Result& r, bool smape, int subset, const std::v
 }
 
 // The Markdown summary: relative L2 and SMAPE per weighting, all pixels and by receiver kind.
+// How much of a row's squared error lies in the brightest 1 % of its pixels (by the reference's
+// channel sum; the reference is upsampled − error), and the relative L2 over the other pixels.
+struct BrightSplit {
+  double share = 0, rest_relative_l2 = 0;
+};
+BrightSplit bright_split(const render::FilterResult& r) {
+  const std::size_t n = r.upsampled.size();
+  std::vector<double> brightness(n);
+  for (std::size_t k = 0; k < n; ++k) brightness[k] = (r.upsampled[k] - r.error[k]).sum();
+  std::vector<std::size_t> order(n);
+  for (std::size_t k = 0; k < n; ++k) order[k] = k;
+  const std::size_t top = (n + 99) / 100;
+  std::nth_element(order.begin(), order.begin() + std::ptrdiff_t(top), order.end(),
+                   [&](std::size_t a, std::size_t b) { return brightness[a] > brightness[b]; });
+  double all = 0, bright = 0, rest_ref = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t k = order[i];
+    const double e2 = r.error[k].square().sum();
+    all += e2;
+    if (i < top) {
+      bright += e2;
+    } else {
+      rest_ref += (r.upsampled[k] - r.error[k]).square().sum();
+    }
+  }
+  return {all > 0 ? bright / all : 0.0, rest_ref > 0 ? std::sqrt((all - bright) / rest_ref) : 0.0};
+}
+
+// The scale-2 result, measured: the share of the squared error in the brightest 1 % of pixels, and
+// lobe vs normal over the other 99 %.
+std::string bright_pixels_table(const Result& r) {
+  const auto find = [&](int scale, double a, render::FilterWeights w) -> const Row* {
+    for (const Row& row : r.rows)
+      if (row.scale == scale && row.roughness == a && row.weights == w) return &row;
+    return nullptr;
+  };
+  std::string md =
+      "## Where the relative L2 lies: the brightest 1 % of pixels\n\n"
+      "Share of each weighting's squared error that lies in the brightest 1 % of pixels (by the exact VPL sum), and the "
+      "relative L2 over the other 99 %.\n\n"
+      "| scale | floor α | share, normal | share, lobe | rel. L2 of the other 99 %, normal | lobe | lobe vs normal |\n"
+      "|---|---|---|---|---|---|---|\n";
+  for (const int sc : r.scales)
+    for (const double a : r.roughness) {
+      const Row* normal = find(sc, a, render::FilterWeights::normal);
+      const Row* lobe = find(sc, a, render::FilterWeights::lobe);
+      if (!normal || !lobe) return "";
+      const BrightSplit n = bright_split(normal->result), l = bright_split(lobe->result);
+      md += fmt::format("| {} | {:g} | {:.0f} % | {:.0f} % | {:.4f} | {:.4f} | {} |\n", sc, a, 100 * n.share, 100 * l.share,
+                        n.rest_relative_l2, l.rest_relative_l2, cell(percent_change(l.rest_relative_l2, n.rest_relative_l2), "{:+.1f} %"));
+    }
+  return md + "\n" + std::string(kScaleTwoNote) + "\n";
+}
+
 std::string markdown(const Result& r) {
   std::string md = markdown_intro(r);
   // Each weighting other than spatial and normal is also given relative to normal.
@@ -261,6 +361,7 @@ std::string markdown(const Result& r) {
       if (w != render::FilterWeights::normal && w != render::FilterWeights::spatial) compared.push_back(w);
   for (const bool smape : {false, true})
     for (int subset = 0; subset < 3; ++subset) md += markdown_table(r, smape, subset, compared);
+  md += bright_pixels_table(r);
   std::size_t fallbacks = 0;
   for (const Row& row : r.rows) fallbacks += row.result.fallback_pixels;
   md += fmt::format(
@@ -276,15 +377,12 @@ Result compute(const Options& options) {
   Result r;
   r.options = options;
   Options& o = r.options;
-  apply_filter_constants(o.job);
-  if (o.job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
-  if (o.table.empty() || o.table.find_first_of("/\\ ") != std::string::npos)
-    throw UsageError(fmt::format("--table '{}' is not a file name", o.table));
+  check_job_and_table(o.job, o.table);
   parse_lists(o, r);
   check_filter_parameters(o.job.parameters);
   const render::FilterInputOptions input_options = filter_input_options(o.job);
   r.rsm_resolution = input_options.rsm_resolution;
-  const std::vector<render::Scene> scenes = point_scenes(o, r.roughness);
+  const std::vector<render::Scene> scenes = roughness_scenes(o.job, r.roughness);
   if (!scenes.empty() && !r.scales.empty()) {  // bounded as if every point's inputs were kept, all at the finest scale
     render::FilterInputOptions finest = input_options;
     finest.scale = *std::min_element(r.scales.begin(), r.scales.end());
@@ -301,34 +399,91 @@ void write(const Result& r) {
   const Options& o = r.options;
   const Tables t = tables(r);
   write_table(o.out, o.table + "_points", r.provenance, "", t.points_csv);
-  write_table(o.tables_dir, o.table, r.provenance, t.markdown, t.csv);
+  write_table(o.tables_dir.empty() ? o.out : o.tables_dir, o.table, r.provenance, t.markdown, t.csv);
   std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
-  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n", o.tables_dir.c_str(), o.table.c_str(),
+  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n",
+               (o.tables_dir.empty() ? o.out : o.tables_dir).c_str(), o.table.c_str(),
                o.out.c_str(), o.table.c_str(), r.seconds);
 }
 
 }  // namespace filter_sweep
 
+namespace {
+
+// The options only the noisy-input sweep has, and which shared options were given.
+struct DenoiseOptions {
+  std::string noisy;  // empty: the upsampling sweep
+  denoise_sweep::Options defaults;
+  const CLI::Option *radius = nullptr, *scale = nullptr, *spatial_sigma = nullptr, *source = nullptr, *table = nullptr,
+                    *roughness = nullptr, *weights = nullptr;
+};
+
+bool given(const CLI::Option* option) { return option && option->count() > 0; }
+
+denoise_sweep::Options denoise_options(const filter_sweep::Options& f, const DenoiseOptions& d) {
+  for (const CLI::Option* upsampling : {d.scale, d.spatial_sigma, d.source})
+    if (given(upsampling))
+      throw UsageError(fmt::format("{} is the upsampling sweep's; --noisy filters full-resolution noisy images", upsampling->get_name()));
+  denoise_sweep::Options o = d.defaults;
+  o.noisy = d.noisy;
+  o.job = f.job;
+  if (given(d.radius)) o.radius = f.job.parameters.radius;
+  if (given(d.roughness)) o.roughness = f.roughness;
+  if (given(d.weights)) o.weights = f.weights;
+  if (given(d.table)) o.table = f.table;
+  o.out = f.out;
+  o.tables_dir = f.tables_dir;
+  o.quiet = f.quiet;
+  return o;
+}
+
+}  // namespace
+
 void add_filter_sweep_command(CLI::App& app) {
   auto opts = std::make_shared<filter_sweep::Options>();
+  auto noisy = std::make_shared<DenoiseOptions>();
   auto* sub = app.add_subcommand("filter-sweep",
-                                 "Upsampling error per weighting (spatial, normal, lobe) over the floor's roughness (paper_tables/filtering.*)");
+                                 "Upsampling error per weighting (spatial, normal, lobe) over the floor's roughness (filtering.*); with "
+                                 "--noisy, the error of filtered noisy VPL-subset images (filtering_denoise.*)");
   sub->add_option("--scene", opts->job.render.scene_path, "scene JSON with an object named floor")->required();
-  sub->add_option("--roughness", opts->roughness, "floor GGX roughness values, comma-separated")->capture_default_str();
-  sub->add_option("--weights", opts->weights, "weightings, comma-separated (spatial, normal, lobe, lobe-depth)")->capture_default_str();
-  add_places_options(*sub, opts->out, opts->tables_dir, "directory for the per-row CSV", "directory for NAME.md and NAME.csv");
-  sub->add_option("--table", opts->table, "table name")->capture_default_str();
+  noisy->roughness = sub->add_option("--roughness", opts->roughness, "floor GGX roughness values, comma-separated")->capture_default_str();
+  noisy->weights =
+      sub->add_option("--weights", opts->weights, "weightings, comma-separated (spatial, normal, lobe, lobe-depth)")->capture_default_str();
+  add_places_options(*sub, opts->out, opts->tables_dir, "directory for the per-row CSV (and the figure's images)",
+                     "directory for NAME.md and NAME.csv (default: the --out directory)");
+  noisy->table = sub->add_option("--table", opts->table, "table name (default filtering, with --noisy filtering_denoise)")->capture_default_str();
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
-  sub->add_option("--scale", opts->scales, "scales (the indirect light at 1/SCALE resolution), comma-separated")->capture_default_str();
+  noisy->scale =
+      sub->add_option("--scale", opts->scales, "scales (the indirect light at 1/SCALE resolution), comma-separated")->capture_default_str();
+  sub->add_option("--noisy", noisy->noisy,
+                  fmt::format("filter noisy full-resolution images instead of upsampling: noisy inputs, comma-separated, each {} "
+                              "(e.g. {}); --radius then is the window's half-width in pixels (default M, or 4)",
+                              render::kNoisySpecForms, noisy->defaults.noisy));
+  sub->add_option("--noisy-seed", noisy->defaults.noisy_seed, "--noisy: seed of the subsets' shift or of the draws")
+      ->capture_default_str()
+      ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
+  sub->add_option("--figure-roughness", noisy->defaults.figure_roughness, "--noisy: roughness values whose images the figure crops")
+      ->capture_default_str();
+  sub->add_option("--figure-noisy", noisy->defaults.figure_noisy, "--noisy: the noisy input of the figure's images")->capture_default_str();
   add_filter_job_options(*sub, opts->job, false);
-  sub->callback([opts] { filter_sweep::write(filter_sweep::compute(*opts)); });
+  noisy->radius = sub->get_option("--radius");
+  noisy->spatial_sigma = sub->get_option("--spatial-sigma");
+  noisy->source = sub->get_option("--source");
+  sub->callback([opts, noisy] {
+    if (noisy->noisy.empty()) {
+      filter_sweep::write(filter_sweep::compute(*opts));
+    } else {
+      denoise_sweep::write(denoise_sweep::compute(denoise_options(*opts, *noisy)));
+    }
+  });
 }
 
 }  // namespace sglab::cli
 
 namespace sglab::experiments {
 
-// Lobe-aware filtering: both weightings on cornell-glossy (`sglab filter`), then the roughness sweep.
+// Lobe-aware filtering, both passes: both weightings on cornell-glossy (`sglab filter`, upsampling and
+// a noisy interleaved image), then the roughness sweeps of each pass and the figure of the second.
 std::vector<Step> filtering_steps(const Places& p) {
   std::vector<Step> v;
   for (const char* weights : {"normal", "lobe"}) {
@@ -339,17 +494,34 @@ std::vector<Step> filtering_steps(const Places& p) {
                            {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--out", base + ".exr", "--stats",
                             base + ".json"},
                            {"--width", "64", "--height", "64"}, "", true));
+    v.push_back(sglab_step(std::string("filter-cornell-glossy-denoise-") + weights,
+                           std::string("filtering a noisy 4×4-interleaved VPL image with ") +
+                               (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") + " weights (EXR + stats)",
+                           {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--noisy", "interleaved:4", "--out",
+                            base + "-denoise.exr", "--stats", base + "-denoise.json"},
+                           {"--width", "64", "--height", "64"}, "", true));
   }
   v.push_back(sglab_step("filter-sweep",
                          "upsampling error per weighting over the floor's roughness on cornell-glossy (paper_tables/filtering.*)",
                          {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", p.out + "/filtering"},
                          {"--width", "64", "--height", "64"}, "--tables-dir", true));
+  // Its table carries the filter's time per pixel: nothing runs beside it.
+  v.push_back(timed(sglab_step("filter-sweep-denoise",
+                         "filtering noisy interleaved VPL images: error per weighting over the floor's roughness × M on "
+                         "cornell-glossy (paper_tables/filtering_denoise.*)",
+                         {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--noisy", "interleaved:2,interleaved:4,interleaved:8",
+                          "--out", p.out + "/filtering"},
+                         {"--width", "64", "--height", "64"}, "--tables-dir", true)));
+  v.push_back(plot_step("plot-filtering-denoise",
+                        "crops of the glossy floor and a diffuse wall: noisy, normal- and lobe-filtered, exact, at two roughnesses",
+                        {"plots/filtering_denoise.py", p.out + "/filtering/filtering_denoise_images.csv", p.key_figures()}));
   return v;
 }
 
 Experiment filtering_experiment() {
   return {"filter-sweep",
-          "upsampling error per weighting (normal/depth vs lobe-aware) over the floor's roughness (filtering.*)",
+          "upsampling and noisy-image filtering error per weighting (normal/depth vs lobe-aware) over the floor's roughness "
+          "(filtering.*, filtering_denoise.*)",
           cli::add_filter_sweep_command, filtering_steps};
 }
 

@@ -18,7 +18,7 @@ struct Options {
   std::string scales = "2,4,8";
   std::string weights = "spatial,normal,lobe,lobe-depth";
   std::string out = "results/filtering";
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir;  // empty: `out`
   std::string table = "filtering";
   bool quiet = false;
 };
@@ -62,5 +62,20 @@ Tables tables(const Result& r);
 
 // OUT/TABLE_points.csv and TABLES/TABLE.{md,csv}; the Markdown also on stdout.
 void write(const Result& r);
+
+// What the upsampling sweep and the noisy-input sweep (denoise_sweep.hpp) share.
+std::vector<std::string> split(const std::string& text);  // at commas, empty items kept
+// A statistic for the CSV: "" when it has no finite value (relative L2 over a subset whose
+// reference is 0, e.g. receivers no VPL reaches, is +∞ in image_error's convention).
+std::string stat_number(double x);
+// A Markdown cell: "–" when not finite.
+std::string cell(double x, const char* format = "{:.4f}");
+// Applies the constant set to the job, then: a scene is given, the table name is a file name.
+void check_job_and_table(FilterJob& job, const std::string& table);
+std::vector<double> parse_roughness_list(const std::string& text);               // --roughness (UsageError)
+std::vector<render::FilterWeights> parse_weights_list(const std::string& text);  // --weights (UsageError)
+// The job's scene with `floor.roughness` set to each value (after the job's own --set overrides);
+// a bad value stops here, named.
+std::vector<render::Scene> roughness_scenes(const FilterJob& job, const std::vector<double>& roughness);
 
 }  // namespace sglab::cli::filter_sweep

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -15,37 +16,13 @@
 #include "sglab/render/reference.hpp"
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/vsgl_shading.hpp"
+#include "filtering_detail.hpp"
 
 namespace sglab::render {
-namespace {
+namespace filtering_detail {
 
-using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Runs body(k) for k in [0, rows·width) in parallel over rows, reporting progress in 5 % steps.
-template <class Body>
-void for_each_row(int width, int rows, std::string_view stage,
-                  const std::function<void(std::string_view, double)>& progress, const Body& body) {
-  std::atomic<int> done{0}, reported{0};
-  if (progress) progress(stage, 0.0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, rows), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j < r.end(); ++j) {
-      for (int i = 0; i < width; ++i) body(std::size_t(j) * std::size_t(width) + std::size_t(i), i, j);
-      const int n = ++done;
-      if (progress) {
-        const int step = 20 * n / rows;
-        int last = reported.load();
-        while (step > last && !reported.compare_exchange_weak(last, step)) {
-        }
-        if (step > last && step < 20) progress(stage, step / 20.0);
-      }
-    }
-  });
-  if (progress) progress(stage, 1.0);
-}
-
-// The sample seen through image point (px, py) (full-resolution pixel units) with its lobes.
-// pixel_angle: the angle one pixel of this sample's grid subtends (its footprint is depth × that).
 FilterSample sample_at(const Scene& scene, double px, double py, double pixel_angle) {
   FilterSample s;
   const Ray ray = camera_ray(scene.camera, px, py);
@@ -65,8 +42,7 @@ FilterSample sample_at(const Scene& scene, double px, double py, double pixel_an
   return s;
 }
 
-// Per-channel a/b with 0 where b is 0 (a part whose reflectance is 0 in a channel carries no light
-// there, and is remodulated by 0).
+// A part whose reflectance is 0 in a channel carries no light there, and is remodulated by 0.
 Rgb demodulate(const Rgb& value, const Rgb& reflectance) {
   Rgb out = Rgb::Zero();
   for (int c = 0; c < 3; ++c)
@@ -79,7 +55,54 @@ bool has_part(const FilterSample& s, bool specular) {
   return specular ? s.point.glossy() : (s.point.diffuse_reflectance > 0).any();
 }
 
-}  // namespace
+void fill_full_gbuffer(const Scene& scene, const std::function<void(std::string_view, double)>& progress,
+                       std::vector<FilterSample>& full, std::vector<char>& hit, std::vector<char>& glossy) {
+  const Camera& cam = scene.camera;
+  const std::size_t n = std::size_t(cam.width) * std::size_t(cam.height);
+  full.assign(n, FilterSample{});
+  hit.assign(n, 0);
+  glossy.assign(n, 0);
+  // One pixel's angle at the image centre: 2 tan(fov/2)/height.
+  const double pixel_angle = 2 * std::tan(0.5 * cam.vertical_fov) / double(cam.height);
+  for_each_row(cam.width, cam.height, "g-buffer", progress, [&](std::size_t k, int i, int j) {
+    full[k] = sample_at(scene, i + 0.5, j + 0.5, pixel_angle);
+    hit[k] = full[k].valid;
+    glossy[k] = full[k].valid && full[k].point.glossy();
+  });
+}
+
+std::pair<Rgb, Rgb> split_vpl_sum(const ShadingPoint& point, const VplList& vpls) {
+  ShadingPoint d = point, g = point;
+  d.f0 = Rgb::Zero();
+  g.diffuse_reflectance = Rgb::Zero();
+  return {reference_radiance(d, vpls), point.glossy() ? reference_radiance(g, vpls) : Rgb::Zero()};
+}
+
+bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given, int width,
+                    const std::function<void(std::string_view, double)>& progress, std::vector<Rgb>& reference) {
+  const std::size_t n = full.size();
+  if (given) {
+    if (given->size() != n) throw std::invalid_argument(fmt::format("the reference given has {} pixels, the image {}", given->size(), n));
+    reference = *given;
+    return false;
+  }
+  reference.assign(n, Rgb::Zero());
+  for_each_row(width, int(n / std::size_t(width)), "reference (VPL sum)", progress, [&](std::size_t k, int, int) {
+    if (full[k].valid) reference[k] = reference_radiance(full[k].point, vpls);
+  });
+  return true;
+}
+
+ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const std::vector<char>& hit,
+                               const std::vector<char>& glossy) {
+  std::vector<char> diffuse_mask(hit.size(), 0);
+  for (std::size_t k = 0; k < hit.size(); ++k) diffuse_mask[k] = hit[k] && !glossy[k];
+  return {image_error(value, reference, hit), image_error(value, reference, glossy), image_error(value, reference, diffuse_mask)};
+}
+
+}  // namespace filtering_detail
+
+using namespace filtering_detail;
 
 namespace {
 constexpr EnumName<FilterWeights> kFilterWeightsNames[] = {{FilterWeights::spatial, "spatial"},
@@ -153,18 +176,9 @@ namespace {
 // clamped into the image for a last, partial block).
 void fill_gbuffers(const Scene& scene, const FilterInputOptions& o, FilterInputs& in) {
   const Camera& cam = scene.camera;
-  const std::size_t n = std::size_t(in.width) * std::size_t(in.height);
-  // One pixel's angle at the image centre: 2 tan(fov/2)/height.
   const double pixel_angle = 2 * std::tan(0.5 * cam.vertical_fov) / double(cam.height);
-  in.full.resize(n);
+  fill_full_gbuffer(scene, o.progress, in.full, in.hit, in.glossy);
   in.low.resize(std::size_t(in.low_width) * std::size_t(in.low_height));
-  in.hit.assign(n, 0);
-  in.glossy.assign(n, 0);
-  for_each_row(in.width, in.height, "g-buffer", o.progress, [&](std::size_t k, int i, int j) {
-    in.full[k] = sample_at(scene, i + 0.5, j + 0.5, pixel_angle);
-    in.hit[k] = in.full[k].valid;
-    in.glossy[k] = in.full[k].valid && in.full[k].point.glossy();
-  });
   for_each_row(in.low_width, in.low_height, "g-buffer (low)", {}, [&](std::size_t k, int i, int j) {
     const double px = std::min(o.scale * (i + 0.5), double(in.width)), py = std::min(o.scale * (j + 0.5), double(in.height));
     in.low[k] = sample_at(scene, px, py, o.scale * pixel_angle);
@@ -185,12 +199,7 @@ void fill_low_res_indirect(const ReflectiveShadowMap& rsm, const VplList& vpls, 
     if (!s.valid) return;
     Rgb diffuse, specular;
     if (o.source == IndirectSource::exact) {
-      // The exact VPL sum of each part: the same point with the other layer switched off.
-      ShadingPoint d = s.point, g = s.point;
-      d.f0 = Rgb::Zero();
-      g.diffuse_reflectance = Rgb::Zero();
-      diffuse = reference_radiance(d, vpls);
-      specular = s.point.glossy() ? reference_radiance(g, vpls) : Rgb::Zero();
+      std::tie(diffuse, specular) = split_vpl_sum(s.point, vpls);
     } else {
       const VsglShading parts = shader.shade(s.point);
       diffuse = parts.diffuse;
@@ -218,8 +227,6 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
   in.source = o.source;
   in.low_width = (cam.width + o.scale - 1) / o.scale;
   in.low_height = (cam.height + o.scale - 1) / o.scale;
-  const std::size_t n = std::size_t(in.width) * std::size_t(in.height);
-
   auto t0 = Clock::now();
   fill_gbuffers(scene, o, in);
   in.seconds.gbuffer = seconds_since(t0);
@@ -235,17 +242,8 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
   in.seconds.low_res = seconds_since(t0);
 
   t0 = Clock::now();
-  if (o.reference) {
-    if (o.reference->size() != n)
-      throw std::invalid_argument(fmt::format("the reference given has {} pixels, the image {}", o.reference->size(), n));
-    in.reference = *o.reference;
-    return in;  // seconds.reference stays 0: nothing was computed
-  }
-  in.reference.assign(n, Rgb::Zero());
-  for_each_row(in.width, in.height, "reference (VPL sum)", o.progress, [&](std::size_t k, int, int) {
-    if (in.full[k].valid) in.reference[k] = reference_radiance(in.full[k].point, vpls);
-  });
-  in.seconds.reference = seconds_since(t0);
+  // seconds.reference stays 0 when the reference was given: nothing was computed.
+  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference)) in.seconds.reference = seconds_since(t0);
   return in;
 }
 
@@ -302,11 +300,10 @@ FilterResult upsample_indirect(const FilterInputs& in, FilterWeights weights, co
   });
 
   r.fallback_pixels = fallbacks.load();
-  std::vector<char> diffuse_mask(n, 0);
-  for (std::size_t k = 0; k < n; ++k) diffuse_mask[k] = in.hit[k] && !in.glossy[k];
-  r.all = image_error(r.upsampled, in.reference, in.hit);
-  r.glossy = image_error(r.upsampled, in.reference, in.glossy);
-  r.diffuse = image_error(r.upsampled, in.reference, diffuse_mask);
+  const ReceiverErrors e = receiver_errors(r.upsampled, in.reference, in.hit, in.glossy);
+  r.all = e.all;
+  r.glossy = e.glossy;
+  r.diffuse = e.diffuse;
   r.seconds = seconds_since(t0);
   return r;
 }

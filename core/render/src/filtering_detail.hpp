@@ -1,0 +1,76 @@
+// What the two passes over indirect light share (filtering.cpp: upsampling; denoise.cpp: filtering a
+// noisy full-resolution image): the G-buffer samples with their lobes, the split of a VPL sum into its
+// diffuse and specular parts, demodulation, the row-parallel loop and the per-receiver errors.
+// Private to the renderer's sources.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "sglab/render/filtering.hpp"
+#include "sglab/render/reference.hpp"
+
+namespace sglab::render::filtering_detail {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0);
+
+// Runs body(k, i, j) for k = j·width + i, j in [0, rows), in parallel over rows, reporting progress in
+// 5 % steps.
+template <class Body>
+void for_each_row(int width, int rows, std::string_view stage,
+                  const std::function<void(std::string_view, double)>& progress, const Body& body) {
+  std::atomic<int> done{0}, reported{0};
+  if (progress) progress(stage, 0.0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows), [&](const tbb::blocked_range<int>& r) {
+    for (int j = r.begin(); j < r.end(); ++j) {
+      for (int i = 0; i < width; ++i) body(std::size_t(j) * std::size_t(width) + std::size_t(i), i, j);
+      const int n = ++done;
+      if (progress) {
+        const int step = 20 * n / rows;
+        int last = reported.load();
+        while (step > last && !reported.compare_exchange_weak(last, step)) {
+        }
+        if (step > last && step < 20) progress(stage, step / 20.0);
+      }
+    }
+  });
+  if (progress) progress(stage, 1.0);
+}
+
+// The sample seen through image point (px, py) (full-resolution pixel units) with its lobes.
+// pixel_angle: the angle one pixel of this sample's grid subtends (its footprint is depth × that).
+FilterSample sample_at(const Scene& scene, double px, double py, double pixel_angle);
+
+// The full-resolution G-buffer of the scene's camera: samples, hit and glossy masks.
+void fill_full_gbuffer(const Scene& scene, const std::function<void(std::string_view, double)>& progress,
+                       std::vector<FilterSample>& full, std::vector<char>& hit, std::vector<char>& glossy);
+
+// The VPL sum of each part at a point: (diffuse, specular), each with the other layer switched off.
+std::pair<Rgb, Rgb> split_vpl_sum(const ShadingPoint& point, const VplList& vpls);
+
+// The exact VPL sum at every valid sample (0 elsewhere): `given` if not null (its size must be the
+// samples'; std::invalid_argument otherwise), else computed. Returns whether it was computed.
+bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given, int width,
+                    const std::function<void(std::string_view, double)>& progress, std::vector<Rgb>& reference);
+
+// Per-channel a/b with 0 where b is 0.
+Rgb demodulate(const Rgb& value, const Rgb& reflectance);
+
+bool has_part(const FilterSample& s, bool specular);
+
+// image_error over all hit pixels, glossy receivers and the other (diffuse) receivers.
+struct ReceiverErrors {
+  ImageError all, glossy, diffuse;
+};
+ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const std::vector<char>& hit,
+                               const std::vector<char>& glossy);
+
+}  // namespace sglab::render::filtering_detail
