@@ -8,8 +8,8 @@
 #   scripts/mutants.sh --list          # the list, without running anything
 #
 # The scratch copy is a detached git worktree of HEAD plus the checkout's uncommitted changes to
-# tracked files, in $SGLAB_MUTANTS_DIR (default /tmp/sglab-mutants-$USER); its build directory is
-# kept between runs, so a second run rebuilds incrementally (ccache is used when it is installed).
+# tracked files, in $SGLAB_MUTANTS_DIR/src (default /tmp/sglab-mutants-$USER); its build directory
+# (src/build) is kept between runs, so a second run rebuilds incrementally (ccache is used when it is installed).
 # The report goes to stdout and to $SGLAB_MUTANTS_DIR/report.md; the exit status is 1 when a
 # mutant survived, 2 when a mutant could not be applied, built, or the unmutated tests fail.
 # Environment: SGLAB_MUTANTS_JOBS (build jobs, default 2), SGLAB_MUTANTS_TIMEOUT (seconds per
@@ -21,7 +21,7 @@ work=${SGLAB_MUTANTS_DIR:-/tmp/sglab-mutants-${USER:-$(id -un)}}
 jobs=${SGLAB_MUTANTS_JOBS:-2}
 timeout_s=${SGLAB_MUTANTS_TIMEOUT:-600}
 scratch=$work/src
-build=$work/build
+build=$scratch/build  # inside the copy, as in a checkout: the compiler cache sees the same relative paths
 log=$work/log
 
 # ---- the list ------------------------------------------------------------------------------------
@@ -57,7 +57,7 @@ head=$(git -C "$src" rev-parse HEAD) || exit 2
 if [[ ! -d $scratch/.git && ! -f $scratch/.git ]]; then
   git -C "$src" worktree add --detach "$scratch" "$head" >/dev/null || exit 2
 fi
-git -C "$scratch" checkout -q --detach --force "$head" && git -C "$scratch" clean -qfdx || exit 2
+git -C "$scratch" checkout -q --detach --force "$head" && git -C "$scratch" clean -qfd || exit 2
 git -C "$src" diff HEAD --binary >"$work/uncommitted.diff"
 if [[ -s $work/uncommitted.diff ]]; then
   git -C "$scratch" apply --whitespace=nowarn "$work/uncommitted.diff" || { echo "mutants.sh: cannot apply the uncommitted changes" >&2; exit 2; }

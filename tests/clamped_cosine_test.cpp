@@ -288,9 +288,9 @@ mp50 hill_published(const mp50& l, const mp50& c, bool* quadratic = nullptr) {
 // c0 matters only near the horizon, where the quadratic branch |c0·c| ≤ c1·x (|c| ≲ 1.9/√λ for
 // large λ) is taken: there a 1 % change of c0 moves D by ≈ 2 %·y·scale/(D(λ,1)λ/2π), ≥ 1e-4 of
 // D(λ, 1) up to λ = 1e4. Grid: λ 8 per decade on [0.1, 1e4]; c in steps of 1/64 on [−1, 1] and 129
-// cosines across |c| ≤ min(1, 2/√λ) (the branch is taken at ≥ 10 grid cosines for every λ). Bounds, relative to the 50-digit
-// D(λ, 1): double 1e-14 (measured 2.6e-15: a few ulps times the cancellation of scale·y + bias);
-// float 1e-5 (measured 2.2e-6: the same in float).
+// cosines across |c| ≤ min(1, 2/√λ) (the branch is taken at ≥ 10 grid cosines for every λ).
+// Bounds, relative to the 50-digit D(λ, 1): double 1e-14 (measured 2.6e-15: a few ulps times the
+// cancellation of scale·y + bias); float 1e-5 (measured 1.8e-6: the same in float).
 template <class T>
 void expect_hill_is_the_published_formula(double bound) {
   long near_horizon = 0;
