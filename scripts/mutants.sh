@@ -6,6 +6,7 @@
 #   scripts/mutants.sh                 # every mutant
 #   scripts/mutants.sh hill-c0 csv-*   # the named ones (shell patterns)
 #   scripts/mutants.sh --list          # the list, without running anything
+#   scripts/mutants.sh --no-baseline … # skip the unmutated run of the owning tests (a rerun)
 #
 # The scratch copy is a detached git worktree of HEAD plus the checkout's uncommitted changes to
 # tracked files, in $SGLAB_MUTANTS_DIR/src (default /tmp/sglab-mutants-$USER); its build directory
@@ -38,17 +39,22 @@ mutant() {
 . "$src/scripts/mutants/list.sh"
 
 selected=()
+baseline=1
+if [[ ${1:-} == --no-baseline ]]; then baseline=0; shift; fi
 if [[ ${1:-} == --list ]]; then
   for i in "${!ids[@]}"; do printf '%-28s %-48s %s\n' "${ids[i]}" "${files[i]}" "${tests[i]}"; done
   exit 0
 fi
-for i in "${!ids[@]}"; do
-  if (($# == 0)); then selected+=("$i"); continue; fi
+if (($# == 0)); then
+  selected=("${!ids[@]}")
+else  # in the order of the patterns, each mutant once
   for pattern in "$@"; do
-    # shellcheck disable=SC2053
-    if [[ ${ids[i]} == $pattern ]]; then selected+=("$i"); break; fi
+    for i in "${!ids[@]}"; do
+      # shellcheck disable=SC2053
+      if [[ ${ids[i]} == $pattern && " ${selected[*]} " != *" $i "* ]]; then selected+=("$i"); fi
+    done
   done
-done
+fi
 ((${#selected[@]})) || { echo "mutants.sh: no mutant matches: $*" >&2; exit 2; }
 
 # ---- the scratch copy ----------------------------------------------------------------------------
@@ -111,7 +117,7 @@ echo "mutants.sh: building ${#all_targets[@]} test targets in $build" >&2
 cmake --build "$build" -j"$jobs" --target "${all_targets[@]}" >"$log/baseline-build.txt" 2>&1 ||
   { echo "mutants.sh: the unmutated build failed, see $log/baseline-build.txt" >&2; exit 2; }
 echo "mutants.sh: unmutated owning tests" >&2
-run_tests "$all_tests" "$log/baseline-tests.txt" ||
+((baseline == 0)) || run_tests "$all_tests" "$log/baseline-tests.txt" ||
   { echo "mutants.sh: the owning tests fail without a mutant ($(first_failure "$log/baseline-tests.txt")), see $log/baseline-tests.txt" >&2; exit 2; }
 
 # ---- each mutant ---------------------------------------------------------------------------------

@@ -267,6 +267,62 @@ TEST(ClampedCosine, JetDerivativesMatchFiniteDifferences) {
   check("sglab", [](const J& l, const J& c) { return clamped_cosine_sglab(l, c); });  // the fitter differentiates it
 }
 
+// Every published constant of the diffuse methods, as printed in its paper (digits written here,
+// not read from core), through the method in 50 digits, against the method with its defaults in
+// double: a mistyped or truncated constant moves D by far more than rounding somewhere on the
+// grid (λ 2 per decade on [0.01, 1e4], c in steps of 1/8). Bound relative to D(λ, 1): 64 ulps
+// times each method's cancellation (1; 32 for meder; 2/λc ≈ 2364 for tokuyoshi2022); measured
+// 4e-16, 2.9e-14 and 1.2e-12.
+TEST(ClampedCosine, PublishedConstantsAsPrinted) {
+  struct Case {
+    const char* name;
+    double (*f)(const double&, const double&);
+    mp50 (*published)(const mp50&, const mp50&);
+    double cancellation;
+  };
+  const Case cases[] = {
+      {"tokuyoshi2024", [](const double& l, const double& c) { return clamped_cosine_tokuyoshi2024(l, c); },
+       [](const mp50& l, const mp50& c) {  // Tokuyoshi et al. 2024, t(λ)
+         return clamped_cosine_tokuyoshi2024(l, c, mp50("2.7360831611272558"), mp50("17.021297781741875"),
+                                             mp50("4.0100826728510421"), mp50("15.219156263147211"),
+                                             mp50("76.087896272360737"));
+       },
+       1},
+      {"meder", [](const double& l, const double& c) { return clamped_cosine_meder(l, c); },
+       [](const mp50& l, const mp50& c) {  // Meder & Brüderlin 2018: cosine fit, logistic p1…p4
+         return clamped_cosine_meder(l, c, mp50("32.7080"), mp50("0.0315"), mp50("31.7003"), mp50("1.6988"),
+                                     mp50("10.8438"), mp50("6.2201"), mp50("10.2415"));
+       },
+       32},
+      {"tokuyoshi2022", [](const double& l, const double& c) { return clamped_cosine_tokuyoshi2022(l, c); },
+       [](const mp50& l, const mp50& c) {  // Tokuyoshi 2022: λc (20 digits), A, B, C
+         const mp50 lc("0.00084560872241480124");
+         return clamped_cosine_tokuyoshi2022_with(l, c, lc, mp50(lc / (2 * (expm1(lc) - lc))), mp50("0.6517328826907056"),
+                                                  mp50("1.3418280033141288"), mp50("7.2216687798956709"));
+       },
+       2364},
+      {"cosine-lobe-sg", [](const double& l, const double& c) { return clamped_cosine_cosine_lobe_sg(l, c); },
+       [](const mp50& l, const mp50& c) { return clamped_cosine_cosine_lobe_sg(l, c, mp50("1.17"), mp50("2.133")); },  // Pettineo 2016
+       1},
+      {"sg-cosine", [](const double& l, const double& c) { return clamped_cosine_sg_cosine(l, c); },
+       [](const mp50& l, const mp50& c) { return clamped_cosine_sg_cosine(l, c, mp50(2)); },  // Tokuyoshi 2015/2016: λ_d ≈ 2
+       1},
+  };
+  for (const auto& k : cases) {
+    double worst = 0;
+    for (double l : test::log_grid(-2, 4, 2)) {
+      const mp50 pole = abs(k.published(mp50(l), mp50(1)));
+      for (int j = -8; j <= 8; ++j) {
+        const double c = j / 8.0;
+        const double e = static_cast<double>(abs(mp50(k.f(l, c)) - k.published(mp50(l), mp50(c))) / pole);
+        worst = std::max(worst, e);
+        EXPECT_LE(e, 64 * 2.2e-16 * k.cancellation) << k.name << " λ = " << l << ", c = " << c;
+      }
+    }
+    std::printf("%-15s against its printed constants in 50 digits: worst %.2e of D(λ,1)\n", k.name, worst);
+  }
+}
+
 // ---- the published constants and every switch point, against formulas written out here --------
 
 // Pettineo 2016 (SG series part 3), "SGIrradianceFitted" (Stephen Hill's fit), as published and

@@ -159,7 +159,16 @@ TEST(UpsampleIndirect, BadParametersAreNamed) {
       {[](FilterParameters& p) { p.nu = NAN; }, "nu nan"},
       {[](FilterParameters& p) { p.radius = 0; }, "radius 0"},
       {[](FilterParameters& p) { p.sigma_n2 = 0; }, "sigma_n^2 0"},
+      {[](FilterParameters& p) { p.radius = 17; }, "radius 17"},  // [1, 16]: both ends
+      {[](FilterParameters& p) { p.spatial_sigma = -1; }, "spatial sigma -1"},
+      {[](FilterParameters& p) { p.depth_sigma = INFINITY; }, "depth sigma inf"},
+      {[](FilterParameters& p) { p.diffuse_sharpness = 0; }, "diffuse sharpness 0"},
   };
+  for (const int radius : {1, 16}) {
+    FilterParameters p;
+    p.radius = radius;
+    EXPECT_FALSE(filter_parameters_error(p)) << "radius " << radius;
+  }
   for (const auto& [edit, expected] : cases) {
     FilterParameters p;
     edit(p);
