@@ -14,13 +14,16 @@
 # The report goes to stdout and to $SGLAB_MUTANTS_DIR/report.md; the exit status is 1 when a
 # mutant survived, 2 when a mutant could not be applied, built, or the unmutated tests fail.
 # Environment: SGLAB_MUTANTS_JOBS (build jobs, default 2), SGLAB_MUTANTS_TIMEOUT (seconds per
-# test command, default 600). Run it niced on a shared machine: `nice -n 10 scripts/mutants.sh`.
+# test command, default 600), SGLAB_MUTANTS_MEMORY_KB (address space per test command, default
+# 6 GiB: a mutant that loops appending fails there, not in the machine's OOM killer). Run it niced
+# on a shared machine: `nice -n 10 scripts/mutants.sh`.
 set -uo pipefail
 
 src=$(cd "$(dirname "$0")/.." && pwd)
 work=${SGLAB_MUTANTS_DIR:-/tmp/sglab-mutants-${USER:-$(id -un)}}
 jobs=${SGLAB_MUTANTS_JOBS:-2}
 timeout_s=${SGLAB_MUTANTS_TIMEOUT:-600}
+memory_kb=${SGLAB_MUTANTS_MEMORY_KB:-6291456}  # a mutant that loops allocating stops at 6 GiB
 scratch=$work/src
 build=$scratch/build  # inside the copy, as in a checkout: the compiler cache sees the same relative paths
 log=$work/log
@@ -85,10 +88,11 @@ targets_of() {
   done
   printf '%s\n' "${out[@]}" | sort -u
 }
-# Runs the owning tests; status 0 when all pass. Output in $2.
+# Runs the owning tests; status 0 when all pass. Output in $2. Called as ( run_tests … ).
 run_tests() {
   local t status=0
   : >"$2"
+  ulimit -v "$memory_kb"  # run_tests runs in a subshell (below): the limit stays there
   for t in $1; do
     case $t in
       build:*) continue ;;
@@ -117,7 +121,7 @@ echo "mutants.sh: building ${#all_targets[@]} test targets in $build" >&2
 cmake --build "$build" -j"$jobs" --target "${all_targets[@]}" >"$log/baseline-build.txt" 2>&1 ||
   { echo "mutants.sh: the unmutated build failed, see $log/baseline-build.txt" >&2; exit 2; }
 echo "mutants.sh: unmutated owning tests" >&2
-((baseline == 0)) || run_tests "$all_tests" "$log/baseline-tests.txt" ||
+((baseline == 0)) || (run_tests "$all_tests" "$log/baseline-tests.txt") ||
   { echo "mutants.sh: the owning tests fail without a mutant ($(first_failure "$log/baseline-tests.txt")), see $log/baseline-tests.txt" >&2; exit 2; }
 
 # ---- each mutant ---------------------------------------------------------------------------------
@@ -142,7 +146,7 @@ for i in "${selected[@]}"; do
     mapfile -t targets < <(targets_of "${tests[i]}")
     if ! cmake --build "$build" -j"$jobs" --target "${targets[@]}" >"$log/$id-build.txt" 2>&1; then
       result="build error" by="see log/$id-build.txt"
-    elif run_tests "${tests[i]}" "$log/$id-tests.txt"; then
+    elif (run_tests "${tests[i]}" "$log/$id-tests.txt"); then
       result="**survived**" by="${tests[i]}"
     else
       result="killed" by=$(first_failure "$log/$id-tests.txt")

@@ -59,6 +59,18 @@ TEST(FilterRangeWeight, LobeDirectionsOnDiffusePartsAreTheNormalWeight) {
   }
 }
 
+TEST(FilterRangeWeight, DepthTermIsRelativeToTheDepth) {
+  // `normal` and `lobe-depth` multiply by g(z_p − z_q, (depth_sigma·z_p)²): a depth difference of
+  // one σ_z = depth_sigma·z_p weighs e^{−1/2} at every scale of the scene (same normals: the
+  // directional factor is 1).
+  const FilterParameters a;
+  for (const double zp : {2.0, 20.0, 0.2}) {
+    const FilterSample p = sample_with(Vec3::UnitZ(), zp, false), q = sample_with(Vec3::UnitZ(), zp * (1 + a.depth_sigma), false);
+    EXPECT_NEAR(filter_range_weight(p, q, false, FilterWeights::normal, a), std::exp(-0.5), 1e-12) << zp;
+    EXPECT_NEAR(filter_range_weight(p, q, false, FilterWeights::lobe_depth, a), std::exp(-0.5), 1e-12) << zp;
+  }
+}
+
 TEST(FilterRangeWeight, MatchesCoreWeightsAndPrefersSimilarSpecularLobes) {
   const FilterParameters a;
   // Specular part: the lobe-aware weight of the two warped GGX lobes (filtering_weights.hpp).
