@@ -71,6 +71,21 @@ TEST(FilterRangeWeight, DepthTermIsRelativeToTheDepth) {
   }
 }
 
+TEST(FilterRangeWeight, LobePositionalTermIsTheThreeDimensionalSimilarity) {
+  // `lobe` multiplies by App. A's positional weight: for two isotropic Gaussians in ℝ³ (m = 3) at
+  // the same place with variances τ² = footprint² + ν², q = (2τ_pτ_q/(τ_p² + τ_q²))^{m/2}, w = q^β.
+  FilterParameters a;
+  a.nu = 0.01;  // a kernel no wider than the footprints, so they differ
+  FilterSample p = sample_with(Vec3::UnitZ(), 2.0, false), q = p;
+  p.footprint = 0.01;
+  q.footprint = 0.015;
+  const double tp2 = p.footprint * p.footprint + a.nu * a.nu, tq2 = q.footprint * q.footprint + a.nu * a.nu;
+  const double expected = std::pow(2 * std::sqrt(tp2 * tq2) / (tp2 + tq2), 1.5 * a.beta);
+  EXPECT_GT(expected, 0.01);
+  EXPECT_LT(expected, 0.9);
+  EXPECT_LE(test::relative_error(filter_range_weight(p, q, false, FilterWeights::lobe, a), expected), 1e-12);
+}
+
 TEST(FilterRangeWeight, MatchesCoreWeightsAndPrefersSimilarSpecularLobes) {
   const FilterParameters a;
   // Specular part: the lobe-aware weight of the two warped GGX lobes (filtering_weights.hpp).
