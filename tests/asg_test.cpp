@@ -8,6 +8,7 @@
 
 #include "sglab/asg.hpp"
 #include "sglab/glossy_reference.hpp"
+#include "test_util.hpp"
 
 namespace sglab {
 namespace {
@@ -38,6 +39,46 @@ TEST(BesselI0Scaled, MatchesBoostAndAsymptoticIsContinuous) {
   const auto r = bessel_i0_scaled(j);
   EXPECT_NEAR(r.v[0], std::exp(-3.0) * (boost::math::cyl_bessel_i(1, 3.0) - boost::math::cyl_bessel_i(0, 3.0)), 1e-14);
 }
+
+// e^{−x} I0(x) by its power series Σ_k (x²/4)^k/(k!)² (A&S 9.6.12) in 50 digits: every term is
+// positive, so nothing cancels; summed until a term is below 1e-55 of the sum.
+mp50 bessel_i0_scaled_series(const mp50& x) {
+  const mp50 q = x * x / 4;
+  mp50 term = 1, sum = 1;
+  for (int k = 1; term > sum * mp50("1e-55"); ++k) {
+    term *= q / (mp50(k) * mp50(k));
+    sum += term;
+  }
+  return exp(-x) * sum;
+}
+
+// Both sides of the switch to the asymptotic series (x0 = −ln ε: 15.9 in float, 36.0 in double) on
+// a grid dense enough to see it move: 40 points per decade on [0.01, 100], every integer and
+// half-integer on [1, 200] and every fifth integer on [205, 400], which includes the float range 89–159 where Boost's I0 overflows
+// float (a switch moved up there throws overflow_error). Bound: 16 ε relative per type
+// (measured ≤ 4 ε); a switch moved down to x0/10 sums the asymptotic series where it has not
+// converged (the smallest term at x = 3.6 is ~1e-3).
+template <class T>
+void expect_bessel_i0_scaled_exact() {
+  const double eps = std::numeric_limits<T>::epsilon();
+  std::vector<double> xs = test::log_grid(-2, 2, 40);
+  for (int k = 2; k <= 400; ++k) xs.push_back(k / 2.0);
+  for (int k = 205; k <= 400; k += 5) xs.push_back(k);
+  double worst = 0, worst_x = 0;
+  for (double xd : xs) {
+    const T x = T(xd);
+    T value{};
+    ASSERT_NO_THROW(value = bessel_i0_scaled(x)) << "x = " << xd;
+    const double e = static_cast<double>(abs(mp50(value) / bessel_i0_scaled_series(mp50(x)) - 1));
+    EXPECT_LE(e, 16 * eps) << "x = " << xd;
+    if (e > worst) worst = e, worst_x = xd;
+  }
+  std::printf("%s: e^-x I0(x) worst relative error %.2f ε at x = %g (switch at %g)\n", sizeof(T) == 4 ? "float" : "double",
+              worst / eps, worst_x, -std::log(eps));
+}
+
+TEST(BesselI0Scaled, BothSidesOfTheSwitchDouble) { expect_bessel_i0_scaled_exact<double>(); }
+TEST(BesselI0Scaled, BothSidesOfTheSwitchFloat) { expect_bessel_i0_scaled_exact<float>(); }
 
 TEST(AsgIntegral, ExactMatchesTwoDimensionalQuadrature) {
   for (auto [x, y] : {std::pair{0.0, 0.0}, {1.0, 1.0}, {10.0, 1.0}, {100.0, 3.0}, {1e4, 1e2}, {5.0, 0.0}, {0.3, 40.0}}) {

@@ -267,5 +267,163 @@ TEST(ClampedCosine, JetDerivativesMatchFiniteDifferences) {
   check("sglab", [](const J& l, const J& c) { return clamped_cosine_sglab(l, c); });  // the fitter differentiates it
 }
 
+// Every published constant of the diffuse methods, as printed in its paper (digits written here,
+// not read from core), through the method in 50 digits, against the method with its defaults in
+// double: a mistyped or truncated constant moves D by far more than rounding somewhere on the
+// grid (λ 2 per decade on [0.01, 1e4], c in steps of 1/8). Bound relative to D(λ, 1): 64 ulps
+// times each method's cancellation (1; 32 for meder; 2/λc ≈ 2364 for tokuyoshi2022); measured
+// 4e-16, 2.9e-14 and 1.2e-12.
+TEST(ClampedCosine, PublishedConstantsAsPrinted) {
+  struct Case {
+    const char* name;
+    double (*f)(const double&, const double&);
+    mp50 (*published)(const mp50&, const mp50&);
+    double cancellation;
+  };
+  const Case cases[] = {
+      {"tokuyoshi2024", [](const double& l, const double& c) { return clamped_cosine_tokuyoshi2024(l, c); },
+       [](const mp50& l, const mp50& c) {  // Tokuyoshi et al. 2024, t(λ)
+         return clamped_cosine_tokuyoshi2024(l, c, mp50("2.7360831611272558"), mp50("17.021297781741875"),
+                                             mp50("4.0100826728510421"), mp50("15.219156263147211"),
+                                             mp50("76.087896272360737"));
+       },
+       1},
+      {"meder", [](const double& l, const double& c) { return clamped_cosine_meder(l, c); },
+       [](const mp50& l, const mp50& c) {  // Meder & Brüderlin 2018: cosine fit, logistic p1…p4
+         return clamped_cosine_meder(l, c, mp50("32.7080"), mp50("0.0315"), mp50("31.7003"), mp50("1.6988"),
+                                     mp50("10.8438"), mp50("6.2201"), mp50("10.2415"));
+       },
+       32},
+      {"tokuyoshi2022", [](const double& l, const double& c) { return clamped_cosine_tokuyoshi2022(l, c); },
+       [](const mp50& l, const mp50& c) {  // Tokuyoshi 2022: λc (20 digits), A, B, C
+         const mp50 lc("0.00084560872241480124");
+         return clamped_cosine_tokuyoshi2022_with(l, c, lc, mp50(lc / (2 * (expm1(lc) - lc))), mp50("0.6517328826907056"),
+                                                  mp50("1.3418280033141288"), mp50("7.2216687798956709"));
+       },
+       2364},
+      {"cosine-lobe-sg", [](const double& l, const double& c) { return clamped_cosine_cosine_lobe_sg(l, c); },
+       [](const mp50& l, const mp50& c) { return clamped_cosine_cosine_lobe_sg(l, c, mp50("1.17"), mp50("2.133")); },  // Pettineo 2016
+       1},
+      {"sg-cosine", [](const double& l, const double& c) { return clamped_cosine_sg_cosine(l, c); },
+       [](const mp50& l, const mp50& c) { return clamped_cosine_sg_cosine(l, c, mp50(2)); },  // Tokuyoshi 2015/2016: λ_d ≈ 2
+       1},
+  };
+  for (const auto& k : cases) {
+    double worst = 0;
+    for (double l : test::log_grid(-2, 4, 2)) {
+      const mp50 pole = abs(k.published(mp50(l), mp50(1)));
+      for (int j = -8; j <= 8; ++j) {
+        const double c = j / 8.0;
+        const double e = static_cast<double>(abs(mp50(k.f(l, c)) - k.published(mp50(l), mp50(c))) / pole);
+        worst = std::max(worst, e);
+        EXPECT_LE(e, 64 * 2.2e-16 * k.cancellation) << k.name << " λ = " << l << ", c = " << c;
+      }
+    }
+    std::printf("%-15s against its printed constants in 50 digits: worst %.2e of D(λ,1)\n", k.name, worst);
+  }
+}
+
+// ---- the published constants and every switch point, against formulas written out here --------
+
+// Pettineo 2016 (SG series part 3), "SGIrradianceFitted" (Stephen Hill's fit), as published and
+// written out here in 50 digits apart from core (docs/math.md §3 `hill-fitted`): c0 = 0.36,
+// c1 = 1/(4c0), scale = 1 + 2e^{−2λ} − 1/λ, bias = (e^{−λ} − e^{−2λ})/λ − e^{−2λ}, x = √(1 − scale),
+// y = (c0c + c1x)²/x where |c0c| ≤ c1x, else saturate(c); D = (scale·y + bias)·2π/λ.
+// Returns whether the quadratic (near-horizon) branch was taken in `quadratic`.
+mp50 hill_published(const mp50& l, const mp50& c, bool* quadratic = nullptr) {
+  const mp50 c0("0.36"), c1 = 1 / (4 * c0);
+  const mp50 e1 = exp(-l), e2 = exp(-2 * l);
+  const mp50 scale = 1 + 2 * e2 - 1 / l, bias = (e1 - e2) / l - e2;
+  const mp50 x = sqrt(1 - scale), x0 = c0 * c, x1 = c1 * x;
+  const bool near_horizon = abs(x0) <= x1;
+  if (quadratic) *quadratic = near_horizon;
+  const mp50 y = near_horizon ? (x0 + x1) * (x0 + x1) / x : c < 0 ? mp50(0) : c > 1 ? mp50(1) : c;
+  return (scale * y + bias) * 2 * boost::math::constants::pi<mp50>() / l;
+}
+
+// c0 matters only near the horizon, where the quadratic branch |c0·c| ≤ c1·x (|c| ≲ 1.9/√λ for
+// large λ) is taken: there a 1 % change of c0 moves D by ≈ 2 %·y·scale/(D(λ,1)λ/2π), ≥ 1e-4 of
+// D(λ, 1) up to λ = 1e4. Grid: λ 8 per decade on [0.1, 1e4]; c in steps of 1/64 on [−1, 1] and 129
+// cosines across |c| ≤ min(1, 2/√λ) (the branch is taken at ≥ 10 grid cosines for every λ).
+// Bounds, relative to the 50-digit D(λ, 1): double 1e-14 (measured 2.6e-15: a few ulps times the
+// cancellation of scale·y + bias); float 1e-5 (measured 1.8e-6: the same in float).
+template <class T>
+void expect_hill_is_the_published_formula(double bound) {
+  long near_horizon = 0;
+  double worst = 0;
+  for (double ld : test::log_grid(-1, 4, 8)) {
+    const T l = T(ld);
+    const mp50 pole = abs(hill_published(mp50(l), mp50(1)));
+    long here = 0;
+    std::vector<double> cosines;
+    for (int j = -64; j <= 64; ++j) {
+      cosines.push_back(j / 64.0);
+      cosines.push_back(j / 64.0 * std::min(1.0, 2 / std::sqrt(ld)));  // across the near-horizon band
+    }
+    for (const double cd : cosines) {
+      const T c = T(cd);
+      bool quadratic = false;
+      const mp50 exact = hill_published(mp50(l), mp50(c), &quadratic);
+      here += quadratic;
+      const double e = static_cast<double>(abs(mp50(clamped_cosine_hill_fitted(l, c)) - exact) / pole);
+      worst = std::max(worst, e);
+      EXPECT_LE(e, bound) << "λ = " << ld << ", c = " << double(c) << (quadratic ? " (near the horizon)" : "");
+    }
+    EXPECT_GE(here, 10) << "λ = " << ld << ": the grid misses the near-horizon branch";
+    near_horizon += here;
+  }
+  std::printf("%s: hill-fitted against the published formula: worst %.3e of D(λ,1); %ld near-horizon points\n",
+              sizeof(T) == 4 ? "float" : "double", worst, near_horizon);
+}
+
+TEST(ClampedCosine, HillFittedIsThePublishedFormulaNearTheHorizonDouble) {
+  expect_hill_is_the_published_formula<double>(1e-14);
+}
+TEST(ClampedCosine, HillFittedIsThePublishedFormulaNearTheHorizonFloat) {
+  expect_hill_is_the_published_formula<float>(1e-5);
+}
+
+// D(λ, ±1)/2π switch from their series to the closed forms at λ = 1, and α(λ) of Tokuyoshi 2022
+// from its series to expm1 at λ = 0.5. Against the closed forms in 50 digits (where their
+// cancellation costs at most ~8 of the 50 digits on these grids):
+//   upper = (1 − (1 − e^{−λ})/λ)/λ,  lower = e^{−λ}((1 − e^{−λ})/λ − e^{−λ})/λ,  α = λ/(2(e^λ − 1 − λ)),
+// on grids of 200 λ per decade spanning a decade and more on each side of each switch, in float
+// and double: a switch moved to where the other form loses digits (a series past λ ≈ 3, whose
+// alternating terms grow like e^λ; the direct α below λ ≈ 0.1, which loses |log10 λ| digits) fails.
+// Bounds per type in units of ε (2.2e-16, 1.2e-7): measured ≤ 2.7ε; bound 16ε.
+template <class T>
+void expect_switch_points_exact() {
+  const double eps = std::numeric_limits<T>::epsilon();
+  double worst_upper = 0, worst_lower = 0, worst_alpha = 0;
+  for (double ld : test::log_grid(-2, 2, 200)) {
+    const T l = T(ld);
+    const mp50 m(l);
+    const mp50 one_minus_e = -expm1(-m);
+    const mp50 upper = (1 - one_minus_e / m) / m, lower = exp(-m) * (one_minus_e / m - exp(-m)) / m;
+    const double eu = static_cast<double>(abs(mp50(clamped_cosine_upper_over_2pi(l)) / upper - 1));
+    const double el = static_cast<double>(abs(mp50(clamped_cosine_lower_over_2pi(l)) / lower - 1));
+    EXPECT_LE(eu, 16 * eps) << "upper, λ = " << ld;
+    worst_upper = std::max(worst_upper, eu);
+    // lower ≈ e^{−λ}/λ² leaves T's normal range (float: from λ ≈ 83); compared where T holds it
+    // to full precision.
+    if (lower < std::numeric_limits<T>::min() / eps) continue;
+    EXPECT_LE(el, 16 * eps) << "lower, λ = " << ld;
+    worst_lower = std::max(worst_lower, el);
+  }
+  for (double ld : test::log_grid(-4, 1, 200)) {
+    const T l = T(ld);
+    const mp50 m(l);
+    const mp50 alpha = m / (2 * (expm1(m) - m));
+    const double ea = static_cast<double>(abs(mp50(tokuyoshi2022_alpha(l)) / alpha - 1));
+    EXPECT_LE(ea, 16 * eps) << "α, λ = " << ld;
+    worst_alpha = std::max(worst_alpha, ea);
+  }
+  std::printf("%s: worst relative error / ε: upper %.2f, lower %.2f, α %.2f\n", sizeof(T) == 4 ? "float" : "double",
+              worst_upper / eps, worst_lower / eps, worst_alpha / eps);
+}
+
+TEST(ClampedCosine, SeriesSwitchPointsOnDenseGridsDouble) { expect_switch_points_exact<double>(); }
+TEST(ClampedCosine, SeriesSwitchPointsOnDenseGridsFloat) { expect_switch_points_exact<float>(); }
+
 }  // namespace
 }  // namespace sglab

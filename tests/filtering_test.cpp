@@ -59,6 +59,33 @@ TEST(FilterRangeWeight, LobeDirectionsOnDiffusePartsAreTheNormalWeight) {
   }
 }
 
+TEST(FilterRangeWeight, DepthTermIsRelativeToTheDepth) {
+  // `normal` and `lobe-depth` multiply by g(z_p − z_q, (depth_sigma·z_p)²): a depth difference of
+  // one σ_z = depth_sigma·z_p weighs e^{−1/2} at every scale of the scene (same normals: the
+  // directional factor is 1).
+  const FilterParameters a;
+  for (const double zp : {2.0, 20.0, 0.2}) {
+    const FilterSample p = sample_with(Vec3::UnitZ(), zp, false), q = sample_with(Vec3::UnitZ(), zp * (1 + a.depth_sigma), false);
+    EXPECT_NEAR(filter_range_weight(p, q, false, FilterWeights::normal, a), std::exp(-0.5), 1e-12) << zp;
+    EXPECT_NEAR(filter_range_weight(p, q, false, FilterWeights::lobe_depth, a), std::exp(-0.5), 1e-12) << zp;
+  }
+}
+
+TEST(FilterRangeWeight, LobePositionalTermIsTheThreeDimensionalSimilarity) {
+  // `lobe` multiplies by App. A's positional weight: for two isotropic Gaussians in ℝ³ (m = 3) at
+  // the same place with variances τ² = footprint² + ν², q = (2τ_pτ_q/(τ_p² + τ_q²))^{m/2}, w = q^β.
+  FilterParameters a;
+  a.nu = 0.01;  // a kernel no wider than the footprints, so they differ
+  FilterSample p = sample_with(Vec3::UnitZ(), 2.0, false), q = p;
+  p.footprint = 0.01;
+  q.footprint = 0.015;
+  const double tp2 = p.footprint * p.footprint + a.nu * a.nu, tq2 = q.footprint * q.footprint + a.nu * a.nu;
+  const double expected = std::pow(2 * std::sqrt(tp2 * tq2) / (tp2 + tq2), 1.5 * a.beta);
+  EXPECT_GT(expected, 0.01);
+  EXPECT_LT(expected, 0.9);
+  EXPECT_LE(test::relative_error(filter_range_weight(p, q, false, FilterWeights::lobe, a), expected), 1e-12);
+}
+
 TEST(FilterRangeWeight, MatchesCoreWeightsAndPrefersSimilarSpecularLobes) {
   const FilterParameters a;
   // Specular part: the lobe-aware weight of the two warped GGX lobes (filtering_weights.hpp).
@@ -159,7 +186,16 @@ TEST(UpsampleIndirect, BadParametersAreNamed) {
       {[](FilterParameters& p) { p.nu = NAN; }, "nu nan"},
       {[](FilterParameters& p) { p.radius = 0; }, "radius 0"},
       {[](FilterParameters& p) { p.sigma_n2 = 0; }, "sigma_n^2 0"},
+      {[](FilterParameters& p) { p.radius = 17; }, "radius 17"},  // [1, 16]: both ends
+      {[](FilterParameters& p) { p.spatial_sigma = -1; }, "spatial sigma -1"},
+      {[](FilterParameters& p) { p.depth_sigma = INFINITY; }, "depth sigma inf"},
+      {[](FilterParameters& p) { p.diffuse_sharpness = 0; }, "diffuse sharpness 0"},
   };
+  for (const int radius : {1, 16}) {
+    FilterParameters p;
+    p.radius = radius;
+    EXPECT_FALSE(filter_parameters_error(p)) << "radius " << radius;
+  }
   for (const auto& [edit, expected] : cases) {
     FilterParameters p;
     edit(p);

@@ -323,6 +323,31 @@ TEST(SgLobeWeight, SmoothedLobesAgainstQuadratureOfConvolvedLobes) {
   }
 }
 
+TEST(SgLobeWeight, PaperBetaAgainstQuadratureOfConvolvedLobes) {
+  // The weight a filter uses, at the paper's β = 20 and κ = 100 (App. D, Fig. D.2), against the
+  // similarity of the two SGs each convolved with the vMF kernel of sharpness κ, by quadrature,
+  // raised to β. Directions are chosen where the weight is mid-range (≈ 0.5), so a wrong exponent
+  // shows (β applied twice gives ≈ 0.5^20 ≈ 1e-6; β = 1 gives ≈ 0.97; β = 21 moves w by 0.02).
+  // The error is the Iwasaki approximation of Eq. (12) raised to β: measured |Δw| ≤ 0.17/λ̄_min
+  // (0.0028 at λ̄_min = 60); bound 0.25/λ̄_min.
+  const double beta = LobeAwareFiltering::beta, kappa = LobeAwareFiltering::kappa;
+  const std::pair<double, double> sharpnesses[] = {{200, 1000}, {150, 150}};
+  for (const auto& [li, lj] : sharpnesses) {
+    const double bi = smoothed_lobe_sharpness(li, kappa), bj = smoothed_lobe_sharpness(lj, kappa);
+    const double bmin = std::min(bi, bj), reduced = bi * bj / (bi + bj);
+    // β·reduced·(1 − c) = ln 2: half the weight from the directions alone.
+    const double c = 1 - std::log(2.0) / (beta * reduced);
+    const double q = lobe_similarity_reference(sg_lobe(li), sg_lobe(lj), c, kappa, 1e-9);
+    const double reference = std::pow(q, beta);
+    const Vec3<double> a(0, 0, 1), b(std::sqrt((1 - c) * (1 + c)), 0, c);
+    const double w = lobe_aware_weight(a, li, b, lj, beta, kappa);
+    std::printf("λi %g λj %g: w %.6f, q^β by quadrature %.6f\n", li, lj, w, reference);
+    EXPECT_GT(reference, 0.2);
+    EXPECT_LT(reference, 0.8);
+    EXPECT_LE(std::fabs(w - reference), 0.25 / bmin) << "λi " << li << " λj " << lj;
+  }
+}
+
 TEST(SgLobeWeight, OptimizedFormEqualsDirectForm) {
   // App. E's exp(β/2·log(4u/v²) + βu/v(c − 1)) equals Eq. (12)'s
   // (2√u/v)^β G(ξ_i; ξ_j, βu/v). Both round independently: the direct form's pow raises the

@@ -225,7 +225,17 @@ TEST_F(Hardening, Group06_SpecialFilesAreNotReplaced) {
 }
 
 // 7. SIGINT or SIGTERM while an output is being written removes its temporary.
+// The test sets the disposition it needs: `sglab` started from a shell has SIGINT and SIGTERM at
+// their defaults, and installs its handler only then (an ignored signal stays ignored). A job
+// started in the background inherits SIGINT ignored, so this binary resets both to the default
+// before main, ahead of any temporary file (the handler is installed once per process).
+const bool kDefaultTerminationSignals = [] {
+  for (const int sig : {SIGINT, SIGTERM}) ::signal(sig, SIG_DFL);
+  return true;
+}();
+
 TEST_F(Hardening, Group07_SignalRemovesTemporaries) {
+  ASSERT_TRUE(kDefaultTerminationSignals);
   for (const int sig : {SIGINT, SIGTERM}) {
     const pid_t child = ::fork();
     ASSERT_GE(child, 0);

@@ -22,6 +22,7 @@
 #include "constant_sets.hpp"
 #include "input_error.hpp"
 #include "csv.hpp"
+#include "parse_number.hpp"
 #include "sglab/render/scene.hpp"
 
 namespace {
@@ -147,6 +148,70 @@ TEST(ParserFuzz, ConstantSetReaderFailsOnlyWithShortUsageErrors) {
     }
   }
   std::filesystem::remove_all(dir);
+}
+
+// The number grammar of every table-reading command (runner/parse_number.hpp): optional spaces or
+// tabs around, optional sign, digits with an optional fraction, an optional exponent; finite,
+// normal values of the type only. Each accepted text with its value (the compiler's reading of
+// the same literal), each refused one with the reason the message gives.
+TEST(NumberGrammar, AcceptedTextsAndTheirValues) {
+  using sglab::runner::parse_decimal;
+  const std::pair<const char*, double> accepted[] = {
+      {"0.5", 0.5},       {"-0.5", -0.5},       {"+2", 2.0},        {"1.", 1.0},          {".5", 0.5},
+      {"-.5", -0.5},      {"1e3", 1e3},         {"1E-3", 1e-3},     {"-1.5e+2", -150.0},  {"2.5E2", 250.0},
+      {"0", 0.0},         {"-0", -0.0},         {"000123", 123.0},  {" 0.25", 0.25},      {"0.25 ", 0.25},
+      {"\t7", 7.0},       {" \t-3e-1\t ", -0.3}, {"1e308", 1e308},  {"2.2250738585072014e-308", 2.2250738585072014e-308},
+      {"0.1", 0.1},       {"123456789012345678901234567890", 123456789012345678901234567890.0},
+  };
+  for (const auto& [text, value] : accepted) {
+    double got = 0;
+    ASSERT_NO_THROW(got = parse_decimal<double>(text)) << "'" << text << "'";
+    EXPECT_EQ(got, value) << "'" << text << "'";
+    EXPECT_EQ(std::signbit(got), std::signbit(value)) << "'" << text << "'";
+  }
+  EXPECT_EQ(parse_decimal<float>("0.1"), 0.1f);
+  EXPECT_EQ(parse_decimal<float>("3.4e38"), 3.4e38f);
+  EXPECT_EQ(parse_decimal<float>(" 1.17549435e-38"), 1.17549435e-38f);
+  // mp50 reads the decimal text itself, not its double rounding.
+  EXPECT_EQ(parse_decimal<sglab::mp50>("0.1"), sglab::mp50("0.1"));
+  EXPECT_EQ(parse_decimal<sglab::mp50>("-1.25e-3 "), sglab::mp50("-0.00125"));
+}
+
+TEST(NumberGrammar, RefusedTextsNameTheReason) {
+  using sglab::runner::NumberError;
+  using sglab::runner::parse_decimal;
+  const char* not_numbers[] = {
+      " ",      "\t",    "0.5x",  "x0.5",  "1e",     "1e+",  "1e-",      "e5",    ".",     "-",     "+",
+      "+-1",    "--1",   "1..2",  "1.2.3", "1e5.5",  "1e5e5", "0x10",    "0x1p3", "nan",   "NaN",   "-nan",
+      "inf",    "-inf",  "+inf",  "infinity", "1,5", "1 2",  "1_000",    "0.5\n", "\n0.5", "0.5\r", "１",
+      "1e+-5",  ".e5",   "- 1",   "1.5f",  "1d0",    "0b1",  "\xEF\xBB\xBF" "1",
+  };
+  for (const char* text : not_numbers) {
+    try {
+      (void)parse_decimal<double>(text);
+      ADD_FAILURE() << "accepted '" << text << "'";
+    } catch (const NumberError& e) {
+      EXPECT_NE(std::string(e.what()).find("not a number"), std::string::npos) << "'" << text << "': " << e.what();
+    }
+  }
+  EXPECT_THROW((void)parse_decimal<double>(""), NumberError);
+  // Out of the type's range, subnormals included, in each precision (mp50 is validated in double).
+  const std::pair<const char*, const char*> out_of_range[] = {
+      {"1e309", "too large"}, {"-1e400", "too large"}, {"1e-400", "too close to zero"}, {"4e-320", "too close to zero"},
+      {"2.2e-308", "too close to zero"},
+  };
+  for (const auto& [text, why] : out_of_range) {
+    for (int type = 0; type < 2; ++type) {
+      try {
+        if (type == 0) (void)parse_decimal<double>(text);
+        else (void)parse_decimal<sglab::mp50>(text);
+        ADD_FAILURE() << "accepted '" << text << "'";
+      } catch (const NumberError& e) {
+        EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << "'" << text << "': " << e.what();
+      }
+    }
+  }
+  for (const char* text : {"3.5e38", "1e39", "1e-40", "1e-46", "1.1e-38"}) EXPECT_THROW((void)parse_decimal<float>(text), NumberError) << text;
 }
 
 }  // namespace

@@ -1,0 +1,125 @@
+# The mutants of scripts/mutants.sh: mutant ID FILE SED-SCRIPT TEST...
+# Each is one small, plausible edit of main's code (a constant mistyped, a switch point moved, a
+# factor dropped or doubled, a check loosened) and the tests that own the edited code: the test
+# executable of the module (optionally a gtest filter), or a CTest test for the Python module.
+# The sed script must change exactly the line(s) it names; the report says "not applied" otherwise.
+# Removed as equivalent (no output can change), with the reason:
+#  - `if (!ok || i != s.size())` → `if (!ok)` in runner/parse_number.cpp: from_chars_checked refuses
+#    every text it does not consume whole, so a grammar that stops early is refused there (with
+#    the same message); NumberGrammar.RefusedTextsNameTheReason holds either way.
+
+# ---- core formulas and constants (core/include/sglab) -------------------------------------------
+mutant hill-c0 core/include/sglab/clamped_cosine.hpp 's#c0 = 0\.36;#c0 = 0.3636;#' \
+  clamped_cosine_test registry_test
+mutant i0-switch-up core/include/sglab/asg.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -10 * log(V(epsilon<T>()));#' \
+  asg_test registry_test
+mutant i0-switch-down core/include/sglab/asg.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -log(V(epsilon<T>())) / 10;#' \
+  asg_test registry_test
+mutant cc-upper-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_upper_over_2pi(const T/,/return sum;/ s#value_of(l) < 1)#value_of(l) < 10)#' \
+  clamped_cosine_test
+mutant cc-lower-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_lower_over_2pi(const T/,/inner = sum;/ s#value_of(l) < 1)#value_of(l) < 10)#' \
+  clamped_cosine_test
+mutant t2022-alpha-switch core/include/sglab/clamped_cosine.hpp 's#if (abs(value_of(lambda)) < 0\.5)#if (abs(value_of(lambda)) < 0.0005)#' \
+  clamped_cosine_test
+mutant t2024-D-digits core/include/sglab/clamped_cosine.hpp 's#D = 15\.219156263147211;#D = 15.291156263147211;#' \
+  clamped_cosine_test
+mutant t2024-large-switch core/include/sglab/clamped_cosine.hpp 's#if (value_of(l) > 1e4) return sqrt(l)#if (value_of(l) > 1e14) return sqrt(l)#' \
+  clamped_cosine_test hardening_test:HardeningNumerics.*
+mutant meder-offset core/include/sglab/clamped_cosine.hpp 's#offset = 31\.7003;#offset = 31.7030;#' \
+  clamped_cosine_test hemispherical_test
+mutant meder-p2 core/include/sglab/hemispherical.hpp 's#p2 = 10\.8438;#p2 = 10.4838;#' \
+  hemispherical_test clamped_cosine_test
+mutant sg-integral-2l core/include/sglab/sg.hpp 's#one_minus_exp_neg(T(2) \* sharpness) / sharpness#one_minus_exp_neg(sharpness) / sharpness#' \
+  sg_test
+mutant sg-log-amplitude core/include/sglab/sg.hpp 's#return T(-2) \* sharpness1 \* sharpness2 \* (T(1) - c) / denom;#return T(-2) * sharpness1 * sharpness2 * (T(1.01) - c) / denom;#' \
+  sg_test
+mutant sg-product-scale core/include/sglab/sg.hpp 's#kProductScaleSharpness = 1e18;#kProductScaleSharpness = 1e30;#' \
+  sg_test hardening_test:HardeningNumerics.*
+mutant expm1-series core/include/sglab/scalar.hpp 's#return T(1) + x \* (T(0\.5) + x \* (T(1) / T(6) + x \* (T(1) / T(24))));#return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(12))));#' \
+  sg_test clamped_cosine_test
+
+# ---- SIMD kernels (core/src/simd, core/render/src/simd) ----------------------------------------
+mutant simd-hill-c1 core/src/simd/simd_kernels.hpp 's#const B c1 = T(1) / (T(4) \* c0);#const B c1 = T(1) / (T(2) * c0);#' \
+  simd_test
+mutant simd-sglab-t core/src/simd/simd_kernels.hpp 's#B k = l \* xsimd::sqrt((l / T(2) + A)#B k = l * xsimd::sqrt((l / T(3) + A)#' \
+  simd_test
+mutant simd-t2024-tail core/src/simd/simd_kernels.hpp 's#T(0\.5) \* (c \* vm_erfc(-t \* c) + vm_erfc(t)) - tail#T(0.5) * (c * vm_erfc(-t * c) + vm_erfc(t)) + tail#' \
+  simd_test
+mutant simd-sg-integral core/src/simd/simd_math.hpp 's#kTwoPi<T> \* -em / l#kTwoPi<T> * em / l#' \
+  simd_test
+mutant simd-erfc-saturation core/src/simd/simd_math.hpp 's#T(26\.54) : T(9\.19)#T(26.54) : T(3.19)#' \
+  simd_test simd_specular_test
+mutant simd-expm1-series core/src/simd/simd_math.hpp 's#x \* (T(1) / T(24))#x * (T(1) / T(12))#' \
+  simd_test simd_specular_test
+mutant simd-asg-nu core/src/simd/simd_specular.hpp 's#const B nu = r\.light_sharpness / T(2);#const B nu = r.light_sharpness / T(4);#' \
+  simd_specular_test
+mutant render-ggx-ndf core/render/src/simd/render_kernels.hpp 's#a2 / (T(kPi) \* dn \* dn)#a2 / (T(kPi) * dn)#' \
+  render_test vsgl_shading_test
+mutant render-vpl-clamp core/render/src/simd/render_kernels.hpp 's#const T k = T(1) / (d2 + r2\[i\]);#const T k = T(1) / (d2 + 2 * r2[i]);#' \
+  render_test vsgl_shading_test
+
+# ---- renderer (core/render/src) ------------------------------------------------------------------
+mutant vsgl-diffuse-pi core/render/src/vsgl_shading.cpp 's#sum \* points\[i\]\.diffuse_reflectance / pi<double>()#sum * points[i].diffuse_reflectance / two_pi<double>()#' \
+  vsgl_shading_test
+mutant rsm-spot-falloff core/render/src/rsm.cpp 's#w \* (0\.5 - t \* t \* t + 0\.5 \* t \* t \* t \* t)#w * (0.5 - t * t + 0.5 * t * t * t * t)#' \
+  render_test
+mutant camera-fov core/render/src/raycast.cpp 's#std::tan(0\.5 \* camera\.vertical_fov)#std::tan(camera.vertical_fov)#' \
+  raycast_test
+mutant vsgl-gen-variance core/render/src/vsgl_generation.cpp 's#std::log(two_pi<double>() \* p\.variance)#std::log(pi<double>() * p.variance)#' \
+  vsgl_generation_test vsgl_shading_test
+
+# ---- filtering (core/include/sglab/filtering_weights.hpp, core/render/src/filtering.cpp) -------
+mutant lobe-beta-twice core/include/sglab/filtering_weights.hpp 's#return exp(detail::sg_lobe_log_weight(one_minus_cosine, li, lj, beta));#return exp(detail::sg_lobe_log_weight(one_minus_cosine, li, lj, T(beta * beta)));#' \
+  filtering_weights_test
+mutant sigma-n2-kappa core/include/sglab/filtering_weights.hpp 's#return (T(1) / lambda_c + T(2) / kappa) / beta;#return (T(1) / lambda_c + T(1) / kappa) / beta;#' \
+  filtering_weights_test fit_test
+mutant smoothed-sharpness core/include/sglab/filtering_weights.hpp 's#return T(1) / (T(1) / sharpness + T(1) / kappa);#return T(1) / (T(1) / sharpness + T(2) / kappa);#' \
+  filtering_weights_test
+mutant filter-depth-sigma core/render/src/filtering.cpp 's#const double sz = a\.depth_sigma \* p\.depth;#const double sz = a.depth_sigma;#' \
+  filtering_test
+mutant filter-radius-bound core/render/src/filtering.cpp 's#p\.radius > 16)#p.radius > 64)#' \
+  filtering_test filter_command_test
+mutant filter-positional-dimension core/render/src/filtering.cpp 's#a\.beta, 3);#a.beta, 2);#' \
+  filtering_test
+
+# ---- fits (fit/) ---------------------------------------------------------------------------------
+mutant fit-grid-weights fit/grid2d.cpp 's#std::sqrt(qc\.w\[i\] / n_lambda)#std::sqrt(qc.w[i] * l / n_lambda)#' \
+  fit_test
+mutant fit-lambda-d-target fit/lambda_d.cpp 's#std::max(t, 0\.0) / pi<double>()#std::max(t, 0.0) / 3.1416#' \
+  fit_test
+mutant fit-hill-domain fit/hill_irradiance.cpp 's#kClampedCosineTarget, {1, 100, 20}#kClampedCosineTarget, {1, 100, 10}#' \
+  fit_test
+mutant fit-float-roundoff fit/driver.cpp 's#std::ldexp(1\.0, -24)#std::ldexp(1.0, -23)#' \
+  fit_test
+mutant fit-lambda-c-similarity fit/lambda_c.cpp 's#(kPi - phi) \* std::cos(phi)#(kPi + phi) * std::cos(phi)#' \
+  fit_test
+
+# ---- runner (runner/) ----------------------------------------------------------------------------
+mutant parse-plus-sign runner/parse_number.cpp "s#^  if (s\\[i\\] == '+' || s\\[i\\] == '-') ++i;#  if (s[i] == '-') ++i;#" \
+  parser_fuzz_test
+mutant parse-trim-tab runner/parse_number.cpp 's#const auto first = s\.find_first_not_of(" \\t");#const auto first = s.find_first_not_of(" ");#' \
+  parser_fuzz_test
+mutant parse-subnormal runner/parse_number.cpp 's#std::fabs(value) < std::numeric_limits<F>::min()#std::fabs(value) < std::numeric_limits<F>::denorm_min()#' \
+  parser_fuzz_test
+mutant csv-quote-needs runner/csv.cpp 's#find_first_of(",\\"\\r\\n")#find_first_of(",\\r\\n")#' \
+  sweep_test parser_fuzz_test eval_command_test:EvalCommand.ExtraColumns*
+mutant csv-crlf runner/csv.cpp "s#if (at(i_) == '\\\\r') ++i_;#;#" \
+  sweep_test parser_fuzz_test eval_command_test
+mutant atomic-signal-unlink runner/atomic_file.cpp 's#if (slot\.state\.load() == 2) ::unlink(slot\.path);#if (slot.state.load() == 3) ::unlink(slot.path);#' \
+  hardening_test:Hardening.Group07*
+mutant sweep-resume runner/sweep.cpp 's#if (!run\.done\[j\]) run\.todo\.push_back(j);#run.todo.push_back(j);#' \
+  sweep_test
+
+# ---- CLI (cli/) ----------------------------------------------------------------------------------
+mutant cli-unknown-command-status cli/app.cpp '0,/return 2;/ s#return 2;#return 1;#' \
+  eval_command_test hardening_test:Hardening.*
+mutant cli-parse-error-status cli/app.cpp 's#return status == 0 ? 0 : 2;#return status == 0 ? 0 : 1;#' \
+  eval_command_test hardening_test:Hardening.*
+mutant cli-eval-default-precision cli/eval_command.cpp 's#std::string precision = "double";#std::string precision = "float";#' \
+  eval_command_test
+
+# ---- Python bindings (python/sglab_module.cpp) ---------------------------------------------------
+mutant py-broadcast python/sglab_module.cpp 's#if (++idx\[d\] < shape\[d\]) break;#if (++idx[d] <= shape[d]) break;#' \
+  build:sglab_python build:sglab 'ctest:^python_sglab$'
+mutant py-reference-flag python/sglab_module.cpp 's#py::arg("reference") = (m\.name == q\.reference_method)#py::arg("reference") = (m.name != q.reference_method)#' \
+  build:sglab_python build:sglab 'ctest:^python_sglab$'
