@@ -16,7 +16,9 @@
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
+#include "experiment_command.hpp"
 #include "filter_job.hpp"
+#include "sglab/render/filtering.hpp"
 #include "sglab/render/exr.hpp"
 
 namespace sglab::cli {
@@ -146,7 +148,8 @@ void add_filter_command(CLI::App& app) {
       "filter", "Upsample low-resolution indirect light with normal/depth or lobe-aware weights; error against the full-resolution VPL sum");
   sub->add_option("scene", opts->job.render.scene_path, "scene JSON (schema: scenes/README.md)")->required();
   sub->add_option("--out", opts->out, "output OpenEXR image (layers upsampled, reference, error, low_res)");
-  sub->add_option("--weights", opts->weights, "range weights: normal (normal + depth), lobe (lobe-aware), lobe-depth (lobe directions + depth), spatial (none)");
+  sub->add_option("--weights", opts->weights, "range weights: normal (normal + depth), lobe (lobe-aware), lobe-depth (lobe directions + depth), spatial (none)")
+      ->check(one_of(render::filter_weights_names(), "weights"));
   sub->add_option("--stats", opts->stats, "output stats JSON");
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
   add_filter_job_options(*sub, opts->job);

@@ -99,7 +99,7 @@ TEST_F(RenderCommand, BadInputExitsTwoNamesTheFieldAndWritesNothing) {
       {"scene.json", "--set light.cone_angle=95", "light.cone_angle: 95 is outside"},
       {"scene.json", "--set lamp.power=1", "--set lamp.power: no top-level key or object named \"lamp\""},
       {"missing.json", "", "cannot open the scene file"},
-      {"scene.json", "--vsgl three", "--vsgl 'three' is not a VSGL mode"},
+      {"scene.json", "--vsgl three", "--vsgl: unknown VSGL mode 'three'"},
       {"scene.json", "--rsm 0", "--rsm 0 is outside"},
       {"scene.json", "--width 0", "--width 0 is outside"},
       {"scene.json", "--diffuse cosine", "--diffuse: unknown diffuse method 'cosine'"},
