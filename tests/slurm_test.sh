@@ -3,8 +3,8 @@
 # started here, configured in a temporary directory on ports of their own (no system
 # configuration read or changed), each stopped by its PID at the end. A 4-task job array of
 # `sglab sweep specular --quick` shards and the merge job chained by afterok (submit_sweep.sh) must
-# give the tables an unsharded run gives, byte for byte below their headers (which name their own
-# --out), and the same per-point CSV; each shard runs within the one CPU it was given, and the
+# give the tables an unsharded run gives, byte for byte below their headers and but for the --out
+# their command lines name, and the same per-point CSV; each shard runs within the one CPU it was given, and the
 # merged manifest labels its summed seconds. Exit 77 (skipped) only when the daemons cannot start.
 # Environment: SGLAB_EXE (the sglab binary), SGLAB_SOURCE_DIR (the checkout).
 set -uo pipefail
@@ -101,7 +101,8 @@ done
 
 # The same sweep unsharded, here.
 "$exe" sweep specular --quick --out whole > /dev/null 2> whole.log || fail "the unsharded sweep: $(cat whole.log)"
-body() { grep -v '^#' "$1" | grep -v '^<!--'; }
+# Below the header lines, with the --out each command line names set aside (the tables quote their command).
+body() { grep -v '^#' "$1" | grep -v '^<!--' | sed -E 's/--out [^ `]+/--out OUT/g'; }
 for f in specular_vs_roughness.csv specular_vs_roughness.md specular_summary.csv specular_points.csv; do
   [ -f "merged/$f" ] || fail "the merge wrote no $f"
   cmp -s <(body "merged/$f") <(body "whole/$f") || fail "merged $f differs from the unsharded run's: $(diff <(body merged/$f) <(body whole/$f) | head -5)"
