@@ -31,13 +31,13 @@ inline std::size_t edit_distance(std::string_view a, std::string_view b) {
 }
 
 // The valid name closest to `value`, or "" when none is close: within a third of the longer
-// name's length (at least 2 edits), or a name that `value` begins (a name cut short).
+// name's length (at least 2 edits), or one of them begins with the other (a name cut short).
 inline std::string closest_name(std::string_view value, const std::vector<std::string>& names) {
   if (value.size() > 4 * kMaxQuotedChars) return "";  // no quadratic work on a hostile value
   std::string best;
   std::size_t best_distance = std::string::npos;
   for (const auto& n : names) {
-    const bool prefix = !value.empty() && n.rfind(value, 0) == 0;
+    const bool prefix = !value.empty() && (n.rfind(value, 0) == 0 || value.rfind(n, 0) == 0);
     const std::size_t d = prefix ? 1 : edit_distance(value, n);
     const std::size_t limit = std::max<std::size_t>(2, std::max(value.size(), n.size()) / 3);
     if (d <= limit && d < best_distance) best = n, best_distance = d;

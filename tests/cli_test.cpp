@@ -81,7 +81,7 @@ TEST_F(Cli, UnknownNameSuggestsTheClosest) {
   expect_suggestion("fit lambda-d --objective l2-hemispher", "l2-hemispher", "l2-hemisphere");
   expect_suggestion("eval clamped-cosin --method exact", "clamped-cosin", "clamped-cosine");
   expect_suggestion("eval clamped-cosine --method tokuyosi2024", "tokuyosi2024", "tokuyoshi2024");
-  expect_suggestion("render scene.json --vsgl two-share", "two-share", "two-shared");
+  expect_suggestion("render scene.json --vsgl tw0-shared", "tw0-shared", "two-shared");
   expect_suggestion("render scene.json --specular sg-wrap", "sg-wrap", "sg-warp");
   expect_suggestion("filter scene.json --weights lobes", "lobes", "lobe");
   expect_suggestion("filter-sweep --scene s.json --weights normal,lobe-dpth", "lobe-dpth", "lobe-depth");
