@@ -490,10 +490,10 @@ PYBIND11_MODULE(_sglab, m) {
   // are checked against this list.
   m.def("render_options", [] {
     CLI::App app;
-    cli::RenderJob job;
+    sglab::cli::RenderJob job;
     std::string specular;
-    cli::add_render_job_options(app, job);
-    cli::add_specular_option(app, specular);
+    sglab::cli::add_render_job_options(app, job);
+    sglab::cli::add_specular_option(app, specular);
     py::list names;
     for (const CLI::Option* o : app.get_options())
       if (!o->get_lnames().empty() && o->get_lnames().front() != "help") names.append(o->get_lnames().front());
