@@ -84,7 +84,7 @@ TEST_F(Cli, UnknownNameSuggestsTheClosest) {
   expect_suggestion("render scene.json --vsgl tw0-shared", "tw0-shared", "two-shared");
   expect_suggestion("render scene.json --specular sg-wrap", "sg-wrap", "sg-warp");
   expect_suggestion("filter scene.json --weights lobes", "lobes", "lobe");
-  expect_suggestion("filter-sweep --scene s.json --weights normal,lobe-dpth", "lobe-dpth", "lobe-depth");
+  expect_suggestion("filter-sweep --scene s.json --weights normal,lbe-depth", "lbe-depth", "lobe-depth");
   expect_suggestion("sweep render --scene s.json --vsgl kmean:8", "kmean", "kmeans");
   expect_suggestion("error-vs-time --quantity specullar", "specullar", "specular");
   expect_suggestion("reproduce --only fit-al --list", "fit-al", "fit-all");
