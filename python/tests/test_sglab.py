@@ -314,7 +314,7 @@ def test_bad_call_raises():
         sglab.eval("x", "y", sharpness=1.0)
     with pytest.raises(ValueError, match="unknown precision 'half'"):
         sglab.eval("sg-integral", "exact", precision="half", sharpness=1.0)
-    with pytest.raises(ValueError, match="constants: expected a path"):
+    with pytest.raises(ValueError, match="<constants record 0>: key 'fit'"):  # a dict is a fit record
         sglab.eval("sg-integral", "exact", constants={"x": 1}, sharpness=1.0)
     with pytest.raises(ValueError, match="constants: expected a path"):
         sglab.eval("sg-integral", "exact", constants=3, sharpness=1.0)
