@@ -323,9 +323,10 @@ def test_bad_call_raises():
 
 
 def test_non_finite_result_is_never_returned():
-    # 2π/λ overflows float at the smallest subnormal λ (> 0, so inside the domain).
-    with pytest.raises(FloatingPointError, match=r"index 1 \(sharpness 1e-45\).*returned inf in float"):
-        sglab.eval("sg-integral", "approx", sharpness=np.array([1, 1e-45], dtype=np.float32))
+    # 2π/λ overflows float at a λ just above the smallest normal float (> 0, so inside the domain;
+    # a subnormal λ is refused as input, as `sglab eval` refuses it).
+    with pytest.raises(FloatingPointError, match=r"index 1 \(sharpness 1.2e-38\).*returned inf in float"):
+        sglab.eval("sg-integral", "approx", sharpness=np.array([1, 1.2e-38], dtype=np.float32))
 
 
 # ---- constant sets (`sglab eval --constants`) ------------------------------------------------
