@@ -177,7 +177,7 @@ TEST_F(RenderCommand, SweepRejectsBadInputBeforeRunning) {
            {"--vary floor.roughness=0.1:x:3", "--vary floor.roughness=0.1:x:3: 'x' is not a number"},
            {"--vary lamp.power=1,2", "--vary lamp.power: --set lamp.power: no top-level key or object named \"lamp\""},
            {"--vsgl fis", "--vsgl fis: fis and kmeans need a count"},
-           {"--vsgl three:4", "--vsgl three:4: expected two, two-shared, fis:N or kmeans:N"},
+           {"--vsgl three:4", "--vsgl: unknown VSGL mode 'three'"},
        })
     expect_bad_input(sglab("sweep render " + common + " " + c.args), c.args, c.expected, {"tables"});
 }
