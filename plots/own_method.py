@@ -75,6 +75,9 @@ def main():
     save(fig, out_dir, "own_method_error_maps")
     plt.close(fig)
 
+    if not os.path.exists(costs_path):  # `sglab reproduce --only` without the error-vs-time step
+        print(f"own_method.py: no {costs_path}; the frontier figure needs its costs and is left out", file=sys.stderr)
+        return
     ns = {}
     with open(costs_path, newline="") as f:
         for r in csv.DictReader(line for line in f if not line.startswith("#")):
