@@ -2,7 +2,7 @@
 //   sglab envmap make sky|studio|mixture --out F.exr [options]   environments sglab makes itself
 //   sglab fit envmap MAP.exr --lobes N [--init …] [--objective …] [--method ceres|vmf-em] [--json F] [--exr F]
 //   sglab envmap render MAP.exr --mixture FIT.json …             three layers on a sphere or plane
-//   sglab envmap lobes --env NAME=MAP.exr … [--tables-dir DIR]    paper_tables/envmap_lobes.{md,csv}
+//   sglab envmap lobes --env NAME=MAP.exr … [--tables-dir DIR]    envmap_lobes.{md,csv} (default: --out)
 //                                                                  (experiments/envmap_lobes.cpp)
 // The renderer here is a small dedicated one (a sphere and a plane under a distant environment,
 // V = 1), not the VSGL scene renderer of `sglab render`.
@@ -231,9 +231,9 @@ void add_fit_envmap_command(CLI::App& fit) {
   auto* sub = fit.add_subcommand("envmap", "fit an equirectangular EXR environment with N RGB SG lobes (Ceres)");
   sub->add_option("map", a->map, "equirectangular (2:1) OpenEXR environment")->required();
   sub->add_option("--lobes", a->options.lobes, "number of lobes N")->required();
-  sub->add_option("--init", a->options.init, "initial axes: fibonacci | kmeans")->capture_default_str();
-  sub->add_option("--objective", a->options.objective, "l2 | log-l2 (solid-angle weighted)")->capture_default_str();
-  sub->add_option("--method", a->method, "ceres | vmf-em (the EM alternative)")->capture_default_str();
+  sub->add_option("--init", a->options.init, "initial axes")->capture_default_str()->check(one_of({"fibonacci", "kmeans"}, "--init"));
+  sub->add_option("--objective", a->options.objective, "objective (solid-angle weighted)")->capture_default_str()->check(one_of({"l2", "log-l2"}, "objective"));
+  sub->add_option("--method", a->method, "ceres, or vmf-em (the EM alternative)")->capture_default_str()->check(one_of({"ceres", "vmf-em"}, "method"));
   sub->add_option("--threads", a->options.threads, "Ceres threads")->capture_default_str();
   sub->add_option("--seed", a->options.seed, "k-means++ seed")->capture_default_str();
   sub->add_option("--max-iterations", a->options.max_iterations, "Levenberg–Marquardt iterations per level")->capture_default_str();
@@ -248,7 +248,7 @@ void add_envmap_command(CLI::App& app) {
   {
     auto a = std::make_shared<MakeArgs>();
     auto* sub = cmd->add_subcommand("make", "write a generated environment as an equirectangular EXR");
-    sub->add_option("kind", a->kind, "sky | studio | mixture")->required();
+    sub->add_option("kind", a->kind, "environment")->required()->check(one_of({"sky", "studio", "mixture"}, "environment"));
     sub->add_option("--out", a->out, "output EXR");
     sub->add_option("--width", a->width, "width (height = width/2)")->capture_default_str();
     sub->add_option("--turbidity", a->sky.turbidity, "sky: Preetham turbidity T in [2, 10]")->capture_default_str();
@@ -265,10 +265,14 @@ void add_envmap_command(CLI::App& app) {
     auto* sub = cmd->add_subcommand("render", "shade a sphere or a plane with the map and its mixture (three layers, V = 1)");
     sub->add_option("map", a->map, "equirectangular EXR")->required();
     sub->add_option("--mixture", a->mixture, "mixture fit record JSON (sglab fit envmap --json)");
-    sub->add_option("--geometry", a->geometry, "sphere | plane")->capture_default_str();
+    sub->add_option("--geometry", a->geometry, "geometry")->capture_default_str()->check(one_of({"sphere", "plane"}, "geometry"));
     sub->add_option("--res", a->res, "image size")->capture_default_str();
-    sub->add_option("--diffuse", a->diffuse, "clamped-cosine method (sglab eval --list)")->capture_default_str();
-    sub->add_option("--specular", a->specular, "specular method")->capture_default_str();
+    sub->add_option("--diffuse", a->diffuse, "clamped-cosine method (sglab eval --list)")
+        ->capture_default_str()
+        ->check(one_of(method_names(*find_quantity("clamped-cosine")), "clamped-cosine method"));
+    sub->add_option("--specular", a->specular, "specular method")
+        ->capture_default_str()
+        ->check(one_of(method_names(*find_quantity("specular")), "specular method"));
     sub->add_option("--roughness", a->roughness, "GGX roughness")->capture_default_str();
     sub->add_option("--f0", a->f0, "Schlick f0")->capture_default_str();
     sub->add_option("--out", a->out, "output EXR (layers diffuse_map, diffuse_mixture, diffuse_approx, specular_…)");
@@ -277,12 +281,12 @@ void add_envmap_command(CLI::App& app) {
   }
   {
     auto a = std::make_shared<envmap_lobes::Options>();
-    auto* sub = cmd->add_subcommand("lobes", "fit and render error against the lobe count (paper_tables/envmap_lobes.*)");
+    auto* sub = cmd->add_subcommand("lobes", "fit and render error against the lobe count (envmap_lobes.*)");
     sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
     sub->add_option("--lobes", a->lobes, "lobe counts")->capture_default_str();
     sub->add_option("--roughness", a->roughness, "GGX roughnesses")->capture_default_str();
     sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")->capture_default_str();
-    add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go");
+    add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
     sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
     sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
   }

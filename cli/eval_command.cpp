@@ -30,6 +30,7 @@
 #include "commands.hpp"
 #include "constant_sets.hpp"
 #include "csv.hpp"
+#include "experiment_command.hpp"
 #include "parse_number.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
@@ -52,18 +53,6 @@ struct EvalOptions {
   bool json = false;
   std::vector<std::string> constants;  // --constants, in order
 };
-
-std::vector<std::string> quantity_names() {
-  std::vector<std::string> names;
-  for (const auto& q : quantities()) names.push_back(q.name);
-  return names;
-}
-
-std::vector<std::string> method_names(const Quantity& q) {
-  std::vector<std::string> names;
-  for (const auto& m : q.methods) names.push_back(m.name);
-  return names;
-}
 
 std::vector<std::string> column_names(const Quantity& q) {
   std::vector<std::string> names;
@@ -291,15 +280,13 @@ void run_eval(const EvalOptions& o) {
                                  fmt::join(quantity_names(), ", ")));
   const Quantity* q = find_quantity(o.quantity);
   if (!q)
-    throw UsageError(fmt::format("unknown quantity '{}'; valid quantities: {}", o.quantity,
-                                 fmt::join(quantity_names(), ", ")));
+    throw UsageError(unknown_name_message("quantity", o.quantity, quantity_names()));
   if (o.method.empty())
     throw UsageError(fmt::format("eval {} needs --method, one of: {}", q->name,
                                  fmt::join(method_names(*q), ", ")));
   const Method* m = q->find(o.method);
   if (!m)
-    throw UsageError(fmt::format("unknown method '{}' for quantity '{}'; valid methods: {}",
-                                 o.method, q->name, fmt::join(method_names(*q), ", ")));
+    throw UsageError(unknown_name_message("method", o.method, method_names(*q)) + " for quantity '" + q->name + "'");
   const auto precision = parse_precision(o.precision);
   if (!precision)
     throw UsageError(
@@ -349,8 +336,9 @@ void add_eval_command(CLI::App& app) {
   auto o = std::make_shared<EvalOptions>();
   CLI::App* cmd = app.add_subcommand(
       "eval", "Evaluate a method of a quantity on every row of a CSV; appends a 'value' column");
-  auto* quantity = cmd->add_option("quantity", o->quantity, "Quantity to evaluate (see --list)");
-  auto* method = cmd->add_option("--method,-m", o->method, "Method of the quantity (see --list)");
+  auto* quantity = cmd->add_option("quantity", o->quantity, "Quantity to evaluate (see --list)")
+                       ->check(one_of(quantity_names(), "quantity"));
+  auto* method = cmd->add_option("--method,-m", o->method, "Method of the quantity (see --list):" + methods_per_quantity());
   auto* precision = cmd->add_option("--precision,-p", o->precision,
                                     "float, double or mp50 (50 decimal digits); values are printed "
                                     "with 9, 17 or 50 significant digits")

@@ -28,6 +28,7 @@
 #include "commands.hpp"
 #include "experiment_command.hpp"
 #include "filter_job.hpp"
+#include "sglab/render/filtering.hpp"
 #include "sglab/render/exr.hpp"
 
 namespace sglab::cli {
@@ -288,7 +289,8 @@ void add_filter_command(CLI::App& app) {
   sub->add_option("--noisy-seed", opts->noisy_seed, "--noisy: seed of the subsets' shift (interleaved) or of the draws (random)")
       ->capture_default_str()
       ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
-  sub->add_option("--weights", opts->weights, "range weights: normal (normal + depth), lobe (lobe-aware), lobe-depth (lobe directions + depth), spatial (none)");
+  sub->add_option("--weights", opts->weights, "range weights: normal (normal + depth), lobe (lobe-aware), lobe-depth (lobe directions + depth), spatial (none)")
+      ->check(one_of(render::filter_weights_names(), "weights"));
   sub->add_option("--stats", opts->stats, "output stats JSON");
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
   add_filter_job_options(*sub, opts->job);

@@ -2,7 +2,8 @@
 // `sglab fit all [--json-dir DIR] [--tables-dir DIR]`: re-derive the published constants of
 // docs/math.md §9 with the Ceres fitters of fit/. Progress goes to stderr; the console table
 // gives value (%.17g), published value and correct digits (−log10|rel diff|) per parameter.
-// `fit all` writes paper_tables/constants.{md,csv,tex}, each headed by the command.
+// `fit all` writes constants.{md,csv,tex} (--tables-dir; `sglab reproduce` puts them in
+// paper_tables/), each headed by the command.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +20,7 @@
 #include "table.hpp"
 #include "commands.hpp"
 #include "driver.hpp"
+#include "experiment_command.hpp"
 #include "fit_all.hpp"
 #include "fit_record.hpp"
 #include "record.hpp"
@@ -30,6 +32,14 @@ using fit_all::digits_text;
 using fit_all::number;
 using fit_all::range_text;
 
+// The fits `sglab fit NAME` takes, and 'all'.
+std::vector<std::string> fit_names() {
+  std::vector<std::string> names;
+  for (const auto& g : fit::fitters()) names.push_back(g.name);
+  names.push_back("all");
+  return names;
+}
+
 struct FitArgs {
   std::string name;
   std::string objective;
@@ -37,7 +47,7 @@ struct FitArgs {
   double beta = 20, kappa = 100;
   std::string json_file;
   std::string json_dir;
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir;
 };
 
 void print_result(const fit::FitResult& r, const Judgement& jd) {
@@ -77,11 +87,7 @@ void run_fit(const FitArgs& a) {
     return;
   }
   const fit::Fitter* f = fit::find_fitter(a.name);
-  if (!f) {
-    std::string names;
-    for (const auto& g : fit::fitters()) names += " " + g.name;
-    throw UsageError("unknown fit '" + a.name + "' (fits:" + names + ", all)");
-  }
+  if (!f) throw UsageError(unknown_name_message("fit", a.name, fit_names()));
   const fit::FitResult r = fit_all::run_one(*f, a.objective, o);
   const Judgement jd = judge(*f, r);
   print_result(r, jd);
@@ -95,14 +101,22 @@ void run_fit(const FitArgs& a) {
 void add_fit_command(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* cmd = app.add_subcommand("fit", "re-derive a published constant with a Ceres fit");
-  cmd->add_option("name", a->name, "fit name, or 'all'");
-  cmd->add_option("--objective", a->objective, "objective (default: the fit's first)");
-  cmd->add_option("--precision", a->precision, "half|float|double (cosine-sharpness)");
+  cmd->add_option("name", a->name, "fit name, or 'all'")->check(one_of(fit_names(), "fit"));
+  std::string objectives;
+  std::vector<std::string> objective_names;
+  for (const auto& g : fit::fitters()) {
+    objectives += "\n  " + g.name + ": " + join_names(g.objectives);
+    for (const auto& o : g.objectives)
+      if (std::find(objective_names.begin(), objective_names.end(), o) == objective_names.end()) objective_names.push_back(o);
+  }
+  cmd->add_option("--objective", a->objective, "objective (default: the fit's first), per fit:" + objectives)
+      ->check(one_of(objective_names, "objective"));
+  cmd->add_option("--precision", a->precision, "half|float|double (cosine-sharpness)")->check(one_of({"half", "float", "double"}, "precision"));
   cmd->add_option("--beta", a->beta, "lambda-c: beta of sigma_n^2 (default 20)");
   cmd->add_option("--kappa", a->kappa, "lambda-c: kappa of sigma_n^2 (default 100)");
   cmd->add_option("--json", a->json_file, "write the fit's JSON record here");
   cmd->add_option("--json-dir", a->json_dir, "one NAME.json per fit here (a constant set for --constants)");
-  cmd->add_option("--tables-dir", a->tables_dir, "fit all: where constants.{md,csv,tex} go");
+  cmd->add_option("--tables-dir", a->tables_dir, "fit all: where constants.{md,csv,tex} go (default: the --json-dir, else results/fits)");
   add_fit_envmap_command(*cmd);  // `sglab fit envmap MAP.exr …` (envmap_command.cpp)
   cmd->callback([a, cmd] {
     if (cmd->got_subcommand("envmap")) return;

@@ -45,7 +45,8 @@ void run_merge(const MergeOptions& o) {
     // SummaryOnlyScope the runner computes nothing, and refuses if the merged output is not
     // exactly that definition's finished output.
     std::vector<std::string> args = m.args;
-    args.insert(args.end(), {"--out", o.out, "--tables-dir", o.tables_dir.empty() ? o.out : o.tables_dir});
+    args.insert(args.end(), {"--out", o.out});
+    if (!o.tables_dir.empty()) args.insert(args.end(), {"--tables-dir", o.tables_dir});
     const SummaryOnlyScope summary_only;
     const int status = run_sglab(args);
     if (status == 2) throw UsageError("merge: the summary of sweep '" + m.name + "' was refused (see above)");

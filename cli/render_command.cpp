@@ -15,6 +15,7 @@
 #include "atomic_file.hpp"
 #include "commands.hpp"
 #include "environment_render.hpp"
+#include "experiment_command.hpp"
 #include "render_job.hpp"
 #include "sglab/render/exr.hpp"
 #include "sglab/render/vsgl_specular_methods.hpp"
@@ -59,15 +60,9 @@ std::string quote_if_needed(const std::string& s) {
 void run(const Options& o) {
   if (o.out.empty()) throw UsageError("render needs --out IMAGE.exr");
   check_output_paths({{"--out", o.out}, {"--stats", o.stats}, {"--dump-csv", o.dump_csv}}, {{"scene", o.job.scene_path}});
-  const render::Scene scene = load_scene(o.job);
-  const auto environment = prepare_environment(scene, o.job.scene_path);
-  render::RenderOptions options = render_options(o.job);
-  try {
-    options.shading.specular_method = render::find_specular_method(o.specular);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("--specular: {}", e.what()));
-  }
-  check_render_memory(scene, options, !o.dump_csv.empty());
+  RenderJobRun job(o.job, o.specular, load_scene(o.job), !o.dump_csv.empty());
+  const render::Scene& scene = job.scene;
+  render::RenderOptions& options = job.options;
   std::string command = "sglab render " + quote_if_needed(o.job.scene_path) + " --out " + quote_if_needed(o.out);
   for (const auto& a : render_job_arguments(o.job)) command += " " + quote_if_needed(a);
   if (o.specular != render::kDefaultSpecularMethod) command += " --specular " + quote_if_needed(o.specular);
@@ -100,13 +95,7 @@ void run(const Options& o) {
   if (!o.quiet)
     std::fprintf(stderr, "render: %s, %d×%d pixels, RSM %d×%d, VSGL %s\n", o.job.scene_path.c_str(), scene.camera.width,
                  scene.camera.height, options.rsm_resolution, options.rsm_resolution, o.job.vsgl.c_str());
-  const render::RenderResult r = render::render_scene(scene, options);
-  check_render_finite(r);
-  nlohmann::json stats = render_stats(o.job, scene, options, r, command);
-  stats["specular_method"] = o.specular;
-  std::vector<render::ImageLayer> layers = {
-      {"direct", r.direct}, {"indirect", r.indirect}, {"indirect_reference", r.indirect_reference}, {"error", r.error}};
-  if (environment) add_environment(scene, *environment, layers, stats);
+  const auto [r, layers, stats] = job.run(command);
 
   const std::string exr = render::encode_exr(r.width, r.height, layers,
                                              {{"sglab_command", command}, {"sglab_notes", stats["notes"].get<std::string>()}});
@@ -139,10 +128,7 @@ void add_render_command(CLI::App& app) {
   sub->add_option("--stats", opts->stats, "output stats JSON");
   sub->add_option("--dump-csv", opts->dump_csv, "also write every pixel's layers as CSV (for plots/render_images.py)");
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
-  sub->add_option("--specular", opts->specular,
-                  "specular VSGL shading: vsgl-asg (the default: the renderer's own ASG form, Tokuyoshi 2015/2016) or "
-                  "any `specular` method of `sglab eval --list` but its quadrature reference (sg-warp, asg, sg-warp-dvn, …)")
-      ->default_str(std::string(render::kDefaultSpecularMethod));
+  add_specular_option(*sub, opts->specular);
   add_render_job_options(*sub, opts->job);
   sub->callback([opts] { run(*opts); });
 }

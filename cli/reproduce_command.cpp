@@ -4,6 +4,8 @@
 
 #include "commands.hpp"
 #include "constant_sets.hpp"
+#include "experiment_command.hpp"
+#include "registry.hpp"
 #include "reproduce.hpp"
 
 namespace sglab::cli {
@@ -17,7 +19,9 @@ void add_reproduce_command(CLI::App& app) {
   sub->add_flag("--quick", opts->quick, "coarser grids; writes under results/quick/, never into paper_tables/");
   sub->add_flag("--list", opts->list, "print each step and its command line in this mode, run nothing");
   sub->add_flag("--force", opts->force, "redo finished steps");
-  sub->add_option("--only", opts->only, "run only these steps");
+  std::vector<std::string> steps;
+  for (const auto& s : experiments::all_steps(experiments::Places{"results", "paper_tables"})) steps.push_back(s.name);
+  sub->add_option("--only", opts->only, "run only these steps")->check(one_of(steps, "step"));
   add_constants_option(*sub, opts->constants,
                        "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
                        "repeatable, later sets override earlier ones)");

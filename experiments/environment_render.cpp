@@ -7,6 +7,8 @@
 
 #include "input_error.hpp"
 #include "envmap.hpp"
+#include "experiment_command.hpp"
+#include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/render/environment_scene.hpp"
 #include "sglab/render/raycast.hpp"
 
@@ -100,6 +102,36 @@ void add_environment(const render::Scene& scene, const PreparedEnvironment& env,
   layers.push_back({"environment_mixture", l.mixture});
   layers.push_back({"environment_approx", l.approximation});
   stats["environment"] = s;
+}
+
+void add_specular_option(CLI::App& app, std::string& specular) {
+  app.add_option("--specular", specular,
+                 "specular VSGL shading: vsgl-asg (the default: the renderer's own ASG form, Tokuyoshi 2015/2016) or "
+                 "any `specular` method of `sglab eval --list` but its quadrature reference (sg-warp, asg, sg-warp-dvn, …)")
+      ->default_str(std::string(render::kDefaultSpecularMethod))
+      ->check(one_of(render::specular_method_names(), "specular method"));
+}
+
+RenderJobRun::RenderJobRun(const RenderJob& j, const std::string& s, render::Scene sc, bool with_csv)
+    : job(j), specular(s), scene(std::move(sc)), environment(prepare_environment(scene, job.scene_path)), options(render_options(job)) {
+  try {
+    options.shading.specular_method = render::find_specular_method(specular);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("--specular: {}", e.what()));
+  }
+  check_render_memory(scene, options, with_csv);
+}
+
+RenderJobRun::Output RenderJobRun::run(const std::string& command) const {
+  Output o;
+  o.result = render::render_scene(scene, options);
+  const render::RenderResult& r = o.result;
+  check_render_finite(r);
+  o.stats = render_stats(job, scene, options, r, command);
+  o.stats["specular_method"] = specular;
+  o.layers = {{"direct", r.direct}, {"indirect", r.indirect}, {"indirect_reference", r.indirect_reference}, {"error", r.error}};
+  if (environment) add_environment(scene, *environment, o.layers, o.stats);
+  return o;
 }
 
 }  // namespace sglab::cli

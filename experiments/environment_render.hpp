@@ -9,9 +9,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "render_job.hpp"
 #include "sglab/envmap.hpp"
 #include "sglab/render/exr.hpp"
+#include "sglab/render/pipeline.hpp"
 #include "sglab/render/scene.hpp"
+
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace sglab::cli {
 
@@ -29,5 +35,30 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
 // map), environment_mixture, environment_approx, and stats["environment"].
 void add_environment(const render::Scene& scene, const PreparedEnvironment& env, std::vector<render::ImageLayer>& layers,
                      nlohmann::json& stats);
+
+// `sglab render`'s own option beside the job's: --specular METHOD (the registry's specular methods
+// or the renderer's default ASG form), bound to `specular`.
+void add_specular_option(CLI::App& app, std::string& specular);
+
+// One render of `sglab render` (and of Python's sglab.render), all checks made before the work:
+// the scene's environment loaded, the options (with --specular) built and the memory bounded.
+// Progress, if any, goes through `options.progress`, set by the caller before run().
+struct RenderJobRun {
+  RenderJobRun(const RenderJob& job, const std::string& specular, render::Scene scene, bool with_csv = false);
+  // The layers (direct, indirect, indirect_reference, error, then the environment's), checked
+  // finite, and the stats (`sglab render --stats`) headed by `command`.
+  struct Output {
+    render::RenderResult result;
+    std::vector<render::ImageLayer> layers;
+    nlohmann::json stats;
+  };
+  Output run(const std::string& command) const;
+
+  RenderJob job;
+  std::string specular;
+  render::Scene scene;
+  std::optional<PreparedEnvironment> environment;
+  render::RenderOptions options;
+};
 
 }  // namespace sglab::cli

@@ -79,7 +79,7 @@ std::string command_line(const Options& a) {
   for (const auto& e : a.envs) command += " --env " + e;
   command += " --lobes";
   for (int n : a.lobes) command += " " + std::to_string(n);
-  return command + " --res " + std::to_string(a.sphere_res) + " --out " + a.out + " --tables-dir " + a.tables_dir;
+  return command + " --res " + std::to_string(a.sphere_res) + " --out " + a.out + runner::option_argument("--tables-dir", a.tables_dir);
 }
 
 // The map reduced (2×2 means) to at most 128 texels wide, for the figure.
@@ -380,10 +380,11 @@ void write(const Result& r) {
   namespace fs = std::filesystem;
   const Tables t = tables(r);
   runner::write_file_atomically(fs::path(r.options.out) / "envmap_images.csv", t.images_csv);
-  runner::write_file_atomically(fs::path(r.options.tables_dir) / "envmap_lobes.csv", t.csv);
-  runner::write_file_atomically(fs::path(r.options.tables_dir) / "envmap_lobes.md", t.markdown);
+  const fs::path tables = runner::tables_place(r.options.tables_dir, r.options.out);
+  runner::write_file_atomically(tables / "envmap_lobes.csv", t.csv);
+  runner::write_file_atomically(tables / "envmap_lobes.md", t.markdown);
   std::printf("envmap lobes: %.1f s; wrote %s/envmap_lobes.{md,csv} and %s/envmap_images.csv\n", r.seconds,
-              r.options.tables_dir.c_str(), r.options.out.c_str());
+              tables.c_str(), r.options.out.c_str());
 }
 
 }  // namespace sglab::cli::envmap_lobes

@@ -19,7 +19,7 @@ struct Options {
   std::vector<int> lobes{1, 2, 4, 8, 16, 32, 64, 128};
   std::vector<double> roughness{0.1, 0.3, 0.7};
   std::string out = "results/envmap";
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir;  // empty: the --out directory
   int sphere_res = 24;
   double f0 = 0.04;
   bool quick = false;  // N ∈ {1, 4, 16}, 12-pixel sphere

@@ -35,11 +35,22 @@ namespace sglab::cli {
 namespace error_map {
 namespace {
 
+bool is_mapped(const Quantity& q) {
+  return !q.reference_method.empty() && q.columns.size() == 2 && q.columns[0].kind == ColumnKind::sharpness &&
+         q.columns[1].kind == ColumnKind::cosine;
+}
+
+std::vector<std::string> mapped_quantity_names() {
+  std::vector<std::string> names;
+  for (const auto& q : quantities())
+    if (is_mapped(q)) names.push_back(q.name);
+  return names;
+}
+
 const Quantity& checked_quantity(const Options& o) {
   const Quantity* q = find_quantity(o.quantity);
-  if (!q) throw UsageError("error-map: unknown quantity '" + o.quantity + "'");
-  if (q->reference_method.empty() || q->columns.size() != 2 || q->columns[0].kind != ColumnKind::sharpness ||
-      q->columns[1].kind != ColumnKind::cosine)
+  if (!q) throw UsageError("error-map: " + unknown_name_message("quantity", o.quantity, mapped_quantity_names()));
+  if (!is_mapped(*q))
     throw UsageError("error-map: quantity '" + o.quantity + "' is not a (sharpness, cosine) quantity with a reference");
   return *q;
 }
@@ -226,7 +237,9 @@ void add_error_map_command(CLI::App& app) {
   auto* sub = app.add_subcommand("error-map", "Signed error of each diffuse method over the (λ, c) plane, against the reference");
   sub->add_option("--out", opts->out_dir, "directory for error_map.csv, error_map_summary.csv, error_map.md")->capture_default_str();
   add_constants_option(*sub, opts->constants);
-  sub->add_option("--quantity", opts->quantity, "a (sharpness, cosine) quantity with a reference")->capture_default_str();
+  sub->add_option("--quantity", opts->quantity, "a (sharpness, cosine) quantity with a reference")
+      ->capture_default_str()
+      ->check(one_of(error_map::mapped_quantity_names(), "quantity"));
   sub->add_option("--size", opts->size, "points per axis (default 200; 40 with --quick)");
   sub->add_option("--lambda-min", opts->lambda_min, "smallest sharpness")->capture_default_str();
   sub->add_option("--lambda-max", opts->lambda_max, "largest sharpness")->capture_default_str();
@@ -247,7 +260,8 @@ std::vector<Step> error_map_steps(const Places& p) {
       plot_step("plot-own-method",
                 "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried "
                 "(paper_tables/own_method.md)",
-                {"plots/own_method.py", p.out + "/error_map/error_map.csv", "plots/own_method_forms.csv", p.key_figures()})};
+                {"plots/own_method.py", p.out + "/error_map/error_map.csv", "plots/own_method_forms.csv", p.tables + "/error_vs_time.csv",
+                 p.key_figures()})};
 }
 
 Experiment error_map_experiment() {

@@ -3,7 +3,7 @@
 // its rounding error (the method in float/double against the same formula in 50 digits), and its
 // cost in ns per evaluation measured in-process on batches of seeded inputs (warm-up, then the
 // median of repeats). Checks the poster's speed/accuracy claims from the numbers.
-// Writes DIR/error_vs_time.csv and paper_tables/error_vs_time.{md,csv}.
+// Writes OUT/error_vs_time.csv and TABLES/error_vs_time.{md,csv} (TABLES defaults to OUT).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -32,43 +32,85 @@ namespace sglab::cli {
 namespace error_vs_time {
 namespace {
 
-// Median wall time per evaluation of `batch` over `args` (rows of `arity`): one warm-up call, then
-// `repeats` timed runs of enough batch calls to last ≥ 10 ms each. The number of calls comes from
-// the faster of two single calls after the warm-up, with a 25 % margin (no doubling search whose
-// runs are thrown away: that cost as much as the timed runs); a timed run that still ends under
-// 10 ms doubles it and starts the runs again. A warm-up of ≥ 10 ms (the references) means 1 call.
+// A batch evaluator timed on fixed inputs. After one warm-up call, the calls per run come from the
+// faster of two single calls, with a 25 % margin (no doubling search whose runs are thrown away:
+// that cost as much as the timed runs), so that a run lasts ≥ 10 ms; a run that still ends under
+// 10 ms doubles the calls and is taken again. A warm-up of ≥ 10 ms (the references) means 1 call.
 // 10 ms is thousands of batch calls of the fast methods, several scheduler ticks, and far above the
 // clock's resolution.
 template <class T>
-double time_ns_per_eval(const BatchFn<T>& batch, const std::vector<T>& args, std::size_t arity, int repeats) {
-  constexpr double kMinRun = 0.01;  // seconds per timed run
-  constexpr int kMaxCalls = 1 << 20;
-  std::vector<T> out(args.size() / arity);
-  using clock = std::chrono::steady_clock;
-  auto run = [&](int calls) {
-    const auto t0 = clock::now();
-    for (int i = 0; i < calls; ++i) batch(args, arity, out);
-    return std::chrono::duration<double>(clock::now() - t0).count();
-  };
-  int calls = 1;
-  if (run(1) < kMinRun) {
-    const double one = std::min(run(1), run(1));
-    calls = one > 0 ? int(std::clamp(std::ceil(1.25 * kMinRun / one), 1.0, double(kMaxCalls))) : kMaxCalls;
-  }
-  std::vector<double> per_eval;
-  while (int(per_eval.size()) < repeats) {
-    const double s = run(calls);
-    if (s < kMinRun && calls < kMaxCalls) {  // too short after all: longer runs, from the start
-      calls = std::min(2 * calls, kMaxCalls);
-      per_eval.clear();
-      continue;
+class BatchTimer {
+ public:
+  BatchTimer(BatchFn<T> batch, const std::vector<T>& args, std::size_t arity)
+      : batch_(std::move(batch)), args_(args), arity_(arity), out_(args.size() / arity) {
+    if (seconds(1) < kMinRun) {
+      const double one = std::min(seconds(1), seconds(1));
+      calls_ = one > 0 ? int(std::clamp(std::ceil(1.25 * kMinRun / one), 1.0, double(kMaxCalls))) : kMaxCalls;
     }
-    per_eval.push_back(1e9 * s / (double(calls) * double(out.size())));
   }
+  // One timed run: wall ns per evaluation.
+  double run() {
+    for (;;) {
+      const double s = seconds(calls_);
+      if (s >= kMinRun || calls_ >= kMaxCalls) return 1e9 * s / (double(calls_) * double(out_.size()));
+      calls_ = std::min(2 * calls_, kMaxCalls);
+    }
+  }
+
+ private:
+  static constexpr double kMinRun = 0.01;  // seconds per timed run
+  static constexpr int kMaxCalls = 1 << 20;
+  double seconds(int calls) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < calls; ++i) batch_(args_, arity_, out_);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    volatile T sink = out_[0];
+    (void)sink;
+    return s;
+  }
+  BatchFn<T> batch_;
+  const std::vector<T>& args_;
+  std::size_t arity_;
+  std::vector<T> out_;
+  int calls_ = 1;
+};
+
+// Median wall time per evaluation of `batch` over `args` (rows of `arity`): `repeats` timed runs.
+template <class T>
+double time_ns_per_eval(const BatchFn<T>& batch, const std::vector<T>& args, std::size_t arity, int repeats) {
+  BatchTimer<T> timer(batch, args, arity);
+  std::vector<double> per_eval;
+  for (int k = 0; k < repeats; ++k) per_eval.push_back(timer.run());
   std::nth_element(per_eval.begin(), per_eval.begin() + repeats / 2, per_eval.end());
-  volatile T sink = out[0];
-  (void)sink;
   return per_eval[repeats / 2];
+}
+
+// The smallest noise margin a speed verdict allows: run-to-run differences of a few per cent are
+// routine on a shared machine even between interleaved runs.
+constexpr double kMinSpeedMargin = 0.03;
+
+// Relative speed of A against B: `rounds` rounds of one run each, interleaved (A B, then B A, …, so
+// that a slow spell of the machine falls on both); per round the ratio A/B of ns per evaluation.
+// The verdict's noise margin is the larger of kMinSpeedMargin and the ratios' interquartile
+// half-width.
+template <class T>
+SpeedComparison compare_speed(std::string a_name, const BatchFn<T>& a, std::string b_name, const BatchFn<T>& b,
+                              std::string measure, const std::vector<T>& args, std::size_t arity, int rounds) {
+  BatchTimer<T> ta(a, args, arity), tb(b, args, arity);
+  std::vector<double> ratios;
+  for (int k = 0; k < rounds; ++k) {
+    double na, nb;
+    if (k % 2 == 0) na = ta.run(), nb = tb.run();
+    else nb = tb.run(), na = ta.run();
+    ratios.push_back(na / nb);
+  }
+  std::sort(ratios.begin(), ratios.end());
+  const auto quantile = [&](double q) { return ratios[std::size_t(std::lround(q * double(ratios.size() - 1)))]; };
+  SpeedComparison c{std::move(a_name), std::move(b_name), std::move(measure)};
+  c.ratio = quantile(0.5);
+  c.margin = std::max(kMinSpeedMargin, 0.5 * (quantile(0.75) - quantile(0.25)));
+  c.rounds = rounds;
+  return c;
 }
 
 // The error grid of one quantity: points, and per point the scale its error is divided by and
@@ -88,7 +130,6 @@ struct Grid {
 void fill_reference(Grid& g, const Method& ref) {
   const std::size_t n = g.args.size() / g.arity;
   g.reference.assign(n, 0);
-  std::fprintf(stderr, "error-vs-time: reference on %zu points (%s)\n", n, ref.name.c_str());
   tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
     g.reference[k] = ref.eval_double(std::span<const double>(&g.args[g.arity * k], g.arity));
   });
@@ -166,7 +207,7 @@ Grid specular_grid(const Method& ref, bool quick) {
 }
 
 // The poster's claims (Tokuyoshi 2022), checked on the double rows.
-std::string claims_section(const std::vector<Row>& rows) {
+std::string claims_section(const std::vector<Row>& rows, const std::vector<SpeedComparison>& speed) {
   auto find = [&](const std::string& m) -> const Row* {
     for (const auto& r : rows)
       if (r.method == m && r.precision == "double") return &r;
@@ -181,16 +222,18 @@ std::string claims_section(const std::vector<Row>& rows) {
       t->max_error, m->max_error, t->rmse, m->rmse, t->max_error < m->max_error && t->rmse < m->rmse ? "holds" : "does not hold");
   // Speed, by two CPU measures: sglab's (vectorized) batch and the naive scalar port a shader author
   // would write. The poster timed GPU shaders; neither is that, so each verdict names its measure.
-  auto faster = [](double a, double b) { return a < b ? "holds" : "does not hold"; };
-  auto speed = [&](const Row* a, const Row* b) {
-    return fmt::format("sglab batch {:.1f} vs {:.1f} ns (**{}**, {:+.0f} %); naive scalar port {:.1f} vs {:.1f} ns (**{}**, {:+.0f} %)",
-                       a->ns_per_eval, b->ns_per_eval, faster(a->ns_per_eval, b->ns_per_eval),
-                       100 * (a->ns_per_eval / b->ns_per_eval - 1), a->port_ns_per_eval, b->port_ns_per_eval,
-                       faster(a->port_ns_per_eval, b->port_ns_per_eval), 100 * (a->port_ns_per_eval / b->port_ns_per_eval - 1));
+  // Each verdict comes from interleaved runs of the pair, with its noise margin.
+  auto verdicts = [&](const std::string& a, const std::string& b) {
+    std::string out;
+    for (const auto& c : speed)
+      if (c.a == a && c.b == b)
+        out += fmt::format("{}{}: {} / {} = {:.3f} (median of {} interleaved runs each; noise margin ±{:.0f} %): **{}**",
+                           out.empty() ? "" : "; ", c.measure, a, b, c.ratio, c.rounds, 100 * c.margin, c.faster_verdict());
+    return out.empty() ? std::string("not measured") : out;
   };
   s += "- \"… and slightly faster\" (tokuyoshi2022 vs meder, double; the poster timed GPU shaders, these are CPU "
-       "measures): " + speed(t, m) + ".\n";
-  s += "- \"Pettineo and Hill's fit is faster\" (hill-fitted vs tokuyoshi2022): " + speed(h, t) + ".\n";
+       "measures): " + verdicts("tokuyoshi2022", "meder") + ".\n";
+  s += "- \"Pettineo and Hill's fit is faster\" (hill-fitted vs tokuyoshi2022): " + verdicts("hill-fitted", "tokuyoshi2022") + ".\n";
   s += fmt::format("- \"… but produces black splotches\": hill-fitted is negative at {} of the grid's points (clamped to 0 "
                    "in a shader: black; where: `paper_tables/stability.md`); tokuyoshi2022 at {}: **{}**. meder, for comparison, at {}.\n",
                    h->negatives, t->negatives, h->negatives > 0 && t->negatives == 0 ? "holds" : "does not hold", m->negatives);
@@ -235,10 +278,19 @@ bool is_diffuse(const Quantity& q) {
   return q.columns.size() == 2 && q.columns[0].kind == ColumnKind::sharpness && q.columns[1].kind == ColumnKind::cosine;
 }
 
+bool has_grid(const Quantity& q) { return !q.reference_method.empty() && (is_diffuse(q) || q.name == "specular"); }
+
+std::vector<std::string> grid_quantity_names() {
+  std::vector<std::string> names;
+  for (const auto& q : quantities())
+    if (has_grid(q)) names.push_back(q.name);
+  return names;
+}
+
 const Quantity& checked_quantity(const std::string& name) {
   const Quantity* q = find_quantity(name);
-  if (!q) throw UsageError("error-vs-time: unknown quantity '" + name + "'");
-  if (q->reference_method.empty() || (!is_diffuse(*q) && q->name != "specular"))
+  if (!q) throw UsageError("error-vs-time: " + unknown_name_message("quantity", name, grid_quantity_names()));
+  if (!has_grid(*q))
     throw UsageError("error-vs-time: quantity '" + name +
                      "' has no error grid (a (sharpness, cosine) quantity with a reference, or specular)");
   return *q;
@@ -317,6 +369,7 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
   const bool diffuse = is_diffuse(qr);
   const Method& ref = *q->find(q->reference_method);
   grid_out = diffuse ? diffuse_grid(ref, quick) : specular_grid(ref, quick);
+  std::fprintf(stderr, "error-vs-time: reference on %zu points (%s)\n", grid_out.size(), ref.name.c_str());
   const Grid& g = grid_out;
   const std::size_t arity = g.arity;
   const std::vector<float> timing_f(g.timing.begin(), g.timing.end());
@@ -358,6 +411,25 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
   return rows;
 }
 
+// The poster's speed claims (tokuyoshi2022 against meder, hill-fitted against tokuyoshi2022), in
+// double on the timing inputs, each by sglab's batch and by the naive scalar ports.
+std::vector<SpeedComparison> poster_speed_claims(const Quantity& q, const Grid& g, bool quick) {
+  std::vector<SpeedComparison> out;
+  const int rounds = quick ? 7 : 15;
+  for (const auto& [a, b] : {std::pair{"tokuyoshi2022", "meder"}, std::pair{"hill-fitted", "tokuyoshi2022"}}) {
+    const Method *ma = q.find(a), *mb = q.find(b);
+    if (!ma || !mb) continue;
+    out.push_back(compare_speed<double>(a, ma->batch_double, b, mb->batch_double, "sglab batch", g.timing, g.arity, rounds));
+    const auto *pa = peer::find_port(q.name, a), *pb = peer::find_port(q.name, b);
+    if (!pa || !pb) continue;
+    const auto port = [](const auto* p) {
+      return BatchFn<double>([f = p->batch_double](auto in, std::size_t, auto o) { f(in.data(), o.data(), o.size()); });
+    };
+    out.push_back(compare_speed<double>(a, port(pa), b, port(pb), "naive scalar port", g.timing, g.arity, rounds));
+  }
+  return out;
+}
+
 }  // namespace
 
 Result compute(const Options& o) {
@@ -369,6 +441,7 @@ Result compute(const Options& o) {
   if (o.quantities != Options{}.quantities) command += " --quantity " + fmt::format("{}", fmt::join(o.quantities, " "));
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
+  command += o.tables_dir.empty() ? option_argument("--out", o.out_dir, Options{}.out_dir) : option_argument("--tables", o.tables_dir);
   const ConstantSet set = load_constant_sets(o.constants);
   for (const Quantity* q : qs) {
     Section s;
@@ -386,6 +459,7 @@ Result compute(const Options& o) {
                                 constants_text(set, uses, "- "));
     Grid g;
     s.rows = measure(*q, o.quick, g, set);
+    if (q->name == "clamped-cosine") s.speed = poster_speed_claims(*q, g, o.quick);
     s.grid_description = g.description;
     s.error_label = g.error_label;
     s.subset_label = g.subset_label;
@@ -434,7 +508,7 @@ Tables tables(const Result& result) {
                         port ? fmt::format("{:.1f}", r.port_ns_per_eval) : "—",
                         port ? fmt::format("{:.1f}×", r.port_ns_per_eval / r.ns_per_eval) : "—", r.negatives);
     }
-    if (s.quantity == "clamped-cosine") md += claims_section(s.rows);
+    if (s.quantity == "clamped-cosine") md += claims_section(s.rows, s.speed);
   }
   return t;
 }
@@ -442,17 +516,19 @@ Tables tables(const Result& result) {
 void check_outputs(const Options& o) {
   std::vector<NamedPath> inputs;
   for (const auto& c : o.constants) inputs.push_back({"--constants", c});
-  check_output_paths({{"--out (error_vs_time.csv)", std::filesystem::path(o.out_dir) / "error_vs_time.csv"},
-                      {"--tables (error_vs_time.csv)", std::filesystem::path(o.tables_dir) / "error_vs_time.csv"},
-                      {"--tables (error_vs_time.md)", std::filesystem::path(o.tables_dir) / "error_vs_time.md"}},
-                     inputs);
+  const auto tables = tables_place(o.tables_dir, o.out_dir);
+  std::vector<NamedPath> outputs = {{"--tables (error_vs_time.csv)", tables / "error_vs_time.csv"},
+                                    {"--tables (error_vs_time.md)", tables / "error_vs_time.md"}};
+  if (!o.tables_dir.empty()) outputs.push_back({"--out (error_vs_time.csv)", std::filesystem::path(o.out_dir) / "error_vs_time.csv"});
+  check_output_paths(outputs, inputs);
 }
 
 void write(const Options& o, const Result& result) {
   const Tables t = tables(result);
-  OutputSet outputs;  // the three files appear together or not at all
-  outputs.add(std::filesystem::path(o.out_dir) / "error_vs_time.csv", t.csv);
-  add_table(outputs, o.tables_dir, "error_vs_time", result.provenance, t.markdown, t.csv);
+  OutputSet outputs;  // the files appear together or not at all
+  // The bare CSV beside the per-run outputs; without --tables the headed table takes its place.
+  if (!o.tables_dir.empty()) outputs.add(std::filesystem::path(o.out_dir) / "error_vs_time.csv", t.csv);
+  add_table(outputs, tables_place(o.tables_dir, o.out_dir), "error_vs_time", result.provenance, t.markdown, t.csv);
   outputs.commit();
   std::fputs((markdown_header(result.provenance) + t.markdown).c_str(), stdout);
 }
@@ -465,8 +541,10 @@ void add_error_vs_time_command(CLI::App& app) {
   auto* sub = app.add_subcommand("error-vs-time",
                                  "Every method's error (float, double), rounding error vs 50 digits, and ns/eval");
   sub->add_option("--quantity", opts->quantities,
-                  "quantities: (sharpness, cosine) quantities with a reference, and specular")->capture_default_str();
-  add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for the per-method CSV", "directory for the paper tables",
+                  "quantities: (sharpness, cosine) quantities with a reference, and specular")
+      ->capture_default_str()
+      ->check(one_of(error_vs_time::grid_quantity_names(), "quantity"));
+  add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for the per-method CSV", "directory for error_vs_time.{md,csv} (default: the --out directory)",
                      "--tables");
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
   add_constants_option(*sub, opts->constants);

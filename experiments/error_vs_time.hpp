@@ -1,7 +1,7 @@
 // `sglab error-vs-time` as a library: for every method of the diffuse (clamped-cosine) and
 // specular quantities, in float and double, its approximation error against the quantity's
 // reference on a fixed grid, its rounding error against the same formula in 50 digits, and its
-// cost in ns per evaluation; then the tables (paper_tables/error_vs_time.{md,csv}).
+// cost in ns per evaluation; then the tables (error_vs_time.{md,csv}: paper_tables/ in a full `sglab reproduce`).
 #pragma once
 
 #include <cstddef>
@@ -16,7 +16,7 @@ namespace sglab::cli::error_vs_time {
 struct Options {
   std::vector<std::string> quantities = {"clamped-cosine", "specular"};
   std::string out_dir = "results/error_vs_time";
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir;  // --tables; empty: beside the per-method CSV (out_dir)
   bool quick = false;
   std::vector<std::string> constants;  // --constants: refit rows beside the published ones
 };
@@ -29,6 +29,19 @@ struct Row {
   std::string flaws;
 };
 
+// The relative speed of two methods (or their naive ports) from interleaved runs: the median ratio
+// of A's ns per evaluation to B's, and the noise margin within which the verdict is "within noise".
+struct SpeedComparison {
+  std::string a, b, measure;  // "tokuyoshi2022", "meder", "sglab batch" | "naive scalar port"
+  double ratio = NAN, margin = NAN;
+  int rounds = 0;
+  // "holds" (A faster than B by more than the margin), "does not hold" (slower by more), or
+  // "within noise".
+  std::string faster_verdict() const {
+    return ratio < 1 - margin ? "holds" : ratio > 1 + margin ? "does not hold" : "within noise";
+  }
+};
+
 // One quantity: the grid its errors are measured on, and one row per method and precision (the
 // reference's own row carries only its cost).
 struct Section {
@@ -38,6 +51,7 @@ struct Section {
   std::vector<double> args;  // the grid's points × arity
   std::string constants;     // Markdown: the constants the methods ran with ("" if none)
   std::vector<Row> rows;
+  std::vector<SpeedComparison> speed;  // the poster's speed claims (clamped-cosine only)
   std::size_t points() const { return arity ? args.size() / arity : 0; }
 };
 
@@ -54,7 +68,8 @@ struct Tables {
 };
 Tables tables(const Result& result);
 
-// OUT/error_vs_time.csv and TABLES/error_vs_time.{md,csv}; the Markdown also on stdout.
+// OUT/error_vs_time.csv and TABLES/error_vs_time.{md,csv} (TABLES: --tables, else OUT, where the
+// headed CSV takes the bare one's place); the Markdown also on stdout.
 void write(const Options& o, const Result& result);
 // Refuses (InputError) output paths that name an input, each other or a non-regular file; called
 // before the (long) measurement.

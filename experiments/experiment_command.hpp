@@ -7,11 +7,15 @@
 #include <cstdint>
 #include <string>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
 #include "input_error.hpp"
+#include "names.hpp"
+#include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
@@ -30,6 +34,49 @@ inline CLI::Validator unsigned_at_most(std::uint64_t max) {
         return {};
       },
       fmt::format("INT in [0, {}]", max));
+}
+
+// A CLI11 check for an option that takes a name: the value is one of `names` (with `comma_list`
+// each item of a comma-separated list; with `before_colon` the part before ':', as in fis:64).
+// The help lists the names; an unknown one is refused (exit status 2) with the closest valid name.
+inline CLI::Validator one_of(std::vector<std::string> names, std::string what, bool comma_list = false, bool before_colon = false) {
+  const std::string description = "{" + join_names(names, "|") + "}";
+  return CLI::Validator(
+      [names = std::move(names), what = std::move(what), comma_list, before_colon](std::string& text) -> std::string {
+        std::vector<std::string> items;
+        for (std::size_t start = 0;;) {
+          const std::size_t end = comma_list ? text.find(',', start) : std::string::npos;
+          items.push_back(text.substr(start, end == std::string::npos ? std::string::npos : end - start));
+          if (end == std::string::npos) break;
+          start = end + 1;
+        }
+        for (std::string item : items) {
+          if (before_colon) item = item.substr(0, item.find(':'));
+          bool known = false;
+          for (const auto& n : names) known = known || n == item;
+          if (!known) return unknown_name_message(what, item, names);
+        }
+        return {};
+      },
+      description);
+}
+
+// The registry's quantities, and a quantity's methods, by name (help texts and messages).
+inline std::vector<std::string> quantity_names() {
+  std::vector<std::string> names;
+  for (const auto& q : quantities()) names.push_back(q.name);
+  return names;
+}
+inline std::vector<std::string> method_names(const Quantity& q) {
+  std::vector<std::string> names;
+  for (const auto& m : q.methods) names.push_back(m.name);
+  return names;
+}
+// "QUANTITY: METHOD, …" per quantity, one line each (the help of a --method option).
+inline std::string methods_per_quantity() {
+  std::string text;
+  for (const auto& q : quantities()) text += "\n  " + q.name + ": " + join_names(method_names(q));
+  return text;
 }
 
 // The two places an experiment's command writes to (registry.hpp: Places), declared alike by

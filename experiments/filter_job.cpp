@@ -12,6 +12,9 @@
 #include "constant_sets.hpp"
 #include "sglab/filtering_weights.hpp"
 #include "sglab/text_limits.hpp"
+#include "sglab/render/filtering.hpp"
+#include "sglab/render/vsgl_generation.hpp"
+#include "sglab/render/vsgl_shading.hpp"
 
 namespace sglab::cli {
 
@@ -19,7 +22,9 @@ void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
   auto& p = job.parameters;
   if (with_scale)
     app.add_option("--scale", job.scale, "the indirect light is computed at 1/SCALE resolution, then upsampled")->capture_default_str();
-  app.add_option("--source", job.source, "low-resolution indirect light: exact (VPL sum) or vsgl")->capture_default_str();
+  app.add_option("--source", job.source, "low-resolution indirect light: exact (VPL sum) or vsgl")
+      ->capture_default_str()
+      ->check(one_of(render::indirect_source_names(), "source"));
   app.add_option("--radius", p.radius, "upsampling: 2R × 2R low-resolution samples per pixel; --noisy: the window's half-width R in pixels (default M for interleaved:M, 4 for random:K)")->capture_default_str();
   app.add_option("--spatial-sigma", p.spatial_sigma, "image-space Gaussian σ_s, in low-resolution pixels")->capture_default_str();
   app.add_option("--sigma-n2", p.sigma_n2, "normal weights: σ_n² of G(n_p; n_q, 1/σ_n²) (Tokuyoshi 2015, lobe-aware filtering, Fig. D.2: 0.05404477)")
@@ -36,9 +41,13 @@ void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
   app.add_option("--width", job.render.width, "image width (default: the scene's camera.width)");
   app.add_option("--height", job.render.height, "image height (default: the scene's camera.height)");
   app.add_option("--rsm", job.render.rsm, "reflective shadow map resolution RES (RES×RES VPLs)")->capture_default_str();
-  app.add_option("--vsgl", job.render.vsgl, "--source vsgl: VSGL generation (two, fis, kmeans)")->capture_default_str();
+  app.add_option("--vsgl", job.render.vsgl, "--source vsgl: VSGL generation")
+      ->capture_default_str()
+      ->check(one_of(render::vsgl_mode_names(), "VSGL mode"));
   app.add_option("--count", job.render.count, "--source vsgl: VSGL clusters for fis and kmeans")->capture_default_str();
-  app.add_option("--diffuse", job.render.diffuse, "--source vsgl: clamped-cosine method of diffuse VSGL shading")->capture_default_str();
+  app.add_option("--diffuse", job.render.diffuse, "--source vsgl: clamped-cosine method of diffuse VSGL shading")
+      ->capture_default_str()
+      ->check(one_of(render::diffuse_method_names(), "diffuse method"));
   app.add_option("--seed", job.render.seed, "--source vsgl: seed of the VSGL importance sampling")
       ->capture_default_str()
       ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));

@@ -31,6 +31,7 @@
 #include "denoise_sweep.hpp"
 #include "registry.hpp"
 #include "sglab/text_limits.hpp"
+#include "sglab/render/filtering.hpp"
 
 namespace sglab::cli {
 namespace filter_sweep {
@@ -149,7 +150,8 @@ std::string command_line(const Options& o) {
   if (o.table != Options{}.table) args.insert(args.end(), {"--table", o.table});
   std::string command = "sglab";
   for (const auto& a : args) command += " " + quote_argument(a);
-  return command;
+  return command + (o.tables_dir.empty() ? option_argument("--out", quote_argument(o.out), quote_argument(Options{}.out))
+                                         : option_argument("--tables-dir", quote_argument(o.tables_dir)));
 }
 
 Point point_summary(const render::FilterInputs& in) {
@@ -399,10 +401,9 @@ void write(const Result& r) {
   const Options& o = r.options;
   const Tables t = tables(r);
   write_table(o.out, o.table + "_points", r.provenance, "", t.points_csv);
-  write_table(o.tables_dir.empty() ? o.out : o.tables_dir, o.table, r.provenance, t.markdown, t.csv);
+  write_table(tables_place(o.tables_dir, o.out), o.table, r.provenance, t.markdown, t.csv);
   std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
-  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n",
-               (o.tables_dir.empty() ? o.out : o.tables_dir).c_str(), o.table.c_str(),
+  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n", tables_place(o.tables_dir, o.out).c_str(), o.table.c_str(),
                o.out.c_str(), o.table.c_str(), r.seconds);
 }
 
@@ -447,8 +448,9 @@ void add_filter_sweep_command(CLI::App& app) {
                                  "--noisy, the error of filtered noisy VPL-subset images (filtering_denoise.*)");
   sub->add_option("--scene", opts->job.render.scene_path, "scene JSON with an object named floor")->required();
   noisy->roughness = sub->add_option("--roughness", opts->roughness, "floor GGX roughness values, comma-separated")->capture_default_str();
-  noisy->weights =
-      sub->add_option("--weights", opts->weights, "weightings, comma-separated (spatial, normal, lobe, lobe-depth)")->capture_default_str();
+  noisy->weights = sub->add_option("--weights", opts->weights, "weightings, comma-separated")
+                       ->capture_default_str()
+                       ->check(one_of(render::filter_weights_names(), "weights", true));
   add_places_options(*sub, opts->out, opts->tables_dir, "directory for the per-row CSV (and the figure's images)",
                      "directory for NAME.md and NAME.csv (default: the --out directory)");
   noisy->table = sub->add_option("--table", opts->table, "table name (default filtering, with --noisy filtering_denoise)")->capture_default_str();

@@ -18,7 +18,7 @@ struct Options {
   std::string scales = "2,4,8";
   std::string weights = "spatial,normal,lobe,lobe-depth";
   std::string out = "results/filtering";
-  std::string tables_dir;  // empty: `out`
+  std::string tables_dir;  // empty: the --out directory
   std::string table = "filtering";
   bool quiet = false;
 };

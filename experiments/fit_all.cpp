@@ -209,7 +209,7 @@ std::vector<FitJob> all_fit_jobs() {
 Result compute(const Options& o, const std::function<void(const Judged&)>& each) {
   const auto t0 = std::chrono::steady_clock::now();
   Result r;
-  r.provenance.command = "sglab fit all";
+  r.provenance.command = "sglab fit all" + option_argument("--json-dir", o.json_dir) + option_argument("--tables-dir", o.tables_dir);
   const std::vector<FitJob> jobs = all_fit_jobs();
   std::vector<std::size_t> order(jobs.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
@@ -246,11 +246,11 @@ Tables tables(const Result& r) {
 
 void write(const Options& o, const Result& r) {
   const Tables t = tables(r);
-  const std::filesystem::path d(o.tables_dir);
+  const std::filesystem::path d = o.tables();
   write_file_atomically(d / "constants.md", t.markdown);
   write_file_atomically(d / "constants.csv", t.csv);
   write_file_atomically(d / "constants.tex", t.tex);
-  std::fprintf(stderr, "sglab fit all: %.2f s; wrote %s/constants.{md,csv,tex}\n", r.seconds, o.tables_dir.c_str());
+  std::fprintf(stderr, "sglab fit all: %.2f s; wrote %s/constants.{md,csv,tex}\n", r.seconds, d.c_str());
 }
 
 }  // namespace sglab::cli::fit_all

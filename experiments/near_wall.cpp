@@ -202,7 +202,7 @@ std::string command_line(const Options& o) {
   if (!o.sweep_distance.empty()) s += fmt::format(" --sweep-distance {}", fmt::join(o.sweep_distance, ","));
   if (!o.sweep_sharpness.empty() || !o.sweep_distance.empty())
     s += fmt::format(" --sweep-width {} --sweep-height {}", o.sweep_width, o.sweep_height);
-  return s;
+  return s + option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
 }
 
 std::string light_text(const SgLight& l) {

@@ -16,7 +16,7 @@ namespace sglab::cli::near_wall {
 struct Options {
   RenderJob job;  // scene path, --set, --width, --height
   std::string dump;
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir = "results/near_wall";  // --tables-dir (paper_tables/ only in `sglab reproduce`)
   std::vector<double> sweep_sharpness, sweep_distance;
   int sweep_width = 96, sweep_height = 72;
 };

@@ -126,7 +126,7 @@ std::vector<HemisphericalRmse> hemispherical_rmse() {
 Result compute(const Options& o) {
   Result r;
   r.options = o;
-  r.provenance.command = "sglab poster-plots" + (o.tables_dir == "paper_tables" ? std::string() : " --tables-dir " + o.tables_dir);
+  r.provenance.command = "sglab poster-plots" + option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
   r.cosine_term = cosine_term_rows();
   r.curves = cosine_term_curves();
   r.hemispherical = hemispherical_rmse();

@@ -11,7 +11,7 @@
 namespace sglab::cli::poster_plots {
 
 struct Options {
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir = "results/poster_plots";  // --tables-dir (paper_tables/ only in `sglab reproduce`)
 };
 
 // Per λ: max_t |α(e^{λt} − 1) − t|, the float32 bound α·u·(e^λ + 1), their sum, and the error

@@ -68,7 +68,7 @@ struct Experiment {
 // The experiments, in the order `sglab reproduce` runs them (a step may read an earlier one's
 // outputs: the λ_d render sweep reads the fits). Those with timed steps come first, then the
 // untimed ones, long ones (stability, sweep specular) at both ends, so that the plots have
-// untimed steps to run beside. One line per experiment:
+// untimed steps to run beside; the recommendations, which read every table, last. One line per experiment:
 // NAME_experiment() is defined in the experiment's own file.
 #define SGLAB_EXPERIMENTS(X) \
   X(fits)                    \
@@ -82,7 +82,8 @@ struct Experiment {
   X(vsgl_fis_bias)           \
   X(near_wall)               \
   X(poster_plots)            \
-  X(sweep_specular)
+  X(sweep_specular)          \
+  X(recommendations)
 
 #define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();
 SGLAB_EXPERIMENTS(SGLAB_DECLARE_EXPERIMENT)

@@ -15,6 +15,7 @@
 #include "resource_limits.hpp"
 #include "constant_sets.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/render/vsgl_generation.hpp"
 #include "sglab/render/vsgl_shading.hpp"
 
 namespace sglab::cli {
@@ -26,11 +27,13 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
     app.add_option("--vsgl", job.vsgl,
                    "VSGL generation: two (one diffuse + one specular VSGL, each its own positional Gaussian, 2015), "
                    "two-shared (one shared Gaussian, 2016), fis or kmeans")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(one_of(render::vsgl_mode_names(), "VSGL mode"));
     app.add_option("--count", job.count, "VSGL clusters N for fis and kmeans")->capture_default_str();
   }
   app.add_option("--diffuse", job.diffuse, "clamped-cosine method for diffuse VSGL shading (`sglab eval --list`)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(one_of(render::diffuse_method_names(), "diffuse method"));
   app.add_option("--rsm", job.rsm, "reflective shadow map resolution RES (RES×RES VPLs)")->capture_default_str();
   app.add_option("--shadow-map", job.shadow_map, "shadow map resolution for direct light")->capture_default_str();
   app.add_option("--width", job.width, "image width (default: the scene's camera.width)");
@@ -40,16 +43,19 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
       ->capture_default_str()
       ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
   app.add_option("--kmeans-space", job.kmeans_space, "k-means clustering space: world (position + normal) or image (RSM texels)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(one_of({"world", "image"}, "k-means space"));
   app.add_flag("--visibility", job.visibility,
                "VSGL visibility from a cube shadow map at each mu_v (Tokuyoshi 2016); the reference ray-casts VPL visibility");
   app.add_flag("--sg-cosine-a-pi", job.sg_cosine_a_is_pi, "with --diffuse sg-cosine: take A(λ_d) ≈ π as the 2015 poster does");
   app.add_option("--precision", job.precision,
                  "arithmetic of the VPL-sum reference and of the diffuse method in VSGL shading: double, or float "
                  "(within 1e-5 relative L2 of double: docs/simd.md)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(one_of({"double", "float"}, "precision"));
   app.add_option("--reference-precision", job.reference_precision,
-                 "arithmetic of the VPL-sum reference alone: double or float (default: --precision's)");
+                 "arithmetic of the VPL-sum reference alone: double or float (default: --precision's)")
+      ->check(one_of({"double", "float"}, "precision"));
   add_constants_option(app, job.constants);
   // A repeated option takes its last value (so that a script can append an override).
   for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--kmeans-space",

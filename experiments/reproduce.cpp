@@ -25,6 +25,7 @@
 
 #include "atomic_file.hpp"
 #include "input_error.hpp"
+#include "names.hpp"
 #include "sweep.hpp"
 #include "table.hpp"
 
@@ -323,11 +324,11 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
     for (const auto& s : all) std::printf("%s\t%s%s\n", s.name.c_str(), s.python ? "python3 " : "sglab ", join(step_args(s, o, p)).c_str());
     return;
   }
-  for (const auto& name : o.only) {
-    bool known = false;
-    for (const auto& s : all) known = known || s.name == name;
-    if (!known) throw runner::InputError("reproduce: unknown step '" + name + "'");
-  }
+  std::vector<std::string> names;
+  for (const auto& s : all) names.push_back(s.name);
+  for (const auto& name : o.only)
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      throw runner::InputError("reproduce: " + runner::unknown_name_message("step", name, names));
   // Every table a --quick run writes says so, whatever the step's own options.
   std::optional<runner::QuickRunScope> quick_scope;
   if (o.quick) quick_scope.emplace();

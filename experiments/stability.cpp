@@ -4,7 +4,8 @@
 // more than 1 % outputs, the worst approximation error (against the quantity's reference) and,
 // apart from it, the worst rounding error (against the same method in 50 digits at the same input).
 // Writes DIR/stability.csv (one row per quantity × method × precision), DIR/stability_cells.csv
-// (the heat-map cells), DIR/stability.md and TABLES/stability.{md,csv}, all or none.
+// (the heat-map cells), DIR/stability.md and TABLES/stability.{md,csv}, all or none (without
+// --tables the tables are DIR's stability.{md,csv}, the CSV headed).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -24,7 +25,7 @@ namespace {
 
 struct Options {
   std::string out_dir = "results/stability";
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir;  // --tables; empty: the --out directory
   std::vector<std::string> only;  // quantity names; empty: all
   bool quick = false;
   std::vector<std::string> constants;  // --constants
@@ -32,17 +33,15 @@ struct Options {
 
 // Bad usage before anything is computed: an unknown quantity, or outputs that cannot be written
 // (a directory option naming something else than a directory, an output that is a special file,
-// or the same file named twice). Returns the five outputs: DIR/stability{.csv,_cells.csv,.md},
-// TABLES/stability{.csv,.md}.
+// or the same file named twice). Returns the outputs: DIR/stability_cells.csv,
+// TABLES/stability.{csv,md}, DIR/stability.{csv,md} (the last two only with --tables).
 std::vector<std::filesystem::path> checked_outputs(const Options& o) {
   namespace fs = std::filesystem;
   for (const auto& name : o.only)
     if (!find_quantity(name)) {
-      std::string known;
-      for (const auto& q : quantities()) known += (known.empty() ? "" : ", ") + q.name;
-      throw UsageError("stability: unknown quantity '" + name + "' (known: " + known + ")");
+      throw UsageError("stability: " + unknown_name_message("quantity", name, quantity_names()));
     }
-  for (const auto& [option, dir] : {std::pair{"--out", o.out_dir}, std::pair{"--tables", o.tables_dir}})
+  for (const auto& [option, dir] : {std::pair{"--out", o.out_dir}, std::pair{"--tables", o.tables_dir.empty() ? o.out_dir : o.tables_dir}})
     for (fs::path p = dir; !p.empty(); p = p.parent_path()) {  // the deepest existing one must be a directory
       std::error_code ec;
       if (fs::exists(p, ec)) {
@@ -52,13 +51,13 @@ std::vector<std::filesystem::path> checked_outputs(const Options& o) {
       }
       if (p == p.parent_path()) break;
     }
-  const fs::path out(o.out_dir), tables(o.tables_dir);
-  const std::vector<NamedPath> outputs{{"--out", out / "stability.csv"},
-                                       {"--out", out / "stability_cells.csv"},
-                                       {"--out", out / "stability.md"},
+  const fs::path out(o.out_dir), tables = tables_place(o.tables_dir, o.out_dir);
+  const std::vector<NamedPath> outputs{{"--out", out / "stability_cells.csv"},
                                        {"--tables", tables / "stability.csv"},
-                                       {"--tables", tables / "stability.md"}};
-  check_output_paths(outputs, {});
+                                       {"--tables", tables / "stability.md"},
+                                       {"--out", out / "stability.csv"},
+                                       {"--out", out / "stability.md"}};
+  check_output_paths(o.tables_dir.empty() ? std::vector<NamedPath>(outputs.begin(), outputs.begin() + 3) : outputs, {});
   std::vector<fs::path> paths;
   for (const auto& n : outputs) paths.push_back(n.path);
   return paths;
@@ -69,7 +68,7 @@ std::string command_line(const Options& o) {
   for (const auto& n : o.only) command += " --quantity " + n;
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
-  return command;
+  return command + (o.tables_dir.empty() ? option_argument("--out", o.out_dir, Options{}.out_dir) : option_argument("--tables", o.tables_dir));
 }
 
 // Computes the atlas and commits its five outputs as one set: none is replaced unless all were
@@ -94,16 +93,18 @@ void run(const Options& o) {
   const std::string md =
       markdown_header(provenance) + atlas::markdown(result, constants_text(options.constants, uses, "- "));
   OutputSet outputs;
-  outputs.add(paths[0], csv);
-  outputs.add(paths[1], atlas::cells_csv(result));
+  outputs.add(paths[0], atlas::cells_csv(result));
+  outputs.add(paths[1], csv_header(provenance) + csv);
   outputs.add(paths[2], md);
-  outputs.add(paths[3], csv_header(provenance) + csv);
-  outputs.add(paths[4], md);
+  if (!o.tables_dir.empty()) {  // the bare CSV and the Markdown beside the cells too
+    outputs.add(paths[3], csv);
+    outputs.add(paths[4], md);
+  }
   outputs.commit();
   std::size_t methods = 0;
   for (const auto& q : result.quantities) methods += q.methods.size();
   std::fprintf(stderr, "stability: %zu quantities, %zu methods, %.1f s; wrote %s/stability{.csv,_cells.csv,.md} and %s/stability.{md,csv}\n",
-               result.quantities.size(), methods, result.seconds, o.out_dir.c_str(), o.tables_dir.c_str());
+               result.quantities.size(), methods, result.seconds, o.out_dir.c_str(), paths[1].parent_path().c_str());
 }
 
 }  // namespace
@@ -113,9 +114,9 @@ void add_stability_command(CLI::App& app) {
   auto* sub = app.add_subcommand("stability",
                                  "Stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method over the stiff inputs");
   add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for stability.csv, stability_cells.csv, stability.md",
-                     "directory for the paper tables", "--tables");
+                     "directory for stability.{md,csv} (default: the --out directory)", "--tables");
   add_constants_option(*sub, opts->constants);
-  sub->add_option("--quantity", opts->only, "only these quantities (repeatable; default: all)");
+  sub->add_option("--quantity", opts->only, "only these quantities (repeatable; default: all)")->check(one_of(quantity_names(), "quantity"));
   sub->add_flag("--quick", opts->quick, "coarser grids, fewer 50-digit evaluations");
   sub->callback([opts] { run(*opts); });
 }

@@ -45,6 +45,7 @@
 #include "sglab/text_limits.hpp"
 #include "sweep.hpp"
 #include "registry.hpp"
+#include "sglab/render/vsgl_generation.hpp"
 
 namespace sglab::cli {
 namespace sweep_render {
@@ -490,7 +491,8 @@ void add_sweep_render(CLI::App& sweep) {
   auto* sub = sweep.add_subcommand("render", "VSGL error against the exact VPL sum, and both times, over scene parameters × VSGL configurations");
   sub->add_option("--scene", o->job.scene_path, "scene JSON (schema: scenes/README.md)");
   sub->add_option("--vary", o->vary, "KEY=a:b:n (linear), KEY=a:b:n:log, or KEY=v1,v2,… (repeatable: Cartesian product)");
-  sub->add_option("--vsgl", o->vsgl, "VSGL configuration two | fis:N | kmeans:N (repeatable; default two)");
+  sub->add_option("--vsgl", o->vsgl, "VSGL configuration MODE or MODE:N (fis:64, kmeans:64; repeatable; default two)")
+      ->check(one_of(render::vsgl_mode_names(), "VSGL mode", false, true));
   add_render_job_options(*sub, o->job, false);
   sub->add_option("--out", o->out, "directory for NAME_points.csv")->capture_default_str();
   sub->add_option("--table", o->table, "NAME of the table (default vsgl_error_vs_count, or vsgl_error_vs_<keys>)");

@@ -497,7 +497,7 @@ namespace {
 
 struct SpecularOptions {
   std::string out = "results/specular";
-  std::string tables_dir = "paper_tables";
+  std::string tables_dir;  // empty: the --out directory
   std::string shard;
   std::size_t threads = 0;
   bool quick = false;
@@ -514,16 +514,18 @@ void run_specular(const SpecularOptions& o) {
   const auto rows = summarize_specular_points(read_sweep_points(r.points_csv), r.points_csv.string());
   std::string command = "sglab";
   for (const auto& a : d.args) command += " " + a;
+  command += o.tables_dir.empty() ? option_argument("--out", o.out, SpecularOptions{}.out) : option_argument("--tables-dir", o.tables_dir);
+  const fs::path tables = tables_place(o.tables_dir, o.out);
   const std::string csv = specular_summary_csv(rows);
   const std::string md = specular_summary_markdown(rows, command, brdf);
   OutputSet outputs;
   outputs.add(fs::path(o.out) / (base + "_summary.csv"), csv);
-  outputs.add(fs::path(o.tables_dir) / (base + "_vs_roughness.csv"), csv_header(Provenance{command}) + csv);
-  outputs.add(fs::path(o.tables_dir) / (base + "_vs_roughness.md"), md);
+  outputs.add(tables / (base + "_vs_roughness.csv"), csv_header(Provenance{command}) + csv);
+  outputs.add(tables / (base + "_vs_roughness.md"), md);
   outputs.commit();
   std::fputs(md.c_str(), stdout);
   std::fprintf(stderr, "sweep specular: wrote %s/%s_summary.csv and %s/%s_vs_roughness.{md,csv} (%.1f s)\n", o.out.c_str(),
-               base.c_str(), o.tables_dir.c_str(), base.c_str(), r.seconds);
+               base.c_str(), tables.c_str(), base.c_str(), r.seconds);
 }
 
 }  // namespace
@@ -536,12 +538,12 @@ void add_sweep_specular(CLI::App& sweep) {
   sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`");
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str()->check(unsigned_at_most(kMaxThreads));
-  sub->add_option("--tables-dir", o->tables_dir, "directory for specular_vs_roughness.{md,csv}")->capture_default_str();
+  sub->add_option("--tables-dir", o->tables_dir, "directory for specular_vs_roughness.{md,csv} (default: the --out directory)");
   sub->add_option("--brdf", o->brdf,
                   "ggx (the `specular` quantity) or gaussian (the Gaussian-angle NDF BRDF, `specular-gaussian-ndf`; "
                   "tables specular_gaussian_vs_roughness.{md,csv})")
       ->capture_default_str()
-      ->check(CLI::IsMember({"ggx", "gaussian"}));
+      ->check(one_of({"ggx", "gaussian"}, "BRDF"));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
   sub->callback([o] { run_specular(*o); });
 }

@@ -163,7 +163,8 @@ Result compute(const Options& o) {
                     random_rsm(kRandomResolution, kRandomRsmSeed));
   Result r;
   r.options = o;
-  r.provenance.command = fmt::format("sglab vsgl-fis-bias --seeds {} --rsm {}", o.seeds, o.rsm);
+  r.provenance.command =
+      fmt::format("sglab vsgl-fis-bias --seeds {} --rsm {}", o.seeds, o.rsm) + option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
   for (const auto& [name, rsm] : rsms) rsm_rows(name, rsm, o.seeds, r.rows);
   return r;
 }

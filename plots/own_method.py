@@ -2,15 +2,16 @@
 """sglab's own diffuse approximation against tokuyoshi2024 (paper_tables/own_method.md).
 
 Reads the long-format CSV of `sglab error-map` (error_map.csv: method, sharpness, cosine,
-reference, value, error, smape) and plots/own_method_forms.csv (the forms tried: name,
-max error, ns/eval) and draws
+reference, value, error, smape), plots/own_method_forms.csv (the forms tried: name, max error,
+the measured method whose cost each has) and error_vs_time.csv (`sglab error-vs-time`: each
+method's ns/eval, the one place costs are measured) and draws
   own_method_error_maps.{png,pdf}: the signed error (method − reference)/D(λ, 1) of tokuyoshi2024
       and of sglab over (λ, c) on one linear colour scale (so sglab's map shows how much smaller
       its error is), then sglab again on its own scale, λ on a log axis;
   own_method_frontier.{png,pdf}: max error against ns/eval of the forms tried, the 0.05 % target
       as a line.
 Each file is written to a temporary name and renamed. Computes nothing the CSVs do not hold.
-usage: own_method.py ERROR_MAP.csv FORMS.csv OUT_DIR
+usage: own_method.py ERROR_MAP.csv FORMS.csv ERROR_VS_TIME.csv OUT_DIR
 """
 import csv
 import os
@@ -52,9 +53,9 @@ def read_maps(path):
 
 
 def main():
-    if len(sys.argv) != 4:
+    if len(sys.argv) != 5:
         sys.exit(__doc__)
-    csv_path, forms_path, out_dir = sys.argv[1:]
+    csv_path, forms_path, costs_path, out_dir = sys.argv[1:]
     os.makedirs(out_dir, exist_ok=True)
     maps = read_maps(csv_path)
     vmax = max(np.nanmax(np.abs(g)) for _, _, g in maps.values())
@@ -74,10 +75,20 @@ def main():
     save(fig, out_dir, "own_method_error_maps")
     plt.close(fig)
 
+    if not os.path.exists(costs_path):  # `sglab reproduce --only` without the error-vs-time step
+        print(f"own_method.py: no {costs_path}; the frontier figure needs its costs and is left out", file=sys.stderr)
+        return
+    ns = {}
+    with open(costs_path, newline="") as f:
+        for r in csv.DictReader(line for line in f if not line.startswith("#")):
+            if r["quantity"] == "clamped-cosine" and r["precision"] == "double":
+                ns[r["method"]] = float(r["ns_per_eval"])
     forms = []
     with open(forms_path, newline="") as f:
         for r in csv.DictReader(line for line in f if not line.startswith("#")):
-            forms.append((r["form"], float(r["max_error"]), float(r["ns_per_eval"]), r["shipped"] == "yes"))
+            if r["costs_as"] not in ns:
+                sys.exit(f"own_method.py: no double clamped-cosine row for {r['costs_as']} in {costs_path}")
+            forms.append((r["form"], float(r["max_error"]), ns[r["costs_as"]], r["shipped"] == "yes"))
     fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
     for i, (name, e, ns, shipped) in enumerate(forms):
         ax.scatter(ns, e, s=60 if shipped else 30, marker="*" if shipped else "o")

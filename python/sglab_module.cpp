@@ -14,7 +14,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <span>
@@ -32,7 +35,10 @@
 #include "parse_number.hpp"
 #include "fit_record.hpp"
 #include "record.hpp"
+#include "environment_render.hpp"
 #include "render_job.hpp"
+#include "sglab/render/vsgl_generation.hpp"
+#include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/registry.hpp"
 
 namespace py = pybind11;
@@ -199,6 +205,14 @@ std::string value_text(const T& v) {
   else return fmt::format("{}", v);  // shortest text that reads back to the same T
 }
 
+// A subnormal input is refused as `sglab eval` refuses its text (parse_number.hpp): it has lost
+// precision already, and the methods' 1/λ-like terms overflow on it.
+template <class T>
+std::optional<std::string> subnormal_error(T v) {
+  if (std::fpclassify(v) != FP_SUBNORMAL) return std::nullopt;
+  return std::string("is out of the range of ") + (std::is_same_v<T, float> ? "float" : "double") + " (too close to zero: subnormal)";
+}
+
 // One chunk: gather, check every row (row_error), evaluate in one batch call, check every
 // result. Returns the chunk's first failure.
 template <class T>
@@ -215,7 +229,9 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
     for (std::size_t j = 0; j < k; ++j) {
       row[j] = *reinterpret_cast<const T*>(data[j] + offset[j]);
       checked[j] = static_cast<double>(row[j]);
+      if (auto e = subnormal_error(row[j])) failure = Failure{Failure::input, i, std::move(*e), j};
     }
+    if (failure) return;
     if (auto e = row_error(q, m, checked)) failure = Failure{Failure::input, i, std::move(e->message), e->column};
   });
   if (failure) return failure;
@@ -319,6 +335,9 @@ std::vector<std::string> eval_mp50(const std::string& quantity, const std::strin
         const double d = v.cast<double>();
         args[i * k + j] = mp50(d);
         text[i * k + j] = fmt::format("{}", d);
+        if (auto e = subnormal_error(d))
+          throw py::value_error(fmt::format("sglab.eval('{}', '{}'): column '{}', index {}, value {}: {}", q.name, m.name,
+                                            q.columns[j].name, index_text(i, shape), text[i * k + j], *e));
       }
     }
   }
@@ -389,37 +408,53 @@ py::array layer_array(std::vector<render::Rgb>&& layer, int width, int height) {
                              reinterpret_cast<const double*>(owned->data()), free_when_done);
 }
 
-struct RenderArgs {
-  std::string scene;  // a path, or the JSON text when `is_text`
-  bool is_text = false;
+// `sglab render SCENE WORDS…` into numpy arrays: WORDS are the command's own options (--vsgl …,
+// --set …, --specular …), parsed by the very CLI11 options of `sglab render`, so that Python takes
+// exactly what the command takes and refuses (ValueError) what it refuses. `scene` is a path, or
+// the scene's JSON text when `is_text` (`source` names it in messages; an environment's relative
+// paths are taken from the working directory then). Progress on stderr only when `verbose`.
+py::dict run_render(const std::string& scene_text, bool is_text, const std::string& source, const std::vector<std::string>& words,
+                    bool verbose) {
   cli::RenderJob job;
-};
-
-py::dict run_render(const RenderArgs& a) {
-  const cli::RenderJob& job = a.job;
-  const render::Scene scene = a.is_text ? cli::scene_from_document(cli::scene_document_from_text(a.scene, job.scene_path, job.overrides), job)
-                                        : cli::load_scene(job);
-  const render::RenderOptions options = cli::render_options(job);
+  std::string specular(render::kDefaultSpecularMethod);
+  {
+    CLI::App app{"sglab.render"};
+    cli::add_render_job_options(app, job);
+    cli::add_specular_option(app, specular);
+    std::vector<std::string> reversed(words.rbegin(), words.rend());  // CLI11 takes the vector last-argument-first
+    try {
+      app.parse(reversed);
+    } catch (const CLI::ParseError& e) {
+      throw py::value_error(fmt::format("sglab.render: {}", e.what()));
+    }
+  }
+  job.scene_path = source;
+  render::Scene scene = is_text ? cli::scene_from_document(cli::scene_document_from_text(scene_text, source, job.overrides), job)
+                                : cli::load_scene(job);
+  cli::RenderJobRun run(job, specular, std::move(scene));
   std::vector<std::string> args = cli::render_job_arguments(job);
+  if (specular != render::kDefaultSpecularMethod) args.insert(args.end(), {"--specular", specular});
   const std::string command =
-      fmt::format("sglab.render({}{}) (as `sglab render` {})", a.is_text ? "a scene dict" : "'" + job.scene_path + "'",
+      fmt::format("sglab.render({}{}) (as `sglab render` {})", is_text ? "a scene dict" : "'" + source + "'",
                   args.empty() ? "" : ", …", fmt::join(args, " "));
-  render::RenderResult r;
+  if (verbose)
+    run.options.progress = [](std::string_view stage, double fraction) {
+      if (fraction == 0 || fraction == 1)
+        std::fprintf(stderr, "sglab.render: %.*s %s\n", int(stage.size()), stage.data(), fraction == 0 ? "…" : "done");
+    };
+  cli::RenderJobRun::Output r;
   {
     py::gil_scoped_release release;
-    r = render::render_scene(scene, options);
+    r = run.run(command);
   }
-  const std::string stats = cli::render_stats(job, scene, options, r, command).dump();
   py::dict out;
-  const int w = r.width, h = r.height;
-  out["direct"] = layer_array(std::move(r.direct), w, h);
-  out["indirect"] = layer_array(std::move(r.indirect), w, h);
-  out["indirect_reference"] = layer_array(std::move(r.indirect_reference), w, h);
-  out["error"] = layer_array(std::move(r.error), w, h);
+  const int w = r.result.width, h = r.result.height;
+  for (auto& layer : r.layers) out[py::str(layer.name)] = layer_array(std::move(layer.pixels), w, h);
   py::array_t<bool> hit({py::ssize_t(h), py::ssize_t(w)});
-  std::transform(r.hit.begin(), r.hit.end(), hit.mutable_data(), [](char c) { return c != 0; });
+  std::transform(r.result.hit.begin(), r.result.hit.end(), hit.mutable_data(), [](char c) { return c != 0; });
   out["hit"] = hit;
-  out["stats"] = py::module_::import("json").attr("loads")(stats);
+  out["stats"] = py::module_::import("json").attr("loads")(r.stats.dump());
+  if (verbose) std::fprintf(stderr, "sglab.render: %s\n", command.c_str());
   return out;
 }
 
@@ -449,30 +484,19 @@ PYBIND11_MODULE(_sglab, m) {
         py::arg("constants"));
   m.def("fits", &fits_list);
   m.def("fit", &run_fit, py::arg("name"), py::arg("objective"), py::arg("precision"));
-  m.def(
-      "render",
-      [](const std::string& scene, bool is_text, const std::string& source, const std::vector<std::string>& overrides,
-         const std::string& vsgl, int count, const std::string& diffuse, int rsm, int shadow_map, std::optional<int> width,
-         std::optional<int> height, std::optional<std::uint64_t> seed) {
-        RenderArgs a;
-        a.scene = scene;
-        a.is_text = is_text;
-        a.job.scene_path = source;
-        a.job.overrides = overrides;
-        a.job.vsgl = vsgl;
-        a.job.count = count;
-        a.job.diffuse = diffuse;
-        a.job.rsm = rsm;
-        a.job.shadow_map = shadow_map;
-        a.job.width = width;
-        a.job.height = height;
-        if (seed) a.job.seed = *seed;
-        return run_render(a);
-      },
-      py::arg("scene"), py::arg("is_text"), py::arg("source"), py::arg("overrides"), py::arg("vsgl"), py::arg("count"),
-      py::arg("diffuse"), py::arg("rsm"), py::arg("shadow_map"), py::arg("width"), py::arg("height"), py::arg("seed"));
-  m.attr("default_render_job") = py::dict(
-      py::arg("vsgl") = sglab::cli::RenderJob{}.vsgl, py::arg("count") = sglab::cli::RenderJob{}.count,
-      py::arg("diffuse") = sglab::cli::RenderJob{}.diffuse, py::arg("rsm") = sglab::cli::RenderJob{}.rsm,
-      py::arg("shadow_map") = sglab::cli::RenderJob{}.shadow_map, py::arg("seed") = sglab::cli::RenderJob{}.seed);
+  m.def("vsgl_modes", &sglab::render::vsgl_mode_names);
+  m.def("render", &run_render, py::arg("scene"), py::arg("is_text"), py::arg("source"), py::arg("words"), py::arg("verbose"));
+  // The options of `sglab render` (the words run_render parses): Python's render() and its stub
+  // are checked against this list.
+  m.def("render_options", [] {
+    CLI::App app;
+    sglab::cli::RenderJob job;
+    std::string specular;
+    sglab::cli::add_render_job_options(app, job);
+    sglab::cli::add_specular_option(app, specular);
+    py::list names;
+    for (const CLI::Option* o : app.get_options())
+      if (!o->get_lnames().empty() && o->get_lnames().front() != "help") names.append(o->get_lnames().front());
+    return names;
+  });
 }

@@ -7,11 +7,16 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <regex>
+#include <string_view>
+#include <thread>
+
+#include <sched.h>
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
@@ -20,6 +25,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
@@ -502,9 +508,27 @@ std::atomic<int> g_fresh_scopes{0};
 FreshSweepScope::FreshSweepScope() { g_fresh_scopes.fetch_add(1); }
 FreshSweepScope::~FreshSweepScope() { g_fresh_scopes.fetch_sub(1); }
 
+std::size_t given_cpus() {
+  if (const char* slurm = std::getenv("SLURM_CPUS_PER_TASK")) {
+    std::size_t n = 0;
+    const std::string_view text(slurm);
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), n);
+    if (r.ec == std::errc() && r.ptr == text.data() + text.size() && n > 0) return n;
+  }
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (sched_getaffinity(0, sizeof mask, &mask) == 0 && CPU_COUNT(&mask) > 0) return std::size_t(CPU_COUNT(&mask));
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
 SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
                                  const std::string& shard_text, std::size_t threads, bool fresh) {
   const Shard shard = shard_text.empty() ? Shard{} : parse_shard(shard_text);
+  // The whole sweep within the CPUs given: its points and each point's own parallel loops.
+  const std::size_t cpus = given_cpus();
+  const tbb::global_control cap(tbb::global_control::max_allowed_parallelism, cpus);
+  if (threads == 0 || threads > cpus) threads = cpus;
+  std::fprintf(stderr, "sweep %s: %zu point(s) at once, within the %zu CPU(s) given\n", definition.name.c_str(), threads, cpus);
   if (fresh || g_fresh_scopes.load() > 0)
     for (const auto& p : {sweep_points_path(out_dir, definition.name, shard), sweep_manifest_path(out_dir, definition.name, shard),
                           sweep_checkpoint_path(out_dir, definition.name, shard)})

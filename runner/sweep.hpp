@@ -97,7 +97,7 @@ struct SweepDefinition {
 struct SweepRunOptions {
   std::filesystem::path out_dir;
   Shard shard;
-  std::size_t threads = 0;          // 0: all cores
+  std::size_t threads = 0;          // 0: every CPU given (given_cpus())
   double checkpoint_seconds = 10;   // at most this long between checkpoints (0: after every point)
   double progress_seconds = 2;      // at most this often a progress line on stderr
   bool quiet = false;               // no progress lines (tests)
@@ -117,10 +117,16 @@ struct SweepRunResult {
 // `compute` propagate after a checkpoint of every point finished so far has been written.
 SweepRunResult run_sweep(const SweepDefinition& definition, const SweepRunOptions& options);
 
+// The CPUs this process was given: SLURM_CPUS_PER_TASK when Slurm sets it (a job step may see every
+// core of the node), else the CPUs of the affinity mask (taskset, cgroups' cpusets, Slurm's task
+// affinity), else the machine's cores.
+std::size_t given_cpus();
+
 // What every `sglab sweep KIND` command does with its common options: parse `shard_text` ("" =
 // the whole grid), with `fresh` (or inside a FreshSweepScope) delete this shard's finished output
 // and checkpoint first, run the sweep, and for a shard print how to merge (the caller then writes
-// no summary: r.sharded).
+// no summary: r.sharded). Everything the sweep runs, the points' own parallel loops included (a
+// render's), stays within given_cpus() threads.
 SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
                                  const std::string& shard_text, std::size_t threads, bool fresh);
 

@@ -230,7 +230,10 @@ Pending merge_group(const std::string& name, const std::vector<const ShardFile*>
   nlohmann::json m = first.json;
   m["shard"] = Shard{}.text();
   m["rows"] = row_count;
+  // Not the merged sweep's wall time: the shards ran apart (in parallel, on other machines).
   m["seconds"] = seconds;
+  m["seconds_are"] = fmt::format("the sum of the {} shards' own wall seconds (each shard's run; not a wall time of the sweep)",
+                                 group.size());
   m["merged_from"] = sources;
   m["points_fnv1a"] = fnv1a_hex(p.csv);
   p.manifest = m.dump(2) + "\n";

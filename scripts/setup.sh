@@ -3,15 +3,17 @@
 # (Release) and builds what the job needs. Run as root on a fresh machine; safe to re-run.
 #   bash scripts/setup.sh          the `sglab` binary and the Python module (build/python)
 #   bash scripts/setup.sh --tests  everything: sglab, the test executables CTest runs, benchmarks
+#                                  (and slurm-wlm + munge for the suite's Slurm round trip)
 #   bash scripts/setup.sh --fuzz   also clang: the libFuzzer targets in ./build-fuzz (docs/testing.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 targets=(--target sglab sglab_python)
 fuzz=0
+tests=0
 case "${1:-}" in
   "") ;;
-  --tests) targets=() ;;
+  --tests) targets=(); tests=1 ;;
   --fuzz) fuzz=1 ;;
   *) echo "setup: unknown option '$1' (expected nothing, --tests or --fuzz)" >&2; exit 2 ;;
 esac
@@ -25,6 +27,8 @@ packages=(
   python3-dev pybind11-dev python3-pybind11 python3-pytest python3-pyflakes
 )
 if ((fuzz)); then packages+=(clang-14 libclang-rt-14-dev); fi
+# The Slurm round trip of the suite (tests/slurm_test.sh) starts its own munged, slurmctld and slurmd.
+if ((tests)); then packages+=(slurm-wlm munge); fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -97,4 +98,25 @@ TEST(ErrorVsTime, PunctualApproxFromItsFormula) {
     if (row.method == "punctual-approx" && row.precision == "double") {
       EXPECT_NEAR(row.max_error, max_error, 1e-6 * max_error);
     }
+}
+
+// The poster's speed claims are judged from interleaved runs with a noise margin: a ratio inside the
+// margin is "within noise", not a verdict either way.
+TEST(ErrorVsTime, SpeedVerdictsHaveANoiseMargin) {
+  evt::SpeedComparison c{"a", "b", "sglab batch"};
+  c.margin = 0.05;
+  for (const auto& [ratio, verdict] : {std::pair{0.90, "holds"}, std::pair{0.96, "within noise"}, std::pair{1.0, "within noise"},
+                                       std::pair{1.049, "within noise"}, std::pair{1.06, "does not hold"}}) {
+    c.ratio = ratio;
+    EXPECT_EQ(c.faster_verdict(), verdict) << ratio;
+  }
+  const evt::Section& s = quick_result().sections[0];
+  ASSERT_EQ(s.speed.size(), 4u) << "tokuyoshi2022 vs meder and hill-fitted vs tokuyoshi2022, batch and port";
+  for (const auto& x : s.speed) {
+    EXPECT_TRUE(std::isfinite(x.ratio) && x.ratio > 0) << x.a << " / " << x.b;
+    EXPECT_GE(x.margin, 0.03);
+    EXPECT_GE(x.rounds, 5);
+  }
+  const std::string md = evt::tables(quick_result()).markdown;
+  EXPECT_NE(md.find("interleaved runs each; noise margin ±"), std::string::npos);
 }

@@ -140,14 +140,14 @@ TEST_F(FilterCommand, BadInputExitsTwoNamesItAndWritesNothing) {
     std::string extra, expected;
   };
   const std::vector<Case> cases = {
-      {"--weights bilateral", "--weights 'bilateral'"},
+      {"--weights bilateral", "--weights: unknown weights 'bilateral'"},
       {"", "--weights"},
       {"--weights lobe --beta 0", "--beta 0"},
       {"--weights lobe --kappa -3", "--kappa -3"},
       {"--weights lobe --nu -1", "--nu -1"},
       {"--weights normal --depth-sigma 0", "--depth-sigma 0"},
       {"--weights normal --scale 0", "--scale 0"},
-      {"--weights normal --source photons", "--source 'photons'"},
+      {"--weights normal --source photons", "--source: unknown source 'photons'"},
       {"--weights normal --set floor.roughness=-0.5", "objects[0].material.roughness: -0.5 is negative"},
       {"--weights normal --width 0", "--width 0"},
       {"--weights lobe --noisy interleaved:0", "--noisy 'interleaved:0' is not interleaved:M"},

@@ -418,7 +418,7 @@ TEST_F(Hardening, Group12_OptionRanges) {
   EXPECT_REFUSED(sglab(render_args() + " --out out.exr --seed 18446744073709551616"), "18446744073709551616");
   EXPECT_REFUSED(sglab("sweep specular --quick --out sw --threads -1"), "--threads");
   EXPECT_REFUSED(sglab("error-map --quick --out em --size 0"), "--size must be in [2, 2000], got 0");
-  EXPECT_REFUSED(sglab(render_args() + " --out out.exr --reference-precision half"), "--reference-precision 'half'");
+  EXPECT_REFUSED(sglab(render_args() + " --out out.exr --reference-precision half"), "--reference-precision: unknown precision 'half'");
   EXPECT_FALSE(fs::exists(path("out.exr")));
 }
 

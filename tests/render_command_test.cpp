@@ -99,7 +99,7 @@ TEST_F(RenderCommand, BadInputExitsTwoNamesTheFieldAndWritesNothing) {
       {"scene.json", "--set light.cone_angle=95", "light.cone_angle: 95 is outside"},
       {"scene.json", "--set lamp.power=1", "--set lamp.power: no top-level key or object named \"lamp\""},
       {"missing.json", "", "cannot open the scene file"},
-      {"scene.json", "--vsgl three", "--vsgl 'three' is not a VSGL mode"},
+      {"scene.json", "--vsgl three", "--vsgl: unknown VSGL mode 'three'"},
       {"scene.json", "--rsm 0", "--rsm 0 is outside"},
       {"scene.json", "--width 0", "--width 0 is outside"},
       {"scene.json", "--diffuse cosine", "--diffuse: unknown diffuse method 'cosine'"},
@@ -177,7 +177,7 @@ TEST_F(RenderCommand, SweepRejectsBadInputBeforeRunning) {
            {"--vary floor.roughness=0.1:x:3", "--vary floor.roughness=0.1:x:3: 'x' is not a number"},
            {"--vary lamp.power=1,2", "--vary lamp.power: --set lamp.power: no top-level key or object named \"lamp\""},
            {"--vsgl fis", "--vsgl fis: fis and kmeans need a count"},
-           {"--vsgl three:4", "--vsgl three:4: expected two, two-shared, fis:N or kmeans:N"},
+           {"--vsgl three:4", "--vsgl: unknown VSGL mode 'three'"},
        })
     expect_bad_input(sglab("sweep render " + common + " " + c.args), c.args, c.expected, {"tables"});
 }

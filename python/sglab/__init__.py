@@ -22,8 +22,11 @@ Example::
 from __future__ import annotations
 
 import builtins
+import importlib
 import json
 import os
+import sys
+import tempfile
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -76,17 +79,61 @@ def _as_array(value: Any, name: str) -> np.ndarray:
     return a
 
 
-def _constant_paths(constants: Any) -> list[str]:
-    """``eval``'s ``constants=`` as the arguments of ``--constants``, in order."""
-    if constants is None:
-        return []
-    items = [constants] if isinstance(constants, (str, os.PathLike)) else constants
-    ok = isinstance(items, (list, tuple)) and all(isinstance(c, (str, os.PathLike)) for c in items)
-    paths = [os.fspath(c) for c in items] if ok else []
-    if not ok or not all(isinstance(p, str) for p in paths):
-        raise ValueError(f"constants: expected a path (str or os.PathLike), 'published', or a list of them, "
-                         f"got {constants!r}")
-    return paths
+class _ConstantSets:
+    """``constants=`` as the arguments of ``--constants``, in order: paths (str or os.PathLike),
+    "published", and fit records as dicts (``sglab.fit``'s result, or a hand-written ``{"fit": …,
+    "parameters": {…}}``), each written as JSON to a temporary file for the call. Used as a
+    context manager (the files are removed after the call); messages name a record as
+    ``<constants record N>`` instead of its temporary path."""
+
+    def __init__(self, constants: Any):
+        self.constants = constants
+        self.paths: list[str] = []
+        self._dir = None
+        self._names: dict[str, str] = {}
+
+    def __enter__(self) -> list[str]:
+        c = self.constants
+        if c is None:
+            return []
+        items = [c] if isinstance(c, (str, os.PathLike, Mapping)) else c
+        if not isinstance(items, (list, tuple)) or not all(isinstance(x, (str, os.PathLike, Mapping)) for x in items):
+            raise ValueError("constants: expected a path (str or os.PathLike), 'published', a fit record (dict, as "
+                             f"sglab.fit returns), or a list of them, got {_clip(repr(c))}")
+        for k, x in enumerate(items):
+            if isinstance(x, Mapping):
+                if self._dir is None:
+                    self._dir = tempfile.TemporaryDirectory(prefix="sglab-constants-")
+                path = os.path.join(self._dir.name, f"record-{k}.json")
+                try:
+                    text = json.dumps(x, allow_nan=False)
+                except (TypeError, ValueError) as e:
+                    raise ValueError(f"constants: record {k} is not JSON: {_clip(str(e))}") from None
+                with open(path, "w") as f:
+                    f.write(text)
+                self._names[path] = f"<constants record {k}>"
+                self.paths.append(path)
+            else:
+                p = os.fspath(x)
+                if not isinstance(p, str):
+                    raise ValueError(f"constants: expected a str path, got {_clip(repr(x))}")
+                self.paths.append(p)
+        return self.paths
+
+    def __exit__(self, kind, error, tb) -> bool:
+        if self._dir is not None:
+            self._dir.cleanup()
+        if isinstance(error, ValueError) and self._names:
+            text = str(error)
+            for path, name in self._names.items():
+                text = text.replace(path, name)
+            raise ValueError(text) from None
+        return False
+
+
+def _clip(text: str, limit: int = 80) -> str:
+    """At most ``limit`` characters of a bad value, as the command's messages quote them."""
+    return text if len(text) <= limit else text[:limit] + f"… ({len(text)} characters)"
 
 
 def eval(quantity: str, method: str, *, precision: str | None = None, constants: Any = None,
@@ -128,7 +175,31 @@ def eval(quantity: str, method: str, *, precision: str | None = None, constants:
       FloatingPointError: the method returned NaN or an infinity (never returned silently).
       RuntimeError: the method failed (e.g. a quadrature did not converge), naming the index.
     """
-    sets = _constant_paths(constants)
+    _check_name("quantity", quantity)
+    _check_name("method", method)
+    with _ConstantSets(constants) as sets:
+        return _eval(quantity, method, precision, sets, columns)
+
+
+def _check_name(what: str, value: Any) -> None:
+    """A name argument must be a str: anything else is a ValueError naming it (not a TypeError
+    from deep inside)."""
+    if not isinstance(value, str):
+        raise ValueError(f"{what}: expected a name (str), got {_clip(repr(value))}")
+
+
+def _mp50_value(x: Any, name: str, index: int) -> Any:
+    """One element of an mp50 column: a decimal string as it is, a Python int as its exact
+    decimal text, a real number as a float; anything else is a ValueError naming the column."""
+    if isinstance(x, str):
+        return x
+    if not isinstance(x, (int, builtins.float, np.integer, np.floating, np.bool_)):
+        raise ValueError(f"column '{name}', flat index {index}: expected a real number or a decimal string, got "
+                         f"{_clip(repr(x))}")
+    return str(int(x)) if isinstance(x, (int, np.integer)) else builtins.float(x)
+
+
+def _eval(quantity: str, method: str, precision: str | None, sets: list[str], columns: Mapping[str, Any]) -> Any:
     q = _quantity(quantity)
     names = [c["name"] for c in q["columns"]]
     missing = [n for n in names if n not in columns]
@@ -139,7 +210,7 @@ def eval(quantity: str, method: str, *, precision: str | None = None, constants:
             + ([f"unknown column(s) {', '.join(unknown)}"] if unknown else []))
         raise ValueError(f"sglab.eval('{quantity}', '{method}'): {problem}; quantity '{quantity}' takes the "
                          f"columns {', '.join(names)}")
-    if precision is not None and precision not in PRECISIONS:
+    if precision is not None and (not isinstance(precision, str) or precision not in PRECISIONS):
         raise ValueError(f"unknown precision '{precision}'; valid precisions: {', '.join(PRECISIONS)}")
     values = [columns[n] for n in names]
 
@@ -151,7 +222,7 @@ def eval(quantity: str, method: str, *, precision: str | None = None, constants:
             shapes = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
             raise ValueError(f"sglab.eval('{quantity}', '{method}'): the columns do not broadcast: {shapes}") from None
         shape = arrays[0].shape if arrays else ()
-        flat = [[x if isinstance(x, str) else builtins.float(x) for x in a.ravel().tolist()] for a in arrays]
+        flat = [[_mp50_value(x, n, i) for i, x in enumerate(a.ravel().tolist())] for n, a in zip(names, arrays)]
         text = _sglab.eval_mp50(quantity, method, flat, list(shape), sets)
         out = np.empty(len(text), dtype=object)
         out[:] = text
@@ -184,55 +255,111 @@ def fits() -> list[dict[str, Any]]:
     return _sglab.fits()
 
 
-def fit(name: str, objective: str | None = None, precision: str | None = None) -> dict[str, Any]:
+def fit(name: str, objective: str | None = None, precision: str | None = None, *, verbose: bool = False) -> dict[str, Any]:
     """Run one Ceres fit (``sglab fit NAME``) and return its record, the same dict as the JSON of
     ``sglab fit NAME --json FILE``: fit, objective, domain, parameters, published,
     relative_difference (None where nothing is published), final_cost, iterations, converged,
     seconds, objective_at_published, objective_at_fit, singular_values, cost_range_1pct,
     precision and, when a registry method reads the fit's constants, standard_grid_error (that
     method's error on ``sglab error-vs-time``'s grid with the published and the fitted values).
-    The record is a constant set: saved as JSON, ``eval(..., constants=PATH)`` reads it.
+    The record is a constant set: ``eval(..., constants=record)`` and ``render(...,
+    constants=record)`` take it as it is (or saved as JSON, by path).
 
     ``objective``: one of ``fits()``'s objectives for ``name`` (default: its first).
     ``precision``: half, float or double (default float): the precision of the rounding terms of
     the cosine-sharpness and cosine-sg l2-rounding objectives.
-    Raises ValueError for an unknown fit, objective or precision.
+    ``verbose``: a line on stderr when the fit is done (default: nothing on stderr).
+    Raises ValueError for an unknown fit, objective or precision (or one that is not a str).
     """
-    return json.loads(_sglab.fit(name, objective or "", precision or "float"))
+    _check_name("fit", name)
+    for what, value in (("objective", objective), ("precision", precision)):
+        if value is not None:
+            _check_name(what, value)
+    record = json.loads(_sglab.fit(name, objective or "", precision or "float"))
+    if verbose:
+        print(f"sglab.fit: {record['fit']} [{record['objective']}]: {'converged' if record['converged'] else 'NOT converged'} "
+              f"after {record['iterations']} iterations, {record['seconds']:.3f} s", file=sys.stderr)
+    return record
+
+
+#: ``render()``'s keyword arguments for the options of ``sglab render`` (the CLI word without its
+#: dashes, '-' as '_'), and the one whose name differs: ``overrides`` is ``--set``.
+_RENDER_OPTION_NAMES = {"set": "overrides"}
 
 
 def render(scene: str | os.PathLike | Mapping[str, Any], *, vsgl: str | None = None, count: int | None = None,
-           diffuse: str | None = None, rsm: int | None = None, shadow_map: int | None = None,
-           width: int | None = None, height: int | None = None, seed: int | None = None,
-           overrides: Sequence[str] | Mapping[str, Any] = ()) -> dict[str, Any]:
+           diffuse: str | None = None, specular: str | None = None, rsm: int | None = None,
+           shadow_map: int | None = None, width: int | None = None, height: int | None = None,
+           seed: int | None = None, overrides: Sequence[str] | Mapping[str, Any] = (),
+           kmeans_space: str | None = None, visibility: bool = False, sg_cosine_a_pi: bool = False,
+           precision: str | None = None, reference_precision: str | None = None, constants: Any = None,
+           verbose: bool = False) -> dict[str, Any]:
     """Render a scene as ``sglab render`` does and return the images and stats.
 
-    ``scene``: a scene JSON file (schema: scenes/README.md) or the scene as a dict.
-    Options (defaults as ``sglab render``): ``vsgl`` (two, fis, kmeans), ``count`` (VSGLs for fis
-    and kmeans), ``diffuse`` (a clamped-cosine method), ``rsm`` (RSM resolution), ``shadow_map``,
-    ``width``/``height`` (override the camera), ``seed``, ``overrides`` ("KEY=VALUE" strings or a
-    {KEY: VALUE} dict, as ``--set``: e.g. {"floor.roughness": 0.1}).
+    ``scene``: a scene JSON file (schema: scenes/README.md) or the scene as a dict (an
+    environment's relative paths are then taken from the working directory).
+    Options: every option of ``sglab render`` (``sglab render --help``), with the same names,
+    values, defaults and checks (they are parsed by the command's own option parser): ``vsgl``
+    (two, two-shared, fis, kmeans), ``count``, ``diffuse`` (a clamped-cosine method),
+    ``specular`` (a specular method, or vsgl-asg), ``rsm``, ``shadow_map``, ``width``/``height``
+    (override the camera), ``seed``, ``overrides`` ("KEY=VALUE" strings or a {KEY: VALUE} dict,
+    as ``--set``: e.g. {"floor.roughness": 0.1}), ``kmeans_space`` (world, image),
+    ``visibility``, ``sg_cosine_a_pi``, ``precision`` and ``reference_precision`` (double,
+    float), ``constants`` (as ``eval``'s: paths, "published", fit records as dicts).
+    ``verbose``: progress on stderr (default: nothing on stderr).
 
     Returns a dict: ``direct``, ``indirect``, ``indirect_reference`` (the exact VPL sum) and
     ``error`` (indirect − reference) as (height, width, 3) float64 arrays (row 0 is the top of the
-    image; the EXR of ``sglab render`` stores the same values in float32), ``hit`` (height,
-    width) bool (pixels that see geometry), and ``stats`` (the stats JSON of ``sglab render
-    --stats``, as a dict).
-    Raises ValueError for a bad scene or option, naming the field.
+    image; the EXR of ``sglab render`` stores the same values in float32), for a scene with an
+    environment also its layers (``environment_map`` when it has a map, ``environment_mixture``,
+    ``environment_approx``), ``hit`` (height, width) bool (pixels that see geometry), and
+    ``stats`` (the stats JSON of ``sglab render --stats``, as a dict, with ``environment`` for
+    such a scene).
+    Raises ValueError for a bad scene (a missing or unreadable environment map, an unknown
+    method, …) or option, naming the field and the value, as the command exits with status 2.
     """
-    defaults = _sglab.default_render_job
     if isinstance(overrides, Mapping):
         overrides = [f"{k}={json.dumps(v) if not isinstance(v, str) else v}" for k, v in overrides.items()]
+    elif isinstance(overrides, (str, bytes)) or not isinstance(overrides, Sequence):
+        raise ValueError(f"overrides: expected KEY=VALUE strings or a dict, got {_clip(repr(overrides))}")
     else:
         overrides = [str(o) for o in overrides]
+    words: list[str] = []
+    values = {"vsgl": vsgl, "count": count, "diffuse": diffuse, "specular": specular, "rsm": rsm,
+              "shadow-map": shadow_map, "width": width, "height": height, "seed": seed,
+              "kmeans-space": kmeans_space, "precision": precision, "reference-precision": reference_precision}
+    for option, value in values.items():
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, (str, int, np.integer)):
+            raise ValueError(f"{option.replace('-', '_')}: expected a {'name' if option in ('vsgl', 'diffuse', 'specular') else 'value'}, "
+                             f"got {_clip(repr(value))}")
+        words += [f"--{option}", str(value)]
+    for o in overrides:
+        words += ["--set", o]
+    if visibility:
+        words.append("--visibility")
+    if sg_cosine_a_pi:
+        words.append("--sg-cosine-a-pi")
     if isinstance(scene, Mapping):
-        text, is_text, source = json.dumps(scene), True, "<scene dict>"
-    else:
+        try:
+            text, is_text, source = json.dumps(scene, allow_nan=False), True, "<scene dict>"
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"scene: the dict is not JSON: {_clip(str(e))}") from None
+    elif isinstance(scene, (str, os.PathLike)):
         text, is_text, source = os.fspath(scene), False, os.fspath(scene)
-    return _sglab.render(text, is_text, source, overrides,
-                         vsgl if vsgl is not None else defaults["vsgl"],
-                         count if count is not None else defaults["count"],
-                         diffuse if diffuse is not None else defaults["diffuse"],
-                         rsm if rsm is not None else defaults["rsm"],
-                         shadow_map if shadow_map is not None else defaults["shadow_map"],
-                         width, height, seed)
+        if not isinstance(text, str):
+            raise ValueError(f"scene: expected a str path or a dict, got {_clip(repr(scene))}")
+    else:
+        raise ValueError(f"scene: expected a path or a dict, got {_clip(repr(scene))}")
+    with _ConstantSets(constants) as sets:
+        for path in sets:
+            words += ["--constants", path]
+        return _sglab.render(text, is_text, source, words, bool(verbose))
+
+
+def __getattr__(name: str) -> Any:
+    """``sglab.plots`` without an explicit import (matplotlib is loaded on first use only)."""
+    if name == "plots":
+        return importlib.import_module(".plots", __name__)
+    raise AttributeError(f"module 'sglab' has no attribute '{name}'")

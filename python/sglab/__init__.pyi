@@ -40,6 +40,8 @@ class FitInfo(TypedDict):
     description: str
     objectives: list[str]
 
+ConstantSet = str | os.PathLike[str] | Mapping[str, Any]
+
 def quantities() -> list[QuantityInfo]: ...
 def methods(quantity: str) -> list[MethodInfo]: ...
 def eval(
@@ -47,21 +49,37 @@ def eval(
     method: str,
     *,
     precision: Literal["float", "double", "mp50"] | None = None,
-    constants: str | os.PathLike[str] | Sequence[str | os.PathLike[str]] | None = None,
+    constants: ConstantSet | Sequence[ConstantSet] | None = None,
     **columns: npt.ArrayLike,
 ) -> np.ndarray | np.floating[Any] | str: ...
 def fits() -> list[FitInfo]: ...
-def fit(name: str, objective: str | None = None, precision: Literal["half", "float", "double"] | None = None) -> dict[str, Any]: ...
+def fit(
+    name: str,
+    objective: str | None = None,
+    precision: Literal["half", "float", "double"] | None = None,
+    *,
+    verbose: bool = False,
+) -> dict[str, Any]: ...
 def render(
     scene: str | os.PathLike[str] | Mapping[str, Any],
     *,
-    vsgl: Literal["two", "fis", "kmeans"] | None = None,
+    vsgl: Literal["two", "two-shared", "fis", "kmeans"] | None = None,
     count: int | None = None,
     diffuse: str | None = None,
+    specular: str | None = None,
     rsm: int | None = None,
     shadow_map: int | None = None,
     width: int | None = None,
     height: int | None = None,
     seed: int | None = None,
     overrides: Sequence[str] | Mapping[str, Any] = (),
+    kmeans_space: Literal["world", "image"] | None = None,
+    visibility: bool = False,
+    sg_cosine_a_pi: bool = False,
+    precision: Literal["double", "float"] | None = None,
+    reference_precision: Literal["double", "float"] | None = None,
+    constants: ConstantSet | Sequence[ConstantSet] | None = None,
+    verbose: bool = False,
 ) -> dict[str, Any]: ...
+
+from . import plots as plots

@@ -314,7 +314,7 @@ def test_bad_call_raises():
         sglab.eval("x", "y", sharpness=1.0)
     with pytest.raises(ValueError, match="unknown precision 'half'"):
         sglab.eval("sg-integral", "exact", precision="half", sharpness=1.0)
-    with pytest.raises(ValueError, match="constants: expected a path"):
+    with pytest.raises(ValueError, match="<constants record 0>: key 'fit'"):  # a dict is a fit record
         sglab.eval("sg-integral", "exact", constants={"x": 1}, sharpness=1.0)
     with pytest.raises(ValueError, match="constants: expected a path"):
         sglab.eval("sg-integral", "exact", constants=3, sharpness=1.0)
@@ -323,9 +323,10 @@ def test_bad_call_raises():
 
 
 def test_non_finite_result_is_never_returned():
-    # 2π/λ overflows float at the smallest subnormal λ (> 0, so inside the domain).
-    with pytest.raises(FloatingPointError, match=r"index 1 \(sharpness 1e-45\).*returned inf in float"):
-        sglab.eval("sg-integral", "approx", sharpness=np.array([1, 1e-45], dtype=np.float32))
+    # 2π/λ overflows float at a λ just above the smallest normal float (> 0, so inside the domain;
+    # a subnormal λ is refused as input, as `sglab eval` refuses it).
+    with pytest.raises(FloatingPointError, match=r"index 1 \(sharpness 1.2e-38\).*returned inf in float"):
+        sglab.eval("sg-integral", "approx", sharpness=np.array([1, 1.2e-38], dtype=np.float32))
 
 
 # ---- constant sets (`sglab eval --constants`) ------------------------------------------------
@@ -485,10 +486,155 @@ def test_render_from_dict_and_overrides():
     doc["objects"][0]["material"]["roughness"] = -1
     with pytest.raises(ValueError, match=r"objects\[0\]\.material\.roughness"):
         sglab.render(doc, width=8, height=8)
-    with pytest.raises(ValueError, match="--vsgl 'nope'"):
+    with pytest.raises(ValueError, match="--vsgl: unknown VSGL mode 'nope'"):
         sglab.render(scene, vsgl="nope")
     with pytest.raises(ValueError, match="cannot open the scene file"):
         sglab.render(os.path.join(SOURCE_DIR, "scenes", "missing.json"))
+
+
+def test_render_takes_every_option_of_the_command():
+    """render() has a keyword for every option of `sglab render` (the list the native module's
+    parser holds), and the options reach the render: --specular, --visibility, --precision and
+    --constants change the stats as the command's do."""
+    import inspect
+    params = inspect.signature(sglab.render).parameters
+    for option in sglab._sglab.render_options():
+        name = sglab._RENDER_OPTION_NAMES.get(option, option.replace("-", "_"))
+        assert name in params, f"sglab.render has no keyword for --{option}"
+    scene = os.path.join(SOURCE_DIR, "scenes", "cornell-glossy.json")
+    small = dict(width=12, height=8, rsm=8, shadow_map=64)
+    with tempfile.TemporaryDirectory() as d:
+        path = write_record(d, "ld.json", {"fit": "lambda-d", "parameters": {"lambda_d": 3.25}})
+        r = sglab.render(scene, specular="sg-warp", visibility=True, precision="float", constants=path, **small)
+        stats = os.path.join(d, "st.json")
+        subprocess.run([SGLAB_EXE, "render", scene, "--out", os.path.join(d, "o.exr"), "--stats", stats, "--specular",
+                        "sg-warp", "--visibility", "--precision", "float", "--constants", path, "--width", "12", "--height",
+                        "8", "--rsm", "8", "--shadow-map", "64", "--quiet"], check=True, capture_output=True)
+        with open(stats) as f:
+            cli = json.load(f)
+    assert r["stats"]["specular_method"] == cli["specular_method"] == "sg-warp"
+    for k in ("constants", "error", "built", "vsgl_count"):
+        assert r["stats"][k] == cli[k], k
+    # The same λ_d as a record dict, and in a list after 'published': the same render.
+    rec = sglab.render(scene, specular="sg-warp", visibility=True, precision="float",
+                       constants=["published", {"fit": "lambda-d", "parameters": {"lambda_d": 3.25}}], **small)
+    assert np.array_equal(rec["indirect"], r["indirect"])
+
+
+def test_constants_take_a_record_dict_from_fit():
+    """constants= takes what sglab.fit returns, as it is: the same values as the record saved and
+    passed by path (and as `sglab eval --constants`)."""
+    rec = sglab.fit("lambda-d")
+    cols = dict(sharpness=[0.5, 2.0, 30.0], cosine=[0.2, -0.3, 0.9])
+    with tempfile.TemporaryDirectory() as d:
+        path = write_record(d, "ld.json", rec)
+        by_path = sglab.eval("clamped-cosine", "sg-cosine", constants=path, **cols)
+    by_dict = sglab.eval("clamped-cosine", "sg-cosine", constants=rec, **cols)
+    assert np.array_equal(by_path, by_dict)
+    hand = {"fit": "tokuyoshi2024-t", "parameters": {k: v * 1.05 for k, v in tokuyoshi_published().items()}}
+    with tempfile.TemporaryDirectory() as d:
+        path = write_record(d, "t.json", hand)
+        assert np.array_equal(sglab.eval("clamped-cosine", "tokuyoshi2024", constants=[path], **cols),
+                              sglab.eval("clamped-cosine", "tokuyoshi2024", constants=[hand], **cols))
+    assert not np.array_equal(sglab.eval("clamped-cosine", "tokuyoshi2024", constants=hand, **cols),
+                              sglab.eval("clamped-cosine", "tokuyoshi2024", **cols))
+    # A bad record dict is named as such, not by a temporary path.
+    with pytest.raises(ValueError, match=r"<constants record 0>: key 'fit': unknown fit 'nope'"):
+        sglab.eval("clamped-cosine", "tokuyoshi2024", constants={"fit": "nope", "parameters": {}}, **cols)
+    with pytest.raises(ValueError, match="constants: expected"):
+        sglab.eval("clamped-cosine", "tokuyoshi2024", constants=3, **cols)
+
+
+def test_plots_without_an_explicit_import_and_nothing_on_stderr():
+    """`import sglab` gives sglab.plots; fit, eval and render print nothing on stderr unless asked
+    (verbose=True), in a fresh interpreter."""
+    code = ("import sglab, os\n"
+            "sglab.fit('lambda-d')\n"
+            "sglab.eval('clamped-cosine', 'tokuyoshi2024', sharpness=[1.0], cosine=[0.5])\n"
+            "sglab.render(os.path.join(os.environ['SGLAB_SOURCE_DIR'], 'scenes', 'diffuse-only.json'), width=8, height=8,"
+            " rsm=8, shadow_map=64)\n"
+            "assert callable(sglab.plots.render_figure)\n")
+    env = dict(os.environ, SGLAB_SOURCE_DIR=SOURCE_DIR, MPLBACKEND="Agg")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert run.returncode == 0, run.stderr
+    assert run.stderr == ""
+    loud = subprocess.run([sys.executable, "-c", code.replace("shadow_map=64)", "shadow_map=64, verbose=True)")],
+                          capture_output=True, text=True, env=env)
+    assert loud.returncode == 0 and "sglab.render" in loud.stderr
+
+
+def test_stub_is_complete():
+    """__init__.pyi declares every public function with the parameters the module has, render()
+    with a parameter for every option of `sglab render`, and the VSGL modes of the renderer."""
+    import ast
+    import inspect
+    stub = ast.parse(open(os.path.join(os.path.dirname(sglab.__file__), "__init__.pyi")).read())
+    defs = {n.name: n for n in stub.body if isinstance(n, ast.FunctionDef)}
+    for name in sglab.__all__:
+        obj = getattr(sglab, name)
+        if not callable(obj):
+            continue
+        assert name in defs, f"the stub has no {name}"
+        a = defs[name].args
+        stub_params = [p.arg for p in a.posonlyargs + a.args + a.kwonlyargs] + ([a.kwarg.arg] if a.kwarg else [])
+        assert stub_params == list(inspect.signature(obj).parameters), name
+    vsgl = next(p for p in defs["render"].args.kwonlyargs if p.arg == "vsgl")
+    literal = [e.value for e in ast.walk(vsgl.annotation) if isinstance(e, ast.Constant) and isinstance(e.value, str)]
+    assert literal == sglab._sglab.vsgl_modes()
+    assert "plots" in {a.asname or a.name for n in stub.body if isinstance(n, ast.ImportFrom) for a in n.names}
+
+
+def test_python_refuses_what_the_command_refuses():
+    """Bad values give the documented ValueError (never a TypeError or OverflowError from inside),
+    naming the value, as the command exits with status 2."""
+    scene = os.path.join(SOURCE_DIR, "scenes", "diffuse-only.json")
+    for kwargs, message in [(dict(seed=-1), "--seed"), (dict(width=2**31), "--width"), (dict(vsgl=None, count="x"), "--count"),
+                            (dict(precision="half"), "unknown precision 'half'"), (dict(specular=3), "specular")]:
+        with pytest.raises(ValueError, match=re.escape(message)):
+            sglab.render(scene, **kwargs)
+    with pytest.raises(ValueError, match="fit: expected a name"):
+        sglab.fit(None)
+    with pytest.raises(ValueError, match="method: expected a name"):
+        sglab.eval("clamped-cosine", None, sharpness=1.0, cosine=0.5)
+    with pytest.raises(ValueError, match="quantity: expected a name"):
+        sglab.eval(3, "tokuyoshi2024", sharpness=1.0, cosine=0.5)
+    for bad in (None, 1 + 2j, {"a": 1}):
+        with pytest.raises(ValueError, match="column 'sharpness'"):
+            sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", sharpness=[1.0, bad], cosine=0.5)
+    with pytest.raises(ValueError, match="column 'sharpness'.*out of the range"):
+        sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", sharpness=[10**400], cosine=0.5)
+    # A subnormal sharpness, refused as `sglab eval` refuses its text.
+    for dtype, tiny in ((np.float64, 5e-324), (np.float32, np.float32(1e-45))):
+        with pytest.raises(ValueError, match="column 'sharpness'.*subnormal"):
+            sglab.eval("clamped-cosine", "tokuyoshi2024", sharpness=np.array([1.0, tiny], dtype=dtype), cosine=0.5)
+    with pytest.raises(ValueError, match="subnormal"):
+        sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", sharpness=[5e-324], cosine=0.5)
+    cli = subprocess.run([SGLAB_EXE, "eval", "clamped-cosine", "--method", "tokuyoshi2024"], input="sharpness,cosine\n5e-324,0.5\n",
+                         capture_output=True, text=True)
+    assert cli.returncode == 2 and "subnormal" in cli.stderr
+
+
+def test_render_of_an_environment_scene():
+    """An environment scene gives its layers and stats as `sglab render` does; a scene naming a
+    missing EXR, a file that is not an EXR, or an unknown method is refused (ValueError)."""
+    with open(os.path.join(SOURCE_DIR, "scenes", "environment-studio.json")) as f:
+        doc = json.load(f)
+    doc["environment"]["width"] = 16
+    doc["environment"]["lobes"] = 2
+    r = sglab.render(doc, width=8, height=6, rsm=8, shadow_map=64)
+    for layer in ("environment_map", "environment_mixture", "environment_approx"):
+        assert r[layer].shape == (6, 8, 3) and np.all(np.isfinite(r[layer])), layer
+    assert "approximation_part" in r["stats"]["environment"] and "fit_part" in r["stats"]["environment"]
+    with tempfile.TemporaryDirectory() as d:
+        png = os.path.join(d, "map.png")
+        with open(png, "wb") as f:
+            f.write(b"\x89PNG\r\n\x1a\n" + bytes(64))
+        for env, message in [({"exr": os.path.join(d, "missing.exr"), "lobes": 2}, "missing.exr"),
+                             ({"exr": png, "lobes": 2}, "map.png"),
+                             ({"generate": "studio", "width": 16, "lobes": 2, "diffuse": "nope"}, "nope")]:
+            bad = dict(doc, environment=env)
+            with pytest.raises(ValueError, match=re.escape(message)):
+                sglab.render(bad, width=8, height=6, rsm=8, shadow_map=64)
 
 
 # ---- plots, docs ---------------------------------------------------------------------------

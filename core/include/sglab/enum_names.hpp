@@ -4,7 +4,9 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace sglab {
 
@@ -28,6 +30,14 @@ constexpr std::optional<E> parse_enum(const EnumName<E> (&table)[N], std::string
   for (const auto& entry : table)
     if (entry.name == name) return entry.value;
   return std::nullopt;
+}
+
+// Every name of `table`, in its order (for help texts and "valid: …" messages).
+template <class E, std::size_t N>
+std::vector<std::string> enum_names(const EnumName<E> (&table)[N]) {
+  std::vector<std::string> out;
+  for (const auto& entry : table) out.emplace_back(entry.name);
+  return out;
 }
 
 }  // namespace sglab

@@ -119,6 +119,10 @@ std::optional<FilterWeights> parse_filter_weights(std::string_view name) {
 
 std::string_view filter_weights_name(FilterWeights weights) { return enum_name(kFilterWeightsNames, weights); }
 
+std::vector<std::string> filter_weights_names() { return enum_names(kFilterWeightsNames); }
+
+std::vector<std::string> indirect_source_names() { return enum_names(kIndirectSourceNames); }
+
 std::optional<IndirectSource> parse_indirect_source(std::string_view name) {
   return parse_enum(kIndirectSourceNames, name);
 }

@@ -27,6 +27,8 @@ std::string_view vsgl_mode_name(VsglMode m) { return enum_name(kVsglModeNames, m
 
 std::optional<VsglMode> parse_vsgl_mode(std::string_view name) { return parse_enum(kVsglModeNames, name); }
 
+std::vector<std::string> vsgl_mode_names() { return enum_names(kVsglModeNames); }
+
 std::optional<std::string> vsgl_options_error(const VsglOptions& o) {
   auto bad = [](const char* field, double value, const char* why) {
     return std::string("VSGL option ") + field + " = " + std::to_string(value) + ": " + why;

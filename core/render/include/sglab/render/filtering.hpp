@@ -61,10 +61,12 @@ namespace sglab::render {
 enum class FilterWeights { spatial, normal, lobe, lobe_depth };
 std::optional<FilterWeights> parse_filter_weights(std::string_view name);
 std::string_view filter_weights_name(FilterWeights weights);
+std::vector<std::string> filter_weights_names();
 
 enum class IndirectSource { exact, vsgl };
 std::optional<IndirectSource> parse_indirect_source(std::string_view name);
 std::string_view indirect_source_name(IndirectSource source);
+std::vector<std::string> indirect_source_names();
 
 // The parameters of the weights (not of the low-resolution render).
 struct FilterParameters {

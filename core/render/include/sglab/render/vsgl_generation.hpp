@@ -65,6 +65,7 @@ inline bool vsgl_mode_is_whole_rsm(VsglMode m) { return m == VsglMode::two || m 
 
 std::string_view vsgl_mode_name(VsglMode m);
 std::optional<VsglMode> parse_vsgl_mode(std::string_view name);
+std::vector<std::string> vsgl_mode_names();
 
 // The default seed of the importance sampling (fis, kmeans). Arbitrary, fixed so that runs are
 // reproducible; recorded in VsglStats::seed.

@@ -1,0 +1,50 @@
+// `sglab recommend` as a library: which method to ship, per quantity, read from the tables a full
+// `sglab reproduce` wrote (their CSVs). Per quantity (clamped-cosine, hemispherical, specular, VSGL
+// mode, filtering weights, environment basis, and any of the tables other steps add when present)
+// the Pareto front of error against cost, the choice per cost budget, and the caveats the tables
+// measured (negative outputs, where each method is worst, mean against max). Every number it
+// prints is read from a table or is a mean or maximum of a table's rows, named as such; a table
+// that is absent leaves its section out (said so), a malformed one is an InputError.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "table.hpp"
+
+namespace sglab::cli::recommendations {
+
+struct Options {
+  std::string from = "paper_tables";             // --from: the tables read
+  std::string out = "results/recommendations";   // --out
+  std::string tables_dir;                        // --tables-dir: where recommendations.md goes (default: --out)
+};
+
+// One choice: its name, cost and error in the section's units.
+struct Candidate {
+  std::string name;
+  double cost = 0, error = 0;
+};
+
+// The Pareto front of `all`: sorted by cost, each member strictly more accurate than every cheaper
+// one (ties in cost: the more accurate first).
+std::vector<Candidate> pareto_front(std::vector<Candidate> all);
+
+struct Section {
+  std::string title;     // "Diffuse: clamped cosine"
+  std::string headline;  // one line: the recommendation
+  std::string body;      // Markdown: front, budgets, caveats, sources
+};
+
+struct Result {
+  runner::Provenance provenance;
+  std::vector<Section> sections;
+  std::vector<std::string> missing;  // tables looked for and not found
+};
+
+Result compute(const Options& o);
+std::string markdown(const Result& r);
+// TABLES/recommendations.md (TABLES: --tables-dir, else --out).
+void write(const Options& o, const Result& r);
+
+}  // namespace sglab::cli::recommendations
