@@ -267,3 +267,21 @@ TEST(EnvmapBases, TablesHaveEveryBasisAndBadOptionsAreInputErrors) {
   EXPECT_THROW(eb::compute(o), sglab::runner::InputError);
   fs::remove_all(dir);
 }
+
+// The free-lobe fit on the generated sky (512 × 256, a 2° sun carrying ~87 % of the map's
+// weighted L2²) at N = 32 is fitted on the 64 × 32 level, where the sun is one texel and so held
+// by one lobe: one Gaussian on a uniform disk left it at relative L2 0.231. Seeding the weakest
+// lobes on the brightest full-map texels (seed_bright_lobes) measured 0.170 (kmeans, seed 1);
+// asserted below 0.20, the margin for thread-count differences in the LM runs.
+TEST(SgFree, SunSizedFeatureImprovesOnTheOneLobeFloor) {
+  sglab::render::SkyOptions so;
+  const sglab::EnvMap sky = sglab::render::make_sky(so);
+  fit::EnvFitOptions o;
+  o.lobes = 32;
+  o.init = "kmeans";
+  std::printf("seed %u\n", o.seed);
+  const auto r = fit::fit_envmap_ceres(sky, o);
+  std::printf("relative error %.4g (fitted on %d×%d)\n", r.error.relative, r.fit_width, r.fit_height);
+  EXPECT_EQ(r.fit_width, 64);
+  EXPECT_LT(r.error.relative, 0.20);
+}
