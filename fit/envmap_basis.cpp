@@ -1,6 +1,7 @@
 // The environment-lighting basis registry, the evaluation of a fitted basis and the NNLS solver
 // (envmap_basis.hpp).
 #include "envmap_basis.hpp"
+#include "envmap.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -66,6 +67,17 @@ int zero_amplitude_lobes(const SgMixture& m) {
   int n = 0;
   for (const auto& l : m) n += l.amplitude[0] == 0 && l.amplitude[1] == 0 && l.amplitude[2] == 0;
   return n;
+}
+
+EnvBasisFit basis_fit_from(const std::string& basis, const EnvFitResult& r) {
+  EnvBasisFit f;
+  f.basis = basis;
+  f.size = int(r.mixture.size());
+  f.floats = six_floats_per_lobe(f.size);
+  f.seconds = r.seconds;
+  f.mixture = r.mixture;
+  f.zero_lobes = zero_amplitude_lobes(r.mixture);
+  return f;
 }
 
 Eigen::VectorXd nnls(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, double tolerance) {

@@ -83,4 +83,11 @@ Eigen::VectorXd nnls(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, double 
 // Lobes with all RGB amplitudes exactly 0.
 int zero_amplitude_lobes(const SgMixture& m);
 
+// A free-lobe basis stores 6 floats per lobe (axis 2, sharpness 1, RGB 3).
+inline int six_floats_per_lobe(int n) { return 6 * n; }
+
+struct EnvFitResult;
+// The basis row of a mixture fit of fit/envmap.hpp (vmf-em, sg-free).
+EnvBasisFit basis_fit_from(const std::string& basis, const EnvFitResult& r);
+
 }  // namespace sglab::fit

@@ -11,16 +11,7 @@
 namespace sglab::fit {
 namespace {
 
-EnvBasisFit from_result(const EnvFitResult& r) {
-  EnvBasisFit f;
-  f.basis = "sg-free";
-  f.size = int(r.mixture.size());
-  f.floats = 6 * f.size;
-  f.seconds = r.seconds;
-  f.mixture = r.mixture;
-  f.zero_lobes = zero_amplitude_lobes(r.mixture);
-  return f;
-}
+EnvBasisFit from_result(const EnvFitResult& r) { return basis_fit_from("sg-free", r); }
 
 std::vector<EnvBasisFit> fit_sg_free(const EnvMap& map, const std::vector<int>& sizes, const std::string&, const EnvBasisOptions& o) {
   std::map<int, EnvBasisFit> fits;
@@ -44,8 +35,6 @@ std::vector<EnvBasisFit> fit_sg_free(const EnvMap& map, const std::vector<int>& 
   }
   return out;
 }
-
-int six_floats_per_lobe(int n) { return 6 * n; }
 
 }  // namespace
 

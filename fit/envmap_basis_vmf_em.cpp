@@ -16,20 +16,10 @@ std::vector<EnvBasisFit> fit_vmf_em(const EnvMap& map, const std::vector<int>& s
     fo.init = "kmeans";
     fo.seed = o.seed;
     fo.threads = o.threads;
-    const EnvFitResult r = fit_envmap_vmf_em(map, fo);
-    EnvBasisFit f;
-    f.basis = "vmf-em";
-    f.size = N;
-    f.floats = 6 * N;
-    f.seconds = r.seconds;
-    f.mixture = r.mixture;
-    f.zero_lobes = zero_amplitude_lobes(r.mixture);
-    out.push_back(std::move(f));
+    out.push_back(basis_fit_from("vmf-em", fit_envmap_vmf_em(map, fo)));
   }
   return out;
 }
-
-int six_floats_per_lobe(int n) { return 6 * n; }
 
 }  // namespace
 
