@@ -23,6 +23,8 @@
 #include "table.hpp"
 #include "commands.hpp"
 #include "envmap.hpp"
+#include "envmap_basis.hpp"
+#include "envmap_bases.hpp"
 #include "envmap_lobes.hpp"
 #include "experiment_command.hpp"
 #include "sglab/registry.hpp"
@@ -70,6 +72,7 @@ nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::Env
   j["lobes"] = r.mixture.size();
   j["l2_error"] = r.error.l2;
   j["relative_error"] = r.error.relative;
+  j["zero_amplitude_lobes"] = fit::zero_amplitude_lobes(r.mixture);
   return j;
 }
 
@@ -114,12 +117,24 @@ void run_make(const MakeArgs& a) {
       o.width = a.width;
       o.height = a.width / 2;
       map = render::make_studio(o);
+    } else if (a.kind == "overcast") {
+      render::OvercastOptions o;
+      o.width = a.width;
+      o.height = a.width / 2;
+      o.ground_albedo = a.sky.ground_albedo;
+      map = render::make_overcast(o);
+      args.insert(args.end(), {"--ground-albedo", fmt::format("{}", o.ground_albedo)});
+    } else if (a.kind == "indoor") {
+      render::IndoorOptions o;
+      o.width = a.width;
+      o.height = a.width / 2;
+      map = render::make_indoor(o);
     } else if (a.kind == "mixture") {
       const SgMixture m = a.mixture.empty() ? render::synthetic_mixture() : read_mixture(a.mixture);
       if (!a.mixture.empty()) args.insert(args.end(), {"--mixture", a.mixture});
       map = rasterize_mixture(m, a.width, a.width / 2);
     } else {
-      throw UsageError("unknown environment '" + a.kind + "' (sky, studio, mixture)");
+      throw UsageError("unknown environment '" + clip_text(a.kind) + "' (sky, studio, overcast, indoor, mixture)");
     }
   } catch (const EnvironmentError& e) {
     throw UsageError(e.what());
@@ -135,6 +150,7 @@ void run_make(const MakeArgs& a) {
 struct FitEnvArgs {
   std::string map, json, exr, method = "ceres";
   fit::EnvFitOptions options;
+  int max_iterations = 0;  // 0: the method's default (LM per level for ceres, EM for vmf-em)
 };
 
 fit::EnvFitResult run_fit_method(const EnvMap& map, const std::string& method, const fit::EnvFitOptions& o) {
@@ -150,13 +166,18 @@ fit::EnvFitResult run_fit_method(const EnvMap& map, const std::string& method, c
 void run_fit_envmap(const FitEnvArgs& a) {
   if (a.method != "ceres" && a.method != "vmf-em") throw UsageError("unknown --method '" + a.method + "' (ceres, vmf-em)");
   const EnvMap map = load_map(a.map);
-  const fit::EnvFitResult r = run_fit_method(map, a.method, a.options);
+  fit::EnvFitOptions o = a.options;
+  if (a.max_iterations > 0) (a.method == "vmf-em" ? o.em_max_iterations : o.max_iterations) = a.max_iterations;
+  const fit::EnvFitResult r = run_fit_method(map, a.method, o);
   std::printf("fit envmap %s: %d lobes, %s (init %s, objective %s), fitted on %d×%d\n", a.map.c_str(), a.options.lobes,
               r.method.c_str(), r.method == "ceres" ? a.options.init.c_str() : "kmeans", a.options.objective.c_str(), r.fit_width,
               r.fit_height);
   std::printf("  L2 %.6g, relative error %.6g (solid-angle weighted, against the %d×%d map)\n", r.error.l2, r.error.relative,
               map.width, map.height);
   std::printf("  %d iterations, %s, %.3f s\n", r.iterations, r.converged ? "converged" : "NOT converged (iteration cap)", r.seconds);
+  if (const int zero = fit::zero_amplitude_lobes(r.mixture))
+    std::printf("  %d of %zu lobes have zero amplitude (they add nothing; the map needs fewer lobes or a better start)\n", zero,
+                r.mixture.size());
   if (!a.json.empty()) write_file_atomically(a.json, mixture_record(r, a.options, a.map, map).dump(2) + "\n");
   if (!a.exr.empty())
     write_file_atomically(a.exr, render::encode_environment(rasterize_mixture(r.mixture, map.width, map.height, fit::kErrorSupersample),
@@ -236,7 +257,9 @@ void add_fit_envmap_command(CLI::App& fit) {
   sub->add_option("--method", a->method, "ceres, or vmf-em (the EM alternative)")->capture_default_str()->check(one_of({"ceres", "vmf-em"}, "method"));
   sub->add_option("--threads", a->options.threads, "Ceres threads")->capture_default_str();
   sub->add_option("--seed", a->options.seed, "k-means++ seed")->capture_default_str();
-  sub->add_option("--max-iterations", a->options.max_iterations, "Levenberg–Marquardt iterations per level")->capture_default_str();
+  sub->add_option("--max-iterations", a->max_iterations,
+                  "iteration cap: Levenberg–Marquardt iterations per level (ceres, default 60) or EM iterations (vmf-em, default 200)")
+      ->check(CLI::Range(1, 1000000));
   sub->add_option("--json", a->json, "write the mixture as a fit record (JSON)");
   sub->add_option("--exr", a->exr, "write the reconstruction as an EXR of the map's size");
   sub->callback([a] { run_fit_envmap(*a); });
@@ -248,7 +271,7 @@ void add_envmap_command(CLI::App& app) {
   {
     auto a = std::make_shared<MakeArgs>();
     auto* sub = cmd->add_subcommand("make", "write a generated environment as an equirectangular EXR");
-    sub->add_option("kind", a->kind, "environment")->required()->check(one_of({"sky", "studio", "mixture"}, "environment"));
+    sub->add_option("kind", a->kind, "environment")->required()->check(one_of({"sky", "studio", "overcast", "indoor", "mixture"}, "environment"));
     sub->add_option("--out", a->out, "output EXR");
     sub->add_option("--width", a->width, "width (height = width/2)")->capture_default_str();
     sub->add_option("--turbidity", a->sky.turbidity, "sky: Preetham turbidity T in [2, 10]")->capture_default_str();
@@ -256,7 +279,7 @@ void add_envmap_command(CLI::App& app) {
     sub->add_option("--sun-azimuth", a->sky.sun_azimuth_deg, "sky: sun azimuth (degrees)")->capture_default_str();
     sub->add_option("--sun-size", a->sky.sun_size_deg, "sky: sun disk angular diameter (degrees)")->capture_default_str();
     sub->add_option("--sun-luminance", a->sky.sun_luminance, "sky: sun disk luminance / zenith luminance")->capture_default_str();
-    sub->add_option("--ground-albedo", a->sky.ground_albedo, "sky: albedo of the ground below the horizon")->capture_default_str();
+    sub->add_option("--ground-albedo", a->sky.ground_albedo, "sky, overcast: albedo of the ground below the horizon")->capture_default_str();
     sub->add_option("--mixture", a->mixture, "mixture: lobes from a fit record JSON (default: the shipped synthetic mixture)");
     sub->callback([a] { run_make(*a); });
   }
@@ -289,6 +312,21 @@ void add_envmap_command(CLI::App& app) {
     add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
     sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
     sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
+  }
+  {
+    auto a = std::make_shared<envmap_bases::Options>();
+    auto* sub = cmd->add_subcommand("bases", "SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.{md,csv})");
+    sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
+    sub->add_option("--basis", a->bases, "bases to compare (repeat; default all): " + fit::envmap_basis_names());
+    sub->add_option("--width", a->width, "maps reduced by 2×2 means to at most this width")->capture_default_str();
+    sub->add_option("--roughness", a->roughness, "GGX roughnesses (0.3 is always included)")->capture_default_str();
+    sub->add_option("--res", a->sphere_res, "sphere image size of the specular layer")->capture_default_str();
+    sub->add_option("--normals", a->normals, "Fibonacci normals of the diffuse layer")->capture_default_str();
+    sub->add_option("--tolerance", a->tolerance, "relative L2 change at which the map quadratures count as converged")->capture_default_str();
+    sub->add_option("--seed", a->seed, "k-means++ and running-average seed")->capture_default_str();
+    add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
+    sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32, L ≤ 4 (a smoke run; not for paper_tables)");
+    sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
   }
 }
 

@@ -75,6 +75,7 @@ struct Experiment {
   X(error_vs_time)           \
   X(sweep_render)            \
   X(envmap)                  \
+  X(envmap_bases)            \
   X(stability)               \
   X(error_map)               \
   X(renders)                 \

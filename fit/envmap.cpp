@@ -278,6 +278,7 @@ void validate(const EnvMap& map, const EnvFitOptions& o) {
     throw std::invalid_argument("unknown --init '" + o.init + "' (fibonacci, kmeans)");
   if (o.objective != "l2" && o.objective != "log-l2")
     throw std::invalid_argument("unknown --objective '" + o.objective + "' (l2, log-l2)");
+  if (o.max_iterations < 1 || o.em_max_iterations < 1) throw std::invalid_argument("iteration caps must be at least 1");
 }
 
 std::vector<double> pack(const std::vector<Cluster>& clusters, const Level& level) {
@@ -325,54 +326,160 @@ void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::v
   excluded += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 }
 
+// Refits the lobes `sharp` of x alone on the texels of `full` within 4 standard deviations (+ 2
+// texels) of their axes, every other lobe held fixed (its texel-blurred values subtracted from
+// the targets).
+void refit_lobes_locally(const Level& full, std::vector<double>& x, int N, const std::vector<int>& sharp, const EnvFitOptions& o,
+                         EnvFitResult& r) {
+  std::vector<char> is_sharp(std::size_t(N), 0);
+  for (int j : sharp) is_sharp[std::size_t(j)] = 1;
+  auto axis = [&](int j) { return Vec3d(x[std::size_t(kStride * j)], x[std::size_t(kStride * j + 1)], x[std::size_t(kStride * j + 2)]).normalized(); };
+  const double delta = M_PI / double(full.height);
+  Level sub;
+  sub.width = full.width;
+  sub.height = full.height;
+  sub.texel_variance = full.texel_variance;
+  sub.grid = false;
+  const double s2 = full.texel_variance;
+  for (std::size_t t = 0; t < full.dirs.size(); ++t) {
+    bool near = false;
+    for (int j : sharp) {
+      const double radius = 4 / std::sqrt(std::exp(x[std::size_t(kStride * j + 3)])) + 2 * delta;
+      near = near || full.dirs[t].dot(axis(j)) >= std::cos(std::min(radius, M_PI));
+    }
+    if (!near) continue;
+    std::array<double, 3> target = full.value[t];
+    for (int j = 0; j < N; ++j) {
+      if (is_sharp[std::size_t(j)]) continue;
+      const double lambda = std::exp(x[std::size_t(kStride * j + 3)]), q = 1 / (1 + lambda * s2);
+      const double g = q * std::exp(std::min(0.0, lambda * q * (full.dirs[t].dot(axis(j)) - 1)));
+      for (int c = 0; c < 3; ++c) target[std::size_t(c)] -= x[std::size_t(kStride * j + 4 + c)] * g;
+    }
+    sub.dirs.push_back(full.dirs[t]);
+    sub.omega.push_back(full.omega[t]);
+    sub.value.push_back(target);
+  }
+  std::vector<double> xs;
+  for (int j : sharp) xs.insert(xs.end(), x.begin() + kStride * j, x.begin() + kStride * (j + 1));
+  const Solve s = solve_level(sub, xs, int(sharp.size()), false, o);
+  r.iterations += s.iterations;
+  r.converged = r.converged && s.converged;
+  for (std::size_t i = 0; i < sharp.size(); ++i)
+    std::copy(xs.begin() + kStride * std::ptrdiff_t(i), xs.begin() + kStride * std::ptrdiff_t(i + 1), x.begin() + kStride * sharp[i]);
+}
+
 // On each level finer than the last one fitted (the Jacobian budget stops the full joint fit
-// there), the lobes whose sharpness reached the coarser level's bound are refitted alone, on the
-// texels within 4 standard deviations (+ 2 texels) of their axes, with every other lobe held
-// fixed (its texel-blurred values subtracted from the targets): a sun or a small light is
-// resolved on the full map at the cost of a few hundred texels, not of the whole Jacobian.
+// there), the lobes whose sharpness reached the coarser level's bound are refitted alone
+// (refit_lobes_locally): a sun or a small light is resolved on the full map at the cost of a few
+// hundred texels, not of the whole Jacobian.
 void refine_sharp_lobes(const std::vector<EnvMap>& maps, std::size_t finest, std::vector<double>& x, int N,
                         const EnvFitOptions& o, EnvFitResult& r) {
   for (std::size_t k = finest; k-- > 0;) {
     const Level full = make_level(maps[k]);
     const double coarse_bound = max_sharpness(make_level(maps[k + 1]));
     std::vector<int> sharp;
-    std::vector<char> is_sharp(std::size_t(N), 0);
     for (int j = 0; j < N; ++j)
-      if (std::exp(x[std::size_t(kStride * j + 3)]) >= 0.5 * coarse_bound) sharp.push_back(j), is_sharp[std::size_t(j)] = 1;
+      if (std::exp(x[std::size_t(kStride * j + 3)]) >= 0.5 * coarse_bound) sharp.push_back(j);
     if (sharp.empty()) return;
-    auto axis = [&](int j) { return Vec3d(x[std::size_t(kStride * j)], x[std::size_t(kStride * j + 1)], x[std::size_t(kStride * j + 2)]).normalized(); };
-    const double delta = M_PI / double(full.height);
-    Level sub;
-    sub.width = full.width;
-    sub.height = full.height;
-    sub.texel_variance = full.texel_variance;
-    sub.grid = false;
-    const double s2 = full.texel_variance;
-    for (std::size_t t = 0; t < full.dirs.size(); ++t) {
-      bool near = false;
-      for (int j : sharp) {
-        const double radius = 4 / std::sqrt(std::exp(x[std::size_t(kStride * j + 3)])) + 2 * delta;
-        near = near || full.dirs[t].dot(axis(j)) >= std::cos(std::min(radius, M_PI));
+    refit_lobes_locally(full, x, N, sharp, o, r);
+  }
+}
+
+// The solid-angle-weighted squared error of x's mixture on `level` (texel-blurred model, as the
+// fit sees it).
+double level_cost(const Level& level, const std::vector<double>& x, int N) {
+  const SgMixture m = unpack(x, N);
+  const double s2 = level.texel_variance;
+  std::vector<double> per_row(static_cast<std::size_t>(level.height), 0.0);
+  tbb::parallel_for(0, level.height, [&](int v) {
+    double sum = 0;
+    for (int u = 0; u < level.width; ++u) {
+      const std::size_t t = std::size_t(v) * std::size_t(level.width) + std::size_t(u);
+      std::array<double, 3> model{0, 0, 0};
+      for (const auto& l : m) {
+        const double q = 1 / (1 + l.sharpness * s2);
+        const double g = q * std::exp(std::min(0.0, l.sharpness * q * (level.dirs[t].dot(l.axis) - 1)));
+        for (int c = 0; c < 3; ++c) model[std::size_t(c)] += l.amplitude[std::size_t(c)] * g;
       }
-      if (!near) continue;
-      std::array<double, 3> target = full.value[t];
-      for (int j = 0; j < N; ++j) {
-        if (is_sharp[std::size_t(j)]) continue;
-        const double lambda = std::exp(x[std::size_t(kStride * j + 3)]), q = 1 / (1 + lambda * s2);
-        const double g = q * std::exp(std::min(0.0, lambda * q * (full.dirs[t].dot(axis(j)) - 1)));
-        for (int c = 0; c < 3; ++c) target[std::size_t(c)] -= x[std::size_t(kStride * j + 4 + c)] * g;
+      for (int c = 0; c < 3; ++c) {
+        const double d = model[std::size_t(c)] - level.value[t][std::size_t(c)];
+        sum += level.omega[t] * d * d;
       }
-      sub.dirs.push_back(full.dirs[t]);
-      sub.omega.push_back(full.omega[t]);
-      sub.value.push_back(target);
     }
-    std::vector<double> xs;
-    for (int j : sharp) xs.insert(xs.end(), x.begin() + kStride * j, x.begin() + kStride * (j + 1));
-    const Solve s = solve_level(sub, xs, int(sharp.size()), false, o);
-    r.iterations += s.iterations;
-    r.converged = r.converged && s.converged;
-    for (std::size_t i = 0; i < sharp.size(); ++i)
-      std::copy(xs.begin() + kStride * std::ptrdiff_t(i), xs.begin() + kStride * std::ptrdiff_t(i + 1), x.begin() + kStride * sharp[i]);
+    per_row[std::size_t(v)] = sum;
+  });
+  double total = 0;
+  for (double r : per_row) total += r;
+  return total;
+}
+
+// Features smaller than a texel of the level N is fitted on (a sun) are held there by one texel
+// and hence by one lobe, which a uniform disk leaves ~0.23 off on the sky (one Gaussian's floor
+// on a disk). On the full map, the weakest ⌈N/8⌉ lobes (least ∫(μG)², zero-amplitude lobes
+// first) are moved onto the brightest texels of the positive residual, one texel wide
+// (λ = max_sharpness/4 of the full map, amplitude = the residual there), and refitted with the
+// lobes already sharp (refit_lobes_locally); kept only if the full map's cost falls.
+void seed_bright_lobes(const Level& full, std::vector<double>& x, int N, const EnvFitOptions& o, EnvFitResult& r) {
+  const int moves = std::max(1, (N + 7) / 8);
+  if (N < 4) return;
+  const double before = level_cost(full, x, N);
+  std::vector<std::pair<double, int>> energy;
+  for (int j = 0; j < N; ++j) {
+    const double* b = x.data() + std::size_t(kStride * j);
+    energy.push_back({(b[4] * b[4] + b[5] * b[5] + b[6] * b[6]) * sg_integral(2 * std::exp(b[3])), j});
+  }
+  std::sort(energy.begin(), energy.end());
+  // The positive residual's brightness per texel (mean RGB), without the moved lobes.
+  std::vector<char> moved(std::size_t(N), 0);
+  for (int i = 0; i < moves; ++i) moved[std::size_t(energy[std::size_t(i)].second)] = 1;
+  std::vector<double> trial = x;
+  const SgMixture m = unpack(x, N);
+  const double s2 = full.texel_variance;
+  std::vector<std::array<double, 3>> residual(full.dirs.size());
+  tbb::parallel_for(std::size_t(0), full.dirs.size(), [&](std::size_t t) {
+    std::array<double, 3> model{0, 0, 0};
+    for (int j = 0; j < N; ++j) {
+      if (moved[std::size_t(j)]) continue;
+      const auto& l = m[std::size_t(j)];
+      const double q = 1 / (1 + l.sharpness * s2);
+      const double g = q * std::exp(std::min(0.0, l.sharpness * q * (full.dirs[t].dot(l.axis) - 1)));
+      for (int c = 0; c < 3; ++c) model[std::size_t(c)] += l.amplitude[std::size_t(c)] * g;
+    }
+    for (int c = 0; c < 3; ++c) residual[t][std::size_t(c)] = std::max(0.0, full.value[t][std::size_t(c)] - model[std::size_t(c)]);
+  });
+  const double lambda = max_sharpness(full) / 4, q = 1 / (1 + lambda * s2);
+  std::vector<int> seeds;
+  for (int i = 0; i < moves; ++i) {
+    std::size_t best = 0;
+    double bv = -1;
+    for (std::size_t t = 0; t < residual.size(); ++t) {
+      const double v = residual[t][0] + residual[t][1] + residual[t][2];
+      if (v > bv) bv = v, best = t;
+    }
+    if (!(bv > 0)) break;
+    const int j = energy[std::size_t(i)].second;
+    double* b = trial.data() + std::size_t(kStride * j);
+    const Vec3d a = full.dirs[best];
+    const std::array<double, 3> amp = residual[best];
+    b[0] = a(0), b[1] = a(1), b[2] = a(2), b[3] = std::log(lambda);
+    for (int c = 0; c < 3; ++c) b[4 + c] = amp[std::size_t(c)] / q;
+    for (std::size_t t = 0; t < residual.size(); ++t) {  // the new lobe's share leaves the residual
+      const double g = q * std::exp(std::min(0.0, lambda * q * (full.dirs[t].dot(a) - 1)));
+      for (int c = 0; c < 3; ++c) residual[t][std::size_t(c)] = std::max(0.0, residual[t][std::size_t(c)] - b[4 + c] * g);
+    }
+    seeds.push_back(j);
+  }
+  if (seeds.empty()) return;
+  std::vector<int> refit = seeds;
+  const double sharp_bound = 0.5 * max_sharpness(full) / 4;
+  for (int j = 0; j < N; ++j)
+    if (!moved[std::size_t(j)] && std::exp(x[std::size_t(kStride * j + 3)]) >= sharp_bound) refit.push_back(j);
+  std::sort(refit.begin(), refit.end());
+  EnvFitResult tr = r;
+  refit_lobes_locally(full, trial, N, refit, o, tr);
+  if (level_cost(full, trial, N) < before) {
+    x = std::move(trial);
+    r = std::move(tr);
   }
 }
 
@@ -480,6 +587,7 @@ EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
     std::vector<double> refined = x;
     EnvFitResult stage = r;
     refine_sharp_lobes(maps, finest, refined, n, o, stage);
+    if (finest > 0) seed_bright_lobes(make_level(maps[0]), refined, n, o, stage);
     finish(stage, map, level, refined, s.cost, setup.t0, excluded);
     if (rung + 1 == ladder.size()) return stage;
     if (o.on_stage) o.on_stage(stage);
@@ -499,7 +607,7 @@ EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
   double previous = -INFINITY;
   EnvFitResult r;
   r.method = "vmf-em";
-  for (int iter = 0; iter < 200; ++iter) {
+  for (int iter = 0; iter < o.em_max_iterations; ++iter) {
     std::fill(sum.begin(), sum.end(), Vec3d::Zero());
     std::fill(wsum.begin(), wsum.end(), 0.0);
     double loglik = 0;

@@ -21,6 +21,10 @@
 //    fixed (a non-negative linear least-squares problem). A larger N is fitted from the fit at
 //    ⌈N/2⌉ plus new lobes placed by k-means on the positive residual: LM starts from a point no
 //    worse than the fit at ⌈N/2⌉ and only lowers the cost, so the error does not grow with N.
+//    When N is fitted on a level coarser than the map, a feature smaller than that level's texel
+//    (a sun) is held by one lobe; each rung then moves its weakest ⌈N/8⌉ lobes onto the brightest
+//    texels of the full map's positive residual and refits them with the sharp lobes on the full
+//    map, keeping the result only if the full map's cost falls (seed_bright_lobes in envmap.cpp).
 //  • fit_envmap_vmf_em: the simple alternative: EM for a mixture of von Mises–Fisher densities
 //    (Banerjee et al. 2005, "Clustering on the unit hypersphere using von Mises–Fisher
 //    distributions", soft assignments, κ by their r̄(3 − r̄²)/(1 − r̄²)) on the texel directions
@@ -50,6 +54,7 @@ struct EnvFitOptions {
   double jacobian_budget = 1.5e6;  // Ceres: estimated Jacobian nonzeros of the finest level fitted
   int threads = 2;
   int max_iterations = 60;         // Levenberg–Marquardt iterations per level
+  int em_max_iterations = 200;     // vMF EM iterations (fit_envmap_vmf_em)
   unsigned seed = 1;               // k-means++ seeding (printed by the callers)
   // Ceres: called with the result of every rung of the lobe ladder below N (⌈N/2⌉, ⌈N/4⌉, … ≥ 1;
   // seconds counted from the start of the whole fit), so one fit at N = 128 also gives 64, 32, ….
@@ -63,7 +68,7 @@ struct EnvFitResult {
   EnvMap texel_means;      // the mixture's texel means on the full map's grid (what `error` compares)
   double seconds = 0;
   int iterations = 0;      // LM iterations (all levels) or EM iterations
-  bool converged = false;  // every level's LM stopped on a tolerance (not the iteration cap)
+  bool converged = false;  // every level's LM (EM: the log-likelihood) stopped on a tolerance, not the cap
   double final_cost = 0;   // of the finest level
   int fit_width = 0, fit_height = 0;  // the finest level fitted
 };

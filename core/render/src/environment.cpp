@@ -197,6 +197,51 @@ EnvMap make_studio(const StudioOptions& o) {
   });
 }
 
+EnvMap make_overcast(const OvercastOptions& o) {
+  check_size(o.width, o.height);
+  if (!(o.zenith >= 0) || !std::isfinite(o.zenith)) throw EnvironmentError("overcast zenith radiance must be finite and ≥ 0");
+  if (!(o.ground_albedo >= 0 && o.ground_albedo <= 1)) throw EnvironmentError("--ground-albedo must be in [0, 1]");
+  // E = ∫_0^{π/2} L_z (1 + 2 cos θ)/3 cos θ sin θ dθ · 2π = 2π L_z (1/2 + 2/3)/3 = (7/9) π L_z.
+  const double ground = o.ground_albedo * 7.0 / 9.0 * o.zenith;
+  return rasterize(o.width, o.height, o.supersample, [&](const Vec3& w) -> std::array<double, 3> {
+    const double v = w(2) > 0 ? o.zenith * (1 + 2 * w(2)) / 3 : ground;
+    return {v, v, v};
+  });
+}
+
+EnvMap make_indoor(const IndoorOptions& o) {
+  check_size(o.width, o.height);
+  // A room 6 m × 5 m × 3 m (x, y, z), the viewer at its centre 1.2 m above the floor.
+  const double hx = 3.0, hy = 2.5, ceiling = 1.8, floor = -1.2;
+  // Face radiances (linear RGB): painted walls, a white ceiling, a wooden floor.
+  const std::array<double, 3> wall{0.09, 0.08, 0.07}, ceiling_rgb{0.12, 0.12, 0.12}, floor_rgb{0.06, 0.04, 0.025};
+  // Emitters as axis-aligned rectangles on a face: [a0, a1] × [b0, b1] in the face's two free
+  // coordinates (x, y on the ceiling; y, z on the x = +hx wall).
+  struct Panel {
+    double a0, a1, b0, b1;
+    std::array<double, 3> radiance;
+  };
+  const Panel ceiling_panels[] = {{-1.8, -0.6, -0.3, 0.3, {9.0, 8.6, 8.0}}, {0.6, 1.8, -0.3, 0.3, {9.0, 8.6, 8.0}}};
+  const Panel window{-1.0, 1.0, -0.2, 1.2, {2.2, 2.5, 3.0}};  // on the x = +hx wall: y ∈ [a0, a1], z ∈ [b0, b1]
+  auto inside = [](const Panel& p, double a, double b) { return a >= p.a0 && a <= p.a1 && b >= p.b0 && b <= p.b1; };
+  return rasterize(o.width, o.height, o.supersample, [&](const Vec3& w) -> std::array<double, 3> {
+    // Distance to each slab's exit plane; the nearest one is the face hit.
+    const double tx = std::abs(w(0)) > 0 ? hx / std::abs(w(0)) : INFINITY;
+    const double ty = std::abs(w(1)) > 0 ? hy / std::abs(w(1)) : INFINITY;
+    const double tz = w(2) > 0 ? ceiling / w(2) : (w(2) < 0 ? floor / w(2) : INFINITY);
+    const double t = std::min({tx, ty, tz});
+    const Vec3 p = t * w;
+    if (t == tz) {
+      if (w(2) < 0) return floor_rgb;
+      for (const auto& c : ceiling_panels)
+        if (inside(c, p(0), p(1))) return c.radiance;
+      return ceiling_rgb;
+    }
+    if (t == tx && w(0) > 0 && inside(window, p(1), p(2))) return window.radiance;
+    return wall;
+  });
+}
+
 SgMixture synthetic_mixture() {
   auto lobe = [](double elevation, double azimuth, double sharpness, std::array<double, 3> amplitude) {
     SgLight l;

@@ -67,6 +67,28 @@ struct StudioOptions {
 };
 EnvMap make_studio(const StudioOptions& o);
 
+// The CIE standard overcast sky (Moon & Spencer 1942; CIE S 011/E:2003 sky type 1): luminance
+// L(θ) = L_z (1 + 2 cos θ)/3 above the horizon (θ from the zenith), white, L_z = zenith; below
+// the horizon a Lambertian ground of albedo ground_albedo lit by that sky, radiance
+// albedo · E/π with E = ∫ L cos θ dω = (7/9) π L_z in closed form. Smooth everywhere but at the
+// horizon.
+struct OvercastOptions {
+  int width = 512, height = 256;
+  double zenith = 1.0;
+  double ground_albedo = 0.2;
+  int supersample = 4;
+};
+EnvMap make_overcast(const OvercastOptions& o);
+
+// An indoor room seen from its centre: walls, ceiling and floor of uniform radiance (each a box
+// face, hard edges between them), ceiling light panels and a window (rectangular emitters as
+// in make_studio, hard edges). Deterministic: its layout is fixed (file environment.cpp).
+struct IndoorOptions {
+  int width = 512, height = 256;
+  int supersample = 4;
+};
+EnvMap make_indoor(const IndoorOptions& o);
+
 // The shipped synthetic mixture of known lobes (broad to sharp; used by the recovery test and
 // the tables).
 SgMixture synthetic_mixture();

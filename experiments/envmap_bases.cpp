@@ -1,0 +1,411 @@
+// `sglab envmap bases`: environment-lighting bases compared at equal storage (envmap_bases.hpp).
+//
+// Environments run one after another and the fits of one environment one after another (each
+// fit's own loops in parallel), so that the fit times are those of one fit on the machine; the
+// shading quadratures run in parallel over pixels.
+#include "envmap_bases.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "atomic_file.hpp"
+#include "envmap_data.hpp"
+#include "input_error.hpp"
+#include "sglab/render/environment.hpp"
+#include "sglab/text_limits.hpp"
+
+namespace sglab::cli::envmap_bases {
+namespace {
+
+using render::Rgb;
+
+// The finest quadrature tried: 16 × 16 sub-texels per texel.
+constexpr int kMaxSubsamples = 16;
+// Points per texel side of the texel means that the map error compares (fit/envmap.hpp).
+constexpr int kMeanSubsamples = 4;
+// The SG diffuse shading an engine runs, timed for the ns/pixel column (Pettineo 2016, SG series
+// part 3: Hill's fitted irradiance, BakingLab's SGIrradianceFitted).
+constexpr const char* kEngineDiffuse = "hill-fitted";
+
+struct Loaded {
+  std::string name;
+  EnvMap map;
+};
+
+Options effective(const Options& o) {
+  Options a = o;
+  if (a.quick) a.width = 64;
+  if (a.envs.empty()) throw UsageError("envmap bases needs at least one --env NAME=MAP.exr");
+  if (a.width < 8 || a.width > 1024) throw UsageError(fmt::format("--width {} must be in [8, 1024]", a.width));
+  if (a.sphere_res < 2 || a.sphere_res > 256) throw UsageError(fmt::format("--res {} must be in [2, 256]", a.sphere_res));
+  if (a.normals < 1 || a.normals > 100000) throw UsageError(fmt::format("--normals {} must be in [1, 100000]", a.normals));
+  if (!(a.tolerance > 0 && a.tolerance < 1)) throw UsageError(fmt::format("--tolerance {} must be in (0, 1)", a.tolerance));
+  for (double r : a.roughness)
+    if (!(r > 0 && r <= 1)) throw UsageError(fmt::format("--roughness {} must be in (0, 1]", r));
+  if (std::find(a.roughness.begin(), a.roughness.end(), 0.3) == a.roughness.end()) a.roughness.push_back(0.3);
+  std::sort(a.roughness.begin(), a.roughness.end());
+  if (a.bases.empty())
+    for (const auto& b : fit::envmap_bases()) a.bases.push_back(b.name);
+  for (const auto& b : a.bases)
+    if (!fit::find_envmap_basis(b))
+      throw UsageError("unknown --basis '" + clip_text(b) + "' (bases: " + fit::envmap_basis_names() + ")");
+  return a;
+}
+
+std::vector<Loaded> load(const Options& a) {
+  std::vector<Loaded> out;
+  for (const auto& e : a.envs) {
+    const auto eq = e.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError("--env '" + clip_text(e) + "' must be NAME=MAP.exr");
+    EnvMap m;
+    try {
+      m = render::load_environment(e.substr(eq + 1));
+    } catch (const render::EnvironmentError& err) {
+      throw UsageError(err.what());
+    }
+    while (m.width > a.width && m.width % 2 == 0 && m.height % 2 == 0) m = downsample_envmap(m);
+    out.push_back({e.substr(0, eq), std::move(m)});
+  }
+  return out;
+}
+
+// The sizes of a basis in this run (the registry's defaults; --quick keeps the small ones).
+std::vector<int> sizes(const fit::EnvBasis& b, const Options& a, const EnvMap& map) {
+  std::vector<int> v;
+  for (int n : b.default_sizes)
+    if ((!a.quick || n <= (b.size_symbol == "L" ? 4 : 32)) && (b.size_symbol == "L" || std::size_t(n) <= map.size())) v.push_back(n);
+  return v;
+}
+
+// A representation sampled as texel means of s × s points per texel of a width × height grid.
+EnvMap texel_means(const fit::EnvBasisFit& f, int width, int height, int s) {
+  EnvMap m{width, height, std::vector<std::array<float, 3>>(std::size_t(width) * std::size_t(height))};
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, 4), [&](const tbb::blocked_range<int>& rows) {
+    for (int v = rows.begin(); v < rows.end(); ++v)
+      for (int u = 0; u < width; ++u) {
+        std::array<double, 3> sum{0, 0, 0};
+        for (int sy = 0; sy < s; ++sy)
+          for (int sx = 0; sx < s; ++sx) {
+            const auto x = f.radiance(envmap_direction(width, height, u + (sx + 0.5) / s, v + (sy + 0.5) / s));
+            for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += x[std::size_t(c)];
+          }
+        auto& t = m.texels[std::size_t(v) * std::size_t(width) + std::size_t(u)];
+        for (int c = 0; c < 3; ++c) t[std::size_t(c)] = float(sum[std::size_t(c)] / (s * s));
+      }
+  });
+  return m;
+}
+
+// f(s) for s = 1, 2, 4, … until two successive results differ by at most `tolerance` (relative
+// L2 over the image); returns the finer one and records s and the change.
+template <class F>
+std::vector<Rgb> converged(const F& f, const render::EnvImage& image, double tolerance, Convergence& c) {
+  std::vector<Rgb> previous = f(1);
+  for (int s = 2;; s *= 2) {
+    std::vector<Rgb> next = f(s);
+    c.subsamples = s;
+    c.change = render::shading_error(previous, next, image).relative_l2;
+    if (c.change <= tolerance || s >= kMaxSubsamples) return next;
+    previous = std::move(next);
+  }
+}
+
+render::EnvImage normal_image(int count) {
+  render::EnvImage im{count, 1, {}};
+  const auto normals = fit::envmap_detail::fibonacci_axes(count);
+  for (int k = 0; k < count; ++k) im.points.push_back({k, normals[std::size_t(k)], normals[std::size_t(k)]});
+  return im;
+}
+
+template <class F>
+double ns_per_pixel(const F& shade, std::size_t pixels) {
+  int reps = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  double elapsed = 0;
+  do {
+    shade();
+    ++reps;
+    elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } while (elapsed < 0.01);
+  return elapsed * 1e9 / (double(reps) * double(pixels));
+}
+
+std::string command_line(const Options& a) {
+  std::string c = "sglab envmap bases";
+  for (const auto& e : a.envs) c += " --env " + e;
+  for (const auto& b : a.bases) c += " --basis " + b;
+  c += fmt::format(" --width {} --res {} --normals {} --tolerance {} --seed {}", a.width, a.sphere_res, a.normals, a.tolerance, a.seed);
+  return c + " --out " + a.out + " --tables-dir " + a.tables_dir;
+}
+
+}  // namespace
+
+Result compute(const Options& o) {
+  const auto t_start = std::chrono::steady_clock::now();
+  Result r;
+  r.options = effective(o);
+  const Options& a = r.options;
+  const auto envs = load(a);
+  r.provenance = runner::Provenance{command_line(a)};
+  const render::EnvImage normals = normal_image(a.normals);
+  const render::EnvImage sphere = render::sphere_image(a.sphere_res);
+  fit::EnvBasisOptions bo;
+  bo.seed = a.seed;
+  for (const auto& env : envs) {
+    Environment out;
+    out.name = env.name;
+    out.width = env.map.width;
+    out.height = env.map.height;
+    std::fprintf(stderr, "envmap bases: %s (%d×%d): converged quadratures of the map …\n", env.name.c_str(), out.width, out.height);
+    Convergence cd;
+    const auto exact_diffuse =
+        converged([&](int s) { return render::integrate_diffuse(env.map, normals, s); }, normals, a.tolerance, cd);
+    out.convergence.push_back(cd);
+    std::vector<std::vector<Rgb>> exact_specular;
+    for (double rough : a.roughness) {
+      Convergence cs;
+      cs.roughness = rough;
+      exact_specular.push_back(converged([&](int s) { return render::integrate_specular(env.map, sphere, rough, a.f0, s); }, sphere,
+                                         a.tolerance, cs));
+      out.convergence.push_back(cs);
+    }
+    for (const auto& name : a.bases) {
+      const fit::EnvBasis& basis = *fit::find_envmap_basis(name);
+      for (const auto& variant : basis.variants) {
+        std::vector<fit::EnvBasisFit> fits;
+        try {
+          fits = basis.fit(env.map, sizes(basis, a, env.map), variant, bo);
+        } catch (const std::invalid_argument& e) {
+          throw UsageError(e.what());
+        }
+        for (const auto& f : fits) {
+          Row row;
+          row.basis = basis.name;
+          row.variant = variant;
+          row.size_symbol = basis.size_symbol;
+          row.size = f.size;
+          row.floats = f.floats;
+          row.zero_lobes = f.zero_lobes;
+          row.seconds = f.seconds;
+          row.map_error = envmap_error(env.map, texel_means(f, env.map.width, env.map.height, kMeanSubsamples)).relative;
+          std::vector<Rgb> diffuse(normals.points.size());
+          tbb::parallel_for(std::size_t(0), normals.points.size(), [&](std::size_t k) {
+            const auto d = f.diffuse(normals.points[k].normal);
+            diffuse[k] = Rgb(d[0], d[1], d[2]);
+          });
+          row.diffuse_error = render::shading_error(diffuse, exact_diffuse, normals).relative_l2;
+          if (f.sh_order >= 0) {
+            row.engine_diffuse_error = row.diffuse_error;
+            row.diffuse_ns = ns_per_pixel(
+                [&] {
+                  for (const auto& p : normals.points) diffuse[std::size_t(p.pixel)][0] = f.diffuse(p.normal)[0];
+                },
+                normals.points.size());
+          } else {
+            const auto engine = render::mixture_diffuse_method(f.mixture, normals, kEngineDiffuse);
+            row.engine_diffuse_error = render::shading_error(engine, exact_diffuse, normals).relative_l2;
+            row.diffuse_ns = ns_per_pixel([&] { render::mixture_diffuse_method(f.mixture, normals, kEngineDiffuse); },
+                                          normals.points.size());
+          }
+          // The representation integrated on the same nodes as the map's accepted quadrature.
+          std::map<int, EnvMap> grids;
+          for (std::size_t ri = 0; ri < a.roughness.size(); ++ri) {
+            const int s = out.convergence[ri + 1].subsamples;
+            if (!grids.count(s)) grids.emplace(s, texel_means(f, env.map.width * s, env.map.height * s, 1));
+            const auto spec = render::integrate_specular(grids.at(s), sphere, a.roughness[ri], a.f0, 1);
+            row.specular_error.push_back(render::shading_error(spec, exact_specular[ri], sphere).relative_l2);
+          }
+          std::fprintf(stderr, "envmap bases: %s %s%s%s %s=%d (%d floats): map %.3g, diffuse %.3g, specular(0.3) %.3g, %.3f s%s\n",
+                       env.name.c_str(), basis.name.c_str(), variant.empty() ? "" : " ", variant.c_str(), basis.size_symbol.c_str(),
+                       f.size, f.floats, row.map_error, row.diffuse_error,
+                       row.specular_error[std::size_t(std::find(a.roughness.begin(), a.roughness.end(), 0.3) - a.roughness.begin())],
+                       f.seconds, f.zero_lobes ? fmt::format(", {} zero-amplitude lobes", f.zero_lobes).c_str() : "");
+          out.rows.push_back(std::move(row));
+        }
+      }
+    }
+    r.environments.push_back(std::move(out));
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  return r;
+}
+
+namespace {
+
+std::string num(double v) { return fmt::format("{:.3g}", v); }
+
+std::string label(const Row& row) { return row.variant.empty() ? row.basis : row.basis + " " + row.variant; }
+
+std::size_t roughness_index(const Options& a, double rough) {
+  return std::size_t(std::find(a.roughness.begin(), a.roughness.end(), rough) - a.roughness.begin());
+}
+
+// The per-environment summary: the smallest storage reaching the diffuse and specular targets.
+std::string targets_markdown(const Result& r) {
+  const std::size_t r03 = roughness_index(r.options, 0.3);
+  std::string md = "| environment | basis | floats for diffuse ≤ 5 % | floats for specular (α = 0.3) ≤ 20 % |\n|---|---|---|---|\n";
+  for (const auto& env : r.environments) {
+    std::vector<std::string> order;
+    std::map<std::string, std::pair<int, int>> best;
+    for (const auto& row : env.rows) {
+      const std::string l = label(row);
+      if (!best.count(l)) order.push_back(l), best[l] = {0, 0};
+      auto& b = best[l];
+      if (row.diffuse_error <= 0.05 && (b.first == 0 || row.floats < b.first)) b.first = row.floats;
+      if (row.specular_error[r03] <= 0.20 && (b.second == 0 || row.floats < b.second)) b.second = row.floats;
+    }
+    for (const auto& l : order)
+      md += fmt::format("| {} | {} | {} | {} |\n", env.name, l, best[l].first ? std::to_string(best[l].first) : "not reached",
+                        best[l].second ? std::to_string(best[l].second) : "not reached");
+  }
+  return md;
+}
+
+// The free-lobe fit against its own N/2, the best fixed-lobe fit at equal N, and vMF EM's time.
+std::string free_lobe_markdown(const Result& r) {
+  std::string md = "| environment | N | sg-free map error | at N/2 | ≤ N/2? | best sg-fixed at N | ≤ sg-fixed? | vmf-em | sg-free s | vmf-em s | "
+                   "time ratio free/vMF |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& env : r.environments) {
+    std::map<int, const Row*> free, vmf;
+    std::map<int, double> fixed;
+    for (const auto& row : env.rows) {
+      if (row.basis == "sg-free") free[row.size] = &row;
+      if (row.basis == "vmf-em") vmf[row.size] = &row;
+      if (row.basis == "sg-fixed") fixed[row.size] = fixed.count(row.size) ? std::min(fixed[row.size], row.map_error) : row.map_error;
+    }
+    for (const auto& [n, row] : free) {
+      const Row* half = free.count(n / 2) ? free.at(n / 2) : nullptr;
+      const bool has_fixed = fixed.count(n) > 0;
+      const Row* v = vmf.count(n) ? vmf.at(n) : nullptr;
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {:.2f} | {} | {} |\n", env.name, n, num(row->map_error),
+                        half ? num(half->map_error) : "—", half ? (row->map_error <= half->map_error ? "yes" : "**no**") : "—",
+                        has_fixed ? num(fixed.at(n)) : "—", has_fixed ? (row->map_error <= fixed.at(n) ? "yes" : "**no**") : "—",
+                        v ? num(v->map_error) : "—", row->seconds, v ? fmt::format("{:.2f}", v->seconds) : "—",
+                        v && v->seconds > 0 ? fmt::format("{:.2f}", row->seconds / v->seconds) : "—");
+    }
+  }
+  return md;
+}
+
+}  // namespace
+
+Tables tables(const Result& r) {
+  const Options& a = r.options;
+  Tables t;
+  t.csv = runner::csv_header(r.provenance) +
+          "environment,width,basis,variant,size_symbol,size,floats,fit_seconds,zero_lobes,layer,roughness,relative_l2,diffuse_ns_per_pixel\n";
+  std::string rows_md, conv_md;
+  for (const auto& env : r.environments) {
+    for (const auto& c : env.convergence)
+      conv_md += fmt::format("| {} | {}×{} | {} | {}×{} | {}{} |\n", env.name, env.width, env.height,
+                             c.roughness > 0 ? fmt::format("specular α = {}", c.roughness) : std::string("diffuse"), c.subsamples,
+                             c.subsamples, num(c.change), c.change <= a.tolerance ? "" : " (**not converged**)");
+    for (const auto& row : env.rows) {
+      const std::string prefix = fmt::format("{},{},{},{},{},{},{},{:.4f},{}", env.name, env.width, row.basis, row.variant, row.size_symbol,
+                                             row.size, row.floats, row.seconds, row.zero_lobes);
+      auto line = [&](const std::string& layer, const std::string& rough, double e) {
+        t.csv += fmt::format("{},{},{},{:.6g},{:.1f}\n", prefix, layer, rough, e, row.diffuse_ns);
+      };
+      line("map", "", row.map_error);
+      line("diffuse", "", row.diffuse_error);
+      line("diffuse-engine", "", row.engine_diffuse_error);
+      for (std::size_t k = 0; k < a.roughness.size(); ++k) line("specular", fmt::format("{}", a.roughness[k]), row.specular_error[k]);
+      rows_md += fmt::format("| {} | {} | {}={} | {} | {} | {} | {} |", env.name, label(row), row.size_symbol, row.size, row.floats,
+                             num(row.map_error), num(row.diffuse_error), num(row.engine_diffuse_error));
+      for (double e : row.specular_error) rows_md += " " + num(e) + " |";
+      rows_md += fmt::format(" {:.3f} | {} | {:.0f} |\n", row.seconds, row.zero_lobes, row.diffuse_ns);
+    }
+  }
+  std::string md = runner::markdown_header(r.provenance);
+  md += "# Environment lighting at equal storage: SH, fixed-lobe SG, vMF EM and free-lobe SG\n\n";
+  md += fmt::format("Generated by `{}` ({:.0f} s). ", r.provenance.command, r.seconds);
+  md += fmt::format(
+      "Every environment (equirectangular, z up: row 0 is +z, φ = 0 is +x at the map's centre column; see README) is reduced by "
+      "solid-angle-weighted 2×2 means to at most {} texels wide (a size chosen for run time, which the free-lobe fits at "
+      "N = 64 and 128 dominate; both suns, 2° and 0.53° of the same power, are then within one texel, held as that texel's "
+      "mean, so the sky and sun rows nearly agree and the free-lobe floor there is one Gaussian against a bright texel), "
+      "then represented by every basis at every size; "
+      "the x axis of the comparison is the stored float count (SH order L: 3(L+1)²; fixed-lobe SG: 3N; free-lobe SG and vMF: 6N).\n\n",
+      a.width);
+  md += "Bases (fit/envmap_basis*.cpp):\n\n";
+  for (const auto& b : fit::envmap_bases()) md += "- `" + b.name + "`: " + b.description + ".\n";
+  md += fmt::format(
+      "\nLayers: **map** = solid-angle relative L2 of the representation's texel means (4×4 points per texel) against the map; "
+      "**diffuse** = relative L2 over {} Fibonacci normals of the representation's exact diffuse (1/π)∫L⟨ω·n⟩dω (SH: the "
+      "zonal convolution; SG: the exact clamped-cosine integral per lobe) against the map's; **diffuse-engine** = the same with "
+      "the shading an engine runs (SH: the same convolution; SG: `{}`, Hill's fitted irradiance), whose cost is the ns/pixel "
+      "column (single thread, {} normals, this machine: compare ratios); **specular α** = relative L2 over a {}² sphere (view "
+      "+x) of ∫L f_GGX⟨ω·n⟩dω (GGX, height-correlated Smith, Schlick f0 = {}) of the representation against the map's. "
+      "SG specular here is the representation integrated by quadrature (what the basis loses), not an SG specular "
+      "approximation (those are compared in envmap_lobes.md); SH specular likewise by quadrature of the SH reconstruction.\n\n",
+      a.normals, kEngineDiffuse, a.normals, a.sphere_res, a.f0);
+  md += fmt::format(
+      "Converged references: the map's diffuse and specular integrals are computed with s × s equal-(θ, φ) sub-texels per "
+      "texel of exact solid angle, s = 1, 2, 4, … until the relative L2 change from s/2 to s is ≤ {} (at most s = {}); the "
+      "representation is integrated on the same nodes (its values at the sub-texel centres). Fit times: wall seconds, one fit "
+      "at a time; the free-lobe rows of one environment are the rungs of one fit at the largest N, each timed from that fit's "
+      "start.\n\n",
+      a.tolerance, kMaxSubsamples);
+  md += "## Quadrature convergence of the map layers\n\n| environment | map | layer | s × s | change from s/2 |\n|---|---|---|---|---|\n" +
+        conv_md;
+  md += "\n## Smallest storage reaching the targets\n\n" + targets_markdown(r);
+  md += "\n## Free-lobe fit against its own N/2, the best fixed-lobe fit and vMF EM (map error)\n\n" + free_lobe_markdown(r);
+  md += "\n## All rows (relative L2)\n\n| environment | basis | size | floats | map | diffuse | diffuse-engine |";
+  for (double rough : a.roughness) md += fmt::format(" specular α = {} |", rough);
+  md += " fit s | zero lobes | diffuse ns/pixel |\n|";
+  for (std::size_t k = 0; k < 10 + a.roughness.size(); ++k) md += "---|";
+  t.markdown = md + "\n" + rows_md;
+  return t;
+}
+
+void write(const Result& r) {
+  namespace fs = std::filesystem;
+  const Tables t = tables(r);
+  runner::write_file_atomically(fs::path(r.options.tables_dir) / "envmap_bases.csv", t.csv);
+  runner::write_file_atomically(fs::path(r.options.tables_dir) / "envmap_bases.md", t.markdown);
+  std::printf("envmap bases: %.1f s; wrote %s/envmap_bases.{md,csv}\n", r.seconds, r.options.tables_dir.c_str());
+}
+
+}  // namespace sglab::cli::envmap_bases
+
+// ---- the experiment: its reproduce steps -------------------------------------------------------
+
+#include "registry.hpp"
+
+namespace sglab::experiments {
+
+// The three new generated environments (a physically sized sun, an overcast sky, an indoor room
+// with rectangular emitters), then every basis on them and on the three maps of the `envmap`
+// experiment (written before this one runs), and the figure.
+Experiment envmap_bases_experiment() {
+  return {"envmap-bases", "`sglab envmap bases`: SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.*)", nullptr,
+          [](const Places& p) {
+            std::vector<Step> v;
+            const std::string dir = p.out + "/envmap/";
+            // The sun of the sky at its real angular diameter, 0.53°, with the power of the default
+            // 2° disk (luminance × (2/0.53)² ≈ 14.24, 500 → 7120).
+            v.push_back(sglab_step("envmap-make-sun", "generated environment: clear sky, 0.53° sun (512×256 EXR)",
+                                   {"envmap", "make", "sky", "--sun-size", "0.53", "--sun-luminance", "7120", "--out", dir + "sun.exr"}));
+            v.push_back(sglab_step("envmap-make-overcast", "generated environment: CIE overcast sky (512×256 EXR)",
+                                   {"envmap", "make", "overcast", "--out", dir + "overcast.exr"}));
+            v.push_back(sglab_step("envmap-make-indoor", "generated environment: indoor room with rectangular emitters (512×256 EXR)",
+                                   {"envmap", "make", "indoor", "--out", dir + "indoor.exr"}));
+            std::vector<std::string> args = {"envmap", "bases", "--out", p.out + "/envmap"};
+            for (const char* kind : {"sky", "sun", "overcast", "studio", "indoor", "mixture"})
+              args.insert(args.end(), {"--env", std::string(kind) + "=" + dir + kind + ".exr"});
+            v.push_back(timed(sglab_step("envmap-bases", "bases at equal storage (paper_tables/envmap_bases.*)", args, {"--quick"},
+                                         "--tables-dir")));
+            v.push_back(plot_step("plot-envmap-bases", "error against stored floats, one panel per layer",
+                                  {"plots/envmap_bases.py", p.tables + "/envmap_bases.csv", p.key_figures()}));
+            return v;
+          }};
+}
+
+}  // namespace sglab::experiments

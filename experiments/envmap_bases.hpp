@@ -1,0 +1,75 @@
+// `sglab envmap bases` as a library: every environment lit by every basis of the envmap basis
+// registry (fit/envmap_basis.hpp: SH, fixed-lobe SG, vMF EM, free-lobe SG) at a range of sizes,
+// compared at equal storage (stored floats) against converged quadratures of the map:
+//   map       solid-angle relative L2 of the representation's texel means against the map,
+//   diffuse   (1/π)∫L⟨ω·n⟩dω over a Fibonacci set of normals, the representation's exact diffuse
+//             against the map's,
+//   specular  ∫L f_GGX⟨ω·n⟩dω on a sphere (GGX, height-correlated Smith, Schlick f0) at each
+//             roughness, the representation and the map integrated by the same sub-texel
+//             quadrature, sub-sampled until it has converged to the stated tolerance,
+// plus the fit time and the diffuse shading cost per pixel → TABLES/envmap_bases.{md,csv}.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "envmap_basis.hpp"
+#include "table.hpp"
+
+namespace sglab::cli::envmap_bases {
+
+struct Options {
+  std::vector<std::string> envs;   // NAME=PATH
+  std::vector<std::string> bases;  // registry names; empty: all
+  std::vector<double> roughness{0.1, 0.3, 0.6};
+  int width = 128;                 // maps reduced by 2×2 means to at most this width
+  int sphere_res = 12;
+  int normals = 128;               // Fibonacci normals of the diffuse layer
+  double tolerance = 2e-3;         // relative L2 change at which the quadratures count as converged
+  double f0 = 0.04;
+  unsigned seed = 1;
+  std::string out = "results/envmap";
+  std::string tables_dir = "results/envmap";
+  bool quick = false;              // 64-wide maps, sizes ≤ 32 lobes / L ≤ 4
+};
+
+struct Row {
+  std::string basis, variant, size_symbol;
+  int size = 0, floats = 0, zero_lobes = 0;
+  double seconds = 0;
+  double map_error = 0, diffuse_error = 0, engine_diffuse_error = 0, diffuse_ns = 0;
+  std::vector<double> specular_error;  // per roughness
+};
+
+struct Convergence {
+  double roughness = 0;  // 0: diffuse
+  int subsamples = 0;    // per texel side of the accepted quadrature
+  double change = 0;     // relative L2 change from subsamples/2 to subsamples
+};
+
+struct Environment {
+  std::string name;
+  int width = 0, height = 0;
+  std::vector<Convergence> convergence;  // diffuse, then per roughness
+  std::vector<Row> rows;
+};
+
+struct Result {
+  Options options;  // after --quick
+  runner::Provenance provenance;
+  std::vector<Environment> environments;
+  double seconds = 0;
+};
+
+// InputError for a malformed --env, an unreadable map, an unknown basis or a bad option.
+Result compute(const Options& o);
+
+struct Tables {
+  std::string csv, markdown;  // with the provenance header
+};
+Tables tables(const Result& r);
+
+// TABLES/envmap_bases.{md,csv}.
+void write(const Result& r);
+
+}  // namespace sglab::cli::envmap_bases
