@@ -82,9 +82,11 @@ void measure(Row& row, const std::vector<float>& v, const std::vector<float>& sg
       continue;
     }
     row.max_error = std::max(row.max_error, std::fabs(double(v[k]) - reference[k]) / scale[k]);
-    // In ulps of the value at c = 1 (float): near zero (the back-facing tail) raw ulps count
-    // rounding far below the value's own scale (1e-31 against 0 is 2e8 ulps).
-    const double u = std::fabs(double(v[k]) - double(sglab_float[k])) / double(float_ulp(float(scale[k])));
+    // In ulps of the larger of the value and the reference at c = 1 (float): near zero (the
+    // back-facing tail) raw ulps count rounding far below the value's own scale (1e-31 against 0
+    // is 2e8 ulps).
+    const float magnitude = std::max(std::fabs(sglab_float[k]), float(scale[k]));
+    const double u = std::fabs(double(v[k]) - double(sglab_float[k])) / double(float_ulp(magnitude));
     if (std::isfinite(sglab_float[k])) row.max_ulps = std::max(row.max_ulps, u);
   }
   for (std::size_t k = g.grid_points; k < g.grid_points + g.stiff_points; ++k) {
@@ -172,8 +174,9 @@ Tables tables(const Result& r) {
       "- max error: max |value − reference| / reference at c = 1 on {}; the reference is the quantity's quadrature "
       "(hemispherical/vmf-tokuyoshi2024: H/A(λ), the normalized quantity that method returns). NaN/Inf there are counted "
       "apart (`grid NaN`).\n"
-      "- ulps: max |value − sglab float| on the same grid, in float units in the last place of the value at c = 1 "
-      "(raw ulps near zero, in the back-facing tail, would count differences far below the value's scale).\n"
+      "- ulps: max |value − sglab float| on the same grid, in float units in the last place of the larger of sglab "
+      "float's value and the reference at c = 1 (raw ulps near zero, in the back-facing tail, would count differences "
+      "far below the value's scale).\n"
       "- SPIR-V: instructions of the exported function and its helpers as glslang emits them, unoptimized, less those of "
       "the same compute entry point around an identity function — a cost proxy, not a cycle count.\n"
       "- stiff: outputs < 0 and NaN/Inf on {}.\n\n"
@@ -181,7 +184,7 @@ Tables tables(const Result& r) {
       "ulps (and the helpers' accuracy, which rests on exp and log) may differ. The C uses the C library's expm1f, "
       "erff and erfcf (the functions sglab's float path calls); GLSL and HLSL lack them and get the helpers written "
       "into the code (docs/export.md).\n\n"
-      "| method | evaluator | compiles | SPIR-V instr. | max error | max diff. from sglab float (ulps at c = 1) | grid NaN | stiff neg | stiff NaN/Inf |\n"
+      "| method | evaluator | compiles | SPIR-V instr. | max error | max diff. from sglab float (ulps) | grid NaN | stiff neg | stiff NaN/Inf |\n"
       "|---|---|---|---|---|---|---|---|---|\n",
       r.device, r.grid, r.stiff);
   for (const Row& w : r.rows) {

@@ -27,7 +27,7 @@ struct Row {
   std::string error;              // why it did not compile or run
   long instructions = -1;         // SPIR-V instructions of the exported functions (shaders only)
   double max_error = 0;           // max |value − reference| / reference at c = 1, error grid
-  double max_ulps = 0;            // max |value − sglab float| in float ulps of the value at c = 1, error grid
+  double max_ulps = 0;            // max |value − sglab float| in float ulps of max(|sglab float|, reference at c = 1), error grid
   long grid_non_finite = 0;       // NaN/Inf on the error grid
   long stiff_negatives = 0, stiff_non_finite = 0, stiff_points = 0;  // the stiff grid
 };

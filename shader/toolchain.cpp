@@ -159,7 +159,8 @@ std::size_t method_instructions(const Spirv& spirv, Language lang, std::size_t a
     std::string params;
     for (std::size_t j = 0; j < arity; ++j) {
       identity.inputs.push_back("a" + std::to_string(j));
-      params += (j ? ", float a" : "float a") + std::to_string(j);
+      params += j ? ", float a" : "float a";
+      params += std::to_string(j);
     }
     const std::string src = "float sglab_identity(" + params + ") { return a0; }\n";
     const Spirv base = compile_to_spirv(compute_shader_source(src, identity, lang), lang);

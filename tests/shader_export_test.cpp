@@ -100,15 +100,17 @@ TEST(ShaderExport, NotExportableAndUnknownAreRefusedByName) {
 // The measurement behind paper_tables/shader_export.md, on the quick grid: every exportable
 // method in C, GLSL and HLSL compiles (and validates) and runs; its error against the reference
 // is sglab float's within the method's tolerance, and it stays within the stated ulps of sglab
-// float. Tolerances, with their reasons:
-//  • C: the same operations and the C library functions sglab's float path calls — 0 ulps.
-//  • GLSL/HLSL: lavapipe's exp/log/sqrt/division and the written helpers (expm1: Kahan's form,
-//    erf/erfc: Numerical Recipes' erfcc, 1.2e-7 relative) differ from glibc's by a few ulps; a
-//    method then differs by those ulps times its own amplification of rounding: ≤ 64 ulps,
-//    and its error against the reference grows by at most 1e-5 of D(λ, 1) — except
+// float (ulps of the larger of the value and the reference at c = 1). Tolerances, with reasons:
+//  • C: the same operations and the C library functions sglab's float path calls — 0 ulps and
+//    the same error.
+//  • GLSL/HLSL: lavapipe's exp/log/sqrt/division and the written helpers (sglab_expm1: Taylor
+//    series below |x| = 0.5; sglab_erf/erfc: Numerical Recipes' erfcc, 1.2e-7 relative) differ
+//    from glibc's by a few ulps (measured ≤ 8): ≤ 16 ulps, error within 1e-5 of D(λ, 1) of sglab
+//    float's — except
 //      tokuyoshi2022 (clamped-cosine), whose two terms cancel by design (×2364: its λc trades
-//      float error for approximation error, Tokuyoshi 2022) — 1e-2 and unbounded ulps — and
-//      meder (clamped-cosine), a difference of two large terms (loses ~5 bits) — 1e-4.
+//      float error for approximation error, Tokuyoshi 2022): ≤ 2364·16 ulps, error within 1e-3;
+//      meder (clamped-cosine), 32.7·H − 31.7·H (the cancellation loses ~5 bits): ≤ 32·16 ulps…
+//      measured 448, so ≤ 1024, error within 1e-4.
 TEST(ShaderExport, EveryMethodCompilesRunsAndMatchesTheReference) {
   if (!shader::vulkan_available()) GTEST_SKIP() << "no Vulkan device (install mesa-vulkan-drivers)";
   cli::shader_export::Options o;
@@ -127,13 +129,11 @@ TEST(ShaderExport, EveryMethodCompilesRunsAndMatchesTheReference) {
     ASSERT_TRUE(r.compiles) << r.method << " " << r.evaluator << ": " << r.error;
     const bool cancels = r.method == "clamped-cosine/tokuyoshi2022";
     const bool meder = r.method == "clamped-cosine/meder";
-    const double error_tol = r.evaluator == "c" ? 0 : cancels ? 1e-2 : meder ? 1e-4 : 1e-5;
+    const bool c = r.evaluator == "c";
+    const double error_tol = c ? 0 : cancels ? 1e-3 : meder ? 1e-4 : 1e-5;
+    const double ulps_tol = c ? 0 : cancels ? 2364 * 16 : meder ? 1024 : 16;
     EXPECT_LE(r.max_error, f.max_error + error_tol) << r.method << " " << r.evaluator;
-    if (r.evaluator == "c") {
-      EXPECT_EQ(r.max_ulps, 0) << r.method;
-    } else if (!cancels && !meder) {
-      EXPECT_LE(r.max_ulps, 64) << r.method << " " << r.evaluator;
-    }
+    EXPECT_LE(r.max_ulps, ulps_tol) << r.method << " " << r.evaluator;
     EXPECT_EQ(r.grid_non_finite, f.grid_non_finite) << r.method << " " << r.evaluator;
     // cosine-lobe-sg on lavapipe: NaN at λ = FLT_MAX for the six stiff cosines at c ≥ 1 − 2⁻²⁴
     // (the C and sglab float are finite there; lavapipe's arithmetic at the top of the float
