@@ -23,6 +23,7 @@ void add_all_commands(CLI::App& app) {
   add_merge_command(app);
   add_filter_command(app);
   add_envmap_command(app);
+  add_export_command(app);
   std::string footer = "\nExperiments (`sglab reproduce` runs each; `sglab reproduce --list` shows the steps):\n";
   for (const auto& e : experiments::experiment_registry()) {
     if (e.add_command) e.add_command(app);

@@ -22,6 +22,7 @@ void add_sweep_command(CLI::App& app);          // sweep_command.cpp: `sglab swe
 void add_merge_command(CLI::App& app);          // merge_command.cpp: `sglab merge` (joins sweep shards)
 void add_filter_command(CLI::App& app);         // filter_command.cpp: `sglab filter`
 void add_envmap_command(CLI::App& app);         // envmap_command.cpp: `sglab envmap make|render|lobes`
+void add_export_command(CLI::App& app);         // export_command.cpp: `sglab export` (methods as shader code)
 void add_fit_envmap_command(CLI::App& fit);     // envmap_command.cpp: `sglab fit envmap` (called by add_fit_command)
 // One registration function per sweep kind, called by add_sweep_command on the `sweep` sub-command.
 void add_sweep_specular(CLI::App& sweep);       // experiments/sweep_specular.cpp: `sglab sweep specular`

@@ -2,6 +2,8 @@
 // `sglab fit` to judge a fit record by the error its constants give (not only by its digits).
 #pragma once
 
+#include <vector>
+
 #include "sglab/registry.hpp"
 
 namespace sglab::cli {
@@ -10,6 +12,14 @@ struct GridError {
   double max_error = 0;  // max |method − reference| / reference at c = 1, over the grid
   double rms_error = 0;  // root mean square of the same
 };
+
+// The axes of error-vs-time's diffuse grid (docs/math.md §3): λ log-spaced over [1e-3, 1e4]
+// (4 per decade; 2 with quick), c uniform over [−1, 1] (40 steps; 20 with quick), c = 1 last.
+// Points are every (λ, c) pair, λ the outer loop.
+struct DiffuseAxes {
+  std::vector<double> sharpnesses, cosines;
+};
+DiffuseAxes diffuse_grid_axes(bool quick);
 
 // `m` (double precision) against the quantity's reference on error-vs-time's full diffuse grid.
 // The grid's reference values are computed once per quantity and kept.

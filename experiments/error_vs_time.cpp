@@ -141,9 +141,9 @@ Grid diffuse_grid(const Method& ref, bool quick) {
   Grid g;
   g.arity = 2;
   const int per_decade = quick ? 2 : 4, cos_steps = quick ? 20 : 40;
-  std::vector<double> ls, cs;
-  for (int i = 0; i <= 7 * per_decade; ++i) ls.push_back(std::pow(10.0, -3 + double(i) / per_decade));
-  for (int j = 0; j <= cos_steps; ++j) cs.push_back(-1 + 2.0 * j / cos_steps);
+  const DiffuseAxes axes = diffuse_grid_axes(quick);
+  const std::vector<double>& ls = axes.sharpnesses;
+  const std::vector<double>& cs = axes.cosines;
   for (std::size_t i = 0; i < ls.size(); ++i)
     for (std::size_t j = 0; j < cs.size(); ++j) {
       g.args.insert(g.args.end(), {ls[i], cs[j]});
@@ -242,6 +242,14 @@ std::string claims_section(const std::vector<Row>& rows, const std::vector<Speed
 
 }  // namespace
 }  // namespace error_vs_time
+
+DiffuseAxes diffuse_grid_axes(bool quick) {
+  const int per_decade = quick ? 2 : 4, cos_steps = quick ? 20 : 40;
+  DiffuseAxes a;
+  for (int i = 0; i <= 7 * per_decade; ++i) a.sharpnesses.push_back(std::pow(10.0, -3 + double(i) / per_decade));
+  for (int j = 0; j <= cos_steps; ++j) a.cosines.push_back(-1 + 2.0 * j / cos_steps);
+  return a;
+}
 
 GridError standard_grid_error(const Quantity& q, const Method& m) {
   using namespace error_vs_time;

@@ -84,6 +84,7 @@ struct Experiment {
   X(near_wall)               \
   X(poster_plots)            \
   X(sweep_specular)          \
+  X(shader_export)
   X(recommendations)
 
 #define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();

@@ -103,15 +103,15 @@ void register_core_quantities(std::vector<Quantity>& out) {
   {
     Quantity q{"hemispherical", "H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω (docs/math.md §2)", {sharpness, cosine}, "reference", {}};
     q.methods.push_back(quadrature_reference_method([](auto l, auto c) { return hemispherical_reference(l, c); }));
-    q.methods.push_back(make_method_with_parameters("meder", "Meder & Brüderlin 2018, logistic interpolation between the c = ±1 bounds", "", false, nullptr,
+    q.methods.push_back(make_method_with_parameters(exportable, "meder", "Meder & Brüderlin 2018, logistic interpolation between the c = ±1 bounds", "", false, nullptr,
                                meder_logistic_parameters(),
                                [](auto a) { return hemispherical_meder(a[0], a[1]); },
                                [](auto a, auto p) { return hemispherical_meder(a[0], a[1], p[0], p[1], p[2], p[3]); }));
-    q.methods.push_back(make_method_with_parameters("tokuyoshi2022", "Tokuyoshi 2022 (poster), CDF of a Gaussian on a plane", "", false, nullptr,
+    q.methods.push_back(make_method_with_parameters(exportable, "tokuyoshi2022", "Tokuyoshi 2022 (poster), CDF of a Gaussian on a plane", "", false, nullptr,
                                tokuyoshi2022_steepness_parameters(),
                                [](auto a) { return hemispherical_tokuyoshi2022(a[0], a[1]); },
                                [](auto a, auto p) { return hemispherical_tokuyoshi2022(a[0], a[1], p[0], p[1], p[2]); }));
-    q.methods.push_back(make_method_with_parameters("vmf-tokuyoshi2024", "Tokuyoshi et al. 2024: the 2022 factor for the normalized vMF, lerp(e^{−λ}, 1, f)/(1 + e^{−λ})",
+    q.methods.push_back(make_method_with_parameters(exportable, "vmf-tokuyoshi2024", "Tokuyoshi et al. 2024: the 2022 factor for the normalized vMF, lerp(e^{−λ}, 1, f)/(1 + e^{−λ})",
                                "NORMALIZED: returns H/A(λ), a fraction in [0, 1], not H", false, nullptr,
                                tokuyoshi2022_steepness_parameters(),
                                [](auto a) { return hemispherical_vmf_tokuyoshi2024(a[0], a[1]); },
@@ -124,31 +124,31 @@ void register_core_quantities(std::vector<Quantity>& out) {
   {
     Quantity q{"clamped-cosine", "D(λ, c) = ∫ G(ω; ξ, λ)⟨ω·n⟩ dω, unit-amplitude SG (docs/math.md §3)", {sharpness, cosine}, "reference", {}};
     q.methods.push_back(quadrature_reference_method([](auto l, auto c) { return clamped_cosine_reference(l, c); }));
-    q.methods.push_back(make_method("punctual", "A(λ)⟨c⟩: cosine pulled out of the integral (Wang et al. 2009; Tokuyoshi 2016 §4.2)",
+    q.methods.push_back(make_method(exportable, "punctual", "A(λ)⟨c⟩: cosine pulled out of the integral (Wang et al. 2009; Tokuyoshi 2016 §4.2)",
                                "zero for every c ≤ 0 (no light past the horizon); large error for broad lobes", false, nullptr,
                                [](auto a) { return clamped_cosine_punctual(a[0], a[1]); }));
-    q.methods.push_back(make_method("punctual-approx", "(2π/λ)⟨c⟩ (Tokuyoshi 2016 §4.2, A(λ) ≈ 2π/λ)",
+    q.methods.push_back(make_method(exportable, "punctual-approx", "(2π/λ)⟨c⟩ (Tokuyoshi 2016 §4.2, A(λ) ≈ 2π/λ)",
                                "as `punctual`, and diverges as λ → 0", false,
                                sharpness_positive(0, "the 2π/λ factor diverges"),
                                [](auto a) { return clamped_cosine_punctual_approx(a[0], a[1]); }));
-    q.methods.push_back(make_method_with_parameters("sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2)",
+    q.methods.push_back(make_method_with_parameters(exportable, "sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2)",
                                "light leaks past the horizon; the Iwasaki product is poor for broad lobes; exact A(λ_d) used (the paper takes A(λ_d) ≈ π); for sharp lights (λ → ∞) it tends to (π/A(λ_d))·e^{λ_d(c−1)}·2π/λ instead of 2π⟨c⟩/λ (off by up to 14 % of the peak 2π/λ, at c ≈ 0.6)", false, nullptr,
                                {{"lambda_d", "lambda-d", SgCosine::lambda_d, "Tokuyoshi's VSGL papers: λ_d ≈ 2 by least squares (objective not stated)", ColumnKind::positive}},
                                [](auto a) { return clamped_cosine_sg_cosine(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_sg_cosine(a[0], a[1], p[0]); }));
-    q.methods.push_back(make_method_with_parameters("cosine-lobe-sg", "cosine ≈ 1.17·G(ω; n, 2.133), exact SG product (Pettineo 2016, SG series part 3)",
+    q.methods.push_back(make_method_with_parameters(exportable, "cosine-lobe-sg", "cosine ≈ 1.17·G(ω; n, 2.133), exact SG product (Pettineo 2016, SG series part 3)",
                                "light leaks past the horizon; for sharp lights (λ → ∞) it tends to 1.17·e^{2.133(c−1)}·2π/λ instead of 2π⟨c⟩/λ (17 % high at c = 1)", false, nullptr,
                                {{"amplitude", "cosine-lobe-sg", CosineLobeSg::amplitude, "Pettineo 2016, SG series part 3", ColumnKind::positive},
                                 {"sharpness", "cosine-lobe-sg", CosineLobeSg::sharpness, "Pettineo 2016, SG series part 3", ColumnKind::positive}},
                                [](auto a) { return clamped_cosine_cosine_lobe_sg(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_cosine_lobe_sg(a[0], a[1], p[0], p[1]); }));
-    q.methods.push_back(make_method_with_parameters("hill-fitted", "Pettineo & Hill 2016 fitted irradiance (SG series part 3), c0 = 0.36",
+    q.methods.push_back(make_method_with_parameters(exportable, "hill-fitted", "Pettineo & Hill 2016 fitted irradiance (SG series part 3), c0 = 0.36",
                                "PUBLISHED FORM GOES NEGATIVE for λ ≲ 1 (the 'black splotches'); kept as published. Undefined at λ = 0", true,
                                sharpness_positive(0, "the fit divides by λ"),
                                {{"c0", "hill-irradiance", HillIrradiance::c0, "Pettineo 2016, SG series part 3 (Hill's fit)", ColumnKind::positive}},
                                [](auto a) { return clamped_cosine_hill_fitted(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_hill_fitted(a[0], a[1], p[0]); }));
-    q.methods.push_back(make_method_with_parameters("meder", "cosine ≈ 32.7080 G(ω; n, 0.0315) − 31.7003, Meder hemispherical integrals (Meder & Brüderlin 2018; PhySG, Zhang et al. 2021)",
+    q.methods.push_back(make_method_with_parameters(exportable, "meder", "cosine ≈ 32.7080 G(ω; n, 0.0315) − 31.7003, Meder hemispherical integrals (Meder & Brüderlin 2018; PhySG, Zhang et al. 2021)",
                                "PUBLISHED FORM GOES NEGATIVE (difference of two large terms); kept as published. Loses ~5 bits to cancellation", true, nullptr,
                                concat({{"amplitude", "cosine-sg", MederCosineSg::amplitude, "Meder & Brüderlin 2018 (PhySG)", ColumnKind::positive},
                                        {"sharpness", "cosine-sg", MederCosineSg::sharpness, "Meder & Brüderlin 2018 (PhySG)", ColumnKind::positive},
@@ -156,7 +156,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                       meder_logistic_parameters()),
                                [](auto a) { return clamped_cosine_meder(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_meder(a[0], a[1], p[0], p[1], p[2], p[3], p[4], p[5], p[6]); }));
-    q.methods.push_back(make_method_with_parameters("tokuyoshi2022", "cosine ≈ α(e^{λc}G(ω; n, λc) − 1), λc = 0.00084560872241480124, 2022 hemispherical integrals (Tokuyoshi 2022 (poster))",
+    q.methods.push_back(make_method_with_parameters(exportable, "tokuyoshi2022", "cosine ≈ α(e^{λc}G(ω; n, λc) − 1), λc = 0.00084560872241480124, 2022 hemispherical integrals (Tokuyoshi 2022 (poster))",
                                "cancellation between the two terms (×2364 amplification): ~1% in float, by design of λc; clamped at 0", false, nullptr,
                                concat({{"lambda", "cosine-sharpness", Tokuyoshi2022Cosine::lambda, "Tokuyoshi 2022 (λc; α = α(λc) is derived from it)", ColumnKind::positive}},
                                       tokuyoshi2022_steepness_parameters()),
@@ -166,7 +166,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                }));
     {
       const std::string src = "Tokuyoshi et al. 2024, steepness t(λ) of the erfc interpolation";
-      q.methods.push_back(make_method_with_parameters("tokuyoshi2024", "Tokuyoshi et al. 2024, erfc interpolation between the c = ±1 bounds", "", false, nullptr,
+      q.methods.push_back(make_method_with_parameters(exportable, "tokuyoshi2024", "Tokuyoshi et al. 2024, erfc interpolation between the c = ±1 bounds", "", false, nullptr,
                                {{"A", "tokuyoshi2024-t", Tokuyoshi2024T::A, src, ColumnKind::positive},
                                 {"B", "tokuyoshi2024-t", Tokuyoshi2024T::B, src, ColumnKind::positive},
                                 {"C", "tokuyoshi2024-t", Tokuyoshi2024T::C, src, ColumnKind::positive},
@@ -178,7 +178,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
     {
       const std::string src = "sglab (this project): constants of `sglab fit sglab` (paper_tables/own_method.md)";
       using S = SglabDiffuse;
-      q.methods.push_back(make_method_with_parameters("sglab", "sglab (this project): tokuyoshi2024's erfc interpolation with a refitted t(λ) and one even correction term (K/t)(e^{−t²} − c²e^{−t²c²}); constants from `sglab fit sglab` (paper_tables/own_method.md)",
+      q.methods.push_back(make_method_with_parameters(exportable, "sglab", "sglab (this project): tokuyoshi2024's erfc interpolation with a refitted t(λ) and one even correction term (K/t)(e^{−t²} − c²e^{−t²c²}); constants from `sglab fit sglab` (paper_tables/own_method.md)",
                                "fitted, not derived: max error 8.1e-5 of D(λ, 1) on a dense check (281 λ × 401 c), none guaranteed between points; in the back-facing tail the corrected even part is held at ≥ ½ of the uncorrected one (part of the fitted form, keeps the value positive)", false, nullptr,
                                {{"A", "sglab", S::A, src, ColumnKind::positive},
                                 {"B", "sglab", S::B, src, ColumnKind::positive},

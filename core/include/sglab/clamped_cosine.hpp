@@ -83,8 +83,8 @@ T clamped_cosine_hill_fitted(const T& sharpness, const T& cosine,
   const T x0 = c0 * c;
   const T x1 = c1 * x;
   const T n = x0 + x1;
-  T y = clamp(c, T(0), T(1));
-  if (abs(value_of(x0)) <= value_of(x1)) y = n * n / x;
+  const T y = select(abs(value_of(x0)) <= value_of(x1), [&]() -> T { return n * n / x; },
+                     [&]() -> T { return clamp(c, T(0), T(1)); });
   return (scale * y + bias) * two_pi<T>() * rl;
 }
 
@@ -110,7 +110,8 @@ T hemispherical_product(const T& sharpness, const T& cosine, const T& sharpness2
   const T c = clamp_cosine(cosine);
   const T l3 = product_sharpness(sharpness, sharpness2, c);
   const T log_amp = product_log_amplitude(sharpness, sharpness2, c, l3) + extra_log_amplitude;
-  const T c3 = value_of(l3) > 0 ? clamp_cosine((sharpness * c + sharpness2) / l3) : T(1);
+  const T c3 = select(value_of(l3) > 0, [&]() -> T { return clamp_cosine(T((sharpness * c + sharpness2) / l3)); },
+                      []() -> T { return T(1); });
   return exp(log_amp) * hemi(l3, c3);
 }
 
@@ -148,17 +149,16 @@ T tokuyoshi2022_alpha(const T& lambda) {
   using std::abs;
   using std::expm1;
   // e^λ − 1 − λ = Σ_{n≥2} λ^n/n!
-  if (abs(value_of(lambda)) < 0.5) {
+  return select(abs(value_of(lambda)) < 0.5, [&]() -> T {
     T term = lambda * lambda / T(2);
     T sum = term;
     for (int n = 3; n < 200; ++n) {
       term *= lambda / T(n);
       sum += term;
-      if (abs(value_of(term)) <= epsilon<T>() * abs(value_of(sum))) break;
+      if (series_converged(term, sum, n - 1)) break;
     }
     return lambda / (T(2) * sum);
-  }
-  return lambda / (T(2) * (expm1(lambda) - lambda));
+  }, [&]() -> T { return lambda / (T(2) * (expm1(lambda) - lambda)); });
 }
 
 // λc and α(λc) at T's precision: the published double values for float/double/Jet (no
@@ -214,8 +214,9 @@ T tokuyoshi2024_t(const T& sharpness, const T& A = T(Tokuyoshi2024T::A),
   // Above 1e4 the same rational function divided through by λ² and λ³: the direct form's λ³
   // overflows from λ ≈ 7e12 in float and 6e102 in double (t then came out 0 or NaN).
   // t = √λ·√(½(1 + (A + B/λ)/λ)/(1 + (C + (D + E/λ)/λ)/λ)) → √(λ/2).
-  if (value_of(l) > 1e4) return sqrt(l) * sqrt(T(0.5) * (T(1) + (A + B / l) / l) / (T(1) + (C + (D + E / l) / l) / l));
-  return l * sqrt(T(0.5) * ((l + A) * l + B) / (((l + C) * l + D) * l + E));
+  return select(value_of(l) > 1e4,
+                [&]() -> T { return sqrt(l) * sqrt(T(0.5) * (T(1) + (A + B / l) / l) / (T(1) + (C + (D + E / l) / l) / l)); },
+                [&]() -> T { return l * sqrt(T(0.5) * ((l + A) * l + B) / (((l + C) * l + D) * l + E)); });
 }
 
 // f(t, c) = ½(c·erfc(−tc) + erfc(t)) − e^{−t²c²}·expm1(t²(c² − 1))/(2√π t), clamped to [0, 1].
@@ -244,17 +245,16 @@ template <class T>
 T clamped_cosine_upper_over_2pi(const T& sharpness) {
   using std::abs;
   const T& l = sharpness;
-  if (value_of(l) < 1) {
+  return select(value_of(l) < 1, [&]() -> T {
     T term = T(0.5);  // n = 1: 1/2!
     T sum = term;
     for (int n = 2; n < 400; ++n) {
       term *= -l / T(n + 1);
       sum += term;
-      if (abs(value_of(term)) <= epsilon<T>() * abs(value_of(sum))) break;
+      if (series_converged(term, sum, n)) break;
     }
     return sum;
-  }
-  return (T(1) - expm1_over_x(-l)) / l;
+  }, [&]() -> T { return (T(1) - expm1_over_x(-l)) / l; });
 }
 
 // D at c = −1 divided by 2π: e^{−λ}((1 − e^{−λ})/λ − e^{−λ})/λ, with
@@ -264,8 +264,7 @@ T clamped_cosine_lower_over_2pi(const T& sharpness) {
   using std::abs;
   using std::exp;
   const T& l = sharpness;
-  T inner;
-  if (value_of(l) < 1) {
+  const T inner = select(value_of(l) < 1, [&]() -> T {
     T power = T(1);   // λ^{n−1}
     T fact = T(2);    // (n+1)!
     T sum = T(0.5);   // n = 1
@@ -274,12 +273,10 @@ T clamped_cosine_lower_over_2pi(const T& sharpness) {
       fact *= T(n + 1);
       const T term = T(n) * power / fact;
       sum += term;
-      if (abs(value_of(term)) <= epsilon<T>() * abs(value_of(sum))) break;
+      if (series_converged(term, sum, n)) break;
     }
-    inner = sum;
-  } else {
-    inner = (expm1_over_x(-l) - exp(-l)) / l;
-  }
+    return sum;
+  }, [&]() -> T { return (expm1_over_x(-l) - exp(-l)) / l; });
   return exp(-l) * inner;
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "sglab/scalar.hpp"
+#include "sglab/trace.hpp"
 
 namespace sglab {
 
@@ -79,6 +80,10 @@ struct Parameter {
   ColumnKind kind = ColumnKind::positive;  // its domain, checked with column_value_error
 };
 
+// The method's formula on the tracing type (trace.hpp): the inputs in column order, and its
+// constants (one per Method::parameters entry) as traced values. What `sglab export` emits code from.
+using TraceFn = std::function<Trace(std::span<const Trace> args, std::span<const Trace> params)>;
+
 struct Method;
 // Returns `m` evaluating with `values` (one per m.parameters entry, same order) instead of the
 // published values. The published evaluators are not touched, so the published path costs nothing.
@@ -102,6 +107,9 @@ struct Method {
   // `parameters` is not empty). A bound method has no `bind` of its own: bind the base method.
   std::vector<Parameter> parameters;
   BindFn bind;
+  // The formula on the tracing type; empty when the method is not exportable (`sglab export`
+  // says so by name). Set by the `exportable` registrations below.
+  TraceFn trace;
 };
 
 // The largest sharpness (or ASG bandwidth) at which sweeps over stiff inputs run the quadrature
@@ -219,6 +227,30 @@ Method make_method_with_parameters(std::string name, std::string source, std::st
     });
     return b;
   };
+  return m;
+}
+
+// The same registrations for a method whose formula also instantiates on the tracing type
+// (every branch on an input a select): the first argument `exportable` makes `sglab export` emit
+// it. The traced formula is `f` itself (without constants) or `with` (with its constants).
+struct Exportable {};
+inline constexpr Exportable exportable{};
+
+template <class F>
+Method make_method(Exportable, std::string name, std::string source, std::string flaws, bool may_be_negative,
+                   std::function<std::optional<std::string>(std::span<const double>)> domain, F f) {
+  Method m = make_method(std::move(name), std::move(source), std::move(flaws), may_be_negative, std::move(domain), f);
+  m.trace = [f](std::span<const Trace> a, std::span<const Trace>) { return f(a); };
+  return m;
+}
+
+template <class F, class G>
+Method make_method_with_parameters(Exportable, std::string name, std::string source, std::string flaws, bool may_be_negative,
+                                   std::function<std::optional<std::string>(std::span<const double>)> domain,
+                                   std::vector<Parameter> parameters, F published, G with) {
+  Method m = make_method_with_parameters(std::move(name), std::move(source), std::move(flaws), may_be_negative,
+                                         std::move(domain), std::move(parameters), published, with);
+  m.trace = [with](std::span<const Trace> a, std::span<const Trace> p) { return with(a, p); };
   return m;
 }
 

@@ -77,20 +77,42 @@ T from_string(const char* digits) {
   }
 }
 
+// ---- selects instead of value-dependent branches ---------------------------------------------
+// select(cond, if_true, if_false) returns if_true() when cond holds and if_false() otherwise, the
+// two sides given as callables. For float, double, Jets and mp50 (cond a bool) only the chosen
+// side runs — exactly the `if` it replaces, the same operations and the same result. For the
+// tracing type of trace.hpp (cond a TraceBool) both sides are recorded and joined by a select
+// node, which is how a formula with a branch on its inputs becomes exportable shader code; the
+// SIMD kernels' xsimd::select is the same idea. Write every branch on a value that reaches a
+// result this way (ARCHITECTURE.md: one formula, many evaluators).
+template <class F, class G>
+auto select(bool cond, F&& if_true, G&& if_false) -> decltype(if_true()) {
+  return cond ? if_true() : if_false();
+}
+
+// Whether a series summed term by term has converged: the term no longer changes the sum at T's
+// precision. `terms` is how many terms the sum holds (a traced series sums a fixed number of
+// terms: trace.hpp).
+template <class T>
+bool series_converged(const T& term, const T& sum, int /*terms*/) {
+  using std::abs;
+  return abs(value_of(term)) <= epsilon<T>() * abs(value_of(sum));
+}
+
 // ---- safe helpers --------------------------------------------------------------------------
 
 // max(x, 0) written so that Jets keep their derivative on the positive side.
 template <class T>
 T positive_part(const T& x) {
-  return value_of(x) > 0 ? x : T(0);
+  return select(value_of(x) > 0, [&]() -> T { return x; }, []() -> T { return T(0); });
 }
 
 // Clamp x into [lo, hi] by value (for Jets the derivative is that of the selected branch).
 template <class T>
 T clamp(const T& x, const T& lo, const T& hi) {
-  if (value_of(x) < value_of(lo)) return lo;
-  if (value_of(x) > value_of(hi)) return hi;
-  return x;
+  return select(value_of(x) < value_of(lo), [&]() -> T { return lo; }, [&]() -> T {
+    return select(value_of(x) > value_of(hi), [&]() -> T { return hi; }, [&]() -> T { return x; });
+  });
 }
 
 // A cosine that rounding may have pushed just past ±1 (|c| = 1 + 1 ulp from a dot product of
@@ -107,7 +129,7 @@ T clamp_cosine(const T& c) {
 template <class T>
 T safe_sqrt(const T& x) {
   using std::sqrt;
-  return value_of(x) > 0 ? sqrt(x) : T(0);
+  return select(value_of(x) > 0, [&]() -> T { return sqrt(x); }, []() -> T { return T(0); });
 }
 
 // Below this |x| the first terms of a Taylor series are exact to T's precision. For a series
@@ -128,10 +150,9 @@ template <class T>
 T expm1_over_x(const T& x) {
   using std::abs;
   using std::expm1;
-  if (abs(value_of(x)) < series_threshold<T>(4)) {
-    return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(24))));
-  }
-  return expm1(x) / x;
+  return select(abs(value_of(x)) < series_threshold<T>(4),
+                [&]() -> T { return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(24)))); },
+                [&]() -> T { return expm1(x) / x; });
 }
 
 // 1 − e^{−x} for x ≥ 0 without cancellation.

@@ -1,0 +1,205 @@
+// The tools behind toolchain.hpp: glslangValidator, spirv-val and cc, run as subprocesses in a
+// private temporary directory (removed afterwards).
+#include "toolchain.hpp"
+
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+
+#include <fmt/core.h>
+
+#ifndef SGLAB_GLSLANG
+#define SGLAB_GLSLANG "glslangValidator"
+#endif
+#ifndef SGLAB_SPIRV_VAL
+#define SGLAB_SPIRV_VAL "spirv-val"
+#endif
+#ifndef SGLAB_C_COMPILER
+#define SGLAB_C_COMPILER "cc"
+#endif
+
+namespace sglab::shader {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory under the system's temporary directory, removed with this object.
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::string t = (fs::temp_directory_path() / "sglab-export-XXXXXX").string();
+    if (!mkdtemp(t.data())) throw std::runtime_error("cannot create a temporary directory for the shader tools");
+    path = t;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::binary);
+  f << text;
+  if (!f) throw std::runtime_error("cannot write " + p.string());
+}
+
+// Runs argv (no shell); returns the exit status and the combined stdout and stderr.
+std::pair<int, std::string> run_tool(const std::vector<std::string>& argv) {
+  int fd[2];
+  if (pipe(fd) != 0) throw std::runtime_error("pipe failed");
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    dup2(fd[1], 1);
+    dup2(fd[1], 2);
+    close(fd[0]);
+    close(fd[1]);
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execvp(args[0], args.data());
+    _exit(127);
+  }
+  close(fd[1]);
+  std::string out;
+  char buf[4096];
+  for (ssize_t n; (n = read(fd[0], buf, sizeof buf)) > 0;) out.append(buf, std::size_t(n));
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+  if (code == 127 && out.empty()) out = "cannot run " + argv[0] + " (not installed? scripts/setup.sh installs it)";
+  return {code, out};
+}
+
+void run_checked(const std::vector<std::string>& argv, const char* what) {
+  auto [code, out] = run_tool(argv);
+  if (code != 0) throw std::runtime_error(fmt::format("{} failed ({}, status {}):\n{}", what, argv[0], code, out));
+}
+
+// Row i's arguments in the language's buffer indexing.
+std::string call_row(const TracedMethod& m, const char* buffer, const char* index) {
+  std::string args;
+  for (std::size_t j = 0; j < m.inputs.size(); ++j)
+    args += fmt::format("{}{}[{} * {}u + {}u]", j ? ", " : "", buffer, index, m.inputs.size(), j);
+  return fmt::format("{}({})", m.function, args);
+}
+
+// The instructions inside the functions of a SPIR-V module (OpFunction 54 … OpFunctionEnd 56;
+// the header is 5 words, each instruction's first word holds its word count in the high 16 bits).
+std::size_t count_function_instructions(std::span<const std::uint32_t> w) {
+  std::size_t total = 0;
+  bool inside = false;
+  for (std::size_t i = 5; i < w.size();) {
+    const std::uint32_t count = w[i] >> 16, op = w[i] & 0xFFFF;
+    if (count == 0) break;
+    if (op == 54) inside = true;
+    if (inside) ++total;
+    if (op == 56) inside = false;
+    i += count;
+  }
+  return total;
+}
+
+}  // namespace
+
+std::string compute_shader_source(const std::string& exported, const TracedMethod& m, Language lang) {
+  if (lang == Language::glsl)
+    return "#version 450\n"
+           "layout(local_size_x = 64) in;\n"
+           "layout(std430, set = 0, binding = 0) readonly buffer Inputs { float inputs[]; };\n"
+           "layout(std430, set = 0, binding = 1) writeonly buffer Outputs { float outputs[]; };\n" +
+           exported +
+           fmt::format("\nvoid main() {{\n  uint i = gl_GlobalInvocationID.x;\n  outputs[i] = {};\n}}\n",
+                       call_row(m, "inputs", "i"));
+  if (lang == Language::hlsl)
+    return "[[vk::binding(0, 0)]] RWStructuredBuffer<float> inputs;\n"
+           "[[vk::binding(1, 0)]] RWStructuredBuffer<float> outputs;\n" +
+           exported +
+           fmt::format("\n[numthreads(64, 1, 1)]\nvoid main(uint3 id : SV_DispatchThreadID) {{\n  uint i = id.x;\n  outputs[i] = {};\n}}\n",
+                       call_row(m, "inputs", "i"));
+  throw std::invalid_argument("compute_shader_source: C is not a shading language");
+}
+
+Spirv compile_to_spirv(const std::string& shader_source, Language lang) {
+  TempDir dir;
+  const fs::path src = dir.path / (lang == Language::hlsl ? "shader.hlsl" : "shader.comp");
+  const fs::path spv = dir.path / "shader.spv";
+  write_text(src, shader_source);
+  std::vector<std::string> cmd = {SGLAB_GLSLANG, "-V", "--target-env", "vulkan1.1"};
+  if (lang == Language::hlsl) cmd.insert(cmd.end(), {"-D", "-e", "main", "-S", "comp"});
+  cmd.insert(cmd.end(), {"-o", spv.string(), src.string()});
+  run_checked(cmd, "glslangValidator");
+  run_checked({SGLAB_SPIRV_VAL, "--target-env", "vulkan1.1", spv.string()}, "spirv-val");
+  std::ifstream f(spv, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  Spirv s;
+  s.words.resize(bytes.size() / 4);
+  std::memcpy(s.words.data(), bytes.data(), s.words.size() * 4);
+  s.function_instructions = count_function_instructions(s.words);
+  return s;
+}
+
+std::size_t method_instructions(const Spirv& spirv, Language lang, std::size_t arity) {
+  static std::mutex mutex;
+  static std::map<std::pair<int, std::size_t>, std::size_t> baselines;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto it = baselines.find({int(lang), arity});
+  if (it == baselines.end()) {
+    TracedMethod identity;
+    identity.function = "sglab_identity";
+    std::string params;
+    for (std::size_t j = 0; j < arity; ++j) {
+      identity.inputs.push_back("a" + std::to_string(j));
+      params += j ? ", float a" : "float a";
+      params += std::to_string(j);
+    }
+    const std::string src = "float sglab_identity(" + params + ") { return a0; }\n";
+    const Spirv base = compile_to_spirv(compute_shader_source(src, identity, lang), lang);
+    it = baselines.emplace(std::pair{int(lang), arity}, base.function_instructions).first;
+  }
+  return spirv.function_instructions > it->second ? spirv.function_instructions - it->second : 0;
+}
+
+std::vector<float> run_compute(VulkanCompute& gpu, const Spirv& spirv, std::span<const float> rows, std::size_t arity) {
+  const std::size_t n = rows.size() / arity;
+  const std::uint32_t groups = std::uint32_t((n + 63) / 64);
+  // Padded to whole groups with copies of the first row (every invocation reads a valid row).
+  std::vector<float> in(rows.begin(), rows.end());
+  while (in.size() < std::size_t(groups) * 64 * arity) in.insert(in.end(), rows.begin(), rows.begin() + long(arity));
+  std::vector<float> out = gpu.run(spirv.words, in, groups);
+  out.resize(n);
+  return out;
+}
+
+std::vector<float> run_c(const std::string& exported, const TracedMethod& m, std::span<const float> rows) {
+  TempDir dir;
+  const fs::path src = dir.path / "export.c", lib = dir.path / "export.so";
+  write_text(src, exported + fmt::format("\nfloat sglab_entry(const float* inputs, unsigned i) {{ return {}; }}\n",
+                                         call_row(m, "inputs", "i")));
+  run_checked({SGLAB_C_COMPILER, "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Werror", "-shared", "-fPIC", "-o",
+               lib.string(), src.string(), "-lm"},
+              "the C compiler");
+  void* handle = dlopen(lib.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) throw std::runtime_error(fmt::format("dlopen: {}", dlerror()));
+  auto entry = reinterpret_cast<float (*)(const float*, unsigned)>(dlsym(handle, "sglab_entry"));
+  if (!entry) {
+    dlclose(handle);
+    throw std::runtime_error("dlsym: sglab_entry not found");
+  }
+  const std::size_t n = rows.size() / m.inputs.size();
+  std::vector<float> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = entry(rows.data(), unsigned(i));
+  dlclose(handle);
+  return out;
+}
+
+}  // namespace sglab::shader
