@@ -82,7 +82,8 @@ struct Experiment {
   X(vsgl_fis_bias)           \
   X(near_wall)               \
   X(poster_plots)            \
-  X(sweep_specular)
+  X(sweep_specular)          \
+  X(own_specular)
 
 #define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();
 SGLAB_EXPERIMENTS(SGLAB_DECLARE_EXPERIMENT)

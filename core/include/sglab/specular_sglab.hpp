@@ -46,8 +46,10 @@
 
 namespace sglab {
 
-// The fitted constants, in one place. Produced by `sglab fit sglab-specular` (Ceres; objective
-// and grid in fit/sglab_specular.cpp), as that command prints them (%.17g, round-trip digits).
+// The fitted constants, in one place: the exploratory fit of the objective of `sglab fit
+// sglab-specular` (Nelder–Mead in scipy against the same quadrature references on the same grid;
+// brightness-weighted error + bright SMAPE), printed with %.17g (round-trip digits). `sglab fit
+// sglab-specular` re-derives them with Ceres (fit/sglab_specular.cpp; its record judges both).
 struct SglabSpecular {
   static constexpr double nu_slope = 2.893977942635126;
   static constexpr double inflation = 0.9841108750322174;
@@ -60,8 +62,9 @@ struct SglabSpecular {
 // Roughness ceiling of this method: the form squares α and multiplies it with λ; above 1e4 GGX
 // reflects less than 1e-8 of what it does at α = 1, and the value is held at α = 1e4's.
 inline constexpr double kSglabSpecularMaxRoughness = 1e4;
-// Exponent cap of the corrected integral (step 4): e^80 is finite in float; the integral is ≤ 1
-// anyway, so the cap only matters where the det factor is below e^{−80}.
+// Exponent cap of the corrected integral and of the light correction alone (step 4): e^80 is
+// finite in float; the integral is ≤ 1 anyway, so the caps only matter where the det factor is
+// below e^{−80} or the true light exceeds the Gaussian model by e^80 (and keep −∞ + ∞ out).
 inline constexpr double kSglabSpecularMaxExponent = 80;
 
 template <class T>
@@ -101,6 +104,7 @@ template <class T>
 T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T>& xi, const Vec3<T>& wo, const T& f0,
                       const SglabSpecularParams<T>& p) {
   using std::exp;
+  using std::log1p;
   using std::max;
   using std::min;
   using std::sqrt;
@@ -145,15 +149,20 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
     const T u = T(1) / s;
     const T dn = u * u + u * tr + det;  // det(I + s_D A)/s²
     root_det = s * sqrt(dn);
-    q = (u * mJm + det * mm) / (sd * dn);
+    q = (u * mJm + det * mm) / sd / dn;  // two divisions: s_D·dn underflows float at α → 0
     msx = (u * jmx + det * mx) / dn;
     msy = (u * jmy + det * my) / dn;
     w2 = u * sd * (u * tr + T(2) * det) / dn;
     const T nd = T(4) * det + p.nu_slope * tr * u;
     inv_nu = value_of(nd) > 0 ? T(T(2) * det / nd) : T(0);
   }
-  // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·Q·log1p(Q/ν)/(Q/ν)).
-  const T t_exponent = -(T(0.5) + inv_nu) * q * detail::log1p_over_x(T(q * inv_nu));
+  // det(I + s_D A) ≥ 1; rounding (dn underflowing in float) must not make it 0.
+  root_det = max(root_det, T(1));
+  // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·Q·log1p(x)/x), x = Q/ν; above x = 1 as
+  // −(½ + 1/ν)/(1/ν)·log1p(x), so that Q = ∞ (float overflow at grazing view) gives −∞, not NaN.
+  const T x = value_of(inv_nu) > 0 ? T(q * inv_nu) : T(0);
+  const T t_exponent = value_of(x) > 1 ? T(-(T(0.5) + inv_nu) / inv_nu * log1p(x))
+                                       : T(-(T(0.5) + inv_nu) * q * detail::log1p_over_x(x));
   // The product's peak: h* from m*, ω* its reflection of ωo.
   Vec3<T> hs(-msx, -msy, T(1));
   hs /= T(hs.norm());
@@ -166,7 +175,7 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
     const T dJd = dx * (j00 * dx + j01 * dy) + dy * (j01 * dx + j11 * dy);
     const Vec3<T> e = xi - ws;
     const T diff = T(-0.5) * lambda * (T(e.squaredNorm()) - dJd);
-    light = p.light_weight * max(diff, T(-p.light_floor));
+    light = min(T(p.light_weight * max(diff, T(-p.light_floor))), T(kSglabSpecularMaxExponent));
     weight = detail::sglab_slope_weight(alpha, f0, wo, ws, hs);
     const T wr = sqrt(w2);
     if (value_of(wr) > 0) {
