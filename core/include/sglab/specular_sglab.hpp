@@ -39,6 +39,7 @@
 #pragma once
 
 #include <algorithm>
+#include <limits>
 
 #include "sglab/brdf.hpp"
 #include "sglab/scalar.hpp"
@@ -147,7 +148,9 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
     inv_nu = value_of(nd) > 0 ? T(T(2) * s * det / nd) : T(0);
   } else {
     const T u = T(1) / s;
-    const T dn = u * u + u * tr + det;  // det(I + s_D A)/s²
+    // det(I + s_D A)/s² > 0; held at the smallest normal number where every term underflows
+    // (float, α ≤ 1e-3 at exactly grazing view with λ near FLT_MAX: 0/0 otherwise).
+    const T dn = max(T(u * u + u * tr + det), T(std::numeric_limits<value_type_t<T>>::min()));
     root_det = s * sqrt(dn);
     q = (u * mJm + det * mm) / sd / dn;  // two divisions: s_D·dn underflows float at α → 0
     msx = (u * jmx + det * mx) / dn;

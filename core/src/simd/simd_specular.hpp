@@ -309,7 +309,8 @@ struct SpecSglab {
     const B nd1 = T(4) * s * det + nu_slope * tr;
     // s > 1
     const B u = T(1) / s;
-    const B dn = u * u + u * tr + det;
+    const B dn0 = u * u + u * tr + det;
+    const B dn = xsimd::select(dn0 < B(std::numeric_limits<T>::min()), B(std::numeric_limits<T>::min()), dn0);
     const B nd2 = T(4) * det + nu_slope * tr * u;
     const B root_det0 = xsimd::select(small, xsimd::sqrt(dc), s * xsimd::sqrt(dn));
     const B root_det = xsimd::select(root_det0 < one, one, root_det0);
