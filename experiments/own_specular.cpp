@@ -199,7 +199,7 @@ std::vector<Form> forms() {
       {"E", "final constants without the light correction (w = 0)", with([&](auto& p) { p.light_weight = 0; })},
       {"F", "final constants with κ = 0 (no variance inflation)", with([&](auto& p) { p.inflation = 0; })},
       {"G", "final constants with ν = 2 throughout (c_ν = 0: the GGX t, never Gaussian)", with([&](auto& p) { p.nu_slope = 0; })},
-      {"sglab", "the final form (`sglab fit sglab-specular`)", f},
+      {"sglab", "the final form (the constants of SglabSpecular)", f},
   };
 }
 auto form_value(const SglabSpecularParams<double>& p) {
@@ -222,7 +222,7 @@ Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int
   md += "# sglab's own specular approximation (`specular/sglab`): an SG light off GGX\n\n";
   md += fmt::format(
       "Method `sglab` of the `specular` quantity (core/include/sglab/specular_sglab.hpp; the derivation in docs/math.md, "
-      "\"sglab specular\"), constants from `sglab fit sglab-specular` (fit/sglab_specular.cpp): ν slope c_ν = {:.6g}, "
+      "\"sglab specular\"), constants of core SglabSpecular (the exploratory fit of the objective of `sglab fit sglab-specular`, which re-derives them: fit/sglab_specular.cpp): ν slope c_ν = {:.6g}, "
       "inflation κ = {:.6g}, light weight w = {:.6g}, light floor f = {:.6g}, horizon depth h_d = {:.6g}, horizon rate h_r = {:.6g}. "
       "Measured against the quadrature reference (`reference`, ≤ 1e-6 relative) on the grid of `sglab sweep specular` "
       "(which is also the fitting grid) and on {} seeded points off it (seed {}; α log-uniform over [0.01, 1], λ over [1, 1e4], "
