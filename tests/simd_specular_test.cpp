@@ -68,9 +68,11 @@ const std::map<std::string, double>& tolerance_ulps() {
       // The dominant visible normal, its reflection and the normalized product: two more norms.
       {"specular/sg-warp-dvn", 8},
       // sglab: one log1p and two exp (libmvec, 4 ulps each) feeding a product, and the
-      // exponent's terms (the t power and the light ratio, each up to ~80 in magnitude) whose
-      // difference the exp amplifies by its size: 16.
-      {"specular/sglab", 16},
+      // exponent's terms (the t power and the light ratio, each up to ~80 in magnitude), whose
+      // rounding the exp turns into a relative error of that size in ulps (measured at λ ≥ 1e4 with
+      // grazing view: ≤ 60 ulps in float, ≤ 66 in double with AVX2/AVX-512; the SSE2 double rows
+      // up to 156 are within the allowance through their condition term): 96.
+      {"specular/sglab", 96},
       {"specular-gaussian-ndf/sg-warp", 8},
       // Meder's cosine: two hemispherical integrals of ~6 transcendental results each, measured
       // against the sum of their magnitudes (measured: ≤ 14 ulps).

@@ -343,7 +343,12 @@ struct SpecSglab {
     const B horizon = xsimd::select(above & (wr > zero), T(1) - horizon_depth * vm_exp(B(-horizon_rate * ws.z / wr)), one);
     const B ex = t_exponent + light;
     const B exponent = xsimd::select(ex > p[9], p[9], ex);
-    const B ratio = vm_exp(exponent) / root_det;
+    // libmvec's exp itself, not vm_exp: a subnormal e^x here is scaled back up by the BRDF weight
+    // (up to 1/h_z at grazing view), so it is kept as the scalar path keeps it.
+    B power;
+    if constexpr (sizeof(T) == 8) power = B(SGLAB_VEC_D(exp)(exponent));
+    else power = B(SGLAB_VEC_F(exp)(exponent));
+    const B ratio = power / root_det;
     const B integral = xsimd::select(ratio > one, one, ratio);
     return weight * integral * horizon;
   }
