@@ -128,6 +128,7 @@ const sglab::peer::Port kScalarLoops[] = {
     SCALAR6("specular", "sg-warp-th2019", sglab::specular_sg_warp(in, sglab::SgProductForm::exact, true)),
     SCALAR6("specular", "asg", sglab::specular_asg(in)),
     SCALAR6("specular", "sg-warp-dvn", sglab::specular_sg_warp_dvn(in)),
+    SCALAR6("specular", "sglab", sglab::specular_sglab(in)),
     SCALAR6("specular-gaussian-ndf", "sg-warp", sglab::specular_gaussian_ndf_sg_warp(in)),
     SCALAR6("specular-gaussian-ndf", "sg-warp-meder", sglab::specular_gaussian_ndf_sg_meder(in)),
 };

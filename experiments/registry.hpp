@@ -84,7 +84,8 @@ struct Experiment {
   X(near_wall)               \
   X(poster_plots)            \
   X(sweep_specular)          \
-  X(shader_export)
+  X(own_specular)             \
+  X(shader_export)            \
   X(recommendations)
 
 #define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();

@@ -64,67 +64,12 @@ std::string join_numbers(const std::vector<double>& v) {
   return s;
 }
 
-struct Vec {
-  double x, y, z;
-};
-Vec rotate_toward(const Vec& a, const Vec& t, double angle) {  // a, t orthonormal
-  const double c = std::cos(angle), s = std::sin(angle);
-  return {c * a.x + s * t.x, c * a.y + s * t.y, c * a.z + s * t.z};
-}
-LightPosition position(std::string name, const Vec& d) {
-  return {std::move(name), std::clamp(d.z, -1.0, 1.0), std::atan2(d.y, d.x)};
-}
-
-// light_cos above which a light is above the horizon: 1e-12 keeps a position rotated by exactly
-// π/2 (cos = 6e-17 in double) out, and no real light position is that close to the horizon.
-constexpr double kAboveHorizon = 1e-12;
 
 const std::vector<std::string> kColumns = {"roughness", "light_sharpness", "view_cos", "f0", "position",
                                            "light_cos", "light_azimuth", "reference", "scale", "method",
                                            "value", "status", "relative_error", "scaled_error"};
 
 }  // namespace
-
-SpecularGrid specular_grid(bool quick) {
-  SpecularGrid g;
-  // α = 10^(−2 + i/4), i = 0 … 8 (quick: even i), so the quick values are full-grid values.
-  for (int i = 0; i <= 8; i += quick ? 2 : 1) g.roughness.push_back(std::pow(10.0, -2.0 + 0.25 * i));
-  g.light_sharpness = quick ? std::vector<double>{1, 100, 1e4} : std::vector<double>{1, 10, 100, 1e3, 1e4};
-  g.view_cos = quick ? std::vector<double>{1, 0.3, 0.1} : std::vector<double>{1, 0.7, 0.3, 0.1};
-  return g;
-}
-
-SpecularWidths specular_offset_widths(double roughness, double light_sharpness, double view_cos) {
-  const double cap = std::numbers::pi / 6;  // also caps λ = 0 (1/λ = ∞)
-  const double a2 = 2 * roughness * roughness, c = std::clamp(view_cos, 0.0, 1.0);
-  return {std::min(std::sqrt(1 / light_sharpness + a2), cap), std::min(std::sqrt(1 / light_sharpness + a2 * c * c), cap)};
-}
-
-std::vector<LightPosition> specular_light_positions(double roughness, double light_sharpness, double view_cos) {
-  const double v = std::clamp(view_cos, 0.0, 1.0), s = std::sqrt(std::max(0.0, (1 - v) * (1 + v)));
-  const Vec mirror{-s, 0, v};          // reflection of ωo = (s, 0, v) about n
-  const Vec to_horizon{-v, 0, -s};     // d(mirror)/dθ: in the plane of incidence, away from n
-  const Vec to_normal{v, 0, s};
-  const Vec side{0, 1, 0};             // perpendicular to the plane of incidence
-  const SpecularWidths w = specular_offset_widths(roughness, light_sharpness, v);
-  const std::vector<LightPosition> all = {position("mirror", mirror),
-                                          position("toward-normal", rotate_toward(mirror, to_normal, w.in_plane)),
-                                          position("toward-horizon", rotate_toward(mirror, to_horizon, w.in_plane)),
-                                          position("side", rotate_toward(mirror, side, w.across)),
-                                          position("side-3w", rotate_toward(mirror, side, 3 * w.across)),
-                                          position("normal", {0, 0, 1})};
-  std::vector<LightPosition> out;
-  for (const auto& p : all) {
-    if (!(p.light_cos > kAboveHorizon)) continue;  // at or below the horizon
-    // At view_cos = 1 only the angle from the normal matters (rotational symmetry).
-    const bool duplicate = std::any_of(out.begin(), out.end(), [&](const LightPosition& q) {
-      return std::fabs(q.light_cos - p.light_cos) <= 1e-12 &&
-             (v == 1 || std::fabs(q.light_azimuth - p.light_azimuth) <= 1e-12);
-    });
-    if (!duplicate) out.push_back(p);
-  }
-  return out;
-}
 
 bool specular_position_near_lobe(const std::string& position) {
   return position == "mirror" || position == "toward-normal" || position == "toward-horizon" || position == "side";

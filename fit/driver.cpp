@@ -306,6 +306,7 @@ const std::vector<Fitter>& fitters() {
       meder_logistic_fitter(),  tokuyoshi2022_steepness_fitter(),
       tokuyoshi2024_t_fitter(), hill_irradiance_fitter(),
       cosine_lobe_sg_fitter(),    sglab_fitter(),
+      sglab_specular_fitter(),
   };
   return all;
 }

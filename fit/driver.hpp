@@ -388,6 +388,7 @@ Fitter tokuyoshi2024_t_fitter();
 Fitter hill_irradiance_fitter();
 Fitter cosine_lobe_sg_fitter();
 Fitter sglab_fitter();
+Fitter sglab_specular_fitter();
 
 // Throws std::invalid_argument naming the offered objectives when `requested` is not one.
 std::string choose_objective(const Fitter& f, const std::string& requested);

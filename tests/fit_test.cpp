@@ -121,8 +121,10 @@ TEST(FitRegistry, EveryFitConvergesFromItsDefaultStart) {
     o.objective = f.objectives.front();
     const FitResult r = f.run(o);
     EXPECT_TRUE(r.converged) << f.name;
-    // sglab's minimax fit is 30 Lawson rounds of a 10139-point least-squares problem (≈ 20 s).
-    EXPECT_LT(r.seconds, f.name == "sglab" ? 120.0 : 1.0) << f.name;
+    // sglab's minimax fit is 30 Lawson rounds of a 10139-point least-squares problem (≈ 20 s);
+    // sglab-specular's 12 IRLS rounds evaluate the specular form with Jets on ~1450 residuals.
+    const double limit = f.name == "sglab" ? 120.0 : f.name == "sglab-specular" ? 120.0 : 1.0;
+    EXPECT_LT(r.seconds, limit) << f.name;
   }
 }
 

@@ -67,6 +67,12 @@ const std::map<std::string, double>& tolerance_ulps() {
       {"specular/asg", 8},
       // The dominant visible normal, its reflection and the normalized product: two more norms.
       {"specular/sg-warp-dvn", 8},
+      // sglab: one log1p and two exp (libmvec, 4 ulps each) feeding a product, and the
+      // exponent's terms (the t power and the light ratio, each up to ~80 in magnitude), whose
+      // rounding the exp turns into a relative error of that size in ulps (measured at λ ≥ 1e4 with
+      // grazing view: ≤ 60 ulps in float, ≤ 66 in double with AVX2/AVX-512; the SSE2 double rows
+      // up to 156 are within the allowance through their condition term): 96.
+      {"specular/sglab", 96},
       {"specular-gaussian-ndf/sg-warp", 8},
       // Meder's cosine: two hemispherical integrals of ~6 transcendental results each, measured
       // against the sum of their magnitudes (measured: ≤ 14 ulps).
@@ -229,7 +235,7 @@ TEST(SimdSpecular, EveryKernelMatchesItsScalarTemplate) {
       check<double>(*m, rd, k, label);
     }
   }
-  EXPECT_EQ(methods, 8);  // specular: 6, specular-gaussian-ndf: 2 (sg-warp-exact-cosine stays scalar)
+  EXPECT_EQ(methods, 9);  // specular: 7, specular-gaussian-ndf: 2 (sg-warp-exact-cosine stays scalar)
   simd::force_isa(isas.back());
 }
 

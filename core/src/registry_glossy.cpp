@@ -175,6 +175,29 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
     q.methods.push_back(method("sg-warp-dvn", "refinement: vMF about the GGX dominant-visible-normal reflection (Tokuyoshi et al. 2024, λ_h = 2/α² − 2) as the VNDF reflection pdf, times F·G2/G1(ωo) at the product axis, exact product",
                                "isotropic lobe (no grazing anisotropy); F·G2/G1 taken at one direction", nullptr,
                                [](auto a) { return specular_sg_warp_dvn(specular_input(a)); }));
+    {
+      const std::string src = "sglab (this project): constants of `sglab fit sglab-specular` (paper_tables/own_specular.md)";
+      using S = SglabSpecular;
+      q.methods.push_back(make_method_with_parameters(
+          "sglab",
+          "sglab (this project): GGX's slope density as a Student t smoothed by the light's Gaussian in slope space (scale s_D = α²/2·(1 + κρ0), ν = 2 + c_ν ρ/(1 − ρ)), "
+          "the BRDF weight and the true light at the product's peak, a horizon factor; constants from `sglab fit sglab-specular` (paper_tables/own_specular.md)",
+          "fitted, not derived: measured on the sweep grid and off it (paper_tables/own_specular.md), none guaranteed between points; the light is Gaussian in slope "
+          "space only near its axis (broad lights at grazing view carry the largest error); roughness held at ≤ 1e4",
+          false, nullptr,
+          {{"nu_slope", "sglab-specular", S::nu_slope, src, ColumnKind::positive},
+           {"inflation", "sglab-specular", S::inflation, src, ColumnKind::nonnegative},
+           {"light_weight", "sglab-specular", S::light_weight, src, ColumnKind::nonnegative},
+           {"light_floor", "sglab-specular", S::light_floor, src, ColumnKind::nonnegative},
+           {"horizon_depth", "sglab-specular", S::horizon_depth, src, ColumnKind::unit_interval},
+           {"horizon_rate", "sglab-specular", S::horizon_rate, src, ColumnKind::nonnegative}},
+          [](auto a) { return specular_sglab(specular_input(a)); },
+          [](auto a, auto p) {
+            using T = std::decay_t<decltype(a[0])>;
+            const SglabSpecularParams<T> c{T(p[0]), T(p[1]), T(p[2]), T(p[3]), T(p[4]), T(p[5])};
+            return specular_sglab(specular_input(a), c);
+          }));
+    }
     q.reference_reach.max_sharpness = kQuadratureMaxSharpness;
     q.reference_reach.rows = 16;
     q.reference_reach.rows_quick = 4;

@@ -10,6 +10,7 @@
 
 #include "sglab/brdf.hpp"
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/specular_sglab.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
 #include "sglab/text_limits.hpp"
@@ -130,6 +131,10 @@ std::array<T, simd_detail::kKernelParams> kernel_params(Kernel k, Params v, bool
     // The specular kernels: the floors of brdf.hpp first, then the method's own constants.
     std::array<T, simd_detail::kKernelParams> q{T(kMinRoughness), T(kMinWarpCosine)};
     for (std::size_t i = 0; i < v.size() && i + 2 < q.size(); ++i) q[i + 2] = T(v[i]);
+    if (k == Kernel::spec_sglab) {  // after its six constants: its roughness ceiling and exponent cap
+      q[8] = T(kSglabSpecularMaxRoughness);
+      q[9] = T(kSglabSpecularMaxExponent);
+    }
     return q;
   }
   return p;
@@ -177,6 +182,7 @@ constexpr Entry kEntries[] = {
     {"specular", "sg-warp-th2019", Kernel::spec_sg_warp_th2019},
     {"specular", "asg", Kernel::spec_asg},
     {"specular", "sg-warp-dvn", Kernel::spec_sg_warp_dvn},
+    {"specular", "sglab", Kernel::spec_sglab},
     {"specular-gaussian-ndf", "sg-warp", Kernel::gndf_sg_warp},
     {"specular-gaussian-ndf", "sg-warp-meder", Kernel::gndf_sg_warp_meder},
 };

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "sglab/clamped_cosine_sglab.hpp"
+#include "sglab/specular_sglab.hpp"
 
 namespace sglab::peer {
 
@@ -254,6 +255,48 @@ T spec_sg_warp_dvn(T a, T l, T lc, T v, T phi, T f0) {
   return f * (T(1) + lo) / (T(1) + lo + li) * integral;
 }
 
+// sglab (this project, specular_sglab.hpp) as a shader author would write it: the 2×2 algebra
+// in full (inverse of I + s_D A, its determinant), pow for the t power, exp of the light ratio,
+// no floors, no rescaling at large λ. Its constants from their single definition (SglabSpecular).
+template <class T>
+T spec_sglab(T a, T l, T lc, T v, T phi, T f0) {
+  using S = SglabSpecular;
+  const V3<T> wo = view_of(v), xi = light_of(lc, phi);
+  const V3<T> h = normalize(wo + xi);
+  const T mx = -h.x / h.z, my = -h.y / h.z;
+  const T woh = dot(wo, h);
+  const T qx = -(wo.x - woh * h.x) * h.z, qy = -(wo.y - woh * h.y) * h.z;
+  const T k = woh * woh * h.z * h.z;
+  // A = λ JᵀJ.
+  const T a00 = l * T(4) * (qx * qx + k * (T(1) - h.x * h.x));
+  const T a01 = l * T(4) * (qx * qy - k * h.x * h.y);
+  const T a11 = l * T(4) * (qy * qy + k * (T(1) - h.y * h.y));
+  const T tr = a00 + a11, det = a00 * a11 - a01 * a01;
+  const T rho0 = tr / (tr + T(2) * a * a * det);
+  const T sd = a * a / T(2) * (T(1) + T(S::inflation) * rho0);
+  // C = I + s_D A, M = A C⁻¹.
+  const T c00 = T(1) + sd * a00, c01 = sd * a01, c11 = T(1) + sd * a11;
+  const T dc = c00 * c11 - c01 * c01;
+  const T i00 = c11 / dc, i01 = -c01 / dc, i11 = c00 / dc;
+  const T m00 = a00 * i00 + a01 * i01, m01 = a00 * i01 + a01 * i11, m11 = a01 * i01 + a11 * i11;
+  const T q = mx * (m00 * mx + m01 * my) + my * (m01 * mx + m11 * my);
+  const T nu = T(2) + T(S::nu_slope) * tr / (T(2) * sd * det);
+  const T smoothed = std::pow(T(1) + q / nu, -(nu / T(2) + T(1))) / std::sqrt(dc);
+  const T msx = sd * (m00 * mx + m01 * my), msy = sd * (m01 * mx + m11 * my);
+  const V3<T> hs = normalize(V3<T>{-msx, -msy, T(1)});
+  const V3<T> ws = (T(2) * dot(wo, hs)) * hs + T(-1) * wo;
+  const T dx = msx - mx, dy = msy - my;
+  const T quad = T(-0.5) * (dx * (a00 * dx + a01 * dy) + dy * (a01 * dx + a11 * dy));
+  const T ratio = std::exp(T(S::light_weight) * std::max(l * (dot(xi, ws) - T(1)) - quad, T(-S::light_floor)));
+  const T w2 = (sd * ((a00 / l) * i00 + T(2) * (a01 / l) * i01 + (a11 / l) * i11));
+  const T horizon = T(1) - T(S::horizon_depth) * std::exp(-T(S::horizon_rate) * ws.z / std::sqrt(w2));
+  if (ws.z <= T(0)) return T(0);
+  const T nl = ws.z, nv = wo.z, a2 = a * a, coh = dot(wo, hs);
+  const T f = f0 + (T(1) - f0) * std::pow(T(1) - coh, T(5));
+  const T vis = T(0.5) / (nl * std::sqrt(nv * nv * (T(1) - a2) + a2) + nv * std::sqrt(nl * nl * (T(1) - a2) + a2));
+  return T(4) * coh / hs.z * f * vis * nl * std::min(smoothed * ratio, T(1)) * horizon;
+}
+
 // The Gaussian-angle NDF (Wang et al. 2009, as restated with Meder's cosine by PhySG): the warped
 // lobe G(ω; mirror, (2/m²)/(4 n·ωo)), F(n·ωo)/(π n·ωo)·∫G G; or F/(π (n·ωo)²)·e^{λ3−λ−λ_D}·Meder's
 // clamped cosine of the product lobe.
@@ -319,6 +362,7 @@ inline constexpr Port kPorts[] = {
     SGLAB_PEER_PORT6("specular", "sg-warp-th2019", spec_sg_warp_th2019),
     SGLAB_PEER_PORT6("specular", "asg", spec_asg),
     SGLAB_PEER_PORT6("specular", "sg-warp-dvn", spec_sg_warp_dvn),
+    SGLAB_PEER_PORT6("specular", "sglab", spec_sglab),
     SGLAB_PEER_PORT6("specular-gaussian-ndf", "sg-warp", gndf_sg_warp),
     SGLAB_PEER_PORT6("specular-gaussian-ndf", "sg-warp-meder", gndf_sg_warp_meder),
 };

@@ -18,6 +18,7 @@
 #include "sglab/glossy_reference.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
+#include "sglab/specular_sglab.hpp"
 
 namespace sglab {
 
@@ -131,6 +132,14 @@ T specular_sg_warp_dvn(const SpecularInput<T>& in) {
   const Vec3<T> h = half_vector(wo, xm);
   const T weight = fresnel_schlick(in.f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, wo(2), ci);
   return weight * integral;
+}
+
+// `sglab` (this project; specular_sglab.hpp): the GGX slope density as a Student t, smoothed by
+// the light's Gaussian in slope space, the BRDF weight and the true light at the product's peak.
+template <class T>
+T specular_sglab(const SpecularInput<T>& in, const SglabSpecularParams<T>& p = SglabSpecularParams<T>::fitted()) {
+  return specular_sglab_with(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
+                             specular_view(in.view_cos), in.f0, p);
 }
 
 // The exact reference for one input (double quadrature; see glossy_reference.hpp).

@@ -412,6 +412,7 @@ constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
     &run_specular<Arch, T, SpecSgWarp<false, false, false>>, &run_specular<Arch, T, SpecSgWarp<false, false, true>>,
     &run_specular<Arch, T, SpecSgWarp<true, false, false>>,  &run_specular<Arch, T, SpecSgWarp<false, true, false>>,
     &run_specular<Arch, T, SpecAsg>,                         &run_specular<Arch, T, SpecSgWarpDvn>,
+    &run_specular<Arch, T, SpecSglab>,
     &run_specular<Arch, T, GndfSgWarp>,                      &run_specular<Arch, T, GndfSgWarpMeder>};
 
 template <class Arch>

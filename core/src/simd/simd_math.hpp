@@ -84,6 +84,11 @@ inline B vm_expm1(const B& x0) {
   const B x = xsimd::select(x0 < B(Saturation<T>::expm1_lo), B(Saturation<T>::expm1_lo), x0);
   return SGLAB_VEC(expm1, x);
 }
+// log1p for x ≥ 0 (the `specular` sglab kernel's t power).
+template <class B>
+inline B vm_log1p(const B& x) {
+  return SGLAB_VEC(log1p, x);
+}
 template <class B>
 inline B vm_erf(const B& x0) {
   using T = value_t<B>;

@@ -32,6 +32,7 @@ enum class Kernel : int {
   spec_sg_warp_th2019,
   spec_asg,
   spec_sg_warp_dvn,
+  spec_sglab,          // p: the floors, nu_slope … horizon_rate, the roughness ceiling and exponent cap
   gndf_sg_warp,        // `specular-gaussian-ndf`
   gndf_sg_warp_meder,  // p: the Meder cosine SG's amplitude, sharpness, offset, p1…p4
   count

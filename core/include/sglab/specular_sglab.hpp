@@ -1,0 +1,195 @@
+// `sglab` of the `specular` quantity: this project's own approximation of the reflection of an SG
+// light off GGX (height-correlated Smith, Schlick), L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω.
+// Write-up: paper_tables/own_specular.md; the derivation in docs/math.md ("sglab specular").
+//
+// Derivation. Write the integral over the microfacet slope m (h = (−m, 1)/√(1 + |m|²)) instead
+// of ω. f⟨ω·n⟩dω = D(h)M(ω)dω with M = F·V·⟨ω·n⟩ (brdf_factor_m), dω = 4(ωo·h)dh and
+// D(h)dh = P22(m)dm/h_z, so
+//   L = ∫ G(ω(m); ξ, λ) P22(m) W(m) dm,   W = 4(ωo·h)/h_z · M(ω(m)).
+// 1. GGX's slope density is the bivariate Student t with ν = 2 and scale α²/2,
+//    P22(m) = 1/(πα²)·(1 + |m|²/α²)^{−2} (Walter et al. 2007 Eq. 33 in slope space; Heitz 2014).
+// 2. Around m_ξ (the slope of the half vector of ωo and ξ) the light is Gaussian in m:
+//    G ≈ exp(−½ δᵀAδ), A = λ JᵀJ, J = ∂ω/∂m. With h_xy, q = h_z·(−(ωo − (ωo·h)h))_xy:
+//    JᵀJ = 4[q qᵀ + (ωo·h)²h_z²(I − h_xy h_xyᵀ)] (from ω = 2(ωo·h)h − ωo, h ⟂ ∂h).
+// 3. ∫ K P22 is then a Gaussian-smoothed t density at m_ξ. A Gaussian's convolution with a t is
+//    again nearly a t whose scale matrix adds the Gaussian's covariance, with more degrees of
+//    freedom the larger the Gaussian's share ρ of the spread (a t is a scale mixture of Gaussians;
+//    adding a fixed covariance narrows the mixture). So
+//      ∫ K P22 dm ≈ det(I + s_D A)^{−½}·(1 + Q/ν)^{−(ν/2 + 1)},
+//      s_D = ½α²(1 + κ ρ0), Q = m_ξᵀ(A⁻¹ + s_D I)⁻¹m_ξ, ν = 2 + c_ν ρ/(1 − ρ),
+//    ρ0 = tr(A⁻¹)/(tr(A⁻¹) + 2α²), ρ = tr(A⁻¹)/(tr(A⁻¹) + 2 s_D): ν = 2 (GGX) for a point light,
+//    → ∞ (Gaussian) when the light dominates; κ (`inflation`) and c_ν (`nu_slope`) are fitted.
+// 4. W is taken at the product's peak m* = s_D(A⁻¹ + s_D I)⁻¹m_ξ (ω* its reflection), and the
+//    quadratic light model is replaced there by the true light: the factor
+//      exp(w·max(λ(ξ·ω* − 1) + ½ dᵀAd, −f)),  d = m* − m_ξ,
+//    (`light_weight` w, `light_floor` f, fitted) corrects the Gaussian in m where it is poor (broad
+//    lights, grazing view); the integral is capped at 1 (K ≤ 1 and ∫P22 = 1).
+// 5. The lobe's part below the horizon is missing from ∫P22 = 1: with t = ω*_z/w (w² = E|δω|²
+//    over the product, tr(JᵀJ·s_D(I + s_D A)⁻¹)), the factor 1 − h_d·e^{−h_r t} (`horizon_depth`,
+//    `horizon_rate`, fitted).
+// Limits: λ → ∞ gives (2π/λ)·f⟨ξ·n⟩ (the point light) to the t form's accuracy; α → 0 gives F·G
+// at the mirror direction (det(I + s_D A) → 1, the integral → the light's value at the mirror).
+//
+// Everything is written with A's trace and determinant only (A and I + s_D A commute; Cayley–
+// Hamilton): with S = tr JᵀJ, Δ = det JᵀJ = 16k(|q|² − (q × h_xy)² + k h_z²) ≥ 0 (k = (ωo·h)²h_z²)
+// and s = s_D λ, det(I + s_D A) = 1 + s(S + sΔ), A(I + s_D A)⁻¹ = (A + s_D det A·I)/det(I + s_D A).
+// Above s = 1 every ratio is divided through by s² (λ up to the largest finite float). Only one
+// sqrt of det, one log1p (the t power as Q·log1p(x)/x, exact as x → 0) and one exp; the clamps keep
+// every factor finite and ≥ 0 for every finite input in float and double (tests/specular_test.cpp).
+#pragma once
+
+#include <algorithm>
+#include <limits>
+
+#include "sglab/brdf.hpp"
+#include "sglab/scalar.hpp"
+#include "sglab/sg.hpp"
+
+namespace sglab {
+
+// The fitted constants, in one place: the exploratory fit of the objective of `sglab fit
+// sglab-specular` (Nelder–Mead in scipy against the same quadrature references on the same grid;
+// brightness-weighted error + bright SMAPE), printed with %.17g (round-trip digits). `sglab fit
+// sglab-specular` re-derives them with Ceres (fit/sglab_specular.cpp; its record judges both).
+struct SglabSpecular {
+  static constexpr double nu_slope = 2.893977942635126;
+  static constexpr double inflation = 0.9841108750322174;
+  static constexpr double light_weight = 1.215235190311403;
+  static constexpr double light_floor = 2.0138124709730194;
+  static constexpr double horizon_depth = 0.4168545149496669;
+  static constexpr double horizon_rate = 1.031837551468632;
+};
+
+// Roughness ceiling of this method: the form squares α and multiplies it with λ; above 1e4 GGX
+// reflects less than 1e-8 of what it does at α = 1, and the value is held at α = 1e4's.
+inline constexpr double kSglabSpecularMaxRoughness = 1e4;
+// Exponent cap of the corrected integral and of the light correction alone (step 4): e^80 is
+// finite in float; the integral is ≤ 1 anyway, so the caps only matter where the det factor is
+// below e^{−80} or the true light exceeds the Gaussian model by e^80 (and keep −∞ + ∞ out).
+inline constexpr double kSglabSpecularMaxExponent = 80;
+
+template <class T>
+struct SglabSpecularParams {
+  T nu_slope, inflation, light_weight, light_floor, horizon_depth, horizon_rate;
+  static SglabSpecularParams fitted() {
+    using S = SglabSpecular;
+    return {T(S::nu_slope), T(S::inflation), T(S::light_weight), T(S::light_floor), T(S::horizon_depth), T(S::horizon_rate)};
+  }
+};
+
+namespace detail {
+
+// 4(ωo·h)/h_z · F·V·⟨ω·n⟩ = 2(ωo·h)F·ω_z/(h_z(ω_z S_o + ωo_z S_i)): the weight W of the slope
+// integral (M of brdf_factor_m with the half-vector Jacobian). 0 below the horizon.
+template <class T>
+T sglab_slope_weight(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& w, const Vec3<T>& h) {
+  const T ci = w(2), co = wo(2);
+  if (!(value_of(ci) > 0) || value_of(co) < 0 || !(value_of(h(2)) > 0)) return T(0);
+  const T coh = clamp(T(wo.dot(h)), T(0), T(1));
+  const T den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
+  if (!(value_of(den) > 0)) return T(0);
+  return T(2) * coh * fresnel_schlick(f0, coh) * ci / (h(2) * den);
+}
+
+// log1p(x)/x for x ≥ 0 (1 at x = 0).
+template <class T>
+T log1p_over_x(const T& x) {
+  using std::log1p;
+  if (!(value_of(x) > 0)) return T(1);
+  return log1p(x) / x;
+}
+
+}  // namespace detail
+
+template <class T>
+T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T>& xi, const Vec3<T>& wo, const T& f0,
+                      const SglabSpecularParams<T>& p) {
+  using std::exp;
+  using std::log1p;
+  using std::max;
+  using std::min;
+  using std::sqrt;
+  const T alpha = min(max(roughness, T(kMinRoughness)), T(kSglabSpecularMaxRoughness));
+  const T lambda = max(light_sharpness, T(0));
+  const T a2 = alpha * alpha;
+  // Half vector of ωo and ξ and its slope (h_z floored like the warps' cosines).
+  const Vec3<T> h = half_vector(wo, xi);
+  const T hz = max(T(h(2)), T(kMinWarpCosine));
+  const T mx = -h(0) / hz, my = -h(1) / hz;
+  // JᵀJ (step 2): k = (ωo·h)²h_z², q = h_z·(−(ωo − (ωo·h)h))_xy.
+  const T woh = T(wo.dot(h));
+  const T qx = -(wo(0) - woh * h(0)) * hz, qy = -(wo(1) - woh * h(1)) * hz;
+  const T k = woh * woh * hz * hz;
+  const T j00 = T(4) * (qx * qx + k * (T(1) - h(0) * h(0)));
+  const T j01 = T(4) * (qx * qy - k * h(0) * h(1));
+  const T j11 = T(4) * (qy * qy + k * (T(1) - h(1) * h(1)));
+  const T cross = qx * h(1) - qy * h(0);
+  const T tr = j00 + j11;  // S
+  const T det = max(T(T(16) * k * (qx * qx + qy * qy - cross * cross + k * hz * hz)), T(0));  // Δ
+  // ρ0 = S/(S + 2α²λΔ) (1 when the light has no precision at all).
+  const T rho_den = tr + T(2) * a2 * lambda * det;
+  const T rho0 = value_of(rho_den) > 0 ? T(tr / rho_den) : T(1);
+  const T sd = a2 / T(2) * (T(1) + p.inflation * rho0);
+  const T s = sd * lambda;
+  const T mJm = mx * (j00 * mx + j01 * my) + my * (j01 * mx + j11 * my);
+  const T mm = mx * mx + my * my;
+  const T jmx = j00 * mx + j01 * my, jmy = j01 * mx + j11 * my;
+  // det(I + s_D A) = 1 + s(S + sΔ); Q = λ(mᵀJm + sΔ|m|²)/det; m* = s(Jm + sΔm)/det;
+  // w² = s_D(S + 2sΔ)/det; 1/ν = 2sΔ/(4sΔ + c_ν S). Above s = 1 divided through by s².
+  T root_det, q, msx, msy, w2, inv_nu;
+  if (value_of(s) <= 1) {
+    const T dc = T(1) + s * (tr + s * det);
+    root_det = sqrt(dc);
+    q = lambda * (mJm + s * det * mm) / dc;
+    msx = s * (jmx + s * det * mx) / dc;
+    msy = s * (jmy + s * det * my) / dc;
+    w2 = sd * (tr + T(2) * s * det) / dc;
+    const T nd = T(4) * s * det + p.nu_slope * tr;
+    inv_nu = value_of(nd) > 0 ? T(T(2) * s * det / nd) : T(0);
+  } else {
+    const T u = T(1) / s;
+    // det(I + s_D A)/s² > 0; held at the smallest normal number where every term underflows
+    // (float, α ≤ 1e-3 at exactly grazing view with λ near FLT_MAX: 0/0 otherwise).
+    const T dn = max(T(u * u + u * tr + det), T(std::numeric_limits<value_type_t<T>>::min()));
+    root_det = s * sqrt(dn);
+    q = (u * mJm + det * mm) / sd / dn;  // two divisions: s_D·dn underflows float at α → 0
+    msx = (u * jmx + det * mx) / dn;
+    msy = (u * jmy + det * my) / dn;
+    w2 = u * sd * (u * tr + T(2) * det) / dn;
+    const T nd = T(4) * det + p.nu_slope * tr * u;
+    inv_nu = value_of(nd) > 0 ? T(T(2) * det / nd) : T(0);
+  }
+  // det(I + s_D A) ≥ 1; rounding (dn underflowing in float) must not make it 0.
+  root_det = max(root_det, T(1));
+  // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·Q·log1p(x)/x), x = Q/ν; above x = 1 as
+  // −(½ + 1/ν)/(1/ν)·log1p(x), so that Q = ∞ (float overflow at grazing view) gives −∞, not NaN.
+  const T x = value_of(inv_nu) > 0 ? T(q * inv_nu) : T(0);
+  const T t_exponent = value_of(x) > 1 ? T(-(T(0.5) + inv_nu) / inv_nu * log1p(x))
+                                       : T(-(T(0.5) + inv_nu) * q * detail::log1p_over_x(x));
+  // The product's peak: h* from m*, ω* its reflection of ωo.
+  Vec3<T> hs(-msx, -msy, T(1));
+  hs /= T(hs.norm());
+  const Vec3<T> ws = reflect_about(wo, hs);
+  const bool above = value_of(ws(2)) > 0;
+  T light = T(0), weight, horizon = T(1);
+  if (above) {
+    // λ(ξ·ω* − 1) + ½dᵀAd = −½λ(|ξ − ω*|² − dᵀJd): one product, no ∞ − ∞.
+    const T dx = msx - mx, dy = msy - my;
+    const T dJd = dx * (j00 * dx + j01 * dy) + dy * (j01 * dx + j11 * dy);
+    const Vec3<T> e = xi - ws;
+    const T diff = T(-0.5) * lambda * (T(e.squaredNorm()) - dJd);
+    light = min(T(p.light_weight * max(diff, T(-p.light_floor))), T(kSglabSpecularMaxExponent));
+    weight = detail::sglab_slope_weight(alpha, f0, wo, ws, hs);
+    const T wr = sqrt(w2);
+    if (value_of(wr) > 0) {
+      horizon = T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) / wr));
+    }
+  } else {
+    weight = detail::sglab_slope_weight(alpha, f0, wo, xi, h);
+  }
+  const T exponent = min(T(t_exponent + light), T(kSglabSpecularMaxExponent));
+  const T integral = min(T(exp(exponent) / root_det), T(1));
+  return weight * integral * horizon;
+}
+
+}  // namespace sglab
