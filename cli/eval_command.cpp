@@ -291,19 +291,19 @@ void run_eval(const EvalOptions& o) {
                                  fmt::join(quantity_names(), ", ")));
   const Quantity* q = find_quantity(o.quantity);
   if (!q)
-    throw UsageError(fmt::format("unknown quantity '{}'; valid quantities: {}", o.quantity,
+    throw UsageError(fmt::format("unknown quantity {}; valid quantities: {}", quote(o.quantity),
                                  fmt::join(quantity_names(), ", ")));
   if (o.method.empty())
     throw UsageError(fmt::format("eval {} needs --method, one of: {}", q->name,
                                  fmt::join(method_names(*q), ", ")));
   const Method* m = q->find(o.method);
   if (!m)
-    throw UsageError(fmt::format("unknown method '{}' for quantity '{}'; valid methods: {}",
-                                 o.method, q->name, fmt::join(method_names(*q), ", ")));
+    throw UsageError(fmt::format("unknown method {} for quantity '{}'; valid methods: {}",
+                                 quote(o.method), q->name, fmt::join(method_names(*q), ", ")));
   const auto precision = parse_precision(o.precision);
   if (!precision)
     throw UsageError(
-        fmt::format("unknown precision '{}'; valid precisions: {}", o.precision,
+        fmt::format("unknown precision {}; valid precisions: {}", quote(o.precision),
                     fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
 
   check_output_paths({{"--out", o.out}}, {{"--in", o.in}});

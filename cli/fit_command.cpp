@@ -22,6 +22,7 @@
 #include "fit_all.hpp"
 #include "fit_record.hpp"
 #include "record.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -80,7 +81,7 @@ void run_fit(const FitArgs& a) {
   if (!f) {
     std::string names;
     for (const auto& g : fit::fitters()) names += " " + g.name;
-    throw UsageError("unknown fit '" + a.name + "' (fits:" + names + ", all)");
+    throw UsageError("unknown fit " + quote(a.name) + " (fits:" + names + ", all)");
   }
   const fit::FitResult r = fit_all::run_one(*f, a.objective, o);
   const Judgement jd = judge(*f, r);

@@ -30,6 +30,7 @@
 #include "experiment_command.hpp"
 #include "registry.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace error_map {
@@ -37,10 +38,10 @@ namespace {
 
 const Quantity& checked_quantity(const Options& o) {
   const Quantity* q = find_quantity(o.quantity);
-  if (!q) throw UsageError("error-map: unknown quantity '" + o.quantity + "'");
+  if (!q) throw UsageError("error-map: unknown quantity " + quote(o.quantity));
   if (q->reference_method.empty() || q->columns.size() != 2 || q->columns[0].kind != ColumnKind::sharpness ||
       q->columns[1].kind != ColumnKind::cosine)
-    throw UsageError("error-map: quantity '" + o.quantity + "' is not a (sharpness, cosine) quantity with a reference");
+    throw UsageError("error-map: quantity " + quote(o.quantity) + " is not a (sharpness, cosine) quantity with a reference");
   return *q;
 }
 

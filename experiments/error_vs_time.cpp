@@ -27,6 +27,7 @@
 #include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
 #include "registry.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace error_vs_time {
@@ -237,9 +238,9 @@ bool is_diffuse(const Quantity& q) {
 
 const Quantity& checked_quantity(const std::string& name) {
   const Quantity* q = find_quantity(name);
-  if (!q) throw UsageError("error-vs-time: unknown quantity '" + name + "'");
+  if (!q) throw UsageError("error-vs-time: unknown quantity " + quote(name));
   if (q->reference_method.empty() || (!is_diffuse(*q) && q->name != "specular"))
-    throw UsageError("error-vs-time: quantity '" + name +
+    throw UsageError("error-vs-time: quantity " + quote(name) +
                      "' has no error grid (a (sharpness, cosine) quantity with a reference, or specular)");
   return *q;
 }

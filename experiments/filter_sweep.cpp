@@ -29,6 +29,7 @@
 #include "parse_number.hpp"
 #include "sweep.hpp"  // csv_number
 #include "registry.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace filter_sweep {
@@ -59,7 +60,7 @@ void parse_lists(const Options& o, Result& r) {
     try {
       r.roughness.push_back(parse_decimal<double>(t));
     } catch (const NumberError& e) {
-      throw UsageError(fmt::format("--roughness: '{}' {}", t, e.what()));
+      throw UsageError(fmt::format("--roughness: {} {}", quote(t), e.what()));
     }
   }
   for (const auto& t : split(o.scales)) {
@@ -67,9 +68,9 @@ void parse_lists(const Options& o, Result& r) {
     try {
       x = parse_decimal<double>(t);
     } catch (const NumberError& e) {
-      throw UsageError(fmt::format("--scale: '{}' {}", t, e.what()));
+      throw UsageError(fmt::format("--scale: {} {}", quote(t), e.what()));
     }
-    if (x != std::floor(x) || x < 1 || x > 64) throw UsageError(fmt::format("--scale: '{}' is not an integer in [1, 64]", t));
+    if (x != std::floor(x) || x < 1 || x > 64) throw UsageError(fmt::format("--scale: {} is not an integer in [1, 64]", quote(t)));
     r.scales.push_back(int(x));
   }
   for (const auto& t : split(o.weights)) r.weights.push_back(parse_weights_option(t));
@@ -279,7 +280,7 @@ Result compute(const Options& options) {
   apply_filter_constants(o.job);
   if (o.job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
   if (o.table.empty() || o.table.find_first_of("/\\ ") != std::string::npos)
-    throw UsageError(fmt::format("--table '{}' is not a file name", o.table));
+    throw UsageError(fmt::format("--table {} is not a file name", quote(o.table)));
   parse_lists(o, r);
   check_filter_parameters(o.job.parameters);
   const render::FilterInputOptions input_options = filter_input_options(o.job);

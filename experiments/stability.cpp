@@ -18,6 +18,7 @@
 #include "constant_sets.hpp"
 #include "stability_atlas.hpp"
 #include "table.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -40,7 +41,7 @@ std::vector<std::filesystem::path> checked_outputs(const Options& o) {
     if (!find_quantity(name)) {
       std::string known;
       for (const auto& q : quantities()) known += (known.empty() ? "" : ", ") + q.name;
-      throw UsageError("stability: unknown quantity '" + name + "' (known: " + known + ")");
+      throw UsageError("stability: unknown quantity " + quote(name) + " (known: " + known + ")");
     }
   for (const auto& [option, dir] : {std::pair{"--out", o.out_dir}, std::pair{"--tables", o.tables_dir}})
     for (fs::path p = dir; !p.empty(); p = p.parent_path()) {  // the deepest existing one must be a directory

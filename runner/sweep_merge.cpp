@@ -78,6 +78,11 @@ std::vector<ShardFile> find_shards(
     field("columns", strings("columns"), "an array of strings");
     field("rows", f.json.contains("rows") && f.json["rows"].is_number_unsigned(), "a non-negative integer");
     field("points_fnv1a", f.json.contains("points_fnv1a") && f.json["points_fnv1a"].is_string(), "a string");
+    // Shards of another version of sglab may compute other values: never mixed into one table.
+    field("version", f.json.contains("version") && f.json["version"].is_string(), "a string");
+    if (f.json["version"].get<std::string>() != code_version())
+      throw InputError(fmt::format("merge: {}: written by {}, this is {}; rerun the shard with this version", p.string(),
+                                   quote(f.json["version"].get<std::string>()), code_version()));
     const std::string name = f.json["sweep"].get<std::string>();
     if (!valid_sweep_name(name))
       throw InputError(fmt::format("merge: {}: sweep name '{}' is not a plain file name (letters, digits, _ . -)", p.string(),
@@ -114,7 +119,7 @@ std::vector<ShardFile> find_shards(
 void check_same_sweep(const std::string& name, const std::vector<const ShardFile*>& group) {
   const ShardFile& first = *group.front();
   for (const ShardFile* s : group)
-    for (const char* key : {"args", "grid", "points", "columns"})
+    for (const char* key : {"args", "grid", "points", "columns", "version"})
       if (s->json[key] != first.json[key])
         throw InputError(fmt::format("merge: sweep '{}': '{}' differs between {} ({}) and {} ({})", name, key,
                                      first.manifest.string(), clip_text(first.json[key].dump()), s->manifest.string(),
@@ -234,8 +239,14 @@ Pending merge_group(const std::string& name, const std::vector<const ShardFile*>
   m["merged_from"] = sources;
   m["points_fnv1a"] = fnv1a_hex(p.csv);
   p.manifest = m.dump(2) + "\n";
-  p.merged = {name, first.json["args"].get<std::vector<std::string>>(), sweep_points_path(out_dir, name, Shard{}), n, group.size()};
   p.manifest_path = sweep_manifest_path(out_dir, name, Shard{});
+  p.merged = {.name = name,
+              .args = first.json["args"].get<std::vector<std::string>>(),
+              .points_csv = sweep_points_path(out_dir, name, Shard{}),
+              .manifest = p.manifest_path,
+              .points = n,
+              .shards = group.size(),
+              .replaced = {}};
   return p;
 }
 
@@ -254,6 +265,13 @@ std::vector<MergedSweep> merge_sweep_shards(
   fs::create_directories(out_dir);
   std::vector<MergedSweep> out;
   for (auto& p : pending) {
+    for (const fs::path& target : {p.merged.points_csv, p.manifest_path}) {
+      std::error_code ec;
+      if (!fs::exists(target, ec)) continue;
+      const fs::path backup = target.parent_path() / ("." + target.filename().string() + ".merge-backup");
+      fs::rename(target, backup);
+      p.merged.replaced.emplace_back(target, backup);
+    }
     write_file_atomically(p.merged.points_csv, p.csv);
     write_file_atomically(p.manifest_path, p.manifest);
     std::error_code ec;
@@ -261,6 +279,23 @@ std::vector<MergedSweep> merge_sweep_shards(
     out.push_back(p.merged);
   }
   return out;
+}
+
+void keep_merge(const std::vector<MergedSweep>& merged) {
+  for (const auto& m : merged)
+    for (const auto& [target, backup] : m.replaced) {
+      std::error_code ec;
+      fs::remove(backup, ec);
+    }
+}
+
+void undo_merge(const std::vector<MergedSweep>& merged) {
+  for (const auto& m : merged) {
+    std::error_code ec;
+    fs::remove(m.points_csv, ec);
+    fs::remove(m.manifest, ec);
+    for (const auto& [target, backup] : m.replaced) fs::rename(backup, target, ec);
+  }
 }
 
 }  // namespace sglab::runner
