@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <array>
@@ -45,7 +46,7 @@ SgMixture parse_mixture(std::string_view text, const std::string& name) {
   try {
     j = nlohmann::json::parse(text);
   } catch (const std::exception& e) {
-    throw fail(std::string("not JSON (") + bounded_message(e.what(), 300) + ")");
+    throw fail(std::string("is not JSON (") + bounded_message(e.what(), 300) + ")");
   }
   if (!j.is_object()) throw fail("not a JSON object (a fit record of `sglab fit envmap --json`)");
   if (!j.contains("fit") || !j["fit"].is_string() || j["fit"].get<std::string>() != "envmap")
@@ -98,6 +99,9 @@ SgMixture parse_mixture(std::string_view text, const std::string& name) {
 }
 
 SgMixture load_mixture(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec)))
+    throw EnvironmentError("mixture " + quote(path) + ": no such file");
   std::string text;
   try {
     text = read_input_file(path, kMaxJsonBytes, "a mixture record");
