@@ -61,9 +61,9 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
 nlohmann::json load_scene_document(const std::string& path, const std::vector<std::string>& overrides) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("the scene '{}' is a directory, not a JSON file", path));
+  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("the scene {} is a directory, not a JSON file", quote(path)));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(fmt::format("cannot open the scene file '{}'", path));
+  if (!in) throw UsageError(fmt::format("cannot open the scene file {}", quote(path)));
   std::ostringstream text;
   text << in.rdbuf();
   return scene_document_from_text(text.str(), path, overrides);
