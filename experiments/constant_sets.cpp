@@ -45,26 +45,26 @@ std::vector<std::string> record_files(const std::string& p) {
   if (fs::is_directory(status)) {
     std::vector<std::string> files;
     fs::directory_iterator it(p, ec), end;
-    if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", quote(p), ec.message()));
+    if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
     for (; it != end; it.increment(ec)) {
-      if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", quote(p), ec.message()));
+      if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
       if (it->path().extension() != ".json") continue;
       std::error_code entry_ec;
       const bool regular = it->is_regular_file(entry_ec);
       if (entry_ec)
-        throw UsageError(fmt::format("--constants {}: {} cannot be examined ({})", quote(p), quote(it->path().filename().string()),
+        throw UsageError(fmt::format("--constants {}: {} cannot be examined ({})", clip_text(p), quote(it->path().filename().string()),
                                      entry_ec.message()));
       if (regular) files.push_back(it->path().string());
     }
-    if (files.empty()) throw UsageError(fmt::format("--constants {}: the directory holds no fit record (*.json)", quote(p)));
+    if (files.empty()) throw UsageError(fmt::format("--constants {}: the directory holds no fit record (*.json)", clip_text(p)));
     std::sort(files.begin(), files.end());
     return files;
   }
   if (fs::exists(status)) return {p};
   if (ec && ec != std::errc::no_such_file_or_directory)
-    throw UsageError(fmt::format("--constants {}: cannot be examined ({})", quote(p), ec.message()));
+    throw UsageError(fmt::format("--constants {}: cannot be examined ({})", clip_text(p), ec.message()));
   throw UsageError(fmt::format("--constants {}: no such file or directory (a fit record, a directory of them, or 'published')",
-                               quote(p)));
+                               clip_text(p)));
 }
 
 void load_record(const std::string& file, ConstantSet& set) {
@@ -146,7 +146,7 @@ ConstantSet load_constant_sets(const std::vector<std::string>& paths) {
       for (const auto& v : record.values) {
         const auto [it, fresh] = set_by.emplace(std::pair(v.fit, v.name), f);
         if (!fresh)
-          throw UsageError(fmt::format("--constants {}: {}.{} is set by two records ({} and {}); keep one", quote(p), v.fit,
+          throw UsageError(fmt::format("--constants {}: {}.{} is set by two records ({} and {}); keep one", clip_text(p), v.fit,
                                        v.name, quote(it->second), quote(f)));
         set.set(v);
       }
