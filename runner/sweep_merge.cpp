@@ -78,11 +78,6 @@ std::vector<ShardFile> find_shards(
     field("columns", strings("columns"), "an array of strings");
     field("rows", f.json.contains("rows") && f.json["rows"].is_number_unsigned(), "a non-negative integer");
     field("points_fnv1a", f.json.contains("points_fnv1a") && f.json["points_fnv1a"].is_string(), "a string");
-    // Shards of another version of sglab may compute other values: never mixed into one table.
-    field("version", f.json.contains("version") && f.json["version"].is_string(), "a string");
-    if (f.json["version"].get<std::string>() != code_version())
-      throw InputError(fmt::format("merge: {}: written by {}, this is {}; rerun the shard with this version", p.string(),
-                                   quote(f.json["version"].get<std::string>()), code_version()));
     const std::string name = f.json["sweep"].get<std::string>();
     if (!valid_sweep_name(name))
       throw InputError(fmt::format("merge: {}: sweep name '{}' is not a plain file name (letters, digits, _ . -)", p.string(),
@@ -119,7 +114,7 @@ std::vector<ShardFile> find_shards(
 void check_same_sweep(const std::string& name, const std::vector<const ShardFile*>& group) {
   const ShardFile& first = *group.front();
   for (const ShardFile* s : group)
-    for (const char* key : {"args", "grid", "points", "columns", "version"})
+    for (const char* key : {"args", "grid", "points", "columns"})
       if (s->json[key] != first.json[key])
         throw InputError(fmt::format("merge: sweep '{}': '{}' differs between {} ({}) and {} ({})", name, key,
                                      first.manifest.string(), clip_text(first.json[key].dump()), s->manifest.string(),
@@ -212,6 +207,14 @@ Pending merge_group(const std::string& name, const std::vector<const ShardFile*>
   const auto n = first.json["points"].get<std::size_t>();
   const auto header = first.json["columns"].get<std::vector<std::string>>();
   const std::vector<CsvTable> tables = read_shard_tables(name, group, n);
+  // Shards of another version of sglab may compute other values: never mixed into one table.
+  for (const ShardFile* sh : group) {
+    if (!sh->json.contains("version") || !sh->json["version"].is_string())
+      throw InputError(fmt::format("merge: {}: the manifest has no 'version'", sh->manifest.string()));
+    if (sh->json["version"].get<std::string>() != code_version())
+      throw InputError(fmt::format("merge: {}: written by {}, this is {}; rerun the shard with this version", sh->manifest.string(),
+                                   quote(sh->json["version"].get<std::string>()), code_version()));
+  }
   std::vector<std::vector<std::vector<std::string>>> rows(n);
   std::vector<const ShardFile*> owner(n, nullptr);
   double seconds = 0;
