@@ -36,6 +36,8 @@ int run_sglab(std::vector<std::string> args) {
   CLI::App app{"sglab: spherical Gaussian lighting research toolkit"};
   app.require_subcommand(1);
   add_all_commands(app);
+  // CLI11's own messages quote the bad value whole ("--width: Value … could not be converted").
+  app.failure_message([](const CLI::App* a, const CLI::Error& e) { return bounded_message(CLI::FailureMessage::simple(a, e)); });
   // CLI11 would report an unknown command as "A subcommand is required".
   std::string names;
   bool known = false;
@@ -50,7 +52,7 @@ int run_sglab(std::vector<std::string> args) {
   try {
     (void)simd::active_isa();  // a bad SGLAB_SIMD is bad input: refused before any work
   } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "sglab: error: %s\n", e.what());
+    std::fprintf(stderr, "sglab: error: %s\n", bounded_message(e.what()).c_str());
     return 2;
   }
   try {
@@ -62,13 +64,13 @@ int run_sglab(std::vector<std::string> args) {
     const int status = app.exit(e);
     return status == 0 ? 0 : 2;
   } catch (const UsageError& e) {
-    std::fprintf(stderr, "sglab: error: %s\n", e.what());
+    std::fprintf(stderr, "sglab: error: %s\n", bounded_message(e.what()).c_str());
     return 2;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "sglab: error: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "sglab: error: %s\n", e.what());
+    std::fprintf(stderr, "sglab: error: %s\n", bounded_message(e.what()).c_str());
     return 1;
   }
   return 0;

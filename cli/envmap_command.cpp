@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -20,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "atomic_file.hpp"
+#include "resource_limits.hpp"
 #include "table.hpp"
 #include "commands.hpp"
 #include "envmap.hpp"
@@ -31,6 +33,7 @@
 #include "sglab/render/environment.hpp"
 #include "sglab/render/environment_scene.hpp"
 #include "sglab/render/exr.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -84,6 +87,16 @@ SgMixture read_mixture(const std::string& path) {
   }
 }
 
+// Every texel of a map about to be written is finite (a reconstruction of lobes whose sum
+// overflows float would otherwise be written as Inf with exit status 0).
+void check_finite_map(const EnvMap& map, const std::string& what) {
+  for (std::size_t k = 0; k < map.texels.size(); ++k)
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(map.texels[k][std::size_t(c)]))
+        throw UsageError(fmt::format("{}: texel (x {}, y {}) is {} (the lobes' sum overflows float)", what,
+                                     k % std::size_t(map.width), k / std::size_t(map.width), map.texels[k][std::size_t(c)]));
+}
+
 std::string join_command(const std::string& head, const std::vector<std::string>& args) {
   std::string s = head;
   for (const auto& a : args) s += " " + a;
@@ -101,6 +114,7 @@ struct MakeArgs {
 void run_make(const MakeArgs& a) {
   if (a.out.empty()) throw UsageError("envmap make needs --out FILE.exr");
   if (a.width < 2 || a.width % 2 != 0 || a.width > 8192) throw UsageError(fmt::format("--width {} must be even and in [2, 8192]", a.width));
+  check_output_paths({{"--out", a.out}}, {{"--mixture", a.mixture}});
   EnvMap map;
   std::vector<std::string> args{"--out", a.out, "--width", std::to_string(a.width)};
   try {
@@ -139,6 +153,7 @@ void run_make(const MakeArgs& a) {
   } catch (const EnvironmentError& e) {
     throw UsageError(e.what());
   }
+  check_finite_map(map, "envmap make " + a.kind);
   const std::string command = join_command("sglab envmap make " + a.kind, args);
   render::ImageLayer layer;
   write_file_atomically(a.out, render::encode_environment(map, {{"sglab_command", command}}));
@@ -160,11 +175,12 @@ fit::EnvFitResult run_fit_method(const EnvMap& map, const std::string& method, c
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  throw UsageError("unknown --method '" + method + "' (ceres, vmf-em)");
+  throw UsageError("unknown --method " + quote(method) + " (ceres, vmf-em)");
 }
 
 void run_fit_envmap(const FitEnvArgs& a) {
-  if (a.method != "ceres" && a.method != "vmf-em") throw UsageError("unknown --method '" + a.method + "' (ceres, vmf-em)");
+  if (a.method != "ceres" && a.method != "vmf-em") throw UsageError("unknown --method " + quote(a.method) + " (ceres, vmf-em)");
+  check_output_paths({{"--json", a.json}, {"--exr", a.exr}}, {{"map", a.map}});
   const EnvMap map = load_map(a.map);
   fit::EnvFitOptions o = a.options;
   if (a.max_iterations > 0) (a.method == "vmf-em" ? o.em_max_iterations : o.max_iterations) = a.max_iterations;
@@ -178,10 +194,17 @@ void run_fit_envmap(const FitEnvArgs& a) {
   if (const int zero = fit::zero_amplitude_lobes(r.mixture))
     std::printf("  %d of %zu lobes have zero amplitude (they add nothing; the map needs fewer lobes or a better start)\n", zero,
                 r.mixture.size());
-  if (!a.json.empty()) write_file_atomically(a.json, mixture_record(r, a.options, a.map, map).dump(2) + "\n");
-  if (!a.exr.empty())
-    write_file_atomically(a.exr, render::encode_environment(rasterize_mixture(r.mixture, map.width, map.height, fit::kErrorSupersample),
-                                                            {{"sglab_command", "sglab fit envmap " + a.map}}));
+  if (!std::isfinite(r.error.l2) || !std::isfinite(r.error.relative))
+    throw std::runtime_error(fmt::format("fit envmap {}: the fit's error is not finite (L2 {}, relative {}); nothing written",
+                                         quote(a.map), r.error.l2, r.error.relative));
+  OutputSet outputs;  // both or neither
+  if (!a.json.empty()) outputs.add(a.json, mixture_record(r, a.options, a.map, map).dump(2) + "\n");
+  if (!a.exr.empty()) {
+    const EnvMap recon = rasterize_mixture(r.mixture, map.width, map.height, fit::kErrorSupersample);
+    check_finite_map(recon, "fit envmap --exr");
+    outputs.add(a.exr, render::encode_environment(recon, {{"sglab_command", "sglab fit envmap " + a.map}}));
+  }
+  outputs.commit();
 }
 
 // ---- sglab envmap render ------------------------------------------------------------------------
@@ -196,7 +219,7 @@ render::EnvImage make_image(const std::string& geometry, int res) {
   if (res < 2 || res > 2048) throw UsageError(fmt::format("--res {} must be in [2, 2048]", res));
   if (geometry == "sphere") return render::sphere_image(res);
   if (geometry == "plane") return render::plane_image(res, std::max(1, res / 2));
-  throw UsageError("unknown --geometry '" + geometry + "' (sphere, plane)");
+  throw UsageError("unknown --geometry " + quote(geometry) + " (sphere, plane)");
 }
 
 nlohmann::ordered_json error_json(const render::ShadingError& e) {
@@ -206,8 +229,10 @@ nlohmann::ordered_json error_json(const render::ShadingError& e) {
 void run_render(const RenderArgs& a) {
   if (a.out.empty()) throw UsageError("envmap render needs --out IMAGE.exr");
   if (a.mixture.empty()) throw UsageError("envmap render needs --mixture FIT.json (from `sglab fit envmap … --json`)");
-  if (!(a.roughness > 0 && a.roughness <= 1)) throw UsageError(fmt::format("--roughness {} must be in (0, 1]", a.roughness));
+  if (!(a.roughness >= render::kMinEnvRoughness && a.roughness <= 1))
+    throw UsageError(fmt::format("--roughness {} must be in [{:g}, 1]", a.roughness, render::kMinEnvRoughness));
   if (!(a.f0 >= 0 && a.f0 <= 1)) throw UsageError(fmt::format("--f0 {} must be in [0, 1]", a.f0));
+  check_output_paths({{"--out", a.out}, {"--stats", a.stats}}, {{"map", a.map}, {"--mixture", a.mixture}});
   const EnvMap map = load_map(a.map);
   const SgMixture m = read_mixture(a.mixture);
   const render::EnvImage image = make_image(a.geometry, a.res);
@@ -240,8 +265,10 @@ void run_render(const RenderArgs& a) {
   std::vector<render::ImageLayer> out;
   for (int k = 0; k < 6; ++k) out.push_back({names[k], layers[k]});
   const std::string exr = render::encode_exr(image.width, image.height, out, {{"sglab_command", command}});
-  write_file_atomically(a.out, exr);
-  if (!a.stats.empty()) write_file_atomically(a.stats, stats.dump(2) + "\n");
+  OutputSet outputs;  // both or neither
+  outputs.add(a.out, exr);
+  if (!a.stats.empty()) outputs.add(a.stats, stats.dump(2) + "\n");
+  outputs.commit();
   std::printf("%s\n", stats.dump(2).c_str());
 }
 
@@ -255,11 +282,11 @@ void add_fit_envmap_command(CLI::App& fit) {
   sub->add_option("--init", a->options.init, "initial axes")->capture_default_str()->check(one_of({"fibonacci", "kmeans"}, "--init"));
   sub->add_option("--objective", a->options.objective, "objective (solid-angle weighted)")->capture_default_str()->check(one_of({"l2", "log-l2"}, "objective"));
   sub->add_option("--method", a->method, "ceres, or vmf-em (the EM alternative)")->capture_default_str()->check(one_of({"ceres", "vmf-em"}, "method"));
-  sub->add_option("--threads", a->options.threads, "Ceres threads")->capture_default_str();
-  sub->add_option("--seed", a->options.seed, "k-means++ seed")->capture_default_str();
+  sub->add_option("--threads", a->options.threads, "Ceres threads")->capture_default_str()->check(integer_in(1, kMaxThreads));
+  sub->add_option("--seed", a->options.seed, "k-means++ seed")->capture_default_str()->check(unsigned_at_most(std::numeric_limits<unsigned>::max()));
   sub->add_option("--max-iterations", a->max_iterations,
                   "iteration cap: Levenberg–Marquardt iterations per level (ceres, default 60) or EM iterations (vmf-em, default 200)")
-      ->check(CLI::Range(1, 1000000));
+      ->check(integer_in(1, 1000000));
   sub->add_option("--json", a->json, "write the mixture as a fit record (JSON)");
   sub->add_option("--exr", a->exr, "write the reconstruction as an EXR of the map's size");
   sub->callback([a] { run_fit_envmap(*a); });
@@ -273,13 +300,15 @@ void add_envmap_command(CLI::App& app) {
     auto* sub = cmd->add_subcommand("make", "write a generated environment as an equirectangular EXR");
     sub->add_option("kind", a->kind, "environment")->required()->check(one_of({"sky", "studio", "overcast", "indoor", "mixture"}, "environment"));
     sub->add_option("--out", a->out, "output EXR");
-    sub->add_option("--width", a->width, "width (height = width/2)")->capture_default_str();
-    sub->add_option("--turbidity", a->sky.turbidity, "sky: Preetham turbidity T in [2, 10]")->capture_default_str();
-    sub->add_option("--sun-elevation", a->sky.sun_elevation_deg, "sky: sun elevation (degrees)")->capture_default_str();
-    sub->add_option("--sun-azimuth", a->sky.sun_azimuth_deg, "sky: sun azimuth (degrees)")->capture_default_str();
-    sub->add_option("--sun-size", a->sky.sun_size_deg, "sky: sun disk angular diameter (degrees)")->capture_default_str();
-    sub->add_option("--sun-luminance", a->sky.sun_luminance, "sky: sun disk luminance / zenith luminance")->capture_default_str();
-    sub->add_option("--ground-albedo", a->sky.ground_albedo, "sky, overcast: albedo of the ground below the horizon")->capture_default_str();
+    sub->add_option("--width", a->width, "width (height = width/2)")->capture_default_str()->check(integer_in(2, 8192));
+    sub->add_option("--turbidity", a->sky.turbidity, "sky: Preetham turbidity T in [2, 10]")->capture_default_str()->check(finite_in(2, 10));
+    sub->add_option("--sun-elevation", a->sky.sun_elevation_deg, "sky: sun elevation (degrees)")->capture_default_str()->check(finite_in(0, 90));
+    sub->add_option("--sun-azimuth", a->sky.sun_azimuth_deg, "sky: sun azimuth (degrees)")->capture_default_str()->check(finite_in(-360, 360));
+    sub->add_option("--sun-size", a->sky.sun_size_deg, "sky: sun disk angular diameter (degrees)")->capture_default_str()->check(finite_in(0, 45));
+    sub->add_option("--sun-luminance", a->sky.sun_luminance, "sky: sun disk luminance / zenith luminance")
+        ->capture_default_str()
+        ->check(finite_in(0, render::kMaxSunLuminance));
+    sub->add_option("--ground-albedo", a->sky.ground_albedo, "sky, overcast: albedo of the ground below the horizon")->capture_default_str()->check(finite_in(0, 1));
     sub->add_option("--mixture", a->mixture, "mixture: lobes from a fit record JSON (default: the shipped synthetic mixture)");
     sub->callback([a] { run_make(*a); });
   }
@@ -289,15 +318,15 @@ void add_envmap_command(CLI::App& app) {
     sub->add_option("map", a->map, "equirectangular EXR")->required();
     sub->add_option("--mixture", a->mixture, "mixture fit record JSON (sglab fit envmap --json)");
     sub->add_option("--geometry", a->geometry, "geometry")->capture_default_str()->check(one_of({"sphere", "plane"}, "geometry"));
-    sub->add_option("--res", a->res, "image size")->capture_default_str();
+    sub->add_option("--res", a->res, "image size")->capture_default_str()->check(integer_in(2, 2048));
     sub->add_option("--diffuse", a->diffuse, "clamped-cosine method (sglab eval --list)")
         ->capture_default_str()
         ->check(one_of(method_names(*find_quantity("clamped-cosine")), "clamped-cosine method"));
     sub->add_option("--specular", a->specular, "specular method")
         ->capture_default_str()
         ->check(one_of(method_names(*find_quantity("specular")), "specular method"));
-    sub->add_option("--roughness", a->roughness, "GGX roughness")->capture_default_str();
-    sub->add_option("--f0", a->f0, "Schlick f0")->capture_default_str();
+    sub->add_option("--roughness", a->roughness, "GGX roughness")->capture_default_str()->check(finite_in(render::kMinEnvRoughness, 1));
+    sub->add_option("--f0", a->f0, "Schlick f0")->capture_default_str()->check(finite_in(0, 1));
     sub->add_option("--out", a->out, "output EXR (layers diffuse_map, diffuse_mixture, diffuse_approx, specular_…)");
     sub->add_option("--stats", a->stats, "errors as JSON");
     sub->callback([a] { run_render(*a); });
@@ -307,8 +336,10 @@ void add_envmap_command(CLI::App& app) {
     auto* sub = cmd->add_subcommand("lobes", "fit and render error against the lobe count (envmap_lobes.*)");
     sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
     sub->add_option("--lobes", a->lobes, "lobe counts")->capture_default_str();
-    sub->add_option("--roughness", a->roughness, "GGX roughnesses")->capture_default_str();
-    sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")->capture_default_str();
+    sub->add_option("--roughness", a->roughness, "GGX roughnesses")->capture_default_str()->check(finite_in(render::kMinEnvRoughness, 1));
+    sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")
+        ->capture_default_str()
+        ->check(integer_in(2, 2048));
     add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
     sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
     sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });

@@ -290,7 +290,7 @@ void run_eval(const EvalOptions& o) {
   const auto precision = parse_precision(o.precision);
   if (!precision)
     throw UsageError(
-        fmt::format("unknown precision '{}'; valid precisions: {}", o.precision,
+        fmt::format("unknown precision {}; valid precisions: {}", quote(o.precision),
                     fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
 
   check_output_paths({{"--out", o.out}}, {{"--in", o.in}});

@@ -24,6 +24,7 @@
 #include "fit_all.hpp"
 #include "fit_record.hpp"
 #include "record.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {

@@ -26,6 +26,8 @@ struct MergeOptions {
   std::vector<std::string> inputs;
 };
 
+void summarize(const MergeOptions& o, const std::vector<MergedSweep>& merged);
+
 void run_merge(const MergeOptions& o) {
   const std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
   // The sweep's own command line, and nothing else: `sweep specular|render …`.
@@ -37,7 +39,18 @@ void run_merge(const MergeOptions& o) {
                        "\" is not a `sweep specular` or `sweep render` command line");
     }
   };
-  for (const MergedSweep& m : merge_sweep_shards(inputs, o.out, sweep_command)) {
+  const std::vector<MergedSweep> merged = merge_sweep_shards(inputs, o.out, sweep_command);
+  try {
+    summarize(o, merged);
+  } catch (...) {
+    undo_merge(merged);  // a refused summary leaves no merged output behind
+    throw;
+  }
+  keep_merge(merged);
+}
+
+void summarize(const MergeOptions& o, const std::vector<MergedSweep>& merged) {
+  for (const MergedSweep& m : merged) {
     std::fprintf(stderr, "merge: sweep %s: %zu points from %zu shards -> %s\n", m.name.c_str(), m.points, m.shards,
                  m.points_csv.string().c_str());
     // m.args was checked to be a `sweep specular|render` command line without output options

@@ -4,11 +4,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "input_error.hpp"
+#include "sweep.hpp"
 #include "driver.hpp"
 #include "sglab/text_limits.hpp"
 
@@ -25,19 +27,52 @@ std::string join(const std::vector<std::string>& v) {
 
 // One record into `set`. `file` names it in every message; a record is untrusted text, so its
 // size and nesting are bounded and the values a message quotes are clipped (text_limits.hpp).
-void load_record(const std::string& file, ConstantSet& set) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw UsageError(fmt::format("--constants {}: cannot open the file", file));
+// The bytes of one record: a regular file of at most kMaxJsonBytes (a FIFO, /dev/zero or a
+// directory is refused before anything is read).
+std::string record_text(const std::string& file) {
+  try {
+    return read_input_file(file, kMaxJsonBytes, "a fit record");
+  } catch (const InputFileError& e) {
+    throw UsageError(std::string("--constants ") + e.what());
+  }
+}
+
+// The record files `path` names: itself, or a directory's *.json files in name order. Entries
+// that cannot be examined (a symbolic link loop, a name too long) are refused by name.
+std::vector<std::string> record_files(const std::string& p) {
   std::error_code ec;
-  if (const auto size = fs::file_size(file, ec); !ec)
-    if (const auto error = input_size_error(size, kMaxJsonBytes, "a fit record"))
-      throw UsageError(fmt::format("--constants {}: {}", file, *error));
-  std::stringstream text;
-  text << in.rdbuf();
-  if (const auto error = json_nesting_error(text.str())) throw UsageError(fmt::format("--constants {}: {}", file, *error));
+  const auto status = fs::status(p, ec);
+  if (fs::is_directory(status)) {
+    std::vector<std::string> files;
+    fs::directory_iterator it(p, ec), end;
+    if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
+    for (; it != end; it.increment(ec)) {
+      if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
+      if (it->path().extension() != ".json") continue;
+      std::error_code entry_ec;
+      const bool regular = it->is_regular_file(entry_ec);
+      if (entry_ec)
+        throw UsageError(fmt::format("--constants {}: {} cannot be examined ({})", clip_text(p), quote(it->path().filename().string()),
+                                     entry_ec.message()));
+      if (regular) files.push_back(it->path().string());
+    }
+    if (files.empty()) throw UsageError(fmt::format("--constants {}: the directory holds no fit record (*.json)", clip_text(p)));
+    std::sort(files.begin(), files.end());
+    return files;
+  }
+  if (fs::exists(status)) return {p};
+  if (ec && ec != std::errc::no_such_file_or_directory)
+    throw UsageError(fmt::format("--constants {}: cannot be examined ({})", clip_text(p), ec.message()));
+  throw UsageError(fmt::format("--constants {}: no such file or directory (a fit record, a directory of them, or 'published')",
+                               clip_text(p)));
+}
+
+void load_record(const std::string& file, ConstantSet& set) {
+  const std::string text = record_text(file);
+  if (const auto error = json_nesting_error(text)) throw UsageError(fmt::format("--constants {}: {}", file, *error));
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text.str());
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw UsageError(fmt::format("--constants {}: not valid JSON: {}", file, clip_text(e.what(), 400)));
   }
@@ -102,23 +137,32 @@ ConstantSet load_constant_sets(const std::vector<std::string>& paths) {
       set.values.clear();
       continue;
     }
-    std::error_code ec;
-    if (fs::is_directory(p, ec)) {
-      std::vector<std::string> files;
-      for (const auto& e : fs::directory_iterator(p))
-        if (e.is_regular_file() && e.path().extension() == ".json") files.push_back(e.path().string());
-      if (files.empty()) throw UsageError(fmt::format("--constants {}: the directory holds no fit record (*.json)", p));
-      std::sort(files.begin(), files.end());
-      for (const auto& f : files) load_record(f, set);
-    } else if (fs::exists(p, ec)) {
-      load_record(p, set);
-    } else {
-      throw UsageError(fmt::format("--constants {}: no such file or directory (a fit record, a directory of them, or "
-                                   "'published')",
-                                   p));
+    // Within one directory no two records may set the same constant: which one wins would
+    // depend on file names, not on the user's order of --constants.
+    std::map<std::pair<std::string, std::string>, std::string> set_by;  // (fit, name) → record
+    for (const auto& f : record_files(p)) {
+      ConstantSet record;
+      load_record(f, record);
+      for (const auto& v : record.values) {
+        const auto [it, fresh] = set_by.emplace(std::pair(v.fit, v.name), f);
+        if (!fresh)
+          throw UsageError(fmt::format("--constants {}: {}.{} is set by two records ({} and {}); keep one", clip_text(p), v.fit,
+                                       v.name, quote(it->second), quote(f)));
+        set.set(v);
+      }
     }
   }
   return set;
+}
+
+std::string constants_fingerprint(const std::vector<std::string>& paths) {
+  std::string text;
+  for (const auto& p : paths) {
+    text += "constants " + p + "\n";
+    if (p == "published") continue;
+    for (const auto& f : record_files(p)) text += f + "\n" + record_text(f) + "\n";
+  }
+  return runner::fnv1a_hex(text);
 }
 
 const char* const kConstantsOptionHelp =

@@ -21,6 +21,11 @@ namespace sglab::cli {
 // domain) is a UsageError naming the file and the key, raised before anything is written.
 ConstantSet load_constant_sets(const std::vector<std::string>& paths);
 
+// The fingerprint (FNV-1a) of the sets' contents: every record file the paths name, with its
+// bytes. Part of what checkpoints, sweep manifests and reproduce markers compare, so that an
+// edited record is another run, never a stale result. Throws UsageError as load_constant_sets.
+std::string constants_fingerprint(const std::vector<std::string>& paths);
+
 // Adds `--constants PATH` (repeatable) bound to `paths`; `what` is its help line (the default
 // describes a constant set; `sglab reproduce` says which of its steps get it).
 extern const char* const kConstantsOptionHelp;

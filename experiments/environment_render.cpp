@@ -1,6 +1,7 @@
 // The scene's distant environment in `sglab render` (environment_render.hpp).
 #include "environment_render.hpp"
 
+#include <cstdio>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -11,17 +12,36 @@
 #include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/render/environment_scene.hpp"
 #include "sglab/render/raycast.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
+
+namespace {
+// A path in a scene, relative to the scene file's directory.
+std::string resolve_in_scene(const std::string& scene_path, const std::string& p) {
+  const std::filesystem::path path(p);
+  return path.is_absolute() ? p : (std::filesystem::path(scene_path).parent_path() / path).string();
+}
+}  // namespace
+
+std::vector<std::string> environment_files(const std::string& scene_path) {
+  std::vector<std::string> files;
+  try {
+    const nlohmann::json doc = nlohmann::json::parse(read_input_file(scene_path, kMaxJsonBytes, "a scene"));
+    if (!doc.is_object() || !doc.contains("environment") || !doc["environment"].is_object()) return files;
+    for (const char* key : {"exr", "mixture"})
+      if (doc["environment"].contains(key) && doc["environment"][key].is_string())
+        files.push_back(resolve_in_scene(scene_path, doc["environment"][key].get<std::string>()));
+  } catch (const std::exception&) {
+    // not a readable JSON scene: no environment files
+  }
+  return files;
+}
 
 std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scene, const std::string& scene_path) {
   if (!scene.environment) return std::nullopt;
   const auto& e = *scene.environment;
-  namespace fs = std::filesystem;
-  auto resolve = [&](const std::string& p) {
-    const fs::path path(p);
-    return path.is_absolute() ? p : (fs::path(scene_path).parent_path() / path).string();
-  };
+  auto resolve = [&](const std::string& p) { return resolve_in_scene(scene_path, p); };
   PreparedEnvironment out;
   try {
     if (!e.exr.empty()) {
@@ -55,6 +75,9 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
     o.lobes = e.lobes;
     o.init = "kmeans";
     fit::EnvFitResult r;
+    // The fit can take minutes (1024 lobes on a 4096-wide map): say so before it starts.
+    std::fprintf(stderr, "environment: fitting %d SG lobes to the %d×%d map at render time (Ceres; give \"mixture\": FIT.json "
+                         "from `sglab fit envmap --json` to reuse a fit) …\n", e.lobes, out.map->width, out.map->height);
     try {
       r = fit::fit_envmap_ceres(*out.map, o);
     } catch (const std::invalid_argument& x) {
@@ -62,6 +85,7 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
     }
     out.mixture = r.mixture;
     out.source["mixture"] = fmt::format("fitted at render time: sglab fit envmap --lobes {} --init kmeans (seed {})", e.lobes, o.seed);
+    std::fprintf(stderr, "environment: fitted in %.1f s, relative error %.3g\n", r.seconds, r.error.relative);
     out.source["fit_relative_error"] = r.error.relative;
     out.source["fit_seconds"] = r.seconds;
   }

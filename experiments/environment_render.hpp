@@ -31,6 +31,11 @@ struct PreparedEnvironment {
 // scene file's directory). Bad input throws UsageError naming the value (exit status 2).
 std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scene, const std::string& scene_path);
 
+// The files a scene file's environment reads (its "exr" and "mixture", resolved against the
+// scene's directory), for fingerprints: an edited map or mixture record changes what the scene
+// renders. Empty when the file is not a JSON scene with an environment.
+std::vector<std::string> environment_files(const std::string& scene_path);
+
 // Shades the environment at the camera's first hits: EXR layers environment_map (when there is a
 // map), environment_mixture, environment_approx, and stats["environment"].
 void add_environment(const render::Scene& scene, const PreparedEnvironment& env, std::vector<render::ImageLayer>& layers,

@@ -22,6 +22,7 @@
 #include "atomic_file.hpp"
 #include "input_error.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli::envmap_lobes {
 namespace {
@@ -54,6 +55,19 @@ Options effective(const Options& o) {
   if (a.envs.empty()) throw UsageError("envmap lobes needs at least one --env NAME=MAP.exr");
   for (int n : a.lobes)
     if (n < 1) throw UsageError(fmt::format("--lobes {} must be ≥ 1", n));
+  // The same bounds as the command's option checks, for callers of the library.
+  if (a.sphere_res < 2 || a.sphere_res > 2048) throw UsageError(fmt::format("--res {} must be in [2, 2048]", a.sphere_res));
+  for (double r : a.roughness)
+    if (!(r >= render::kMinEnvRoughness && r <= 1))
+      throw UsageError(fmt::format("--roughness {} must be in [{:g}, 1]", r, render::kMinEnvRoughness));
+  // A name is a table label and a CSV field: a plain word, once.
+  for (std::size_t i = 0; i < a.envs.size(); ++i) {
+    const std::string name = a.envs[i].substr(0, a.envs[i].find('='));
+    if (name.empty() || name.size() > 64 || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.+-") != std::string::npos)
+      throw UsageError("--env " + quote(a.envs[i]) + ": NAME must be 1–64 letters, digits, '_', '.', '+' or '-'");
+    for (std::size_t j = 0; j < i; ++j)
+      if (a.envs[j].substr(0, a.envs[j].find('=')) == name) throw UsageError("--env: the name " + quote(name) + " is given twice");
+  }
   return a;
 }
 
@@ -61,7 +75,7 @@ std::vector<LoadedEnv> load_envs(const Options& a) {
   std::vector<LoadedEnv> envs;
   for (const auto& e : a.envs) {
     const auto eq = e.find('=');
-    if (eq == std::string::npos || eq == 0) throw UsageError("--env '" + e + "' must be NAME=MAP.exr");
+    if (eq == std::string::npos || eq == 0) throw UsageError("--env " + quote(e) + " must be NAME=MAP.exr");
     try {
       envs.push_back({e.substr(0, eq), e.substr(eq + 1), render::load_environment(e.substr(eq + 1))});
     } catch (const render::EnvironmentError& err) {

@@ -30,6 +30,7 @@
 #include "experiment_command.hpp"
 #include "registry.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace error_map {

@@ -27,6 +27,7 @@
 #include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
 #include "registry.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace error_vs_time {

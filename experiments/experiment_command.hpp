@@ -4,6 +4,7 @@
 #pragma once
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <system_error>
@@ -77,6 +78,41 @@ inline std::string methods_per_quantity() {
   std::string text;
   for (const auto& q : quantities()) text += "\n  " + q.name + ": " + join_names(method_names(q));
   return text;
+// A CLI11 check for an integer option in [lo, hi]: an optional minus sign and decimal digits, no
+// overflow. The message quotes the clipped text (a 100 KB value gives an 80-character quote).
+inline CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        std::int64_t v = 0;
+        const char* end = text.data() + text.size();
+        const auto r = std::from_chars(text.data(), end, v);
+        if (text.empty() || r.ec != std::errc() || r.ptr != end || v < lo || v > hi)
+          return fmt::format("{} is not an integer in [{}, {}]", quote(text), lo, hi);
+        return {};
+      },
+      fmt::format("INT in [{}, {}]", lo, hi));
+}
+
+// A CLI11 check for a real option: a finite decimal number (no "nan", "inf", hexadecimal or
+// trailing text) in [lo, hi].
+inline CLI::Validator finite_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        double v = 0;
+        const char* end = text.data() + text.size();
+        const auto r = std::from_chars(text.data(), end, v, std::chars_format::general);
+        if (text.empty() || r.ec != std::errc() || r.ptr != end || !std::isfinite(v) || v < lo || v > hi)
+          return fmt::format("{} is not a finite number in [{:g}, {:g}]", quote(text), lo, hi);
+        return {};
+      },
+      fmt::format("NUMBER in [{:g}, {:g}]", lo, hi));
+}
+
+// A CLI11 check for `--shard i/N` given explicitly: an empty text is refused (it would otherwise
+// read as "not given" and run the whole grid); parse_shard (sweep.hpp) checks the rest.
+inline CLI::Validator shard_given() {
+  return CLI::Validator([](std::string& text) -> std::string { return text.empty() ? "an empty shard (expected i/N, 0 ≤ i < N)" : ""; },
+                        "i/N");
 }
 
 // The two places an experiment's command writes to (registry.hpp: Places), declared alike by

@@ -75,7 +75,7 @@ render::FilterInputOptions filter_input_options(const FilterJob& job) {
   render::FilterInputOptions o;
   if (job.scale < 1 || job.scale > 64) throw UsageError(fmt::format("--scale {} is outside [1, 64]", job.scale));
   const auto source = render::parse_indirect_source(job.source);
-  if (!source) throw UsageError(fmt::format("--source '{}' is neither exact nor vsgl", job.source));
+  if (!source) throw UsageError(fmt::format("--source {} is neither exact nor vsgl", quote(job.source)));
   const render::RenderOptions r = render_options(job.render);  // validates --rsm, --vsgl, --count, --diffuse
   o.scale = job.scale;
   o.source = *source;
@@ -104,7 +104,7 @@ void check_filter_parameters(const render::FilterParameters& p) {
 
 render::FilterWeights parse_weights_option(const std::string& text) {
   const auto w = render::parse_filter_weights(text);
-  if (!w) throw UsageError(fmt::format("--weights '{}' is not one of normal, lobe, lobe-depth, spatial", text));
+  if (!w) throw UsageError(fmt::format("--weights {} is not one of normal, lobe, lobe-depth, spatial", quote(text)));
   return *w;
 }
 

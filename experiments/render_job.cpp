@@ -17,6 +17,7 @@
 #include "sglab/registry.hpp"
 #include "sglab/render/vsgl_generation.hpp"
 #include "sglab/render/vsgl_shading.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 
@@ -66,9 +67,9 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
 nlohmann::json load_scene_document(const std::string& path, const std::vector<std::string>& overrides) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("the scene '{}' is a directory, not a JSON file", path));
+  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("the scene {} is a directory, not a JSON file", quote(path)));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(fmt::format("cannot open the scene file '{}'", path));
+  if (!in) throw UsageError(fmt::format("cannot open the scene file {}", quote(path)));
   std::ostringstream text;
   text << in.rdbuf();
   return scene_document_from_text(text.str(), path, overrides);
@@ -112,7 +113,7 @@ render::Scene load_scene(const RenderJob& job) {
 render::RenderOptions render_options(const RenderJob& job) {
   render::RenderOptions o;
   const auto mode = render::parse_vsgl_mode(job.vsgl);
-  if (!mode) throw UsageError(fmt::format("--vsgl '{}' is not a VSGL mode (two, two-shared, fis, kmeans)", job.vsgl));
+  if (!mode) throw UsageError(fmt::format("--vsgl {} is not a VSGL mode (two, two-shared, fis, kmeans)", quote(job.vsgl)));
   if (job.count < 1 || job.count > 65536) throw UsageError(fmt::format("--count {} is outside [1, 65536]", job.count));
   if (job.rsm < 1 || job.rsm > 4096) throw UsageError(fmt::format("--rsm {} is outside [1, 4096]", job.rsm));
   if (job.shadow_map < 1 || job.shadow_map > 16384)
@@ -125,12 +126,12 @@ render::RenderOptions render_options(const RenderJob& job) {
   o.visibility = job.visibility;
   if (job.kmeans_space == "image") o.vsgl.kmeans_space = render::VsglOptions::KmeansSpace::image;
   else if (job.kmeans_space != "world")
-    throw UsageError(fmt::format("--kmeans-space '{}' is neither world nor image", job.kmeans_space));
+    throw UsageError(fmt::format("--kmeans-space {} is neither world nor image", quote(job.kmeans_space)));
   if (const auto error = render::vsgl_options_error(o.vsgl)) throw UsageError("VSGL options: " + *error);
   if (job.precision != "float" && job.precision != "double")
-    throw UsageError(fmt::format("--precision '{}' is neither float nor double", job.precision));
+    throw UsageError(fmt::format("--precision {} is neither float nor double", quote(job.precision)));
   if (!job.reference_precision.empty() && job.reference_precision != "float" && job.reference_precision != "double")
-    throw UsageError(fmt::format("--reference-precision '{}' is neither float nor double", job.reference_precision));
+    throw UsageError(fmt::format("--reference-precision {} is neither float nor double", quote(job.reference_precision)));
   if (!job.reference_precision.empty())
     o.reference_precision = job.reference_precision == "float" ? render::Precision::single : render::Precision::double_;
   try {

@@ -24,10 +24,13 @@
 #include <cerrno>
 
 #include "atomic_file.hpp"
+#include "constant_sets.hpp"
+#include "environment_render.hpp"
 #include "input_error.hpp"
 #include "names.hpp"
 #include "sweep.hpp"
 #include "table.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::experiments {
 namespace {
@@ -49,15 +52,31 @@ std::string file_fnv1a(const std::string& path) {
 
 // One line "file PATH FNV1A" per argument that names a regular file now (a scene, a script, an
 // output; "NAME=PATH" arguments too), for a step's marker.
+// A constant set (--constants PATH, a directory too) by the contents of its records, and a scene by
+// the files its environment reads: an edited record, map or mixture reruns the step.
 std::string files_state(const std::vector<std::string>& args) {
   namespace fs = std::filesystem;
   std::string state;
-  for (const auto& a : args) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (i > 0 && args[i - 1] == "--constants") {
+      std::string print;
+      try {
+        print = cli::constants_fingerprint({a});
+      } catch (const std::exception&) {
+        print = "unreadable";  // the step itself reports it
+      }
+      state += "constants " + a + " " + print + "\n";
+      continue;
+    }
     const auto eq = a.find('=');
     for (const std::string& path : {a, eq == std::string::npos ? std::string() : a.substr(eq + 1)}) {
       std::error_code ec;
       if (path.empty() || !fs::is_regular_file(path, ec)) continue;
       state += "file " + path + " " + file_fnv1a(path) + "\n";
+      if (fs::path(path).extension() == ".json")
+        for (const auto& f : cli::environment_files(path))
+          state += "environment " + f + " " + (fs::is_regular_file(f, ec) ? file_fnv1a(f) : std::string("missing")) + "\n";
     }
   }
   return state;

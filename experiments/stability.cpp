@@ -19,6 +19,7 @@
 #include "constant_sets.hpp"
 #include "stability_atlas.hpp"
 #include "table.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {

@@ -75,7 +75,7 @@ double parse_value(const std::string& text, const std::string& where) {
   try {
     return parse_decimal<double>(text);
   } catch (const NumberError& e) {
-    throw UsageError(fmt::format("{}: '{}' {}", where, text, e.what()));
+    throw UsageError(fmt::format("{}: {} {}", where, quote(text), e.what()));
   }
 }
 
@@ -106,7 +106,7 @@ Vary parse_vary(const std::string& text) {
     if (parts[3] == "log") {
       log_spaced = true;
     } else if (parts[3] != "lin") {
-      throw UsageError(fmt::format("{}: spacing '{}' is neither log nor lin", where, parts[3]));
+      throw UsageError(fmt::format("{}: spacing {} is neither log nor lin", where, quote(parts[3])));
     }
     parts.pop_back();
   }
@@ -135,7 +135,7 @@ Vary parse_lambda_d_vary(const std::string& text, std::vector<std::string>& sour
     } else {
       const ConstantSet set = load_constant_sets({item});
       const ConstantValue* c = set.find("lambda-d", "lambda_d");
-      if (!c) throw UsageError(fmt::format("--vary {}: '{}' holds no lambda-d fit", kLambdaDKey, item));
+      if (!c) throw UsageError(fmt::format("--vary {}: {} holds no lambda-d fit", kLambdaDKey, quote(item)));
       x = c->value;
       sources.push_back(fmt::format("{:.10g} ({})", x, c->provenance));
     }
@@ -205,7 +205,7 @@ std::string checked_table_name(const Options& o, const std::vector<Vary>& vary) 
       for (const auto& v : vary) name += "_" + last_component(v.key);
     }
   }
-  if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table '{}' is not a file name", name));
+  if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table {} is not a file name", quote(name)));
   std::vector<NamedPath> inputs{{"--scene", o.job.scene_path}};
   for (const auto& c : o.job.constants) inputs.push_back({"--constants", c});
   check_output_paths({{"--table (CSV)", tables_dir(o) / (name + ".csv")}, {"--table (Markdown)", tables_dir(o) / (name + ".md")}},
@@ -375,6 +375,8 @@ SweepDefinition definition(const Options& o, const Grid& g, const std::vector<Vs
   std::string labels;
   for (const auto& c : configs) labels += (labels.empty() ? "" : ", ") + c.label();
   grid += fmt::format("VSGLs {{{}}}; diffuse {}; RSM {}; shadow map {}; seed {}", labels, o.job.diffuse, o.job.rsm, o.job.shadow_map, o.job.seed);
+  // The constant sets' contents, not only their paths: an edited record is another sweep.
+  if (!o.job.constants.empty()) grid += "; constants fnv1a " + constants_fingerprint(o.job.constants);
   d.grid = grid;
   d.point_count = g.points();
   for (const auto& v : g.vary) d.columns.push_back(v.key);
@@ -497,7 +499,8 @@ void add_sweep_render(CLI::App& sweep) {
   sub->add_option("--out", o->out, "directory for NAME_points.csv")->capture_default_str();
   sub->add_option("--table", o->table, "NAME of the table (default vsgl_error_vs_count, or vsgl_error_vs_<keys>)");
   sub->add_option("--tables-dir", o->tables_dir, "directory for NAME.{md,csv} (default: the --out directory)");
-  sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`");
+  sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
+      ->check(shard_given());
   sub->add_option("--threads", o->threads, "points computed at once (each render uses all cores; 1 keeps timings clean)")
       ->capture_default_str()
       ->check(unsigned_at_most(kMaxThreads));

@@ -481,7 +481,8 @@ void add_sweep_specular(CLI::App& sweep) {
                                    "Every specular method vs the reference over roughness × light sharpness × view × light position");
   sub->add_option("--out", o->out, "directory for specular_points.csv and specular_summary.csv")->capture_default_str();
   sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
-  sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`");
+  sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
+      ->check(shard_given());
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str()->check(unsigned_at_most(kMaxThreads));
   sub->add_option("--tables-dir", o->tables_dir, "directory for specular_vs_roughness.{md,csv} (default: the --out directory)");
   sub->add_option("--brdf", o->brdf,

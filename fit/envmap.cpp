@@ -15,6 +15,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "sglab/text_limits.hpp"
 #include "sglab/vmf_filtering.hpp"
 
 namespace sglab::fit {
@@ -275,9 +276,9 @@ void validate(const EnvMap& map, const EnvFitOptions& o) {
   if (std::size_t(o.lobes) > map.size())
     throw std::invalid_argument("--lobes " + std::to_string(o.lobes) + " exceeds the map's pixel count " + std::to_string(map.size()));
   if (o.init != "fibonacci" && o.init != "kmeans")
-    throw std::invalid_argument("unknown --init '" + o.init + "' (fibonacci, kmeans)");
+    throw std::invalid_argument("unknown --init " + quote(o.init) + " (fibonacci, kmeans)");
   if (o.objective != "l2" && o.objective != "log-l2")
-    throw std::invalid_argument("unknown --objective '" + o.objective + "' (l2, log-l2)");
+    throw std::invalid_argument("unknown --objective " + quote(o.objective) + " (l2, log-l2)");
   if (o.max_iterations < 1 || o.em_max_iterations < 1) throw std::invalid_argument("iteration caps must be at least 1");
 }
 

@@ -74,6 +74,9 @@ nlohmann::json read_json(const fs::path& p) {
 }
 
 // A sweep name is a plain file name, never a path: [A-Za-z0-9_.-], not starting with a dot.
+// Part of every fingerprint: a checkpoint or manifest of another version of sglab is not reused.
+std::string code_version() { return "sglab " SGLAB_VERSION; }
+
 bool valid_sweep_name(const std::string& name) {
   return !name.empty() && name.size() <= 200 && name[0] != '.' &&
          name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") == std::string::npos;
@@ -99,8 +102,7 @@ std::vector<std::string> with_point(const std::vector<std::string>& columns) {
   return h;
 }
 
-// Part of every fingerprint: a checkpoint or manifest of another version of sglab is not reused.
-const std::string kCodeVersion = "sglab " SGLAB_VERSION;
+const std::string kCodeVersion = sweep_detail::code_version();
 
 // A fingerprint of the sweep's identity (with the code version) for the checkpoint's first line;
 // a changed grid changes the text, which changes the hash.

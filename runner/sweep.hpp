@@ -154,9 +154,18 @@ CsvTable read_sweep_points(const std::filesystem::path& path);
 struct MergedSweep {
   std::string name;
   std::vector<std::string> args;  // the sweep's defining arguments (SweepDefinition::args)
-  std::filesystem::path points_csv;
+  std::filesystem::path points_csv, manifest;
   std::size_t points = 0, shards = 0;
+  // The files the merge replaced, moved aside (target, hidden backup) until the caller keeps or
+  // undoes the merge (keep_merge, undo_merge).
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> replaced;
 };
+
+// After merge_sweep_shards, once the merged output was used (its summary derived): the files it
+// replaced are deleted. undo_merge instead removes the merged per-point CSV and manifest and puts
+// back what they replaced, so that a merge whose summary is refused leaves the directory as it was.
+void keep_merge(const std::vector<MergedSweep>& merged);
+void undo_merge(const std::vector<MergedSweep>& merged);
 
 // Joins the shard outputs found in `inputs` (directories, searched for NAME_sweep.shard-*.json,
 // or manifest files) into `out_dir`/NAME_points.csv and NAME_sweep.json, one pair per sweep name

@@ -207,6 +207,14 @@ Pending merge_group(const std::string& name, const std::vector<const ShardFile*>
   const auto n = first.json["points"].get<std::size_t>();
   const auto header = first.json["columns"].get<std::vector<std::string>>();
   const std::vector<CsvTable> tables = read_shard_tables(name, group, n);
+  // Shards of another version of sglab may compute other values: never mixed into one table.
+  for (const ShardFile* sh : group) {
+    if (!sh->json.contains("version") || !sh->json["version"].is_string())
+      throw InputError(fmt::format("merge: {}: the manifest has no 'version'", sh->manifest.string()));
+    if (sh->json["version"].get<std::string>() != code_version())
+      throw InputError(fmt::format("merge: {}: written by {}, this is {}; rerun the shard with this version", sh->manifest.string(),
+                                   quote(sh->json["version"].get<std::string>()), code_version()));
+  }
   std::vector<std::vector<std::vector<std::string>>> rows(n);
   std::vector<const ShardFile*> owner(n, nullptr);
   double seconds = 0;
@@ -237,8 +245,14 @@ Pending merge_group(const std::string& name, const std::vector<const ShardFile*>
   m["merged_from"] = sources;
   m["points_fnv1a"] = fnv1a_hex(p.csv);
   p.manifest = m.dump(2) + "\n";
-  p.merged = {name, first.json["args"].get<std::vector<std::string>>(), sweep_points_path(out_dir, name, Shard{}), n, group.size()};
   p.manifest_path = sweep_manifest_path(out_dir, name, Shard{});
+  p.merged = {.name = name,
+              .args = first.json["args"].get<std::vector<std::string>>(),
+              .points_csv = sweep_points_path(out_dir, name, Shard{}),
+              .manifest = p.manifest_path,
+              .points = n,
+              .shards = group.size(),
+              .replaced = {}};
   return p;
 }
 
@@ -257,6 +271,13 @@ std::vector<MergedSweep> merge_sweep_shards(
   fs::create_directories(out_dir);
   std::vector<MergedSweep> out;
   for (auto& p : pending) {
+    for (const fs::path& target : {p.merged.points_csv, p.manifest_path}) {
+      std::error_code ec;
+      if (!fs::exists(target, ec)) continue;
+      const fs::path backup = target.parent_path() / ("." + target.filename().string() + ".merge-backup");
+      fs::rename(target, backup);
+      p.merged.replaced.emplace_back(target, backup);
+    }
     write_file_atomically(p.merged.points_csv, p.csv);
     write_file_atomically(p.manifest_path, p.manifest);
     std::error_code ec;
@@ -264,6 +285,23 @@ std::vector<MergedSweep> merge_sweep_shards(
     out.push_back(p.merged);
   }
   return out;
+}
+
+void keep_merge(const std::vector<MergedSweep>& merged) {
+  for (const auto& m : merged)
+    for (const auto& [target, backup] : m.replaced) {
+      std::error_code ec;
+      fs::remove(backup, ec);
+    }
+}
+
+void undo_merge(const std::vector<MergedSweep>& merged) {
+  for (const auto& m : merged) {
+    std::error_code ec;
+    fs::remove(m.points_csv, ec);
+    fs::remove(m.manifest, ec);
+    for (const auto& [target, backup] : m.replaced) fs::rename(backup, target, ec);
+  }
 }
 
 }  // namespace sglab::runner

@@ -45,7 +45,7 @@ fi
 jobs=$(nproc 2>/dev/null || echo 2)
 if ((fuzz)); then
   CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DSGLAB_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >&2
-  cmake --build build-fuzz -j"$jobs" --target fuzz_csv fuzz_scene fuzz_manifest >&2
+  cmake --build build-fuzz -j"$jobs" --target fuzz_csv fuzz_scene fuzz_manifest fuzz_exr fuzz_mixture >&2
   exit 0
 fi
 # With --tests (and so in CI) a compiler warning is an error: the build is warning-free under GCC 12.

@@ -18,9 +18,13 @@ T clamped_cosine_punctual(const T& sharpness, const T& cosine) {
 }
 
 // (2π/λ)⟨c⟩: the same with A(λ) ≈ 2π/λ (Tokuyoshi 2016 §4.2). Diverges at λ = 0.
+// ⟨c⟩ = 0 gives 0 at any λ (not ∞ · 0 = NaN where 2π/λ overflows), and 2π⟨c⟩ is divided by λ
+// in one step, so the value is finite wherever it fits in T (at λ = DBL_MIN for ⟨c⟩ < 0.63).
 template <class T>
 T clamped_cosine_punctual_approx(const T& sharpness, const T& cosine) {
-  return sg_integral_approx(sharpness) * positive_part(clamp_cosine(cosine));
+  const T c = positive_part(clamp_cosine(cosine));
+  if (!(c > T(0))) return T(0);
+  return two_pi<T>() * c / sharpness;
 }
 
 // ---- sg-cosine: the cosine as a normalized SG, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2) ------

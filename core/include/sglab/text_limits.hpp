@@ -9,9 +9,16 @@
 //  • input_size_error: a text larger than a per-kind limit.
 #pragma once
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -44,6 +51,24 @@ inline std::string clip_text(std::string_view s, std::size_t max_chars = kMaxQuo
     ++shown;
   }
   return out;
+}
+
+// A value as an error message names it: clip_text(s) between single quotes. Every option or field
+// that takes a name (a method, a quantity, an environment, a geometry) quotes a bad one through
+// this, so that a 100 KB value gives an 80-character quote.
+inline std::string quote(std::string_view s) { return "'" + clip_text(s) + "'"; }
+
+// The longest message the command prints (and the Python module raises) for one error: a safety
+// net behind quote() for any message that still holds a long text (several long paths, say).
+inline constexpr std::size_t kMaxMessageBytes = 2000;
+
+// `message` cut to at most max_bytes bytes (at a UTF-8 character boundary) with "… (N bytes)"
+// appended when it was cut; control bytes other than newline and tab kept as they are.
+inline std::string bounded_message(std::string_view message, std::size_t max_bytes = kMaxMessageBytes) {
+  if (message.size() <= max_bytes) return std::string(message);
+  std::size_t cut = max_bytes;
+  while (cut > 0 && (static_cast<unsigned char>(message[cut]) & 0xc0) == 0x80) --cut;  // not inside a character
+  return std::string(message.substr(0, cut)) + "… (" + std::to_string(message.size()) + " bytes)";
 }
 
 // Whether `s` is well-formed UTF-8 (RFC 3629: no overlong forms, no surrogates, at most
@@ -101,6 +126,43 @@ inline std::optional<std::string> input_size_error(std::size_t bytes, std::size_
   if (bytes <= max) return std::nullopt;
   return std::string(what) + " of " + std::to_string(bytes) + " bytes exceeds the limit of " + std::to_string(max) +
          " bytes";
+}
+
+// A file given as input that cannot be read as one (read_input_file); callers rethrow it as their
+// own input error (exit status 2).
+struct InputFileError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// The whole of the regular file `path` (a `what`: "a fit record"), read only after its size is
+// known to be at most `max_bytes`. Opened without blocking and checked through the open
+// descriptor, so a FIFO (which would block forever), a device (/dev/zero, which never ends), a
+// directory or an oversize file is refused before a byte is read. Throws InputFileError naming
+// the (clipped) path and the reason.
+inline std::string read_input_file(const std::string& path, std::size_t max_bytes, const char* what) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw InputFileError(quote(path) + ": cannot open " + what + " (" + std::strerror(errno) + ")");
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw InputFileError(quote(path) + ": cannot stat " + what + " (" + std::strerror(errno) + ")");
+  if (!S_ISREG(st.st_mode))
+    throw InputFileError(quote(path) + " is " + (S_ISDIR(st.st_mode) ? "a directory" : "not a regular file (a device, FIFO or socket)") +
+                         ", not " + what);
+  if (const auto error = input_size_error(std::size_t(st.st_size), max_bytes, what)) throw InputFileError(quote(path) + ": " + *error);
+  std::string text(std::size_t(st.st_size), '\0');
+  std::size_t got = 0;
+  while (got < text.size()) {
+    const ssize_t n = ::read(fd, text.data() + got, text.size() - got);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw InputFileError(quote(path) + ": cannot read " + what + " (" + std::strerror(errno) + ")");
+    if (n == 0) break;  // the file shrank meanwhile
+    got += std::size_t(n);
+  }
+  text.resize(got);
+  return text;
 }
 
 }  // namespace sglab

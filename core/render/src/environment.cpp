@@ -8,16 +8,21 @@
 
 #include "sglab/render/environment.hpp"
 #include "sglab/render/exr.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::render {
 
 EnvMap load_environment(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw EnvironmentError("environment '" + path + "': no such file");
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) throw EnvironmentError("environment " + quote(path) + ": no such file");
+  // A FIFO would block the reader forever, a device never end: only a regular file is read.
+  if (!std::filesystem::is_regular_file(status)) throw EnvironmentError("environment " + quote(path) + " is not a regular file");
   ExrImage image;
   try {
     image = read_exr(path);
   } catch (const std::exception& e) {
-    throw EnvironmentError(std::string("environment '") + path + "' is not a readable EXR (" + e.what() + ")");
+    throw EnvironmentError("environment " + quote(path) + " is not a readable EXR (" + e.what() + ")");
   }
   // Plain R, G, B, or the first layer (in channel-name order) that has all three.
   std::string prefix;
@@ -36,19 +41,19 @@ EnvMap load_environment(const std::string& path) {
   if (!found) {
     std::string names;
     for (const auto& [name, plane] : image.channels) names += (names.empty() ? "" : ", ") + name;
-    throw EnvironmentError("environment '" + path + "' has no RGB channels (channels: " + (names.empty() ? "none" : names) + ")");
+    throw EnvironmentError("environment " + quote(path) + " has no RGB channels (channels: " + (names.empty() ? "none" : clip_text(names, 300)) + ")");
   }
   if (image.width != 2 * image.height)
-    throw EnvironmentError(fmt::format("environment '{}' is {}×{}: an equirectangular map must be 2:1 (width = 2 × height)",
-                                       path, image.width, image.height));
+    throw EnvironmentError(fmt::format("environment {} is {}×{}: an equirectangular map must be 2:1 (width = 2 × height)",
+                                       quote(path), image.width, image.height));
   EnvMap map{image.width, image.height, std::vector<std::array<float, 3>>(std::size_t(image.width) * std::size_t(image.height))};
   for (int c = 0; c < 3; ++c) {
     const auto& plane = image.channels.at(prefix + "RGB"[c]);
     for (std::size_t k = 0; k < plane.size(); ++k) {
       const float x = plane[k];
       if (!std::isfinite(x) || x < 0)
-        throw EnvironmentError(fmt::format("environment '{}': texel (x {}, y {}) channel {} is {} (texels must be finite and ≥ 0)",
-                                           path, k % std::size_t(image.width), k / std::size_t(image.width),
+        throw EnvironmentError(fmt::format("environment {}: texel (x {}, y {}) channel {} is {} (texels must be finite and ≥ 0)",
+                                           quote(path), k % std::size_t(image.width), k / std::size_t(image.width),
                                            prefix + "RGB"[c], x));
       map.texels[k][std::size_t(c)] = x;
     }
@@ -110,7 +115,9 @@ EnvMap make_sky(const SkyOptions& o) {
   if (!(o.sun_elevation_deg >= 0 && o.sun_elevation_deg <= 90))
     throw EnvironmentError(fmt::format("--sun-elevation {} outside [0, 90] degrees", o.sun_elevation_deg));
   if (!(o.sun_size_deg > 0 && o.sun_size_deg <= 45)) throw EnvironmentError(fmt::format("--sun-size {} outside (0, 45] degrees", o.sun_size_deg));
-  if (!(o.sun_luminance >= 0) || !std::isfinite(o.sun_luminance)) throw EnvironmentError("--sun-luminance must be finite and ≥ 0");
+  if (!(o.sun_luminance >= 0 && o.sun_luminance <= kMaxSunLuminance))
+    throw EnvironmentError(fmt::format("--sun-luminance {} outside [0, {:g}]", o.sun_luminance, kMaxSunLuminance));
+  if (!std::isfinite(o.sun_azimuth_deg)) throw EnvironmentError(fmt::format("--sun-azimuth {} is not finite", o.sun_azimuth_deg));
   if (!(o.ground_albedo >= 0 && o.ground_albedo <= 1)) throw EnvironmentError("--ground-albedo must be in [0, 1]");
   const double T = o.turbidity;
   // Preetham et al. 1999, Appendix A.2: Perez coefficients (A..E) for Y, x, y.

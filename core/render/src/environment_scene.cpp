@@ -12,42 +12,6 @@
 
 namespace sglab::render {
 
-SgMixture load_mixture(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw EnvironmentError("mixture '" + path + "': no such file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const std::exception& e) {
-    throw EnvironmentError("mixture '" + path + "' is not JSON (" + e.what() + ")");
-  }
-  if (!j.is_object() || !j.contains("parameters") || !j["parameters"].is_object())
-    throw EnvironmentError("mixture '" + path + "' has no \"parameters\" object");
-  const auto& p = j["parameters"];
-  SgMixture m;
-  for (std::size_t k = 0;; ++k) {
-    if (!p.contains(fmt::format("lobe{}.axis_x", k))) break;
-    double v[7];
-    for (int f = 0; f < 7; ++f) {
-      const std::string key = fmt::format("lobe{}.{}", k, kMixtureLobeFields[f]);
-      if (!p.contains(key) || !p[key].is_number() || !std::isfinite(p[key].get<double>()))
-        throw EnvironmentError("mixture '" + path + "': \"" + key + "\" missing or not a finite number");
-      v[f] = p[key].get<double>();
-    }
-    SgLight l;
-    l.axis = Vec3(v[0], v[1], v[2]);
-    if (!(l.axis.norm() > 0.5)) throw EnvironmentError(fmt::format("mixture '{}': lobe{} has no unit axis", path, k));
-    l.axis.normalize();
-    l.sharpness = v[3];
-    l.amplitude = {v[4], v[5], v[6]};
-    if (!(v[3] >= 0) || v[4] < 0 || v[5] < 0 || v[6] < 0)
-      throw EnvironmentError(fmt::format("mixture '{}': lobe{} has a negative sharpness or amplitude", path, k));
-    m.push_back(l);
-  }
-  if (m.empty()) throw EnvironmentError("mixture '" + path + "' has no lobes (parameters lobe0.axis_x …)");
-  return m;
-}
-
 namespace {
 
 // The hit pixels of one object, in environment coordinates.

@@ -15,6 +15,7 @@
 #include "sglab/render/environment.hpp"
 #include "sglab/render/pipeline.hpp"
 #include "simd/render_table.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::render {
 
@@ -116,7 +117,7 @@ const Method& registry_method(const std::string& quantity, const std::string& na
     std::string names;
     if (q)
       for (const auto& x : q->methods) names += " " + x.name;
-    throw std::invalid_argument("unknown " + quantity + " method '" + name + "' (methods:" + names + ")");
+    throw std::invalid_argument("unknown " + quantity + " method " + quote(name) + " (methods:" + names + ")");
   }
   return *m;
 }

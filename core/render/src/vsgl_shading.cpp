@@ -11,6 +11,7 @@
 #include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/vsgl.hpp"
 #include "simd/render_table.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::render {
 namespace {
@@ -354,8 +355,8 @@ ShadingOptions shading_options(std::string_view diffuse_method, bool specular) {
   if (!m) {
     std::string names;
     for (const auto& n : diffuse_method_names()) names += (names.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown diffuse method '" + std::string(diffuse_method) +
-                                "' (clamped-cosine methods: " + names + ")");
+    throw std::invalid_argument("unknown diffuse method " + quote(diffuse_method) +
+                                " (clamped-cosine methods: " + names + ")");
   }
   ShadingOptions o;
   o.specular = specular;

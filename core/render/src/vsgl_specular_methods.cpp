@@ -7,6 +7,7 @@
 
 #include "sglab/render/vsgl_shading.hpp"
 #include "sglab/vsgl.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::render {
 namespace {
@@ -53,7 +54,7 @@ const Method* find_specular_method(std::string_view name) {
   if (!m || m->name == q.reference_method) {
     std::string names;
     for (const auto& n : specular_method_names()) names += (names.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown specular method '" + std::string(name) + "'" +
+    throw std::invalid_argument("unknown specular method " + quote(name) +
                                 (m ? " (the quadrature reference, 0.02–2 s per evaluation, is not a shading method)" : "") +
                                 " (specular methods: " + names + ")");
   }

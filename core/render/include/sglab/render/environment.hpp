@@ -36,6 +36,15 @@ std::string encode_environment(const EnvMap& map, const std::vector<std::pair<st
 // Not from the paper (stated in the file header of every map): the sun is a uniform disk of
 // angular diameter sun_size_deg and luminance sun_luminance × Y_z, white; below the horizon is a
 // Lambertian ground of albedo ground_albedo lit by the sky and the sun (radiance E/π · albedo).
+// The largest --sun-luminance (disk luminance / zenith luminance): with the zenith luminance of any
+// turbidity in [2, 10] (below 1e2), the disk's texels stay far inside float (FLT_MAX ≈ 3.4e38) and
+// their squares inside double, so a fit of the map has finite errors.
+inline constexpr double kMaxSunLuminance = 1e30;
+// The smallest GGX roughness the environment shading takes (`envmap render|lobes --roughness`):
+// below it the lobe is narrower than a texel of any map sglab reads and the texel quadrature of
+// the specular layers no longer measures anything (at 1e-300 its statistics were NaN).
+inline constexpr double kMinEnvRoughness = 1e-3;
+
 struct SkyOptions {
   int width = 512, height = 256;
   double turbidity = 3;           // Preetham's T ∈ [2, 10]

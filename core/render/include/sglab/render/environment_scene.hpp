@@ -14,19 +14,11 @@
 
 #include "sglab/envmap.hpp"
 #include "sglab/render/environment.hpp"
+#include "sglab/render/mixture_record.hpp"
 #include "sglab/render/raycast.hpp"
 #include "sglab/render/scene.hpp"
 
 namespace sglab::render {
-
-// The fields of lobe k in a mixture record (the JSON of `sglab fit envmap --json`): parameters
-// "lobe<k>.<field>".
-inline constexpr const char* kMixtureLobeFields[7] = {"axis_x", "axis_y", "axis_z", "sharpness", "r", "g", "b"};
-
-// Reads a mixture record. Throws EnvironmentError naming the file and the bad value (missing file,
-// not JSON, a lobe field missing or not finite, a zero axis, a negative sharpness or amplitude,
-// no lobes).
-SgMixture load_mixture(const std::string& path);
 
 // Scene directions (y up, scene.hpp) to environment directions (z up, sglab/envmap.hpp): the
 // rotation (x, y, z) ↦ (z, x, y), so the environment's zenith is the scene's +y.
