@@ -78,6 +78,8 @@ inline std::string methods_per_quantity() {
   std::string text;
   for (const auto& q : quantities()) text += "\n  " + q.name + ": " + join_names(method_names(q));
   return text;
+}
+
 // A CLI11 check for an integer option in [lo, hi]: an optional minus sign and decimal digits, no
 // overflow. The message quotes the clipped text (a 100 KB value gives an 80-character quote).
 inline CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
