@@ -1,5 +1,6 @@
 // `sglab reproduce`: the main job, run by experiments/reproduce.cpp over the experiment registry;
 // each step's `sglab` command line runs in-process through run_sglab.
+#include <algorithm>
 #include <memory>
 
 #include "commands.hpp"
@@ -21,7 +22,17 @@ void add_reproduce_command(CLI::App& app) {
   sub->add_flag("--force", opts->force, "redo finished steps");
   std::vector<std::string> steps;
   for (const auto& s : experiments::all_steps(experiments::Places{"results", "paper_tables"})) steps.push_back(s.name);
-  sub->add_option("--only", opts->only, "run only these steps")->check(one_of(steps, "step"));
+  // The help lists every step; an unknown one gets the closest step and a pointer to --list (with
+  // the whole list the message would run over a thousand characters).
+  sub->add_option("--only", opts->only, "run only these steps")
+      ->check(CLI::Validator(
+          [steps](std::string& text) -> std::string {
+            if (std::find(steps.begin(), steps.end(), text) != steps.end()) return {};
+            const std::string near = runner::closest_name(text, steps);
+            return "unknown step '" + clip_text(text) + "' (" + (near.empty() ? "" : "did you mean '" + near + "'?; ") +
+                   "`sglab reproduce --list` lists the steps)";
+          },
+          "{" + runner::join_names(steps, "|") + "}"));
   add_constants_option(*sub, opts->constants,
                        "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
                        "repeatable, later sets override earlier ones)");

@@ -345,9 +345,13 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
   }
   std::vector<std::string> names;
   for (const auto& s : all) names.push_back(s.name);
-  for (const auto& name : o.only)
-    if (std::find(names.begin(), names.end(), name) == names.end())
-      throw runner::InputError("reproduce: " + runner::unknown_name_message("step", name, names));
+  for (const auto& name : o.only) {
+    if (std::find(names.begin(), names.end(), name) != names.end()) continue;
+    // The steps are too many to list in a bounded message: the closest one, and where the list is.
+    const std::string near = runner::closest_name(name, names);
+    throw runner::InputError("reproduce: --only: unknown step '" + clip_text(name) + "' (" +
+                             (near.empty() ? "" : "did you mean '" + near + "'?; ") + "`sglab reproduce --list` lists the steps)");
+  }
   // Every table a --quick run writes says so, whatever the step's own options.
   std::optional<runner::QuickRunScope> quick_scope;
   if (o.quick) quick_scope.emplace();
