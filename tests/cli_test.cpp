@@ -109,8 +109,8 @@ TEST(Names, EditDistanceAndClosest) {
 
 }  // namespace
 
-// Generated tables and docs speak of the project only: no tracker wording (an issue, a ticket, a
-// pull request, "can close") in paper_tables/, docs/, README.md or scenes/README.md.
+// Generated tables and docs speak of the project only: none of the project-management phrases of
+// the pattern below in paper_tables/, docs/, README.md or scenes/README.md.
 TEST(RepositoryText, NoTrackerWording) {
   namespace fs = std::filesystem;
   const fs::path root = SGLAB_SOURCE_DIR;
