@@ -49,7 +49,7 @@ Options effective(const Options& o) {
   if (!(a.tolerance > 0 && a.tolerance < 1)) throw UsageError(fmt::format("--tolerance {} must be in (0, 1)", a.tolerance));
   for (double r : a.roughness)
     if (!(r > 0 && r <= 1)) throw UsageError(fmt::format("--roughness {} must be in (0, 1]", r));
-  if (std::find(a.roughness.begin(), a.roughness.end(), 0.3) == a.roughness.end()) a.roughness.push_back(0.3);
+  if (std::find(a.roughness.begin(), a.roughness.end(), kTargetRoughness) == a.roughness.end()) a.roughness.push_back(kTargetRoughness);
   std::sort(a.roughness.begin(), a.roughness.end());
   if (a.bases.empty())
     for (const auto& b : fit::envmap_bases()) a.bases.push_back(b.name);
@@ -225,7 +225,7 @@ Result compute(const Options& o) {
           std::fprintf(stderr, "envmap bases: %s %s%s%s %s=%d (%d floats): map %.3g, diffuse %.3g, specular(0.3) %.3g, %.3f s%s\n",
                        env.name.c_str(), basis.name.c_str(), variant.empty() ? "" : " ", variant.c_str(), basis.size_symbol.c_str(),
                        f.size, f.floats, row.map_error, row.diffuse_error,
-                       row.specular_error[std::size_t(std::find(a.roughness.begin(), a.roughness.end(), 0.3) - a.roughness.begin())],
+                       row.specular_error[std::size_t(std::find(a.roughness.begin(), a.roughness.end(), kTargetRoughness) - a.roughness.begin())],
                        f.seconds, f.zero_lobes ? fmt::format(", {} zero-amplitude lobes", f.zero_lobes).c_str() : "");
           out.rows.push_back(std::move(row));
         }
@@ -249,8 +249,9 @@ std::size_t roughness_index(const Options& a, double rough) {
 
 // The per-environment summary: the smallest storage reaching the diffuse and specular targets.
 std::string targets_markdown(const Result& r) {
-  const std::size_t r03 = roughness_index(r.options, 0.3);
-  std::string md = "| environment | basis | floats for diffuse ≤ 5 % | floats for specular (α = 0.3) ≤ 20 % |\n|---|---|---|---|\n";
+  const std::size_t r03 = roughness_index(r.options, kTargetRoughness);
+  std::string md = fmt::format("| environment | basis | floats for diffuse ≤ {:g} % | floats for specular (α = {:g}) ≤ {:g} % |\n|---|---|---|---|\n",
+                                100 * kDiffuseTarget, kTargetRoughness, 100 * kSpecularTarget);
   for (const auto& env : r.environments) {
     std::vector<std::string> order;
     std::map<std::string, std::pair<int, int>> best;
@@ -258,8 +259,8 @@ std::string targets_markdown(const Result& r) {
       const std::string l = label(row);
       if (!best.count(l)) order.push_back(l), best[l] = {0, 0};
       auto& b = best[l];
-      if (row.diffuse_error <= 0.05 && (b.first == 0 || row.floats < b.first)) b.first = row.floats;
-      if (row.specular_error[r03] <= 0.20 && (b.second == 0 || row.floats < b.second)) b.second = row.floats;
+      if (row.diffuse_error <= kDiffuseTarget && (b.first == 0 || row.floats < b.first)) b.first = row.floats;
+      if (row.specular_error[r03] <= kSpecularTarget && (b.second == 0 || row.floats < b.second)) b.second = row.floats;
     }
     for (const auto& l : order)
       md += fmt::format("| {} | {} | {} | {} |\n", env.name, l, best[l].first ? std::to_string(best[l].first) : "not reached",

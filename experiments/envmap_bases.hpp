@@ -18,6 +18,14 @@
 
 namespace sglab::cli::envmap_bases {
 
+// The storage targets of the comparison (the smallest float count reaching them is tabulated, here
+// and in `sglab recommend`): diffuse within 5 % and specular at roughness α = 0.3 within 20 %
+// relative L2 — the project's choice of "good enough for shading" per layer; α = 0.3 is always
+// among the roughnesses (added when --roughness leaves it out).
+inline constexpr double kDiffuseTarget = 0.05;
+inline constexpr double kSpecularTarget = 0.20;
+inline constexpr double kTargetRoughness = 0.3;
+
 struct Options {
   std::vector<std::string> envs;   // NAME=PATH
   std::vector<std::string> bases;  // registry names; empty: all

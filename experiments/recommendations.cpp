@@ -7,12 +7,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -20,11 +22,22 @@
 
 #include "atomic_file.hpp"
 #include "csv.hpp"
+#include "envmap_bases.hpp"
 #include "experiment_command.hpp"
 #include "registry.hpp"
 #include "sglab/registry.hpp"
 
 namespace sglab::cli::recommendations {
+
+const std::vector<std::string>& input_tables() {
+  static const std::vector<std::string> files = {
+      "error_vs_time.csv",        "stability.csv",          "near_wall_smape.csv",
+      "near_wall_smape_sweep.csv", "hemispherical_rmse.csv", "specular_vs_roughness.csv",
+      "vsgl_error_vs_count.csv",  "vsgl_error_vs_roughness_distance.csv", "vsgl_visibility_off.csv",
+      "vsgl_visibility_on.csv",   "filtering.csv",          "filtering_denoise.csv",
+      "envmap_lobes.csv",         "envmap_bases.csv",       "shader_export.csv"};
+  return files;
+}
 
 std::vector<Candidate> pareto_front(std::vector<Candidate> all) {
   std::stable_sort(all.begin(), all.end(), [](const Candidate& a, const Candidate& b) {
@@ -41,6 +54,18 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string g(double x) { return std::isfinite(x) ? fmt::format("{:.3g}", x) : "—"; }
+// A count (instructions, ulps, points, floats): every digit.
+std::string count(double x) { return std::isfinite(x) ? fmt::format("{:.0f}", x) : "—"; }
+// A measured cost: three significant digits, every integer digit from 1000 up (2249, not 2.25e+03).
+std::string magnitude(double x) { return std::isfinite(x) && std::abs(x) >= 1000 && std::abs(x) < 1e9 ? count(x) : g(x); }
+
+// The shader section's "cheapest within": a max error of 1 % of the reference, the generator's own
+// choice of a diffuse error small enough to trade for instructions (the most accurate export is
+// named beside it).
+constexpr double kShaderTolerance = 0.01;
+// Two environments whose rows in the basis table differ by a median below this (relative) are
+// named as ones the table barely tells apart.
+constexpr double kSameEnvironment = 0.01;
 
 // One committed table: its rows, and the command its header names.
 struct Table {
@@ -71,6 +96,9 @@ class Tables {
  public:
   Tables(std::string dir, std::vector<std::string>& missing) : dir_(std::move(dir)), missing_(missing) {}
   const Table* get(const std::string& file) {
+    // Every table read is in input_tables(): `sglab reproduce` fingerprints those for its marker.
+    if (std::find(input_tables().begin(), input_tables().end(), file) == input_tables().end())
+      throw std::logic_error("recommend: " + file + " is read but not listed in input_tables()");
     if (auto it = cache_.find(file); it != cache_.end()) return it->second.get();
     const fs::path path = fs::path(dir_) / file;
     std::ifstream in(path, std::ios::binary);
@@ -101,15 +129,21 @@ class Tables {
   std::map<std::string, std::unique_ptr<Table>> cache_;
 };
 
-// The front as a Markdown table, and the choice per budget.
-std::string front_text(const std::vector<Candidate>& front, const std::string& cost_label, const std::string& error_label) {
-  std::string s = fmt::format("| choice | {} | {} |\n|---|---|---|\n", cost_label, error_label);
-  for (const auto& c : front) s += fmt::format("| {} | {} | {} |\n", c.name, g(c.cost), g(c.error));
-  s += "\nBy budget (" + cost_label + "): ";
+// The choice per budget along a front.
+std::string budget_text(const std::vector<Candidate>& front, const std::string& cost_label, std::string (*cost)(double) = g) {
+  std::string s = "By budget (" + cost_label + "): ";
   for (std::size_t i = 0; i < front.size(); ++i)
-    s += fmt::format("{}from {}: **{}**", i ? "; " : "", g(front[i].cost), front[i].name) +
-         (i + 1 < front.size() ? fmt::format(" (below {})", g(front[i + 1].cost)) : " and above");
+    s += fmt::format("{}from {}: **{}**", i ? "; " : "", cost(front[i].cost), front[i].name) +
+         (i + 1 < front.size() ? fmt::format(" (below {})", cost(front[i + 1].cost)) : " and above");
   return s + ".\n";
+}
+
+// The front as a Markdown table, and the choice per budget.
+std::string front_text(const std::vector<Candidate>& front, const std::string& cost_label, const std::string& error_label,
+                       std::string (*cost)(double) = g) {
+  std::string s = fmt::format("| choice | {} | {} |\n|---|---|---|\n", cost_label, error_label);
+  for (const auto& c : front) s += fmt::format("| {} | {} | {} |\n", c.name, cost(c.cost), g(c.error));
+  return s + "\n" + budget_text(front, cost_label, cost);
 }
 
 const Candidate* named(const std::vector<Candidate>& v, const std::string& name) {
@@ -376,7 +410,7 @@ Section filtering(Tables& tables) {
   return sec;
 }
 
-// ---- environment basis -----------------------------------------------------------------------------
+// ---- environment: SG mixture fit ----------------------------------------------------------------
 
 Section environment(Tables& tables) {
   Section sec{"Environment lighting: the SG mixture fit", "", ""};
@@ -408,43 +442,510 @@ Section environment(Tables& tables) {
   return sec;
 }
 
-// ---- tables other steps add ------------------------------------------------------------------------
+// ---- helpers of the sections below ---------------------------------------------------------------
 
-// A table this generator has no section of its own for: when it has a name column, an error column
-// and a cost column (by the names the project's tables use), the front of their per-name means;
-// otherwise a link.
-Section generic(Tables& tables, const std::string& file, const std::string& title) {
-  Section sec{title, "", ""};
-  const Table* t = tables.get(file);
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string signed_percent(double x) { return fmt::format("{:+.1f} %", 100 * x); }
+
+// Appends `s` to `order` unless it is there: the table's order of first appearance.
+void remember(std::vector<std::string>& order, const std::string& s) {
+  if (std::find(order.begin(), order.end(), s) == order.end()) order.push_back(s);
+}
+
+// ---- denoising ---------------------------------------------------------------------------------
+
+// The receiver classes of the denoising table: the column of their relative L2 and their name.
+struct ReceiverClass {
+  const char* column;
+  const char* name;
+};
+constexpr ReceiverClass kReceiverClasses[] = {{"glossy_relative_l2", "glossy"}, {"diffuse_relative_l2", "diffuse"}};
+
+Section denoise(Tables& tables) {
+  Section sec{"Denoising: the filter", "", ""};
+  const Table* t = tables.get("filtering_denoise.csv");
   if (!t) return sec;
-  auto first_of = [&](std::initializer_list<const char*> names) -> std::string {
-    for (const char* n : names)
-      if (t->has(n)) return n;
-    return "";
-  };
-  const std::string name = first_of({"method", "basis", "weights", "denoiser", "variant", "shader", "name"});
-  const std::string error = first_of({"relative_l2", "relative_error", "weighted_error", "max_error", "rmse", "smape", "error"});
-  const std::string cost = first_of({"ns_per_eval", "seconds", "ms", "instructions", "cost", "lobes"});
-  if (name.empty() || error.empty() || cost.empty()) {
-    sec.headline = "see the table";
-    sec.body = "No name, error and cost columns this generator knows; see " + t->source() + ".\n";
-    return sec;
-  }
-  std::map<std::string, std::pair<Candidate, int>> acc;
+  const bool timed = t->has("ns_per_pixel");
+  using Rows = std::vector<const runner::CsvRecord*>;
+  std::vector<std::string> inputs, weights;
+  std::map<std::string, std::map<std::string, Rows>> rows;  // noisy input → weights → one row per floor roughness
   for (const auto& r : t->csv.rows) {
-    const double e = t->number(r, error), c = t->number(r, cost);
-    if (!std::isfinite(e) || !std::isfinite(c)) continue;
-    auto& [cand, n] = acc[t->text(r, name)];
-    cand.cost += c;
-    cand.error += e;
-    ++n;
+    remember(inputs, t->text(r, "noisy"));
+    remember(weights, t->text(r, "weights"));
+    rows[t->text(r, "noisy")][t->text(r, "weights")].push_back(&r);
   }
-  std::vector<Candidate> all;
-  for (auto [nm, cn] : acc) all.push_back({nm, cn.first.cost / cn.second, cn.first.error / cn.second});
-  const auto front = pareto_front(all);
-  sec.headline = headline(front, cost, "mean " + error, 0.1);
-  sec.body = fmt::format("Pareto front of the mean `{}` against the mean `{}` per `{}` (means over the table's rows):\n\n", error, cost, name) +
-             front_text(front, "mean " + cost, "mean " + error) + "\nSources: " + t->source() + ".\n";
+  const auto mean = [&](const Rows& rs, const std::string& column) {
+    double s = 0;
+    for (const auto* r : rs) s += t->number(*r, column);
+    return rs.empty() ? NAN : s / double(rs.size());
+  };
+  // The weighting of `input` with the lowest mean of `column`.
+  const auto lowest = [&](const std::string& input, const std::string& column) {
+    std::pair<double, std::string> best{INFINITY, ""};
+    for (const auto& w : weights)
+      if (rows[input].count(w)) best = std::min(best, {mean(rows[input][w], column), w});
+    return best;
+  };
+  const auto cost = [&](const std::string& input, const std::string& w) {
+    return timed ? fmt::format(", {} ns/pixel", magnitude(mean(rows[input][w], "ns_per_pixel"))) : std::string();
+  };
+  std::vector<std::string> verdicts;
+  for (const auto& in : inputs) {
+    const auto gl = lowest(in, kReceiverClasses[0].column), di = lowest(in, kReceiverClasses[1].column);
+    if (gl.second == di.second)
+      verdicts.push_back(fmt::format("{}: **{}** on both (glossy {}, diffuse {}{})", in, gl.second, g(gl.first), g(di.first), cost(in, gl.second)));
+    else
+      verdicts.push_back(fmt::format("{}: glossy **{}** ({}{}), diffuse **{}** ({}{})", in, gl.second, g(gl.first), cost(in, gl.second), di.second,
+                                     g(di.first), cost(in, di.second)));
+  }
+  sec.headline = fmt::format("lowest mean relative L2 over the floor roughnesses, per noisy input — {}{}", fmt::join(verdicts, "; "),
+                             timed ? "" : "; the table measures no cost");
+  std::string& b = sec.body;
+  b += "Per noisy input, each weighting's mean relative L2 over the table's floor roughnesses (all pixels, glossy receivers, diffuse "
+       "receivers) and its worst row (all pixels)";
+  b += timed ? ", with the filter's mean ns per pixel (the table's cost column):\n\n" : "; the table measures no cost:\n\n";
+  b += "| noisy input | weights | ns/pixel | relative L2 | glossy | diffuse | worst relative L2 | at floor roughness |\n"
+       "|---|---|---|---|---|---|---|---|\n";
+  for (const auto& in : inputs)
+    for (const auto& w : weights) {
+      if (!rows[in].count(w)) continue;
+      const Rows& rs = rows[in][w];
+      const runner::CsvRecord* worst = rs.front();
+      for (const auto* r : rs)
+        if (t->number(*r, "relative_l2") > t->number(*worst, "relative_l2")) worst = r;
+      b += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", in, w, timed ? magnitude(mean(rs, "ns_per_pixel")) : "—", g(mean(rs, "relative_l2")),
+                       g(mean(rs, kReceiverClasses[0].column)), g(mean(rs, kReceiverClasses[1].column)), g(t->number(*worst, "relative_l2")),
+                       t->text(*worst, "floor_roughness"));
+    }
+  if (timed)
+    for (const auto& in : inputs) {
+      std::vector<Candidate> all;
+      for (const auto& w : weights)
+        if (rows[in].count(w)) all.push_back({w, mean(rows[in][w], "ns_per_pixel"), mean(rows[in][w], "relative_l2")});
+      b += "\nPareto front of " + in + " (mean relative L2, all pixels, against mean ns per pixel):\n\n" +
+           front_text(pareto_front(all), "ns/pixel", "relative L2", magnitude);
+    }
+  b += "\nCaveats measured:\n\n";
+  for (const auto& in : inputs) {
+    // Where the weighting with the lowest mean is not the lowest row by row.
+    for (const auto& rc : kReceiverClasses) {
+      const std::string best = lowest(in, rc.column).second;
+      for (const auto& other : weights) {
+        if (other == best || !rows[in].count(other)) continue;
+        int above = 0, n = 0;
+        double most = -INFINITY;
+        std::string at, values;
+        std::vector<std::string> where;
+        for (const auto* r : rows[in][best])
+          for (const auto* q : rows[in][other]) {
+            if (t->text(*r, "floor_roughness") != t->text(*q, "floor_roughness")) continue;
+            ++n;
+            const double e = t->number(*r, rc.column), o = t->number(*q, rc.column);
+            if (!(e > o)) continue;
+            ++above;
+            where.push_back(t->text(*r, "floor_roughness"));
+            if (e / o - 1 > most) most = e / o - 1, at = t->text(*r, "floor_roughness"), values = fmt::format("{} against {}", g(e), g(o));
+          }
+        if (above)
+          b += fmt::format("- {}, {} receivers: {} (the lowest mean) is above {} at {} of {} floor roughnesses ({}); most at {}, {} ({}).\n", in,
+                           rc.name, best, other, above, n, fmt::join(where, ", "), at, signed_percent(most), values);
+      }
+    }
+    // Mean against worst row (all pixels).
+    std::pair<double, std::string> best_worst{INFINITY, ""};
+    for (const auto& w : weights) {
+      if (!rows[in].count(w)) continue;
+      double worst = -INFINITY;
+      for (const auto* r : rows[in][w]) worst = std::max(worst, t->number(*r, "relative_l2"));
+      best_worst = std::min(best_worst, {worst, w});
+    }
+    const auto best_mean = lowest(in, "relative_l2");
+    if (best_worst.second != best_mean.second)
+      b += fmt::format("- {}, all pixels: {} has the lowest mean relative L2 ({}), {} the lowest worst row ({}).\n", in, best_mean.second,
+                       g(best_mean.first), best_worst.second, g(best_worst.first));
+  }
+  // Filtering that makes it worse than the noisy input it starts from.
+  if (t->has("noisy_relative_l2"))
+    for (const auto& w : weights) {
+      int worse = 0, n = 0;
+      double most = -INFINITY;
+      std::string at;
+      for (const auto& in : inputs)
+        for (const auto* r : rows[in][w]) {
+          ++n;
+          const double e = t->number(*r, "relative_l2"), noisy = t->number(*r, "noisy_relative_l2");
+          if (!(e > noisy)) continue;
+          ++worse;
+          if (e / noisy - 1 > most)
+            most = e / noisy - 1, at = fmt::format("{}, floor roughness {}: {} against {}", in, t->text(*r, "floor_roughness"), g(e), g(noisy));
+        }
+      if (worse)
+        b += fmt::format("- {}: the filtered image is further from the reference than its noisy input on {} of {} rows (most {} at {}).\n", w,
+                         worse, n, signed_percent(most), at);
+    }
+  b += "\nSources: " + t->source() + ".\n";
+  return sec;
+}
+
+// ---- environment basis -----------------------------------------------------------------------------
+
+// The layers the basis section weighs, with their targets (envmap_bases.hpp).
+struct BasisLayer {
+  std::string key, label;
+  double target;
+};
+
+Section bases(Tables& tables) {
+  namespace eb = envmap_bases;
+  Section sec{"Environment lighting: the basis", "", ""};
+  const Table* t = tables.get("envmap_bases.csv");
+  if (!t) return sec;
+  // diffuse-engine (the shading an engine runs: SG by hill-fitted) is held to the diffuse target too.
+  const std::vector<BasisLayer> layers = {{"diffuse", "diffuse", eb::kDiffuseTarget},
+                                          {"diffuse-engine", "diffuse-engine", eb::kDiffuseTarget},
+                                          {"specular", fmt::format("specular α = {:g}", eb::kTargetRoughness), eb::kSpecularTarget}};
+  // One basis at one size ("sg-fixed nnls N=16"), over the environments.
+  struct Fit {
+    std::string family, size;
+    double floats = 0, lobes = 0;  // lobes: N, 0 for a basis of another size symbol (SH's L)
+    std::map<std::string, double> seconds, ns, zero;                  // per environment
+    std::map<std::string, std::map<std::string, double>> error;       // layer → environment → relative L2
+  };
+  std::vector<std::string> order, envs, families;
+  std::map<std::string, Fit> fits;
+  for (const auto& r : t->csv.rows) {
+    const std::string env = t->text(r, "environment"), variant = t->text(r, "variant");
+    const std::string family = t->text(r, "basis") + (variant.empty() ? "" : " " + variant);
+    const std::string size = t->text(r, "size_symbol") + "=" + t->text(r, "size"), name = family + " " + size;
+    remember(order, name);
+    remember(envs, env);
+    remember(families, family);
+    Fit& f = fits[name];
+    f.family = family, f.size = size, f.floats = t->number(r, "floats");
+    f.lobes = t->text(r, "size_symbol") == "N" ? t->number(r, "size") : 0;
+    f.seconds[env] = t->number(r, "fit_seconds");
+    f.ns[env] = t->number(r, "diffuse_ns_per_pixel");
+    f.zero[env] = t->number(r, "zero_lobes");
+    std::string layer = t->text(r, "layer");
+    if (layer == "specular") {
+      if (t->number(r, "roughness") != eb::kTargetRoughness) continue;  // the other roughnesses: envmap_bases.md
+    }
+    f.error[layer][env] = t->number(r, "relative_l2");
+  }
+  const auto values = [](const std::map<std::string, double>& m) {
+    std::vector<double> v;
+    for (const auto& [k, x] : m) v.push_back(x);
+    return v;
+  };
+  const auto max_at = [](const std::map<std::string, double>& m) {
+    std::pair<double, std::string> w{-INFINITY, ""};
+    for (const auto& [k, x] : m)
+      if (x > w.first) w = {x, k};
+    return w;
+  };
+  std::string& b = sec.body;
+  b += fmt::format("The table's x axis is storage: per basis and size, its stored float count, and the median over the table's {} "
+                   "environments of each layer's relative L2 (with the largest, the median fit seconds and the median ns per pixel of "
+                   "the engine's diffuse shading). Pareto front of the median error against stored floats, per layer:\n",
+                   envs.size());
+  std::vector<std::string> verdicts;
+  for (const auto& layer : layers) {
+    std::vector<Candidate> all;
+    for (const auto& name : order)
+      if (fits[name].error.count(layer.key)) all.push_back({name, fits[name].floats, median(values(fits[name].error[layer.key]))});
+    const auto front = pareto_front(all);
+    b += fmt::format("\n**{}** (target {:g} %):\n\n| choice | floats | median relative L2 | max (environment) | median fit s | median ns/pixel |\n"
+                     "|---|---|---|---|---|---|\n",
+                     layer.label, 100 * layer.target);
+    for (const auto& c : front) {
+      Fit& f = fits[c.name];
+      const auto w = max_at(f.error[layer.key]);
+      b += fmt::format("| {} | {} | {} | {} ({}) | {} | {} |\n", c.name, count(c.cost), g(c.error), g(w.first), w.second, g(median(values(f.seconds))),
+                       magnitude(median(values(f.ns))));
+    }
+    b += "\n" + budget_text(front, "stored floats", count);
+    const Candidate* reach = nullptr;
+    for (const auto& c : front)
+      if (c.error <= layer.target) {
+        reach = &c;
+        break;
+      }
+    if (reach) {
+      const auto w = max_at(fits[reach->name].error[layer.key]);
+      verdicts.push_back(fmt::format("{} ≤ {:g} % from **{}** ({} floats: median {}, max {} {})", layer.label, 100 * layer.target, reach->name,
+                                     count(reach->cost), g(reach->error), g(w.first), w.second));
+    } else if (!front.empty()) {
+      verdicts.push_back(fmt::format("{} ≤ {:g} % not reached; the most accurate **{}** ({} floats: median {})", layer.label, 100 * layer.target,
+                                     front.back().name, count(front.back().cost), g(front.back().error)));
+    }
+  }
+  sec.headline = fmt::format("median over {} environments — {}", envs.size(), fmt::join(verdicts, "; "));
+  // The smallest storage reaching each target, per environment and basis.
+  std::vector<std::string> targets;
+  for (const auto& l : layers) targets.push_back(fmt::format("{} ≤ {:g} %", l.label, 100 * l.target));
+  b += fmt::format("\nSmallest stored-float count at which each basis reaches the targets, per environment (each cell: {}; relative "
+                   "L2):\n\n| environment |",
+                   fmt::join(targets, " / "));
+  for (const auto& fam : families) b += " " + fam + " |";
+  b += "\n|---|" + [&] {
+    std::string s;
+    for (std::size_t i = 0; i < families.size(); ++i) s += "---|";
+    return s;
+  }() + "\n";
+  for (const auto& env : envs) {
+    b += "| " + env + " |";
+    for (const auto& fam : families) {
+      std::vector<std::string> cell;
+      for (const auto& layer : layers) {
+        double smallest = INFINITY;
+        for (const auto& name : order) {
+          Fit& f = fits[name];
+          if (f.family != fam || !f.error[layer.key].count(env)) continue;
+          if (f.error[layer.key][env] <= layer.target) smallest = std::min(smallest, f.floats);
+        }
+        cell.push_back(std::isfinite(smallest) ? count(smallest) : "not reached");
+      }
+      b += fmt::format(" {} |", fmt::join(cell, " / "));
+    }
+    b += "\n";
+  }
+  b += "\nCaveats measured:\n\n";
+  // Zero-amplitude lobes.
+  for (const auto& fam : families) {
+    double most = 0, of = 0;
+    int with = 0, n = 0;
+    std::string at;
+    for (const auto& name : order) {
+      Fit& f = fits[name];
+      if (f.family != fam) continue;
+      for (const auto& [env, z] : f.zero) {
+        ++n;
+        if (z > 0) ++with;
+        if (z > most) most = z, of = f.lobes, at = env + " " + f.size;
+      }
+    }
+    if (with)
+      b += fmt::format("- {}: zero-amplitude lobes in {} of {} fits, up to {} of {} ({}): stored floats that carry nothing.\n", fam, with, n, count(most),
+                       count(of), at);
+  }
+  if (!t->has("negatives"))
+    b += "- The table counts no negative values: where a least-squares fit (signed amplitudes, `sg-fixed ls`) or SH ringing makes the "
+         "representation negative is not measured.\n";
+  // Error growing with storage, per basis and layer (each environment's sizes in the table's order).
+  for (const auto& fam : families)
+    for (const auto& layer : layers) {
+      int rises = 0, steps = 0;
+      double most = 1;
+      std::string at;
+      for (const auto& env : envs) {
+        const Fit* prev = nullptr;
+        for (const auto& name : order) {
+          Fit& f = fits[name];
+          if (f.family != fam || !f.error[layer.key].count(env)) continue;
+          if (prev) {
+            ++steps;
+            const double a = prev->error.at(layer.key).at(env), e = f.error[layer.key][env];
+            if (e > a) {
+              ++rises;
+              if (e / a > most) most = e / a, at = fmt::format("{}: {} at {} → {} at {}", env, g(a), prev->size, g(e), f.size);
+            }
+          }
+          prev = &f;
+        }
+      }
+      if (rises)
+        b += fmt::format("- {}, {}: the error grows with storage in {} of {} steps to the next size; most at {}.\n", fam, layer.label, rises,
+                         steps, at);
+    }
+  // The engine's diffuse shading against the exact diffuse of the same representation.
+  for (const auto& fam : families) {
+    double most = 1;
+    std::string at;
+    for (const auto& name : order) {
+      Fit& f = fits[name];
+      if (f.family != fam || !f.error.count("diffuse-engine")) continue;
+      for (const auto& [env, e] : f.error["diffuse-engine"])
+        if (f.error["diffuse"].count(env) && e / f.error["diffuse"][env] > most)
+          most = e / f.error["diffuse"][env], at = fmt::format("{} {}: {} against the exact {}", env, f.size, g(e), g(f.error["diffuse"][env]));
+    }
+    if (!at.empty())
+      b += fmt::format("- {}: the engine's diffuse shading (layer diffuse-engine) is furthest above the exact diffuse at {}.\n", fam, at);
+  }
+  // Environments the table barely tells apart: the median relative difference of their rows.
+  for (std::size_t i = 0; i < envs.size(); ++i)
+    for (std::size_t j = i + 1; j < envs.size(); ++j) {
+      std::vector<double> diff;
+      double most = -1;
+      std::string at;
+      for (const auto& name : order)
+        for (auto& [layer, per_env] : fits[name].error)
+          if (per_env.count(envs[i]) && per_env.count(envs[j])) {
+            const double a = per_env[envs[i]], c = per_env[envs[j]], d = std::abs(a - c) / std::max(a, c);
+            if (!std::isfinite(d)) continue;
+            diff.push_back(d);
+            if (d > most) most = d, at = name + ", " + layer;
+          }
+      if (!diff.empty() && median(diff) < kSameEnvironment)
+        b += fmt::format("- {} and {}: their {} rows differ by a median {:.2g} % (max {:.2g} % at {}): the table barely tells them apart "
+                         "(see its text).\n",
+                         envs[i], envs[j], diff.size(), 100 * median(diff), 100 * most, at);
+    }
+  b += "\nSources: " + t->source() + ".\n";
+  return sec;
+}
+
+// ---- exported shaders --------------------------------------------------------------------------------
+
+Section shaders(Tables& tables) {
+  Section sec{"Shaders: the exported methods", "", ""};
+  const Table* t = tables.get("shader_export.csv");
+  if (!t) return sec;
+  struct Export {
+    double instructions = NAN, error = NAN, ulps = NAN, compiles = 1, grid_bad = 0, stiff = 0, stiff_negative = 0, stiff_bad = 0;
+  };
+  std::vector<std::string> quantities, evaluators, languages;  // languages: the evaluators with a SPIR-V count
+  std::map<std::string, std::vector<std::string>> methods;     // quantity → methods, in the table's order
+  std::map<std::string, std::map<std::string, std::map<std::string, Export>>> ex;  // quantity → method → evaluator
+  for (const auto& r : t->csv.rows) {
+    const std::string& full = t->text(r, "method");
+    const auto slash = full.find('/');
+    if (slash == std::string::npos)
+      throw UsageError(fmt::format("recommend: {} line {}: method '{}' is not QUANTITY/METHOD", t->file, r.line, clip_text(full)));
+    const std::string q = full.substr(0, slash), m = full.substr(slash + 1), e = t->text(r, "evaluator");
+    remember(quantities, q);
+    remember(methods[q], m);
+    remember(evaluators, e);
+    Export& x = ex[q][m][e];
+    const double instructions = t->number(r, "spirv_instructions");
+    x.instructions = instructions >= 0 ? instructions : NAN;  // -1: not compiled to SPIR-V (sglab float, C)
+    if (instructions >= 0) remember(languages, e);
+    x.error = t->number(r, "max_error");
+    x.ulps = t->number(r, "max_ulps_vs_sglab_float");
+    x.compiles = t->number(r, "compiles");
+    x.grid_bad = t->number(r, "grid_non_finite");
+    x.stiff = t->number(r, "stiff_points");
+    x.stiff_negative = t->number(r, "stiff_negatives");
+    x.stiff_bad = t->number(r, "stiff_non_finite");
+  }
+  // One value per language: once when every language has it, else each with its language.
+  const auto per_language = [&](const std::function<std::string(const std::string&)>& value) {
+    std::vector<std::string> v;
+    std::set<std::string> distinct;
+    for (const auto& l : languages) v.push_back(value(l) + " " + l), distinct.insert(value(l));
+    return distinct.size() == 1 ? *distinct.begin() : fmt::format("{}", fmt::join(v, " / "));
+  };
+  std::string& b = sec.body;
+  b += fmt::format("Per quantity, every exported method: its max error against the quantity's reference ({}), the largest difference from "
+                   "sglab's own float evaluation in ulps, and the SPIR-V instruction count of the compiled shader — glslang's unoptimized "
+                   "count, a proxy for cost, not a cycle count. The fronts: max error against SPIR-V instructions, per language.\n",
+                   fmt::join(evaluators, ", "));
+  std::string headline_quantity = quantities.empty() ? "" : quantities.front();
+  if (std::find(quantities.begin(), quantities.end(), "clamped-cosine") != quantities.end()) headline_quantity = "clamped-cosine";
+  for (const auto& q : quantities) {
+    b += "\n**" + q + "**:\n\n| method | " + fmt::format("{}", fmt::join(evaluators, " max error | ")) + " max error |";
+    for (const auto& l : languages) b += " " + l + " ulps | " + l + " SPIR-V |";
+    b += "\n|---|";
+    for (std::size_t i = 0; i < evaluators.size() + 2 * languages.size(); ++i) b += "---|";
+    b += "\n";
+    for (const auto& m : methods[q]) {
+      b += "| " + m + " |";
+      for (const auto& e : evaluators) b += " " + (ex[q][m].count(e) ? g(ex[q][m][e].error) : "—") + " |";
+      for (const auto& l : languages)
+        b += " " + (ex[q][m].count(l) ? count(ex[q][m][l].ulps) : "—") + " | " + (ex[q][m].count(l) ? count(ex[q][m][l].instructions) : "—") + " |";
+      b += "\n";
+    }
+    std::map<std::string, std::vector<Candidate>> fronts;
+    for (const auto& l : languages) {
+      std::vector<Candidate> all;
+      for (const auto& m : methods[q])
+        if (ex[q][m].count(l) && ex[q][m][l].compiles > 0) all.push_back({m, ex[q][m][l].instructions, ex[q][m][l].error});
+      fronts[l] = pareto_front(all);
+      b += "\n" + l + " front:\n\n" + front_text(fronts[l], "SPIR-V instructions", "max error", count);
+    }
+    if (q != headline_quantity || languages.empty()) continue;
+    // The verdict: the most accurate export, and the cheapest within kShaderTolerance, each per language.
+    const auto pick = [&](bool within) {
+      std::map<std::string, std::string> by;
+      for (const auto& l : languages) {
+        const auto& f = fronts[l];
+        if (f.empty()) continue;
+        if (!within) by[l] = f.back().name;
+        else
+          for (const auto& c : f)
+            if (c.error <= kShaderTolerance) {
+              by[l] = c.name;
+              break;
+            }
+      }
+      return by;
+    };
+    const auto describe = [&](const std::map<std::string, std::string>& by) {
+      std::set<std::string> names;
+      for (const auto& [l, m] : by) names.insert(m);
+      if (names.size() != 1 || by.size() != languages.size()) return std::string();
+      const std::string m = *names.begin();
+      return fmt::format("**{}** (max error {}, ≤ {} ulps from sglab float; SPIR-V instructions {})", m,
+                         per_language([&](const std::string& l) { return g(ex[q][m][l].error); }),
+                         per_language([&](const std::string& l) { return count(ex[q][m][l].ulps); }),
+                         per_language([&](const std::string& l) { return count(ex[q][m][l].instructions); }));
+    };
+    const auto best = pick(false), cheap = pick(true);
+    std::string verdict = describe(best);
+    if (verdict.empty()) {  // the languages disagree: each its own
+      std::vector<std::string> v;
+      for (const auto& [l, m] : best) v.push_back(fmt::format("{} **{}** (max error {})", l, m, g(ex[q][m][l].error)));
+      verdict = fmt::format("{}", fmt::join(v, ", "));
+    }
+    sec.headline = fmt::format("{}: paste {}", q, verdict);
+    if (cheap != best) {
+      const std::string c = describe(cheap);
+      sec.headline += fmt::format("; cheapest within max error {}: {}", g(kShaderTolerance), c.empty() ? "the languages disagree (see the fronts)" : c);
+    }
+    sec.headline += "; measured on lavapipe (a CPU), not a GPU";
+  }
+  b += "\nCaveats measured:\n\n";
+  if (!languages.empty())
+    b += fmt::format("- The {} rows ran on lavapipe, Vulkan on the CPU (shader_export.md names the device), not on a GPU, whose exp, log and "
+                     "sqrt approximations may change the ulps; the SPIR-V counts are unoptimized and compare within a language only.\n",
+                     fmt::join(languages, " and "));
+  for (const auto& q : quantities)
+    for (const auto& m : methods[q]) {
+      std::vector<std::string> notes;
+      std::map<std::string, std::vector<std::string>> by_note;  // the same finding for several evaluators: said once
+      for (const auto& e : evaluators) {
+        if (!ex[q][m].count(e)) continue;
+        const Export& x = ex[q][m][e];
+        if (x.compiles <= 0) by_note["does not compile"].push_back(e);
+        if (x.grid_bad > 0) by_note[fmt::format("{} NaN/Inf on the grid", count(x.grid_bad))].push_back(e);
+        if (x.stiff_negative > 0) by_note[fmt::format("{} negative of {} stiff points", count(x.stiff_negative), count(x.stiff))].push_back(e);
+        if (x.stiff_bad > 0) by_note[fmt::format("{} NaN/Inf of {} stiff points", count(x.stiff_bad), count(x.stiff))].push_back(e);
+      }
+      for (const auto& [note, es] : by_note)
+        notes.push_back(es.size() == evaluators.size() ? note + " (every evaluator)" : fmt::format("{} ({})", note, fmt::join(es, ", ")));
+      // A shader whose max error is not sglab float's: the port's rounding shows at the error's size.
+      if (ex[q][m].count("sglab float"))
+        for (const auto& l : languages)
+          if (ex[q][m].count(l) && g(ex[q][m][l].error) != g(ex[q][m]["sglab float"].error))
+            notes.push_back(fmt::format("{} max error {} against sglab float's {} ({} ulps apart)", l, g(ex[q][m][l].error),
+                                        g(ex[q][m]["sglab float"].error), count(ex[q][m][l].ulps)));
+      if (!notes.empty()) b += fmt::format("- {}/{}: {}.\n", q, m, fmt::join(notes, "; "));
+    }
+  // What `sglab export` refuses by name: the registry's methods of these quantities without a traced formula.
+  for (const auto& q : quantities)
+    if (const Quantity* reg = find_quantity(q)) {
+      std::vector<std::string> refused;
+      for (const auto& m : reg->methods)
+        if (!m.trace && m.name != reg->reference_method) refused.push_back(m.name);
+      if (!refused.empty())
+        b += fmt::format("- {}: not exportable (`sglab export` refuses them by name, so they have no row): {}.\n", q, fmt::join(refused, ", "));
+    }
+  b += "\nSources: " + t->source() + ".\n";
   return sec;
 }
 
@@ -457,9 +958,7 @@ Result compute(const Options& o) {
       (o.tables_dir.empty() ? option_argument("--out", o.out, Options{}.out) : option_argument("--tables-dir", o.tables_dir));
   Tables tables(o.from, r.missing);
   for (Section s : {diffuse(tables), hemispherical(tables), specular(tables), vsgl(tables), filtering(tables),
-                    generic(tables, "filtering_denoise.csv", "Denoising: the filter"), environment(tables),
-                    generic(tables, "envmap_bases.csv", "Environment lighting: the basis"),
-                    generic(tables, "shader_export.csv", "Shaders: the exported methods")})
+                    denoise(tables), environment(tables), bases(tables), shaders(tables)})
     if (!s.body.empty()) r.sections.push_back(std::move(s));
   return r;
 }
@@ -469,8 +968,8 @@ std::string markdown(const Result& r) {
       "# Recommendations: which method to ship\n\n"
       "Read from the tables of a full `sglab reproduce` (each section names its tables and the command that wrote them): per "
       "quantity, the Pareto front of error against cost (no method off it is both cheaper and more accurate), the choice per "
-      "cost budget, and the caveats the tables measured. Every number here is a table's, or the mean or maximum of a table's "
-      "rows where the text says so. Costs are CPU measures of this machine's run; compare within a table, not across.\n\n"
+      "cost budget, and the caveats the tables measured. Every number here is a table's, or the mean, median or maximum of a "
+      "table's rows where the text says so. Costs are CPU measures of this machine's run; compare within a table, not across.\n\n"
       "## Headlines\n\n";
   for (const auto& s : r.sections) md += "- **" + s.title + "**: " + s.headline + "\n";
   for (const auto& s : r.sections) md += "\n## " + s.title + "\n\n" + s.body;
@@ -504,8 +1003,10 @@ namespace sglab::experiments {
 Experiment recommendations_experiment() {
   return {"recommend", "which method to ship, per quantity, from the tables (recommendations.md)", cli::add_recommend_command,
           [](const Places& p) {
-            return std::vector<Step>{sglab_step("recommend", "recommendations.md: Pareto fronts, budgets and caveats from every table",
-                                                {"recommend", "--from", p.tables, "--out", p.out + "/recommendations"}, {}, "--tables-dir")};
+            Step s = sglab_step("recommend", "recommendations.md: Pareto fronts, budgets and caveats from every table",
+                                {"recommend", "--from", p.tables, "--out", p.out + "/recommendations"}, {}, "--tables-dir");
+            for (const auto& f : cli::recommendations::input_tables()) s.reads.push_back(p.tables + "/" + f);
+            return std::vector<Step>{s};
           }};
 }
 

@@ -1,9 +1,9 @@
 // `sglab recommend` as a library: which method to ship, per quantity, read from the tables a full
 // `sglab reproduce` wrote (their CSVs). Per quantity (clamped-cosine, hemispherical, specular, VSGL
-// mode, filtering weights, environment basis, and any of the tables other steps add when present)
+// mode, filtering weights, denoising filter, environment mixture fit and basis, exported shaders)
 // the Pareto front of error against cost, the choice per cost budget, and the caveats the tables
 // measured (negative outputs, where each method is worst, mean against max). Every number it
-// prints is read from a table or is a mean or maximum of a table's rows, named as such; a table
+// prints is read from a table or is a mean, median or maximum of a table's rows, named as such; a table
 // that is absent leaves its section out (said so), a malformed one is an InputError.
 #pragma once
 
@@ -19,6 +19,10 @@ struct Options {
   std::string out = "results/recommendations";   // --out
   std::string tables_dir;                        // --tables-dir: where recommendations.md goes (default: --out)
 };
+
+// The tables `compute` reads (file names in Options::from), every one of them: `sglab reproduce`
+// fingerprints them in the recommend step's marker, so that a changed table reruns it.
+const std::vector<std::string>& input_tables();
 
 // One choice: its name, cost and error in the section's units.
 struct Candidate {

@@ -40,6 +40,10 @@ struct Step {
   bool takes_constants = false;
   // Its tables carry wall-clock times: `sglab reproduce` runs it with nothing beside it.
   bool timed = false;
+  // Files the command reads that its arguments do not name (the recommendations read the tables
+  // of a directory): fingerprinted in the step's marker like a file argument, so that a changed
+  // one reruns the step.
+  std::vector<std::string> reads = {};
 };
 
 // The step, marked as one whose tables carry wall-clock times.

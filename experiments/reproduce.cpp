@@ -51,11 +51,13 @@ std::string file_fnv1a(const std::string& path) {
 }
 
 // One line "file PATH FNV1A" per argument that names a regular file now (a scene, a script, an
-// output; "NAME=PATH" arguments too), for a step's marker.
+// output; "NAME=PATH" arguments too) and per file of Step::reads that exists, for a step's marker.
 // A constant set (--constants PATH, a directory too) by the contents of its records, and a scene by
 // the files its environment reads: an edited record, map or mixture reruns the step.
-std::string files_state(const std::vector<std::string>& args) {
+std::string files_state(const std::vector<std::string>& command, const std::vector<std::string>& reads) {
   namespace fs = std::filesystem;
+  std::vector<std::string> args = command;
+  args.insert(args.end(), reads.begin(), reads.end());
   std::string state;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -178,7 +180,8 @@ class PlotQueue {
 
 // Whether the step's marker says it is done: the command, and every file it named (inputs and
 // outputs), are as the marker recorded them (an edited scene or a deleted output reruns it).
-bool done_earlier(const std::filesystem::path& marker, const std::string& line, const std::vector<std::string>& args) {
+bool done_earlier(const std::filesystem::path& marker, const std::string& line, const std::vector<std::string>& args,
+                  const std::vector<std::string>& reads) {
   if (!std::filesystem::exists(marker)) return false;
   std::ifstream in(marker);
   std::stringstream text;
@@ -187,7 +190,7 @@ bool done_earlier(const std::filesystem::path& marker, const std::string& line, 
   std::istringstream lines(text.str());
   for (std::string l; std::getline(lines, l);)
     if (l.rfind("output ", 0) != 0) recorded += l + "\n";
-  return recorded == line + "\n" + files_state(args) && outputs_intact(text.str());
+  return recorded == line + "\n" + files_state(args, reads) && outputs_intact(text.str());
 }
 
 // OUT/reproduce_times.csv: one row per step of this run (wall and CPU seconds; a step done earlier
@@ -249,7 +252,7 @@ class StepRun {
     const std::vector<std::string> args = step_args(s, o_, p_);
     const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
     const std::filesystem::path marker = markers_ / (s.name + ".done");
-    if (!o_.force && done_earlier(marker, line, args)) {
+    if (!o_.force && done_earlier(marker, line, args, s.reads)) {
       const std::lock_guard guard(lock_);
       std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all_.size(), s.name.c_str(), line.c_str());
       ++skipped_;
@@ -310,7 +313,7 @@ class StepRun {
     }
     if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
     runner::AtomicFile m(marker);
-    m.write(line + "\n" + files_state(args) + outputs_state(before, snapshot(roots, except)));
+    m.write(line + "\n" + files_state(args, s.reads) + outputs_state(before, snapshot(roots, except)));
     m.commit();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::lock_guard guard(lock_);

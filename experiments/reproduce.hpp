@@ -1,7 +1,8 @@
 // `sglab reproduce`: the main job. Runs the steps of the experiment registry in order and records
 // a marker per finished step so that an interrupted run resumes where it stopped (a step's outputs
 // are written atomically, so a step without its marker is simply redone). The marker records the
-// fingerprint of every file the step names and of every file it wrote under OUT/ and the tables
+// fingerprint of every file the step names (and of the files it reads without naming them,
+// Step::reads: the recommendations' tables) and of every file it wrote under OUT/ and the tables
 // directory, so a changed input or a deleted or altered output also reruns it.
 // The plot steps (python3) run one at a time beside the sglab steps, which run one at a time in
 // order; a step whose tables carry wall-clock times (Step::timed) runs with nothing beside it.
