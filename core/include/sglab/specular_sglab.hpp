@@ -148,16 +148,19 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T inv_nu = value_of(nd) > 0 ? T(T(2) * b * det / nd) : T(0);
   // det(I + s_D A) ≥ 1; rounding (D underflowing in float) must not take its inverse root above 1.
   const T inv_root_det = min(T(a * sqrt(rd)), T(1));
-  // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·ν·log1p(x)), x = Q/ν, with ν·log1p(x) as
-  // log1p(x)/(1/ν): Q = ∞ (float overflow at grazing view) gives −∞, not NaN. For x ≤ ε it is Q
-  // itself (ν·log1p(x) = Q(1 − x/2 + …), within half an ulp of Q), where x may be subnormal.
+  // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·ν·log1p(x)), x = Q/ν: Q = ∞ (float
+  // overflow at grazing view) gives −∞, not NaN. ν itself (not 1/(1/ν)) so that the batch kernels
+  // divide beside the log1p, not after it. For x ≤ ε it is Q itself (ν·log1p(x) = Q(1 − x/2 + …),
+  // within half an ulp of Q), where x may be subnormal.
   const T x = value_of(inv_nu) > 0 ? T(q * inv_nu) : T(0);
-  const T nu_log = value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon() ? T(log1p(x) / inv_nu) : q;
+  const T nu_log = value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon() ? T(log1p(x) * T(nd / (T(2) * b * det))) : q;
   const T t_exponent = -(T(0.5) + inv_nu) * nu_log;
-  // The product's peak: h* from m*, ω* its reflection of ωo.
-  Vec3<T> hs(-msx, -msy, T(1));
-  hs *= T(T(1) / T(hs.norm()));
-  const Vec3<T> ws = reflect_about(wo, hs);
+  // The product's peak: h* from m*, ω* its reflection of ωo, 2(ωo·h*)h* − ωo written with the
+  // unnormalized u = (−m*, 1) (one division, no square root before ω*).
+  const Vec3<T> hu(-msx, -msy, T(1));
+  const T uu = T(hu.squaredNorm());
+  const Vec3<T> ws = T(T(2) * T(wo.dot(hu)) / uu) * hu - wo;
+  const Vec3<T> hs = T(T(1) / sqrt(uu)) * hu;
   const bool above = value_of(ws(2)) > 0;
   T light = T(0), weight, horizon = T(1);
   if (above) {
@@ -170,7 +173,7 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
     weight = detail::sglab_slope_weight(alpha, f0, wo, ws, hs);
     const T wr = sqrt(w2);
     if (value_of(wr) > 0) {
-      horizon = T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) / wr));
+      horizon = T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) * T(T(1) / wr)));
     }
   } else {
     weight = detail::sglab_slope_weight(alpha, f0, wo, xi, h);

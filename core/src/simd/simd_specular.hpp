@@ -321,13 +321,15 @@ struct SpecSglab {
     const B inv_root0 = sa * xsimd::sqrt(rd);
     const B inv_root_det = xsimd::select(inv_root0 > one, one, inv_root0);
     const B x = xsimd::select(inv_nu > zero, q * inv_nu, zero);
-    const B nu_log = xsimd::select(x > B(std::numeric_limits<T>::epsilon()), vm_log1p(x) / inv_nu, q);
+    const B nu = nd / (T(2) * sb * det);
+    const B nu_log = xsimd::select(x > B(std::numeric_limits<T>::epsilon()), vm_log1p(x) * nu, q);
     const B t_exponent = -(T(0.5) + inv_nu) * nu_log;
-    V3<B> hs{-msx, -msy, one};
-    const B rn = one / norm(hs);
-    hs = {hs.x * rn, hs.y * rn, hs.z * rn};
-    const B twice = T(2) * dot(wo, hs);
-    const V3<B> ws{twice * hs.x - wo.x, twice * hs.y - wo.y, twice * hs.z - wo.z};
+    const V3<B> hu{-msx, -msy, one};
+    const B uu = dot(hu, hu);
+    const B twice = T(2) * dot(wo, hu) / uu;
+    const V3<B> ws{twice * hu.x - wo.x, twice * hu.y - wo.y, twice * hu.z - wo.z};
+    const B rn = one / xsimd::sqrt(uu);
+    const V3<B> hs{rn * hu.x, rn * hu.y, rn * hu.z};
     const auto above = ws.z > zero;
     const B dx = msx - mx, dy = msy - my;
     const B dJd = dx * (j00 * dx + j01 * dy) + dy * (j01 * dx + j11 * dy);
@@ -340,7 +342,7 @@ struct SpecSglab {
     const V3<B> hpt = select3(above, hs, h);
     const B weight = sglab_slope_weight(alpha, r.f0, wo, wpt, hpt);
     const B wr = xsimd::sqrt(w2);
-    const B horizon = xsimd::select(above & (wr > zero), T(1) - horizon_depth * vm_exp(B(-horizon_rate * ws.z / wr)), one);
+    const B horizon = xsimd::select(above & (wr > zero), T(1) - horizon_depth * vm_exp(B(-horizon_rate * ws.z * (one / wr))), one);
     const B ex = t_exponent + light;
     const B exponent = xsimd::select(ex > p[9], p[9], ex);
     // Subnormal e^x kept, not flushed as by vm_exp: it is scaled back up by the BRDF weight (up to
