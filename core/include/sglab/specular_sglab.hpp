@@ -35,7 +35,7 @@
 // and s = s_D λ, det(I + s_D A) = 1 + s(S + sΔ), A(I + s_D A)⁻¹ = (A + s_D det A·I)/det(I + s_D A).
 // Above s = 1 every ratio is divided through by s² (λ up to the largest finite float). One
 // reciprocal of det(I + s_D A) (scaled) serves Q, m*, w² and the det factor; one log1p (the t
-// power as log1p(x)/(1/ν), Q itself below x = ε) and one exp for the integral; the clamps keep
+// power as ν·log1p(Q/ν), Q itself below Q/ν = ε) and one exp for the integral; the clamps keep
 // every factor finite and ≥ 0 for every finite input in float and double (tests/specular_test.cpp).
 #pragma once
 
