@@ -33,8 +33,9 @@
 // Everything is written with A's trace and determinant only (A and I + s_D A commute; Cayley–
 // Hamilton): with S = tr JᵀJ, Δ = det JᵀJ = 16k(|q|² − (q × h_xy)² + k h_z²) ≥ 0 (k = (ωo·h)²h_z²)
 // and s = s_D λ, det(I + s_D A) = 1 + s(S + sΔ), A(I + s_D A)⁻¹ = (A + s_D det A·I)/det(I + s_D A).
-// Above s = 1 every ratio is divided through by s² (λ up to the largest finite float). Only one
-// sqrt of det, one log1p (the t power as Q·log1p(x)/x, exact as x → 0) and one exp; the clamps keep
+// Above s = 1 every ratio is divided through by s² (λ up to the largest finite float). One
+// reciprocal of det(I + s_D A) (scaled) serves Q, m*, w² and the det factor; one log1p (the t
+// power as ν·log1p(Q/ν), Q itself below Q/ν = ε) and one exp for the integral; the clamps keep
 // every factor finite and ≥ 0 for every finite input in float and double (tests/specular_test.cpp).
 #pragma once
 
@@ -91,14 +92,6 @@ T sglab_slope_weight(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<
   return T(2) * coh * fresnel_schlick(f0, coh) * ci / (h(2) * den);
 }
 
-// log1p(x)/x for x ≥ 0 (1 at x = 0).
-template <class T>
-T log1p_over_x(const T& x) {
-  using std::log1p;
-  if (!(value_of(x) > 0)) return T(1);
-  return log1p(x) / x;
-}
-
 }  // namespace detail
 
 template <class T>
@@ -115,7 +108,8 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   // Half vector of ωo and ξ and its slope (h_z floored like the warps' cosines).
   const Vec3<T> h = half_vector(wo, xi);
   const T hz = max(T(h(2)), T(kMinWarpCosine));
-  const T mx = -h(0) / hz, my = -h(1) / hz;
+  const T rhz = T(1) / hz;
+  const T mx = -h(0) * rhz, my = -h(1) * rhz;
   // JᵀJ (step 2): k = (ωo·h)²h_z², q = h_z·(−(ωo − (ωo·h)h))_xy.
   const T woh = T(wo.dot(h));
   const T qx = -(wo(0) - woh * h(0)) * hz, qy = -(wo(1) - woh * h(1)) * hz;
@@ -134,42 +128,39 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T mJm = mx * (j00 * mx + j01 * my) + my * (j01 * mx + j11 * my);
   const T mm = mx * mx + my * my;
   const T jmx = j00 * mx + j01 * my, jmy = j01 * mx + j11 * my;
-  // det(I + s_D A) = 1 + s(S + sΔ); Q = λ(mᵀJm + sΔ|m|²)/det; m* = s(Jm + sΔm)/det;
-  // w² = s_D(S + 2sΔ)/det; 1/ν = 2sΔ/(4sΔ + c_ν S). Above s = 1 divided through by s².
-  T root_det, q, msx, msy, w2, inv_nu;
-  if (value_of(s) <= 1) {
-    const T dc = T(1) + s * (tr + s * det);
-    root_det = sqrt(dc);
-    q = lambda * (mJm + s * det * mm) / dc;
-    msx = s * (jmx + s * det * mx) / dc;
-    msy = s * (jmy + s * det * my) / dc;
-    w2 = sd * (tr + T(2) * s * det) / dc;
-    const T nd = T(4) * s * det + p.nu_slope * tr;
-    inv_nu = value_of(nd) > 0 ? T(T(2) * s * det / nd) : T(0);
-  } else {
-    const T u = T(1) / s;
-    // det(I + s_D A)/s² > 0; held at the smallest normal number where every term underflows
-    // (float, α ≤ 1e-3 at exactly grazing view with λ near FLT_MAX: 0/0 otherwise).
-    const T dn = max(T(u * u + u * tr + det), T(std::numeric_limits<value_type_t<T>>::min()));
-    root_det = s * sqrt(dn);
-    q = (u * mJm + det * mm) / sd / dn;  // two divisions: s_D·dn underflows float at α → 0
-    msx = (u * jmx + det * mx) / dn;
-    msy = (u * jmy + det * my) / dn;
-    w2 = u * sd * (u * tr + T(2) * det) / dn;
-    const T nd = T(4) * det + p.nu_slope * tr * u;
-    inv_nu = value_of(nd) > 0 ? T(T(2) * det / nd) : T(0);
-  }
-  // det(I + s_D A) ≥ 1; rounding (dn underflowing in float) must not make it 0.
-  root_det = max(root_det, T(1));
-  // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·Q·log1p(x)/x), x = Q/ν; above x = 1 as
-  // −(½ + 1/ν)/(1/ν)·log1p(x), so that Q = ∞ (float overflow at grazing view) gives −∞, not NaN.
+  // Above s = 1 every ratio is divided through by s² (σ = 1/s): with (a, b) = (1, s) for s ≤ 1 and
+  // (σ, 1) above, D = a²·det(I + s_D A) = a² + b(aS + bΔ), Q = g(a·mᵀJm + bΔ|m|²)/D (g = λ,
+  // resp. 1/s_D = λσ without s_D·λ's overflow), m* = b(a·Jm + bΔm)/D, w² = s_D·a(aS + 2bΔ)/D,
+  // 1/ν = 2bΔ/(4bΔ + c_ν aS) and det(I + s_D A)^{−½} = a/√D: one reciprocal of D for all of them.
+  const bool small = value_of(s) <= 1;
+  const T a = small ? T(1) : T(T(1) / s);
+  const T b = small ? s : T(1);
+  const T g = small ? lambda : T(T(1) / sd);
+  // D > 0; held at the smallest normal number where every term underflows (float, α ≤ 1e-3 at
+  // exactly grazing view with λ near FLT_MAX: 0/0 otherwise).
+  const T dd = max(T(a * a + b * (a * tr + b * det)), T(std::numeric_limits<value_type_t<T>>::min()));
+  const T rd = T(1) / dd;
+  const T q = g * ((a * mJm + b * det * mm) * rd);
+  const T msx = b * (a * jmx + b * det * mx) * rd;
+  const T msy = b * (a * jmy + b * det * my) * rd;
+  const T w2 = sd * a * (a * tr + T(2) * b * det) * rd;
+  const T nd = T(4) * b * det + p.nu_slope * a * tr;
+  const T inv_nu = value_of(nd) > 0 ? T(T(2) * b * det / nd) : T(0);
+  // det(I + s_D A) ≥ 1; rounding (D underflowing in float) must not take its inverse root above 1.
+  const T inv_root_det = min(T(a * sqrt(rd)), T(1));
+  // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·ν·log1p(x)), x = Q/ν: Q = ∞ (float
+  // overflow at grazing view) gives −∞, not NaN. ν itself (not 1/(1/ν)) so that the batch kernels
+  // divide beside the log1p, not after it. For x ≤ ε it is Q itself (ν·log1p(x) = Q(1 − x/2 + …),
+  // within half an ulp of Q), where x may be subnormal.
   const T x = value_of(inv_nu) > 0 ? T(q * inv_nu) : T(0);
-  const T t_exponent = value_of(x) > 1 ? T(-(T(0.5) + inv_nu) / inv_nu * log1p(x))
-                                       : T(-(T(0.5) + inv_nu) * q * detail::log1p_over_x(x));
-  // The product's peak: h* from m*, ω* its reflection of ωo.
-  Vec3<T> hs(-msx, -msy, T(1));
-  hs /= T(hs.norm());
-  const Vec3<T> ws = reflect_about(wo, hs);
+  const T nu_log = value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon() ? T(log1p(x) * T(nd / (T(2) * b * det))) : q;
+  const T t_exponent = -(T(0.5) + inv_nu) * nu_log;
+  // The product's peak: h* from m*, ω* its reflection of ωo, 2(ωo·h*)h* − ωo written with the
+  // unnormalized u = (−m*, 1) (one division, no square root before ω*).
+  const Vec3<T> hu(-msx, -msy, T(1));
+  const T uu = T(hu.squaredNorm());
+  const Vec3<T> ws = T(T(2) * T(wo.dot(hu)) / uu) * hu - wo;
+  const Vec3<T> hs = T(T(1) / sqrt(uu)) * hu;
   const bool above = value_of(ws(2)) > 0;
   T light = T(0), weight, horizon = T(1);
   if (above) {
@@ -182,13 +173,13 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
     weight = detail::sglab_slope_weight(alpha, f0, wo, ws, hs);
     const T wr = sqrt(w2);
     if (value_of(wr) > 0) {
-      horizon = T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) / wr));
+      horizon = T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) * T(T(1) / wr)));
     }
   } else {
     weight = detail::sglab_slope_weight(alpha, f0, wo, xi, h);
   }
   const T exponent = min(T(t_exponent + light), T(kSglabSpecularMaxExponent));
-  const T integral = min(T(exp(exponent) / root_det), T(1));
+  const T integral = min(T(exp(exponent) * inv_root_det), T(1));
   return weight * integral * horizon;
 }
 

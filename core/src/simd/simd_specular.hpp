@@ -286,7 +286,8 @@ struct SpecSglab {
     const B a2 = alpha * alpha;
     const V3<B> h = half_vector(wo, xi);
     const B hz = xsimd::select(h.z < p[1], p[1], h.z);
-    const B mx = -h.x / hz, my = -h.y / hz;
+    const B rhz = one / hz;
+    const B mx = -h.x * rhz, my = -h.y * rhz;
     const B woh = dot(wo, h);
     const B qx = -(wo.x - woh * h.x) * hz, qy = -(wo.y - woh * h.y) * hz;
     const B k = woh * woh * hz * hz;
@@ -303,31 +304,32 @@ struct SpecSglab {
     const B mJm = mx * (j00 * mx + j01 * my) + my * (j01 * mx + j11 * my);
     const B mm = mx * mx + my * my;
     const B jmx = j00 * mx + j01 * my, jmy = j01 * mx + j11 * my;
+    // One scaled det(I + s_D A) for both sides of s = 1: (a, b) = (1, s) or (1/s, 1).
     const auto small = s <= one;
-    // s ≤ 1
-    const B dc = T(1) + s * (tr + s * det);
-    const B nd1 = T(4) * s * det + nu_slope * tr;
-    // s > 1
-    const B u = T(1) / s;
-    const B dn0 = u * u + u * tr + det;
-    const B dn = xsimd::select(dn0 < B(std::numeric_limits<T>::min()), B(std::numeric_limits<T>::min()), dn0);
-    const B nd2 = T(4) * det + nu_slope * tr * u;
-    const B root_det0 = xsimd::select(small, xsimd::sqrt(dc), s * xsimd::sqrt(dn));
-    const B root_det = xsimd::select(root_det0 < one, one, root_det0);
-    const B q = xsimd::select(small, lambda * (mJm + s * det * mm) / dc, (u * mJm + det * mm) / sd / dn);
-    const B msx = xsimd::select(small, s * (jmx + s * det * mx) / dc, (u * jmx + det * mx) / dn);
-    const B msy = xsimd::select(small, s * (jmy + s * det * my) / dc, (u * jmy + det * my) / dn);
-    const B w2 = xsimd::select(small, sd * (tr + T(2) * s * det) / dc, u * sd * (u * tr + T(2) * det) / dn);
-    const B inv_nu = xsimd::select(small, xsimd::select(nd1 > zero, T(2) * s * det / nd1, zero),
-                                   xsimd::select(nd2 > zero, T(2) * det / nd2, zero));
+    const B sa = xsimd::select(small, one, one / s);
+    const B sb = xsimd::select(small, s, one);
+    const B g = xsimd::select(small, lambda, one / sd);
+    const B dd0 = sa * sa + sb * (sa * tr + sb * det);
+    const B dd = xsimd::select(dd0 < B(std::numeric_limits<T>::min()), B(std::numeric_limits<T>::min()), dd0);
+    const B rd = one / dd;
+    const B q = g * ((sa * mJm + sb * det * mm) * rd);
+    const B msx = sb * (sa * jmx + sb * det * mx) * rd;
+    const B msy = sb * (sa * jmy + sb * det * my) * rd;
+    const B w2 = sd * sa * (sa * tr + T(2) * sb * det) * rd;
+    const B nd = T(4) * sb * det + nu_slope * sa * tr;
+    const B inv_nu = xsimd::select(nd > zero, T(2) * sb * det / nd, zero);
+    const B inv_root0 = sa * xsimd::sqrt(rd);
+    const B inv_root_det = xsimd::select(inv_root0 > one, one, inv_root0);
     const B x = xsimd::select(inv_nu > zero, q * inv_nu, zero);
-    const B l1p = vm_log1p(x);
-    const B t_exponent = xsimd::select(x > one, -(T(0.5) + inv_nu) / inv_nu * l1p,
-                                       -(T(0.5) + inv_nu) * q * xsimd::select(x > zero, l1p / x, one));
-    V3<B> hs{-msx, -msy, one};
-    hs = divided(hs, norm(hs));
-    const B twice = T(2) * dot(wo, hs);
-    const V3<B> ws{twice * hs.x - wo.x, twice * hs.y - wo.y, twice * hs.z - wo.z};
+    const B nu = nd / (T(2) * sb * det);
+    const B nu_log = xsimd::select(x > B(std::numeric_limits<T>::epsilon()), vm_log1p(x) * nu, q);
+    const B t_exponent = -(T(0.5) + inv_nu) * nu_log;
+    const V3<B> hu{-msx, -msy, one};
+    const B uu = dot(hu, hu);
+    const B twice = T(2) * dot(wo, hu) / uu;
+    const V3<B> ws{twice * hu.x - wo.x, twice * hu.y - wo.y, twice * hu.z - wo.z};
+    const B rn = one / xsimd::sqrt(uu);
+    const V3<B> hs{rn * hu.x, rn * hu.y, rn * hu.z};
     const auto above = ws.z > zero;
     const B dx = msx - mx, dy = msy - my;
     const B dJd = dx * (j00 * dx + j01 * dy) + dy * (j01 * dx + j11 * dy);
@@ -340,15 +342,12 @@ struct SpecSglab {
     const V3<B> hpt = select3(above, hs, h);
     const B weight = sglab_slope_weight(alpha, r.f0, wo, wpt, hpt);
     const B wr = xsimd::sqrt(w2);
-    const B horizon = xsimd::select(above & (wr > zero), T(1) - horizon_depth * vm_exp(B(-horizon_rate * ws.z / wr)), one);
+    const B horizon = xsimd::select(above & (wr > zero), T(1) - horizon_depth * vm_exp(B(-horizon_rate * ws.z * (one / wr))), one);
     const B ex = t_exponent + light;
     const B exponent = xsimd::select(ex > p[9], p[9], ex);
-    // libmvec's exp itself, not vm_exp: a subnormal e^x here is scaled back up by the BRDF weight
-    // (up to 1/h_z at grazing view), so it is kept as the scalar path keeps it.
-    B power;
-    if constexpr (sizeof(T) == 8) power = B(SGLAB_VEC_D(exp)(exponent));
-    else power = B(SGLAB_VEC_F(exp)(exponent));
-    const B ratio = power / root_det;
+    // Subnormal e^x kept, not flushed as by vm_exp: it is scaled back up by the BRDF weight (up to
+    // 1/h_z at grazing view), so it is kept as the scalar path keeps it.
+    const B ratio = vm_exp_subnormal(exponent) * inv_root_det;
     const B integral = xsimd::select(ratio > one, one, ratio);
     return weight * integral * horizon;
   }
