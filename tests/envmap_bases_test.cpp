@@ -5,6 +5,7 @@
 // map's amplitudes, the vMF EM honouring its iteration cap, and the tables' rows.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
