@@ -308,7 +308,7 @@ std::string free_lobe_markdown(const Result& r) {
     if (!free.empty() && vmf.count(free.rbegin()->first)) {
       const Row* f = free.rbegin()->second;
       const Row* v = vmf.at(free.rbegin()->first);
-      cost.push_back(fmt::format("{} {:.1f}× ({:.1f} ms per LM iteration against {:.1f} ms per EM iteration, {} against {} iterations)",
+      cost.push_back(fmt::format("{} {:.1f}× ({:.1f} ms of fit time per LM iteration against {:.1f} ms per EM iteration, {} against {} iterations)",
                                  env.name, v->seconds > 0 ? f->seconds / v->seconds : 0.0,
                                  f->iterations > 0 ? 1e3 * f->seconds / f->iterations : 0.0,
                                  v->iterations > 0 ? 1e3 * v->seconds / v->iterations : 0.0, f->iterations, v->iterations));
@@ -328,7 +328,8 @@ std::string free_lobe_markdown(const Result& r) {
         "full-map error ends above its predecessor's reports the predecessor's lobes plus zero-amplitude lobes (column "
         "\"kept from N/2\"; they count in \"zero lobes\" below): " +
         (kept.empty() ? std::string("no rung needed it") : list(kept)) + ".\n\n";
-  md += "**Time at the largest N, free-lobe against vMF EM**: " + list(cost) +
+  md += "**Time at the largest N, free-lobe against vMF EM** (fit seconds over iterations: the whole ladder's time over all "
+        "its LM iterations; vMF's including its k-means start and amplitude solve): " + list(cost) +
         ". Why the free-lobe fit is slower: its time at N covers the whole ladder (rungs 2, 4, …, N, each an amplitude solve "
         "and a full solve, then the sharp lobes refitted on the full map), where vMF EM fits N once; and one Levenberg–Marquardt "
         "iteration evaluates the residuals and the Jacobian (3 residuals × 7 parameters × the lobes reaching each texel, up to N) "
