@@ -52,22 +52,31 @@ std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& f, const std::v
     return out;
   }
   const std::size_t n = f.mixture.size();
-  bool same = cache.normals.size() == normals.size() && cache.lobes.size() == n;
-  for (std::size_t k = 0; same && k < normals.size(); ++k) same = cache.normals[k] == normals[k];
-  for (std::size_t j = 0; same && j < n; ++j)
-    same = cache.lobes[j].first == f.mixture[j].axis && cache.lobes[j].second == f.mixture[j].sharpness;
-  if (!same) {
-    cache.normals = normals;
-    cache.lobes.clear();
-    for (const auto& l : f.mixture) cache.lobes.emplace_back(l.axis, l.sharpness);
-    cache.factor.assign(normals.size() * n, std::numeric_limits<double>::quiet_NaN());
+  auto same = [&](const LobeDiffuseCache::Entry& e) {
+    if (e.normals.size() != normals.size() || e.lobes.size() != n) return false;
+    for (std::size_t k = 0; k < normals.size(); ++k)
+      if (e.normals[k] != normals[k]) return false;
+    for (std::size_t j = 0; j < n; ++j)
+      if (e.lobes[j].first != f.mixture[j].axis || e.lobes[j].second != f.mixture[j].sharpness) return false;
+    return true;
+  };
+  auto it = std::find_if(cache.entries.begin(), cache.entries.end(), same);
+  if (it == cache.entries.end()) {
+    if (cache.entries.size() >= LobeDiffuseCache::kEntries) cache.entries.erase(cache.entries.begin());
+    LobeDiffuseCache::Entry e;
+    e.normals = normals;
+    for (const auto& l : f.mixture) e.lobes.emplace_back(l.axis, l.sharpness);
+    e.factor.assign(normals.size() * n, std::numeric_limits<double>::quiet_NaN());
+    cache.entries.push_back(std::move(e));
+    it = cache.entries.end() - 1;
   }
+  std::vector<double>& factor = it->factor;
   tbb::parallel_for(std::size_t(0), normals.size(), [&](std::size_t k) {
     std::array<double, 3> sum{0, 0, 0};
     for (std::size_t j = 0; j < n; ++j) {
       const auto& l = f.mixture[j];
       if (l.amplitude[0] == 0 && l.amplitude[1] == 0 && l.amplitude[2] == 0) continue;
-      double& d = cache.factor[k * n + j];  // row k is this task's alone
+      double& d = factor[k * n + j];  // row k is this task's alone
       if (std::isnan(d)) d = clamped_cosine_reference(l.sharpness, std::clamp(l.axis.dot(normals[k]), -1.0, 1.0)) / M_PI;
       for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += l.amplitude[std::size_t(c)] * d;
     }

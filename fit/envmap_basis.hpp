@@ -53,11 +53,16 @@ struct EnvBasisFit {
 // each. For an SG fit the costly part is the per-lobe factor clamped_cosine_reference(λ, ξ·n)/π (a
 // tanh-sinh quadrature each): it is kept in the cache and reused by the next call with the same
 // normals and the same lobe axes and sharpnesses (the three amplitude solvers of sg-fixed share
-// them); zero-amplitude lobes add exactly nothing and are skipped. Normals in parallel.
+// them at every N); zero-amplitude lobes add exactly nothing and are skipped. Normals in parallel.
 struct LobeDiffuseCache {
-  std::vector<Vec3<double>> normals;
-  std::vector<std::pair<Vec3<double>, double>> lobes;  // axis, sharpness
-  std::vector<double> factor;                          // [normal · lobes + lobe]; NaN until computed
+  struct Entry {
+    std::vector<Vec3<double>> normals;
+    std::vector<std::pair<Vec3<double>, double>> lobes;  // axis, sharpness
+    std::vector<double> factor;                          // [normal · lobes + lobe]; NaN until computed
+  };
+  // The most recent lobe sets, at most kEntries (the sizes of one basis: 6 by default).
+  static constexpr std::size_t kEntries = 8;
+  std::vector<Entry> entries;
 };
 std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& fit, const std::vector<Vec3<double>>& normals, LobeDiffuseCache& cache);
 

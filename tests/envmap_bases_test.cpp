@@ -290,7 +290,8 @@ TEST(SgFree, SunSizedFeatureImprovesOnTheOneLobeFloor) {
 // The exact diffuse of an SG fit at many normals (diffuse_at, the factors cached across fits with
 // the same lobes) against Σ_j μ_j clamped_cosine_reference(λ_j, ξ_j·n)/π written out here: equal
 // to the last bit, on a first call, on a second call with other amplitudes (cached factors, one
-// lobe now at zero amplitude, one newly non-zero) and after the lobes change (cache rebuilt).
+// lobe now at zero amplitude, one newly non-zero), after the lobes change (a new entry) and for the
+// first lobes again (their entry kept).
 TEST(EnvBasisFit, DiffuseAtManyNormalsMatchesTheClampedCosineReferencePerLobe) {
   const auto normals = fit::envmap_detail::fibonacci_axes(40);
   const auto axes = fit::envmap_detail::fibonacci_axes(6);
@@ -326,6 +327,8 @@ TEST(EnvBasisFit, DiffuseAtManyNormalsMatchesTheClampedCosineReferencePerLobe) {
   check(other, "cached factors, other amplitudes");
   other.mixture[4].sharpness *= 2;
   check(other, "a lobe changed");
+  check(f, "the first lobes again (an older entry)");
+  EXPECT_EQ(cache.entries.size(), 2u);
 }
 
 // The `sg-free` basis (one ladder fit) on the synthetic 4-lobe mixture at 128×64: the map error
