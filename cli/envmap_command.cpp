@@ -191,6 +191,10 @@ void run_fit_envmap(const FitEnvArgs& a) {
   std::printf("  L2 %.6g, relative error %.6g (solid-angle weighted, against the %d×%d map)\n", r.error.l2, r.error.relative,
               map.width, map.height);
   std::printf("  %d iterations, %s, %.3f s\n", r.iterations, r.converged ? "converged" : "NOT converged (iteration cap)", r.seconds);
+  if (r.kept_lobes > 0)
+    std::printf("  the fit at %zu lobes ended above the lobe ladder's previous rung on the full map: that rung's %d lobes are kept, "
+                "the others set to zero amplitude\n",
+                r.mixture.size(), r.kept_lobes);
   if (const int zero = fit::zero_amplitude_lobes(r.mixture))
     std::printf("  %d of %zu lobes have zero amplitude (they add nothing; the map needs fewer lobes or a better start)\n", zero,
                 r.mixture.size());

@@ -44,6 +44,9 @@ struct Options {
 struct Row {
   std::string basis, variant, size_symbol;
   int size = 0, floats = 0, zero_lobes = 0;
+  int kept_lobes = 0;                 // sg-free: lobes kept from N/2 by the ladder's guard
+  int iterations = 0;                 // vmf-em: EM; sg-free: LM over the ladder up to N
+  int fit_width = 0, fit_height = 0;  // vmf-em, sg-free: the finest level fitted
   double seconds = 0;
   double map_error = 0, diffuse_error = 0, engine_diffuse_error = 0, diffuse_ns = 0;
   std::vector<double> specular_error;  // per roughness

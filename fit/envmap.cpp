@@ -484,6 +484,24 @@ void seed_bright_lobes(const Level& full, std::vector<double>& x, int N, const E
   }
 }
 
+// A rung whose fit ended above its predecessor's full-map error: the predecessor's lobes plus the
+// rung's remaining lobes at zero amplitude (they add exactly nothing, so the texel means and the
+// error are the predecessor's); the rung's own time and iterations.
+EnvFitResult keep_previous(const EnvFitResult& previous, const EnvFitResult& rung) {
+  EnvFitResult kept = previous;
+  kept.kept_lobes = int(previous.mixture.size());
+  for (std::size_t k = previous.mixture.size(); k < rung.mixture.size(); ++k) {
+    SgLight l = rung.mixture[k];
+    l.amplitude = {0, 0, 0};
+    kept.mixture.push_back(l);
+  }
+  kept.seconds = rung.seconds;
+  kept.iterations = rung.iterations;
+  kept.converged = rung.converged;
+  kept.final_cost = rung.final_cost;
+  return kept;
+}
+
 // Lobe counts up to kDirectLobes are fitted directly; larger ones by doubling (fit_envmap_ceres).
 constexpr int kDirectLobes = 2;
 
@@ -572,6 +590,7 @@ EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
     r.iterations += s.iterations;
     r.converged = r.converged && s.converged;
   }
+  EnvFitResult previous;  // the rung before, as reported
   for (std::size_t rung = 0;; ++rung) {
     const int n = ladder[rung];
     if (rung > 0) {
@@ -590,8 +609,11 @@ EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
     refine_sharp_lobes(maps, finest, refined, n, o, stage);
     if (finest > 0) seed_bright_lobes(make_level(maps[0]), refined, n, o, stage);
     finish(stage, map, level, refined, s.cost, setup.t0, excluded);
+    // The guard: the error against the full map never grows along the ladder.
+    if (rung > 0 && stage.error.relative > previous.error.relative) stage = keep_previous(previous, stage);
     if (rung + 1 == ladder.size()) return stage;
     if (o.on_stage) o.on_stage(stage);
+    previous = stage;
   }
 }
 

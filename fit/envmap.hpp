@@ -21,6 +21,10 @@
 //    fixed (a non-negative linear least-squares problem). A larger N is fitted from the fit at
 //    ⌈N/2⌉ plus new lobes placed by k-means on the positive residual: LM starts from a point no
 //    worse than the fit at ⌈N/2⌉ and only lowers the cost, so the error does not grow with N.
+//    That holds for the cost on the fitted level; the reported error is on the full map (and the
+//    full-map refinements below differ per rung), so the ladder is guarded: a rung whose full-map
+//    error ends above its predecessor's reports the predecessor's lobes plus zero-amplitude lobes
+//    (EnvFitResult::kept_lobes), and the next rung still starts from its own fit.
 //    When N is fitted on a level coarser than the map, a feature smaller than that level's texel
 //    (a sun) is held by one lobe; each rung then moves its weakest ⌈N/8⌉ lobes onto the brightest
 //    texels of the full map's positive residual and refits them with the sharp lobes on the full
@@ -71,6 +75,11 @@ struct EnvFitResult {
   bool converged = false;  // every level's LM (EM: the log-likelihood) stopped on a tolerance, not the cap
   double final_cost = 0;   // of the finest level
   int fit_width = 0, fit_height = 0;  // the finest level fitted
+  // Ceres lobe ladder: when a rung's own fit ended with a larger error against the full map than
+  // the rung before it, the result is that rung's mixture plus zero-amplitude lobes (the guard of
+  // fit_envmap_ceres), and kept_lobes is the number of lobes kept from it; 0 when the rung's own
+  // fit is the result.
+  int kept_lobes = 0;
 };
 
 // Throws std::invalid_argument for N < 1, N > the pixel count, or an unknown init/objective.

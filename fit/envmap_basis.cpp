@@ -8,6 +8,7 @@
 #include <limits>
 
 #include <Eigen/Cholesky>
+#include <tbb/parallel_for.h>
 
 #include "sglab/reference.hpp"
 #include "sglab/sh.hpp"
@@ -44,6 +45,46 @@ std::array<double, 3> EnvBasisFit::diffuse(const Vec3<double>& n) const {
   return out;
 }
 
+std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& f, const std::vector<Vec3<double>>& normals, LobeDiffuseCache& cache) {
+  std::vector<std::array<double, 3>> out(normals.size());
+  if (f.sh_order >= 0) {
+    tbb::parallel_for(std::size_t(0), normals.size(), [&](std::size_t k) { out[k] = f.diffuse(normals[k]); });
+    return out;
+  }
+  const std::size_t n = f.mixture.size();
+  auto same = [&](const LobeDiffuseCache::Entry& e) {
+    if (e.normals.size() != normals.size() || e.lobes.size() != n) return false;
+    for (std::size_t k = 0; k < normals.size(); ++k)
+      if (e.normals[k] != normals[k]) return false;
+    for (std::size_t j = 0; j < n; ++j)
+      if (e.lobes[j].first != f.mixture[j].axis || e.lobes[j].second != f.mixture[j].sharpness) return false;
+    return true;
+  };
+  auto it = std::find_if(cache.entries.begin(), cache.entries.end(), same);
+  if (it == cache.entries.end()) {
+    if (cache.entries.size() >= LobeDiffuseCache::kEntries) cache.entries.erase(cache.entries.begin());
+    LobeDiffuseCache::Entry e;
+    e.normals = normals;
+    for (const auto& l : f.mixture) e.lobes.emplace_back(l.axis, l.sharpness);
+    e.factor.assign(normals.size() * n, std::numeric_limits<double>::quiet_NaN());
+    cache.entries.push_back(std::move(e));
+    it = cache.entries.end() - 1;
+  }
+  std::vector<double>& factor = it->factor;
+  tbb::parallel_for(std::size_t(0), normals.size(), [&](std::size_t k) {
+    std::array<double, 3> sum{0, 0, 0};
+    for (std::size_t j = 0; j < n; ++j) {
+      const auto& l = f.mixture[j];
+      if (l.amplitude[0] == 0 && l.amplitude[1] == 0 && l.amplitude[2] == 0) continue;
+      double& d = factor[k * n + j];  // row k is this task's alone
+      if (std::isnan(d)) d = clamped_cosine_reference(l.sharpness, std::clamp(l.axis.dot(normals[k]), -1.0, 1.0)) / M_PI;
+      for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += l.amplitude[std::size_t(c)] * d;
+    }
+    out[k] = sum;
+  });
+  return out;
+}
+
 const std::vector<EnvBasis>& envmap_bases() {
 #define SGLAB_LIST_ENVMAP_BASIS(name) name##_basis(),
   static const std::vector<EnvBasis> bases{SGLAB_ENVMAP_BASES(SGLAB_LIST_ENVMAP_BASIS)};
@@ -77,6 +118,10 @@ EnvBasisFit basis_fit_from(const std::string& basis, const EnvFitResult& r) {
   f.seconds = r.seconds;
   f.mixture = r.mixture;
   f.zero_lobes = zero_amplitude_lobes(r.mixture);
+  f.kept_lobes = r.kept_lobes;
+  f.iterations = r.iterations;
+  f.fit_width = r.fit_width;
+  f.fit_height = r.fit_height;
   return f;
 }
 

@@ -35,6 +35,9 @@ struct EnvBasisFit {
   int floats = 0;              // stored floats
   double seconds = 0;          // wall time of the fit
   int zero_lobes = 0;          // SG: lobes whose RGB amplitude is exactly 0
+  int kept_lobes = 0;          // sg-free: lobes kept from the rung N/2 by the ladder's guard (EnvFitResult)
+  int iterations = 0;          // vmf-em: EM iterations; sg-free: LM iterations of the whole ladder up to N
+  int fit_width = 0, fit_height = 0;  // vmf-em, sg-free: the finest pyramid level fitted
   int sh_order = -1;           // sh: L, coefficients [channel][sh_index]
   std::vector<std::array<double, 3>> sh;
   SgMixture mixture;           // SG bases
@@ -45,6 +48,23 @@ struct EnvBasisFit {
   // (sglab/sh.hpp), SG by clamped_cosine_reference per lobe (reference.hpp).
   std::array<double, 3> diffuse(const Vec3<double>& n) const;
 };
+
+// The exact diffuse shadings of a fit at many normals, the same values as EnvBasisFit::diffuse at
+// each. For an SG fit the costly part is the per-lobe factor clamped_cosine_reference(λ, ξ·n)/π (a
+// tanh-sinh quadrature each): it is kept in the cache and reused by the next call with the same
+// normals and the same lobe axes and sharpnesses (the three amplitude solvers of sg-fixed share
+// them at every N); zero-amplitude lobes add exactly nothing and are skipped. Normals in parallel.
+struct LobeDiffuseCache {
+  struct Entry {
+    std::vector<Vec3<double>> normals;
+    std::vector<std::pair<Vec3<double>, double>> lobes;  // axis, sharpness
+    std::vector<double> factor;                          // [normal · lobes + lobe]; NaN until computed
+  };
+  // The most recent lobe sets, at most kEntries (the sizes of one basis: 6 by default).
+  static constexpr std::size_t kEntries = 8;
+  std::vector<Entry> entries;
+};
+std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& fit, const std::vector<Vec3<double>>& normals, LobeDiffuseCache& cache);
 
 struct EnvBasis {
   std::string name;                   // "sh"

@@ -5,6 +5,7 @@
 // map's amplitudes, the vMF EM honouring its iteration cap, and the tables' rows.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -284,4 +285,69 @@ TEST(SgFree, SunSizedFeatureImprovesOnTheOneLobeFloor) {
   std::printf("relative error %.4g (fitted on %d×%d)\n", r.error.relative, r.fit_width, r.fit_height);
   EXPECT_EQ(r.fit_width, 64);
   EXPECT_LT(r.error.relative, 0.20);
+}
+
+// The exact diffuse of an SG fit at many normals (diffuse_at, the factors cached across fits with
+// the same lobes) against Σ_j μ_j clamped_cosine_reference(λ_j, ξ_j·n)/π written out here: equal
+// to the last bit, on a first call, on a second call with other amplitudes (cached factors, one
+// lobe now at zero amplitude, one newly non-zero), after the lobes change (a new entry) and for the
+// first lobes again (their entry kept).
+TEST(EnvBasisFit, DiffuseAtManyNormalsMatchesTheClampedCosineReferencePerLobe) {
+  const auto normals = fit::envmap_detail::fibonacci_axes(40);
+  const auto axes = fit::envmap_detail::fibonacci_axes(6);
+  fit::EnvBasisFit f;
+  for (int j = 0; j < 6; ++j) {
+    sglab::SgLight l;
+    l.axis = axes[std::size_t(j)];
+    l.sharpness = 0.5 + 7.0 * j;
+    l.amplitude = j == 2 ? std::array<double, 3>{0, 0, 0} : std::array<double, 3>{1.0 + j, 0.5, 0.25 * j};
+    f.mixture.push_back(l);
+  }
+  auto expected = [&](const fit::EnvBasisFit& g, const V& n) {
+    std::array<double, 3> out{0, 0, 0};
+    for (const auto& l : g.mixture) {
+      const double d = sglab::clamped_cosine_reference(l.sharpness, std::clamp(l.axis.dot(n), -1.0, 1.0)) / M_PI;
+      for (int c = 0; c < 3; ++c) out[std::size_t(c)] += l.amplitude[std::size_t(c)] * d;
+    }
+    return out;
+  };
+  fit::LobeDiffuseCache cache;
+  auto check = [&](const fit::EnvBasisFit& g, const char* what) {
+    const auto got = fit::diffuse_at(g, normals, cache);
+    ASSERT_EQ(got.size(), normals.size());
+    for (std::size_t k = 0; k < normals.size(); ++k) {
+      EXPECT_EQ(got[k], expected(g, normals[k])) << what << ", normal " << k;
+      EXPECT_EQ(got[k], g.diffuse(normals[k])) << what << ", normal " << k;
+    }
+  };
+  check(f, "first call");
+  fit::EnvBasisFit other = f;
+  other.mixture[1].amplitude = {0, 0, 0};
+  other.mixture[2].amplitude = {3, 2, 1};
+  check(other, "cached factors, other amplitudes");
+  other.mixture[4].sharpness *= 2;
+  check(other, "a lobe changed");
+  check(f, "the first lobes again (an older entry)");
+  EXPECT_EQ(cache.entries.size(), 2u);
+}
+
+// The `sg-free` basis (one ladder fit) on the synthetic 4-lobe mixture at 128×64: the map error
+// of every N, recomputed here from the representation's 4 × 4-point texel means, is at most that
+// at N/2, and a rung that kept its predecessor says so (zero-amplitude lobes counted).
+TEST(SgFree, BasisErrorDoesNotGrowWithN) {
+  const sglab::EnvMap map = sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 128, 64, 8);
+  fit::EnvBasisOptions o;
+  std::printf("seed %u\n", o.seed);
+  const auto fits = fit::find_envmap_basis("sg-free")->fit(map, {4, 8, 16}, "", o);
+  ASSERT_EQ(fits.size(), 3u);
+  double previous = 1;
+  for (const auto& f : fits) {
+    const double e = sglab::envmap_error(map, sglab::rasterize_mixture(f.mixture, map.width, map.height, 4)).relative;
+    std::printf("N = %d: map error %.6g, kept %d, zero lobes %d, %d LM iterations on %d×%d\n", f.size, e, f.kept_lobes, f.zero_lobes,
+                f.iterations, f.fit_width, f.fit_height);
+    EXPECT_LE(e, previous) << "N = " << f.size;
+    EXPECT_GE(f.zero_lobes, f.kept_lobes > 0 ? f.size - f.kept_lobes : 0) << "N = " << f.size;
+    EXPECT_GT(f.iterations, 0);
+    previous = e;
+  }
 }
