@@ -114,7 +114,7 @@ struct MakeArgs {
 void run_make(const MakeArgs& a) {
   if (a.out.empty()) throw UsageError("envmap make needs --out FILE.exr");
   if (a.width < 2 || a.width % 2 != 0 || a.width > 8192) throw UsageError(fmt::format("--width {} must be even and in [2, 8192]", a.width));
-  check_output_paths({{"--out", a.out}}, {{"--mixture", a.mixture}});
+  runner::check_output_paths({{"--out", a.out}}, {{"--mixture", a.mixture}});
   EnvMap map;
   std::vector<std::string> args{"--out", a.out, "--width", std::to_string(a.width)};
   try {
@@ -156,7 +156,7 @@ void run_make(const MakeArgs& a) {
   check_finite_map(map, "envmap make " + a.kind);
   const std::string command = join_command("sglab envmap make " + a.kind, args);
   render::ImageLayer layer;
-  write_file_atomically(a.out, render::encode_environment(map, {{"sglab_command", command}}));
+  runner::write_file_atomically(a.out, render::encode_environment(map, {{"sglab_command", command}}));
   std::printf("wrote %s (%d×%d) by `%s`\n", a.out.c_str(), map.width, map.height, command.c_str());
 }
 
@@ -180,7 +180,7 @@ fit::EnvFitResult run_fit_method(const EnvMap& map, const std::string& method, c
 
 void run_fit_envmap(const FitEnvArgs& a) {
   if (a.method != "ceres" && a.method != "vmf-em") throw UsageError("unknown --method " + quote(a.method) + " (ceres, vmf-em)");
-  check_output_paths({{"--json", a.json}, {"--exr", a.exr}}, {{"map", a.map}});
+  runner::check_output_paths({{"--json", a.json}, {"--exr", a.exr}}, {{"map", a.map}});
   const EnvMap map = load_map(a.map);
   fit::EnvFitOptions o = a.options;
   if (a.max_iterations > 0) (a.method == "vmf-em" ? o.em_max_iterations : o.max_iterations) = a.max_iterations;
@@ -201,7 +201,7 @@ void run_fit_envmap(const FitEnvArgs& a) {
   if (!std::isfinite(r.error.l2) || !std::isfinite(r.error.relative))
     throw std::runtime_error(fmt::format("fit envmap {}: the fit's error is not finite (L2 {}, relative {}); nothing written",
                                          quote(a.map), r.error.l2, r.error.relative));
-  OutputSet outputs;  // both or neither
+  runner::OutputSet outputs;  // both or neither
   if (!a.json.empty()) outputs.add(a.json, mixture_record(r, a.options, a.map, map).dump(2) + "\n");
   if (!a.exr.empty()) {
     const EnvMap recon = rasterize_mixture(r.mixture, map.width, map.height, fit::kErrorSupersample);
@@ -236,7 +236,7 @@ void run_render(const RenderArgs& a) {
   if (!(a.roughness >= render::kMinEnvRoughness && a.roughness <= 1))
     throw UsageError(fmt::format("--roughness {} must be in [{:g}, 1]", a.roughness, render::kMinEnvRoughness));
   if (!(a.f0 >= 0 && a.f0 <= 1)) throw UsageError(fmt::format("--f0 {} must be in [0, 1]", a.f0));
-  check_output_paths({{"--out", a.out}, {"--stats", a.stats}}, {{"map", a.map}, {"--mixture", a.mixture}});
+  runner::check_output_paths({{"--out", a.out}, {"--stats", a.stats}}, {{"map", a.map}, {"--mixture", a.mixture}});
   const EnvMap map = load_map(a.map);
   const SgMixture m = read_mixture(a.mixture);
   const render::EnvImage image = make_image(a.geometry, a.res);
@@ -269,7 +269,7 @@ void run_render(const RenderArgs& a) {
   std::vector<render::ImageLayer> out;
   for (int k = 0; k < 6; ++k) out.push_back({names[k], layers[k]});
   const std::string exr = render::encode_exr(image.width, image.height, out, {{"sglab_command", command}});
-  OutputSet outputs;  // both or neither
+  runner::OutputSet outputs;  // both or neither
   outputs.add(a.out, exr);
   if (!a.stats.empty()) outputs.add(a.stats, stats.dump(2) + "\n");
   outputs.commit();
@@ -286,7 +286,7 @@ void add_fit_envmap_command(CLI::App& fit) {
   sub->add_option("--init", a->options.init, "initial axes")->capture_default_str()->check(one_of({"fibonacci", "kmeans"}, "--init"));
   sub->add_option("--objective", a->options.objective, "objective (solid-angle weighted)")->capture_default_str()->check(one_of({"l2", "log-l2"}, "objective"));
   sub->add_option("--method", a->method, "ceres, or vmf-em (the EM alternative)")->capture_default_str()->check(one_of({"ceres", "vmf-em"}, "method"));
-  sub->add_option("--threads", a->options.threads, "Ceres threads")->capture_default_str()->check(integer_in(1, kMaxThreads));
+  sub->add_option("--threads", a->options.threads, "Ceres threads")->capture_default_str()->check(integer_in(1, runner::kMaxThreads));
   sub->add_option("--seed", a->options.seed, "k-means++ seed")->capture_default_str()->check(unsigned_at_most(std::numeric_limits<unsigned>::max()));
   sub->add_option("--max-iterations", a->max_iterations,
                   "iteration cap: Levenberg–Marquardt iterations per level (ceres, default 60) or EM iterations (vmf-em, default 200)")

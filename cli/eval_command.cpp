@@ -138,24 +138,24 @@ std::string format_value(const T& v, int digits) {
 }
 
 // "<source>: row R (line L)": the 1-based data row, and the input line it starts on.
-std::string row_location(const std::string& source, const CsvTable& table, std::size_t row) {
+std::string row_location(const std::string& source, const runner::CsvTable& table, std::size_t row) {
   return fmt::format("{}: row {} (line {})", source, row + 1, table.rows[row].line);
 }
 
 // The input column of each of the quantity's arguments, in order; UsageError naming a missing
 // column, or the input's own 'value' column (which eval appends).
-std::vector<std::size_t> argument_columns(const Quantity& q, const CsvTable& table, const std::string& source) {
+std::vector<std::size_t> argument_columns(const Quantity& q, const runner::CsvTable& table, const std::string& source) {
   std::vector<std::size_t> index;
   for (const auto& c : q.columns) {
     const std::size_t i = table.column(c.name);
-    if (i == CsvTable::npos)
+    if (i == runner::CsvTable::npos)
       throw UsageError(fmt::format(
           "{}: line 1 (header): missing column '{}'; quantity '{}' needs the columns {}, the "
           "header has {}",
           source, c.name, q.name, fmt::join(column_names(q), ", "), fmt::join(table.header, ", ")));
     index.push_back(i);
   }
-  if (table.column(kValueColumn) != CsvTable::npos)
+  if (table.column(kValueColumn) != runner::CsvTable::npos)
     throw UsageError(fmt::format(
         "{}: line 1 (header): the input already has a column '{}', which eval appends; rename it",
         source, kValueColumn));
@@ -166,7 +166,7 @@ std::vector<std::size_t> argument_columns(const Quantity& q, const CsvTable& tab
 // is evaluated: bad input is reported as such, in row order, and never after some results were
 // computed.
 template <class T>
-std::vector<T> parse_arguments(const Quantity& q, const Method& method, const CsvTable& table,
+std::vector<T> parse_arguments(const Quantity& q, const Method& method, const runner::CsvTable& table,
                                const std::vector<std::size_t>& index, const std::string& source) {
   const std::size_t rows = table.rows.size();
   const std::size_t k = q.columns.size();
@@ -180,8 +180,8 @@ std::vector<T> parse_arguments(const Quantity& q, const Method& method, const Cs
     };
     for (std::size_t j = 0; j < k; ++j) {
       try {
-        args[r * k + j] = parse_decimal<T>(fields[index[j]]);
-      } catch (const NumberError& e) {
+        args[r * k + j] = runner::parse_decimal<T>(fields[index[j]]);
+      } catch (const runner::NumberError& e) {
         throw UsageError(fmt::format("{}: {}", where(j), e.what()));
       }
       checked[j] = static_cast<double>(args[r * k + j]);
@@ -202,7 +202,7 @@ std::vector<T> parse_arguments(const Quantity& q, const Method& method, const Cs
 // Evaluates `method` on every row; returns the formatted values, one per row.
 template <class T>
 std::vector<std::string> evaluate(const Quantity& q, const Method& method, Precision precision,
-                                  const CsvTable& table, const std::string& source) {
+                                  const runner::CsvTable& table, const std::string& source) {
   const MethodFn<T>& fn = evaluator<T>(method);
   if (!fn)
     throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry",
@@ -244,19 +244,19 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
   return formatted;
 }
 
-CsvTable read_input(const std::string& path) {
+runner::CsvTable read_input(const std::string& path) {
   if (path.empty()) {
     struct stat st {};
     if (::fstat(0, &st) == 0 && S_ISDIR(st.st_mode))
       throw UsageError("standard input is a directory, not a CSV file");
-    return read_csv(std::cin, "<stdin>");
+    return runner::read_csv(std::cin, "<stdin>");
   }
   // An ifstream opens a directory without complaint and fails only when reading it.
   if (std::filesystem::is_directory(path))
     throw UsageError(fmt::format("the input '{}' is a directory, not a CSV file", path));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UsageError(fmt::format("cannot open the input file '{}'", path));
-  return read_csv(in, path);
+  return runner::read_csv(in, path);
 }
 
 void write_output(const std::string& path, const std::string& text) {
@@ -265,7 +265,7 @@ void write_output(const std::string& path, const std::string& text) {
     if (!std::cout) throw std::runtime_error("cannot write to standard output");
     return;
   }
-  AtomicFile file(path);
+  runner::AtomicFile file(path);
   file.write(text);
   file.commit();
 }
@@ -280,20 +280,20 @@ void run_eval(const EvalOptions& o) {
                                  fmt::join(quantity_names(), ", ")));
   const Quantity* q = find_quantity(o.quantity);
   if (!q)
-    throw UsageError(unknown_name_message("quantity", o.quantity, quantity_names()));
+    throw UsageError(runner::unknown_name_message("quantity", o.quantity, quantity_names()));
   if (o.method.empty())
     throw UsageError(fmt::format("eval {} needs --method, one of: {}", q->name,
                                  fmt::join(method_names(*q), ", ")));
   const Method* m = q->find(o.method);
   if (!m)
-    throw UsageError(unknown_name_message("method", o.method, method_names(*q)) + " for quantity '" + q->name + "'");
+    throw UsageError(runner::unknown_name_message("method", o.method, method_names(*q)) + " for quantity '" + q->name + "'");
   const auto precision = parse_precision(o.precision);
   if (!precision)
     throw UsageError(
         fmt::format("unknown precision {}; valid precisions: {}", quote(o.precision),
                     fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
 
-  check_output_paths({{"--out", o.out}}, {{"--in", o.in}});
+  runner::check_output_paths({{"--out", o.out}}, {{"--in", o.in}});
 
   // The constant set first: a bad set is bad input, reported before the table is read.
   const ConstantSet set = load_constant_sets(o.constants);
@@ -303,7 +303,7 @@ void run_eval(const EvalOptions& o) {
     std::cerr << fmt::format("sglab eval: {} {} with constants:\n", q->name, m->name)
               << constants_text(set, method_constant_uses(q->name + "/" + m->name, *m), "  ") << std::flush;
 
-  const CsvTable table = read_input(o.in);
+  const runner::CsvTable table = read_input(o.in);
   const std::string source = o.in.empty() ? "<stdin>" : o.in;
   std::vector<std::string> values;
   switch (*precision) {
@@ -321,11 +321,11 @@ void run_eval(const EvalOptions& o) {
   std::vector<std::string> header = table.header;
   header.push_back(kValueColumn);
   std::string text;
-  append_csv_record(text, header);
+  runner::append_csv_record(text, header);
   for (std::size_t r = 0; r < table.rows.size(); ++r) {
     std::vector<std::string> fields = table.rows[r].fields;
     fields.push_back(std::move(values[r]));
-    append_csv_record(text, fields);
+    runner::append_csv_record(text, fields);
   }
   write_output(o.out, text);
 }

@@ -32,9 +32,9 @@ void run_export(const ExportOptions& o, const std::string& command) {
   if (o.lang.empty()) throw UsageError("export: --lang is required (glsl, hlsl or c)");
   const shader::Language lang = *shader::parse_language(o.lang);  // checked by CLI11
   if (!o.out.empty()) {
-    std::vector<NamedPath> inputs;
+    std::vector<runner::NamedPath> inputs;
     for (const auto& c : o.constants) inputs.push_back({"--constants", c});
-    check_output_paths({{"--out", o.out}}, inputs);
+    runner::check_output_paths({{"--out", o.out}}, inputs);
   }
   const ConstantSet set = load_constant_sets(o.constants);
   std::vector<shader::TracedMethod> traced;
@@ -45,7 +45,7 @@ void run_export(const ExportOptions& o, const std::string& command) {
   }
   const std::string source = shader::emit(traced, lang, command);
   if (o.out.empty()) std::cout << source << std::flush;
-  else write_file_atomically(o.out, source);
+  else runner::write_file_atomically(o.out, source);
 }
 
 }  // namespace

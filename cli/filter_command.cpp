@@ -149,7 +149,7 @@ void run_upsampling(const Options& o, const render::FilterWeights weights) {
   const std::string exr = render::encode_exr(
       in.width, in.height, {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low_res_image(in)}},
       {{"sglab_command", command}});
-  OutputSet outputs;
+  runner::OutputSet outputs;
   outputs.add(o.out, exr);
   if (!o.stats.empty()) outputs.add(o.stats, filter_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
   outputs.commit();
@@ -237,7 +237,7 @@ void run_denoise(const Options& options, const render::FilterWeights weights) {
   const std::string exr = render::encode_exr(
       in.width, in.height, {{"noisy", in.noisy_image}, {"filtered", r.filtered}, {"exact", in.reference}, {"error", r.error}},
       {{"sglab_command", command}});
-  OutputSet outputs;
+  runner::OutputSet outputs;
   outputs.add(o.out, exr);
   if (!o.stats.empty()) outputs.add(o.stats, denoise_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
   outputs.commit();
@@ -258,7 +258,7 @@ void run(const Options& options) {
   apply_filter_constants(o.job);
   if (o.out.empty()) throw UsageError("filter needs --out IMAGE.exr");
   if (o.weights.empty()) throw UsageError("filter needs --weights normal|lobe|lobe-depth|spatial");
-  check_output_paths({{"--out", o.out}, {"--stats", o.stats}}, {{"scene", o.job.render.scene_path}});
+  runner::check_output_paths({{"--out", o.out}, {"--stats", o.stats}}, {{"scene", o.job.render.scene_path}});
   const render::FilterWeights weights = parse_weights_option(o.weights);
   if (o.noisy.empty()) {
     check_filter_parameters(o.job.parameters);

@@ -88,13 +88,13 @@ void run_fit(const FitArgs& a) {
     return;
   }
   const fit::Fitter* f = fit::find_fitter(a.name);
-  if (!f) throw UsageError(unknown_name_message("fit", a.name, fit_names()));
+  if (!f) throw UsageError(runner::unknown_name_message("fit", a.name, fit_names()));
   const fit::FitResult r = fit_all::run_one(*f, a.objective, o);
   const Judgement jd = judge(*f, r);
   print_result(r, jd);
   const std::string record = fit_record_json(r, jd, a.precision).dump(2) + "\n";
-  if (!a.json_file.empty()) write_file_atomically(a.json_file, record);
-  if (!a.json_dir.empty()) write_file_atomically(std::filesystem::path(a.json_dir) / (f->name + ".json"), record);
+  if (!a.json_file.empty()) runner::write_file_atomically(a.json_file, record);
+  if (!a.json_dir.empty()) runner::write_file_atomically(std::filesystem::path(a.json_dir) / (f->name + ".json"), record);
 }
 
 }  // namespace
@@ -106,7 +106,7 @@ void add_fit_command(CLI::App& app) {
   std::string objectives;
   std::vector<std::string> objective_names;
   for (const auto& g : fit::fitters()) {
-    objectives += "\n  " + g.name + ": " + join_names(g.objectives);
+    objectives += "\n  " + g.name + ": " + runner::join_names(g.objectives);
     for (const auto& o : g.objectives)
       if (std::find(objective_names.begin(), objective_names.end(), o) == objective_names.end()) objective_names.push_back(o);
   }

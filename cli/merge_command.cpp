@@ -26,7 +26,7 @@ struct MergeOptions {
   std::vector<std::string> inputs;
 };
 
-void summarize(const MergeOptions& o, const std::vector<MergedSweep>& merged);
+void summarize(const MergeOptions& o, const std::vector<runner::MergedSweep>& merged);
 
 void run_merge(const MergeOptions& o) {
   const std::vector<std::filesystem::path> inputs(o.inputs.begin(), o.inputs.end());
@@ -39,18 +39,18 @@ void run_merge(const MergeOptions& o) {
                        "\" is not a `sweep specular` or `sweep render` command line");
     }
   };
-  const std::vector<MergedSweep> merged = merge_sweep_shards(inputs, o.out, sweep_command);
+  const std::vector<runner::MergedSweep> merged = runner::merge_sweep_shards(inputs, o.out, sweep_command);
   try {
     summarize(o, merged);
   } catch (...) {
-    undo_merge(merged);  // a refused summary leaves no merged output behind
+    runner::undo_merge(merged);  // a refused summary leaves no merged output behind
     throw;
   }
-  keep_merge(merged);
+  runner::keep_merge(merged);
 }
 
-void summarize(const MergeOptions& o, const std::vector<MergedSweep>& merged) {
-  for (const MergedSweep& m : merged) {
+void summarize(const MergeOptions& o, const std::vector<runner::MergedSweep>& merged) {
+  for (const runner::MergedSweep& m : merged) {
     std::fprintf(stderr, "merge: sweep %s: %zu points from %zu shards -> %s\n", m.name.c_str(), m.points, m.shards,
                  m.points_csv.string().c_str());
     // m.args was checked to be a `sweep specular|render` command line without output options
@@ -60,7 +60,7 @@ void summarize(const MergeOptions& o, const std::vector<MergedSweep>& merged) {
     std::vector<std::string> args = m.args;
     args.insert(args.end(), {"--out", o.out});
     if (!o.tables_dir.empty()) args.insert(args.end(), {"--tables-dir", o.tables_dir});
-    const SummaryOnlyScope summary_only;
+    const runner::SummaryOnlyScope summary_only;
     const int status = run_sglab(args);
     if (status == 2) throw UsageError("merge: the summary of sweep '" + m.name + "' was refused (see above)");
     if (status != 0) throw std::runtime_error("merge: the summary of sweep '" + m.name + "' failed");

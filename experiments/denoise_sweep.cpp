@@ -262,20 +262,20 @@ std::string markdown(const Result& r) {
 
 std::string summary_csv(const Result& r) {
   std::string csv;
-  append_csv_record(csv, std::vector<std::string>{"noisy", "radius", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
+  runner::append_csv_record(csv, std::vector<std::string>{"noisy", "radius", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
                                                   "diffuse_relative_l2", "smape", "glossy_smape", "diffuse_smape", "noisy_relative_l2",
                                                   "noisy_glossy_relative_l2", "noisy_diffuse_relative_l2", "noisy_smape",
                                                   "noisy_glossy_smape", "noisy_diffuse_smape", "seconds_filter", "ns_per_pixel"});
   for (const Row& row : r.rows) {
     const auto& ne = row.noisy_error;
-    append_csv_record(csv, std::vector<std::string>{
-                               render::noisy_spec_name(row.noisy), std::to_string(row.radius), csv_number(row.roughness),
+    runner::append_csv_record(csv, std::vector<std::string>{
+                               render::noisy_spec_name(row.noisy), std::to_string(row.radius), runner::csv_number(row.roughness),
                                std::string(render::filter_weights_name(row.weights)), stat_number(row.all.relative_l2),
                                stat_number(row.glossy.relative_l2), stat_number(row.diffuse.relative_l2), stat_number(row.all.smape),
                                stat_number(row.glossy.smape), stat_number(row.diffuse.smape), stat_number(ne.all.relative_l2),
                                stat_number(ne.glossy.relative_l2), stat_number(ne.diffuse.relative_l2), stat_number(ne.all.smape),
-                               stat_number(ne.glossy.smape), stat_number(ne.diffuse.smape), csv_number(row.seconds),
-                               csv_number(row.ns_per_pixel)});
+                               stat_number(ne.glossy.smape), stat_number(ne.diffuse.smape), runner::csv_number(row.seconds),
+                               runner::csv_number(row.ns_per_pixel)});
   }
   return csv;
 }
@@ -285,17 +285,17 @@ std::string images_csv(const Result& r) {
   std::vector<std::string> header = {"floor_roughness", "noisy", "x", "y", "glossy"};
   for (const char* layer : {"noisy", "normal", "lobe", "exact"})
     for (const char* c : {"r", "g", "b"}) header.push_back(fmt::format("{}_{}", layer, c));
-  append_csv_record(csv, header);
+  runner::append_csv_record(csv, header);
   for (const FigureImage& im : r.images) {
     if (im.normal.empty() || im.lobe.empty()) continue;
     for (int y = 0; y < im.height; ++y)
       for (int x = 0; x < im.width; ++x) {
         const std::size_t k = std::size_t(y) * std::size_t(im.width) + std::size_t(x);
-        std::vector<std::string> f = {csv_number(im.roughness), render::noisy_spec_name(im.noisy), std::to_string(x), std::to_string(y),
+        std::vector<std::string> f = {runner::csv_number(im.roughness), render::noisy_spec_name(im.noisy), std::to_string(x), std::to_string(y),
                                       std::to_string(int(im.glossy[k] != 0))};
         for (const auto* layer : {&im.noisy_image, &im.normal, &im.lobe, &im.exact})
           for (int c = 0; c < 3; ++c) f.push_back(fmt::format("{:.6g}", (*layer)[k](c)));
-        append_csv_record(csv, f);
+        runner::append_csv_record(csv, f);
       }
   }
   return csv;
@@ -336,11 +336,11 @@ void write(const Result& r) {
   const Options& o = r.options;
   const Tables t = tables(r);
   const std::string tables_dir = o.tables_dir.empty() ? o.out : o.tables_dir;
-  OutputSet outputs;
-  add_table(outputs, tables_dir, o.table, r.provenance, t.markdown, t.csv);
-  add_table(outputs, o.out, o.table + "_images", r.provenance, "", t.images_csv);
+  runner::OutputSet outputs;
+  runner::add_table(outputs, tables_dir, o.table, r.provenance, t.markdown, t.csv);
+  runner::add_table(outputs, o.out, o.table + "_images", r.provenance, "", t.images_csv);
   outputs.commit();
-  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
   std::fprintf(stderr, "filter-sweep --noisy: wrote %s/%s.{md,csv} and %s/%s_images.csv (%.1f s)\n", tables_dir.c_str(), o.table.c_str(),
                o.out.c_str(), o.table.c_str(), r.seconds);
 }

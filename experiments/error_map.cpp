@@ -50,7 +50,7 @@ std::vector<std::string> mapped_quantity_names() {
 
 const Quantity& checked_quantity(const Options& o) {
   const Quantity* q = find_quantity(o.quantity);
-  if (!q) throw UsageError("error-map: " + unknown_name_message("quantity", o.quantity, mapped_quantity_names()));
+  if (!q) throw UsageError("error-map: " + runner::unknown_name_message("quantity", o.quantity, mapped_quantity_names()));
   if (!is_mapped(*q))
     throw UsageError("error-map: quantity '" + o.quantity + "' is not a (sharpness, cosine) quantity with a reference");
   return *q;
@@ -224,10 +224,10 @@ Tables tables(const Result& r) {
 void write(const Options& o, const Result& r) {
   namespace fs = std::filesystem;
   const Tables t = tables(r);
-  write_file_atomically(fs::path(o.out_dir) / "error_map.csv", t.points_csv);
-  write_table(o.out_dir, "error_map_summary", r.provenance, "", t.summary_csv);
-  write_table(o.out_dir, "error_map", r.provenance, t.markdown, "");
-  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_file_atomically(fs::path(o.out_dir) / "error_map.csv", t.points_csv);
+  runner::write_table(o.out_dir, "error_map_summary", r.provenance, "", t.summary_csv);
+  runner::write_table(o.out_dir, "error_map", r.provenance, t.markdown, "");
+  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
   std::fprintf(stderr, "error-map: wrote %s/error_map{.csv,_summary.csv,.md}\n", o.out_dir.c_str());
 }
 

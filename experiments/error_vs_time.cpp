@@ -298,7 +298,7 @@ std::vector<std::string> grid_quantity_names() {
 
 const Quantity& checked_quantity(const std::string& name) {
   const Quantity* q = find_quantity(name);
-  if (!q) throw UsageError("error-vs-time: " + unknown_name_message("quantity", name, grid_quantity_names()));
+  if (!q) throw UsageError("error-vs-time: " + runner::unknown_name_message("quantity", name, grid_quantity_names()));
   if (!has_grid(*q))
     throw UsageError("error-vs-time: quantity '" + name +
                      "' has no error grid (a (sharpness, cosine) quantity with a reference, or specular)");
@@ -450,7 +450,7 @@ Result compute(const Options& o) {
   if (o.quantities != Options{}.quantities) command += " --quantity " + fmt::format("{}", fmt::join(o.quantities, " "));
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
-  command += o.tables_dir.empty() ? option_argument("--out", o.out_dir, Options{}.out_dir) : option_argument("--tables", o.tables_dir);
+  command += o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir) : runner::option_argument("--tables", o.tables_dir);
   const ConstantSet set = load_constant_sets(o.constants);
   for (const Quantity* q : qs) {
     Section s;
@@ -523,23 +523,23 @@ Tables tables(const Result& result) {
 }
 
 void check_outputs(const Options& o) {
-  std::vector<NamedPath> inputs;
+  std::vector<runner::NamedPath> inputs;
   for (const auto& c : o.constants) inputs.push_back({"--constants", c});
-  const auto tables = tables_place(o.tables_dir, o.out_dir);
-  std::vector<NamedPath> outputs = {{"--tables (error_vs_time.csv)", tables / "error_vs_time.csv"},
+  const auto tables = runner::tables_place(o.tables_dir, o.out_dir);
+  std::vector<runner::NamedPath> outputs = {{"--tables (error_vs_time.csv)", tables / "error_vs_time.csv"},
                                     {"--tables (error_vs_time.md)", tables / "error_vs_time.md"}};
   if (!o.tables_dir.empty()) outputs.push_back({"--out (error_vs_time.csv)", std::filesystem::path(o.out_dir) / "error_vs_time.csv"});
-  check_output_paths(outputs, inputs);
+  runner::check_output_paths(outputs, inputs);
 }
 
 void write(const Options& o, const Result& result) {
   const Tables t = tables(result);
-  OutputSet outputs;  // the files appear together or not at all
+  runner::OutputSet outputs;  // the files appear together or not at all
   // The bare CSV beside the per-run outputs; without --tables the headed table takes its place.
   if (!o.tables_dir.empty()) outputs.add(std::filesystem::path(o.out_dir) / "error_vs_time.csv", t.csv);
-  add_table(outputs, tables_place(o.tables_dir, o.out_dir), "error_vs_time", result.provenance, t.markdown, t.csv);
+  runner::add_table(outputs, runner::tables_place(o.tables_dir, o.out_dir), "error_vs_time", result.provenance, t.markdown, t.csv);
   outputs.commit();
-  std::fputs((markdown_header(result.provenance) + t.markdown).c_str(), stdout);
+  std::fputs((runner::markdown_header(result.provenance) + t.markdown).c_str(), stdout);
 }
 
 

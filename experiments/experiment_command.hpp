@@ -41,7 +41,7 @@ inline CLI::Validator unsigned_at_most(std::uint64_t max) {
 // each item of a comma-separated list; with `before_colon` the part before ':', as in fis:64).
 // The help lists the names; an unknown one is refused (exit status 2) with the closest valid name.
 inline CLI::Validator one_of(std::vector<std::string> names, std::string what, bool comma_list = false, bool before_colon = false) {
-  const std::string description = "{" + join_names(names, "|") + "}";
+  const std::string description = "{" + runner::join_names(names, "|") + "}";
   return CLI::Validator(
       [names = std::move(names), what = std::move(what), comma_list, before_colon](std::string& text) -> std::string {
         std::vector<std::string> items;
@@ -55,7 +55,7 @@ inline CLI::Validator one_of(std::vector<std::string> names, std::string what, b
           if (before_colon) item = item.substr(0, item.find(':'));
           bool known = false;
           for (const auto& n : names) known = known || n == item;
-          if (!known) return unknown_name_message(what, item, names);
+          if (!known) return runner::unknown_name_message(what, item, names);
         }
         return {};
       },
@@ -76,7 +76,7 @@ inline std::vector<std::string> method_names(const Quantity& q) {
 // "QUANTITY: METHOD, …" per quantity, one line each (the help of a --method option).
 inline std::string methods_per_quantity() {
   std::string text;
-  for (const auto& q : quantities()) text += "\n  " + q.name + ": " + join_names(method_names(q));
+  for (const auto& q : quantities()) text += "\n  " + q.name + ": " + runner::join_names(method_names(q));
   return text;
 }
 

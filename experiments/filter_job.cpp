@@ -139,7 +139,7 @@ void check_filter_memory(const render::Scene& scene, const render::FilterInputOp
   const double per_low = sample + 3 * rgb;
   const double vpls = double(o.rsm_resolution) * double(o.rsm_resolution) * 256;  // ~256 B a VPL, as a render
   const double bytes = double(runs) * (pixels * per_pixel + low * per_low) + vpls;
-  check_memory(bytes, fmt::format("{}a {}×{} filter run at 1/{} resolution (RSM {}²)", runs > 1 ? fmt::format("{} × ", runs) : "",
+  runner::check_memory(bytes, fmt::format("{}a {}×{} filter run at 1/{} resolution (RSM {}²)", runs > 1 ? fmt::format("{} × ", runs) : "",
                                   scene.camera.width, scene.camera.height, o.scale, o.rsm_resolution));
 }
 

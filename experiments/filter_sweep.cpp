@@ -45,8 +45,8 @@ void parse_lists(const Options& o, Result& r) {
   for (const auto& t : split(o.scales)) {
     double x = 0;
     try {
-      x = parse_decimal<double>(t);
-    } catch (const NumberError& e) {
+      x = runner::parse_decimal<double>(t);
+    } catch (const runner::NumberError& e) {
       throw UsageError(fmt::format("--scale: '{}' {}", clip_text(t), e.what()));
     }
     if (x != std::floor(x) || x < 1 || x > 64) throw UsageError(fmt::format("--scale: '{}' is not an integer in [1, 64]", clip_text(t)));
@@ -68,7 +68,7 @@ std::vector<std::string> split(const std::string& text) {
   return parts;
 }
 
-std::string stat_number(double x) { return std::isfinite(x) ? csv_number(x) : std::string(); }
+std::string stat_number(double x) { return std::isfinite(x) ? runner::csv_number(x) : std::string(); }
 
 std::string cell(double x, const char* format) { return std::isfinite(x) ? fmt::format(fmt::runtime(format), x) : "–"; }
 
@@ -83,8 +83,8 @@ std::vector<double> parse_roughness_list(const std::string& text) {
   std::vector<double> values;
   for (const auto& t : split(text)) {
     try {
-      values.push_back(parse_decimal<double>(t));
-    } catch (const NumberError& e) {
+      values.push_back(runner::parse_decimal<double>(t));
+    } catch (const runner::NumberError& e) {
       throw UsageError(fmt::format("--roughness: '{}' {}", clip_text(t), e.what()));
     }
   }
@@ -150,8 +150,8 @@ std::string command_line(const Options& o) {
   if (o.table != Options{}.table) args.insert(args.end(), {"--table", o.table});
   std::string command = "sglab";
   for (const auto& a : args) command += " " + quote_argument(a);
-  return command + (o.tables_dir.empty() ? option_argument("--out", quote_argument(o.out), quote_argument(Options{}.out))
-                                         : option_argument("--tables-dir", quote_argument(o.tables_dir)));
+  return command + (o.tables_dir.empty() ? runner::option_argument("--out", quote_argument(o.out), quote_argument(Options{}.out))
+                                         : runner::option_argument("--tables-dir", quote_argument(o.tables_dir)));
 }
 
 Point point_summary(const render::FilterInputs& in) {
@@ -197,7 +197,7 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes, 
 
 std::string points_csv(const Result& r) {
   std::string points;
-  append_csv_record(points, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "smape", "rmse", "max_abs",
+  runner::append_csv_record(points, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "smape", "rmse", "max_abs",
                                                      "glossy_relative_l2", "glossy_smape", "glossy_rmse", "diffuse_relative_l2",
                                                      "diffuse_smape", "diffuse_rmse", "fallback_pixels", "pixels_hit",
                                                      "glossy_receivers", "vpl_count", "seconds_low_res", "seconds_upsampling",
@@ -205,13 +205,13 @@ std::string points_csv(const Result& r) {
   for (const Row& row : r.rows) {
     const Point& p = r.points[row.point];
     const auto& e = row.result;
-    append_csv_record(points, std::vector<std::string>{
-                                  std::to_string(row.scale), csv_number(row.roughness), std::string(render::filter_weights_name(row.weights)), stat_number(e.all.relative_l2),
+    runner::append_csv_record(points, std::vector<std::string>{
+                                  std::to_string(row.scale), runner::csv_number(row.roughness), std::string(render::filter_weights_name(row.weights)), stat_number(e.all.relative_l2),
                                   stat_number(e.all.smape), stat_number(e.all.rmse), stat_number(e.all.max_abs), stat_number(e.glossy.relative_l2),
                                   stat_number(e.glossy.smape), stat_number(e.glossy.rmse), stat_number(e.diffuse.relative_l2),
                                   stat_number(e.diffuse.smape), stat_number(e.diffuse.rmse), std::to_string(e.fallback_pixels),
                                   std::to_string(p.pixels_hit), std::to_string(p.glossy_receivers), std::to_string(p.vpl_count),
-                                  csv_number(p.seconds_low_res), stat_number(e.seconds), csv_number(p.seconds_reference)});
+                                  runner::csv_number(p.seconds_low_res), stat_number(e.seconds), runner::csv_number(p.seconds_reference)});
   }
   return points;
 }
@@ -219,12 +219,12 @@ std::string points_csv(const Result& r) {
 // The CSV table: one row per (roughness, weights), the statistics of the Markdown table.
 std::string summary_csv(const Result& r) {
   std::string csv;
-  append_csv_record(csv, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
+  runner::append_csv_record(csv, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
                                                   "diffuse_relative_l2", "smape", "glossy_smape", "diffuse_smape", "rmse",
                                                   "fallback_pixels"});
   for (const Row& row : r.rows) {
     const auto& e = row.result;
-    append_csv_record(csv, std::vector<std::string>{std::to_string(row.scale), csv_number(row.roughness), std::string(render::filter_weights_name(row.weights)),
+    runner::append_csv_record(csv, std::vector<std::string>{std::to_string(row.scale), runner::csv_number(row.roughness), std::string(render::filter_weights_name(row.weights)),
                                                     stat_number(e.all.relative_l2), stat_number(e.glossy.relative_l2),
                                                     stat_number(e.diffuse.relative_l2), stat_number(e.all.smape),
                                                     stat_number(e.glossy.smape), stat_number(e.diffuse.smape), stat_number(e.all.rmse),
@@ -400,10 +400,10 @@ Tables tables(const Result& r) { return {points_csv(r), markdown(r), summary_csv
 void write(const Result& r) {
   const Options& o = r.options;
   const Tables t = tables(r);
-  write_table(o.out, o.table + "_points", r.provenance, "", t.points_csv);
-  write_table(tables_place(o.tables_dir, o.out), o.table, r.provenance, t.markdown, t.csv);
-  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
-  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n", tables_place(o.tables_dir, o.out).c_str(), o.table.c_str(),
+  runner::write_table(o.out, o.table + "_points", r.provenance, "", t.points_csv);
+  runner::write_table(runner::tables_place(o.tables_dir, o.out), o.table, r.provenance, t.markdown, t.csv);
+  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n", runner::tables_place(o.tables_dir, o.out).c_str(), o.table.c_str(),
                o.out.c_str(), o.table.c_str(), r.seconds);
 }
 

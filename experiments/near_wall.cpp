@@ -202,7 +202,7 @@ std::string command_line(const Options& o) {
   if (!o.sweep_distance.empty()) s += fmt::format(" --sweep-distance {}", fmt::join(o.sweep_distance, ","));
   if (!o.sweep_sharpness.empty() || !o.sweep_distance.empty())
     s += fmt::format(" --sweep-width {} --sweep-height {}", o.sweep_width, o.sweep_height);
-  return s + option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
+  return s + runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
 }
 
 std::string light_text(const SgLight& l) {
@@ -238,9 +238,9 @@ std::string method_table_markdown(const Result& r) {
 
 std::string method_table_csv(const std::vector<MethodError>& errors) {
   std::string csv;
-  append_csv_record(csv, std::vector<std::string>{"method", "mean_smape", "max_smape", "pixels"});
+  runner::append_csv_record(csv, std::vector<std::string>{"method", "mean_smape", "max_smape", "pixels"});
   for (const auto& e : errors)
-    append_csv_record(csv, std::vector<std::string>{e.method, csv_number(e.mean), csv_number(e.max), std::to_string(e.pixels)});
+    runner::append_csv_record(csv, std::vector<std::string>{e.method, runner::csv_number(e.mean), runner::csv_number(e.max), std::to_string(e.pixels)});
   return csv;
 }
 
@@ -250,15 +250,15 @@ std::string dump_csv(const Result& r) {
   std::string csv;
   std::vector<std::string> header{"i", "j", "object", "sharpness", "cosine", "log_radiance_scale", r.reference};
   header.insert(header.end(), r.methods.begin(), r.methods.end());
-  append_csv_record(csv, header);
+  runner::append_csv_record(csv, header);
   for (std::size_t k = 0; k < r.pixels.size(); ++k) {
     const Pixel& p = r.pixels[k];
     if (!p.lit) continue;
     std::vector<std::string> row{std::to_string(k % std::size_t(r.width)), std::to_string(k / std::size_t(r.width)),
-                                 std::to_string(p.object), csv_number(p.sharpness), csv_number(p.cosine),
-                                 csv_number(p.log_radiance_scale), csv_number(p.reference)};
-    for (const double v : p.value) row.push_back(csv_number(v));
-    append_csv_record(csv, row);
+                                 std::to_string(p.object), runner::csv_number(p.sharpness), runner::csv_number(p.cosine),
+                                 runner::csv_number(p.log_radiance_scale), runner::csv_number(p.reference)};
+    for (const double v : p.value) row.push_back(runner::csv_number(v));
+    runner::append_csv_record(csv, row);
   }
   return csv;
 }
@@ -290,7 +290,7 @@ std::vector<SweepPoint> compute_sweep(const Options& o, const json& document, co
 
 void sweep_tables(const Result& r, Tables& t) {
   const Options& o = r.options;
-  append_csv_record(t.sweep_csv, std::vector<std::string>{"sharpness", "distance", "method", "mean_smape", "max_smape", "pixels"});
+  runner::append_csv_record(t.sweep_csv, std::vector<std::string>{"sharpness", "distance", "method", "mean_smape", "max_smape", "pixels"});
   std::string& md = t.sweep_markdown;
   md = fmt::format(
       "# Near-wall SG light: mean SMAPE against the exact integral over the light's sharpness and distance\n\n"
@@ -308,8 +308,8 @@ void sweep_tables(const Result& r, Tables& t) {
     for (std::size_t i = 0; i < r.methods.size(); ++i) {
       const auto it = std::find_if(p.errors.begin(), p.errors.end(), [&](const MethodError& e) { return e.method == r.methods[i]; });
       md += fmt::format(" {:.3g} |", it->mean);
-      append_csv_record(t.sweep_csv, std::vector<std::string>{csv_number(p.sharpness), csv_number(p.distance), it->method,
-                                                              csv_number(it->mean), csv_number(it->max), std::to_string(it->pixels)});
+      runner::append_csv_record(t.sweep_csv, std::vector<std::string>{runner::csv_number(p.sharpness), runner::csv_number(p.distance), it->method,
+                                                              runner::csv_number(it->mean), runner::csv_number(it->max), std::to_string(it->pixels)});
       if (r.methods[i] == p.errors.front().method) ++wins[i];
     }
     md += fmt::format(" `{}` |\n", p.errors.front().method);
@@ -370,12 +370,12 @@ Tables tables(const Result& r) {
 void write(const Result& r) {
   const Options& o = r.options;
   const Tables t = tables(r);
-  if (!o.dump.empty()) write_file_atomically(o.dump, t.dump_csv);
-  write_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
-  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  if (!o.dump.empty()) runner::write_file_atomically(o.dump, t.dump_csv);
+  runner::write_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
+  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
   if (!r.swept) return;
-  write_table(o.tables_dir, kTable + "_sweep", r.provenance, t.sweep_markdown, t.sweep_csv);
-  std::fputs((markdown_header(r.provenance) + t.sweep_markdown).c_str(), stdout);
+  runner::write_table(o.tables_dir, kTable + "_sweep", r.provenance, t.sweep_markdown, t.sweep_csv);
+  std::fputs((runner::markdown_header(r.provenance) + t.sweep_markdown).c_str(), stdout);
 }
 
 }  // namespace near_wall

@@ -60,22 +60,22 @@ struct Point {
   std::vector<Row> rows;
 };
 
-double number(const CsvRecord& r, std::size_t c, const std::string& source) {
+double number(const runner::CsvRecord& r, std::size_t c, const std::string& source) {
   try {
-    return parse_decimal<double>(r.fields.at(c));
-  } catch (const NumberError&) {
+    return runner::parse_decimal<double>(r.fields.at(c));
+  } catch (const runner::NumberError&) {
     throw UsageError(fmt::format("{}: column {} is not a number: {}", source, c, clip_text(r.fields.at(c))));
   }
 }
 
 // The sweep's rows grouped by point (α, λ, view) in file order, with the compared methods' values.
 std::vector<Point> read_points(const std::string& path) {
-  const CsvTable t = read_sweep_points(path);
+  const runner::CsvTable t = runner::read_sweep_points(path);
   std::map<std::string, std::size_t> col;
   for (const char* name : {"roughness", "light_sharpness", "view_cos", "f0", "position", "light_cos", "light_azimuth", "reference",
                            "method", "value"}) {
     const std::size_t c = t.column(name);
-    if (c == CsvTable::npos) throw UsageError(fmt::format("{}: no column `{}` (not a `sglab sweep specular` points file)", clip_text(path), name));
+    if (c == runner::CsvTable::npos) throw UsageError(fmt::format("{}: no column `{}` (not a `sglab sweep specular` points file)", clip_text(path), name));
     col[name] = c;
   }
   std::vector<Point> points;
@@ -212,9 +212,9 @@ struct Output {
 
 Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int off_count) {
   Output o;
-  append_csv_record(o.csv, std::vector<std::string>{"table", "set", "group", "method", "brightness_weighted", "bright_smape", "points"});
+  runner::append_csv_record(o.csv, std::vector<std::string>{"table", "set", "group", "method", "brightness_weighted", "bright_smape", "points"});
   auto csv_row = [&](const std::string& table, const std::string& set, const std::string& group, const std::string& method, const Measures& m) {
-    append_csv_record(o.csv, std::vector<std::string>{table, set, group, method, csv_number(m.weighted), csv_number(m.bright_smape),
+    runner::append_csv_record(o.csv, std::vector<std::string>{table, set, group, method, runner::csv_number(m.weighted), runner::csv_number(m.bright_smape),
                                                       std::to_string(m.points)});
   };
   const SglabSpecular c{};
@@ -374,8 +374,8 @@ void run(const Options& o) {
   const Output t = tables(grid, off, off_count);
   runner::Provenance prov;
   prov.command = fmt::format("sglab own-specular --points {}{}", o.points, o.quick ? " --quick" : "");
-  write_table(o.tables_dir.empty() ? o.out : o.tables_dir, "own_specular", prov, t.markdown, t.csv);
-  std::fputs((markdown_header(prov) + t.markdown).c_str(), stdout);
+  runner::write_table(o.tables_dir.empty() ? o.out : o.tables_dir, "own_specular", prov, t.markdown, t.csv);
+  std::fputs((runner::markdown_header(prov) + t.markdown).c_str(), stdout);
 }
 
 }  // namespace

@@ -126,7 +126,7 @@ std::vector<HemisphericalRmse> hemispherical_rmse() {
 Result compute(const Options& o) {
   Result r;
   r.options = o;
-  r.provenance.command = "sglab poster-plots" + option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
+  r.provenance.command = "sglab poster-plots" + runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
   r.cosine_term = cosine_term_rows();
   r.curves = cosine_term_curves();
   r.hemispherical = hemispherical_rmse();
@@ -135,31 +135,31 @@ Result compute(const Options& o) {
 
 Tables tables(const Result& r) {
   Tables t;
-  t.cosine_term_csv = csv_header(r.provenance);
-  append_csv_record(t.cosine_term_csv, std::vector<std::string>{"lambda", "approximation_error", "float_error_bound", "sum",
+  t.cosine_term_csv = runner::csv_header(r.provenance);
+  runner::append_csv_record(t.cosine_term_csv, std::vector<std::string>{"lambda", "approximation_error", "float_error_bound", "sum",
                                                                 "measured_float_error"});
   for (const CosineTermRow& c : r.cosine_term)
-    append_csv_record(t.cosine_term_csv, std::vector<std::string>{csv_number(c.lambda), csv_number(c.approximation_error),
-                                                                  csv_number(c.float_error_bound), csv_number(c.sum),
-                                                                  csv_number(c.measured_float_error)});
-  t.curves_csv = csv_header(r.provenance);
-  append_csv_record(t.curves_csv, std::vector<std::string>{"lambda", "t", "approximation_error", "float_difference"});
+    runner::append_csv_record(t.cosine_term_csv, std::vector<std::string>{runner::csv_number(c.lambda), runner::csv_number(c.approximation_error),
+                                                                  runner::csv_number(c.float_error_bound), runner::csv_number(c.sum),
+                                                                  runner::csv_number(c.measured_float_error)});
+  t.curves_csv = runner::csv_header(r.provenance);
+  runner::append_csv_record(t.curves_csv, std::vector<std::string>{"lambda", "t", "approximation_error", "float_difference"});
   for (const CurvePoint& c : r.curves)
-    append_csv_record(t.curves_csv, std::vector<std::string>{csv_number(c.lambda), csv_number(c.t), csv_number(c.approximation_error),
-                                                             csv_number(c.float_difference)});
-  t.hemispherical_csv = csv_header(r.provenance);
-  append_csv_record(t.hemispherical_csv, std::vector<std::string>{"lambda", "method", "rmse_normalized"});
+    runner::append_csv_record(t.curves_csv, std::vector<std::string>{runner::csv_number(c.lambda), runner::csv_number(c.t), runner::csv_number(c.approximation_error),
+                                                             runner::csv_number(c.float_difference)});
+  t.hemispherical_csv = runner::csv_header(r.provenance);
+  runner::append_csv_record(t.hemispherical_csv, std::vector<std::string>{"lambda", "method", "rmse_normalized"});
   for (const HemisphericalRmse& h : r.hemispherical)
-    append_csv_record(t.hemispherical_csv, std::vector<std::string>{csv_number(h.lambda), h.method, csv_number(h.rmse_normalized)});
+    runner::append_csv_record(t.hemispherical_csv, std::vector<std::string>{runner::csv_number(h.lambda), h.method, runner::csv_number(h.rmse_normalized)});
   return t;
 }
 
 void write(const Result& r) {
   const fs::path dir = r.options.tables_dir;
   const Tables t = tables(r);
-  write_file_atomically(dir / "cosine_term_error.csv", t.cosine_term_csv);
-  write_file_atomically(dir / "cosine_term_error_curves.csv", t.curves_csv);
-  write_file_atomically(dir / "hemispherical_rmse.csv", t.hemispherical_csv);
+  runner::write_file_atomically(dir / "cosine_term_error.csv", t.cosine_term_csv);
+  runner::write_file_atomically(dir / "cosine_term_error_curves.csv", t.curves_csv);
+  runner::write_file_atomically(dir / "hemispherical_rmse.csv", t.hemispherical_csv);
   std::fprintf(stderr, "poster-plots: wrote %s/cosine_term_error{,_curves}.csv and hemispherical_rmse.csv\n", r.options.tables_dir.c_str());
 }
 

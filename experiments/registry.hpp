@@ -90,6 +90,7 @@ struct Experiment {
   X(sweep_specular)          \
   X(own_specular)             \
   X(shader_export)            \
+  X(own_method)               \
   X(recommendations)
 
 #define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();

@@ -200,7 +200,7 @@ void check_render_memory(const render::Scene& scene, const render::RenderOptions
   // ~400 B a pixel (G-buffer, four RGB layers in double and float, the EXR), ~256 B a VPL, 8 B a
   // shadow-map texel; the CSV dump ~140 B a pixel.
   const double bytes = pixels * (400 + (with_csv ? 140 : 0)) + rsm * 256 + shadow * 8;
-  check_memory(bytes, fmt::format("a {}×{} render (RSM {}², shadow map {}²)", scene.camera.width, scene.camera.height,
+  runner::check_memory(bytes, fmt::format("a {}×{} render (RSM {}², shadow map {}²)", scene.camera.width, scene.camera.height,
                                   options.rsm_resolution, options.shadow_map_resolution));
 }
 

@@ -208,8 +208,8 @@ Tables tables(const Result& r) {
 
 void write(const Options& o, const Result& r) {
   const Tables t = tables(r);
-  write_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
-  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
+  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
 }
 
 }  // namespace sglab::cli::shader_export
@@ -225,7 +225,7 @@ void add_shader_export_command(CLI::App& app) {
   sub->add_flag("--quick", o->quick, "the quick diffuse grid");
   add_constants_option(*sub, o->constants);
   sub->callback([o] {
-    check_output_paths({{"--tables-dir (shader_export.md)", std::filesystem::path(o->tables_dir) / "shader_export.md"},
+    runner::check_output_paths({{"--tables-dir (shader_export.md)", std::filesystem::path(o->tables_dir) / "shader_export.md"},
                         {"--tables-dir (shader_export.csv)", std::filesystem::path(o->tables_dir) / "shader_export.csv"}},
                        {});
     shader_export::write(*o, shader_export::compute(*o));

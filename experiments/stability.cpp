@@ -40,7 +40,7 @@ std::vector<std::filesystem::path> checked_outputs(const Options& o) {
   namespace fs = std::filesystem;
   for (const auto& name : o.only)
     if (!find_quantity(name)) {
-      throw UsageError("stability: " + unknown_name_message("quantity", name, quantity_names()));
+      throw UsageError("stability: " + runner::unknown_name_message("quantity", name, quantity_names()));
     }
   for (const auto& [option, dir] : {std::pair{"--out", o.out_dir}, std::pair{"--tables", o.tables_dir.empty() ? o.out_dir : o.tables_dir}})
     for (fs::path p = dir; !p.empty(); p = p.parent_path()) {  // the deepest existing one must be a directory
@@ -52,13 +52,13 @@ std::vector<std::filesystem::path> checked_outputs(const Options& o) {
       }
       if (p == p.parent_path()) break;
     }
-  const fs::path out(o.out_dir), tables = tables_place(o.tables_dir, o.out_dir);
-  const std::vector<NamedPath> outputs{{"--out", out / "stability_cells.csv"},
+  const fs::path out(o.out_dir), tables = runner::tables_place(o.tables_dir, o.out_dir);
+  const std::vector<runner::NamedPath> outputs{{"--out", out / "stability_cells.csv"},
                                        {"--tables", tables / "stability.csv"},
                                        {"--tables", tables / "stability.md"},
                                        {"--out", out / "stability.csv"},
                                        {"--out", out / "stability.md"}};
-  check_output_paths(o.tables_dir.empty() ? std::vector<NamedPath>(outputs.begin(), outputs.begin() + 3) : outputs, {});
+  runner::check_output_paths(o.tables_dir.empty() ? std::vector<runner::NamedPath>(outputs.begin(), outputs.begin() + 3) : outputs, {});
   std::vector<fs::path> paths;
   for (const auto& n : outputs) paths.push_back(n.path);
   return paths;
@@ -69,7 +69,7 @@ std::string command_line(const Options& o) {
   for (const auto& n : o.only) command += " --quantity " + n;
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
-  return command + (o.tables_dir.empty() ? option_argument("--out", o.out_dir, Options{}.out_dir) : option_argument("--tables", o.tables_dir));
+  return command + (o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir) : runner::option_argument("--tables", o.tables_dir));
 }
 
 // Computes the atlas and commits its five outputs as one set: none is replaced unless all were
@@ -90,12 +90,12 @@ void run(const Options& o) {
 
   const std::string command = command_line(o);
   const std::string csv = atlas::summary_csv(result);
-  const Provenance provenance{command};
+  const runner::Provenance provenance{command};
   const std::string md =
-      markdown_header(provenance) + atlas::markdown(result, constants_text(options.constants, uses, "- "));
-  OutputSet outputs;
+      runner::markdown_header(provenance) + atlas::markdown(result, constants_text(options.constants, uses, "- "));
+  runner::OutputSet outputs;
   outputs.add(paths[0], atlas::cells_csv(result));
-  outputs.add(paths[1], csv_header(provenance) + csv);
+  outputs.add(paths[1], runner::csv_header(provenance) + csv);
   outputs.add(paths[2], md);
   if (!o.tables_dir.empty()) {  // the bare CSV and the Markdown beside the cells too
     outputs.add(paths[3], csv);

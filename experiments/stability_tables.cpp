@@ -129,7 +129,7 @@ std::string summary_csv(const Result& r) {
         std::to_string(t.wrong_peak), fmt_err(t.rel_error), p.rel_at, fmt_err(t.peak_error), p.peak_at,
         std::to_string(t.rounding_points), fmt_err(t.rounding_rel), p.rounding_at, fmt_err(t.rounding_peak),
         p.rounding_peak_at, std::string(flag_name(t.worst_flag)), p.worst_flag_at, m.rounding_note};
-    sglab::cli::append_csv_record(csv, f);
+    sglab::runner::append_csv_record(csv, f);
   });
   return csv;
 }
@@ -151,7 +151,7 @@ std::string cells_csv(const Result& r) {
           fmt::format("{:.17g}", g.values[x][cell.x]), yname, std::to_string(cell.y), fmt::format("{:.17g}", yval),
           std::to_string(cell.points), std::to_string(cell.compared), std::string(flag_name(cell.flag)),
           std::to_string(int(cell.flag)), num(cell.max_rel_error), num(cell.max_peak_error), num(cell.max_rounding_rel)};
-      sglab::cli::append_csv_record(csv, f);
+      sglab::runner::append_csv_record(csv, f);
     }
   });
   return csv;

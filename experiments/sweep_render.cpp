@@ -64,17 +64,17 @@ struct VsglConfig {
 
 bool try_parse_decimal(const std::string& text, double& x) {
   try {
-    x = parse_decimal<double>(text);
+    x = runner::parse_decimal<double>(text);
     return true;
-  } catch (const NumberError&) {
+  } catch (const runner::NumberError&) {
     return false;
   }
 }
 
 double parse_value(const std::string& text, const std::string& where) {
   try {
-    return parse_decimal<double>(text);
-  } catch (const NumberError& e) {
+    return runner::parse_decimal<double>(text);
+  } catch (const runner::NumberError& e) {
     throw UsageError(fmt::format("{}: {} {}", where, quote(text), e.what()));
   }
 }
@@ -206,9 +206,9 @@ std::string checked_table_name(const Options& o, const std::vector<Vary>& vary) 
     }
   }
   if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table {} is not a file name", quote(name)));
-  std::vector<NamedPath> inputs{{"--scene", o.job.scene_path}};
+  std::vector<runner::NamedPath> inputs{{"--scene", o.job.scene_path}};
   for (const auto& c : o.job.constants) inputs.push_back({"--constants", c});
-  check_output_paths({{"--table (CSV)", tables_dir(o) / (name + ".csv")}, {"--table (Markdown)", tables_dir(o) / (name + ".md")}},
+  runner::check_output_paths({{"--table (CSV)", tables_dir(o) / (name + ".csv")}, {"--table (Markdown)", tables_dir(o) / (name + ".md")}},
                      inputs);
   return name;
 }
@@ -248,7 +248,7 @@ struct Grid {
 
   std::size_t points() const {
     std::size_t n = 1;
-    for (const auto& v : vary) n = checked_mul(n, v.values.size(), "sweep render: the --vary point count");
+    for (const auto& v : vary) n = runner::checked_mul(n, v.values.size(), "sweep render: the --vary point count");
     return n;
   }
   std::vector<double> values_of(std::size_t k) const {
@@ -318,7 +318,7 @@ struct CommonPassMemo {
 };
 
 // Point k's rows: its G-buffer, RSM and VPL sum once (or the memo's), then each configuration's VSGLs.
-std::vector<SweepRow> point_rows(const Grid& g, const std::vector<VsglConfig>& configs, const render::RenderOptions& options,
+std::vector<runner::SweepRow> point_rows(const Grid& g, const std::vector<VsglConfig>& configs, const render::RenderOptions& options,
                                  CommonPassMemo& memo, std::size_t k) {
   const render::Scene scene = g.scene_of(k);
   const auto x = g.values_of(k);
@@ -341,27 +341,27 @@ std::vector<SweepRow> point_rows(const Grid& g, const std::vector<VsglConfig>& c
     const auto common = memo.get(scene, g.scene_key(k), options);
     return render::render_scene_variants(scene, options, *common, variants);
   });
-  std::vector<SweepRow> rows;
+  std::vector<runner::SweepRow> rows;
   for (std::size_t c = 0; c < configs.size(); ++c) {
     const render::RenderResult& r = results[c];
     const auto& st = r.vsgls.stats;
     const double vsgl_seconds = r.seconds.vsgl + r.seconds.shading;
-    SweepRow row;
-    for (const double v : x) row.push_back(csv_number(v));
+    runner::SweepRow row;
+    for (const double v : x) row.push_back(runner::csv_number(v));
     row.insert(row.end(), {configs[c].label(), st.mode, std::to_string(st.requested),
                            std::to_string(st.diffuse_vsgls + st.specular_vsgls), std::to_string(st.specular_vsgls),
-                           std::to_string(r.vpl_count), std::to_string(r.pixels_hit), csv_number(r.error_metrics.relative_l2),
-                           csv_number(r.error_metrics.smape), csv_number(r.error_metrics.rmse), csv_number(r.error_metrics.max_abs),
-                           csv_number(r.seconds.rsm), csv_number(r.seconds.vsgl), csv_number(r.seconds.shading),
-                           csv_number(r.seconds.reference), csv_number(vsgl_seconds > 0 ? r.seconds.reference / vsgl_seconds : 0.0)});
+                           std::to_string(r.vpl_count), std::to_string(r.pixels_hit), runner::csv_number(r.error_metrics.relative_l2),
+                           runner::csv_number(r.error_metrics.smape), runner::csv_number(r.error_metrics.rmse), runner::csv_number(r.error_metrics.max_abs),
+                           runner::csv_number(r.seconds.rsm), runner::csv_number(r.seconds.vsgl), runner::csv_number(r.seconds.shading),
+                           runner::csv_number(r.seconds.reference), runner::csv_number(vsgl_seconds > 0 ? r.seconds.reference / vsgl_seconds : 0.0)});
     rows.push_back(std::move(row));
   }
   return rows;
 }
 
 // The sweep's identity for the runner: its arguments, a complete description of its grid, columns.
-SweepDefinition definition(const Options& o, const Grid& g, const std::vector<VsglConfig>& configs, const std::string& name) {
-  SweepDefinition d;
+runner::SweepDefinition definition(const Options& o, const Grid& g, const std::vector<VsglConfig>& configs, const std::string& name) {
+  runner::SweepDefinition d;
   d.name = name;
   d.args = {"sweep", "render", "--scene", o.job.scene_path};
   for (const auto& v : g.vary) d.args.insert(d.args.end(), {"--vary", v.key + "=" + v.spec});
@@ -369,7 +369,7 @@ SweepDefinition definition(const Options& o, const Grid& g, const std::vector<Vs
   for (const auto& a : render_job_arguments(o.job, false)) d.args.push_back(a);
   d.args.insert(d.args.end(), {"--table", name});
   // The scene's contents (after --set), not only its path: an edited scene file is another grid.
-  std::string grid = fmt::format("scene {} (contents fnv1a {}); overrides {{{}}}; ", o.job.scene_path, fnv1a_hex(g.base.dump()),
+  std::string grid = fmt::format("scene {} (contents fnv1a {}); overrides {{{}}}; ", o.job.scene_path, runner::fnv1a_hex(g.base.dump()),
                                  fmt::join(o.job.overrides, ", "));
   for (const auto& v : g.vary) grid += fmt::format("{} {{{}}} × ", v.key, fmt::join(v.values, ", "));
   std::string labels;
@@ -405,16 +405,16 @@ Result compute(const Options& o) {
   for (std::size_t k = 0; k < points; ++k) grid->scene_of(k);  // every point's scene is valid before anything runs
   check_render_memory(grid->scene_of(0), options);
 
-  SweepDefinition d = definition(o, *grid, configs, r.name);
+  runner::SweepDefinition d = definition(o, *grid, configs, r.name);
   d.describe = [grid](std::size_t k) { return grid->describe(k); };
   auto memo = std::make_shared<CommonPassMemo>();
   d.compute = [grid, configs, options, memo](std::size_t k) { return point_rows(*grid, configs, options, *memo, k); };
-  const SweepRunResult run = run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
+  const runner::SweepRunResult run = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
   r.vary = grid->vary;
   r.provenance.command = "sglab";
   for (const auto& a : d.args) r.provenance.command += " " + quote_if_needed(a);
   r.sharded = run.sharded;
-  if (!r.sharded) r.points = read_sweep_points(run.points_csv);
+  if (!r.sharded) r.points = runner::read_sweep_points(run.points_csv);
   return r;
 }
 
@@ -429,11 +429,11 @@ static std::string arithmetic_text(const RenderJob& job) {
 
 // The summary table (Markdown and CSV) from the per-point CSV alone.
 Tables tables(const Result& r) {
-  const CsvTable& t = r.points;
+  const runner::CsvTable& t = r.points;
   const Options& o = r.options;
   const auto col = [&](const std::string& c) {
     const auto i = t.column(c);
-    if (i == CsvTable::npos) throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
+    if (i == runner::CsvTable::npos) throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
     return i;
   };
   const auto num = [](const std::string& s) { return s.empty() ? NAN : std::stod(s); };
@@ -473,16 +473,16 @@ Tables tables(const Result& r) {
                       num(f[col("speedup")]));
   }
   std::string csv;
-  append_csv_record(csv, t.header);
-  for (const auto& row : t.rows) append_csv_record(csv, row.fields);
+  runner::append_csv_record(csv, t.header);
+  for (const auto& row : t.rows) runner::append_csv_record(csv, row.fields);
   return {md, csv};
 }
 
 void write(const Result& r) {
   if (r.sharded) return;
   const Tables t = tables(r);
-  write_table(tables_dir(r.options), r.name, r.provenance, t.markdown, t.csv);
-  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_table(tables_dir(r.options), r.name, r.provenance, t.markdown, t.csv);
+  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
   std::fprintf(stderr, "sweep render: wrote %s/%s.{md,csv}\n", tables_dir(r.options).c_str(), r.name.c_str());
 }
 
@@ -503,7 +503,7 @@ void add_sweep_render(CLI::App& sweep) {
       ->check(shard_given());
   sub->add_option("--threads", o->threads, "points computed at once (each render uses all cores; 1 keeps timings clean)")
       ->capture_default_str()
-      ->check(unsigned_at_most(kMaxThreads));
+      ->check(unsigned_at_most(runner::kMaxThreads));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
   sub->callback([o] { sweep_render::write(sweep_render::compute(*o)); });
 }

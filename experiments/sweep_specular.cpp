@@ -60,7 +60,7 @@ std::vector<const Method*> measured_methods(const Quantity& q) {
 
 std::string join_numbers(const std::vector<double>& v) {
   std::string s;
-  for (double x : v) s += (s.empty() ? "" : ", ") + csv_number(x);
+  for (double x : v) s += (s.empty() ? "" : ", ") + runner::csv_number(x);
   return s;
 }
 
@@ -75,13 +75,13 @@ bool specular_position_near_lobe(const std::string& position) {
   return position == "mirror" || position == "toward-normal" || position == "toward-horizon" || position == "side";
 }
 
-SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
+runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
   const Quantity& q = specular_quantity(brdf);
   const Method& reference = *q.find(q.reference_method);
   const std::vector<const Method*> methods = measured_methods(q);
   const SpecularGrid g = specular_grid(quick);
 
-  SweepDefinition d;
+  runner::SweepDefinition d;
   const bool gaussian = brdf == SpecularBrdf::gaussian;
   d.name = gaussian ? "specular-gaussian" : "specular";
   d.args = {"sweep", "specular"};
@@ -96,8 +96,8 @@ SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
       "min(√(1/λ + 2α²), π/6) in the plane of incidence, min(√(1/λ + 2α²v²), π/6) across; above the horizon only, "
       "no duplicates); reference `{}`; methods {{{}}}; near zero below {} of the point's largest reference",
       gaussian ? "BRDF: Gaussian-angle NDF (`specular-gaussian-ndf`, roughness = the NDF width m); " : "",
-      join_numbers(g.roughness), join_numbers(g.light_sharpness), join_numbers(g.view_cos), csv_number(g.f0),
-      position_names, reference.name, method_names, csv_number(kSpecularNearZero));
+      join_numbers(g.roughness), join_numbers(g.light_sharpness), join_numbers(g.view_cos), runner::csv_number(g.f0),
+      position_names, reference.name, method_names, runner::csv_number(kSpecularNearZero));
   d.point_count = g.point_count();
   d.columns = kColumns;
   const std::size_t nl = g.light_sharpness.size(), nv = g.view_cos.size();
@@ -123,7 +123,7 @@ SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
       refs.push_back(r);
     }
     const double scale = *std::max_element(refs.begin(), refs.end());
-    std::vector<SweepRow> rows;
+    std::vector<runner::SweepRow> rows;
     for (std::size_t j = 0; j < positions.size(); ++j) {
       const auto& a = args[j];
       for (const Method* m : methods) {
@@ -135,19 +135,19 @@ SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
           if (!std::isfinite(x)) {
             status = "non_finite";
           } else {
-            value = csv_number(x);
+            value = runner::csv_number(x);
             const double error = std::fabs(x - refs[j]);
-            if (scale > 0) scaled = csv_number(error / scale);
+            if (scale > 0) scaled = runner::csv_number(error / scale);
             if (scale > 0 && refs[j] > 0 && refs[j] >= kSpecularNearZero * scale) {
               status = "ok";
-              relative = csv_number(error / refs[j]);
+              relative = runner::csv_number(error / refs[j]);
             } else {
               status = "near_zero_reference";
             }
           }
         }
-        rows.push_back({csv_number(alpha), csv_number(lambda), csv_number(v), csv_number(f0), positions[j].name,
-                        csv_number(a[2]), csv_number(a[4]), csv_number(refs[j]), csv_number(scale), m->name, value,
+        rows.push_back({runner::csv_number(alpha), runner::csv_number(lambda), runner::csv_number(v), runner::csv_number(f0), positions[j].name,
+                        runner::csv_number(a[2]), runner::csv_number(a[4]), runner::csv_number(refs[j]), runner::csv_number(scale), m->name, value,
                         status, relative, scaled});
       }
     }
@@ -182,19 +182,19 @@ void add_brightness(const Brightness& b, SpecularSummaryRow& row) {
 
 }  // namespace
 
-std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, const std::string& source) {
+std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable& t, const std::string& source) {
   auto column = [&](const std::string& name) {
     const std::size_t c = t.column(name);
-    if (c == CsvTable::npos) throw UsageError(fmt::format("{}: no column '{}' (not a specular sweep's per-point CSV?)", source, name));
+    if (c == runner::CsvTable::npos) throw UsageError(fmt::format("{}: no column '{}' (not a specular sweep's per-point CSV?)", source, name));
     return c;
   };
   const std::size_t c_reference = column("reference"), c_scale = column("scale"), c_value = column("value"),
                     c_method = column("method"), c_position = column("position"), c_roughness = column("roughness"),
                     c_sharpness = column("light_sharpness"), c_view = column("view_cos");
-  auto number = [&](const CsvRecord& r, std::size_t c) {
+  auto number = [&](const runner::CsvRecord& r, std::size_t c) {
     try {
-      return parse_decimal<double>(r.fields[c]);
-    } catch (const NumberError& e) {
+      return runner::parse_decimal<double>(r.fields[c]);
+    } catch (const runner::NumberError& e) {
       throw UsageError(fmt::format("{}: line {}, column '{}': '{}' {}", source, r.line, t.header[c], r.fields[c], e.what()));
     }
   };
@@ -210,12 +210,12 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
                                {"light_sharpness", c_sharpness, false, {}},
                                {"view_cos", c_view, false, {}},
                                {"position", c_position, false, {}},
-                               {"all", CsvTable::npos, false, {}}};
+                               {"all", runner::CsvTable::npos, false, {}}};
   std::vector<std::string> methods;
-  std::map<std::tuple<std::size_t, std::string, std::string>, ErrorAccumulator> acc;  // (group, value, method)
+  std::map<std::tuple<std::size_t, std::string, std::string>, runner::ErrorAccumulator> acc;  // (group, value, method)
   std::map<std::tuple<std::size_t, std::string, std::string>, Brightness> brightness;
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
-    const CsvRecord& r = t.rows[i];
+    const runner::CsvRecord& r = t.rows[i];
     const std::string& method = r.fields[c_method];
     if (std::find(methods.begin(), methods.end(), method) == methods.end()) methods.push_back(method);
     const double reference = number(r, c_reference), scale = number(r, c_scale);
@@ -224,7 +224,7 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
     const bool near_lobe = specular_position_near_lobe(r.fields[c_position]);
     for (std::size_t g = 0; g < groups.size(); ++g) {
       if (groups[g].near_lobe_only && !near_lobe) continue;
-      const std::string key = groups[g].column == CsvTable::npos ? "all" : r.fields[groups[g].column];
+      const std::string key = groups[g].column == runner::CsvTable::npos ? "all" : r.fields[groups[g].column];
       auto& order = groups[g].order;
       if (std::find(order.begin(), order.end(), key) == order.end()) order.push_back(key);
       acc.try_emplace({g, key, method}, kSpecularNearZero).first->second.add(has_value, value, reference, scale, i);
@@ -262,20 +262,20 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& t, con
 
 std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows) {
   std::string csv;
-  append_csv_record(csv, std::vector<std::string>{"by", "group", "method", "points", "relative_points", "near_zero",
+  runner::append_csv_record(csv, std::vector<std::string>{"by", "group", "method", "points", "relative_points", "near_zero",
                                                   "missing", "rmse_relative", "max_relative", "smape", "max_scaled", "rmse_scaled",
                                                   "worst_roughness", "worst_light_sharpness", "worst_view_cos",
                                                   "worst_position", "weighted_error", "weighted_points", "bright_smape",
                                                   "bright_rows"});
   for (const auto& r : rows) {
-    const ErrorStats& s = r.stats;
-    append_csv_record(csv, std::vector<std::string>{r.by, r.group, r.method, std::to_string(s.points),
+    const runner::ErrorStats& s = r.stats;
+    runner::append_csv_record(csv, std::vector<std::string>{r.by, r.group, r.method, std::to_string(s.points),
                                                     std::to_string(s.relative), std::to_string(s.near_zero),
-                                                    std::to_string(s.missing), csv_number(s.rmse_relative),
-                                                    csv_number(s.max_relative), csv_number(s.smape),
-                                                    csv_number(s.max_scaled), csv_number(s.rmse_scaled), r.worst_roughness, r.worst_light_sharpness,
-                                                    r.worst_view_cos, r.worst_position, csv_number(r.weighted_error),
-                                                    std::to_string(r.weighted_points), csv_number(r.bright_smape),
+                                                    std::to_string(s.missing), runner::csv_number(s.rmse_relative),
+                                                    runner::csv_number(s.max_relative), runner::csv_number(s.smape),
+                                                    runner::csv_number(s.max_scaled), runner::csv_number(s.rmse_scaled), r.worst_roughness, r.worst_light_sharpness,
+                                                    r.worst_view_cos, r.worst_position, runner::csv_number(r.weighted_error),
+                                                    std::to_string(r.weighted_points), runner::csv_number(r.bright_smape),
                                                     std::to_string(r.bright_rows)});
   }
   return csv;
@@ -288,8 +288,8 @@ std::string percent(double x) { return std::isnan(x) ? "—" : fmt::format("{:.3
 // A group value as a reader wants it: numbers to 3 digits ("0.0178"), names as they are.
 std::string short_group(const std::string& g) {
   try {
-    return fmt::format("{:.3g}", parse_decimal<double>(g));
-  } catch (const NumberError&) {
+    return fmt::format("{:.3g}", runner::parse_decimal<double>(g));
+  } catch (const runner::NumberError&) {
     return g;
   }
 }
@@ -362,7 +362,7 @@ std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIn
                : "Every method of the `specular` quantity (`sglab eval --list`) against `reference` (adaptive 2D "
                  "quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated Smith and Schlick "
                  "f0 = 0.04, over roughness α";
-  return markdown_header(Provenance{command}) + fmt::format(
+  return runner::markdown_header(runner::Provenance{command}) + fmt::format(
       "# {9}\n\n"
       "Command: `{0}` (per-point data: `{11}_points.csv` in its `--out` directory; sharded runs joined by "
       "`sglab merge` give the same file). {10} ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
@@ -379,7 +379,7 @@ std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIn
       "SMAPE, RMSE and the maximum and counted. The scaled error |v − r| / (the peak), over all rows, covers them "
       "(\"RMSE scaled\", \"max scaled\"). All numbers in %.\n\n",
       command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
-      csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff), title, model,
+      runner::csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff), title, model,
       gaussian ? "specular-gaussian" : "specular");
 }
 
@@ -389,7 +389,7 @@ std::string whole_grid_table(const std::vector<SpecularSummaryRow>& rows) {
   md += "## Over the whole grid\n\n| method | brightness-weighted | bright SMAPE | SMAPE | max relative | RMSE | RMSE scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     if (r.by != "all") continue;
-    const ErrorStats& s = r.stats;
+    const runner::ErrorStats& s = r.stats;
     md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.method, percent(r.weighted_error),
                       percent(r.bright_smape), percent(s.smape), percent(s.max_relative),
                       percent(s.rmse_relative), percent(s.rmse_scaled), percent(s.max_scaled), s.near_zero, s.missing,
@@ -408,11 +408,11 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
   SummaryIndex x(rows);
   auto weighted = [](const SpecularSummaryRow& r) { return percent(r.weighted_error); };
   auto bright = [](const SpecularSummaryRow& r) { return percent(r.bright_smape); };
-  auto smape = [](const ErrorStats& s) { return percent(s.smape); };
-  auto max_rel = [](const ErrorStats& s) { return percent(s.max_relative); };
-  auto rmse = [](const ErrorStats& s) { return percent(s.rmse_relative); };
-  auto rmse_scaled = [](const ErrorStats& s) { return percent(s.rmse_scaled); };
-  auto both = [](const ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
+  auto smape = [](const runner::ErrorStats& s) { return percent(s.smape); };
+  auto max_rel = [](const runner::ErrorStats& s) { return percent(s.max_relative); };
+  auto rmse = [](const runner::ErrorStats& s) { return percent(s.rmse_relative); };
+  auto rmse_scaled = [](const runner::ErrorStats& s) { return percent(s.rmse_scaled); };
+  auto both = [](const runner::ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
   const auto rtable = [&](const std::string& by, const std::string& first, auto show) { return x.rtable(by, first, show); };
   const auto table = [&](const std::string& by, const std::string& first, auto show) { return x.table(by, first, show); };
   std::string md = summary_intro(rows, x, command, brdf);
@@ -453,19 +453,19 @@ struct SpecularOptions {
 void run_specular(const SpecularOptions& o) {
   const SpecularBrdf brdf = o.brdf == "gaussian" ? SpecularBrdf::gaussian : SpecularBrdf::ggx;
   const std::string base = brdf == SpecularBrdf::gaussian ? "specular_gaussian" : "specular";
-  const SweepDefinition d = specular_sweep_definition(o.quick, brdf);
-  const SweepRunResult r = run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
+  const runner::SweepDefinition d = specular_sweep_definition(o.quick, brdf);
+  const runner::SweepRunResult r = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
   if (r.sharded) return;
-  const auto rows = summarize_specular_points(read_sweep_points(r.points_csv), r.points_csv.string());
+  const auto rows = summarize_specular_points(runner::read_sweep_points(r.points_csv), r.points_csv.string());
   std::string command = "sglab";
   for (const auto& a : d.args) command += " " + a;
-  command += o.tables_dir.empty() ? option_argument("--out", o.out, SpecularOptions{}.out) : option_argument("--tables-dir", o.tables_dir);
-  const fs::path tables = tables_place(o.tables_dir, o.out);
+  command += o.tables_dir.empty() ? runner::option_argument("--out", o.out, SpecularOptions{}.out) : runner::option_argument("--tables-dir", o.tables_dir);
+  const fs::path tables = runner::tables_place(o.tables_dir, o.out);
   const std::string csv = specular_summary_csv(rows);
   const std::string md = specular_summary_markdown(rows, command, brdf);
-  OutputSet outputs;
+  runner::OutputSet outputs;
   outputs.add(fs::path(o.out) / (base + "_summary.csv"), csv);
-  outputs.add(tables / (base + "_vs_roughness.csv"), csv_header(Provenance{command}) + csv);
+  outputs.add(tables / (base + "_vs_roughness.csv"), runner::csv_header(runner::Provenance{command}) + csv);
   outputs.add(tables / (base + "_vs_roughness.md"), md);
   outputs.commit();
   std::fputs(md.c_str(), stdout);
@@ -483,7 +483,7 @@ void add_sweep_specular(CLI::App& sweep) {
   sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
       ->check(shard_given());
-  sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str()->check(unsigned_at_most(kMaxThreads));
+  sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str()->check(unsigned_at_most(runner::kMaxThreads));
   sub->add_option("--tables-dir", o->tables_dir, "directory for specular_vs_roughness.{md,csv} (default: the --out directory)");
   sub->add_option("--brdf", o->brdf,
                   "ggx (the `specular` quantity) or gaussian (the Gaussian-angle NDF BRDF, `specular-gaussian-ndf`; "

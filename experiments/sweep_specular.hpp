@@ -61,7 +61,7 @@ bool specular_position_near_lobe(const std::string& position);
 // empty; scaled_error = |value − reference|/scale whenever there is a value. Numbers are printed
 // with the shortest text that reads back to the same double, so any row can be re-evaluated with
 // `sglab eval specular`.
-SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf = SpecularBrdf::ggx);
+runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf = SpecularBrdf::ggx);
 
 // One summary row: the statistics of one method over one group of rows.
 struct SpecularSummaryRow {
@@ -69,7 +69,7 @@ struct SpecularSummaryRow {
                        // near-lobe positions), "light_sharpness", "view_cos", "position", "all"
   std::string group;   // the group's value as printed in the per-point CSV ("0.01", "mirror", "all")
   std::string method;
-  ErrorStats stats;
+  runner::ErrorStats stats;
   // Brightness-weighted error: per point Σ|v − r|/Σ r over its rows with a value, then the mean
   // over the group's points (`weighted_points` of them).
   double weighted_error = std::numeric_limits<double>::quiet_NaN();
@@ -86,7 +86,7 @@ struct SpecularSummaryRow {
 // per position and over all points, per method, in the order of first appearance. Errors are recomputed from the value, reference and
 // scale columns (near zero: kSpecularNearZero). Throws UsageError naming `source`, the line and
 // the column for a missing column or a bad number.
-std::vector<SpecularSummaryRow> summarize_specular_points(const CsvTable& points, const std::string& source);
+std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable& points, const std::string& source);
 
 // The summary as CSV (header + rows).
 std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows);

@@ -164,7 +164,7 @@ Result compute(const Options& o) {
   Result r;
   r.options = o;
   r.provenance.command =
-      fmt::format("sglab vsgl-fis-bias --seeds {} --rsm {}", o.seeds, o.rsm) + option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
+      fmt::format("sglab vsgl-fis-bias --seeds {} --rsm {}", o.seeds, o.rsm) + runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
   for (const auto& [name, rsm] : rsms) rsm_rows(name, rsm, o.seeds, r.rows);
   return r;
 }
@@ -172,7 +172,7 @@ Result compute(const Options& o) {
 Tables tables(const Result& r) {
   const Options& o = r.options;
   Tables t;
-  append_csv_record(t.csv, std::vector<std::string>{"rsm", "n", "quantity", "exact", "mean_estimate", "relative_bias",
+  runner::append_csv_record(t.csv, std::vector<std::string>{"rsm", "n", "quantity", "exact", "mean_estimate", "relative_bias",
                                                     "standard_error", "seeds"});
   t.markdown = fmt::format(
       "# Bias of the FIS VSGLs (Tokuyoshi 2016, modified FIS) against the exact sums\n\n"
@@ -187,9 +187,9 @@ Tables tables(const Result& r) {
       "|---|---|---|---|---|---|---|---|---|\n",
       o.seeds, o.rsm, o.rsm);
   for (const Row& row : r.rows)
-    append_csv_record(t.csv, std::vector<std::string>{row.rsm, std::to_string(row.n), row.quantity, csv_number(row.exact),
-                                                      csv_number(row.mean), csv_number(row.bias),
-                                                      csv_number(row.standard_error), std::to_string(o.seeds)});
+    runner::append_csv_record(t.csv, std::vector<std::string>{row.rsm, std::to_string(row.n), row.quantity, runner::csv_number(row.exact),
+                                                      runner::csv_number(row.mean), runner::csv_number(row.bias),
+                                                      runner::csv_number(row.standard_error), std::to_string(o.seeds)});
   // One Markdown line per (RSM, N): its four rows, importance first.
   for (std::size_t i = 0; i + 3 < r.rows.size(); i += 4) {
     const Row* q = &r.rows[i];
@@ -202,8 +202,8 @@ Tables tables(const Result& r) {
 
 void write(const Result& r) {
   const Tables t = tables(r);
-  write_table(r.options.tables_dir, "vsgl_fis_bias", r.provenance, t.markdown, t.csv);
-  std::fputs((markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_table(r.options.tables_dir, "vsgl_fis_bias", r.provenance, t.markdown, t.csv);
+  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
 }
 
 }  // namespace sglab::cli::vsgl_fis_bias

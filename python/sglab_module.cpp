@@ -326,8 +326,8 @@ std::vector<std::string> eval_mp50(const std::string& quantity, const std::strin
       if (py::isinstance<py::str>(v)) {
         text[i * k + j] = "'" + v.cast<std::string>() + "'";
         try {
-          args[i * k + j] = cli::parse_decimal<mp50>(v.cast<std::string>());
-        } catch (const cli::NumberError& e) {
+          args[i * k + j] = runner::parse_decimal<mp50>(v.cast<std::string>());
+        } catch (const runner::NumberError& e) {
           throw py::value_error(fmt::format("sglab.eval('{}', '{}'): column '{}', index {}, value {}: {}", q.name, m.name,
                                             q.columns[j].name, index_text(i, shape), text[i * k + j], e.what()));
         }
@@ -470,7 +470,7 @@ PYBIND11_MODULE(_sglab, m) {
       if (p) std::rethrow_exception(p);
     } catch (const sglab::cli::UsageError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
-    } catch (const sglab::cli::NumberError& e) {
+    } catch (const sglab::runner::NumberError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });

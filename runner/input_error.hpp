@@ -13,9 +13,8 @@ struct InputError : std::runtime_error {
 
 }  // namespace sglab::runner
 
-// The experiments and the commands (namespace sglab::cli) name the runner's helpers unqualified
-// and call its error UsageError.
+// The experiments and the commands (namespace sglab::cli) call it UsageError; they name the
+// runner's other helpers qualified (runner::…).
 namespace sglab::cli {
-using namespace sglab::runner;
 using UsageError = runner::InputError;
 }  // namespace sglab::cli

@@ -165,7 +165,7 @@ TEST_F(Hardening, Group05_OutputSetIsAllOrNothing) {
   // In the library: the second file's directory cannot be created (a file is in the way), so
   // the first, already written to its temporary, must not be published.
   std::ofstream(path("blocker")) << "x";
-  sglab::cli::OutputSet set;
+  sglab::runner::OutputSet set;
   set.add(path("keep.exr"), "new image");
   set.add(path("blocker") / "stats.json", "{}");
   EXPECT_ANY_THROW(set.commit());
@@ -240,7 +240,7 @@ TEST_F(Hardening, Group07_SignalRemovesTemporaries) {
     const pid_t child = ::fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
-      sglab::cli::AtomicFile f(path("big.exr"));
+      sglab::runner::AtomicFile f(path("big.exr"));
       f.write(std::string(1 << 20, 'x'));  // a partial output
       ::raise(sig);
       ::_exit(0);  // not reached
@@ -337,8 +337,8 @@ TEST_F(Hardening, Group10_SweepVaryKeys) {
 // 11. Resume and merge check what is on disk: a deleted row, an altered checkpoint, an edited
 // scene are noticed and recomputed (or refused by merge).
 TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
-  using sglab::cli::SweepDefinition;
-  using sglab::cli::SweepRow;
+  using sglab::runner::SweepDefinition;
+  using sglab::runner::SweepRow;
   std::atomic<int> calls{0};
   int fail_on = -1;
   SweepDefinition d;
@@ -351,16 +351,16 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
     if (++calls == fail_on) throw std::runtime_error("interrupted");
     return std::vector<SweepRow>{{std::to_string(k)}, {std::to_string(k + 100)}};  // two rows a point
   };
-  sglab::cli::SweepRunOptions o{.out_dir = path("run"), .threads = 1, .checkpoint_seconds = 0, .quiet = true};
+  sglab::runner::SweepRunOptions o{.out_dir = path("run"), .threads = 1, .checkpoint_seconds = 0, .quiet = true};
 
   // A deleted row of a point that keeps its other row: recomputed, not summarised.
-  auto r = sglab::cli::run_sweep(d, o);
+  auto r = sglab::runner::run_sweep(d, o);
   const std::string whole = read_file(r.points_csv);
   std::string text = whole;
   text.erase(text.find("3,103\n"), 6);
   std::ofstream(r.points_csv, std::ios::binary) << text;
   calls = 0;
-  r = sglab::cli::run_sweep(d, o);
+  r = sglab::runner::run_sweep(d, o);
   EXPECT_EQ(r.computed, 12u);
   EXPECT_EQ(read_file(r.points_csv), whole);
 
@@ -368,24 +368,24 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
   fs::remove_all(path("run"));
   calls = 0;
   fail_on = 6;
-  EXPECT_THROW(sglab::cli::run_sweep(d, o), std::runtime_error);
-  const fs::path checkpoint = sglab::cli::sweep_checkpoint_path(path("run"), "toy", {});
+  EXPECT_THROW(sglab::runner::run_sweep(d, o), std::runtime_error);
+  const fs::path checkpoint = sglab::runner::sweep_checkpoint_path(path("run"), "toy", {});
   text = read_file(checkpoint);
   text.erase(text.find("2,102\n"), 6);
   std::ofstream(checkpoint, std::ios::binary) << text;
   calls = 0;
   fail_on = -1;
-  r = sglab::cli::run_sweep(d, o);
+  r = sglab::runner::run_sweep(d, o);
   EXPECT_EQ(r.resumed, 0u);
   EXPECT_EQ(read_file(r.points_csv), whole);
 
   // A deleted row in a shard: merge refuses.
-  for (std::size_t i = 0; i < 2; ++i) sglab::cli::run_sweep(d, {.out_dir = path("shards"), .shard = {i, 2}, .quiet = true});
-  const fs::path shard0 = sglab::cli::sweep_points_path(path("shards"), "toy", {0, 2});
+  for (std::size_t i = 0; i < 2; ++i) sglab::runner::run_sweep(d, {.out_dir = path("shards"), .shard = {i, 2}, .quiet = true});
+  const fs::path shard0 = sglab::runner::sweep_points_path(path("shards"), "toy", {0, 2});
   text = read_file(shard0);
   text.erase(text.find("4,104\n"), 6);
   std::ofstream(shard0, std::ios::binary) << text;
-  EXPECT_THROW(sglab::cli::merge_sweep_shards({path("shards")}, path("merged")), sglab::cli::UsageError);
+  EXPECT_THROW(sglab::runner::merge_sweep_shards({path("shards")}, path("merged")), sglab::cli::UsageError);
   EXPECT_FALSE(fs::exists(path("merged")));
 
   // An edited scene file is another sweep: `sweep render` recomputes instead of republishing.
@@ -519,7 +519,7 @@ TEST_F(Hardening, Group16_UpFrontSizes) {
   nlohmann::json m = {{"sweep", "toy"}, {"args", {"sweep", "specular"}}, {"grid", "g"},   {"points", 100000000},
                       {"shard", "0/2"}, {"columns", {"point", "x"}},     {"rows", 1},     {"points_fnv1a", "8b2ba22e45ea1a52"}};
   std::ofstream(path("shards") / "toy_points.shard-0-of-2.csv") << "point,x\n0,1\n";
-  m["points_fnv1a"] = sglab::cli::fnv1a_hex("point,x\n0,1\n");
+  m["points_fnv1a"] = sglab::runner::fnv1a_hex("point,x\n0,1\n");
   std::ofstream(path("shards") / "toy_sweep.shard-0-of-2.json") << m.dump();
   r = sglab("merge --out merged shards");
   EXPECT_REFUSED(r, "the manifests say 100000000 points, the shards hold 1 rows");

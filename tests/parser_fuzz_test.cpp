@@ -72,7 +72,7 @@ TEST(ParserFuzz, CsvReaderFailsOnlyWithShortUsageErrors) {
     const std::string text = mutate(kCsv, rng);
     std::istringstream in(text);
     try {
-      const auto table = sglab::cli::read_csv(in, "<fuzz>");
+      const auto table = sglab::runner::read_csv(in, "<fuzz>");
       for (const auto& row : table.rows) ASSERT_EQ(row.fields.size(), table.header.size()) << "seed " << seed;
     } catch (const sglab::cli::UsageError& e) {
       ASSERT_LT(std::string(e.what()).size(), kMaxMessage) << "seed " << seed;

@@ -14,6 +14,7 @@
 namespace {
 
 using namespace sglab::test;
+using namespace sglab::render;
 
 
 // ---- intersections --------------------------------------------------------------------------

@@ -30,6 +30,7 @@
 namespace {
 
 using namespace sglab::test;
+using namespace sglab::render;
 
 // ---- the light's view, solid angles, RSM flux ------------------------------------------------
 

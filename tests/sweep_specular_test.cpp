@@ -30,6 +30,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace sglab::cli;
+using namespace sglab::runner;
 
 // ---- grid and positions ---------------------------------------------------------------------------
 

@@ -28,13 +28,13 @@
 namespace {
 
 namespace fs = std::filesystem;
-using sglab::cli::ErrorAccumulator;
-using sglab::cli::ErrorStats;
-using sglab::cli::parse_shard;
-using sglab::cli::Shard;
-using sglab::cli::SweepDefinition;
-using sglab::cli::SweepRow;
-using sglab::cli::SweepRunOptions;
+using sglab::runner::ErrorAccumulator;
+using sglab::runner::ErrorStats;
+using sglab::runner::parse_shard;
+using sglab::runner::Shard;
+using sglab::runner::SweepDefinition;
+using sglab::runner::SweepRow;
+using sglab::runner::SweepRunOptions;
 using sglab::cli::UsageError;
 
 using sglab::test::read_file;
@@ -124,7 +124,7 @@ TEST(ShardPoints, PartitionExactly) {
     for (std::size_t count = 1; count <= 6; ++count) {
       std::vector<int> seen(n, 0);
       for (std::size_t i = 0; i < count; ++i) {
-        const auto points = sglab::cli::shard_points(n, {i, count});
+        const auto points = sglab::runner::shard_points(n, {i, count});
         EXPECT_TRUE(std::is_sorted(points.begin(), points.end()));
         for (std::size_t k : points) {
           ASSERT_LT(k, n);
@@ -140,11 +140,11 @@ TEST(ShardPoints, PartitionExactly) {
 
 TEST_F(SweepTest, WritesEveryPointInOrderOnce) {
   Toy toy;
-  const auto r = sglab::cli::run_sweep(toy.definition(), quiet(dir_));
+  const auto r = sglab::runner::run_sweep(toy.definition(), quiet(dir_));
   EXPECT_EQ(read_file(r.points_csv), expected_toy_csv(toy.n));
   EXPECT_EQ(r.points_csv, dir_ / "toy_points.csv");
   EXPECT_TRUE(fs::exists(dir_ / "toy_sweep.json"));
-  EXPECT_FALSE(fs::exists(sglab::cli::sweep_checkpoint_path(dir_, "toy", {})));
+  EXPECT_FALSE(fs::exists(sglab::runner::sweep_checkpoint_path(dir_, "toy", {})));
   EXPECT_EQ(r.computed, toy.n);
   EXPECT_EQ(r.resumed, 0u);
   EXPECT_EQ(toy.computed.size(), toy.n);
@@ -152,7 +152,7 @@ TEST_F(SweepTest, WritesEveryPointInOrderOnce) {
 
   // Finished: a second run computes nothing and leaves the bytes as they were.
   Toy again;
-  const auto r2 = sglab::cli::run_sweep(again.definition(), quiet(dir_));
+  const auto r2 = sglab::runner::run_sweep(again.definition(), quiet(dir_));
   EXPECT_EQ(r2.computed, 0u);
   EXPECT_EQ(r2.resumed, toy.n);
   EXPECT_EQ(again.calls, 0);
@@ -161,7 +161,7 @@ TEST_F(SweepTest, WritesEveryPointInOrderOnce) {
   // A changed grid is a different sweep: recomputed.
   Toy changed;
   changed.grid = "toy grid v2";
-  EXPECT_EQ(sglab::cli::run_sweep(changed.definition(), quiet(dir_)).computed, toy.n);
+  EXPECT_EQ(sglab::runner::run_sweep(changed.definition(), quiet(dir_)).computed, toy.n);
 }
 
 // `sglab reproduce --force` holds a FreshSweepScope: inside it a finished sweep is computed again
@@ -186,7 +186,7 @@ TEST_F(SweepTest, FreshScopeRecomputesAFinishedSweep) {
 TEST_F(SweepTest, ShardsWriteTheirOwnPoints) {
   Toy toy;
   for (std::size_t i = 0; i < 4; ++i) {
-    const auto r = sglab::cli::run_sweep(toy.definition(), quiet(dir_, {i, 4}));
+    const auto r = sglab::runner::run_sweep(toy.definition(), quiet(dir_, {i, 4}));
     EXPECT_TRUE(r.sharded);
     EXPECT_EQ(r.points_csv, dir_ / ("toy_points.shard-" + std::to_string(i) + "-of-4.csv"));
     EXPECT_EQ(read_file(r.points_csv), expected_toy_csv(toy.n, {i, 4}));
@@ -198,7 +198,7 @@ TEST_F(SweepTest, ShardsWriteTheirOwnPoints) {
 TEST_F(SweepTest, ResumeSkipsFinishedPointsAndGivesIdenticalOutput) {
   // An uninterrupted run, for the bytes to compare with.
   Toy whole;
-  const std::string uninterrupted = read_file(sglab::cli::run_sweep(whole.definition(), quiet(dir_ / "whole")).points_csv);
+  const std::string uninterrupted = read_file(sglab::runner::run_sweep(whole.definition(), quiet(dir_ / "whole")).points_csv);
 
   // Interrupted on the 9th call; one thread, a checkpoint after every point.
   Toy first;
@@ -206,14 +206,14 @@ TEST_F(SweepTest, ResumeSkipsFinishedPointsAndGivesIdenticalOutput) {
   SweepRunOptions o = quiet(dir_ / "run");
   o.threads = 1;
   o.checkpoint_seconds = 0;
-  EXPECT_THROW(sglab::cli::run_sweep(first.definition(), o), std::runtime_error);
+  EXPECT_THROW(sglab::runner::run_sweep(first.definition(), o), std::runtime_error);
   EXPECT_FALSE(fs::exists(dir_ / "run" / "toy_points.csv"));  // no partial output
-  EXPECT_TRUE(fs::exists(sglab::cli::sweep_checkpoint_path(dir_ / "run", "toy", {})));
+  EXPECT_TRUE(fs::exists(sglab::runner::sweep_checkpoint_path(dir_ / "run", "toy", {})));
   const std::set<std::size_t> finished(first.computed.begin(), first.computed.end());
   EXPECT_EQ(finished.size(), 8u);
 
   Toy second;
-  const auto r = sglab::cli::run_sweep(second.definition(), o);
+  const auto r = sglab::runner::run_sweep(second.definition(), o);
   EXPECT_EQ(r.resumed, finished.size());
   EXPECT_EQ(r.computed, whole.n - finished.size());
   for (std::size_t k : second.computed) EXPECT_EQ(finished.count(k), 0u) << "point " << k << " was computed twice";
@@ -221,7 +221,7 @@ TEST_F(SweepTest, ResumeSkipsFinishedPointsAndGivesIdenticalOutput) {
     EXPECT_EQ(finished.count(k) + second.computed.count(k), 1u) << "point " << k;
   EXPECT_EQ(read_file(r.points_csv), uninterrupted);
   EXPECT_EQ(uninterrupted, expected_toy_csv(whole.n));
-  EXPECT_FALSE(fs::exists(sglab::cli::sweep_checkpoint_path(dir_ / "run", "toy", {})));
+  EXPECT_FALSE(fs::exists(sglab::runner::sweep_checkpoint_path(dir_ / "run", "toy", {})));
 }
 
 TEST_F(SweepTest, CheckpointOfAnotherGridIsIgnored) {
@@ -230,26 +230,26 @@ TEST_F(SweepTest, CheckpointOfAnotherGridIsIgnored) {
   SweepRunOptions o = quiet(dir_);
   o.threads = 1;
   o.checkpoint_seconds = 0;
-  EXPECT_THROW(sglab::cli::run_sweep(first.definition(), o), std::runtime_error);
+  EXPECT_THROW(sglab::runner::run_sweep(first.definition(), o), std::runtime_error);
   Toy other;
   other.grid = "another grid";
-  const auto r = sglab::cli::run_sweep(other.definition(), o);
+  const auto r = sglab::runner::run_sweep(other.definition(), o);
   EXPECT_EQ(r.resumed, 0u);
   EXPECT_EQ(r.computed, other.n);
 }
 
 TEST_F(SweepTest, DamagedOutputIsRecomputedNotTrusted) {
   Toy toy;
-  sglab::cli::run_sweep(toy.definition(), quiet(dir_));
+  sglab::runner::run_sweep(toy.definition(), quiet(dir_));
   std::ofstream(dir_ / "toy_sweep.json") << "{ not json";
   Toy again;
-  EXPECT_EQ(sglab::cli::run_sweep(again.definition(), quiet(dir_)).computed, toy.n);
+  EXPECT_EQ(sglab::runner::run_sweep(again.definition(), quiet(dir_)).computed, toy.n);
   // A per-point CSV with a point missing (a row deleted by hand) is not finished either.
   std::string text = read_file(dir_ / "toy_points.csv");
   text.erase(text.find("\n0,") + 1, text.find("\n1,") - text.find("\n0,"));
   std::ofstream(dir_ / "toy_points.csv", std::ios::binary) << text;
   Toy third;
-  EXPECT_EQ(sglab::cli::run_sweep(third.definition(), quiet(dir_)).computed, toy.n);
+  EXPECT_EQ(sglab::runner::run_sweep(third.definition(), quiet(dir_)).computed, toy.n);
   EXPECT_EQ(read_file(dir_ / "toy_points.csv"), expected_toy_csv(toy.n));
 }
 
@@ -257,9 +257,9 @@ TEST_F(SweepTest, RejectsRowsOfTheWrongWidth) {
   Toy toy;
   SweepDefinition d = toy.definition();
   d.compute = [](std::size_t) { return std::vector<SweepRow>{{"only one field"}}; };
-  EXPECT_THROW(sglab::cli::run_sweep(d, quiet(dir_)), std::logic_error);
+  EXPECT_THROW(sglab::runner::run_sweep(d, quiet(dir_)), std::logic_error);
   d.compute = [](std::size_t) { return std::vector<SweepRow>{}; };
-  EXPECT_THROW(sglab::cli::run_sweep(d, quiet(dir_)), std::logic_error);
+  EXPECT_THROW(sglab::runner::run_sweep(d, quiet(dir_)), std::logic_error);
 }
 
 // ---- merging ------------------------------------------------------------------------------------
@@ -270,13 +270,13 @@ void run_toy_shards(const fs::path& dir, std::size_t count, const std::vector<st
   for (std::size_t i : which) {
     Toy toy;
     toy.grid = grid;
-    sglab::cli::run_sweep(toy.definition(), quiet(dir, {i, count}));
+    sglab::runner::run_sweep(toy.definition(), quiet(dir, {i, count}));
   }
 }
 
 std::string merge_error(const std::vector<fs::path>& inputs, const fs::path& out) {
   try {
-    sglab::cli::merge_sweep_shards(inputs, out);
+    sglab::runner::merge_sweep_shards(inputs, out);
   } catch (const UsageError& e) {
     return e.what();
   }
@@ -286,7 +286,7 @@ std::string merge_error(const std::vector<fs::path>& inputs, const fs::path& out
 TEST_F(SweepTest, MergeJoinsShardsIntoTheUnshardedBytes) {
   run_toy_shards(dir_ / "a", 3, {0, 2});
   run_toy_shards(dir_ / "b", 3, {1});
-  const auto merged = sglab::cli::merge_sweep_shards({dir_ / "a", dir_ / "b"}, dir_ / "out");
+  const auto merged = sglab::runner::merge_sweep_shards({dir_ / "a", dir_ / "b"}, dir_ / "out");
   ASSERT_EQ(merged.size(), 1u);
   EXPECT_EQ(merged[0].name, "toy");
   EXPECT_EQ(merged[0].shards, 3u);
@@ -294,7 +294,7 @@ TEST_F(SweepTest, MergeJoinsShardsIntoTheUnshardedBytes) {
   EXPECT_EQ(read_file(dir_ / "out" / "toy_points.csv"), expected_toy_csv(23));
   // The merged output is what an unsharded run writes: that run finds it finished.
   Toy toy;
-  const auto r = sglab::cli::run_sweep(toy.definition(), quiet(dir_ / "out"));
+  const auto r = sglab::runner::run_sweep(toy.definition(), quiet(dir_ / "out"));
   EXPECT_EQ(r.computed, 0u);
   EXPECT_EQ(toy.calls, 0);
 }
@@ -317,8 +317,8 @@ void forge_shard_points(const fs::path& csv, const std::string& text) {
   const fs::path manifest = csv.parent_path() / name;
   auto m = nlohmann::json::parse(read_file(manifest));
   std::istringstream in(text);
-  m["rows"] = sglab::cli::read_csv(in, csv.string()).rows.size();
-  m["points_fnv1a"] = sglab::cli::fnv1a_hex(text);
+  m["rows"] = sglab::runner::read_csv(in, csv.string()).rows.size();
+  m["points_fnv1a"] = sglab::runner::fnv1a_hex(text);
   std::ofstream(manifest) << m.dump();
 }
 
@@ -420,8 +420,8 @@ TEST(ErrorAccumulator, NoPointsGiveNaNNotZero) {
   EXPECT_TRUE(std::isnan(s.max_relative));
   EXPECT_TRUE(std::isnan(s.max_scaled));
   EXPECT_TRUE(std::isnan(s.rmse_scaled));
-  EXPECT_EQ(sglab::cli::csv_number(s.smape), "");
-  EXPECT_EQ(sglab::cli::csv_number(0.1), "0.1");
+  EXPECT_EQ(sglab::runner::csv_number(s.smape), "");
+  EXPECT_EQ(sglab::runner::csv_number(0.1), "0.1");
 }
 
 }  // namespace

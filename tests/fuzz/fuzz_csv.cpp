@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   std::istringstream in(text);
   try {
-    const auto table = sglab::cli::read_csv(in, "<fuzz>");
+    const auto table = sglab::runner::read_csv(in, "<fuzz>");
     for (const auto& row : table.rows)
       if (row.fields.size() != table.header.size()) sglab::fuzz::fail("a row whose field count differs from the header's");
   } catch (const sglab::cli::UsageError& e) {

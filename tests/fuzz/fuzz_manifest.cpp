@@ -48,11 +48,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   fs::remove_all(in);
   fs::remove_all(out);
   fs::create_directories(in);
-  const sglab::cli::Shard shard{0, 2};
-  write(sglab::cli::sweep_manifest_path(in, "fz", shard), input.substr(0, nul));
-  write(sglab::cli::sweep_points_path(in, "fz", shard), nul == std::string::npos ? "" : input.substr(nul + 1));
+  const sglab::runner::Shard shard{0, 2};
+  write(sglab::runner::sweep_manifest_path(in, "fz", shard), input.substr(0, nul));
+  write(sglab::runner::sweep_points_path(in, "fz", shard), nul == std::string::npos ? "" : input.substr(nul + 1));
   try {
-    sglab::cli::merge_sweep_shards({in}, out);
+    sglab::runner::merge_sweep_shards({in}, out);
   } catch (const sglab::cli::UsageError& e) {
     sglab::fuzz::check_message(e.what());
   }

@@ -1,0 +1,131 @@
+// The documents against the tree they describe, so that drift fails the suite:
+//   - docs/math.md §12 lists every method of the registry (and nothing the registry lacks);
+//   - the counts quoted in docs/architecture.md ("Counts") are those of the source tree and of the
+//     registries, recounted here (the reference is the tree itself, not a number kept by hand).
+// On a mismatch the failure prints the line to write.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "registry.hpp"
+#include "sglab/registry.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_doc(const std::string& relative) {
+  std::ifstream in(fs::path(SGLAB_SOURCE_DIR) / relative);
+  EXPECT_TRUE(in) << relative;
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The text of `doc` from the line starting with `heading` to the next heading of the same level.
+std::string section(const std::string& doc, const std::string& heading) {
+  const std::size_t start = doc.find("\n" + heading);
+  if (start == std::string::npos) return "";
+  const std::string level = heading.substr(0, heading.find(' ') + 1);  // "## "
+  const std::size_t end = doc.find("\n" + level, start + 1);
+  return doc.substr(start, end == std::string::npos ? std::string::npos : end - start);
+}
+
+// Files directly in DIR whose names match the one-star pattern NAME ("*.cpp", "*_test.cpp").
+std::size_t count_files(const std::string& pattern) {
+  const fs::path p(pattern);
+  const std::string name = p.filename().string();
+  const std::size_t star = name.find('*');
+  if (star == std::string::npos || name.find('*', star + 1) != std::string::npos) {
+    ADD_FAILURE() << "pattern with one star in its last component expected: " << pattern;
+    return 0;
+  }
+  const std::string prefix = name.substr(0, star), suffix = name.substr(star + 1);
+  const fs::path dir = fs::path(SGLAB_SOURCE_DIR) / p.parent_path();
+  if (!fs::is_directory(dir)) {
+    ADD_FAILURE() << "no directory " << p.parent_path();
+    return 0;
+  }
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string f = e.path().filename().string();
+    if (e.is_regular_file() && f.size() >= prefix.size() + suffix.size() && f.compare(0, prefix.size(), prefix) == 0 &&
+        f.compare(f.size() - suffix.size(), suffix.size(), suffix) == 0)
+      ++n;
+  }
+  return n;
+}
+
+std::size_t method_count() {
+  std::size_t n = 0;
+  for (const auto& q : sglab::quantities()) n += q.methods.size();
+  return n;
+}
+
+TEST(Docs, MathIndexListsEveryRegisteredMethod) {
+  const std::string index = section(read_doc("docs/math.md"), "## 12. Registry index");
+  ASSERT_FALSE(index.empty()) << "docs/math.md has no section \"## 12. Registry index\"";
+  // Every `quantity/method` (or `quantity/*`) the index names.
+  std::set<std::string> listed;
+  const std::regex entry("`([a-z0-9-]+/[A-Za-z0-9_*-]+)`");
+  for (std::sregex_iterator it(index.begin(), index.end(), entry), end; it != end; ++it) listed.insert((*it)[1].str());
+  std::set<std::string> registered;
+  for (const auto& q : sglab::quantities()) {
+    for (const auto& m : q.methods) {
+      const std::string name = q.name + "/" + m.name;
+      registered.insert(name);
+      EXPECT_TRUE(listed.count(name) || listed.count(q.name + "/*"))
+          << "docs/math.md §12 lacks `" << name << "` (its formula's section and its source)";
+    }
+  }
+  for (const auto& name : listed) {
+    const std::string q = name.substr(0, name.find('/'));
+    if (name.substr(name.find('/') + 1) == "*") {
+      EXPECT_NE(sglab::find_quantity(q), nullptr) << "docs/math.md §12 names a quantity the registry lacks: " << name;
+    } else {
+      EXPECT_TRUE(registered.count(name)) << "docs/math.md §12 names a method the registry lacks: " << name;
+    }
+  }
+}
+
+TEST(Docs, ArchitectureCountsMatchTheTree) {
+  const std::string counts = section(read_doc("docs/architecture.md"), "### Counts");
+  ASSERT_FALSE(counts.empty()) << "docs/architecture.md has no section \"### Counts\"";
+  const std::map<std::string, std::size_t> named{
+      {"registry quantities", sglab::quantities().size()},
+      {"registry methods", method_count()},
+      {"experiments (`SGLAB_EXPERIMENTS`)", sglab::experiments::experiment_registry().size()},
+      {"`sglab reproduce` steps (full run)", sglab::experiments::all_steps({"results", "paper_tables"}).size()},
+  };
+  // Rows "| what | N |": `DIR/PATTERN` (files) or one of the named counts.
+  const std::regex row(R"(\n\| ([^|]+?) \| ([0-9]+) \|)");
+  std::size_t rows = 0;
+  std::set<std::string> seen;
+  for (std::sregex_iterator it(counts.begin(), counts.end(), row), end; it != end; ++it) {
+    const std::string what = (*it)[1].str();
+    const std::size_t quoted = std::stoul((*it)[2].str());
+    std::size_t actual = 0;
+    if (named.count(what)) {
+      actual = named.at(what);
+      seen.insert(what);
+    } else if (what.size() > 2 && what.front() == '`' && what.back() == '`') {
+      actual = count_files(what.substr(1, what.size() - 2));
+    } else {
+      ADD_FAILURE() << "docs/architecture.md, Counts: a row this test cannot count: " << what;
+      continue;
+    }
+    ++rows;
+    EXPECT_EQ(quoted, actual) << "docs/architecture.md, Counts: write | " << what << " | " << actual << " |";
+  }
+  EXPECT_GE(rows, named.size());
+  for (const auto& [what, n] : named) EXPECT_TRUE(seen.count(what)) << "docs/architecture.md, Counts: no row | " << what << " | " << n << " |";
+}
+
+}  // namespace
