@@ -954,8 +954,8 @@ Section shaders(Tables& tables) {
 Result compute(const Options& o) {
   Result r;
   r.provenance.command =
-      "sglab recommend" + option_argument("--from", o.from, Options{}.from) +
-      (o.tables_dir.empty() ? option_argument("--out", o.out, Options{}.out) : option_argument("--tables-dir", o.tables_dir));
+      "sglab recommend" + runner::option_argument("--from", o.from, Options{}.from) +
+      (o.tables_dir.empty() ? runner::option_argument("--out", o.out, Options{}.out) : runner::option_argument("--tables-dir", o.tables_dir));
   Tables tables(o.from, r.missing);
   for (Section s : {diffuse(tables), hemispherical(tables), specular(tables), vsgl(tables), filtering(tables),
                     denoise(tables), environment(tables), bases(tables), shaders(tables)})
@@ -979,7 +979,7 @@ std::string markdown(const Result& r) {
 }
 
 void write(const Options& o, const Result& r) {
-  const fs::path dir = tables_place(o.tables_dir, o.out);
+  const fs::path dir = runner::tables_place(o.tables_dir, o.out);
   write_table(dir, "recommendations", r.provenance, markdown(r), "");
   std::fprintf(stderr, "recommend: wrote %s/recommendations.md (%zu sections)\n", dir.c_str(), r.sections.size());
 }

@@ -14,11 +14,6 @@
 
 namespace sglab::cli::recommendations {
 
-// The two table helpers recommendations.cpp names unqualified (the runner's names are otherwise
-// qualified, runner::…, in the experiments); to go once that file qualifies them.
-using runner::option_argument;
-using runner::tables_place;
-
 struct Options {
   std::string from = "paper_tables";             // --from: the tables read
   std::string out = "results/recommendations";   // --out
