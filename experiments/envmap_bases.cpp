@@ -368,7 +368,7 @@ Tables tables(const Result& r) {
       for (std::size_t k = 0; k < a.roughness.size(); ++k) line("specular", fmt::format("{}", a.roughness[k]), row.specular_error[k]);
       rows_md += fmt::format("| {} | {} | {}={} | {} | {} | {} | {} |", env.name, label(row), row.size_symbol, row.size, row.floats,
                              num(row.map_error), num(row.diffuse_error), num(row.engine_diffuse_error));
-      for (double e : row.specular_error) rows_md += " " + num(e) + " |";
+      for (double e : row.specular_error) rows_md += fmt::format(" {} |", num(e));
       rows_md += fmt::format(" {:.3f} | {} | {:.0f} |\n", row.seconds, row.zero_lobes, row.diffuse_ns);
     }
   }

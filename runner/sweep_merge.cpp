@@ -274,7 +274,7 @@ std::vector<MergedSweep> merge_sweep_shards(
     for (const fs::path& target : {p.merged.points_csv, p.manifest_path}) {
       std::error_code ec;
       if (!fs::exists(target, ec)) continue;
-      const fs::path backup = target.parent_path() / ("." + target.filename().string() + ".merge-backup");
+      const fs::path backup = target.parent_path() / fmt::format(".{}.merge-backup", target.filename().string());
       fs::rename(target, backup);
       p.merged.replaced.emplace_back(target, backup);
     }

@@ -158,7 +158,7 @@ std::size_t method_instructions(const Spirv& spirv, Language lang, std::size_t a
     identity.function = "sglab_identity";
     std::string params;
     for (std::size_t j = 0; j < arity; ++j) {
-      identity.inputs.push_back("a" + std::to_string(j));
+      identity.inputs.push_back(fmt::format("a{}", j));
       params += j ? ", float a" : "float a";
       params += std::to_string(j);
     }

@@ -60,7 +60,7 @@ class Hardening : public sglab::test::TempDirTest {
     TempDirTest::SetUp();
     std::ofstream(path("scene.json")) << kScene;
   }
-  std::string p(const std::string& name) const { return "'" + path(name).string() + "'"; }
+  std::string p(const std::string& name) const { return fmt::format("'{}'", path(name).string()); }
 
   // Runs `sglab ARGS` (ARGS is shell text) with `stdin_text` on standard input.
   Result sglab(const std::string& args, const std::string& stdin_text = "") const {
@@ -351,7 +351,7 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
     if (++calls == fail_on) throw std::runtime_error("interrupted");
     return std::vector<SweepRow>{{std::to_string(k)}, {std::to_string(k + 100)}};  // two rows a point
   };
-  sglab::runner::SweepRunOptions o{.out_dir = path("run"), .threads = 1, .checkpoint_seconds = 0, .quiet = true};
+  sglab::runner::SweepRunOptions o{.out_dir = path("run"), .shard = {}, .threads = 1, .checkpoint_seconds = 0, .quiet = true};
 
   // A deleted row of a point that keeps its other row: recomputed, not summarised.
   auto r = sglab::runner::run_sweep(d, o);

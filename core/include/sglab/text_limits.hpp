@@ -56,7 +56,13 @@ inline std::string clip_text(std::string_view s, std::size_t max_chars = kMaxQuo
 // A value as an error message names it: clip_text(s) between single quotes. Every option or field
 // that takes a name (a method, a quantity, an environment, a geometry) quotes a bad one through
 // this, so that a 100 KB value gives an 80-character quote.
-inline std::string quote(std::string_view s) { return "'" + clip_text(s) + "'"; }
+// (Built by appending: GCC 12's -Wrestrict misfires on `"'" + std::string&&`, GCC PR 105651.)
+inline std::string quote(std::string_view s) {
+  std::string out = "'";
+  out += clip_text(s);
+  out += '\'';
+  return out;
+}
 
 // The longest message the command prints (and the Python module raises) for one error: a safety
 // net behind quote() for any message that still holds a long text (several long paths, say).
