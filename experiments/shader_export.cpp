@@ -270,6 +270,9 @@ Tables tables(const Result& r) {
     t.markdown += "\nNot exportable (`sglab export` refuses them with exit status 2 and this reason):\n\n";
     for (const auto& n : r.not_exportable) t.markdown += fmt::format("- {}: {}\n", n.method, n.reason);
   }
+  t.markdown += "\nNot exported either: the lobe-aware filtering weight (Tokuyoshi 2015 (lobe-aware filtering) App. E, "
+                "core/include/sglab/filtering_weights.hpp) is not a registry quantity, so `sglab export` has no name for "
+                "it yet.\n";
   std::string failures;
   for (const Row& w : r.rows)
     if (!w.compiles) failures += fmt::format("\n- {} ({}): {}\n", w.method, w.evaluator, w.error.substr(0, 400));
