@@ -173,26 +173,18 @@ Grid diffuse_grid(const Method& ref, bool quick) {
 Grid specular_grid(const Method& ref, bool quick) {
   Grid g;
   g.arity = 6;
-  const std::vector<double> alphas = quick ? std::vector<double>{0.05, 0.2, 0.5, 1}
-                                           : std::vector<double>{0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1};
-  const std::vector<double> sharpness = quick ? std::vector<double>{10, 100} : std::vector<double>{1, 10, 100, 1000};
-  const std::vector<double> views = {0.9, 0.5, 0.2};
-  const std::vector<double> tilts = {0, 0.1, 0.3, 0.6};  // radians from the mirror direction
+  const SpecularGridPoints points = specular_grid_points(quick);
+  const std::vector<double>& alphas = points.roughnesses;
+  const std::vector<double>& sharpness = points.light_sharpnesses;
   const double f0 = 0.04;
   const double pi = sglab::pi<double>();
-  for (double a : alphas)
-    for (double l : sharpness)
-      for (double v : views)
-        for (double d : tilts) {
-          // Mirror of ωo = (√(1−v²), 0, v) is at polar angle θ = acos v, azimuth π. Tilting by d
-          // towards the normal gives polar angle θ − d (through the normal if d > θ: azimuth 0).
-          const double theta = std::acos(v) - d;
-          g.args.insert(g.args.end(), {a, l, std::cos(theta), v, theta >= 0 ? pi : 0.0, f0});
-          g.in_subset.push_back(a >= 0.1);
-          g.rounding.push_back(true);
-        }
+  g.args = points.args;
+  for (std::size_t k = 0; k < g.args.size(); k += 6) {
+    g.in_subset.push_back(g.args[k] >= 0.1);
+    g.rounding.push_back(true);
+  }
   fill_reference(g, ref);
-  const std::size_t per_peak = tilts.size();
+  const std::size_t per_peak = points.per_peak;
   for (std::size_t k = 0; k < g.size(); ++k) g.scale.push_back(g.reference[k - k % per_peak]);
   g.description = fmt::format("α ∈ {{{}}} × light sharpness ∈ {{{}}} × view cos ∈ {{0.9, 0.5, 0.2}} × light tilted "
                               "{{0, 0.1, 0.3, 0.6}} rad from the mirror direction, f0 = 0.04",
@@ -250,6 +242,27 @@ DiffuseAxes diffuse_grid_axes(bool quick) {
   for (int i = 0; i <= 7 * per_decade; ++i) a.sharpnesses.push_back(std::pow(10.0, -3 + double(i) / per_decade));
   for (int j = 0; j <= cos_steps; ++j) a.cosines.push_back(-1 + 2.0 * j / cos_steps);
   return a;
+}
+
+SpecularGridPoints specular_grid_points(bool quick) {
+  SpecularGridPoints p;
+  p.roughnesses = quick ? std::vector<double>{0.05, 0.2, 0.5, 1} : std::vector<double>{0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1};
+  p.light_sharpnesses = quick ? std::vector<double>{10, 100} : std::vector<double>{1, 10, 100, 1000};
+  const std::vector<double> views = {0.9, 0.5, 0.2};
+  const std::vector<double> tilts = {0, 0.1, 0.3, 0.6};  // radians from the mirror direction
+  const double f0 = 0.04;
+  const double pi = sglab::pi<double>();
+  for (double a : p.roughnesses)
+    for (double l : p.light_sharpnesses)
+      for (double v : views)
+        for (double d : tilts) {
+          // Mirror of ωo = (√(1−v²), 0, v) is at polar angle θ = acos v, azimuth π. Tilting by d
+          // towards the normal gives polar angle θ − d (through the normal if d > θ: azimuth 0).
+          const double theta = std::acos(v) - d;
+          p.args.insert(p.args.end(), {a, l, std::cos(theta), v, theta >= 0 ? pi : 0.0, f0});
+        }
+  p.per_peak = tilts.size();
+  return p;
 }
 
 GridError standard_grid_error(const Quantity& q, const Method& m) {

@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include <fmt/core.h>
 #include <fmt/ranges.h>
@@ -18,6 +19,7 @@
 #include "registry.hpp"
 #include "sglab/sg.hpp"
 #include "sglab/stiff_cases.hpp"
+#include "stability_atlas.hpp"
 #include "toolchain.hpp"
 
 namespace sglab::cli::shader_export {
@@ -30,13 +32,13 @@ bool is_diffuse(const Quantity& q) {
   return q.columns.size() == 2 && q.columns[0].kind == ColumnKind::sharpness && q.columns[1].kind == ColumnKind::cosine &&
          !q.reference_method.empty();
 }
+bool is_specular(const Quantity& q) { return q.name == "specular"; }
 
 // What a method's value is compared with: the quantity's reference, except for the normalized
 // vMF form of the hemispherical integral, which returns H/A(λ) (its registry entry says so).
-double reference_for(const Method& m, const Method& ref, double l, double c) {
-  const double args[2] = {l, c};
+double reference_for(const Method& m, const Method& ref, std::span<const double> args) {
   const double v = ref.eval_double(args);
-  return m.name == "vmf-tokuyoshi2024" ? v / sg_integral(l) : v;
+  return m.name == "vmf-tokuyoshi2024" ? v / sg_integral(args[0]) : v;
 }
 
 // The spacing of floats at |x|.
@@ -45,23 +47,36 @@ float float_ulp(float x) {
   return std::nextafter(a, std::numeric_limits<float>::infinity()) - a;
 }
 
-// The grids of one run: the error grid's rows (then the stiff grid's), as float inputs.
+// The grids of one kind of quantity (diffuse (λ, c) or specular): the error grid's rows, then the
+// stiff grid's, as float inputs, and per error-grid point its reference and error scale.
 struct Grids {
-  std::vector<float> rows;  // error grid, then stiff grid; 2 floats a row
+  std::size_t arity = 0;
+  std::vector<float> rows;  // error grid, then stiff grid; `arity` floats a row
   std::size_t grid_points = 0, stiff_points = 0;
-  std::vector<double> lambdas, cosines;  // per grid point (as the float inputs, in double)
+  std::vector<double> args;  // per error-grid point, as the float inputs, in double (arity each)
+  std::vector<std::size_t> scale_of;  // per error-grid point: the index of the point whose reference is its scale
+  std::span<const double> point(std::size_t k) const { return {&args[arity * k], arity}; }
 };
 
-Grids make_grids(bool quick) {
+void add_error_point(Grids& g, std::span<const double> a) {
+  for (double x : a) {
+    g.rows.push_back(float(x));
+    g.args.push_back(double(float(x)));
+  }
+}
+
+Grids diffuse_grids(bool quick) {
   Grids g;
+  g.arity = 2;
   const DiffuseAxes axes = diffuse_grid_axes(quick);
-  for (double l : axes.sharpnesses)
+  const std::size_t nc = axes.cosines.size();
+  for (std::size_t i = 0; i < axes.sharpnesses.size(); ++i)
     for (double c : axes.cosines) {
-      g.rows.insert(g.rows.end(), {float(l), float(c)});
-      g.lambdas.push_back(double(float(l)));
-      g.cosines.push_back(double(float(c)));
+      const double a[2] = {axes.sharpnesses[i], c};
+      add_error_point(g, a);
+      g.scale_of.push_back(i * nc + nc - 1);  // the reference at c = 1 (the last cosine), same λ
     }
-  g.grid_points = g.lambdas.size();
+  g.grid_points = g.args.size() / 2;
   std::vector<double> ls = stiff::sharpnesses();
   for (double l : stiff::extreme_sharpnesses())
     if (l <= double(std::numeric_limits<float>::max())) ls.push_back(l);
@@ -71,26 +86,50 @@ Grids make_grids(bool quick) {
   return g;
 }
 
+// Specular: error-vs-time's specular grid; the stiff grid is the stability atlas's grid of the
+// quantity (registry_grid, rows with a value past FLT_MAX left out: the float inputs).
+Grids specular_grids(const Quantity& q, bool quick) {
+  Grids g;
+  g.arity = 6;
+  const SpecularGridPoints points = specular_grid_points(quick);
+  for (std::size_t k = 0; k < points.args.size(); k += 6) {
+    add_error_point(g, std::span<const double>(&points.args[k], 6));
+    const std::size_t i = k / 6;
+    g.scale_of.push_back(i - i % points.per_peak);
+  }
+  g.grid_points = g.args.size() / 6;
+  const atlas::Grid stiff = atlas::registry_grid(q, quick);
+  for (std::size_t r = 0; r < stiff.rows; ++r) {
+    const std::vector<double> row = stiff.row(r);
+    bool fits = true;
+    for (double x : row) fits = fits && std::fabs(x) <= double(std::numeric_limits<float>::max());
+    if (!fits) continue;
+    for (double x : row) g.rows.push_back(float(x));
+  }
+  g.stiff_points = g.rows.size() / 6 - g.grid_points;
+  return g;
+}
+
 // The row's metrics from values on both grids.
 void measure(Row& row, const std::vector<float>& v, const std::vector<float>& sglab_float, const Grids& g,
              const std::vector<double>& reference, const std::vector<double>& scale, const Method& m) {
   for (std::size_t k = 0; k < g.grid_points; ++k) {
-    const double args[2] = {g.lambdas[k], g.cosines[k]};
-    if (m.domain_error && m.domain_error(args)) continue;
+    if (m.domain_error && m.domain_error(g.point(k))) continue;
     if (!std::isfinite(v[k])) {
       ++row.grid_non_finite;
       continue;
     }
     row.max_error = std::max(row.max_error, std::fabs(double(v[k]) - reference[k]) / scale[k]);
-    // In ulps of the larger of the value and the reference at c = 1 (float): near zero (the
+    // In ulps of the larger of the value and the reference at the peak (float): near zero (the
     // back-facing tail) raw ulps count rounding far below the value's own scale (1e-31 against 0
     // is 2e8 ulps).
     const float magnitude = std::max(std::fabs(sglab_float[k]), float(scale[k]));
     const double u = std::fabs(double(v[k]) - double(sglab_float[k])) / double(float_ulp(magnitude));
     if (std::isfinite(sglab_float[k])) row.max_ulps = std::max(row.max_ulps, u);
   }
+  std::vector<double> args(g.arity);
   for (std::size_t k = g.grid_points; k < g.grid_points + g.stiff_points; ++k) {
-    const double args[2] = {double(g.rows[2 * k]), double(g.rows[2 * k + 1])};
+    for (std::size_t j = 0; j < g.arity; ++j) args[j] = double(g.rows[g.arity * k + j]);
     if (m.domain_error && m.domain_error(args)) continue;
     ++row.stiff_points;
     if (!std::isfinite(v[k])) ++row.stiff_non_finite;
@@ -108,26 +147,47 @@ Result compute(const Options& o) {
   const ConstantSet set = load_constant_sets(o.constants);
   shader::VulkanCompute gpu;
   r.device = gpu.device_name();
-  const Grids g = make_grids(o.quick);
-  r.grid = fmt::format("error-vs-time's diffuse grid{} ({} points, inputs rounded to float)", o.quick ? " (quick)" : "", g.grid_points);
+  const Grids diffuse = diffuse_grids(o.quick);
+  r.grid = fmt::format("error-vs-time's diffuse grid{} ({} points, inputs rounded to float)", o.quick ? " (quick)" : "",
+                       diffuse.grid_points);
   r.stiff = fmt::format("λ ∈ {{0, 1e-8 … 1e8 (2 per decade), 1e10 … 1e35, FLT_MAX}} × the stiff cosines (±1 and the float/double "
                         "steps around them, 0, ±1e-8, 15 interior values): {} points, those in each method's domain",
-                        g.stiff_points);
-  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> refs;  // per method: reference, scale
+                        diffuse.stiff_points);
+  std::optional<Grids> specular;
+  // The references of a quantity's grid, computed once (the specular one is a 2D quadrature).
+  std::map<std::string, std::vector<double>> quantity_reference;
+  for (const auto& q : quantities())
+    for (const auto& m : q.methods) {
+      if (m.trace || m.name == q.reference_method || !(is_diffuse(q) || is_specular(q))) continue;
+      r.not_exportable.push_back({q.name + "/" + m.name, shader::not_exportable_reason(q, m)});
+    }
   for (const auto& name : shader::exportable_methods()) {
     const shader::MethodRef ref = shader::find_exportable(name);
     const Quantity& q = *ref.quantity;
     const Method& m = *ref.method;
-    if (!is_diffuse(q)) continue;
+    if (!is_diffuse(q) && !is_specular(q)) continue;
+    if (is_specular(q) && !specular) {
+      specular = specular_grids(q, o.quick);
+      r.specular_grid = fmt::format("error-vs-time's specular grid{} ({} points, inputs rounded to float)",
+                                    o.quick ? " (quick)" : "", specular->grid_points);
+      r.specular_stiff = fmt::format("the stability atlas's grid of `specular`{} ({} points; rows with a value past FLT_MAX left out)",
+                                     o.quick ? " (quick)" : "", specular->stiff_points);
+    }
+    const Grids& g = is_specular(q) ? *specular : diffuse;
     const Method& refm = *q.find(q.reference_method);
     std::vector<double> reference(g.grid_points), scale(g.grid_points);
-    tbb::parallel_for(std::size_t(0), g.grid_points, [&](std::size_t k) {
-      reference[k] = reference_for(m, refm, g.lambdas[k], g.cosines[k]);
-      scale[k] = reference_for(m, refm, g.lambdas[k], 1.0);
-    });
+    if (m.name == "vmf-tokuyoshi2024" || !quantity_reference.count(q.name)) {
+      std::fprintf(stderr, "shader-export: the reference of %s (%zu points)\n", name.c_str(), g.grid_points);
+      tbb::parallel_for(std::size_t(0), g.grid_points, [&](std::size_t k) { reference[k] = reference_for(m, refm, g.point(k)); });
+      if (m.name != "vmf-tokuyoshi2024") quantity_reference[q.name] = reference;
+    } else {
+      reference = quantity_reference[q.name];
+    }
+    for (std::size_t k = 0; k < g.grid_points; ++k) scale[k] = reference[g.scale_of[k]];
     const Method bound = bind(m, set);
-    std::vector<float> sglab_float(g.rows.size() / 2);
-    for (std::size_t k = 0; k < sglab_float.size(); ++k) sglab_float[k] = bound.eval_float(std::span<const float>(&g.rows[2 * k], 2));
+    const std::size_t n = g.rows.size() / g.arity;
+    std::vector<float> sglab_float(n);
+    for (std::size_t k = 0; k < n; ++k) sglab_float[k] = bound.eval_float(std::span<const float>(&g.rows[g.arity * k], g.arity));
     const shader::TracedMethod traced = shader::trace_method(q, m, set);
     for (const auto& evaluator : kEvaluators) {
       Row row;
@@ -146,8 +206,8 @@ Result compute(const Options& o) {
             v = shader::run_c(src, traced, g.rows);
           } else {
             const shader::Spirv spv = shader::compile_to_spirv(shader::compute_shader_source(src, traced, lang), lang);
-            row.instructions = long(shader::method_instructions(spv, lang, 2));
-            v = shader::run_compute(gpu, spv, g.rows, 2);
+            row.instructions = long(shader::method_instructions(spv, lang, g.arity));
+            v = shader::run_compute(gpu, spv, g.rows, g.arity);
           }
         }
         measure(row, v, sglab_float, g, reference, scale, m);
@@ -173,20 +233,27 @@ Tables tables(const Result& r) {
       "the same formula, for comparison.\n\n"
       "- max error: max |value − reference| / reference at c = 1 on {}; the reference is the quantity's quadrature "
       "(hemispherical/vmf-tokuyoshi2024: H/A(λ), the normalized quantity that method returns). NaN/Inf there are counted "
-      "apart (`grid NaN`).\n"
+      "apart (`grid NaN`).{}\n"
       "- ulps: max |value − sglab float| on the same grid, in float units in the last place of the larger of sglab "
-      "float's value and the reference at c = 1 (raw ulps near zero, in the back-facing tail, would count differences "
-      "far below the value's scale).\n"
+      "float's value and the reference at c = 1 (`specular`: with the light at the mirror direction; raw ulps near zero, "
+      "in the back-facing tail, would count differences far below the value's scale).\n"
       "- SPIR-V: instructions of the exported function and its helpers as glslang emits them, unoptimized, less those of "
       "the same compute entry point around an identity function — a cost proxy, not a cycle count.\n"
-      "- stiff: outputs < 0 and NaN/Inf on {}.\n\n"
-      "lavapipe evaluates exp, log and sqrt with LLVM's CPU code, not a GPU's hardware approximations: on a GPU the "
-      "ulps (and the helpers' accuracy, which rests on exp and log) may differ. The C uses the C library's expm1f, "
-      "erff and erfcf (the functions sglab's float path calls); GLSL and HLSL lack them and get the helpers written "
-      "into the code (docs/export.md).\n\n"
+      "- stiff: outputs < 0 and NaN/Inf on {}.{}\n\n"
+      "lavapipe evaluates exp, log, sqrt, sin and cos with LLVM's CPU code, not a GPU's hardware approximations: on a "
+      "GPU the ulps (and the helpers' accuracy, which rests on exp and log) may differ. The GLSL and HLSL arithmetic is "
+      "`precise` (SPIR-V NoContraction: evaluated as written, no reassociation or fused multiply-add). The C uses the C "
+      "library's expm1f, erff, erfcf, sinf and cosf (the functions sglab's float path calls); GLSL and HLSL lack the "
+      "first three and get helpers written into the code (docs/export.md).\n\n"
       "| method | evaluator | compiles | SPIR-V instr. | max error | max diff. from sglab float (ulps) | grid NaN | stiff neg | stiff NaN/Inf |\n"
       "|---|---|---|---|---|---|---|---|---|\n",
-      r.device, r.grid, r.stiff);
+      r.device, r.grid,
+      r.specular_grid.empty() ? std::string()
+                              : fmt::format(" `specular`: max |value − reference| / reference with the light at the mirror "
+                                            "direction (the peak) for the same α, λ and view, on {}; the reference is its "
+                                            "2D quadrature.",
+                                            r.specular_grid),
+      r.stiff, r.specular_stiff.empty() ? std::string() : fmt::format(" `specular`: on {}.", r.specular_stiff));
   for (const Row& w : r.rows) {
     const std::string instr = w.instructions >= 0 ? std::to_string(w.instructions) : "—";
     const std::string compiles = w.evaluator == "sglab float" ? "—" : w.compiles ? "yes" : "**no**";
@@ -199,6 +266,13 @@ Tables tables(const Result& r) {
     t.markdown += fmt::format("| {} | {} | {} | {} | {:.3e} | {:.0f} | {} | {} | {} |\n", w.method, w.evaluator, compiles, instr,
                               w.max_error, w.max_ulps, w.grid_non_finite, w.stiff_negatives, w.stiff_non_finite);
   }
+  if (!r.not_exportable.empty()) {
+    t.markdown += "\nNot exportable (`sglab export` refuses them with exit status 2 and this reason):\n\n";
+    for (const auto& n : r.not_exportable) t.markdown += fmt::format("- {}: {}\n", n.method, n.reason);
+  }
+  t.markdown += "\nNot exported either: the lobe-aware filtering weight (Tokuyoshi 2015 (lobe-aware filtering) App. E, "
+                "core/include/sglab/filtering_weights.hpp) is not a registry quantity, so `sglab export` has no name for "
+                "it yet.\n";
   std::string failures;
   for (const Row& w : r.rows)
     if (!w.compiles) failures += fmt::format("\n- {} ({}): {}\n", w.method, w.evaluator, w.error.substr(0, 400));

@@ -32,15 +32,23 @@ struct Row {
   long stiff_negatives = 0, stiff_non_finite = 0, stiff_points = 0;  // the stiff grid
 };
 
+// A method of a measured quantity that cannot be exported, and why.
+struct NotExportable {
+  std::string method;  // "specular/sglab"
+  std::string reason;
+};
+
 struct Result {
   runner::Provenance provenance;
   std::string device;         // the Vulkan device the shaders ran on
-  std::string grid, stiff;    // descriptions of the two grids
+  std::string grid, stiff;    // descriptions of the diffuse quantities' two grids
+  std::string specular_grid, specular_stiff;  // the same for `specular` ("" when not measured)
   std::vector<Row> rows;
+  std::vector<NotExportable> not_exportable;
 };
 
-// Measures every exportable method of a (sharpness, cosine) quantity with a reference
-// (runner::InputError for a bad constant set; std::runtime_error when no Vulkan device exists).
+// Measures every exportable method of a (sharpness, cosine) quantity with a reference and of
+// `specular` (runner::InputError for a bad constant set; std::runtime_error when no Vulkan device exists).
 Result compute(const Options& o);
 
 struct Tables {

@@ -44,6 +44,9 @@ std::string float_literal(float v, Language lang) {
 }
 
 // The helper functions a language lacks, by the operation that needs them.
+// Their arithmetic is `precise` (GLSL and HLSL: SPIR-V NoContraction), as the exported functions'
+// is (emit_function): without it the driver's compiler may reassociate, fuse and simplify float
+// expressions, which undoes the forms that keep them accurate ((1 + x) − 1 is not x in float).
 struct Helper {
   TraceOp op;
   std::string name;
@@ -59,18 +62,20 @@ const std::vector<Helper>& helpers() {
        "// (u − 1)·x/log(u): GPU log is specified only to an absolute 2^-21 near 1 (Vulkan precision\n"
        "// rules), which that form turns into a relative error.\n"
        "float sglab_expm1(float x) {\n"
-       "  if (abs(x) > 0.5f) return exp(x) - 1.0f;\n"
-       "  return x * (1.0f + x * (0.5f + x * (0.166666672f + x * (0.0416666679f + x * (0.00833333377f\n"
+       "  precise float e = exp(x) - 1.0f;\n"
+       "  precise float s = x * (1.0f + x * (0.5f + x * (0.166666672f + x * (0.0416666679f + x * (0.00833333377f\n"
        "      + x * (0.00138888892f + x * (0.000198412701f + x * 2.48015876e-05f)))))));\n"
+       "  return abs(x) > 0.5f ? e : s;\n"
        "}\n"},
       {TraceOp::log1p, "sglab_log1p",
        "// log(1 + x) without the rounding of 1 + x: log(u)·x/(u − 1), u = 1 + x (Goldberg 1991,\n"
        "// What Every Computer Scientist Should Know About Floating-Point Arithmetic, Thm. 4);\n"
        "// relative error a few ulps given log accurate to a few ulps.\n"
        "float sglab_log1p(float x) {\n"
-       "  float u = 1.0f + x;\n"
+       "  precise float u = 1.0f + x;\n"
+       "  precise float r = log(u) * x / (u - 1.0f);\n"
        "  if (u == 1.0f || abs(x) > 0.5f) return u == 1.0f ? x : log(u);\n"
-       "  return log(u) * x / (u - 1.0f);\n"
+       "  return r;\n"
        "}\n"},
       {TraceOp::erfc, "sglab_erfc",
        "// erfc(x) = t·exp(−z² + P(t)), t = 1/(1 + z/2), z = |x|; erfc(−z) = 2 − erfc(z) (Press et al.,\n"
@@ -79,11 +84,12 @@ const std::vector<Helper>& helpers() {
        "// (5e-6 at z = 9, where erfc ≈ 4e-37).\n"
        "float sglab_erfc(float x) {\n"
        "  float z = abs(x);\n"
-       "  float t = 1.0f / (1.0f + 0.5f * z);\n"
-       "  float p = -1.26551223f + t * (1.00002368f + t * (0.37409196f + t * (0.09678418f + t * (-0.18628806f\n"
+       "  precise float t = 1.0f / (1.0f + 0.5f * z);\n"
+       "  precise float p = -1.26551223f + t * (1.00002368f + t * (0.37409196f + t * (0.09678418f + t * (-0.18628806f\n"
        "      + t * (0.27886807f + t * (-1.13520398f + t * (1.48851587f + t * (-0.82215223f + t * 0.17087277f))))))));\n"
-       "  float r = t * exp(-z * z + p);\n"
-       "  return x >= 0.0f ? r : 2.0f - r;\n"
+       "  precise float r = t * exp(-z * z + p);\n"
+       "  precise float l = 2.0f - r;\n"
+       "  return x >= 0.0f ? r : l;\n"
        "}\n"},
       {TraceOp::erf, "sglab_erf",
        "// erf(x): for |x| < 0.5 the Maclaurin series 2/√π·Σ (−1)^n x^(2n+1)/(n!(2n+1)) to n = 6\n"
@@ -92,11 +98,12 @@ const std::vector<Helper>& helpers() {
        "float sglab_erf(float x) {\n"
        "  float z = abs(x);\n"
        "  if (z < 0.5f) {\n"
-       "    float q = x * x;\n"
-       "    return x * 1.12837917f * (1.0f + q * (-0.333333333f + q * (0.1f + q * (-0.0238095238f\n"
+       "    precise float q = x * x;\n"
+       "    precise float s = x * 1.12837917f * (1.0f + q * (-0.333333333f + q * (0.1f + q * (-0.0238095238f\n"
        "        + q * (0.00462962963f + q * (-0.000757575758f + q * 0.000106837607f))))));\n"
+       "    return s;\n"
        "  }\n"
-       "  float r = 1.0f - sglab_erfc(z);\n"
+       "  precise float r = 1.0f - sglab_erfc(z);\n"
        "  return x >= 0.0f ? r : -r;\n"
        "}\n"},
   };
@@ -114,6 +121,8 @@ const char* c_function(TraceOp op) {
     case TraceOp::erf: return "erff";
     case TraceOp::erfc: return "erfcf";
     case TraceOp::abs: return "fabsf";
+    case TraceOp::sin: return "sinf";
+    case TraceOp::cos: return "cosf";
     default: return nullptr;
   }
 }
@@ -128,6 +137,8 @@ const char* shader_function(TraceOp op) {
     case TraceOp::erf: return "sglab_erf";
     case TraceOp::erfc: return "sglab_erfc";
     case TraceOp::abs: return "abs";
+    case TraceOp::sin: return "sin";
+    case TraceOp::cos: return "cos";
     default: return nullptr;
   }
 }
@@ -179,6 +190,15 @@ std::string emit_function(const TracedMethod& m, Language lang) {
   }
   std::vector<std::string> expr(nodes.size());
   std::vector<char> used_constant(m.constants.size(), 0);
+  // GLSL and HLSL: every value is `precise` (SPIR-V NoContraction), so that the driver's compiler
+  // evaluates the operations as written — no reassociation, no fused multiply-add, no algebraic
+  // simplification. Without it lavapipe gave NaN for clamped-cosine/cosine-lobe-sg at λ = FLT_MAX,
+  // c ≥ 1 − 2⁻²⁴, where sglab float is finite: product_integral_exact's L = s·(−2u1u2(1 − c)/d),
+  // s = FLT_MAX, u2 = 2.133/s (subnormal), reordered — the threshold in c is where u2·(1 − c)
+  // underflows to 0, consistent with an overflowed s·2 = ∞ times that 0. With `precise` the same
+  // GLSL gives sglab float's value. C is compiled without contraction (toolchain.cpp:
+  // -ffp-contract=off) and needs nothing.
+  const std::string precise = lang == Language::c ? "" : "precise ";
   std::string body;
   int locals = 0;
   auto operand = [&](int id) -> std::string {
@@ -215,7 +235,7 @@ std::string emit_function(const TracedMethod& m, Language lang) {
       expr[i] = e;
     } else if (uses[i] > 1 || n.op == TraceOp::select || e.size() > 72) {
       const std::string name = fmt::format("v{}", ++locals);
-      body += fmt::format("  {} {} = {};\n", is_boolean(n.op) ? "bool" : "float", name, e);
+      body += fmt::format("  {}{} {} = {};\n", precise, is_boolean(n.op) ? "bool" : "float", name, e);
       expr[i] = name;
     } else {
       expr[i] = e;
@@ -246,7 +266,8 @@ std::string emit_function(const TracedMethod& m, Language lang) {
       s += fmt::format("  const float {} = {};\n", m.constants[i].identifier,
                        float_literal(static_cast<float>(m.constants[i].value), lang));
   s += body;
-  s += fmt::format("  return {};\n}}\n", result);
+  if (lang == Language::c || !nodes[out].varying) s += fmt::format("  return {};\n}}\n", result);
+  else s += fmt::format("  {}float result = {};\n  return result;\n}}\n", precise, result);
   return s;
 }
 
@@ -262,6 +283,13 @@ std::optional<Language> parse_language(std::string_view name) {
 
 const std::vector<std::string>& language_names() { return kLanguageNames; }
 
+std::string not_exportable_reason(const Quantity& q, const Method& m) {
+  if (!m.not_exportable_because.empty()) return m.not_exportable_because;
+  return fmt::format("its formula is not written for the tracing type (a branch on its inputs that is not a select, or a "
+                     "quadrature){}",
+                     m.name == q.reference_method ? " — it is the quantity's reference" : "");
+}
+
 MethodRef find_exportable(std::string_view name) {
   const auto slash = name.find('/');
   const Quantity* q = slash == std::string_view::npos ? nullptr : find_quantity(name.substr(0, slash));
@@ -270,10 +298,8 @@ MethodRef find_exportable(std::string_view name) {
     throw runner::InputError(fmt::format("unknown method '{}' (QUANTITY/METHOD; `sglab export --list` lists the exportable ones)",
                                          clip_text(name)));
   if (!m->trace)
-    throw runner::InputError(fmt::format(
-        "{}/{} cannot be exported: its formula is not written for the tracing type (a branch on its inputs that is not "
-        "a select, or a quadrature){}; `sglab export --list` lists the exportable methods",
-        q->name, m->name, m->name == q->reference_method ? " — it is the quantity's reference" : ""));
+    throw runner::InputError(fmt::format("{}/{} cannot be exported: {}; `sglab export --list` lists the exportable methods",
+                                         q->name, m->name, not_exportable_reason(*q, *m)));
   return {q, m};
 }
 

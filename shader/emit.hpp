@@ -53,6 +53,9 @@ struct MethodRef {
 };
 MethodRef find_exportable(std::string_view quantity_slash_method);
 
+// Why `m` (which has no traced formula) cannot be exported.
+std::string not_exportable_reason(const Quantity& q, const Method& m);
+
 // Every exportable method of the registry ("quantity/method"), in registry order.
 std::vector<std::string> exportable_methods();
 

@@ -127,8 +127,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
     q.methods.push_back(make_method(exportable, "punctual", "A(λ)⟨c⟩: cosine pulled out of the integral (Wang et al. 2009; Tokuyoshi 2016 §4.2)",
                                "zero for every c ≤ 0 (no light past the horizon); large error for broad lobes", false, nullptr,
                                [](auto a) { return clamped_cosine_punctual(a[0], a[1]); }));
-    // Not exportable yet: its early return for ⟨c⟩ ≤ 0 (finite at the smallest normal λ) is still a branch, not a select.
-    q.methods.push_back(make_method("punctual-approx", "(2π/λ)⟨c⟩ (Tokuyoshi 2016 §4.2, A(λ) ≈ 2π/λ)",
+    q.methods.push_back(make_method(exportable, "punctual-approx", "(2π/λ)⟨c⟩ (Tokuyoshi 2016 §4.2, A(λ) ≈ 2π/λ)",
                                "as `punctual`, and diverges as λ → 0", false,
                                sharpness_positive(0, "the 2π/λ factor diverges"),
                                [](auto a) { return clamped_cosine_punctual_approx(a[0], a[1]); }));

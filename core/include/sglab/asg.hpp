@@ -114,9 +114,10 @@ template <class T>
 T asg_eval(const Vec3<T>& omega, const Asg<T>& g) {
   using std::exp;
   const T cz = T(omega.dot(g.z));
-  if (!(value_of(cz) > 0)) return T(0);
-  const T cx = T(omega.dot(g.x)), cy = T(omega.dot(g.y));
-  return cz * exp(-g.eta_x * cx * cx - g.eta_y * cy * cy);
+  return select(!(value_of(cz) > 0), []() -> T { return T(0); }, [&]() -> T {
+    const T cx = T(omega.dot(g.x)), cy = T(omega.dot(g.y));
+    return cz * exp(-g.eta_x * cx * cx - g.eta_y * cy * cy);
+  });
 }
 
 // The same ASG at the same frame with other bandwidths (used by the product forms).
@@ -211,11 +212,10 @@ T asg_integral_as_printed(const T& eta_x, const T& eta_y) {
 // bandwidths ≳ 1e19, the quotient never does. 0 when either is 0.
 template <class T>
 T reduced_bandwidth(const T& a, const T& b) {
-  const bool a_small = value_of(a) <= value_of(b);
-  const T& lo = a_small ? a : b;
-  const T& hi = a_small ? b : a;
-  if (!(value_of(lo) > 0)) return T(0);
-  return lo / (T(1) + lo / hi);
+  const auto a_small = value_of(a) <= value_of(b);
+  const T lo = select(a_small, [&]() -> T { return a; }, [&]() -> T { return b; });
+  const T hi = select(a_small, [&]() -> T { return b; }, [&]() -> T { return a; });
+  return select(!(value_of(lo) > 0), []() -> T { return T(0); }, [&]() -> T { return lo / (T(1) + lo / hi); });
 }
 
 // Tokuyoshi 2015 (two-VSGL poster) §3.2 (Xu et al. 2013, Eq. 11, with the SG written as exp(2ν(ω·ξ − 1)), i.e.

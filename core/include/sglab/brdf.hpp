@@ -142,11 +142,11 @@ T smith_g2_ggx(const T& alpha, const T& cos_o, const T& cos_i) {
 // both cosines are 0. Returns 0 when either cosine is ≤ 0.
 template <class T>
 T smith_visibility_ggx(const T& alpha, const T& cos_o, const T& cos_i) {
-  if (!(value_of(cos_o) > 0) && !(value_of(cos_i) > 0)) return T(0);
-  if (value_of(cos_o) < 0 || value_of(cos_i) < 0) return T(0);
-  const T den = cos_i * smith_root(alpha, cos_o) + cos_o * smith_root(alpha, cos_i);
-  if (!(value_of(den) > 0)) return T(0);
-  return T(1) / (T(2) * den);
+  const auto zero = (!(value_of(cos_o) > 0) && !(value_of(cos_i) > 0)) || value_of(cos_o) < 0 || value_of(cos_i) < 0;
+  return select(zero, []() -> T { return T(0); }, [&]() -> T {
+    const T den = cos_i * smith_root(alpha, cos_o) + cos_o * smith_root(alpha, cos_i);
+    return select(!(value_of(den) > 0), []() -> T { return T(0); }, [&]() -> T { return T(1) / (T(2) * den); });
+  });
 }
 
 // Schlick 1994: F = f0 + (1 − f0)(1 − ωo·h)⁵ (clamped cosine so rounding past 1 gives f0).
@@ -165,8 +165,8 @@ template <class T>
 Vec3<T> half_vector(const Vec3<T>& wo, const Vec3<T>& wi) {
   const Vec3<T> h = wo + wi;
   const T length = T(h.norm());
-  if (!(value_of(length) > 0)) return Vec3<T>(T(0), T(0), T(1));
-  return h / length;
+  return select(!(value_of(length) > 0), []() -> Vec3<T> { return Vec3<T>(T(0), T(0), T(1)); },
+                [&]() -> Vec3<T> { return h / length; });
 }
 
 // f(ωo, ωi)·⟨ωi·n⟩ for the ground-truth GGX BRDF f = D·G2·F/(4 co ci) (Walter et al. 2007 Eq. 20
@@ -230,7 +230,7 @@ Vec3<T> ggx_dominant_visible_normal(const T& alpha, const Vec3<T>& wo) {
   const T a2 = alpha * alpha;
   const T len2 = a2 * (wo(0) * wo(0) + wo(1) * wo(1));
   const T t = sqrt(len2 + wo(2) * wo(2));
-  const T z = value_of(wo(2)) >= 0 ? T(t + wo(2)) : T(len2 / (t - wo(2)));
+  const T z = select(value_of(wo(2)) >= 0, [&]() -> T { return t + wo(2); }, [&]() -> T { return len2 / (t - wo(2)); });
   const Vec3<T> m(a2 * wo(0), a2 * wo(1), z);
   return m / T(m.norm());
 }
@@ -266,11 +266,8 @@ Asg<T> asg_warp(const T& lambda_h, const Vec3<T>& wo) {
   g.z = reflect_about(wo, n);
   // ξy ⟂ plane of incidence: n × ωo normalized; at normal incidence any tangent will do.
   const T s = sqrt(wo(0) * wo(0) + wo(1) * wo(1));
-  if (value_of(s) > 0) {
-    g.y = Vec3<T>(T(-wo(1) / s), T(wo(0) / s), T(0));
-  } else {
-    g.y = Vec3<T>(T(0), T(1), T(0));
-  }
+  g.y = select(value_of(s) > 0, [&]() -> Vec3<T> { return Vec3<T>(T(-wo(1) / s), T(wo(0) / s), T(0)); },
+               []() -> Vec3<T> { return Vec3<T>(T(0), T(1), T(0)); });
   g.x = g.y.cross(g.z);
   g.x /= T(g.x.norm());
   const T c = max(wo(2), T(kMinWarpCosine));
@@ -285,9 +282,10 @@ Asg<T> asg_warp(const T& lambda_h, const Vec3<T>& wo) {
 template <class T>
 T brdf_factor_m(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& w) {
   const T ci = w(2);
-  if (!(value_of(ci) > 0) || value_of(wo(2)) < 0) return T(0);
-  const Vec3<T> h = half_vector(wo, w);
-  return fresnel_schlick(f0, T(wo.dot(h))) * smith_visibility_ggx(alpha, wo(2), ci) * ci;
+  return select(!(value_of(ci) > 0) || value_of(wo(2)) < 0, []() -> T { return T(0); }, [&]() -> T {
+    const Vec3<T> h = half_vector(wo, w);
+    return fresnel_schlick(f0, T(wo.dot(h))) * smith_visibility_ggx(alpha, T(wo(2)), ci) * ci;
+  });
 }
 
 }  // namespace sglab

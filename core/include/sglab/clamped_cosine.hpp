@@ -20,11 +20,12 @@ T clamped_cosine_punctual(const T& sharpness, const T& cosine) {
 // (2π/λ)⟨c⟩: the same with A(λ) ≈ 2π/λ (Tokuyoshi 2016 §4.2). Diverges at λ = 0.
 // ⟨c⟩ = 0 gives 0 at any λ (not ∞ · 0 = NaN where 2π/λ overflows), and 2π⟨c⟩ is divided by λ
 // in one step, so the value is finite wherever it fits in T (at λ = DBL_MIN for ⟨c⟩ < 0.63).
+// The ⟨c⟩ ≤ 0 case is a select (scalar.hpp), so the traced formula (trace.hpp) computes both sides
+// and keeps the 0: the quotient 0/λ is 0 for λ > 0 anyway, and NaN only at λ = 0, outside the domain.
 template <class T>
 T clamped_cosine_punctual_approx(const T& sharpness, const T& cosine) {
   const T c = positive_part(clamp_cosine(cosine));
-  if (!(c > T(0))) return T(0);
-  return two_pi<T>() * c / sharpness;
+  return select(value_of(c) > 0, [&]() -> T { return two_pi<T>() * c / sharpness; }, []() -> T { return T(0); });
 }
 
 // ---- sg-cosine: the cosine as a normalized SG, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2) ------

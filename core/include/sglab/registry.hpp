@@ -110,6 +110,10 @@ struct Method {
   // The formula on the tracing type; empty when the method is not exportable (`sglab export`
   // says so by name). Set by the `exportable` registrations below.
   TraceFn trace;
+  // Why a method without `trace` is not exportable, when more is known than the generic reason
+  // (a branch on its inputs that is not a select, or a quadrature): `sglab export` and the table
+  // of `sglab shader-export` print it.
+  std::string not_exportable_because;
 };
 
 // The largest sharpness (or ASG bandwidth) at which sweeps over stiff inputs run the quadrature

@@ -118,8 +118,8 @@ SgProduct<T> sg_product(const Vec3<T>& axis1, const T& sharpness1, const Vec3<T>
                         const T& sharpness2) {
   // ‖v‖ is only used for the direction: past kProductScaleSharpness v is scaled by 1/max(λ1, λ2)
   // first (its squared norm overflows from λ ≈ 1.8e19 in float, and v/∞ gave a zero axis).
-  const T big = value_of(sharpness1) > value_of(sharpness2) ? sharpness1 : sharpness2;
-  const T scale = value_of(big) > kProductScaleSharpness ? T(T(1) / big) : T(1);
+  const T big = larger_sharpness(sharpness1, sharpness2);
+  const T scale = select(value_of(big) > kProductScaleSharpness, [&]() -> T { return T(1) / big; }, []() -> T { return T(1); });
   const Vec3<T> v = (sharpness1 * scale) * axis1 + (sharpness2 * scale) * axis2;
   const T cosine = clamp_cosine(T(axis1.dot(axis2)));
   // The stable scalar form of ‖v‖ (exact 0 for opposite axes of equal sharpness).
@@ -127,11 +127,8 @@ SgProduct<T> sg_product(const Vec3<T>& axis1, const T& sharpness1, const Vec3<T>
   const T log_amplitude = product_log_amplitude(sharpness1, sharpness2, cosine, lambda3);
   SgProduct<T> out;
   const T vnorm = T(v.norm());
-  if (value_of(vnorm) > 0 && value_of(lambda3) > 0) {
-    out.axis = v / vnorm;
-  } else {
-    out.axis = axis1;
-  }
+  out.axis = select(value_of(vnorm) > 0 && value_of(lambda3) > 0, [&]() -> Vec3<T> { return v / vnorm; },
+                    [&]() -> Vec3<T> { return axis1; });
   out.sharpness = lambda3;
   out.log_amplitude = log_amplitude;
   return out;

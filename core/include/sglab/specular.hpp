@@ -102,11 +102,11 @@ T specular_asg(const SpecularInput<T>& in) {
 // form (So + co)·ci/(ci So + co Si) (from 1 + Λ = (S/c + 1)/2): finite at co → 0 (limit 1).
 template <class T>
 T smith_g2_over_g1o(const T& alpha, const T& cos_o, const T& cos_i) {
-  if (!(value_of(cos_i) > 0) || value_of(cos_o) < 0) return T(0);
-  const T so = smith_root(alpha, cos_o), si = smith_root(alpha, cos_i);
-  const T den = cos_i * so + cos_o * si;
-  if (!(value_of(den) > 0)) return T(0);
-  return (so + cos_o) * cos_i / den;
+  return select(!(value_of(cos_i) > 0) || value_of(cos_o) < 0, []() -> T { return T(0); }, [&]() -> T {
+    const T so = smith_root(alpha, cos_o), si = smith_root(alpha, cos_i);
+    const T den = cos_i * so + cos_o * si;
+    return select(!(value_of(den) > 0), []() -> T { return T(0); }, [&]() -> T { return (so + cos_o) * cos_i / den; });
+  });
 }
 
 // `sg-warp-dvn` (refinement, after Tokuyoshi et al. 2024): f⟨ω·n⟩ = p_v(ω)·F·G2/G1(ωo), where
@@ -128,10 +128,11 @@ T specular_sg_warp_dvn(const SpecularInput<T>& in) {
   const T integral = product_integral_exact(lobe.sharpness, in.light_sharpness, cosine) / sg_integral(lobe.sharpness);
   const Vec3<T> xm = detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
   const T ci = xm(2);
-  if (!(value_of(ci) > 0)) return T(0);
-  const Vec3<T> h = half_vector(wo, xm);
-  const T weight = fresnel_schlick(in.f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, wo(2), ci);
-  return weight * integral;
+  return select(!(value_of(ci) > 0), []() -> T { return T(0); }, [&]() -> T {
+    const Vec3<T> h = half_vector(wo, xm);
+    const T weight = fresnel_schlick(in.f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, T(wo(2)), ci);
+    return weight * integral;
+  });
 }
 
 // `sglab` (this project; specular_sglab.hpp): the GGX slope density as a Student t, smoothed by

@@ -27,6 +27,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "sglab/scalar.hpp"
 
 namespace sglab {
@@ -34,6 +36,7 @@ namespace sglab {
 enum class TraceOp : std::uint8_t {
   input, param, literal,                              // leaves
   neg, exp, expm1, log, log1p, sqrt, erf, erfc, abs,  // unary
+  sin, cos,                                           // unary (the specular light axis's azimuth)
   add, sub, mul, div,                                 // binary arithmetic
   lt, le, gt, ge,                                     // comparisons (give booleans)
   not_, and_, or_,                                    // boolean logic
@@ -61,6 +64,8 @@ inline float trace_apply(TraceOp op, float a, float b, float c) {
     case TraceOp::erf: return std::erf(a);
     case TraceOp::erfc: return std::erfc(a);
     case TraceOp::abs: return std::abs(a);
+    case TraceOp::sin: return std::sin(a);
+    case TraceOp::cos: return std::cos(a);
     case TraceOp::add: return a + b;
     case TraceOp::sub: return a - b;
     case TraceOp::mul: return a * b;
@@ -237,6 +242,8 @@ inline Trace sqrt(const Trace& x) { return Trace::node(TraceOp::sqrt, x.id); }
 inline Trace erf(const Trace& x) { return Trace::node(TraceOp::erf, x.id); }
 inline Trace erfc(const Trace& x) { return Trace::node(TraceOp::erfc, x.id); }
 inline Trace abs(const Trace& x) { return Trace::node(TraceOp::abs, x.id); }
+inline Trace sin(const Trace& x) { return Trace::node(TraceOp::sin, x.id); }
+inline Trace cos(const Trace& x) { return Trace::node(TraceOp::cos, x.id); }
 
 // value_of(x) of a Trace is the Trace itself (comparisons then record); its number type is float,
 // the precision the trace is recorded for.
@@ -264,6 +271,17 @@ auto select(const TraceBool& cond, F&& if_true, G&& if_false) -> decltype(if_tru
   }
 }
 
+// std::max and std::min for traced values, as selects with std::max's and std::min's comparisons
+// ((a < b) ? b : a and (b < a) ? b : a): a formula's `using std::max; max(x, y)` finds these by
+// argument-dependent lookup (non-templates, preferred to std::max<Trace>, whose `<` would be a
+// branch on the inputs) and records the same choice sglab's float path makes.
+inline Trace max(const Trace& a, const Trace& b) {
+  return select(a < b, [&] { return b; }, [&] { return a; });
+}
+inline Trace min(const Trace& a, const Trace& b) {
+  return select(b < a, [&] { return b; }, [&] { return a; });
+}
+
 // Terms a traced series sums (series_converged). Every series in core is in powers of |x| ≤ 1
 // with factorial denominators, at most n·|x|^(n−1)/(n+1)!: the first term left out, 13/14! =
 // 1.5e-10, is below float's ε times the smallest of their sums (0.26, the c = −1 series at λ = 1).
@@ -279,3 +297,30 @@ inline bool series_converged(const Trace& term, const Trace& sum, int n) {
 }
 
 }  // namespace sglab
+
+// Eigen vectors of traced values (Vec3<Trace>: the specular methods' axes and directions), as
+// Ceres does for its Jets: the arithmetic is the scalar type's, the costs are float's, so Eigen
+// unrolls a 3-vector's dot product and norm in the same order for Trace as for float.
+namespace Eigen {
+template <>
+struct NumTraits<sglab::Trace> : GenericNumTraits<float> {
+  using Real = sglab::Trace;
+  using NonInteger = sglab::Trace;
+  using Nested = sglab::Trace;
+  using Literal = sglab::Trace;
+  enum {
+    IsComplex = 0,
+    IsInteger = 0,
+    IsSigned = 1,
+    RequireInitialization = 1,
+    ReadCost = NumTraits<float>::ReadCost,
+    AddCost = NumTraits<float>::AddCost,
+    MulCost = NumTraits<float>::MulCost
+  };
+  static inline Real epsilon() { return Real(std::numeric_limits<float>::epsilon()); }
+  static inline Real dummy_precision() { return Real(NumTraits<float>::dummy_precision()); }
+  static inline Real highest() { return Real(std::numeric_limits<float>::max()); }
+  static inline Real lowest() { return Real(std::numeric_limits<float>::lowest()); }
+  static inline int digits10() { return NumTraits<float>::digits10(); }
+};
+}  // namespace Eigen
