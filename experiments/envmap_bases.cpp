@@ -5,6 +5,8 @@
 // shading quadratures run in parallel over pixels.
 #include "envmap_bases.hpp"
 
+#include "env_arguments.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -53,9 +55,13 @@ Options effective(const Options& o) {
   std::sort(a.roughness.begin(), a.roughness.end());
   if (a.bases.empty())
     for (const auto& b : fit::envmap_bases()) a.bases.push_back(b.name);
-  for (const auto& b : a.bases)
-    if (!fit::find_envmap_basis(b))
-      throw UsageError("unknown --basis '" + clip_text(b) + "' (bases: " + fit::envmap_basis_names() + ")");
+  for (std::size_t i = 0; i < a.bases.size(); ++i) {
+    if (!fit::find_envmap_basis(a.bases[i]))
+      throw UsageError("unknown --basis '" + clip_text(a.bases[i]) + "' (bases: " + fit::envmap_basis_names() + ")");
+    if (std::find(a.bases.begin(), a.bases.begin() + std::ptrdiff_t(i), a.bases[i]) != a.bases.begin() + std::ptrdiff_t(i))
+      throw UsageError("--basis " + quote(a.bases[i]) + " is given twice");
+  }
+  check_env_arguments(a.envs);  // a name is a table label and a CSV field: a plain word, once
   return a;
 }
 
