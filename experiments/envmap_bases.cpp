@@ -43,9 +43,10 @@ struct Loaded {
 
 Options effective(const Options& o) {
   Options a = o;
-  if (a.quick) a.width = 64;
   if (a.envs.empty()) throw UsageError("envmap bases needs at least one --env NAME=MAP.exr");
+  // Checked before --quick replaces it: a bad --width is refused, not silently ignored.
   if (a.width < 8 || a.width > 1024) throw UsageError(fmt::format("--width {} must be in [8, 1024]", a.width));
+  if (a.quick) a.width = 64;
   if (a.sphere_res < 2 || a.sphere_res > 256) throw UsageError(fmt::format("--res {} must be in [2, 256]", a.sphere_res));
   if (a.normals < 1 || a.normals > 100000) throw UsageError(fmt::format("--normals {} must be in [1, 100000]", a.normals));
   if (!(a.tolerance > 0 && a.tolerance < 1)) throw UsageError(fmt::format("--tolerance {} must be in (0, 1)", a.tolerance));

@@ -258,3 +258,34 @@ TEST_F(HardeningLate, GroupJ_Mp50BeyondDoubleRange) {
 }
 
 }  // namespace
+
+namespace {
+
+// `sglab envmap bases` options, tried adversarially: each refused with exit 2, a short message
+// naming the value, and no output directory.
+TEST_F(HardeningLate, EnvmapBasesOptions) {
+  write_map("m.exr", two_lobe_map());
+  std::ofstream(path("notexr.exr")) << "not an EXR\n";
+  const std::string base = "envmap bases --quick --out o --tables-dir t ";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--env a=m.exr --env a=m.exr", "the name 'a' is given twice"},
+      {"--env 'a,b=m.exr'", "--env 'a,b=m.exr': NAME must be"},
+      {"--env 'a\nb=m.exr'", "NAME must be"},
+      {"--env a=m.exr --basis sh --basis sh", "--basis 'sh' is given twice"},
+      {"--env a=m.exr --basis nope", "unknown --basis 'nope'"},
+      {"--env a=notexr.exr", "'notexr.exr' is not a readable EXR"},
+      {"--env a=missing.exr", "'missing.exr': no such file"},
+      {"--env a=", "--env 'a=' must be NAME=MAP.exr"},
+      {"--env a=m.exr --width -5", "--width -5 must be in [8, 1024]"},  // refused even though --quick sets the width
+      {"--env a=m.exr --width 4096", "--width 4096 must be in [8, 1024]"},
+      {"--env a=m.exr --width nan", "--width = nan"},
+      {"--env a=m.exr --res 0", "--res 0 must be in [2, 256]"},
+      {"--env a=m.exr --normals -1", "--normals -1 must be in [1, 100000]"},
+      {"--env a=m.exr --tolerance nan", "--tolerance nan must be in (0, 1)"},
+      {"--env a=m.exr --tolerance 1", "--tolerance 1 must be in (0, 1)"},
+      {"--env a=m.exr --roughness nan", "--roughness nan must be in (0, 1]"},
+  };
+  for (const auto& [args, needle] : cases) refused(sglab(base + args), needle, {"o", "t"});
+}
+
+}  // namespace
