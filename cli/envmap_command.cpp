@@ -33,6 +33,7 @@
 #include "sglab/render/environment.hpp"
 #include "sglab/render/environment_scene.hpp"
 #include "sglab/render/exr.hpp"
+#include "sglab/render/mixture_record.hpp"
 #include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
@@ -201,6 +202,14 @@ void run_fit_envmap(const FitEnvArgs& a) {
   if (!std::isfinite(r.error.l2) || !std::isfinite(r.error.relative))
     throw std::runtime_error(fmt::format("fit envmap {}: the fit's error is not finite (L2 {}, relative {}); nothing written",
                                          quote(a.map), r.error.l2, r.error.relative));
+  // The fit is scale-free (fit/envmap.cpp), but a record must load again: amplitudes past the
+  // mixture loader's bound (a map near FLT_MAX) are refused here, not written.
+  for (std::size_t j = 0; j < r.mixture.size(); ++j)
+    for (int c = 0; c < 3; ++c)
+      if (!(r.mixture[j].amplitude[std::size_t(c)] <= render::kMaxMixtureAmplitude))
+        throw UsageError(fmt::format("fit envmap {}: lobe{}.{} {:g} is outside [0, {:g}], the amplitudes a mixture record holds "
+                                     "(the map's values are too large; scale it down); nothing written",
+                                     quote(a.map), j, "rgb"[c], r.mixture[j].amplitude[std::size_t(c)], render::kMaxMixtureAmplitude));
   runner::OutputSet outputs;  // both or neither
   if (!a.json.empty()) outputs.add(a.json, mixture_record(r, a.options, a.map, map).dump(2) + "\n");
   if (!a.exr.empty()) {

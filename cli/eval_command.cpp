@@ -184,7 +184,10 @@ std::vector<T> parse_arguments(const Quantity& q, const Method& method, const ru
       } catch (const runner::NumberError& e) {
         throw UsageError(fmt::format("{}: {}", where(j), e.what()));
       }
-      checked[j] = static_cast<double>(args[r * k + j]);
+      checked[j] = validation_double(args[r * k + j]);
+      if (method.evaluates_in_double && outside_double(args[r * k + j]))
+        throw UsageError(fmt::format("{}: is outside double's range, and method '{}' of '{}' evaluates in double", where(j),
+                                     method.name, q.name));
     }
     // The library's checks (registry.hpp: row_error), the same the Python module applies.
     if (const auto error = row_error(q, method, checked)) {

@@ -43,6 +43,19 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
   const auto& e = *scene.environment;
   auto resolve = [&](const std::string& p) { return resolve_in_scene(scene_path, p); };
   PreparedEnvironment out;
+  // The render-time fit's cost up front: refused past the budget unless "long_fit": true
+  // (render_fit_evaluations), before a generated map is even made.
+  const auto check_fit_cost = [&](int width, int height) {
+    const double evaluations = render_fit_evaluations(width, height, e.lobes);
+    if (!e.mixture.empty() || e.long_fit || !(evaluations > kMaxRenderFitEvaluations)) return;
+    throw UsageError(fmt::format(
+        "environment: fitting {} lobes to the {}×{} map at render time costs ~{:.2g} lobe evaluations (texels × lobes × {} "
+        "sub-texel points), over the budget {:.2g} (~{:.0f} s here); give \"mixture\": FIT.json from `sglab fit envmap --json`, "
+        "fewer \"lobes\" or a smaller \"width\", or set \"long_fit\": true to run it anyway",
+        e.lobes, width, height, evaluations, fit::kErrorSupersample * fit::kErrorSupersample, kMaxRenderFitEvaluations,
+        kMaxRenderFitEvaluations / kRenderFitEvaluationsPerSecond));
+  };
+  if (!e.generate.empty()) check_fit_cost(e.width, e.width / 2);
   try {
     if (!e.exr.empty()) {
       out.map = render::load_environment(resolve(e.exr));
@@ -75,9 +88,12 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
     o.lobes = e.lobes;
     o.init = "kmeans";
     fit::EnvFitResult r;
-    // The fit can take minutes (1024 lobes on a 4096-wide map): say so before it starts.
-    std::fprintf(stderr, "environment: fitting %d SG lobes to the %d×%d map at render time (Ceres; give \"mixture\": FIT.json "
-                         "from `sglab fit envmap --json` to reuse a fit) …\n", e.lobes, out.map->width, out.map->height);
+    check_fit_cost(out.map->width, out.map->height);  // a loaded map's size is known only now
+    const double evaluations = render_fit_evaluations(out.map->width, out.map->height, e.lobes);
+    // The fit can take minutes (1024 lobes on a 4096-wide map): say so, and how long, before it starts.
+    std::fprintf(stderr, "environment: fitting %d SG lobes to the %d×%d map at render time (Ceres; ~%.2g lobe evaluations, "
+                         "roughly %.0f s or more; give \"mixture\": FIT.json from `sglab fit envmap --json` to reuse a fit) …\n",
+                 e.lobes, out.map->width, out.map->height, evaluations, evaluations / kRenderFitEvaluationsPerSecond);
     try {
       r = fit::fit_envmap_ceres(*out.map, o);
     } catch (const std::invalid_argument& x) {

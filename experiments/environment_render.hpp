@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "envmap.hpp"
 #include "render_job.hpp"
 #include "sglab/envmap.hpp"
 #include "sglab/render/exr.hpp"
@@ -26,6 +27,23 @@ struct PreparedEnvironment {
   SgMixture mixture;
   nlohmann::ordered_json source;  // what was loaded, generated or fitted (for the stats)
 };
+
+// The cost of a render-time fit up front: texels × lobes × kErrorSupersample² lobe evaluations
+// (the full-map passes of fit_envmap_ceres: the error rasterization, the sharp lobes' refits; its
+// LM levels are bounded separately by the Jacobian budget). Past kMaxRenderFitEvaluations the
+// render is refused before the fit (exit 2 naming the values) unless the scene sets
+// "environment": {"long_fit": true}; below it the estimate is printed before the fit starts.
+inline double render_fit_evaluations(int width, int height, int lobes) {
+  return double(width) * double(height) * double(lobes) * double(fit::kErrorSupersample * fit::kErrorSupersample);
+}
+// The rate of the whole fit in those units, measured (Release, the project's shared 2-core machine
+// with another build running): `sglab fit envmap` of a 512-wide sky, 64 lobes, k-means start: 1.34e8
+// in 22.6 s. Only for the printed estimate and the budget's seconds; the budget itself is the count.
+inline constexpr double kRenderFitEvaluationsPerSecond = 6e6;
+// About a minute at that rate: a 4096×2048 map with 1024 lobes (1.4e11) is refused, the default
+// 256-wide map with 16 lobes (8.4e6, scenes/environment-studio.json) and a 512-wide map with 128
+// lobes (2.7e8) are not.
+inline constexpr double kMaxRenderFitEvaluations = 4e8;
 
 // Before anything is rendered or written: loads the scene's environment (paths relative to the
 // scene file's directory). Bad input throws UsageError naming the value (exit status 2).

@@ -5,6 +5,8 @@
 // shading quadratures run in parallel over pixels.
 #include "envmap_bases.hpp"
 
+#include "env_arguments.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -41,9 +43,10 @@ struct Loaded {
 
 Options effective(const Options& o) {
   Options a = o;
-  if (a.quick) a.width = 64;
   if (a.envs.empty()) throw UsageError("envmap bases needs at least one --env NAME=MAP.exr");
+  // Checked before --quick replaces it: a bad --width is refused, not silently ignored.
   if (a.width < 8 || a.width > 1024) throw UsageError(fmt::format("--width {} must be in [8, 1024]", a.width));
+  if (a.quick) a.width = 64;
   if (a.sphere_res < 2 || a.sphere_res > 256) throw UsageError(fmt::format("--res {} must be in [2, 256]", a.sphere_res));
   if (a.normals < 1 || a.normals > 100000) throw UsageError(fmt::format("--normals {} must be in [1, 100000]", a.normals));
   if (!(a.tolerance > 0 && a.tolerance < 1)) throw UsageError(fmt::format("--tolerance {} must be in (0, 1)", a.tolerance));
@@ -53,9 +56,13 @@ Options effective(const Options& o) {
   std::sort(a.roughness.begin(), a.roughness.end());
   if (a.bases.empty())
     for (const auto& b : fit::envmap_bases()) a.bases.push_back(b.name);
-  for (const auto& b : a.bases)
-    if (!fit::find_envmap_basis(b))
-      throw UsageError("unknown --basis '" + clip_text(b) + "' (bases: " + fit::envmap_basis_names() + ")");
+  for (std::size_t i = 0; i < a.bases.size(); ++i) {
+    if (!fit::find_envmap_basis(a.bases[i]))
+      throw UsageError("unknown --basis '" + clip_text(a.bases[i]) + "' (bases: " + fit::envmap_basis_names() + ")");
+    if (std::find(a.bases.begin(), a.bases.begin() + std::ptrdiff_t(i), a.bases[i]) != a.bases.begin() + std::ptrdiff_t(i))
+      throw UsageError("--basis " + quote(a.bases[i]) + " is given twice");
+  }
+  check_env_arguments(a.envs);  // a name is a table label and a CSV field: a plain word, once
   return a;
 }
 

@@ -8,6 +8,8 @@
 // the sequential order.
 #include "envmap_lobes.hpp"
 
+#include "env_arguments.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -60,14 +62,7 @@ Options effective(const Options& o) {
   for (double r : a.roughness)
     if (!(r >= render::kMinEnvRoughness && r <= 1))
       throw UsageError(fmt::format("--roughness {} must be in [{:g}, 1]", r, render::kMinEnvRoughness));
-  // A name is a table label and a CSV field: a plain word, once.
-  for (std::size_t i = 0; i < a.envs.size(); ++i) {
-    const std::string name = a.envs[i].substr(0, a.envs[i].find('='));
-    if (name.empty() || name.size() > 64 || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.+-") != std::string::npos)
-      throw UsageError("--env " + quote(a.envs[i]) + ": NAME must be 1–64 letters, digits, '_', '.', '+' or '-'");
-    for (std::size_t j = 0; j < i; ++j)
-      if (a.envs[j].substr(0, a.envs[j].find('=')) == name) throw UsageError("--env: the name " + quote(name) + " is given twice");
-  }
+  check_env_arguments(a.envs);  // a name is a table label and a CSV field: a plain word, once
   return a;
 }
 

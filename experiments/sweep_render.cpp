@@ -30,6 +30,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -409,6 +410,18 @@ Result compute(const Options& o) {
   d.describe = [grid](std::size_t k) { return grid->describe(k); };
   auto memo = std::make_shared<CommonPassMemo>();
   d.compute = [grid, configs, options, memo](std::size_t k) { return point_rows(*grid, configs, options, *memo, k); };
+  // A row read back must be at point k's grid point (its --vary values) and of a configuration run.
+  d.check_row = [grid, configs](std::size_t k, const runner::SweepRow& row) -> std::optional<std::string> {
+    const auto x = grid->values_of(k);
+    if (row.size() != x.size() + kColumns.size()) return fmt::format("{} fields, expected {}", row.size(), x.size() + kColumns.size());
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (row[i] != runner::csv_number(x[i]))
+        return fmt::format("{} {} is not the grid point's {} (moved off the grid)", grid->vary[i].key, quote(row[i]), runner::csv_number(x[i]));
+    const std::string& label = row[x.size()];
+    if (std::none_of(configs.begin(), configs.end(), [&](const VsglConfig& c) { return c.label() == label; }))
+      return fmt::format("VSGL configuration {} is not one this sweep runs", quote(label));
+    return std::nullopt;
+  };
   const runner::SweepRunResult run = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
   r.vary = grid->vary;
   r.provenance.command = "sglab";

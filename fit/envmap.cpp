@@ -553,9 +553,51 @@ struct Setup {
   }
 };
 
-}  // namespace
+// ---- scale invariance ---------------------------------------------------------------------------
+// Both fits run on the map divided by s, the power of two nearest its mean texel value (all
+// channels, in double), and the result is scaled back in double: amplitudes × s, L2 × s, cost × s²,
+// texel means × s (rounded to float: ∞ where the mixture exceeds float, which the callers check).
+// A power of two divides a float exactly (the scaled map is the map, re-exponented), so a map and
+// the same map × 2^k are fitted identically, and maps × 1e-30 … × 1e30 within the fit's own
+// tolerances (tests/hardening_late_test.cpp); without it, a uniform map of 1e-45 (subnormal floats,
+// absolute thresholds of LM and of the lobes' reach) fitted with relative error 0.47–0.60 where a
+// map of 1 gives 1.4e-4. Maps with mean in [2^-½, 2^½) are fitted as before (s = 1). The log-l2
+// objective is then log(1 + L/s): unit-free.
+double map_scale(const EnvMap& map) {
+  double sum = 0;
+  for (const auto& t : map.texels)
+    for (const float x : t) sum += double(x);
+  const double mean = map.texels.empty() ? 0.0 : sum / (3.0 * double(map.texels.size()));
+  if (!(mean > 0) || !std::isfinite(mean)) return 1.0;
+  return std::exp2(std::round(std::log2(mean)));
+}
 
-EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
+EnvMap scaled_map(const EnvMap& map, double factor) {
+  EnvMap out = map;
+  for (auto& t : out.texels)
+    for (float& x : t) x = float(double(x) * factor);
+  return out;
+}
+
+EnvFitResult unscaled(EnvFitResult r, double s) {
+  for (auto& l : r.mixture)
+    for (double& a : l.amplitude) a *= s;
+  r.texel_means = scaled_map(r.texel_means, s);
+  r.error.l2 *= s;
+  r.final_cost *= s * s;
+  return r;
+}
+
+template <class Fit>
+EnvFitResult fit_scale_free(const EnvMap& map, const EnvFitOptions& o, Fit fit) {
+  const double s = map_scale(map);
+  if (s == 1) return fit(map, o);
+  EnvFitOptions so = o;
+  if (o.on_stage) so.on_stage = [&o, s](const EnvFitResult& stage) { o.on_stage(unscaled(stage, s)); };
+  return unscaled(fit(scaled_map(map, 1 / s), so), s);
+}
+
+EnvFitResult fit_envmap_ceres_unscaled(const EnvMap& map, const EnvFitOptions& o) {
   const Setup setup(map, o);
   const auto& maps = setup.maps;
   // The lobe ladder: N, ⌈N/2⌉, … down to kDirectLobes; the first rung is fitted from its initial
@@ -617,7 +659,7 @@ EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
   }
 }
 
-EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
+EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& o) {
   const Setup setup(map, o);
   const int N = o.lobes;
   const Level level = make_level(setup.maps[setup.finest]);
@@ -678,5 +720,10 @@ EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
   finish(r, map, level, x, s.cost, setup.t0, excluded);
   return r;
 }
+
+}  // namespace
+
+EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) { return fit_scale_free(map, o, fit_envmap_ceres_unscaled); }
+EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) { return fit_scale_free(map, o, fit_envmap_vmf_em_unscaled); }
 
 }  // namespace sglab::fit

@@ -35,6 +35,10 @@
 //    weighted by Ω_t·(mean RGB), on the same working level, then the RGB amplitudes by the
 //    non-negative least squares above.
 //
+// Both are scale-free: they fit the map divided by the power of two nearest its mean texel value
+// and scale the amplitudes back in double (envmap.cpp, "scale invariance"), so a map × 1e-30 and
+// × 1e30 fit as the map does.
+//
 // Both report the error against the full map (envmap_error) of the mixture's texel means
 // (kErrorSupersample² points per texel: what a texel of the map holds), and the wall time of the
 // fit (that error evaluation excluded).

@@ -1,5 +1,6 @@
 #include "parse_number.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -68,6 +69,43 @@ F from_chars_checked(std::string_view s, const char* type_name) {
   return value;
 }
 
+// The decimal exponent of a text of the checked grammar (that of its first nonzero digit:
+// "123.4e5" → 7, "0.00123" → −3), saturated at ±10^15 however many exponent digits are given;
+// kZeroMantissa when every mantissa digit is 0.
+constexpr long long kZeroMantissa = std::numeric_limits<long long>::min();
+long long decimal_exponent(std::string_view s) {
+  constexpr long long kSaturate = 1'000'000'000'000'000;
+  std::size_t i = 0;
+  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+  long long position = 0;  // the exponent of the first nonzero digit, before the text's own exponent
+  bool found = false, after_point = false;
+  long long integer_digits = 0, leading_fraction_zeros = 0;
+  for (; i < s.size() && s[i] != 'e' && s[i] != 'E'; ++i) {
+    if (s[i] == '.') {
+      after_point = true;
+      continue;
+    }
+    if (!found && s[i] != '0') {
+      found = true;
+      position = after_point ? -(leading_fraction_zeros + 1) : 0;
+      if (!after_point) integer_digits = 0;
+    }
+    if (found && !after_point) ++integer_digits;
+    if (!found && after_point) ++leading_fraction_zeros;
+  }
+  if (!found) return kZeroMantissa;
+  if (!after_point || integer_digits > 0) position = integer_digits - 1;
+  long long exponent = 0;
+  if (i < s.size()) {
+    ++i;
+    bool negative = false;
+    if (i < s.size() && (s[i] == '+' || s[i] == '-')) negative = s[i++] == '-';
+    for (; i < s.size(); ++i) exponent = std::min(kSaturate, exponent * 10 + (s[i] - '0'));
+    if (negative) exponent = -exponent;
+  }
+  return std::clamp(position + exponent, -2 * kSaturate, 2 * kSaturate);
+}
+
 }  // namespace
 
 template <class T>
@@ -79,9 +117,28 @@ T parse_decimal(std::string_view text) {
     return from_chars_checked<double>(s, "double");
   } else {
     static_assert(std::is_same_v<T, mp50>);
-    from_chars_checked<double>(s, "double");  // range check only; see the header
-    return mp50(std::string(s));
+    // mp50's own range, checked on the text first (a 10^(10^9) is never converted), then on the value.
+    const long long e10 = decimal_exponent(s);
+    if (e10 == kZeroMantissa) return mp50(std::string(s));
+    if (e10 > std::numeric_limits<mp50>::max_exponent10) throw NumberError("is out of the range of mp50 (too large)");
+    if (e10 < std::numeric_limits<mp50>::min_exponent10) throw NumberError("is out of the range of mp50 (too close to zero)");
+    const mp50 value(std::string{s});
+    if (!boost::multiprecision::isfinite(value)) throw NumberError("is out of the range of mp50 (too large)");
+    if (value == 0 || abs(value) < std::numeric_limits<mp50>::min())
+      throw NumberError("is out of the range of mp50 (too close to zero)");
+    return value;
   }
+}
+
+bool outside_double(const mp50& v) {
+  const mp50 a = abs(v);
+  return a > mp50(std::numeric_limits<double>::max()) || (a != 0 && a < mp50(std::numeric_limits<double>::min()));
+}
+
+double validation_double(const mp50& v) {
+  if (!outside_double(v)) return static_cast<double>(v);
+  const double sign = v < 0 ? -1.0 : 1.0;
+  return abs(v) > 1 ? sign * std::numeric_limits<double>::max() : sign * std::numeric_limits<double>::min();
 }
 
 template float parse_decimal<float>(std::string_view);

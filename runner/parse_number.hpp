@@ -23,10 +23,28 @@ struct NumberError : std::invalid_argument {
 // text are rejected. The value is the text correctly rounded to T: for mp50 the decimal text is
 // converted directly (never through double), so "0.1" is 0.1 to 50 digits. Values whose
 // magnitude is outside T's range (overflow or underflow, subnormals included) are rejected rather
-// than rounded to infinity, zero or a subnormal; for mp50 the range of double applies, because inputs are validated in double.
+// than rounded to infinity, zero or a subnormal. For mp50 that is mp50's own range (decimal
+// exponents within ±std::numeric_limits<mp50>::max_exponent10), far wider than double's: "1e-400"
+// and "1e400" are mp50 numbers; callers validate them in double through validation_double.
 // Throws NumberError.
 template <class T>
 T parse_decimal(std::string_view text);
+
+// Whether an mp50 value lies outside double's range: beyond ±DBL_MAX, or nonzero and below the
+// smallest normal double in magnitude (float and double values never are).
+bool outside_double(const mp50& v);
+inline bool outside_double(float) { return false; }
+inline bool outside_double(double) { return false; }
+
+// The double a row is validated with (registry.hpp row_error): the value itself, except an mp50
+// value outside double's range, which stands in as ±DBL_MAX (past the largest double) or ±DBL_MIN
+// (nonzero, below the smallest normal). Each is on the same side as the value of every bound a
+// column or domain check compares with (0, ±1, a normal double), so "λ > 0", "c ≤ 1" and "finite"
+// decide as for the value; a method that evaluates in double (Method::evaluates_in_double) must
+// refuse such a value itself (it would be rounded to 0 or ∞).
+double validation_double(const mp50& v);
+inline double validation_double(float v) { return v; }
+inline double validation_double(double v) { return v; }
 
 extern template float parse_decimal<float>(std::string_view);
 extern template double parse_decimal<double>(std::string_view);

@@ -151,7 +151,14 @@ LoadedRows rows_by_point(const CsvTable& table, const SweepDefinition& d, const 
       out.problem = fmt::format("line {}: point '{}' is not a point of this shard", r.line, r.fields[0]);
       return out;
     }
-    out.by_point[*k].emplace_back(r.fields.begin() + 1, r.fields.end());
+    SweepRow row(r.fields.begin() + 1, r.fields.end());
+    if (d.check_row) {
+      if (const auto problem = d.check_row(*k, row)) {
+        out.problem = fmt::format("line {}: point {}: {}", r.line, *k, clip_text(*problem, 400));
+        return out;
+      }
+    }
+    out.by_point[*k].push_back(std::move(row));
   }
   return out;
 }
@@ -208,7 +215,7 @@ namespace {
 // Whether the outputs of an earlier run of the same sweep and shard are there, whole and unaltered:
 // the manifest's identity, and a per-point CSV holding exactly this shard's points.
 bool finished_earlier(const SweepDefinition& d, const Shard& shard, SweepRunResult& result, std::size_t points,
-                      const std::function<void(const std::string&)>& say) {
+                      const std::function<void(const std::string&)>& say, std::string& problem) {
   if (!fs::exists(result.manifest) || !fs::exists(result.points_csv)) return false;
   bool same = false;
   try {
@@ -234,7 +241,10 @@ bool finished_earlier(const SweepDefinition& d, const Shard& shard, SweepRunResu
     result.resumed = points;
     return true;
   }
-  say("the earlier output " + result.points_csv.string() + " is incomplete or altered; recomputing");
+  problem = rows.problem;
+  if (g_summary_only.load() == 0)
+    say("the earlier output " + result.points_csv.string() + " is incomplete or altered" +
+        (rows.problem.empty() ? "" : " (" + rows.problem + ")") + "; recomputing");
   return false;
 }
 
@@ -407,10 +417,13 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   };
 
   // 1. Finished earlier? Same manifest identity and a per-point CSV holding exactly our points.
-  if (finished_earlier(d, o.shard, result, mine.size(), say)) {
+  std::string problem;
+  if (finished_earlier(d, o.shard, result, mine.size(), say, problem)) {
     result.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
     return result;
   }
+  if (g_summary_only.load() > 0 && !problem.empty())
+    throw InputError(fmt::format("{}: {}: {}; nothing recomputed", label, result.points_csv.string(), problem));
   if (g_summary_only.load() > 0)
     throw InputError(fmt::format("{}: {} is not the finished output of the sweep `sglab {}` as defined here (another "
                                  "grid, scene, version, or altered rows); nothing recomputed",

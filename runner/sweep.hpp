@@ -44,6 +44,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -92,6 +93,12 @@ struct SweepDefinition {
   std::function<std::vector<SweepRow>(std::size_t point)> compute;
   // Optional: what point k is, for progress lines ("α=0.01 λ=1e4 view_cos=0.1").
   std::function<std::string(std::size_t point)> describe;
+  // Optional: what is wrong with a row read back from disk as point k's (a checkpoint, a finished
+  // output, a merged shard): coordinates that are not point k's grid point, a method or
+  // configuration the sweep does not run; nullopt if nothing. A fingerprint updated after the
+  // edit cannot hide such a row: a checkpoint holding one is ignored, a finished output holding
+  // one recomputed, and a merge's summary (SummaryOnlyScope) refused naming the line and value.
+  std::function<std::optional<std::string>(std::size_t point, const SweepRow& row)> check_row;
 };
 
 struct SweepRunOptions {

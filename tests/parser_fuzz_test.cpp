@@ -13,6 +13,7 @@
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -195,22 +196,55 @@ TEST(NumberGrammar, RefusedTextsNameTheReason) {
     }
   }
   EXPECT_THROW((void)parse_decimal<double>(""), NumberError);
-  // Out of the type's range, subnormals included, in each precision (mp50 is validated in double).
+  // Out of double's range, subnormals included: refused in double, and mp50 numbers (mp50 reads
+  // them into its own, far wider range; its callers validate them through validation_double).
   const std::pair<const char*, const char*> out_of_range[] = {
       {"1e309", "too large"}, {"-1e400", "too large"}, {"1e-400", "too close to zero"}, {"4e-320", "too close to zero"},
       {"2.2e-308", "too close to zero"},
   };
   for (const auto& [text, why] : out_of_range) {
-    for (int type = 0; type < 2; ++type) {
-      try {
-        if (type == 0) (void)parse_decimal<double>(text);
-        else (void)parse_decimal<sglab::mp50>(text);
-        ADD_FAILURE() << "accepted '" << text << "'";
-      } catch (const NumberError& e) {
-        EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << "'" << text << "': " << e.what();
-      }
+    try {
+      (void)parse_decimal<double>(text);
+      ADD_FAILURE() << "accepted '" << text << "'";
+    } catch (const NumberError& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << "'" << text << "': " << e.what();
+    }
+    sglab::mp50 got;
+    ASSERT_NO_THROW(got = parse_decimal<sglab::mp50>(text)) << "'" << text << "'";
+    EXPECT_EQ(got, sglab::mp50(text)) << "'" << text << "'";
+    EXPECT_TRUE(sglab::runner::outside_double(got)) << "'" << text << "'";
+  }
+  // mp50's own range ends: the decimal exponent is judged on the text (a 10^(10^12) is never
+  // converted), then the value.
+  const std::pair<const char*, const char*> out_of_mp50[] = {
+      {"1e999999999999", "too large"},         {"-1e999999999999", "too large"},
+      {"1e-999999999999", "too close to zero"}, {"0.000001e-999999999999", "too close to zero"},
+      {"1e99999999999999999999999999", "too large"}, {"123456e-99999999999999999999999999", "too close to zero"},
+  };
+  for (const auto& [text, why] : out_of_mp50) {
+    try {
+      (void)parse_decimal<sglab::mp50>(text);
+      ADD_FAILURE() << "accepted '" << text << "'";
+    } catch (const NumberError& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << "'" << text << "': " << e.what();
+      EXPECT_NE(std::string(e.what()).find("mp50"), std::string::npos) << "'" << text << "': " << e.what();
     }
   }
+  // A zero mantissa is 0 whatever its exponent; the largest and smallest decimal exponents mp50 holds.
+  EXPECT_EQ(parse_decimal<sglab::mp50>("0e-999999999999"), 0);
+  EXPECT_EQ(parse_decimal<sglab::mp50>("-0.000e999999999999"), 0);
+  EXPECT_EQ(parse_decimal<sglab::mp50>("1e100000"), sglab::mp50("1e100000"));
+  EXPECT_EQ(parse_decimal<sglab::mp50>("1e-100000"), sglab::mp50("1e-100000"));
+  // The stand-ins rows are validated with: ±DBL_MAX past double, ±DBL_MIN below its smallest normal.
+  constexpr double kMax = std::numeric_limits<double>::max(), kMin = std::numeric_limits<double>::min();
+  EXPECT_EQ(sglab::runner::validation_double(sglab::mp50("1e400")), kMax);
+  EXPECT_EQ(sglab::runner::validation_double(sglab::mp50("-1e400")), -kMax);
+  EXPECT_EQ(sglab::runner::validation_double(sglab::mp50("1e-400")), kMin);
+  EXPECT_EQ(sglab::runner::validation_double(sglab::mp50("-1e-400")), -kMin);
+  EXPECT_EQ(sglab::runner::validation_double(sglab::mp50("0.5")), 0.5);
+  EXPECT_FALSE(sglab::runner::outside_double(sglab::mp50(kMax)));
+  EXPECT_FALSE(sglab::runner::outside_double(sglab::mp50(kMin)));
+  EXPECT_FALSE(sglab::runner::outside_double(sglab::mp50(0)));
   for (const char* text : {"3.5e38", "1e39", "1e-40", "1e-46", "1.1e-38"}) EXPECT_THROW((void)parse_decimal<float>(text), NumberError) << text;
 }
 

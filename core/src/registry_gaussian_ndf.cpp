@@ -28,6 +28,7 @@ void register_gaussian_ndf_quantities(std::vector<Quantity>& out) {
                ": the quadrature's cost grows without bound as m → 0";
       },
       [](auto a) { return specular_gaussian_ndf_reference_value(specular_input(a)); }));
+  q.methods.back().evaluates_in_double = true;
   q.methods.push_back(make_method(
       "sg-warp",
       "D ≈ G(h; n, 2/m², 1) warped to G(ω; p_D, (2/m²)/(4|n·ωo|)) (Wang et al. 2009) × SG light, exact product integral "

@@ -303,6 +303,23 @@ def test_bad_input_names_column_index_and_value():
         sglab.eval("sg-integral", "exact", precision="mp50", sharpness=["1", "1x"])
 
 
+def test_mp50_beyond_double_range():
+    # mp50 reads "1e-400" into its own range: 2π⟨c⟩/λ = π·1e400 at c = 0.5 (a 50-digit closed form).
+    from decimal import Decimal, getcontext
+    getcontext().prec = 60
+    pi = Decimal("3.14159265358979323846264338327950288419716939937510582097494")
+    got = sglab.eval("clamped-cosine", "punctual-approx", precision="mp50", sharpness=["1e-400", "1e400"], cosine="0.5")
+    assert abs(Decimal(got[0]) / (pi * Decimal("1e400")) - 1) < Decimal("1e-45")
+    assert abs(Decimal(got[1]) / (pi * Decimal("1e-400")) - 1) < Decimal("1e-45")
+    # A method that evaluates in double refuses it by name rather than rounding it to 0 or inf.
+    with pytest.raises(ValueError, match=r"value '1e400': is outside double's range, and method 'reference' evaluates in double"):
+        sglab.eval("specular", "reference", precision="mp50", roughness="0.3", light_sharpness="1e400", light_cos="0.5",
+                   view_cos="0.5", light_azimuth="3", f0="0.04")
+    # Outside mp50's own range: refused.
+    with pytest.raises(ValueError, match=r"out of the range of mp50 \(too large\)"):
+        sglab.eval("clamped-cosine", "punctual-approx", precision="mp50", sharpness=["1e999999999999"], cosine="0.5")
+
+
 def test_bad_call_raises():
     with pytest.raises(ValueError, match="missing column.*cosine"):
         sglab.eval("clamped-cosine", "tokuyoshi2024", sharpness=1.0)
@@ -601,8 +618,9 @@ def test_python_refuses_what_the_command_refuses():
     for bad in (None, 1 + 2j, {"a": 1}):
         with pytest.raises(ValueError, match="column 'sharpness'"):
             sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", sharpness=[1.0, bad], cosine=0.5)
-    with pytest.raises(ValueError, match="column 'sharpness'.*out of the range"):
-        sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", sharpness=[10**400], cosine=0.5)
+    # 10**400 is an mp50 number (its exact decimal text, read into mp50's own range), as "1e400" is.
+    assert list(sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", sharpness=[10**400], cosine=0.5)) == \
+        list(sglab.eval("clamped-cosine", "tokuyoshi2024", precision="mp50", sharpness=["1e400"], cosine=0.5))
     # A subnormal sharpness, refused as `sglab eval` refuses its text.
     for dtype, tiny in ((np.float64, 5e-324), (np.float32, np.float32(1e-45))):
         with pytest.raises(ValueError, match="column 'sharpness'.*subnormal"):

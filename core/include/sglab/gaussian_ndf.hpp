@@ -191,24 +191,29 @@ T specular_gaussian_ndf_sg_exact_cosine(const SpecularInput<T>& in) {
 // a value at m = 0.2–1 with a broad light, where panels about the light axis kept bisecting
 // around the singularity (and missed the tolerance by up to 1e-6 relative beside it).
 // Refused below kMinReferenceRoughness (the registry's domain check), as the GGX reference.
+// With the light as the pole (integrate_sg_about_axis) the value is right up to λ = DBL_MAX; at
+// grazing view that is used as well once the light is nonzero only within an angle (sg_support_angle)
+// smaller than its distance to the mirror direction, so the singularity is outside the light.
 inline double specular_gaussian_ndf_reference(const SpecularConfig& c, const SphereQuadrature& q = {}) {
   const Vec3d wo = specular_view(c.view_cos);
   const Vec3d xi = specular_light_axis(c.light_cos, c.light_azimuth);
   const double m = c.roughness, lambda = c.light_sharpness, f0 = c.f0;
-  auto f = [&](const Vec3d& w) -> double {
-    const double light = sg_eval(w, xi, lambda);
-    return light == 0 ? 0.0 : light * gaussian_ndf_brdf_cosine(m, f0, wo, w);  // as specular_reference
-  };
+  auto h = [&](const Vec3d& w) { return gaussian_ndf_brdf_cosine(m, f0, wo, w); };
   const double light_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
   const Vec3d mirror = reflect_about(wo, Vec3d(0, 0, 1));
   const double lobe_width = std::min(1.0, m * std::max(wo(2), 1e-3));
   const Vec3d clips[1] = {Vec3d(0, 0, 1)};
-  if (wo(2) == 0) {
+  const double light_to_mirror = 2 * std::asin(std::min(1.0, 0.5 * (xi - mirror).norm()));
+  if (wo(2) == 0 && !(sg_support_angle(lambda) < light_to_mirror)) {
+    auto f = [&](const Vec3d& w) -> double {
+      const double light = sg_eval(w, xi, lambda);
+      return light == 0 ? 0.0 : light * h(w);  // as specular_reference
+    };
     const SphereFocus light[1] = {{xi, light_width}};
     return integrate_sphere(f, mirror, lobe_width, light, clips, q);
   }
   const SphereFocus foci[1] = {{mirror, lobe_width}};
-  return integrate_sphere(f, xi, light_width, foci, clips, q);
+  return integrate_sg_about_axis(h, xi, lambda, foci, clips, q);
 }
 
 // The reference for a registry row of any precision: evaluated in double and converted (a 50-digit

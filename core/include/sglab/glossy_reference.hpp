@@ -32,6 +32,8 @@
 #include <cstdint>
 #include <random>
 #include <span>
+#include <type_traits>
+#include <limits>
 #include <vector>
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
@@ -147,12 +149,14 @@ double sum_panels(const std::vector<double>& br, const Panel& panel) {
 // w_pole) and each focus, and about both ends (horizons or the poles: G2 vanishes there on the
 // scale of the narrowest lobe).
 inline std::vector<double> theta_breaks(double lo, double hi, double w_pole, const std::vector<FocusPolar>& polar,
-                                        double ratio) {
+                                        double ratio, double min_width) {
   const double pi = boost::math::constants::pi<double>();
   std::vector<double> br{lo, hi};
   add_geometric_breaks(br, 0.0, 0.25 * w_pole, lo, hi, ratio);
   for (const auto& fp : polar) add_geometric_breaks(br, fp.theta, 0.25 * fp.width, lo, hi, ratio);
-  double w_min = w_pole;
+  // The ends are split at the narrowest width but not below min_width (a pole narrower than that,
+  // possible for a SpherePoint integrand, has its own breaks about θ = 0 above).
+  double w_min = std::max(w_pole, min_width);
   for (const auto& fp : polar) w_min = std::min(w_min, fp.width);
   if (lo > 0) add_geometric_breaks(br, lo, 0.25 * w_min, lo, hi, ratio);
   if (hi < pi) add_geometric_breaks(br, hi, 0.25 * w_min, lo, hi, ratio);
@@ -181,24 +185,48 @@ inline std::vector<double> azimuth_breaks(const std::vector<FocusPolar>& polar, 
 }
 }  // namespace detail
 
+// A node of the polar grid about the pole, for an integrand that needs more than ω: θ and
+// 1 − cos θ = 2 sin²(θ/2) exactly (ω·pole − 1 has lost every digit once θ < 1e-8, so an SG about
+// the pole evaluated from ω is wrong past λ ≈ 1e14), and the azimuth's cosine and sine in the frame
+// detail::orthonormal_frame(pole) (e1 = x, e2 = y for the pole z).
+struct SpherePoint {
+  Vec3d w;
+  double theta, one_minus_cos, cos_phi, sin_phi;
+};
+
+// The polar angle past which an SG of sharpness λ about the pole is exactly 0 in double:
+// λ(1 − cos θ) > 746 makes e^{−λ(1 − cos θ)} underflow (e^{−745.13} is the smallest subnormal),
+// so nothing past it is lost by not integrating there. π when λ ≤ 373.
+inline double sg_support_angle(double lambda) {
+  const double pi = boost::math::constants::pi<double>();
+  if (!(lambda > 373)) return pi;
+  return 2 * std::asin(std::sqrt(373 / lambda));
+}
+
 // ∫_{S²} f(ω) dω for an f that is zero outside ∩_k {ω·clip_k > 0} and peaked at `pole` (width
-// pole_width) and at the foci. See the file comment for the panel placement.
+// pole_width) and at the foci. See the file comment for the panel placement. f is called with ω,
+// or with a SpherePoint if it takes one; only then is a pole width below q.min_width kept (an f of
+// ω alone cannot resolve a narrower pole). f is taken to be 0 past θ = pole_support about the pole.
 template <class F>
 double integrate_sphere(const F& f, const Vec3d& pole, double pole_width,
                         std::span<const SphereFocus> foci, std::span<const Vec3d> clips,
-                        const SphereQuadrature& q = {}) {
+                        const SphereQuadrature& q = {},
+                        double pole_support = boost::math::constants::pi<double>()) {
   using boost::math::quadrature::gauss_kronrod;
   const double pi = boost::math::constants::pi<double>();
+  constexpr bool polar_f = std::is_invocable_v<const F&, const SpherePoint&>;
   Vec3d e1, e2;
   detail::orthonormal_frame(pole, e1, e2);
-  const double w_pole = std::max(pole_width, q.min_width);
+  const double w_pole =
+      std::max(pole_width, polar_f ? std::numeric_limits<double>::min() : q.min_width);
   const std::vector<detail::FocusPolar> polar = detail::foci_polar(foci, pole, e1, e2, q.min_width);
 
   // The θ integral along the meridian of azimuth φ, over where every clip is visible.
   // abs_tol < 0: one 15-point rule per panel (the coarse first pass that sets the scale).
   auto inner = [&](double phi, double abs_tol) -> double {
-    const Vec3d e = std::cos(phi) * e1 + std::sin(phi) * e2;
-    double lo = 0, hi = pi;
+    const double cp = std::cos(phi), sp = std::sin(phi);
+    const Vec3d e = cp * e1 + sp * e2;
+    double lo = 0, hi = std::min(pi, pole_support);
     for (const auto& c : clips) {
       double l, h;
       if (!detail::visible_theta_interval(pole.dot(c), e.dot(c), l, h)) return 0.0;
@@ -206,11 +234,16 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width,
       hi = std::min(hi, h);
       if (!(hi > lo)) return 0.0;
     }
-    const std::vector<double> br = detail::theta_breaks(lo, hi, w_pole, polar, q.ratio);
+    const std::vector<double> br = detail::theta_breaks(lo, hi, w_pole, polar, q.ratio, q.min_width);
     auto g = [&](double theta) -> double {
       const double st = std::sin(theta);
       const Vec3d w = std::cos(theta) * pole + st * e;
-      return f(w) * st;
+      if constexpr (polar_f) {
+        const double h = std::sin(0.5 * theta);
+        return f(SpherePoint{w, theta, 2 * h * h, cp, sp}) * st;
+      } else {
+        return f(w) * st;
+      }
     };
     const double share = abs_tol / double(br.size());
     return detail::sum_panels(br, [&](double a, double b) {
@@ -271,28 +304,42 @@ Vec3<T> specular_light_axis(const T& light_cos, const T& light_azimuth) {
   return Vec3<T>(s * cos(light_azimuth), s * sin(light_azimuth), c);
 }
 
+// ∫ G(ω; pole, λ) h(ω) dω by integrate_sphere about the SG's axis, for any λ up to the largest
+// double: the SG is evaluated from the exact 1 − cos θ (SpherePoint), only where it is nonzero in
+// double (sg_support_angle), and the integrand is scaled by √λ and the result divided by it (for
+// λ → DBL_MAX the value ≈ 2πh(ξ)/λ is near the smallest normal double, where the quadrature's
+// absolute tolerances would underflow). So a sharp light tends to the point-light limit 2πh(ξ)/λ
+// instead of the 0 (or 6.9e-24 at λ = 1e22) that a 1e-7 pole width and an SG from ω·ξ gave.
+// Where the SG underflows to 0 h is not evaluated: h is finite, so the product is the same 0.
+template <class H>
+double integrate_sg_about_axis(const H& h, const Vec3d& xi, double lambda, std::span<const SphereFocus> foci,
+                               std::span<const Vec3d> clips, const SphereQuadrature& q) {
+  const double pole_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
+  const double scale = lambda > 1 ? std::sqrt(lambda) : 1.0;
+  auto f = [&](const SpherePoint& p) -> double {
+    const double light = std::exp(-lambda * p.one_minus_cos);
+    return light == 0 ? 0.0 : scale * light * h(p.w);
+  };
+  return integrate_sphere(f, xi, pole_width, foci, clips, q, sg_support_angle(lambda)) / scale;
+}
+
 // The exact L by the quadrature above: pole = light axis (width 1/√λ, capped at 1 rad for broad
 // lights), foci = the mirror direction and the dominant-visible-normal reflection (width of the
 // BRDF lobe in ω: ~2α(ωo·n) across the plane of incidence, the narrowest of its two widths),
-// clip = the horizon.
+// clip = the horizon. Right up to λ = DBL_MAX (integrate_sg_about_axis; tests/hardening_extremes_test.cpp
+// checks it against the point-light limit 2π f(ωo, ξ)⟨ξ·n⟩/λ in 50 digits).
 inline double specular_reference(const SpecularConfig& c, const SphereQuadrature& q = {}) {
   const double alpha = c.roughness;
   const Vec3d wo = specular_view(c.view_cos);
   const Vec3d xi = specular_light_axis(c.light_cos, c.light_azimuth);
   const double lambda = c.light_sharpness;
   const Vec3d n(0, 0, 1);
-  auto f = [&](const Vec3d& w) -> double {
-    const double light = sg_eval(w, xi, lambda);
-    // Where the light underflows to 0 (λ‖ω − ξ‖²/2 past ~745: most nodes of a sharp light) the
-    // BRDF is not evaluated: it is finite, so the product is the same 0 either way.
-    return light == 0 ? 0.0 : light * ggx_brdf_cosine(alpha, c.f0, wo, w);
-  };
-  const double pole_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
+  auto h = [&](const Vec3d& w) { return ggx_brdf_cosine(alpha, c.f0, wo, w); };
   const double lobe_width = std::min(1.0, 2.0 * alpha * std::max(wo(2), 1e-3));
   const SphereFocus foci[2] = {{reflect_about(wo, n), lobe_width},
                                {dvn_reflection_lobe(alpha, wo).axis, lobe_width}};
   const Vec3d clips[1] = {n};
-  return integrate_sphere(f, xi, pole_width, foci, clips, q);
+  return integrate_sg_about_axis(h, xi, lambda, foci, clips, q);
 }
 
 // ---- Monte Carlo check ------------------------------------------------------------------------

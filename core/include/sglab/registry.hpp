@@ -94,6 +94,10 @@ struct Method {
   std::string source;   // paper and equation
   std::string flaws;    // known flaws, as published; "" if none known
   bool may_be_negative = false;  // the published form itself goes negative (kept, measured)
+  // Evaluates in double whatever the precision (a quadrature reference: float rounds and mp50
+  // converts the double result). An mp50 argument outside double's range cannot reach it, so
+  // callers refuse such a row (runner/parse_number.hpp validation_double).
+  bool evaluates_in_double = false;
   // Returns a message when the arguments are outside the method's domain (e.g. λ = 0 for a 2π/λ
   // form), so callers can reject them clearly instead of printing Inf or NaN. Checked after the
   // column validation.

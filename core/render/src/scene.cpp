@@ -277,10 +277,10 @@ bool contains(const Shape& shape, const Vec3& p) {
   return std::fabs(d.dot(n)) <= 1e-12 * (1 + d.norm()) && u >= 0 && u <= 1 && v >= 0 && v <= 1;
 }
 
-// "environment": {"exr" | "generate" (+ "width"), and/or "mixture"; "lobes", "diffuse", "specular"}.
+// "environment": {"exr" | "generate" (+ "width"), and/or "mixture"; "lobes", "diffuse", "specular", "long_fit"}.
 SceneEnvironment parse_environment(const json& e) {
   const std::string path = "environment";
-  check_keys(e, path, {"exr", "generate", "width", "mixture", "lobes", "diffuse", "specular"});
+  check_keys(e, path, {"exr", "generate", "width", "mixture", "lobes", "diffuse", "specular", "long_fit"});
   SceneEnvironment env;
   auto text = [&](const char* key, std::string& out) {
     if (!e.contains(key)) return;
@@ -302,6 +302,10 @@ SceneEnvironment parse_environment(const json& e) {
   text("specular", env.specular);
   integer("width", env.width, 8, 4096);
   integer("lobes", env.lobes, 1, 1024);
+  if (e.contains("long_fit")) {
+    if (!e.at("long_fit").is_boolean()) fail(join(path, "long_fit"), fmt::format("expected true or false, got {} {}", type_name(e.at("long_fit")), shown(e.at("long_fit"))));
+    env.long_fit = e.at("long_fit").get<bool>();
+  }
   if (env.width % 2 != 0) fail(join(path, "width"), fmt::format("{} is odd (the map is width × width/2)", env.width));
   if (!env.exr.empty() && !env.generate.empty()) fail(path, "give \"exr\" or \"generate\", not both");
   if (env.exr.empty() && env.generate.empty() && env.mixture.empty()) fail(path, "needs \"exr\", \"generate\" or \"mixture\"");
