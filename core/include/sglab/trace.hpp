@@ -266,7 +266,7 @@ auto select(const TraceBool& cond, F&& if_true, G&& if_false) -> decltype(if_tru
     return Trace::node(TraceOp::select, cond.id, a.id, b.id);
   } else {
     R out;
-    for (Eigen::Index i = 0; i < out.size(); ++i) out[i] = Trace::node(TraceOp::select, cond.id, a[i].id, b[i].id);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(out.size()); ++i) out[i] = Trace::node(TraceOp::select, cond.id, a[i].id, b[i].id);
     return out;
   }
 }
