@@ -6,6 +6,7 @@
 #   scripts/mutants.sh                 # every mutant
 #   scripts/mutants.sh hill-c0 csv-*   # the named ones (shell patterns)
 #   scripts/mutants.sh --list          # the list, without running anything
+#   scripts/mutants.sh --check         # that every edit still matches the code (seconds; no build)
 #   scripts/mutants.sh --no-baseline … # skip the unmutated run of the owning tests (a rerun)
 #
 # The scratch copy is a detached git worktree of HEAD plus the checkout's uncommitted changes to
@@ -46,6 +47,19 @@ baseline=1
 if [[ ${1:-} == --no-baseline ]]; then baseline=0; shift; fi
 if [[ ${1:-} == --list ]]; then
   for i in "${!ids[@]}"; do printf '%-28s %-48s %s\n' "${ids[i]}" "${files[i]}" "${tests[i]}"; done
+  exit 0
+fi
+if [[ ${1:-} == --check ]]; then  # each edit against this checkout's files, without building
+  stale=0
+  for i in "${!ids[@]}"; do
+    n=$(sed -e "${seds[i]}" "$src/${files[i]}" | diff "$src/${files[i]}" - | grep -c '^>')
+    if ((n == 0)); then
+      echo "mutants.sh: ${ids[i]} matches nothing in ${files[i]}" >&2
+      stale=1
+    fi
+  done
+  ((stale)) && exit 2
+  echo "mutants.sh: all ${#ids[@]} edits apply" >&2
   exit 0
 fi
 if (($# == 0)); then
