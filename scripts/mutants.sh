@@ -19,6 +19,9 @@
 # 6 GiB: a mutant that loops appending fails there, not in the machine's OOM killer). Run it niced
 # on a shared machine: `nice -n 10 scripts/mutants.sh`.
 set -uo pipefail
+# The whole script is one compound command, read before it runs: editing this file or the list
+# while a run is in progress (it takes an hour) cannot change or break that run.
+{
 
 src=$(cd "$(dirname "$0")/.." && pwd)
 work=${SGLAB_MUTANTS_DIR:-/tmp/sglab-mutants-${USER:-$(id -un)}}
@@ -192,3 +195,4 @@ cat "$report"
 ((broken)) && exit 2
 ((survived)) && exit 1
 exit 0
+}
