@@ -6,6 +6,7 @@
 #   scripts/mutants.sh                 # every mutant
 #   scripts/mutants.sh hill-c0 csv-*   # the named ones (shell patterns)
 #   scripts/mutants.sh --list          # the list, without running anything
+#   scripts/mutants.sh --check         # that every edit still matches the code (seconds; no build)
 #   scripts/mutants.sh --no-baseline … # skip the unmutated run of the owning tests (a rerun)
 #
 # The scratch copy is a detached git worktree of HEAD plus the checkout's uncommitted changes to
@@ -18,6 +19,9 @@
 # 6 GiB: a mutant that loops appending fails there, not in the machine's OOM killer). Run it niced
 # on a shared machine: `nice -n 10 scripts/mutants.sh`.
 set -uo pipefail
+# The whole script is one compound command, read before it runs: editing this file or the list
+# while a run is in progress (it takes an hour) cannot change or break that run.
+{
 
 src=$(cd "$(dirname "$0")/.." && pwd)
 work=${SGLAB_MUTANTS_DIR:-/tmp/sglab-mutants-${USER:-$(id -un)}}
@@ -46,6 +50,19 @@ baseline=1
 if [[ ${1:-} == --no-baseline ]]; then baseline=0; shift; fi
 if [[ ${1:-} == --list ]]; then
   for i in "${!ids[@]}"; do printf '%-28s %-48s %s\n' "${ids[i]}" "${files[i]}" "${tests[i]}"; done
+  exit 0
+fi
+if [[ ${1:-} == --check ]]; then  # each edit against this checkout's files, without building
+  stale=0
+  for i in "${!ids[@]}"; do
+    n=$(sed -e "${seds[i]}" "$src/${files[i]}" | diff "$src/${files[i]}" - | grep -c '^>')
+    if ((n == 0)); then
+      echo "mutants.sh: ${ids[i]} matches nothing in ${files[i]}" >&2
+      stale=1
+    fi
+  done
+  ((stale)) && exit 2
+  echo "mutants.sh: all ${#ids[@]} edits apply" >&2
   exit 0
 fi
 if (($# == 0)); then
@@ -178,3 +195,4 @@ cat "$report"
 ((broken)) && exit 2
 ((survived)) && exit 1
 exit 0
+}

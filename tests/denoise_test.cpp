@@ -1,10 +1,12 @@
 // Filtering noisy indirect light (core/render/include/sglab/render/denoise.hpp): the noisy
 // estimators against the exact VPL sum (unbiased: the mean over every interleaving shift is the
 // sum itself, the mean over seeds of random:K is within its standard error), the filter against
-// constant images (returned unchanged), the weights' symmetry and bound, App. D in the filtered
-// images (lobe-depth = normal on Lambert receivers), and the filter's purpose: below the noisy
-// error on the diffuse walls for every weighting at M = 4. Seeds are printed.
+// constant images (returned unchanged), the box footprint's equal weight for every interleaved
+// subset, the weights' symmetry and bound, App. D in the filtered images (lobe-depth = normal on
+// Lambert receivers), and the filter's purpose: below the noisy error on the diffuse walls for
+// every weighting at M = 4. Seeds are printed.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <random>
@@ -187,6 +189,52 @@ TEST(DenoiseFilter, ConstantImagesAreReturnedUnchanged) {
           EXPECT_NEAR(r.filtered[k](c), expected(c), 1e-12 * expected(c)) << filter_weights_name(w) << " R " << radius << " pixel " << k;
       }
     }
+}
+
+TEST(DenoiseFilter, BoxFootprintGivesEveryInterleavedSubsetTheSameWeight) {
+  // The footprint h(d) = 1 for |d| < R and ½ at |d| = R (denoise.hpp): when M divides R, each of
+  // the M² residues (x mod M, y mod M) has the same total weight 4R²/M² in the window. With the
+  // spatial weighting (w_r = 1) and a demodulated diffuse image that depends only on the residue,
+  // v(x, y) = 1 + (x mod M) + M·(y mod M)² (all values distinct), every non-glossy pixel whose
+  // window lies inside the image and holds only diffuse receivers becomes the plain mean of v over
+  // the residues, times its own albedo (1e-12 relative); a footprint that weighs the edge fully
+  // counts p's own residue more often than the others.
+  const Scene scene = cornell(24, 24);
+  DenoiseInputs in = noisy_inputs(scene, {NoisyMode::interleaved, 1}, 1, 8);
+  std::size_t compared = 0;
+  for (const int m : {2, 3}) {
+    for (const int radius : {m, 2 * m}) {
+      in.noisy = {NoisyMode::interleaved, m};
+      double mean = 0;
+      for (int b = 0; b < m; ++b)
+        for (int a = 0; a < m; ++a) mean += (1.0 + a + m * b * b) / (m * m);
+      for (int y = 0; y < in.height; ++y)
+        for (int x = 0; x < in.width; ++x) {
+          const double v = 1.0 + x % m + m * (y % m) * (y % m);
+          in.noisy_diffuse[std::size_t(y * in.width + x)] = Rgb(v, 2 * v, 3 * v);
+        }
+      FilterParameters a;
+      a.radius = radius;
+      const DenoiseResult r = denoise_indirect(in, FilterWeights::spatial, a);
+      for (int j = radius; j < in.height - radius; ++j)
+        for (int i = radius; i < in.width - radius; ++i) {
+          const std::size_t k = std::size_t(j * in.width + i);
+          bool diffuse_window = !in.glossy[k];
+          for (int y = j - radius; y <= j + radius; ++y)
+            for (int x = i - radius; x <= i + radius; ++x) {
+              const FilterSample& q = in.full[std::size_t(y * in.width + x)];
+              diffuse_window = diffuse_window && q.valid && (q.point.diffuse_reflectance > 0).any();
+            }
+          if (!diffuse_window) continue;
+          ++compared;
+          const Rgb expected = Rgb(mean, 2 * mean, 3 * mean) * in.full[k].point.diffuse_reflectance;
+          for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(r.filtered[k](c), expected(c), 1e-12 * expected(c)) << "M " << m << " R " << radius << " pixel " << i << ", " << j;
+        }
+    }
+  }
+  std::printf("[ measured ] %zu pixel windows compared\n", compared);
+  EXPECT_GT(compared, 200u);
 }
 
 TEST(DenoiseFilter, WeightsAreBoundedByOneAndSymmetricWhereTheyShouldBe) {

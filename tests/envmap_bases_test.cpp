@@ -188,40 +188,46 @@ TEST(Nnls, MatchesBruteForceOverActiveSets) {
   }
 }
 
-// NNLS recovers the amplitudes of a map that is a fixed-lobe mixture (its own Fibonacci axes and
-// sharpness, some lobes dark): texel means (8 × 8 points) of a 128 × 64 map; the right-hand side's
-// 2 × 2 sub-texel quadrature is O(δ²) (δ = π/64) off the analytic Gram matrix's integrals,
-// amplified by the Gram matrix's conditioning (neighbouring lobes overlap at λ = N ln2/2):
-// asserted at 2 % of the largest amplitude.
-TEST(SgFixed, NnlsRecoversAFixedLobeMapsAmplitudes) {
-  const int N = 16;
-  const auto axes = fit::envmap_detail::fibonacci_axes(N);
-  const double lambda = 0.5 * N * std::log(2.0);
+// NNLS and least squares recover the amplitudes of a map that is a fixed-lobe mixture (its own
+// Fibonacci axes and sharpness, some lobes dark): texel means (8 × 8 points) of a 128 × 64 map; the
+// right-hand side's 2 × 2 sub-texel quadrature is O(δ²) (δ = π/64) off the analytic Gram matrix's
+// integrals, amplified by the Gram matrix's conditioning (neighbouring lobes overlap at
+// λ = N ln2/2): asserted at 2 % of the largest amplitude.
+TEST(SgFixed, SolversRecoverAFixedLobeMapsAmplitudes) {
   std::mt19937_64 rng(5);
   std::printf("seed 5\n");
   std::uniform_real_distribution<double> u(0, 2);
-  sglab::SgMixture m;
-  for (int j = 0; j < N; ++j) {
-    sglab::SgLight l;
-    l.axis = axes[std::size_t(j)];
-    l.sharpness = lambda;
-    l.amplitude = j % 4 == 1 ? std::array<double, 3>{0, 0, 0} : std::array<double, 3>{u(rng), u(rng), u(rng)};
-    m.push_back(l);
-  }
-  const sglab::EnvMap map = sglab::rasterize_mixture(m, 128, 64, 8);
-  const auto fits = fit::find_envmap_basis("sg-fixed")->fit(map, {N}, "nnls", {});
-  ASSERT_EQ(fits[0].mixture.size(), std::size_t(N));
-  double worst = 0;
-  for (int j = 0; j < N; ++j) {
-    EXPECT_NEAR(fits[0].mixture[std::size_t(j)].sharpness, lambda, 1e-12);
-    for (int c = 0; c < 3; ++c) {
-      const double e = std::abs(fits[0].mixture[std::size_t(j)].amplitude[std::size_t(c)] - m[std::size_t(j)].amplitude[std::size_t(c)]);
-      worst = std::max(worst, e);
-      EXPECT_LT(e, 0.04) << "lobe " << j << " channel " << c;
+  // N = 16 (λ = 5.5: neighbours overlap, the product integral's 1 − e^{−2r} is ≈ 1) and N = 3
+  // (λ = 1.04, broad lobes 120° apart: r = ‖λξ_j + λξ_k‖ ≈ λ, where 1 − e^{−2r} is 0.88, so the
+  // Gram matrix's closed form is checked where each of its factors matters); both solvers.
+  for (const int N : {16, 3}) {
+    const auto axes = fit::envmap_detail::fibonacci_axes(N);
+    const double lambda = 0.5 * N * std::log(2.0);
+    sglab::SgMixture m;
+    for (int j = 0; j < N; ++j) {
+      sglab::SgLight l;
+      l.axis = axes[std::size_t(j)];
+      l.sharpness = lambda;
+      l.amplitude = j % 4 == 1 ? std::array<double, 3>{0, 0, 0} : std::array<double, 3>{u(rng), u(rng), u(rng)};
+      m.push_back(l);
+    }
+    const sglab::EnvMap map = sglab::rasterize_mixture(m, 128, 64, 8);
+    for (const char* solver : {"nnls", "ls"}) {
+      const auto fits = fit::find_envmap_basis("sg-fixed")->fit(map, {N}, solver, {});
+      ASSERT_EQ(fits[0].mixture.size(), std::size_t(N));
+      double worst = 0;
+      for (int j = 0; j < N; ++j) {
+        EXPECT_NEAR(fits[0].mixture[std::size_t(j)].sharpness, lambda, 1e-12);
+        for (int c = 0; c < 3; ++c) {
+          const double e = std::abs(fits[0].mixture[std::size_t(j)].amplitude[std::size_t(c)] - m[std::size_t(j)].amplitude[std::size_t(c)]);
+          worst = std::max(worst, e);
+          EXPECT_LT(e, 0.04) << "N " << N << " " << solver << " lobe " << j << " channel " << c;
+        }
+      }
+      std::printf("N %d %s: worst amplitude error %.3g (amplitudes up to 2)\n", N, solver, worst);
+      EXPECT_EQ(fits[0].floats, 3 * N);
     }
   }
-  std::printf("worst amplitude error %.3g (amplitudes up to 2)\n", worst);
-  EXPECT_EQ(fits[0].floats, 3 * N);
 }
 
 // `--max-iterations` reaches the EM: a cap of 2 stops it after 2 iterations, unconverged.

@@ -1,9 +1,11 @@
 // The renderer's scene side (core/render; intersections are in raycast_test.cpp): the light
 // view's solid angles and the RSM's flux against closed forms (a spotlight over a plane, over a
-// square); the GGX directional albedo against core's adaptive sphere quadrature; the exact VPL sum
-// against an independent brute-force evaluation in tangent frames with core's BRDF; direct light
-// on a Lambert plane against E = I cos θ/d², with and without an occluder; the EXR round trip; and
+// square); each texel's emission fraction against the spot profile by Cartesian quadrature; the
+// GGX directional albedo against core's adaptive sphere quadrature; the exact VPL sum against an
+// independent brute-force evaluation in tangent frames with core's BRDF; direct light on a
+// Lambert plane against E = I cos θ/d², with and without an occluder; the EXR round trip; and
 // what the pipeline builds for diffuse-only and glossy scenes.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <boost/math/quadrature/gauss.hpp>
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
 
 #include "render_scenes.hpp"
@@ -73,6 +77,105 @@ TEST(Rsm, EmissionFractionsAddUpToOne) {
       }
     }
   }
+}
+
+// A texel's emission fraction ∫_texel I(ω) dω/Φ against the spot profile written out here:
+// I/Φ = s(c)/(π((1 − cos θi) + (1 − cos θo))) (the power 2π∫ I0 s dc with ∫₀¹ smoothstep = ½),
+// s = 1 for θ ≤ θi, 0 for θ ≥ θo and smoothstep 3t² − 2t³ of t = (cos θ − cos θo)/(cos θi − cos θo)
+// in between (scene.hpp), integrated over the image-plane square as dx dy/(1 + x² + y²)^{3/2} in
+// Cartesian coordinates, row by row, with panel ends where each row crosses the inner and outer
+// circles (the code integrates the profile in closed form along r and over the azimuth instead). Every texel of the image, so the texels inside the inner cone, across
+// its edge, inside the falloff band, across the outer edge and outside are all checked (the
+// test counts each kind); a wrong polynomial in the band's radial integral changes the texels
+// of the band while their sum stays 1.
+TEST(Rsm, EmissionFractionsMatchTheSpotProfileOverEachTexel) {
+  using boost::math::quadrature::gauss;
+  using boost::math::quadrature::gauss_kronrod;
+  // Rows: 20-point Gauss–Legendre on each panel between the circles (where the integrand is
+  // smooth). Columns: adaptive Gauss–Kronrod over y mapped onto [−1, 1] (Boost 1.74's error
+  // estimate leaves out the (b − a)/2 factor, which on short intervals would refine far too
+  // long), with panel ends at ±r where a row becomes tangent to a circle.
+  const auto pieces = [](const auto& integrate, double a, double b, std::vector<double> breaks) {
+    std::sort(breaks.begin(), breaks.end());
+    double sum = 0, lo = a;
+    for (const double t : breaks)
+      if (t > lo && t < b) {
+        sum += integrate(lo, t);
+        lo = t;
+      }
+    return sum + integrate(lo, b);
+  };
+  const auto mapped = [](const auto& f, double a, double b, const auto& rule) {
+    const double half = 0.5 * (b - a), mid = 0.5 * (a + b);
+    return half * rule([&](double u) { return f(mid + half * u); });
+  };
+  struct Case {
+    double cone, falloff;  // degrees
+    int res;
+  };
+  int inside = 0, across_inner = 0, band = 0, across_outer = 0, outside = 0;
+  double worst = 0;
+  for (const Case k : {Case{30, 10, 16}, Case{30, 10, 15}, Case{70, 25, 12}, Case{20, 20, 9}, Case{45, 3, 24}}) {
+    Spotlight l;
+    l.cone_angle = k.cone * kDeg;
+    l.falloff = k.falloff * kDeg;
+    const LightView v(l, k.res);
+    const double theta_i = (k.cone - k.falloff) * kDeg, theta_o = k.cone * kDeg;
+    const double ci = std::cos(theta_i), co = std::cos(theta_o);
+    const double peak = 1 / (kPi * ((1 - ci) + (1 - co)));
+    const double r_i = std::tan(theta_i), r_o = std::tan(theta_o);
+    const auto emitted = [&](double x, double y) {  // I/Φ · dω/(dx dy)
+      const double q2 = 1 + x * x + y * y, c = 1 / std::sqrt(q2);
+      double s = 0;
+      if (c >= ci) {
+        s = 1;
+      } else if (c > co) {
+        const double t = (c - co) / (ci - co);
+        s = t * t * (3 - 2 * t);
+      }
+      return peak * s / (q2 * std::sqrt(q2));
+    };
+    for (int j = 0; j < k.res; ++j)
+      for (int i = 0; i < k.res; ++i) {
+        const double x0 = v.x_lo(i), x1 = x0 + v.texel_size(), y0 = v.y_lo(j), y1 = y0 + v.texel_size();
+        const auto row = [&](double y) {
+          std::vector<double> xb;
+          for (const double r : {r_i, r_o})
+            if (std::fabs(y) < r) xb.insert(xb.end(), {-std::sqrt(r * r - y * y), std::sqrt(r * r - y * y)});
+          const auto f = [&](double x) { return emitted(x, y); };
+          return pieces([&](double a, double b) { return mapped(f, a, b, [](const auto& g) { return gauss<double, 20>::integrate(g, -1.0, 1.0); }); },
+                        x0, x1, xb);
+        };
+        const double expected = pieces(
+            [&](double a, double b) {
+              return mapped(row, a, b, [](const auto& g) { return gauss_kronrod<double, 15>::integrate(g, -1.0, 1.0, 10, 1e-11); });
+            },
+            y0, y1, {-r_o, -r_i, r_i, r_o});
+        const double got = texel_emission_fraction(l, v, i, j);
+        // 1e-11 of the texel's emission at the peak intensity, I0/Φ·Ω_texel (the code states 1e-12
+        // relative; measured 3e-14). A wrong band polynomial (t² for t³) moves band texels by
+        // 2–20 % of it.
+        const double scale = peak * image_rectangle_solid_angle(x0, x1, y0, y1);
+        worst = std::max(worst, std::fabs(got - expected) / scale);
+        EXPECT_NEAR(got, expected, 1e-11 * scale) << "cone " << k.cone << "°, falloff " << k.falloff << "°, res " << k.res
+                                                 << ", texel (" << i << ", " << j << ")";
+        const double r_min = std::hypot(std::clamp(0.0, x0, x1), std::clamp(0.0, y0, y1));
+        const double r_max = std::hypot(std::max(std::fabs(x0), std::fabs(x1)), std::max(std::fabs(y0), std::fabs(y1)));
+        if (r_max <= r_i) ++inside;
+        else if (r_min < r_i) ++across_inner;
+        else if (r_max <= r_o) ++band;
+        else if (r_min < r_o) ++across_outer;
+        else ++outside;
+      }
+  }
+  std::printf("[ measured ] worst |fraction − quadrature| / (I0/Φ·Ω_texel): %.3g; texels inside %d, across the inner edge %d, "
+              "in the band %d, across the outer edge %d, outside %d\n",
+              worst, inside, across_inner, band, across_outer, outside);
+  EXPECT_GT(inside, 20);
+  EXPECT_GT(across_inner, 20);
+  EXPECT_GT(band, 20);
+  EXPECT_GT(across_outer, 20);
+  EXPECT_GT(outside, 20);
 }
 
 TEST(Rsm, FluxOverAPlaneIsThePower) {

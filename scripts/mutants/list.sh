@@ -7,6 +7,9 @@
 #  - `if (!ok || i != s.size())` → `if (!ok)` in runner/parse_number.cpp: from_chars_checked refuses
 #    every text it does not consume whole, so a grammar that stops early is refused there (with
 #    the same message); NumberGrammar.RefusedTextsNameTheReason holds either way.
+# Replaced: sg-product-scale once changed the constant kProductScaleSharpness itself, which a
+# static_assert in core/render/src/simd/render_dispatch.cpp pins to its SIMD copy (the build
+# fails: no test runs); it now moves the switch of product_sharpness alone.
 
 # ---- core formulas and constants (core/include/sglab) -------------------------------------------
 mutant hill-c0 core/include/sglab/clamped_cosine.hpp 's#c0 = 0\.36;#c0 = 0.3636;#' \
@@ -15,15 +18,15 @@ mutant i0-switch-up core/include/sglab/asg.hpp 's#const V threshold = -log(V(eps
   asg_test registry_test
 mutant i0-switch-down core/include/sglab/asg.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -log(V(epsilon<T>())) / 10;#' \
   asg_test registry_test
-mutant cc-upper-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_upper_over_2pi(const T/,/return sum;/ s#value_of(l) < 1)#value_of(l) < 10)#' \
+mutant cc-upper-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_upper_over_2pi(const T/,/return sum;/ s#select(value_of(l) < 1,#select(value_of(l) < 10,#' \
   clamped_cosine_test
-mutant cc-lower-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_lower_over_2pi(const T/,/inner = sum;/ s#value_of(l) < 1)#value_of(l) < 10)#' \
+mutant cc-lower-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_lower_over_2pi(const T/,/return sum;/ s#select(value_of(l) < 1,#select(value_of(l) < 10,#' \
   clamped_cosine_test
-mutant t2022-alpha-switch core/include/sglab/clamped_cosine.hpp 's#if (abs(value_of(lambda)) < 0\.5)#if (abs(value_of(lambda)) < 0.0005)#' \
+mutant t2022-alpha-switch core/include/sglab/clamped_cosine.hpp 's#select(abs(value_of(lambda)) < 0\.5,#select(abs(value_of(lambda)) < 0.0005,#' \
   clamped_cosine_test
 mutant t2024-D-digits core/include/sglab/clamped_cosine.hpp 's#D = 15\.219156263147211;#D = 15.291156263147211;#' \
   clamped_cosine_test
-mutant t2024-large-switch core/include/sglab/clamped_cosine.hpp 's#if (value_of(l) > 1e4) return sqrt(l)#if (value_of(l) > 1e14) return sqrt(l)#' \
+mutant t2024-large-switch core/include/sglab/clamped_cosine.hpp 's#select(value_of(l) > 1e4,#select(value_of(l) > 1e14,#' \
   clamped_cosine_test hardening_test:HardeningNumerics.*
 mutant meder-offset core/include/sglab/clamped_cosine.hpp 's#offset = 31\.7003;#offset = 31.7030;#' \
   clamped_cosine_test hemispherical_test
@@ -33,7 +36,7 @@ mutant sg-integral-2l core/include/sglab/sg.hpp 's#one_minus_exp_neg(T(2) \* sha
   sg_test
 mutant sg-log-amplitude core/include/sglab/sg.hpp 's#return T(-2) \* sharpness1 \* sharpness2 \* (T(1) - c) / denom;#return T(-2) * sharpness1 * sharpness2 * (T(1.01) - c) / denom;#' \
   sg_test
-mutant sg-product-scale core/include/sglab/sg.hpp 's#kProductScaleSharpness = 1e18;#kProductScaleSharpness = 1e30;#' \
+mutant sg-product-scale core/include/sglab/sg.hpp '/^T product_sharpness(/,/^}/ s#value_of(s) > kProductScaleSharpness#value_of(s) > 1e30#' \
   sg_test hardening_test:HardeningNumerics.*
 mutant expm1-series core/include/sglab/scalar.hpp 's#return T(1) + x \* (T(0\.5) + x \* (T(1) / T(6) + x \* (T(1) / T(24))));#return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(12))));#' \
   sg_test clamped_cosine_test
@@ -123,3 +126,22 @@ mutant py-broadcast python/sglab_module.cpp 's#if (++idx\[d\] < shape\[d\]) brea
   build:sglab_python build:sglab 'ctest:^python_sglab$'
 mutant py-reference-flag python/sglab_module.cpp 's#py::arg("reference") = (m\.name == q\.reference_method)#py::arg("reference") = (m.name != q.reference_method)#' \
   build:sglab_python build:sglab 'ctest:^python_sglab$'
+
+# ---- code added since the list was first written: denoising, environment bases, shader export,
+# the own specular method -------------------------------------------------------------------------
+mutant denoise-box-footprint core/render/src/denoise.cpp 's#std::abs(d) == radius ? 0\.5 : 1\.0#std::abs(d) == radius ? 1.0 : 1.0#' \
+  denoise_test:DenoiseFilter.*
+mutant denoise-subset-weight core/render/src/denoise.cpp 's#const double weight = double(subsets);#const double weight = double(m);#' \
+  denoise_test:NoisyInput.Interleaved*
+mutant denoise-random-count core/render/src/denoise.cpp 's#1 / (double(count) \* sampler\.pdf\[i\] / sampler\.cdf\.back())#1 / (sampler.pdf[i] / sampler.cdf.back())#' \
+  denoise_test:NoisyInput.*
+mutant envmap-sh-diffuse-pi fit/envmap_basis.cpp 's#const double a = sh_clamped_cosine_band<double>(l) / M_PI;#const double a = sh_clamped_cosine_band<double>(l) / (2 * M_PI);#' \
+  envmap_bases_test:Sh.*
+mutant envmap-sg-fixed-sharpness fit/envmap_basis_sg_fixed.cpp 's#return 0\.5 \* n \* std::log(2\.0);#return n * std::log(2.0);#' \
+  envmap_bases_test:SgFixed.*
+mutant envmap-sg-product-2r fit/envmap_basis_sg_fixed.cpp 's#-std::expm1(-2 \* r) / r#-std::expm1(-r) / r#' \
+  envmap_bases_test:SgFixed.*
+mutant shader-expm1-switch shader/emit.cpp 's#if (abs(x) > 0\.5f) return exp(x) - 1\.0f;#if (abs(x) > 5.0f) return exp(x) - 1.0f;#' \
+  shader_export_test:ShaderExport.EveryMethod*
+mutant specular-sglab-t-power core/include/sglab/specular_sglab.hpp 's#T(-(T(0\.5) + inv_nu)#T(-(T(1) + inv_nu)#g' \
+  specular_sglab_test
