@@ -192,3 +192,36 @@ TEST(Sg, Expm1OverXOnBothSidesOfItsSeriesSwitchFloat) { expect_expm1_over_x_exac
 
 }  // namespace
 }  // namespace sglab
+
+// λ3 = ‖λ1ξ1 + λ2ξ2‖ = √((λ1 − λ2)² + 2λ1λ2(1 + c)) past the point where its squares overflow
+// (λ ≈ 1.8e19 in float, 1.3e154 in double): product_sharpness rescales by max(λ1, λ2) above
+// kProductScaleSharpness. On 4 points per decade from 1e15 to 1e38 (float), 1 to 1e300 (double), for
+// both sharpnesses and five cosines, against the formula in 50 digits: a switch moved up (to 1e30,
+// say) leaves float's squares overflowing to ∞ between 1.8e19 and the new switch. Bound 8 ε
+// (a square root of a few rounded products).
+template <class T>
+void expect_product_sharpness_exact_at_huge_sharpness() {
+  const double eps = std::numeric_limits<T>::epsilon();
+  const int top = sizeof(T) == 4 ? 38 : 300, per_decade = sizeof(T) == 4 ? 4 : 1;
+  double worst = 0;
+  for (const double l1 : test::log_grid(15, top, per_decade))
+    for (const double l2 : test::log_grid(15, top, per_decade))
+      for (const double c : {-1.0, -0.5, 0.0, 0.5, 1.0}) {
+        const T t1 = T(l1), t2 = T(l2), tc = T(c);
+        const mp50 m1(t1), m2(t2), mc(tc);
+        const mp50 exact = sqrt((m1 - m2) * (m1 - m2) + 2 * m1 * m2 * (1 + mc));
+        const T got = product_sharpness(t1, t2, tc);
+        ASSERT_TRUE(std::isfinite(static_cast<double>(got))) << "λ1 = " << l1 << ", λ2 = " << l2 << ", c = " << c;
+        if (exact == 0) {
+          EXPECT_EQ(got, T(0));
+          continue;
+        }
+        const double e = static_cast<double>(abs(mp50(got) / exact - 1));
+        EXPECT_LE(e, 8 * eps) << "λ1 = " << l1 << ", λ2 = " << l2 << ", c = " << c;
+        worst = std::max(worst, e);
+      }
+  std::printf("%s: product sharpness worst relative error %.2f ε\n", sizeof(T) == 4 ? "float" : "double", worst / eps);
+}
+
+TEST(Sg, ProductSharpnessAtHugeSharpnessesDouble) { expect_product_sharpness_exact_at_huge_sharpness<double>(); }
+TEST(Sg, ProductSharpnessAtHugeSharpnessesFloat) { expect_product_sharpness_exact_at_huge_sharpness<float>(); }
