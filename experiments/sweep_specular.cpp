@@ -112,16 +112,16 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
   };
   // A row read back must be at point k's grid point: its (α, λ, view_cos, f0), one of its light
   // positions with that position's (light_cos, light_azimuth), and a method the sweep measures.
-  d.check_row = [inputs, methods, f0 = g.f0](std::size_t k, const SweepRow& row) -> std::optional<std::string> {
+  d.check_row = [inputs, methods, f0 = g.f0](std::size_t k, const runner::SweepRow& row) -> std::optional<std::string> {
     if (row.size() != kColumns.size()) return fmt::format("{} fields, expected {}", row.size(), kColumns.size());
     const auto [alpha, lambda, v] = inputs(k);
     const std::array<double, 4> at{alpha, lambda, v, f0};
     for (std::size_t i = 0; i < at.size(); ++i)
-      if (row[i] != csv_number(at[i]))
-        return fmt::format("{} {} is not the grid point's {} (moved off the grid)", kColumns[i], quote(row[i]), csv_number(at[i]));
+      if (row[i] != runner::csv_number(at[i]))
+        return fmt::format("{} {} is not the grid point's {} (moved off the grid)", kColumns[i], quote(row[i]), runner::csv_number(at[i]));
     bool position = false;
     for (const auto& p : specular_light_positions(alpha, lambda, v))
-      position = position || (row[4] == p.name && row[5] == csv_number(p.light_cos) && row[6] == csv_number(p.light_azimuth));
+      position = position || (row[4] == p.name && row[5] == runner::csv_number(p.light_cos) && row[6] == runner::csv_number(p.light_azimuth));
     if (!position)
       return fmt::format("light position {} at light_cos {} light_azimuth {} is not one of the grid point's", quote(row[4]),
                          quote(row[5]), quote(row[6]));

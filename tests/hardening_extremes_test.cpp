@@ -106,7 +106,7 @@ TEST(HardeningExtremes, GroupG_SpecularReferenceMeetsTheLimit) {
 // by tanh-sinh (the ASG's line integral for ηx → ∞).
 mp50 line_integral_mp50(double eta_y, double lambda, double cosine) {
   const mp50 ey(eta_y), l(lambda), c(cosine);
-  const mp50 s = sqrt(1 - c * c);  // ξ = (s, 0, c) at azimuth 0: off the line by ξx = s
+  // ξ = (√(1 − c²), 0, c) at azimuth 0, off the line by its x component: ξ·ω(b) = c·cos b.
   boost::math::quadrature::tanh_sinh<mp50> ts;
   const mp50 half_pi = boost::math::constants::half_pi<mp50>();
   return ts.integrate([&](const mp50& b) { return cos(b) * exp(-ey * sin(b) * sin(b) + l * (c * cos(b) - 1)); }, -half_pi, half_pi);

@@ -84,7 +84,7 @@ TEST_F(HardeningLate, GroupH_OffGridRowsAreRefused) {
   text.replace(at, 5, "\n0,1.5,");  // point 0 is light.power = 1
   std::ofstream(csv, std::ios::binary) << text;
   nlohmann::json m = nlohmann::json::parse(read_file(manifest));
-  m["points_fnv1a"] = sglab::cli::fnv1a_hex(text);
+  m["points_fnv1a"] = sglab::runner::fnv1a_hex(text);
   std::ofstream(manifest) << m.dump();
   refused(sglab("merge --out merged shards"), "light.power '1.5' is not the grid point's 1", {"merged/t_points.csv", "merged/t_sweep.json"});
 
@@ -93,7 +93,7 @@ TEST_F(HardeningLate, GroupH_OffGridRowsAreRefused) {
   const auto label = at + 5, label_end = text.find(',', at + 5);
   text.replace(label, label_end - label, "three");
   std::ofstream(csv, std::ios::binary) << text;
-  m["points_fnv1a"] = sglab::cli::fnv1a_hex(text);
+  m["points_fnv1a"] = sglab::runner::fnv1a_hex(text);
   std::ofstream(manifest) << m.dump();
   refused(sglab("merge --out merged shards"), "VSGL configuration 'three'", {"merged/t_points.csv"});
 }
@@ -101,8 +101,8 @@ TEST_F(HardeningLate, GroupH_OffGridRowsAreRefused) {
 // H. The same check in the runner: a finished output whose row is off the grid (fingerprint
 // updated) is recomputed, not summarised; the specular sweep's rows are checked the same way.
 TEST_F(HardeningLate, GroupH_RunnerChecksRowsAgainstTheGrid) {
-  using sglab::cli::SweepDefinition;
-  using sglab::cli::SweepRow;
+  using sglab::runner::SweepDefinition;
+  using sglab::runner::SweepRow;
   SweepDefinition d;
   d.name = "toy";
   d.args = {"sweep", "toy"};
@@ -114,25 +114,25 @@ TEST_F(HardeningLate, GroupH_RunnerChecksRowsAgainstTheGrid) {
     if (row[0] != std::to_string(10 * k)) return "x '" + row[0] + "' is not the grid point's " + std::to_string(10 * k);
     return std::nullopt;
   };
-  const sglab::cli::SweepRunOptions o{.out_dir = path("run"), .threads = 1, .quiet = true};
-  auto r = sglab::cli::run_sweep(d, o);
+  const sglab::runner::SweepRunOptions o{.out_dir = path("run"), .threads = 1, .quiet = true};
+  auto r = sglab::runner::run_sweep(d, o);
   const std::string whole = read_file(r.points_csv);
   std::string text = whole;
   text.replace(text.find("\n3,30,"), 6, "\n3,35,");
   std::ofstream(r.points_csv, std::ios::binary) << text;
   nlohmann::json m = nlohmann::json::parse(read_file(r.manifest));
-  m["points_fnv1a"] = sglab::cli::fnv1a_hex(text);
+  m["points_fnv1a"] = sglab::runner::fnv1a_hex(text);
   std::ofstream(r.manifest) << m.dump();
   {
-    const sglab::cli::SummaryOnlyScope summary_only;
+    const sglab::runner::SummaryOnlyScope summary_only;
     try {
-      sglab::cli::run_sweep(d, o);
+      sglab::runner::run_sweep(d, o);
       ADD_FAILURE() << "an off-grid row was summarised";
     } catch (const sglab::cli::UsageError& e) {
       EXPECT_NE(std::string(e.what()).find("line 5: point 3: x '35' is not the grid point's 30"), std::string::npos) << e.what();
     }
   }
-  r = sglab::cli::run_sweep(d, o);
+  r = sglab::runner::run_sweep(d, o);
   EXPECT_EQ(r.computed, 6u);
   EXPECT_EQ(read_file(r.points_csv), whole);
 
