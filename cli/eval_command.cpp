@@ -184,8 +184,8 @@ std::vector<T> parse_arguments(const Quantity& q, const Method& method, const ru
       } catch (const runner::NumberError& e) {
         throw UsageError(fmt::format("{}: {}", where(j), e.what()));
       }
-      checked[j] = validation_double(args[r * k + j]);
-      if (method.evaluates_in_double && outside_double(args[r * k + j]))
+      checked[j] = runner::validation_double(args[r * k + j]);
+      if (method.evaluates_in_double && runner::outside_double(args[r * k + j]))
         throw UsageError(fmt::format("{}: is outside double's range, and method '{}' of '{}' evaluates in double", where(j),
                                      method.name, q.name));
     }

@@ -347,8 +347,8 @@ std::vector<std::string> eval_mp50(const std::string& quantity, const std::strin
   std::vector<double> checked(k);
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j = 0; j < k; ++j) {
-      checked[j] = cli::validation_double(args[i * k + j]);
-      if (m.evaluates_in_double && cli::outside_double(args[i * k + j]))
+      checked[j] = runner::validation_double(args[i * k + j]);
+      if (m.evaluates_in_double && runner::outside_double(args[i * k + j]))
         raise(Failure{Failure::input, i, fmt::format("is outside double's range, and method '{}' evaluates in double", m.name), j}, q, m,
               shape, values_at(i), "mp50");
     }
