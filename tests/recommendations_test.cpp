@@ -185,7 +185,8 @@ TEST_F(RecommendationsFromTables, BasisVerdictFromTheTable) {
       const std::string head = std::string(envs[e]) + "," + f.basis + "," + f.variant + "," + f.symbol + "," + std::to_string(f.size) + "," +
                                std::to_string(f.floats) + "," + std::to_string(f.seconds) + "," +
                                (e == 2 && f.size == 8 ? "3" : "0") + ",";
-      const std::string ns = "," + std::to_string(f.ns) + "\n";
+      std::string ns = ",";  // appended: GCC 12 -Wrestrict misfires on "," + std::string&& (PR 105651)
+      ns += std::to_string(f.ns) + "\n";
       const double engine = e == 0 && f.size == 4 && std::string(f.basis) == "sg-fixed" ? 0.4 : f.diffuse[e];
       csv += head + "diffuse,," + std::to_string(f.diffuse[e]) + ns;
       csv += head + "diffuse-engine,," + std::to_string(engine) + ns;

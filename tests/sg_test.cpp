@@ -190,9 +190,6 @@ void expect_expm1_over_x_exact() {
 TEST(Sg, Expm1OverXOnBothSidesOfItsSeriesSwitchDouble) { expect_expm1_over_x_exact<double>(); }
 TEST(Sg, Expm1OverXOnBothSidesOfItsSeriesSwitchFloat) { expect_expm1_over_x_exact<float>(); }
 
-}  // namespace
-}  // namespace sglab
-
 // λ3 = ‖λ1ξ1 + λ2ξ2‖ = √((λ1 − λ2)² + 2λ1λ2(1 + c)) past the point where its squares overflow
 // (λ ≈ 1.8e19 in float, 1.3e154 in double): product_sharpness rescales by max(λ1, λ2) above
 // kProductScaleSharpness. On 4 points per decade from 1e15 to 1e38 (float), 1 to 1e300 (double), for
@@ -225,3 +222,6 @@ void expect_product_sharpness_exact_at_huge_sharpness() {
 
 TEST(Sg, ProductSharpnessAtHugeSharpnessesDouble) { expect_product_sharpness_exact_at_huge_sharpness<double>(); }
 TEST(Sg, ProductSharpnessAtHugeSharpnessesFloat) { expect_product_sharpness_exact_at_huge_sharpness<float>(); }
+
+}  // namespace
+}  // namespace sglab
