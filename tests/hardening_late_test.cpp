@@ -114,7 +114,7 @@ TEST_F(HardeningLate, GroupH_RunnerChecksRowsAgainstTheGrid) {
     if (row[0] != std::to_string(10 * k)) return "x '" + row[0] + "' is not the grid point's " + std::to_string(10 * k);
     return std::nullopt;
   };
-  const sglab::runner::SweepRunOptions o{.out_dir = path("run"), .threads = 1, .quiet = true};
+  const sglab::runner::SweepRunOptions o{.out_dir = path("run"), .shard = {}, .threads = 1, .quiet = true};
   auto r = sglab::runner::run_sweep(d, o);
   const std::string whole = read_file(r.points_csv);
   std::string text = whole;
