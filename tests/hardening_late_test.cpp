@@ -34,15 +34,9 @@ namespace fs = std::filesystem;
 using sglab::test::CommandResult;
 using sglab::test::read_file;
 
-constexpr std::size_t kShortMessage = 1000;
 
 class HardeningLate : public sglab::test::TempDirTest {
  protected:
-  // Exit status 2, a short message holding `needle`, none of `outputs` written.
-  void refused(const CommandResult& r, const std::string& needle, const std::vector<std::string>& outputs = {}) const {
-    expect_bad_input(r, needle, needle, outputs);
-    EXPECT_LT(r.err.size(), kShortMessage) << r.err.substr(0, 2000);
-  }
   void write_map(const std::string& name, const sglab::EnvMap& map) const {
     std::ofstream(path(name), std::ios::binary) << sglab::render::encode_environment(map);
   }

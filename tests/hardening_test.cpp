@@ -52,7 +52,7 @@ struct Result {
 const std::string kScene = sglab::test::SmallScene{.light_direction = "[0, -1, -0.7]", .crate = false}.json();
 
 // The longest message any rejected case may print (before the limits, 50 MB of input gave 50 MB of message).
-constexpr std::size_t kShortMessage = 1000;
+using sglab::test::kShortMessage;
 
 class Hardening : public sglab::test::TempDirTest {
  protected:

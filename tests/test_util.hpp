@@ -111,6 +111,10 @@ struct CommandResult {
 };
 
 // A fixture with a fresh temporary directory dir_, removed after the test.
+// The longest message a refused case may print: the bounded messages of quote() and the message cap
+// (text_limits.hpp: 80-character quotes, 2,000 bytes at most) leave a one-error message well below it.
+inline constexpr std::size_t kShortMessage = 1000;
+
 class TempDirTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -144,6 +148,12 @@ class TempDirTest : public ::testing::Test {
     EXPECT_EQ(r.status, 2) << what << "\n" << r.err;
     EXPECT_NE(r.err.find(expected), std::string::npos) << what << "\n  stderr: " << r.err;
     for (const auto& o : outputs) EXPECT_FALSE(std::filesystem::exists(path(o))) << what << ": " << o;
+  }
+  // The hardening form: exit status 2, a message holding `needle` and shorter than kShortMessage,
+  // none of `outputs`.
+  void refused(const CommandResult& r, const std::string& needle, const std::vector<std::string>& outputs = {}) const {
+    expect_bad_input(r, needle, needle, outputs);
+    EXPECT_LT(r.err.size(), kShortMessage) << r.err.substr(0, 2000);
   }
 #ifdef SGLAB_EXE
   // `sglab ARGS` in dir_ (ARGS as shell words: quote paths).
