@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <future>
 #include <map>
@@ -163,8 +164,9 @@ std::map<int, fit::EnvFitResult> ceres_fits(const Options& a, const EnvMap& map)
 }
 
 // Layers (2) and (3) of one fit on one geometry, against the map's layer (1).
-GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixture, const EnvMap& recon, const Geometry& g,
-                       const MapShading& map, std::size_t gi) {
+// mix_s: layer (2)'s specular quadrature of the fit's texel means on this geometry, per roughness.
+GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixture, const std::vector<std::vector<render::Rgb>>& mix_specular,
+                       const Geometry& g, const MapShading& map, std::size_t gi) {
   GeometryRows rows;
   // Diffuse: layer 2 by the clamped-cosine reference per lobe, layer 3 per method.
   const auto mix_d = per_distinct_normal(g.image, [&](const auto& im) { return render::mixture_diffuse_reference(mixture, im); });
@@ -179,7 +181,7 @@ GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixtu
     ShadingRow row;
     row.roughness = a.roughness[ri];
     const auto& exact_map = map.specular[gi * a.roughness.size() + ri];
-    const auto mix_s = render::integrate_specular(recon, g.image, row.roughness, a.f0);
+    const auto& mix_s = mix_specular[ri];
     row.fit = render::shading_error(mix_s, exact_map, g.image);
     for (const auto& m : r.specular_methods) {
       const auto approx = render::mixture_specular_method(mixture, g.image, m, row.roughness, a.f0);
@@ -192,25 +194,57 @@ GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixtu
 
 bool shows_image(const Options& a, int n) { return n == 4 || n == 32 || n == 128 || n == a.lobes.back(); }
 
+// Whether two texel-mean maps are the same bytes (then every quadrature of them gives the same values).
+bool same_texels(const EnvMap& x, const EnvMap& y) {
+  return x.width == y.width && x.height == y.height && x.texels.size() == y.texels.size() &&
+         std::memcmp(x.texels.data(), y.texels.data(), x.texels.size() * sizeof(x.texels[0])) == 0;
+}
+
 // The shading of one environment's fits (layers (2) and (3) of every N, and the figure's images),
-// once its Ceres fits and the map's layer (1) are known.
+// once its Ceres fits and the map's layer (1) are known. Layer (2)'s specular quadrature (one GGX
+// evaluation per texel and pixel: most of the shading's time) reads only the fit's texel means, so
+// it is computed once per distinct texel means: a rung the ladder's guard kept (fit/envmap.hpp,
+// EnvFitResult::kept_lobes) has its predecessor's texel means, byte for byte, and reuses that
+// rung's quadrature — the same call on the same bytes, so the same values.
 void shade_environment(const Result& r, const LoadedEnv& env, const std::vector<Geometry>& geometries,
                        const std::map<int, fit::EnvFitResult>& fits, const MapShading& map, Environment& out) {
   const Options& a = r.options;
-  std::vector<EnvMap> images(a.lobes.size());
-  tbb::parallel_for(std::size_t(0), a.lobes.size(), [&](std::size_t k) {
+  const std::size_t counts = a.lobes.size(), G = geometries.size(), R = a.roughness.size();
+  std::vector<std::size_t> source(counts);  // the first count whose texel means are count k's
+  for (std::size_t k = 0; k < counts; ++k) {
     LobeCount& c = out.counts[k];
     c.lobes = a.lobes[k];
     c.ceres = fits.at(c.lobes);
-    std::fprintf(stderr, "envmap lobes: %s N = %d: ceres relative error %.4g in %.2f s (on %d×%d)\n", env.name.c_str(), c.lobes,
-                 c.ceres.error.relative, c.ceres.seconds, c.ceres.fit_width, c.ceres.fit_height);
-    const EnvMap& recon = c.ceres.texel_means;  // the mixture rasterized as its fit error saw it
-    if (shows_image(a, c.lobes)) images[k] = small_image(recon);
-    for (std::size_t gi = 0; gi < geometries.size(); ++gi)
-      c.geometries.push_back(shade_fit(a, r, c.ceres.mixture, recon, geometries[gi], map, gi));
+    source[k] = k;
+    for (std::size_t e = 0; e < k; ++e)
+      if (source[e] == e && same_texels(out.counts[e].ceres.texel_means, c.ceres.texel_means)) {
+        source[k] = e;
+        break;
+      }
+  }
+  // [count × geometry × roughness], filled for the counts that are their own source
+  std::vector<std::vector<render::Rgb>> mix_s(counts * G * R);
+  tbb::parallel_for(std::size_t(0), mix_s.size(), [&](std::size_t i) {
+    const std::size_t k = i / (G * R), gi = (i / R) % G, ri = i % R;
+    if (source[k] != k) return;
+    // the mixture rasterized as its fit error saw it
+    mix_s[i] = render::integrate_specular(out.counts[k].ceres.texel_means, geometries[gi].image, a.roughness[ri], a.f0);
+  });
+  std::vector<EnvMap> images(counts);
+  tbb::parallel_for(std::size_t(0), counts, [&](std::size_t k) {
+    LobeCount& c = out.counts[k];
+    std::fprintf(stderr, "envmap lobes: %s N = %d: ceres relative error %.4g in %.2f s (on %d×%d)%s\n", env.name.c_str(), c.lobes,
+                 c.ceres.error.relative, c.ceres.seconds, c.ceres.fit_width, c.ceres.fit_height,
+                 source[k] == k ? "" : " (texel means as N's before it: its specular quadrature reused)");
+    if (shows_image(a, c.lobes)) images[k] = small_image(c.ceres.texel_means);
+    for (std::size_t gi = 0; gi < G; ++gi) {
+      const auto first = mix_s.begin() + std::ptrdiff_t((source[k] * G + gi) * R);
+      const std::vector<std::vector<render::Rgb>> specular(first, first + std::ptrdiff_t(R));
+      c.geometries.push_back(shade_fit(a, r, c.ceres.mixture, specular, geometries[gi], map, gi));
+    }
   });
   out.images.push_back({0, small_image(env.map)});
-  for (std::size_t k = 0; k < a.lobes.size(); ++k)
+  for (std::size_t k = 0; k < counts; ++k)
     if (shows_image(a, a.lobes[k])) out.images.push_back({a.lobes[k], std::move(images[k])});
 }
 
