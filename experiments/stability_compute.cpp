@@ -1,12 +1,16 @@
 // The stability atlas as a whole (stability_atlas.hpp): the cases of the registry quantities,
 // each quantity's reference, and every method in float and double against it.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "stability_atlas.hpp"
 
@@ -175,7 +179,7 @@ Result compute(const Options& o, std::span<const Quantity> quantities) {
       throw std::invalid_argument("unknown quantity '" + name + "'");
   auto wanted = [&](const Quantity& q) { return o.only.empty() || std::find(o.only.begin(), o.only.end(), q.name) != o.only.end(); };
   std::vector<Case> cases = registry_cases(o.quick, quantities);
-  std::size_t total = 0, done = 0;
+  std::size_t total = 0;
   for (auto& c : cases) {
     // The constant set replaces the methods' published constants (each case holds a copy).
     for (auto& m : c.quantity.methods) m = bind(m, o.constants);
@@ -183,23 +187,42 @@ Result compute(const Options& o, std::span<const Quantity> quantities) {
   }
   Result result;
   result.rounding_rows = o.quick ? kRoundingRowsQuick : kRoundingRowsFull;
-  for (const Case& c : cases) {
-    const Quantity& q = c.quantity;
-    if (!wanted(q)) continue;
-    std::vector<double> reference;
-    std::vector<Evaluation> reference_evals;
+  // The quantities' references, then every (quantity, method) pair, each in parallel: every result
+  // is computed by the same calls as one at a time and stored in its place (the order of the tables
+  // is the registry's; only the progress lines come in the order the pairs finish). The grids'
+  // rows are parallel loops too, but a method's own serial parts (its rounding probe, a quadrature
+  // reference's 50-digit set-up) left one core idle when the pairs ran one after another.
+  std::vector<const Case*> todo;
+  for (const Case& c : cases)
+    if (wanted(c.quantity)) todo.push_back(&c);
+  std::vector<std::vector<double>> references(todo.size());
+  std::vector<std::vector<Evaluation>> reference_evals(todo.size());
+  tbb::parallel_for(std::size_t(0), todo.size(), [&](std::size_t i) {
+    const Quantity& q = todo[i]->quantity;
     if (const Method* ref = q.reference_method.empty() ? nullptr : q.find(q.reference_method))
-      reference = reference_values(c, *ref, reference_evals);
-    QuantityResult qr{q, c.grid, c.note, {}};
-    for (const Method& m : q.methods) {
-      const auto t0 = std::chrono::steady_clock::now();
-      qr.methods.push_back(compute_method(c, m, reference, reference_evals, o.quick));
-      const std::string& why = qr.methods.back().rounding_note;
-      std::fprintf(stderr, "stability [%zu/%zu] %s/%s: float and double in %.1f s%s\n", ++done, total, q.name.c_str(),
-                   m.name.c_str(), seconds_since(t0), why.empty() ? "" : (" (rounding not measured: " + why + ")").c_str());
-    }
-    result.quantities.push_back(std::move(qr));
+      references[i] = reference_values(*todo[i], *ref, reference_evals[i]);
+  });
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (case, method)
+  for (std::size_t i = 0; i < todo.size(); ++i) {
+    const Quantity& q = todo[i]->quantity;
+    result.quantities.push_back(QuantityResult{q, todo[i]->grid, todo[i]->note, {}});
+    result.quantities.back().methods.resize(q.methods.size());
+    for (std::size_t m = 0; m < q.methods.size(); ++m) pairs.emplace_back(i, m);
   }
+  std::atomic<std::size_t> finished{0};
+  std::mutex log;
+  tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
+    const auto [i, mi] = pairs[k];
+    const Case& c = *todo[i];
+    const Method& m = c.quantity.methods[mi];
+    const auto t0 = std::chrono::steady_clock::now();
+    MethodResult mr = compute_method(c, m, references[i], reference_evals[i], o.quick);
+    const std::string why = mr.rounding_note;
+    result.quantities[i].methods[mi] = std::move(mr);
+    const std::lock_guard guard(log);
+    std::fprintf(stderr, "stability [%zu/%zu] %s/%s: float and double in %.1f s%s\n", ++finished, total, c.quantity.name.c_str(),
+                 m.name.c_str(), seconds_since(t0), why.empty() ? "" : (" (rounding not measured: " + why + ")").c_str());
+  });
   result.seconds = seconds_since(t_start);
   return result;
 }
