@@ -261,6 +261,14 @@ BENCHMARK(BM_Shading)
     ->ArgNames({"fis", "count", "peer", "punctual", "float"})
     ->Unit(benchmark::kMillisecond);
 
+// The setting's VSGLs by modified FIS with `count` clusters.
+VsglSet fis_vsgls(const Setting& s, int count) {
+  VsglOptions vo;
+  vo.mode = VsglMode::fis;
+  vo.count = count;
+  return build_vsgls(s.rsm, vo);
+}
+
 // VSGL shading with visibility (`sglab render --visibility`), fis 64, cube maps of 64² per face:
 // range(0) = 1, the peer: the loop the renderer ran before (each point alone: its clusters' cube
 // map lookups, then VsglShader::shade of that one point); 0: the renderer's loop now (a row's
@@ -268,10 +276,7 @@ BENCHMARK(BM_Shading)
 // the (point, cluster) visibility as a mask). Both include the lookups; ns per pixel·lobe.
 void BM_ShadingVisibility(benchmark::State& state) {
   const Setting& s = setting();
-  VsglOptions vo;
-  vo.mode = VsglMode::fis;
-  vo.count = 64;
-  const VsglSet set = build_vsgls(s.rsm, vo);
+  const VsglSet set = fis_vsgls(s, 64);
   const std::vector<CubeShadowMap> maps = vsgl_shadow_maps(s.scene, set, 64);
   const VsglShader shader(set, shading_options("tokuyoshi2024"));
   const bool peer = state.range(0) == 1;
@@ -323,10 +328,7 @@ BENCHMARK(BM_ShadingVisibility)->Arg(1)->Arg(0)->ArgNames({"peer"})->Unit(benchm
 // timed. range(0): 0 = vsgl-asg (built in), 1 = asg, 2 = sg-warp, 3 = sglab (registry methods).
 void BM_SpecularMethod(benchmark::State& state) {
   const Setting& s = setting();
-  VsglOptions vo;
-  vo.mode = VsglMode::fis;
-  vo.count = 64;
-  const VsglSet set = build_vsgls(s.rsm, vo);
+  const VsglSet set = fis_vsgls(s, 64);
   static const char* const kNames[] = {"vsgl-asg", "asg", "sg-warp", "sglab"};
   const char* name = kNames[state.range(0)];
   ShadingOptions options = shading_options("punctual");
