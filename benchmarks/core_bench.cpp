@@ -246,7 +246,11 @@ int main(int argc, char** argv) {
     for (const auto& c : q.columns)
       core_kinds = core_kinds && (c.kind == sglab::ColumnKind::sharpness || c.kind == sglab::ColumnKind::cosine ||
                                   c.kind == sglab::ColumnKind::mean_length);
-    if (!core_kinds) continue;  // other modules time their own quantities
+    // Other modules time their own quantities; the specular methods are timed here too (the
+    // Python module's bench, benchmarks/python_eval_bench.py, compares against them), not their
+    // quadrature reference (0.02–2 s per evaluation).
+    const bool specular = q.name == "specular";
+    if (!core_kinds && !specular) continue;
     inputs.push_back(make_inputs(q));
     const auto& in = inputs.back();
     if (q.name == "clamped-cosine") {
@@ -254,6 +258,7 @@ int main(int argc, char** argv) {
       register_scalar<double>(in);
     }
     for (const auto& m : q.methods) {
+      if (specular && m.name == q.reference_method) continue;
       const std::size_t arity = q.columns.size();
       // The quadrature references are ~1e4× slower: fewer iterations keep the run short.
       const bool slow = (m.name == q.reference_method && q.reference_method == "reference");

@@ -8,7 +8,17 @@ wall time is shown beside it (the machine may be shared). That includes everythi
 column and domain checks of `sglab eval`, the batch call, the finiteness check of every result
 and allocating the output.
 C++: build/benchmarks/sglab_core_bench (the registry's batch evaluators on 4096 seeded points of
-the same ranges, no checks), run right after on the same CPUs.
+the same ranges, no checks), run right after on the same CPUs. The specular columns as the C++
+bench draws them: α log-uniform in [1e-2, 1], λ as above, light_cos in [−1, 1], view_cos and f0 in
+[0, 1], the azimuth over a turn.
+
+Each method twice: `sglab.eval(...)` (the default: bit for bit `sglab eval`, the SIMD methods row
+by row through their scalar definition) and `sglab.eval(..., vectorized=True)` (every method
+through its batch evaluator, the one the C++ column times). "overhead" = Python ns − C++ ns.
+The C++ batch runs on 4096 points that stay in cache; 1e6 points do not, so part of the overhead
+is memory traffic that any numpy call on these arrays pays. The "numpy floor" column measures it
+in the same run: numpy adding the method's columns into a new array (each column read once, one
+new array written: what `sglab.eval` must read and write at the least).
 
 Both are pinned to one CPU by default (--cpus 1), so that the ratio compares the same work: the
 module spreads large batches over all cores with TBB, the C++ batch is single-threaded. TBB sizes
@@ -26,12 +36,15 @@ import sys
 import time
 
 DEFAULT_METHODS = [
+    ("clamped-cosine", "sglab"),
     ("clamped-cosine", "tokuyoshi2024"),
     ("clamped-cosine", "tokuyoshi2022"),
     ("clamped-cosine", "meder"),
     ("clamped-cosine", "hill-fitted"),
     ("clamped-cosine", "punctual"),
     ("sg-integral", "exact"),
+    ("specular", "sg-warp"),
+    ("specular", "asg"),
 ]
 
 
@@ -60,21 +73,45 @@ def main() -> int:
     rng = np.random.default_rng(20261122)
     lam = 10 ** rng.uniform(-3, 4, n)
     cos = rng.uniform(-1, 1, n)
-    inputs = {np.float64: (lam, cos), np.float32: (lam.astype(np.float32), cos.astype(np.float32))}
-    columns = {"clamped-cosine": ("sharpness", "cosine"), "sg-integral": ("sharpness",)}
+    alpha = 10 ** rng.uniform(-2, 0, n)
+    view = rng.uniform(0, 1, n)
+    azimuth = rng.uniform(0, 2 * np.pi, n)
+    f0 = rng.uniform(0, 1, n)
+    base = (lam, cos, alpha, view, azimuth, f0)
+    inputs = {np.float64: base, np.float32: tuple(a.astype(np.float32) for a in base)}
+    columns = {"clamped-cosine": ("sharpness", "cosine"), "sg-integral": ("sharpness",),
+               "specular": ("roughness", "light_sharpness", "light_cos", "view_cos", "light_azimuth", "f0")}
+    picks = {"clamped-cosine": (0, 1), "sg-integral": (0,), "specular": (2, 0, 1, 3, 4, 5)}
 
+    def median_ns(f):
+        f()  # warm-up
+        cpu, wall = [], []
+        for _ in range(a.repeats):
+            t, w = time.process_time(), time.perf_counter()
+            f()
+            cpu.append(time.process_time() - t)
+            wall.append(time.perf_counter() - w)
+        return 1e9 * statistics.median(cpu) / n, 1e9 * statistics.median(wall) / n
+
+    def numpy_floor(cols):
+        if len(cols) == 1:
+            return np.negative(cols[0])
+        out = np.add(cols[0], cols[1])
+        for c in cols[2:]:
+            np.add(out, c, out=out)
+        return out
+
+    floor_ns = {}
     py_ns = {}
     for q, m in DEFAULT_METHODS:
         for dtype, precision in ((np.float32, "float"), (np.float64, "double")):
-            kw = dict(zip(columns[q], inputs[dtype]))
-            sglab.eval(q, m, **kw)  # warm-up
-            cpu, wall = [], []
-            for _ in range(a.repeats):
-                t, w = time.process_time(), time.perf_counter()
-                sglab.eval(q, m, **kw)
-                cpu.append(time.process_time() - t)
-                wall.append(time.perf_counter() - w)
-            py_ns[(q, m, precision)] = (1e9 * statistics.median(cpu) / n, 1e9 * statistics.median(wall) / n)
+            kw = dict(zip(columns[q], (inputs[dtype][i] for i in picks[q])))
+            if (q, precision) not in floor_ns:
+                cols = list(kw.values())
+                floor_ns[(q, precision)] = median_ns(lambda: numpy_floor(cols))[0]
+            for vectorized in (False, True):
+                extra = {"vectorized": True} if vectorized else {}
+                py_ns[(q, m, precision, vectorized)] = median_ns(lambda: sglab.eval(q, m, **kw, **extra))
 
     regex = "^(" + "|".join(f"{q}/{m}/(float|double)" for q, m in DEFAULT_METHODS) + ")$"
     run = subprocess.run([a.bench, f"--benchmark_filter={regex}", "--benchmark_format=json",
@@ -93,12 +130,12 @@ def main() -> int:
 
     print(f"# sglab.eval from Python ({n} points, median of {a.repeats}) against the C++ batch "
           f"(sglab_core_bench, median of 3), {'one CPU' if cpu_set else 'all CPUs'}")
-    print("| quantity | method | precision | Python ns/eval (CPU) | Python ns/eval (wall) | C++ batch ns/eval (CPU) | ratio (CPU) |")
-    print("|---|---|---|---|---|---|---|")
+    print("| quantity | method | precision | vectorized | Python ns/eval (CPU) | Python ns/eval (wall) | C++ batch ns/eval (CPU) | overhead ns/eval (CPU) | numpy floor ns/eval (CPU) | ratio (CPU) |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for key, (ns, wall_ns) in py_ns.items():
-        c = cpp_ns.get(key)
-        cpp = f"{c:.2f} | {ns / c:.2f}" if c else "- | -"
-        print(f"| {key[0]} | {key[1]} | {key[2]} | {ns:.2f} | {wall_ns:.2f} | {cpp} |")
+        c = cpp_ns.get(key[:3])
+        cpp = f"{c:.2f} | {ns - c:.2f} | {floor_ns[(key[0], key[2])]:.2f} | {ns / c:.2f}" if c else "- | - | - | -"
+        print(f"| {key[0]} | {key[1]} | {key[2]} | {'yes' if key[3] else 'no'} | {ns:.2f} | {wall_ns:.2f} | {cpp} |")
     return 0
 
 

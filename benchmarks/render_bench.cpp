@@ -17,6 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "peak.hpp"
+
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/render/material_brdf.hpp"
 #include "sglab/render/raycast.hpp"
@@ -24,7 +26,9 @@
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/scene.hpp"
 #include "sglab/render/vsgl_generation.hpp"
+#include "sglab/render/visibility.hpp"
 #include "sglab/render/vsgl_shading.hpp"
+#include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/vsgl.hpp"
 
 namespace {
@@ -83,6 +87,7 @@ Rgb old_shading(const ShadingPoint& p, const VsglSet& set, const D& method) {
 // ---- the setting -------------------------------------------------------------------------------
 
 struct Setting {
+  Scene scene;
   std::vector<ShadingPoint> points;
   std::size_t glossy_points = 0;
   ReflectiveShadowMap rsm;
@@ -94,8 +99,9 @@ const Setting& setting() {
     std::ifstream file(std::string(SGLAB_SOURCE_DIR) + "/scenes/cornell-glossy.json");
     std::stringstream text;
     text << file.rdbuf();
-    const Scene scene = parse_scene(parse_scene_text(text.str(), "cornell-glossy.json"));
     Setting out;
+    out.scene = parse_scene(parse_scene_text(text.str(), "cornell-glossy.json"));
+    const Scene& scene = out.scene;
     const GBuffer g = render_gbuffer(scene);
     for (std::size_t k = 0; k < g.points.size(); ++k)
       if (g.hit[k]) {
@@ -120,7 +126,45 @@ double relative_difference(const Rgb& a, const Rgb& b) {
   return worst;
 }
 
+// ---- the VPL sum's arithmetic bound ---------------------------------------------------------------
+// Operations per (pixel, VPL) term of render_kernels.hpp vpl_sum_terms, counted from its formula
+// with every receiver-only quantity hoisted out of the loop (the fewest the formula allows):
+//   the term itself: ω = (y − x)/|y − x| (3 sub, |·|² 5, 1 sqrt, 1 div, 3 mul), the two cosines
+//     (5 + 5), the Lambert factors (3 + 3 mul), 1/(d² + r²) (1 add, 1 div), the three channel
+//     sums e·q·k (9): 32 arithmetic, 2 div, 1 sqrt;
+//   a GGX layer (ggx_layer + Schlick): h = ω_o + ω_i (3), |h|² (5), 1 sqrt, 1 div, h·(1/|h|) (3),
+//     α² (1), n·h (5), the NDF's denominator (6), π·dn² (2) and 1 div, the two Smith roots
+//     (6 + 6, 2 sqrt), their sum (3), 1/(2·den) (1 mul, 1 div), D·V·cos (2), ω_o·h (5); Schlick's
+//     (1 − c)⁵ (4) and per channel f0 + (1 − f0)·m⁵ (3): with the VPL's layer, 48 + 13 + 3·3 (its
+//     flux products) = 70 arithmetic, 3 div, 3 sqrt; the receiver's (α², its own Smith root and
+//     1 − f0 hoisted) 48 − 7 + 4 + 3·2 + 3·2 = 57, 3 div, 2 sqrt.
+// Multiplies and adds run on the adders (no fused multiply-add: -ffp-contract=off); divisions
+// and square roots on the one divider. The bound per term is the larger of the two times at the
+// rates peak.hpp measures (the instruction set's widest vectors).
+struct TermOps {
+  double arithmetic, div, sqrt;
+};
+constexpr TermOps kTermOps[4] = {{32, 2, 1}, {32 + 57, 2 + 3, 1 + 2}, {32 + 70, 2 + 3, 1 + 3}, {32 + 70 + 57, 2 + 3 + 3, 1 + 3 + 2}};
+
+// The bound in ns for one term of kind k (2·glossy VPL + glossy receiver), in double or float.
+double term_bound_ns(int k, bool single, const sglab::bench::Rates& r) {
+  const TermOps o = kTermOps[k];
+  const double arithmetic = o.arithmetic / (single ? r.mul_add_f : r.mul_add);
+  const double divider = o.div / (single ? r.div_f : r.div) + o.sqrt / (single ? r.sqrt_f : r.sqrt);
+  return 1e9 * (arithmetic > divider ? arithmetic : divider);
+}
+
+const sglab::bench::Rates& peak_rates() {
+  static const sglab::bench::Rates r = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") ? sglab::bench::rates_avx512() : sglab::bench::rates_avx2();
+  }();
+  return r;
+}
+
 // peer = 1: the old loop; 0: the library; range(1) = 1: the library's float path (--precision float).
+// "bound_ns_per_pixel_vpl": the arithmetic bound above over the timed points' mix of terms (the
+// achieved/bound ratio is ns_per_pixel_vpl over it).
 void BM_Reference(benchmark::State& state) {
   const Setting& s = setting();
   const bool peer = state.range(0) == 1;
@@ -140,6 +184,19 @@ void BM_Reference(benchmark::State& state) {
   const double pairs = double(points) * double(s.vpls.vpls.size());
   state.counters["ns_per_pixel_vpl"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["vpls"] = double(s.vpls.vpls.size());
+  {
+    std::size_t glossy_vpls = 0, n = 0;
+    for (const Vpl& v : s.vpls.vpls) glossy_vpls += v.glossy() ? 1 : 0;
+    const double plain_vpls = double(s.vpls.vpls.size() - glossy_vpls);
+    double bound = 0;
+    for (std::size_t k = 0; k < s.points.size(); k += kPointStride, ++n) {
+      const int receiver = s.points[k].glossy() ? 1 : 0;
+      bound += plain_vpls * term_bound_ns(receiver, precision == Precision::single, peak_rates()) +
+               double(glossy_vpls) * term_bound_ns(2 + receiver, precision == Precision::single, peak_rates());
+    }
+    bound /= double(n) * double(s.vpls.vpls.size());
+    state.counters["bound_ns_per_pixel_vpl"] = bound;
+  }
   state.counters["max_rel_diff"] = worst;
   state.SetLabel(peer ? "peer: old one-VPL-at-a-time loop"
                       : (precision == Precision::single ? "sglab: vectorized arrays, float" : "sglab: vectorized arrays"));
@@ -203,6 +260,96 @@ BENCHMARK(BM_Shading)
     ->Args({1, 64, 0, 1, 0})
     ->ArgNames({"fis", "count", "peer", "punctual", "float"})
     ->Unit(benchmark::kMillisecond);
+
+// The setting's VSGLs by modified FIS with `count` clusters.
+VsglSet fis_vsgls(const Setting& s, int count) {
+  VsglOptions vo;
+  vo.mode = VsglMode::fis;
+  vo.count = count;
+  return build_vsgls(s.rsm, vo);
+}
+
+// VSGL shading with visibility (`sglab render --visibility`), fis 64, cube maps of 64² per face:
+// range(0) = 1, the peer: the loop the renderer ran before (each point alone: its clusters' cube
+// map lookups, then VsglShader::shade of that one point); 0: the renderer's loop now (a row's
+// points at once: the lookups one cluster's map at a time, then the points shaded in blocks with
+// the (point, cluster) visibility as a mask). Both include the lookups; ns per pixel·lobe.
+void BM_ShadingVisibility(benchmark::State& state) {
+  const Setting& s = setting();
+  const VsglSet set = fis_vsgls(s, 64);
+  const std::vector<CubeShadowMap> maps = vsgl_shadow_maps(s.scene, set, 64);
+  const VsglShader shader(set, shading_options("tokuyoshi2024"));
+  const bool peer = state.range(0) == 1;
+  std::vector<ShadingPoint> timed;
+  for (std::size_t k = 0; k < s.points.size(); k += kPointStride) timed.push_back(s.points[k]);
+  const std::size_t clusters = maps.size();
+  std::vector<VsglShading> shaded(timed.size());
+  std::vector<char> visible(timed.size() * clusters);
+  auto run = [&] {
+    if (peer) {
+      for (std::size_t i = 0; i < timed.size(); ++i) {
+        std::vector<char> v(clusters);
+        for (std::size_t c = 0; c < clusters; ++c) v[c] = maps[c].lit(timed[i].position, timed[i].normal) ? 1 : 0;
+        shaded[i] = shader.shade(timed[i], v);
+      }
+    } else {
+      for (std::size_t c = 0; c < clusters; ++c)
+        for (std::size_t i = 0; i < timed.size(); ++i)
+          visible[i * clusters + c] = maps[c].lit(timed[i].position, timed[i].normal) ? 1 : 0;
+      shader.shade(timed, visible, shaded);
+    }
+  };
+  std::size_t points = 0;
+  for (auto _ : state) {
+    run();
+    benchmark::DoNotOptimize(shaded.data());
+    points += timed.size();
+  }
+  // The two paths against each other on the points timed.
+  run();
+  const std::vector<VsglShading> mine = shaded;
+  double worst = 0;
+  for (std::size_t i = 0; i < timed.size(); ++i) {
+    std::vector<char> v(clusters);
+    for (std::size_t c = 0; c < clusters; ++c) v[c] = maps[c].lit(timed[i].position, timed[i].normal) ? 1 : 0;
+    worst = std::max(worst, relative_difference(shader.shade(timed[i], v).total(), mine[i].total()));
+  }
+  const double pairs = double(points) * double(shader.lobes());
+  state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["lobes"] = double(shader.lobes());
+  state.counters["max_rel_diff"] = worst;
+  state.SetLabel(peer ? "peer: one point at a time (lookups, then shade)" : "sglab: a row's lookups, then blocks with a mask");
+}
+BENCHMARK(BM_ShadingVisibility)->Arg(1)->Arg(0)->ArgNames({"peer"})->Unit(benchmark::kMillisecond);
+
+// The specular term by a registry method (`sglab render --specular METHOD`) against the built-in
+// vsgl-asg (the same ASG × SG formula as the registry's `asg`), fis 64, the diffuse part with
+// `punctual` (nearly free) so that the specular shading dominates; only the glossy points are
+// timed. range(0): 0 = vsgl-asg (built in), 1 = asg, 2 = sg-warp, 3 = sglab (registry methods).
+void BM_SpecularMethod(benchmark::State& state) {
+  const Setting& s = setting();
+  const VsglSet set = fis_vsgls(s, 64);
+  static const char* const kNames[] = {"vsgl-asg", "asg", "sg-warp", "sglab"};
+  const char* name = kNames[state.range(0)];
+  ShadingOptions options = shading_options("punctual");
+  options.specular_method = find_specular_method(name);
+  const VsglShader shader(set, options);
+  std::vector<ShadingPoint> timed;
+  for (std::size_t k = 0; k < s.points.size(); k += kPointStride / 4)
+    if (s.points[k].glossy()) timed.push_back(s.points[k]);
+  std::vector<VsglShading> shaded(timed.size());
+  std::size_t points = 0;
+  for (auto _ : state) {
+    shader.shade(timed, shaded);
+    benchmark::DoNotOptimize(shaded.data());
+    points += timed.size();
+  }
+  const double pairs = double(points) * double(shader.lobes());
+  state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["points"] = double(timed.size());
+  state.SetLabel(std::string("specular ") + name + (state.range(0) == 0 ? " (built in)" : " (registry batch)"));
+}
+BENCHMARK(BM_SpecularMethod)->DenseRange(0, 3)->ArgNames({"method"})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -40,6 +41,7 @@
 #include "sglab/render/vsgl_generation.hpp"
 #include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/simd.hpp"
 
 namespace py = pybind11;
 
@@ -213,39 +215,148 @@ std::optional<std::string> subnormal_error(T v) {
   return std::string("is out of the range of ") + (std::is_same_v<T, float> ? "float" : "double") + " (too close to zero: subnormal)";
 }
 
-// One chunk: gather, check every row (row_error), evaluate in one batch call, check every
-// result. Returns the chunk's first failure.
+// How each column is read: `step` bytes from one element to the next in C order when the column
+// is flat (C-contiguous: step = the item size; a broadcast scalar: step = 0), or through its
+// strides (step < 0: for_each_element).
+struct Layout {
+  std::vector<const char*> data;
+  std::vector<py::ssize_t> shape;
+  std::vector<std::vector<py::ssize_t>> strides;
+  std::vector<py::ssize_t> step;
+  bool flat = true;  // every column flat: the fast path of run_chunk
+};
+
+// The column's step in C order if it is flat, else −1.
+py::ssize_t flat_step(const std::vector<py::ssize_t>& shape, const std::vector<py::ssize_t>& strides, py::ssize_t itemsize) {
+  if (std::all_of(strides.begin(), strides.end(), [](py::ssize_t s) { return s == 0; })) return 0;
+  py::ssize_t expected = itemsize;
+  for (std::size_t d = shape.size(); d-- > 0;) {
+    if (shape[d] != 1 && strides[d] != expected) return -1;
+    expected *= shape[d];
+  }
+  return itemsize;
+}
+
+// Per thread, reused chunk after chunk: no allocation per chunk.
 template <class T>
-std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t begin, std::size_t end,
-                                 const std::vector<const char*>& data, const std::vector<py::ssize_t>& shape,
-                                 const std::vector<std::vector<py::ssize_t>>& strides, T* out) {
-  const std::size_t k = data.size(), len = end - begin;
-  std::vector<T> args(len * k);
-  std::optional<Failure> failure;
-  std::vector<double> checked(k);
-  for_each_element(begin, end, shape, strides, [&](std::size_t i, const std::vector<py::ssize_t>& offset) {
-    if (failure) return;
-    T* row = args.data() + (i - begin) * k;
+struct ChunkScratch {
+  std::vector<T> args;
+};
+
+// The per-row checks of a chunk as `sglab eval` applies them (subnormal, then row_error): the
+// first failure, or nullopt. `columns_ok`: the column checks are known to pass (column_chunk_ok),
+// only the method's domain is left.
+template <class T>
+std::optional<Failure> check_rows(const Quantity& q, const Method& m, std::size_t begin, std::size_t end,
+                                  std::span<const T> args, bool columns_ok) {
+  const std::size_t k = q.columns.size();
+  thread_local std::vector<double> checked;
+  checked.resize(k);
+  for (std::size_t i = begin; i < end; ++i) {
+    const T* row = args.data() + (i - begin) * k;
+    std::optional<Failure> failure;
     for (std::size_t j = 0; j < k; ++j) {
-      row[j] = *reinterpret_cast<const T*>(data[j] + offset[j]);
       checked[j] = static_cast<double>(row[j]);
+      if (columns_ok) continue;
       if (auto e = subnormal_error(row[j])) failure = Failure{Failure::input, i, std::move(*e), j};
     }
-    if (failure) return;
-    if (auto e = row_error(q, m, checked)) failure = Failure{Failure::input, i, std::move(e->message), e->column};
-  });
-  if (failure) return failure;
-  // One row at a time through the scalar definition, so that every value equals `sglab eval`'s to
-  // the last bit (the registry's vectorized batch evaluators may differ in the last bits).
-  for (std::size_t r = 0; r < len; ++r) {
-    try {
-      out[begin + r] = evaluator_of<T>(m)(std::span<const T>(args.data() + r * k, k));
-    } catch (const std::exception& e) {
-      return Failure{Failure::method_threw, begin + r, e.what(), std::nullopt};
+    if (failure) return failure;
+    if (columns_ok) {
+      if (m.domain_error)
+        if (auto e = m.domain_error(checked)) return Failure{Failure::input, i, std::move(*e), std::nullopt};
+    } else if (auto e = row_error(q, m, checked)) {
+      return Failure{Failure::input, i, std::move(e->message), e->column};
     }
   }
-  for (std::size_t r = 0; r < len; ++r)
-    if (!is_finite_value(out[begin + r])) return Failure{Failure::not_finite, begin + r, value_text(out[begin + r]), std::nullopt};
+  return std::nullopt;
+}
+
+// Whether every value of a flat column's chunk passes subnormal_error and column_value_error,
+// in one vectorizable pass: no NaN, infinity or subnormal, and the chunk's least and greatest
+// values in the column's domain. That suffices because every ColumnKind's domain is an interval
+// (column_value_error: [0, ∞), [−1 − slack, 1 + slack], [0, 1], (0, ∞), or every finite value).
+// (`omp simd`: -fopenmp-simd, no OpenMP run time. A NaN leaves lo and hi as they were, but sets
+// `bad`.)
+template <class T>
+bool column_chunk_ok(const Column& column, const T* v, std::size_t len) {
+  constexpr T kMax = std::numeric_limits<T>::max(), kMinNormal = std::numeric_limits<T>::min();
+  T lo = kMax, hi = -kMax;
+  int bad = 0;
+#pragma omp simd reduction(min : lo) reduction(max : hi) reduction(| : bad)
+  for (std::size_t i = 0; i < len; ++i) {
+    const T x = v[i], a = x < 0 ? -x : x;
+    bad |= (a <= kMax ? 0 : 1) | ((x != 0) & (a < kMinNormal) ? 1 : 0);
+    lo = x < lo ? x : lo;
+    hi = x > hi ? x : hi;
+  }
+  return !bad && !column_value_error(column, double(lo)) && !column_value_error(column, double(hi));
+}
+
+// One chunk: read the rows, check them, evaluate, check every result. Returns the chunk's first
+// failure. `batch`: through the method's batch evaluator (one call per chunk); otherwise row by
+// row through the scalar definition (Method::eval_*), which `sglab eval` calls.
+template <class T>
+std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t begin, std::size_t end, const Layout& l,
+                                 bool batch, T* out) {
+  const std::size_t k = l.data.size(), len = end - begin;
+  thread_local ChunkScratch<T> s;
+  std::span<const T> args;
+  if (l.flat) {
+    // One column read in place; several interleaved into the rows the evaluators take.
+    bool ok = true;
+    for (std::size_t j = 0; j < k && ok; ++j) {
+      const T* c = reinterpret_cast<const T*>(l.data[j]) + (l.step[j] ? begin : 0);
+      ok = column_chunk_ok(q.columns[j], c, l.step[j] ? len : 1);
+    }
+    if (k == 1 && l.step[0] != 0) {
+      args = std::span<const T>(reinterpret_cast<const T*>(l.data[0]) + begin, len);
+    } else {
+      s.args.resize(len * k);
+      for (std::size_t j = 0; j < k; ++j) {
+        const T* c = reinterpret_cast<const T*>(l.data[j]);
+        T* a = s.args.data() + j;
+        if (l.step[j] == 0)
+          for (std::size_t r = 0; r < len; ++r) a[r * k] = c[0];
+        else
+          for (std::size_t r = 0; r < len; ++r) a[r * k] = c[begin + r];
+      }
+      args = s.args;
+    }
+    // A failing chunk (or a method with a domain check) is checked row by row, in order.
+    if (!ok || m.domain_error)
+      if (auto f = check_rows<T>(q, m, begin, end, args, ok)) return f;
+  } else {
+    s.args.resize(len * k);
+    for_each_element(begin, end, l.shape, l.strides, [&](std::size_t i, const std::vector<py::ssize_t>& offset) {
+      for (std::size_t j = 0; j < k; ++j) s.args[(i - begin) * k + j] = *reinterpret_cast<const T*>(l.data[j] + offset[j]);
+    });
+    args = s.args;
+    if (auto f = check_rows<T>(q, m, begin, end, args, false)) return f;
+  }
+  bool evaluated = false;
+  if (batch) {
+    try {
+      batch_of<T>(m)(args, k, std::span<T>(out + begin, len));
+      evaluated = true;
+    } catch (const std::exception&) {
+      // Row by row below, to name the row that throws.
+    }
+  }
+  if (!evaluated)
+    for (std::size_t r = 0; r < len; ++r) {
+      try {
+        out[begin + r] = evaluator_of<T>(m)(args.subspan(r * k, k));
+      } catch (const std::exception& e) {
+        return Failure{Failure::method_threw, begin + r, e.what(), std::nullopt};
+      }
+    }
+  int not_finite = 0;
+  const T* o = out + begin;
+#pragma omp simd reduction(| : not_finite)
+  for (std::size_t r = 0; r < len; ++r) not_finite |= (o[r] < 0 ? -o[r] : o[r]) <= std::numeric_limits<T>::max() ? 0 : 1;
+  if (not_finite)
+    for (std::size_t r = 0; r < len; ++r)
+      if (!is_finite_value(out[begin + r])) return Failure{Failure::not_finite, begin + r, value_text(out[begin + r]), std::nullopt};
   return std::nullopt;
 }
 
@@ -262,10 +373,14 @@ std::vector<std::string> element_values(std::size_t flat, const std::vector<cons
 }
 
 // float32 or float64 arrays of one broadcast shape (the Python side broadcasts and casts) →
-// a new C-contiguous array of that shape and dtype.
+// a new C-contiguous array of that shape and dtype. `vectorized`: every method through its batch
+// evaluator (the registry's vectorized kernels for simd::vectorized_methods(), which may differ
+// from `sglab eval` in the last bits); otherwise those methods row by row through the scalar
+// definition, as `sglab eval` (the others' batch evaluator is that definition in a loop: the same
+// values, one call per chunk).
 template <class T>
 py::array_t<T> eval_numeric(const std::string& quantity, const std::string& method, const std::vector<py::array>& columns,
-                            const std::vector<std::string>& constants) {
+                            const std::vector<std::string>& constants, bool vectorized) {
   const Quantity& q = quantity_named(quantity);
   const Method bound = bound_method(method_named(q, method), constants);
   const Method& m = bound;
@@ -274,20 +389,23 @@ py::array_t<T> eval_numeric(const std::string& quantity, const std::string& meth
     throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry", m.name, q.name, precision));
   if (columns.size() != q.columns.size())
     throw py::value_error(fmt::format("quantity '{}' takes {} columns, got {}", q.name, q.columns.size(), columns.size()));
-  std::vector<py::ssize_t> shape;
-  std::vector<const char*> data;
-  std::vector<std::vector<py::ssize_t>> strides;
+  Layout l;
   for (std::size_t j = 0; j < columns.size(); ++j) {
     const py::array& a = columns[j];
     if (!py::isinstance<py::array_t<T>>(a))
       throw py::value_error(fmt::format("column '{}': expected {} values", q.columns[j].name, precision));
     const std::vector<py::ssize_t> s(a.shape(), a.shape() + a.ndim());
-    if (j == 0) shape = s;
-    else if (s != shape) throw py::value_error("columns must be broadcast to one shape first");
-    data.push_back(static_cast<const char*>(a.data()));
-    strides.emplace_back(a.strides(), a.strides() + a.ndim());
+    if (j == 0) l.shape = s;
+    else if (s != l.shape) throw py::value_error("columns must be broadcast to one shape first");
+    l.data.push_back(static_cast<const char*>(a.data()));
+    l.strides.emplace_back(a.strides(), a.strides() + a.ndim());
+    l.step.push_back(flat_step(l.shape, l.strides.back(), py::ssize_t(sizeof(T))));
+    l.flat = l.flat && l.step.back() >= 0;
   }
-  py::array_t<T> result(shape);
+  const std::string key = q.name + "/" + m.name;
+  const auto& simd_methods = simd::vectorized_methods();
+  const bool batch = vectorized || std::find(simd_methods.begin(), simd_methods.end(), key) == simd_methods.end();
+  py::array_t<T> result(l.shape);
   T* out = result.mutable_data();
   const std::size_t n = std::size_t(result.size());
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
@@ -296,11 +414,11 @@ py::array_t<T> eval_numeric(const std::string& quantity, const std::string& meth
     py::gil_scoped_release release;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const auto& range) {
       for (std::size_t c = range.begin(); c != range.end(); ++c)
-        failures[c] = run_chunk<T>(q, m, c * kChunk, std::min(n, (c + 1) * kChunk), data, shape, strides, out);
+        failures[c] = run_chunk<T>(q, m, c * kChunk, std::min(n, (c + 1) * kChunk), l, batch, out);
     });
   }
   for (const auto& f : failures)
-    if (f) raise(*f, q, m, shape, element_values<T>(f->index, data, shape, strides), precision);
+    if (f) raise(*f, q, m, l.shape, element_values<T>(f->index, l.data, l.shape, l.strides), precision);
   return result;
 }
 
@@ -482,9 +600,9 @@ PYBIND11_MODULE(_sglab, m) {
   m.def("quantities", &quantities_list);
   m.def("methods", &methods_list, py::arg("quantity"));
   m.def("eval_float", &eval_numeric<float>, py::arg("quantity"), py::arg("method"), py::arg("columns"),
-        py::arg("constants"));
+        py::arg("constants"), py::arg("vectorized"));
   m.def("eval_double", &eval_numeric<double>, py::arg("quantity"), py::arg("method"), py::arg("columns"),
-        py::arg("constants"));
+        py::arg("constants"), py::arg("vectorized"));
   m.def("eval_mp50", &eval_mp50, py::arg("quantity"), py::arg("method"), py::arg("columns"), py::arg("shape"),
         py::arg("constants"));
   m.def("fits", &fits_list);

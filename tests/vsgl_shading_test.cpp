@@ -7,6 +7,8 @@
 #include <numbers>
 #include <cstdio>
 #include <random>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -256,6 +258,43 @@ TEST(VsglShading, ManyPointsAtOnceEqualOneAtATime) {
   }
 }
 
+// Points shaded together, each with its own (point, cluster) visibility (the renderer's
+// --visibility path) against an independent form of the same thing: each point alone, shaded by a
+// set holding only the clusters it sees (so no mask at all). Random masks, seed printed.
+TEST(VsglShading, PerPointVisibilityEqualsTheVisibleClustersAlone) {
+  constexpr std::uint64_t kSeed = 20261202;
+  std::printf("PerPointVisibilityEqualsTheVisibleClustersAlone: seed %llu\n", static_cast<unsigned long long>(kSeed));
+  std::mt19937_64 rng(kSeed);
+  for (const bool glossy : {false, true}) {
+    const VsglSet set = build_vsgls(make_rsm({16, glossy, false, 21}), options(VsglMode::kmeans, 8));
+    for (const std::string& name : {std::string("tokuyoshi2024"), std::string("sg-cosine")}) {
+      const ShadingOptions o = shading_options(name);
+      const VsglShader shader(set, o);
+      const auto pts = receivers(glossy);
+      const std::size_t clusters = set.clusters.size();
+      ASSERT_EQ(shader.clusters(), clusters);
+      std::vector<char> visible(pts.size() * clusters);
+      for (auto& v : visible) v = char(rng() % 3 != 0);  // about a third hidden
+      std::vector<VsglShading> many(pts.size());
+      shader.shade(pts, visible, many);
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        VsglSet seen = set;
+        seen.clusters.clear();
+        for (std::size_t c = 0; c < clusters; ++c)
+          if (visible[i * clusters + c]) seen.clusters.push_back(set.clusters[c]);
+        const VsglShading alone = VsglShader(seen, o).shade(pts[i]);
+        EXPECT_LE(max_rel(many[i].diffuse, alone.diffuse), 1e-13) << name << " point " << i;
+        EXPECT_LE(max_rel(many[i].specular, alone.specular), 1e-13) << name << " point " << i;
+        // And the one-point form with the point's own visibility.
+        const VsglShading one =
+            shader.shade(pts[i], std::span<const char>(visible.data() + i * clusters, clusters));
+        EXPECT_LE(max_rel(many[i].total(), one.total()), 1e-13) << name << " point " << i;
+      }
+      // A visibility of the wrong size is refused.
+      EXPECT_THROW(shader.shade(pts, std::span<const char>(visible.data(), visible.size() - 1), many), std::invalid_argument);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sglab::render
-

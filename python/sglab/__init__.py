@@ -137,7 +137,7 @@ def _clip(text: str, limit: int = 80) -> str:
 
 
 def eval(quantity: str, method: str, *, precision: str | None = None, constants: Any = None,
-         **columns: Any) -> Any:
+         vectorized: bool = False, **columns: Any) -> Any:
     """Evaluate ``method`` of ``quantity`` on numpy arrays; the checks and results of ``sglab eval``.
 
     Columns are keyword arguments named after the quantity's columns (``sharpness=``, ``cosine=``,
@@ -155,8 +155,16 @@ def eval(quantity: str, method: str, *, precision: str | None = None, constants:
         prints (``float(s)`` or ``mpmath.mpf(s)`` reads them).
 
     Inputs whose dtype already matches are read in place through their strides (no copy, also
-    for broadcast and non-contiguous views); the batch loop runs with the GIL released, on all
-    cores.
+    for broadcast and non-contiguous views; float32 stays float32, evaluated in float); the batch
+    loop runs with the GIL released, on all cores. The column checks run once per chunk of
+    contiguous inputs (the chunk's extremes against the column's domain), not per value.
+
+    ``vectorized``: False (default): every value equals ``sglab eval``'s to the last bit (the
+    methods with a vectorized batch evaluator (docs/simd.md lists them) run row by row
+    through their scalar definition, as ``sglab eval`` does; the others through their batch
+    evaluator, the same definition). True: every method through its batch evaluator, the
+    registry's vectorized kernels where it has one (docs/simd.md: within a few ulp of the scalar
+    definition, not bit for bit); the checks and errors are the same. Ignored for "mp50".
 
     ``constants``: a constant set replacing the method's published constants (see ``methods()``:
     ``parameters``), as ``sglab eval --constants``: a fit record (the JSON of ``sglab fit NAME
@@ -177,8 +185,10 @@ def eval(quantity: str, method: str, *, precision: str | None = None, constants:
     """
     _check_name("quantity", quantity)
     _check_name("method", method)
+    if not isinstance(vectorized, bool):
+        raise ValueError(f"vectorized: expected True or False, got {_clip(repr(vectorized))}")
     with _ConstantSets(constants) as sets:
-        return _eval(quantity, method, precision, sets, columns)
+        return _eval(quantity, method, precision, sets, columns, vectorized)
 
 
 def _check_name(what: str, value: Any) -> None:
@@ -199,7 +209,8 @@ def _mp50_value(x: Any, name: str, index: int) -> Any:
     return str(int(x)) if isinstance(x, (int, np.integer)) else builtins.float(x)
 
 
-def _eval(quantity: str, method: str, precision: str | None, sets: list[str], columns: Mapping[str, Any]) -> Any:
+def _eval(quantity: str, method: str, precision: str | None, sets: list[str], columns: Mapping[str, Any],
+          vectorized: bool = False) -> Any:
     q = _quantity(quantity)
     names = [c["name"] for c in q["columns"]]
     missing = [n for n in names if n not in columns]
@@ -245,7 +256,7 @@ def _eval(quantity: str, method: str, precision: str | None, sets: list[str], co
         shapes = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
         raise ValueError(f"sglab.eval('{quantity}', '{method}'): the columns do not broadcast: {shapes}") from None
     native = _sglab.eval_float if dtype == np.float32 else _sglab.eval_double
-    out = native(quantity, method, arrays, sets)
+    out = native(quantity, method, arrays, sets, vectorized)
     return out[()] if out.ndim == 0 else out
 
 

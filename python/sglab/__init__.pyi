@@ -50,6 +50,7 @@ def eval(
     *,
     precision: Literal["float", "double", "mp50"] | None = None,
     constants: ConstantSet | Sequence[ConstantSet] | None = None,
+    vectorized: bool = False,
     **columns: npt.ArrayLike,
 ) -> np.ndarray | np.floating[Any] | str: ...
 def fits() -> list[FitInfo]: ...

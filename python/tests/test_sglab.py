@@ -192,6 +192,41 @@ def test_mp50_matches_cli(quantity_name, method):
         assert sglab.eval(quantity_name, method, precision="mp50", sharpness=2.5) == py[2]
 
 
+# ---- vectorized=True: the registry's SIMD batch evaluators ---------------------------------------
+
+@pytest.mark.parametrize("precision,dtype,rtol", [("float", np.float32, 2e-5), ("double", np.float64, 1e-12)])
+@pytest.mark.parametrize("quantity_name,method", [("clamped-cosine", "tokuyoshi2024"), ("clamped-cosine", "sglab"),
+                                                  ("specular", "sg-warp")])
+def test_vectorized_agrees_with_cli_to_rounding(quantity_name, method, precision, dtype, rtol):
+    """The SIMD kernels against `sglab eval` (the scalar definition, an independent code path):
+    equal to a few ulp relative to the grid's scale (docs/simd.md: not bit for bit)."""
+    grid = diffuse_error_grid() if quantity_name == "clamped-cosine" else specular_error_grid()
+    cols = {k: v.astype(dtype) for k, v in grid.items()}
+    py = sglab.eval(quantity_name, method, vectorized=True, **cols)
+    assert py.dtype == dtype
+    ref = np.array([float(t) for t in cli_eval(quantity_name, method, cols, precision)])
+    got = py.ravel().astype(np.float64)
+    scale = np.maximum(np.abs(ref), 1e-6 * np.max(np.abs(ref)))
+    worst = np.max(np.abs(got - ref) / scale)
+    assert worst <= rtol, f"{quantity_name}/{method} {precision}: largest relative difference {worst:.3g}"
+
+
+def test_vectorized_checks_and_strides():
+    """vectorized=True keeps every check (same message), reads broadcast and strided views, and
+    refuses anything but a bool."""
+    lam = np.array([0.5, 2.0, np.nan, 4.0])
+    with pytest.raises(ValueError, match=r"column 'sharpness', index 2, value nan"):
+        sglab.eval("clamped-cosine", "tokuyoshi2024", sharpness=lam, cosine=0.5, vectorized=True)
+    grid = np.logspace(-3, 4, 40)[::2]  # strided
+    c = np.linspace(-1, 1, 7)[:, None]  # broadcast
+    a = sglab.eval("clamped-cosine", "hill-fitted", sharpness=grid, cosine=c, vectorized=True)
+    b = sglab.eval("clamped-cosine", "hill-fitted", sharpness=np.ascontiguousarray(np.broadcast_to(grid, (7, 20))),
+                   cosine=np.ascontiguousarray(np.broadcast_to(c, (7, 20))), vectorized=True)
+    assert a.shape == (7, 20) and np.array_equal(a, b)
+    with pytest.raises(ValueError, match="vectorized"):
+        sglab.eval("clamped-cosine", "tokuyoshi2024", sharpness=1.0, cosine=0.5, vectorized="yes")
+
+
 def test_closed_form_sg_integral():
     lam = np.logspace(-3, 4, 50)
     exact = 2 * np.pi * -np.expm1(-2 * lam) / lam

@@ -93,21 +93,17 @@ void check_render_options(const RenderOptions& o, const std::vector<VsglOptions>
 
 // Every hit pixel shaded by the VSGLs into v.indirect.
 void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, const VsglShader& shader, RenderResult& v) {
-  if (o.visibility) {
-    const std::vector<CubeShadowMap> maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
-    for_each_pixel(g, "vsgl shading", o, [&](std::size_t k) {
-      std::vector<char> visible(maps.size());
-      for (std::size_t c = 0; c < maps.size(); ++c) visible[c] = maps[c].lit(g.points[k].position, g.points[k].normal) ? 1 : 0;
-      v.indirect[k] = shader.shade(g.points[k], visible).total();
-    });
-    return;
-  }
+  std::vector<CubeShadowMap> maps;
+  if (o.visibility) maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
   // A row's hit pixels at once, so that the diffuse method runs on wide batches (per-thread
-  // arrays, reused row after row).
+  // arrays, reused row after row); with visibility, the row's shadow-map lookups first, one
+  // cluster's cube map at a time over the row's points, then the row shaded in blocks with its
+  // (point, cluster) visibility as a mask.
   for_each_row(g, "vsgl shading", o, [&](int j) {
     thread_local std::vector<ShadingPoint> points;
     thread_local std::vector<std::size_t> pixels;
     thread_local std::vector<VsglShading> shaded;
+    thread_local std::vector<char> visible;
     points.clear();
     pixels.clear();
     for (int i = 0; i < g.width; ++i) {
@@ -118,7 +114,16 @@ void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, c
       }
     }
     shaded.resize(points.size());
-    shader.shade(points, shaded);
+    if (o.visibility) {
+      const std::size_t clusters = maps.size();
+      visible.resize(points.size() * clusters);
+      for (std::size_t c = 0; c < clusters; ++c)
+        for (std::size_t i = 0; i < points.size(); ++i)
+          visible[i * clusters + c] = maps[c].lit(points[i].position, points[i].normal) ? 1 : 0;
+      shader.shade(points, visible, shaded);
+    } else {
+      shader.shade(points, shaded);
+    }
     for (std::size_t i = 0; i < pixels.size(); ++i) v.indirect[pixels[i]] = shaded[i].total();
   });
 }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/vsgl.hpp"
@@ -50,7 +51,6 @@ simd_detail::LobeView view_of(const LobeArrays& a) {
   v.log_two_pi_variance = a.log_two_pi_variance.data();
   v.ax = a.ax.data(), v.ay = a.ay.data(), v.az = a.az.data(), v.sharpness = a.sharpness.data();
   v.amp_r = a.amp_r.data(), v.amp_g = a.amp_g.data(), v.amp_b = a.amp_b.data();
-  v.visible = nullptr;
   return v;
 }
 
@@ -61,6 +61,7 @@ const double kDirectLimit = std::log(std::numeric_limits<double>::max()) / 2;
 
 struct VsglShader::Data {
   LobeArrays lobes;
+  std::size_t clusters = 0;  // of the set (the visibility's stride per point)
   Method diffuse;          // bound where needed
   bool floor_sharpness = false;
   double diffuse_factor = 1;  // sg-cosine with A(λ_d) ≈ π
@@ -70,6 +71,7 @@ struct VsglShader::Data {
 VsglShader::VsglShader(VsglShader&&) noexcept = default;
 VsglShader::~VsglShader() = default;
 std::size_t VsglShader::lobes() const { return data_->lobes.size(); }
+std::size_t VsglShader::clusters() const { return data_->clusters; }
 
 VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std::make_unique<Data>()) {
   Data& d = *data_;
@@ -90,6 +92,7 @@ VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std:
   if (o.sg_cosine_a_is_pi && method.name == "sg-cosine") d.diffuse_factor = sg_integral(set.lambda_d) / pi<double>();
 
   LobeArrays& a = d.lobes;
+  d.clusters = set.clusters.size();
   auto add = [&](const VsglCluster& c, std::size_t k, const VsglLobe& lobe) {
     a.mx.push_back(c.mean.x());
     a.my.push_back(c.mean.y());
@@ -115,20 +118,31 @@ VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std:
 }
 
 VsglShading VsglShader::shade(const ShadingPoint& p, std::span<const char> visible) const {
+  if (!visible.empty() && visible.size() != clusters())
+    throw std::invalid_argument("VsglShader::shade: visible has " + std::to_string(visible.size()) + " entries, not one per cluster (" +
+                                std::to_string(clusters()) + ")");
   VsglShading out;
   shade_block(std::span<const ShadingPoint>(&p, 1), visible, std::span<VsglShading>(&out, 1));
   return out;
 }
 
 void VsglShader::shade(std::span<const ShadingPoint> points, std::span<VsglShading> out) const {
+  shade(points, {}, out);
+}
+
+void VsglShader::shade(std::span<const ShadingPoint> points, std::span<const char> visible, std::span<VsglShading> out) const {
   if (out.size() != points.size()) throw std::invalid_argument("VsglShader::shade: points and out differ in size");
+  if (!visible.empty() && visible.size() != points.size() * clusters())
+    throw std::invalid_argument("VsglShader::shade: visible has " + std::to_string(visible.size()) +
+                                " entries, not points × clusters (" + std::to_string(points.size() * clusters()) + ")");
   // Blocks of points whose lobes make batches of about kRows rows (few lobes: many points), a
   // multiple of kLanes points (the loops run over a block's points: no scalar remainder).
   constexpr std::size_t kRows = 4096, kLanes = 16;
   const std::size_t per_block = std::max(kLanes, kRows / std::max<std::size_t>(1, lobes()) / kLanes * kLanes);
   for (std::size_t b = 0; b < points.size(); b += per_block) {
     const std::size_t m = std::min(per_block, points.size() - b);
-    shade_block(points.subspan(b, m), {}, out.subspan(b, m));
+    shade_block(points.subspan(b, m), visible.empty() ? visible : visible.subspan(b * clusters(), m * clusters()),
+                out.subspan(b, m));
   }
 }
 
@@ -174,8 +188,8 @@ struct Receivers {
 
 // Per thread, reused: no allocation per block once the arrays have grown.
 struct Scratch {
-  std::vector<double> px, py, pz, nx, ny, nz, diffuse, visible;  // per point; visible: per lobe
-  std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2, capped, mask, fallback;  // per row
+  std::vector<double> px, py, pz, nx, ny, nz, diffuse;  // per point
+  std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2, capped, mask, fallback, visible;  // per row
   std::vector<double> args_double, value_double;
   std::vector<float> args_float, value_float;
   std::vector<double> sum_r, sum_g, sum_b;  // per point (or per glossy point)
@@ -183,11 +197,10 @@ struct Scratch {
   std::vector<double> spec_fallback;        // per (lobe, glossy point)
   // The incoming SGs point-major, for a registry specular method (vsgl_specular_methods.hpp).
   std::vector<double> by_point_xi_x, by_point_xi_y, by_point_xi_z, by_point_sharpness, by_point_log_scale;
-  void resize(std::size_t points, std::size_t rows, std::size_t lobes, bool single) {
+  void resize(std::size_t points, std::size_t rows, bool single) {
     for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &diffuse, &sum_r, &sum_g, &sum_b}) v->resize(points);
-    for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped, &mask, &fallback})
+    for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped, &mask, &fallback, &visible})
       v->resize(rows);
-    visible.resize(lobes);
     if (single) {
       args_float.resize(2 * rows);
       value_float.resize(rows);
@@ -203,7 +216,8 @@ struct Scratch {
 struct BlockPass {
   const LobeArrays& a;
   std::span<const ShadingPoint> points;
-  std::span<const char> visible;  // per cluster, or empty: all visible
+  std::span<const char> visible;  // visible[i·clusters + c] for point i, cluster c; empty: all visible
+  std::size_t clusters;
   std::span<VsglShading> out;
   Scratch& s;
   const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
@@ -215,7 +229,7 @@ struct BlockPass {
 
   // The block's points as arrays, and the lobes' visibility.
   void prepare(bool single) {
-    s.resize(m, rows, n, single);
+    s.resize(m, rows, single);
     for (std::size_t i = 0; i < m; ++i) {
       const ShadingPoint& p = points[i];
       s.px[i] = p.position.x(), s.py[i] = p.position.y(), s.pz[i] = p.position.z();
@@ -224,13 +238,18 @@ struct BlockPass {
       s.diffuse[i] = diffuse_receiver ? 1.0 : 0.0;
       any_diffuse = any_diffuse || diffuse_receiver;
     }
-    if (!visible.empty()) {
-      for (std::size_t j = 0; j < n; ++j) s.visible[j] = visible[a.cluster[j]] ? 1.0 : 0.0;
-      lobes.visible = s.visible.data();
+    if (visible.empty()) {
+      std::fill(s.visible.begin(), s.visible.begin() + std::ptrdiff_t(rows), 1.0);
+    } else {
+      for (std::size_t j = 0; j < n; ++j) {
+        const std::size_t c = a.cluster[j];
+        double* row = s.visible.data() + j * m;
+        for (std::size_t i = 0; i < m; ++i) row[i] = visible[i * clusters + c] ? 1.0 : 0.0;
+      }
     }
     block = {m, s.px.data(), s.py.data(), s.pz.data(), s.nx.data(), s.ny.data(), s.nz.data(), s.diffuse.data()};
     in = {s.sharpness.data(), s.cosine.data(), s.log_scale.data(), s.xi_x.data(), s.xi_y.data(),
-          s.xi_z.data(),      s.d2.data(),     s.capped.data(),    s.mask.data()};
+          s.xi_z.data(),      s.d2.data(),     s.capped.data(),    s.mask.data(),  s.visible.data()};
   }
 
   // The incoming SG of every (lobe, point), row j·m + i, and the diffuse method's rows (λ, c).
@@ -281,8 +300,7 @@ struct BlockPass {
         s.by_point_log_scale[to] = s.log_scale[from];
       }
     const auto active = [&](std::size_t r) {
-      return s.by_point_log_scale[r] > -std::numeric_limits<double>::infinity() &&
-             (visible.empty() || visible[a.cluster[r % n]]);
+      return s.by_point_log_scale[r] > -std::numeric_limits<double>::infinity() && s.visible[(r % n) * m + r / n] != 0;
     };
     shade_specular_with_method(method, points, n,
                                {s.by_point_xi_x.data(), s.by_point_xi_y.data(), s.by_point_xi_z.data(),
@@ -335,7 +353,7 @@ void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<con
   if (d.lobes.size() == 0 || points.empty()) return;
   const bool single = d.options.precision == Precision::single;
   thread_local Scratch scratch;
-  BlockPass pass{d.lobes, points, visible, out, scratch};
+  BlockPass pass{d.lobes, points, visible, d.clusters, out, scratch};
   pass.prepare(single);
   pass.incoming(single, d.floor_sharpness);
   if (pass.any_diffuse) pass.diffuse(d.diffuse, d.diffuse_factor, single);

@@ -244,7 +244,6 @@ std::size_t incoming(const LobeView& a, const PointBlock& b, double sharpness_fl
     const double variance = a.variance[j], log_two_pi_variance = a.log_two_pi_variance[j];
     const double mx = a.mx[j], my = a.my[j], mz = a.mz[j], l1 = a.sharpness[j];
     const double a1x = -a.ax[j], a1y = -a.ay[j], a1z = -a.az[j];
-    const double visible = a.visible ? a.visible[j] : 1.0;
     // sg_product's rescaling past kProductScale by s = max(λ_v, λ_σ): λ_σ ≤ kCap < kProductScale,
     // so it is needed exactly when λ_v > kProductScale, and s = λ_v.
     static_assert(kCap < kProductScale);
@@ -253,6 +252,7 @@ std::size_t incoming(const LobeView& a, const PointBlock& b, double sharpness_fl
     double *lam = out.sharpness + r0, *cosine = out.cosine + r0, *ls = out.log_scale + r0, *xx = out.xi_x + r0,
            *xy = out.xi_y + r0, *xz = out.xi_z + r0, *dd = out.d2 + r0, *capped = out.capped + r0,
            *mask = out.mask + r0;
+    const double* visible = out.visible + r0;
     T* arg = args + 2 * r0;
     std::size_t count = 0;
 #pragma omp simd reduction(+ : count)
@@ -293,7 +293,7 @@ std::size_t incoming(const LobeView& a, const PointBlock& b, double sharpness_fl
       capped[i] = cap_flag;
       count += cap_flag > 0 ? 1 : 0;
       // The diffuse method's row.
-      const double on = pd[i] * visible * (1 - empty);
+      const double on = pd[i] * visible[i] * (1 - empty);
       const double l = l3 > sharpness_floor ? l3 : sharpness_floor;
       arg[2 * i] = on > 0 ? T(l) : T(1);
       arg[2 * i + 1] = on > 0 ? T(c) : T(0);
@@ -439,16 +439,15 @@ std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows,
     for (std::size_t g = 0; g < gn; ++g) out_r[g] = out_g[g] = out_b[g] = 0;
     for (std::size_t j = 0; j < n; ++j) {
       const double ar = a.amp_r[j], ag = a.amp_g[j], ab = a.amp_b[j];
-      const double visible = a.visible ? a.visible[j] : 1.0;
       const std::size_t r0 = j * m;
       const double *lam = rows.sharpness + r0, *lsj = rows.log_scale + r0, *ix = rows.xi_x + r0,
-                   *iy = rows.xi_y + r0, *iz = rows.xi_z + r0;
+                   *iy = rows.xi_y + r0, *iz = rows.xi_z + r0, *vj = rows.visible + r0;
       double* fj = fallback + j * gn;
       std::size_t count = 0;
 #pragma omp simd reduction(+ : count)
       for (std::size_t g = 0; g < gn; ++g) {
         const std::size_t i = p.point[g];
-        const SpecularTerm t = specular_term(p, g, lsj[i], lam[i], ix[i], iy[i], iz[i], visible, direct_limit);
+        const SpecularTerm t = specular_term(p, g, lsj[i], lam[i], ix[i], iy[i], iz[i], vj[i], direct_limit);
         fj[g] = t.fallback;
         count += t.fallback > 0 ? 1 : 0;
         out_r[g] += ar * t.r;
@@ -460,7 +459,7 @@ std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows,
     return fallbacks;
   }
   const double *lsr = rows.log_scale, *lam = rows.sharpness, *ix = rows.xi_x, *iy = rows.xi_y, *iz = rows.xi_z,
-               *vis = a.visible, *amp_r = a.amp_r, *amp_g = a.amp_g, *amp_b = a.amp_b;
+               *vis = rows.visible, *amp_r = a.amp_r, *amp_g = a.amp_g, *amp_b = a.amp_b;
   for (std::size_t g = 0; g < gn; ++g) {
     const std::size_t i = p.point[g];
     double* fg = fallback + g * n;
@@ -470,7 +469,7 @@ std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows,
     for (std::size_t j = 0; j < n; ++j) {
       const std::size_t r = j * m + i;
       const SpecularTerm t =
-          specular_term(p, g, lsr[r], lam[r], ix[r], iy[r], iz[r], vis ? vis[j] : 1.0, direct_limit);
+          specular_term(p, g, lsr[r], lam[r], ix[r], iy[r], iz[r], vis[r], direct_limit);
       fg[j] = t.fallback;
       count += t.fallback > 0 ? 1 : 0;
       s0 += amp_r[j] * t.r;

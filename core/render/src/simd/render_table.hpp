@@ -69,7 +69,6 @@ using VisibilityFn = void (*)(const VplView<double>& vpls, const double* p, cons
 struct LobeView {
   std::size_t n = 0;
   const double *mx, *my, *mz, *variance, *log_two_pi_variance, *ax, *ay, *az, *sharpness, *amp_r, *amp_g, *amp_b;
-  const double* visible;  // per lobe 0 or 1 (the lobe's cluster is visible), or nullptr: all
 };
 
 // A block of m shading points as arrays.
@@ -79,9 +78,12 @@ struct PointBlock {
   const double* diffuse;  // 1: the point reflects diffuse light
 };
 
-// Per (lobe j, point i), row j·m + i: the incoming SG and its cosine with the normal.
+// Per (lobe j, point i), row j·m + i: the incoming SG and its cosine with the normal, and (read
+// only) `visible`: 1 where the lobe's cluster is visible from the point, else 0 (V(y_p, μ_v),
+// visibility.hpp; all 1 without visibility).
 struct IncomingRows {
   double *sharpness, *cosine, *log_scale, *xi_x, *xi_y, *xi_z, *d2, *capped, *mask;
+  const double* visible;
 };
 
 // The incoming SGs of every (lobe, point) row, and the diffuse method's argument rows (λ, c)
@@ -113,7 +115,7 @@ struct SpecularReceivers {
 // out_{r,g,b}[g] = Σ_j amp_j · (at_f0_zero + f0·(at_f0_one − at_f0_zero)) of vsgl.hpp's
 // vsgl_specular for every lobe j (mask: its cluster visible and log_scale > −∞) and glossy point g
 // (in lobe order, or partly in vector lanes when there are more lobes than glossy points: the same
-// to rounding). Rows whose exponent is outside the vectorized exponential's range get fallback = 1
+// to rounding). The mask's visibility is rows.visible. Rows whose exponent is outside the vectorized exponential's range get fallback = 1
 // (returned: how many; at j·count + g if count ≥ lobes, else at g·lobes + j) and are left to the
 // caller.
 using SpecularFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const IncomingRows& rows,

@@ -104,9 +104,15 @@ class VsglShader {
   // Many points at once (every cluster visible): out[i] for points[i]. The diffuse method is then
   // called on batches of (point, lobe) rows, wide even for a few lobes.
   void shade(std::span<const ShadingPoint> points, std::span<VsglShading> out) const;
+  // Many points, each with its own visibility: visible[i·clusters() + c] for points[i] and the
+  // set's cluster c (0: V(y_p, μ_v) = 0). The same blocks and the same arithmetic as without
+  // visibility, the hidden (lobe, point) rows masked to 0.
+  void shade(std::span<const ShadingPoint> points, std::span<const char> visible, std::span<VsglShading> out) const;
   std::size_t lobes() const;
+  std::size_t clusters() const;
 
  private:
+  // visible: empty (all visible) or visible[i·clusters() + c] for points[i].
   void shade_block(std::span<const ShadingPoint> points, std::span<const char> visible, std::span<VsglShading> out) const;
   struct Data;
   std::unique_ptr<Data> data_;
