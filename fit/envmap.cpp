@@ -664,9 +664,10 @@ EnvFitResult fit_envmap_ceres_unscaled(const EnvMap& map, const EnvFitOptions& o
 // iteration) is at most kEmBudget. EM needs no Jacobian, so the dense-Jacobian budget of the
 // Ceres start (kDenseBudget) is not its cost: under it the 128 × 64 sky moved to 64 × 32 at N = 64,
 // where a sun is below a texel and its lobe's κ is capped by that level's texel (max_sharpness),
-// and the full-map error rose from 0.25 to 0.62. 2^21 keeps a 128 × 64 map whole up to N = 256 and
-// bounds one iteration to ~2e6 exponentials (200 iterations: ~0.4e9) on any map.
-constexpr double kEmBudget = 2097152;
+// and the full-map error rose from 0.25 to 0.62. 2^20 keeps a 128 × 64 map whole up to N = 128 and
+// bounds one iteration to ~1e6 exponentials (200 iterations: ~2e8) on any map, 3.7 × the old
+// bound's 3 × 7 × T × N ≤ 6e6 (the E step below takes one exponential per texel and lobe, was two).
+constexpr double kEmBudget = 1048576;
 
 std::size_t vmf_em_level(const std::vector<EnvMap>& maps, int N) {
   for (std::size_t k = 0; k < maps.size(); ++k)
