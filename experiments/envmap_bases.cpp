@@ -288,7 +288,7 @@ std::string free_lobe_markdown(const Result& r) {
   std::string md = "| environment | N | sg-free map error | at N/2 | ≤ N/2? | kept from N/2 | best sg-fixed at N | ≤ sg-fixed? | vmf-em | "
                    "sg-free s | vmf-em s | time ratio free/vMF | sg-free LM iterations (level) | vmf-em EM iterations (level) |\n"
                    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  std::vector<std::string> fails_half, fails_fixed, kept, cost;
+  std::vector<std::string> fails_half, fails_fixed, kept, cost, vmf_rises, diffuse_rises;
   auto level = [](const Row* row) { return fmt::format("{} ({}×{})", row->iterations, row->fit_width, row->fit_height); };
   for (const auto& env : r.environments) {
     std::map<int, const Row*> free, vmf;
@@ -298,8 +298,14 @@ std::string free_lobe_markdown(const Result& r) {
       if (row.basis == "vmf-em") vmf[row.size] = &row;
       if (row.basis == "sg-fixed") fixed[row.size] = fixed.count(row.size) ? std::min(fixed[row.size], row.map_error) : row.map_error;
     }
+    for (const auto& [n, row] : vmf)
+      if (vmf.count(n / 2) && row->map_error > vmf.at(n / 2)->map_error)
+        vmf_rises.push_back(fmt::format("{} N = {} ({} after {})", env.name, n, num(row->map_error), num(vmf.at(n / 2)->map_error)));
     for (const auto& [n, row] : free) {
       const Row* half = free.count(n / 2) ? free.at(n / 2) : nullptr;
+      if (half && row->map_error <= half->map_error && row->diffuse_error > half->diffuse_error)
+        diffuse_rises.push_back(fmt::format("{} N = {} (map {} → {}, diffuse {} → {})", env.name, n, num(half->map_error), num(row->map_error),
+                                            num(half->diffuse_error), num(row->diffuse_error)));
       const bool has_fixed = fixed.count(n) > 0;
       const Row* v = vmf.count(n) ? vmf.at(n) : nullptr;
       const bool ok_half = !half || row->map_error <= half->map_error, ok_fixed = !has_fixed || row->map_error <= fixed.at(n);
@@ -346,7 +352,23 @@ std::string free_lobe_markdown(const Result& r) {
         "already does for speed: the first rung is fitted coarse to fine from a 32-texel-wide level, every later rung only on "
         "the finest level its Jacobian budget allows (the level column), the problem is sparse (one residual block per 8×8-texel "
         "tile, touching only the lobes that reach it) and its residuals and Jacobian are evaluated on the Ceres threads; "
-        "every rung has the same iteration cap (60 per solve), which is what is left to trade against the error.\n";
+        "every rung has the same iteration cap (60 per solve), which is what is left to trade against the error.\n\n";
+  md += "**vMF EM's level and its error against N.** EM is fitted on the finest level whose texel count × N is at most 2^20 "
+        "(the exponentials of one EM iteration; the level column), the whole 128 × 64 map at every N here. It used the dense-"
+        "Jacobian budget of the Ceres start before, which moved it to the 64 × 32 level from N = 64 on, where a sun is below a "
+        "texel and its lobe's κ is capped by that texel: the sky's map error rose from 0.25 at N = 32 to 0.62 at N = 64. EM "
+        "maximises the likelihood of the Ω·(mean RGB)-weighted directions from a fresh k-means++ start at each N, not the map's "
+        "L2 and not from the fit at N/2, so its map error need not fall with N; it rises at: " +
+        (vmf_rises.empty() ? std::string("no N on any environment") : list(vmf_rises)) + ".\n\n";
+  md += "**Map error against diffuse error.** The free-lobe fit minimises the map's L2, which on the sky and sun maps is "
+        "dominated by the sun's texel (the floor of the sky and sun rows); the diffuse layer sees only the low "
+        "frequencies of the error (the clamped cosine's zonal coefficients beyond L = 2 carry under 1 % of its energy, "
+        "Ramamoorthi & Hanrahan 2001), which the L2 objective does not "
+        "hold down: a rung can lower the map error while moving error into the low frequencies. Rungs where the map error "
+        "did not rise and the diffuse error did: " +
+        (diffuse_rises.empty() ? std::string("none") : list(diffuse_rises)) +
+        ". For diffuse shading the map's L2 is the wrong objective (a diffuse-weighted objective, or the SH projection at L = 2, "
+        "targets it directly: see the sh rows).\n";
   return md;
 }
 

@@ -536,8 +536,9 @@ void add_lobes(const Level& level, std::vector<double>& x, int n, int m, unsigne
   x.insert(x.end(), extra.begin(), extra.end());
 }
 
-// The vMF-EM fit's working level: the finest whose dense N-lobe Jacobian (3 residuals × 7N
-// parameters per texel) would have at most this many entries.
+// The level budget of choose_levels in Setup (the Ceres fit's coarse-to-fine start): the finest
+// level whose dense N-lobe Jacobian (3 residuals × 7N parameters per texel) would have at most
+// this many entries.
 constexpr double kDenseBudget = 6e6;
 
 // What both fits start from: validated options, the clock, the pyramid and its levels.
@@ -659,45 +660,85 @@ EnvFitResult fit_envmap_ceres_unscaled(const EnvMap& map, const EnvFitOptions& o
   }
 }
 
+// The vMF-EM fit's working level: the finest whose texel count × N (the exponentials of one EM
+// iteration) is at most kEmBudget. EM needs no Jacobian, so the dense-Jacobian budget of the
+// Ceres start (kDenseBudget) is not its cost: under it the 128 × 64 sky moved to 64 × 32 at N = 64,
+// where a sun is below a texel and its lobe's κ is capped by that level's texel (max_sharpness),
+// and the full-map error rose from 0.25 to 0.62. 2^20 keeps a 128 × 64 map whole up to N = 128 and
+// bounds one iteration to ~1e6 exponentials (200 iterations: ~2e8) on any map, 3.7 × the old
+// bound's 3 × 7 × T × N ≤ 6e6 (the E step below takes one exponential per texel and lobe, was two).
+constexpr double kEmBudget = 1048576;
+
+std::size_t vmf_em_level(const std::vector<EnvMap>& maps, int N) {
+  for (std::size_t k = 0; k < maps.size(); ++k)
+    if (double(maps[k].size()) * double(N) <= kEmBudget) return k;
+  return maps.size() - 1;
+}
+
 EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& o) {
   const Setup setup(map, o);
   const int N = o.lobes;
-  const Level level = make_level(setup.maps[setup.finest]);
+  const Level level = make_level(setup.maps[vmf_em_level(setup.maps, N)]);
   const std::vector<double> w = texel_weights(level);
   std::vector<Cluster> cl = spherical_kmeans(level, w, N, o.seed);
   const std::size_t T = level.dirs.size();
-  std::vector<double> logp(static_cast<std::size_t>(N)), log_norm(static_cast<std::size_t>(N));
+  std::vector<double> log_norm(static_cast<std::size_t>(N));
   std::vector<Vec3d> sum(static_cast<std::size_t>(N));
   std::vector<double> wsum(static_cast<std::size_t>(N));
+  // The E step over fixed chunks of texels in parallel, each chunk's sums kept apart and added in
+  // chunk order: the result does not depend on the thread count.
+  constexpr std::size_t kChunk = 512;
+  const std::size_t chunks = (T + kChunk - 1) / kChunk;
+  struct Partial {
+    std::vector<Vec3d> sum;
+    std::vector<double> wsum;
+    double loglik = 0;
+  };
+  std::vector<Partial> partial(chunks);
   double previous = -INFINITY;
   EnvFitResult r;
   r.method = "vmf-em";
   for (int iter = 0; iter < o.em_max_iterations; ++iter) {
-    std::fill(sum.begin(), sum.end(), Vec3d::Zero());
-    std::fill(wsum.begin(), wsum.end(), 0.0);
-    double loglik = 0;
     // log(weight/A(λ)) of each component, which the texel loop adds to λ(ω·ξ − 1)
     for (int j = 0; j < N; ++j) {
       const auto& c = cl[std::size_t(j)];
       log_norm[std::size_t(j)] = std::log(std::max(c.weight, 1e-300)) - std::log(sg_integral(c.sharpness));
     }
-    for (std::size_t t = 0; t < T; ++t) {
-      double mx = -INFINITY;
-      for (int j = 0; j < N; ++j) {
-        const auto& c = cl[std::size_t(j)];
-        const double lp = log_norm[std::size_t(j)] + c.sharpness * (level.dirs[t].dot(c.axis) - 1);
-        logp[std::size_t(j)] = lp;
-        mx = std::max(mx, lp);
+    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
+      Partial& p = partial[k];
+      p.sum.assign(std::size_t(N), Vec3d::Zero());
+      p.wsum.assign(std::size_t(N), 0.0);
+      p.loglik = 0;
+      std::vector<double> e(static_cast<std::size_t>(N));
+      for (std::size_t t = k * kChunk; t < std::min(T, (k + 1) * kChunk); ++t) {
+        double mx = -INFINITY;
+        for (int j = 0; j < N; ++j) {
+          const auto& c = cl[std::size_t(j)];
+          const double lp = log_norm[std::size_t(j)] + c.sharpness * (level.dirs[t].dot(c.axis) - 1);
+          e[std::size_t(j)] = lp;
+          mx = std::max(mx, lp);
+        }
+        // one exponential per component: the responsibility e^{lp − mx}/z = e^{lp − lse}
+        double z = 0;
+        for (int j = 0; j < N; ++j) z += (e[std::size_t(j)] = std::exp(e[std::size_t(j)] - mx));
+        p.loglik += w[t] * (mx + std::log(z));
+        const double scale = w[t] / z;
+        for (int j = 0; j < N; ++j) {
+          const double resp = e[std::size_t(j)] * scale;
+          p.sum[std::size_t(j)] += resp * level.dirs[t];
+          p.wsum[std::size_t(j)] += resp;
+        }
       }
-      double z = 0;
-      for (int j = 0; j < N; ++j) z += std::exp(logp[std::size_t(j)] - mx);
-      const double lse = mx + std::log(z);
-      loglik += w[t] * lse;
+    });
+    std::fill(sum.begin(), sum.end(), Vec3d::Zero());
+    std::fill(wsum.begin(), wsum.end(), 0.0);
+    double loglik = 0;
+    for (const auto& p : partial) {
       for (int j = 0; j < N; ++j) {
-        const double resp = std::exp(logp[std::size_t(j)] - lse) * w[t];
-        sum[std::size_t(j)] += resp * level.dirs[t];
-        wsum[std::size_t(j)] += resp;
+        sum[std::size_t(j)] += p.sum[std::size_t(j)];
+        wsum[std::size_t(j)] += p.wsum[std::size_t(j)];
       }
+      loglik += p.loglik;
     }
     double total = 0;
     for (double x : wsum) total += x;

@@ -32,8 +32,9 @@
 //  • fit_envmap_vmf_em: the simple alternative: EM for a mixture of von Mises–Fisher densities
 //    (Banerjee et al. 2005, "Clustering on the unit hypersphere using von Mises–Fisher
 //    distributions", soft assignments, κ by their r̄(3 − r̄²)/(1 − r̄²)) on the texel directions
-//    weighted by Ω_t·(mean RGB), on the same working level, then the RGB amplitudes by the
-//    non-negative least squares above.
+//    weighted by Ω_t·(mean RGB), on the finest level whose texel count × N is at most 2^20 (the
+//    whole map up to 128 × 64 at N ≤ 128; kEmBudget in envmap.cpp), then the RGB amplitudes by
+//    the non-negative least squares above on the same level.
 //
 // Both are scale-free: they fit the map divided by the power of two nearest its mean texel value
 // and scale the amplitudes back in double (envmap.cpp, "scale invariance"), so a map × 1e-30 and
