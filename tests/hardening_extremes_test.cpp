@@ -3,14 +3,18 @@
 // point-light limit 2π f(ωo, ξ)⟨ξ·n⟩/λ), the ASG × SG product at ASG bandwidths up to DBL_MAX (the
 // line and point limits), and `punctual-approx` at the smallest normal float and double (2π⟨c⟩/λ).
 // Every value goes through the registry, as `sglab eval` and the Python module call it.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <tuple>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 #include <boost/math/special_functions/erf.hpp>
 #include <gtest/gtest.h>
@@ -165,6 +169,179 @@ TEST(HardeningExtremes, GroupG_AsgSgProductAtSharpAsg) {
     const mp50 x = s * cos(az), y = s * sin(az);
     const mp50 expected = 2 * pi * c * exp(-mp50(eta_x) * x * x - mp50(eta_y) * y * y) / mp50(lambda);
     EXPECT_LT(rel(eval_row<double>(exact, {eta_x, eta_y, lambda, cosine, azimuth}), expected), 1e-6) << "λ=" << lambda;
+  }
+}
+
+// ---- exactly grazing view, the light at the mirror direction on the horizon ---------------------
+// In polar coordinates (θ, ψ) about the mirror direction −ωo = (−1, 0, 0) at n·o = 0, ψ from n
+// towards +y: ω = (−cos θ, sin θ sin ψ, sin θ cos ψ), and ωo + ω = 2 sin(θ/2)·h with
+// h = (sin(θ/2), cos(θ/2) sin ψ, cos(θ/2) cos ψ) exactly, so o·h = sin(θ/2), n·h = cos(θ/2) cos ψ,
+// n·ω = sin θ cos ψ (> 0 for |ψ| < π/2). With dω = sin θ dθ dψ the integrands f·⟨ω·n⟩ sin θ are
+//   Gaussian NDF (S/(n·o) = 2(n·h)/(o·h) at n·o = 0): D(θ_h)·F(sin(θ/2))·4 cos²(θ/2) cos ψ/π,
+//   GGX (V·(n·ω) = 1/(2α) at n·o = 0, height-correlated Smith): D_GGX(n·h)·F(sin(θ/2))·sin θ/(2α),
+// both bounded: the singularity of the Gaussian-NDF one at θ = 0 is gone. Derived here, not taken
+// from the code under test.
+struct GrazingBrdf {
+  bool ggx;
+  mp50 roughness, f0;
+  // the integrand above without the light, at (θ, ψ)
+  mp50 operator()(const mp50& theta, const mp50& psi) const {
+    const mp50 pi = boost::math::constants::pi<mp50>();
+    const mp50 sh = sin(theta / 2), ch = cos(theta / 2), cn = ch * cos(psi);  // o·h, cos(θ/2), n·h
+    const mp50 om = 1 - sh, fresnel = f0 + (1 - f0) * om * om * om * om * om;
+    if (ggx) {
+      const mp50 a2 = roughness * roughness, d = (1 - cn * cn) + a2 * cn * cn;
+      return a2 / (pi * d * d) * fresnel * sin(theta) / (2 * roughness);
+    }
+    const mp50 theta_h = atan2(sqrt(1 - cn * cn), cn) / roughness;
+    return exp(-theta_h * theta_h) * fresnel * 4 * ch * ch * cos(psi) / pi;
+  }
+};
+
+// The light axis' offset δ = ξ − (−1, 0, 0) from the row's light_cos and azimuth in 50 digits.
+std::pair<mp50, mp50> light_offset_yz(const mp50& light_cos, const mp50& azimuth) {
+  const mp50 s = sqrt(1 - light_cos * light_cos);
+  return {s * sin(azimuth), light_cos};
+}
+
+// L in 50 digits by nested Gauss–Kronrod over θ ∈ [0, θ_max] and ψ ∈ [−π/2, π/2], the light
+// e^{−λ‖ω − ξ‖²/2} with ω − ξ = (2 sin²(θ/2) − δx, sin θ sin ψ − δy, sin θ cos ψ − δz), δx =
+// (δy² + δz²)/(1 + √(1 − δy² − δz²)). For λ ≤ 1e12 and δ ≲ 1/√λ (50 digits then hold every digit
+// of λ‖ω − ξ‖²); θ_max = 40/√λ + ‖δ‖ (the light is e^{−800} past it).
+mp50 grazing_quadrature_mp50(const GrazingBrdf& brdf, const mp50& lambda, const mp50& dy, const mp50& dz) {
+  using boost::math::quadrature::gauss_kronrod;
+  const mp50 half_pi = boost::math::constants::half_pi<mp50>();
+  const mp50 r2 = dy * dy + dz * dz, dx = r2 / (1 + sqrt(1 - r2));
+  const mp50 theta_max = 40 / sqrt(lambda) + sqrt(r2);
+  auto inner = [&](const mp50& psi) {
+    auto g = [&](const mp50& theta) {
+      const mp50 st = sin(theta), sh = sin(theta / 2);
+      const mp50 x = 2 * sh * sh - dx, y = st * sin(psi) - dy, z = st * cos(psi) - dz;
+      return exp(-lambda * (x * x + y * y + z * z) / 2) * brdf(theta, psi);
+    };
+    return gauss_kronrod<mp50, 15>::integrate(g, mp50(0), theta_max, 8, mp50(1e-12));
+  };
+  return gauss_kronrod<mp50, 15>::integrate(inner, -half_pi, mp50(0), 6, mp50(1e-10)) +
+         gauss_kronrod<mp50, 15>::integrate(inner, mp50(0), half_pi, 6, mp50(1e-10));
+}
+
+// The sharp-light (Laplace) limit of the same L, derived: as λ → ∞ only θ = O(1/√λ + ‖δ‖) counts;
+// with (y, z) = r(sin ψ, cos ψ) the tangent-plane offset of ω from −ωo, the light is
+// e^{−λ(r² − 2r·a + ‖δ‖²)/2}, a = δy sin ψ + δz cos ψ, and the integrands above tend to
+// their θ → 0 forms (relative corrections O(r): F(r/2) = 1 − 5(1 − f0)r/2 + …, D's θ dependence):
+//   Gaussian NDF: (4/π) cos ψ e^{−ψ²/m²} ∫₀^∞ e^{−λ(…)/2} dr
+//     = (4/π) cos ψ e^{−ψ²/m²} √(π/(2λ)) erfc(−a√λ/√2) e^{−λb²/2},  b = δy cos ψ − δz sin ψ,
+//   GGX: α/(2π(cos²ψ(α² − 1) + 1)²) ∫₀^∞ r e^{−λ(…)/2} dr
+//     = H(ψ)/λ·(e^{−λ‖δ‖²/2} + A√(π/2) erfc(−A/√2) e^{−B²/2}),  A = a√λ, B = b√λ,
+// integrated over ψ ∈ (−π/2, π/2) in 50 digits. With D = √λ(δy, δz) ≠ 0 the variable is τ = ψ − ψ_D
+// (ψ_D the light's azimuth, A = ‖D‖cos τ, B = ‖D‖sin τ exactly, cos ψ and sin ψ from D's components):
+// the light's width in ψ, 1/‖D‖ (1e-134 at λ = 1e300), is then resolved about τ = 0 where ψ itself
+// could not be (π/2 ± 1e-134 is π/2 in 50 digits). Panel ends at τ = 0, ±2^k/(4‖D‖), and where ψ is
+// ±π/2, 0, ±m/2, ±m, ±2m. At δ = 0 the Gaussian-NDF limit is √(π/(2λ))·(4/π)∫cos ψ e^{−ψ²/m²} dψ
+// ≈ 0.8296/√λ at m = 0.3, the λ^{−1/2} law.
+mp50 grazing_limit_mp50(const GrazingBrdf& brdf, const mp50& lambda, const mp50& dy, const mp50& dz) {
+  using boost::math::quadrature::gauss_kronrod;
+  const mp50 pi = boost::math::constants::pi<mp50>(), half_pi = pi / 2, rl = sqrt(lambda);
+  const mp50 Dy = dy * rl, Dz = dz * rl, D2 = Dy * Dy + Dz * Dz, Dn = sqrt(D2);
+  const mp50 cd = Dn > 0 ? mp50(Dz / Dn) : mp50(1), sd = Dn > 0 ? mp50(Dy / Dn) : mp50(0);
+  auto f = [&](const mp50& tau) -> mp50 {
+    const mp50 cpsi = cd * cos(tau) - sd * sin(tau), spsi = sd * cos(tau) + cd * sin(tau);
+    if (!(cpsi > 0)) return mp50(0);  // below the horizon
+    const mp50 A = Dn * cos(tau), B = Dn * sin(tau);
+    const mp50 tail = boost::math::erfc(-A / sqrt(mp50(2))) * exp(-B * B / 2);
+    if (!brdf.ggx) {
+      const mp50 x = atan2(spsi, cpsi) / brdf.roughness;
+      return 4 / pi * cpsi * exp(-x * x) * sqrt(pi / 2) * tail / rl;
+    }
+    const mp50 a2 = brdf.roughness * brdf.roughness;
+    const mp50 den = cpsi * cpsi * (a2 - 1) + 1;
+    const mp50 h = brdf.roughness / (2 * pi * den * den);
+    return h * (exp(-D2 / 2) + A * sqrt(pi / 2) * tail) / lambda;
+  };
+  // For ‖D‖ ≥ 40 the light is e^{−B²/2} < e^{−2000} past |τ| = 64/‖D‖ (and erfc(−A/√2) < e^{−800}
+  // near τ = π): only |τ| ≤ 64/‖D‖ is integrated.
+  const mp50 reach = Dn >= 40 ? mp50(64 / Dn) : pi;
+  std::vector<mp50> br{-reach, reach, mp50(0)};
+  if (Dn > 0)
+    for (mp50 w = mp50(0.25) / Dn; w < reach; w *= 2) {
+      br.push_back(w);
+      br.push_back(-w);
+    }
+  const mp50 psi_d = atan2(sd, cd);
+  for (const mp50& psi : {half_pi, -half_pi, mp50(0), brdf.roughness / 2, -brdf.roughness / 2, brdf.roughness,
+                          mp50(-brdf.roughness), 2 * brdf.roughness, -2 * brdf.roughness}) {
+    mp50 t = psi - psi_d;
+    if (t > pi) t -= 2 * pi;
+    if (t < -pi) t += 2 * pi;
+    if (t > -reach && t < reach) br.push_back(t);
+  }
+  std::sort(br.begin(), br.end());
+  mp50 sum = 0;
+  for (std::size_t i = 0; i + 1 < br.size(); ++i)
+    if (br[i + 1] > br[i]) sum += gauss_kronrod<mp50, 31>::integrate(f, br[i], br[i + 1], 6, mp50(1e-15));
+  return sum;
+}
+
+// |value − expected| within `tol` relative, or both below the type's smallest subnormal (a value
+// that underflows in the type is 0 or a subnormal there, never more).
+template <class T>
+void expect_close(T value, const mp50& expected, double tol, const std::string& what) {
+  const mp50 floor = 2 * mp50(std::numeric_limits<T>::denorm_min());
+  EXPECT_LE(abs(mp50(value) - expected), tol * expected + floor) << what << ": " << double(value) << " vs " << expected;
+}
+
+// The Gaussian-NDF reference at exactly grazing view with the light on the horizon at the mirror
+// direction: its value fell like λ^{−1/2} only up to λ ≈ 1e12 (1% low there), then 2.15e-9 at 1e16
+// (8.30e-9 expected) and 0 from 1e20, from a 1e-7 floor on the light's width and ωo + ω formed
+// from ω. Checked in float, double and mp50 (each row's inputs rounded to its type, as `sglab
+// eval --type` rounds them: the double azimuth nearest π puts the light 1.22e-16 rad off the
+// mirror direction, float's 8.7e-8, and from λ ≈ 1e32 resp. 1e14 that offset is many light widths),
+// against the 50-digit quadrature above for λ = 1e4 … 1e12 and the sharp-light limit from 1e16 on
+// (its O(1/√λ) corrections ≤ 1e-7 relative there). Tolerance 2e-6: the quadrature's 1e-6 target,
+// twice (float's rounding of the result, 6e-8, is inside it). The GGX reference at the same
+// configurations is checked the same way: it is bounded at the mirror direction (V·(n·ω) = 1/(2α)
+// at n·o = 0), so the light-pole quadrature already gives the limit.
+TEST(HardeningExtremes, GroupK_GrazingMirrorReferences) {
+  const mp50 pi = boost::math::constants::pi<mp50>();
+  for (const bool ggx : {false, true}) {
+    const sglab::Method& ref = method(ggx ? "specular" : "specular-gaussian-ndf", "reference");
+    const char* name = ggx ? "GGX" : "Gaussian NDF";
+    // {roughness, λ, light_cos, view_cos, azimuth, f0}
+    for (const double lambda : {1e4, 1e8, 1e12, 1e16, 1e20, 1e30, 1e100, 1e300, kDblMax}) {
+      const std::vector<double> row{0.3, lambda, 0.0, 0.0, std::numbers::pi, 0.04};
+      auto expected_for = [&](const mp50& lambda_t, const mp50& light_cos, const mp50& azimuth) {
+        const GrazingBrdf brdf{ggx, mp50(0.3), mp50(0.04)};
+        const auto [dy, dz] = light_offset_yz(light_cos, azimuth);
+        return lambda <= 1e12 ? grazing_quadrature_mp50(brdf, lambda_t, dy, dz) : grazing_limit_mp50(brdf, lambda_t, dy, dz);
+      };
+      const mp50 expected = expected_for(mp50(lambda), mp50(0.0), mp50(std::numbers::pi));
+      const double d = eval_row<double>(ref, row);
+      std::printf("%s λ=%g: double %.6e, expected %.6e\n", name, lambda, d, double(expected));
+      expect_close(d, expected, 2e-6, std::string(name) + " double λ=" + std::to_string(lambda));
+      // mp50: the Gaussian-NDF reference forms the offset in 50 digits, so an azimuth π to 50
+      // digits puts the light 1e-50 rad off (GGX's reference converts the inputs to double first).
+      std::vector<mp50> row50{mp50(0.3), mp50(lambda), mp50(0), mp50(0), pi, mp50(0.04)};
+      const mp50 m50 = sglab::eval_as<mp50>(ref, std::span<const mp50>(row50));
+      const mp50 expected50 = ggx ? expected : expected_for(mp50(lambda), mp50(0), pi);
+      std::printf("%s λ=%g: mp50 (azimuth π to 50 digits) %.6e, expected %.6e\n", name, lambda, double(m50), double(expected50));
+      expect_close(m50, expected50, 2e-6, std::string(name) + " mp50 λ=" + std::to_string(lambda));
+      if (lambda <= 1e38) {
+        const float fl = eval_row<float>(ref, row);
+        const mp50 expected_f = expected_for(mp50(float(lambda)), mp50(0), mp50(float(std::numbers::pi)));
+        std::printf("%s λ=%g: float %.6e, expected %.6e\n", name, lambda, double(fl), double(expected_f));
+        expect_close(fl, expected_f, 2e-6, std::string(name) + " float λ=" + std::to_string(lambda));
+      }
+    }
+  }
+  // The light exactly at the mirror direction (δ = 0, which no double azimuth reaches): the
+  // λ^{−1/2} law up to DBL_MAX.
+  const GrazingBrdf brdf{false, mp50(0.3), mp50(0.04)};
+  for (const double lambda : {1e16, 1e100, 1e300, kDblMax}) {
+    const sglab::SpecularConfig c{0.3, lambda, 0.0, 0.0, std::numbers::pi, 0.04};
+    const double v = sglab::specular_gaussian_ndf_reference_grazing(c, sglab::Vec3d(0, 0, 0));
+    const mp50 expected = grazing_limit_mp50(brdf, mp50(lambda), mp50(0), mp50(0));
+    std::printf("δ = 0, λ=%g: %.6e·λ^{-1/2}, expected %.6e·λ^{-1/2}\n", lambda, v * std::sqrt(lambda), double(expected * sqrt(mp50(lambda))));
+    expect_close(v, expected, 2e-6, "δ = 0 λ=" + std::to_string(lambda));
   }
 }
 
