@@ -204,25 +204,35 @@ std::pair<mp50, mp50> light_offset_yz(const mp50& light_cos, const mp50& azimuth
   return {s * sin(azimuth), light_cos};
 }
 
-// L in 50 digits by nested Gauss–Kronrod over θ ∈ [0, θ_max] and ψ ∈ [−π/2, π/2], the light
-// e^{−λ‖ω − ξ‖²/2} with ω − ξ = (2 sin²(θ/2) − δx, sin θ sin ψ − δy, sin θ cos ψ − δz), δx =
-// (δy² + δz²)/(1 + √(1 − δy² − δz²)). For λ ≤ 1e12 and δ ≲ 1/√λ (50 digits then hold every digit
-// of λ‖ω − ξ‖²); θ_max = 40/√λ + ‖δ‖ (the light is e^{−800} past it).
+// L in 50 digits by nested Gauss–Kronrod (15 points a panel) over θ = t/√λ, t ∈ [0, 40 + √λ‖δ‖]
+// (the light is e^{−800} past it), and ψ ∈ [−π/2, π/2], the light e^{−λ‖ω − ξ‖²/2} with
+// ω − ξ = (2 sin²(θ/2) − δx, sin θ sin ψ − δy, sin θ cos ψ − δz), δx = (δy² + δz²)/(1 + √(1 − δy² − δz²)).
+// For λ ≤ 1e12 and δ ≲ 1/√λ: 50 digits then hold every digit of λ‖ω − ξ‖². Panel ends at
+// t = 0, 1, 2, 4, 8, 16 and at ψ = 0, ±m/2, ±m, ±2m (the light's and D's widths resolved: within
+// 1e-15 relative of 31-point rules on twice the panels at m = 0.3, λ = 1e4 … 1e12, checked once).
 mp50 grazing_quadrature_mp50(const GrazingBrdf& brdf, const mp50& lambda, const mp50& dy, const mp50& dz) {
   using boost::math::quadrature::gauss_kronrod;
-  const mp50 half_pi = boost::math::constants::half_pi<mp50>();
+  const mp50 half_pi = boost::math::constants::half_pi<mp50>(), rl = sqrt(lambda);
   const mp50 r2 = dy * dy + dz * dz, dx = r2 / (1 + sqrt(1 - r2));
-  const mp50 theta_max = 40 / sqrt(lambda) + sqrt(r2);
+  const mp50 t_max = 40 + rl * sqrt(r2);
+  std::vector<mp50> tb;
+  for (const double t : {0.0, 1.0, 2.0, 4.0, 8.0, 16.0}) tb.push_back(mp50(t));
+  tb.push_back(t_max);
+  const mp50 m = brdf.roughness;
+  std::vector<mp50> pb{-half_pi, -2 * m, -m, -m / 2, mp50(0), m / 2, m, 2 * m, half_pi};
   auto inner = [&](const mp50& psi) {
-    auto g = [&](const mp50& theta) {
-      const mp50 st = sin(theta), sh = sin(theta / 2);
+    auto g = [&](const mp50& t) {
+      const mp50 theta = t / rl, st = sin(theta), sh = sin(theta / 2);
       const mp50 x = 2 * sh * sh - dx, y = st * sin(psi) - dy, z = st * cos(psi) - dz;
-      return exp(-lambda * (x * x + y * y + z * z) / 2) * brdf(theta, psi);
+      return exp(-lambda * (x * x + y * y + z * z) / 2) * brdf(theta, psi) / rl;
     };
-    return gauss_kronrod<mp50, 15>::integrate(g, mp50(0), theta_max, 8, mp50(1e-12));
+    mp50 sum = 0;
+    for (std::size_t i = 0; i + 1 < tb.size(); ++i) sum += gauss_kronrod<mp50, 15>::integrate(g, tb[i], tb[i + 1], 0, mp50(0));
+    return sum;
   };
-  return gauss_kronrod<mp50, 15>::integrate(inner, -half_pi, mp50(0), 6, mp50(1e-10)) +
-         gauss_kronrod<mp50, 15>::integrate(inner, mp50(0), half_pi, 6, mp50(1e-10));
+  mp50 sum = 0;
+  for (std::size_t i = 0; i + 1 < pb.size(); ++i) sum += gauss_kronrod<mp50, 15>::integrate(inner, pb[i], pb[i + 1], 0, mp50(0));
+  return sum;
 }
 
 // The sharp-light (Laplace) limit of the same L, derived: as λ → ∞ only θ = O(1/√λ + ‖δ‖) counts;
@@ -342,6 +352,49 @@ TEST(HardeningExtremes, GroupK_GrazingMirrorReferences) {
     const mp50 expected = grazing_limit_mp50(brdf, mp50(lambda), mp50(0), mp50(0));
     std::printf("δ = 0, λ=%g: %.6e·λ^{-1/2}, expected %.6e·λ^{-1/2}\n", lambda, v * std::sqrt(lambda), double(expected * sqrt(mp50(lambda))));
     expect_close(v, expected, 2e-6, "δ = 0 λ=" + std::to_string(lambda));
+  }
+}
+
+// The ASG × SG product's `exact` method with both lobes sharp and of similar sharpness (its 2D
+// quadrature about the SG axis), against the sharp limit derived here: with ω = (x, y, √(1 − x² − y²))
+// and the SG axis ξ = (ax, ay, c), Ĝ G = (ω·z)e^{−ηx x² − ηy y²}·e^{−λ‖ω − ξ‖²/2}, and as every
+// sharpness → ∞ only x, y = O(η^{−1/2}) count, where ω·z = 1 − O(r²) and ‖ω − ξ‖² =
+// (x − ax)² + (y − ay)² + O(r⁴): the product of two Gaussians in the tangent plane,
+//   ∫ Ĝ G dω → π/√((ηx + λ/2)(ηy + λ/2))·exp(−(ηxλ/2)/(ηx + λ/2)·ax² − (ηyλ/2)/(ηy + λ/2)·ay²),
+// relative error O(1/η) (≤ 1e-8 here, from ηmin ≥ 1e8). In 50 digits from the row's doubles (the
+// method rounds its inputs to double; the cosine 1 − k·1e-12 is not the decimal text). Offsets of
+// the SG axis of ~1 lobe width are representable only while the width ≥ 1.5e-8 (1 − c ≥ 1.1e-16),
+// so η ≤ 1e14 carries them; above, ξ = z. At ηx = ηy = λ = DBL_MAX the line limit's error bound
+// overflowed to 0 and took the line limit for two equal lobes: 0 instead of π/(1.5·DBL_MAX)
+// (1.17e-308, a subnormal: compared within 2e-6 relative plus double's smallest subnormal).
+TEST(HardeningExtremes, GroupL_AsgSgProductBothSharp) {
+  const sglab::Method& exact = method("asg-sg-product-integral", "exact");
+  const mp50 pi = boost::math::constants::pi<mp50>();
+  auto limit = [&](const std::vector<double>& r) {
+    const mp50 ex(r[0]), ey(r[1]), l(r[2]), c(r[3]), az(r[4]);
+    const mp50 s = sqrt((1 - c) * (1 + c)), ax = s * cos(az), ay = s * sin(az);
+    const mp50 hx = ex + l / 2, hy = ey + l / 2;
+    return pi / sqrt(hx * hy) * exp(-(ex * l / 2) / hx * ax * ax - (ey * l / 2) / hy * ay * ay);
+  };
+  std::vector<std::vector<double>> rows;
+  for (const double e : {1e8, 1e10, 1e12, 1e14, 1e16, 1e20, 1e50, 1e100, 1e200, 1e300, kDblMax}) {
+    // (ηx, ηy, λ) ratios around 1: equal, anisotropic, the SG 4× broader or 4× sharper
+    for (const auto& [ry, rl] : std::vector<std::pair<double, double>>{{1, 1}, {0.5, 1}, {1, 0.25}, {0.1, 0.3}, {1, 0.004}}) {
+      rows.push_back({e, e * ry, e * rl, 1.0, 0.0});
+      if (e <= 1e14)
+        for (const auto& [k, az] : std::vector<std::pair<double, double>>{{1, 0.0}, {2, 0.7}, {0.5, 2.0}}) rows.push_back({e, e * ry, e * rl, 1 - k / e, az});
+    }
+    if (e <= 1e300) rows.push_back({e / 4, e, 4 * e, 1.0, 0.0});  // the SG the sharpest
+  }
+  for (const auto& r : rows) {
+    const mp50 expected = limit(r);
+    const std::string what = "ηx=" + std::to_string(r[0]) + " ηy=" + std::to_string(r[1]) + " λ=" + std::to_string(r[2]) +
+                             " c=" + std::to_string(r[3]) + " φ=" + std::to_string(r[4]);
+    expect_close(eval_row<double>(exact, r), expected, 2e-6, "double " + what);
+    expect_close(eval_row<mp50>(exact, r), expected, 2e-6, "mp50 " + what);
+    if (r[0] <= 1e30 && r[2] <= 1e30 && r[3] == 1.0)  // float: the inputs exact in float, the value a normal float
+      expect_close(eval_row<float>(exact, r), limit({double(float(r[0])), double(float(r[1])), double(float(r[2])), 1.0, 0.0}), 2e-6,
+                   "float " + what);
   }
 }
 

@@ -275,11 +275,37 @@ TEST_F(HardeningLate, EnvmapBasesOptions) {
       {"--env a=m.exr --width nan", "--width = nan"},
       {"--env a=m.exr --res 0", "--res 0 must be in [2, 256]"},
       {"--env a=m.exr --normals -1", "--normals -1 must be in [1, 100000]"},
-      {"--env a=m.exr --tolerance nan", "--tolerance nan must be in (0, 1)"},
+      {"--env a=m.exr --tolerance nan", "--tolerance: 'nan' is not a number"},
       {"--env a=m.exr --tolerance 1", "--tolerance 1 must be in (0, 1)"},
-      {"--env a=m.exr --roughness nan", "--roughness nan must be in (0, 1]"},
+      {"--env a=m.exr --roughness nan", "--roughness: 'nan' is not a number"},
   };
   for (const auto& [args, needle] : cases) refused(sglab(base + args), needle, {"o", "t"});
+}
+
+// M. A real-valued option whose text is not a finite normal double (overflow, underflow, a
+// subnormal, nan, inf, hexadecimal) is refused by one check for every command (cli/app.cpp
+// require_decimal_reals) quoting the text as typed: `--tolerance 1e400` was "--tolerance inf must
+// be in (0, 1)", `1e-400` "--tolerance 0 …", and "0x1p-3" was taken as 0.125.
+TEST_F(HardeningLate, GroupM_RealOptionsQuoteTheText) {
+  write_map("m.exr", two_lobe_map());
+  const std::string bases = "envmap bases --quick --out o --tables-dir t --env a=m.exr ";
+  const std::pair<std::string, std::string> cases[] = {
+      {bases + "--tolerance 1e400", "--tolerance: '1e400' is out of the range of double (too large)"},
+      {bases + "--tolerance -1e400", "--tolerance: '-1e400' is out of the range of double"},
+      {bases + "--tolerance 1e-400", "--tolerance: '1e-400' is out of the range of double (too close to zero)"},
+      {bases + "--tolerance 1e-310", "--tolerance: '1e-310' is out of the range of double (too close to zero: subnormal)"},
+      {bases + "--tolerance inf", "--tolerance: 'inf' is not a number"},
+      {bases + "--tolerance 0x1p-3", "--tolerance: '0x1p-3' is not a number"},
+      {bases + "--roughness 0.5 --roughness 1e999", "--roughness: '1e999' is out of the range of double"},
+      {bases + "--tolerance " + std::string(5000, '9'), "--tolerance: '9999"},
+      {"fit lambda-c --beta 1e400", "--beta: '1e400' is out of the range of double"},
+  };
+  for (const auto& [args, needle] : cases) {
+    refused(sglab(args), needle, {"o", "t"});
+    EXPECT_EQ(sglab(args).err.find("inf "), std::string::npos) << args;
+  }
+  // The range checks behind it still name a finite value as before.
+  refused(sglab(bases + "--tolerance 1"), "--tolerance 1 must be in (0, 1)", {"o", "t"});
 }
 
 }  // namespace
