@@ -313,6 +313,17 @@ void expect_close(T value, const mp50& expected, double tol, const std::string& 
 // at n·o = 0), so the light-pole quadrature already gives the limit.
 TEST(HardeningExtremes, GroupK_GrazingMirrorReferences) {
   const mp50 pi = boost::math::constants::pi<mp50>();
+  // The reference's grazing integrand from u = ωo + ω agrees with the BRDF's own form wherever
+  // that one still has its digits (ω far from −ωo): a grid over the upper hemisphere, 1e-13.
+  const sglab::Vec3d wo(1, 0, 0);
+  for (double ct : {0.05, 0.3, 0.7, 0.99})
+    for (double phi = 0.1; phi < 6.2; phi += 0.5) {
+      const double st = std::sqrt(1 - ct * ct);
+      const sglab::Vec3d w(st * std::cos(phi), st * std::sin(phi), ct);
+      const double a = sglab::gaussian_ndf_brdf_cosine(0.3, 0.04, wo, w);
+      const double b = sglab::gaussian_ndf_grazing_brdf_cosine(0.3, 0.04, sglab::Vec3d(wo + w));
+      EXPECT_NEAR(b, a, 1e-13 * std::max(a, 1e-300)) << "ω·n=" << ct << " φ=" << phi;
+    }
   for (const bool ggx : {false, true}) {
     const sglab::Method& ref = method(ggx ? "specular" : "specular-gaussian-ndf", "reference");
     const char* name = ggx ? "GGX" : "Gaussian NDF";
