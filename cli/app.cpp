@@ -6,6 +6,7 @@
 #include <new>
 
 #include "commands.hpp"
+#include "parse_number.hpp"
 #include "registry.hpp"
 #include "sglab/simd.hpp"
 #include "sglab/text_limits.hpp"
@@ -32,10 +33,32 @@ void add_all_commands(CLI::App& app) {
   app.footer(footer);
 }
 
+// Every real-valued option of every command (CLI11's type name "FLOAT") is first read as a strict
+// decimal (runner::parse_decimal, as the numbers of every input file): "1e400", "1e-400", "1e-310",
+// "nan", "inf" and "0x1p-3" are refused quoting the text as typed. CLI11's own conversion (strtod)
+// makes them inf, 0, a subnormal, NaN or 0.125, which a command's range check then named by the
+// parsed value ("--tolerance inf must be in (0, 1)"). Checked once here for all commands, so an
+// option added later is covered too; the commands' range checks see only finite normal doubles.
+void require_decimal_reals(CLI::App& app) {
+  for (CLI::Option* opt : app.get_options([](const CLI::Option* o) { return o->get_type_name() == "FLOAT"; }))
+    opt->check(CLI::Validator(
+        [](std::string& text) -> std::string {
+          try {
+            (void)runner::parse_decimal<double>(text);
+            return {};
+          } catch (const runner::NumberError& e) {
+            return quote(text) + " " + e.what();
+          }
+        },
+        ""));
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) require_decimal_reals(*sub);
+}
+
 int run_sglab(std::vector<std::string> args) {
   CLI::App app{"sglab: spherical Gaussian lighting research toolkit"};
   app.require_subcommand(1);
   add_all_commands(app);
+  require_decimal_reals(app);
   // CLI11's own messages quote the bad value whole ("--width: Value … could not be converted").
   app.failure_message([](const CLI::App* a, const CLI::Error& e) { return bounded_message(CLI::FailureMessage::simple(a, e)); });
   // CLI11 would report an unknown command as "A subcommand is required".

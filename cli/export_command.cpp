@@ -1,6 +1,8 @@
 // `sglab export QUANTITY/METHOD… --lang glsl|hlsl|c [--constants SET] [--out FILE]`: the methods'
 // formulas as self-contained source (the emitter is shader/emit.hpp; docs/export.md). Every
 // method is looked up and traced, and the constant set read, before anything is written.
+#include <algorithm>
+#include <cstddef>
 #include <iostream>
 #include <memory>
 
@@ -11,6 +13,7 @@
 #include "commands.hpp"
 #include "constant_sets.hpp"
 #include "emit.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
 namespace {
@@ -39,7 +42,11 @@ void run_export(const ExportOptions& o, const std::string& command) {
   const ConstantSet set = load_constant_sets(o.constants);
   std::vector<shader::TracedMethod> traced;
   traced.reserve(o.methods.size());
-  for (const auto& name : o.methods) {
+  for (std::size_t i = 0; i < o.methods.size(); ++i) {
+    const std::string& name = o.methods[i];
+    // The same method twice would define its function twice: a source that does not compile.
+    if (std::find(o.methods.begin(), o.methods.begin() + std::ptrdiff_t(i), name) != o.methods.begin() + std::ptrdiff_t(i))
+      throw UsageError(fmt::format("export: {} is given twice", quote(name)));
     const shader::MethodRef ref = shader::find_exportable(name);
     traced.push_back(shader::trace_method(*ref.quantity, *ref.method, set));
   }

@@ -27,6 +27,7 @@
 
 #include "csv.hpp"
 #include "experiment_command.hpp"
+#include "parse_number.hpp"
 #include "registry.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "table.hpp"
@@ -60,15 +61,16 @@ struct Input {
     if (c == runner::CsvTable::npos) throw UsageError(fmt::format("{}: no column '{}'", clip_text(path), column));
     return r.fields[c];
   }
-  // A field as a number. Not parse_decimal, which refuses subnormals as inputs: the tables hold
-  // them as values (an error map's error where the reference is 0 and the method nearly so).
+  // A field as a number: runner::parse_table_number (not parse_decimal, which refuses subnormals as
+  // inputs: the tables hold them as values, an error map's error where the reference is 0 and the
+  // method nearly so). strtod took "nan", "inf" and "1e400" and carried them into the write-up.
   double number(const runner::CsvRecord& r, const std::string& column) const {
     const std::string& s = text(r, column);
-    char* end = nullptr;
-    const double v = s.empty() ? NAN : std::strtod(s.c_str(), &end);
-    if (s.empty() || end != s.c_str() + s.size())
-      throw UsageError(fmt::format("{} line {}, column '{}': {} is not a number", clip_text(path), r.line, column, quote(s)));
-    return v;
+    try {
+      return runner::parse_table_number(s);
+    } catch (const runner::NumberError& e) {
+      throw UsageError(fmt::format("{} line {}, column '{}': {} {}", clip_text(path), r.line, column, quote(s), e.what()));
+    }
   }
   // The one row whose columns have the given values; InputError naming them when there is none.
   const runner::CsvRecord& row(const std::vector<std::pair<std::string, std::string>>& key) const {

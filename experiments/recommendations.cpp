@@ -24,6 +24,7 @@
 #include "csv.hpp"
 #include "envmap_bases.hpp"
 #include "experiment_command.hpp"
+#include "parse_number.hpp"
 #include "registry.hpp"
 #include "sglab/registry.hpp"
 
@@ -78,15 +79,16 @@ struct Table {
     if (c == runner::CsvTable::npos) throw UsageError("recommend: " + file + " has no column '" + column + "'");
     return r.fields[c];
   }
-  // The field as a number; NaN when empty ("—" in the Markdown tables).
+  // The field as a number; NaN when empty ("—" in the Markdown tables). runner::parse_table_number:
+  // strtod took "nan", "inf" and "1e400" in a table and carried them into the recommendations.
   double number(const runner::CsvRecord& r, const std::string& column) const {
     const std::string& s = text(r, column);
     if (s.empty()) return NAN;
-    char* end = nullptr;
-    const double v = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() + s.size())
-      throw UsageError(fmt::format("recommend: {} line {}, column '{}': '{}' is not a number", file, r.line, column, clip_text(s)));
-    return v;
+    try {
+      return runner::parse_table_number(s);
+    } catch (const runner::NumberError& e) {
+      throw UsageError(fmt::format("recommend: {} line {}, column '{}': {} {}", file, r.line, column, quote(s), e.what()));
+    }
   }
   std::string source() const { return "[" + file + "](" + file + ")" + (command.empty() ? "" : " (`" + command + "`)"); }
 };
@@ -956,10 +958,17 @@ Result compute(const Options& o) {
   r.provenance.command =
       "sglab recommend" + runner::option_argument("--from", o.from, Options{}.from) +
       (o.tables_dir.empty() ? runner::option_argument("--out", o.out, Options{}.out) : runner::option_argument("--tables-dir", o.tables_dir));
+  // A --from that is not a directory, or holds none of the tables, is bad input: the report would
+  // be all "no data" (it was written with exit status 0).
+  std::error_code ec;
+  if (!fs::is_directory(o.from, ec)) throw UsageError(fmt::format("recommend: --from {} is not a directory", quote(o.from)));
   Tables tables(o.from, r.missing);
   for (Section s : {diffuse(tables), hemispherical(tables), specular(tables), vsgl(tables), filtering(tables),
                     denoise(tables), environment(tables), bases(tables), shaders(tables)})
     if (!s.body.empty()) r.sections.push_back(std::move(s));
+  if (r.sections.empty())
+    throw UsageError(fmt::format("recommend: --from {} holds none of the tables it reads (a full `sglab reproduce`'s: {}, …)",
+                                 quote(o.from), input_tables().front()));
   return r;
 }
 

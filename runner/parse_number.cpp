@@ -1,8 +1,10 @@
 #include "parse_number.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <system_error>
@@ -107,6 +109,16 @@ long long decimal_exponent(std::string_view s) {
 }
 
 }  // namespace
+
+double parse_table_number(std::string_view text) {
+  const std::string s(checked_decimal(text));
+  errno = 0;
+  char* end = nullptr;
+  const double value = std::strtod(s.c_str(), &end);  // the grammar is checked: strtod reads it whole
+  if (end != s.c_str() + s.size()) throw NumberError("is not a number");
+  if (errno == ERANGE && std::isinf(value)) throw NumberError("is out of the range of double (too large)");
+  return value;
+}
 
 template <class T>
 T parse_decimal(std::string_view text) {

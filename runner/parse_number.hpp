@@ -30,6 +30,12 @@ struct NumberError : std::invalid_argument {
 template <class T>
 T parse_decimal(std::string_view text);
 
+// A number a generated table holds (error_vs_time.csv, stability.csv, …): parse_decimal's grammar
+// (no "nan", "inf", hexadecimal, trailing text; an empty field is an error here too), correctly
+// rounded to double, overflow refused, but an underflow kept as the subnormal or 0 it rounds to: the
+// tables hold such values as results (an error map's error where the reference is 0). Throws NumberError.
+double parse_table_number(std::string_view text);
+
 // Whether an mp50 value lies outside double's range: beyond ±DBL_MAX, or nonzero and below the
 // smallest normal double in magnitude (float and double values never are).
 bool outside_double(const mp50& v);

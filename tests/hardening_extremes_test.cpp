@@ -3,14 +3,18 @@
 // point-light limit 2π f(ωo, ξ)⟨ξ·n⟩/λ), the ASG × SG product at ASG bandwidths up to DBL_MAX (the
 // line and point limits), and `punctual-approx` at the smallest normal float and double (2π⟨c⟩/λ).
 // Every value goes through the registry, as `sglab eval` and the Python module call it.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <tuple>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 #include <boost/math/special_functions/erf.hpp>
 #include <gtest/gtest.h>
@@ -165,6 +169,243 @@ TEST(HardeningExtremes, GroupG_AsgSgProductAtSharpAsg) {
     const mp50 x = s * cos(az), y = s * sin(az);
     const mp50 expected = 2 * pi * c * exp(-mp50(eta_x) * x * x - mp50(eta_y) * y * y) / mp50(lambda);
     EXPECT_LT(rel(eval_row<double>(exact, {eta_x, eta_y, lambda, cosine, azimuth}), expected), 1e-6) << "λ=" << lambda;
+  }
+}
+
+// ---- exactly grazing view, the light at the mirror direction on the horizon ---------------------
+// In polar coordinates (θ, ψ) about the mirror direction −ωo = (−1, 0, 0) at n·o = 0, ψ from n
+// towards +y: ω = (−cos θ, sin θ sin ψ, sin θ cos ψ), and ωo + ω = 2 sin(θ/2)·h with
+// h = (sin(θ/2), cos(θ/2) sin ψ, cos(θ/2) cos ψ) exactly, so o·h = sin(θ/2), n·h = cos(θ/2) cos ψ,
+// n·ω = sin θ cos ψ (> 0 for |ψ| < π/2). With dω = sin θ dθ dψ the integrands f·⟨ω·n⟩ sin θ are
+//   Gaussian NDF (S/(n·o) = 2(n·h)/(o·h) at n·o = 0): D(θ_h)·F(sin(θ/2))·4 cos²(θ/2) cos ψ/π,
+//   GGX (V·(n·ω) = 1/(2α) at n·o = 0, height-correlated Smith): D_GGX(n·h)·F(sin(θ/2))·sin θ/(2α),
+// both bounded: the singularity of the Gaussian-NDF one at θ = 0 is gone. Derived here, not taken
+// from the code under test.
+struct GrazingBrdf {
+  bool ggx;
+  mp50 roughness, f0;
+  // the integrand above without the light, at (θ, ψ)
+  mp50 operator()(const mp50& theta, const mp50& psi) const {
+    const mp50 pi = boost::math::constants::pi<mp50>();
+    const mp50 sh = sin(theta / 2), ch = cos(theta / 2), cn = ch * cos(psi);  // o·h, cos(θ/2), n·h
+    const mp50 om = 1 - sh, fresnel = f0 + (1 - f0) * om * om * om * om * om;
+    if (ggx) {
+      const mp50 a2 = roughness * roughness, d = (1 - cn * cn) + a2 * cn * cn;
+      return a2 / (pi * d * d) * fresnel * sin(theta) / (2 * roughness);
+    }
+    const mp50 theta_h = atan2(sqrt(1 - cn * cn), cn) / roughness;
+    return exp(-theta_h * theta_h) * fresnel * 4 * ch * ch * cos(psi) / pi;
+  }
+};
+
+// The light axis' offset δ = ξ − (−1, 0, 0) from the row's light_cos and azimuth in 50 digits.
+std::pair<mp50, mp50> light_offset_yz(const mp50& light_cos, const mp50& azimuth) {
+  const mp50 s = sqrt(1 - light_cos * light_cos);
+  return {s * sin(azimuth), light_cos};
+}
+
+// L in 50 digits by nested Gauss–Kronrod (15 points a panel) over θ = t/√λ, t ∈ [0, 40 + √λ‖δ‖]
+// (the light is e^{−800} past it), and ψ ∈ [−π/2, π/2], the light e^{−λ‖ω − ξ‖²/2} with
+// ω − ξ = (2 sin²(θ/2) − δx, sin θ sin ψ − δy, sin θ cos ψ − δz), δx = (δy² + δz²)/(1 + √(1 − δy² − δz²)).
+// For λ ≤ 1e12 and δ ≲ 1/√λ: 50 digits then hold every digit of λ‖ω − ξ‖². Panel ends at
+// t = 0, 1, 2, 4, 8, 16 and at ψ = 0, ±m/2, ±m, ±2m (the light's and D's widths resolved: within
+// 1e-15 relative of 31-point rules on twice the panels at m = 0.3, λ = 1e4 … 1e12, checked once).
+mp50 grazing_quadrature_mp50(const GrazingBrdf& brdf, const mp50& lambda, const mp50& dy, const mp50& dz) {
+  using boost::math::quadrature::gauss_kronrod;
+  const mp50 half_pi = boost::math::constants::half_pi<mp50>(), rl = sqrt(lambda);
+  const mp50 r2 = dy * dy + dz * dz, dx = r2 / (1 + sqrt(1 - r2));
+  const mp50 t_max = 40 + rl * sqrt(r2);
+  std::vector<mp50> tb;
+  for (const double t : {0.0, 1.0, 2.0, 4.0, 8.0, 16.0}) tb.push_back(mp50(t));
+  tb.push_back(t_max);
+  const mp50 m = brdf.roughness;
+  std::vector<mp50> pb{-half_pi, -2 * m, -m, -m / 2, mp50(0), m / 2, m, 2 * m, half_pi};
+  auto inner = [&](const mp50& psi) {
+    auto g = [&](const mp50& t) {
+      const mp50 theta = t / rl, st = sin(theta), sh = sin(theta / 2);
+      const mp50 x = 2 * sh * sh - dx, y = st * sin(psi) - dy, z = st * cos(psi) - dz;
+      return exp(-lambda * (x * x + y * y + z * z) / 2) * brdf(theta, psi) / rl;
+    };
+    mp50 sum = 0;
+    for (std::size_t i = 0; i + 1 < tb.size(); ++i) sum += gauss_kronrod<mp50, 15>::integrate(g, tb[i], tb[i + 1], 0, mp50(0));
+    return sum;
+  };
+  mp50 sum = 0;
+  for (std::size_t i = 0; i + 1 < pb.size(); ++i) sum += gauss_kronrod<mp50, 15>::integrate(inner, pb[i], pb[i + 1], 0, mp50(0));
+  return sum;
+}
+
+// The sharp-light (Laplace) limit of the same L, derived: as λ → ∞ only θ = O(1/√λ + ‖δ‖) counts;
+// with (y, z) = r(sin ψ, cos ψ) the tangent-plane offset of ω from −ωo, the light is
+// e^{−λ(r² − 2r·a + ‖δ‖²)/2}, a = δy sin ψ + δz cos ψ, and the integrands above tend to
+// their θ → 0 forms (relative corrections O(r): F(r/2) = 1 − 5(1 − f0)r/2 + …, D's θ dependence):
+//   Gaussian NDF: (4/π) cos ψ e^{−ψ²/m²} ∫₀^∞ e^{−λ(…)/2} dr
+//     = (4/π) cos ψ e^{−ψ²/m²} √(π/(2λ)) erfc(−a√λ/√2) e^{−λb²/2},  b = δy cos ψ − δz sin ψ,
+//   GGX: α/(2π(cos²ψ(α² − 1) + 1)²) ∫₀^∞ r e^{−λ(…)/2} dr
+//     = H(ψ)/λ·(e^{−λ‖δ‖²/2} + A√(π/2) erfc(−A/√2) e^{−B²/2}),  A = a√λ, B = b√λ,
+// integrated over ψ ∈ (−π/2, π/2) in 50 digits. With D = √λ(δy, δz) ≠ 0 the variable is τ = ψ − ψ_D
+// (ψ_D the light's azimuth, A = ‖D‖cos τ, B = ‖D‖sin τ exactly, cos ψ and sin ψ from D's components):
+// the light's width in ψ, 1/‖D‖ (1e-134 at λ = 1e300), is then resolved about τ = 0 where ψ itself
+// could not be (π/2 ± 1e-134 is π/2 in 50 digits). Panel ends at τ = 0, ±2^k/(4‖D‖), and where ψ is
+// ±π/2, 0, ±m/2, ±m, ±2m. At δ = 0 the Gaussian-NDF limit is √(π/(2λ))·(4/π)∫cos ψ e^{−ψ²/m²} dψ
+// ≈ 0.8296/√λ at m = 0.3, the λ^{−1/2} law.
+mp50 grazing_limit_mp50(const GrazingBrdf& brdf, const mp50& lambda, const mp50& dy, const mp50& dz) {
+  using boost::math::quadrature::gauss_kronrod;
+  const mp50 pi = boost::math::constants::pi<mp50>(), half_pi = pi / 2, rl = sqrt(lambda);
+  const mp50 Dy = dy * rl, Dz = dz * rl, D2 = Dy * Dy + Dz * Dz, Dn = sqrt(D2);
+  const mp50 cd = Dn > 0 ? mp50(Dz / Dn) : mp50(1), sd = Dn > 0 ? mp50(Dy / Dn) : mp50(0);
+  auto f = [&](const mp50& tau) -> mp50 {
+    const mp50 cpsi = cd * cos(tau) - sd * sin(tau), spsi = sd * cos(tau) + cd * sin(tau);
+    if (!(cpsi > 0)) return mp50(0);  // below the horizon
+    const mp50 A = Dn * cos(tau), B = Dn * sin(tau);
+    const mp50 tail = boost::math::erfc(-A / sqrt(mp50(2))) * exp(-B * B / 2);
+    if (!brdf.ggx) {
+      const mp50 x = atan2(spsi, cpsi) / brdf.roughness;
+      return 4 / pi * cpsi * exp(-x * x) * sqrt(pi / 2) * tail / rl;
+    }
+    const mp50 a2 = brdf.roughness * brdf.roughness;
+    const mp50 den = cpsi * cpsi * (a2 - 1) + 1;
+    const mp50 h = brdf.roughness / (2 * pi * den * den);
+    return h * (exp(-D2 / 2) + A * sqrt(pi / 2) * tail) / lambda;
+  };
+  // For ‖D‖ ≥ 40 the light is e^{−B²/2} < e^{−2000} past |τ| = 64/‖D‖ (and erfc(−A/√2) < e^{−800}
+  // near τ = π): only |τ| ≤ 64/‖D‖ is integrated.
+  const mp50 reach = Dn >= 40 ? mp50(64 / Dn) : pi;
+  std::vector<mp50> br{-reach, reach, mp50(0)};
+  if (Dn > 0)
+    for (mp50 w = mp50(0.25) / Dn; w < reach; w *= 2) {
+      br.push_back(w);
+      br.push_back(-w);
+    }
+  const mp50 psi_d = atan2(sd, cd);
+  for (const mp50& psi : {half_pi, -half_pi, mp50(0), brdf.roughness / 2, -brdf.roughness / 2, brdf.roughness,
+                          mp50(-brdf.roughness), 2 * brdf.roughness, -2 * brdf.roughness}) {
+    mp50 t = psi - psi_d;
+    if (t > pi) t -= 2 * pi;
+    if (t < -pi) t += 2 * pi;
+    if (t > -reach && t < reach) br.push_back(t);
+  }
+  std::sort(br.begin(), br.end());
+  mp50 sum = 0;
+  for (std::size_t i = 0; i + 1 < br.size(); ++i)
+    if (br[i + 1] > br[i]) sum += gauss_kronrod<mp50, 31>::integrate(f, br[i], br[i + 1], 6, mp50(1e-15));
+  return sum;
+}
+
+// |value − expected| within `tol` relative, or both below the type's smallest subnormal (a value
+// that underflows in the type is 0 or a subnormal there, never more).
+template <class T>
+void expect_close(T value, const mp50& expected, double tol, const std::string& what) {
+  const mp50 floor = 2 * mp50(std::numeric_limits<T>::denorm_min());
+  EXPECT_LE(abs(mp50(value) - expected), tol * expected + floor) << what << ": " << double(value) << " vs " << expected;
+}
+
+// The Gaussian-NDF reference at exactly grazing view with the light on the horizon at the mirror
+// direction: its value fell like λ^{−1/2} only up to λ ≈ 1e12 (1% low there), then 2.15e-9 at 1e16
+// (8.30e-9 expected) and 0 from 1e20, from a 1e-7 floor on the light's width and ωo + ω formed
+// from ω. Checked in float, double and mp50 (each row's inputs rounded to its type, as `sglab
+// eval --type` rounds them: the double azimuth nearest π puts the light 1.22e-16 rad off the
+// mirror direction, float's 8.7e-8, and from λ ≈ 1e32 resp. 1e14 that offset is many light widths),
+// against the 50-digit quadrature above for λ = 1e4 … 1e12 and the sharp-light limit from 1e16 on
+// (its O(1/√λ) corrections ≤ 1e-7 relative there). Tolerance 2e-6: the quadrature's 1e-6 target,
+// twice (float's rounding of the result, 6e-8, is inside it). The GGX reference at the same
+// configurations is checked the same way: it is bounded at the mirror direction (V·(n·ω) = 1/(2α)
+// at n·o = 0), so the light-pole quadrature already gives the limit.
+TEST(HardeningExtremes, GroupK_GrazingMirrorReferences) {
+  const mp50 pi = boost::math::constants::pi<mp50>();
+  // The reference's grazing integrand from u = ωo + ω agrees with the BRDF's own form wherever
+  // that one still has its digits (ω far from −ωo): a grid over the upper hemisphere, 1e-13.
+  const sglab::Vec3d wo(1, 0, 0);
+  for (double ct : {0.05, 0.3, 0.7, 0.99})
+    for (double phi = 0.1; phi < 6.2; phi += 0.5) {
+      const double st = std::sqrt(1 - ct * ct);
+      const sglab::Vec3d w(st * std::cos(phi), st * std::sin(phi), ct);
+      const double a = sglab::gaussian_ndf_brdf_cosine(0.3, 0.04, wo, w);
+      const double b = sglab::gaussian_ndf_grazing_brdf_cosine(0.3, 0.04, sglab::Vec3d(wo + w));
+      EXPECT_NEAR(b, a, 1e-13 * std::max(a, 1e-300)) << "ω·n=" << ct << " φ=" << phi;
+    }
+  for (const bool ggx : {false, true}) {
+    const sglab::Method& ref = method(ggx ? "specular" : "specular-gaussian-ndf", "reference");
+    const char* name = ggx ? "GGX" : "Gaussian NDF";
+    // {roughness, λ, light_cos, view_cos, azimuth, f0}
+    for (const double lambda : {1e4, 1e8, 1e12, 1e16, 1e20, 1e30, 1e100, 1e300, kDblMax}) {
+      const std::vector<double> row{0.3, lambda, 0.0, 0.0, std::numbers::pi, 0.04};
+      auto expected_for = [&](const mp50& lambda_t, const mp50& light_cos, const mp50& azimuth) {
+        const GrazingBrdf brdf{ggx, mp50(0.3), mp50(0.04)};
+        const auto [dy, dz] = light_offset_yz(light_cos, azimuth);
+        return lambda <= 1e12 ? grazing_quadrature_mp50(brdf, lambda_t, dy, dz) : grazing_limit_mp50(brdf, lambda_t, dy, dz);
+      };
+      const mp50 expected = expected_for(mp50(lambda), mp50(0.0), mp50(std::numbers::pi));
+      const double d = eval_row<double>(ref, row);
+      std::printf("%s λ=%g: double %.6e, expected %.6e\n", name, lambda, d, double(expected));
+      expect_close(d, expected, 2e-6, std::string(name) + " double λ=" + std::to_string(lambda));
+      // mp50: the Gaussian-NDF reference forms the offset in 50 digits, so an azimuth π to 50
+      // digits puts the light 1e-50 rad off (GGX's reference converts the inputs to double first).
+      std::vector<mp50> row50{mp50(0.3), mp50(lambda), mp50(0), mp50(0), pi, mp50(0.04)};
+      const mp50 m50 = sglab::eval_as<mp50>(ref, std::span<const mp50>(row50));
+      const mp50 expected50 = ggx ? expected : expected_for(mp50(lambda), mp50(0), pi);
+      std::printf("%s λ=%g: mp50 (azimuth π to 50 digits) %.6e, expected %.6e\n", name, lambda, double(m50), double(expected50));
+      expect_close(m50, expected50, 2e-6, std::string(name) + " mp50 λ=" + std::to_string(lambda));
+      if (lambda <= 1e38) {
+        const float fl = eval_row<float>(ref, row);
+        const mp50 expected_f = expected_for(mp50(float(lambda)), mp50(0), mp50(float(std::numbers::pi)));
+        std::printf("%s λ=%g: float %.6e, expected %.6e\n", name, lambda, double(fl), double(expected_f));
+        expect_close(fl, expected_f, 2e-6, std::string(name) + " float λ=" + std::to_string(lambda));
+      }
+    }
+  }
+  // The light exactly at the mirror direction (δ = 0, which no double azimuth reaches): the
+  // λ^{−1/2} law up to DBL_MAX.
+  const GrazingBrdf brdf{false, mp50(0.3), mp50(0.04)};
+  for (const double lambda : {1e16, 1e100, 1e300, kDblMax}) {
+    const sglab::SpecularConfig c{0.3, lambda, 0.0, 0.0, std::numbers::pi, 0.04};
+    const double v = sglab::specular_gaussian_ndf_reference_grazing(c, sglab::Vec3d(0, 0, 0));
+    const mp50 expected = grazing_limit_mp50(brdf, mp50(lambda), mp50(0), mp50(0));
+    std::printf("δ = 0, λ=%g: %.6e·λ^{-1/2}, expected %.6e·λ^{-1/2}\n", lambda, v * std::sqrt(lambda), double(expected * sqrt(mp50(lambda))));
+    expect_close(v, expected, 2e-6, "δ = 0 λ=" + std::to_string(lambda));
+  }
+}
+
+// The ASG × SG product's `exact` method with both lobes sharp and of similar sharpness (its 2D
+// quadrature about the SG axis), against the sharp limit derived here: with ω = (x, y, √(1 − x² − y²))
+// and the SG axis ξ = (ax, ay, c), Ĝ G = (ω·z)e^{−ηx x² − ηy y²}·e^{−λ‖ω − ξ‖²/2}, and as every
+// sharpness → ∞ only x, y = O(η^{−1/2}) count, where ω·z = 1 − O(r²) and ‖ω − ξ‖² =
+// (x − ax)² + (y − ay)² + O(r⁴): the product of two Gaussians in the tangent plane,
+//   ∫ Ĝ G dω → π/√((ηx + λ/2)(ηy + λ/2))·exp(−(ηxλ/2)/(ηx + λ/2)·ax² − (ηyλ/2)/(ηy + λ/2)·ay²),
+// relative error O(1/η) (≤ 1e-8 here, from ηmin ≥ 1e8). In 50 digits from the row's doubles (the
+// method rounds its inputs to double; the cosine 1 − k·1e-12 is not the decimal text). Offsets of
+// the SG axis of ~1 lobe width are representable only while the width ≥ 1.5e-8 (1 − c ≥ 1.1e-16),
+// so η ≤ 1e14 carries them; above, ξ = z. At ηx = ηy = λ = DBL_MAX the line limit's error bound
+// overflowed to 0 and took the line limit for two equal lobes: 0 instead of π/(1.5·DBL_MAX)
+// (1.17e-308, a subnormal: compared within 2e-6 relative plus double's smallest subnormal).
+TEST(HardeningExtremes, GroupL_AsgSgProductBothSharp) {
+  const sglab::Method& exact = method("asg-sg-product-integral", "exact");
+  const mp50 pi = boost::math::constants::pi<mp50>();
+  auto limit = [&](const std::vector<double>& r) {
+    const mp50 ex(r[0]), ey(r[1]), l(r[2]), c(r[3]), az(r[4]);
+    const mp50 s = sqrt((1 - c) * (1 + c)), ax = s * cos(az), ay = s * sin(az);
+    const mp50 hx = ex + l / 2, hy = ey + l / 2;
+    return pi / sqrt(hx * hy) * exp(-(ex * l / 2) / hx * ax * ax - (ey * l / 2) / hy * ay * ay);
+  };
+  std::vector<std::vector<double>> rows;
+  for (const double e : {1e8, 1e10, 1e12, 1e14, 1e16, 1e20, 1e50, 1e100, 1e200, 1e300, kDblMax}) {
+    // (ηx, ηy, λ) ratios around 1: equal, anisotropic, the SG 4× broader or 4× sharper
+    for (const auto& [ry, rl] : std::vector<std::pair<double, double>>{{1, 1}, {0.5, 1}, {1, 0.25}, {0.1, 0.3}, {1, 0.004}}) {
+      rows.push_back({e, e * ry, e * rl, 1.0, 0.0});
+      if (e <= 1e14)
+        for (const auto& [k, az] : std::vector<std::pair<double, double>>{{1, 0.0}, {2, 0.7}, {0.5, 2.0}}) rows.push_back({e, e * ry, e * rl, 1 - k / e, az});
+    }
+    if (e <= 1e300) rows.push_back({e / 4, e, 4 * e, 1.0, 0.0});  // the SG the sharpest
+  }
+  for (const auto& r : rows) {
+    const mp50 expected = limit(r);
+    const std::string what = "ηx=" + std::to_string(r[0]) + " ηy=" + std::to_string(r[1]) + " λ=" + std::to_string(r[2]) +
+                             " c=" + std::to_string(r[3]) + " φ=" + std::to_string(r[4]);
+    expect_close(eval_row<double>(exact, r), expected, 2e-6, "double " + what);
+    expect_close(eval_row<mp50>(exact, r), expected, 2e-6, "mp50 " + what);
+    if (r[0] <= 1e30 && r[2] <= 1e30 && r[3] == 1.0)  // float: the inputs exact in float, the value a normal float
+      expect_close(eval_row<float>(exact, r), limit({double(float(r[0])), double(float(r[1])), double(float(r[2])), 1.0, 0.0}), 2e-6,
+                   "float " + what);
   }
 }
 

@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "envmap.hpp"
+#include "parse_number.hpp"
 #include "sglab/envmap.hpp"
 #include "sglab/render/environment.hpp"
 #include "sglab/scalar.hpp"
@@ -275,11 +276,81 @@ TEST_F(HardeningLate, EnvmapBasesOptions) {
       {"--env a=m.exr --width nan", "--width = nan"},
       {"--env a=m.exr --res 0", "--res 0 must be in [2, 256]"},
       {"--env a=m.exr --normals -1", "--normals -1 must be in [1, 100000]"},
-      {"--env a=m.exr --tolerance nan", "--tolerance nan must be in (0, 1)"},
+      {"--env a=m.exr --tolerance nan", "--tolerance: 'nan' is not a number"},
       {"--env a=m.exr --tolerance 1", "--tolerance 1 must be in (0, 1)"},
-      {"--env a=m.exr --roughness nan", "--roughness nan must be in (0, 1]"},
+      {"--env a=m.exr --roughness nan", "--roughness: 'nan' is not a number"},
   };
   for (const auto& [args, needle] : cases) refused(sglab(base + args), needle, {"o", "t"});
+}
+
+// M. A real-valued option whose text is not a finite normal double (overflow, underflow, a
+// subnormal, nan, inf, hexadecimal) is refused by one check for every command (cli/app.cpp
+// require_decimal_reals) quoting the text as typed: `--tolerance 1e400` was "--tolerance inf must
+// be in (0, 1)", `1e-400` "--tolerance 0 …", and "0x1p-3" was taken as 0.125.
+TEST_F(HardeningLate, GroupM_RealOptionsQuoteTheText) {
+  write_map("m.exr", two_lobe_map());
+  const std::string bases = "envmap bases --quick --out o --tables-dir t --env a=m.exr ";
+  const std::pair<std::string, std::string> cases[] = {
+      {bases + "--tolerance 1e400", "--tolerance: '1e400' is out of the range of double (too large)"},
+      {bases + "--tolerance -1e400", "--tolerance: '-1e400' is out of the range of double"},
+      {bases + "--tolerance 1e-400", "--tolerance: '1e-400' is out of the range of double (too close to zero)"},
+      {bases + "--tolerance 1e-310", "--tolerance: '1e-310' is out of the range of double (too close to zero: subnormal)"},
+      {bases + "--tolerance inf", "--tolerance: 'inf' is not a number"},
+      {bases + "--tolerance 0x1p-3", "--tolerance: '0x1p-3' is not a number"},
+      {bases + "--roughness 0.5 --roughness 1e999", "--roughness: '1e999' is out of the range of double"},
+      {bases + "--tolerance " + std::string(5000, '9'), "--tolerance: '9999"},
+      {"fit lambda-c --beta 1e400", "--beta: '1e400' is out of the range of double"},
+  };
+  for (const auto& [args, needle] : cases) {
+    refused(sglab(args), needle, {"o", "t"});
+    EXPECT_EQ(sglab(args).err.find("inf "), std::string::npos) << args;
+  }
+  // The range checks behind it still name a finite value as before.
+  refused(sglab(bases + "--tolerance 1"), "--tolerance 1 must be in (0, 1)", {"o", "t"});
+}
+
+// N. `sglab export` with the same method twice wrote its function twice (a source that does not
+// compile), exit 0: refused by name.
+TEST_F(HardeningLate, GroupN_ExportRefusesARepeatedMethod) {
+  refused(sglab("export clamped-cosine/meder clamped-cosine/meder --lang c --out x.c"), "'clamped-cosine/meder' is given twice", {"x.c"});
+  refused(sglab("export clamped-cosine/meder specular/sg-warp clamped-cosine/meder --lang glsl --out x.glsl"), "is given twice", {"x.glsl"});
+  const CommandResult ok = sglab("export clamped-cosine/meder specular/sg-warp --lang c --out y.c");
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(path("y.c")));
+}
+
+// O. `sglab recommend --from` a missing or empty directory wrote a report of "no data" sections
+// with exit 0: refused, naming the directory, nothing written.
+TEST_F(HardeningLate, GroupO_RecommendNeedsItsTables) {
+  refused(sglab("recommend --from missing --out r"), "--from 'missing' is not a directory", {"r"});
+  fs::create_directories(path("empty"));
+  refused(sglab("recommend --from empty --out r"), "--from 'empty' holds none of the tables", {"r"});
+}
+
+// P. A number in a table that `recommend` or `own-method` reads is parsed strictly
+// (runner::parse_table_number): "nan", "inf" and "1e400" were taken by strtod and carried into the
+// write-ups. Refused naming the file, line, column and text; a subnormal stays a table value.
+TEST_F(HardeningLate, GroupP_TableNumbersAreStrict) {
+  const fs::path tables = fs::path(SGLAB_SOURCE_DIR) / "paper_tables";
+  for (const char* bad : {"nan", "inf", "1e400", "0x1p3"}) {
+    fs::remove_all(path("t"));
+    fs::create_directories(path("t"));
+    for (const auto& e : fs::directory_iterator(tables))
+      if (e.is_regular_file()) fs::copy_file(e.path(), path("t") / e.path().filename());
+    // error_vs_time.csv's row of punctual in double (the diffuse section's Pareto front reads it):
+    // its max_error field replaced by the bad text
+    std::string text = read_file(path("t/error_vs_time.csv"));
+    const std::size_t row = text.find("\nclamped-cosine,punctual,double,");
+    ASSERT_NE(row, std::string::npos);
+    std::size_t field = row + 1;
+    for (int comma = 0; comma < 4; ++comma) field = text.find(',', field) + 1;
+    text.replace(field, text.find(',', field) - field, bad);
+    std::ofstream(path("t/error_vs_time.csv"), std::ios::binary | std::ios::trunc) << text;
+    refused(sglab("recommend --from t --out r"), std::string("column 'max_error': '") + bad + "'", {"r"});
+  }
+  EXPECT_DOUBLE_EQ(sglab::runner::parse_table_number("1e-310"), 1e-310);
+  EXPECT_EQ(sglab::runner::parse_table_number("1e-400"), 0.0);
+  EXPECT_THROW(sglab::runner::parse_table_number("1e400"), sglab::runner::NumberError);
 }
 
 }  // namespace

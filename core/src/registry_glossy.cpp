@@ -79,8 +79,12 @@ Vec3<T> product_sg_axis(const T& cosine, const T& azimuth) {
 // ψ''(0)/(4ηx ψ(0)) for ψ(u) the integrand across the line (u = ω·x), whose second logarithmic
 // derivative is bounded by 1 (the √(1 − u²) and cosine factors), 2ηy sin²b (≤ 100 where
 // e^{−ηy sin²b} is above e^{−50}), λ and (λξx)² (the SG's slope across the line).
+// Each term divided by ηx before they are added: (1 + … + λ)/(4ηx) overflowed to DBL_MAX/∞ = 0 at
+// ηx = λ = DBL_MAX and took the line limit for two equally sharp lobes (it returned 0 for
+// π/(1.5·DBL_MAX) = 1.17e-308); a term that still overflows is +∞ and keeps the 2D quadrature.
 double asg_line_limit_error(double eta_x, double eta_y, double lambda, double xi_x) {
-  return (1 + std::min(2 * eta_y, 100.0) + lambda + (lambda * xi_x) * (lambda * xi_x)) / (4 * eta_x);
+  const double slope = lambda * xi_x;
+  return (1 / eta_x + std::min(2 * eta_y, 100.0) / eta_x + lambda / eta_x + slope * (slope / eta_x)) / 4;
 }
 // Used when that term is below this. The limit below includes that term, so what is left is the
 // next one, ψ^(4)/(32ηx²ψ) ≈ 3(4ε)²/32 = 1.5ε² ≤ 4e-7 (ψ near a Gaussian in u): within the

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "sglab/brdf.hpp"
 #include "sglab/clamped_cosine.hpp"
@@ -105,6 +106,23 @@ T gaussian_ndf_brdf_cosine(const T& m, const T& f0, const Vec3<T>& wo, const Vec
   return gaussian_angle_ndf(m, half_vector(wo, w)) * factor;
 }
 
+// The same f·⟨ω·n⟩ at exactly grazing view (n·o = 0) from u = ωo + ω, the half vector before its
+// normalization: with o·h = ‖u‖/2 (unit ωo and ω) and S/(n·o) = 2(n·h)/(o·h) (vcavity_over_cos_o's
+// limit), D(u)·F(‖u‖/2)·4u_z/(π‖u‖²), u_z = n·ω. Near the mirror direction −ωo, u → 0: forming u as
+// a difference of nearby directions keeps every digit there, where ωo + ω from ω loses o·h (of
+// order ‖u‖², which rounds to 0 once ‖u‖ < 1e-8) and the value with it. Scaled by u's largest
+// component first, so ‖u‖² neither underflows nor goes subnormal for u ~ 1e-154 (λ = DBL_MAX).
+template <class T>
+T gaussian_ndf_grazing_brdf_cosine(const T& m, const T& f0, const Vec3<T>& u) {
+  using std::abs;
+  using std::max;
+  if (!(value_of(u(2)) > 0)) return T(0);  // n·ω ≤ 0: below the horizon
+  const T s = max(max(T(abs(u(0))), T(abs(u(1)))), T(u(2)));
+  const Vec3<T> v = u / s;
+  const T nv = T(v.norm());  // ∈ [1, √3]
+  return gaussian_angle_ndf(m, v) * fresnel_schlick(f0, T(s * nv / 2)) * T(4) * v(2) / (pi<T>() * s * nv * nv);
+}
+
 // f itself, F·S·D/(π (n·i)(n·o)) (divides by both cosines: for tests of reciprocity).
 template <class T>
 T gaussian_ndf_brdf(const T& m, const T& f0, const Vec3<T>& wo, const Vec3<T>& w) {
@@ -183,45 +201,112 @@ T specular_gaussian_ndf_sg_exact_cosine(const SpecularInput<T>& in) {
 // deviation m/√2 in h, doubled by the warp in the plane and times n·o across it; m·max(n·o, 1e-3)
 // is that width's lower end), clip = the horizon. ≤ 1e-6 relative (tests/gaussian_ndf_test.cpp
 // checks it against an independent quadrature over the half vector and the sharp-light limit).
-// At exactly grazing view (n·o = 0) the mirror direction −ωo, on the horizon, is a point
-// singularity: h = (ωo + ω)/‖ωo + ω‖ takes every direction ⟂ ωo as ω → −ωo, so D jumps with the
-// direction of approach and S/(n·o) = 2(n·h)/(o·h) grows like 1/‖ω + ωo‖. Polar coordinates about
-// it absorb both (the sin θ of dω cancels the 1/θ, and D becomes a function of the azimuth), so
-// there the mirror direction is the pole and the light axis the focus: 0.03 s instead of 5–15 s
-// a value at m = 0.2–1 with a broad light, where panels about the light axis kept bisecting
-// around the singularity (and missed the tolerance by up to 1e-6 relative beside it).
+// Exactly grazing view (n·o = 0) is specular_gaussian_ndf_reference_grazing below.
 // Refused below kMinReferenceRoughness (the registry's domain check), as the GGX reference.
-// With the light as the pole (integrate_sg_about_axis) the value is right up to λ = DBL_MAX; at
-// grazing view that is used as well once the light is nonzero only within an angle (sg_support_angle)
-// smaller than its distance to the mirror direction, so the singularity is outside the light.
+// With the light as the pole (integrate_sg_about_axis) the value is right up to λ = DBL_MAX.
+namespace detail {
+// The light axis ξ at grazing view as its offset δ = ξ − (−ωo) from the mirror direction −ωo =
+// (−1, 0, 0): (1 + ξ_x, ξ_y, ξ_z), 1 + ξ_x = (ξ_y² + ξ_z²)/(1 − ξ_x) for ξ_x < 0 (no cancellation),
+// so that −ωo + δ is a unit vector to the digits of δ. In T (in double for float: the float inputs
+// are exact in double); the reference then rounds δ to double. An mp50 light axis 1e-40 rad from
+// the mirror direction stays 1e-40 rad from it, where a double light axis could not be nearer than
+// about 1e-16 (the double nearest π as the azimuth puts it 1.22e-16 rad off).
+template <class T>
+Vec3d grazing_light_offset(const T& light_cos, const T& light_azimuth) {
+  using W = std::conditional_t<std::is_same_v<T, float>, double, T>;
+  using std::cos;
+  using std::sin;
+  const W c = clamp_cosine(W(light_cos));
+  const W s = safe_sqrt(sin2_from_cos(c));
+  const W x = s * cos(W(light_azimuth)), y = s * sin(W(light_azimuth));
+  const W dx = x < 0 ? W((y * y + c * c) / (W(1) - x)) : W(W(1) + x);
+  return Vec3d(double(dx), double(y), double(c));
+}
+}  // namespace detail
+
+// The reference at exactly grazing view (n·o = 0) for the light axis −ωo + δ, δ its offset from
+// the mirror direction (detail::grazing_light_offset). The mirror direction −ωo, on the horizon, is
+// then a point singularity: h = (ωo + ω)/‖ωo + ω‖ takes every direction ⟂ ωo as ω → −ωo, so D
+// jumps with the direction of approach, and S/(n·o) = 2(n·h)/(o·h) grows like 1/‖ω + ωo‖. In
+// polar coordinates (θ, φ) about −ωo both are absorbed: with u = ωo + ω = ω − (−ωo) =
+// (1 − cos θ)ωo + sin θ e(φ) (exact: 1 − cos θ from SpherePoint), ‖u‖ = 2 sin(θ/2), and
+// sin θ·4u_z/(π‖u‖²) = 4 cos²(θ/2) e_z/π is smooth; D is a function of the azimuth at θ → 0. The
+// light e^{−λ‖ω − ξ‖²/2} = e^{−λ‖u − δ‖²/2}, from √λ(u − δ) (no underflow of the square).
+//  • The light's support (sg_support_angle) reaches the mirror direction: −ωo is the pole (width
+//    min(1, m, 1/√λ)), the light a focus (its width 1/√λ not floored at the quadrature's
+//    min_width), and the normal n a focus of width m (D's width in the azimuth about −ωo). The
+//    value ~ √(π/(2λ))·(4/π)∫cos ψ e^{−ψ²/m²}dψ for λ → ∞ with the light at −ωo (tests/
+//    hardening_extremes_test.cpp checks it against a 50-digit quadrature and that limit up to
+//    λ = DBL_MAX; ω + ωo formed from ω and a light width floored at 1e-7 gave 1% low at λ = 1e12,
+//    a quarter of it at 1e16 and 0 from 1e20).
+//  • Otherwise the light is the pole as integrate_sg_about_axis has it (scaled by √λ), with u =
+//    δ + (ω − ξ) = δ − (1 − cos θ)ξ + sin θ e(φ), so a light 1e-10 rad from −ωo keeps o·h.
+// A broad light (λ ≤ 373) is always the first case: 0.03 s a value at m = 0.2–1 where panels about
+// the light axis took 5–15 s (they kept bisecting around the singularity).
+inline double specular_gaussian_ndf_reference_grazing(const SpecularConfig& c, const Vec3d& delta,
+                                                      const SphereQuadrature& q = {}) {
+  const double m = c.roughness, lambda = c.light_sharpness, f0 = c.f0;
+  const Vec3d wo(1, 0, 0), mirror(-1, 0, 0), n(0, 0, 1);
+  const Vec3d xi = mirror + delta;
+  const double light_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
+  const double sqrt_lambda = std::sqrt(lambda);
+  const double support = sg_support_angle(lambda);
+  const double light_to_mirror = 2 * std::asin(std::min(1.0, 0.5 * delta.norm()));
+  auto g = [&](const Vec3d& u) { return gaussian_ndf_grazing_brdf_cosine(m, f0, u); };
+  const Vec3d clips[1] = {n};
+  if (!(support < light_to_mirror)) {
+    Vec3d e1, e2;
+    detail::orthonormal_frame(mirror, e1, e2);
+    auto f = [&](const SpherePoint& p) -> double {
+      const Vec3d u = p.one_minus_cos * wo + std::sin(p.theta) * (p.cos_phi * e1 + p.sin_phi * e2);
+      const double light = std::exp(-0.5 * (sqrt_lambda * (u - delta)).squaredNorm());
+      return light == 0 ? 0.0 : light * g(u);
+    };
+    SphereQuadrature fine = q;
+    fine.min_width = std::min(q.min_width, light_width);
+    const SphereFocus foci[2] = {{xi, light_width}, {n, std::min(1.0, m)}};
+    const double pole_support = std::min(boost::math::constants::pi<double>(), light_to_mirror + support);
+    return integrate_sphere(f, mirror, std::min({1.0, m, light_width}), foci, clips, fine, pole_support);
+  }
+  Vec3d e1, e2;
+  detail::orthonormal_frame(xi, e1, e2);
+  const double scale = lambda > 1 ? sqrt_lambda : 1.0;
+  auto f = [&](const SpherePoint& p) -> double {
+    const double light = std::exp(-lambda * p.one_minus_cos);
+    if (light == 0) return 0.0;
+    const Vec3d u = delta - p.one_minus_cos * xi + std::sin(p.theta) * (p.cos_phi * e1 + p.sin_phi * e2);
+    return scale * light * g(u);
+  };
+  const SphereFocus foci[1] = {{mirror, std::min(1.0, m * 1e-3)}};
+  return integrate_sphere(f, xi, light_width, foci, clips, q, support) / scale;
+}
+
+// L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω for the Gaussian-angle BRDF, by the adaptive quadrature of
+// glossy_reference.hpp: pole = the light axis (width 1/√λ, capped at 1 rad), focus = the mirror
+// direction p_D, the peak of D, of width ~m(n·o) across the plane of incidence in ω (D's standard
+// deviation m/√2 in h, doubled by the warp in the plane and times n·o across it; m·max(n·o, 1e-3)
+// is that width's lower end), clip = the horizon. ≤ 1e-6 relative (tests/gaussian_ndf_test.cpp checks it against an independent
+// quadrature over the half vector and the sharp-light limit).
 inline double specular_gaussian_ndf_reference(const SpecularConfig& c, const SphereQuadrature& q = {}) {
   const Vec3d wo = specular_view(c.view_cos);
+  if (wo(2) == 0) return specular_gaussian_ndf_reference_grazing(c, detail::grazing_light_offset(c.light_cos, c.light_azimuth), q);
   const Vec3d xi = specular_light_axis(c.light_cos, c.light_azimuth);
-  const double m = c.roughness, lambda = c.light_sharpness, f0 = c.f0;
-  auto h = [&](const Vec3d& w) { return gaussian_ndf_brdf_cosine(m, f0, wo, w); };
-  const double light_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
-  const Vec3d mirror = reflect_about(wo, Vec3d(0, 0, 1));
-  const double lobe_width = std::min(1.0, m * std::max(wo(2), 1e-3));
+  const double m = c.roughness;
+  auto h = [&](const Vec3d& w) { return gaussian_ndf_brdf_cosine(m, c.f0, wo, w); };
+  const SphereFocus foci[1] = {{reflect_about(wo, Vec3d(0, 0, 1)), std::min(1.0, m * std::max(wo(2), 1e-3))}};
   const Vec3d clips[1] = {Vec3d(0, 0, 1)};
-  const double light_to_mirror = 2 * std::asin(std::min(1.0, 0.5 * (xi - mirror).norm()));
-  if (wo(2) == 0 && !(sg_support_angle(lambda) < light_to_mirror)) {
-    auto f = [&](const Vec3d& w) -> double {
-      const double light = sg_eval(w, xi, lambda);
-      return light == 0 ? 0.0 : light * h(w);  // as specular_reference
-    };
-    const SphereFocus light[1] = {{xi, light_width}};
-    return integrate_sphere(f, mirror, lobe_width, light, clips, q);
-  }
-  const SphereFocus foci[1] = {{mirror, lobe_width}};
-  return integrate_sg_about_axis(h, xi, lambda, foci, clips, q);
+  return integrate_sg_about_axis(h, xi, c.light_sharpness, foci, clips, q);
 }
 
 // The reference for a registry row of any precision: evaluated in double and converted (a 50-digit
-// 2D quadrature is too slow; the registry's flaws text says so).
+// 2D quadrature is too slow; the registry's flaws text says so), except that at grazing view the
+// light axis' offset from the mirror direction is formed in the row's precision (float: double).
 template <class T>
 T specular_gaussian_ndf_reference_value(const SpecularInput<T>& in) {
   const SpecularConfig c{double(in.roughness), double(in.light_sharpness), double(in.light_cos),
                          double(in.view_cos),  double(in.light_azimuth),   double(in.f0)};
+  if (specular_view(c.view_cos)(2) == 0)
+    return T(specular_gaussian_ndf_reference_grazing(c, detail::grazing_light_offset(in.light_cos, in.light_azimuth)));
   return T(specular_gaussian_ndf_reference(c));
 }
 
