@@ -20,7 +20,8 @@ void register_gaussian_ndf_quantities(std::vector<Quantity>& out) {
              {}};
   q.methods.push_back(make_method(
       "reference", "adaptive 2D Gauss–Kronrod about the light axis and the mirror direction (glossy_reference.hpp), the Gaussian-angle BRDF",
-      "double quadrature, ≤ 1e-6 relative (checked against a quadrature over the half vector); float rounds and mp50 converts the double result (an mp50 2D quadrature is too slow)",
+      "double quadrature, ≤ 1e-6 relative (checked against a quadrature over the half vector); float rounds and mp50 converts the double result (an mp50 2D quadrature is too slow); at exactly grazing view the "
+      "light's offset from the mirror direction is formed in the row's precision first",
       false,
       [](std::span<const double> a) -> std::optional<std::string> {
         if (a[0] >= kMinReferenceRoughness) return std::nullopt;
