@@ -248,7 +248,7 @@ std::string emit_function(const TracedMethod& m, Language lang) {
   std::string s;
   s += fmt::format("// {}: {}\n", m.name(), meth.source);
   s += fmt::format("// Quantity: {}\n", q.description);
-  s += "// Arguments, in the order of the columns of `sglab eval " + q.name + "`:";
+  s += is_export_only(q) ? std::string("// Arguments, in order:") : "// Arguments, in the order of the columns of `sglab eval " + q.name + "`:";
   for (std::size_t i = 0; i < q.columns.size(); ++i)
     s += fmt::format("{} {} ({})", i ? ";" : "", m.inputs[i], q.columns[i].description);
   s += ".\n";
@@ -290,10 +290,23 @@ std::string not_exportable_reason(const Quantity& q, const Method& m) {
                      m.name == q.reference_method ? " — it is the quantity's reference" : "");
 }
 
+bool is_export_only(const Quantity& q) {
+  for (const auto& e : export_only_quantities())
+    if (&e == &q) return true;
+  return false;
+}
+
 MethodRef find_exportable(std::string_view name) {
   const auto slash = name.find('/');
   const Quantity* q = slash == std::string_view::npos ? nullptr : find_quantity(name.substr(0, slash));
   const Method* m = q ? q->find(name.substr(slash + 1)) : nullptr;
+  if (!m && slash != std::string_view::npos)
+    for (const auto& e : export_only_quantities())
+      if (e.name == name.substr(0, slash) && e.find(name.substr(slash + 1))) {
+        q = &e;
+        m = e.find(name.substr(slash + 1));
+        break;
+      }
   if (!m)
     throw runner::InputError(fmt::format("unknown method '{}' (QUANTITY/METHOD; `sglab export --list` lists the exportable ones)",
                                          clip_text(name)));
@@ -308,6 +321,8 @@ std::vector<std::string> exportable_methods() {
   for (const auto& q : quantities())
     for (const auto& m : q.methods)
       if (m.trace) out.push_back(q.name + "/" + m.name);
+  for (const auto& q : export_only_quantities())
+    for (const auto& m : q.methods) out.push_back(q.name + "/" + m.name);
   return out;
 }
 

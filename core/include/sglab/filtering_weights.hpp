@@ -54,8 +54,9 @@ struct LobeAwareFiltering {
 template <class T>
 T gaussian_weight(const T& distance_squared, const T& variance) {
   using std::exp;
-  if (!(value_of(variance) > 0)) return value_of(distance_squared) > 0 ? T(0) : T(1);
-  return exp(-distance_squared / (T(2) * variance));
+  return select(!(value_of(variance) > 0),
+                [&]() -> T { return select(value_of(distance_squared) > 0, []() -> T { return T(0); }, []() -> T { return T(1); }); },
+                [&]() -> T { return exp(-distance_squared / (T(2) * variance)); });
 }
 
 // App. A: a Gaussian lobe g(x − x_i, τ_i²) smoothed by the kernel g(·, ν²) is the Gaussian of
@@ -81,8 +82,8 @@ T log_mismatch(const T& a, const T& b) {
   const T sum = a + b;
   const T r = (a - b) / sum;
   const T r2 = r * r;
-  if (value_of(r2) <= 0.5) return log1p(T(-r2));
-  return log(T(T(2) * a / sum) * T(T(2) * b / sum));
+  return select(value_of(r2) <= 0.5, [&]() -> T { return log1p(T(-r2)); },
+                [&]() -> T { return log(T(T(2) * a / sum) * T(T(2) * b / sum)); });
 }
 
 }  // namespace detail
@@ -216,8 +217,8 @@ T diffuse_lobe_weight(const T& cosine, const T& lambda_c, const T& beta, const T
 // λ = 0 gives 0.
 template <class T>
 T smoothed_lobe_sharpness(const T& sharpness, const T& kappa) {
-  if (!(value_of(sharpness) > 0)) return T(0);
-  return T(1) / (T(1) / sharpness + T(1) / kappa);
+  return select(!(value_of(sharpness) > 0), []() -> T { return T(0); },
+                [&]() -> T { return T(1) / (T(1) / sharpness + T(1) / kappa); });
 }
 
 namespace detail {
@@ -235,13 +236,16 @@ template <class T>
 T sg_lobe_log_weight(const T& one_minus_cosine, const T& sharpness_i, const T& sharpness_j,
                      const T& beta) {
   const T v = sharpness_i + sharpness_j;
-  if (!(value_of(v) > 0) || !(value_of(beta) != 0)) return T(0);  // q^0 = 1, uniform lobes: q = 1
-  if (!(value_of(sharpness_i) > 0) || !(value_of(sharpness_j) > 0)) {
-    return T(-std::numeric_limits<value_type_t<T>>::infinity());
-  }
-  const T omc = clamp(one_minus_cosine, T(0), T(2));
-  return beta * (T(0.5) * log_mismatch(sharpness_i, sharpness_j) -
-                 sg_reduced_sharpness(sharpness_i, sharpness_j) * omc);
+  // β = 0 written as β ≤ 0 ∧ β ≥ 0 (false for NaN, as !(β ≠ 0) is): the tracing type has no ≠.
+  const auto beta_zero = value_of(beta) <= 0 && value_of(beta) >= 0;
+  return select(!(value_of(v) > 0) || beta_zero, []() -> T { return T(0); }, [&]() -> T {  // q^0 = 1, uniform lobes: q = 1
+    return select(!(value_of(sharpness_i) > 0) || !(value_of(sharpness_j) > 0),
+                  []() -> T { return T(-std::numeric_limits<value_type_t<T>>::infinity()); }, [&]() -> T {
+                    const T omc = clamp(one_minus_cosine, T(0), T(2));
+                    return beta * (T(0.5) * log_mismatch(sharpness_i, sharpness_j) -
+                                   sg_reduced_sharpness(sharpness_i, sharpness_j) * omc);
+                  });
+  });
 }
 
 }  // namespace detail
