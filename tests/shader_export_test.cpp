@@ -186,6 +186,11 @@ TEST(ShaderExport, NotExportableAndUnknownAreRefusedByName) {
 //      meder (clamped-cosine), 32.7·H − 31.7·H (the cancellation loses ~5 bits): ≤ 32·16 ulps…
 //      measured 448 before the exported arithmetic was precise, 320 since, so ≤ 1024, error
 //      within 1e-4.
+//    filtering/lobe-weight and filtering/normal-weight are measured in ulps of the value itself,
+//      not of a peak: a weight e^E (|E| up to 87 above FLT_MIN) moves by |E| times the ulps its
+//      exponent is off, so the deep tail counts many (measured 65 lobe-weight, 8 normal-weight on
+//      the quick grids, 132 and 40 on the full ones): ≤ 256, error within 1e-5 of sglab float's
+//      relative error (FilteringWeightsAreAppendixEAndD bounds it by (8 + 8|E|)·2⁻²⁴ per point).
 //  No export has more NaN/Inf on the stiff grids than sglab float (none at all since `precise`:
 //  cosine-lobe-sg gave NaN at λ = FLT_MAX before), nor negatives where the method is not allowed
 //  them.
@@ -198,7 +203,7 @@ TEST(ShaderExport, EveryMethodCompilesRunsAndMatchesTheReference) {
   std::map<std::string, cli::shader_export::Row> own;
   for (const auto& r : result.rows)
     if (r.evaluator == "sglab float") own[r.method] = r;
-  EXPECT_GE(own.size(), 18u);  // the exportable methods: 12 diffuse, 6 specular
+  EXPECT_GE(own.size(), 21u);  // the exportable methods: 12 diffuse, 7 specular, 2 filtering weights
   for (const auto& r : result.rows) {
     if (r.evaluator == "sglab float") continue;
     const auto& f = own.at(r.method);
@@ -207,9 +212,15 @@ TEST(ShaderExport, EveryMethodCompilesRunsAndMatchesTheReference) {
     ASSERT_TRUE(r.compiles) << r.method << " " << r.evaluator << ": " << r.error;
     const bool cancels = r.method == "clamped-cosine/tokuyoshi2022";
     const bool meder = r.method == "clamped-cosine/meder";
+    const bool filtering = r.method.rfind("filtering/", 0) == 0;
     const bool c = r.evaluator == "c";
     const double error_tol = c ? 0 : cancels ? 1e-3 : meder ? 1e-4 : 1e-5;
-    const double ulps_tol = c ? 0 : cancels ? 2364 * 16 : meder ? 1024 : 16;
+    const double ulps_tol = c ? 0 : cancels ? 2364 * 16 : meder ? 1024 : filtering ? 256 : 16;
+    if (filtering) {  // the filtering weights: no NaN/Inf at all on their stiff grids, sglab float's included
+      EXPECT_EQ(r.stiff_non_finite, 0) << r.method << " " << r.evaluator;
+      EXPECT_EQ(f.stiff_non_finite, 0) << r.method << " sglab float";
+      EXPECT_GT(r.stiff_points, 0) << r.method;
+    }
     EXPECT_LE(r.max_error, f.max_error + error_tol) << r.method << " " << r.evaluator;
     EXPECT_LE(r.max_ulps, ulps_tol) << r.method << " " << r.evaluator;
     EXPECT_EQ(r.grid_non_finite, f.grid_non_finite) << r.method << " " << r.evaluator;
@@ -424,6 +435,14 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
       for (int j = 0; j < 10; ++j) at += (j ? ", " : "") + std::to_string(stiff[10 * k + j]);
       EXPECT_EQ(sv[k], stiff_exact[k]) << ln << " lobe-weight at (" << at << ")";
     }
+    // The largest sharpness unsmoothed (κ = +∞) beside a finite one, coincident axes: the mismatch
+    // (4ab/(a + b)²)^(β/2) alone (λ̄ = FLT_MAX once gave ∞ through 1/(1/λ) and 2λ̄): 1e30 gives
+    // √(4·1e30·FLT_MAX)/(FLT_MAX + 1e30) per unit of β, 1e-8 underflows to 0.
+    const float big[] = {a0, a1, a2, fmax, a0, a1, a2, 1e30f, 1.0f, inf, a0, a1, a2, fmax, a0, a1, a2, 1e-8f, 20.0f, inf};
+    const std::vector<float> bv = run_exported("filtering/lobe-weight", lang, std::vector<float>(std::begin(big), std::end(big)));
+    const double A = double(fmax), B = double(1e30f);
+    EXPECT_NEAR(double(bv[0]) / (2 * std::sqrt(A * B) / (A + B)), 1.0, 81 * eps) << ln << ": " << bv[0];  // (8 + 8|E|)·2⁻²⁴, E = −9.1
+    EXPECT_EQ(bv[1], 0.0f) << ln;
     const float n0[] = {a0, a1, a2, a0, a1, a2, 0.0f, a0, a1, a2, -a0, -a1, -a2, 0.0f, a0, a1, a2, a0, a1, a2, fmax};
     const std::vector<float> nv = run_exported("filtering/normal-weight", lang, std::vector<float>(std::begin(n0), std::end(n0)));
     EXPECT_EQ(nv, (std::vector<float>{1.0f, 0.0f, 1.0f})) << ln;

@@ -74,7 +74,9 @@ namespace detail {
 // log1p(−r²) (accurate for nearly equal a, b, where the weight matters); otherwise as
 // log((2a/(a + b))·(2b/(a + b))), two factors in (0, 2], so neither the product ab nor (a + b)²
 // is formed (they would overflow double at ~1e154, float at ~1e19) and 1 − r² does not cancel
-// when one lobe is much sharper than the other.
+// when one lobe is much sharper than the other. Each factor is 2·(a/(a + b)), not (2a)/(a + b):
+// the same number (the product by 2 is exact) but for a above half the largest finite value,
+// where 2a overflowed (float, λ̄ = FLT_MAX: ∞, or ∞·0 = NaN against a λ̄ whose ratio underflows).
 template <class T>
 T log_mismatch(const T& a, const T& b) {
   using std::log;
@@ -83,7 +85,7 @@ T log_mismatch(const T& a, const T& b) {
   const T r = (a - b) / sum;
   const T r2 = r * r;
   return select(value_of(r2) <= 0.5, [&]() -> T { return log1p(T(-r2)); },
-                [&]() -> T { return log(T(T(2) * a / sum) * T(T(2) * b / sum)); });
+                [&]() -> T { return log(T(T(2) * T(a / sum)) * T(T(2) * T(b / sum))); });
 }
 
 }  // namespace detail
@@ -214,11 +216,16 @@ T diffuse_lobe_weight(const T& cosine, const T& lambda_c, const T& beta, const T
 // The SG lobe G(ω; ξ, λ) smoothed by the SG kernel of sharpness κ is approximated by the SG of
 // sharpness λ̄ = λκ/(λ + κ) (the kernel of the paper's Eq. (9), through the Iwasaki product
 // integral, Eq. C.1). Written 1/(1/λ + 1/κ): κ = +∞ gives λ, λ = +∞ (a mirror lobe) gives κ,
-// λ = 0 gives 0.
+// λ = 0 gives 0. It is ≤ λ; held there, because near the largest finite λ 1/λ is subnormal and
+// 1/(1/λ) rounds past it to +∞ (float, λ = FLT_MAX, κ = +∞: ∞, then NaN in the weight), or is
+// flushed to 0 (GPUs). Elsewhere the hold moves a value by at most its rounding.
 template <class T>
 T smoothed_lobe_sharpness(const T& sharpness, const T& kappa) {
-  return select(!(value_of(sharpness) > 0), []() -> T { return T(0); },
-                [&]() -> T { return T(1) / (T(1) / sharpness + T(1) / kappa); });
+  using std::min;
+  return select(!(value_of(sharpness) > 0), []() -> T { return T(0); }, [&]() -> T {
+    const T s = T(1) / (T(1) / sharpness + T(1) / kappa);
+    return min(s, sharpness);
+  });
 }
 
 namespace detail {
