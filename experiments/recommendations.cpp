@@ -862,6 +862,9 @@ Section shaders(Tables& tables) {
         b += " " + (ex[q][m].count(l) ? count(ex[q][m][l].ulps) : "—") + " | " + (ex[q][m].count(l) ? count(ex[q][m][l].instructions) : "—") + " |";
       b += "\n";
     }
+    // The export-only formulas (`filtering/…`: the filtering weights) answer different questions,
+    // each against its own double evaluation: no front between them.
+    if (!find_quantity(q)) continue;
     std::map<std::string, std::vector<Candidate>> fronts;
     for (const auto& l : languages) {
       std::vector<Candidate> all;

@@ -33,6 +33,9 @@ bool is_diffuse(const Quantity& q) {
          !q.reference_method.empty();
 }
 bool is_specular(const Quantity& q) { return q.name == "specular"; }
+// The export-only filtering weights (shader::export_only_quantities): each against the same
+// template evaluated in double.
+bool is_filtering(const Quantity& q) { return shader::is_export_only(q); }
 
 // What a method's value is compared with: the quantity's reference, except for the normalized
 // vMF form of the hemispherical integral, which returns H/A(λ) (its registry entry says so).
@@ -55,6 +58,9 @@ struct Grids {
   std::size_t grid_points = 0, stiff_points = 0;
   std::vector<double> args;  // per error-grid point, as the float inputs, in double (arity each)
   std::vector<std::size_t> scale_of;  // per error-grid point: the index of the point whose reference is its scale
+  // The error is relative to each point's own reference (the filtering weights), and points whose
+  // reference is below FLT_MIN (an underflowed weight) are left out of the error and the ulps.
+  bool relative = false;
   std::span<const double> point(std::size_t k) const { return {&args[arity * k], arity}; }
 };
 
@@ -110,6 +116,83 @@ Grids specular_grids(const Quantity& q, bool quick) {
   return g;
 }
 
+// The filtering weights' grids: an error grid of moderate lobes (sharpness 0.1 … 1e4, β 1 … 100,
+// κ 10 … 1e3, the second axis 0 … π from the first, which sits from the pole to the horizon) and a
+// stiff grid (coincident, opposite, orthogonal and nearly coincident axes, grazing ones with z = 0
+// and z = ±1e-8; sharpness 0 … FLT_MAX, β 0 … 1e4, κ 1e-8 … +∞). `lobe`: the lobe-aware weight's
+// 10 columns (axis_i, λ_i, axis_j, λ_j, β, κ); else the normal-aware weight's 7 (n_i, n_j, σ_n²).
+struct AxisPair {
+  double a[3], b[3];
+};
+AxisPair axes_at(double theta, double delta, double phi) {
+  return {{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)},
+          {std::sin(theta + delta) * std::cos(phi), std::sin(theta + delta) * std::sin(phi), std::cos(theta + delta)}};
+}
+
+Grids filtering_grids(bool lobe, bool quick) {
+  Grids g;
+  g.arity = lobe ? 10 : 7;
+  g.relative = true;
+  const double pi = 3.14159265358979323846, inf = std::numeric_limits<double>::infinity();
+  const double fmax = double(std::numeric_limits<float>::max());
+  const std::vector<double> thetas = quick ? std::vector<double>{0.0, 1.2, pi / 2} : std::vector<double>{0.0, 0.5, 1.2, pi / 2 - 1e-3, pi / 2};
+  const std::vector<double> deltas = quick ? std::vector<double>{0.0, 1e-3, 0.3, 2.0}
+                                           : std::vector<double>{0.0, 1e-3, 0.01, 0.1, 0.3, 1.0, 2.0, pi};
+  std::vector<AxisPair> pairs;
+  for (double t : thetas)
+    for (double d : deltas) pairs.push_back(axes_at(t, d, 0.7));
+  auto add = [&](const AxisPair& p, std::span<const double> rest, bool error_point) {
+    std::vector<double> row;
+    if (lobe) row = {p.a[0], p.a[1], p.a[2], rest[0], p.b[0], p.b[1], p.b[2], rest[1], rest[2], rest[3]};
+    else row = {p.a[0], p.a[1], p.a[2], p.b[0], p.b[1], p.b[2], rest[0]};
+    if (error_point) {
+      add_error_point(g, row);
+      g.scale_of.push_back(g.scale_of.size());  // its own reference
+    } else {
+      for (double x : row) g.rows.push_back(float(x));
+    }
+  };
+  const std::vector<double> ls = quick ? std::vector<double>{0.1, 10.0, 1e4} : std::vector<double>{0.1, 1.0, 10.0, 100.0, 1e3, 1e4};
+  const std::vector<double> betas = quick ? std::vector<double>{1.0, 20.0} : std::vector<double>{1.0, 20.0, 100.0};
+  const std::vector<double> kappas = quick ? std::vector<double>{100.0} : std::vector<double>{10.0, 100.0, 1e3};
+  const std::vector<double> variances = {0.01, 0.05404477, 0.5, 2.0};
+  for (const auto& p : pairs) {
+    if (lobe) {
+      for (double li : ls)
+        for (double lj : ls)
+          for (double b : betas)
+            for (double k : kappas) {
+              const double rest[4] = {li, lj, b, k};
+              add(p, rest, true);
+            }
+    } else {
+      for (double v : variances) add(p, std::span<const double>(&v, 1), true);
+    }
+  }
+  g.grid_points = g.args.size() / g.arity;
+  // Stiff: coincident (bit-identical), nearly coincident (1e-7 rad), orthogonal, opposite, and
+  // axes in or just off the horizontal plane.
+  std::vector<AxisPair> stiff_pairs = {axes_at(0.7, 0.0, 0.3), axes_at(0.7, 1e-7, 0.3), axes_at(0.7, pi / 2, 0.3),
+                                       axes_at(0.7, pi, 0.3),  axes_at(pi / 2, 0.0, 1.1), axes_at(pi / 2, 1e-8, 1.1),
+                                       axes_at(pi / 2, -1e-8, 1.1), axes_at(pi / 2, pi, 1.1)};
+  const std::vector<double> stiff_ls = {0.0, 1e-8, 1.0, 1e8, 1e20, 1e30, fmax};
+  for (const auto& p : stiff_pairs) {
+    if (lobe) {
+      for (double li : stiff_ls)
+        for (double lj : stiff_ls)
+          for (double b : {0.0, 1.0, 20.0, 1e4})
+            for (double k : {1e-8, 1.0, 100.0, 1e30, inf}) {
+              const double rest[4] = {li, lj, b, k};
+              add(p, rest, false);
+            }
+    } else {
+      for (double v : {0.0, 1e-30, 1e-8, 0.05404477, 1e8, fmax}) add(p, std::span<const double>(&v, 1), false);
+    }
+  }
+  g.stiff_points = g.rows.size() / g.arity - g.grid_points;
+  return g;
+}
+
 // The row's metrics from values on both grids.
 void measure(Row& row, const std::vector<float>& v, const std::vector<float>& sglab_float, const Grids& g,
              const std::vector<double>& reference, const std::vector<double>& scale, const Method& m) {
@@ -119,6 +202,7 @@ void measure(Row& row, const std::vector<float>& v, const std::vector<float>& sg
       ++row.grid_non_finite;
       continue;
     }
+    if (g.relative && !(scale[k] >= double(std::numeric_limits<float>::min()))) continue;
     row.max_error = std::max(row.max_error, std::fabs(double(v[k]) - reference[k]) / scale[k]);
     // In ulps of the larger of the value and the reference at the peak (float): near zero (the
     // back-facing tail) raw ulps count rounding far below the value's own scale (1e-31 against 0
@@ -165,7 +249,7 @@ Result compute(const Options& o) {
     const shader::MethodRef ref = shader::find_exportable(name);
     const Quantity& q = *ref.quantity;
     const Method& m = *ref.method;
-    if (!is_diffuse(q) && !is_specular(q)) continue;
+    if (!is_diffuse(q) && !is_specular(q) && !is_filtering(q)) continue;
     if (is_specular(q) && !specular) {
       specular = specular_grids(q, o.quick);
       r.specular_grid = fmt::format("error-vs-time's specular grid{} ({} points, inputs rounded to float)",
@@ -173,10 +257,18 @@ Result compute(const Options& o) {
       r.specular_stiff = fmt::format("the stability atlas's grid of `specular`{} ({} points; rows with a value past FLT_MAX left out)",
                                      o.quick ? " (quick)" : "", specular->stiff_points);
     }
-    const Grids& g = is_specular(q) ? *specular : diffuse;
-    const Method& refm = *q.find(q.reference_method);
+    std::optional<Grids> own_grids;
+    if (is_filtering(q)) {
+      own_grids = filtering_grids(m.name == "lobe-weight", o.quick);
+      r.filtering_grids.push_back(fmt::format("`{}`: {} error points, {} stiff points", name, own_grids->grid_points, own_grids->stiff_points));
+    }
+    const Grids& g = own_grids ? *own_grids : is_specular(q) ? *specular : diffuse;
     std::vector<double> reference(g.grid_points), scale(g.grid_points);
-    if (m.name == "vmf-tokuyoshi2024" || !quantity_reference.count(q.name)) {
+    if (is_filtering(q)) {
+      // The same template in double on the float inputs.
+      const Method bound_ref = bind(m, set);
+      for (std::size_t k = 0; k < g.grid_points; ++k) reference[k] = bound_ref.eval_double(g.point(k));
+    } else if (const Method& refm = *q.find(q.reference_method); m.name == "vmf-tokuyoshi2024" || !quantity_reference.count(q.name)) {
       std::fprintf(stderr, "shader-export: the reference of %s (%zu points)\n", name.c_str(), g.grid_points);
       tbb::parallel_for(std::size_t(0), g.grid_points, [&](std::size_t k) { reference[k] = reference_for(m, refm, g.point(k)); });
       if (m.name != "vmf-tokuyoshi2024") quantity_reference[q.name] = reference;
@@ -239,7 +331,8 @@ Tables tables(const Result& r) {
       "in the back-facing tail, would count differences far below the value's scale).\n"
       "- SPIR-V: instructions of the exported function and its helpers as glslang emits them, unoptimized, less those of "
       "the same compute entry point around an identity function — a cost proxy, not a cycle count.\n"
-      "- stiff: outputs < 0 and NaN/Inf on {}.{}\n\n"
+      "- stiff: outputs < 0 and NaN/Inf on {}.{}\n"
+      "{}\n"
       "lavapipe evaluates exp, log, sqrt, sin and cos with LLVM's CPU code, not a GPU's hardware approximations: on a "
       "GPU the ulps (and the helpers' accuracy, which rests on exp and log) may differ. The GLSL and HLSL arithmetic is "
       "`precise` (SPIR-V NoContraction: evaluated as written, no reassociation or fused multiply-add). The C uses the C "
@@ -253,7 +346,17 @@ Tables tables(const Result& r) {
                                             "direction (the peak) for the same α, λ and view, on {}; the reference is its "
                                             "2D quadrature.",
                                             r.specular_grid),
-      r.stiff, r.specular_stiff.empty() ? std::string() : fmt::format(" `specular`: on {}.", r.specular_stiff));
+      r.stiff, r.specular_stiff.empty() ? std::string() : fmt::format(" `specular`: on {}.", r.specular_stiff),
+      r.filtering_grids.empty()
+          ? std::string()
+          : fmt::format("- `filtering/…` (the filtering weights of Tokuyoshi 2015 (lobe-aware filtering), App. E and D; not "
+                        "registry quantities, `sglab export` names them): max error is |value − w| / w against the same "
+                        "template evaluated in double on the float inputs (w < FLT_MIN, an underflowed weight, left out of the "
+                        "error and the ulps), ulps are of the value itself; the error grid has sharpness 0.1 … 1e4, β 1 … 100, "
+                        "κ 10 … 1e3 (σ_n² 0.01 … 2) and axes 0 … π apart from the pole to the horizon, the stiff grid coincident, "
+                        "nearly coincident, orthogonal, opposite and grazing axes with sharpness 0 … FLT_MAX, β 0 … 1e4, κ 1e-8 … +∞ "
+                        "(σ_n² 0 … FLT_MAX): {}.\n",
+                        fmt::join(r.filtering_grids, "; ")));
   for (const Row& w : r.rows) {
     const std::string instr = w.instructions >= 0 ? std::to_string(w.instructions) : "—";
     const std::string compiles = w.evaluator == "sglab float" ? "—" : w.compiles ? "yes" : "**no**";
@@ -270,9 +373,6 @@ Tables tables(const Result& r) {
     t.markdown += "\nNot exportable (`sglab export` refuses them with exit status 2 and this reason):\n\n";
     for (const auto& n : r.not_exportable) t.markdown += fmt::format("- {}: {}\n", n.method, n.reason);
   }
-  t.markdown += "\nNot exported either: the lobe-aware filtering weight (Tokuyoshi 2015 (lobe-aware filtering) App. E, "
-                "core/include/sglab/filtering_weights.hpp) is not a registry quantity, so `sglab export` has no name for "
-                "it yet.\n";
   std::string failures;
   for (const Row& w : r.rows)
     if (!w.compiles) failures += fmt::format("\n- {} ({}): {}\n", w.method, w.evaluator, w.error.substr(0, 400));

@@ -1,8 +1,9 @@
 // `sglab shader-export`: every exportable method (shader/emit.hpp) exported as C, GLSL and HLSL,
 // compiled (cc; glslang → SPIR-V → spirv-val) and run (dlopen; a Vulkan compute shader on Mesa's
 // lavapipe), measured on error-vs-time's diffuse grid against the quantity's reference and
-// against sglab's own float evaluation, and on the stiff grid for negatives and NaN/Inf; then
-// the table shader_export.{md,csv} (docs/export.md).
+// against sglab's own float evaluation, and on the stiff grid for negatives and NaN/Inf (the
+// specular methods on their grids; the export-only filtering weights against the same template
+// in double); then the table shader_export.{md,csv} (docs/export.md).
 #pragma once
 
 #include <string>
@@ -43,12 +44,13 @@ struct Result {
   std::string device;         // the Vulkan device the shaders ran on
   std::string grid, stiff;    // descriptions of the diffuse quantities' two grids
   std::string specular_grid, specular_stiff;  // the same for `specular` ("" when not measured)
+  std::vector<std::string> filtering_grids;   // the filtering weights' grids, one line per weight
   std::vector<Row> rows;
   std::vector<NotExportable> not_exportable;
 };
 
-// Measures every exportable method of a (sharpness, cosine) quantity with a reference and of
-// `specular` (runner::InputError for a bad constant set; std::runtime_error when no Vulkan device exists).
+// Measures every exportable method of a (sharpness, cosine) quantity with a reference, of
+// `specular` and the filtering weights (runner::InputError for a bad constant set; std::runtime_error when no Vulkan device exists).
 Result compute(const Options& o);
 
 struct Tables {

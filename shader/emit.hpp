@@ -56,8 +56,18 @@ MethodRef find_exportable(std::string_view quantity_slash_method);
 // Why `m` (which has no traced formula) cannot be exported.
 std::string not_exportable_reason(const Quantity& q, const Method& m);
 
-// Every exportable method of the registry ("quantity/method"), in registry order.
+// Every exportable method ("quantity/method"): the registry's, in registry order, then the
+// export-only ones.
 std::vector<std::string> exportable_methods();
+
+// Formulas `sglab export` emits that are not registry quantities (no `sglab eval`, no reference
+// method): the filtering weights `filtering/lobe-weight` (App. E, lobe_aware_weight) and
+// `filtering/normal-weight` (App. D, normal_weight) of core/include/sglab/filtering_weights.hpp,
+// each a Quantity named "filtering" whose columns are the function's scalar arguments in order.
+// Their evaluators (float, double, mp50) are the same template's. (shader/export_only.cpp)
+const std::vector<Quantity>& export_only_quantities();
+// Whether q is one of export_only_quantities().
+bool is_export_only(const Quantity& q);
 
 // Traces `m` with the constants of `set` (published where the set does not override).
 // runner::InputError when the method is not exportable.

@@ -252,7 +252,7 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
       const std::string src = "sglab (this project): constants of `sglab fit sglab-specular` (paper_tables/own_specular.md)";
       using S = SglabSpecular;
       q.methods.push_back(make_method_with_parameters(
-          "sglab",
+          exportable, "sglab",
           "sglab (this project): GGX's slope density as a Student t smoothed by the light's Gaussian in slope space (scale s_D = α²/2·(1 + κρ0), ν = 2 + c_ν ρ/(1 − ρ)), "
           "the BRDF weight and the true light at the product's peak, a horizon factor; constants from `sglab fit sglab-specular` (paper_tables/own_specular.md)",
           "fitted, not derived: measured on the sweep grid and off it (paper_tables/own_specular.md), none guaranteed between points; the light is Gaussian in slope "
@@ -270,9 +270,6 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
             const SglabSpecularParams<T> c{T(p[0]), T(p[1]), T(p[2]), T(p[3]), T(p[4]), T(p[5])};
             return specular_sglab(specular_input(a), c);
           }));
-      q.methods.back().not_exportable_because =
-          "its scalar formula (specular_sglab_with, core/include/sglab/specular_sglab.hpp) still branches on its inputs "
-          "(if and ?: on the roughness, the half vector and the slope-space terms) where the tracing type needs selects";
     }
     q.reference_reach.max_sharpness = kQuadratureMaxSharpness;
     q.reference_reach.rows = 16;

@@ -76,7 +76,7 @@ mutant lobe-beta-twice core/include/sglab/filtering_weights.hpp 's#return exp(de
   filtering_weights_test
 mutant sigma-n2-kappa core/include/sglab/filtering_weights.hpp 's#return (T(1) / lambda_c + T(2) / kappa) / beta;#return (T(1) / lambda_c + T(1) / kappa) / beta;#' \
   filtering_weights_test fit_test
-mutant smoothed-sharpness core/include/sglab/filtering_weights.hpp 's#return T(1) / (T(1) / sharpness + T(1) / kappa);#return T(1) / (T(1) / sharpness + T(2) / kappa);#' \
+mutant smoothed-sharpness core/include/sglab/filtering_weights.hpp 's#const T s = T(1) / (T(1) / sharpness + T(1) / kappa);#const T s = T(1) / (T(1) / sharpness + T(2) / kappa);#' \
   filtering_weights_test
 mutant filter-depth-sigma core/render/src/filtering.cpp 's#const double sz = a\.depth_sigma \* p\.depth;#const double sz = a.depth_sigma;#' \
   filtering_test

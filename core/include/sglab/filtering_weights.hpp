@@ -54,8 +54,9 @@ struct LobeAwareFiltering {
 template <class T>
 T gaussian_weight(const T& distance_squared, const T& variance) {
   using std::exp;
-  if (!(value_of(variance) > 0)) return value_of(distance_squared) > 0 ? T(0) : T(1);
-  return exp(-distance_squared / (T(2) * variance));
+  return select(!(value_of(variance) > 0),
+                [&]() -> T { return select(value_of(distance_squared) > 0, []() -> T { return T(0); }, []() -> T { return T(1); }); },
+                [&]() -> T { return exp(-distance_squared / (T(2) * variance)); });
 }
 
 // App. A: a Gaussian lobe g(x − x_i, τ_i²) smoothed by the kernel g(·, ν²) is the Gaussian of
@@ -73,7 +74,9 @@ namespace detail {
 // log1p(−r²) (accurate for nearly equal a, b, where the weight matters); otherwise as
 // log((2a/(a + b))·(2b/(a + b))), two factors in (0, 2], so neither the product ab nor (a + b)²
 // is formed (they would overflow double at ~1e154, float at ~1e19) and 1 − r² does not cancel
-// when one lobe is much sharper than the other.
+// when one lobe is much sharper than the other. Each factor is 2·(a/(a + b)), not (2a)/(a + b):
+// the same number (the product by 2 is exact) but for a above half the largest finite value,
+// where 2a overflowed (float, λ̄ = FLT_MAX: ∞, or ∞·0 = NaN against a λ̄ whose ratio underflows).
 template <class T>
 T log_mismatch(const T& a, const T& b) {
   using std::log;
@@ -81,8 +84,8 @@ T log_mismatch(const T& a, const T& b) {
   const T sum = a + b;
   const T r = (a - b) / sum;
   const T r2 = r * r;
-  if (value_of(r2) <= 0.5) return log1p(T(-r2));
-  return log(T(T(2) * a / sum) * T(T(2) * b / sum));
+  return select(value_of(r2) <= 0.5, [&]() -> T { return log1p(T(-r2)); },
+                [&]() -> T { return log(T(T(2) * T(a / sum)) * T(T(2) * T(b / sum))); });
 }
 
 }  // namespace detail
@@ -213,11 +216,16 @@ T diffuse_lobe_weight(const T& cosine, const T& lambda_c, const T& beta, const T
 // The SG lobe G(ω; ξ, λ) smoothed by the SG kernel of sharpness κ is approximated by the SG of
 // sharpness λ̄ = λκ/(λ + κ) (the kernel of the paper's Eq. (9), through the Iwasaki product
 // integral, Eq. C.1). Written 1/(1/λ + 1/κ): κ = +∞ gives λ, λ = +∞ (a mirror lobe) gives κ,
-// λ = 0 gives 0.
+// λ = 0 gives 0. It is ≤ λ; held there, because near the largest finite λ 1/λ is subnormal and
+// 1/(1/λ) rounds past it to +∞ (float, λ = FLT_MAX, κ = +∞: ∞, then NaN in the weight), or is
+// flushed to 0 (GPUs). Elsewhere the hold moves a value by at most its rounding.
 template <class T>
 T smoothed_lobe_sharpness(const T& sharpness, const T& kappa) {
-  if (!(value_of(sharpness) > 0)) return T(0);
-  return T(1) / (T(1) / sharpness + T(1) / kappa);
+  using std::min;
+  return select(!(value_of(sharpness) > 0), []() -> T { return T(0); }, [&]() -> T {
+    const T s = T(1) / (T(1) / sharpness + T(1) / kappa);
+    return min(s, sharpness);
+  });
 }
 
 namespace detail {
@@ -235,13 +243,16 @@ template <class T>
 T sg_lobe_log_weight(const T& one_minus_cosine, const T& sharpness_i, const T& sharpness_j,
                      const T& beta) {
   const T v = sharpness_i + sharpness_j;
-  if (!(value_of(v) > 0) || !(value_of(beta) != 0)) return T(0);  // q^0 = 1, uniform lobes: q = 1
-  if (!(value_of(sharpness_i) > 0) || !(value_of(sharpness_j) > 0)) {
-    return T(-std::numeric_limits<value_type_t<T>>::infinity());
-  }
-  const T omc = clamp(one_minus_cosine, T(0), T(2));
-  return beta * (T(0.5) * log_mismatch(sharpness_i, sharpness_j) -
-                 sg_reduced_sharpness(sharpness_i, sharpness_j) * omc);
+  // β = 0 written as β ≤ 0 ∧ β ≥ 0 (false for NaN, as !(β ≠ 0) is): the tracing type has no ≠.
+  const auto beta_zero = value_of(beta) <= 0 && value_of(beta) >= 0;
+  return select(!(value_of(v) > 0) || beta_zero, []() -> T { return T(0); }, [&]() -> T {  // q^0 = 1, uniform lobes: q = 1
+    return select(!(value_of(sharpness_i) > 0) || !(value_of(sharpness_j) > 0),
+                  []() -> T { return T(-std::numeric_limits<value_type_t<T>>::infinity()); }, [&]() -> T {
+                    const T omc = clamp(one_minus_cosine, T(0), T(2));
+                    return beta * (T(0.5) * log_mismatch(sharpness_i, sharpness_j) -
+                                   sg_reduced_sharpness(sharpness_i, sharpness_j) * omc);
+                  });
+  });
 }
 
 }  // namespace detail

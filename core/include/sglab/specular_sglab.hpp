@@ -85,11 +85,12 @@ namespace detail {
 template <class T>
 T sglab_slope_weight(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& w, const Vec3<T>& h) {
   const T ci = w(2), co = wo(2);
-  if (!(value_of(ci) > 0) || value_of(co) < 0 || !(value_of(h(2)) > 0)) return T(0);
-  const T coh = clamp(T(wo.dot(h)), T(0), T(1));
-  const T den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
-  if (!(value_of(den) > 0)) return T(0);
-  return T(2) * coh * fresnel_schlick(f0, coh) * ci / (h(2) * den);
+  return select(!(value_of(ci) > 0) || value_of(co) < 0 || !(value_of(h(2)) > 0), []() -> T { return T(0); }, [&]() -> T {
+    const T coh = clamp(T(wo.dot(h)), T(0), T(1));
+    const T den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
+    return select(!(value_of(den) > 0), []() -> T { return T(0); },
+                  [&]() -> T { return T(2) * coh * fresnel_schlick(f0, coh) * ci / (h(2) * den); });
+  });
 }
 
 }  // namespace detail
@@ -122,7 +123,7 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T det = max(T(T(16) * k * (qx * qx + qy * qy - cross * cross + k * hz * hz)), T(0));  // Δ
   // ρ0 = S/(S + 2α²λΔ) (1 when the light has no precision at all).
   const T rho_den = tr + T(2) * a2 * lambda * det;
-  const T rho0 = value_of(rho_den) > 0 ? T(tr / rho_den) : T(1);
+  const T rho0 = select(value_of(rho_den) > 0, [&]() -> T { return tr / rho_den; }, []() -> T { return T(1); });
   const T sd = a2 / T(2) * (T(1) + p.inflation * rho0);
   const T s = sd * lambda;
   const T mJm = mx * (j00 * mx + j01 * my) + my * (j01 * mx + j11 * my);
@@ -132,10 +133,10 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   // (σ, 1) above, D = a²·det(I + s_D A) = a² + b(aS + bΔ), Q = g(a·mᵀJm + bΔ|m|²)/D (g = λ,
   // resp. 1/s_D = λσ without s_D·λ's overflow), m* = b(a·Jm + bΔm)/D, w² = s_D·a(aS + 2bΔ)/D,
   // 1/ν = 2bΔ/(4bΔ + c_ν aS) and det(I + s_D A)^{−½} = a/√D: one reciprocal of D for all of them.
-  const bool small = value_of(s) <= 1;
-  const T a = small ? T(1) : T(T(1) / s);
-  const T b = small ? s : T(1);
-  const T g = small ? lambda : T(T(1) / sd);
+  const auto small = value_of(s) <= 1;
+  const T a = select(small, []() -> T { return T(1); }, [&]() -> T { return T(1) / s; });
+  const T b = select(small, [&]() -> T { return s; }, []() -> T { return T(1); });
+  const T g = select(small, [&]() -> T { return lambda; }, [&]() -> T { return T(1) / sd; });
   // D > 0; held at the smallest normal number where every term underflows (float, α ≤ 1e-3 at
   // exactly grazing view with λ near FLT_MAX: 0/0 otherwise).
   const T dd = max(T(a * a + b * (a * tr + b * det)), T(std::numeric_limits<value_type_t<T>>::min()));
@@ -145,15 +146,16 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T msy = b * (a * jmy + b * det * my) * rd;
   const T w2 = sd * a * (a * tr + T(2) * b * det) * rd;
   const T nd = T(4) * b * det + p.nu_slope * a * tr;
-  const T inv_nu = value_of(nd) > 0 ? T(T(2) * b * det / nd) : T(0);
+  const T inv_nu = select(value_of(nd) > 0, [&]() -> T { return T(2) * b * det / nd; }, []() -> T { return T(0); });
   // det(I + s_D A) ≥ 1; rounding (D underflowing in float) must not take its inverse root above 1.
   const T inv_root_det = min(T(a * sqrt(rd)), T(1));
   // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·ν·log1p(x)), x = Q/ν: Q = ∞ (float
   // overflow at grazing view) gives −∞, not NaN. ν itself (not 1/(1/ν)) so that the batch kernels
   // divide beside the log1p, not after it. For x ≤ ε it is Q itself (ν·log1p(x) = Q(1 − x/2 + …),
   // within half an ulp of Q), where x may be subnormal.
-  const T x = value_of(inv_nu) > 0 ? T(q * inv_nu) : T(0);
-  const T nu_log = value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon() ? T(log1p(x) * T(nd / (T(2) * b * det))) : q;
+  const T x = select(value_of(inv_nu) > 0, [&]() -> T { return q * inv_nu; }, []() -> T { return T(0); });
+  const T nu_log = select(value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon(),
+                          [&]() -> T { return log1p(x) * T(nd / (T(2) * b * det)); }, [&]() -> T { return q; });
   const T t_exponent = -(T(0.5) + inv_nu) * nu_log;
   // The product's peak: h* from m*, ω* its reflection of ωo, 2(ωo·h*)h* − ωo written with the
   // unnormalized u = (−m*, 1) (one division, no square root before ω*).
@@ -161,23 +163,25 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T uu = T(hu.squaredNorm());
   const Vec3<T> ws = T(T(2) * T(wo.dot(hu)) / uu) * hu - wo;
   const Vec3<T> hs = T(T(1) / sqrt(uu)) * hu;
-  const bool above = value_of(ws(2)) > 0;
-  T light = T(0), weight, horizon = T(1);
-  if (above) {
+  // ω* above the horizon: the light correction, the weight at ω* and the horizon factor; below,
+  // the weight at ξ alone. Selects (scalar.hpp): the traced formula computes both sides and keeps
+  // one, and a side that is not kept (w = 0: 1/0) never enters the kept value.
+  const auto above = value_of(ws(2)) > 0;
+  const T light = select(above, [&]() -> T {
     // λ(ξ·ω* − 1) + ½dᵀAd = −½λ(|ξ − ω*|² − dᵀJd): one product, no ∞ − ∞.
     const T dx = msx - mx, dy = msy - my;
     const T dJd = dx * (j00 * dx + j01 * dy) + dy * (j01 * dx + j11 * dy);
     const Vec3<T> e = xi - ws;
     const T diff = T(-0.5) * lambda * (T(e.squaredNorm()) - dJd);
-    light = min(T(p.light_weight * max(diff, T(-p.light_floor))), T(kSglabSpecularMaxExponent));
-    weight = detail::sglab_slope_weight(alpha, f0, wo, ws, hs);
+    return min(T(p.light_weight * max(diff, T(-p.light_floor))), T(kSglabSpecularMaxExponent));
+  }, []() -> T { return T(0); });
+  const T weight = select(above, [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, ws, hs); },
+                          [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, xi, h); });
+  const T horizon = select(above, [&]() -> T {
     const T wr = sqrt(w2);
-    if (value_of(wr) > 0) {
-      horizon = T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) * T(T(1) / wr)));
-    }
-  } else {
-    weight = detail::sglab_slope_weight(alpha, f0, wo, xi, h);
-  }
+    return select(value_of(wr) > 0, [&]() -> T { return T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) * T(T(1) / wr))); },
+                  []() -> T { return T(1); });
+  }, []() -> T { return T(1); });
   const T exponent = min(T(t_exponent + light), T(kSglabSpecularMaxExponent));
   const T integral = min(T(exp(exponent) * inv_root_det), T(1));
   return weight * integral * horizon;
