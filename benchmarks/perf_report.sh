@@ -4,6 +4,7 @@
 #
 #   bash benchmarks/perf_report.sh [--skip-cold] [--skip-tests] [--skip-reproduce-full]
 #        [--skip-reproduce-quick] [--skip-python] [--touch FILE] [--jobs N] [--csv FILE] [--keep]
+#        [--tu-times]
 #
 # Rows (wall and CPU seconds of the process tree, bash's `time`; CPU = user + system):
 #   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, as setup.sh)
@@ -17,6 +18,8 @@
 #   reproduce-full      `sglab reproduce` into an empty scratch --out/--tables-dir (paper_tables/ untouched)
 #   python-eval/...     ns per point of `sglab.eval` from Python, its C++ batch, their ratio
 #                       (benchmarks/python_eval_bench.py, 1e6 points, one CPU)
+#   tu/PATH             with --tu-times: the ten heaviest translation units of build-main (CPU
+#                       seconds each, benchmarks/tu_time.sh as the compiler launcher)
 # --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
 # The machine may be shared: the load average at the start and end goes into the CSV's header, and
 # CPU seconds are the steadier figure. Nothing is written into the checkout but the CSV
@@ -25,7 +28,7 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
-cold=1 tests=1 full=1 quick=1 python=1 keep=0 jobs=2
+cold=1 tests=1 full=1 quick=1 python=1 keep=0 jobs=2 tu_times=0
 touch_file=core/src/registry_core.cpp
 csv=results/perf_report.csv
 args=("$@")
@@ -38,6 +41,7 @@ while [ $# -gt 0 ]; do
     --skip-reproduce-quick) quick=0 ;;
     --skip-python) python=0 ;;
     --keep) keep=1 ;;
+    --tu-times) tu_times=1 ;;
     --touch) touch_file=${2:?--touch needs a file}; shift ;;
     --jobs) jobs=${2:?--jobs needs a number}; shift ;;
     --csv) csv=${2:?--csv needs a file}; shift ;;
@@ -76,10 +80,24 @@ timed() {
 if [ "$cold" = 1 ]; then
   build=$scratch/build
   export CCACHE_DISABLE=1
+  launcher=()
+  if [ "$tu_times" = 1 ]; then
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER="$root/benchmarks/tu_time.sh")
+    export SGLAB_TU_TIMES=$scratch/tu_times.txt
+    : > "$SGLAB_TU_TIMES"
+  fi
   timed configure "scratch dir, Release, SGLAB_WERROR=ON" \
-    cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON
+    cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${launcher[@]}"
   timed build-main "sglab + sglab_python, cold, ccache off, -j$jobs" \
     cmake --build "$build" -j"$jobs" --target sglab sglab_python
+  if [ "$tu_times" = 1 ]; then
+    cp "$SGLAB_TU_TIMES" "$scratch/tu_times_main.txt"
+    while read -r cpu wall out; do
+      rows+=("tu/${out#"$root"/}|$wall|$cpu|one translation unit of build-main")
+    done < <(sort -rn "$scratch/tu_times_main.txt" | head -n 10)
+    tu_total=$(awk '{ s += $1 } END { printf "%.2f", s }' "$scratch/tu_times_main.txt")
+    rows+=("tu/all-of-build-main||$tu_total|$(wc -l < "$scratch/tu_times_main.txt") translation units, summed CPU")
+  fi
   touch "$touch_file"
   timed rebuild-touch "after touching $touch_file" cmake --build "$build" -j"$jobs" --target sglab sglab_python
   if [ "$tests" = 1 ]; then
