@@ -97,21 +97,43 @@ TEST(Reference, AgreesWithBesselThetaForm) {
 
 TEST(Reference, DoubleAgreesWithFiftyDigitsOverTheWholeRange) {
   // The same algorithm in 50 digits is exact to far beyond double: this measures the double
-  // reference's error at seeded points log-uniform in λ ∈ [1e-8, 1e8], uniform in c.
-  auto rng = test::seeded_rng(7);
-  std::uniform_real_distribution<double> log_l(-8, 8), cos_d(-1, 1);
-  for (int i = 0; i < 12; ++i) {
-    const double l = std::pow(10.0, log_l(rng)), c = cos_d(rng);
-    SCOPED_TRACE(testing::Message() << "lambda=" << l << " c=" << c);
+  // reference's error at chosen points that take every path of reference.hpp across
+  // λ ∈ [1e-8, 1e8], c ∈ [−1, 1]. (Twelve seeded random points took ≈ 19 s, most of it one 50-digit
+  // H at tiny λ and c near −0.9 — λ = 4.9e-8, c = −0.933 or λ = 1.8e-6, c = −0.890: ≈ 12 s of CPU
+  // each, where the tanh-sinh tables are refined to their deepest level; c = −0.6 takes the same
+  // paths in 0.01 s.)
+  struct Point {
+    double lambda, c;
+    const char* why;
+  };
+  const Point points[] = {
+      {1e-8, 0.3, "tiny λ, one piece (λ ≤ 0.5), c > 0: the partly visible middle panel"},
+      {1.8211e-6, -0.6, "tiny λ, c < 0: the wholly visible lower panel, the invisible upper one"},
+      {0.3, 0.5, "λ just below the geometric split (λ ≤ 0.5)"},
+      {0.7, -0.5, "λ just above it: the first pieces at 0.5/λ, 1/λ, …"},
+      {84.915, -0.41536, "moderate λ, c < 0: the largest double error of the old seeded points (6e-15)"},
+      {1000, 0.0, "c = 0: the horizon through the lobe axis (s = 1)"},
+      {5, 1.0, "c = 1: s = 0, the middle panel empty"},
+      {5, -1.0, "c = −1: s = 0, the lobe wholly below but for its tail"},
+      {12357, 0.19238, "large λ, c > 0: many geometric pieces, lower panels scaled near 0"},
+      {8.3983e7, 0.98731, "λ near 1e8: the longest piece ladder; the lower panels' scale underflows in double"},
+  };
+  int compared = 0;
+  for (const Point& p : points) {
+    const double l = p.lambda, c = p.c;
+    SCOPED_TRACE(testing::Message() << "lambda=" << l << " c=" << c << " (" << p.why << ")");
     const mp50 hm = hemispherical_reference(mp50(l), mp50(c));
     const mp50 dm = clamped_cosine_reference(mp50(l), mp50(c));
     if (hm > mp50(1e-290)) {
       EXPECT_LE(test::relative_error(hemispherical_reference(l, c), static_cast<double>(hm)), kRefTol);
+      ++compared;
     }
     if (dm > mp50(1e-290)) {
       EXPECT_LE(test::relative_error(clamped_cosine_reference(l, c), static_cast<double>(dm)), kRefTol);
+      ++compared;
     }
   }
+  EXPECT_EQ(compared, 20) << "every value in double's range";
 }
 
 TEST(Reference, FiftyDigitReferenceMatchesClosedFormTo45Digits) {

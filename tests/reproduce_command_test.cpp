@@ -4,6 +4,7 @@
 // paper_tables/ — and two cheap steps of a --quick run actually run, to check the files land
 // where the list says. Also `sglab sweep render --out DIR` writes its table into DIR. The whole
 // --quick run (about a minute) is not run here.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -126,18 +127,51 @@ TEST_F(ReproduceCommand, ExplicitOutAndTablesDirAreObeyed) {
       EXPECT_TRUE(has_prefix(p, "elsewhere/") || has_prefix(p, "tables/") || p == "tables") << s.name << " writes " << p;
 }
 
-// Two steps of a real --quick run (the fits, and a render sweep): their tables land in
-// results/quick/tables/, nothing appears in paper_tables/.
-TEST_F(ReproduceCommand, QuickStepsWriteIntoResultsQuick) {
+// Two steps of a real --quick run, each in a test of its own (so that ctest -j2 runs them side by
+// side): their tables land in results/quick/tables/, nothing appears in paper_tables/.
+// The fits: `sglab fit all` end to end, its one run in the suite. Every fit's record in --json-dir
+// says it converged from its default start: for sglab's and sglab-specular's fits (≈ 10–20 s each)
+// this is the check (FitRegistry.EveryFitConvergesFromItsDefaultStart runs only the others, so that
+// the suite does not run those two fits twice).
+TEST_F(ReproduceCommand, QuickFitStepWritesIntoResultsQuick) {
   link_inputs();
-  const auto r = sglab("reproduce --quick --only fit-all sweep-render-count");
+  const auto r = sglab("reproduce --quick --only fit-all");
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* table : {"constants.md", "constants.csv", "vsgl_error_vs_count.md", "vsgl_error_vs_count.csv"})
+  for (const char* table : {"constants.md", "constants.csv"})
     EXPECT_TRUE(fs::exists(path("results/quick/tables") / table)) << table << "\n" << r.err;
-  EXPECT_TRUE(fs::exists(path("results/quick/render_sweep/vsgl_error_vs_count_points.csv")));
   EXPECT_TRUE(fs::exists(path("results/quick/.steps/fit-all.done")));
   EXPECT_FALSE(fs::exists(path("paper_tables"))) << r.err;
   EXPECT_FALSE(fs::exists(path("results/fits"))) << "a --quick run keeps out of the full run's results/";
+  // Every fit the constants table names (its first column, below the two header lines) has its
+  // record, and the record says it converged.
+  std::istringstream rows(sglab::test::read_file(path("results/quick/tables/constants.csv")));
+  std::vector<std::string> fits;
+  std::string line;
+  for (int header = 0; header < 2 && std::getline(rows, line); ++header) {}
+  while (std::getline(rows, line)) {
+    const std::string fit = line.substr(0, line.find(','));
+    if (std::find(fits.begin(), fits.end(), fit) == fits.end()) fits.push_back(fit);
+  }
+  for (const char* slow : {"sglab", "sglab-specular"})
+    EXPECT_NE(std::find(fits.begin(), fits.end(), slow), fits.end()) << slow << " is missing from constants.csv";
+  for (const auto& fit : fits) {
+    const auto record = path("results/quick/fits/" + fit + ".json");
+    ASSERT_TRUE(fs::exists(record)) << fit;
+    EXPECT_NE(sglab::test::read_file(record).find("\"converged\": true"), std::string::npos) << fit << " did not converge";
+  }
+}
+
+// The render sweep: its table and its per-point CSV.
+TEST_F(ReproduceCommand, QuickRenderSweepStepWritesIntoResultsQuick) {
+  link_inputs();
+  const auto r = sglab("reproduce --quick --only sweep-render-count");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* table : {"vsgl_error_vs_count.md", "vsgl_error_vs_count.csv"})
+    EXPECT_TRUE(fs::exists(path("results/quick/tables") / table)) << table << "\n" << r.err;
+  EXPECT_TRUE(fs::exists(path("results/quick/render_sweep/vsgl_error_vs_count_points.csv")));
+  EXPECT_TRUE(fs::exists(path("results/quick/.steps/sweep-render-count.done")));
+  EXPECT_FALSE(fs::exists(path("paper_tables"))) << r.err;
+  EXPECT_FALSE(fs::exists(path("results/render_sweep"))) << "a --quick run keeps out of the full run's results/";
 }
 
 // Plot steps run beside the sglab steps: each step's marker lists only what it wrote itself (the
@@ -240,14 +274,16 @@ TEST_F(ReproduceCommand, ToolsRunFromTheRepositoryRootLeavePaperTablesAlone) {
   for (const auto& e : fs::recursive_directory_iterator(path("paper_tables")))
     if (e.is_regular_file()) before.emplace_back(e.path(), sglab::test::read_file(e.path()));
   ASSERT_FALSE(before.empty());
-  const auto r = sglab("error-vs-time --quick --quantity clamped-cosine");
+  // The hemispherical quantity: the same table-writing path as every quantity's, in a quarter of
+  // clamped-cosine's time (fewer methods).
+  const auto r = sglab("error-vs-time --quick --quantity hemispherical");
   ASSERT_EQ(r.status, 0) << r.err;
   for (const auto& [p, text] : before) EXPECT_EQ(sglab::test::read_file(p), text) << p << " was rewritten";
   EXPECT_FALSE(fs::exists(path("paper_tables/error_vs_time.md.tmp")));
   const std::string md = sglab::test::read_file(path("results/error_vs_time/error_vs_time.md"));
-  EXPECT_NE(md.find("Generated by `sglab error-vs-time --quantity clamped-cosine --quick`"), std::string::npos) << md.substr(0, 300);
+  EXPECT_NE(md.find("Generated by `sglab error-vs-time --quantity hemispherical --quick`"), std::string::npos) << md.substr(0, 300);
   // With --tables the header names the directory, so that it reproduces the table where it is.
-  const auto t = sglab("error-vs-time --quick --quantity clamped-cosine --out elsewhere --tables mine");
+  const auto t = sglab("error-vs-time --quick --quantity hemispherical --out elsewhere --tables mine");
   ASSERT_EQ(t.status, 0) << t.err;
   EXPECT_NE(sglab::test::read_file(path("mine/error_vs_time.csv")).find("--tables mine`"), std::string::npos);
   EXPECT_TRUE(fs::exists(path("elsewhere/error_vs_time.csv")));

@@ -155,7 +155,13 @@ def test_diffuse_error_grid_matches_cli(method, precision, dtype):
 @pytest.mark.parametrize("precision,dtype", [("float", np.float32), ("double", np.float64)])
 @pytest.mark.parametrize("method", [m["name"] for m in sglab.methods("specular")])
 def test_specular_error_grid_matches_cli(method, precision, dtype):
-    cols = {k: v.astype(dtype) for k, v in specular_error_grid().items()}
+    grid = specular_error_grid()
+    if method == "reference":
+        # The reference is a quadrature (about 5 s a precision on the whole grid, Python and CLI): every
+        # third row, which keeps every roughness and light sharpness and every view and tilt
+        # (row 48a + 12l + 4v + d is taken where v + d is 0 mod 3: (0, 0), (0, 3), (1, 2), (2, 1)).
+        grid = {k: v[::3] for k, v in grid.items()}
+    cols = {k: v.astype(dtype) for k, v in grid.items()}
     py = sglab.eval("specular", method, **cols)
     assert py.dtype == dtype
     assert_bits_equal(py, cli_eval("specular", method, cols, precision), dtype)

@@ -1,0 +1,163 @@
+#!/usr/bin/env bash
+# Every performance figure of sglab in one run, printed as a table and written as a CSV
+# (docs/testing.md, "Performance report"). Run from anywhere; it works in the checkout it sits in.
+#
+#   bash benchmarks/perf_report.sh [--skip-cold] [--skip-tests] [--skip-reproduce-full]
+#        [--skip-reproduce-quick] [--skip-python] [--touch FILE] [--jobs N] [--csv FILE] [--keep]
+#        [--tu-times]
+#
+# Rows (wall and CPU seconds of the process tree, bash's `time`; CPU = user + system):
+#   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, as setup.sh)
+#   build-main          cold build of what the main job needs (`sglab`, `sglab_python`), ccache off
+#   rebuild-touch       the same targets after touching one method's file (--touch, default
+#                       core/src/registry_core.cpp: the diffuse registry, which includes every
+#                       diffuse method's header; a core/include header instead rebuilds most of the tree)
+#   build-tests         the rest of the tree (test executables, benchmarks), cold, ccache off
+#   ctest               `ctest -j2` over the whole suite (wall; CPU = the tests' summed seconds)
+#   reproduce-quick     `sglab reproduce --quick` into an empty scratch --out
+#   reproduce-full      `sglab reproduce` into an empty scratch --out/--tables-dir (paper_tables/ untouched)
+#   python-eval/...     ns per point of `sglab.eval` from Python, its C++ batch, their ratio
+#                       (benchmarks/python_eval_bench.py, 1e6 points, one CPU)
+#   tu/PATH             with --tu-times: the ten heaviest translation units of build-main (CPU
+#                       seconds each, benchmarks/tu_time.sh as the compiler launcher)
+# --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
+# The machine may be shared: the load average at the start and end goes into the CSV's header, and
+# CPU seconds are the steadier figure. Nothing is written into the checkout but the CSV
+# (default: results/perf_report.csv); the scratch build and results are removed unless --keep.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+
+cold=1 tests=1 full=1 quick=1 python=1 keep=0 jobs=2 tu_times=0
+touch_file=core/src/registry_core.cpp
+csv=results/perf_report.csv
+args=("$@")
+usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; }
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --skip-cold) cold=0 ;;
+    --skip-tests) tests=0 ;;
+    --skip-reproduce-full) full=0 ;;
+    --skip-reproduce-quick) quick=0 ;;
+    --skip-python) python=0 ;;
+    --keep) keep=1 ;;
+    --tu-times) tu_times=1 ;;
+    --touch) touch_file=${2:?--touch needs a file}; shift ;;
+    --jobs) jobs=${2:?--jobs needs a number}; shift ;;
+    --csv) csv=${2:?--csv needs a file}; shift ;;
+    -h | --help) usage; exit 0 ;;
+    *) echo "perf_report: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+  shift
+done
+case "$jobs" in '' | *[!0-9]* | 0) echo "perf_report: --jobs '$jobs' is not a positive integer" >&2; exit 2 ;; esac
+[ -f "$touch_file" ] || { echo "perf_report: --touch '$touch_file' is not a file of the checkout" >&2; exit 2; }
+
+scratch=$(mktemp -d "${TMPDIR:-/tmp}/sglab-perf-XXXXXX")
+cleanup() { if [ "$keep" = 1 ]; then echo "kept $scratch" >&2; else rm -rf "$scratch"; fi; }
+trap cleanup EXIT
+
+rows=()  # "name|wall|cpu|note"
+load() { cut -d' ' -f1-3 /proc/loadavg; }
+load_start=$(load)
+
+# timed NAME NOTE COMMAND…: runs COMMAND (output to $scratch/NAME.log), records its wall and CPU
+# seconds (children included). A failing command stops the report with its log's tail.
+timed() {
+  local name=$1 note=$2
+  shift 2
+  local TIMEFORMAT='%R %U %S' t
+  echo "== $name: $*" >&2
+  if ! t=$({ time "$@" > "$scratch/$name.log" 2>&1; } 2>&1); then
+    tail -n 30 "$scratch/$name.log" >&2
+    echo "perf_report: $name failed (log above)" >&2
+    exit 1
+  fi
+  read -r wall user sys <<< "$t"
+  rows+=("$name|$wall|$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')|$note")
+}
+
+if [ "$cold" = 1 ]; then
+  build=$scratch/build
+  export CCACHE_DISABLE=1
+  launcher=()
+  if [ "$tu_times" = 1 ]; then
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER="$root/benchmarks/tu_time.sh")
+    export SGLAB_TU_TIMES=$scratch/tu_times.txt
+    : > "$SGLAB_TU_TIMES"
+  fi
+  timed configure "scratch dir, Release, SGLAB_WERROR=ON" \
+    cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${launcher[@]}"
+  timed build-main "sglab + sglab_python, cold, ccache off, -j$jobs" \
+    cmake --build "$build" -j"$jobs" --target sglab sglab_python
+  if [ "$tu_times" = 1 ]; then
+    cp "$SGLAB_TU_TIMES" "$scratch/tu_times_main.txt"
+    while read -r cpu wall out; do
+      rows+=("tu/${out#"$root"/}|$wall|$cpu|one translation unit of build-main")
+    done < <(sort -rn "$scratch/tu_times_main.txt" | head -n 10)
+    tu_total=$(awk '{ s += $1 } END { printf "%.2f", s }' "$scratch/tu_times_main.txt")
+    rows+=("tu/all-of-build-main||$tu_total|$(wc -l < "$scratch/tu_times_main.txt") translation units, summed CPU")
+  fi
+  touch "$touch_file"
+  timed rebuild-touch "after touching $touch_file" cmake --build "$build" -j"$jobs" --target sglab sglab_python
+  if [ "$tests" = 1 ]; then
+    timed build-tests "the rest of the tree (tests, benchmarks), cold, ccache off" cmake --build "$build" -j"$jobs"
+  fi
+  unset CCACHE_DISABLE
+else
+  build=$root/build
+  [ -x "$build/experiments/sglab" ] || { echo "perf_report: --skip-cold needs a built ./build (bash scripts/setup.sh --tests)" >&2; exit 2; }
+fi
+sglab=$build/experiments/sglab
+
+if [ "$tests" = 1 ]; then
+  timed ctest "whole suite, -j2; CPU column: the tests' summed seconds" ctest --test-dir "$build" -j2
+  # ctest's own CPU figure is the children's; the tests' summed seconds say more on a shared machine.
+  summed=$(awk '/Total Test time/ {next} / sec$/ && /Test +#/ {for (i = 1; i <= NF; i++) if ($i == "sec") s += $(i - 1)} END {printf "%.2f", s}' \
+    "$scratch/ctest.log")
+  last=${rows[-1]}
+  rows[-1]="$(cut -d'|' -f1-2 <<< "$last")|$summed|$(cut -d'|' -f4 <<< "$last")"
+fi
+if [ "$quick" = 1 ]; then
+  timed reproduce-quick "sglab reproduce --quick, empty --out" "$sglab" reproduce --quick --out "$scratch/quick"
+fi
+if [ "$full" = 1 ]; then
+  timed reproduce-full "sglab reproduce, empty --out and --tables-dir" \
+    "$sglab" reproduce --out "$scratch/full" --tables-dir "$scratch/full/tables"
+fi
+if [ "$python" = 1 ]; then
+  bench=$build/benchmarks/sglab_core_bench
+  if [ -x "$bench" ] && [ -d "$build/python/sglab" ]; then
+    timed python-eval-bench "benchmarks/python_eval_bench.py, 1e6 points, one CPU" \
+      env PYTHONPATH="$build/python" /usr/bin/python3 benchmarks/python_eval_bench.py --bench "$bench"
+    # One row per method and precision: Python ns/point (CPU), the C++ batch's, how far above it
+    # Python is (the cost of the call from Python per point) and their ratio.
+    while IFS='|' read -r _ q m p py _ cpp ratio _; do
+      read -r q m p py cpp ratio <<< "$q $m $p $py $cpp $ratio"
+      above=$(awk -v a="$py" -v b="$cpp" 'BEGIN { if (b + 0 > 0) printf "%.2f", a - b; else print "-" }')
+      rows+=("python-eval/$q/$m/$p|||Python $py ns/point (CPU), C++ batch $cpp: $above ns/point above it, ratio $ratio")
+    done < <(grep -E '^\| (clamped-cosine|sg-integral) ' "$scratch/python-eval-bench.log")
+  else
+    echo "perf_report: no $bench or $build/python: Python row skipped (build the benchmarks and sglab_python)" >&2
+  fi
+fi
+
+load_end=$(load)
+mkdir -p "$(dirname "$csv")"
+{
+  echo "# Generated by \`bash benchmarks/perf_report.sh${args[*]:+ ${args[*]}}\` on $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) CPUs, load average $load_start at the start, $load_end at the end"
+  echo "measure,wall_seconds,cpu_seconds,note"
+  for r in "${rows[@]}"; do
+    IFS='|' read -r name wall cpu note <<< "$r"
+    printf '%s,%s,%s,"%s"\n' "$name" "$wall" "$cpu" "${note//\"/\"\"}"
+  done
+} > "$csv.tmp"
+mv "$csv.tmp" "$csv"
+
+printf '| %-48s | %9s | %9s | %s\n' measure "wall s" "CPU s" note
+printf '|%s|%s|%s|%s\n' "$(printf -- '-%.0s' {1..50})" "-----------" "-----------" "------"
+for r in "${rows[@]}"; do
+  IFS='|' read -r name wall cpu note <<< "$r"
+  printf '| %-48s | %9s | %9s | %s\n' "$name" "$wall" "$cpu" "$note"
+done
+echo "(CSV: $csv; load average $load_start → $load_end)"
