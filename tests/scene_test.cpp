@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sglab/render/scene.hpp"
+#include "sglab/text_limits.hpp"
 
 namespace {
 
@@ -200,6 +201,29 @@ TEST(Scene, EveryBadFieldIsNamed) {
       {"objects=[]", "objects: expected a non-empty array"},
       {"light.cone_angle=1e999", "light.cone_angle: "},  // overflows: rejected either as text or as not finite
   });
+}
+
+// A finding of the scene fuzz target (tests/fuzz/fuzz_scene.cpp): a key of DEL bytes in malformed
+// JSON made a 1024-character message, because the parser's "last read" token was clipped at 400
+// characters counted before each control byte was escaped to four (\x7f). The clip now bounds what
+// is shown, escapes included: the message stays under 1000 bytes (the fuzz targets' bound), and
+// the quote of 400 control bytes is at most 80 + "… (N bytes)" characters.
+TEST(Scene, MalformedJsonWithControlBytesGivesAShortMessage) {
+  const std::string key = "de" + std::string(300, '\x7f') + "scr" + std::string(200, '\x7f') + "\xff\x16;";
+  try {
+    parse_scene_text("{\n  \"" + key + "\"roughness\": 0.3}}\n}", "dels.json");
+    FAIL() << "accepted";
+  } catch (const SceneError& e) {
+    const std::string m = e.what();
+    EXPECT_TRUE(starts_with(m, "dels.json: malformed JSON: parse error at line 2")) << m.substr(0, 200);
+    EXPECT_LT(m.size(), 1000u) << m.substr(0, 200);
+  }
+  const std::string dels(400, '\x7f');
+  const std::string shown = sglab::clip_text(dels);
+  EXPECT_LE(shown.size(), sglab::kMaxQuotedChars + std::string("… (400 bytes)").size()) << shown;
+  EXPECT_EQ(shown.substr(0, 8), "\\x7f\\x7f");
+  EXPECT_EQ(sglab::clip_text(std::string(80, 'a')), std::string(80, 'a'));  // exactly the bound: not cut
+  EXPECT_EQ(sglab::clip_text(std::string(81, 'a')), std::string(80, 'a') + "… (81 bytes)");
 }
 
 TEST(Scene, MalformedJsonNamesTheSourceAndLine) {

@@ -30,25 +30,26 @@ inline constexpr std::size_t kMaxJsonDepth = 64;
 inline constexpr std::size_t kMaxJsonBytes = std::size_t(64) << 20;  // 64 MiB: scenes, --set values, manifests
 inline constexpr std::size_t kMaxCsvBytes = std::size_t(4) << 30;    // 4 GiB: tables read whole into memory
 
-// The text as a message shows it: control bytes and DEL escaped as \xNN; cut after
-// max_chars (kMaxQuotedChars) characters with "… (N bytes)" appended.
+// The text as a message shows it: control bytes and DEL escaped as \xNN; cut where what is shown
+// would pass max_chars (kMaxQuotedChars) characters, with "… (N bytes)" appended.
 inline std::string clip_text(std::string_view s, std::size_t max_chars = kMaxQuotedChars) {
+  // max_chars bounds what is shown, escapes included (a control byte shows as 4 characters), so
+  // a value of control bytes cannot make the message 4× longer than the bound.
   std::string out;
-  std::size_t shown = 0;
   for (const char ch : s) {
-    if (shown == max_chars) {
-      out += "… (" + std::to_string(s.size()) + " bytes)";
+    const auto u = static_cast<unsigned char>(ch);
+    const bool escaped = u < 0x20 || u == 0x7f;
+    if (out.size() + (escaped ? 4 : 1) > max_chars) {
+      out.append("… (").append(std::to_string(s.size())).append(" bytes)");
       break;
     }
-    const auto u = static_cast<unsigned char>(ch);
-    if (u < 0x20 || u == 0x7f) {
+    if (escaped) {
       char buf[8];
       std::snprintf(buf, sizeof buf, "\\x%02x", u);
       out += buf;
     } else {
       out += ch;
     }
-    ++shown;
   }
   return out;
 }
