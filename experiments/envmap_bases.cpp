@@ -354,9 +354,9 @@ std::string free_lobe_markdown(const Result& r) {
         "tile, touching only the lobes that reach it) and its residuals and Jacobian are evaluated on the Ceres threads; "
         "every rung has the same iteration cap (60 per solve), which is what is left to trade against the error.\n\n";
   md += "**vMF EM's level and its error against N.** EM is fitted on the finest level whose texel count × N is at most 2^20 "
-        "(the exponentials of one EM iteration; the level column), the whole 128 × 64 map at every N here. It used the dense-"
-        "Jacobian budget of the Ceres start before, which moved it to the 64 × 32 level from N = 64 on, where a sun is below a "
-        "texel and its lobe's κ is capped by that texel: the sky's map error rose from 0.25 at N = 32 to 0.62 at N = 64. EM "
+        "(the exponentials of one EM iteration; the level column), the whole 128 × 64 map at every N here. A coarser level "
+        "(the 64 × 32 level the Ceres fit's dense-Jacobian budget would choose from N = 64 on) puts a sun below a texel and "
+        "caps its lobe's κ by that texel, which more than doubles the sky's map error there. EM "
         "maximises the likelihood of the Ω·(mean RGB)-weighted directions from a fresh k-means++ start at each N, not the map's "
         "L2 and not from the fit at N/2, so its map error need not fall with N; it rises at: " +
         (vmf_rises.empty() ? std::string("no N on any environment") : list(vmf_rises)) + ".\n\n";
