@@ -661,12 +661,12 @@ EnvFitResult fit_envmap_ceres_unscaled(const EnvMap& map, const EnvFitOptions& o
 }
 
 // The vMF-EM fit's working level: the finest whose texel count × N (the exponentials of one EM
-// iteration) is at most kEmBudget. EM needs no Jacobian, so the dense-Jacobian budget of the
-// Ceres start (kDenseBudget) is not its cost: under it the 128 × 64 sky moved to 64 × 32 at N = 64,
-// where a sun is below a texel and its lobe's κ is capped by that level's texel (max_sharpness),
-// and the full-map error rose from 0.25 to 0.62. 2^20 keeps a 128 × 64 map whole up to N = 128 and
-// bounds one iteration to ~1e6 exponentials (200 iterations: ~2e8) on any map, 3.7 × the old
-// bound's 3 × 7 × T × N ≤ 6e6 (the E step below takes one exponential per texel and lobe, was two).
+// iteration: the E step below takes one per texel and lobe) is at most kEmBudget. EM needs no
+// Jacobian, so the dense-Jacobian budget of the Ceres start (kDenseBudget) is not its cost; that
+// budget would put the 128 × 64 sky on its 64 × 32 level from N = 64 on, where a sun is below a
+// texel and its lobe's κ is capped by that level's texel (max_sharpness), which more than doubles
+// the full-map error (envmap_bases.md). 2^20 keeps a 128 × 64 map whole up to N = 128 and bounds
+// one iteration to ~1e6 exponentials (200 iterations: ~2e8) on any map.
 constexpr double kEmBudget = 1048576;
 
 std::size_t vmf_em_level(const std::vector<EnvMap>& maps, int N) {
