@@ -1,5 +1,7 @@
 // The documents against the tree they describe, so that drift fails the suite:
-//   - docs/math.md §12 lists every method of the registry (and nothing the registry lacks);
+//   - docs/math.md §12 lists every method of the registry (and nothing the registry lacks), and the
+//     section each line cites exists and names that method (a quantity listed as `q/*`: the quantity),
+//     so every registered method has its formula's entry in docs/math.md, not only an index line;
 //   - the counts quoted in docs/architecture.md ("Counts") are those of the source tree and of the
 //     registries, recounted here (the reference is the tree itself, not a number kept by hand).
 // On a mismatch the failure prints the line to write.
@@ -63,6 +65,14 @@ std::size_t count_files(const std::string& pattern) {
   return n;
 }
 
+// The numbered section "## N. …" of `doc`, up to the next "## " heading ("" if there is none).
+std::string numbered_section(const std::string& doc, const std::string& number) {
+  const std::size_t start = doc.find("\n## " + number + ". ");
+  if (start == std::string::npos) return "";
+  const std::size_t end = doc.find("\n## ", start + 1);
+  return doc.substr(start, end == std::string::npos ? std::string::npos : end - start);
+}
+
 std::size_t method_count() {
   std::size_t n = 0;
   for (const auto& q : sglab::quantities()) n += q.methods.size();
@@ -93,6 +103,36 @@ TEST(Docs, MathIndexListsEveryRegisteredMethod) {
       EXPECT_TRUE(registered.count(name)) << "docs/math.md §12 names a method the registry lacks: " << name;
     }
   }
+}
+
+// Each §12 row "| `quantity/method` | 3 ("sglab diffuse") | source |" cites sections; one of them
+// must name the method in backticks (a `quantity/*` row: the quantity), so the entry is more than
+// an index line. Sections are cited by number, before any parenthesised title.
+TEST(Docs, MathIndexCitesASectionThatNamesTheMethod) {
+  const std::string doc = read_doc("docs/math.md");
+  const std::string index = section(doc, "## 12. Registry index");
+  ASSERT_FALSE(index.empty()) << "docs/math.md has no section \"## 12. Registry index\"";
+  const std::regex row(R"(\n\| `([a-z0-9-]+)/([A-Za-z0-9_*-]+)` \| ([^|(]+))");
+  const std::regex number("[0-9]+");
+  std::size_t rows = 0;
+  for (std::sregex_iterator it(index.begin(), index.end(), row), end; it != end; ++it) {
+    ++rows;
+    const std::string quantity = (*it)[1].str(), method = (*it)[2].str(), cited = (*it)[3].str();
+    const std::string named = "`" + (method == "*" ? quantity : method) + "`";
+    bool found = false;
+    std::size_t sections = 0;
+    for (std::sregex_iterator n(cited.begin(), cited.end(), number), nend; n != nend; ++n) {
+      ++sections;
+      const std::string text = numbered_section(doc, (*n)[0].str());
+      EXPECT_FALSE(text.empty()) << "docs/math.md §12: `" << quantity << "/" << method << "` cites §" << (*n)[0].str()
+                                 << ", which does not exist";
+      if (text.find(named) != std::string::npos) found = true;
+    }
+    EXPECT_GT(sections, 0u) << "docs/math.md §12: `" << quantity << "/" << method << "` cites no section";
+    EXPECT_TRUE(found) << "docs/math.md §12: `" << quantity << "/" << method << "` cites §" << cited
+                       << "but no cited section names " << named << ": state its formula there";
+  }
+  EXPECT_GE(rows, sglab::quantities().size()) << "docs/math.md §12: the rows were not read";
 }
 
 TEST(Docs, ArchitectureCountsMatchTheTree) {
