@@ -106,9 +106,9 @@ if [ "$cold" = 1 ]; then
   unset CCACHE_DISABLE
 else
   build=$root/build
-  [ -x "$build/experiments/sglab" ] || { echo "perf_report: --skip-cold needs a built ./build (bash scripts/setup.sh --tests)" >&2; exit 2; }
+  [ -x "$build/bin/sglab" ] || { echo "perf_report: --skip-cold needs a built ./build (bash scripts/setup.sh --tests)" >&2; exit 2; }
 fi
-sglab=$build/experiments/sglab
+sglab=$build/bin/sglab
 
 if [ "$tests" = 1 ]; then
   timed ctest "whole suite, -j2; CPU column: the tests' summed seconds" ctest --test-dir "$build" -j2

@@ -25,7 +25,7 @@ import pytest
 
 import sglab
 
-SGLAB_EXE = os.environ.get("SGLAB_EXE", "build/experiments/sglab")
+SGLAB_EXE = os.environ.get("SGLAB_EXE", "build/bin/sglab")
 SOURCE_DIR = os.environ.get("SGLAB_SOURCE_DIR", os.getcwd())
 SEED = 20261201
 print(f"test_sglab: seed {SEED}, sglab {SGLAB_EXE}", file=sys.stderr)

@@ -8,7 +8,7 @@
 #
 # Each shard gets $SGLAB_CPUS CPUs (default 1; the sweep uses exactly those); other sbatch options
 # come from the environment as Slurm reads them (SBATCH_PARTITION, SBATCH_TIMELIMIT, …). Run from
-# the repository root (the jobs start there); $SGLAB names the binary (default build/experiments/sglab).
+# the repository root (the jobs start there); $SGLAB names the binary (default build/bin/sglab).
 set -euo pipefail
 if [ $# -lt 3 ] || ! [[ $1 =~ ^[1-9][0-9]*$ ]]; then
   echo "usage: $0 N OUT KIND [SWEEP OPTIONS…]  (N ≥ 1 shards)" >&2
