@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "csv.hpp"
+#include "sglab/error_metrics.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sweep.hpp"
 
@@ -69,7 +70,7 @@ struct SpecularSummaryRow {
                        // near-lobe positions), "light_sharpness", "view_cos", "position", "all"
   std::string group;   // the group's value as printed in the per-point CSV ("0.01", "mirror", "all")
   std::string method;
-  runner::ErrorStats stats;
+  metrics::ErrorStats stats;
   // Brightness-weighted error: per point Σ|v − r|/Σ r over its rows with a value, then the mean
   // over the group's points (`weighted_points` of them).
   double weighted_error = std::numeric_limits<double>::quiet_NaN();
