@@ -1,7 +1,8 @@
 // `sglab sweep specular`: every method of the registry's `specular` quantity
 // against its reference over roughness × light sharpness × view angle × light position.
-// The CLI registration is add_sweep_specular (commands.hpp); this header exposes the grid, the
-// sweep definition and the summary so that tests can check them directly.
+// The command is add_sweep_specular (sweep_specular.cpp, registered under `sweep` by the experiment
+// registry); this header exposes the grid, the sweep definition and the summary so that tests can
+// check them directly.
 //
 //   grid ──► run_sweep (sweep.hpp) ──► specular_points.csv ──► summarize_specular_points
 //        ──► specular_summary.csv, paper_tables/specular_vs_roughness.{md,csv}
