@@ -13,8 +13,9 @@
 
 namespace sglab::cli {
 
-// One line per general tool (each defined in its own file), then every registered experiment's
-// own command; the help ends with the registry's experiments.
+// One line per general tool (each defined in its own file; `sweep` and `envmap` register the
+// experiments grouped under them), then every other registered experiment's own command; the help
+// ends with the registry's experiments.
 void add_all_commands(CLI::App& app) {
   add_eval_command(app);
   add_fit_command(app);
@@ -25,9 +26,9 @@ void add_all_commands(CLI::App& app) {
   add_filter_command(app);
   add_envmap_command(app);
   add_export_command(app);
+  experiments::add_experiment_commands(app, "");
   std::string footer = "\nExperiments (`sglab reproduce` runs each; `sglab reproduce --list` shows the steps):\n";
   for (const auto& e : experiments::experiment_registry()) {
-    if (e.add_command) e.add_command(app);
     footer += "  " + e.name + std::string(e.name.size() < 16 ? 16 - e.name.size() : 1, ' ') + e.summary + "\n";
   }
   app.footer(footer);

@@ -21,12 +21,9 @@ void add_render_command(CLI::App& app);         // render_command.cpp: `sglab re
 void add_sweep_command(CLI::App& app);          // sweep_command.cpp: `sglab sweep KIND`
 void add_merge_command(CLI::App& app);          // merge_command.cpp: `sglab merge` (joins sweep shards)
 void add_filter_command(CLI::App& app);         // filter_command.cpp: `sglab filter`
-void add_envmap_command(CLI::App& app);         // envmap_command.cpp: `sglab envmap make|render|lobes`
+void add_envmap_command(CLI::App& app);         // envmap_command.cpp: `sglab envmap make|render` (+ its experiments)
 void add_export_command(CLI::App& app);         // export_command.cpp: `sglab export` (methods as shader code)
 void add_fit_envmap_command(CLI::App& fit);     // envmap_command.cpp: `sglab fit envmap` (called by add_fit_command)
-// One registration function per sweep kind, called by add_sweep_command on the `sweep` sub-command.
-void add_sweep_specular(CLI::App& sweep);       // experiments/sweep_specular.cpp: `sglab sweep specular`
-void add_sweep_render(CLI::App& sweep);         // experiments/sweep_render.cpp: `sglab sweep render`
 
 // All of the above and every registered experiment's command, on one app; the help lists the
 // experiments (main.cpp).

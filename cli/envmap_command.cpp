@@ -2,8 +2,8 @@
 //   sglab envmap make sky|studio|mixture --out F.exr [options]   environments sglab makes itself
 //   sglab fit envmap MAP.exr --lobes N [--init …] [--objective …] [--method ceres|vmf-em] [--json F] [--exr F]
 //   sglab envmap render MAP.exr --mixture FIT.json …             three layers on a sphere or plane
-//   sglab envmap lobes --env NAME=MAP.exr … [--tables-dir DIR]    envmap_lobes.{md,csv} (default: --out)
-//                                                                  (experiments/envmap_lobes.cpp)
+// and the experiments registered under `envmap` (experiments/registry.hpp): `sglab envmap lobes`
+// (experiments/envmap_lobes.cpp) and `sglab envmap bases` (experiments/envmap_bases.cpp).
 // The renderer here is a small dedicated one (a sphere and a plane under a distant environment,
 // V = 1), not the VSGL scene renderer of `sglab render`.
 #include <algorithm>
@@ -26,9 +26,8 @@
 #include "commands.hpp"
 #include "envmap.hpp"
 #include "envmap_basis.hpp"
-#include "envmap_bases.hpp"
-#include "envmap_lobes.hpp"
 #include "experiment_command.hpp"
+#include "registry.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/render/environment.hpp"
 #include "sglab/render/environment_scene.hpp"
@@ -344,34 +343,7 @@ void add_envmap_command(CLI::App& app) {
     sub->add_option("--stats", a->stats, "errors as JSON");
     sub->callback([a] { run_render(*a); });
   }
-  {
-    auto a = std::make_shared<envmap_lobes::Options>();
-    auto* sub = cmd->add_subcommand("lobes", "fit and render error against the lobe count (envmap_lobes.*)");
-    sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
-    sub->add_option("--lobes", a->lobes, "lobe counts")->capture_default_str();
-    sub->add_option("--roughness", a->roughness, "GGX roughnesses")->capture_default_str()->check(finite_in(render::kMinEnvRoughness, 1));
-    sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")
-        ->capture_default_str()
-        ->check(integer_in(2, 2048));
-    add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
-    sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
-    sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
-  }
-  {
-    auto a = std::make_shared<envmap_bases::Options>();
-    auto* sub = cmd->add_subcommand("bases", "SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.{md,csv})");
-    sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
-    sub->add_option("--basis", a->bases, "bases to compare (repeat; default all): " + fit::envmap_basis_names());
-    sub->add_option("--width", a->width, "maps reduced by 2×2 means to at most this width")->capture_default_str();
-    sub->add_option("--roughness", a->roughness, "GGX roughnesses (0.3 is always included)")->capture_default_str();
-    sub->add_option("--res", a->sphere_res, "sphere image size of the specular layer")->capture_default_str();
-    sub->add_option("--normals", a->normals, "Fibonacci normals of the diffuse layer")->capture_default_str();
-    sub->add_option("--tolerance", a->tolerance, "relative L2 change at which the map quadratures count as converged")->capture_default_str();
-    sub->add_option("--seed", a->seed, "k-means++ and running-average seed")->capture_default_str();
-    add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
-    sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32, L ≤ 4 (a smoke run; not for paper_tables)");
-    sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
-  }
+  experiments::add_experiment_commands(*cmd, "envmap");  // lobes, bases: experiments/envmap_{lobes,bases}.cpp
 }
 
 }  // namespace sglab::cli

@@ -1,9 +1,10 @@
-// `sglab sweep KIND …`: the parent of every sweep. Each kind lives in its own file
-// (sweep_KIND.cpp) on the shared runner of sweep.hpp and registers itself here with one line.
+// `sglab sweep KIND …`: the parent of every sweep. Each kind is an experiment in its own file
+// (experiments/sweep_KIND.cpp, on the shared runner of sweep.hpp) registered with `under` "sweep".
 // All sweeps take --out DIR, --shard i/N, --threads N, and resume when interrupted; sharded
 // outputs are joined by `sglab merge` (merge_command.cpp).
 #include "commands.hpp"
 #include "constant_sets.hpp"
+#include "registry.hpp"
 
 #include <cstdio>
 #include <memory>
@@ -14,8 +15,7 @@ void add_sweep_command(CLI::App& app) {
   auto* sweep = app.add_subcommand(
       "sweep", "Error sweeps over a grid (parallel; --shard i/N splits a sweep, `sglab merge` joins; resumes)");
   sweep->require_subcommand(1);
-  // One line per sweep kind.
-  add_sweep_specular(*sweep);
+  experiments::add_experiment_commands(*sweep, "sweep");
   // No specular method has a fitted constant: the set is validated (exit 2 on a bad one) and said
   // to be unused.
   if (auto* specular = sweep->get_subcommand("specular")) {
@@ -28,7 +28,6 @@ void add_sweep_command(CLI::App& app) {
                            "every value is the published one\n");
     });
   }
-  add_sweep_render(*sweep);
 }
 
 }  // namespace sglab::cli

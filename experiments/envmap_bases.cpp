@@ -12,12 +12,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <memory>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "atomic_file.hpp"
+#include "envmap_basis.hpp"
+#include "experiment_command.hpp"
+#include "registry.hpp"
 #include "envmap_data.hpp"
 #include "input_error.hpp"
 #include "sglab/render/environment.hpp"
@@ -459,9 +463,28 @@ void write(const Result& r) {
 
 }  // namespace sglab::cli::envmap_bases
 
-// ---- the experiment: its reproduce steps -------------------------------------------------------
+// ---- the experiment: its command and its reproduce steps ----------------------------------------
 
-#include "registry.hpp"
+namespace sglab::cli {
+
+// `sglab envmap bases` (registered under `envmap`).
+void add_envmap_bases_command(CLI::App& envmap) {
+  auto a = std::make_shared<envmap_bases::Options>();
+  auto* sub = envmap.add_subcommand("bases", "SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.{md,csv})");
+  sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
+  sub->add_option("--basis", a->bases, "bases to compare (repeat; default all): " + fit::envmap_basis_names());
+  sub->add_option("--width", a->width, "maps reduced by 2×2 means to at most this width")->capture_default_str();
+  sub->add_option("--roughness", a->roughness, "GGX roughnesses (0.3 is always included)")->capture_default_str();
+  sub->add_option("--res", a->sphere_res, "sphere image size of the specular layer")->capture_default_str();
+  sub->add_option("--normals", a->normals, "Fibonacci normals of the diffuse layer")->capture_default_str();
+  sub->add_option("--tolerance", a->tolerance, "relative L2 change at which the map quadratures count as converged")->capture_default_str();
+  sub->add_option("--seed", a->seed, "k-means++ and running-average seed")->capture_default_str();
+  add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
+  sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32, L ≤ 4 (a smoke run; not for paper_tables)");
+  sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
+}
+
+}  // namespace sglab::cli
 
 namespace sglab::experiments {
 
@@ -469,7 +492,8 @@ namespace sglab::experiments {
 // with rectangular emitters), then every basis on them and on the three maps of the `envmap`
 // experiment (written before this one runs), and the figure.
 Experiment envmap_bases_experiment() {
-  return {"envmap-bases", "`sglab envmap bases`: SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.*)", nullptr,
+  return {"envmap-bases", "`sglab envmap bases`: SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.*)",
+          cli::add_envmap_bases_command,
           [](const Places& p) {
             std::vector<Step> v;
             const std::string dir = p.out + "/envmap/";
@@ -489,7 +513,8 @@ Experiment envmap_bases_experiment() {
             v.push_back(plot_step("plot-envmap-bases", "error against stored floats, one panel per layer",
                                   {"plots/envmap_bases.py", p.tables + "/envmap_bases.csv", p.key_figures()}));
             return v;
-          }};
+          },
+          "envmap"};
 }
 
 }  // namespace sglab::experiments

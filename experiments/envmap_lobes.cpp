@@ -17,12 +17,16 @@
 #include <filesystem>
 #include <future>
 #include <map>
+#include <memory>
 #include <mutex>
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include "atomic_file.hpp"
+#include "experiment_command.hpp"
+#include "registry.hpp"
+#include "sglab/render/environment.hpp"
 #include "input_error.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
@@ -431,3 +435,51 @@ void write(const Result& r) {
 }
 
 }  // namespace sglab::cli::envmap_lobes
+
+// ---- the experiment: its command and its reproduce steps ----------------------------------------
+
+namespace sglab::cli {
+
+// `sglab envmap lobes` (registered under `envmap`).
+void add_envmap_lobes_command(CLI::App& envmap) {
+  auto a = std::make_shared<envmap_lobes::Options>();
+  auto* sub = envmap.add_subcommand("lobes", "fit and render error against the lobe count (envmap_lobes.*)");
+  sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
+  sub->add_option("--lobes", a->lobes, "lobe counts")->capture_default_str();
+  sub->add_option("--roughness", a->roughness, "GGX roughnesses")->capture_default_str()->check(finite_in(render::kMinEnvRoughness, 1));
+  sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")
+      ->capture_default_str()
+      ->check(integer_in(2, 2048));
+  add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
+  sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
+  sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
+}
+
+}  // namespace sglab::cli
+
+namespace sglab::experiments {
+
+// SG environment maps: the three generated environments, the fits and renders against N
+// (paper_tables/envmap_lobes.*), and the figures.
+Experiment envmap_experiment() {
+  return {"envmap", "`sglab envmap`: SG mixture fits of environment maps and shading error against the lobe count (envmap_lobes.*)",
+          cli::add_envmap_lobes_command, [](const Places& p) {
+            std::vector<Step> v;
+            std::vector<std::string> lobes = {"envmap", "lobes", "--out", p.out + "/envmap"};
+            for (const char* kind : {"sky", "studio", "mixture"}) {
+              const std::string path = p.out + "/envmap/" + kind + ".exr";
+              v.push_back(sglab_step(std::string("envmap-make-") + kind, std::string("generated environment: ") + kind + " (512×256 EXR)",
+                                     {"envmap", "make", kind, "--out", path}));
+              lobes.insert(lobes.end(), {"--env", std::string(kind) + "=" + path});
+            }
+            v.push_back(timed(sglab_step("envmap-lobes", "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)",
+                                         lobes, {"--quick"}, "--tables-dir")));
+            v.push_back(plot_step("plot-envmap", "environment error against N, and each map beside its reconstructions",
+                                  {"plots/envmap_lobes.py", p.tables + "/envmap_lobes.csv", p.out + "/envmap/envmap_images.csv",
+                                   p.key_figures()}));
+            return v;
+          },
+          "envmap"};
+}
+
+}  // namespace sglab::experiments

@@ -29,6 +29,7 @@
 #include "constant_sets.hpp"
 #include "experiment_command.hpp"
 #include "registry.hpp"
+#include "sglab/error_metrics.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 
@@ -110,8 +111,8 @@ MethodMap method_map(const Method& m, const Result& r) {
   });
   Summary& s = out.summary;
   s.method = m.name;
-  double sum_sq = 0;
-  long counted = 0, over = 0;
+  metrics::RootMeanSquare rms;  // of |error|; its maximum is kept below with its place
+  long over = 0;
   std::vector<double> smapes;
   for (std::size_t k = 0; k < points; ++k) {
     if (!out.in_domain[k]) {
@@ -120,8 +121,7 @@ MethodMap method_map(const Method& m, const Result& r) {
       ++s.non_finite;
     } else {
       const double e = r.error(out, k);
-      sum_sq += e * e;
-      ++counted;
+      rms.add(std::fabs(e));
       if (std::fabs(e) > 0.01) ++over;
       if (std::fabs(e) > s.max_abs) {
         s.max_abs = std::fabs(e);
@@ -131,8 +131,8 @@ MethodMap method_map(const Method& m, const Result& r) {
       smapes.push_back(r.smape(out, k));
     }
   }
-  s.rmse = counted ? std::sqrt(sum_sq / double(counted)) : std::nan("");
-  s.share_over_1pct = counted ? double(over) / double(counted) : std::nan("");
+  s.rmse = rms.rms();
+  s.share_over_1pct = rms.count ? double(over) / double(rms.count) : std::nan("");
   if (!smapes.empty()) {
     std::nth_element(smapes.begin(), smapes.begin() + std::ptrdiff_t(smapes.size() / 2), smapes.end());
     s.median_smape = smapes[smapes.size() / 2];
@@ -149,10 +149,7 @@ double Result::error(const MethodMap& m, std::size_t k) const {
   return (m.value[k] - reference[k]) / pole;
 }
 
-double Result::smape(const MethodMap& m, std::size_t k) const {
-  const double denom = std::fabs(m.value[k]) + std::fabs(reference[k]);
-  return denom > 0 ? 2 * std::fabs(m.value[k] - reference[k]) / denom : 0.0;
-}
+double Result::smape(const MethodMap& m, std::size_t k) const { return metrics::smape(m.value[k], reference[k]); }
 
 Result compute(const Options& o) {
   const Quantity* q = &checked_quantity(o);

@@ -24,6 +24,7 @@
 #include "experiment_command.hpp"
 #include "constant_sets.hpp"
 #include "error_grid.hpp"
+#include "sglab/error_metrics.hpp"
 #include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
 #include "registry.hpp"
@@ -114,46 +115,30 @@ SpeedComparison compare_speed(std::string a_name, const BatchFn<T>& a, std::stri
   return c;
 }
 
-// The error grid of one quantity: points, and per point the scale its error is divided by and
-// whether it belongs to the quantity's "sharp" subset (the third error column).
-struct Grid {
-  std::size_t arity = 0;
-  std::vector<double> args;       // points × arity
-  std::vector<double> reference;  // the reference method's value per point
-  std::vector<double> scale;      // error normalizer per point
+// The error grid of one quantity (fit/error_grid.hpp: points, references, per point the scale its
+// error is divided by), and per point whether it belongs to the quantity's "sharp" subset (the
+// third error column).
+struct Grid : ReferenceGrid {
   std::vector<char> in_subset;    // counted in the subset column
   std::vector<char> rounding;     // also checked against 50 digits (mp50 is slow)
   std::string description, error_label, subset_label;
   std::vector<double> timing;     // seeded timing inputs, inside every method's domain
-  std::size_t size() const { return reference.size(); }
 };
-
-void fill_reference(Grid& g, const Method& ref) {
-  const std::size_t n = g.args.size() / g.arity;
-  g.reference.assign(n, 0);
-  tbb::parallel_for(std::size_t(0), n, [&](std::size_t k) {
-    g.reference[k] = ref.eval_double(std::span<const double>(&g.args[g.arity * k], g.arity));
-  });
-}
 
 // Diffuse (sharpness, cosine) quantities: the (λ, c) grid of the error claims (docs/math.md §3), λ
 // log-spaced over [1e-3, 1e4], c uniform; errors relative to the reference at c = 1.
 Grid diffuse_grid(const Method& ref, bool quick) {
   Grid g;
-  g.arity = 2;
+  static_cast<ReferenceGrid&>(g) = diffuse_reference_grid(ref, quick);
   const int per_decade = quick ? 2 : 4, cos_steps = quick ? 20 : 40;
   const DiffuseAxes axes = diffuse_grid_axes(quick);
   const std::vector<double>& ls = axes.sharpnesses;
   const std::vector<double>& cs = axes.cosines;
   for (std::size_t i = 0; i < ls.size(); ++i)
     for (std::size_t j = 0; j < cs.size(); ++j) {
-      g.args.insert(g.args.end(), {ls[i], cs[j]});
       g.in_subset.push_back(ls[i] >= 1);
       g.rounding.push_back(i % 4 == 0 && j % 4 == 0);
     }
-  fill_reference(g, ref);
-  for (std::size_t i = 0; i < ls.size(); ++i)
-    for (std::size_t j = 0; j < cs.size(); ++j) g.scale.push_back(g.reference[i * cs.size() + cs.size() - 1]);
   g.description = fmt::format("λ ∈ [1e-3, 1e4] log-spaced ({} per decade) × c ∈ [−1, 1] ({} steps); rounding on every 4th λ and c",
                               per_decade, cos_steps);
   g.error_label = "|method − reference| / value at c = 1";
@@ -236,63 +221,6 @@ std::string claims_section(const std::vector<Row>& rows, const std::vector<Speed
 }  // namespace
 }  // namespace error_vs_time
 
-DiffuseAxes diffuse_grid_axes(bool quick) {
-  const int per_decade = quick ? 2 : 4, cos_steps = quick ? 20 : 40;
-  DiffuseAxes a;
-  for (int i = 0; i <= 7 * per_decade; ++i) a.sharpnesses.push_back(std::pow(10.0, -3 + double(i) / per_decade));
-  for (int j = 0; j <= cos_steps; ++j) a.cosines.push_back(-1 + 2.0 * j / cos_steps);
-  return a;
-}
-
-SpecularGridPoints specular_grid_points(bool quick) {
-  SpecularGridPoints p;
-  p.roughnesses = quick ? std::vector<double>{0.05, 0.2, 0.5, 1} : std::vector<double>{0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1};
-  p.light_sharpnesses = quick ? std::vector<double>{10, 100} : std::vector<double>{1, 10, 100, 1000};
-  const std::vector<double> views = {0.9, 0.5, 0.2};
-  const std::vector<double> tilts = {0, 0.1, 0.3, 0.6};  // radians from the mirror direction
-  const double f0 = 0.04;
-  const double pi = sglab::pi<double>();
-  for (double a : p.roughnesses)
-    for (double l : p.light_sharpnesses)
-      for (double v : views)
-        for (double d : tilts) {
-          // Mirror of ωo = (√(1−v²), 0, v) is at polar angle θ = acos v, azimuth π. Tilting by d
-          // towards the normal gives polar angle θ − d (through the normal if d > θ: azimuth 0).
-          const double theta = std::acos(v) - d;
-          p.args.insert(p.args.end(), {a, l, std::cos(theta), v, theta >= 0 ? pi : 0.0, f0});
-        }
-  p.per_peak = tilts.size();
-  return p;
-}
-
-GridError standard_grid_error(const Quantity& q, const Method& m) {
-  using namespace error_vs_time;
-  static std::mutex mutex;
-  static std::map<std::string, Grid> grids;
-  const Grid* g;
-  {
-    std::lock_guard<std::mutex> lock(mutex);
-    auto it = grids.find(q.name);
-    if (it == grids.end()) it = grids.emplace(q.name, diffuse_grid(*q.find(q.reference_method), false)).first;
-    g = &it->second;
-  }
-  GridError e;
-  double sum_sq = 0;
-  long counted = 0;
-  for (std::size_t k = 0; k < g->size(); ++k) {
-    const std::span<const double> a(&g->args[g->arity * k], g->arity);
-    if (m.domain_error && m.domain_error(a)) continue;
-    const double v = m.eval_double(a);
-    if (!std::isfinite(v)) continue;
-    const double d = std::fabs(v - g->reference[k]) / g->scale[k];
-    sum_sq += d * d;
-    ++counted;
-    e.max_error = std::max(e.max_error, d);
-  }
-  e.rms_error = counted ? std::sqrt(sum_sq / double(counted)) : NAN;
-  return e;
-}
-
 namespace error_vs_time {
 namespace {
 
@@ -360,8 +288,7 @@ void measure_errors(const Method& m, bool is_float, const Grid& g, Row& r) {
       p.exact = static_cast<double>(m.eval_mp50(am));
     }
   });
-  double sum_sq = 0;
-  long counted = 0;
+  metrics::RootMeanSquare rms;
   for (std::size_t k = 0; k < n; ++k) {
     const Point& p = points[k];
     if (p.out_of_domain) {
@@ -375,13 +302,12 @@ void measure_errors(const Method& m, bool is_float, const Grid& g, Row& r) {
     }
     if (v < 0) ++r.negatives;
     const double e = std::fabs(v - g.reference[k]) / g.scale[k];
-    sum_sq += e * e;
-    ++counted;
-    r.max_error = std::max(r.max_error, e);
+    rms.add(e);
     if (g.in_subset[k]) r.max_error_sharp = std::max(r.max_error_sharp, e);
     if (g.rounding[k]) r.max_rounding = std::max(r.max_rounding, std::fabs(v - p.exact) / g.scale[k]);
   }
-  r.rmse = counted ? std::sqrt(sum_sq / double(counted)) : NAN;
+  r.rmse = rms.rms();
+  r.max_error = std::max(r.max_error, rms.max);
 }
 
 // Every method of q against its reference on q's grid, in float and double, plus the

@@ -46,6 +46,7 @@
 #include "experiment_command.hpp"
 #include "csv.hpp"
 #include "render_job.hpp"
+#include "sglab/error_metrics.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/render/vsgl_shading.hpp"
 #include "sglab/render/raycast.hpp"
@@ -141,11 +142,6 @@ Compared compared_methods() {
   return c;
 }
 
-double smape(double v, double r) {
-  const double s = std::fabs(v) + std::fabs(r);
-  return s > 0 ? 2 * std::fabs(v - r) / s : 0.0;
-}
-
 std::vector<Pixel> render_pixels(const render::Scene& scene, const SgLight& light, const Compared& c) {
   const render::GBuffer g = render::render_gbuffer(scene);
   std::vector<Pixel> out(g.points.size());
@@ -181,7 +177,7 @@ std::vector<MethodError> method_errors(const std::vector<Pixel>& pixels, const C
     double sum = 0;
     for (const Pixel& p : pixels) {
       if (!p.lit || std::isnan(p.value[i])) continue;
-      const double s = smape(p.value[i], p.reference);
+      const double s = metrics::smape(p.value[i], p.reference);
       sum += s;
       e.max = std::max(e.max, s);
       ++e.pixels;

@@ -27,6 +27,7 @@
 #include "experiment_command.hpp"
 #include "parse_number.hpp"
 #include "registry.hpp"
+#include "sglab/error_metrics.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/specular.hpp"
 #include "sglab/specular_grid.hpp"
@@ -135,12 +136,9 @@ struct Measures {
 };
 template <class Value>
 double point_error(const Point& p, Value value) {
-  double e = 0, s = 0;
-  for (const auto& r : p.rows) {
-    e += std::abs(value(r) - r.reference);
-    s += r.reference;
-  }
-  return s > 0 ? e / s : 0.0;
+  metrics::BrightnessWeighted b;
+  for (const auto& r : p.rows) b.add(value(r), r.reference);
+  return b.value();
 }
 template <class Value, class Keep>
 Measures measures(const std::vector<Point>& points, Value value, Keep keep) {
@@ -155,7 +153,7 @@ Measures measures(const std::vector<Point>& points, Value value, Keep keep) {
     for (const auto& r : p.rows) {
       if (!(r.reference >= kBrightCutoff * peak) || !(peak > 0)) continue;
       const double v = value(r);
-      smape += 2 * std::abs(v - r.reference) / (std::abs(v) + std::abs(r.reference));
+      smape += metrics::smape(v, r.reference);
       ++m.bright_rows;
     }
   }

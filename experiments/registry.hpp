@@ -1,12 +1,14 @@
 // The typed experiment registry: every experiment sglab runs, its one-line summary, the `sglab`
 // command it registers (if it has its own), and the steps `sglab reproduce` runs for it given the
 // places a run writes to. Read by `sglab reproduce` (its step list, --list) and by `sglab --help`
-// (the list of experiments). Adding an experiment: one file defining NAME_experiment(), and its
-// name in SGLAB_EXPERIMENTS below.
+// (the list of experiments). Adding an experiment: one file experiments/NAME.cpp defining its
+// computation, its command and NAME_experiment(), and one line X(NAME) in SGLAB_EXPERIMENTS below
+// (the CMake list globs the sources; docs/architecture.md, "Adding an experiment").
 #pragma once
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace CLI {
@@ -63,10 +65,13 @@ Step render_step(const Places& p, std::string name, std::string what, const std:
 struct Experiment {
   std::string name;     // "error-vs-time"
   std::string summary;  // one line for `sglab --help`
-  // Registers the experiment's own `sglab` command; null when general tools of cli/ (render,
-  // fit, filter, envmap, sweep) run its steps.
-  void (*add_command)(CLI::App& app) = nullptr;
+  // Registers the experiment's own command (one sub-command) on its parent, the command named by
+  // `under`; null when general tools of cli/ (render, fit) run its steps.
+  void (*add_command)(CLI::App& parent) = nullptr;
   std::function<std::vector<Step>(const Places&)> steps;
+  // The parent of its command: "" for `sglab COMMAND`, or a general tool that groups experiments
+  // ("sweep": `sglab sweep KIND`, "envmap": `sglab envmap COMMAND`).
+  std::string under = "";
 };
 
 // The experiments, in the order `sglab reproduce` runs them (a step may read an earlier one's
@@ -98,6 +103,11 @@ SGLAB_EXPERIMENTS(SGLAB_DECLARE_EXPERIMENT)
 #undef SGLAB_DECLARE_EXPERIMENT
 
 const std::vector<Experiment>& experiment_registry();
+
+// Registers, in registry order, the command of every experiment whose `under` is `under` on
+// `parent` (the app for "", else the parent's own command): the one place the CLI registers an
+// experiment's command (cli/app.cpp for "", cli/sweep_command.cpp, cli/envmap_command.cpp).
+void add_experiment_commands(CLI::App& parent, std::string_view under);
 
 // Every step of every experiment, in order.
 std::vector<Step> all_steps(const Places& places);

@@ -17,6 +17,7 @@
 #include "atomic_file.hpp"
 #include "experiment_command.hpp"
 #include "constant_sets.hpp"
+#include "registry.hpp"
 #include "stability_atlas.hpp"
 #include "table.hpp"
 #include "sglab/text_limits.hpp"
@@ -123,3 +124,23 @@ void add_stability_command(CLI::App& app) {
 }
 
 }  // namespace sglab::cli
+
+// ---- the experiment: its reproduce steps --------------------------------------------------------
+
+namespace sglab::experiments {
+
+Experiment stability_experiment() {
+  return {"stability", "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method (stability.*)",
+          cli::add_stability_command, [](const Places& p) {
+            return std::vector<Step>{
+                sglab_step("stability",
+                           "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method "
+                           "(paper_tables/stability.*)",
+                           {"stability", "--out", p.out + "/stability"}, {"--quick"}, "--tables", true),
+                plot_step("plot-stability", "stability heat map per method, float and double side by side",
+                          {"plots/stability_heatmap.py", p.out + "/stability/stability_cells.csv", p.out + "/figures/stability"},
+                          {"--quick"})};
+          }};
+}
+
+}  // namespace sglab::experiments

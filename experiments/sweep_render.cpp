@@ -584,7 +584,7 @@ std::vector<Step> sweep_render_steps(const Places& p) {
 Experiment sweep_render_experiment() {
   return {"sweep-render",
           "`sglab sweep render`: VSGL error and time over VSGL counts, roughness × distance, λ_d, visibility",
-          nullptr, sweep_render_steps};
+          cli::add_sweep_render, sweep_render_steps, "sweep"};
 }
 
 }  // namespace sglab::experiments

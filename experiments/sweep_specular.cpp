@@ -181,19 +181,20 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
 
 namespace {
 
-// Per (group, value, method): per point Σ|v − r| and Σ r over rows with a value; the bright rows' SMAPE.
+// Per (group, value, method): per point the brightness-weighted error Σ|v − r|/Σ|r| over rows
+// with a value; the bright rows' SMAPE.
 struct Brightness {
-  std::map<std::string, std::pair<double, double>> points;  // point key → (Σ|v − r|, Σ r)
+  std::map<std::string, metrics::BrightnessWeighted> points;  // point key → its sums
   double smape_sum = 0;
   std::size_t bright = 0;
 };
 
-// The brightness-weighted error and the bright rows' SMAPE of one summary row.
+// The brightness-weighted error (the mean over points) and the bright rows' SMAPE of one summary row.
 void add_brightness(const Brightness& b, SpecularSummaryRow& row) {
   double sum = 0;
   for (const auto& [point, e] : b.points)
-    if (e.second > 0) {
-      sum += e.first / e.second;
+    if (e.has_reference()) {
+      sum += e.value();
       ++row.weighted_points;
     }
   if (row.weighted_points) row.weighted_error = sum / double(row.weighted_points);
@@ -233,7 +234,7 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
                                {"position", c_position, false, {}},
                                {"all", runner::CsvTable::npos, false, {}}};
   std::vector<std::string> methods;
-  std::map<std::tuple<std::size_t, std::string, std::string>, runner::ErrorAccumulator> acc;  // (group, value, method)
+  std::map<std::tuple<std::size_t, std::string, std::string>, metrics::ErrorAccumulator> acc;  // (group, value, method)
   std::map<std::tuple<std::size_t, std::string, std::string>, Brightness> brightness;
   for (std::size_t i = 0; i < t.rows.size(); ++i) {
     const runner::CsvRecord& r = t.rows[i];
@@ -252,11 +253,9 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
       if (!has_value) continue;
       Brightness& b = brightness[{g, key, method}];
       auto& point = b.points[r.fields[c_roughness] + "," + r.fields[c_sharpness] + "," + r.fields[c_view]];
-      point.first += std::fabs(value - reference);
-      point.second += reference;
+      point.add(value, reference);
       if (reference >= kSpecularBrightCutoff * scale && reference > 0) {
-        const double den = std::fabs(value) + std::fabs(reference);
-        b.smape_sum += den > 0 ? 2 * std::fabs(value - reference) / den : 0.0;
+        b.smape_sum += metrics::smape(value, reference);
         ++b.bright;
       }
     }
@@ -289,7 +288,7 @@ std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows) {
                                                   "worst_position", "weighted_error", "weighted_points", "bright_smape",
                                                   "bright_rows"});
   for (const auto& r : rows) {
-    const runner::ErrorStats& s = r.stats;
+    const metrics::ErrorStats& s = r.stats;
     runner::append_csv_record(csv, std::vector<std::string>{r.by, r.group, r.method, std::to_string(s.points),
                                                     std::to_string(s.relative), std::to_string(s.near_zero),
                                                     std::to_string(s.missing), runner::csv_number(s.rmse_relative),
@@ -410,7 +409,7 @@ std::string whole_grid_table(const std::vector<SpecularSummaryRow>& rows) {
   md += "## Over the whole grid\n\n| method | brightness-weighted | bright SMAPE | SMAPE | max relative | RMSE | RMSE scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     if (r.by != "all") continue;
-    const runner::ErrorStats& s = r.stats;
+    const metrics::ErrorStats& s = r.stats;
     md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.method, percent(r.weighted_error),
                       percent(r.bright_smape), percent(s.smape), percent(s.max_relative),
                       percent(s.rmse_relative), percent(s.rmse_scaled), percent(s.max_scaled), s.near_zero, s.missing,
@@ -429,11 +428,11 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
   SummaryIndex x(rows);
   auto weighted = [](const SpecularSummaryRow& r) { return percent(r.weighted_error); };
   auto bright = [](const SpecularSummaryRow& r) { return percent(r.bright_smape); };
-  auto smape = [](const runner::ErrorStats& s) { return percent(s.smape); };
-  auto max_rel = [](const runner::ErrorStats& s) { return percent(s.max_relative); };
-  auto rmse = [](const runner::ErrorStats& s) { return percent(s.rmse_relative); };
-  auto rmse_scaled = [](const runner::ErrorStats& s) { return percent(s.rmse_scaled); };
-  auto both = [](const runner::ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
+  auto smape = [](const metrics::ErrorStats& s) { return percent(s.smape); };
+  auto max_rel = [](const metrics::ErrorStats& s) { return percent(s.max_relative); };
+  auto rmse = [](const metrics::ErrorStats& s) { return percent(s.rmse_relative); };
+  auto rmse_scaled = [](const metrics::ErrorStats& s) { return percent(s.rmse_scaled); };
+  auto both = [](const metrics::ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
   const auto rtable = [&](const std::string& by, const std::string& first, auto show) { return x.rtable(by, first, show); };
   const auto table = [&](const std::string& by, const std::string& first, auto show) { return x.table(by, first, show); };
   std::string md = summary_intro(rows, x, command, brdf);
@@ -535,7 +534,7 @@ std::vector<Step> sweep_specular_steps(const Places& p) {
 Experiment sweep_specular_experiment() {
   return {"sweep-specular",
           "`sglab sweep specular`: specular methods against the GGX reference over roughness",
-          nullptr, sweep_specular_steps};
+          cli::add_sweep_specular, sweep_specular_steps, "sweep"};
 }
 
 }  // namespace sglab::experiments

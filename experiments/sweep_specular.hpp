@@ -1,7 +1,8 @@
 // `sglab sweep specular`: every method of the registry's `specular` quantity
 // against its reference over roughness × light sharpness × view angle × light position.
-// The CLI registration is add_sweep_specular (commands.hpp); this header exposes the grid, the
-// sweep definition and the summary so that tests can check them directly.
+// The command is add_sweep_specular (sweep_specular.cpp, registered under `sweep` by the experiment
+// registry); this header exposes the grid, the sweep definition and the summary so that tests can
+// check them directly.
 //
 //   grid ──► run_sweep (sweep.hpp) ──► specular_points.csv ──► summarize_specular_points
 //        ──► specular_summary.csv, paper_tables/specular_vs_roughness.{md,csv}
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "csv.hpp"
+#include "sglab/error_metrics.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sweep.hpp"
 
@@ -69,7 +71,7 @@ struct SpecularSummaryRow {
                        // near-lobe positions), "light_sharpness", "view_cos", "position", "all"
   std::string group;   // the group's value as printed in the per-point CSV ("0.01", "mirror", "all")
   std::string method;
-  runner::ErrorStats stats;
+  metrics::ErrorStats stats;
   // Brightness-weighted error: per point Σ|v − r|/Σ r over its rows with a value, then the mean
   // over the group's points (`weighted_points` of them).
   double weighted_error = std::numeric_limits<double>::quiet_NaN();

@@ -1,14 +1,10 @@
-// The experiments whose steps run the general tools of cli/ (`sglab fit`, `sglab render`, `sglab
-// envmap`) and the stability atlas: their registry entries and reproduce steps.
+// The experiments whose steps run only general tools of cli/ (`sglab fit`, `sglab render`): their
+// registry entries and reproduce steps.
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "registry.hpp"
-
-namespace sglab::cli {
-void add_stability_command(CLI::App& app);  // stability.cpp: `sglab stability`
-}  // namespace sglab::cli
 
 namespace sglab::experiments {
 Experiment fits_experiment() {
@@ -24,20 +20,6 @@ Experiment fits_experiment() {
                                      {"fit", "lambda-d", "--objective", std::string("l2-") + objective, "--json",
                                       p.out + "/fits-objectives/lambda-d-l2-" + objective + ".json"}));
             return v;
-          }};
-}
-
-Experiment stability_experiment() {
-  return {"stability", "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method (stability.*)",
-          cli::add_stability_command, [](const Places& p) {
-            return std::vector<Step>{
-                sglab_step("stability",
-                           "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method "
-                           "(paper_tables/stability.*)",
-                           {"stability", "--out", p.out + "/stability"}, {"--quick"}, "--tables", true),
-                plot_step("plot-stability", "stability heat map per method, float and double side by side",
-                          {"plots/stability_heatmap.py", p.out + "/stability/stability_cells.csv", p.out + "/figures/stability"},
-                          {"--quick"})};
           }};
 }
 
@@ -75,28 +57,6 @@ Experiment renders_experiment() {
             v.push_back(plot_step("plot-two-vsgls-cosine", "two VSGLs: cosine pulled out vs SG cosine (after Tokuyoshi 2015 Fig. 1)",
                                   {"plots/two_vsgls_cosine.py", p.key_figures(), p.out + "/renders/two-vsgls-punctual.csv",
                                    p.out + "/renders/two-vsgls-sg-cosine.csv"}));
-            return v;
-          }};
-}
-
-// SG environment maps: the three generated environments, the fits and renders against N
-// (paper_tables/envmap_lobes.*), and the figures.
-Experiment envmap_experiment() {
-  return {"envmap", "`sglab envmap`: SG mixture fits of environment maps and shading error against the lobe count (envmap_lobes.*)",
-          nullptr, [](const Places& p) {
-            std::vector<Step> v;
-            std::vector<std::string> lobes = {"envmap", "lobes", "--out", p.out + "/envmap"};
-            for (const char* kind : {"sky", "studio", "mixture"}) {
-              const std::string path = p.out + "/envmap/" + kind + ".exr";
-              v.push_back(sglab_step(std::string("envmap-make-") + kind, std::string("generated environment: ") + kind + " (512×256 EXR)",
-                                     {"envmap", "make", kind, "--out", path}));
-              lobes.insert(lobes.end(), {"--env", std::string(kind) + "=" + path});
-            }
-            v.push_back(timed(sglab_step("envmap-lobes", "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)",
-                                         lobes, {"--quick"}, "--tables-dir")));
-            v.push_back(plot_step("plot-envmap", "environment error against N, and each map beside its reconstructions",
-                                  {"plots/envmap_lobes.py", p.tables + "/envmap_lobes.csv", p.out + "/envmap/envmap_images.csv",
-                                   p.key_figures()}));
             return v;
           }};
 }

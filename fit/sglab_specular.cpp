@@ -26,6 +26,7 @@
 #include <tbb/parallel_for.h>
 
 #include "fits.hpp"
+#include "sglab/error_metrics.hpp"
 #include "sglab/specular.hpp"
 #include "sglab/specular_grid.hpp"
 
@@ -125,23 +126,24 @@ struct Measures {
 Measures measures(const std::vector<double>& x) {
   const Data& d = data();
   const SglabSpecularParams<double> c{x[0], x[1], x[2], x[3], x[4], x[5]};
-  std::vector<double> err(d.point_sum.size(), 0.0);
+  std::vector<metrics::BrightnessWeighted> point(d.point_sum.size());
   Measures m;
   for (const auto& r : d.rows) {
     const auto& a = r.in;
     const double v = specular_sglab<double>({a[0], a[1], a[2], a[3], a[4], a[5]}, c);
-    err[r.point] += std::abs(v - r.reference) / d.point_sum[r.point];
+    point[r.point].add(v, r.reference);
     if (r.reference >= kBrightCutoff * d.point_peak[r.point])
-      m.bright_smape += 2 * std::abs(v - r.reference) / (std::abs(v) + std::abs(r.reference)) / double(d.bright_rows);
+      m.bright_smape += metrics::smape(v, r.reference) / double(d.bright_rows);
   }
   std::map<double, std::pair<double, int>> by_alpha;
   for (const auto& r : d.rows) by_alpha[r.in[0]];  // the roughness values
-  std::vector<bool> seen(err.size(), false);
+  std::vector<bool> seen(point.size(), false);
   for (const auto& r : d.rows) {
     if (seen[r.point]) continue;
     seen[r.point] = true;
-    m.weighted += err[r.point] / double(err.size());
-    by_alpha[r.in[0]].first += err[r.point];
+    const double err = point[r.point].value();
+    m.weighted += err / double(point.size());
+    by_alpha[r.in[0]].first += err;
     by_alpha[r.in[0]].second += 1;
   }
   for (const auto& [a, s] : by_alpha) m.worst_roughness = std::max(m.worst_roughness, s.first / s.second);

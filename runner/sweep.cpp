@@ -470,45 +470,7 @@ std::string fnv1a_hex(std::string_view text) {
 SummaryOnlyScope::SummaryOnlyScope() { g_summary_only.fetch_add(1); }
 SummaryOnlyScope::~SummaryOnlyScope() { g_summary_only.fetch_sub(1); }
 
-// ---- statistics ---------------------------------------------------------------------------------
-
-void ErrorAccumulator::add(bool has_value, double value, double reference, double scale, std::size_t tag) {
-  ++s_.points;
-  if (!has_value || !std::isfinite(value)) {
-    ++s_.missing;
-    return;
-  }
-  const double error = std::fabs(value - reference);
-  if (scale > 0 && std::isfinite(scale)) {
-    const double scaled = error / scale;
-    if (!(scaled <= s_.max_scaled)) s_.max_scaled = scaled;  // also replaces the initial NaN
-    sum_sq_scaled_ += scaled * scaled;
-    ++scaled_;
-  }
-  if (!(scale > 0 && reference > 0 && reference >= near_zero_ * scale)) {
-    ++s_.near_zero;
-    return;
-  }
-  const double relative = error / reference;
-  ++s_.relative;
-  sum_sq_ += relative * relative;
-  const double denominator = std::fabs(value) + std::fabs(reference);  // > 0: reference > 0
-  sum_smape_ += 2 * error / denominator;
-  if (s_.relative == 1 || relative > s_.max_relative) {
-    s_.max_relative = relative;
-    s_.worst = tag;
-  }
-}
-
-ErrorStats ErrorAccumulator::stats() const {
-  ErrorStats s = s_;
-  if (s.relative > 0) {
-    s.rmse_relative = std::sqrt(sum_sq_ / double(s.relative));
-    s.smape = sum_smape_ / double(s.relative);
-  }
-  if (scaled_ > 0) s.rmse_scaled = std::sqrt(sum_sq_scaled_ / double(scaled_));
-  return s;
-}
+// ---- numbers ------------------------------------------------------------------------------------
 
 std::string csv_number(double x) {
   if (std::isnan(x)) return "";

@@ -189,43 +189,9 @@ std::vector<MergedSweep> merge_sweep_shards(
     const std::vector<std::filesystem::path>& inputs, const std::filesystem::path& out_dir,
     const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args = {});
 
-// ---- error statistics shared by the summaries ---------------------------------------------------
-
-// Accumulates a method's errors against a reference over a set of points, in the order added.
-// A point's reference is "significant" when reference ≥ near_zero · scale, where `scale` is the
-// size of the quantity around that point (e.g. the largest reference of the point's group): only
-// significant points enter the relative statistics, so a reference that is ~0 (a light behind the
-// surface) never produces an infinite relative error; the others are counted in `near_zero`.
-// Every point with a value (and scale > 0) enters `max_scaled` = max |value − reference| / scale
-// and `rmse_scaled`, which measure an error where the reference is ~0 too, weighted by how much it
-// shows next to the largest value around it.
-struct ErrorStats {
-  std::size_t points = 0;     // points added (with or without a value)
-  std::size_t relative = 0;   // points in the relative statistics (significant, with a value)
-  std::size_t near_zero = 0;  // points with a value whose reference is not significant
-  std::size_t missing = 0;    // points without a value (out of the method's domain, non-finite)
-  double rmse_relative = std::numeric_limits<double>::quiet_NaN();  // √(mean of ((v − r)/r)²)
-  double max_relative = std::numeric_limits<double>::quiet_NaN();   // max |v − r|/r
-  double smape = std::numeric_limits<double>::quiet_NaN();          // mean of 2|v − r|/(|v| + |r|) ∈ [0, 2]
-  double max_scaled = std::numeric_limits<double>::quiet_NaN();     // max |v − r|/scale, all points with a value
-  double rmse_scaled = std::numeric_limits<double>::quiet_NaN();    // √(mean of ((v − r)/scale)²), the same points
-  std::size_t worst = std::numeric_limits<std::size_t>::max();      // tag of the (first) max_relative point
-};
-
-class ErrorAccumulator {
- public:
-  explicit ErrorAccumulator(double near_zero) : near_zero_(near_zero) {}
-  // `has_value` false: the method gave no value at this point. `tag` identifies the point
-  // (reported as ErrorStats::worst).
-  void add(bool has_value, double value, double reference, double scale, std::size_t tag);
-  ErrorStats stats() const;
-
- private:
-  double near_zero_;
-  ErrorStats s_;
-  double sum_sq_ = 0, sum_smape_ = 0, sum_sq_scaled_ = 0;
-  std::size_t scaled_ = 0;
-};
+// ---- fingerprints, summary-only runs, numbers --------------------------------------------------
+// (The summaries' error statistics, ErrorStats and ErrorAccumulator, are the metrics module's:
+// core/include/sglab/error_metrics.hpp.)
 
 // FNV-1a, 64 bit (Fowler, Noll, Vo), as 16 hex digits: the fingerprint of a text in checkpoints,
 // manifests and reproduce markers (a changed or truncated file changes it). Not security.

@@ -3,6 +3,7 @@
 // breaks this test, not the main job), and where each mode writes.
 #include <algorithm>
 #include <exception>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -107,4 +108,50 @@ TEST(Reproduce, NearWallRendersEveryRendererMethod) {
   }
   for (const char* m : {"sg-cosine", "punctual-approx", "hill-fitted", "meder", "tokuyoshi2022", "tokuyoshi2024", "sglab"})
     EXPECT_TRUE(rendered.count(m)) << m;
+}
+
+// ---- the experiment registry and the CLI ---------------------------------------------------------
+
+namespace {
+
+std::vector<std::string> subcommand_names(const CLI::App& app) {
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(sub->get_name());
+  return names;
+}
+
+}  // namespace
+
+// Every experiment with a command registers exactly one, under the parent its `under` names, and
+// every command of the app is a general tool's (listed here: a new command is either a tool added
+// to this list or a registered experiment) or exactly one experiment's.
+TEST(ExperimentRegistry, EveryCommandIsRegisteredOnce) {
+  // The general tools' own commands (cli/commands.hpp), per parent that takes experiments.
+  const std::map<std::string, std::set<std::string>> tools = {
+      {"", {"eval", "fit", "reproduce", "render", "sweep", "merge", "filter", "envmap", "export"}},
+      {"sweep", {}},
+      {"envmap", {"make", "render"}}};
+  CLI::App app{"sglab"};
+  sglab::cli::add_all_commands(app);
+  std::map<std::string, std::multiset<std::string>> expected;
+  for (const auto& [parent, names] : tools) expected[parent].insert(names.begin(), names.end());
+  for (const ex::Experiment& e : ex::experiment_registry()) {
+    if (!e.add_command) {
+      EXPECT_EQ(e.under, "") << e.name << ": a parent but no command";
+      continue;
+    }
+    ASSERT_TRUE(tools.count(e.under)) << e.name << ": under '" << e.under << "', which registers no experiments";
+    CLI::App alone{"parent"};
+    e.add_command(alone);
+    const std::vector<std::string> own = subcommand_names(alone);
+    ASSERT_EQ(own.size(), 1u) << e.name << " registers " << own.size() << " commands";
+    expected[e.under].insert(own[0]);
+  }
+  for (const auto& [parent, names] : expected) {
+    for (const auto& n : names) EXPECT_EQ(names.count(n), 1u) << "'" << n << "' under '" << parent << "' is registered twice";
+    const CLI::App* p = parent.empty() ? &app : app.get_subcommand(parent);
+    std::vector<std::string> got = subcommand_names(*p), want(names.begin(), names.end());
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, want) << "the commands under '" << parent << "'";
+  }
 }

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -28,8 +29,6 @@
 namespace {
 
 namespace fs = std::filesystem;
-using sglab::runner::ErrorAccumulator;
-using sglab::runner::ErrorStats;
 using sglab::runner::parse_shard;
 using sglab::runner::Shard;
 using sglab::runner::SweepDefinition;
@@ -375,52 +374,10 @@ TEST_F(SweepTest, MergeNeedsShards) {
   EXPECT_NE(merge_error({dir_ / "nonexistent"}, dir_ / "out").find("neither a directory nor a file"), std::string::npos);
 }
 
-// ---- statistics ---------------------------------------------------------------------------------
+// ---- numbers ------------------------------------------------------------------------------------
 
-TEST(ErrorAccumulator, HandCheckedStatistics) {
-  // scale 4, near zero below 1e-4·4 = 4e-4.
-  //   reference 1,    value 1.1   → relative 0.1, SMAPE term 0.2/2.1
-  //   reference 2,    value 1.8   → relative 0.1, SMAPE term 0.4/3.8
-  //   reference 4,    value 4     → relative 0,   SMAPE term 0
-  //   reference 1e-9, value 5e-9  → near zero (scaled 4e-9/4 = 1e-9)
-  //   no value                    → missing
-  //   reference 4,    value 2     → relative 0.5 (the worst, tag 5), SMAPE term 4/6, scaled 0.5
-  ErrorAccumulator acc(1e-4);
-  acc.add(true, 1.1, 1, 4, 0);
-  acc.add(true, 1.8, 2, 4, 1);
-  acc.add(true, 4, 4, 4, 2);
-  acc.add(true, 5e-9, 1e-9, 4, 3);
-  acc.add(false, 0, 3, 4, 4);
-  acc.add(true, 2, 4, 4, 5);
-  const ErrorStats s = acc.stats();
-  EXPECT_EQ(s.points, 6u);
-  EXPECT_EQ(s.relative, 4u);
-  EXPECT_EQ(s.near_zero, 1u);
-  EXPECT_EQ(s.missing, 1u);
-  // RMSE = √((0.01 + 0.01 + 0 + 0.25)/4) = √0.0675 = 0.25980762113533159…
-  EXPECT_NEAR(s.rmse_relative, 0.25980762113533159, 1e-15);
-  EXPECT_NEAR(s.max_relative, 0.5, 1e-15);
-  EXPECT_EQ(s.worst, 5u);
-  // SMAPE = (0.2/2.1 + 0.4/3.8 + 0 + 4/6)/4 = (0.095238095238095238 + 0.10526315789473684
-  //          + 0.66666666666666667)/4 = 0.21679197994987469
-  EXPECT_NEAR(s.smape, 0.21679197994987469, 1e-15);
-  EXPECT_NEAR(s.max_scaled, 0.5, 1e-15);
-  // Scaled errors of the five rows with a value: 0.1/4, 0.2/4, 0, 4e-9/4, 2/4 →
-  // √((0.000625 + 0.0025 + 0 + 1e-18 + 0.25)/5) = √0.050625 = 0.225 (to 1e-18).
-  EXPECT_NEAR(s.rmse_scaled, 0.225, 1e-15);
-}
-
-TEST(ErrorAccumulator, NoPointsGiveNaNNotZero) {
-  ErrorAccumulator acc(1e-4);
-  acc.add(true, 1, 0, 0, 0);  // scale 0: nothing is significant, no scaled error
-  const ErrorStats s = acc.stats();
-  EXPECT_EQ(s.near_zero, 1u);
-  EXPECT_TRUE(std::isnan(s.rmse_relative));
-  EXPECT_TRUE(std::isnan(s.smape));
-  EXPECT_TRUE(std::isnan(s.max_relative));
-  EXPECT_TRUE(std::isnan(s.max_scaled));
-  EXPECT_TRUE(std::isnan(s.rmse_scaled));
-  EXPECT_EQ(sglab::runner::csv_number(s.smape), "");
+TEST(CsvNumber, NaNIsEmptyAndNumbersRoundTrip) {
+  EXPECT_EQ(sglab::runner::csv_number(std::numeric_limits<double>::quiet_NaN()), "");
   EXPECT_EQ(sglab::runner::csv_number(0.1), "0.1");
 }
 

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "sglab/error_metrics.hpp"
 #include "sglab/sg.hpp"
 
 namespace sglab {
@@ -143,27 +144,19 @@ inline EnvMap downsample_envmap(const EnvMap& fine) {
 
 // Solid-angle-weighted errors of `approx` against `map` (same size):
 //   l2 = √(Σ_t Ω_t Σ_c (a − m)²)  (the L2 norm over the sphere),
-//   relative = l2/√(Σ_t Ω_t Σ_c m²).
+//   relative = l2/√(Σ_t Ω_t Σ_c m²) (metrics::ErrorSums, error_metrics.hpp; +∞ against a black map).
 struct EnvMapError {
   double l2 = 0, relative = 0;
 };
 
 inline EnvMapError envmap_error(const EnvMap& map, const EnvMap& approx) {
-  double se = 0, sr = 0;
+  metrics::ErrorSums sums;
   for (int v = 0; v < map.height; ++v) {
     const double omega = texel_solid_angle(map.width, map.height, v);
-    for (int u = 0; u < map.width; ++u) {
-      for (int c = 0; c < 3; ++c) {
-        const double m = map.at(u, v)[c], a = approx.at(u, v)[c];
-        se += omega * (a - m) * (a - m);
-        sr += omega * m * m;
-      }
-    }
+    for (int u = 0; u < map.width; ++u)
+      for (int c = 0; c < 3; ++c) sums.add_weighted(approx.at(u, v)[c], map.at(u, v)[c], omega);
   }
-  EnvMapError e;
-  e.l2 = std::sqrt(se);
-  e.relative = sr > 0 ? std::sqrt(se / sr) : 0.0;
-  return e;
+  return {sums.l2(), sums.relative_l2()};
 }
 
 }  // namespace sglab

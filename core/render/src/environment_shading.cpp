@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "sglab/brdf.hpp"
+#include "sglab/error_metrics.hpp"
 #include "sglab/glossy_reference.hpp"
 #include "sglab/reference.hpp"
 #include "sglab/registry.hpp"
@@ -241,13 +242,10 @@ ShadingError shading_error(const std::vector<Rgb>& value, const std::vector<Rgb>
   std::vector<char> mask(value.size(), 0);
   for (const auto& p : image.points) mask[std::size_t(p.pixel)] = 1;
   const ImageError e = image_error(value, reference, mask);
-  double num = 0, den = 0;
-  for (std::size_t k = 0; k < value.size(); ++k) {
-    if (!mask[k]) continue;
-    num += (value[k] - reference[k]).abs().sum();
-    den += reference[k].abs().sum();
-  }
-  return {e.relative_l2, e.smape, den > 0 ? num / den : 0.0};
+  metrics::BrightnessWeighted b;  // a pixel's channels summed first
+  for (std::size_t k = 0; k < value.size(); ++k)
+    if (mask[k]) b.add_terms((value[k] - reference[k]).abs().sum(), reference[k].abs().sum());
+  return {e.relative_l2, e.smape, b.value()};
 }
 
 }  // namespace sglab::render

@@ -10,6 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "sglab/error_metrics.hpp"
 #include "sglab/render/reference.hpp"
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/shadow_map.hpp"
@@ -57,26 +58,12 @@ void for_each_pixel(const GBuffer& g, std::string_view stage, const RenderOption
 }  // namespace
 
 ImageError image_error(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const std::vector<char>& mask) {
-  ImageError e;
-  double sum_sq = 0, sum_ref_sq = 0, sum_smape = 0;
+  metrics::ErrorSums sums;
   for (std::size_t k = 0; k < value.size(); ++k) {
     if (!mask[k]) continue;
-    for (int c = 0; c < 3; ++c) {
-      const double v = value[k](c), r = reference[k](c), d = std::fabs(v - r);
-      sum_sq += d * d;
-      sum_ref_sq += r * r;
-      const double s = std::fabs(v) + std::fabs(r);
-      if (s > 0) sum_smape += 2 * d / s;
-      e.max_abs = std::max(e.max_abs, d);
-      ++e.samples;
-    }
+    for (int c = 0; c < 3; ++c) sums.add(value[k](c), reference[k](c));
   }
-  if (e.samples > 0) {
-    e.rmse = std::sqrt(sum_sq / double(e.samples));
-    e.smape = sum_smape / double(e.samples);
-  }
-  e.relative_l2 = sum_ref_sq > 0 ? std::sqrt(sum_sq / sum_ref_sq) : (sum_sq > 0 ? INFINITY : 0.0);
-  return e;
+  return {sums.rmse(), sums.mean_smape(), sums.relative_l2(), sums.max_abs, sums.samples};
 }
 
 namespace {

@@ -143,7 +143,7 @@ std::vector<Rgb> mixture_specular_method(const SgMixture& m, const EnvImage& ima
                                          double roughness, double f0);
 
 // Relative L2, SMAPE (mean 2|v − r|/(|v| + |r|)) and the brightness-weighted error Σ|v − r|/Σ|r|
-// over the covered pixels (and channels) of two shadings of `image`.
+// over the covered pixels (and channels) of two shadings of `image` (core/include/sglab/error_metrics.hpp).
 struct ShadingError {
   double relative_l2 = 0, smape = 0, brightness_weighted = 0;
 };

@@ -41,10 +41,10 @@ struct RenderOptions {
   std::function<void(std::string_view stage, double fraction)> progress;
 };
 
-// Image error of `value` against `reference` over the pixels where mask != 0, all channels:
+// Image error of `value` against `reference` over the pixels where mask != 0, all channels, by the
+// measures of core/include/sglab/error_metrics.hpp (metrics::ErrorSums, so all tables agree):
 //   rmse        = √(mean (v − r)²)
-//   smape       = mean 2|v − r|/(|v| + |r|)  ∈ [0, 2] (a term with v = r = 0 counts 0; the
-//                 definition of runner/sweep.hpp's ErrorStats, so all tables agree)
+//   smape       = mean 2|v − r|/(|v| + |r|)  ∈ [0, 2] (a term with v = r = 0 counts 0)
 //   relative_l2 = ‖v − r‖₂/‖r‖₂ (0 if both are 0)
 //   max_abs     = max |v − r|
 struct ImageError {

@@ -1,7 +1,10 @@
-// The standard error grid of `sglab error-vs-time` for a (sharpness, cosine) quantity, reused by
-// `sglab fit` to judge a fit record by the error its constants give (not only by its digits).
+// The standard error grids of `sglab error-vs-time` (its points, references and error scales), in
+// the fit layer because `sglab fit` judges a fit record by the error its constants give on the
+// diffuse grid (not only by its digits); error-vs-time and shader-export build on the same grids.
+// Defined in fit/error_grid.cpp.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "sglab/registry.hpp"
@@ -33,7 +36,25 @@ struct SpecularGridPoints {
 };
 SpecularGridPoints specular_grid_points(bool quick);
 
-// `m` (double precision) against the quantity's reference on error-vs-time's full diffuse grid.
+// Points (rows of `arity` arguments), the reference method's value at each and the scale each
+// point's error is divided by.
+struct ReferenceGrid {
+  std::size_t arity = 0;
+  std::vector<double> args;       // points × arity
+  std::vector<double> reference;  // the reference method's value per point
+  std::vector<double> scale;      // error normalizer per point
+  std::size_t size() const { return reference.size(); }
+};
+
+// g.reference from g.args: `ref` at every point (in parallel).
+void fill_reference(ReferenceGrid& g, const Method& ref);
+
+// The diffuse grid of diffuse_grid_axes (every (λ, c) pair, λ the outer loop), its references, and
+// per point the scale D(λ, 1): the reference at c = 1 of its λ (docs/math.md §3).
+ReferenceGrid diffuse_reference_grid(const Method& ref, bool quick);
+
+// `m` (double precision) against the quantity's reference on error-vs-time's full diffuse grid:
+// max and root mean square of |m − reference|/scale (metrics::RootMeanSquare).
 // The grid's reference values are computed once per quantity and kept.
 GridError standard_grid_error(const Quantity& q, const Method& m);
 
