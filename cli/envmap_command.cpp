@@ -354,7 +354,7 @@ void add_envmap_command(CLI::App& app) {
         ->capture_default_str()
         ->check(integer_in(2, 2048));
     add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
-    sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
+    sub->add_flag("--quick", a->quick, "N ∈ {1, 4}, 12-pixel sphere (a smoke run; not for paper_tables)");
     sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
   }
   {
@@ -369,7 +369,7 @@ void add_envmap_command(CLI::App& app) {
     sub->add_option("--tolerance", a->tolerance, "relative L2 change at which the map quadratures count as converged")->capture_default_str();
     sub->add_option("--seed", a->seed, "k-means++ and running-average seed")->capture_default_str();
     add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
-    sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32, L ≤ 4 (a smoke run; not for paper_tables)");
+    sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32 (sg-free N ≤ 16), L ≤ 4 (a smoke run; not for paper_tables)");
     sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
   }
 }

@@ -83,11 +83,13 @@ std::vector<Loaded> load(const Options& a) {
   return out;
 }
 
-// The sizes of a basis in this run (the registry's defaults; --quick keeps the small ones).
+// The sizes of a basis in this run (the registry's defaults; --quick keeps the small ones, and of
+// sg-free, whose lobe ladder costs the most per size, those up to 16).
 std::vector<int> sizes(const fit::EnvBasis& b, const Options& a, const EnvMap& map) {
+  const int quick_max = b.size_symbol == "L" ? 4 : b.name == "sg-free" ? 16 : 32;
   std::vector<int> v;
   for (int n : b.default_sizes)
-    if ((!a.quick || n <= (b.size_symbol == "L" ? 4 : 32)) && (b.size_symbol == "L" || std::size_t(n) <= map.size())) v.push_back(n);
+    if ((!a.quick || n <= quick_max) && (b.size_symbol == "L" || std::size_t(n) <= map.size())) v.push_back(n);
   return v;
 }
 

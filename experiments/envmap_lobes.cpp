@@ -52,7 +52,7 @@ std::string num(double v) { return fmt::format("{:.3g}", v); }
 Options effective(const Options& o) {
   Options a = o;
   if (a.quick) {
-    a.lobes = {1, 4, 16};
+    a.lobes = {1, 4};
     a.sphere_res = 12;
   }
   if (a.envs.empty()) throw UsageError("envmap lobes needs at least one --env NAME=MAP.exr");
