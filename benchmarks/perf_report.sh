@@ -3,8 +3,8 @@
 # (docs/testing.md, "Performance report"). Run from anywhere; it works in the checkout it sits in.
 #
 #   bash benchmarks/perf_report.sh [--skip-cold] [--skip-tests] [--skip-reproduce-full]
-#        [--skip-reproduce-quick] [--skip-python] [--touch FILE] [--jobs N] [--csv FILE] [--keep]
-#        [--tu-times]
+#        [--skip-reproduce-quick] [--skip-python] [--skip-render] [--touch FILE] [--jobs N] [--csv FILE]
+#        [--keep] [--tu-times]
 #
 # Rows (wall and CPU seconds of the process tree, bash's `time`; CPU = user + system):
 #   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, as setup.sh)
@@ -18,6 +18,10 @@
 #   reproduce-full      `sglab reproduce` into an empty scratch --out/--tables-dir (paper_tables/ untouched)
 #   python-eval/...     ns per point of `sglab.eval` from Python, its C++ batch, their ratio
 #                       (benchmarks/python_eval_bench.py, 1e6 points, one CPU)
+#   render-specular/M   ns per (pixel, lobe) of the specular VSGL shading by M (`sglab render
+#                       --specular M`): the built-in vsgl-asg and the registry methods asg, sg-warp,
+#                       sglab, medians of 5 repetitions of sglab_render_bench's BM_SpecularMethod, with
+#                       each one's ratio to vsgl-asg (asg is the same formula as vsgl-asg)
 #   tu/PATH             with --tu-times: the ten heaviest translation units of build-main (CPU
 #                       seconds each, benchmarks/tu_time.sh as the compiler launcher)
 # --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
@@ -28,11 +32,11 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
-cold=1 tests=1 full=1 quick=1 python=1 keep=0 jobs=2 tu_times=0
+cold=1 tests=1 full=1 quick=1 python=1 render=1 keep=0 jobs=2 tu_times=0
 touch_file=core/src/registry_core.cpp
 csv=results/perf_report.csv
 args=("$@")
-usage() { sed -n '2,23p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     --skip-cold) cold=0 ;;
@@ -40,6 +44,7 @@ while [ $# -gt 0 ]; do
     --skip-reproduce-full) full=0 ;;
     --skip-reproduce-quick) quick=0 ;;
     --skip-python) python=0 ;;
+    --skip-render) render=0 ;;
     --keep) keep=1 ;;
     --tu-times) tu_times=1 ;;
     --touch) touch_file=${2:?--touch needs a file}; shift ;;
@@ -139,6 +144,23 @@ if [ "$python" = 1 ]; then
     done < <(grep -E '^\| (clamped-cosine|sg-integral) ' "$scratch/python-eval-bench.log")
   else
     echo "perf_report: no $bench or $build/python: Python row skipped (build the benchmarks and sglab_python)" >&2
+  fi
+fi
+if [ "$render" = 1 ]; then
+  bench=$build/benchmarks/sglab_render_bench
+  if [ -x "$bench" ]; then
+    timed render-bench "sglab_render_bench BM_SpecularMethod, 5 repetitions" \
+      "$bench" --benchmark_filter='BM_SpecularMethod' --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+    # One row per method: the median ns per (pixel, lobe) and its ratio to the built-in vsgl-asg.
+    while read -r method ns builtin; do
+      rows+=("render-specular/$method|||$ns ns per (pixel, lobe), median of 5; $(awk -v a="$ns" -v b="$builtin" 'BEGIN { printf "%.2f", a / b }') × vsgl-asg (built in)")
+    done < <(awk '/_median/ && /ns_per_pixel_lobe=/ {
+        for (i = 1; i <= NF; i++) if ($i ~ /^ns_per_pixel_lobe=/) { v = $i; sub(/^ns_per_pixel_lobe=/, "", v); sub(/ns$/, "", v) }
+        name = $0; sub(/.*specular /, "", name); sub(/ .*/, "", name)
+        n++; names[n] = name; values[n] = v; if (name == "vsgl-asg") builtin = v }
+      END { for (i = 1; i <= n; i++) print names[i], values[i], builtin }' "$scratch/render-bench.log")
+  else
+    echo "perf_report: no $bench: render rows skipped (build the benchmarks)" >&2
   fi
 fi
 

@@ -87,11 +87,13 @@ std::vector<Loaded> load(const Options& a) {
   return out;
 }
 
-// The sizes of a basis in this run (the registry's defaults; --quick keeps the small ones).
+// The sizes of a basis in this run (the registry's defaults; --quick keeps the small ones, and of
+// sg-free, whose lobe ladder costs the most per size, those up to 16).
 std::vector<int> sizes(const fit::EnvBasis& b, const Options& a, const EnvMap& map) {
+  const int quick_max = b.size_symbol == "L" ? 4 : b.name == "sg-free" ? 16 : 32;
   std::vector<int> v;
   for (int n : b.default_sizes)
-    if ((!a.quick || n <= (b.size_symbol == "L" ? 4 : 32)) && (b.size_symbol == "L" || std::size_t(n) <= map.size())) v.push_back(n);
+    if ((!a.quick || n <= quick_max) && (b.size_symbol == "L" || std::size_t(n) <= map.size())) v.push_back(n);
   return v;
 }
 
@@ -480,7 +482,7 @@ void add_envmap_bases_command(CLI::App& envmap) {
   sub->add_option("--tolerance", a->tolerance, "relative L2 change at which the map quadratures count as converged")->capture_default_str();
   sub->add_option("--seed", a->seed, "k-means++ and running-average seed")->capture_default_str();
   add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
-  sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32, L ≤ 4 (a smoke run; not for paper_tables)");
+  sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32 (sg-free N ≤ 16), L ≤ 4 (a smoke run; not for paper_tables)");
   sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
 }
 

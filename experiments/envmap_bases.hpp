@@ -38,7 +38,7 @@ struct Options {
   unsigned seed = 1;
   std::string out = "results/envmap";
   std::string tables_dir = "results/envmap";
-  bool quick = false;              // 64-wide maps, sizes ≤ 32 lobes / L ≤ 4
+  bool quick = false;              // 64-wide maps, sizes ≤ 32 lobes (sg-free ≤ 16) / L ≤ 4
 };
 
 struct Row {

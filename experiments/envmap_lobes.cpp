@@ -56,7 +56,7 @@ std::string num(double v) { return fmt::format("{:.3g}", v); }
 Options effective(const Options& o) {
   Options a = o;
   if (a.quick) {
-    a.lobes = {1, 4, 16};
+    a.lobes = {1, 4};
     a.sphere_res = 12;
   }
   if (a.envs.empty()) throw UsageError("envmap lobes needs at least one --env NAME=MAP.exr");
@@ -451,7 +451,7 @@ void add_envmap_lobes_command(CLI::App& envmap) {
       ->capture_default_str()
       ->check(integer_in(2, 2048));
   add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
-  sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
+  sub->add_flag("--quick", a->quick, "N ∈ {1, 4}, 12-pixel sphere (a smoke run; not for paper_tables)");
   sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
 }
 

@@ -22,7 +22,7 @@ struct Options {
   std::string tables_dir;  // empty: the --out directory
   int sphere_res = 24;
   double f0 = 0.04;
-  bool quick = false;  // N ∈ {1, 4, 16}, 12-pixel sphere
+  bool quick = false;  // N ∈ {1, 4}, 12-pixel sphere
 };
 
 // One method's error against layer (2) ("approximation") and against layer (1) ("total").

@@ -194,8 +194,10 @@ std::vector<FitJob> all_fit_jobs() {
   std::vector<FitJob> jobs;
   for (const auto& f : fit::fitters()) {
     jobs.push_back({&f, ""});
+    // Not the default again (sglab's only objective is minimax): the same fit, solved twice.
     for (const char* extra : {"l2-relative", "minimax"})
-      if (std::find(f.objectives.begin(), f.objectives.end(), extra) != f.objectives.end()) jobs.push_back({&f, extra});
+      if (extra != f.objectives.front() && std::find(f.objectives.begin(), f.objectives.end(), extra) != f.objectives.end())
+        jobs.push_back({&f, extra});
   }
   return jobs;
 }

@@ -32,8 +32,11 @@
 // Also: no NaN, Inf or negative value where the scalar path has none (sg-warp-meder, published as
 // going negative, may flip sign only within the allowance of 0). Results below the smallest
 // normal number compare absolutely (libmvec's subnormal lanes are returned as 0, docs/simd.md).
+#include <algorithm>
+#include <bit>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <random>
 #include <span>
@@ -46,6 +49,7 @@
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
+#include "sglab/simd_specular_pair.hpp"
 #include "simd_test_util.hpp"
 #include "test_util.hpp"
 
@@ -237,6 +241,67 @@ TEST(SimdSpecular, EveryKernelMatchesItsScalarTemplate) {
   }
   EXPECT_EQ(methods, 9);  // specular: 7, specular-gaussian-ndf: 2 (sg-warp-exact-cosine stays scalar)
   simd::force_isa(isas.back());
+}
+
+// The pair evaluators (sglab/simd_specular_pair.hpp) against the batch evaluator at f0 = 0 and
+// f0 = 1, bit for bit (the claim: the same operations in the same order), on every instruction set,
+// over the rows above (f0 dropped) less three, so that the last batch is partial.
+TEST(SimdSpecular, PairIsTheBatchAtFresnelZeroAndOne) {
+  std::vector<Row> rows = stiff_rows();
+  for (const Row& r : random_rows()) rows.push_back(r);
+  rows.resize(rows.size() - 3);
+  const std::size_t n = rows.size();
+  std::vector<double> args, at[2];
+  for (const Row& r : rows) args.insert(args.end(), r.begin(), r.begin() + simd::kSpecularPairArity);
+  for (double f0 : {0.0, 1.0}) {
+    std::vector<double>& a = at[f0 == 0 ? 0 : 1];
+    for (const Row& r : rows) {
+      a.insert(a.end(), r.begin(), r.begin() + simd::kSpecularPairArity);
+      a.push_back(f0);
+    }
+  }
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  const Quantity& q = *find_quantity("specular");
+  int methods = 0;
+  for (const auto isa : simd::supported_isas()) {
+    simd::force_isa(isa);
+    for (const Method& m : q.methods) {
+      const simd::SpecularPairFn pair = simd::specular_pair_evaluator(m);
+      if (!pair) continue;
+      ++methods;
+      std::vector<double> got0(n), got1(n), want0(n), want1(n);
+      pair(args, got0, got1);
+      m.batch_double(at[0], 6, want0);
+      m.batch_double(at[1], 6, want1);
+      std::size_t bad = 0, first = n;
+      for (std::size_t i = 0; i < n; ++i)
+        if (bits(got0[i]) != bits(want0[i]) || bits(got1[i]) != bits(want1[i])) {
+          ++bad;
+          first = std::min(first, i);
+        }
+      EXPECT_EQ(bad, 0u) << simd::isa_name(isa) << " " << m.name << ": first at row " << first << " (" << got0[first] << ", "
+                         << got1[first] << ") against (" << want0[first] << ", " << want1[first] << ")";
+    }
+  }
+  // Every `specular` method but the quadrature reference, on each instruction set.
+  EXPECT_EQ(methods, 7 * int(simd::supported_isas().size()));
+  simd::force_isa(simd::supported_isas().back());
+}
+
+// Only the registry's own methods have one: a bound method, or a copy, is evaluated by its batch
+// evaluator (its constants may differ from the published ones the pair kernel takes).
+TEST(SimdSpecular, PairOnlyForTheRegistrysOwnMethodsAndRowsOfFive) {
+  const Method& sglab = *find_quantity("specular")->find("sglab");
+  ASSERT_TRUE(simd::specular_pair_evaluator(sglab));
+  const Method copy = sglab;
+  EXPECT_FALSE(simd::specular_pair_evaluator(copy));
+  std::vector<double> values;
+  for (const auto& p : sglab.parameters) values.push_back(p.published);
+  ASSERT_TRUE(sglab.bind);
+  EXPECT_FALSE(simd::specular_pair_evaluator(sglab.bind(values)));
+  EXPECT_FALSE(simd::specular_pair_evaluator(*find_quantity("specular")->find(find_quantity("specular")->reference_method)));
+  std::vector<double> args(6, 0.5), out0(1), out1(1);
+  EXPECT_THROW(simd::specular_pair_evaluator(sglab)(args, out0, out1), std::invalid_argument);
 }
 
 // Partial batches and row positions: tests/simd_test.cpp (PartialBatchesAndPositions).

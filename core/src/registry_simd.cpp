@@ -1,7 +1,9 @@
 // The vectorized batch evaluators (docs/simd.md): run-time choice of the instruction set, and the
 // installation of the kernels of simd/simd_kernels.hpp as the registry's batch_float/batch_double
-// of the diffuse and specular methods (and of their bound versions, whose constants are passed to the kernel).
+// of the diffuse and specular methods (and of their bound versions, whose constants are passed to the kernel),
+// and the `specular` methods' f0 = 0 / f0 = 1 pair evaluators (simd/simd_fresnel_pair.hpp).
 // The scalar templates stay the definition: eval_float/eval_double/eval_mp50 are untouched.
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstdlib>
@@ -13,6 +15,7 @@
 #include "sglab/specular_sglab.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
+#include "sglab/simd_specular_pair.hpp"
 #include "sglab/text_limits.hpp"
 #include "simd/simd_table.hpp"
 
@@ -196,7 +199,45 @@ std::vector<double> builtin_constants(Kernel k) {
   return {};
 }
 
+// The constants the kernel of `m` takes for its published form.
+std::vector<double> published_constants(const Method& m, Kernel k) {
+  if (m.parameters.empty()) return builtin_constants(k);
+  std::vector<double> published;
+  for (const auto& p : m.parameters) published.push_back(p.published);
+  return published;
+}
+
+const simd_detail::SpecularPairTable& pair_table_of(simd::Isa isa) {
+  switch (isa) {
+    case simd::Isa::sse2: return simd_detail::specular_pairs_sse2();
+    case simd::Isa::avx2: return simd_detail::specular_pairs_avx2();
+    case simd::Isa::avx512: return simd_detail::specular_pairs_avx512();
+  }
+  return simd_detail::specular_pairs_sse2();
+}
+
 }  // namespace
+
+static_assert(simd::kSpecularPairArity == simd_detail::kSpecularPairArity);
+
+simd::SpecularPairFn simd::specular_pair_evaluator(const Method& method) {
+  const Quantity* q = find_quantity("specular");
+  if (!q || std::none_of(q->methods.begin(), q->methods.end(), [&](const Method& m) { return &m == &method; })) return {};
+  for (const auto& e : kEntries) {
+    if (e.quantity != q->name || e.method != method.name) continue;
+    const int i = static_cast<int>(e.kernel) - static_cast<int>(Kernel::spec_sg_warp);
+    if (i < 0 || i >= simd_detail::kSpecularPairKernels) return {};
+    const auto params = kernel_params<double>(e.kernel, published_constants(method, e.kernel), true);
+    return [i, params](std::span<const double> args, std::span<double> at0, std::span<double> at1) {
+      const std::size_t n = args.size() / kSpecularPairArity;
+      if (args.size() != n * kSpecularPairArity || at0.size() < n || at1.size() < n)
+        throw std::invalid_argument("specular pair evaluator: expected rows of " + std::to_string(kSpecularPairArity) +
+                                    " values and an output per row");
+      pair_table_of(active_isa()).d[i](args.data(), at0.data(), at1.data(), n, params.data());
+    };
+  }
+  return {};
+}
 
 const std::vector<std::string>& simd::vectorized_methods() {
   static const std::vector<std::string> names = [] {
@@ -212,10 +253,7 @@ void install_simd_batch_evaluators(std::vector<Quantity>& quantities) {
     for (auto& m : q.methods) {
       for (const auto& e : kEntries) {
         if (q.name != e.quantity || m.name != e.method) continue;
-        std::vector<double> published;
-        for (const auto& p : m.parameters) published.push_back(p.published);
-        if (m.parameters.empty()) published = builtin_constants(e.kernel);
-        set_simd_batches(m, e.kernel, published, true);
+        set_simd_batches(m, e.kernel, published_constants(m, e.kernel), true);
         if (m.bind) {
           m.bind = [scalar_bind = m.bind, k = e.kernel](std::span<const double> values) {
             Method b = scalar_bind(values);

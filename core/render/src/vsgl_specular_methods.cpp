@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "sglab/render/vsgl_shading.hpp"
+#include "sglab/simd_specular_pair.hpp"
 #include "sglab/vsgl.hpp"
 #include "sglab/text_limits.hpp"
 
@@ -64,10 +65,10 @@ const Method* find_specular_method(std::string_view name) {
 void shade_specular_with_method(const Method& method, std::span<const ShadingPoint> points, std::size_t lobes,
                                 const IncomingLobes& in, std::span<const Rgb> amplitude,
                                 const std::function<bool(std::size_t)>& active, std::span<VsglShading> out) {
-  constexpr std::size_t kArity = 6;
+  constexpr std::size_t kArity = simd::kSpecularPairArity;  // the `specular` columns but f0
   struct Scratch {
-    std::vector<double> args, value;
-    std::vector<std::size_t> row;  // the (point, lobe) row of each pair of evaluations
+    std::vector<double> args, rows, at0, at1;
+    std::vector<std::size_t> row;  // the (point, lobe) row of each evaluation
   };
   thread_local Scratch s;
   s.args.clear();
@@ -82,18 +83,35 @@ void shade_specular_with_method(const Method& method, std::span<const ShadingPoi
       const Vec3 xi(in.xi_x[r], in.xi_y[r], in.xi_z[r]);
       const double light_cos = std::clamp(xi.dot(f.n), -1.0, 1.0);
       const double azimuth = std::atan2(xi.dot(f.b), xi.dot(f.t));
-      for (double f0 : {0.0, 1.0})
-        s.args.insert(s.args.end(), {p.roughness, in.sharpness[r], light_cos, f.view_cos, azimuth, f0});
+      s.args.insert(s.args.end(), {p.roughness, in.sharpness[r], light_cos, f.view_cos, azimuth});
       s.row.push_back(r);
     }
   }
-  if (s.row.empty()) return;
-  s.value.resize(2 * s.row.size());
-  method.batch_double(s.args, kArity, s.value);
-  for (std::size_t k = 0; k < s.row.size(); ++k) {
+  const std::size_t n = s.row.size();
+  if (n == 0) return;
+  s.at0.resize(n);
+  s.at1.resize(n);
+  if (const simd::SpecularPairFn pair = simd::specular_pair_evaluator(method)) {
+    pair(s.args, s.at0, s.at1);
+  } else {  // rows at f0 = 0 and f0 = 1, one after the other
+    s.rows.clear();
+    for (std::size_t k = 0; k < n; ++k)
+      for (double f0 : {0.0, 1.0}) {
+        s.rows.insert(s.rows.end(), s.args.begin() + std::ptrdiff_t(k * kArity), s.args.begin() + std::ptrdiff_t((k + 1) * kArity));
+        s.rows.push_back(f0);
+      }
+    std::vector<double>& value = s.args;  // no longer needed: the values, in pairs
+    value.resize(2 * n);
+    method.batch_double(s.rows, kArity + 1, value);
+    for (std::size_t k = 0; k < n; ++k) {
+      s.at0[k] = value[2 * k];
+      s.at1[k] = value[2 * k + 1];
+    }
+  }
+  for (std::size_t k = 0; k < n; ++k) {
     const std::size_t r = s.row[k], i = r / lobes, j = r % lobes;
-    const double at0 = scaled_by_exp(in.log_scale[r], s.value[2 * k]);
-    const double at1 = scaled_by_exp(in.log_scale[r], s.value[2 * k + 1]);
+    const double at0 = scaled_by_exp(in.log_scale[r], s.at0[k]);
+    const double at1 = scaled_by_exp(in.log_scale[r], s.at1[k]);
     out[i].specular += amplitude[j] * (at0 + points[i].f0 * (at1 - at0));
   }
 }

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstddef>
+#include <iterator>
 #include <limits>
 
 #include <boost/math/constants/constants.hpp>
@@ -375,32 +376,59 @@ void run(const T* args, T* out, std::size_t n, const T* params) {
   }
 }
 
-// The specular kernels' driver: rows of 6 columns (roughness, light_sharpness, light_cos,
-// view_cos, light_azimuth, f0), de-interleaved the same way; padding (0.5, 1, 0.5, 0.5, 0, 0.04).
-template <class Arch, class T, class K>
-void run_specular(const T* args, T* out, std::size_t n, const T* params) {
-  using B = xsimd::batch<T, Arch>;
+// The specular kernels' rows of kArity columns, de-interleaved the same way into a[0 … kArity − 1];
+// the last partial batch padded with `pad`. body(a, i, rest) gets each batch, of rows i … i + rest − 1.
+template <class B, std::size_t kArity, class Body>
+inline void for_each_specular_batch(const value_t<B>* args, std::size_t n, const value_t<B> (&pad)[kArity], Body body) {
+  using T = value_t<B>;
   constexpr std::size_t W = B::size;
-  constexpr std::size_t kArity = 6;
-  constexpr T kPad[kArity] = {T(0.5), T(1), T(0.5), T(0.5), T(0), T(0.04)};
-  B p[kKernelParams];
-  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
   alignas(64) T col[kArity][W];
   for (std::size_t i = 0; i < n; i += W) {
     const std::size_t rest = n - i < W ? n - i : W;
     for (std::size_t k = 0; k < W; ++k)
-      for (std::size_t j = 0; j < kArity; ++j) col[j][k] = k < rest ? args[kArity * (i + k) + j] : kPad[j];
+      for (std::size_t j = 0; j < kArity; ++j) col[j][k] = k < rest ? args[kArity * (i + k) + j] : pad[j];
     B a[kArity];
     for (std::size_t j = 0; j < kArity; ++j) a[j] = B::load_aligned(col[j]);
-    const B r = K::eval(a, p);
-    if (rest == W) {
-      r.store_unaligned(out + i);
-    } else {
-      alignas(64) T o[W];
-      r.store_aligned(o);
-      for (std::size_t k = 0; k < rest; ++k) out[i + k] = o[k];
-    }
+    body(a, i, rest);
   }
+}
+// Stores the first `rest` lanes of r at out.
+template <class B>
+inline void store_lanes(const B& r, value_t<B>* out, std::size_t rest) {
+  if (rest == B::size) {
+    r.store_unaligned(out);
+  } else {
+    alignas(64) value_t<B> o[B::size];
+    r.store_aligned(o);
+    for (std::size_t k = 0; k < rest; ++k) out[k] = o[k];
+  }
+}
+
+// The specular kernels' driver: rows of 6 columns (roughness, light_sharpness, light_cos,
+// view_cos, light_azimuth, f0); padding (0.5, 1, 0.5, 0.5, 0, 0.04).
+template <class Arch, class T, class K>
+void run_specular(const T* args, T* out, std::size_t n, const T* params) {
+  using B = xsimd::batch<T, Arch>;
+  constexpr T kPad[6] = {T(0.5), T(1), T(0.5), T(0.5), T(0), T(0.04)};
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
+  for_each_specular_batch<B>(args, n, kPad, [&](const B* a, std::size_t i, std::size_t rest) { store_lanes(K::eval(a, p), out + i, rest); });
+}
+
+// The pair driver (simd_fresnel_pair.hpp): rows of the first kSpecularPairArity columns (no f0),
+// the same padding; K::eval_f0 with F0Pair. Flattened: the kernel's helpers inlined (measured:
+// their calls, with batches passed through memory, cost a few per cent of the pass).
+template <class Arch, class T, class K>
+__attribute__((flatten)) void run_specular_pair(const T* args, T* at_f0_zero, T* at_f0_one, std::size_t n, const T* params) {
+  using B = xsimd::batch<T, Arch>;
+  constexpr T kPad[kSpecularPairArity] = {T(0.5), T(1), T(0.5), T(0.5), T(0)};
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
+  for_each_specular_batch<B>(args, n, kPad, [&](const B* a, std::size_t i, std::size_t rest) {
+    const FresnelPair<B> r = K::eval_f0(a, p, F0Pair{});
+    store_lanes(r.at_f0_zero, at_f0_zero + i, rest);
+    store_lanes(r.at_f0_one, at_f0_one + i, rest);
+  });
 }
 
 template <class Arch, class T>
@@ -414,6 +442,23 @@ constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
     &run_specular<Arch, T, SpecAsg>,                         &run_specular<Arch, T, SpecSgWarpDvn>,
     &run_specular<Arch, T, SpecSglab>,
     &run_specular<Arch, T, GndfSgWarp>,                      &run_specular<Arch, T, GndfSgWarpMeder>};
+
+// The `specular` kernels' pair drivers (simd_fresnel_pair.hpp), in the order of Kernel from
+// spec_sg_warp to spec_sglab.
+template <class Arch>
+constexpr SpecularPairFn pair_list[] = {
+    &run_specular_pair<Arch, double, SpecSgWarp<false, false, false>>, &run_specular_pair<Arch, double, SpecSgWarp<false, false, true>>,
+    &run_specular_pair<Arch, double, SpecSgWarp<true, false, false>>,  &run_specular_pair<Arch, double, SpecSgWarp<false, true, false>>,
+    &run_specular_pair<Arch, double, SpecAsg>,                         &run_specular_pair<Arch, double, SpecSgWarpDvn>,
+    &run_specular_pair<Arch, double, SpecSglab>};
+
+template <class Arch>
+SpecularPairTable make_pair_table() {
+  static_assert(std::size(pair_list<Arch>) == kSpecularPairKernels, "one pair driver per `specular` kernel");
+  SpecularPairTable t{};
+  for (int i = 0; i < kSpecularPairKernels; ++i) t.d[i] = pair_list<Arch>[i];
+  return t;
+}
 
 template <class Arch>
 KernelTable make_table(const char* isa) {

@@ -12,6 +12,8 @@
 // Everything here has internal linkage or is a template (see simd_kernels.hpp).
 #pragma once
 
+#include "simd_fresnel_pair.hpp"
+
 namespace sglab::simd_detail {
 namespace {
 
@@ -52,7 +54,7 @@ inline B sin2_from_cos(const B& c) {
 // specular_light_axis; floored_roughness).
 template <class B>
 struct SpecularRow {
-  B alpha, light_sharpness, f0;
+  B alpha, light_sharpness;  // f0 (a[5]) is the kernel's argument: simd_fresnel_pair.hpp
   V3<B> wo, xi;
 };
 template <class B>
@@ -66,7 +68,6 @@ inline SpecularRow<B> specular_row(const B* a, const B* p) {
   const B c = clamp_cosine(a[2]);
   const B s = safe_sqrt(sin2_from_cos(c));
   r.xi = {s * vm_cos(a[4]), s * vm_sin(a[4]), c};
-  r.f0 = a[5];
   return r;
 }
 
@@ -143,14 +144,14 @@ inline B smith_visibility_ggx(const B& alpha, const B& co, const B& ci) {
   const B den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
   return xsimd::select(off | (!(den > zero)), zero, T(1) / (T(2) * den));
 }
-template <class B>
-inline B brdf_factor_m(const B& alpha, const B& f0, const V3<B>& wo, const V3<B>& w) {
+template <class B, class F0>
+inline auto brdf_factor_m(const B& alpha, const F0& f0, const V3<B>& wo, const V3<B>& w) {
   using T = value_t<B>;
   const B zero(T(0));
   const B ci = w.z;
   const V3<B> h = half_vector(wo, w);
-  const B m = fresnel_schlick(f0, dot(wo, h)) * smith_visibility_ggx(alpha, wo.z, ci) * ci;
-  return xsimd::select((!(ci > zero)) | (wo.z < zero), zero, m);
+  const auto m = fresnel_schlick(f0, dot(wo, h)) * smith_visibility_ggx(alpha, wo.z, ci) * ci;
+  return select_f((!(ci > zero)) | (wo.z < zero), zero, m);
 }
 // specular.hpp smith_g2_over_g1o.
 template <class B>
@@ -165,9 +166,9 @@ inline B smith_g2_over_g1o(const B& alpha, const B& co, const B& ci) {
 // ---- the `specular` kernels ---------------------------------------------------------------------
 // specular_sg_warp(in, form, tokuyoshi_harada_sharpness, factor_at).
 template <bool kIwasaki, bool kTokuyoshiHarada, bool kProductAxis>
-struct SpecSgWarp {
-  template <class B>
-  static B eval(const B* a, const B* p) {
+struct SpecSgWarp : RowF0<SpecSgWarp<kIwasaki, kTokuyoshiHarada, kProductAxis>> {
+  template <class B, class F0>
+  static auto eval_f0(const B* a, const B* p, const F0& f0) {
     using T = value_t<B>;
     const SpecularRow<B> r = specular_row(a, p);
     const B two_over_a2 = T(2) / (r.alpha * r.alpha);
@@ -179,7 +180,7 @@ struct SpecSgWarp {
     const B integral = kIwasaki ? product_integral_iwasaki(ls, r.light_sharpness, cosine)
                                 : product_integral_exact(ls, r.light_sharpness, cosine);
     const V3<B> xm = kProductAxis ? sg_product(r.xi, r.light_sharpness, axis, ls).axis : axis;
-    return amplitude * brdf_factor_m(r.alpha, r.f0, r.wo, xm) * integral;
+    return amplitude * brdf_factor_m(r.alpha, f0, r.wo, xm) * integral;
   }
 };
 
@@ -191,9 +192,9 @@ inline B reduced_bandwidth(const B& a, const B& b) {
   const B lo = xsimd::select(a_small, a, b), hi = xsimd::select(a_small, b, a);
   return xsimd::select(lo > B(T(0)), lo / (T(1) + lo / hi), B(T(0)));
 }
-struct SpecAsg {
-  template <class B>
-  static B eval(const B* a, const B* p) {
+struct SpecAsg : RowF0<SpecAsg> {
+  template <class B, class F0>
+  static auto eval_f0(const B* a, const B* p, const F0& f0) {
     using T = value_t<B>;
     const B zero(T(0)), one(T(1));
     const SpecularRow<B> r = specular_row(a, p);
@@ -216,15 +217,15 @@ struct SpecAsg {
     const B asg = xsimd::select(cz > zero, cz * vm_exp(-rx * cx * cx - ry * cy * cy), zero);
     const B integral = kPi<T> * asg / (xsimd::sqrt(ax) * xsimd::sqrt(ay));
     const V3<B> xm = sg_product(r.xi, r.light_sharpness, z, ls).axis;
-    return amplitude * brdf_factor_m(r.alpha, r.f0, r.wo, xm) * integral;
+    return amplitude * brdf_factor_m(r.alpha, f0, r.wo, xm) * integral;
   }
 };
 
 // specular_sg_warp_dvn: dvn_reflection_lobe (ggx_dominant_visible_normal), the normalized exact
 // product, F·G2/G1(ωo) at the product axis.
-struct SpecSgWarpDvn {
-  template <class B>
-  static B eval(const B* a, const B* p) {
+struct SpecSgWarpDvn : RowF0<SpecSgWarpDvn> {
+  template <class B, class F0>
+  static auto eval_f0(const B* a, const B* p, const F0& f0) {
     using T = value_t<B>;
     const B zero(T(0));
     const SpecularRow<B> r = specular_row(a, p);
@@ -246,30 +247,30 @@ struct SpecSgWarpDvn {
     const V3<B> xm = sg_product(r.xi, r.light_sharpness, axis, ll).axis;
     const B ci = xm.z;
     const V3<B> h = half_vector(wo, xm);
-    const B weight = fresnel_schlick(r.f0, dot(wo, h)) * smith_g2_over_g1o(r.alpha, wo.z, ci);
-    return xsimd::select(ci > zero, weight * integral, zero);
+    const auto weight = fresnel_schlick(f0, dot(wo, h)) * smith_g2_over_g1o(r.alpha, wo.z, ci);
+    return select_f(ci > zero, weight * integral, zero);
   }
 };
 
 // specular_sglab.hpp detail::sglab_slope_weight.
-template <class B>
-inline B sglab_slope_weight(const B& alpha, const B& f0, const V3<B>& wo, const V3<B>& w, const V3<B>& h) {
+template <class B, class F0>
+inline auto sglab_slope_weight(const B& alpha, const F0& f0, const V3<B>& wo, const V3<B>& w, const V3<B>& h) {
   using T = value_t<B>;
   const B zero(T(0));
   const B ci = w.z, co = wo.z;
   const B coh = clamp01(dot(wo, h));
   const B den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
-  const B v = T(2) * coh * fresnel_schlick(f0, coh) * ci / (h.z * den);
-  return xsimd::select((!(ci > zero)) | (co < zero) | (!(h.z > zero)) | (!(den > zero)), zero, v);
+  const auto v = T(2) * coh * fresnel_schlick(f0, coh) * ci / (h.z * den);
+  return select_f((!(ci > zero)) | (co < zero) | (!(h.z > zero)) | (!(den > zero)), zero, v);
 }
 
 // specular_sglab_with (specular_sglab.hpp): p[2…7] = nu_slope, inflation, light_weight,
 // light_floor, horizon_depth, horizon_rate; p[8] = kSglabSpecularMaxRoughness, p[9] =
 // kSglabSpecularMaxExponent (passed in from their single definitions); both branches of s ≤ 1 /
 // s > 1 computed and selected.
-struct SpecSglab {
-  template <class B>
-  static B eval(const B* a, const B* p) {
+struct SpecSglab : RowF0<SpecSglab> {
+  template <class B, class F0>
+  static auto eval_f0(const B* a, const B* p, const F0& f0) {
     using T = value_t<B>;
     const B zero(T(0)), one(T(1));
     const SpecularRow<B> r = specular_row(a, p);
@@ -340,7 +341,7 @@ struct SpecSglab {
     const B light = xsimd::select(above, xsimd::select(light0 > p[9], p[9], light0), zero);
     const V3<B> wpt = select3(above, ws, xi);
     const V3<B> hpt = select3(above, hs, h);
-    const B weight = sglab_slope_weight(alpha, r.f0, wo, wpt, hpt);
+    const auto weight = sglab_slope_weight(alpha, f0, wo, wpt, hpt);
     const B wr = xsimd::sqrt(w2);
     const B horizon = xsimd::select(above & (wr > zero), T(1) - horizon_depth * vm_exp(B(-horizon_rate * ws.z * (one / wr))), one);
     const B ex = t_exponent + light;
@@ -369,7 +370,7 @@ inline GndfSetup<B> gndf_setup(const B* a, const B* p) {
   s.cos_o = xsimd::select(s.row.wo.z < p[1], p[1], s.row.wo.z);
   s.axis = mirror_of(s.row.wo);
   s.sharpness = warped_sharpness(B(T(2) / (s.row.alpha * s.row.alpha)), s.axis.z, p[1]);
-  s.fresnel = fresnel_schlick(s.row.f0, s.cos_o);
+  s.fresnel = fresnel_schlick(a[5], s.cos_o);
   return s;
 }
 struct GndfSgWarp {

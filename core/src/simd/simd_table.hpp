@@ -59,4 +59,18 @@ const KernelTable& kernels_sse2();
 const KernelTable& kernels_avx2();
 const KernelTable& kernels_avx512();
 
+// The `specular` kernels (spec_sg_warp … spec_sglab) at f0 = 0 and f0 = 1 in one pass
+// (simd_fresnel_pair.hpp): rows of the first 5 columns (no f0), in double.
+constexpr std::size_t kSpecularPairArity = 5;
+constexpr int kSpecularPairKernels = static_cast<int>(Kernel::spec_sglab) - static_cast<int>(Kernel::spec_sg_warp) + 1;
+using SpecularPairFn = void (*)(const double* args, double* at_f0_zero, double* at_f0_one, std::size_t n,
+                                const double* params);
+struct SpecularPairTable {
+  SpecularPairFn d[kSpecularPairKernels];
+};
+
+const SpecularPairTable& specular_pairs_sse2();
+const SpecularPairTable& specular_pairs_avx2();
+const SpecularPairTable& specular_pairs_avx512();
+
 }  // namespace sglab::simd_detail

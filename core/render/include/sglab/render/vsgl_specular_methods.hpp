@@ -12,7 +12,8 @@
 // and f0 = 1 and interpolated per channel, as vsgl-asg is. The value is for a unit-amplitude SG
 // light: times the lobe's amplitude and e^{log_scale} (vsgl.hpp scaled_by_exp). All rows of a
 // block of points go through the method's batch evaluator in one call (the SIMD kernels,
-// docs/simd.md).
+// docs/simd.md); a registry method with a pair kernel (sglab/simd_specular_pair.hpp) gives both
+// f0 values in one evaluation, bit for bit the batch evaluator's.
 #pragma once
 
 #include <functional>
@@ -44,7 +45,7 @@ struct IncomingLobes {
 };
 
 // Adds to out[i].specular the specular radiance of every glossy point from every lobe j with
-// active(i·lobes + j), through `method`'s batch evaluator; amplitude[j] is lobe j's.
+// active(i·lobes + j), through `method`'s pair evaluator or batch evaluator; amplitude[j] is lobe j's.
 void shade_specular_with_method(const Method& method, std::span<const ShadingPoint> points, std::size_t lobes,
                                 const IncomingLobes& in, std::span<const Rgb> amplitude,
                                 const std::function<bool(std::size_t)>& active, std::span<VsglShading> out);
