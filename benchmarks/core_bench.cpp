@@ -6,12 +6,16 @@
 // formulas with std:: math), on the same inputs. Run:
 //   build/benchmarks/sglab_core_bench [--benchmark_filter=clamped-cosine]
 //   build/benchmarks/sglab_core_bench --ratios   (one table: medians of CPU time, every ISA, ratios)
+//   build/benchmarks/sglab_core_bench --versus specular sglab asg [--rounds 31]
+//     (two methods' batch evaluators interleaved on the same inputs, float and double: per-round
+//     ratios of CPU ns per evaluation, their median and quartiles)
 // SGLAB_SIMD=sse2|avx2|avx512 forces the vectorized evaluators' instruction set.
 #include <benchmark/benchmark.h>
 #include <time.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <functional>
@@ -25,6 +29,7 @@
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
 #include "sglab/specular.hpp"
+#include "sglab/specular_grid.hpp"
 
 namespace {
 
@@ -170,22 +175,36 @@ double thread_cpu_seconds() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-// Median over `reps` runs (each ≥ 20 ms of CPU time, after a warm-up) of CPU ns per evaluation.
+// A batch timed in runs of ≥ 20 ms of CPU time: after a warm-up, the calls per run double until
+// one run lasts that long. run(): CPU ns per evaluation of one run.
+class CpuTimer {
+ public:
+  explicit CpuTimer(std::function<void()> batch, std::size_t evals = kBatch) : batch_(std::move(batch)), evals_(evals) {
+    batch_();
+    for (;;) {
+      const double t0 = thread_cpu_seconds();
+      for (int i = 0; i < calls_; ++i) batch_();
+      if (thread_cpu_seconds() - t0 >= 0.02 || calls_ >= (1 << 16)) break;
+      calls_ *= 2;
+    }
+  }
+  double run() const {
+    const double t0 = thread_cpu_seconds();
+    for (int i = 0; i < calls_; ++i) batch_();
+    return 1e9 * (thread_cpu_seconds() - t0) / (double(calls_) * double(evals_));
+  }
+
+ private:
+  std::function<void()> batch_;
+  std::size_t evals_;
+  int calls_ = 1;
+};
+
+// Median over `reps` runs of CPU ns per evaluation.
 double median_ns(const std::function<void()>& batch, int reps) {
-  batch();
-  int calls = 1;
-  for (;;) {
-    const double t0 = thread_cpu_seconds();
-    for (int i = 0; i < calls; ++i) batch();
-    if (thread_cpu_seconds() - t0 >= 0.02 || calls >= (1 << 16)) break;
-    calls *= 2;
-  }
+  const CpuTimer timer(batch);
   std::vector<double> ns;
-  for (int r = 0; r < reps; ++r) {
-    const double t0 = thread_cpu_seconds();
-    for (int i = 0; i < calls; ++i) batch();
-    ns.push_back(1e9 * (thread_cpu_seconds() - t0) / (double(calls) * double(kBatch)));
-  }
+  for (int r = 0; r < reps; ++r) ns.push_back(timer.run());
   std::nth_element(ns.begin(), ns.begin() + reps / 2, ns.end());
   return ns[reps / 2];
 }
@@ -229,9 +248,78 @@ void print_ratios() {
   }
 }
 
+// ---- --versus: two methods interleaved ----------------------------------------------------------
+// `rounds` rounds per precision, each one run of A and one of B on the same seeded inputs, in the
+// order A B, then B A, … (a slow spell of the machine falls on both); per round the ratio A/B of
+// CPU ns per evaluation. Prints every round, then the ratios' median and quartiles.
+int print_versus(const std::string& quantity, const std::string& a_name, const std::string& b_name, int rounds) {
+  const sglab::Quantity* q = sglab::find_quantity(quantity);
+  const sglab::Method* a = q ? q->find(a_name) : nullptr;
+  const sglab::Method* b = q ? q->find(b_name) : nullptr;
+  if (!a || !b) {
+    std::fprintf(stderr, "--versus: no method %s/%s\n", quantity.c_str(), (q && a ? b_name : a_name).c_str());
+    return 2;
+  }
+  // specular: the rows `sglab error-vs-time` times (its ns/eval column); else this bench's inputs.
+  const bool specular = quantity == "specular";
+  const auto in = specular ? sglab::specular_timing_rows() : make_inputs(*q);
+  const std::size_t arity = q->columns.size();
+  const std::size_t n = in.size() / arity;
+  std::printf("%s: %s / %s, batch evaluators (%s), %zu inputs per batch (%s), %d interleaved rounds of >= 20 ms CPU time each\n",
+              quantity.c_str(), a_name.c_str(), b_name.c_str(), std::string(sglab::simd::isa_name(sglab::simd::active_isa())).c_str(),
+              n, specular ? "sglab::specular_timing_rows, error-vs-time's timing inputs" : "this bench's seeded inputs", rounds);
+  auto precision = [&](auto zero) {
+    using T = decltype(zero);
+    const char* p = std::is_same_v<T, float> ? "float" : "double";
+    std::vector<T> args(in.begin(), in.end());
+    std::vector<T> out(n);
+    auto timer = [&](const sglab::Method* m) {
+      return CpuTimer([m, arity, &args, &out] {
+        if constexpr (std::is_same_v<T, float>) m->batch_float(args, arity, out);
+        else m->batch_double(args, arity, out);
+      }, n);
+    };
+    const CpuTimer ta = timer(a), tb = timer(b);
+    std::vector<double> ratios;
+    for (int k = 0; k < rounds; ++k) {
+      double na, nb;
+      if (k % 2 == 0) na = ta.run(), nb = tb.run();
+      else nb = tb.run(), na = ta.run();
+      ratios.push_back(na / nb);
+      std::printf("%s round %2d: %s %.2f ns, %s %.2f ns, ratio %.3f\n", p, k + 1, a_name.c_str(), na, b_name.c_str(), nb, na / nb);
+      std::fflush(stdout);
+    }
+    std::sort(ratios.begin(), ratios.end());
+    const auto quantile = [&](double f) { return ratios[std::size_t(std::lround(f * double(ratios.size() - 1)))]; };
+    std::printf("%s: %s / %s median %.3f (quartiles %.3f-%.3f, %d rounds)\n", p, a_name.c_str(), b_name.c_str(), quantile(0.5),
+                quantile(0.25), quantile(0.75), rounds);
+  };
+  precision(0.0f);
+  precision(0.0);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--versus") == 0) {
+      if (i + 3 >= argc) {
+        std::fprintf(stderr, "--versus needs QUANTITY METHOD_A METHOD_B [--rounds N]\n");
+        return 2;
+      }
+      int rounds = 31;
+      if (i + 5 < argc && std::strcmp(argv[i + 4], "--rounds") == 0) {
+        char* end = nullptr;
+        const long r = std::strtol(argv[i + 5], &end, 10);
+        if (*end != '\0' || r < 1 || r > 10000) {
+          std::fprintf(stderr, "--rounds: expected an integer in [1, 10000], got '%s'\n", argv[i + 5]);
+          return 2;
+        }
+        rounds = int(r);
+      }
+      return print_versus(argv[i + 1], argv[i + 2], argv[i + 3], rounds);
+    }
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--ratios") == 0) {
       std::printf("inputs: %zu per batch, seed %llu; ns per evaluation, median of 9 runs of thread CPU time\n\n", kBatch,

@@ -27,6 +27,7 @@
 #include "sglab/error_metrics.hpp"
 #include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/specular_grid.hpp"
 #include "registry.hpp"
 #include "sglab/text_limits.hpp"
 
@@ -161,8 +162,6 @@ Grid specular_grid(const Method& ref, bool quick) {
   const SpecularGridPoints points = specular_grid_points(quick);
   const std::vector<double>& alphas = points.roughnesses;
   const std::vector<double>& sharpness = points.light_sharpnesses;
-  const double f0 = 0.04;
-  const double pi = sglab::pi<double>();
   g.args = points.args;
   for (std::size_t k = 0; k < g.args.size(); k += 6) {
     g.in_subset.push_back(g.args[k] >= 0.1);
@@ -176,11 +175,7 @@ Grid specular_grid(const Method& ref, bool quick) {
                               fmt::join(alphas, ", "), fmt::join(sharpness, ", "));
   g.error_label = "|method − reference| / reference with the light at the mirror direction";
   g.subset_label = "α ≥ 0.1";
-  std::mt19937_64 rng(20261122);
-  std::uniform_real_distribution<double> u(0, 1);
-  for (std::size_t k = 0; k < 1024; ++k)
-    g.timing.insert(g.timing.end(), {0.02 * std::pow(50.0, u(rng)), std::pow(10.0, 3 * u(rng)), -1 + 2 * u(rng),
-                                     0.05 + 0.95 * u(rng), 2 * pi * u(rng), f0});
+  g.timing = specular_timing_rows();
   return g;
 }
 

@@ -174,10 +174,21 @@ std::string rule(std::size_t n) {
   return s;
 }
 
-// An ablation: the final form with some constants replaced.
+// The form tried before the rational horizon factor: the exponential 1 − h_d·e^{−h_r t}
+// (SglabHorizon::exponential) with the constants fitted for it (then SglabSpecular's: the
+// exploratory Nelder–Mead fit of the objective of `sglab fit sglab-specular`, %.17g). Its float
+// batch cost against asg's, measured by `sglab_core_bench --versus specular sglab asg` (31
+// interleaved rounds, this machine, AVX-512) beside the rational form's in the same build state:
+const SglabSpecularParams<double> kExponentialHorizonFit{2.893977942635126, 0.9841108750322174, 1.215235190311403,
+                                                         2.0138124709730194, 0.4168545149496669, 1.031837551468632};
+constexpr double kExponentialHorizonCostVsAsg = 1.123;  // float sglab / asg, median of the rounds
+constexpr double kRationalHorizonCostVsAsg = 0.996;
+
+// An ablation: the final form with some constants replaced (or the horizon factor's other form).
 struct Form {
   std::string name, what;
   SglabSpecularParams<double> params;
+  SglabHorizon horizon = SglabHorizon::rational;
 };
 std::vector<Form> forms() {
   const auto f = SglabSpecularParams<double>::fitted();
@@ -197,11 +208,17 @@ std::vector<Form> forms() {
       {"E", "final constants without the light correction (w = 0)", with([&](auto& p) { p.light_weight = 0; })},
       {"F", "final constants with κ = 0 (no variance inflation)", with([&](auto& p) { p.inflation = 0; })},
       {"G", "final constants with ν = 2 throughout (c_ν = 0: the GGX t, never Gaussian)", with([&](auto& p) { p.nu_slope = 0; })},
+      {"H", "the exponential horizon factor 1 − h_d e^{−h_r t} instead of the rational one, with the constants fitted for it (c_ν, κ, w, f, h_d, h_r = " +
+                fmt::format("{:.6g}, {:.6g}, {:.6g}, {:.6g}, {:.6g}, {:.6g}", kExponentialHorizonFit.nu_slope, kExponentialHorizonFit.inflation,
+                            kExponentialHorizonFit.light_weight, kExponentialHorizonFit.light_floor, kExponentialHorizonFit.horizon_depth,
+                            kExponentialHorizonFit.horizon_rate) +
+                ")",
+       kExponentialHorizonFit, SglabHorizon::exponential},
       {"sglab", "the final form (the constants of SglabSpecular)", f},
   };
 }
-auto form_value(const SglabSpecularParams<double>& p) {
-  return [p](const Row& r) { return specular_sglab<double>({r.alpha, r.lambda, r.light_cos, r.view, r.azimuth, r.f0}, p); };
+auto form_value(const SglabSpecularParams<double>& p, SglabHorizon horizon = SglabHorizon::rational) {
+  return [p, horizon](const Row& r) { return specular_sglab<double>({r.alpha, r.lambda, r.light_cos, r.view, r.azimuth, r.f0}, p, horizon); };
 }
 
 struct Output {
@@ -238,7 +255,8 @@ Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int
         "Gaussian is nearly a t whose scale adds the Gaussian's covariance and whose ν grows with the Gaussian's share ρ of the spread: "
         "∫K·P22 ≈ det(I + s_D A)^{−½}(1 + Q/ν)^{−(ν/2+1)}, s_D = ½α²(1 + κρ0), ν = 2 + c_ν ρ/(1 − ρ). (4) W is taken at the product's "
         "peak m* and the Gaussian light model is corrected there by the true light, exp(w·max(λ(ξ·ω* − 1) − quadratic, −f)). "
-        "(5) The lobe's part below the horizon: 1 − h_d e^{−h_r ω*_z/width}. The point-light limit λ → ∞ is the BRDF times 2π/λ "
+        "(5) The lobe's part below the horizon: 1 − h_d/(1 + h_r t²)², t = ω*_z/width (rational in t², no square root or exp; "
+        "the exponential form tried before it is H below). The point-light limit λ → ∞ is the BRDF times 2π/λ "
         "exactly (tests/specular_sglab_test.cpp); the mirror limit α → 0 is F times the light at the mirror direction.\n\n";
 
   // ---- headline ------------------------------------------------------------------------------
@@ -332,13 +350,19 @@ Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int
         "fitted). Where each fails: A overestimates broad lights at grazing view (the slope-space Gaussian of a broad light is far "
         "too wide where J is nearly singular) and misses GGX's peak where 1/λ ≈ α²; B fixes the broad lights but is still 10–30 % "
         "high at α ≥ 0.3 with view_cos ≤ 0.3 (the lobe below the horizon); the horizon factor (C) and the fitted κ, c_ν (F, G) "
-        "remove most of that; the floor (D) keeps the correction from zeroing lights near the horizon at α ≥ 0.5.\n\n"
+        "remove most of that; the floor (D) keeps the correction from zeroing lights near the horizon at α ≥ 0.5. H is the horizon "
+        "factor this form had before, exponential in t = ω*_z/width: about as accurate, but its square root and exp made the "
+        "method's float batch cost " + fmt::format("{:.2f}", kExponentialHorizonCostVsAsg) + "× asg's, against " +
+        fmt::format("{:.2f}", kRationalHorizonCostVsAsg) + "× with the rational factor (`sglab_core_bench --versus specular sglab asg`: "
+        "median of 31 interleaved rounds on this machine; the rational form's run with the other cuts of its kernel's dependency "
+        "chain: 1/|v|² instead of a square root before JᵀJ, JᵀJ through sums of terms ≥ 0, powers of two instead of 1/s and 1/D "
+        "before ω*); the cost column of paper_tables/error_vs_time.md is the current form's.\n\n"
         "| form | what | brightness-weighted | bright SMAPE | worst roughness |\n|---|---|---|---|---|\n";
   for (const auto& f : forms()) {
-    const Measures x = measures(grid, form_value(f.params), all_points);
+    const Measures x = measures(grid, form_value(f.params, f.horizon), all_points);
     double worst = 0;
     for (double a : alphas)
-      worst = std::max(worst, measures(grid, form_value(f.params), [a](const Point& p) { return p.alpha == a; }).weighted);
+      worst = std::max(worst, measures(grid, form_value(f.params, f.horizon), [a](const Point& p) { return p.alpha == a; }).weighted);
     md += fmt::format("| {} | {} | {} | {} | {} |\n", f.name, f.what, pct(x.weighted), pct(x.bright_smape), pct(worst));
     csv_row("form", "grid", f.name, "sglab", x);
   }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 namespace sglab {
 namespace {
@@ -63,6 +64,17 @@ std::vector<LightPosition> specular_light_positions(double roughness, double lig
     });
     if (!duplicate) out.push_back(p);
   }
+  return out;
+}
+
+std::vector<double> specular_timing_rows(std::size_t rows) {
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<double> out;
+  out.reserve(6 * rows);
+  for (std::size_t k = 0; k < rows; ++k)
+    out.insert(out.end(), {0.02 * std::pow(50.0, u(rng)), std::pow(10.0, 3 * u(rng)), -1 + 2 * u(rng), 0.05 + 0.95 * u(rng),
+                           2 * std::numbers::pi * u(rng), kSpecularF0});
   return out;
 }
 

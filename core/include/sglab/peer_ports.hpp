@@ -289,7 +289,8 @@ T spec_sglab(T a, T l, T lc, T v, T phi, T f0) {
   const T quad = T(-0.5) * (dx * (a00 * dx + a01 * dy) + dy * (a01 * dx + a11 * dy));
   const T ratio = std::exp(T(S::light_weight) * std::max(l * (dot(xi, ws) - T(1)) - quad, T(-S::light_floor)));
   const T w2 = (sd * ((a00 / l) * i00 + T(2) * (a01 / l) * i01 + (a11 / l) * i11));
-  const T horizon = T(1) - T(S::horizon_depth) * std::exp(-T(S::horizon_rate) * ws.z / std::sqrt(w2));
+  const T t = ws.z / std::sqrt(w2);
+  const T horizon = T(1) - T(S::horizon_depth) / std::pow(T(1) + T(S::horizon_rate) * t * t, T(2));
   if (ws.z <= T(0)) return T(0);
   const T nl = ws.z, nv = wo.z, a2 = a * a, coh = dot(wo, hs);
   const T f = f0 + (T(1) - f0) * std::pow(T(1) - coh, T(5));

@@ -138,9 +138,10 @@ T specular_sg_warp_dvn(const SpecularInput<T>& in) {
 // `sglab` (this project; specular_sglab.hpp): the GGX slope density as a Student t, smoothed by
 // the light's Gaussian in slope space, the BRDF weight and the true light at the product's peak.
 template <class T>
-T specular_sglab(const SpecularInput<T>& in, const SglabSpecularParams<T>& p = SglabSpecularParams<T>::fitted()) {
+T specular_sglab(const SpecularInput<T>& in, const SglabSpecularParams<T>& p = SglabSpecularParams<T>::fitted(),
+                 SglabHorizon horizon = SglabHorizon::rational) {
   return specular_sglab_with(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
-                             specular_view(in.view_cos), in.f0, p);
+                             specular_view(in.view_cos), in.f0, p, horizon);
 }
 
 // The exact reference for one input (double quadrature; see glossy_reference.hpp).

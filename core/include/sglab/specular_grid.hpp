@@ -49,4 +49,11 @@ SpecularWidths specular_offset_widths(double roughness, double light_sharpness, 
 // positions at the same angle from it are one (the first kept: "mirror" covers "normal").
 std::vector<LightPosition> specular_light_positions(double roughness, double light_sharpness, double view_cos);
 
+// The seeded inputs that the specular methods' cost is timed on: by `sglab error-vs-time` (its
+// ns/eval column) and by `sglab_core_bench --versus specular` (benchmarks/core_bench.cpp). `rows`
+// rows of (α, λ, light_cos, view_cos, light_azimuth, f0): α log-uniform over [0.02, 1], λ over
+// [1, 1e3], light_cos uniform over [−1, 1], view_cos over [0.05, 1], the azimuth over a turn,
+// f0 = kSpecularF0 (seed 20261122).
+std::vector<double> specular_timing_rows(std::size_t rows = 1024);
+
 }  // namespace sglab

@@ -25,8 +25,9 @@
 //    (`light_weight` w, `light_floor` f, fitted) corrects the Gaussian in m where it is poor (broad
 //    lights, grazing view); the integral is capped at 1 (K ≤ 1 and ∫P22 = 1).
 // 5. The lobe's part below the horizon is missing from ∫P22 = 1: with t = ω*_z/w (w² = E|δω|²
-//    over the product, tr(JᵀJ·s_D(I + s_D A)⁻¹)), the factor 1 − h_d·e^{−h_r t} (`horizon_depth`,
-//    `horizon_rate`, fitted).
+//    over the product, tr(JᵀJ·s_D(I + s_D A)⁻¹)), the factor 1 − h_d/(1 + h_r t²)² (`horizon_depth`,
+//    `horizon_rate`, fitted): rational in t², so neither w nor an exp is computed. The exponential
+//    1 − h_d·e^{−h_r t} was tried first (SglabHorizon; its cost and error: own_specular.md).
 // Limits: λ → ∞ gives (2π/λ)·f⟨ξ·n⟩ (the point light) to the t form's accuracy; α → 0 gives F·G
 // at the mirror direction (det(I + s_D A) → 1, the integral → the light's value at the mirror).
 //
@@ -35,7 +36,8 @@
 // and s = s_D λ, det(I + s_D A) = 1 + s(S + sΔ), A(I + s_D A)⁻¹ = (A + s_D det A·I)/det(I + s_D A).
 // Above s = 1 every ratio is divided through by s² (λ up to the largest finite float). One
 // reciprocal of det(I + s_D A) (scaled) serves Q, m*, w² and the det factor; one log1p (the t
-// power as ν·log1p(Q/ν), Q itself below Q/ν = ε) and one exp for the integral; the clamps keep
+// power as ν·log1p(Q/ν), Q itself below Q/ν = ε) and one exp for the integral, no other
+// transcendental function; the clamps keep
 // every factor finite and ≥ 0 for every finite input in float and double (tests/specular_test.cpp).
 #pragma once
 
@@ -48,17 +50,17 @@
 
 namespace sglab {
 
-// The fitted constants, in one place: the exploratory fit of the objective of `sglab fit
-// sglab-specular` (Nelder–Mead in scipy against the same quadrature references on the same grid;
-// brightness-weighted error + bright SMAPE), printed with %.17g (round-trip digits). `sglab fit
-// sglab-specular` re-derives them with Ceres (fit/sglab_specular.cpp; its record judges both).
+// The fitted constants, in one place: `sglab fit sglab-specular` (fit/sglab_specular.cpp: IRLS of
+// Ceres solves of its objective, brightness-weighted error + bright SMAPE on the sweep grid, from
+// the start values of an exploratory Nelder–Mead fit in scipy), printed with %.17g (round-trip
+// digits; its record, results/fits/sglab-specular.json of `sglab reproduce`, judges them).
 struct SglabSpecular {
-  static constexpr double nu_slope = 2.893977942635126;
-  static constexpr double inflation = 0.9841108750322174;
-  static constexpr double light_weight = 1.215235190311403;
-  static constexpr double light_floor = 2.0138124709730194;
-  static constexpr double horizon_depth = 0.4168545149496669;
-  static constexpr double horizon_rate = 1.031837551468632;
+  static constexpr double nu_slope = 3.0516108220761748;
+  static constexpr double inflation = 0.99249520551375903;
+  static constexpr double light_weight = 1.2108594335839147;
+  static constexpr double light_floor = 2.0024426242894502;
+  static constexpr double horizon_depth = 0.31381609921982551;
+  static constexpr double horizon_rate = 0.36469191544401353;
 };
 
 // Roughness ceiling of this method: the form squares α and multiplies it with λ; above 1e4 GGX
@@ -78,7 +80,32 @@ struct SglabSpecularParams {
   }
 };
 
+// The form of step 5's horizon factor: the method's rational 1 − h_d/(1 + h_r t²)², or the
+// exponential 1 − h_d·e^{−h_r t} it replaced (one exp and one square root more per evaluation; kept
+// as a form tried of paper_tables/own_specular.md, with the constants fitted for it there).
+enum class SglabHorizon { rational, exponential };
+
 namespace detail {
+
+// 2^{1−⌊log2 s⌋} ∈ (1/s, 2/s] for a positive normal s with 2^{1−⌊log2 s⌋} normal (s ≥ 1, or D ≥
+// the smallest normal number; a power of two, so no division and no rounding), 0 for s = ∞: the
+// scales of the s > 1 side and of ω* below. (The batch kernel subtracts s's exponent field from
+// that of +∞, the same number.) A traced formula (the shader export: no frexp) takes 1/s, the same
+// value to rounding, which the ratios' homogeneity makes harmless.
+template <class V>
+V sglab_inverse_scale(const V& s) {
+  using std::frexp;
+  using std::isinf;
+  using std::ldexp;
+  if constexpr (requires(int* e) { frexp(s, e); }) {
+    if (isinf(s)) return V(0);
+    int e = 0;
+    frexp(s, &e);  // s = f·2^e, f ∈ [½, 1)
+    return ldexp(V(1), 2 - e);
+  } else {
+    return V(1) / s;
+  }
+}
 
 // 4(ωo·h)/h_z · F·V·⟨ω·n⟩ = 2(ωo·h)F·ω_z/(h_z(ω_z S_o + ωo_z S_i)): the weight W of the slope
 // integral (M of brdf_factor_m with the half-vector Jacobian). 0 below the horizon.
@@ -97,7 +124,7 @@ T sglab_slope_weight(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<
 
 template <class T>
 T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T>& xi, const Vec3<T>& wo, const T& f0,
-                      const SglabSpecularParams<T>& p) {
+                      const SglabSpecularParams<T>& p, SglabHorizon horizon_form = SglabHorizon::rational) {
   using std::exp;
   using std::log1p;
   using std::max;
@@ -106,44 +133,72 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T alpha = min(max(roughness, T(kMinRoughness)), T(kSglabSpecularMaxRoughness));
   const T lambda = max(light_sharpness, T(0));
   const T a2 = alpha * alpha;
-  // Half vector of ωo and ξ and its slope (h_z floored like the warps' cosines).
-  const Vec3<T> h = half_vector(wo, xi);
-  const T hz = max(T(h(2)), T(kMinWarpCosine));
-  const T rhz = T(1) / hz;
-  const T mx = -h(0) * rhz, my = -h(1) * rhz;
-  // JᵀJ (step 2): k = (ωo·h)²h_z², q = h_z·(−(ωo − (ωo·h)h))_xy.
-  const T woh = T(wo.dot(h));
-  const T qx = -(wo(0) - woh * h(0)) * hz, qy = -(wo(1) - woh * h(1)) * hz;
-  const T k = woh * woh * hz * hz;
-  const T j00 = T(4) * (qx * qx + k * (T(1) - h(0) * h(0)));
-  const T j01 = T(4) * (qx * qy - k * h(0) * h(1));
-  const T j11 = T(4) * (qy * qy + k * (T(1) - h(1) * h(1)));
-  const T cross = qx * h(1) - qy * h(0);
-  const T tr = j00 + j11;  // S
-  const T det = max(T(T(16) * k * (qx * qx + qy * qy - cross * cross + k * hz * hz)), T(0));  // Δ
+  // The half vector h = v/|v| of ωo and ξ (v = ωo + ξ; h = (0, 0, 1) where v = 0), h_z floored like
+  // the warps' cosines (h_z < floor ⟺ v_z < floor·|v|). JᵀJ has h only in products of even degree
+  // in 1/|v|: written with 1/|v|² and q = h_z·u, so that no square root precedes it.
+  const Vec3<T> v0 = wo + xi;
+  const T vv0 = T(v0.squaredNorm());
+  // (v = 0 where |v|² is below the smallest normal number, where 1/|v|² would overflow.)
+  const auto zero_length = !(value_of(vv0) >= std::numeric_limits<value_type_t<T>>::min());
+  const Vec3<T> v = select(zero_length, []() -> Vec3<T> { return Vec3<T>(T(0), T(0), T(1)); }, [&]() -> Vec3<T> { return v0; });
+  const T vv = select(zero_length, []() -> T { return T(1); }, [&]() -> T { return vv0; });
+  const T il2 = T(1) / vv;
+  const T vlen = sqrt(vv);  // (beside 1/|v|², not after it)
+  const T il = il2 * vlen;
+  const Vec3<T> h = il * v;  // (the weight below the horizon)
+  const T zfloor = T(kMinWarpCosine) * vlen;
+  const auto floored = value_of(v(2)) < value_of(zfloor);
+  const T hz2 = select(floored, []() -> T { return T(kMinWarpCosine) * T(kMinWarpCosine); }, [&]() -> T { return v(2) * v(2) * il2; });
+  const T rz = T(1) / max(T(v(2)), zfloor);  // 1/(h_z|v|)
+  const T mx = -v(0) * rz, my = -v(1) * rz;
+  // JᵀJ (step 2): k = (ωo·h)²h_z², q = h_z·u, u = −(ωo − (ωo·h)h)_xy.
+  const T vw = T(wo.dot(v));
+  const T pw = vw * il2;
+  const T ux = -(wo(0) - pw * v(0)), uy = -(wo(1) - pw * v(1));
+  const T k = vw * pw * hz2;
+  // JᵀJ = 4[qqᵀ + k(I − h_xy h_xyᵀ)] is used only through sums of terms ≥ 0, never through its
+  // entries: near the horizon its entries are ~1/h_z² apart from a null direction that the slope
+  // m lies along, and mᵀJᵀJm formed from them would be a cancellation that λ multiplies. With
+  // t_z² = 1 − |h_xy|² = v_z²/|v|² (the unfloored h_z²) and u ⊥ h (so u·v_xy = −u_z v_z):
+  const T tz2 = v(2) * v(2) * il2;
+  const T uu = ux * ux + uy * uy;
+  const T uv = (wo(2) - pw * v(2)) * v(2);  // u·v_xy; (q·h_xy)² = h_z²·uv²/|v|²
+  const T tr = T(4) * (hz2 * uu + k * (T(1) + tz2));  // S = 4(|q|² + k(2 − |h_xy|²))
+  // Δ = 16k(|q|² − (q × h_xy)² + k h_z²) with |q|² − (q × h_xy)² = |q|²(1 − |h_xy|²) + (q·h_xy)²
+  // and 1 − |h_xy|² = the unfloored h_z² = v_z²/|v|²: a sum of terms ≥ 0 (the difference cancels
+  // catastrophically where h is near the horizon and λ multiplies what is left).
+  const T det = max(T(T(16) * k * hz2 * (uu * tz2 + il2 * uv * uv + k)), T(0));  // Δ
   // ρ0 = S/(S + 2α²λΔ) (1 when the light has no precision at all).
   const T rho_den = tr + T(2) * a2 * lambda * det;
   const T rho0 = select(value_of(rho_den) > 0, [&]() -> T { return tr / rho_den; }, []() -> T { return T(1); });
   const T sd = a2 / T(2) * (T(1) + p.inflation * rho0);
-  const T s = sd * lambda;
-  const T mJm = mx * (j00 * mx + j01 * my) + my * (j01 * mx + j11 * my);
+  // s = s_D·λ as ½α²λ + ½α²λκ·ρ0 (both products formed before ρ0 is known).
+  const T half_a2_lambda = a2 / T(2) * lambda;
+  // Held at the largest finite value where it overflows (∞·ρ0 = ∞·0 included).
+  const T s0 = half_a2_lambda + T(half_a2_lambda * p.inflation) * rho0;
+  const T s = select(value_of(s0) <= std::numeric_limits<value_type_t<T>>::max(), [&]() -> T { return s0; },
+                     []() -> T { return T(std::numeric_limits<value_type_t<T>>::max()); });
+  // m ∥ v_xy: JᵀJm = 4[q(q·m) + k t_z² m] and mᵀJᵀJm = 4[(q·m)² + k t_z²|m|²], q·m = h_z·(u·m).
   const T mm = mx * mx + my * my;
-  const T jmx = j00 * mx + j01 * my, jmy = j01 * mx + j11 * my;
-  // Above s = 1 every ratio is divided through by s² (σ = 1/s): with (a, b) = (1, s) for s ≤ 1 and
-  // (σ, 1) above, D = a²·det(I + s_D A) = a² + b(aS + bΔ), Q = g(a·mᵀJm + bΔ|m|²)/D (g = λ,
-  // resp. 1/s_D = λσ without s_D·λ's overflow), m* = b(a·Jm + bΔm)/D, w² = s_D·a(aS + 2bΔ)/D,
+  const T um = -rz * uv;  // u·m
+  const T mJm = T(4) * (hz2 * (um * um) + k * tz2 * mm);
+  const T jmx = T(4) * (hz2 * um * ux + k * tz2 * mx), jmy = T(4) * (hz2 * um * uy + k * tz2 * my);
+  // Every ratio below is homogeneous of degree 0 in (a, b) = c·(1, s): above s = 1 it is taken
+  // with c = 2^{1−⌊log2 s⌋} ≈ 1/s (sglab_inverse_scale; below, c = 1), so that b = cs ∈ [2, 4) and
+  // nothing overflows up to λ = the largest finite value. D = c²·det(I + s_D A) = a² + b(aS + bΔ),
+  // Q = g(a·mᵀJm + bΔ|m|²)/D with g = λa, m* = b(a·Jm + bΔm)/D, w² = s_D·a(aS + 2bΔ)/D,
   // 1/ν = 2bΔ/(4bΔ + c_ν aS) and det(I + s_D A)^{−½} = a/√D: one reciprocal of D for all of them.
   const auto small = value_of(s) <= 1;
-  const T a = select(small, []() -> T { return T(1); }, [&]() -> T { return T(1) / s; });
-  const T b = select(small, [&]() -> T { return s; }, []() -> T { return T(1); });
-  const T g = select(small, [&]() -> T { return lambda; }, [&]() -> T { return T(1) / sd; });
+  const T a = select(small, []() -> T { return T(1); }, [&]() -> T { return T(detail::sglab_inverse_scale(value_of(s))); });
+  const T b = a * s;
+  const T g = lambda * a;
   // D > 0; held at the smallest normal number where every term underflows (float, α ≤ 1e-3 at
   // exactly grazing view with λ near FLT_MAX: 0/0 otherwise).
   const T dd = max(T(a * a + b * (a * tr + b * det)), T(std::numeric_limits<value_type_t<T>>::min()));
   const T rd = T(1) / dd;
   const T q = g * ((a * mJm + b * det * mm) * rd);
-  const T msx = b * (a * jmx + b * det * mx) * rd;
-  const T msy = b * (a * jmy + b * det * my) * rd;
+  const T nx = b * (a * jmx + b * det * mx), ny = b * (a * jmy + b * det * my);  // D·m*
+  const T msx = nx * rd, msy = ny * rd;
   const T w2 = sd * a * (a * tr + T(2) * b * det) * rd;
   const T nd = T(4) * b * det + p.nu_slope * a * tr;
   const T inv_nu = select(value_of(nd) > 0, [&]() -> T { return T(2) * b * det / nd; }, []() -> T { return T(0); });
@@ -154,34 +209,56 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   // divide beside the log1p, not after it. For x ≤ ε it is Q itself (ν·log1p(x) = Q(1 − x/2 + …),
   // within half an ulp of Q), where x may be subnormal.
   const T x = select(value_of(inv_nu) > 0, [&]() -> T { return q * inv_nu; }, []() -> T { return T(0); });
-  const T nu_log = select(value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon(),
-                          [&]() -> T { return log1p(x) * T(nd / (T(2) * b * det)); }, [&]() -> T { return q; });
-  const T t_exponent = -(T(0.5) + inv_nu) * nu_log;
+  const T half_inv_nu = T(0.5) + inv_nu;
+  const T t_exponent = select(value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon(),
+                              [&]() -> T { return -T(half_inv_nu * T(nd / (T(2) * b * det))) * log1p(x); },
+                              [&]() -> T { return -half_inv_nu * q; });
   // The product's peak: h* from m*, ω* its reflection of ωo, 2(ωo·h*)h* − ωo written with the
   // unnormalized u = (−m*, 1) (one division, no square root before ω*).
-  const Vec3<T> hu(-msx, -msy, T(1));
-  const T uu = T(hu.squaredNorm());
-  const Vec3<T> ws = T(T(2) * T(wo.dot(hu)) / uu) * hu - wo;
-  const Vec3<T> hs = T(T(1) / sqrt(uu)) * hu;
+  // u ∝ (−m*, 1) is taken as c_D·(−D·m*, D), c_D = sglab_inverse_scale(D) (a power of two, D·c_D ∈
+  // [2, 4): |u| ≥ 2), so that ω* does not wait for 1/D.
+  const T cd = T(detail::sglab_inverse_scale(value_of(dd)));
+  const Vec3<T> hu(-nx * cd, -ny * cd, dd * cd);
+  const T ru2 = T(1) / T(hu.squaredNorm());  // 1/|u|²
+  const T twice = T(2) * T(wo.dot(hu)) * ru2;
+  const Vec3<T> ws = twice * hu - wo;
+  const T ru = sqrt(ru2);
+  const Vec3<T> hs = ru * hu;
   // ω* above the horizon: the light correction, the weight at ω* and the horizon factor; below,
   // the weight at ξ alone. Selects (scalar.hpp): the traced formula computes both sides and keeps
   // one, and a side that is not kept (w = 0: 1/0) never enters the kept value.
   const auto above = value_of(ws(2)) > 0;
-  const T light = select(above, [&]() -> T {
+  // The light correction is O(1/λ) as λ → ∞ (m* → m_ξ: both terms of the difference are O(|d|²)
+  // and agree to O(|d|³)), while their rounding, ~ε² each, is multiplied by λ: past λ = 1/ε² it
+  // is left out (0), where the rounding alone would swing it between its floor and its cap.
+  const auto corrected = above && !(value_of(lambda) > value_type_t<T>(1) / (epsilon<T>() * epsilon<T>()));
+  const T light = select(corrected, [&]() -> T {
     // λ(ξ·ω* − 1) + ½dᵀAd = −½λ(|ξ − ω*|² − dᵀJd): one product, no ∞ − ∞.
     const T dx = msx - mx, dy = msy - my;
-    const T dJd = dx * (j00 * dx + j01 * dy) + dy * (j01 * dx + j11 * dy);
-    const Vec3<T> e = xi - ws;
+    // dᵀJᵀJd = 4[(q·d)² + k(t_z²|d|² + (h_xy × d)²)]
+    const T ud = ux * dx + uy * dy, vd = v(0) * dy - v(1) * dx;
+    const T dJd = T(4) * (hz2 * (ud * ud) + k * (tz2 * (dx * dx + dy * dy) + il2 * (vd * vd)));
+    const Vec3<T> e = v0 - twice * hu;  // ξ − ω* = (ξ + ωo) − 2(ωo·h*)h*
     const T diff = T(-0.5) * lambda * (T(e.squaredNorm()) - dJd);
     return min(T(p.light_weight * max(diff, T(-p.light_floor))), T(kSglabSpecularMaxExponent));
   }, []() -> T { return T(0); });
   const T weight = select(above, [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, ws, hs); },
                           [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, xi, h); });
-  const T horizon = select(above, [&]() -> T {
-    const T wr = sqrt(w2);
-    return select(value_of(wr) > 0, [&]() -> T { return T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) * T(T(1) / wr))); },
-                  []() -> T { return T(1); });
-  }, []() -> T { return T(1); });
+  // Step 5, 1 − h_d/(1 + h_r t²)² with t² = ω*_z²/w²: h_d·(w²/(w² + h_r ω*_z²))², one quotient; 1
+  // where that denominator is 0 (w² = 0 and ω*_z² underflowing: no width, t = ∞). The form tried
+  // before it, 1 − h_d·e^{−h_r t}, on request (SglabHorizon).
+  const T horizon = select(!above, []() -> T { return T(1); }, [&]() -> T {
+    if (horizon_form == SglabHorizon::exponential) {
+      const T wr = sqrt(w2);
+      return select(value_of(wr) > 0, [&]() -> T { return T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) * T(T(1) / wr))); },
+                    []() -> T { return T(1); });
+    }
+    const T hden = w2 + p.horizon_rate * ws(2) * ws(2);
+    return select(value_of(hden) > 0, [&]() -> T {
+      const T u = min(T(w2 / hden), T(1));
+      return T(1) - p.horizon_depth * (u * u);
+    }, []() -> T { return T(1); });
+  });
   const T exponent = min(T(t_exponent + light), T(kSglabSpecularMaxExponent));
   const T integral = min(T(exp(exponent) * inv_root_det), T(1));
   return weight * integral * horizon;

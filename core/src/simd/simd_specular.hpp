@@ -252,6 +252,16 @@ struct SpecSgWarpDvn : RowF0<SpecSgWarpDvn> {
   }
 };
 
+// specular_sglab.hpp detail::sglab_inverse_scale: 2^{1−⌊log2 s⌋} for a positive normal s, 0 for
+// s = ∞, as +∞'s exponent field minus s's.
+template <class B>
+inline B inverse_scale(const B& s) {
+  using T = value_t<B>;
+  using BI = xsimd::batch<std::conditional_t<sizeof(T) == 8, std::int64_t, std::int32_t>, typename B::arch_type>;
+  const BI field = xsimd::bitwise_cast<BI>(B(std::numeric_limits<T>::infinity()));
+  return xsimd::bitwise_cast<B>(BI(field - (xsimd::bitwise_cast<BI>(s) & field)));
+}
+
 // specular_sglab.hpp detail::sglab_slope_weight.
 template <class B, class F0>
 inline auto sglab_slope_weight(const B& alpha, const F0& f0, const V3<B>& wo, const V3<B>& w, const V3<B>& h) {
@@ -285,37 +295,50 @@ struct SpecSglab : RowF0<SpecSglab> {
     const V3<B>& wo = r.wo;
     const V3<B>& xi = r.xi;
     const B a2 = alpha * alpha;
-    const V3<B> h = half_vector(wo, xi);
-    const B hz = xsimd::select(h.z < p[1], p[1], h.z);
-    const B rhz = one / hz;
-    const B mx = -h.x * rhz, my = -h.y * rhz;
-    const B woh = dot(wo, h);
-    const B qx = -(wo.x - woh * h.x) * hz, qy = -(wo.y - woh * h.y) * hz;
-    const B k = woh * woh * hz * hz;
-    const B j00 = T(4) * (qx * qx + k * (T(1) - h.x * h.x));
-    const B j01 = T(4) * (qx * qy - k * h.x * h.y);
-    const B j11 = T(4) * (qy * qy + k * (T(1) - h.y * h.y));
-    const B cross = qx * h.y - qy * h.x;
-    const B tr = j00 + j11;
-    const B det = positive_part(B(T(16) * k * (qx * qx + qy * qy - cross * cross + k * hz * hz)));
+    const V3<B> v0{wo.x + xi.x, wo.y + xi.y, wo.z + xi.z};
+    const B vv0 = dot(v0, v0);
+    const auto nonzero = vv0 >= B(std::numeric_limits<T>::min());
+    const V3<B> v = select3(nonzero, v0, V3<B>{zero, zero, one});
+    const B vv = xsimd::select(nonzero, vv0, one);
+    const B il2 = one / vv;
+    const B vlen = xsimd::sqrt(vv);
+    const B il = il2 * vlen;
+    const V3<B> h{il * v.x, il * v.y, il * v.z};
+    const B zfloor = p[1] * vlen;
+    const auto floored = v.z < zfloor;
+    const B hz2 = xsimd::select(floored, B(p[1] * p[1]), B(v.z * v.z * il2));
+    const B rz = one / xsimd::select(floored, zfloor, v.z);
+    const B mx = -v.x * rz, my = -v.y * rz;
+    const B vw = dot(wo, v);
+    const B pw = vw * il2;
+    const B ux = -(wo.x - pw * v.x), uy = -(wo.y - pw * v.y);
+    const B k = vw * pw * hz2;
+    const B tz2 = v.z * v.z * il2;
+    const B uu = ux * ux + uy * uy;
+    const B uv = (wo.z - pw * v.z) * v.z;
+    const B tr = T(4) * (hz2 * uu + k * (T(1) + tz2));
+    const B det = positive_part(B(T(16) * k * hz2 * (uu * tz2 + il2 * uv * uv + k)));
     const B rho_den = tr + T(2) * a2 * lambda * det;
     const B rho0 = xsimd::select(rho_den > zero, tr / rho_den, one);
     const B sd = a2 / T(2) * (T(1) + inflation * rho0);
-    const B s = sd * lambda;
-    const B mJm = mx * (j00 * mx + j01 * my) + my * (j01 * mx + j11 * my);
+    const B half_a2_lambda = a2 / T(2) * lambda;
+    const B s0 = half_a2_lambda + (half_a2_lambda * inflation) * rho0;
+    const B s = xsimd::select(s0 <= B(std::numeric_limits<T>::max()), s0, B(std::numeric_limits<T>::max()));
     const B mm = mx * mx + my * my;
-    const B jmx = j00 * mx + j01 * my, jmy = j01 * mx + j11 * my;
-    // One scaled det(I + s_D A) for both sides of s = 1: (a, b) = (1, s) or (1/s, 1).
+    const B um = -rz * uv;
+    const B mJm = T(4) * (hz2 * (um * um) + k * tz2 * mm);
+    const B jmx = T(4) * (hz2 * um * ux + k * tz2 * mx), jmy = T(4) * (hz2 * um * uy + k * tz2 * my);
+    // One scaled det(I + s_D A) for both sides of s = 1: (a, b) = c·(1, s), c = 1 or 2^{1−⌊log2 s⌋}.
     const auto small = s <= one;
-    const B sa = xsimd::select(small, one, one / s);
-    const B sb = xsimd::select(small, s, one);
-    const B g = xsimd::select(small, lambda, one / sd);
+    const B sa = xsimd::select(small, one, inverse_scale(s));
+    const B sb = sa * s;
+    const B g = lambda * sa;
     const B dd0 = sa * sa + sb * (sa * tr + sb * det);
     const B dd = xsimd::select(dd0 < B(std::numeric_limits<T>::min()), B(std::numeric_limits<T>::min()), dd0);
     const B rd = one / dd;
     const B q = g * ((sa * mJm + sb * det * mm) * rd);
-    const B msx = sb * (sa * jmx + sb * det * mx) * rd;
-    const B msy = sb * (sa * jmy + sb * det * my) * rd;
+    const B nx = sb * (sa * jmx + sb * det * mx), ny = sb * (sa * jmy + sb * det * my);
+    const B msx = nx * rd, msy = ny * rd;
     const B w2 = sd * sa * (sa * tr + T(2) * sb * det) * rd;
     const B nd = T(4) * sb * det + nu_slope * sa * tr;
     const B inv_nu = xsimd::select(nd > zero, T(2) * sb * det / nd, zero);
@@ -323,27 +346,32 @@ struct SpecSglab : RowF0<SpecSglab> {
     const B inv_root_det = xsimd::select(inv_root0 > one, one, inv_root0);
     const B x = xsimd::select(inv_nu > zero, q * inv_nu, zero);
     const B nu = nd / (T(2) * sb * det);
-    const B nu_log = xsimd::select(x > B(std::numeric_limits<T>::epsilon()), vm_log1p(x) * nu, q);
-    const B t_exponent = -(T(0.5) + inv_nu) * nu_log;
-    const V3<B> hu{-msx, -msy, one};
-    const B uu = dot(hu, hu);
-    const B twice = T(2) * dot(wo, hu) / uu;
+    const B half_inv_nu = T(0.5) + inv_nu;
+    const B t_exponent = xsimd::select(x > B(std::numeric_limits<T>::epsilon()), -(half_inv_nu * nu) * vm_log1p(x), -half_inv_nu * q);
+    const B cd = inverse_scale(dd);
+    const V3<B> hu{-nx * cd, -ny * cd, dd * cd};
+    const B rn2 = one / dot(hu, hu);
+    const B twice = T(2) * dot(wo, hu) * rn2;
     const V3<B> ws{twice * hu.x - wo.x, twice * hu.y - wo.y, twice * hu.z - wo.z};
-    const B rn = one / xsimd::sqrt(uu);
+    const B rn = xsimd::sqrt(rn2);
     const V3<B> hs{rn * hu.x, rn * hu.y, rn * hu.z};
     const auto above = ws.z > zero;
     const B dx = msx - mx, dy = msy - my;
-    const B dJd = dx * (j00 * dx + j01 * dy) + dy * (j01 * dx + j11 * dy);
-    const V3<B> e{xi.x - ws.x, xi.y - ws.y, xi.z - ws.z};
+    const B ud = ux * dx + uy * dy, vd = v.x * dy - v.y * dx;
+    const B dJd = T(4) * (hz2 * (ud * ud) + k * (tz2 * (dx * dx + dy * dy) + il2 * (vd * vd)));
+    const V3<B> e{v0.x - twice * hu.x, v0.y - twice * hu.y, v0.z - twice * hu.z};
     const B diff = T(-0.5) * lambda * (dot(e, e) - dJd);
     const B nfloor = -light_floor;
     const B light0 = light_weight * xsimd::select(diff < nfloor, nfloor, diff);
-    const B light = xsimd::select(above, xsimd::select(light0 > p[9], p[9], light0), zero);
+    constexpr T kPointLight = T(1) / (std::numeric_limits<T>::epsilon() * std::numeric_limits<T>::epsilon());
+    const B light = xsimd::select(above & !(lambda > B(kPointLight)), xsimd::select(light0 > p[9], p[9], light0), zero);
     const V3<B> wpt = select3(above, ws, xi);
     const V3<B> hpt = select3(above, hs, h);
     const auto weight = sglab_slope_weight(alpha, f0, wo, wpt, hpt);
-    const B wr = xsimd::sqrt(w2);
-    const B horizon = xsimd::select(above & (wr > zero), T(1) - horizon_depth * vm_exp(B(-horizon_rate * ws.z * (one / wr))), one);
+    const B hden = w2 + horizon_rate * ws.z * ws.z;
+    const B u0 = w2 / hden;
+    const B u = xsimd::select(u0 > one, one, u0);
+    const B horizon = xsimd::select(above & (hden > zero), one - horizon_depth * (u * u), one);
     const B ex = t_exponent + light;
     const B exponent = xsimd::select(ex > p[9], p[9], ex);
     // Subnormal e^x kept, not flushed as by vm_exp: it is scaled back up by the BRDF weight (up to
