@@ -368,6 +368,12 @@ void add_envmap_command(CLI::App& app) {
     sub->add_option("--normals", a->normals, "Fibonacci normals of the diffuse layer")->capture_default_str();
     sub->add_option("--tolerance", a->tolerance, "relative L2 change at which the map quadratures count as converged")->capture_default_str();
     sub->add_option("--seed", a->seed, "k-means++ and running-average seed")->capture_default_str();
+    sub->add_option("--resolve", a->resolve,
+                    "environment NAME held at full resolution: the reduced map plus detail tiles (repeat; vmf-em and sg-free fit it, "
+                    "map errors against the full map)");
+    sub->add_option("--resolve-tolerance", a->resolve_tolerance,
+                    "relative L2 of the reduced map plus detail tiles against the full map at which tiles stop being added")
+        ->capture_default_str();
     add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
     sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32, L ≤ 4 (a smoke run; not for paper_tables)");
     sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
