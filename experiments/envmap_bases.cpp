@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
@@ -23,6 +24,7 @@
 #include "experiment_command.hpp"
 #include "registry.hpp"
 #include "envmap_data.hpp"
+#include "envmap_sparse.hpp"
 #include "input_error.hpp"
 #include "sglab/render/environment.hpp"
 #include "sglab/text_limits.hpp"
@@ -43,6 +45,7 @@ constexpr const char* kEngineDiffuse = "hill-fitted";
 struct Loaded {
   std::string name;
   EnvMap map;
+  std::optional<fit::SparseEnvMap> sparse;  // --resolve
 };
 
 Options effective(const Options& o) {
@@ -67,6 +70,16 @@ Options effective(const Options& o) {
       throw UsageError("--basis " + quote(a.bases[i]) + " is given twice");
   }
   check_env_arguments(a.envs);  // a name is a table label and a CSV field: a plain word, once
+  std::vector<std::string> names;
+  for (const auto& e : a.envs) names.push_back(e.substr(0, e.find('=')));
+  for (std::size_t i = 0; i < a.resolve.size(); ++i) {
+    if (std::find(names.begin(), names.end(), a.resolve[i]) == names.end())
+      throw UsageError("--resolve '" + clip_text(a.resolve[i]) + "' names no --env");
+    if (std::find(a.resolve.begin(), a.resolve.begin() + std::ptrdiff_t(i), a.resolve[i]) != a.resolve.begin() + std::ptrdiff_t(i))
+      throw UsageError("--resolve " + quote(a.resolve[i]) + " is given twice");
+  }
+  if (!(a.resolve_tolerance > 0 && a.resolve_tolerance < 1))
+    throw UsageError(fmt::format("--resolve-tolerance {} must be in (0, 1)", a.resolve_tolerance));
   return a;
 }
 
@@ -81,8 +94,16 @@ std::vector<Loaded> load(const Options& a) {
     } catch (const render::EnvironmentError& err) {
       throw UsageError(err.what());
     }
+    const std::string name = e.substr(0, eq);
+    if (std::find(a.resolve.begin(), a.resolve.end(), name) != a.resolve.end()) {
+      // The same reduced map as below, plus the detail tiles of the full map.
+      fit::SparseEnvMap sparse = fit::make_sparse_envmap(m, a.width, a.resolve_tolerance);
+      EnvMap reduced = sparse.reduced;
+      out.push_back({name, std::move(reduced), std::move(sparse)});
+      continue;
+    }
     while (m.width > a.width && m.width % 2 == 0 && m.height % 2 == 0) m = downsample_envmap(m);
-    out.push_back({e.substr(0, eq), std::move(m)});
+    out.push_back({name, std::move(m), std::nullopt});
   }
   return out;
 }
@@ -130,6 +151,21 @@ std::vector<Rgb> converged(const F& f, const render::EnvImage& image, double tol
   }
 }
 
+// A resolved map's SG fit on a quadrature grid `height` rows high: each lobe convolved with the
+// grid's texel as a Gaussian (1/λ' = 1/λ + δ²/12, δ = π/height, integral kept: the texel model of
+// the fits, fit/envmap.hpp), so that a lobe narrower than the grid's spacing (a sun fitted on the
+// detail tiles) is integrated over the texel, not point-sampled.
+fit::EnvBasisFit blurred_for_grid(const fit::EnvBasisFit& f, int height) {
+  fit::EnvBasisFit b = f;
+  const double delta = M_PI / double(height), s2 = delta * delta / 12;
+  for (auto& l : b.mixture) {
+    const double q = 1 / (1 + l.sharpness * s2);
+    l.sharpness *= q;
+    for (double& x : l.amplitude) x *= q;
+  }
+  return b;
+}
+
 render::EnvImage normal_image(int count) {
   render::EnvImage im{count, 1, {}};
   const auto normals = fit::envmap_detail::fibonacci_axes(count);
@@ -154,6 +190,8 @@ std::string command_line(const Options& a) {
   std::string c = "sglab envmap bases";
   for (const auto& e : a.envs) c += " --env " + e;
   for (const auto& b : a.bases) c += " --basis " + b;
+  for (const auto& n : a.resolve) c += " --resolve " + n;
+  if (!a.resolve.empty()) c += fmt::format(" --resolve-tolerance {}", a.resolve_tolerance);
   c += fmt::format(" --width {} --res {} --normals {} --tolerance {} --seed {}", a.width, a.sphere_res, a.normals, a.tolerance, a.seed);
   return c + " --out " + a.out + " --tables-dir " + a.tables_dir;
 }
@@ -179,6 +217,17 @@ Result compute(const Options& o) {
     out.name = env.name;
     out.width = env.map.width;
     out.height = env.map.height;
+    bo.sparse = env.sparse ? &*env.sparse : nullptr;
+    if (env.sparse) {
+      out.full_width = env.sparse->full_width;
+      out.full_height = env.sparse->full_height;
+      out.tiles = int(env.sparse->tiles.size());
+      out.reduced_l2 = env.sparse->reduced_relative_l2;
+      out.sparse_l2 = env.sparse->relative_l2;
+      std::fprintf(stderr, "envmap bases: %s resolved: %d×%d as %d×%d + %d tiles of %d×%d (relative L2 %.3g, reduced alone %.3g)\n",
+                   env.name.c_str(), out.full_width, out.full_height, out.width, out.height, out.tiles, env.sparse->factor,
+                   env.sparse->factor, out.sparse_l2, out.reduced_l2);
+    }
     std::fprintf(stderr, "envmap bases: %s (%d×%d): converged quadratures of the map …\n", env.name.c_str(), out.width, out.height);
     Convergence cd;
     const auto exact_diffuse =
@@ -213,8 +262,14 @@ Result compute(const Options& o) {
           row.iterations = f.iterations;
           row.fit_width = f.fit_width;
           row.fit_height = f.fit_height;
+          row.detail_tiles = f.detail_tiles;
           row.seconds = f.seconds;
-          row.map_error = envmap_error(env.map, texel_means(f, env.map.width, env.map.height, kMeanSubsamples)).relative;
+          const EnvMap means = texel_means(f, env.map.width, env.map.height, kMeanSubsamples);
+          row.map_error = env.sparse ? fit::sparse_error(*env.sparse, means,
+                                                         fit::tile_texel_means(*env.sparse, [&f](const Vec3<double>& w) { return f.radiance(w); },
+                                                                               kMeanSubsamples))
+                                           .relative
+                                     : envmap_error(env.map, means).relative;
           std::vector<Rgb> diffuse(normals.points.size());
           const auto exact = fit::diffuse_at(f, normal_dirs, diffuse_cache);
           for (std::size_t k = 0; k < exact.size(); ++k) diffuse[k] = Rgb(exact[k][0], exact[k][1], exact[k][2]);
@@ -236,7 +291,9 @@ Result compute(const Options& o) {
           std::map<int, EnvMap> grids;
           for (std::size_t ri = 0; ri < a.roughness.size(); ++ri) {
             const int s = out.convergence[ri + 1].subsamples;
-            if (!grids.count(s)) grids.emplace(s, texel_means(f, env.map.width * s, env.map.height * s, 1));
+            if (!grids.count(s))
+              grids.emplace(s, texel_means(env.sparse && f.sh_order < 0 ? blurred_for_grid(f, env.map.height * s) : f, env.map.width * s,
+                                           env.map.height * s, 1));
             const auto spec = render::integrate_specular(grids.at(s), sphere, a.roughness[ri], a.f0, 1);
             row.specular_error.push_back(render::shading_error(spec, exact_specular[ri], sphere).relative_l2);
           }
@@ -295,7 +352,10 @@ std::string free_lobe_markdown(const Result& r) {
                    "sg-free s | vmf-em s | time ratio free/vMF | sg-free LM iterations (level) | vmf-em EM iterations (level) |\n"
                    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::vector<std::string> fails_half, fails_fixed, kept, cost, vmf_rises, diffuse_rises;
-  auto level = [](const Row* row) { return fmt::format("{} ({}×{})", row->iterations, row->fit_width, row->fit_height); };
+  auto level = [](const Row* row) {
+    return fmt::format("{} ({}×{}{})", row->iterations, row->fit_width, row->fit_height,
+                       row->detail_tiles > 0 ? fmt::format(" + {} tiles", row->detail_tiles) : "");
+  };
   for (const auto& env : r.environments) {
     std::map<int, const Row*> free, vmf;
     std::map<int, double> fixed;
@@ -317,7 +377,15 @@ std::string free_lobe_markdown(const Result& r) {
       const bool ok_half = !half || row->map_error <= half->map_error, ok_fixed = !has_fixed || row->map_error <= fixed.at(n);
       if (!ok_half) fails_half.push_back(fmt::format("{} N = {}", env.name, n));
       if (!ok_fixed) fails_fixed.push_back(fmt::format("{} N = {}", env.name, n));
-      if (row->kept_lobes > 0) kept.push_back(fmt::format("{} N = {} (kept {})", env.name, n, row->kept_lobes));
+      if (row->kept_lobes > 0) {
+        // The rung whose lobes these are: the smallest N with the same error (a guard's result is
+        // kept by every later rung that also ends above it).
+        int origin = n;
+        for (const auto& [m, other] : free)
+          if (m < origin && other->map_error == row->map_error) origin = m;
+        kept.push_back(fmt::format("{} N = {} (kept {}{})", env.name, n, row->kept_lobes,
+                                   origin < n / 2 ? fmt::format(": the lobes of N = {}, the fit stalls there", origin) : ""));
+      }
       md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2f} | {} | {} | {} | {} |\n", env.name, n, num(row->map_error),
                         half ? num(half->map_error) : "—", half ? (ok_half ? "yes" : "**no**") : "—",
                         row->kept_lobes > 0 ? std::to_string(row->kept_lobes) : "—", has_fixed ? num(fixed.at(n)) : "—",
@@ -360,7 +428,8 @@ std::string free_lobe_markdown(const Result& r) {
         "tile, touching only the lobes that reach it) and its residuals and Jacobian are evaluated on the Ceres threads; "
         "every rung has the same iteration cap (60 per solve), which is what is left to trade against the error.\n\n";
   md += "**vMF EM's level and its error against N.** EM is fitted on the finest level whose texel count × N is at most 2^20 "
-        "(the exponentials of one EM iteration; the level column), the whole 128 × 64 map at every N here. A coarser level "
+        "(the exponentials of one EM iteration; the level column), the whole 128 × 64 map at every N here (on a resolved map, the "
+        "sparse map's texels: the reduced map and its full-resolution tiles). A coarser level "
         "(the 64 × 32 level the Ceres fit's dense-Jacobian budget would choose from N = 64 on) puts a sun below a texel and "
         "caps its lobe's κ by that texel, which more than doubles the sky's map error there. EM "
         "maximises the likelihood of the Ω·(mean RGB)-weighted directions from a fresh k-means++ start at each N, not the map's "
@@ -414,16 +483,41 @@ Tables tables(const Result& r) {
       "Every environment (equirectangular, z up: row 0 is +z, φ = 0 is +x at the map's centre column; see README) is reduced by "
       "solid-angle-weighted 2×2 means to at most {0} texels wide, then represented by every basis at every size; "
       "the x axis of the comparison is the stored float count (SH order L: 3(L+1)²; fixed-lobe SG: 3N; free-lobe SG and vMF: 6N).\n\n"
-      "**The suns are not resolved at this width.** A texel of a {0}-wide map spans 360/{0} = {1:.2g}°, so both suns (the sky's "
-      "2° disk and the sun map's 0.53° disk of the same power) lie within one texel and are held as that texel's mean: the sky "
-      "and sun rows nearly agree, and every basis's map error there has the floor of a smooth lobe (sampled at 4×4 points per "
-      "texel) against one bright texel (the free-lobe rows of sky and sun below). Resolving a sun of diameter d by two texels needs a width "
-      "≥ 720/d: 360 for the 2° sun, 1359 for the 0.53° sun, beyond the 512-wide generated maps. The width is kept for run "
-      "time: every doubling quadruples the texel count of the map-error texel means, of the converged quadratures and of the "
-      "representations' quadrature grids, while the free-lobe fit at N = 128 is fitted on the 64×32 level at any width (its "
-      "Jacobian budget), only its sharpest lobes refitted on the full map. `sglab fit envmap` on the 512-wide sky measures the "
-      "resolved 2° sun.\n\n",
+      "**Suns and the reduced width.** A texel of a {0}-wide map spans 360/{0} = {1:.2g}°, so a sun smaller than that (the "
+      "sky's 2° disk, the sun map's 0.53° disk of the same power) lies within one texel of the reduced map, held as that "
+      "texel's mean; resolving a sun of diameter d by two texels needs a width ≥ 720/d (360 for the 2° sun, 1359 for the 0.53° "
+      "sun). The width is kept for run time: every doubling quadruples the texel count of the map-error texel means, of the "
+      "converged quadratures and of the representations' quadrature grids.",
       a.width, 360.0 / a.width);
+  std::vector<std::string> resolved;
+  for (const auto& env : r.environments)
+    if (env.full_width > 0)
+      resolved.push_back(fmt::format("{} ({}×{}: {} tiles of {}×{} texels; relative L2 against the full map {} for the reduced map "
+                                     "alone, {} with the tiles)",
+                                     env.name, env.full_width, env.full_height, env.tiles, env.full_width / env.width,
+                                     env.full_width / env.width, num(env.reduced_l2), num(env.sparse_l2)));
+  if (resolved.empty()) {
+    md += " No environment is resolved here (`--resolve`): a sun is held as one texel's mean.\n\n";
+  } else {
+    std::string list;
+    for (std::size_t k = 0; k < resolved.size(); ++k) list += (k ? "; " : "") + resolved[k];
+    md += fmt::format(
+        " **Resolved environments** (`--resolve`, fit/envmap_sparse.cpp) are held at full resolution where the reduced map "
+        "loses detail: the reduced map plus detail tiles, each a reduced texel replaced by the full map's texels inside it, "
+        "added greedily (the largest squared L2 lost first) until the sparse map is within τ = {} relative L2 of the full map: "
+        "{}. On them vmf-em runs its E and M steps and its amplitude solve on the sparse map's texels, sg-free runs its full-map "
+        "steps once more on them (its sharp lobes refitted, then its weakest lobes moved onto the brightest residual texels, each "
+        "kept only if the sparse map's cost falls; the level column's \"+ k tiles\"), sh and sg-fixed are "
+        "fitted on the reduced map. Every basis's map error there is against the full map, by the sparse map's quadrature (the "
+        "reduced map's sum plus, per tile, the full-resolution sum minus the reduced texel it replaces; 4×4 points per texel on "
+        "both), and an SG fit's specular is integrated with each lobe convolved with the quadrature's texel (integral kept) "
+        "rather than point-sampled. The diffuse and specular references stay the reduced map's converged quadratures (a 2×2 "
+        "mean keeps every texel's integral). What one lobe per sun can reach: one isotropic Gaussian fitted in L2 to a uniform "
+        "disk leaves relative L2 {} of the disk's own L2 (closed form, independent of the disk's size, derived in "
+        "tests/envmap_bases_test.cpp), so a fit that gives a sun one lobe keeps that share of the sun's L2 in its map "
+        "error.\n\n",
+        a.resolve_tolerance, list, kOneLobeDiskFloor);
+  }
   md += "Bases (fit/envmap_basis*.cpp):\n\n";
   for (const auto& b : fit::envmap_bases()) md += "- `" + b.name + "`: " + b.description + ".\n";
   md += fmt::format(
@@ -481,6 +575,12 @@ void add_envmap_bases_command(CLI::App& envmap) {
   sub->add_option("--normals", a->normals, "Fibonacci normals of the diffuse layer")->capture_default_str();
   sub->add_option("--tolerance", a->tolerance, "relative L2 change at which the map quadratures count as converged")->capture_default_str();
   sub->add_option("--seed", a->seed, "k-means++ and running-average seed")->capture_default_str();
+  sub->add_option("--resolve", a->resolve,
+                  "environment NAME held at full resolution: the reduced map plus detail tiles (repeat; vmf-em and sg-free fit it, "
+                  "map errors against the full map)");
+  sub->add_option("--resolve-tolerance", a->resolve_tolerance,
+                  "relative L2 of the reduced map plus detail tiles against the full map at which tiles stop being added")
+      ->capture_default_str();
   add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
   sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32 (sg-free N ≤ 16), L ≤ 4 (a smoke run; not for paper_tables)");
   sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
@@ -501,15 +601,21 @@ Experiment envmap_bases_experiment() {
             const std::string dir = p.out + "/envmap/";
             // The sun of the sky at its real angular diameter, 0.53°, with the power of the default
             // 2° disk (luminance × (2/0.53)² ≈ 14.24, 500 → 7120).
-            v.push_back(sglab_step("envmap-make-sun", "generated environment: clear sky, 0.53° sun (512×256 EXR)",
-                                   {"envmap", "make", "sky", "--sun-size", "0.53", "--sun-luminance", "7120", "--out", dir + "sun.exr"}));
+            // Both suns at 2048 wide (a texel of 0.18°), held by `--resolve` as the 128-wide map plus
+            // full-resolution tiles where the sun is.
+            v.push_back(sglab_step("envmap-make-sun", "generated environment: clear sky, 0.53° sun (2048×1024 EXR)",
+                                   {"envmap", "make", "sky", "--sun-size", "0.53", "--sun-luminance", "7120", "--width", "2048", "--out",
+                                    dir + "sun.exr"}));
+            v.push_back(sglab_step("envmap-make-sky-2048", "generated environment: clear sky, 2° sun (2048×1024 EXR)",
+                                   {"envmap", "make", "sky", "--width", "2048", "--out", dir + "sky_2048.exr"}));
             v.push_back(sglab_step("envmap-make-overcast", "generated environment: CIE overcast sky (512×256 EXR)",
                                    {"envmap", "make", "overcast", "--out", dir + "overcast.exr"}));
             v.push_back(sglab_step("envmap-make-indoor", "generated environment: indoor room with rectangular emitters (512×256 EXR)",
                                    {"envmap", "make", "indoor", "--out", dir + "indoor.exr"}));
             std::vector<std::string> args = {"envmap", "bases", "--out", p.out + "/envmap"};
             for (const char* kind : {"sky", "sun", "overcast", "studio", "indoor", "mixture"})
-              args.insert(args.end(), {"--env", std::string(kind) + "=" + dir + kind + ".exr"});
+              args.insert(args.end(), {"--env", std::string(kind) + "=" + dir + (kind == std::string("sky") ? "sky_2048" : kind) + ".exr"});
+            args.insert(args.end(), {"--resolve", "sky", "--resolve", "sun"});
             v.push_back(timed(sglab_step("envmap-bases", "bases at equal storage (paper_tables/envmap_bases.*)", args, {"--quick"},
                                          "--tables-dir")));
             v.push_back(plot_step("plot-envmap-bases", "error against stored floats, one panel per layer",

@@ -26,6 +26,13 @@ inline constexpr double kDiffuseTarget = 0.05;
 inline constexpr double kSpecularTarget = 0.20;
 inline constexpr double kTargetRoughness = 0.3;
 
+// The floor of one lobe per sun: one isotropic Gaussian μe^{λ(cos γ − 1)} fitted in L2 (μ and λ
+// free) to a uniform disk of angular radius R ≪ 1 leaves relative L2 √(1 − max_t 2(1 − e^{−t})²/t)
+// of the disk, t = λR²/2 (planar limit: ‖disk‖² = πR², ⟨disk, G⟩ = 2πμ(1 − e^{−t})/λ,
+// ‖G‖² = πμ²/λ), the maximum at t = 1.2564, independent of R. Derived by quadrature on the
+// sphere in tests/envmap_bases_test.cpp (OneLobeDiskFloor).
+inline constexpr double kOneLobeDiskFloor = 0.4307;
+
 struct Options {
   std::vector<std::string> envs;   // NAME=PATH
   std::vector<std::string> bases;  // registry names; empty: all
@@ -39,6 +46,12 @@ struct Options {
   std::string out = "results/envmap";
   std::string tables_dir = "results/envmap";
   bool quick = false;              // 64-wide maps, sizes ≤ 32 lobes (sg-free ≤ 16) / L ≤ 4
+  // Environments held at full resolution where the reduced map loses detail (fit/envmap_sparse.hpp):
+  // the reduced map plus detail tiles until the sparse map is within resolve_tolerance (relative
+  // L2) of the full map. vmf-em and sg-free fit the sparse map, and every basis's map error is
+  // measured against the full map by the sparse map's quadrature.
+  std::vector<std::string> resolve;  // environment names
+  double resolve_tolerance = 0.01;
 };
 
 struct Row {
@@ -47,6 +60,7 @@ struct Row {
   int kept_lobes = 0;                 // sg-free: lobes kept from N/2 by the ladder's guard
   int iterations = 0;                 // vmf-em: EM; sg-free: LM over the ladder up to N
   int fit_width = 0, fit_height = 0;  // vmf-em, sg-free: the finest level fitted
+  int detail_tiles = 0;               // vmf-em, sg-free on a resolved map: its full-resolution tiles
   double seconds = 0;
   double map_error = 0, diffuse_error = 0, engine_diffuse_error = 0, diffuse_ns = 0;
   std::vector<double> specular_error;  // per roughness
@@ -61,6 +75,10 @@ struct Convergence {
 struct Environment {
   std::string name;
   int width = 0, height = 0;
+  // --resolve: the full map's size, its detail tiles, and the relative L2 against the full map of
+  // the reduced map alone and of the sparse map (0 tiles: not resolved).
+  int full_width = 0, full_height = 0, tiles = 0;
+  double reduced_l2 = 0, sparse_l2 = 0;
   std::vector<Convergence> convergence;  // diffuse, then per roughness
   std::vector<Row> rows;
 };

@@ -1,11 +1,13 @@
 // Environment-map SG mixture fits (envmap.hpp).
 #include "envmap.hpp"
 #include "envmap_data.hpp"
+#include "envmap_sparse.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -280,6 +282,8 @@ void validate(const EnvMap& map, const EnvFitOptions& o) {
   if (o.objective != "l2" && o.objective != "log-l2")
     throw std::invalid_argument("unknown --objective " + quote(o.objective) + " (l2, log-l2)");
   if (o.max_iterations < 1 || o.em_max_iterations < 1) throw std::invalid_argument("iteration caps must be at least 1");
+  if (o.sparse && (o.sparse->reduced.width != map.width || o.sparse->reduced.height != map.height))
+    throw std::invalid_argument("the sparse map's reduced map is not the fitted map");
 }
 
 std::vector<double> pack(const std::vector<Cluster>& clusters, const Level& level) {
@@ -311,7 +315,7 @@ SgMixture unpack(const std::vector<double>& x, int N) {
 // The result from the finest level's parameters x: mixture, error against the full map, time
 // since t0 less `excluded` (the error evaluations of earlier stages; this one's is added to it).
 void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::vector<double>& x, double cost,
-            std::chrono::steady_clock::time_point t0, double& excluded) {
+            std::chrono::steady_clock::time_point t0, double& excluded, const SparseEnvMap* sparse) {
   r.final_cost = cost;
   r.fit_width = level.width;
   r.fit_height = level.height;
@@ -323,7 +327,14 @@ void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::v
   tbb::parallel_for(tbb::blocked_range<int>(0, map.height, 8), [&](const tbb::blocked_range<int>& rows) {
     rasterize_mixture_rows(r.mixture, kErrorSupersample, rows.begin(), rows.end(), r.texel_means);
   });
-  r.error = envmap_error(map, r.texel_means);
+  if (sparse) {  // against the full map, by the sparse map's quadrature
+    const SgMixture& m = r.mixture;
+    r.error = sparse_error(*sparse, r.texel_means,
+                           tile_texel_means(*sparse, [&m](const Vec3d& w) { return mixture_eval(m, w); }, kErrorSupersample));
+    r.detail_tiles = int(sparse->tiles.size());
+  } else {
+    r.error = envmap_error(map, r.texel_means);
+  }
   excluded += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 }
 
@@ -387,15 +398,19 @@ void refine_sharp_lobes(const std::vector<EnvMap>& maps, std::size_t finest, std
 }
 
 // The solid-angle-weighted squared error of x's mixture on `level` (texel-blurred model, as the
-// fit sees it).
+// fit sees it): per row of a grid level (per kCostChunk texels of an irregular one) in parallel,
+// the partial sums added in order.
+constexpr std::size_t kCostChunk = 4096;
+
 double level_cost(const Level& level, const std::vector<double>& x, int N) {
   const SgMixture m = unpack(x, N);
   const double s2 = level.texel_variance;
-  std::vector<double> per_row(static_cast<std::size_t>(level.height), 0.0);
-  tbb::parallel_for(0, level.height, [&](int v) {
+  const std::size_t T = level.dirs.size();
+  const std::size_t chunk = level.grid ? std::size_t(level.width) : kCostChunk;
+  std::vector<double> per_chunk((T + chunk - 1) / chunk, 0.0);
+  tbb::parallel_for(std::size_t(0), per_chunk.size(), [&](std::size_t k) {
     double sum = 0;
-    for (int u = 0; u < level.width; ++u) {
-      const std::size_t t = std::size_t(v) * std::size_t(level.width) + std::size_t(u);
+    for (std::size_t t = k * chunk; t < std::min(T, (k + 1) * chunk); ++t) {
       std::array<double, 3> model{0, 0, 0};
       for (const auto& l : m) {
         const double q = 1 / (1 + l.sharpness * s2);
@@ -407,11 +422,29 @@ double level_cost(const Level& level, const std::vector<double>& x, int N) {
         sum += level.omega[t] * d * d;
       }
     }
-    per_row[std::size_t(v)] = sum;
+    per_chunk[k] = sum;
   });
   double total = 0;
-  for (double r : per_row) total += r;
+  for (double r : per_chunk) total += r;
   return total;
+}
+
+// A resolved map (EnvFitOptions::sparse): the lobes that reached half the full map's sharpness
+// bound `bound` (a sun held by a texel of the reduced map) are refitted alone on the sparse map's
+// texels (refit_lobes_locally), where the sun is at full resolution; kept only if the sparse
+// map's cost falls.
+void refine_on_sparse(const Level& sparse, double bound, std::vector<double>& x, int N, const EnvFitOptions& o, EnvFitResult& r) {
+  std::vector<int> sharp;
+  for (int j = 0; j < N; ++j)
+    if (std::exp(x[std::size_t(kStride * j + 3)]) >= 0.5 * bound) sharp.push_back(j);
+  if (sharp.empty()) return;
+  std::vector<double> trial = x;
+  EnvFitResult tr = r;
+  refit_lobes_locally(sparse, trial, N, sharp, o, tr);
+  if (level_cost(sparse, trial, N) < level_cost(sparse, x, N)) {
+    x = std::move(trial);
+    r = std::move(tr);
+  }
 }
 
 // Features smaller than a texel of the level N is fitted on (a sun) are held there by one texel
@@ -573,10 +606,21 @@ double map_scale(const EnvMap& map) {
   return std::exp2(std::round(std::log2(mean)));
 }
 
+void scale_texels(std::vector<std::array<float, 3>>& texels, double factor) {
+  for (auto& t : texels)
+    for (float& x : t) x = float(double(x) * factor);
+}
+
 EnvMap scaled_map(const EnvMap& map, double factor) {
   EnvMap out = map;
-  for (auto& t : out.texels)
-    for (float& x : t) x = float(double(x) * factor);
+  scale_texels(out.texels, factor);
+  return out;
+}
+
+SparseEnvMap scaled_sparse(const SparseEnvMap& sparse, double factor) {
+  SparseEnvMap out = sparse;
+  scale_texels(out.reduced.texels, factor);
+  for (auto& t : out.tiles) scale_texels(t.texels, factor);
   return out;
 }
 
@@ -594,6 +638,11 @@ EnvFitResult fit_scale_free(const EnvMap& map, const EnvFitOptions& o, Fit fit) 
   const double s = map_scale(map);
   if (s == 1) return fit(map, o);
   EnvFitOptions so = o;
+  SparseEnvMap sparse;  // the resolved map, scaled as the map
+  if (o.sparse) {
+    sparse = scaled_sparse(*o.sparse, 1 / s);
+    so.sparse = &sparse;
+  }
   if (o.on_stage) so.on_stage = [&o, s](const EnvFitResult& stage) { o.on_stage(unscaled(stage, s)); };
   return unscaled(fit(scaled_map(map, 1 / s), so), s);
 }
@@ -633,6 +682,8 @@ EnvFitResult fit_envmap_ceres_unscaled(const EnvMap& map, const EnvFitOptions& o
     r.iterations += s.iterations;
     r.converged = r.converged && s.converged;
   }
+  std::optional<Level> detail;  // a resolved map's texels (EnvFitOptions::sparse)
+  if (o.sparse) detail = sparse_level(*o.sparse);
   EnvFitResult previous;  // the rung before, as reported
   for (std::size_t rung = 0;; ++rung) {
     const int n = ladder[rung];
@@ -651,7 +702,11 @@ EnvFitResult fit_envmap_ceres_unscaled(const EnvMap& map, const EnvFitOptions& o
     EnvFitResult stage = r;
     refine_sharp_lobes(maps, finest, refined, n, o, stage);
     if (finest > 0) seed_bright_lobes(make_level(maps[0]), refined, n, o, stage);
-    finish(stage, map, level, refined, s.cost, setup.t0, excluded);
+    if (detail) {  // a resolved map: the same two steps once more on its sparse texels
+      refine_on_sparse(*detail, max_sharpness(make_level(maps[0])), refined, n, o, stage);
+      seed_bright_lobes(*detail, refined, n, o, stage);
+    }
+    finish(stage, map, level, refined, s.cost, setup.t0, excluded, o.sparse);
     // The guard: the error against the full map never grows along the ladder.
     if (rung > 0 && stage.error.relative > previous.error.relative) stage = keep_previous(previous, stage);
     if (rung + 1 == ladder.size()) return stage;
@@ -678,7 +733,8 @@ std::size_t vmf_em_level(const std::vector<EnvMap>& maps, int N) {
 EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& o) {
   const Setup setup(map, o);
   const int N = o.lobes;
-  const Level level = make_level(setup.maps[vmf_em_level(setup.maps, N)]);
+  // A resolved map: the sparse map's texels (its detail tiles at full resolution), whatever N.
+  const Level level = o.sparse ? sparse_level(*o.sparse) : make_level(setup.maps[vmf_em_level(setup.maps, N)]);
   const std::vector<double> w = texel_weights(level);
   std::vector<Cluster> cl = spherical_kmeans(level, w, N, o.seed);
   const std::size_t T = level.dirs.size();
@@ -758,7 +814,7 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
   std::vector<double> x = pack(cl, level);
   const Solve s = solve_level(level, x, N, true, o);
   double excluded = 0;
-  finish(r, map, level, x, s.cost, setup.t0, excluded);
+  finish(r, map, level, x, s.cost, setup.t0, excluded, o.sparse);
   return r;
 }
 

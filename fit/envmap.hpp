@@ -55,6 +55,7 @@ namespace sglab::fit {
 inline constexpr int kErrorSupersample = 4;
 
 struct EnvFitResult;
+struct SparseEnvMap;
 
 struct EnvFitOptions {
   int lobes = 8;
@@ -68,6 +69,12 @@ struct EnvFitOptions {
   // Ceres: called with the result of every rung of the lobe ladder below N (⌈N/2⌉, ⌈N/4⌉, … ≥ 1;
   // seconds counted from the start of the whole fit), so one fit at N = 128 also gives 64, 32, ….
   std::function<void(const EnvFitResult&)> on_stage;
+  // A resolved map (envmap_sparse.hpp; its reduced map must be the fitted map): each rung of the
+  // Ceres fit runs its full-map steps once more on the sparse map's texels (the detail tiles at
+  // full resolution): the sharp lobes refitted, then the weakest lobes moved onto the brightest
+  // residual texels (seed_bright_lobes), each kept only if the sparse map's cost falls; vMF EM runs its E and M steps and its amplitude solve on them, and both report
+  // the error against the full map by the sparse map's quadrature.
+  const SparseEnvMap* sparse = nullptr;
 };
 
 struct EnvFitResult {
@@ -85,6 +92,7 @@ struct EnvFitResult {
   // fit_envmap_ceres), and kept_lobes is the number of lobes kept from it; 0 when the rung's own
   // fit is the result.
   int kept_lobes = 0;
+  int detail_tiles = 0;  // the sparse map's tiles when EnvFitOptions::sparse was given
 };
 
 // Throws std::invalid_argument for N < 1, N > the pixel count, or an unknown init/objective.

@@ -122,6 +122,7 @@ EnvBasisFit basis_fit_from(const std::string& basis, const EnvFitResult& r) {
   f.iterations = r.iterations;
   f.fit_width = r.fit_width;
   f.fit_height = r.fit_height;
+  f.detail_tiles = r.detail_tiles;
   return f;
 }
 

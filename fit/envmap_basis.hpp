@@ -22,10 +22,15 @@
 
 namespace sglab::fit {
 
+struct SparseEnvMap;
+
 struct EnvBasisOptions {
   unsigned seed = 1;        // k-means++ seeding, running-average sample order (printed by callers)
   int threads = 2;          // Ceres threads
   int max_iterations = 60;  // LM iterations per level (sg-free) / EM iterations (vmf-em)
+  // A resolved map (EnvFitOptions::sparse): vmf-em and sg-free fit it (envmap.hpp); sh and sg-fixed
+  // are fitted on the reduced map alone.
+  const SparseEnvMap* sparse = nullptr;
 };
 
 // One fitted representation of a map.
@@ -38,6 +43,7 @@ struct EnvBasisFit {
   int kept_lobes = 0;          // sg-free: lobes kept from the rung N/2 by the ladder's guard (EnvFitResult)
   int iterations = 0;          // vmf-em: EM iterations; sg-free: LM iterations of the whole ladder up to N
   int fit_width = 0, fit_height = 0;  // vmf-em, sg-free: the finest pyramid level fitted
+  int detail_tiles = 0;        // vmf-em, sg-free: full-resolution tiles of a resolved map (EnvFitResult)
   int sh_order = -1;           // sh: L, coefficients [channel][sh_index]
   std::vector<std::array<double, 3>> sh;
   SgMixture mixture;           // SG bases

@@ -22,6 +22,7 @@ std::vector<EnvBasisFit> fit_sg_free(const EnvMap& map, const std::vector<int>& 
     fo.seed = o.seed;
     fo.threads = o.threads;
     fo.max_iterations = o.max_iterations;
+    fo.sparse = o.sparse;
     if (ladder) fo.on_stage = [&](const EnvFitResult& r) { fits.emplace(int(r.mixture.size()), from_result(r)); };
     const EnvFitResult r = fit_envmap_ceres(map, fo);
     fits.emplace(int(r.mixture.size()), from_result(r));

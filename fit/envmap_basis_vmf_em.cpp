@@ -16,6 +16,7 @@ std::vector<EnvBasisFit> fit_vmf_em(const EnvMap& map, const std::vector<int>& s
     fo.init = "kmeans";
     fo.seed = o.seed;
     fo.threads = o.threads;
+    fo.sparse = o.sparse;
     out.push_back(basis_fit_from("vmf-em", fit_envmap_vmf_em(map, fo)));
   }
   return out;
