@@ -3,10 +3,6 @@
 // All sweeps take --out DIR, --shard i/N, --threads N, and resume when interrupted; sharded
 // outputs are joined by `sglab merge` (merge_command.cpp).
 #include "commands.hpp"
-#include "constant_sets.hpp"
-
-#include <cstdio>
-#include <memory>
 
 namespace sglab::cli {
 
@@ -16,18 +12,6 @@ void add_sweep_command(CLI::App& app) {
   sweep->require_subcommand(1);
   // One line per sweep kind.
   add_sweep_specular(*sweep);
-  // No specular method has a fitted constant: the set is validated (exit 2 on a bad one) and said
-  // to be unused.
-  if (auto* specular = sweep->get_subcommand("specular")) {
-    auto paths = std::make_shared<std::vector<std::string>>();
-    add_constants_option(*specular, *paths);
-    specular->parse_complete_callback([paths] {
-      if (paths->empty()) return;
-      load_constant_sets(*paths);
-      std::fprintf(stderr, "sweep specular: --constants validated; no specular method reads a fitted constant, so "
-                           "every value is the published one\n");
-    });
-  }
   add_sweep_render(*sweep);
 }
 

@@ -160,7 +160,7 @@ Result compute(const Options& o) {
   fill_grid(o, r);
   r.quantity = q->name;
   r.reference_method = q->reference_method;
-  const ConstantSet set = load_constant_sets(o.constants);
+  const ConstantSet& set = o.constants.set;
   fill_reference(*q->find(q->reference_method), r);
   for (const auto& published : q->methods)
     if (published.name != r.reference_method) r.methods.push_back(method_map(bind(published, set), r));

@@ -464,7 +464,7 @@ Result compute(const Options& o) {
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
   command += o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir) : runner::option_argument("--tables", o.tables_dir);
-  const ConstantSet set = load_constant_sets(o.constants);
+  const ConstantSet& set = o.constants.set;
   for (const Quantity* q : qs) {
     Section s;
     s.quantity = q->name;
@@ -477,7 +477,7 @@ Result compute(const Options& o) {
     if (!uses.empty())
       s.constants = fmt::format("\nConstants of {} ({}; rows `NAME [constants]` use the set's values, the others the "
                                 "published ones):\n\n{}",
-                                q->name, o.constants.empty() ? std::string("published") : fmt::format("{}", fmt::join(o.constants, ", ")),
+                                q->name, !o.constants.given() ? std::string("published") : fmt::format("{}", fmt::join(o.constants.paths, ", ")),
                                 constants_text(set, uses, "- "));
     Grid g;
     s.rows = measure(*q, o.quick, g, set);
@@ -537,7 +537,7 @@ Tables tables(const Result& result) {
 
 void check_outputs(const Options& o) {
   std::vector<runner::NamedPath> inputs;
-  for (const auto& c : o.constants) inputs.push_back({"--constants", c});
+  for (const auto& c : o.constants.paths) inputs.push_back({"--constants", c});
   const auto tables = runner::tables_place(o.tables_dir, o.out_dir);
   std::vector<runner::NamedPath> outputs = {{"--tables (error_vs_time.csv)", tables / "error_vs_time.csv"},
                                     {"--tables (error_vs_time.md)", tables / "error_vs_time.md"}};

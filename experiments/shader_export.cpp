@@ -228,7 +228,7 @@ Result compute(const Options& o) {
   r.provenance.command = "sglab shader-export";
   if (o.quick) r.provenance.command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) r.provenance.command += " " + a;
-  const ConstantSet set = load_constant_sets(o.constants);
+  const ConstantSet& set = o.constants.set;
   shader::VulkanCompute gpu;
   r.device = gpu.device_name();
   const Grids diffuse = diffuse_grids(o.quick);

@@ -29,7 +29,7 @@ struct Options {
   std::string tables_dir;  // --tables; empty: the --out directory
   std::vector<std::string> only;  // quantity names; empty: all
   bool quick = false;
-  std::vector<std::string> constants;  // --constants
+  Constants constants;  // --constants (constant_sets.hpp)
 };
 
 // Bad usage before anything is computed: an unknown quantity, or outputs that cannot be written
@@ -79,7 +79,7 @@ void run(const Options& o) {
   atlas::Options options;
   options.quick = o.quick;
   options.only = o.only;
-  options.constants = load_constant_sets(o.constants);
+  options.constants = o.constants.set;
   std::vector<ConstantUse> uses;
   for (const auto& q : quantities())
     for (const auto& m : q.methods) {

@@ -208,7 +208,7 @@ std::string checked_table_name(const Options& o, const std::vector<Vary>& vary) 
   }
   if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table {} is not a file name", quote(name)));
   std::vector<runner::NamedPath> inputs{{"--scene", o.job.scene_path}};
-  for (const auto& c : o.job.constants) inputs.push_back({"--constants", c});
+  for (const auto& c : o.job.constants.paths) inputs.push_back({"--constants", c});
   runner::check_output_paths({{"--table (CSV)", tables_dir(o) / (name + ".csv")}, {"--table (Markdown)", tables_dir(o) / (name + ".md")}},
                      inputs);
   return name;
@@ -377,7 +377,7 @@ runner::SweepDefinition definition(const Options& o, const Grid& g, const std::v
   for (const auto& c : configs) labels += (labels.empty() ? "" : ", ") + c.label();
   grid += fmt::format("VSGLs {{{}}}; diffuse {}; RSM {}; shadow map {}; seed {}", labels, o.job.diffuse, o.job.rsm, o.job.shadow_map, o.job.seed);
   // The constant sets' contents, not only their paths: an edited record is another sweep.
-  if (!o.job.constants.empty()) grid += "; constants fnv1a " + constants_fingerprint(o.job.constants);
+  if (o.job.constants.given()) grid += "; constants fnv1a " + o.job.constants.fingerprint;
   d.grid = grid;
   d.point_count = g.points();
   for (const auto& v : g.vary) d.columns.push_back(v.key);
@@ -463,7 +463,7 @@ Tables tables(const Result& r) {
                        : "none",
       arithmetic_text(o.job));
   md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
-        constants_text(load_constant_sets(o.job.constants), {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
+        constants_text(o.job.constants.set, {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
         "\n";
   if (!r.lambda_d_sources.empty())
     md += fmt::format("Varied {}: {}.\n\n", kLambdaDKey, fmt::join(r.lambda_d_sources, "; "));

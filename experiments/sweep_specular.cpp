@@ -33,6 +33,7 @@
 #include "experiment_command.hpp"
 #include "parse_number.hpp"
 #include "resource_limits.hpp"
+#include "constant_sets.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 #include "registry.hpp"
@@ -77,10 +78,15 @@ bool specular_position_near_lobe(const std::string& position) {
   return position == "mirror" || position == "toward-normal" || position == "toward-horizon" || position == "side";
 }
 
-runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
+runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf, const Constants& constants) {
   const Quantity& q = specular_quantity(brdf);
   const Method& reference = *q.find(q.reference_method);
-  const std::vector<const Method*> methods = measured_methods(q);
+  // The measured methods with the set's constants bound (copies of the registry's when it sets
+  // none), owned by the definition's functions.
+  auto bound = std::make_shared<std::vector<Method>>();
+  for (const Method* m : measured_methods(q)) bound->push_back(bind(*m, constants.set));
+  std::vector<const Method*> methods;
+  for (const Method& m : *bound) methods.push_back(&m);
   const SpecularGrid g = specular_grid(quick);
 
   runner::SweepDefinition d;
@@ -89,6 +95,7 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
   d.args = {"sweep", "specular"};
   if (gaussian) d.args.insert(d.args.end(), {"--brdf", "gaussian"});
   if (quick) d.args.push_back("--quick");
+  for (const auto& a : constants_arguments(constants)) d.args.push_back(a);
   std::string method_names;
   for (const Method* m : methods) method_names += (method_names.empty() ? "" : ", ") + m->name;
   std::string position_names;
@@ -100,6 +107,8 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
       gaussian ? "BRDF: Gaussian-angle NDF (`specular-gaussian-ndf`, roughness = the NDF width m); " : "",
       join_numbers(g.roughness), join_numbers(g.light_sharpness), join_numbers(g.view_cos), runner::csv_number(g.f0),
       position_names, reference.name, method_names, runner::csv_number(kSpecularNearZero));
+  // The constant sets' contents, not only their paths: an edited record is another sweep.
+  if (constants.given()) d.grid += "; constants fnv1a " + constants.fingerprint;
   d.point_count = g.point_count();
   d.columns = kColumns;
   const std::size_t nl = g.light_sharpness.size(), nv = g.view_cos.size();
@@ -112,7 +121,7 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
   };
   // A row read back must be at point k's grid point: its (α, λ, view_cos, f0), one of its light
   // positions with that position's (light_cos, light_azimuth), and a method the sweep measures.
-  d.check_row = [inputs, methods, f0 = g.f0](std::size_t k, const runner::SweepRow& row) -> std::optional<std::string> {
+  d.check_row = [inputs, bound, methods, f0 = g.f0](std::size_t k, const runner::SweepRow& row) -> std::optional<std::string> {
     if (row.size() != kColumns.size()) return fmt::format("{} fields, expected {}", row.size(), kColumns.size());
     const auto [alpha, lambda, v] = inputs(k);
     const std::array<double, 4> at{alpha, lambda, v, f0};
@@ -129,8 +138,9 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
       return fmt::format("method {} is not measured by this sweep", quote(row[9]));
     return std::nullopt;
   };
-  // The registry lives for the whole program: pointers into it stay valid.
-  d.compute = [inputs, reference = &reference, methods, f0 = g.f0](std::size_t k) {
+  // The registry lives for the whole program: the reference's pointer stays valid; `bound` keeps
+  // the measured methods alive.
+  d.compute = [inputs, reference = &reference, bound, methods, f0 = g.f0](std::size_t k) {
     const auto [alpha, lambda, v] = inputs(k);
     const std::vector<LightPosition> positions = specular_light_positions(alpha, lambda, v);
     std::vector<std::array<double, 6>> args;
@@ -469,12 +479,13 @@ struct SpecularOptions {
   bool quick = false;
   bool fresh = false;
   std::string brdf = "ggx";  // ggx | gaussian
+  Constants constants;       // --constants: the measured methods' fitted constants (sglab-specular's)
 };
 
 void run_specular(const SpecularOptions& o) {
   const SpecularBrdf brdf = o.brdf == "gaussian" ? SpecularBrdf::gaussian : SpecularBrdf::ggx;
   const std::string base = brdf == SpecularBrdf::gaussian ? "specular_gaussian" : "specular";
-  const runner::SweepDefinition d = specular_sweep_definition(o.quick, brdf);
+  const runner::SweepDefinition d = specular_sweep_definition(o.quick, brdf, o.constants);
   const runner::SweepRunResult r = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
   if (r.sharded) return;
   const auto rows = summarize_specular_points(runner::read_sweep_points(r.points_csv), r.points_csv.string());
@@ -512,6 +523,7 @@ void add_sweep_specular(CLI::App& sweep) {
       ->capture_default_str()
       ->check(one_of({"ggx", "gaussian"}, "BRDF"));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
+  add_constants_option(*sub, o->constants);
   sub->callback([o] { run_specular(*o); });
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "constant_sets.hpp"
 #include "csv.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sweep.hpp"
@@ -61,7 +62,10 @@ bool specular_position_near_lobe(const std::string& position);
 // empty; scaled_error = |value − reference|/scale whenever there is a value. Numbers are printed
 // with the shortest text that reads back to the same double, so any row can be re-evaluated with
 // `sglab eval specular`.
-runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf = SpecularBrdf::ggx);
+// `constants` (--constants) binds the measured methods' fitted constants (sglab-specular's); it
+// is part of the sweep's arguments and, by its contents' fingerprint, of its identity.
+runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf = SpecularBrdf::ggx,
+                                                  const Constants& constants = {});
 
 // One summary row: the statistics of one method over one group of rows.
 struct SpecularSummaryRow {

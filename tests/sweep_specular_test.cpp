@@ -23,6 +23,7 @@
 #include "csv.hpp"
 #include "parse_number.hpp"
 #include "sglab/registry.hpp"
+#include "sglab/specular.hpp"
 #include "sweep_specular.hpp"
 #include "test_util.hpp"
 
@@ -164,6 +165,48 @@ TEST(SpecularSweep, RowsEnumerateTheRegistryAndRoundTrip) {
   for (const auto& r : rows) EXPECT_EQ(parse_decimal<double>(r[c_scale]), scale);
 }
 
+// A constant set reaches the measured methods: the own method's rows carry its formula with the
+// set's constant (core/include/sglab/specular.hpp, evaluated here directly), the other methods'
+// rows are those of the published definition, and the set is part of the sweep's arguments and
+// identity.
+TEST(SpecularSweep, ConstantSetBindsTheOwnMethodsConstants) {
+  Constants constants;
+  constants.paths = {"refit.json"};
+  constants.fingerprint = "0123456789abcdef";
+  const double nu_slope = 2 * sglab::SglabSpecular::nu_slope;
+  constants.set.set({"sglab-specular", "nu_slope", nu_slope, "test"});
+  const SweepDefinition published = specular_sweep_definition(true);
+  const SweepDefinition refit = specular_sweep_definition(true, SpecularBrdf::ggx, constants);
+  EXPECT_EQ(refit.args, (std::vector<std::string>{"sweep", "specular", "--quick", "--constants", "refit.json"}));
+  EXPECT_NE(refit.grid.find("constants fnv1a 0123456789abcdef"), std::string::npos) << refit.grid;
+  EXPECT_EQ(published.grid.find("constants"), std::string::npos) << published.grid;
+  const SpecularGrid g = specular_grid(true);
+  // α = 0.1-ish middle of the grid: a glossy point where the own method's ν matters.
+  const std::size_t k = (g.roughness.size() / 2) * g.light_sharpness.size() * g.view_cos.size() + g.view_cos.size() / 2;
+  const auto a_rows = published.compute(k), b_rows = refit.compute(k);
+  ASSERT_EQ(a_rows.size(), b_rows.size());
+  auto params = sglab::SglabSpecularParams<double>::fitted();
+  params.nu_slope = nu_slope;
+  std::size_t own = 0, changed = 0;
+  for (std::size_t i = 0; i < a_rows.size(); ++i) {
+    const auto &a = a_rows[i], &b = b_rows[i];
+    ASSERT_EQ(a[9], b[9]);
+    if (b[9] != "sglab") {
+      EXPECT_EQ(a, b) << "method " << b[9] << " has no constant in the set";
+      continue;
+    }
+    ++own;
+    ASSERT_FALSE(b[10].empty()) << "row " << i << ": " << b[11];
+    const sglab::SpecularInput<double> in{parse_decimal<double>(b[0]), parse_decimal<double>(b[1]), parse_decimal<double>(b[5]),
+                                          parse_decimal<double>(b[2]), parse_decimal<double>(b[6]), parse_decimal<double>(b[3])};
+    EXPECT_EQ(parse_decimal<double>(b[10]), sglab::specular_sglab(in, params)) << "row " << i;
+    EXPECT_EQ(parse_decimal<double>(a[10]), sglab::specular_sglab(in)) << "row " << i;
+    changed += a[10] != b[10];
+  }
+  EXPECT_GT(own, 0u);
+  EXPECT_GT(changed, 0u) << "doubling nu_slope changed no value of the own method";
+}
+
 // ---- the summary on a hand-written per-point CSV ----------------------------------------------------
 
 const char* kTinyPoints =
@@ -302,6 +345,12 @@ TEST_F(SpecularCommand, BadShardIsAUsageErrorNamingIt) {
     EXPECT_FALSE(fs::exists(dir_ / "out")) << bad;
     EXPECT_FALSE(fs::exists(dir_ / "tables")) << bad;
   }
+  // A bad constant set is refused before anything is computed or written.
+  const auto c = sglab("sweep specular --quick --out out --tables-dir tables --constants missing.json");
+  EXPECT_EQ(c.status, 2) << c.err;
+  EXPECT_NE(c.err.find("missing.json"), std::string::npos) << c.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  EXPECT_FALSE(fs::exists(dir_ / "tables"));
   fs::create_directories(dir_ / "empty");
   const auto m = sglab("merge --out merged empty");
   EXPECT_EQ(m.status, 2) << m.err;
