@@ -305,7 +305,7 @@ void add_fit_envmap_command(CLI::App& fit) {
   sub->callback([a] { run_fit_envmap(*a); });
 }
 
-void add_envmap_command(CLI::App& app) {
+void add_envmap_command(CLI::App& app, const runner::RunContext& run) {
   auto* cmd = app.add_subcommand("envmap", "SG environment maps: make environments, render with a mixture, error against N");
   cmd->require_subcommand(1);
   {
@@ -355,7 +355,7 @@ void add_envmap_command(CLI::App& app) {
         ->check(integer_in(2, 2048));
     add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
     sub->add_flag("--quick", a->quick, "N ∈ {1, 4, 16}, 12-pixel sphere (a smoke run; not for paper_tables)");
-    sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
+    sub->callback([a, run] { envmap_lobes::write(runner::with_run(envmap_lobes::compute(*a), run)); });
   }
   {
     auto a = std::make_shared<envmap_bases::Options>();
@@ -370,7 +370,7 @@ void add_envmap_command(CLI::App& app) {
     sub->add_option("--seed", a->seed, "k-means++ and running-average seed")->capture_default_str();
     add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
     sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32, L ≤ 4 (a smoke run; not for paper_tables)");
-    sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
+    sub->callback([a, run] { envmap_bases::write(runner::with_run(envmap_bases::compute(*a), run)); });
   }
 }
 

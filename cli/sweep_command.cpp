@@ -6,13 +6,13 @@
 
 namespace sglab::cli {
 
-void add_sweep_command(CLI::App& app) {
+void add_sweep_command(CLI::App& app, const runner::RunContext& run) {
   auto* sweep = app.add_subcommand(
       "sweep", "Error sweeps over a grid (parallel; --shard i/N splits a sweep, `sglab merge` joins; resumes)");
   sweep->require_subcommand(1);
   // One line per sweep kind.
-  add_sweep_specular(*sweep);
-  add_sweep_render(*sweep);
+  add_sweep_specular(*sweep, run);
+  add_sweep_render(*sweep, run);
 }
 
 }  // namespace sglab::cli

@@ -160,7 +160,7 @@ Result compute(const Options& o) {
   r.options = effective(o);
   const Options& a = r.options;
   const auto envs = load(a);
-  r.provenance = runner::Provenance{command_line(a)};
+  r.provenance = runner::Provenance{command_line(a), a.quick};
   const render::EnvImage normals = normal_image(a.normals);
   const render::EnvImage sphere = render::sphere_image(a.sphere_res);
   std::vector<Vec3<double>> normal_dirs;

@@ -256,7 +256,7 @@ Result compute(const Options& o) {
   r.options = effective(o);
   const Options& a = r.options;
   const std::vector<LoadedEnv> envs = load_envs(a);
-  r.provenance = runner::Provenance{command_line(a)};
+  r.provenance = runner::Provenance{command_line(a), a.quick};
   r.diffuse_methods = method_names("clamped-cosine");
   r.specular_methods = method_names("specular");
   const std::vector<Geometry> geometries = {{"sphere", render::sphere_image(a.sphere_res)},

@@ -458,6 +458,7 @@ Result compute(const Options& o) {
   std::vector<const Quantity*> qs;
   for (const auto& name : o.quantities) qs.push_back(&checked_quantity(name));
   Result result;
+  result.provenance.quick = o.quick;
   std::string& command = result.provenance.command;
   command = "sglab error-vs-time";
   if (o.quantities != Options{}.quantities) command += " --quantity " + fmt::format("{}", fmt::join(o.quantities, " "));
@@ -558,7 +559,7 @@ void write(const Options& o, const Result& result) {
 
 }  // namespace error_vs_time
 
-void add_error_vs_time_command(CLI::App& app) {
+void add_error_vs_time_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<error_vs_time::Options>();
   auto* sub = app.add_subcommand("error-vs-time",
                                  "Every method's error (float, double), rounding error vs 50 digits, and ns/eval");
@@ -570,9 +571,9 @@ void add_error_vs_time_command(CLI::App& app) {
                      "--tables");
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
   add_constants_option(*sub, opts->constants);
-  sub->callback([opts] {
+  sub->callback([opts, run] {
     error_vs_time::check_outputs(*opts);  // before the (long) measurement
-    error_vs_time::write(*opts, error_vs_time::compute(*opts));
+    error_vs_time::write(*opts, runner::with_run(error_vs_time::compute(*opts), run));
   });
 }
 

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "run_context.hpp"
+
 namespace CLI {
 class App;
 }  // namespace CLI
@@ -63,9 +65,9 @@ Step render_step(const Places& p, std::string name, std::string what, const std:
 struct Experiment {
   std::string name;     // "error-vs-time"
   std::string summary;  // one line for `sglab --help`
-  // Registers the experiment's own `sglab` command; null when general tools of cli/ (render,
-  // fit, filter, envmap, sweep) run its steps.
-  void (*add_command)(CLI::App& app) = nullptr;
+  // Registers the experiment's own `sglab` command, run in `run` (runner/run_context.hpp); null
+  // when general tools of cli/ (render, fit, filter, envmap, sweep) run its steps.
+  void (*add_command)(CLI::App& app, const runner::RunContext& run) = nullptr;
   std::function<std::vector<Step>(const Places&)> steps;
 };
 

@@ -387,7 +387,7 @@ runner::SweepDefinition definition(const Options& o, const Grid& g, const std::v
 
 }  // namespace
 
-Result compute(const Options& o) {
+Result compute(const Options& o, const runner::RunContext& run) {
   if (o.job.scene_path.empty()) throw UsageError("sweep render needs --scene SCENE.json");
   Result r;
   r.options = o;
@@ -422,12 +422,13 @@ Result compute(const Options& o) {
       return fmt::format("VSGL configuration {} is not one this sweep runs", quote(label));
     return std::nullopt;
   };
-  const runner::SweepRunResult run = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
+  const runner::SweepRunResult swept = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh, run);
   r.vary = grid->vary;
+  r.provenance.quick = run.quick;
   r.provenance.command = "sglab";
   for (const auto& a : d.args) r.provenance.command += " " + quote_if_needed(a);
-  r.sharded = run.sharded;
-  if (!r.sharded) r.points = runner::read_sweep_points(run.points_csv);
+  r.sharded = swept.sharded;
+  if (!r.sharded) r.points = runner::read_sweep_points(swept.points_csv);
   return r;
 }
 
@@ -501,7 +502,7 @@ void write(const Result& r) {
 
 }  // namespace sweep_render
 
-void add_sweep_render(CLI::App& sweep) {
+void add_sweep_render(CLI::App& sweep, const runner::RunContext& run) {
   auto o = std::make_shared<sweep_render::Options>();
   auto* sub = sweep.add_subcommand("render", "VSGL error against the exact VPL sum, and both times, over scene parameters × VSGL configurations");
   sub->add_option("--scene", o->job.scene_path, "scene JSON (schema: scenes/README.md)");
@@ -518,7 +519,7 @@ void add_sweep_render(CLI::App& sweep) {
       ->capture_default_str()
       ->check(unsigned_at_most(runner::kMaxThreads));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
-  sub->callback([o] { sweep_render::write(sweep_render::compute(*o)); });
+  sub->callback([o, run] { sweep_render::write(sweep_render::compute(*o, run)); });
 }
 
 }  // namespace sglab::cli

@@ -371,7 +371,7 @@ struct SummaryIndex {
 };
 
 // What is compared with what: the BRDF, the quantity, the grid, the measures.
-std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIndex& x, const std::string& command,
+std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIndex& x, const runner::Provenance& provenance,
                           SpecularBrdf brdf) {
   std::size_t near_zero = 0, points = 0;
   for (const auto& r : rows)
@@ -393,7 +393,7 @@ std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIn
                : "Every method of the `specular` quantity (`sglab eval --list`) against `reference` (adaptive 2D "
                  "quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated Smith and Schlick "
                  "f0 = 0.04, over roughness α";
-  return runner::markdown_header(runner::Provenance{command}) + fmt::format(
+  return runner::markdown_header(provenance) + fmt::format(
       "# {9}\n\n"
       "Command: `{0}` (per-point data: `{11}_points.csv` in its `--out` directory; sharded runs joined by "
       "`sglab merge` give the same file). {10} ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
@@ -409,7 +409,7 @@ std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIn
       "point's peak has no meaningful relative error; such rows ({6} of {7} per method over the grid) are left out of "
       "SMAPE, RMSE and the maximum and counted. The scaled error |v − r| / (the peak), over all rows, covers them "
       "(\"RMSE scaled\", \"max scaled\"). All numbers in %.\n\n",
-      command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
+      provenance.command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
       runner::csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff), title, model,
       gaussian ? "specular-gaussian" : "specular");
 }
@@ -434,7 +434,7 @@ std::string whole_grid_table(const std::vector<SpecularSummaryRow>& rows) {
 
 }  // namespace
 
-std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command,
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const runner::Provenance& provenance,
                                       SpecularBrdf brdf) {
   SummaryIndex x(rows);
   auto weighted = [](const SpecularSummaryRow& r) { return percent(r.weighted_error); };
@@ -446,7 +446,7 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
   auto both = [](const runner::ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
   const auto rtable = [&](const std::string& by, const std::string& first, auto show) { return x.rtable(by, first, show); };
   const auto table = [&](const std::string& by, const std::string& first, auto show) { return x.table(by, first, show); };
-  std::string md = summary_intro(rows, x, command, brdf);
+  std::string md = summary_intro(rows, x, provenance, brdf);
   md += "## Brightness-weighted error Σ|v − r|/Σr (%) by roughness α\n\n" + rtable("roughness", "α", weighted);
   md += fmt::format("## SMAPE (%) over rows ≥ {:g} % of the point's peak, by roughness α\n\n", 100 * kSpecularBrightCutoff) +
         rtable("roughness", "α", bright);
@@ -482,11 +482,11 @@ struct SpecularOptions {
   Constants constants;       // --constants: the measured methods' fitted constants (sglab-specular's)
 };
 
-void run_specular(const SpecularOptions& o) {
+void run_specular(const SpecularOptions& o, const runner::RunContext& run) {
   const SpecularBrdf brdf = o.brdf == "gaussian" ? SpecularBrdf::gaussian : SpecularBrdf::ggx;
   const std::string base = brdf == SpecularBrdf::gaussian ? "specular_gaussian" : "specular";
   const runner::SweepDefinition d = specular_sweep_definition(o.quick, brdf, o.constants);
-  const runner::SweepRunResult r = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
+  const runner::SweepRunResult r = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh, run);
   if (r.sharded) return;
   const auto rows = summarize_specular_points(runner::read_sweep_points(r.points_csv), r.points_csv.string());
   std::string command = "sglab";
@@ -494,10 +494,11 @@ void run_specular(const SpecularOptions& o) {
   command += o.tables_dir.empty() ? runner::option_argument("--out", o.out, SpecularOptions{}.out) : runner::option_argument("--tables-dir", o.tables_dir);
   const fs::path tables = runner::tables_place(o.tables_dir, o.out);
   const std::string csv = specular_summary_csv(rows);
-  const std::string md = specular_summary_markdown(rows, command, brdf);
+  const runner::Provenance provenance{command, o.quick || run.quick};
+  const std::string md = specular_summary_markdown(rows, provenance, brdf);
   runner::OutputSet outputs;
   outputs.add(fs::path(o.out) / (base + "_summary.csv"), csv);
-  outputs.add(tables / (base + "_vs_roughness.csv"), runner::csv_header(runner::Provenance{command}) + csv);
+  outputs.add(tables / (base + "_vs_roughness.csv"), runner::csv_header(provenance) + csv);
   outputs.add(tables / (base + "_vs_roughness.md"), md);
   outputs.commit();
   std::fputs(md.c_str(), stdout);
@@ -507,7 +508,7 @@ void run_specular(const SpecularOptions& o) {
 
 }  // namespace
 
-void add_sweep_specular(CLI::App& sweep) {
+void add_sweep_specular(CLI::App& sweep, const runner::RunContext& run) {
   auto o = std::make_shared<SpecularOptions>();
   auto* sub = sweep.add_subcommand("specular",
                                    "Every specular method vs the reference over roughness × light sharpness × view × light position");
@@ -524,7 +525,7 @@ void add_sweep_specular(CLI::App& sweep) {
       ->check(one_of({"ggx", "gaussian"}, "BRDF"));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
   add_constants_option(*sub, o->constants);
-  sub->callback([o] { run_specular(*o); });
+  sub->callback([o, run] { run_specular(*o, run); });
 }
 
 }  // namespace sglab::cli

@@ -16,6 +16,7 @@
 #include "csv.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sweep.hpp"
+#include "table.hpp"
 
 namespace sglab::cli {
 
@@ -95,9 +96,9 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
 // The summary as CSV (header + rows).
 std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows);
 
-// The paper table (Markdown), headed by `command`; the grid it states is read from the rows'
+// The paper table (Markdown), headed by `provenance`; the grid it states is read from the rows'
 // groups (so it describes the CSV the rows came from).
-std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command,
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const runner::Provenance& provenance,
                                       SpecularBrdf brdf = SpecularBrdf::ggx);
 
 }  // namespace sglab::cli

@@ -7,7 +7,7 @@
 #include "registry.hpp"
 
 namespace sglab::cli {
-void add_stability_command(CLI::App& app);  // stability.cpp: `sglab stability`
+void add_stability_command(CLI::App& app, const runner::RunContext& run);  // stability.cpp: `sglab stability`
 }  // namespace sglab::cli
 
 namespace sglab::experiments {
