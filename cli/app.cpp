@@ -16,17 +16,17 @@ namespace sglab::cli {
 // One line per general tool (each defined in its own file; `sweep` and `envmap` register the
 // experiments grouped under them), then every other registered experiment's own command; the help
 // ends with the registry's experiments.
-void add_all_commands(CLI::App& app) {
+void add_all_commands(CLI::App& app, const runner::RunContext& run) {
   add_eval_command(app);
-  add_fit_command(app);
+  add_fit_command(app, run);
   add_reproduce_command(app);
   add_render_command(app);
-  add_sweep_command(app);
+  add_sweep_command(app, run);
   add_merge_command(app);
   add_filter_command(app);
-  add_envmap_command(app);
+  add_envmap_command(app, run);
   add_export_command(app);
-  experiments::add_experiment_commands(app, "");
+  experiments::add_experiment_commands(app, "", run);
   std::string footer = "\nExperiments (`sglab reproduce` runs each; `sglab reproduce --list` shows the steps):\n";
   for (const auto& e : experiments::experiment_registry()) {
     footer += "  " + e.name + std::string(e.name.size() < 16 ? 16 - e.name.size() : 1, ' ') + e.summary + "\n";
@@ -55,10 +55,10 @@ void require_decimal_reals(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) require_decimal_reals(*sub);
 }
 
-int run_sglab(std::vector<std::string> args) {
+int run_sglab(std::vector<std::string> args, const runner::RunContext& run) {
   CLI::App app{"sglab: spherical Gaussian lighting research toolkit"};
   app.require_subcommand(1);
-  add_all_commands(app);
+  add_all_commands(app, run);
   require_decimal_reals(app);
   // CLI11's own messages quote the bad value whole ("--width: Value … could not be converted").
   app.failure_message([](const CLI::App* a, const CLI::Error& e) { return bounded_message(CLI::FailureMessage::simple(a, e)); });

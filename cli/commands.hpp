@@ -10,26 +10,28 @@
 #include <CLI/CLI.hpp>
 
 #include "input_error.hpp"  // UsageError: bad input, exit status 2
+#include "run_context.hpp"
 
 namespace sglab::cli {
 
 // One registration function per general tool, each defined in its own file.
 void add_eval_command(CLI::App& app);  // eval_command.cpp: `sglab eval`
-void add_fit_command(CLI::App& app);   // fit_command.cpp: `sglab fit`
+void add_fit_command(CLI::App& app, const runner::RunContext& run);  // fit_command.cpp: `sglab fit`
 void add_reproduce_command(CLI::App& app);      // reproduce_command.cpp: `sglab reproduce`
 void add_render_command(CLI::App& app);         // render_command.cpp: `sglab render`
-void add_sweep_command(CLI::App& app);          // sweep_command.cpp: `sglab sweep KIND`
+void add_sweep_command(CLI::App& app, const runner::RunContext& run);  // sweep_command.cpp: `sglab sweep KIND`
 void add_merge_command(CLI::App& app);          // merge_command.cpp: `sglab merge` (joins sweep shards)
 void add_filter_command(CLI::App& app);         // filter_command.cpp: `sglab filter`
-void add_envmap_command(CLI::App& app);         // envmap_command.cpp: `sglab envmap make|render` (+ its experiments)
+void add_envmap_command(CLI::App& app, const runner::RunContext& run); // envmap_command.cpp: `sglab envmap make|render` (+ its experiments)
 void add_export_command(CLI::App& app);         // export_command.cpp: `sglab export` (methods as shader code)
 void add_fit_envmap_command(CLI::App& fit);     // envmap_command.cpp: `sglab fit envmap` (called by add_fit_command)
 
-// All of the above and every registered experiment's command, on one app; the help lists the
-// experiments (main.cpp).
-void add_all_commands(CLI::App& app);
+// All of the above and every registered experiment's command, on one app, each run in `run`; the
+// help lists the experiments (main.cpp).
+void add_all_commands(CLI::App& app, const runner::RunContext& run);
 // Runs one sglab command line (arguments without the program name) in-process, exactly as from
-// the shell; returns the exit status. `sglab reproduce` runs its steps through this.
-int run_sglab(std::vector<std::string> args);
+// the shell, in `run` (main: a plain run); returns the exit status. `sglab reproduce` runs its
+// steps through this in its mode, `sglab merge` a sweep's summary.
+int run_sglab(std::vector<std::string> args, const runner::RunContext& run = {});
 
 }  // namespace sglab::cli

@@ -304,7 +304,7 @@ void add_fit_envmap_command(CLI::App& fit) {
   sub->callback([a] { run_fit_envmap(*a); });
 }
 
-void add_envmap_command(CLI::App& app) {
+void add_envmap_command(CLI::App& app, const runner::RunContext& run) {
   auto* cmd = app.add_subcommand("envmap", "SG environment maps: make environments, render with a mixture, error against N");
   cmd->require_subcommand(1);
   {
@@ -343,7 +343,7 @@ void add_envmap_command(CLI::App& app) {
     sub->add_option("--stats", a->stats, "errors as JSON");
     sub->callback([a] { run_render(*a); });
   }
-  experiments::add_experiment_commands(*cmd, "envmap");  // lobes, bases: experiments/envmap_{lobes,bases}.cpp
+  experiments::add_experiment_commands(*cmd, "envmap", run);  // lobes, bases: experiments/envmap_{lobes,bases}.cpp
 }
 
 }  // namespace sglab::cli

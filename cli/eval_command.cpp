@@ -51,7 +51,7 @@ struct EvalOptions {
   std::string out;
   bool list = false;
   bool json = false;
-  std::vector<std::string> constants;  // --constants, in order
+  Constants constants;  // --constants, read as parsed
 };
 
 std::vector<std::string> column_names(const Quantity& q) {
@@ -299,7 +299,7 @@ void run_eval(const EvalOptions& o) {
   runner::check_output_paths({{"--out", o.out}}, {{"--in", o.in}});
 
   // The constant set first: a bad set is bad input, reported before the table is read.
-  const ConstantSet set = load_constant_sets(o.constants);
+  const ConstantSet& set = o.constants.set;
   const Method bound = bind(*m, set);
   m = &bound;
   if (!m->parameters.empty())

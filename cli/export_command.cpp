@@ -22,7 +22,7 @@ struct ExportOptions {
   std::vector<std::string> methods;
   std::string lang;
   std::string out;
-  std::vector<std::string> constants;
+  Constants constants;
   bool list = false;
 };
 
@@ -36,10 +36,10 @@ void run_export(const ExportOptions& o, const std::string& command) {
   const shader::Language lang = *shader::parse_language(o.lang);  // checked by CLI11
   if (!o.out.empty()) {
     std::vector<runner::NamedPath> inputs;
-    for (const auto& c : o.constants) inputs.push_back({"--constants", c});
+    for (const auto& c : o.constants.paths) inputs.push_back({"--constants", c});
     runner::check_output_paths({{"--out", o.out}}, inputs);
   }
-  const ConstantSet set = load_constant_sets(o.constants);
+  const ConstantSet& set = o.constants.set;
   std::vector<shader::TracedMethod> traced;
   traced.reserve(o.methods.size());
   for (std::size_t i = 0; i < o.methods.size(); ++i) {

@@ -81,10 +81,10 @@ void print_result(const fit::FitResult& r, const Judgement& jd) {
 
 fit_all::Options all_options(const FitArgs& a) { return {a.precision, a.beta, a.kappa, a.json_dir, a.tables_dir}; }
 
-void run_fit(const FitArgs& a) {
+void run_fit(const FitArgs& a, const runner::RunContext& run) {
   const fit_all::Options o = all_options(a);
   if (a.name == "all") {
-    fit_all::write(o, fit_all::compute(o, [](const fit_all::Judged& j) { print_result(j.result, j.judgement); }));
+    fit_all::write(o, runner::with_run(fit_all::compute(o, [](const fit_all::Judged& j) { print_result(j.result, j.judgement); }), run));
     return;
   }
   const fit::Fitter* f = fit::find_fitter(a.name);
@@ -99,7 +99,7 @@ void run_fit(const FitArgs& a) {
 
 }  // namespace
 
-void add_fit_command(CLI::App& app) {
+void add_fit_command(CLI::App& app, const runner::RunContext& run) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* cmd = app.add_subcommand("fit", "re-derive a published constant with a Ceres fit");
   cmd->add_option("name", a->name, "fit name, or 'all'")->check(one_of(fit_names(), "fit"));
@@ -119,10 +119,10 @@ void add_fit_command(CLI::App& app) {
   cmd->add_option("--json-dir", a->json_dir, "one NAME.json per fit here (a constant set for --constants)");
   cmd->add_option("--tables-dir", a->tables_dir, "fit all: where constants.{md,csv,tex} go (default: the --json-dir, else results/fits)");
   add_fit_envmap_command(*cmd);  // `sglab fit envmap MAP.exr …` (envmap_command.cpp)
-  cmd->callback([a, cmd] {
+  cmd->callback([a, cmd, run] {
     if (cmd->got_subcommand("envmap")) return;
     if (a->name.empty()) throw UsageError("fit needs a fit name, 'all', or 'envmap MAP.exr --lobes N'");
-    run_fit(*a);
+    run_fit(*a, run);
   });
 }
 

@@ -55,13 +55,12 @@ void summarize(const MergeOptions& o, const std::vector<runner::MergedSweep>& me
                  m.points_csv.string().c_str());
     // m.args was checked to be a `sweep specular|render` command line without output options
     // (merge_sweep_shards). It is run only to rebuild the sweep's definition here; in a
-    // SummaryOnlyScope the runner computes nothing, and refuses if the merged output is not
+    // summary-only run (RunContext::summary_only) the runner computes nothing, and refuses if the merged output is not
     // exactly that definition's finished output.
     std::vector<std::string> args = m.args;
     args.insert(args.end(), {"--out", o.out});
     if (!o.tables_dir.empty()) args.insert(args.end(), {"--tables-dir", o.tables_dir});
-    const runner::SummaryOnlyScope summary_only;
-    const int status = run_sglab(args);
+    const int status = run_sglab(args, {.summary_only = true});
     if (status == 2) throw UsageError("merge: the summary of sweep '" + m.name + "' was refused (see above)");
     if (status != 0) throw std::runtime_error("merge: the summary of sweep '" + m.name + "' failed");
   }

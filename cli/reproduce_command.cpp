@@ -36,7 +36,7 @@ void add_reproduce_command(CLI::App& app) {
   add_constants_option(*sub, opts->constants,
                        "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
                        "repeatable, later sets override earlier ones)");
-  sub->callback([opts] { experiments::run_reproduce(*opts, [](const std::vector<std::string>& args) { return run_sglab(args); }); });
+  sub->callback([opts] { experiments::run_reproduce(*opts, [](const std::vector<std::string>& args, const runner::RunContext& run) { return run_sglab(args, run); }); });
 }
 
 }  // namespace sglab::cli

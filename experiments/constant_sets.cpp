@@ -175,6 +175,21 @@ void add_constants_option(CLI::App& app, std::vector<std::string>& paths, const 
       ->allow_extra_args(false);
 }
 
+Constants read_constants(const std::vector<std::string>& paths) {
+  Constants c;
+  c.paths = paths;
+  c.set = load_constant_sets(paths);
+  if (!paths.empty()) c.fingerprint = constants_fingerprint(paths);
+  return c;
+}
+
+void add_constants_option(CLI::App& app, Constants& constants, const std::string& what) {
+  app.add_option_function<std::vector<std::string>>(
+         "--constants", [&constants](const std::vector<std::string>& paths) { constants = read_constants(paths); }, what)
+      ->take_all()
+      ->allow_extra_args(false);
+}
+
 std::vector<std::string> constants_arguments(const std::vector<std::string>& paths) {
   std::vector<std::string> a;
   for (const auto& p : paths) a.insert(a.end(), {"--constants", p});

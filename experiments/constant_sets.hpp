@@ -26,12 +26,27 @@ ConstantSet load_constant_sets(const std::vector<std::string>& paths);
 // edited record is another run, never a stale result. Throws UsageError as load_constant_sets.
 std::string constants_fingerprint(const std::vector<std::string>& paths);
 
-// Adds `--constants PATH` (repeatable) bound to `paths`; `what` is its help line (the default
-// describes a constant set; `sglab reproduce` says which of its steps get it).
+// A command's constant set, read once where the command line is parsed (add_constants_option) and
+// passed down to everything the command runs: nothing below reads a record again.
+struct Constants {
+  std::vector<std::string> paths;  // --constants, as given, in order (provenance: constants_arguments)
+  ConstantSet set;                  // their values (load_constant_sets)
+  std::string fingerprint;          // of their contents (constants_fingerprint); "" when no path is given
+  bool given() const { return !paths.empty(); }
+};
+// Reads the sets (UsageError as load_constant_sets).
+Constants read_constants(const std::vector<std::string>& paths);
+
+// Adds `--constants PATH` (repeatable); `what` is its help line (the default describes a constant
+// set; `sglab reproduce` says which of its steps get it). Bound to `paths` the option only keeps
+// the paths (reproduce passes them on); bound to `constants` it reads the sets when the command
+// line is parsed, so that a bad set is refused (exit status 2) before the command runs.
 extern const char* const kConstantsOptionHelp;
 void add_constants_option(CLI::App& app, std::vector<std::string>& paths, const std::string& what = kConstantsOptionHelp);
+void add_constants_option(CLI::App& app, Constants& constants, const std::string& what = kConstantsOptionHelp);
 // The option back as arguments (provenance, reproduce's steps).
 std::vector<std::string> constants_arguments(const std::vector<std::string>& paths);
+inline std::vector<std::string> constants_arguments(const Constants& c) { return constants_arguments(c.paths); }
 
 // The value of a standalone constant (user "render" or "filter", see sglab::constant_uses) in the
 // set, and its provenance.

@@ -204,7 +204,7 @@ Result compute(const Options& o) {
   r.options = effective(o);
   const Options& a = r.options;
   const auto envs = load(a);
-  r.provenance = runner::Provenance{command_line(a)};
+  r.provenance = runner::Provenance{command_line(a), a.quick};
   const render::EnvImage normals = normal_image(a.normals);
   const render::EnvImage sphere = render::sphere_image(a.sphere_res);
   std::vector<Vec3<double>> normal_dirs;
@@ -564,7 +564,7 @@ void write(const Result& r) {
 namespace sglab::cli {
 
 // `sglab envmap bases` (registered under `envmap`).
-void add_envmap_bases_command(CLI::App& envmap) {
+void add_envmap_bases_command(CLI::App& envmap, const runner::RunContext& run) {
   auto a = std::make_shared<envmap_bases::Options>();
   auto* sub = envmap.add_subcommand("bases", "SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.{md,csv})");
   sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
@@ -583,7 +583,7 @@ void add_envmap_bases_command(CLI::App& envmap) {
       ->capture_default_str();
   add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
   sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32 (sg-free N ≤ 16), L ≤ 4 (a smoke run; not for paper_tables)");
-  sub->callback([a] { envmap_bases::write(envmap_bases::compute(*a)); });
+  sub->callback([a, run] { envmap_bases::write(runner::with_run(envmap_bases::compute(*a), run)); });
 }
 
 }  // namespace sglab::cli

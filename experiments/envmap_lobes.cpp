@@ -260,7 +260,7 @@ Result compute(const Options& o) {
   r.options = effective(o);
   const Options& a = r.options;
   const std::vector<LoadedEnv> envs = load_envs(a);
-  r.provenance = runner::Provenance{command_line(a)};
+  r.provenance = runner::Provenance{command_line(a), a.quick};
   r.diffuse_methods = method_names("clamped-cosine");
   r.specular_methods = method_names("specular");
   const std::vector<Geometry> geometries = {{"sphere", render::sphere_image(a.sphere_res)},
@@ -441,7 +441,7 @@ void write(const Result& r) {
 namespace sglab::cli {
 
 // `sglab envmap lobes` (registered under `envmap`).
-void add_envmap_lobes_command(CLI::App& envmap) {
+void add_envmap_lobes_command(CLI::App& envmap, const runner::RunContext& run) {
   auto a = std::make_shared<envmap_lobes::Options>();
   auto* sub = envmap.add_subcommand("lobes", "fit and render error against the lobe count (envmap_lobes.*)");
   sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
@@ -452,7 +452,7 @@ void add_envmap_lobes_command(CLI::App& envmap) {
       ->check(integer_in(2, 2048));
   add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
   sub->add_flag("--quick", a->quick, "N ∈ {1, 4}, 12-pixel sphere (a smoke run; not for paper_tables)");
-  sub->callback([a] { envmap_lobes::write(envmap_lobes::compute(*a)); });
+  sub->callback([a, run] { envmap_lobes::write(runner::with_run(envmap_lobes::compute(*a), run)); });
 }
 
 }  // namespace sglab::cli

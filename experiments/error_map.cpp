@@ -157,11 +157,12 @@ Result compute(const Options& o) {
   fill_grid(o, r);
   r.quantity = q->name;
   r.reference_method = q->reference_method;
-  const ConstantSet set = load_constant_sets(o.constants);
+  const ConstantSet& set = o.constants.set;
   fill_reference(*q->find(q->reference_method), r);
   for (const auto& published : q->methods)
     if (published.name != r.reference_method) r.methods.push_back(method_map(bind(published, set), r));
 
+  r.provenance.quick = o.quick;
   std::string& command = r.provenance.command;
   command = fmt::format("sglab error-map --quantity {}", o.quantity);
   if (o.size >= 0) command += fmt::format(" --size {}", o.size);
@@ -230,7 +231,7 @@ void write(const Options& o, const Result& r) {
 
 }  // namespace error_map
 
-void add_error_map_command(CLI::App& app) {
+void add_error_map_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<error_map::Options>();
   auto* sub = app.add_subcommand("error-map", "Signed error of each diffuse method over the (λ, c) plane, against the reference");
   sub->add_option("--out", opts->out_dir, "directory for error_map.csv, error_map_summary.csv, error_map.md")->capture_default_str();
@@ -242,7 +243,7 @@ void add_error_map_command(CLI::App& app) {
   sub->add_option("--lambda-min", opts->lambda_min, "smallest sharpness")->capture_default_str();
   sub->add_option("--lambda-max", opts->lambda_max, "largest sharpness")->capture_default_str();
   sub->add_flag("--quick", opts->quick, "40 × 40 points");
-  sub->callback([opts] { error_map::write(*opts, error_map::compute(*opts)); });
+  sub->callback([opts, run] { error_map::write(*opts, runner::with_run(error_map::compute(*opts), run)); });
 }
 
 }  // namespace sglab::cli

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "constant_sets.hpp"
 #include "table.hpp"
 
 namespace sglab::cli::error_map {
@@ -17,7 +18,7 @@ struct Options {
   int size = -1;  // points per axis; -1 (not given): 200 (40 with --quick)
   double lambda_min = 1e-3, lambda_max = 1e4;
   bool quick = false;
-  std::vector<std::string> constants;  // --constants
+  Constants constants;  // --constants (constant_sets.hpp)
 };
 
 struct Summary {

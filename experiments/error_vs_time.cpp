@@ -379,13 +379,14 @@ Result compute(const Options& o) {
   std::vector<const Quantity*> qs;
   for (const auto& name : o.quantities) qs.push_back(&checked_quantity(name));
   Result result;
+  result.provenance.quick = o.quick;
   std::string& command = result.provenance.command;
   command = "sglab error-vs-time";
   if (o.quantities != Options{}.quantities) command += " --quantity " + fmt::format("{}", fmt::join(o.quantities, " "));
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
   command += o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir) : runner::option_argument("--tables", o.tables_dir);
-  const ConstantSet set = load_constant_sets(o.constants);
+  const ConstantSet& set = o.constants.set;
   for (const Quantity* q : qs) {
     Section s;
     s.quantity = q->name;
@@ -398,7 +399,7 @@ Result compute(const Options& o) {
     if (!uses.empty())
       s.constants = fmt::format("\nConstants of {} ({}; rows `NAME [constants]` use the set's values, the others the "
                                 "published ones):\n\n{}",
-                                q->name, o.constants.empty() ? std::string("published") : fmt::format("{}", fmt::join(o.constants, ", ")),
+                                q->name, !o.constants.given() ? std::string("published") : fmt::format("{}", fmt::join(o.constants.paths, ", ")),
                                 constants_text(set, uses, "- "));
     Grid g;
     s.rows = measure(*q, o.quick, g, set);
@@ -458,7 +459,7 @@ Tables tables(const Result& result) {
 
 void check_outputs(const Options& o) {
   std::vector<runner::NamedPath> inputs;
-  for (const auto& c : o.constants) inputs.push_back({"--constants", c});
+  for (const auto& c : o.constants.paths) inputs.push_back({"--constants", c});
   const auto tables = runner::tables_place(o.tables_dir, o.out_dir);
   std::vector<runner::NamedPath> outputs = {{"--tables (error_vs_time.csv)", tables / "error_vs_time.csv"},
                                     {"--tables (error_vs_time.md)", tables / "error_vs_time.md"}};
@@ -479,7 +480,7 @@ void write(const Options& o, const Result& result) {
 
 }  // namespace error_vs_time
 
-void add_error_vs_time_command(CLI::App& app) {
+void add_error_vs_time_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<error_vs_time::Options>();
   auto* sub = app.add_subcommand("error-vs-time",
                                  "Every method's error (float, double), rounding error vs 50 digits, and ns/eval");
@@ -491,9 +492,9 @@ void add_error_vs_time_command(CLI::App& app) {
                      "--tables");
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
   add_constants_option(*sub, opts->constants);
-  sub->callback([opts] {
+  sub->callback([opts, run] {
     error_vs_time::check_outputs(*opts);  // before the (long) measurement
-    error_vs_time::write(*opts, error_vs_time::compute(*opts));
+    error_vs_time::write(*opts, runner::with_run(error_vs_time::compute(*opts), run));
   });
 }
 

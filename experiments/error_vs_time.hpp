@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "constant_sets.hpp"
 #include "table.hpp"
 
 namespace sglab::cli::error_vs_time {
@@ -18,7 +19,7 @@ struct Options {
   std::string out_dir = "results/error_vs_time";
   std::string tables_dir;  // --tables; empty: beside the per-method CSV (out_dir)
   bool quick = false;
-  std::vector<std::string> constants;  // --constants: refit rows beside the published ones
+  Constants constants;  // --constants (constant_sets.hpp): refit rows beside the published ones
 };
 
 struct Row {

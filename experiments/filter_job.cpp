@@ -55,7 +55,7 @@ void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
 }
 
 void apply_filter_constants(FilterJob& job) {
-  const ConstantSet set = load_constant_sets(job.render.constants);
+  const ConstantSet& set = job.render.constants.set;
   const double lambda_c = standalone_value(set, "filter", "lambda_c");
   if (!set.find("lambda-c", "lambda_c")) return;
   const FilterJob d;
@@ -66,8 +66,7 @@ void apply_filter_constants(FilterJob& job) {
 
 nlohmann::json filter_constants_json(const FilterJob& job) {
   nlohmann::json j = render_constants_json(job.render);
-  const ConstantSet set = load_constant_sets(job.render.constants);
-  for (const auto& v : constants_json(set, {{"filter", find_standalone_constant("filter", "lambda_c")}})) j["values"].push_back(v);
+  for (const auto& v : constants_json(job.render.constants.set, {{"filter", find_standalone_constant("filter", "lambda_c")}})) j["values"].push_back(v);
   return j;
 }
 

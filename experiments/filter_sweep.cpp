@@ -440,7 +440,7 @@ denoise_sweep::Options denoise_options(const filter_sweep::Options& f, const Den
 
 }  // namespace
 
-void add_filter_sweep_command(CLI::App& app) {
+void add_filter_sweep_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<filter_sweep::Options>();
   auto noisy = std::make_shared<DenoiseOptions>();
   auto* sub = app.add_subcommand("filter-sweep",
@@ -471,11 +471,11 @@ void add_filter_sweep_command(CLI::App& app) {
   noisy->radius = sub->get_option("--radius");
   noisy->spatial_sigma = sub->get_option("--spatial-sigma");
   noisy->source = sub->get_option("--source");
-  sub->callback([opts, noisy] {
+  sub->callback([opts, noisy, run] {
     if (noisy->noisy.empty()) {
-      filter_sweep::write(filter_sweep::compute(*opts));
+      filter_sweep::write(runner::with_run(filter_sweep::compute(*opts), run));
     } else {
-      denoise_sweep::write(denoise_sweep::compute(denoise_options(*opts, *noisy)));
+      denoise_sweep::write(runner::with_run(denoise_sweep::compute(denoise_options(*opts, *noisy)), run));
     }
   });
 }

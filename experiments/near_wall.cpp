@@ -376,7 +376,7 @@ void write(const Result& r) {
 
 }  // namespace near_wall
 
-void add_near_wall_command(CLI::App& app) {
+void add_near_wall_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<near_wall::Options>();
   auto* sub = app.add_subcommand(
       "near-wall", "Tokuyoshi 2022 poster's figure: per pixel, each clamped-cosine method against the exact integral for a sharp SG light near a wall");
@@ -390,7 +390,7 @@ void add_near_wall_command(CLI::App& app) {
   sub->add_option("--sweep-distance", o->sweep_distance, "light distances from the wall of the sweep")->delimiter(',');
   sub->add_option("--sweep-width", o->sweep_width, "image width of each sweep point")->capture_default_str();
   sub->add_option("--sweep-height", o->sweep_height, "image height of each sweep point")->capture_default_str();
-  sub->callback([o] { near_wall::write(near_wall::compute(*o)); });
+  sub->callback([o, run] { near_wall::write(runner::with_run(near_wall::compute(*o), run)); });
 }
 
 }  // namespace sglab::cli

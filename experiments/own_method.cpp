@@ -321,9 +321,10 @@ Output tables(const Options& o) {
   return out;
 }
 
-void run(const Options& o) {
+void write(const Options& o, const runner::RunContext& run) {
   const Output t = tables(o);
   runner::Provenance prov;
+  prov.quick = run.quick;
   prov.command = "sglab own-method" + runner::option_argument("--from", o.from, Options{}.from) +
                  runner::option_argument("--error-map", o.error_map, Options{}.error_map) +
                  runner::option_argument("--forms", o.forms, Options{}.forms) +
@@ -335,7 +336,7 @@ void run(const Options& o) {
 
 }  // namespace
 
-void add_command(CLI::App& app) {
+void add_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<Options>();
   auto* sub = app.add_subcommand("own-method",
                                  "write-up of sglab's own diffuse method against tokuyoshi2024, from the tables it summarises");
@@ -345,7 +346,7 @@ void add_command(CLI::App& app) {
   sub->add_option("--forms", o->forms, "the forms tried (max error, the method each costs like)")->capture_default_str();
   sub->add_option("--out", o->out, "output directory (own_method.{md,csv} unless --tables-dir)")->capture_default_str();
   sub->add_option("--tables-dir", o->tables_dir, "directory for own_method.{md,csv} (default: --out)");
-  sub->callback([o] { run(*o); });
+  sub->callback([o, run] { write(*o, run); });
 }
 
 }  // namespace sglab::cli::own_method

@@ -389,12 +389,13 @@ Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int
   return o;
 }
 
-void run(const Options& o) {
+void write(const Options& o, const runner::RunContext& run) {
   const int off_count = o.quick ? 8 : 60;
   const std::vector<Point> grid = read_points(o.points);
   const std::vector<Point> off = off_grid_points(off_count);
   const Output t = tables(grid, off, off_count);
   runner::Provenance prov;
+  prov.quick = o.quick || run.quick;
   prov.command = fmt::format("sglab own-specular --points {}{}", o.points, o.quick ? " --quick" : "");
   runner::write_table(o.tables_dir.empty() ? o.out : o.tables_dir, "own_specular", prov, t.markdown, t.csv);
   std::fputs((runner::markdown_header(prov) + t.markdown).c_str(), stdout);
@@ -402,14 +403,14 @@ void run(const Options& o) {
 
 }  // namespace
 
-void add_command(CLI::App& app) {
+void add_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<Options>();
   auto* sub = app.add_subcommand("own-specular", "write-up of sglab's own specular method: errors on and off the sweep grid, error maps, forms tried");
   sub->add_option("--points", o->points, "specular_points.csv of `sglab sweep specular` (full or --quick grid)")->capture_default_str();
   sub->add_option("--out", o->out, "output directory (own_specular.{md,csv} unless --tables-dir)")->capture_default_str();
   sub->add_option("--tables-dir", o->tables_dir, "directory for own_specular.{md,csv} (default: --out)");
   sub->add_flag("--quick", o->quick, "8 off-grid points instead of 60");
-  sub->callback([o] { run(*o); });
+  sub->callback([o, run] { write(*o, run); });
 }
 
 }  // namespace sglab::cli::own_specular

@@ -165,12 +165,12 @@ void write(const Result& r) {
 
 }  // namespace poster_plots
 
-void add_poster_plots_command(CLI::App& app) {
+void add_poster_plots_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<poster_plots::Options>();
   auto* sub = app.add_subcommand("poster-plots",
                                  "Tokuyoshi 2022 poster's two plots: cosine-term error against the float bound, hemispherical RMSE (CSV)");
   sub->add_option("--tables-dir", o->tables_dir, "directory for cosine_term_error*.csv and hemispherical_rmse.csv")->capture_default_str();
-  sub->callback([o] { poster_plots::write(poster_plots::compute(*o)); });
+  sub->callback([o, run] { poster_plots::write(runner::with_run(poster_plots::compute(*o), run)); });
 }
 
 }  // namespace sglab::cli

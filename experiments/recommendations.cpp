@@ -1000,12 +1000,12 @@ void write(const Options& o, const Result& r) {
 
 namespace sglab::cli {
 
-void add_recommend_command(CLI::App& app) {
+void add_recommend_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<recommendations::Options>();
   auto* sub = app.add_subcommand("recommend", "Which method to ship, per quantity: Pareto fronts and caveats read from the tables");
   sub->add_option("--from", o->from, "directory of the tables to read (a full `sglab reproduce`'s)")->capture_default_str();
   add_places_options(*sub, o->out, o->tables_dir, "directory for recommendations.md", "where recommendations.md goes (default: the --out directory)");
-  sub->callback([o] { recommendations::write(*o, recommendations::compute(*o)); });
+  sub->callback([o, run] { recommendations::write(*o, runner::with_run(recommendations::compute(*o), run)); });
 }
 
 }  // namespace sglab::cli

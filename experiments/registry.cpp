@@ -11,9 +11,9 @@ const std::vector<Experiment>& experiment_registry() {
   return all;
 }
 
-void add_experiment_commands(CLI::App& parent, std::string_view under) {
+void add_experiment_commands(CLI::App& parent, std::string_view under, const runner::RunContext& run) {
   for (const auto& e : experiment_registry())
-    if (e.add_command && e.under == under) e.add_command(parent);
+    if (e.add_command && e.under == under) e.add_command(parent, run);
 }
 
 Step sglab_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args,

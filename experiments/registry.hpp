@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "run_context.hpp"
+
 namespace CLI {
 class App;
 }  // namespace CLI
@@ -66,8 +68,9 @@ struct Experiment {
   std::string name;     // "error-vs-time"
   std::string summary;  // one line for `sglab --help`
   // Registers the experiment's own command (one sub-command) on its parent, the command named by
-  // `under`; null when general tools of cli/ (render, fit) run its steps.
-  void (*add_command)(CLI::App& parent) = nullptr;
+  // `under`, run in `run` (runner/run_context.hpp); null when general tools of cli/ (render, fit)
+  // run its steps.
+  void (*add_command)(CLI::App& parent, const runner::RunContext& run) = nullptr;
   std::function<std::vector<Step>(const Places&)> steps;
   // The parent of its command: "" for `sglab COMMAND`, or a general tool that groups experiments
   // ("sweep": `sglab sweep KIND`, "envmap": `sglab envmap COMMAND`).
@@ -107,7 +110,7 @@ const std::vector<Experiment>& experiment_registry();
 // Registers, in registry order, the command of every experiment whose `under` is `under` on
 // `parent` (the app for "", else the parent's own command): the one place the CLI registers an
 // experiment's command (cli/app.cpp for "", cli/sweep_command.cpp, cli/envmap_command.cpp).
-void add_experiment_commands(CLI::App& parent, std::string_view under);
+void add_experiment_commands(CLI::App& parent, std::string_view under, const runner::RunContext& run);
 
 // Every step of every experiment, in order.
 std::vector<Step> all_steps(const Places& places);

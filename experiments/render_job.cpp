@@ -3,7 +3,6 @@
 #include "render_job.hpp"
 
 #include <cmath>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -142,33 +141,25 @@ render::RenderOptions render_options(const RenderJob& job) {
     throw UsageError(fmt::format("--diffuse: {}", e.what()));
   }
   // The constant set: the diffuse VSGL's λ_d, and the diffuse method's constants. A method whose
-  // constants the set changes is shaded through the registry with them bound (sg-cosine already
-  // takes the VSGL's λ_d).
-  const ConstantSet set = load_constant_sets(job.constants);
+  // constants the set changes is shaded with them bound (the parameter that is the VSGL set's λ_d
+  // takes the renderer's, bound in shading).
+  const ConstantSet& set = job.constants.set;
   o.vsgl.lambda_d = standalone_value(set, "render", "lambda_d");
-  if (job.diffuse != "sg-cosine") {
-    const Method* m = find_quantity("clamped-cosine")->find(job.diffuse);
-    bool changed = false;
-    for (const auto& p : m ? m->parameters : std::vector<Parameter>{}) changed = changed || set.find(p.fit, p.name);
-    if (changed) {
-      // RenderOptions holds a plain pointer: bound methods live for the rest of the process.
-      static std::deque<Method> bound;
-      bound.push_back(bind(*m, set));
-      o.shading.diffuse = &bound.back();
-    }
-  }
+  bool changed = false;
+  for (const auto& p : o.shading.diffuse->parameters)
+    changed = changed || (p.role != ParameterRole::vsgl_diffuse_sharpness && set.find(p.fit, p.name));
+  if (changed) o.shading.diffuse = std::make_shared<const Method>(bind(*o.shading.diffuse, set));
   return o;
 }
 
 nlohmann::json render_constants_json(const RenderJob& job) {
-  const ConstantSet set = load_constant_sets(job.constants);
   std::vector<ConstantUse> uses{{"render", find_standalone_constant("render", "lambda_d")}};
-  if (const Method* m = find_quantity("clamped-cosine")->find(job.diffuse); m && job.diffuse != "sg-cosine") {
-    const auto more = method_constant_uses("clamped-cosine/" + m->name, *m);
-    uses.insert(uses.end(), more.begin(), more.end());
-  }
-  return {{"sets", job.constants.empty() ? std::vector<std::string>{"published"} : job.constants},
-          {"values", constants_json(set, uses)}};
+  // The diffuse method's constants but the one that is the VSGL set's λ_d (the render's, above).
+  if (const Method* m = find_quantity("clamped-cosine")->find(job.diffuse))
+    for (const auto& u : method_constant_uses("clamped-cosine/" + m->name, *m))
+      if (u.parameter->role != ParameterRole::vsgl_diffuse_sharpness) uses.push_back(u);
+  return {{"sets", job.constants.given() ? job.constants.paths : std::vector<std::string>{"published"}},
+          {"values", constants_json(job.constants.set, uses)}};
 }
 
 std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vsgl) {

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "constant_sets.hpp"
 #include "sglab/render/pipeline.hpp"
 #include "sglab/render/scene.hpp"
 #include "sglab/render/vsgl_generation.hpp"
@@ -31,7 +32,7 @@ struct RenderJob {
   bool sg_cosine_a_is_pi = false;  // --sg-cosine-a-pi: A(λ_d) ≈ π in sg-cosine shading
   std::string kmeans_space = "world";  // --kmeans-space world | image
   bool visibility = false;             // --visibility: VSGL and VPL visibility (Tokuyoshi 2016 §4.1)
-  std::vector<std::string> constants;  // --constants (constant_sets.hpp): λ_d and the diffuse method's constants
+  Constants constants;                 // --constants, read as parsed (constant_sets.hpp): λ_d and the diffuse method's constants
   std::string precision = "double";    // --precision float | double: the renderer's vectorized loops (vpl.hpp Precision)
   std::string reference_precision;     // --reference-precision float | double: the VPL sum alone (empty: --precision)
 };

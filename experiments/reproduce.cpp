@@ -205,9 +205,9 @@ struct StepTimes {
     std::snprintf(b, sizeof b, "%.2f", s);
     return b;
   }
-  void write(const std::filesystem::path& path, const std::string& command) const {
+  void write(const std::filesystem::path& path, const std::string& command, bool quick) const {
     runner::AtomicFile f(path);
-    f.write(runner::csv_header(runner::Provenance{command}) + "step,status,wall_seconds,cpu_seconds\n" + rows);
+    f.write(runner::csv_header(runner::Provenance{command, quick}) + "step,status,wall_seconds,cpu_seconds\n" + rows);
     f.commit();
   }
 };
@@ -277,7 +277,7 @@ class StepRun {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpu = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN) - cpu_start;
     times_.add("total", "", wall, cpu);
-    times_.write(times_csv_, command_);
+    times_.write(times_csv_, command_, o_.quick);
     std::printf("reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in %s\n",
                 done_, skipped_, wall, cpu, p_.out.c_str(), p_.tables.c_str(), times_csv_.string().c_str());
   }
@@ -308,7 +308,9 @@ class StepRun {
     if (s.python) {
       std::tie(status, cpu) = run_python(args);
     } else {
-      status = run_sglab_(args);
+      // Every table a --quick run writes says so, whatever the step's own options; --force
+      // recomputes the sweeps too, not only reruns their commands (which would resume).
+      status = run_sglab_(args, {.quick = o_.quick, .fresh = o_.force});
       cpu = cpu_seconds() - cpu0;  // the plot thread's own CPU is negligible (it waits)
     }
     if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
@@ -320,7 +322,7 @@ class StepRun {
     ++done_;
     std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all_.size(), s.name.c_str(), wall, cpu);
     times_.add(s.name, s.python ? "run beside" : "run", wall, cpu);
-    times_.write(times_csv_, command_);
+    times_.write(times_csv_, command_, o_.quick);
   }
 
   const ReproduceOptions& o_;
@@ -355,12 +357,6 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
     throw runner::InputError("reproduce: --only: unknown step '" + clip_text(name) + "' (" +
                              (near.empty() ? "" : "did you mean '" + near + "'?; ") + "`sglab reproduce --list` lists the steps)");
   }
-  // Every table a --quick run writes says so, whatever the step's own options.
-  std::optional<runner::QuickRunScope> quick_scope;
-  if (o.quick) quick_scope.emplace();
-  // --force recomputes the sweeps too, not only reruns their commands (which would resume).
-  std::optional<runner::FreshSweepScope> fresh_scope;
-  if (o.force) fresh_scope.emplace();
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN);
   StepRun run(o, run_sglab, p, all);

@@ -33,8 +33,8 @@ Places reproduce_places(const ReproduceOptions& o);
 // quick arguments with --quick, its tables directory, and the constant sets.
 std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o, const Places& p);
 
-// Runs `sglab ARGS` in-process and returns its exit status (the CLI's run_sglab).
-using SglabRunner = std::function<int(const std::vector<std::string>& args)>;
+// Runs `sglab ARGS` in-process in `run` and returns its exit status (the CLI's run_sglab).
+using SglabRunner = std::function<int(const std::vector<std::string>& args, const runner::RunContext& run)>;
 
 // Runs (or with --list prints) the registry's steps.
 void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab);

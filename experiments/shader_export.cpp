@@ -225,10 +225,11 @@ void measure(Row& row, const std::vector<float>& v, const std::vector<float>& sg
 
 Result compute(const Options& o) {
   Result r;
+  r.provenance.quick = o.quick;
   r.provenance.command = "sglab shader-export";
   if (o.quick) r.provenance.command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) r.provenance.command += " " + a;
-  const ConstantSet set = load_constant_sets(o.constants);
+  const ConstantSet& set = o.constants.set;
   shader::VulkanCompute gpu;
   r.device = gpu.device_name();
   const Grids diffuse = diffuse_grids(o.quick);
@@ -390,7 +391,7 @@ void write(const Options& o, const Result& r) {
 
 namespace sglab::cli {
 
-void add_shader_export_command(CLI::App& app) {
+void add_shader_export_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<shader_export::Options>();
   auto* sub = app.add_subcommand("shader-export",
                                  "Every exportable method as C, GLSL and HLSL, compiled and run (Vulkan, lavapipe) against "
@@ -398,11 +399,11 @@ void add_shader_export_command(CLI::App& app) {
   sub->add_option("--tables-dir", o->tables_dir, "directory for shader_export.{md,csv}")->capture_default_str();
   sub->add_flag("--quick", o->quick, "the quick diffuse grid");
   add_constants_option(*sub, o->constants);
-  sub->callback([o] {
+  sub->callback([o, run] {
     runner::check_output_paths({{"--tables-dir (shader_export.md)", std::filesystem::path(o->tables_dir) / "shader_export.md"},
                         {"--tables-dir (shader_export.csv)", std::filesystem::path(o->tables_dir) / "shader_export.csv"}},
                        {});
-    shader_export::write(*o, shader_export::compute(*o));
+    shader_export::write(*o, runner::with_run(shader_export::compute(*o), run));
   });
 }
 

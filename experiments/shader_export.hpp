@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "emit.hpp"
+#include "constant_sets.hpp"
 #include "table.hpp"
 
 namespace sglab::cli::shader_export {
@@ -17,7 +18,7 @@ namespace sglab::cli::shader_export {
 struct Options {
   std::string tables_dir = "results/shader_export";
   bool quick = false;                  // the quick diffuse grid
-  std::vector<std::string> constants;  // --constants: exported with the set's values
+  Constants constants;  // --constants (constant_sets.hpp): exported with the set's values
 };
 
 // One method in one evaluator ("sglab float", "c", "glsl", "hlsl").

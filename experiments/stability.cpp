@@ -30,7 +30,7 @@ struct Options {
   std::string tables_dir;  // --tables; empty: the --out directory
   std::vector<std::string> only;  // quantity names; empty: all
   bool quick = false;
-  std::vector<std::string> constants;  // --constants
+  Constants constants;  // --constants (constant_sets.hpp)
 };
 
 // Bad usage before anything is computed: an unknown quantity, or outputs that cannot be written
@@ -75,12 +75,12 @@ std::string command_line(const Options& o) {
 
 // Computes the atlas and commits its five outputs as one set: none is replaced unless all were
 // written.
-void run(const Options& o) {
+void write(const Options& o, const runner::RunContext& run) {
   const std::vector<std::filesystem::path> paths = checked_outputs(o);
   atlas::Options options;
   options.quick = o.quick;
   options.only = o.only;
-  options.constants = load_constant_sets(o.constants);
+  options.constants = o.constants.set;
   std::vector<ConstantUse> uses;
   for (const auto& q : quantities())
     for (const auto& m : q.methods) {
@@ -91,7 +91,7 @@ void run(const Options& o) {
 
   const std::string command = command_line(o);
   const std::string csv = atlas::summary_csv(result);
-  const runner::Provenance provenance{command};
+  const runner::Provenance provenance{command, o.quick || run.quick};
   const std::string md =
       runner::markdown_header(provenance) + atlas::markdown(result, constants_text(options.constants, uses, "- "));
   runner::OutputSet outputs;
@@ -111,7 +111,7 @@ void run(const Options& o) {
 
 }  // namespace
 
-void add_stability_command(CLI::App& app) {
+void add_stability_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<Options>();
   auto* sub = app.add_subcommand("stability",
                                  "Stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method over the stiff inputs");
@@ -120,7 +120,7 @@ void add_stability_command(CLI::App& app) {
   add_constants_option(*sub, opts->constants);
   sub->add_option("--quantity", opts->only, "only these quantities (repeatable; default: all)")->check(one_of(quantity_names(), "quantity"));
   sub->add_flag("--quick", opts->quick, "coarser grids, fewer 50-digit evaluations");
-  sub->callback([opts] { run(*opts); });
+  sub->callback([opts, run] { write(*opts, run); });
 }
 
 }  // namespace sglab::cli

@@ -208,7 +208,7 @@ std::string checked_table_name(const Options& o, const std::vector<Vary>& vary) 
   }
   if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table {} is not a file name", quote(name)));
   std::vector<runner::NamedPath> inputs{{"--scene", o.job.scene_path}};
-  for (const auto& c : o.job.constants) inputs.push_back({"--constants", c});
+  for (const auto& c : o.job.constants.paths) inputs.push_back({"--constants", c});
   runner::check_output_paths({{"--table (CSV)", tables_dir(o) / (name + ".csv")}, {"--table (Markdown)", tables_dir(o) / (name + ".md")}},
                      inputs);
   return name;
@@ -377,7 +377,7 @@ runner::SweepDefinition definition(const Options& o, const Grid& g, const std::v
   for (const auto& c : configs) labels += (labels.empty() ? "" : ", ") + c.label();
   grid += fmt::format("VSGLs {{{}}}; diffuse {}; RSM {}; shadow map {}; seed {}", labels, o.job.diffuse, o.job.rsm, o.job.shadow_map, o.job.seed);
   // The constant sets' contents, not only their paths: an edited record is another sweep.
-  if (!o.job.constants.empty()) grid += "; constants fnv1a " + constants_fingerprint(o.job.constants);
+  if (o.job.constants.given()) grid += "; constants fnv1a " + o.job.constants.fingerprint;
   d.grid = grid;
   d.point_count = g.points();
   for (const auto& v : g.vary) d.columns.push_back(v.key);
@@ -387,7 +387,7 @@ runner::SweepDefinition definition(const Options& o, const Grid& g, const std::v
 
 }  // namespace
 
-Result compute(const Options& o) {
+Result compute(const Options& o, const runner::RunContext& run) {
   if (o.job.scene_path.empty()) throw UsageError("sweep render needs --scene SCENE.json");
   Result r;
   r.options = o;
@@ -422,12 +422,13 @@ Result compute(const Options& o) {
       return fmt::format("VSGL configuration {} is not one this sweep runs", quote(label));
     return std::nullopt;
   };
-  const runner::SweepRunResult run = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
+  const runner::SweepRunResult swept = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh, run);
   r.vary = grid->vary;
+  r.provenance.quick = run.quick;
   r.provenance.command = "sglab";
   for (const auto& a : d.args) r.provenance.command += " " + quote_if_needed(a);
-  r.sharded = run.sharded;
-  if (!r.sharded) r.points = runner::read_sweep_points(run.points_csv);
+  r.sharded = swept.sharded;
+  if (!r.sharded) r.points = runner::read_sweep_points(swept.points_csv);
   return r;
 }
 
@@ -463,7 +464,7 @@ Tables tables(const Result& r) {
                        : "none",
       arithmetic_text(o.job));
   md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
-        constants_text(load_constant_sets(o.job.constants), {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
+        constants_text(o.job.constants.set, {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
         "\n";
   if (!r.lambda_d_sources.empty())
     md += fmt::format("Varied {}: {}.\n\n", kLambdaDKey, fmt::join(r.lambda_d_sources, "; "));
@@ -501,7 +502,7 @@ void write(const Result& r) {
 
 }  // namespace sweep_render
 
-void add_sweep_render(CLI::App& sweep) {
+void add_sweep_render(CLI::App& sweep, const runner::RunContext& run) {
   auto o = std::make_shared<sweep_render::Options>();
   auto* sub = sweep.add_subcommand("render", "VSGL error against the exact VPL sum, and both times, over scene parameters × VSGL configurations");
   sub->add_option("--scene", o->job.scene_path, "scene JSON (schema: scenes/README.md)");
@@ -518,7 +519,7 @@ void add_sweep_render(CLI::App& sweep) {
       ->capture_default_str()
       ->check(unsigned_at_most(runner::kMaxThreads));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
-  sub->callback([o] { sweep_render::write(sweep_render::compute(*o)); });
+  sub->callback([o, run] { sweep_render::write(sweep_render::compute(*o, run)); });
 }
 
 }  // namespace sglab::cli

@@ -46,7 +46,8 @@ struct Result {
 
 // Validates every option and every point's scene (InputError naming the value), then runs or
 // resumes the sweep into OUT/NAME_points.csv and reads it back.
-Result compute(const Options& o);
+// `run`: fresh or summary-only sweeps (RunContext), a quick run's table.
+Result compute(const Options& o, const runner::RunContext& run = {});
 
 struct Tables {
   std::string markdown, csv;  // without the provenance header

@@ -33,6 +33,7 @@
 #include "experiment_command.hpp"
 #include "parse_number.hpp"
 #include "resource_limits.hpp"
+#include "constant_sets.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 #include "registry.hpp"
@@ -77,10 +78,15 @@ bool specular_position_near_lobe(const std::string& position) {
   return position == "mirror" || position == "toward-normal" || position == "toward-horizon" || position == "side";
 }
 
-runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf) {
+runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf, const Constants& constants) {
   const Quantity& q = specular_quantity(brdf);
   const Method& reference = *q.find(q.reference_method);
-  const std::vector<const Method*> methods = measured_methods(q);
+  // The measured methods with the set's constants bound (copies of the registry's when it sets
+  // none), owned by the definition's functions.
+  auto bound = std::make_shared<std::vector<Method>>();
+  for (const Method* m : measured_methods(q)) bound->push_back(bind(*m, constants.set));
+  std::vector<const Method*> methods;
+  for (const Method& m : *bound) methods.push_back(&m);
   const SpecularGrid g = specular_grid(quick);
 
   runner::SweepDefinition d;
@@ -89,6 +95,7 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
   d.args = {"sweep", "specular"};
   if (gaussian) d.args.insert(d.args.end(), {"--brdf", "gaussian"});
   if (quick) d.args.push_back("--quick");
+  for (const auto& a : constants_arguments(constants)) d.args.push_back(a);
   std::string method_names;
   for (const Method* m : methods) method_names += (method_names.empty() ? "" : ", ") + m->name;
   std::string position_names;
@@ -100,6 +107,8 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
       gaussian ? "BRDF: Gaussian-angle NDF (`specular-gaussian-ndf`, roughness = the NDF width m); " : "",
       join_numbers(g.roughness), join_numbers(g.light_sharpness), join_numbers(g.view_cos), runner::csv_number(g.f0),
       position_names, reference.name, method_names, runner::csv_number(kSpecularNearZero));
+  // The constant sets' contents, not only their paths: an edited record is another sweep.
+  if (constants.given()) d.grid += "; constants fnv1a " + constants.fingerprint;
   d.point_count = g.point_count();
   d.columns = kColumns;
   const std::size_t nl = g.light_sharpness.size(), nv = g.view_cos.size();
@@ -112,7 +121,7 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
   };
   // A row read back must be at point k's grid point: its (α, λ, view_cos, f0), one of its light
   // positions with that position's (light_cos, light_azimuth), and a method the sweep measures.
-  d.check_row = [inputs, methods, f0 = g.f0](std::size_t k, const runner::SweepRow& row) -> std::optional<std::string> {
+  d.check_row = [inputs, bound, methods, f0 = g.f0](std::size_t k, const runner::SweepRow& row) -> std::optional<std::string> {
     if (row.size() != kColumns.size()) return fmt::format("{} fields, expected {}", row.size(), kColumns.size());
     const auto [alpha, lambda, v] = inputs(k);
     const std::array<double, 4> at{alpha, lambda, v, f0};
@@ -129,8 +138,9 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf)
       return fmt::format("method {} is not measured by this sweep", quote(row[9]));
     return std::nullopt;
   };
-  // The registry lives for the whole program: pointers into it stay valid.
-  d.compute = [inputs, reference = &reference, methods, f0 = g.f0](std::size_t k) {
+  // The registry lives for the whole program: the reference's pointer stays valid; `bound` keeps
+  // the measured methods alive.
+  d.compute = [inputs, reference = &reference, bound, methods, f0 = g.f0](std::size_t k) {
     const auto [alpha, lambda, v] = inputs(k);
     const std::vector<LightPosition> positions = specular_light_positions(alpha, lambda, v);
     std::vector<std::array<double, 6>> args;
@@ -360,7 +370,7 @@ struct SummaryIndex {
 };
 
 // What is compared with what: the BRDF, the quantity, the grid, the measures.
-std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIndex& x, const std::string& command,
+std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIndex& x, const runner::Provenance& provenance,
                           SpecularBrdf brdf) {
   std::size_t near_zero = 0, points = 0;
   for (const auto& r : rows)
@@ -382,7 +392,7 @@ std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIn
                : "Every method of the `specular` quantity (`sglab eval --list`) against `reference` (adaptive 2D "
                  "quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated Smith and Schlick "
                  "f0 = 0.04, over roughness α";
-  return runner::markdown_header(runner::Provenance{command}) + fmt::format(
+  return runner::markdown_header(provenance) + fmt::format(
       "# {9}\n\n"
       "Command: `{0}` (per-point data: `{11}_points.csv` in its `--out` directory; sharded runs joined by "
       "`sglab merge` give the same file). {10} ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
@@ -398,7 +408,7 @@ std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIn
       "point's peak has no meaningful relative error; such rows ({6} of {7} per method over the grid) are left out of "
       "SMAPE, RMSE and the maximum and counted. The scaled error |v − r| / (the peak), over all rows, covers them "
       "(\"RMSE scaled\", \"max scaled\"). All numbers in %.\n\n",
-      command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
+      provenance.command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
       runner::csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff), title, model,
       gaussian ? "specular-gaussian" : "specular");
 }
@@ -423,7 +433,7 @@ std::string whole_grid_table(const std::vector<SpecularSummaryRow>& rows) {
 
 }  // namespace
 
-std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command,
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const runner::Provenance& provenance,
                                       SpecularBrdf brdf) {
   SummaryIndex x(rows);
   auto weighted = [](const SpecularSummaryRow& r) { return percent(r.weighted_error); };
@@ -435,7 +445,7 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
   auto both = [](const metrics::ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
   const auto rtable = [&](const std::string& by, const std::string& first, auto show) { return x.rtable(by, first, show); };
   const auto table = [&](const std::string& by, const std::string& first, auto show) { return x.table(by, first, show); };
-  std::string md = summary_intro(rows, x, command, brdf);
+  std::string md = summary_intro(rows, x, provenance, brdf);
   md += "## Brightness-weighted error Σ|v − r|/Σr (%) by roughness α\n\n" + rtable("roughness", "α", weighted);
   md += fmt::format("## SMAPE (%) over rows ≥ {:g} % of the point's peak, by roughness α\n\n", 100 * kSpecularBrightCutoff) +
         rtable("roughness", "α", bright);
@@ -468,13 +478,14 @@ struct SpecularOptions {
   bool quick = false;
   bool fresh = false;
   std::string brdf = "ggx";  // ggx | gaussian
+  Constants constants;       // --constants: the measured methods' fitted constants (sglab-specular's)
 };
 
-void run_specular(const SpecularOptions& o) {
+void run_specular(const SpecularOptions& o, const runner::RunContext& run) {
   const SpecularBrdf brdf = o.brdf == "gaussian" ? SpecularBrdf::gaussian : SpecularBrdf::ggx;
   const std::string base = brdf == SpecularBrdf::gaussian ? "specular_gaussian" : "specular";
-  const runner::SweepDefinition d = specular_sweep_definition(o.quick, brdf);
-  const runner::SweepRunResult r = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh);
+  const runner::SweepDefinition d = specular_sweep_definition(o.quick, brdf, o.constants);
+  const runner::SweepRunResult r = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh, run);
   if (r.sharded) return;
   const auto rows = summarize_specular_points(runner::read_sweep_points(r.points_csv), r.points_csv.string());
   std::string command = "sglab";
@@ -482,10 +493,11 @@ void run_specular(const SpecularOptions& o) {
   command += o.tables_dir.empty() ? runner::option_argument("--out", o.out, SpecularOptions{}.out) : runner::option_argument("--tables-dir", o.tables_dir);
   const fs::path tables = runner::tables_place(o.tables_dir, o.out);
   const std::string csv = specular_summary_csv(rows);
-  const std::string md = specular_summary_markdown(rows, command, brdf);
+  const runner::Provenance provenance{command, o.quick || run.quick};
+  const std::string md = specular_summary_markdown(rows, provenance, brdf);
   runner::OutputSet outputs;
   outputs.add(fs::path(o.out) / (base + "_summary.csv"), csv);
-  outputs.add(tables / (base + "_vs_roughness.csv"), runner::csv_header(runner::Provenance{command}) + csv);
+  outputs.add(tables / (base + "_vs_roughness.csv"), runner::csv_header(provenance) + csv);
   outputs.add(tables / (base + "_vs_roughness.md"), md);
   outputs.commit();
   std::fputs(md.c_str(), stdout);
@@ -495,7 +507,7 @@ void run_specular(const SpecularOptions& o) {
 
 }  // namespace
 
-void add_sweep_specular(CLI::App& sweep) {
+void add_sweep_specular(CLI::App& sweep, const runner::RunContext& run) {
   auto o = std::make_shared<SpecularOptions>();
   auto* sub = sweep.add_subcommand("specular",
                                    "Every specular method vs the reference over roughness × light sharpness × view × light position");
@@ -511,7 +523,8 @@ void add_sweep_specular(CLI::App& sweep) {
       ->capture_default_str()
       ->check(one_of({"ggx", "gaussian"}, "BRDF"));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
-  sub->callback([o] { run_specular(*o); });
+  add_constants_option(*sub, o->constants);
+  sub->callback([o, run] { run_specular(*o, run); });
 }
 
 }  // namespace sglab::cli

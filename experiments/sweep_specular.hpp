@@ -13,10 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "constant_sets.hpp"
 #include "csv.hpp"
 #include "sglab/error_metrics.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sweep.hpp"
+#include "table.hpp"
 
 namespace sglab::cli {
 
@@ -63,7 +65,10 @@ bool specular_position_near_lobe(const std::string& position);
 // empty; scaled_error = |value − reference|/scale whenever there is a value. Numbers are printed
 // with the shortest text that reads back to the same double, so any row can be re-evaluated with
 // `sglab eval specular`.
-runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf = SpecularBrdf::ggx);
+// `constants` (--constants) binds the measured methods' fitted constants (sglab-specular's); it
+// is part of the sweep's arguments and, by its contents' fingerprint, of its identity.
+runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf = SpecularBrdf::ggx,
+                                                  const Constants& constants = {});
 
 // One summary row: the statistics of one method over one group of rows.
 struct SpecularSummaryRow {
@@ -93,9 +98,9 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
 // The summary as CSV (header + rows).
 std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows);
 
-// The paper table (Markdown), headed by `command`; the grid it states is read from the rows'
+// The paper table (Markdown), headed by `provenance`; the grid it states is read from the rows'
 // groups (so it describes the CSV the rows came from).
-std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const std::string& command,
+std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const runner::Provenance& provenance,
                                       SpecularBrdf brdf = SpecularBrdf::ggx);
 
 }  // namespace sglab::cli

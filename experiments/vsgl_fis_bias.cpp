@@ -210,13 +210,13 @@ void write(const Result& r) {
 
 namespace sglab::cli {
 
-void add_vsgl_fis_bias_command(CLI::App& app) {
+void add_vsgl_fis_bias_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<vsgl_fis_bias::Options>();
   auto* sub = app.add_subcommand("vsgl-fis-bias", "bias of the FIS VSGLs' sums (power, moments) against the exact sums, over seeds");
   sub->add_option("--seeds", o->seeds, "seeds 1 … S per RSM and N")->capture_default_str();
   sub->add_option("--rsm", o->rsm, "RSM resolution of the shipped scenes")->capture_default_str();
   sub->add_option("--tables-dir", o->tables_dir, "directory for vsgl_fis_bias.{md,csv}")->capture_default_str();
-  sub->callback([o] { vsgl_fis_bias::write(vsgl_fis_bias::compute(*o)); });
+  sub->callback([o, run] { vsgl_fis_bias::write(runner::with_run(vsgl_fis_bias::compute(*o), run)); });
 }
 
 }  // namespace sglab::cli

@@ -300,14 +300,9 @@ FitResult run_scalar_fit(const FitSpec& spec,
 }
 
 const std::vector<Fitter>& fitters() {
-  static const std::vector<Fitter> all = {
-      lambda_d_fitter(),        lambda_c_fitter(),
-      cosine_sharpness_fitter(), cosine_sg_fitter(),
-      meder_logistic_fitter(),  tokuyoshi2022_steepness_fitter(),
-      tokuyoshi2024_t_fitter(), hill_irradiance_fitter(),
-      cosine_lobe_sg_fitter(),    sglab_fitter(),
-      sglab_specular_fitter(),
-  };
+#define SGLAB_CALL_FITTER(name) name##_fitter(),
+  static const std::vector<Fitter> all = {SGLAB_FITTER_LIST(SGLAB_CALL_FITTER)};
+#undef SGLAB_CALL_FITTER
   return all;
 }
 

@@ -111,8 +111,6 @@ std::string fingerprint(const SweepDefinition& d, const Shard& shard) {
                    std::to_string(d.point_count) + '\n' + shard.text() + '\n' + kCodeVersion);
 }
 
-std::atomic<int> g_summary_only{0};
-
 const std::string kCheckpointMagic = "# sglab sweep checkpoint ";
 
 std::string format_seconds(double s) {
@@ -215,7 +213,7 @@ namespace {
 // Whether the outputs of an earlier run of the same sweep and shard are there, whole and unaltered:
 // the manifest's identity, and a per-point CSV holding exactly this shard's points.
 bool finished_earlier(const SweepDefinition& d, const Shard& shard, SweepRunResult& result, std::size_t points,
-                      const std::function<void(const std::string&)>& say, std::string& problem) {
+                      const std::function<void(const std::string&)>& say, std::string& problem, bool summary_only) {
   if (!fs::exists(result.manifest) || !fs::exists(result.points_csv)) return false;
   bool same = false;
   try {
@@ -242,7 +240,7 @@ bool finished_earlier(const SweepDefinition& d, const Shard& shard, SweepRunResu
     return true;
   }
   problem = rows.problem;
-  if (g_summary_only.load() == 0)
+  if (!summary_only)
     say("the earlier output " + result.points_csv.string() + " is incomplete or altered" +
         (rows.problem.empty() ? "" : " (" + rows.problem + ")") + "; recomputing");
   return false;
@@ -418,13 +416,13 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
 
   // 1. Finished earlier? Same manifest identity and a per-point CSV holding exactly our points.
   std::string problem;
-  if (finished_earlier(d, o.shard, result, mine.size(), say, problem)) {
+  if (finished_earlier(d, o.shard, result, mine.size(), say, problem, o.summary_only)) {
     result.seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
     return result;
   }
-  if (g_summary_only.load() > 0 && !problem.empty())
+  if (o.summary_only && !problem.empty())
     throw InputError(fmt::format("{}: {}: {}; nothing recomputed", label, result.points_csv.string(), problem));
-  if (g_summary_only.load() > 0)
+  if (o.summary_only)
     throw InputError(fmt::format("{}: {} is not the finished output of the sweep `sglab {}` as defined here (another "
                                  "grid, scene, version, or altered rows); nothing recomputed",
                                  label, result.points_csv.string(), clip_text(join(d.args, " "), 400)));
@@ -467,9 +465,6 @@ std::string fnv1a_hex(std::string_view text) {
   return fmt::format("{:016x}", h);
 }
 
-SummaryOnlyScope::SummaryOnlyScope() { g_summary_only.fetch_add(1); }
-SummaryOnlyScope::~SummaryOnlyScope() { g_summary_only.fetch_sub(1); }
-
 // ---- numbers ------------------------------------------------------------------------------------
 
 std::string csv_number(double x) {
@@ -477,13 +472,6 @@ std::string csv_number(double x) {
   if (!std::isfinite(x)) throw std::logic_error("csv_number: an infinite statistic");
   return fmt::format("{}", x);
 }
-
-namespace {
-std::atomic<int> g_fresh_scopes{0};
-}  // namespace
-
-FreshSweepScope::FreshSweepScope() { g_fresh_scopes.fetch_add(1); }
-FreshSweepScope::~FreshSweepScope() { g_fresh_scopes.fetch_sub(1); }
 
 std::size_t given_cpus() {
   if (const char* slurm = std::getenv("SLURM_CPUS_PER_TASK")) {
@@ -499,18 +487,18 @@ std::size_t given_cpus() {
 }
 
 SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
-                                 const std::string& shard_text, std::size_t threads, bool fresh) {
+                                 const std::string& shard_text, std::size_t threads, bool fresh, const RunContext& run) {
   const Shard shard = shard_text.empty() ? Shard{} : parse_shard(shard_text);
   // The whole sweep within the CPUs given: its points and each point's own parallel loops.
   const std::size_t cpus = given_cpus();
   const tbb::global_control cap(tbb::global_control::max_allowed_parallelism, cpus);
   if (threads == 0 || threads > cpus) threads = cpus;
   std::fprintf(stderr, "sweep %s: %zu point(s) at once, within the %zu CPU(s) given\n", definition.name.c_str(), threads, cpus);
-  if (fresh || g_fresh_scopes.load() > 0)
+  if (fresh || run.fresh)
     for (const auto& p : {sweep_points_path(out_dir, definition.name, shard), sweep_manifest_path(out_dir, definition.name, shard),
                           sweep_checkpoint_path(out_dir, definition.name, shard)})
       std::filesystem::remove(p);
-  SweepRunResult r = run_sweep(definition, {.out_dir = out_dir, .shard = shard, .threads = threads});
+  SweepRunResult r = run_sweep(definition, {.out_dir = out_dir, .shard = shard, .threads = threads, .summary_only = run.summary_only});
   if (r.sharded)
     std::fprintf(stderr,
                  "sweep %s: shard %s written to %s; no summary from a part of the grid. When every shard is done:\n"

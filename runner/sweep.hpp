@@ -51,6 +51,7 @@
 
 #include "csv.hpp"
 #include "input_error.hpp"
+#include "run_context.hpp"
 
 namespace sglab::runner {
 
@@ -97,7 +98,7 @@ struct SweepDefinition {
   // output, a merged shard): coordinates that are not point k's grid point, a method or
   // configuration the sweep does not run; nullopt if nothing. A fingerprint updated after the
   // edit cannot hide such a row: a checkpoint holding one is ignored, a finished output holding
-  // one recomputed, and a merge's summary (SummaryOnlyScope) refused naming the line and value.
+  // one recomputed, and a merge's summary (SweepRunOptions::summary_only) refused naming the line and value.
   std::function<std::optional<std::string>(std::size_t point, const SweepRow& row)> check_row;
 };
 
@@ -108,6 +109,9 @@ struct SweepRunOptions {
   double checkpoint_seconds = 10;   // at most this long between checkpoints (0: after every point)
   double progress_seconds = 2;      // at most this often a progress line on stderr
   bool quiet = false;               // no progress lines (tests)
+  // Compute nothing (RunContext::summary_only): if the output in the directory is not the
+  // finished output of this definition, throw InputError instead of recomputing it.
+  bool summary_only = false;
 };
 
 struct SweepRunResult {
@@ -130,23 +134,12 @@ SweepRunResult run_sweep(const SweepDefinition& definition, const SweepRunOption
 std::size_t given_cpus();
 
 // What every `sglab sweep KIND` command does with its common options: parse `shard_text` ("" =
-// the whole grid), with `fresh` (or inside a FreshSweepScope) delete this shard's finished output
-// and checkpoint first, run the sweep, and for a shard print how to merge (the caller then writes
-// no summary: r.sharded). Everything the sweep runs, the points' own parallel loops included (a
-// render's), stays within given_cpus() threads.
+// the whole grid), with `fresh` (the command's --fresh, or run.fresh) delete this shard's finished
+// output and checkpoint first, run the sweep (computing nothing with run.summary_only), and for a
+// shard print how to merge (the caller then writes no summary: r.sharded). Everything the sweep
+// runs, the points' own parallel loops included (a render's), stays within given_cpus() threads.
 SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
-                                 const std::string& shard_text, std::size_t threads, bool fresh);
-
-// While one exists, every run_sweep_command starts afresh as with `fresh`: `sglab reproduce
-// --force` holds one, so that a forced rerun recomputes its sweeps instead of resuming
-// checkpoints that an earlier build of the same version wrote (their fingerprint does not cover
-// the code).
-struct FreshSweepScope {
-  FreshSweepScope();
-  ~FreshSweepScope();
-  FreshSweepScope(const FreshSweepScope&) = delete;
-  FreshSweepScope& operator=(const FreshSweepScope&) = delete;
-};
+                                 const std::string& shard_text, std::size_t threads, bool fresh, const RunContext& run);
 
 // The file names of the runner's outputs (for callers and tests).
 std::filesystem::path sweep_points_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);
@@ -196,16 +189,6 @@ std::vector<MergedSweep> merge_sweep_shards(
 // FNV-1a, 64 bit (Fowler, Noll, Vo), as 16 hex digits: the fingerprint of a text in checkpoints,
 // manifests and reproduce markers (a changed or truncated file changes it). Not security.
 std::string fnv1a_hex(std::string_view text);
-
-// While one exists (sglab merge running a sweep's own command to derive its summary), run_sweep
-// computes nothing: if the output in the directory is not the finished output of the sweep the
-// local definition describes, it throws InputError instead of recomputing the sweep.
-struct SummaryOnlyScope {
-  SummaryOnlyScope();
-  ~SummaryOnlyScope();
-  SummaryOnlyScope(const SummaryOnlyScope&) = delete;
-  SummaryOnlyScope& operator=(const SummaryOnlyScope&) = delete;
-};
 
 // Formats a double for a CSV field: the shortest text that reads back to the same double; ""
 // for NaN (a statistic over no points).

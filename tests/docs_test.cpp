@@ -3,7 +3,9 @@
 //     section each line cites exists and names that method (a quantity listed as `q/*`: the quantity),
 //     so every registered method has its formula's entry in docs/math.md, not only an index line;
 //   - the counts quoted in docs/architecture.md ("Counts") are those of the source tree and of the
-//     registries, recounted here (the reference is the tree itself, not a number kept by hand).
+//     registries, recounted here (the reference is the tree itself, not a number kept by hand);
+//   - the files docs/architecture.md says a fitted method touches are the ones the build reads:
+//     the list SGLAB_FITTERS of fit/CMakeLists.txt is the one place a fitter is named.
 // On a mismatch the failure prints the line to write.
 #include <gtest/gtest.h>
 
@@ -16,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "driver.hpp"
 #include "registry.hpp"
 #include "sglab/registry.hpp"
 
@@ -166,6 +169,47 @@ TEST(Docs, ArchitectureCountsMatchTheTree) {
   }
   EXPECT_GE(rows, named.size());
   for (const auto& [what, n] : named) EXPECT_TRUE(seen.count(what)) << "docs/architecture.md, Counts: no row | " << what << " | " << n << " |";
+}
+
+// Adding a fitted method: its header, its registry entry, its fit file, its entry in SGLAB_FITTERS
+// (fit/CMakeLists.txt), docs/math.md. The list the build reads is the one fitters() returns, each
+// entry's file defines its registration function, no other file of fit/ names it, and the recipe
+// of docs/architecture.md names exactly these files.
+TEST(Docs, FittedMethodRecipeIsTheBuildsList) {
+  const std::string cmake = read_doc("fit/CMakeLists.txt");
+  const std::size_t start = cmake.find("set(SGLAB_FITTERS");
+  ASSERT_NE(start, std::string::npos) << "fit/CMakeLists.txt has no list SGLAB_FITTERS";
+  std::vector<std::string> names;
+  std::istringstream lines(cmake.substr(start + std::string("set(SGLAB_FITTERS").size()));
+  for (std::string line; std::getline(lines, line);) {
+    line = line.substr(0, line.find('#'));
+    const bool last = line.find(')') != std::string::npos;
+    std::istringstream words(line.substr(0, line.find(')')));
+    for (std::string w; words >> w;) names.push_back(w);
+    if (last) break;
+  }
+  EXPECT_EQ(names.size(), sglab::fit::fitters().size()) << "SGLAB_FITTERS against fitters()";
+  for (const auto& name : names) {
+    const std::string own = "fit/" + name + ".cpp";
+    EXPECT_NE(read_doc(own).find("Fitter " + name + "_fitter() {"), std::string::npos) << own << " defines no " << name << "_fitter()";
+    for (const auto& e : fs::directory_iterator(fs::path(SGLAB_SOURCE_DIR) / "fit")) {
+      const std::string f = "fit/" + e.path().filename().string();
+      if (f == own || (e.path().extension() != ".cpp" && e.path().extension() != ".hpp")) continue;
+      EXPECT_EQ(read_doc(f).find(name + "_fitter"), std::string::npos) << f << " names " << name << "_fitter: SGLAB_FITTERS should";
+    }
+  }
+  const std::string arch = read_doc("docs/architecture.md");
+  const std::size_t recipe = arch.find("- **A method with fitted constants**");
+  ASSERT_NE(recipe, std::string::npos) << "docs/architecture.md has no recipe for a method with fitted constants";
+  const std::string text = arch.substr(recipe, arch.find("\n- **", recipe + 1) - recipe);
+  // The first path of each numbered step.
+  std::set<std::string> steps;
+  const std::regex step(R"(\n  [0-9]+\. (`[^`]+`|docs/math\.md))");
+  for (std::sregex_iterator it(text.begin(), text.end(), step), end; it != end; ++it) steps.insert((*it)[1].str());
+  EXPECT_EQ(steps, (std::set<std::string>{"`core/include/sglab/NAME.hpp`", "`core/src/registry_core.cpp`", "`fit/NAME.cpp`",
+                                          "`fit/CMakeLists.txt`", "docs/math.md"}))
+      << "docs/architecture.md's recipe for a fitted method";
+  EXPECT_NE(text.find("SGLAB_FITTERS"), std::string::npos);
 }
 
 }  // namespace

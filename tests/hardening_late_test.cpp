@@ -119,9 +119,10 @@ TEST_F(HardeningLate, GroupH_RunnerChecksRowsAgainstTheGrid) {
   m["points_fnv1a"] = sglab::runner::fnv1a_hex(text);
   std::ofstream(r.manifest) << m.dump();
   {
-    const sglab::runner::SummaryOnlyScope summary_only;
+    sglab::runner::SweepRunOptions summary_only = o;
+    summary_only.summary_only = true;
     try {
-      sglab::runner::run_sweep(d, o);
+      sglab::runner::run_sweep(d, summary_only);
       ADD_FAILURE() << "an off-grid row was summarised";
     } catch (const sglab::cli::UsageError& e) {
       EXPECT_NE(std::string(e.what()).find("line 5: point 3: x '35' is not the grid point's 30"), std::string::npos) << e.what();

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "commands.hpp"
+#include "input_error.hpp"
 #include "registry.hpp"
 #include "reproduce.hpp"
 #include "sglab/registry.hpp"
@@ -33,7 +34,7 @@ void expect_every_step_parses(const ex::ReproduceOptions& o) {
     if (s.python) continue;
     CLI::App app{"sglab"};
     app.require_subcommand(1);
-    sglab::cli::add_all_commands(app);
+    sglab::cli::add_all_commands(app, {});
     app.parse_complete_callback([] { throw Parsed{}; });
     std::vector<std::string> args = ex::step_args(s, o, p);
     const std::string line = [&] {
@@ -46,6 +47,12 @@ void expect_every_step_parses(const ex::ReproduceOptions& o) {
       app.parse(args);
       ADD_FAILURE() << s.name << ": parsed without reaching the end of parsing: sglab" << line;
     } catch (const Parsed&) {
+    } catch (const sglab::runner::InputError& e) {
+      // A constant set is read as its option is parsed (constant_sets.hpp): one an earlier step
+      // writes (the fits' records) is not there yet. The option itself was taken.
+      const std::string what = e.what();
+      if (what.rfind("--constants ", 0) != 0 || what.find("no such file or directory") == std::string::npos)
+        ADD_FAILURE() << s.name << ": sglab" << line << ": " << what;
     } catch (const std::exception& e) {
       ADD_FAILURE() << s.name << ": sglab" << line << ": " << e.what();
     }

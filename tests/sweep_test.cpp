@@ -163,23 +163,22 @@ TEST_F(SweepTest, WritesEveryPointInOrderOnce) {
   EXPECT_EQ(sglab::runner::run_sweep(changed.definition(), quiet(dir_)).computed, toy.n);
 }
 
-// `sglab reproduce --force` holds a FreshSweepScope: inside it a finished sweep is computed again
+// `sglab reproduce --force` runs its steps in a fresh RunContext: in it a finished sweep is computed again
 // (not found finished), outside it the same call computes nothing.
-TEST_F(SweepTest, FreshScopeRecomputesAFinishedSweep) {
+TEST_F(SweepTest, FreshRunRecomputesAFinishedSweep) {
   Toy first;
-  EXPECT_EQ(sglab::runner::run_sweep_command(first.definition(), dir_.string(), "", 1, false).computed, first.n);
+  EXPECT_EQ(sglab::runner::run_sweep_command(first.definition(), dir_.string(), "", 1, false, {}).computed, first.n);
   Toy again;
-  EXPECT_EQ(sglab::runner::run_sweep_command(again.definition(), dir_.string(), "", 1, false).computed, 0u);
+  EXPECT_EQ(sglab::runner::run_sweep_command(again.definition(), dir_.string(), "", 1, false, {}).computed, 0u);
   Toy forced;
   {
-    const sglab::runner::FreshSweepScope scope;
-    const auto r = sglab::runner::run_sweep_command(forced.definition(), dir_.string(), "", 1, false);
+    const auto r = sglab::runner::run_sweep_command(forced.definition(), dir_.string(), "", 1, false, {.fresh = true});
     EXPECT_EQ(r.computed, forced.n);
     EXPECT_EQ(r.resumed, 0u);
     EXPECT_EQ(read_file(r.points_csv), expected_toy_csv(forced.n));
   }
   Toy after;
-  EXPECT_EQ(sglab::runner::run_sweep_command(after.definition(), dir_.string(), "", 1, false).computed, 0u);
+  EXPECT_EQ(sglab::runner::run_sweep_command(after.definition(), dir_.string(), "", 1, false, {}).computed, 0u);
 }
 
 TEST_F(SweepTest, ShardsWriteTheirOwnPoints) {

@@ -133,7 +133,7 @@ void register_core_quantities(std::vector<Quantity>& out) {
                                [](auto a) { return clamped_cosine_punctual_approx(a[0], a[1]); }));
     q.methods.push_back(make_method_with_parameters(exportable, "sg-cosine", "cosine ≈ π G(ω; n, λ_d)/A(λ_d), λ_d = 2, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2)",
                                "light leaks past the horizon; the Iwasaki product is poor for broad lobes; exact A(λ_d) used (the paper takes A(λ_d) ≈ π); for sharp lights (λ → ∞) it tends to (π/A(λ_d))·e^{λ_d(c−1)}·2π/λ instead of 2π⟨c⟩/λ (off by up to 14 % of the peak 2π/λ, at c ≈ 0.6)", false, nullptr,
-                               {{"lambda_d", "lambda-d", SgCosine::lambda_d, "Tokuyoshi's VSGL papers: λ_d ≈ 2 by least squares (objective not stated)", ColumnKind::positive}},
+                               {{"lambda_d", "lambda-d", SgCosine::lambda_d, "Tokuyoshi's VSGL papers: λ_d ≈ 2 by least squares (objective not stated)", ColumnKind::positive, ParameterRole::vsgl_diffuse_sharpness}},
                                [](auto a) { return clamped_cosine_sg_cosine(a[0], a[1]); },
                                [](auto a, auto p) { return clamped_cosine_sg_cosine(a[0], a[1], p[0]); }));
     q.methods.push_back(make_method_with_parameters(exportable, "cosine-lobe-sg", "cosine ≈ 1.17·G(ω; n, 2.133), exact SG product (Pettineo 2016, SG series part 3)",

@@ -72,12 +72,22 @@ using BatchFn = std::function<void(std::span<const T> args, std::size_t arity, s
 // once in core, in the struct the registration cites (SgCosine, Tokuyoshi2024T, …); `sglab fit
 // FIT` re-derives it as the record parameter `name`; a ConstantSet (`--constants PATH`) replaces
 // it at run time. Printing `published` with 17 significant digits round-trips it.
+// What a parameter is to code outside its method, so that callers below the command line find it
+// by role, never by its name.
+enum class ParameterRole {
+  constant,  // a fitted constant of the method alone (bound from a constant set)
+  // The sharpness λ_d of the VPLs' diffuse lobes (sg-cosine's): the renderer binds it to the VSGL
+  // set's λ_d, and --sg-cosine-a-pi applies to the method that has it.
+  vsgl_diffuse_sharpness,
+};
+
 struct Parameter {
   std::string name;    // as in the fit record: "lambda_d", "A", "p1", …
   std::string fit;     // the `sglab fit` name that re-derives it ("" if none)
   double published = 0;
   std::string source;  // paper and equation
   ColumnKind kind = ColumnKind::positive;  // its domain, checked with column_value_error
+  ParameterRole role = ParameterRole::constant;
 };
 
 // The method's formula on the tracing type (trace.hpp): the inputs in column order, and its

@@ -78,18 +78,17 @@ VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std:
   d.options = o;
   const Method& method = o.diffuse ? *o.diffuse : default_diffuse_method();
   d.diffuse = method;
-  // A parameter named lambda_d is the VSGL set's λ_d (the sharpness of the VPLs' diffuse lobes).
-  const auto lambda_d = std::find_if(method.parameters.begin(), method.parameters.end(),
-                                     [](const Parameter& p) { return p.name == "lambda_d"; });
-  if (lambda_d != method.parameters.end() && method.bind) {
+  // The VSGL set's λ_d (the sharpness of the VPLs' diffuse lobes) for the parameter of that role.
+  const Parameter* lambda_d = vsgl_diffuse_sharpness(method);
+  if (lambda_d && method.bind) {
     std::vector<double> values;
-    for (const Parameter& p : method.parameters) values.push_back(&p == &*lambda_d ? set.lambda_d : p.published);
+    for (const Parameter& p : method.parameters) values.push_back(&p == lambda_d ? set.lambda_d : p.published);
     d.diffuse = method.bind(values);
   }
   if (!d.diffuse.batch_double) throw std::invalid_argument("diffuse method '" + method.name + "' has no batch evaluator");
   d.floor_sharpness = bool(method.domain_error);
   // A(λ_d) ≈ π: the exact form's π/A(λ_d) factor becomes 1.
-  if (o.sg_cosine_a_is_pi && method.name == "sg-cosine") d.diffuse_factor = sg_integral(set.lambda_d) / pi<double>();
+  if (o.sg_cosine_a_is_pi && lambda_d) d.diffuse_factor = sg_integral(set.lambda_d) / pi<double>();
 
   LobeArrays& a = d.lobes;
   d.clusters = set.clusters.size();
@@ -378,8 +377,14 @@ ShadingOptions shading_options(std::string_view diffuse_method, bool specular) {
   }
   ShadingOptions o;
   o.specular = specular;
-  o.diffuse = m;
+  o.diffuse = std::shared_ptr<const Method>(std::shared_ptr<const Method>(), m);  // the registry's: not owned
   return o;
+}
+
+const Parameter* vsgl_diffuse_sharpness(const Method& m) {
+  for (const Parameter& p : m.parameters)
+    if (p.role == ParameterRole::vsgl_diffuse_sharpness) return &p;
+  return nullptr;
 }
 
 std::string diffuse_method_name(const ShadingOptions& o) {

@@ -51,18 +51,19 @@ inline constexpr std::string_view kVsglVisibilityNote =
 inline constexpr std::string_view kDefaultDiffuseMethod = "tokuyoshi2024";
 
 struct ShadingOptions {
-  // The clamped-cosine method giving D: an entry of the registry's clamped-cosine quantity, or a
-  // copy of one bound to a constant set (registry.hpp bind). nullptr: kDefaultDiffuseMethod. It
-  // must outlive the shading. Any method the registry lists works, through its batch evaluator
-  // (Method::batch_double, one call per shading point for all its lobes). A parameter named
-  // "lambda_d" (sg-cosine's) is the VSGL set's λ_d: an unbound method is bound to it. Methods
-  // whose domain excludes λ = 0 (Method::domain_error set) are evaluated at λ_in ≥ 1e-8.
-  const Method* diffuse = nullptr;
+  // The clamped-cosine method giving D: an entry of the registry's clamped-cosine quantity (held
+  // without ownership: the registry lives for the whole program), or a copy of one bound to a
+  // constant set (registry.hpp bind), owned here. nullptr: kDefaultDiffuseMethod. Any method the
+  // registry lists works, through its batch evaluator (Method::batch_double, one call per shading
+  // point for all its lobes). A parameter of role ParameterRole::vsgl_diffuse_sharpness
+  // (sg-cosine's λ_d) is the VSGL set's λ_d: the method is bound to it. Methods whose domain
+  // excludes λ = 0 (Method::domain_error set) are evaluated at λ_in ≥ 1e-8.
+  std::shared_ptr<const Method> diffuse;
   bool specular = true;                     // ASG specular on glossy receivers
   // The specular method: a method of the registry's `specular` quantity
   // (vsgl_specular_methods.hpp); nullptr: the VSGL ASG form below (kDefaultSpecularMethod).
   const Method* specular_method = nullptr;
-  // sg-cosine only: take A(λ_d) ≈ π as the two-VSGL poster does (Tokuyoshi 2015 supplement §3.2,
+  // sg-cosine only (the method with a vsgl_diffuse_sharpness parameter): take A(λ_d) ≈ π as the two-VSGL poster does (Tokuyoshi 2015 supplement §3.2,
   // after Iwasaki et al. 2012), i.e. D = 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d); false: the
   // exact A(λ_d).
   bool sg_cosine_a_is_pi = false;
@@ -71,6 +72,10 @@ struct ShadingOptions {
   // specular part stay double.
   Precision precision = Precision::double_;
 };
+
+// The method's parameter of role ParameterRole::vsgl_diffuse_sharpness (the VSGL set's λ_d
+// replaces it in shading), nullptr if it has none.
+const Parameter* vsgl_diffuse_sharpness(const Method& m);
 
 // Options for a clamped-cosine method named as in the registry. Throws std::invalid_argument
 // naming the bad name and listing the valid ones.
