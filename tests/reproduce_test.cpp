@@ -139,7 +139,7 @@ TEST(ExperimentRegistry, EveryCommandIsRegisteredOnce) {
       {"sweep", {}},
       {"envmap", {"make", "render"}}};
   CLI::App app{"sglab"};
-  sglab::cli::add_all_commands(app);
+  sglab::cli::add_all_commands(app, {});
   std::map<std::string, std::multiset<std::string>> expected;
   for (const auto& [parent, names] : tools) expected[parent].insert(names.begin(), names.end());
   for (const ex::Experiment& e : ex::experiment_registry()) {
@@ -149,7 +149,7 @@ TEST(ExperimentRegistry, EveryCommandIsRegisteredOnce) {
     }
     ASSERT_TRUE(tools.count(e.under)) << e.name << ": under '" << e.under << "', which registers no experiments";
     CLI::App alone{"parent"};
-    e.add_command(alone);
+    e.add_command(alone, {});
     const std::vector<std::string> own = subcommand_names(alone);
     ASSERT_EQ(own.size(), 1u) << e.name << " registers " << own.size() << " commands";
     expected[e.under].insert(own[0]);
