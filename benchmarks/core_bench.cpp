@@ -72,8 +72,9 @@ void run(benchmark::State& state, const sglab::Method* m, std::size_t arity, con
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
-  state.counters["ns/eval"] = benchmark::Counter(
-      static_cast<double>(state.iterations() * kBatch), benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
+  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * kBatch),
+                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
+                                                 benchmark::Counter::kIs1000);
 }
 
 // Scalar: the method's template called directly per (λ, c) on the same seeded inputs, inlined as
@@ -89,18 +90,21 @@ void run_scalar(benchmark::State& state, F f, const std::vector<double>& in) {
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
-  state.counters["ns/eval"] = benchmark::Counter(
-      static_cast<double>(state.iterations() * kBatch), benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
+  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * kBatch),
+                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
+                                                 benchmark::Counter::kIs1000);
 }
 
 template <class T>
 void register_scalar(const std::vector<double>& in) {
   const std::string p = std::is_same_v<T, float> ? "float" : "double";
   benchmark::RegisterBenchmark(("clamped-cosine/tokuyoshi2024/" + p + "/scalar").c_str(), [&in](benchmark::State& s) {
-    run_scalar<T>(s, [](const T& l, const T& c) { return sglab::clamped_cosine_tokuyoshi2024(l, c); }, in);
+    run_scalar<T>(
+        s, [](const T& l, const T& c) { return sglab::clamped_cosine_tokuyoshi2024(l, c); }, in);
   });
   benchmark::RegisterBenchmark(("clamped-cosine/sglab/" + p + "/scalar").c_str(), [&in](benchmark::State& s) {
-    run_scalar<T>(s, [](const T& l, const T& c) { return sglab::clamped_cosine_sglab(l, c); }, in);
+    run_scalar<T>(
+        s, [](const T& l, const T& c) { return sglab::clamped_cosine_sglab(l, c); }, in);
   });
 }
 
@@ -110,21 +114,27 @@ void register_scalar(const std::vector<double>& in) {
 // SCALAR(quantity, method, fn) calls fn(λ, c) (its default constants); SCALAR6(quantity, method,
 // call) evaluates `call` on the SpecularInput `in` of a row of (α, λ, light_cos, view_cos, φ, f0).
 #define SCALAR_LOOP(T, fn) &sglab::peer::port_batch<T, +[](T l, T c) { return fn(l, c); }>
-#define SCALAR(q, m, fn) sglab::peer::Port{q, m, SCALAR_LOOP(float, fn), SCALAR_LOOP(double, fn)}
-#define SCALAR6_LOOP(T, ...)                                                    \
-  &sglab::peer::port_batch6<T, +[](T a, T l, T lc, T v, T phi, T f0) {          \
-    const sglab::SpecularInput<T> in{a, l, lc, v, phi, f0};                     \
-    return __VA_ARGS__;                                                         \
+#define SCALAR(q, m, fn) \
+  sglab::peer::Port { q, m, SCALAR_LOOP(float, fn), SCALAR_LOOP(double, fn) }
+#define SCALAR6_LOOP(T, ...)                                           \
+  &sglab::peer::port_batch6<T, +[](T a, T l, T lc, T v, T phi, T f0) { \
+    const sglab::SpecularInput<T> in{a, l, lc, v, phi, f0};            \
+    return __VA_ARGS__;                                                \
   }>
-#define SCALAR6(q, m, ...) sglab::peer::Port{q, m, SCALAR6_LOOP(float, __VA_ARGS__), SCALAR6_LOOP(double, __VA_ARGS__)}
+#define SCALAR6(q, m, ...) \
+  sglab::peer::Port { q, m, SCALAR6_LOOP(float, __VA_ARGS__), SCALAR6_LOOP(double, __VA_ARGS__) }
 const sglab::peer::Port kScalarLoops[] = {
     SCALAR("clamped-cosine", "punctual", sglab::clamped_cosine_punctual),
     SCALAR("clamped-cosine", "punctual-approx", sglab::clamped_cosine_punctual_approx),
-    SCALAR("clamped-cosine", "sg-cosine", sglab::clamped_cosine_sg_cosine), SCALAR("clamped-cosine", "cosine-lobe-sg", sglab::clamped_cosine_cosine_lobe_sg),
-    SCALAR("clamped-cosine", "hill-fitted", sglab::clamped_cosine_hill_fitted), SCALAR("clamped-cosine", "meder", sglab::clamped_cosine_meder),
+    SCALAR("clamped-cosine", "sg-cosine", sglab::clamped_cosine_sg_cosine),
+    SCALAR("clamped-cosine", "cosine-lobe-sg", sglab::clamped_cosine_cosine_lobe_sg),
+    SCALAR("clamped-cosine", "hill-fitted", sglab::clamped_cosine_hill_fitted),
+    SCALAR("clamped-cosine", "meder", sglab::clamped_cosine_meder),
     SCALAR("clamped-cosine", "tokuyoshi2022", sglab::clamped_cosine_tokuyoshi2022),
-    SCALAR("clamped-cosine", "tokuyoshi2024", sglab::clamped_cosine_tokuyoshi2024), SCALAR("clamped-cosine", "sglab", sglab::clamped_cosine_sglab),
-    SCALAR("hemispherical", "meder", sglab::hemispherical_meder), SCALAR("hemispherical", "tokuyoshi2022", sglab::hemispherical_tokuyoshi2022),
+    SCALAR("clamped-cosine", "tokuyoshi2024", sglab::clamped_cosine_tokuyoshi2024),
+    SCALAR("clamped-cosine", "sglab", sglab::clamped_cosine_sglab),
+    SCALAR("hemispherical", "meder", sglab::hemispherical_meder),
+    SCALAR("hemispherical", "tokuyoshi2022", sglab::hemispherical_tokuyoshi2022),
     SCALAR("hemispherical", "vmf-tokuyoshi2024", sglab::hemispherical_vmf_tokuyoshi2024),
     SCALAR6("specular", "sg-warp", sglab::specular_sg_warp(in)),
     SCALAR6("specular", "sg-warp-product-axis",
@@ -164,8 +174,9 @@ void run_loop(benchmark::State& state, void (*loop)(const T*, T*, std::size_t), 
     benchmark::ClobberMemory();
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
-  state.counters["ns/eval"] = benchmark::Counter(
-      static_cast<double>(state.iterations() * kBatch), benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::kIs1000);
+  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * kBatch),
+                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
+                                                 benchmark::Counter::kIs1000);
 }
 
 // ---- --ratios: one table, medians of thread CPU time ---------------------------------------------
@@ -215,7 +226,8 @@ void print_ratios() {
   std::printf("| method | precision | scalar loop (before) |");
   for (auto isa : isas) std::printf(" sglab %s |", std::string(sglab::simd::isa_name(isa)).c_str());
   std::printf(" naive port | port / sglab %s | scalar / sglab %s |\n|---|---|---|",
-              std::string(sglab::simd::isa_name(isas.back())).c_str(), std::string(sglab::simd::isa_name(isas.back())).c_str());
+              std::string(sglab::simd::isa_name(isas.back())).c_str(),
+              std::string(sglab::simd::isa_name(isas.back())).c_str());
   for (std::size_t i = 0; i < isas.size() + 3; ++i) std::printf("---|");
   std::printf("\n");
   for (const auto& port : sglab::peer::kPorts) {
@@ -227,14 +239,16 @@ void print_ratios() {
       using T = decltype(zero);
       std::vector<T> args(in.begin(), in.end());
       std::vector<T> out(kBatch);
-      const double t_scalar = median_ns([&] { loop_of<T>(*scalar)(args.data(), out.data(), kBatch); }, reps);
+      const double t_scalar = median_ns([&] { loop_of<T> (*scalar)(args.data(), out.data(), kBatch); }, reps);
       std::vector<double> t_isa;
       for (auto isa : isas) {
         sglab::simd::force_isa(isa);
-        t_isa.push_back(median_ns([&] {
-          if constexpr (std::is_same_v<T, float>) m->batch_float(args, q->columns.size(), out);
-          else m->batch_double(args, q->columns.size(), out);
-        }, reps));
+        t_isa.push_back(median_ns(
+            [&] {
+              if constexpr (std::is_same_v<T, float>) m->batch_float(args, q->columns.size(), out);
+              else m->batch_double(args, q->columns.size(), out);
+            },
+            reps));
       }
       const double t_port = median_ns([&] { loop_of<T>(port)(args.data(), out.data(), kBatch); }, reps);
       std::printf("| %s/%s | %s | %.1f |", std::string(port.quantity).c_str(), std::string(port.method).c_str(),
@@ -265,19 +279,24 @@ int print_versus(const std::string& quantity, const std::string& a_name, const s
   const auto in = specular ? sglab::specular_timing_rows() : make_inputs(*q);
   const std::size_t arity = q->columns.size();
   const std::size_t n = in.size() / arity;
-  std::printf("%s: %s / %s, batch evaluators (%s), %zu inputs per batch (%s), %d interleaved rounds of >= 20 ms CPU time each\n",
-              quantity.c_str(), a_name.c_str(), b_name.c_str(), std::string(sglab::simd::isa_name(sglab::simd::active_isa())).c_str(),
-              n, specular ? "sglab::specular_timing_rows, error-vs-time's timing inputs" : "this bench's seeded inputs", rounds);
+  std::printf(
+      "%s: %s / %s, batch evaluators (%s), %zu inputs per batch (%s), %d interleaved rounds of >= 20 ms CPU time "
+      "each\n",
+      quantity.c_str(), a_name.c_str(), b_name.c_str(),
+      std::string(sglab::simd::isa_name(sglab::simd::active_isa())).c_str(), n,
+      specular ? "sglab::specular_timing_rows, error-vs-time's timing inputs" : "this bench's seeded inputs", rounds);
   auto precision = [&](auto zero) {
     using T = decltype(zero);
     const char* p = std::is_same_v<T, float> ? "float" : "double";
     std::vector<T> args(in.begin(), in.end());
     std::vector<T> out(n);
     auto timer = [&](const sglab::Method* m) {
-      return CpuTimer([m, arity, &args, &out] {
-        if constexpr (std::is_same_v<T, float>) m->batch_float(args, arity, out);
-        else m->batch_double(args, arity, out);
-      }, n);
+      return CpuTimer(
+          [m, arity, &args, &out] {
+            if constexpr (std::is_same_v<T, float>) m->batch_float(args, arity, out);
+            else m->batch_double(args, arity, out);
+          },
+          n);
     };
     const CpuTimer ta = timer(a), tb = timer(b);
     std::vector<double> ratios;
@@ -286,13 +305,14 @@ int print_versus(const std::string& quantity, const std::string& a_name, const s
       if (k % 2 == 0) na = ta.run(), nb = tb.run();
       else nb = tb.run(), na = ta.run();
       ratios.push_back(na / nb);
-      std::printf("%s round %2d: %s %.2f ns, %s %.2f ns, ratio %.3f\n", p, k + 1, a_name.c_str(), na, b_name.c_str(), nb, na / nb);
+      std::printf("%s round %2d: %s %.2f ns, %s %.2f ns, ratio %.3f\n", p, k + 1, a_name.c_str(), na, b_name.c_str(),
+                  nb, na / nb);
       std::fflush(stdout);
     }
     std::sort(ratios.begin(), ratios.end());
     const auto quantile = [&](double f) { return ratios[std::size_t(std::lround(f * double(ratios.size() - 1)))]; };
-    std::printf("%s: %s / %s median %.3f (quartiles %.3f-%.3f, %d rounds)\n", p, a_name.c_str(), b_name.c_str(), quantile(0.5),
-                quantile(0.25), quantile(0.75), rounds);
+    std::printf("%s: %s / %s median %.3f (quartiles %.3f-%.3f, %d rounds)\n", p, a_name.c_str(), b_name.c_str(),
+                quantile(0.5), quantile(0.25), quantile(0.75), rounds);
   };
   precision(0.0f);
   precision(0.0);
@@ -322,8 +342,8 @@ int main(int argc, char** argv) {
     }
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--ratios") == 0) {
-      std::printf("inputs: %zu per batch, seed %llu; ns per evaluation, median of 9 runs of thread CPU time\n\n", kBatch,
-                  static_cast<unsigned long long>(kSeed));
+      std::printf("inputs: %zu per batch, seed %llu; ns per evaluation, median of 9 runs of thread CPU time\n\n",
+                  kBatch, static_cast<unsigned long long>(kSeed));
       print_ratios();
       return 0;
     }
@@ -363,14 +383,16 @@ int main(int argc, char** argv) {
         const auto* scalar = find_scalar_loop(q.name, m.name);
         for (const char* p : {"float", "double"}) {
           const bool f = std::string(p) == "float";
-          benchmark::RegisterBenchmark((q.name + "/" + m.name + "/" + p + "/scalar-loop").c_str(), [scalar, f, &in](benchmark::State& s) {
-            if (f) run_loop<float>(s, scalar->batch_float, in);
-            else run_loop<double>(s, scalar->batch_double, in);
-          });
-          benchmark::RegisterBenchmark((q.name + "/" + m.name + "/" + p + "/port").c_str(), [port, f, &in](benchmark::State& s) {
-            if (f) run_loop<float>(s, port->batch_float, in);
-            else run_loop<double>(s, port->batch_double, in);
-          });
+          benchmark::RegisterBenchmark((q.name + "/" + m.name + "/" + p + "/scalar-loop").c_str(),
+                                       [scalar, f, &in](benchmark::State& s) {
+                                         if (f) run_loop<float>(s, scalar->batch_float, in);
+                                         else run_loop<double>(s, scalar->batch_double, in);
+                                       });
+          benchmark::RegisterBenchmark((q.name + "/" + m.name + "/" + p + "/port").c_str(),
+                                       [port, f, &in](benchmark::State& s) {
+                                         if (f) run_loop<float>(s, port->batch_float, in);
+                                         else run_loop<double>(s, port->batch_double, in);
+                                       });
         }
       }
       // The run-time constants path (`--constants`): the method bound to its published values,
@@ -386,7 +408,8 @@ int main(int argc, char** argv) {
       }
     }
   }
-  std::printf("inputs: %zu per batch, seed %llu; vectorized evaluators: %s\n", kBatch, static_cast<unsigned long long>(kSeed),
+  std::printf("inputs: %zu per batch, seed %llu; vectorized evaluators: %s\n", kBatch,
+              static_cast<unsigned long long>(kSeed),
               std::string(sglab::simd::isa_name(sglab::simd::active_isa())).c_str());
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();

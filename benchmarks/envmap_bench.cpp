@@ -31,7 +31,9 @@ void BM_EnvFit(benchmark::State& state, bool ceres) {
     state.SetIterationTime(r.seconds);
   }
   state.counters["relative_error"] = r.error.relative;
-  state.SetLabel(std::string(state.range(0) == 0 ? "sky" : state.range(0) == 1 ? "studio" : "mixture") +
+  state.SetLabel(std::string(state.range(0) == 0   ? "sky"
+                             : state.range(0) == 1 ? "studio"
+                                                   : "mixture") +
                  " 512x256, fitted on " + std::to_string(r.fit_width) + "x" + std::to_string(r.fit_height));
 }
 

@@ -62,7 +62,7 @@ typedef double v4d __attribute__((vector_size(32)));
 typedef double v8d __attribute__((vector_size(64)));
 
 struct Rates {
-  double mul_add, div, sqrt;  // double operations (per lane) per second
+  double mul_add, div, sqrt;        // double operations (per lane) per second
   double mul_add_f, div_f, sqrt_f;  // the same in float
 };
 typedef float v8f __attribute__((vector_size(32)));
@@ -71,24 +71,24 @@ typedef float v16f __attribute__((vector_size(64)));
 // Operations per second of x = STEP(x) over kChains independent chains of vectors V of LANES
 // doubles, OPS operations a step, best of 3 (a macro: a lambda would not take the function's
 // target attribute).
-#define SGLAB_RATE(V, LANES, OPS, STEP, result)                                            \
-  {                                                                                        \
-    double best = 0;                                                                       \
-    for (int rep = 0; rep < 3; ++rep) {                                                    \
-      V x[kChains];                                                                        \
-      for (int c = 0; c < kChains; ++c) x[c] = V{} + (1.0f + 1e-3f * float(c));                    \
-      const auto t0 = Clock::now();                                                        \
-      for (long s = 0; s < kSteps; ++s) {                                                  \
-        _Pragma("GCC unroll 16") for (int c = 0; c < kChains; ++c) x[c] = STEP(x[c]);      \
-      }                                                                                    \
-      const double t = seconds(t0);                                                        \
-      double sink = 0;                                                                     \
-      for (int c = 0; c < kChains; ++c) sink += x[c][0];                                   \
-      asm volatile("" : : "r"(&sink) : "memory");                                          \
-      const double rate = double(kSteps) * kChains * (OPS) * (LANES) / t;                  \
-      best = rate > best ? rate : best;                                                    \
-    }                                                                                      \
-    result = best;                                                                         \
+#define SGLAB_RATE(V, LANES, OPS, STEP, result)                                       \
+  {                                                                                   \
+    double best = 0;                                                                  \
+    for (int rep = 0; rep < 3; ++rep) {                                               \
+      V x[kChains];                                                                   \
+      for (int c = 0; c < kChains; ++c) x[c] = V{} + (1.0f + 1e-3f * float(c));       \
+      const auto t0 = Clock::now();                                                   \
+      for (long s = 0; s < kSteps; ++s) {                                             \
+        _Pragma("GCC unroll 16") for (int c = 0; c < kChains; ++c) x[c] = STEP(x[c]); \
+      }                                                                               \
+      const double t = seconds(t0);                                                   \
+      double sink = 0;                                                                \
+      for (int c = 0; c < kChains; ++c) sink += x[c][0];                              \
+      asm volatile("" : : "r"(&sink) : "memory");                                     \
+      const double rate = double(kSteps) * kChains * (OPS) * (LANES) / t;             \
+      best = rate > best ? rate : best;                                               \
+    }                                                                                 \
+    result = best;                                                                    \
   }
 
 // The multiply and the add kept apart (no contraction into one fused instruction).
@@ -187,4 +187,3 @@ __attribute__((target("avx512f"), noinline)) inline Rates rates_avx512() {
 #undef SGLAB_RATE
 
 }  // namespace sglab::bench
-

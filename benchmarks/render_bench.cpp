@@ -66,16 +66,15 @@ Rgb old_shading(const ShadingPoint& p, const VsglSet& set, const D& method) {
   Rgb diffuse = Rgb::Zero();
   auto add = [&](const VsglPositionalSg<double>& pos, const VsglLobe& lobe) {
     const VsglIncomingSg<double> in = sglab::vsgl_incoming_sg<double>(pos, lobe.axis, lobe.sharpness);
-    if (diffuse_receiver)
-      diffuse += lobe.amplitude *
-                 sglab::vsgl_clamped_cosine(in, p.normal, method);
+    if (diffuse_receiver) diffuse += lobe.amplitude * sglab::vsgl_clamped_cosine(in, p.normal, method);
     if (receiver) {
       const VsglSpecularFactor<double> f = sglab::vsgl_specular(in, *receiver);
       out.specular += lobe.amplitude * (f.at_f0_zero + p.f0 * (f.at_f0_one - f.at_f0_zero));
     }
   };
   for (const VsglCluster& c : set.clusters) {
-    const VsglPositionalSg<double> pos = sglab::vsgl_positional_sg<double>(c.mean, c.variance, p.position, c.log_two_pi_variance);
+    const VsglPositionalSg<double> pos = sglab::vsgl_positional_sg<double>(c.mean, c.variance, p.position,
+                                                                           c.log_two_pi_variance);
     if (pos.empty) continue;
     if (c.has_diffuse) add(pos, c.diffuse);
     if (c.has_specular) add(pos, c.specular);
@@ -144,7 +143,8 @@ double relative_difference(const Rgb& a, const Rgb& b) {
 struct TermOps {
   double arithmetic, div, sqrt;
 };
-constexpr TermOps kTermOps[4] = {{32, 2, 1}, {32 + 57, 2 + 3, 1 + 2}, {32 + 70, 2 + 3, 1 + 3}, {32 + 70 + 57, 2 + 3 + 3, 1 + 3 + 2}};
+constexpr TermOps kTermOps[4] = {
+    {32, 2, 1}, {32 + 57, 2 + 3, 1 + 2}, {32 + 70, 2 + 3, 1 + 3}, {32 + 70 + 57, 2 + 3 + 3, 1 + 3 + 2}};
 
 // The bound in ns for one term of kind k (2·glossy VPL + glossy receiver), in double or float.
 double term_bound_ns(int k, bool single, const sglab::bench::Rates& r) {
@@ -173,7 +173,8 @@ void BM_Reference(benchmark::State& state) {
   double worst = 0;
   for (auto _ : state) {
     for (std::size_t k = 0; k < s.points.size(); k += kPointStride) {
-      const Rgb v = peer ? old_reference(s.points[k], s.vpls) : reference_radiance(s.points[k], s.vpls, nullptr, precision);
+      const Rgb v = peer ? old_reference(s.points[k], s.vpls)
+                         : reference_radiance(s.points[k], s.vpls, nullptr, precision);
       benchmark::DoNotOptimize(v);
       ++points;
     }
@@ -182,7 +183,8 @@ void BM_Reference(benchmark::State& state) {
     worst = std::max(worst, relative_difference(old_reference(s.points[k], s.vpls),
                                                 reference_radiance(s.points[k], s.vpls, nullptr, precision)));
   const double pairs = double(points) * double(s.vpls.vpls.size());
-  state.counters["ns_per_pixel_vpl"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_pixel_vpl"] = benchmark::Counter(pairs,
+                                                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["vpls"] = double(s.vpls.vpls.size());
   {
     std::size_t glossy_vpls = 0, n = 0;
@@ -198,10 +200,16 @@ void BM_Reference(benchmark::State& state) {
     state.counters["bound_ns_per_pixel_vpl"] = bound;
   }
   state.counters["max_rel_diff"] = worst;
-  state.SetLabel(peer ? "peer: old one-VPL-at-a-time loop"
-                      : (precision == Precision::single ? "sglab: vectorized arrays, float" : "sglab: vectorized arrays"));
+  state.SetLabel(
+      peer ? "peer: old one-VPL-at-a-time loop"
+           : (precision == Precision::single ? "sglab: vectorized arrays, float" : "sglab: vectorized arrays"));
 }
-BENCHMARK(BM_Reference)->Args({1, 0})->Args({0, 0})->Args({0, 1})->ArgNames({"peer", "float"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Reference)
+    ->Args({1, 0})
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->ArgNames({"peer", "float"})
+    ->Unit(benchmark::kMillisecond);
 
 // range(0): VSGL mode (0 = two, 1 = fis with range(1) clusters); range(2): peer; range(3): diffuse
 // method, 0 = tokuyoshi2024 (the default; its evaluation dominates), 1 = punctual (D nearly free:
@@ -243,7 +251,8 @@ void BM_Shading(benchmark::State& state) {
     worst = std::max(worst, relative_difference(shader.shade(timed[i]).total(), shaded[i].total()));
   }
   const double pairs = double(points) * double(shader.lobes());
-  state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs,
+                                                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["lobes"] = double(shader.lobes());
   state.counters["max_rel_diff"] = worst;
   state.SetLabel(std::string(peer ? "peer: old one-lobe-at-a-time loop" : "sglab: arrays + registry batch") +
@@ -315,10 +324,12 @@ void BM_ShadingVisibility(benchmark::State& state) {
     worst = std::max(worst, relative_difference(shader.shade(timed[i], v).total(), mine[i].total()));
   }
   const double pairs = double(points) * double(shader.lobes());
-  state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs,
+                                                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["lobes"] = double(shader.lobes());
   state.counters["max_rel_diff"] = worst;
-  state.SetLabel(peer ? "peer: one point at a time (lookups, then shade)" : "sglab: a row's lookups, then blocks with a mask");
+  state.SetLabel(peer ? "peer: one point at a time (lookups, then shade)"
+                      : "sglab: a row's lookups, then blocks with a mask");
 }
 BENCHMARK(BM_ShadingVisibility)->Arg(1)->Arg(0)->ArgNames({"peer"})->Unit(benchmark::kMillisecond);
 
@@ -345,7 +356,8 @@ void BM_SpecularMethod(benchmark::State& state) {
     points += timed.size();
   }
   const double pairs = double(points) * double(shader.lobes());
-  state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_pixel_lobe"] = benchmark::Counter(pairs,
+                                                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["points"] = double(timed.size());
   state.SetLabel(std::string("specular ") + name + (state.range(0) == 0 ? " (built in)" : " (registry batch)"));
 }

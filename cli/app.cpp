@@ -61,7 +61,8 @@ int run_sglab(std::vector<std::string> args, const runner::RunContext& run) {
   add_all_commands(app, run);
   require_decimal_reals(app);
   // CLI11's own messages quote the bad value whole ("--width: Value … could not be converted").
-  app.failure_message([](const CLI::App* a, const CLI::Error& e) { return bounded_message(CLI::FailureMessage::simple(a, e)); });
+  app.failure_message(
+      [](const CLI::App* a, const CLI::Error& e) { return bounded_message(CLI::FailureMessage::simple(a, e)); });
   // CLI11 would report an unknown command as "A subcommand is required".
   std::string names;
   bool known = false;
@@ -70,7 +71,8 @@ int run_sglab(std::vector<std::string> args, const runner::RunContext& run) {
     known = known || (!args.empty() && sub->check_name(args.front()));
   }
   if (!args.empty() && !args.front().empty() && args.front()[0] != '-' && !known) {
-    std::fprintf(stderr, "sglab: error: unknown command '%s' (commands: %s)\n", clip_text(args.front()).c_str(), names.c_str());
+    std::fprintf(stderr, "sglab: error: unknown command '%s' (commands: %s)\n", clip_text(args.front()).c_str(),
+                 names.c_str());
     return 2;
   }
   try {

@@ -52,13 +52,13 @@ EnvMap load_map(const std::string& path) {
 
 using render::kMixtureLobeFields;
 
-nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::EnvFitOptions& o, const std::string& map_path,
-                                      const EnvMap& map) {
+nlohmann::ordered_json mixture_record(const fit::EnvFitResult& r, const fit::EnvFitOptions& o,
+                                      const std::string& map_path, const EnvMap& map) {
   nlohmann::ordered_json j;
   j["fit"] = "envmap";
   j["objective"] = o.objective;
-  j["domain"] = fmt::format("{} ({}×{} equirectangular, z up; fitted on {}×{})", map_path, map.width, map.height, r.fit_width,
-                            r.fit_height);
+  j["domain"] = fmt::format("{} ({}×{} equirectangular, z up; fitted on {}×{})", map_path, map.width, map.height,
+                            r.fit_width, r.fit_height);
   nlohmann::ordered_json p = nlohmann::ordered_json::object();
   for (std::size_t k = 0; k < r.mixture.size(); ++k) {
     const auto& l = r.mixture[k];
@@ -94,7 +94,8 @@ void check_finite_map(const EnvMap& map, const std::string& what) {
     for (int c = 0; c < 3; ++c)
       if (!std::isfinite(map.texels[k][std::size_t(c)]))
         throw UsageError(fmt::format("{}: texel (x {}, y {}) is {} (the lobes' sum overflows float)", what,
-                                     k % std::size_t(map.width), k / std::size_t(map.width), map.texels[k][std::size_t(c)]));
+                                     k % std::size_t(map.width), k / std::size_t(map.width),
+                                     map.texels[k][std::size_t(c)]));
 }
 
 std::string join_command(const std::string& head, const std::vector<std::string>& args) {
@@ -113,7 +114,8 @@ struct MakeArgs {
 
 void run_make(const MakeArgs& a) {
   if (a.out.empty()) throw UsageError("envmap make needs --out FILE.exr");
-  if (a.width < 2 || a.width % 2 != 0 || a.width > 8192) throw UsageError(fmt::format("--width {} must be even and in [2, 8192]", a.width));
+  if (a.width < 2 || a.width % 2 != 0 || a.width > 8192)
+    throw UsageError(fmt::format("--width {} must be even and in [2, 8192]", a.width));
   runner::check_output_paths({{"--out", a.out}}, {{"--mixture", a.mixture}});
   EnvMap map;
   std::vector<std::string> args{"--out", a.out, "--width", std::to_string(a.width)};
@@ -123,9 +125,11 @@ void run_make(const MakeArgs& a) {
       o.width = a.width;
       o.height = a.width / 2;
       map = render::make_sky(o);
-      args.insert(args.end(), {"--turbidity", fmt::format("{}", o.turbidity), "--sun-elevation", fmt::format("{}", o.sun_elevation_deg),
-                               "--sun-azimuth", fmt::format("{}", o.sun_azimuth_deg), "--sun-size", fmt::format("{}", o.sun_size_deg),
-                               "--sun-luminance", fmt::format("{}", o.sun_luminance), "--ground-albedo", fmt::format("{}", o.ground_albedo)});
+      args.insert(args.end(),
+                  {"--turbidity", fmt::format("{}", o.turbidity), "--sun-elevation",
+                   fmt::format("{}", o.sun_elevation_deg), "--sun-azimuth", fmt::format("{}", o.sun_azimuth_deg),
+                   "--sun-size", fmt::format("{}", o.sun_size_deg), "--sun-luminance",
+                   fmt::format("{}", o.sun_luminance), "--ground-albedo", fmt::format("{}", o.ground_albedo)});
     } else if (a.kind == "studio") {
       render::StudioOptions o;
       o.width = a.width;
@@ -179,36 +183,43 @@ fit::EnvFitResult run_fit_method(const EnvMap& map, const std::string& method, c
 }
 
 void run_fit_envmap(const FitEnvArgs& a) {
-  if (a.method != "ceres" && a.method != "vmf-em") throw UsageError("unknown --method " + quote(a.method) + " (ceres, vmf-em)");
+  if (a.method != "ceres" && a.method != "vmf-em")
+    throw UsageError("unknown --method " + quote(a.method) + " (ceres, vmf-em)");
   runner::check_output_paths({{"--json", a.json}, {"--exr", a.exr}}, {{"map", a.map}});
   const EnvMap map = load_map(a.map);
   fit::EnvFitOptions o = a.options;
   if (a.max_iterations > 0) (a.method == "vmf-em" ? o.em_max_iterations : o.max_iterations) = a.max_iterations;
   const fit::EnvFitResult r = run_fit_method(map, a.method, o);
   std::printf("fit envmap %s: %d lobes, %s (init %s, objective %s), fitted on %d×%d\n", a.map.c_str(), a.options.lobes,
-              r.method.c_str(), r.method == "ceres" ? a.options.init.c_str() : "kmeans", a.options.objective.c_str(), r.fit_width,
-              r.fit_height);
-  std::printf("  L2 %.6g, relative error %.6g (solid-angle weighted, against the %d×%d map)\n", r.error.l2, r.error.relative,
-              map.width, map.height);
-  std::printf("  %d iterations, %s, %.3f s\n", r.iterations, r.converged ? "converged" : "NOT converged (iteration cap)", r.seconds);
+              r.method.c_str(), r.method == "ceres" ? a.options.init.c_str() : "kmeans", a.options.objective.c_str(),
+              r.fit_width, r.fit_height);
+  std::printf("  L2 %.6g, relative error %.6g (solid-angle weighted, against the %d×%d map)\n", r.error.l2,
+              r.error.relative, map.width, map.height);
+  std::printf("  %d iterations, %s, %.3f s\n", r.iterations,
+              r.converged ? "converged" : "NOT converged (iteration cap)", r.seconds);
   if (r.kept_lobes > 0)
-    std::printf("  the fit at %zu lobes ended above the lobe ladder's previous rung on the full map: that rung's %d lobes are kept, "
-                "the others set to zero amplitude\n",
-                r.mixture.size(), r.kept_lobes);
+    std::printf(
+        "  the fit at %zu lobes ended above the lobe ladder's previous rung on the full map: that rung's %d lobes are "
+        "kept, "
+        "the others set to zero amplitude\n",
+        r.mixture.size(), r.kept_lobes);
   if (const int zero = fit::zero_amplitude_lobes(r.mixture))
-    std::printf("  %d of %zu lobes have zero amplitude (they add nothing; the map needs fewer lobes or a better start)\n", zero,
-                r.mixture.size());
+    std::printf(
+        "  %d of %zu lobes have zero amplitude (they add nothing; the map needs fewer lobes or a better start)\n", zero,
+        r.mixture.size());
   if (!std::isfinite(r.error.l2) || !std::isfinite(r.error.relative))
-    throw std::runtime_error(fmt::format("fit envmap {}: the fit's error is not finite (L2 {}, relative {}); nothing written",
-                                         quote(a.map), r.error.l2, r.error.relative));
+    throw std::runtime_error(
+        fmt::format("fit envmap {}: the fit's error is not finite (L2 {}, relative {}); nothing written", quote(a.map),
+                    r.error.l2, r.error.relative));
   // The fit is scale-free (fit/envmap.cpp), but a record must load again: amplitudes past the
   // mixture loader's bound (a map near FLT_MAX) are refused here, not written.
   for (std::size_t j = 0; j < r.mixture.size(); ++j)
     for (int c = 0; c < 3; ++c)
       if (!(r.mixture[j].amplitude[std::size_t(c)] <= render::kMaxMixtureAmplitude))
-        throw UsageError(fmt::format("fit envmap {}: lobe{}.{} {:g} is outside [0, {:g}], the amplitudes a mixture record holds "
-                                     "(the map's values are too large; scale it down); nothing written",
-                                     quote(a.map), j, "rgb"[c], r.mixture[j].amplitude[std::size_t(c)], render::kMaxMixtureAmplitude));
+        throw UsageError(fmt::format(
+            "fit envmap {}: lobe{}.{} {:g} is outside [0, {:g}], the amplitudes a mixture record holds "
+            "(the map's values are too large; scale it down); nothing written",
+            quote(a.map), j, "rgb"[c], r.mixture[j].amplitude[std::size_t(c)], render::kMaxMixtureAmplitude));
   runner::OutputSet outputs;  // both or neither
   if (!a.json.empty()) outputs.add(a.json, mixture_record(r, a.options, a.map, map).dump(2) + "\n");
   if (!a.exr.empty()) {
@@ -260,8 +271,10 @@ void run_render(const RenderArgs& a) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  const std::string command = fmt::format("sglab envmap render {} --mixture {} --geometry {} --res {} --diffuse {} --specular {} --roughness {} --f0 {} --out {}",
-                                          a.map, a.mixture, a.geometry, a.res, a.diffuse, a.specular, a.roughness, a.f0, a.out);
+  const std::string command = fmt::format(
+      "sglab envmap render {} --mixture {} --geometry {} --res {} --diffuse {} --specular {} --roughness {} --f0 {} "
+      "--out {}",
+      a.map, a.mixture, a.geometry, a.res, a.diffuse, a.specular, a.roughness, a.f0, a.out);
   nlohmann::ordered_json stats;
   stats["command"] = command;
   stats["lobes"] = m.size();
@@ -273,7 +286,8 @@ void run_render(const RenderArgs& a) {
     s["approximation_part"] = error_json(render::shading_error(l[2], l[1], image));
     stats[k == 0 ? "diffuse" : "specular"] = s;
   }
-  const char* names[6] = {"diffuse_map", "diffuse_mixture", "diffuse_approx", "specular_map", "specular_mixture", "specular_approx"};
+  const char* names[6] = {"diffuse_map",  "diffuse_mixture",  "diffuse_approx",
+                          "specular_map", "specular_mixture", "specular_approx"};
   std::vector<render::ImageLayer> out;
   for (int k = 0; k < 6; ++k) out.push_back({names[k], layers[k]});
   const std::string exr = render::encode_exr(image.width, image.height, out, {{"sglab_command", command}});
@@ -291,13 +305,24 @@ void add_fit_envmap_command(CLI::App& fit) {
   auto* sub = fit.add_subcommand("envmap", "fit an equirectangular EXR environment with N RGB SG lobes (Ceres)");
   sub->add_option("map", a->map, "equirectangular (2:1) OpenEXR environment")->required();
   sub->add_option("--lobes", a->options.lobes, "number of lobes N")->required();
-  sub->add_option("--init", a->options.init, "initial axes")->capture_default_str()->check(one_of({"fibonacci", "kmeans"}, "--init"));
-  sub->add_option("--objective", a->options.objective, "objective (solid-angle weighted)")->capture_default_str()->check(one_of({"l2", "log-l2"}, "objective"));
-  sub->add_option("--method", a->method, "ceres, or vmf-em (the EM alternative)")->capture_default_str()->check(one_of({"ceres", "vmf-em"}, "method"));
-  sub->add_option("--threads", a->options.threads, "Ceres threads")->capture_default_str()->check(integer_in(1, runner::kMaxThreads));
-  sub->add_option("--seed", a->options.seed, "k-means++ seed")->capture_default_str()->check(unsigned_at_most(std::numeric_limits<unsigned>::max()));
+  sub->add_option("--init", a->options.init, "initial axes")
+      ->capture_default_str()
+      ->check(one_of({"fibonacci", "kmeans"}, "--init"));
+  sub->add_option("--objective", a->options.objective, "objective (solid-angle weighted)")
+      ->capture_default_str()
+      ->check(one_of({"l2", "log-l2"}, "objective"));
+  sub->add_option("--method", a->method, "ceres, or vmf-em (the EM alternative)")
+      ->capture_default_str()
+      ->check(one_of({"ceres", "vmf-em"}, "method"));
+  sub->add_option("--threads", a->options.threads, "Ceres threads")
+      ->capture_default_str()
+      ->check(integer_in(1, runner::kMaxThreads));
+  sub->add_option("--seed", a->options.seed, "k-means++ seed")
+      ->capture_default_str()
+      ->check(unsigned_at_most(std::numeric_limits<unsigned>::max()));
   sub->add_option("--max-iterations", a->max_iterations,
-                  "iteration cap: Levenberg–Marquardt iterations per level (ceres, default 60) or EM iterations (vmf-em, default 200)")
+                  "iteration cap: Levenberg–Marquardt iterations per level (ceres, default 60) or EM iterations "
+                  "(vmf-em, default 200)")
       ->check(integer_in(1, 1000000));
   sub->add_option("--json", a->json, "write the mixture as a fit record (JSON)");
   sub->add_option("--exr", a->exr, "write the reconstruction as an EXR of the map's size");
@@ -305,31 +330,48 @@ void add_fit_envmap_command(CLI::App& fit) {
 }
 
 void add_envmap_command(CLI::App& app, const runner::RunContext& run) {
-  auto* cmd = app.add_subcommand("envmap", "SG environment maps: make environments, render with a mixture, error against N");
+  auto* cmd = app.add_subcommand("envmap",
+                                 "SG environment maps: make environments, render with a mixture, error against N");
   cmd->require_subcommand(1);
   {
     auto a = std::make_shared<MakeArgs>();
     auto* sub = cmd->add_subcommand("make", "write a generated environment as an equirectangular EXR");
-    sub->add_option("kind", a->kind, "environment")->required()->check(one_of({"sky", "studio", "overcast", "indoor", "mixture"}, "environment"));
+    sub->add_option("kind", a->kind, "environment")
+        ->required()
+        ->check(one_of({"sky", "studio", "overcast", "indoor", "mixture"}, "environment"));
     sub->add_option("--out", a->out, "output EXR");
     sub->add_option("--width", a->width, "width (height = width/2)")->capture_default_str()->check(integer_in(2, 8192));
-    sub->add_option("--turbidity", a->sky.turbidity, "sky: Preetham turbidity T in [2, 10]")->capture_default_str()->check(finite_in(2, 10));
-    sub->add_option("--sun-elevation", a->sky.sun_elevation_deg, "sky: sun elevation (degrees)")->capture_default_str()->check(finite_in(0, 90));
-    sub->add_option("--sun-azimuth", a->sky.sun_azimuth_deg, "sky: sun azimuth (degrees)")->capture_default_str()->check(finite_in(-360, 360));
-    sub->add_option("--sun-size", a->sky.sun_size_deg, "sky: sun disk angular diameter (degrees)")->capture_default_str()->check(finite_in(0, 45));
+    sub->add_option("--turbidity", a->sky.turbidity, "sky: Preetham turbidity T in [2, 10]")
+        ->capture_default_str()
+        ->check(finite_in(2, 10));
+    sub->add_option("--sun-elevation", a->sky.sun_elevation_deg, "sky: sun elevation (degrees)")
+        ->capture_default_str()
+        ->check(finite_in(0, 90));
+    sub->add_option("--sun-azimuth", a->sky.sun_azimuth_deg, "sky: sun azimuth (degrees)")
+        ->capture_default_str()
+        ->check(finite_in(-360, 360));
+    sub->add_option("--sun-size", a->sky.sun_size_deg, "sky: sun disk angular diameter (degrees)")
+        ->capture_default_str()
+        ->check(finite_in(0, 45));
     sub->add_option("--sun-luminance", a->sky.sun_luminance, "sky: sun disk luminance / zenith luminance")
         ->capture_default_str()
         ->check(finite_in(0, render::kMaxSunLuminance));
-    sub->add_option("--ground-albedo", a->sky.ground_albedo, "sky, overcast: albedo of the ground below the horizon")->capture_default_str()->check(finite_in(0, 1));
-    sub->add_option("--mixture", a->mixture, "mixture: lobes from a fit record JSON (default: the shipped synthetic mixture)");
+    sub->add_option("--ground-albedo", a->sky.ground_albedo, "sky, overcast: albedo of the ground below the horizon")
+        ->capture_default_str()
+        ->check(finite_in(0, 1));
+    sub->add_option("--mixture", a->mixture,
+                    "mixture: lobes from a fit record JSON (default: the shipped synthetic mixture)");
     sub->callback([a] { run_make(*a); });
   }
   {
     auto a = std::make_shared<RenderArgs>();
-    auto* sub = cmd->add_subcommand("render", "shade a sphere or a plane with the map and its mixture (three layers, V = 1)");
+    auto* sub = cmd->add_subcommand("render",
+                                    "shade a sphere or a plane with the map and its mixture (three layers, V = 1)");
     sub->add_option("map", a->map, "equirectangular EXR")->required();
     sub->add_option("--mixture", a->mixture, "mixture fit record JSON (sglab fit envmap --json)");
-    sub->add_option("--geometry", a->geometry, "geometry")->capture_default_str()->check(one_of({"sphere", "plane"}, "geometry"));
+    sub->add_option("--geometry", a->geometry, "geometry")
+        ->capture_default_str()
+        ->check(one_of({"sphere", "plane"}, "geometry"));
     sub->add_option("--res", a->res, "image size")->capture_default_str()->check(integer_in(2, 2048));
     sub->add_option("--diffuse", a->diffuse, "clamped-cosine method (sglab eval --list)")
         ->capture_default_str()
@@ -337,7 +379,9 @@ void add_envmap_command(CLI::App& app, const runner::RunContext& run) {
     sub->add_option("--specular", a->specular, "specular method")
         ->capture_default_str()
         ->check(one_of(method_names(*find_quantity("specular")), "specular method"));
-    sub->add_option("--roughness", a->roughness, "GGX roughness")->capture_default_str()->check(finite_in(render::kMinEnvRoughness, 1));
+    sub->add_option("--roughness", a->roughness, "GGX roughness")
+        ->capture_default_str()
+        ->check(finite_in(render::kMinEnvRoughness, 1));
     sub->add_option("--f0", a->f0, "Schlick f0")->capture_default_str()->check(finite_in(0, 1));
     sub->add_option("--out", a->out, "output EXR (layers diffuse_map, diffuse_mixture, diffuse_approx, specular_…)");
     sub->add_option("--stats", a->stats, "errors as JSON");

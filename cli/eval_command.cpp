@@ -70,12 +70,10 @@ void print_list_text() {
   for (const auto& q : quantities()) {
     out += fmt::format("\n{}\n  {}\n  columns:\n", q.name, q.description);
     for (const auto& c : q.columns) out += fmt::format("    {:<12} {}\n", c.name, c.description);
-    out += q.reference_method.empty()
-               ? std::string("  methods:\n")
-               : fmt::format("  methods (reference: {}):\n", q.reference_method);
+    out += q.reference_method.empty() ? std::string("  methods:\n")
+                                      : fmt::format("  methods (reference: {}):\n", q.reference_method);
     for (const auto& m : q.methods) {
-      out += fmt::format("    {}{}{}\n", m.name, m.may_be_negative ? "  " : "",
-                         m.may_be_negative ? kNegativeMark : "");
+      out += fmt::format("    {}{}{}\n", m.name, m.may_be_negative ? "  " : "", m.may_be_negative ? kNegativeMark : "");
       out += fmt::format("      source: {}\n", m.source);
       if (!m.flaws.empty()) out += fmt::format("      flaws:  {}\n", m.flaws);
       for (const auto& p : m.parameters)
@@ -98,8 +96,7 @@ void print_list_json() {
                       {"columns", nlohmann::json::array()},
                       {"methods", nlohmann::json::array()}};
     for (const auto& c : q.columns)
-      jq["columns"].push_back(
-          {{"name", c.name}, {"kind", column_kind_name(c.kind)}, {"description", c.description}});
+      jq["columns"].push_back({{"name", c.name}, {"kind", column_kind_name(c.kind)}, {"description", c.description}});
     for (const auto& m : q.methods) {
       nlohmann::json params = nlohmann::json::array();
       for (const auto& p : m.parameters)
@@ -149,16 +146,16 @@ std::vector<std::size_t> argument_columns(const Quantity& q, const runner::CsvTa
   for (const auto& c : q.columns) {
     const std::size_t i = table.column(c.name);
     if (i == runner::CsvTable::npos)
-      throw UsageError(fmt::format(
-          "{}: line 1 (header): missing column '{}'; quantity '{}' needs the columns {}, the "
-          "header has {}",
-          source, c.name, q.name, fmt::join(column_names(q), ", "), fmt::join(table.header, ", ")));
+      throw UsageError(
+          fmt::format("{}: line 1 (header): missing column '{}'; quantity '{}' needs the columns {}, the "
+                      "header has {}",
+                      source, c.name, q.name, fmt::join(column_names(q), ", "), fmt::join(table.header, ", ")));
     index.push_back(i);
   }
   if (table.column(kValueColumn) != runner::CsvTable::npos)
-    throw UsageError(fmt::format(
-        "{}: line 1 (header): the input already has a column '{}', which eval appends; rename it",
-        source, kValueColumn));
+    throw UsageError(
+        fmt::format("{}: line 1 (header): the input already has a column '{}', which eval appends; rename it", source,
+                    kValueColumn));
   return index;
 }
 
@@ -186,8 +183,8 @@ std::vector<T> parse_arguments(const Quantity& q, const Method& method, const ru
       }
       checked[j] = runner::validation_double(args[r * k + j]);
       if (method.evaluates_in_double && runner::outside_double(args[r * k + j]))
-        throw UsageError(fmt::format("{}: is outside double's range, and method '{}' of '{}' evaluates in double", where(j),
-                                     method.name, q.name));
+        throw UsageError(fmt::format("{}: is outside double's range, and method '{}' of '{}' evaluates in double",
+                                     where(j), method.name, q.name));
     }
     // The library's checks (registry.hpp: row_error), the same the Python module applies.
     if (const auto error = row_error(q, method, checked)) {
@@ -208,8 +205,8 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
                                   const runner::CsvTable& table, const std::string& source) {
   const MethodFn<T>& fn = evaluator<T>(method);
   if (!fn)
-    throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry",
-                                       method.name, q.name, precision_name(precision)));
+    throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry", method.name, q.name,
+                                       precision_name(precision)));
   const std::vector<T> args = parse_arguments<T>(q, method, table, argument_columns(q, table, source), source);
 
   // Rows are independent and the quadrature references are slow (up to about a second per row in
@@ -233,16 +230,14 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
   std::vector<std::string> formatted(rows);
   for (std::size_t r = 0; r < rows; ++r) {
     if (failures[r])
-      throw std::runtime_error(fmt::format("{}: method '{}' of '{}' failed: {}",
-                                           row_location(source, table, r), method.name, q.name,
-                                           *failures[r]));
+      throw std::runtime_error(fmt::format("{}: method '{}' of '{}' failed: {}", row_location(source, table, r),
+                                           method.name, q.name, *failures[r]));
     formatted[r] = format_value(results[r], digits);
     // Never print a NaN or an infinity as if it were a result (docs/math.md §10).
     if (!is_finite_value(results[r]))
-      throw std::runtime_error(
-          fmt::format("{}: method '{}' of '{}' in {} returned {}, not a finite number",
-                      row_location(source, table, r), method.name, q.name,
-                      precision_name(precision), formatted[r]));
+      throw std::runtime_error(fmt::format("{}: method '{}' of '{}' in {} returned {}, not a finite number",
+                                           row_location(source, table, r), method.name, q.name,
+                                           precision_name(precision), formatted[r]));
   }
   return formatted;
 }
@@ -250,8 +245,7 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
 runner::CsvTable read_input(const std::string& path) {
   if (path.empty()) {
     struct stat st {};
-    if (::fstat(0, &st) == 0 && S_ISDIR(st.st_mode))
-      throw UsageError("standard input is a directory, not a CSV file");
+    if (::fstat(0, &st) == 0 && S_ISDIR(st.st_mode)) throw UsageError("standard input is a directory, not a CSV file");
     return runner::read_csv(std::cin, "<stdin>");
   }
   // An ifstream opens a directory without complaint and fails only when reading it.
@@ -279,22 +273,20 @@ void run_eval(const EvalOptions& o) {
     return;
   }
   if (o.quantity.empty())
-    throw UsageError(fmt::format("eval needs a QUANTITY, one of: {} (see `sglab eval --list`)",
-                                 fmt::join(quantity_names(), ", ")));
+    throw UsageError(
+        fmt::format("eval needs a QUANTITY, one of: {} (see `sglab eval --list`)", fmt::join(quantity_names(), ", ")));
   const Quantity* q = find_quantity(o.quantity);
-  if (!q)
-    throw UsageError(runner::unknown_name_message("quantity", o.quantity, quantity_names()));
+  if (!q) throw UsageError(runner::unknown_name_message("quantity", o.quantity, quantity_names()));
   if (o.method.empty())
-    throw UsageError(fmt::format("eval {} needs --method, one of: {}", q->name,
-                                 fmt::join(method_names(*q), ", ")));
+    throw UsageError(fmt::format("eval {} needs --method, one of: {}", q->name, fmt::join(method_names(*q), ", ")));
   const Method* m = q->find(o.method);
   if (!m)
-    throw UsageError(runner::unknown_name_message("method", o.method, method_names(*q)) + " for quantity '" + q->name + "'");
+    throw UsageError(runner::unknown_name_message("method", o.method, method_names(*q)) + " for quantity '" + q->name +
+                     "'");
   const auto precision = parse_precision(o.precision);
   if (!precision)
-    throw UsageError(
-        fmt::format("unknown precision {}; valid precisions: {}", quote(o.precision),
-                    fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
+    throw UsageError(fmt::format("unknown precision {}; valid precisions: {}", quote(o.precision),
+                                 fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
 
   runner::check_output_paths({{"--out", o.out}}, {{"--in", o.in}});
 
@@ -310,15 +302,9 @@ void run_eval(const EvalOptions& o) {
   const std::string source = o.in.empty() ? "<stdin>" : o.in;
   std::vector<std::string> values;
   switch (*precision) {
-    case Precision::float32:
-      values = evaluate<float>(*q, *m, *precision, table, source);
-      break;
-    case Precision::float64:
-      values = evaluate<double>(*q, *m, *precision, table, source);
-      break;
-    case Precision::mp50:
-      values = evaluate<mp50>(*q, *m, *precision, table, source);
-      break;
+    case Precision::float32: values = evaluate<float>(*q, *m, *precision, table, source); break;
+    case Precision::float64: values = evaluate<double>(*q, *m, *precision, table, source); break;
+    case Precision::mp50: values = evaluate<mp50>(*q, *m, *precision, table, source); break;
   }
 
   std::vector<std::string> header = table.header;
@@ -337,11 +323,12 @@ void run_eval(const EvalOptions& o) {
 
 void add_eval_command(CLI::App& app) {
   auto o = std::make_shared<EvalOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "eval", "Evaluate a method of a quantity on every row of a CSV; appends a 'value' column");
+  CLI::App* cmd = app.add_subcommand("eval",
+                                     "Evaluate a method of a quantity on every row of a CSV; appends a 'value' column");
   auto* quantity = cmd->add_option("quantity", o->quantity, "Quantity to evaluate (see --list)")
                        ->check(one_of(quantity_names(), "quantity"));
-  auto* method = cmd->add_option("--method,-m", o->method, "Method of the quantity (see --list):" + methods_per_quantity());
+  auto* method = cmd->add_option("--method,-m", o->method,
+                                 "Method of the quantity (see --list):" + methods_per_quantity());
   auto* precision = cmd->add_option("--precision,-p", o->precision,
                                     "float, double or mp50 (50 decimal digits); values are printed "
                                     "with 9, 17 or 50 significant digits")
@@ -350,8 +337,7 @@ void add_eval_command(CLI::App& app) {
   auto* out = cmd->add_option("--out,-o", o->out,
                               "Output CSV (default: standard output); written only if every row "
                               "succeeds, and replaced atomically");
-  auto* list = cmd->add_flag("--list", o->list,
-                             "List every quantity with its columns and methods (source, flaws)");
+  auto* list = cmd->add_flag("--list", o->list, "List every quantity with its columns and methods (source, flaws)");
   cmd->add_flag("--json", o->json, "With --list: print the list as JSON")->needs(list);
   add_constants_option(*cmd, o->constants);
   list->excludes(quantity)->excludes(method)->excludes(precision)->excludes(in)->excludes(out);

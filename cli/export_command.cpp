@@ -45,7 +45,8 @@ void run_export(const ExportOptions& o, const std::string& command) {
   for (std::size_t i = 0; i < o.methods.size(); ++i) {
     const std::string& name = o.methods[i];
     // The same method twice would define its function twice: a source that does not compile.
-    if (std::find(o.methods.begin(), o.methods.begin() + std::ptrdiff_t(i), name) != o.methods.begin() + std::ptrdiff_t(i))
+    if (std::find(o.methods.begin(), o.methods.begin() + std::ptrdiff_t(i), name) !=
+        o.methods.begin() + std::ptrdiff_t(i))
       throw UsageError(fmt::format("export: {} is given twice", quote(name)));
     const shader::MethodRef ref = shader::find_exportable(name);
     traced.push_back(shader::trace_method(*ref.quantity, *ref.method, set));
@@ -61,8 +62,9 @@ void add_export_command(CLI::App& app) {
   auto opts = std::make_shared<ExportOptions>();
   auto* sub = app.add_subcommand(
       "export", "A method's formula as GLSL, HLSL or C (float; constants as literals with their provenance)");
-  sub->add_option("methods", opts->methods,
-                  fmt::format("QUANTITY/METHOD, one or more; exportable: {}", fmt::join(shader::exportable_methods(), ", ")));
+  sub->add_option(
+      "methods", opts->methods,
+      fmt::format("QUANTITY/METHOD, one or more; exportable: {}", fmt::join(shader::exportable_methods(), ", ")));
   sub->add_option("--lang", opts->lang, "glsl, hlsl or c")->check(CLI::IsMember(shader::language_names()));
   sub->add_option("--out", opts->out, "write the source to FILE (default: standard output)");
   add_constants_option(*sub, opts->constants);

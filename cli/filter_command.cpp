@@ -74,7 +74,8 @@ std::vector<render::Rgb> low_res_image(const render::FilterInputs& in) {
 }
 
 // What both passes' stats begin with.
-nlohmann::json stats_head(const Options& o, const render::Scene& scene, int width, int height, const std::string& command) {
+nlohmann::json stats_head(const Options& o, const render::Scene& scene, int width, int height,
+                          const std::string& command) {
   return {{"command", command},
           {"scene", o.job.render.scene_path},
           {"scene_description", scene.description},
@@ -83,8 +84,8 @@ nlohmann::json stats_head(const Options& o, const render::Scene& scene, int widt
           {"height", height}};
 }
 
-nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rsm_resolution, const render::FilterInputs& in,
-                            const render::FilterResult& r, const std::string& command) {
+nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rsm_resolution,
+                            const render::FilterInputs& in, const render::FilterResult& r, const std::string& command) {
   nlohmann::json stats = stats_head(o, scene, in.width, in.height, command);
   stats["scale"] = in.scale;
   stats["low_width"] = in.low_width;
@@ -103,8 +104,9 @@ nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rs
   stats["error"] = {{"all", image_error_json(r.all)},
                     {"glossy_receivers", image_error_json(r.glossy)},
                     {"diffuse_receivers", image_error_json(r.diffuse)},
-                    {"of", "upsampled against the exact VPL sum at full resolution, all channels; relative_l2 = "
-                           "||v - r||/||r||, smape = mean 2|v - r|/(|v| + |r|), rmse in W/(m^2 sr)"}};
+                    {"of",
+                     "upsampled against the exact VPL sum at full resolution, all channels; relative_l2 = "
+                     "||v - r||/||r||, smape = mean 2|v - r|/(|v| + |r|), rmse in W/(m^2 sr)"}};
   stats["seconds"] = {{"gbuffer", in.seconds.gbuffer},
                       {"rsm", in.seconds.rsm},
                       {"low_res_indirect", in.seconds.low_res},
@@ -134,8 +136,8 @@ void run_upsampling(const Options& o, const render::FilterWeights weights) {
   if (!o.quiet) {
     input_options.progress = progress_printer();
     std::fprintf(stderr, "filter: %s, %d×%d pixels, indirect at 1/%d (%s), RSM %d×%d, weights %s\n",
-                 o.job.render.scene_path.c_str(), scene.camera.width, scene.camera.height, o.job.scale, o.job.source.c_str(),
-                 input_options.rsm_resolution, input_options.rsm_resolution, o.weights.c_str());
+                 o.job.render.scene_path.c_str(), scene.camera.width, scene.camera.height, o.job.scale,
+                 o.job.source.c_str(), input_options.rsm_resolution, input_options.rsm_resolution, o.weights.c_str());
   }
   render::FilterInputs in;
   render::FilterResult r;
@@ -147,11 +149,13 @@ void run_upsampling(const Options& o, const render::FilterWeights weights) {
   }
 
   const std::string exr = render::encode_exr(
-      in.width, in.height, {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low_res_image(in)}},
+      in.width, in.height,
+      {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low_res_image(in)}},
       {{"sglab_command", command}});
   runner::OutputSet outputs;
   outputs.add(o.out, exr);
-  if (!o.stats.empty()) outputs.add(o.stats, filter_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
+  if (!o.stats.empty())
+    outputs.add(o.stats, filter_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
   outputs.commit();
 
   std::printf(
@@ -159,13 +163,15 @@ void run_upsampling(const Options& o, const render::FilterWeights weights) {
       "  relative L2 %.4g (glossy receivers %.4g, diffuse %.4g), SMAPE %.4g, RMSE %.4g; %zu fallback pixels\n"
       "  seconds: low-res indirect %.3f, upsampling %.3f, reference %.3f\n"
       "  wrote %s%s%s\n",
-      o.job.render.scene_path.c_str(), in.width, in.height, in.low_width, in.low_height, o.job.source.c_str(), o.weights.c_str(),
-      r.all.relative_l2, r.glossy.relative_l2, r.diffuse.relative_l2, r.all.smape, r.all.rmse, r.fallback_pixels, in.seconds.low_res,
-      r.seconds, in.seconds.reference, o.out.c_str(), o.stats.empty() ? "" : " and ", o.stats.c_str());
+      o.job.render.scene_path.c_str(), in.width, in.height, in.low_width, in.low_height, o.job.source.c_str(),
+      o.weights.c_str(), r.all.relative_l2, r.glossy.relative_l2, r.diffuse.relative_l2, r.all.smape, r.all.rmse,
+      r.fallback_pixels, in.seconds.low_res, r.seconds, in.seconds.reference, o.out.c_str(),
+      o.stats.empty() ? "" : " and ", o.stats.c_str());
 }
 
-nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int rsm_resolution, const render::DenoiseInputs& in,
-                             const render::DenoiseResult& r, const std::string& command) {
+nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int rsm_resolution,
+                             const render::DenoiseInputs& in, const render::DenoiseResult& r,
+                             const std::string& command) {
   nlohmann::json stats = stats_head(o, scene, in.width, in.height, command);
   stats["noisy"] = render::noisy_spec_name(in.noisy);
   stats["noisy_seed"] = in.seed;
@@ -180,8 +186,9 @@ nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int r
   stats["pixels_hit"] = hit;
   stats["glossy_receivers"] = glossy;
   const render::NoisyError noisy = render::noisy_error(in);
-  const char* of = "against the exact VPL sum (all VPLs) at every pixel, all channels; relative_l2 = ||v - r||/||r||, "
-                   "smape = mean 2|v - r|/(|v| + |r|), rmse in W/(m^2 sr)";
+  const char* of =
+      "against the exact VPL sum (all VPLs) at every pixel, all channels; relative_l2 = ||v - r||/||r||, "
+      "smape = mean 2|v - r|/(|v| + |r|), rmse in W/(m^2 sr)";
   stats["error"] = {{"noisy",
                      {{"all", image_error_json(noisy.all)},
                       {"glossy_receivers", image_error_json(noisy.glossy)},
@@ -200,8 +207,10 @@ nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int r
   stats["filter_ns_per_pixel"] = 1e9 * r.seconds / pixels;
   stats["notes"] =
       "Indirect light only (no direct light). Noisy input: each pixel sums a subset of the VPLs "
-      "(core/render/include/sglab/render/denoise.hpp), unbiased for the full sum. Diffuse and specular parts are filtered "
-      "separately, demodulated by albedo and f0 and remodulated with each pixel's material. Times: wall clock, all cores; "
+      "(core/render/include/sglab/render/denoise.hpp), unbiased for the full sum. Diffuse and specular parts are "
+      "filtered "
+      "separately, demodulated by albedo and f0 and remodulated with each pixel's material. Times: wall clock, all "
+      "cores; "
       "filter_ns_per_pixel = the filter pass's wall time / all pixels of the image.";
   return stats;
 }
@@ -212,7 +221,8 @@ void run_denoise(const Options& options, const render::FilterWeights weights) {
   if (given(o.spatial_sigma_option))
     throw UsageError("--spatial-sigma is the upsampling pass's; --noisy filters over a box of half-width --radius");
   const render::NoisySpec spec = parse_noisy_option(o.noisy);
-  o.job.parameters.radius = denoise_radius(spec, given(o.radius_option) ? std::optional<int>(o.job.parameters.radius) : std::nullopt);
+  o.job.parameters.radius = denoise_radius(
+      spec, given(o.radius_option) ? std::optional<int>(o.job.parameters.radius) : std::nullopt);
   render::DenoiseInputOptions input_options = denoise_input_options(o.job, spec, o.noisy_seed);
   const render::Scene scene = load_scene(o.job.render);
   render::FilterInputOptions footprint;  // the same buffers as upsampling at scale 1
@@ -222,9 +232,10 @@ void run_denoise(const Options& options, const render::FilterWeights weights) {
   const std::string command = command_line(o);
   if (!o.quiet) {
     input_options.progress = progress_printer();
-    std::fprintf(stderr, "filter: %s, %d×%d pixels, noisy %s, RSM %d×%d, weights %s, radius %d\n", o.job.render.scene_path.c_str(),
-                 scene.camera.width, scene.camera.height, o.noisy.c_str(), input_options.rsm_resolution, input_options.rsm_resolution,
-                 o.weights.c_str(), o.job.parameters.radius);
+    std::fprintf(stderr, "filter: %s, %d×%d pixels, noisy %s, RSM %d×%d, weights %s, radius %d\n",
+                 o.job.render.scene_path.c_str(), scene.camera.width, scene.camera.height, o.noisy.c_str(),
+                 input_options.rsm_resolution, input_options.rsm_resolution, o.weights.c_str(),
+                 o.job.parameters.radius);
   }
   render::DenoiseInputs in;
   render::DenoiseResult r;
@@ -235,22 +246,26 @@ void run_denoise(const Options& options, const render::FilterWeights weights) {
     throw UsageError(e.what());
   }
   const std::string exr = render::encode_exr(
-      in.width, in.height, {{"noisy", in.noisy_image}, {"filtered", r.filtered}, {"exact", in.reference}, {"error", r.error}},
+      in.width, in.height,
+      {{"noisy", in.noisy_image}, {"filtered", r.filtered}, {"exact", in.reference}, {"error", r.error}},
       {{"sglab_command", command}});
   runner::OutputSet outputs;
   outputs.add(o.out, exr);
-  if (!o.stats.empty()) outputs.add(o.stats, denoise_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
+  if (!o.stats.empty())
+    outputs.add(o.stats, denoise_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
   outputs.commit();
   const render::NoisyError noisy = render::noisy_error(in);
   std::printf(
       "filter %s: %d×%d, noisy %s, weights %s, radius %d\n"
-      "  relative L2: noisy %.4g → filtered %.4g (glossy receivers %.4g → %.4g, diffuse %.4g → %.4g); SMAPE %.4g → %.4g\n"
+      "  relative L2: noisy %.4g → filtered %.4g (glossy receivers %.4g → %.4g, diffuse %.4g → %.4g); SMAPE %.4g → "
+      "%.4g\n"
       "  seconds: noisy indirect %.3f, filtering %.3f (%.0f ns/pixel), reference %.3f\n"
       "  wrote %s%s%s\n",
-      o.job.render.scene_path.c_str(), in.width, in.height, o.noisy.c_str(), o.weights.c_str(), r.radius, noisy.all.relative_l2,
-      r.all.relative_l2, noisy.glossy.relative_l2, r.glossy.relative_l2, noisy.diffuse.relative_l2, r.diffuse.relative_l2,
-      noisy.all.smape, r.all.smape, in.seconds.noisy, r.seconds, 1e9 * r.seconds / (double(in.width) * double(in.height)),
-      in.seconds.reference, o.out.c_str(), o.stats.empty() ? "" : " and ", o.stats.c_str());
+      o.job.render.scene_path.c_str(), in.width, in.height, o.noisy.c_str(), o.weights.c_str(), r.radius,
+      noisy.all.relative_l2, r.all.relative_l2, noisy.glossy.relative_l2, r.glossy.relative_l2,
+      noisy.diffuse.relative_l2, r.diffuse.relative_l2, noisy.all.smape, r.all.smape, in.seconds.noisy, r.seconds,
+      1e9 * r.seconds / (double(in.width) * double(in.height)), in.seconds.reference, o.out.c_str(),
+      o.stats.empty() ? "" : " and ", o.stats.c_str());
 }
 
 void run(const Options& options) {
@@ -275,21 +290,26 @@ void run(const Options& options) {
 
 void add_filter_command(CLI::App& app) {
   auto opts = std::make_shared<Options>();
-  auto* sub = app.add_subcommand(
-      "filter",
-      "Upsample low-resolution indirect light, or filter a noisy VPL-subset image (--noisy), with normal/depth or lobe-aware "
-      "weights; error against the full-resolution VPL sum");
+  auto* sub = app.add_subcommand("filter",
+                                 "Upsample low-resolution indirect light, or filter a noisy VPL-subset image "
+                                 "(--noisy), with normal/depth or lobe-aware "
+                                 "weights; error against the full-resolution VPL sum");
   sub->add_option("scene", opts->job.render.scene_path, "scene JSON (schema: scenes/README.md)")->required();
   sub->add_option("--out", opts->out,
-                  "output OpenEXR image (layers upsampled, reference, error, low_res; with --noisy: noisy, filtered, exact, error)");
-  sub->add_option("--noisy", opts->noisy,
-                  "filter a noisy full-resolution image instead of upsampling: interleaved:M (pixel (x, y) sums the VPL subset "
-                  "(x mod M, y mod M) of M×M, weighted M²; M in 1..64) or random:K (K VPLs per pixel drawn ∝ reflected power, "
-                  "weighted 1/(K p); K in 1..1048576); --radius then is the window's half-width in pixels (default M, or 4)");
-  sub->add_option("--noisy-seed", opts->noisy_seed, "--noisy: seed of the subsets' shift (interleaved) or of the draws (random)")
+                  "output OpenEXR image (layers upsampled, reference, error, low_res; with --noisy: noisy, filtered, "
+                  "exact, error)");
+  sub->add_option(
+      "--noisy", opts->noisy,
+      "filter a noisy full-resolution image instead of upsampling: interleaved:M (pixel (x, y) sums the VPL subset "
+      "(x mod M, y mod M) of M×M, weighted M²; M in 1..64) or random:K (K VPLs per pixel drawn ∝ reflected power, "
+      "weighted 1/(K p); K in 1..1048576); --radius then is the window's half-width in pixels (default M, or 4)");
+  sub->add_option("--noisy-seed", opts->noisy_seed,
+                  "--noisy: seed of the subsets' shift (interleaved) or of the draws (random)")
       ->capture_default_str()
       ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
-  sub->add_option("--weights", opts->weights, "range weights: normal (normal + depth), lobe (lobe-aware), lobe-depth (lobe directions + depth), spatial (none)")
+  sub->add_option("--weights", opts->weights,
+                  "range weights: normal (normal + depth), lobe (lobe-aware), lobe-depth (lobe directions + depth), "
+                  "spatial (none)")
       ->check(one_of(render::filter_weights_names(), "weights"));
   sub->add_option("--stats", opts->stats, "output stats JSON");
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");

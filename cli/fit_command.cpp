@@ -52,14 +52,12 @@ struct FitArgs {
 };
 
 void print_result(const fit::FitResult& r, const Judgement& jd) {
-  std::printf("%s  [%s]\n  domain: %s\n  source: %s\n", r.fit.c_str(), r.objective.c_str(),
-              r.domain.c_str(), r.source.c_str());
-  std::printf("  %-10s %-24s %-24s %-15s %s\n", "parameter", "value", "published", "correct digits",
-              "+1 % cost range");
+  std::printf("%s  [%s]\n  domain: %s\n  source: %s\n", r.fit.c_str(), r.objective.c_str(), r.domain.c_str(),
+              r.source.c_str());
+  std::printf("  %-10s %-24s %-24s %-15s %s\n", "parameter", "value", "published", "correct digits", "+1 % cost range");
   for (std::size_t i = 0; i < r.parameters.size(); ++i) {
-    std::printf("  %-10s %-24s %-24s %-15s %s\n", r.parameters[i].name.c_str(),
-                number(r.parameters[i].value).c_str(), number(r.published[i].value).c_str(),
-                digits_text(r.parameters[i].value, r.published[i].value).c_str(),
+    std::printf("  %-10s %-24s %-24s %-15s %s\n", r.parameters[i].name.c_str(), number(r.parameters[i].value).c_str(),
+                number(r.published[i].value).c_str(), digits_text(r.parameters[i].value, r.published[i].value).c_str(),
                 i < r.cost_range.size() ? range_text(r.cost_range[i]).c_str() : "");
   }
   std::printf("  final cost %.6g, %d iterations, %s, %.4f s\n", r.final_cost, r.iterations,
@@ -84,7 +82,9 @@ fit_all::Options all_options(const FitArgs& a) { return {a.precision, a.beta, a.
 void run_fit(const FitArgs& a, const runner::RunContext& run) {
   const fit_all::Options o = all_options(a);
   if (a.name == "all") {
-    fit_all::write(o, runner::with_run(fit_all::compute(o, [](const fit_all::Judged& j) { print_result(j.result, j.judgement); }), run));
+    fit_all::write(
+        o, runner::with_run(fit_all::compute(o, [](const fit_all::Judged& j) { print_result(j.result, j.judgement); }),
+                            run));
     return;
   }
   const fit::Fitter* f = fit::find_fitter(a.name);
@@ -94,7 +94,8 @@ void run_fit(const FitArgs& a, const runner::RunContext& run) {
   print_result(r, jd);
   const std::string record = fit_record_json(r, jd, a.precision).dump(2) + "\n";
   if (!a.json_file.empty()) runner::write_file_atomically(a.json_file, record);
-  if (!a.json_dir.empty()) runner::write_file_atomically(std::filesystem::path(a.json_dir) / (f->name + ".json"), record);
+  if (!a.json_dir.empty())
+    runner::write_file_atomically(std::filesystem::path(a.json_dir) / (f->name + ".json"), record);
 }
 
 }  // namespace
@@ -108,16 +109,19 @@ void add_fit_command(CLI::App& app, const runner::RunContext& run) {
   for (const auto& g : fit::fitters()) {
     objectives += "\n  " + g.name + ": " + runner::join_names(g.objectives);
     for (const auto& o : g.objectives)
-      if (std::find(objective_names.begin(), objective_names.end(), o) == objective_names.end()) objective_names.push_back(o);
+      if (std::find(objective_names.begin(), objective_names.end(), o) == objective_names.end())
+        objective_names.push_back(o);
   }
   cmd->add_option("--objective", a->objective, "objective (default: the fit's first), per fit:" + objectives)
       ->check(one_of(objective_names, "objective"));
-  cmd->add_option("--precision", a->precision, "half|float|double (cosine-sharpness)")->check(one_of({"half", "float", "double"}, "precision"));
+  cmd->add_option("--precision", a->precision, "half|float|double (cosine-sharpness)")
+      ->check(one_of({"half", "float", "double"}, "precision"));
   cmd->add_option("--beta", a->beta, "lambda-c: beta of sigma_n^2 (default 20)");
   cmd->add_option("--kappa", a->kappa, "lambda-c: kappa of sigma_n^2 (default 100)");
   cmd->add_option("--json", a->json_file, "write the fit's JSON record here");
   cmd->add_option("--json-dir", a->json_dir, "one NAME.json per fit here (a constant set for --constants)");
-  cmd->add_option("--tables-dir", a->tables_dir, "fit all: where constants.{md,csv,tex} go (default: the --json-dir, else results/fits)");
+  cmd->add_option("--tables-dir", a->tables_dir,
+                  "fit all: where constants.{md,csv,tex} go (default: the --json-dir, else results/fits)");
   add_fit_envmap_command(*cmd);  // `sglab fit envmap MAP.exr …` (envmap_command.cpp)
   cmd->callback([a, cmd, run] {
     if (cmd->got_subcommand("envmap")) return;

@@ -5,6 +5,4 @@
 
 #include "commands.hpp"
 
-int main(int argc, char** argv) {
-  return sglab::cli::run_sglab(std::vector<std::string>(argv + 1, argv + argc));
-}
+int main(int argc, char** argv) { return sglab::cli::run_sglab(std::vector<std::string>(argv + 1, argv + argc)); }

@@ -59,7 +59,8 @@ std::string quote_if_needed(const std::string& s) {
 
 void run(const Options& o) {
   if (o.out.empty()) throw UsageError("render needs --out IMAGE.exr");
-  runner::check_output_paths({{"--out", o.out}, {"--stats", o.stats}, {"--dump-csv", o.dump_csv}}, {{"scene", o.job.scene_path}});
+  runner::check_output_paths({{"--out", o.out}, {"--stats", o.stats}, {"--dump-csv", o.dump_csv}},
+                             {{"scene", o.job.scene_path}});
   RenderJobRun job(o.job, o.specular, load_scene(o.job), !o.dump_csv.empty());
   const render::Scene& scene = job.scene;
   render::RenderOptions& options = job.options;
@@ -85,20 +86,21 @@ void run(const Options& o) {
       const double in_stage = std::chrono::duration<double>(now - progress_state->stage_start).count();
       if (fraction > 0 && fraction < 1 && std::chrono::duration<double>(now - progress_state->last).count() < 2) return;
       progress_state->last = now;
-      if (fraction == 0)
-        std::fprintf(stderr, "render: %.*s …\n", int(stage.size()), stage.data());
+      if (fraction == 0) std::fprintf(stderr, "render: %.*s …\n", int(stage.size()), stage.data());
       else if (fraction == 1)
-        std::fprintf(stderr, "render: %.*s done in %.2f s (%.1f s total)\n", int(stage.size()), stage.data(), in_stage, total);
+        std::fprintf(stderr, "render: %.*s done in %.2f s (%.1f s total)\n", int(stage.size()), stage.data(), in_stage,
+                     total);
       else
-        std::fprintf(stderr, "render: %.*s %3.0f %% (%.1f s)\n", int(stage.size()), stage.data(), 100 * fraction, in_stage);
+        std::fprintf(stderr, "render: %.*s %3.0f %% (%.1f s)\n", int(stage.size()), stage.data(), 100 * fraction,
+                     in_stage);
     };
   if (!o.quiet)
     std::fprintf(stderr, "render: %s, %d×%d pixels, RSM %d×%d, VSGL %s\n", o.job.scene_path.c_str(), scene.camera.width,
                  scene.camera.height, options.rsm_resolution, options.rsm_resolution, o.job.vsgl.c_str());
   const auto [r, layers, stats] = job.run(command);
 
-  const std::string exr = render::encode_exr(r.width, r.height, layers,
-                                             {{"sglab_command", command}, {"sglab_notes", stats["notes"].get<std::string>()}});
+  const std::string exr = render::encode_exr(
+      r.width, r.height, layers, {{"sglab_command", command}, {"sglab_notes", stats["notes"].get<std::string>()}});
   runner::OutputSet outputs;
   outputs.add(o.out, exr);
   if (!o.stats.empty()) outputs.add(o.stats, stats.dump(2) + "\n");
@@ -111,18 +113,21 @@ void run(const Options& o) {
       "  seconds: rsm %.3f, vsgl %.4f, shading %.3f, reference %.3f (speedup %.0f×)\n"
       "  indirect vs reference: relative L2 %.4g, SMAPE %.4g, RMSE %.4g\n"
       "  wrote %s%s%s\n",
-      o.job.scene_path.c_str(), r.width, r.height, r.vpl_count, std::size_t(stats["vsgl_count"]), r.vsgls.stats.specular_vsgls,
+      o.job.scene_path.c_str(), r.width, r.height, r.vpl_count, std::size_t(stats["vsgl_count"]),
+      r.vsgls.stats.specular_vsgls,
       r.specular_shading ? ("specular shading (" + o.specular + ") on glossy receivers").c_str()
                          : "no specular shading (no glossy receiver or VSGL)",
-      s.rsm, s.vsgl, s.shading, s.reference, stats["speedup_vsgl_over_reference"].get<double>(), r.error_metrics.relative_l2,
-      r.error_metrics.smape, r.error_metrics.rmse, o.out.c_str(), o.stats.empty() ? "" : " and ", o.stats.c_str());
+      s.rsm, s.vsgl, s.shading, s.reference, stats["speedup_vsgl_over_reference"].get<double>(),
+      r.error_metrics.relative_l2, r.error_metrics.smape, r.error_metrics.rmse, o.out.c_str(),
+      o.stats.empty() ? "" : " and ", o.stats.c_str());
 }
 
 }  // namespace
 
 void add_render_command(CLI::App& app) {
   auto opts = std::make_shared<Options>();
-  auto* sub = app.add_subcommand("render", "Render a scene: direct, VSGL indirect, exact VPL-sum reference and error (EXR + stats JSON)");
+  auto* sub = app.add_subcommand(
+      "render", "Render a scene: direct, VSGL indirect, exact VPL-sum reference and error (EXR + stats JSON)");
   sub->add_option("scene", opts->job.scene_path, "scene JSON (schema: scenes/README.md)")->required();
   sub->add_option("--out", opts->out, "output OpenEXR image (layers direct, indirect, indirect_reference, error)");
   sub->add_option("--stats", opts->stats, "output stats JSON");

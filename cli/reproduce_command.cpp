@@ -13,8 +13,10 @@ namespace sglab::cli {
 
 void add_reproduce_command(CLI::App& app) {
   auto opts = std::make_shared<experiments::ReproduceOptions>();
-  auto* sub = app.add_subcommand("reproduce", "Regenerate every table and figure (resumes: finished steps are skipped)");
-  sub->add_option("--out", opts->out, "directory for results and figures (default: results, or results/quick with --quick)");
+  auto* sub = app.add_subcommand("reproduce",
+                                 "Regenerate every table and figure (resumes: finished steps are skipped)");
+  sub->add_option("--out", opts->out,
+                  "directory for results and figures (default: results, or results/quick with --quick)");
   sub->add_option("--tables-dir", opts->tables_dir,
                   "directory for the tables and key figures (default: paper_tables, or OUT/tables with --quick)");
   sub->add_flag("--quick", opts->quick, "coarser grids; writes under results/quick/, never into paper_tables/");
@@ -36,7 +38,11 @@ void add_reproduce_command(CLI::App& app) {
   add_constants_option(*sub, opts->constants,
                        "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
                        "repeatable, later sets override earlier ones)");
-  sub->callback([opts] { experiments::run_reproduce(*opts, [](const std::vector<std::string>& args, const runner::RunContext& run) { return run_sglab(args, run); }); });
+  sub->callback([opts] {
+    experiments::run_reproduce(*opts, [](const std::vector<std::string>& args, const runner::RunContext& run) {
+      return run_sglab(args, run);
+    });
+  });
 }
 
 }  // namespace sglab::cli

@@ -47,24 +47,26 @@ std::vector<std::string> record_files(const std::string& p) {
     fs::directory_iterator it(p, ec), end;
     if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
     for (; it != end; it.increment(ec)) {
-      if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
+      if (ec)
+        throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
       if (it->path().extension() != ".json") continue;
       std::error_code entry_ec;
       const bool regular = it->is_regular_file(entry_ec);
       if (entry_ec)
-        throw UsageError(fmt::format("--constants {}: {} cannot be examined ({})", clip_text(p), quote(it->path().filename().string()),
-                                     entry_ec.message()));
+        throw UsageError(fmt::format("--constants {}: {} cannot be examined ({})", clip_text(p),
+                                     quote(it->path().filename().string()), entry_ec.message()));
       if (regular) files.push_back(it->path().string());
     }
-    if (files.empty()) throw UsageError(fmt::format("--constants {}: the directory holds no fit record (*.json)", clip_text(p)));
+    if (files.empty())
+      throw UsageError(fmt::format("--constants {}: the directory holds no fit record (*.json)", clip_text(p)));
     std::sort(files.begin(), files.end());
     return files;
   }
   if (fs::exists(status)) return {p};
   if (ec && ec != std::errc::no_such_file_or_directory)
     throw UsageError(fmt::format("--constants {}: cannot be examined ({})", clip_text(p), ec.message()));
-  throw UsageError(fmt::format("--constants {}: no such file or directory (a fit record, a directory of them, or 'published')",
-                               clip_text(p)));
+  throw UsageError(fmt::format(
+      "--constants {}: no such file or directory (a fit record, a directory of them, or 'published')", clip_text(p)));
 }
 
 void load_record(const std::string& file, ConstantSet& set) {
@@ -84,7 +86,8 @@ void load_record(const std::string& file, ConstantSet& set) {
   if (!f) {
     std::vector<std::string> names;
     for (const auto& g : fit::fitters()) names.push_back(g.name);
-    throw UsageError(fmt::format("--constants {}: key 'fit': unknown fit '{}' (fits: {})", file, clip_text(fit_name), join(names)));
+    throw UsageError(
+        fmt::format("--constants {}: key 'fit': unknown fit '{}' (fits: {})", file, clip_text(fit_name), join(names)));
   }
   if (!j.contains("parameters") || !j["parameters"].is_object())
     throw UsageError(fmt::format("--constants {}: key 'parameters': missing or not an object", file));
@@ -93,8 +96,9 @@ void load_record(const std::string& file, ConstantSet& set) {
   known.insert(known.end(), f->derived.begin(), f->derived.end());
   for (const auto& [key, value] : params.items()) {
     if (std::find(known.begin(), known.end(), key) == known.end())
-      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': unknown parameter of fit '{}' (parameters: {})",
-                                   file, clip_text(key), fit_name, join(known)));
+      throw UsageError(
+          fmt::format("--constants {}: key 'parameters.{}': unknown parameter of fit '{}' (parameters: {})", file,
+                      clip_text(key), fit_name, join(known)));
     if (!value.is_number())
       throw UsageError(fmt::format("--constants {}: key 'parameters.{}': not a number ({})", file, key,
                                    clip_text(value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))));
@@ -107,8 +111,7 @@ void load_record(const std::string& file, ConstantSet& set) {
   std::string provenance = fmt::format("{}: fit {}", file, fit_name);
   if (j.contains("objective") && j["objective"].is_string())
     provenance += ", objective " + clip_text(j["objective"].get<std::string>(), 300);
-  else
-    provenance += ", objective not stated (hand-written)";
+  else provenance += ", objective not stated (hand-written)";
   if (j.contains("precision") && j["precision"].is_string())
     provenance += ", precision " + clip_text(j["precision"].get<std::string>());
 
@@ -146,8 +149,8 @@ ConstantSet load_constant_sets(const std::vector<std::string>& paths) {
       for (const auto& v : record.values) {
         const auto [it, fresh] = set_by.emplace(std::pair(v.fit, v.name), f);
         if (!fresh)
-          throw UsageError(fmt::format("--constants {}: {}.{} is set by two records ({} and {}); keep one", clip_text(p), v.fit,
-                                       v.name, quote(it->second), quote(f)));
+          throw UsageError(fmt::format("--constants {}: {}.{} is set by two records ({} and {}); keep one",
+                                       clip_text(p), v.fit, v.name, quote(it->second), quote(f)));
         set.set(v);
       }
     }
@@ -170,9 +173,7 @@ const char* const kConstantsOptionHelp =
     "repeatable, later sets override earlier ones";
 
 void add_constants_option(CLI::App& app, std::vector<std::string>& paths, const std::string& what) {
-  app.add_option("--constants", paths, what)
-      ->take_all()
-      ->allow_extra_args(false);
+  app.add_option("--constants", paths, what)->take_all()->allow_extra_args(false);
 }
 
 Constants read_constants(const std::vector<std::string>& paths) {
@@ -185,7 +186,8 @@ Constants read_constants(const std::vector<std::string>& paths) {
 
 void add_constants_option(CLI::App& app, Constants& constants, const std::string& what) {
   app.add_option_function<std::vector<std::string>>(
-         "--constants", [&constants](const std::vector<std::string>& paths) { constants = read_constants(paths); }, what)
+         "--constants", [&constants](const std::vector<std::string>& paths) { constants = read_constants(paths); },
+         what)
       ->take_all()
       ->allow_extra_args(false);
 }

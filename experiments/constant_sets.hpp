@@ -30,8 +30,8 @@ std::string constants_fingerprint(const std::vector<std::string>& paths);
 // passed down to everything the command runs: nothing below reads a record again.
 struct Constants {
   std::vector<std::string> paths;  // --constants, as given, in order (provenance: constants_arguments)
-  ConstantSet set;                  // their values (load_constant_sets)
-  std::string fingerprint;          // of their contents (constants_fingerprint); "" when no path is given
+  ConstantSet set;                 // their values (load_constant_sets)
+  std::string fingerprint;         // of their contents (constants_fingerprint); "" when no path is given
   bool given() const { return !paths.empty(); }
 };
 // Reads the sets (UsageError as load_constant_sets).
@@ -42,7 +42,8 @@ Constants read_constants(const std::vector<std::string>& paths);
 // the paths (reproduce passes them on); bound to `constants` it reads the sets when the command
 // line is parsed, so that a bad set is refused (exit status 2) before the command runs.
 extern const char* const kConstantsOptionHelp;
-void add_constants_option(CLI::App& app, std::vector<std::string>& paths, const std::string& what = kConstantsOptionHelp);
+void add_constants_option(CLI::App& app, std::vector<std::string>& paths,
+                          const std::string& what = kConstantsOptionHelp);
 void add_constants_option(CLI::App& app, Constants& constants, const std::string& what = kConstantsOptionHelp);
 // The option back as arguments (provenance, reproduce's steps).
 std::vector<std::string> constants_arguments(const std::vector<std::string>& paths);

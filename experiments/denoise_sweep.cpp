@@ -34,12 +34,14 @@ std::vector<render::NoisySpec> parse_noisy_list(const std::string& text) {
 }
 
 std::string command_line(const Options& o) {
-  std::vector<std::string> args = {"filter-sweep", "--scene", o.job.render.scene_path, "--noisy", o.noisy, "--roughness", o.roughness,
-                                   "--weights", o.weights};
+  std::vector<std::string> args = {"filter-sweep", "--scene",   o.job.render.scene_path,
+                                   "--noisy",      o.noisy,     "--roughness",
+                                   o.roughness,    "--weights", o.weights};
   if (o.radius) args.insert(args.end(), {"--radius", std::to_string(*o.radius)});
   if (o.noisy_seed != Options{}.noisy_seed) args.insert(args.end(), {"--noisy-seed", std::to_string(o.noisy_seed)});
   for (const auto& a : filter_job_arguments(o.job, false, false)) args.push_back(a);
-  if (o.figure_roughness != Options{}.figure_roughness) args.insert(args.end(), {"--figure-roughness", o.figure_roughness});
+  if (o.figure_roughness != Options{}.figure_roughness)
+    args.insert(args.end(), {"--figure-roughness", o.figure_roughness});
   if (o.figure_noisy != Options{}.figure_noisy) args.insert(args.end(), {"--figure-noisy", o.figure_noisy});
   if (o.table != Options{}.table) args.insert(args.end(), {"--table", o.table});
   std::string command = "sglab";
@@ -47,10 +49,12 @@ std::string command_line(const Options& o) {
   return command;
 }
 
-bool same_spec(const render::NoisySpec& a, const render::NoisySpec& b) { return a.mode == b.mode && a.count == b.count; }
+bool same_spec(const render::NoisySpec& a, const render::NoisySpec& b) {
+  return a.mode == b.mode && a.count == b.count;
+}
 
-void compute_points(const Options& o, const std::vector<render::Scene>& scenes, const std::vector<double>& figure_roughness,
-                    const render::NoisySpec& figure_noisy, Result& r) {
+void compute_points(const Options& o, const std::vector<render::Scene>& scenes,
+                    const std::vector<double>& figure_roughness, const render::NoisySpec& figure_noisy, Result& r) {
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [start] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const std::size_t n = scenes.size() * r.noisy.size();
@@ -59,8 +63,8 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes, 
     for (std::size_t s = 0; s < r.noisy.size(); ++s) {
       const render::NoisySpec& spec = r.noisy[s];
       if (!o.quiet)
-        std::fprintf(stderr, "filter-sweep --noisy [%zu/%zu] floor.roughness=%g, %s (%.1f s)\n", k * r.noisy.size() + s + 1, n,
-                     r.roughness[k], render::noisy_spec_name(spec).c_str(), elapsed());
+        std::fprintf(stderr, "filter-sweep --noisy [%zu/%zu] floor.roughness=%g, %s (%.1f s)\n",
+                     k * r.noisy.size() + s + 1, n, r.roughness[k], render::noisy_spec_name(spec).c_str(), elapsed());
       render::DenoiseInputOptions io = denoise_input_options(o.job, spec, o.noisy_seed);
       io.reference = reference.empty() ? nullptr : &reference;
       render::FilterParameters parameters = o.job.parameters;
@@ -69,17 +73,20 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes, 
         render::DenoiseInputs in = render::prepare_denoise_inputs(scenes[k], io);
         if (r.rows.empty()) {
           r.width = in.width, r.height = in.height, r.vpl_count = in.vpl_count;
-          for (std::size_t p = 0; p < in.hit.size(); ++p) r.pixels_hit += in.hit[p] != 0, r.glossy_receivers += in.glossy[p] != 0;
+          for (std::size_t p = 0; p < in.hit.size(); ++p)
+            r.pixels_hit += in.hit[p] != 0, r.glossy_receivers += in.glossy[p] != 0;
         }
         const render::NoisyError noisy = render::noisy_error(in);
-        const bool figure = same_spec(spec, figure_noisy) &&
-                            std::find(figure_roughness.begin(), figure_roughness.end(), r.roughness[k]) != figure_roughness.end();
+        const bool figure = same_spec(spec, figure_noisy) && std::find(figure_roughness.begin(), figure_roughness.end(),
+                                                                       r.roughness[k]) != figure_roughness.end();
         FigureImage image;
-        if (figure) image = {r.roughness[k], spec, in.width, in.height, in.glossy, in.noisy_image, {}, {}, in.reference};
+        if (figure)
+          image = {r.roughness[k], spec, in.width, in.height, in.glossy, in.noisy_image, {}, {}, in.reference};
         const double pixels = double(in.width) * double(in.height);
         for (const FilterWeights w : r.weights) {
           render::DenoiseResult d = render::denoise_indirect(in, w, parameters);
-          r.rows.push_back({r.roughness[k], spec, d.radius, w, d.all, d.glossy, d.diffuse, noisy, d.seconds, 1e9 * d.seconds / pixels});
+          r.rows.push_back({r.roughness[k], spec, d.radius, w, d.all, d.glossy, d.diffuse, noisy, d.seconds,
+                            1e9 * d.seconds / pixels});
           if (figure && w == FilterWeights::normal) image.normal = std::move(d.filtered);
           if (figure && w == FilterWeights::lobe) image.lobe = std::move(d.filtered);
         }
@@ -107,11 +114,15 @@ double pick(const Row* row, bool smape, int subset) {
 }
 
 double pick_noisy(const Row& row, bool smape, int subset) {
-  const render::ImageError& e = subset == 0 ? row.noisy_error.all : subset == 1 ? row.noisy_error.glossy : row.noisy_error.diffuse;
+  const render::ImageError& e = subset == 0   ? row.noisy_error.all
+                                : subset == 1 ? row.noisy_error.glossy
+                                              : row.noisy_error.diffuse;
   return smape ? e.smape : e.relative_l2;
 }
 
-bool has(const Result& r, FilterWeights w) { return std::find(r.weights.begin(), r.weights.end(), w) != r.weights.end(); }
+bool has(const Result& r, FilterWeights w) {
+  return std::find(r.weights.begin(), r.weights.end(), w) != r.weights.end();
+}
 
 std::string markdown_table(const Result& r, bool smape, int subset) {
   const char* subset_names[] = {"all pixels", "glossy receivers", "diffuse receivers"};
@@ -119,7 +130,8 @@ std::string markdown_table(const Result& r, bool smape, int subset) {
   if (has(r, FilterWeights::normal))
     for (const auto w : r.weights)
       if (w != FilterWeights::normal && w != FilterWeights::spatial) compared.push_back(w);
-  std::string md = fmt::format("## {}, {}\n\n| noisy input | R | floor α | noisy |", smape ? "SMAPE" : "Relative L2", subset_names[subset]);
+  std::string md = fmt::format("## {}, {}\n\n| noisy input | R | floor α | noisy |", smape ? "SMAPE" : "Relative L2",
+                               subset_names[subset]);
   std::string rule = "|---|---|---|---|";
   for (const auto w : r.weights) md += fmt::format(" {} |", render::filter_weights_name(w)), rule += "---|";
   for (const auto w : compared) md += fmt::format(" {} vs normal |", render::filter_weights_name(w)), rule += "---|";
@@ -128,12 +140,14 @@ std::string markdown_table(const Result& r, bool smape, int subset) {
     for (const double a : r.roughness) {
       const Row* first = find_row(r, a, spec, r.weights.front());
       if (!first) continue;
-      md += fmt::format("| {} | {} | {:g} | {} |", render::noisy_spec_name(spec), first->radius, a, cell(pick_noisy(*first, smape, subset)));
+      md += fmt::format("| {} | {} | {:g} | {} |", render::noisy_spec_name(spec), first->radius, a,
+                        cell(pick_noisy(*first, smape, subset)));
       for (const auto w : r.weights) md += fmt::format(" {} |", cell(pick(find_row(r, a, spec, w), smape, subset)));
       for (const auto w : compared)
-        md += fmt::format(" {} |", cell(percent_change(pick(find_row(r, a, spec, w), smape, subset),
-                                                       pick(find_row(r, a, spec, FilterWeights::normal), smape, subset)),
-                                        "{:+.1f} %"));
+        md += fmt::format(" {} |",
+                          cell(percent_change(pick(find_row(r, a, spec, w), smape, subset),
+                                              pick(find_row(r, a, spec, FilterWeights::normal), smape, subset)),
+                               "{:+.1f} %"));
       md += "\n";
     }
   return md + "\n";
@@ -147,7 +161,8 @@ Change change_over_roughness(const Result& r, const render::NoisySpec& spec, Fil
   Change c{0, std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   int count = 0;
   for (const double a : r.roughness) {
-    const double x = percent_change(pick(find_row(r, a, spec, w), false, subset), pick(find_row(r, a, spec, FilterWeights::normal), false, subset));
+    const double x = percent_change(pick(find_row(r, a, spec, w), false, subset),
+                                    pick(find_row(r, a, spec, FilterWeights::normal), false, subset));
     if (!std::isfinite(x)) continue;
     c.mean += x, c.lo = std::min(c.lo, x), c.hi = std::max(c.hi, x), ++count;
   }
@@ -186,14 +201,18 @@ std::string headline(const Result& r) {
         }
       }
     }
-  md += fmt::format("In SMAPE over all pixels `lobe` is better than `normal` on {} of {} rows. On glossy receivers its relative L2 "
-                    "is more than 1 % worse on {} rows",
-                    smape_better, points, l2_worse);
+  md += fmt::format(
+      "In SMAPE over all pixels `lobe` is better than `normal` on {} of {} rows. On glossy receivers its relative L2 "
+      "is more than 1 % worse on {} rows",
+      smape_better, points, l2_worse);
   if (l2_worse > 0 && std::isfinite(depth_lo))
     md += fmt::format(
-        "; there `lobe-depth` (the same lobes, normal's depth term instead of App. A's positional term) is {} … {} against "
-        "`normal`: most of the loss is the positional term's (ν = {} scene units keeps fewer of the window's noisy samples than the "
-        "depth term, so the near-mirror floor's bright outliers are averaged less; the same term is behind the upsampling "
+        "; there `lobe-depth` (the same lobes, normal's depth term instead of App. A's positional term) is {} … {} "
+        "against "
+        "`normal`: most of the loss is the positional term's (ν = {} scene units keeps fewer of the window's noisy "
+        "samples than the "
+        "depth term, so the near-mirror floor's bright outliers are averaged less; the same term is behind the "
+        "upsampling "
         "table's scale-2 rows, see [filtering.md](filtering.md))",
         cell(depth_lo, "{:+.1f} %"), cell(depth_hi, "{:+.1f} %"), r.options.job.parameters.nu);
   md += ".\n\n";
@@ -210,11 +229,15 @@ std::string headline(const Result& r) {
       }
     }
     md += fmt::format(
-        "**App. D, measured.** On diffuse receivers `lobe-depth` (the lobe-aware directional weight with the diffuse lobe an SG "
-        "of sharpness 2λ_c, times the same depth term) and `normal` (σ_n² = (2λ_c + κ)/(βλ_cκ) = {}) differ by at most {:.1e} "
-        "(relative, over every row's diffuse-receiver relative L2 and SMAPE; per pixel ≤ 1e-7, tests/denoise_test.cpp): the "
+        "**App. D, measured.** On diffuse receivers `lobe-depth` (the lobe-aware directional weight with the diffuse "
+        "lobe an SG "
+        "of sharpness 2λ_c, times the same depth term) and `normal` (σ_n² = (2λ_c + κ)/(βλ_cκ) = {}) differ by at most "
+        "{:.1e} "
+        "(relative, over every row's diffuse-receiver relative L2 and SMAPE; per pixel ≤ 1e-7, "
+        "tests/denoise_test.cpp): the "
         "diffuse lobe-aware weight is the normal weight, as App. D derives (not bit for bit: σ_n² is the published "
-        "8-digit value). `lobe` differs from `normal` on diffuse receivers only through App. A's positional term, which replaces the "
+        "8-digit value). `lobe` differs from `normal` on diffuse receivers only through App. A's positional term, "
+        "which replaces the "
         "depth term.\n\n",
         r.options.job.parameters.sigma_n2, worst);
   }
@@ -225,32 +248,47 @@ std::string markdown_intro(const Result& r) {
   const Options& o = r.options;
   const auto& p = o.job.parameters;
   std::vector<std::string> radii;
-  for (const auto& spec : r.noisy) radii.push_back(fmt::format("{} for {}", denoise_radius(spec, o.radius), render::noisy_spec_name(spec)));
+  for (const auto& spec : r.noisy)
+    radii.push_back(fmt::format("{} for {}", denoise_radius(spec, o.radius), render::noisy_spec_name(spec)));
   double ns = 0;
   for (const Row& row : r.rows) ns += row.ns_per_pixel;
   return fmt::format(
       "# Filtering noisy indirect light: normal/depth-aware vs lobe-aware weights over the floor's roughness\n\n"
-      "Scene `{}`{}, **{}×{} pixels** ({} hit, {} glossy receivers), RSM {}² → {} VPLs. The noisy input sums a subset of "
-      "the VPLs at each pixel (core/render denoise.hpp): **interleaved:M** — the VPLs split into M×M interleaved subsets "
-      "(Keller & Heidrich 2001; Segovia et al. 2006), each VPL into a uniformly drawn subset (seed {}), pixel (x, y) sums "
-      "subset (x mod M, y mod M) weighted by M²; **random:K** — K VPLs per pixel drawn ∝ reflected power (a 10 % uniform defensive "
-      "mixture), weighted 1/(K p). Both are unbiased for the full VPL sum at every pixel; the noisy column is that input's "
+      "Scene `{}`{}, **{}×{} pixels** ({} hit, {} glossy receivers), RSM {}² → {} VPLs. The noisy input sums a subset "
+      "of "
+      "the VPLs at each pixel (core/render denoise.hpp): **interleaved:M** — the VPLs split into M×M interleaved "
+      "subsets "
+      "(Keller & Heidrich 2001; Segovia et al. 2006), each VPL into a uniformly drawn subset (seed {}), pixel (x, y) "
+      "sums "
+      "subset (x mod M, y mod M) weighted by M²; **random:K** — K VPLs per pixel drawn ∝ reflected power (a 10 % "
+      "uniform defensive "
+      "mixture), weighted 1/(K p). Both are unbiased for the full VPL sum at every pixel; the noisy column is that "
+      "input's "
       "own error.\n\n"
-      "Filter: a cross-bilateral filter over the full-resolution noisy image, window (2R + 1)² with a box footprint whose "
-      "edge taps weigh ½ (so that with R a multiple of M every interleaved subset has the same spatial weight), R = {}; "
+      "Filter: a cross-bilateral filter over the full-resolution noisy image, window (2R + 1)² with a box footprint "
+      "whose "
+      "edge taps weigh ½ (so that with R a multiple of M every interleaved subset has the same spatial weight), R = "
+      "{}; "
       "diffuse and specular parts filtered separately (demodulated by albedo and f0). Range weights as in "
-      "[filtering.md](filtering.md): **spatial** none; **normal** G(n_p; n_q, 1/σ_n²)·g(z_p − z_q, (σ_z z_p)²), σ_n² = {}, "
+      "[filtering.md](filtering.md): **spatial** none; **normal** G(n_p; n_q, 1/σ_n²)·g(z_p − z_q, (σ_z z_p)²), σ_n² = "
+      "{}, "
       "σ_z = {}; **lobe** the lobe-aware q^β (Tokuyoshi 2015 (lobe-aware filtering), Eq. (12)/App. E for the lobes, "
-      "App. A for positions with τ = the pixel's footprint), β = {}, κ = {}, ν = {} scene units, diffuse lobe sharpness "
+      "App. A for positions with τ = the pixel's footprint), β = {}, κ = {}, ν = {} scene units, diffuse lobe "
+      "sharpness "
       "{:.4f} (2λ_c); **lobe-depth** the lobe-aware directional weight × the normal weighting's depth term.\n\n"
-      "Error against the exact VPL sum (all VPLs) at every pixel, all channels: relative L2 = ‖v − r‖/‖r‖, SMAPE = mean "
-      "2|v − r|/(|v| + |r|). **Glossy** receivers: the floor and the sphere; **diffuse**: the other surfaces. \"X vs normal\" "
-      "= (X − normal)/normal: negative is better. The filter pass took {:.0f} ns per pixel on average over the rows (wall "
+      "Error against the exact VPL sum (all VPLs) at every pixel, all channels: relative L2 = ‖v − r‖/‖r‖, SMAPE = "
+      "mean "
+      "2|v − r|/(|v| + |r|). **Glossy** receivers: the floor and the sphere; **diffuse**: the other surfaces. \"X vs "
+      "normal\" "
+      "= (X − normal)/normal: negative is better. The filter pass took {:.0f} ns per pixel on average over the rows "
+      "(wall "
       "clock, all cores; per row in the CSV). Images of the figure: `{}_images.csv` in the `--out` directory.\n\n",
       o.job.render.scene_path,
-      o.job.render.overrides.empty() ? "" : fmt::format(" with `--set {}`", fmt::join(o.job.render.overrides, "`, `--set ")), r.width,
-      r.height, r.pixels_hit, r.glossy_receivers, r.rsm_resolution, r.vpl_count, o.noisy_seed, fmt::join(radii, ", "), p.sigma_n2,
-      p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness, r.rows.empty() ? 0.0 : ns / double(r.rows.size()), o.table);
+      o.job.render.overrides.empty() ? ""
+                                     : fmt::format(" with `--set {}`", fmt::join(o.job.render.overrides, "`, `--set ")),
+      r.width, r.height, r.pixels_hit, r.glossy_receivers, r.rsm_resolution, r.vpl_count, o.noisy_seed,
+      fmt::join(radii, ", "), p.sigma_n2, p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness,
+      r.rows.empty() ? 0.0 : ns / double(r.rows.size()), o.table);
 }
 
 std::string markdown(const Result& r) {
@@ -262,20 +300,23 @@ std::string markdown(const Result& r) {
 
 std::string summary_csv(const Result& r) {
   std::string csv;
-  runner::append_csv_record(csv, std::vector<std::string>{"noisy", "radius", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
-                                                  "diffuse_relative_l2", "smape", "glossy_smape", "diffuse_smape", "noisy_relative_l2",
-                                                  "noisy_glossy_relative_l2", "noisy_diffuse_relative_l2", "noisy_smape",
-                                                  "noisy_glossy_smape", "noisy_diffuse_smape", "seconds_filter", "ns_per_pixel"});
+  runner::append_csv_record(
+      csv,
+      std::vector<std::string>{"noisy", "radius", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
+                               "diffuse_relative_l2", "smape", "glossy_smape", "diffuse_smape", "noisy_relative_l2",
+                               "noisy_glossy_relative_l2", "noisy_diffuse_relative_l2", "noisy_smape",
+                               "noisy_glossy_smape", "noisy_diffuse_smape", "seconds_filter", "ns_per_pixel"});
   for (const Row& row : r.rows) {
     const auto& ne = row.noisy_error;
-    runner::append_csv_record(csv, std::vector<std::string>{
-                               render::noisy_spec_name(row.noisy), std::to_string(row.radius), runner::csv_number(row.roughness),
-                               std::string(render::filter_weights_name(row.weights)), stat_number(row.all.relative_l2),
-                               stat_number(row.glossy.relative_l2), stat_number(row.diffuse.relative_l2), stat_number(row.all.smape),
-                               stat_number(row.glossy.smape), stat_number(row.diffuse.smape), stat_number(ne.all.relative_l2),
-                               stat_number(ne.glossy.relative_l2), stat_number(ne.diffuse.relative_l2), stat_number(ne.all.smape),
-                               stat_number(ne.glossy.smape), stat_number(ne.diffuse.smape), runner::csv_number(row.seconds),
-                               runner::csv_number(row.ns_per_pixel)});
+    runner::append_csv_record(
+        csv, std::vector<std::string>{
+                 render::noisy_spec_name(row.noisy), std::to_string(row.radius), runner::csv_number(row.roughness),
+                 std::string(render::filter_weights_name(row.weights)), stat_number(row.all.relative_l2),
+                 stat_number(row.glossy.relative_l2), stat_number(row.diffuse.relative_l2), stat_number(row.all.smape),
+                 stat_number(row.glossy.smape), stat_number(row.diffuse.smape), stat_number(ne.all.relative_l2),
+                 stat_number(ne.glossy.relative_l2), stat_number(ne.diffuse.relative_l2), stat_number(ne.all.smape),
+                 stat_number(ne.glossy.smape), stat_number(ne.diffuse.smape), runner::csv_number(row.seconds),
+                 runner::csv_number(row.ns_per_pixel)});
   }
   return csv;
 }
@@ -291,8 +332,8 @@ std::string images_csv(const Result& r) {
     for (int y = 0; y < im.height; ++y)
       for (int x = 0; x < im.width; ++x) {
         const std::size_t k = std::size_t(y) * std::size_t(im.width) + std::size_t(x);
-        std::vector<std::string> f = {runner::csv_number(im.roughness), render::noisy_spec_name(im.noisy), std::to_string(x), std::to_string(y),
-                                      std::to_string(int(im.glossy[k] != 0))};
+        std::vector<std::string> f = {runner::csv_number(im.roughness), render::noisy_spec_name(im.noisy),
+                                      std::to_string(x), std::to_string(y), std::to_string(int(im.glossy[k] != 0))};
         for (const auto* layer : {&im.noisy_image, &im.normal, &im.lobe, &im.exact})
           for (int c = 0; c < 3; ++c) f.push_back(fmt::format("{:.6g}", (*layer)[k](c)));
         runner::append_csv_record(csv, f);
@@ -341,8 +382,8 @@ void write(const Result& r) {
   runner::add_table(outputs, o.out, o.table + "_images", r.provenance, "", t.images_csv);
   outputs.commit();
   std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
-  std::fprintf(stderr, "filter-sweep --noisy: wrote %s/%s.{md,csv} and %s/%s_images.csv (%.1f s)\n", tables_dir.c_str(), o.table.c_str(),
-               o.out.c_str(), o.table.c_str(), r.seconds);
+  std::fprintf(stderr, "filter-sweep --noisy: wrote %s/%s.{md,csv} and %s/%s_images.csv (%.1f s)\n", tables_dir.c_str(),
+               o.table.c_str(), o.out.c_str(), o.table.c_str(), r.seconds);
 }
 
 }  // namespace sglab::cli::denoise_sweep

@@ -19,10 +19,12 @@ inline void check_env_arguments(const std::vector<std::string>& envs) {
       throw UsageError("--env " + quote(envs[i]) + " must be NAME=MAP.exr");
     const std::string name = envs[i].substr(0, eq);
     if (name.empty() || name.size() > 64 ||
-        name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.+-") != std::string::npos)
+        name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.+-") !=
+            std::string::npos)
       throw UsageError("--env " + quote(envs[i]) + ": NAME must be 1–64 letters, digits, '_', '.', '+' or '-'");
     for (std::size_t j = 0; j < i; ++j)
-      if (envs[j].substr(0, envs[j].find('=')) == name) throw UsageError("--env: the name " + quote(name) + " is given twice");
+      if (envs[j].substr(0, envs[j].find('=')) == name)
+        throw UsageError("--env: the name " + quote(name) + " is given twice");
   }
 }
 

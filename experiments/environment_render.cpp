@@ -48,12 +48,14 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
   const auto check_fit_cost = [&](int width, int height) {
     const double evaluations = render_fit_evaluations(width, height, e.lobes);
     if (!e.mixture.empty() || e.long_fit || !(evaluations > kMaxRenderFitEvaluations)) return;
-    throw UsageError(fmt::format(
-        "environment: fitting {} lobes to the {}×{} map at render time costs ~{:.2g} lobe evaluations (texels × lobes × {} "
-        "sub-texel points), over the budget {:.2g} (~{:.0f} s here); give \"mixture\": FIT.json from `sglab fit envmap --json`, "
-        "fewer \"lobes\" or a smaller \"width\", or set \"long_fit\": true to run it anyway",
-        e.lobes, width, height, evaluations, fit::kErrorSupersample * fit::kErrorSupersample, kMaxRenderFitEvaluations,
-        kMaxRenderFitEvaluations / kRenderFitEvaluationsPerSecond));
+    throw UsageError(
+        fmt::format("environment: fitting {} lobes to the {}×{} map at render time costs ~{:.2g} lobe evaluations "
+                    "(texels × lobes × {} "
+                    "sub-texel points), over the budget {:.2g} (~{:.0f} s here); give \"mixture\": FIT.json from "
+                    "`sglab fit envmap --json`, "
+                    "fewer \"lobes\" or a smaller \"width\", or set \"long_fit\": true to run it anyway",
+                    e.lobes, width, height, evaluations, fit::kErrorSupersample * fit::kErrorSupersample,
+                    kMaxRenderFitEvaluations, kMaxRenderFitEvaluations / kRenderFitEvaluationsPerSecond));
   };
   if (!e.generate.empty()) check_fit_cost(e.width, e.width / 2);
   try {
@@ -91,16 +93,19 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
     check_fit_cost(out.map->width, out.map->height);  // a loaded map's size is known only now
     const double evaluations = render_fit_evaluations(out.map->width, out.map->height, e.lobes);
     // The fit can take minutes (1024 lobes on a 4096-wide map): say so, and how long, before it starts.
-    std::fprintf(stderr, "environment: fitting %d SG lobes to the %d×%d map at render time (Ceres; ~%.2g lobe evaluations, "
-                         "roughly %.0f s or more; give \"mixture\": FIT.json from `sglab fit envmap --json` to reuse a fit) …\n",
-                 e.lobes, out.map->width, out.map->height, evaluations, evaluations / kRenderFitEvaluationsPerSecond);
+    std::fprintf(
+        stderr,
+        "environment: fitting %d SG lobes to the %d×%d map at render time (Ceres; ~%.2g lobe evaluations, "
+        "roughly %.0f s or more; give \"mixture\": FIT.json from `sglab fit envmap --json` to reuse a fit) …\n",
+        e.lobes, out.map->width, out.map->height, evaluations, evaluations / kRenderFitEvaluationsPerSecond);
     try {
       r = fit::fit_envmap_ceres(*out.map, o);
     } catch (const std::invalid_argument& x) {
       throw UsageError(std::string("environment.lobes: ") + x.what());
     }
     out.mixture = r.mixture;
-    out.source["mixture"] = fmt::format("fitted at render time: sglab fit envmap --lobes {} --init kmeans (seed {})", e.lobes, o.seed);
+    out.source["mixture"] = fmt::format("fitted at render time: sglab fit envmap --lobes {} --init kmeans (seed {})",
+                                        e.lobes, o.seed);
     std::fprintf(stderr, "environment: fitted in %.1f s, relative error %.3g\n", r.seconds, r.error.relative);
     out.source["fit_relative_error"] = r.error.relative;
     out.source["fit_seconds"] = r.seconds;
@@ -115,8 +120,8 @@ nlohmann::ordered_json error_json(const render::ShadingError& e) {
 }
 }  // namespace
 
-void add_environment(const render::Scene& scene, const PreparedEnvironment& env, std::vector<render::ImageLayer>& layers,
-                     nlohmann::json& stats) {
+void add_environment(const render::Scene& scene, const PreparedEnvironment& env,
+                     std::vector<render::ImageLayer>& layers, nlohmann::json& stats) {
   const auto& e = *scene.environment;
   const render::GBuffer g = render::render_gbuffer(scene);
   render::EnvironmentLayers l;
@@ -129,9 +134,10 @@ void add_environment(const render::Scene& scene, const PreparedEnvironment& env,
   s["visibility"] = "ignored (V = 1)";
   s["diffuse_method"] = e.diffuse;
   s["specular_method"] = e.specular;
-  s["layers"] = "environment_map: the map by texel quadrature (2×2 sub-texels); environment_mixture: the mixture exactly "
-                "(diffuse: clamped-cosine reference per lobe; specular: quadrature of its texel means); environment_approx: "
-                "the mixture with the methods. Scene +y is the environment's zenith.";
+  s["layers"] =
+      "environment_map: the map by texel quadrature (2×2 sub-texels); environment_mixture: the mixture exactly "
+      "(diffuse: clamped-cosine reference per lobe; specular: quadrature of its texel means); environment_approx: "
+      "the mixture with the methods. Scene +y is the environment's zenith.";
   if (env.map) {
     layers.push_back({"environment_map", l.map});
     s["quadrature_change_1_to_2x2"] = l.quadrature_change;
@@ -145,15 +151,20 @@ void add_environment(const render::Scene& scene, const PreparedEnvironment& env,
 }
 
 void add_specular_option(CLI::App& app, std::string& specular) {
-  app.add_option("--specular", specular,
-                 "specular VSGL shading: vsgl-asg (the default: the renderer's own ASG form, Tokuyoshi 2015/2016) or "
-                 "any `specular` method of `sglab eval --list` but its quadrature reference (sg-warp, asg, sg-warp-dvn, …)")
+  app.add_option(
+         "--specular", specular,
+         "specular VSGL shading: vsgl-asg (the default: the renderer's own ASG form, Tokuyoshi 2015/2016) or "
+         "any `specular` method of `sglab eval --list` but its quadrature reference (sg-warp, asg, sg-warp-dvn, …)")
       ->default_str(std::string(render::kDefaultSpecularMethod))
       ->check(one_of(render::specular_method_names(), "specular method"));
 }
 
 RenderJobRun::RenderJobRun(const RenderJob& j, const std::string& s, render::Scene sc, bool with_csv)
-    : job(j), specular(s), scene(std::move(sc)), environment(prepare_environment(scene, job.scene_path)), options(render_options(job)) {
+    : job(j),
+      specular(s),
+      scene(std::move(sc)),
+      environment(prepare_environment(scene, job.scene_path)),
+      options(render_options(job)) {
   try {
     options.shading.specular_method = render::find_specular_method(specular);
   } catch (const std::invalid_argument& e) {
@@ -169,7 +180,8 @@ RenderJobRun::Output RenderJobRun::run(const std::string& command) const {
   check_render_finite(r);
   o.stats = render_stats(job, scene, options, r, command);
   o.stats["specular_method"] = specular;
-  o.layers = {{"direct", r.direct}, {"indirect", r.indirect}, {"indirect_reference", r.indirect_reference}, {"error", r.error}};
+  o.layers = {
+      {"direct", r.direct}, {"indirect", r.indirect}, {"indirect_reference", r.indirect_reference}, {"error", r.error}};
   if (environment) add_environment(scene, *environment, o.layers, o.stats);
   return o;
 }

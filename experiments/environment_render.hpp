@@ -56,8 +56,8 @@ std::vector<std::string> environment_files(const std::string& scene_path);
 
 // Shades the environment at the camera's first hits: EXR layers environment_map (when there is a
 // map), environment_mixture, environment_approx, and stats["environment"].
-void add_environment(const render::Scene& scene, const PreparedEnvironment& env, std::vector<render::ImageLayer>& layers,
-                     nlohmann::json& stats);
+void add_environment(const render::Scene& scene, const PreparedEnvironment& env,
+                     std::vector<render::ImageLayer>& layers, nlohmann::json& stats);
 
 // `sglab render`'s own option beside the job's: --specular METHOD (the registry's specular methods
 // or the renderer's default ASG form), bound to `specular`.

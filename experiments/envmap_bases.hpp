@@ -37,15 +37,15 @@ struct Options {
   std::vector<std::string> envs;   // NAME=PATH
   std::vector<std::string> bases;  // registry names; empty: all
   std::vector<double> roughness{0.1, 0.3, 0.6};
-  int width = 128;                 // maps reduced by 2×2 means to at most this width
+  int width = 128;  // maps reduced by 2×2 means to at most this width
   int sphere_res = 12;
-  int normals = 128;               // Fibonacci normals of the diffuse layer
-  double tolerance = 2e-3;         // relative L2 change at which the quadratures count as converged
+  int normals = 128;        // Fibonacci normals of the diffuse layer
+  double tolerance = 2e-3;  // relative L2 change at which the quadratures count as converged
   double f0 = 0.04;
   unsigned seed = 1;
   std::string out = "results/envmap";
   std::string tables_dir = "results/envmap";
-  bool quick = false;              // 64-wide maps, sizes ≤ 32 lobes (sg-free ≤ 16) / L ≤ 4
+  bool quick = false;  // 64-wide maps, sizes ≤ 32 lobes (sg-free ≤ 16) / L ≤ 4
   // Environments held at full resolution where the reduced map loses detail (fit/envmap_sparse.hpp):
   // the reduced map plus detail tiles until the sparse map is within resolve_tolerance (relative
   // L2) of the full map. vmf-em and sg-free fit the sparse map, and every basis's map error is

@@ -3,9 +3,9 @@
 //
 // The work runs in parallel without changing a number: the environments are independent; within
 // one, the Ceres lobe ladder (one fit at the largest N) is sequential, while the vMF-EM fits and
-// the shading of every N are independent of each other (compute() says how they are scheduled). Every value is computed by the same
-// calls as in a sequential run and stored in its place, and the tables are formatted afterwards in
-// the sequential order.
+// the shading of every N are independent of each other (compute() says how they are scheduled). Every value is computed
+// by the same calls as in a sequential run and stored in its place, and the tables are formatted afterwards in the
+// sequential order.
 #include "envmap_lobes.hpp"
 
 #include "env_arguments.hpp"
@@ -63,7 +63,8 @@ Options effective(const Options& o) {
   for (int n : a.lobes)
     if (n < 1) throw UsageError(fmt::format("--lobes {} must be ≥ 1", n));
   // The same bounds as the command's option checks, for callers of the library.
-  if (a.sphere_res < 2 || a.sphere_res > 2048) throw UsageError(fmt::format("--res {} must be in [2, 2048]", a.sphere_res));
+  if (a.sphere_res < 2 || a.sphere_res > 2048)
+    throw UsageError(fmt::format("--res {} must be in [2, 2048]", a.sphere_res));
   for (double r : a.roughness)
     if (!(r >= render::kMinEnvRoughness && r <= 1))
       throw UsageError(fmt::format("--roughness {} must be in [{:g}, 1]", r, render::kMinEnvRoughness));
@@ -93,7 +94,8 @@ std::string command_line(const Options& a) {
   for (const auto& e : a.envs) command += " --env " + e;
   command += " --lobes";
   for (int n : a.lobes) command += " " + std::to_string(n);
-  return command + " --res " + std::to_string(a.sphere_res) + " --out " + a.out + runner::option_argument("--tables-dir", a.tables_dir);
+  return command + " --res " + std::to_string(a.sphere_res) + " --out " + a.out +
+         runner::option_argument("--tables-dir", a.tables_dir);
 }
 
 // The map reduced (2×2 means) to at most 128 texels wide, for the figure.
@@ -132,11 +134,14 @@ struct MapShading {
   std::vector<std::vector<render::Rgb>> diffuse, specular;  // [geometry], [geometry × roughness]
 };
 
-MapShading shade_map(const Options& a, const LoadedEnv& env, const std::vector<Geometry>& geometries, Environment& out) {
-  std::fprintf(stderr, "envmap lobes: %s (%d×%d): exact shading of the map …\n", env.name.c_str(), env.map.width, env.map.height);
+MapShading shade_map(const Options& a, const LoadedEnv& env, const std::vector<Geometry>& geometries,
+                     Environment& out) {
+  std::fprintf(stderr, "envmap lobes: %s (%d×%d): exact shading of the map …\n", env.name.c_str(), env.map.width,
+               env.map.height);
   MapShading s;
   for (const auto& g : geometries) {
-    s.diffuse.push_back(per_distinct_normal(g.image, [&](const auto& im) { return render::integrate_diffuse(env.map, im); }));
+    s.diffuse.push_back(
+        per_distinct_normal(g.image, [&](const auto& im) { return render::integrate_diffuse(env.map, im); }));
     for (double r : a.roughness) s.specular.push_back(render::integrate_specular(env.map, g.image, r, a.f0));
   }
   // Quadrature convergence at 2×2 sub-texels on the hardest case (sphere, smallest roughness).
@@ -169,11 +174,13 @@ std::map<int, fit::EnvFitResult> ceres_fits(const Options& a, const EnvMap& map)
 
 // Layers (2) and (3) of one fit on one geometry, against the map's layer (1).
 // mix_s: layer (2)'s specular quadrature of the fit's texel means on this geometry, per roughness.
-GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixture, const std::vector<std::vector<render::Rgb>>& mix_specular,
-                       const Geometry& g, const MapShading& map, std::size_t gi) {
+GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixture,
+                       const std::vector<std::vector<render::Rgb>>& mix_specular, const Geometry& g,
+                       const MapShading& map, std::size_t gi) {
   GeometryRows rows;
   // Diffuse: layer 2 by the clamped-cosine reference per lobe, layer 3 per method.
-  const auto mix_d = per_distinct_normal(g.image, [&](const auto& im) { return render::mixture_diffuse_reference(mixture, im); });
+  const auto mix_d = per_distinct_normal(
+      g.image, [&](const auto& im) { return render::mixture_diffuse_reference(mixture, im); });
   rows.diffuse.fit = render::shading_error(mix_d, map.diffuse[gi], g.image);
   for (const auto& m : r.diffuse_methods) {
     const auto approx = render::mixture_diffuse_method(mixture, g.image, m);
@@ -189,7 +196,8 @@ GeometryRows shade_fit(const Options& a, const Result& r, const SgMixture& mixtu
     row.fit = render::shading_error(mix_s, exact_map, g.image);
     for (const auto& m : r.specular_methods) {
       const auto approx = render::mixture_specular_method(mixture, g.image, m, row.roughness, a.f0);
-      row.methods.push_back({render::shading_error(approx, mix_s, g.image), render::shading_error(approx, exact_map, g.image)});
+      row.methods.push_back(
+          {render::shading_error(approx, mix_s, g.image), render::shading_error(approx, exact_map, g.image)});
     }
     rows.specular.push_back(std::move(row));
   }
@@ -237,8 +245,9 @@ void shade_environment(const Result& r, const LoadedEnv& env, const std::vector<
   std::vector<EnvMap> images(counts);
   tbb::parallel_for(std::size_t(0), counts, [&](std::size_t k) {
     LobeCount& c = out.counts[k];
-    std::fprintf(stderr, "envmap lobes: %s N = %d: ceres relative error %.4g in %.2f s (on %d×%d)%s\n", env.name.c_str(), c.lobes,
-                 c.ceres.error.relative, c.ceres.seconds, c.ceres.fit_width, c.ceres.fit_height,
+    std::fprintf(stderr, "envmap lobes: %s N = %d: ceres relative error %.4g in %.2f s (on %d×%d)%s\n",
+                 env.name.c_str(), c.lobes, c.ceres.error.relative, c.ceres.seconds, c.ceres.fit_width,
+                 c.ceres.fit_height,
                  source[k] == k ? "" : " (texel means as N's before it: its specular quadrature reused)");
     if (shows_image(a, c.lobes)) images[k] = small_image(c.ceres.texel_means);
     for (std::size_t gi = 0; gi < G; ++gi) {
@@ -301,8 +310,8 @@ Result compute(const Options& o) {
     const auto fe = fit::fit_envmap_vmf_em(envs[e].map, fo);
     r.environments[e].counts[k].vmf_relative = fe.error.relative;
     r.environments[e].counts[k].vmf_seconds = fe.seconds;
-    std::fprintf(stderr, "envmap lobes: %s N = %d: vMF EM relative error %.4g in %.2f s\n", envs[e].name.c_str(), a.lobes[k],
-                 fe.error.relative, fe.seconds);
+    std::fprintf(stderr, "envmap lobes: %s N = %d: vMF EM relative error %.4g in %.2f s\n", envs[e].name.c_str(),
+                 a.lobes[k], fe.error.relative, fe.seconds);
   });
   for (auto& c : chains) c.get();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -314,37 +323,49 @@ namespace {
 // The Markdown's introduction: what was fitted, shaded and compared.
 std::string markdown_intro(const Result& r) {
   const Options& a = r.options;
-  std::string md = "# SG environment maps: error against the lobe count\n\n"
-                   "Generated by `" + r.provenance.command + "` (" + fmt::format("{:.0f}", r.seconds) + " s). ";
-  md += "Each environment (equirectangular, z up; written by `sglab envmap make`) is fitted with N RGB SG lobes "
-        "by `sglab fit envmap` (Ceres Levenberg–Marquardt, solid-angle-weighted L2, k-means initial axes, coarse to fine "
-        "up to the level shown, N > 2 grown from the fit at N/2 by lobes placed on the residual) and, beside it in the same run, by EM for a von Mises–Fisher mixture (Banerjee et al. 2005) "
-        "with least-squares amplitudes. Fit error = solid-angle-weighted relative L2 of the mixture's texel means (4×4 "
-        "points per texel) against the map; times are wall seconds on this machine (2 cores, shared: compare ratios). "
-        "The environments, and within one the Ceres fits, the vMF-EM fits and the shading, run at the same time "
-        "(each Ceres fit with 2 threads), so every time includes that contention.\n\n"
-        "Shading (`sglab envmap render`, visibility ignored, V = 1): a unit sphere seen orthographically (" +
-        std::to_string(a.sphere_res) + "² pixels) and a plane seen from a " + std::to_string(a.sphere_res) + "×" +
-        std::to_string(a.sphere_res / 2) + " grid of view directions; albedo 1 (diffuse = (1/π)∫L⟨ω·n⟩), GGX with height-correlated Smith "
-        "and Schlick f0 = " + fmt::format("{}", a.f0) + " (specular). Three layers: (1) the map integrated exactly (texel "
-        "quadrature of the piecewise-constant map), (2) the fitted mixture integrated exactly (diffuse: the clamped-cosine "
-        "reference per lobe; specular: the same texel quadrature over the mixture's texel means), (3) the "
-        "mixture with each registry method. **fit part** = (2) against (1); **approximation part** = (3) against (2); "
-        "the CSV also has the total (3) against (1), and SMAPE and the brightness-weighted error Σ|v − r|/Σ|r| for "
-        "every entry. The tables below give relative L2 (‖v − r‖/‖r‖ over pixels and channels).\n\n"
-        "Scale and reading notes: the images are small (" + std::to_string(a.sphere_res) + "² sphere) so that the whole "
-        "run takes minutes; the specular layer (1) and (2) quadratures cost one GGX evaluation per texel and pixel. "
-        "The Ceres problem is sparse (one residual block per 8×8-texel tile, touching the lobes that reach it; CGNR steps); "
-        "N is fitted jointly on the finest level whose estimated Jacobian has at most 1.5·10⁶ nonzeros "
-        "(column \"fitted on\"); lobes at that level's sharpness bound are then refined alone on the finer levels. "
-        "The Ceres fits of one environment are the rungs of one fit at the largest N (N = 1 is fitted on its own): "
-        "every rung is fitted on that fit's level, which for N ≤ 8 is coarser than `sglab fit envmap --lobes N` alone "
-        "would use; the Ceres seconds of a rung count from the start of that fit (the time to reach N, the rungs below "
-        "it included). "
-        "The sky's sun is a uniform disk (2°) far brighter than the sky: it carries most of the map's L2 norm and no "
-        "Gaussian matches its edge, which sets the sky's error floor. \"cap\" in the fit table: Levenberg–Marquardt "
-        "stopped at its iteration cap (60 per solve) before its tolerances in at least one solve of the fit; that fit's error is what the capped run "
-        "reached, not the optimum.\n\n";
+  std::string md =
+      "# SG environment maps: error against the lobe count\n\n"
+      "Generated by `" +
+      r.provenance.command + "` (" + fmt::format("{:.0f}", r.seconds) + " s). ";
+  md +=
+      "Each environment (equirectangular, z up; written by `sglab envmap make`) is fitted with N RGB SG lobes "
+      "by `sglab fit envmap` (Ceres Levenberg–Marquardt, solid-angle-weighted L2, k-means initial axes, coarse to fine "
+      "up to the level shown, N > 2 grown from the fit at N/2 by lobes placed on the residual) and, beside it in the "
+      "same run, by EM for a von Mises–Fisher mixture (Banerjee et al. 2005) "
+      "with least-squares amplitudes. Fit error = solid-angle-weighted relative L2 of the mixture's texel means (4×4 "
+      "points per texel) against the map; times are wall seconds on this machine (2 cores, shared: compare ratios). "
+      "The environments, and within one the Ceres fits, the vMF-EM fits and the shading, run at the same time "
+      "(each Ceres fit with 2 threads), so every time includes that contention.\n\n"
+      "Shading (`sglab envmap render`, visibility ignored, V = 1): a unit sphere seen orthographically (" +
+      std::to_string(a.sphere_res) + "² pixels) and a plane seen from a " + std::to_string(a.sphere_res) + "×" +
+      std::to_string(a.sphere_res / 2) +
+      " grid of view directions; albedo 1 (diffuse = (1/π)∫L⟨ω·n⟩), GGX with height-correlated Smith "
+      "and Schlick f0 = " +
+      fmt::format("{}", a.f0) +
+      " (specular). Three layers: (1) the map integrated exactly (texel "
+      "quadrature of the piecewise-constant map), (2) the fitted mixture integrated exactly (diffuse: the "
+      "clamped-cosine "
+      "reference per lobe; specular: the same texel quadrature over the mixture's texel means), (3) the "
+      "mixture with each registry method. **fit part** = (2) against (1); **approximation part** = (3) against (2); "
+      "the CSV also has the total (3) against (1), and SMAPE and the brightness-weighted error Σ|v − r|/Σ|r| for "
+      "every entry. The tables below give relative L2 (‖v − r‖/‖r‖ over pixels and channels).\n\n"
+      "Scale and reading notes: the images are small (" +
+      std::to_string(a.sphere_res) +
+      "² sphere) so that the whole "
+      "run takes minutes; the specular layer (1) and (2) quadratures cost one GGX evaluation per texel and pixel. "
+      "The Ceres problem is sparse (one residual block per 8×8-texel tile, touching the lobes that reach it; CGNR "
+      "steps); "
+      "N is fitted jointly on the finest level whose estimated Jacobian has at most 1.5·10⁶ nonzeros "
+      "(column \"fitted on\"); lobes at that level's sharpness bound are then refined alone on the finer levels. "
+      "The Ceres fits of one environment are the rungs of one fit at the largest N (N = 1 is fitted on its own): "
+      "every rung is fitted on that fit's level, which for N ≤ 8 is coarser than `sglab fit envmap --lobes N` alone "
+      "would use; the Ceres seconds of a rung count from the start of that fit (the time to reach N, the rungs below "
+      "it included). "
+      "The sky's sun is a uniform disk (2°) far brighter than the sky: it carries most of the map's L2 norm and no "
+      "Gaussian matches its edge, which sets the sky's error floor. \"cap\" in the fit table: Levenberg–Marquardt "
+      "stopped at its iteration cap (60 per solve) before its tolerances in at least one solve of the fit; that fit's "
+      "error is what the capped run "
+      "reached, not the optimum.\n\n";
   return md;
 }
 
@@ -368,23 +389,28 @@ Tables tables(const Result& r) {
   t.images_csv = runner::csv_header(r.provenance) + "environment,lobes,x,y,r,g,b\n";
   std::string fit_md, diffuse_md, specular_md, quadrature_md;
   for (const auto& env : r.environments) {
-    quadrature_md += fmt::format("| {} | {} | {} |\n", env.name, num(env.quadrature_diffuse), num(env.quadrature_specular));
+    quadrature_md += fmt::format("| {} | {} | {} |\n", env.name, num(env.quadrature_diffuse),
+                                 num(env.quadrature_specular));
     for (const auto& img : env.images)
       for (int y = 0; y < img.map.height; ++y)
         for (int x = 0; x < img.map.width; ++x) {
           const auto& p = img.map.at(x, y);
-          t.images_csv += fmt::format("{},{},{},{},{:.6g},{:.6g},{:.6g}\n", env.name, img.lobes, x, y, p[0], p[1], p[2]);
+          t.images_csv += fmt::format("{},{},{},{},{:.6g},{:.6g},{:.6g}\n", env.name, img.lobes, x, y, p[0], p[1],
+                                      p[2]);
         }
     for (const auto& c : env.counts) {
       const auto& fc = c.ceres;
-      fit_md += fmt::format("| {} | {} | {} | {:.2f} | {}×{} | {} | {} | {:.2f} |\n", env.name, c.lobes, num(fc.error.relative), fc.seconds,
-                            fc.fit_width, fc.fit_height, fc.converged ? "yes" : "cap", num(c.vmf_relative), c.vmf_seconds);
-      const std::string prefix = fmt::format("{},{},{:.6g},{:.4f},{},{:.6g},{:.4f}", env.name, c.lobes, fc.error.relative, fc.seconds,
-                                             fc.fit_width, c.vmf_relative, c.vmf_seconds);
+      fit_md += fmt::format("| {} | {} | {} | {:.2f} | {}×{} | {} | {} | {:.2f} |\n", env.name, c.lobes,
+                            num(fc.error.relative), fc.seconds, fc.fit_width, fc.fit_height,
+                            fc.converged ? "yes" : "cap", num(c.vmf_relative), c.vmf_seconds);
+      const std::string prefix = fmt::format("{},{},{:.6g},{:.4f},{},{:.6g},{:.4f}", env.name, c.lobes,
+                                             fc.error.relative, fc.seconds, fc.fit_width, c.vmf_relative,
+                                             c.vmf_seconds);
       auto row = [&](const std::string& geometry, const std::string& component, double rough, const std::string& method,
                      const std::string& part, const render::ShadingError& e) {
         t.csv += fmt::format("{},{},{},{},{},{},{:.6g},{:.6g},{:.6g}\n", prefix, geometry, component,
-                             rough > 0 ? fmt::format("{}", rough) : "", method, part, e.relative_l2, e.smape, e.brightness_weighted);
+                             rough > 0 ? fmt::format("{}", rough) : "", method, part, e.relative_l2, e.smape,
+                             e.brightness_weighted);
       };
       for (std::size_t gi = 0; gi < r.geometries.size(); ++gi) {
         const std::string& g = r.geometries[gi];
@@ -399,7 +425,8 @@ Tables tables(const Result& r) {
         diffuse_md += "\n";
         for (const auto& s : rows.specular) {
           row(g, "specular", s.roughness, "", "fit", s.fit);
-          specular_md += fmt::format("| {} | {} | {} | {} | {} |", env.name, c.lobes, g, s.roughness, num(s.fit.relative_l2));
+          specular_md += fmt::format("| {} | {} | {} | {} | {} |", env.name, c.lobes, g, s.roughness,
+                                     num(s.fit.relative_l2));
           for (std::size_t m = 0; m < r.specular_methods.size(); ++m) {
             row(g, "specular", s.roughness, r.specular_methods[m], "approximation", s.methods[m].approximation);
             row(g, "specular", s.roughness, r.specular_methods[m], "total", s.methods[m].total);
@@ -411,15 +438,23 @@ Tables tables(const Result& r) {
     }
   }
   t.markdown = runner::markdown_header(r.provenance) + markdown_intro(r);
-  t.markdown += "## Quadrature convergence of layer (1)\n\nRelative L2 change of the sphere's shading between 1 and 2×2 "
-                "sub-texels per texel (specular at roughness " + fmt::format("{}", a.roughness.front()) + ", the sharpest lobe):\n\n"
-                "| environment | diffuse | specular |\n|---|---|---|\n" + quadrature_md;
-  t.markdown += "\n## Fit error and time\n\n| environment | N | Ceres rel. L2 | Ceres s | fitted on | LM converged | vMF-EM rel. L2 | vMF-EM s |\n"
-                "|---|---|---|---|---|---|---|---|\n" + fit_md;
+  t.markdown +=
+      "## Quadrature convergence of layer (1)\n\nRelative L2 change of the sphere's shading between 1 and 2×2 "
+      "sub-texels per texel (specular at roughness " +
+      fmt::format("{}", a.roughness.front()) +
+      ", the sharpest lobe):\n\n"
+      "| environment | diffuse | specular |\n|---|---|---|\n" +
+      quadrature_md;
+  t.markdown +=
+      "\n## Fit error and time\n\n| environment | N | Ceres rel. L2 | Ceres s | fitted on | LM converged | vMF-EM rel. "
+      "L2 | vMF-EM s |\n"
+      "|---|---|---|---|---|---|---|---|\n" +
+      fit_md;
   t.markdown += "\n## Diffuse: fit part and approximation part (relative L2)\n\n" +
                 table_head("| environment | N | geometry | fit part |", 4, r.diffuse_methods) + diffuse_md;
   t.markdown += "\n## Specular: fit part and approximation part (relative L2)\n\n" +
-                table_head("| environment | N | geometry | roughness | fit part |", 5, r.specular_methods) + specular_md;
+                table_head("| environment | N | geometry | roughness | fit part |", 5, r.specular_methods) +
+                specular_md;
   return t;
 }
 
@@ -446,11 +481,14 @@ void add_envmap_lobes_command(CLI::App& envmap, const runner::RunContext& run) {
   auto* sub = envmap.add_subcommand("lobes", "fit and render error against the lobe count (envmap_lobes.*)");
   sub->add_option("--env", a->envs, "NAME=MAP.exr (repeat)")->required();
   sub->add_option("--lobes", a->lobes, "lobe counts")->capture_default_str();
-  sub->add_option("--roughness", a->roughness, "GGX roughnesses")->capture_default_str()->check(finite_in(render::kMinEnvRoughness, 1));
+  sub->add_option("--roughness", a->roughness, "GGX roughnesses")
+      ->capture_default_str()
+      ->check(finite_in(render::kMinEnvRoughness, 1));
   sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")
       ->capture_default_str()
       ->check(integer_in(2, 2048));
-  add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv", "where envmap_lobes.{md,csv} go (default: the --out directory)");
+  add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv",
+                     "where envmap_lobes.{md,csv} go (default: the --out directory)");
   sub->add_flag("--quick", a->quick, "N ∈ {1, 4}, 12-pixel sphere (a smoke run; not for paper_tables)");
   sub->callback([a, run] { envmap_lobes::write(runner::with_run(envmap_lobes::compute(*a), run)); });
 }
@@ -462,24 +500,29 @@ namespace sglab::experiments {
 // SG environment maps: the three generated environments, the fits and renders against N
 // (paper_tables/envmap_lobes.*), and the figures.
 Experiment envmap_experiment() {
-  return {"envmap", "`sglab envmap`: SG mixture fits of environment maps and shading error against the lobe count (envmap_lobes.*)",
-          cli::add_envmap_lobes_command, [](const Places& p) {
-            std::vector<Step> v;
-            std::vector<std::string> lobes = {"envmap", "lobes", "--out", p.out + "/envmap"};
-            for (const char* kind : {"sky", "studio", "mixture"}) {
-              const std::string path = p.out + "/envmap/" + kind + ".exr";
-              v.push_back(sglab_step(std::string("envmap-make-") + kind, std::string("generated environment: ") + kind + " (512×256 EXR)",
-                                     {"envmap", "make", kind, "--out", path}));
-              lobes.insert(lobes.end(), {"--env", std::string(kind) + "=" + path});
-            }
-            v.push_back(timed(sglab_step("envmap-lobes", "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)",
-                                         lobes, {"--quick"}, "--tables-dir")));
-            v.push_back(plot_step("plot-envmap", "environment error against N, and each map beside its reconstructions",
-                                  {"plots/envmap_lobes.py", p.tables + "/envmap_lobes.csv", p.out + "/envmap/envmap_images.csv",
-                                   p.key_figures()}));
-            return v;
-          },
-          "envmap"};
+  return {
+      "envmap",
+      "`sglab envmap`: SG mixture fits of environment maps and shading error against the lobe count (envmap_lobes.*)",
+      cli::add_envmap_lobes_command,
+      [](const Places& p) {
+        std::vector<Step> v;
+        std::vector<std::string> lobes = {"envmap", "lobes", "--out", p.out + "/envmap"};
+        for (const char* kind : {"sky", "studio", "mixture"}) {
+          const std::string path = p.out + "/envmap/" + kind + ".exr";
+          v.push_back(sglab_step(std::string("envmap-make-") + kind,
+                                 std::string("generated environment: ") + kind + " (512×256 EXR)",
+                                 {"envmap", "make", kind, "--out", path}));
+          lobes.insert(lobes.end(), {"--env", std::string(kind) + "=" + path});
+        }
+        v.push_back(timed(sglab_step("envmap-lobes",
+                                     "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)", lobes,
+                                     {"--quick"}, "--tables-dir")));
+        v.push_back(plot_step("plot-envmap", "environment error against N, and each map beside its reconstructions",
+                              {"plots/envmap_lobes.py", p.tables + "/envmap_lobes.csv",
+                               p.out + "/envmap/envmap_images.csv", p.key_figures()}));
+        return v;
+      },
+      "envmap"};
 }
 
 }  // namespace sglab::experiments

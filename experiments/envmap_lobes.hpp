@@ -50,7 +50,7 @@ struct SmallImage {
 
 struct LobeCount {
   int lobes = 0;
-  fit::EnvFitResult ceres;   // a rung of the ladder (its mixture is kept for the shading)
+  fit::EnvFitResult ceres;  // a rung of the ladder (its mixture is kept for the shading)
   double vmf_relative = 0, vmf_seconds = 0;
   std::vector<GeometryRows> geometries;  // in the order of Result::geometries
 };

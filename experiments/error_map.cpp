@@ -51,7 +51,8 @@ std::vector<std::string> mapped_quantity_names() {
 
 const Quantity& checked_quantity(const Options& o) {
   const Quantity* q = find_quantity(o.quantity);
-  if (!q) throw UsageError("error-map: " + runner::unknown_name_message("quantity", o.quantity, mapped_quantity_names()));
+  if (!q)
+    throw UsageError("error-map: " + runner::unknown_name_message("quantity", o.quantity, mapped_quantity_names()));
   if (!is_mapped(*q))
     throw UsageError("error-map: quantity '" + o.quantity + "' is not a (sharpness, cosine) quantity with a reference");
   return *q;
@@ -63,7 +64,8 @@ void fill_grid(const Options& o, Result& r) {
   const int n = o.size >= 0 ? o.size : (o.quick ? 40 : 200);
   if (n < 2 || n > 2000) throw UsageError(fmt::format("error-map: --size must be in [2, 2000], got {}", n));
   if (!(o.lambda_min > 0) || !(o.lambda_max > o.lambda_min) || !std::isfinite(o.lambda_max))
-    throw UsageError(fmt::format("error-map: need 0 < --lambda-min < --lambda-max, got {} and {}", o.lambda_min, o.lambda_max));
+    throw UsageError(
+        fmt::format("error-map: need 0 < --lambda-min < --lambda-max, got {} and {}", o.lambda_min, o.lambda_max));
   std::vector<double>&ls = r.sharpness, &cs = r.cosine;
   ls.resize(static_cast<std::size_t>(n));
   cs.resize(static_cast<std::size_t>(n));
@@ -92,7 +94,8 @@ void fill_reference(const Method& ref, Result& r) {
   std::fprintf(stderr, "error-map: reference done in %.1f s\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
   for (double v : r.reference)
-    if (!std::isfinite(v) || v < 0) throw std::runtime_error("error-map: the reference is not finite and non-negative on the grid");
+    if (!std::isfinite(v) || v < 0)
+      throw std::runtime_error("error-map: the reference is not finite and non-negative on the grid");
 }
 
 // One method's values on the grid and its summary.
@@ -138,7 +141,8 @@ MethodMap method_map(const Method& m, const Result& r) {
     s.median_smape = smapes[smapes.size() / 2];
     s.max_smape = *std::max_element(smapes.begin(), smapes.end());
   }
-  std::fprintf(stderr, "error-map: %s: max |error| %.3e at λ = %.4g, c = %.4g\n", m.name.c_str(), s.max_abs, s.at_lambda, s.at_cosine);
+  std::fprintf(stderr, "error-map: %s: max |error| %.3e at λ = %.4g, c = %.4g\n", m.name.c_str(), s.max_abs,
+               s.at_lambda, s.at_cosine);
   return out;
 }
 
@@ -166,7 +170,8 @@ Result compute(const Options& o) {
   std::string& command = r.provenance.command;
   command = fmt::format("sglab error-map --quantity {}", o.quantity);
   if (o.size >= 0) command += fmt::format(" --size {}", o.size);
-  if (o.lambda_min != 1e-3 || o.lambda_max != 1e4) command += fmt::format(" --lambda-min {} --lambda-max {}", o.lambda_min, o.lambda_max);
+  if (o.lambda_min != 1e-3 || o.lambda_max != 1e4)
+    command += fmt::format(" --lambda-min {} --lambda-max {}", o.lambda_min, o.lambda_max);
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
   std::vector<ConstantUse> uses;
@@ -193,28 +198,33 @@ Tables tables(const Result& r) {
         err = fmt::format("{:.6e}", r.error(m, k));
         smape = fmt::format("{:.6e}", r.smape(m, k));
       }
-      t.points_csv += fmt::format("{},{:.10g},{:.10g},{:.10g},{},{},{}\n", m.summary.method, r.sharpness[k / nc], r.cosine[k % nc],
-                                  r.reference[k], val, err, smape);
+      t.points_csv += fmt::format("{},{:.10g},{:.10g},{:.10g},{},{},{}\n", m.summary.method, r.sharpness[k / nc],
+                                  r.cosine[k % nc], r.reference[k], val, err, smape);
     }
-  t.summary_csv = "method,max_abs_error,at_sharpness,at_cosine,rmse,share_over_1pct,median_smape,max_smape,out_of_domain,non_finite\n";
+  t.summary_csv =
+      "method,max_abs_error,at_sharpness,at_cosine,rmse,share_over_1pct,median_smape,max_smape,out_of_domain,non_"
+      "finite\n";
   t.markdown = fmt::format(
       "# Error maps: {}\n\n"
       "Each method in double against `{}` on {} × {} points: λ log-spaced over [{:g}, {:g}], c uniform over [−1, 1]. "
-      "**error** = (method − reference)/D(λ, 1) (signed; the normalization of docs/math.md §3); **SMAPE** = 2|m − r|/(|m| + |r|), "
+      "**error** = (method − reference)/D(λ, 1) (signed; the normalization of docs/math.md §3); **SMAPE** = 2|m − "
+      "r|/(|m| + |r|), "
       "the poster's pointwise measure (2 where one side is 0). Maps: `plots/error_maps.py`.\n\n",
       r.quantity, r.reference_method, r.sharpness.size(), nc, r.sharpness.front(), r.sharpness.back());
   // The constants each method ran with, before the table (after its header it would split it).
   if (!r.constants.empty()) t.markdown += "Constants:\n\n" + r.constants + "\n";
   t.markdown +=
-      "| method | max abs error | at (λ, c) | RMSE | share > 1 % | median SMAPE | max SMAPE | out of domain | non-finite |\n"
+      "| method | max abs error | at (λ, c) | RMSE | share > 1 % | median SMAPE | max SMAPE | out of domain | "
+      "non-finite |\n"
       "|---|---|---|---|---|---|---|---|---|\n";
   for (const MethodMap& m : r.methods) {
     const Summary& s = m.summary;
-    t.summary_csv += fmt::format("{},{:.6e},{:.10g},{:.10g},{:.6e},{:.6f},{:.6e},{:.6e},{},{}\n", s.method, s.max_abs, s.at_lambda,
-                                 s.at_cosine, s.rmse, s.share_over_1pct, s.median_smape, s.max_smape, s.out_of_domain, s.non_finite);
-    t.markdown += fmt::format("| {} | {:.3e} | ({:.3g}, {:.3f}) | {:.3e} | {:.1f} % | {:.2e} | {:.2f} | {} | {} |\n", s.method, s.max_abs,
-                              s.at_lambda, s.at_cosine, s.rmse, 100 * s.share_over_1pct, s.median_smape, s.max_smape, s.out_of_domain,
-                              s.non_finite);
+    t.summary_csv += fmt::format("{},{:.6e},{:.10g},{:.10g},{:.6e},{:.6f},{:.6e},{:.6e},{},{}\n", s.method, s.max_abs,
+                                 s.at_lambda, s.at_cosine, s.rmse, s.share_over_1pct, s.median_smape, s.max_smape,
+                                 s.out_of_domain, s.non_finite);
+    t.markdown += fmt::format("| {} | {:.3e} | ({:.3g}, {:.3f}) | {:.3e} | {:.1f} % | {:.2e} | {:.2f} | {} | {} |\n",
+                              s.method, s.max_abs, s.at_lambda, s.at_cosine, s.rmse, 100 * s.share_over_1pct,
+                              s.median_smape, s.max_smape, s.out_of_domain, s.non_finite);
   }
   return t;
 }
@@ -233,8 +243,10 @@ void write(const Options& o, const Result& r) {
 
 void add_error_map_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<error_map::Options>();
-  auto* sub = app.add_subcommand("error-map", "Signed error of each diffuse method over the (λ, c) plane, against the reference");
-  sub->add_option("--out", opts->out_dir, "directory for error_map.csv, error_map_summary.csv, error_map.md")->capture_default_str();
+  auto* sub = app.add_subcommand("error-map",
+                                 "Signed error of each diffuse method over the (λ, c) plane, against the reference");
+  sub->add_option("--out", opts->out_dir, "directory for error_map.csv, error_map_summary.csv, error_map.md")
+      ->capture_default_str();
   add_constants_option(*sub, opts->constants);
   sub->add_option("--quantity", opts->quantity, "a (sharpness, cosine) quantity with a reference")
       ->capture_default_str()
@@ -255,12 +267,13 @@ std::vector<Step> error_map_steps(const Places& p) {
       sglab_step("error-map", "signed error of each diffuse method over (λ, c) against the reference",
                  {"error-map", "--out", p.out + "/error_map"}, {"--quick"}, "", true),
       plot_step("plot-error-maps", "error maps of the diffuse methods, one panel per method",
-                {"plots/error_maps.py", p.out + "/error_map/error_map.csv", p.out + "/figures/error_maps"}, {"--quick"}),
+                {"plots/error_maps.py", p.out + "/error_map/error_map.csv", p.out + "/figures/error_maps"},
+                {"--quick"}),
       plot_step("plot-own-method",
                 "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried "
                 "(paper_tables/own_method.md)",
-                {"plots/own_method.py", p.out + "/error_map/error_map.csv", "plots/own_method_forms.csv", p.tables + "/error_vs_time.csv",
-                 p.key_figures()})};
+                {"plots/own_method.py", p.out + "/error_map/error_map.csv", "plots/own_method_forms.csv",
+                 p.tables + "/error_vs_time.csv", p.key_figures()})};
 }
 
 Experiment error_map_experiment() {

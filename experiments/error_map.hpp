@@ -29,9 +29,9 @@ struct Summary {
 
 // One method on the grid (point k = i·cosines + j: sharpness[i], cosine[j]).
 struct MethodMap {
-  std::vector<double> value;    // NaN out of the method's domain
+  std::vector<double> value;  // NaN out of the method's domain
   std::vector<char> in_domain;
-  Summary summary;              // summary.method: the method's name
+  Summary summary;  // summary.method: the method's name
 };
 
 struct Result {

@@ -120,10 +120,10 @@ SpeedComparison compare_speed(std::string a_name, const BatchFn<T>& a, std::stri
 // error is divided by), and per point whether it belongs to the quantity's "sharp" subset (the
 // third error column).
 struct Grid : ReferenceGrid {
-  std::vector<char> in_subset;    // counted in the subset column
-  std::vector<char> rounding;     // also checked against 50 digits (mp50 is slow)
+  std::vector<char> in_subset;  // counted in the subset column
+  std::vector<char> rounding;   // also checked against 50 digits (mp50 is slow)
   std::string description, error_label, subset_label;
-  std::vector<double> timing;     // seeded timing inputs, inside every method's domain
+  std::vector<double> timing;  // seeded timing inputs, inside every method's domain
 };
 
 // Diffuse (sharpness, cosine) quantities: the (λ, c) grid of the error claims (docs/math.md §3), λ
@@ -140,15 +140,17 @@ Grid diffuse_grid(const Method& ref, bool quick) {
       g.in_subset.push_back(ls[i] >= 1);
       g.rounding.push_back(i % 4 == 0 && j % 4 == 0);
     }
-  g.description = fmt::format("λ ∈ [1e-3, 1e4] log-spaced ({} per decade) × c ∈ [−1, 1] ({} steps); rounding on every 4th λ and c",
-                              per_decade, cos_steps);
+  g.description = fmt::format(
+      "λ ∈ [1e-3, 1e4] log-spaced ({} per decade) × c ∈ [−1, 1] ({} steps); rounding on every 4th λ and c", per_decade,
+      cos_steps);
   g.error_label = "|method − reference| / value at c = 1";
   g.subset_label = "λ ≥ 1";
   // Timing inputs: 4096 seeded points, λ log-uniform in [1e-3, 1e4], c uniform (fixed seed);
   // λ > 0 so that every method times the same points.
   std::mt19937_64 rng(20261122);
   std::uniform_real_distribution<double> u(0, 1);
-  for (std::size_t k = 0; k < 4096; ++k) g.timing.insert(g.timing.end(), {std::pow(10.0, -3 + 7 * u(rng)), -1 + 2 * u(rng)});
+  for (std::size_t k = 0; k < 4096; ++k)
+    g.timing.insert(g.timing.end(), {std::pow(10.0, -3 + 7 * u(rng)), -1 + 2 * u(rng)});
   return g;
 }
 
@@ -170,9 +172,10 @@ Grid specular_grid(const Method& ref, bool quick) {
   fill_reference(g, ref);
   const std::size_t per_peak = points.per_peak;
   for (std::size_t k = 0; k < g.size(); ++k) g.scale.push_back(g.reference[k - k % per_peak]);
-  g.description = fmt::format("α ∈ {{{}}} × light sharpness ∈ {{{}}} × view cos ∈ {{0.9, 0.5, 0.2}} × light tilted "
-                              "{{0, 0.1, 0.3, 0.6}} rad from the mirror direction, f0 = 0.04",
-                              fmt::join(alphas, ", "), fmt::join(sharpness, ", "));
+  g.description = fmt::format(
+      "α ∈ {{{}}} × light sharpness ∈ {{{}}} × view cos ∈ {{0.9, 0.5, 0.2}} × light tilted "
+      "{{0, 0.1, 0.3, 0.6}} rad from the mirror direction, f0 = 0.04",
+      fmt::join(alphas, ", "), fmt::join(sharpness, ", "));
   g.error_label = "|method − reference| / reference with the light at the mirror direction";
   g.subset_label = "α ≥ 0.1";
   g.timing = specular_timing_rows();
@@ -192,7 +195,8 @@ std::string claims_section(const std::vector<Row>& rows, const std::vector<Speed
   s += fmt::format(
       "- \"More accurate … than Meder and Brüderlin\": tokuyoshi2022 max error {:.3e} vs meder {:.3e} (RMSE {:.3e} vs "
       "{:.3e}): **{}**.\n",
-      t->max_error, m->max_error, t->rmse, m->rmse, t->max_error < m->max_error && t->rmse < m->rmse ? "holds" : "does not hold");
+      t->max_error, m->max_error, t->rmse, m->rmse,
+      t->max_error < m->max_error && t->rmse < m->rmse ? "holds" : "does not hold");
   // Speed, by two CPU measures: sglab's (vectorized) batch and the naive scalar port a shader author
   // would write. The poster timed GPU shaders; neither is that, so each verdict names its measure.
   // Each verdict comes from interleaved runs of the pair, with its noise margin.
@@ -200,16 +204,21 @@ std::string claims_section(const std::vector<Row>& rows, const std::vector<Speed
     std::string out;
     for (const auto& c : speed)
       if (c.a == a && c.b == b)
-        out += fmt::format("{}{}: {} / {} = {:.3f} (median of {} interleaved runs each; noise margin ±{:.0f} %): **{}**",
-                           out.empty() ? "" : "; ", c.measure, a, b, c.ratio, c.rounds, 100 * c.margin, c.faster_verdict());
+        out += fmt::format(
+            "{}{}: {} / {} = {:.3f} (median of {} interleaved runs each; noise margin ±{:.0f} %): **{}**",
+            out.empty() ? "" : "; ", c.measure, a, b, c.ratio, c.rounds, 100 * c.margin, c.faster_verdict());
     return out.empty() ? std::string("not measured") : out;
   };
   s += "- \"… and slightly faster\" (tokuyoshi2022 vs meder, double; the poster timed GPU shaders, these are CPU "
-       "measures): " + verdicts("tokuyoshi2022", "meder") + ".\n";
-  s += "- \"Pettineo and Hill's fit is faster\" (hill-fitted vs tokuyoshi2022): " + verdicts("hill-fitted", "tokuyoshi2022") + ".\n";
-  s += fmt::format("- \"… but produces black splotches\": hill-fitted is negative at {} of the grid's points (clamped to 0 "
-                   "in a shader: black; where: `paper_tables/stability.md`); tokuyoshi2022 at {}: **{}**. meder, for comparison, at {}.\n",
-                   h->negatives, t->negatives, h->negatives > 0 && t->negatives == 0 ? "holds" : "does not hold", m->negatives);
+       "measures): " +
+       verdicts("tokuyoshi2022", "meder") + ".\n";
+  s += "- \"Pettineo and Hill's fit is faster\" (hill-fitted vs tokuyoshi2022): " +
+       verdicts("hill-fitted", "tokuyoshi2022") + ".\n";
+  s += fmt::format(
+      "- \"… but produces black splotches\": hill-fitted is negative at {} of the grid's points (clamped to 0 "
+      "in a shader: black; where: `paper_tables/stability.md`); tokuyoshi2022 at {}: **{}**. meder, for comparison, at "
+      "{}.\n",
+      h->negatives, t->negatives, h->negatives > 0 && t->negatives == 0 ? "holds" : "does not hold", m->negatives);
   return s;
 }
 
@@ -337,9 +346,12 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
       if (const auto* port = peer::find_port(q->name, m.name)) {
         const auto pf = port->batch_float;
         const auto pd = port->batch_double;
-        r.port_ns_per_eval =
-            is_float ? time_ns_per_eval<float>([pf](auto a, std::size_t, auto o) { pf(a.data(), o.data(), o.size()); }, timing_f, arity, repeats)
-                     : time_ns_per_eval<double>([pd](auto a, std::size_t, auto o) { pd(a.data(), o.data(), o.size()); }, g.timing, arity, repeats);
+        r.port_ns_per_eval = is_float ? time_ns_per_eval<float>(
+                                            [pf](auto a, std::size_t, auto o) { pf(a.data(), o.data(), o.size()); },
+                                            timing_f, arity, repeats)
+                                      : time_ns_per_eval<double>(
+                                            [pd](auto a, std::size_t, auto o) { pd(a.data(), o.data(), o.size()); },
+                                            g.timing, arity, repeats);
       }
       rows.push_back(r);
     }
@@ -349,7 +361,8 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
   rr.method = ref.name;
   rr.precision = "double";
   rr.ns_per_eval = time_ns_per_eval<double>(
-      ref.batch_double, std::vector<double>(g.timing.begin(), g.timing.begin() + arity * (diffuse ? 256 : 16)), arity, 3);
+      ref.batch_double, std::vector<double>(g.timing.begin(), g.timing.begin() + arity * (diffuse ? 256 : 16)), arity,
+      3);
   rows.push_back(rr);
   return rows;
 }
@@ -362,7 +375,8 @@ std::vector<SpeedComparison> poster_speed_claims(const Quantity& q, const Grid& 
   for (const auto& [a, b] : {std::pair{"tokuyoshi2022", "meder"}, std::pair{"hill-fitted", "tokuyoshi2022"}}) {
     const Method *ma = q.find(a), *mb = q.find(b);
     if (!ma || !mb) continue;
-    out.push_back(compare_speed<double>(a, ma->batch_double, b, mb->batch_double, "sglab batch", g.timing, g.arity, rounds));
+    out.push_back(
+        compare_speed<double>(a, ma->batch_double, b, mb->batch_double, "sglab batch", g.timing, g.arity, rounds));
     const auto *pa = peer::find_port(q.name, a), *pb = peer::find_port(q.name, b);
     if (!pa || !pb) continue;
     const auto port = [](const auto* p) {
@@ -385,7 +399,8 @@ Result compute(const Options& o) {
   if (o.quantities != Options{}.quantities) command += " --quantity " + fmt::format("{}", fmt::join(o.quantities, " "));
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
-  command += o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir) : runner::option_argument("--tables", o.tables_dir);
+  command += o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir)
+                                  : runner::option_argument("--tables", o.tables_dir);
   const ConstantSet& set = o.constants.set;
   for (const Quantity* q : qs) {
     Section s;
@@ -397,10 +412,12 @@ Result compute(const Options& o) {
       uses.insert(uses.end(), u.begin(), u.end());
     }
     if (!uses.empty())
-      s.constants = fmt::format("\nConstants of {} ({}; rows `NAME [constants]` use the set's values, the others the "
-                                "published ones):\n\n{}",
-                                q->name, !o.constants.given() ? std::string("published") : fmt::format("{}", fmt::join(o.constants.paths, ", ")),
-                                constants_text(set, uses, "- "));
+      s.constants = fmt::format(
+          "\nConstants of {} ({}; rows `NAME [constants]` use the set's values, the others the "
+          "published ones):\n\n{}",
+          q->name,
+          !o.constants.given() ? std::string("published") : fmt::format("{}", fmt::join(o.constants.paths, ", ")),
+          constants_text(set, uses, "- "));
     Grid g;
     s.rows = measure(*q, o.quick, g, set);
     if (q->name == "clamped-cosine") s.speed = poster_speed_claims(*q, g, o.quick);
@@ -426,29 +443,32 @@ Tables tables(const Result& result) {
       "Per quantity, every registered method against the quantity's reference, in float and double. Rounding: the "
       "method in that precision against the same formula in 50 digits on the same input, shown apart from the "
       "approximation error. Cost: median ns per evaluation over seeded inputs on this machine (one core, warm-up, "
-      "median of 7 runs of ≥ 10 ms each), through the registry's batch evaluators (vectorized for the diffuse and specular methods: docs/simd.md); "
+      "median of 7 runs of ≥ 10 ms each), through the registry's batch evaluators (vectorized for the diffuse and "
+      "specular methods: docs/simd.md); "
       "beside it the same inputs through a naive scalar port of the published formula (std:: math, no stable forms: "
       "`core/include/sglab/peer_ports.hpp`, a speed baseline, not a method) and the port's time over sglab's. "
       "`neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n");
   for (const Section& s : result.sections) {
     md += s.constants;
     for (const auto& r : s.rows)
-      csv += fmt::format("{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.4g},{},{},{}\n", s.quantity, r.method, r.precision, r.rmse,
-                         r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval, r.negatives, r.non_finite,
-                         r.out_of_domain);
+      csv += fmt::format("{},{},{},{:.6e},{:.6e},{:.6e},{:.6e},{:.4g},{},{},{}\n", s.quantity, r.method, r.precision,
+                         r.rmse, r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval, r.negatives,
+                         r.non_finite, r.out_of_domain);
     md += fmt::format(
         "\n## {}\n\nErrors are {}, over {} ({} points).\n\n"
-        "| method | precision | RMSE | max error | max error, {} | max rounding error | ns/eval | naive port ns/eval | port / sglab | neg |\n"
+        "| method | precision | RMSE | max error | max error, {} | max rounding error | ns/eval | naive port ns/eval | "
+        "port / sglab | neg |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n",
         s.quantity, s.error_label, s.grid_description, s.points(), s.subset_label);
     for (const auto& r : s.rows) {
       if (r.method == s.reference_method) {
-        md += fmt::format("| {} (reference) | {} | — | — | — | — | {:.0f} | — | — | — |\n", r.method, r.precision, r.ns_per_eval);
+        md += fmt::format("| {} (reference) | {} | — | — | — | — | {:.0f} | — | — | — |\n", r.method, r.precision,
+                          r.ns_per_eval);
         continue;
       }
       const bool port = std::isfinite(r.port_ns_per_eval);
-      md += fmt::format("| {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2e} | {:.1f} | {} | {} | {} |\n", r.method, r.precision, r.rmse,
-                        r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval,
+      md += fmt::format("| {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2e} | {:.1f} | {} | {} | {} |\n", r.method,
+                        r.precision, r.rmse, r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval,
                         port ? fmt::format("{:.1f}", r.port_ns_per_eval) : "—",
                         port ? fmt::format("{:.1f}×", r.port_ns_per_eval / r.ns_per_eval) : "—", r.negatives);
     }
@@ -462,8 +482,9 @@ void check_outputs(const Options& o) {
   for (const auto& c : o.constants.paths) inputs.push_back({"--constants", c});
   const auto tables = runner::tables_place(o.tables_dir, o.out_dir);
   std::vector<runner::NamedPath> outputs = {{"--tables (error_vs_time.csv)", tables / "error_vs_time.csv"},
-                                    {"--tables (error_vs_time.md)", tables / "error_vs_time.md"}};
-  if (!o.tables_dir.empty()) outputs.push_back({"--out (error_vs_time.csv)", std::filesystem::path(o.out_dir) / "error_vs_time.csv"});
+                                            {"--tables (error_vs_time.md)", tables / "error_vs_time.md"}};
+  if (!o.tables_dir.empty())
+    outputs.push_back({"--out (error_vs_time.csv)", std::filesystem::path(o.out_dir) / "error_vs_time.csv"});
   runner::check_output_paths(outputs, inputs);
 }
 
@@ -472,11 +493,11 @@ void write(const Options& o, const Result& result) {
   runner::OutputSet outputs;  // the files appear together or not at all
   // The bare CSV beside the per-run outputs; without --tables the headed table takes its place.
   if (!o.tables_dir.empty()) outputs.add(std::filesystem::path(o.out_dir) / "error_vs_time.csv", t.csv);
-  runner::add_table(outputs, runner::tables_place(o.tables_dir, o.out_dir), "error_vs_time", result.provenance, t.markdown, t.csv);
+  runner::add_table(outputs, runner::tables_place(o.tables_dir, o.out_dir), "error_vs_time", result.provenance,
+                    t.markdown, t.csv);
   outputs.commit();
   std::fputs((runner::markdown_header(result.provenance) + t.markdown).c_str(), stdout);
 }
-
 
 }  // namespace error_vs_time
 
@@ -488,8 +509,8 @@ void add_error_vs_time_command(CLI::App& app, const runner::RunContext& run) {
                   "quantities: (sharpness, cosine) quantities with a reference, and specular")
       ->capture_default_str()
       ->check(one_of(error_vs_time::grid_quantity_names(), "quantity"));
-  add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for the per-method CSV", "directory for error_vs_time.{md,csv} (default: the --out directory)",
-                     "--tables");
+  add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for the per-method CSV",
+                     "directory for error_vs_time.{md,csv} (default: the --out directory)", "--tables");
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
   add_constants_option(*sub, opts->constants);
   sub->callback([opts, run] {
@@ -504,17 +525,17 @@ namespace sglab::experiments {
 
 std::vector<Step> error_vs_time_steps(const Places& p) {
   return std::vector<Step>{
-      timed(sglab_step("error-vs-time",
-                       "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
-                       {"error-vs-time", "--out", p.out + "/error_vs_time", "--constants", p.out + "/fits"}, {"--quick"},
-                       "--tables", true)),
+      timed(sglab_step(
+          "error-vs-time",
+          "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
+          {"error-vs-time", "--out", p.out + "/error_vs_time", "--constants", p.out + "/fits"}, {"--quick"}, "--tables",
+          true)),
       plot_step("plot-error-vs-time", "Pareto figure of error against time",
                 {"plots/error_vs_time.py", p.out + "/error_vs_time/error_vs_time.csv", p.key_figures()})};
 }
 
 Experiment error_vs_time_experiment() {
-  return {"error-vs-time",
-          "every method against its reference, in float and double, beside its cost (error_vs_time.*)",
+  return {"error-vs-time", "every method against its reference, in float and double, beside its cost (error_vs_time.*)",
           cli::add_error_vs_time_command, error_vs_time_steps};
 }
 

@@ -40,7 +40,8 @@ inline CLI::Validator unsigned_at_most(std::uint64_t max) {
 // A CLI11 check for an option that takes a name: the value is one of `names` (with `comma_list`
 // each item of a comma-separated list; with `before_colon` the part before ':', as in fis:64).
 // The help lists the names; an unknown one is refused (exit status 2) with the closest valid name.
-inline CLI::Validator one_of(std::vector<std::string> names, std::string what, bool comma_list = false, bool before_colon = false) {
+inline CLI::Validator one_of(std::vector<std::string> names, std::string what, bool comma_list = false,
+                             bool before_colon = false) {
   const std::string description = "{" + runner::join_names(names, "|") + "}";
   return CLI::Validator(
       [names = std::move(names), what = std::move(what), comma_list, before_colon](std::string& text) -> std::string {
@@ -113,8 +114,9 @@ inline CLI::Validator finite_in(double lo, double hi) {
 // A CLI11 check for `--shard i/N` given explicitly: an empty text is refused (it would otherwise
 // read as "not given" and run the whole grid); parse_shard (sweep.hpp) checks the rest.
 inline CLI::Validator shard_given() {
-  return CLI::Validator([](std::string& text) -> std::string { return text.empty() ? "an empty shard (expected i/N, 0 ≤ i < N)" : ""; },
-                        "i/N");
+  return CLI::Validator(
+      [](std::string& text) -> std::string { return text.empty() ? "an empty shard (expected i/N, 0 ≤ i < N)" : ""; },
+      "i/N");
 }
 
 // The two places an experiment's command writes to (registry.hpp: Places), declared alike by

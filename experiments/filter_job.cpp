@@ -21,15 +21,23 @@ namespace sglab::cli {
 void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
   auto& p = job.parameters;
   if (with_scale)
-    app.add_option("--scale", job.scale, "the indirect light is computed at 1/SCALE resolution, then upsampled")->capture_default_str();
+    app.add_option("--scale", job.scale, "the indirect light is computed at 1/SCALE resolution, then upsampled")
+        ->capture_default_str();
   app.add_option("--source", job.source, "low-resolution indirect light: exact (VPL sum) or vsgl")
       ->capture_default_str()
       ->check(one_of(render::indirect_source_names(), "source"));
-  app.add_option("--radius", p.radius, "upsampling: 2R × 2R low-resolution samples per pixel; --noisy: the window's half-width R in pixels (default M for interleaved:M, 4 for random:K)")->capture_default_str();
-  app.add_option("--spatial-sigma", p.spatial_sigma, "image-space Gaussian σ_s, in low-resolution pixels")->capture_default_str();
-  app.add_option("--sigma-n2", p.sigma_n2, "normal weights: σ_n² of G(n_p; n_q, 1/σ_n²) (Tokuyoshi 2015, lobe-aware filtering, Fig. D.2: 0.05404477)")
+  app.add_option("--radius", p.radius,
+                 "upsampling: 2R × 2R low-resolution samples per pixel; --noisy: the window's half-width R in pixels "
+                 "(default M for interleaved:M, 4 for random:K)")
       ->capture_default_str();
-  app.add_option("--depth-sigma", p.depth_sigma, "normal weights: depth σ_z relative to the pixel's depth")->capture_default_str();
+  app.add_option("--spatial-sigma", p.spatial_sigma, "image-space Gaussian σ_s, in low-resolution pixels")
+      ->capture_default_str();
+  app.add_option(
+         "--sigma-n2", p.sigma_n2,
+         "normal weights: σ_n² of G(n_p; n_q, 1/σ_n²) (Tokuyoshi 2015, lobe-aware filtering, Fig. D.2: 0.05404477)")
+      ->capture_default_str();
+  app.add_option("--depth-sigma", p.depth_sigma, "normal weights: depth σ_z relative to the pixel's depth")
+      ->capture_default_str();
   app.add_option("--beta", p.beta, "lobe weights: exponent β of w = q^β")->capture_default_str();
   app.add_option("--kappa", p.kappa, "lobe weights: smoothing kernel sharpness κ (inf: none)")->capture_default_str();
   app.add_option("--nu", p.nu, "lobe weights: positional kernel ν (scene units)")->capture_default_str();
@@ -66,7 +74,9 @@ void apply_filter_constants(FilterJob& job) {
 
 nlohmann::json filter_constants_json(const FilterJob& job) {
   nlohmann::json j = render_constants_json(job.render);
-  for (const auto& v : constants_json(job.render.constants.set, {{"filter", find_standalone_constant("filter", "lambda_c")}})) j["values"].push_back(v);
+  for (const auto& v :
+       constants_json(job.render.constants.set, {{"filter", find_standalone_constant("filter", "lambda_c")}}))
+    j["values"].push_back(v);
   return j;
 }
 
@@ -119,7 +129,8 @@ int denoise_radius(const render::NoisySpec& spec, std::optional<int> radius) {
   return *radius;
 }
 
-render::DenoiseInputOptions denoise_input_options(const FilterJob& job, const render::NoisySpec& spec, std::uint64_t seed) {
+render::DenoiseInputOptions denoise_input_options(const FilterJob& job, const render::NoisySpec& spec,
+                                                  std::uint64_t seed) {
   render::DenoiseInputOptions o;
   o.noisy = spec;
   o.seed = seed;
@@ -138,8 +149,9 @@ void check_filter_memory(const render::Scene& scene, const render::FilterInputOp
   const double per_low = sample + 3 * rgb;
   const double vpls = double(o.rsm_resolution) * double(o.rsm_resolution) * 256;  // ~256 B a VPL, as a render
   const double bytes = double(runs) * (pixels * per_pixel + low * per_low) + vpls;
-  runner::check_memory(bytes, fmt::format("{}a {}×{} filter run at 1/{} resolution (RSM {}²)", runs > 1 ? fmt::format("{} × ", runs) : "",
-                                  scene.camera.width, scene.camera.height, o.scale, o.rsm_resolution));
+  runner::check_memory(bytes, fmt::format("{}a {}×{} filter run at 1/{} resolution (RSM {}²)",
+                                          runs > 1 ? fmt::format("{} × ", runs) : "", scene.camera.width,
+                                          scene.camera.height, o.scale, o.rsm_resolution));
 }
 
 std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale, bool with_upsampling) {
@@ -159,12 +171,14 @@ std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_sc
   if (p.beta != d.beta) a.insert(a.end(), {"--beta", number(p.beta)});
   if (p.kappa != d.kappa) a.insert(a.end(), {"--kappa", number(p.kappa)});
   if (p.nu != d.nu) a.insert(a.end(), {"--nu", number(p.nu)});
-  if (p.diffuse_sharpness != d.diffuse_sharpness) a.insert(a.end(), {"--diffuse-sharpness", number(p.diffuse_sharpness)});
+  if (p.diffuse_sharpness != d.diffuse_sharpness)
+    a.insert(a.end(), {"--diffuse-sharpness", number(p.diffuse_sharpness)});
   if (job.render.rsm != defaults.render.rsm) a.insert(a.end(), {"--rsm", std::to_string(job.render.rsm)});
   if (with_upsampling && job.source == "vsgl") {
     a.insert(a.end(), {"--vsgl", job.render.vsgl, "--diffuse", job.render.diffuse});
     const auto mode = render::parse_vsgl_mode(job.render.vsgl);
-    if (!mode || !render::vsgl_mode_is_whole_rsm(*mode)) a.insert(a.end(), {"--count", std::to_string(job.render.count)});
+    if (!mode || !render::vsgl_mode_is_whole_rsm(*mode))
+      a.insert(a.end(), {"--count", std::to_string(job.render.count)});
     if (job.render.seed != defaults.render.seed) a.insert(a.end(), {"--seed", std::to_string(job.render.seed)});
   }
   if (job.render.width) a.insert(a.end(), {"--width", std::to_string(*job.render.width)});
@@ -175,18 +189,18 @@ std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_sc
 }
 
 nlohmann::json filter_parameters_json(const render::FilterParameters& p) {
-  return {{"radius", p.radius},
-          {"spatial_sigma_low_res_pixels", p.spatial_sigma},
-          {"sigma_n2", p.sigma_n2},
-          {"depth_sigma_relative", p.depth_sigma},
-          {"beta", p.beta},
-          {"kappa", std::isinf(p.kappa) ? nlohmann::json("inf") : nlohmann::json(p.kappa)},
-          {"nu_scene_units", p.nu},
-          {"diffuse_sharpness", p.diffuse_sharpness}};
+  return {{"radius", p.radius},     {"spatial_sigma_low_res_pixels", p.spatial_sigma},
+          {"sigma_n2", p.sigma_n2}, {"depth_sigma_relative", p.depth_sigma},
+          {"beta", p.beta},         {"kappa", std::isinf(p.kappa) ? nlohmann::json("inf") : nlohmann::json(p.kappa)},
+          {"nu_scene_units", p.nu}, {"diffuse_sharpness", p.diffuse_sharpness}};
 }
 
 nlohmann::json image_error_json(const render::ImageError& e) {
-  return {{"rmse", e.rmse}, {"smape", e.smape}, {"relative_l2", e.relative_l2}, {"max_abs", e.max_abs}, {"samples", e.samples}};
+  return {{"rmse", e.rmse},
+          {"smape", e.smape},
+          {"relative_l2", e.relative_l2},
+          {"max_abs", e.max_abs},
+          {"samples", e.samples}};
 }
 
 double percent_change(double value, double baseline) {

@@ -53,12 +53,14 @@ render::NoisySpec parse_noisy_option(const std::string& text);
 // outside [1, 16]), else default_denoise_radius(spec).
 int denoise_radius(const render::NoisySpec& spec, std::optional<int> radius);
 // The noisy input's options from the job (--rsm) and the noisy-input seed.
-render::DenoiseInputOptions denoise_input_options(const FilterJob& job, const render::NoisySpec& spec, std::uint64_t seed);
+render::DenoiseInputOptions denoise_input_options(const FilterJob& job, const render::NoisySpec& spec,
+                                                  std::uint64_t seed);
 
 // The job's options as command-line arguments after the scene path (for provenance).
 // with_upsampling = false leaves out the upsampling pass's own options (--scale, --source, --radius,
 // --spatial-sigma and the VSGL source's): the noisy-input pass states its radius itself.
-std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale = true, bool with_upsampling = true);
+std::vector<std::string> filter_job_arguments(const FilterJob& job, bool with_scale = true,
+                                              bool with_upsampling = true);
 
 // The parameters as JSON (every one, with its meaning's units).
 nlohmann::json filter_parameters_json(const render::FilterParameters& p);

@@ -49,7 +49,8 @@ void parse_lists(const Options& o, Result& r) {
     } catch (const runner::NumberError& e) {
       throw UsageError(fmt::format("--scale: '{}' {}", clip_text(t), e.what()));
     }
-    if (x != std::floor(x) || x < 1 || x > 64) throw UsageError(fmt::format("--scale: '{}' is not an integer in [1, 64]", clip_text(t)));
+    if (x != std::floor(x) || x < 1 || x > 64)
+      throw UsageError(fmt::format("--scale: '{}' is not an integer in [1, 64]", clip_text(t)));
     r.scales.push_back(int(x));
   }
   r.weights = parse_weights_list(o.weights);
@@ -124,12 +125,14 @@ namespace {
 // at 128², the table's image).
 constexpr const char* kScaleTwoNote =
     "**Scale 2, measured.** At scale 2 `lobe` is worse than `normal` in relative L2 at every roughness but better in "
-    "SMAPE (the tables above). It is not a few bright pixels: over the other 99 % `lobe` is still worse at scale 2 (the "
+    "SMAPE (the tables above). It is not a few bright pixels: over the other 99 % `lobe` is still worse at scale 2 "
+    "(the "
     "table just above). It is not the lobes: `lobe-depth` (the lobe directions with normal's depth term) is within "
     "−0.2 … +0.5 % of `normal` at scale 2. It is App. A's positional term, whose Gaussian has variance "
     "(τ̄_p² + τ̄_q²)/β ≈ 2ν²/β (σ ≈ 0.063 scene units at ν = 0.2, about the spacing of the low-resolution samples at "
     "scale 2): it keeps fewer samples than the depth term, which sharpens edges (lower SMAPE) and interpolates smooth "
-    "bright regions worse (higher relative L2). ν trades one for the other; at α = 0.2 no ν reaches normal's relative L2 "
+    "bright regions worse (higher relative L2). ν trades one for the other; at α = 0.2 no ν reaches normal's relative "
+    "L2 "
     "(the best, 0.2239 at ν = 1, costs SMAPE 0.0897 against 0.0812), at α = 0.02 only a narrow band near ν = 0.28 "
     "matches normal in both "
     "(`sglab filter scenes/cornell-glossy.json --scale 2 --set floor.roughness=A --weights lobe --nu V`, 128²; normal: "
@@ -139,31 +142,36 @@ constexpr const char* kScaleTwoNote =
     "| 0.2 (default) | 0.6512 | 0.1222 | 0.2268 | 0.0784 |\n| 0.25 | 0.6396 | 0.1240 | 0.2256 | 0.0793 |\n"
     "| 0.3 | 0.6321 | 0.1267 | 0.2249 | 0.0805 |\n| 0.4 | 0.6238 | 0.1320 | 0.2243 | 0.0833 |\n"
     "| 1 | 0.6141 | 0.1444 | 0.2239 | 0.0897 |\n\n"
-    "So the scale-2 result is the positional term at a footprint where the low-resolution image is already close to the "
-    "reference; ν = 0.2 (the best relative L2 at scale 4, the default) is kept, and this table reports what it costs at "
+    "So the scale-2 result is the positional term at a footprint where the low-resolution image is already close to "
+    "the "
+    "reference; ν = 0.2 (the best relative L2 at scale 4, the default) is kept, and this table reports what it costs "
+    "at "
     "scale 2.\n";
 
 std::string command_line(const Options& o) {
-  std::vector<std::string> args = {"filter-sweep", "--scene",   o.job.render.scene_path, "--roughness", o.roughness,
-                                   "--scale",      o.scales,    "--weights",             o.weights};
+  std::vector<std::string> args = {"filter-sweep", "--scene",   o.job.render.scene_path,
+                                   "--roughness",  o.roughness, "--scale",
+                                   o.scales,       "--weights", o.weights};
   for (const auto& a : filter_job_arguments(o.job, false)) args.push_back(a);
   if (o.table != Options{}.table) args.insert(args.end(), {"--table", o.table});
   std::string command = "sglab";
   for (const auto& a : args) command += " " + quote_argument(a);
-  return command + (o.tables_dir.empty() ? runner::option_argument("--out", quote_argument(o.out), quote_argument(Options{}.out))
-                                         : runner::option_argument("--tables-dir", quote_argument(o.tables_dir)));
+  return command + (o.tables_dir.empty()
+                        ? runner::option_argument("--out", quote_argument(o.out), quote_argument(Options{}.out))
+                        : runner::option_argument("--tables-dir", quote_argument(o.tables_dir)));
 }
 
 Point point_summary(const render::FilterInputs& in) {
   Point p{in.width, in.height, in.vpl_count, 0, 0, in.seconds.low_res, in.seconds.reference};
-  for (std::size_t k = 0; k < in.hit.size(); ++k) p.pixels_hit += in.hit[k] != 0, p.glossy_receivers += in.glossy[k] != 0;
+  for (std::size_t k = 0; k < in.hit.size(); ++k)
+    p.pixels_hit += in.hit[k] != 0, p.glossy_receivers += in.glossy[k] != 0;
   return p;
 }
 
 // Point (scale s, roughness k); the reference of roughness k is computed once, at its first scale,
 // and kept (with its point's inputs) while the roughness's other scales use it.
-void compute_points(const Options& o, const std::vector<render::Scene>& scenes, render::FilterInputOptions input_options,
-                    Result& r) {
+void compute_points(const Options& o, const std::vector<render::Scene>& scenes,
+                    render::FilterInputOptions input_options, Result& r) {
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [start] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const std::size_t n = scenes.size() * r.scales.size();
@@ -172,10 +180,11 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes, 
     for (std::size_t s = 0; s < r.scales.size(); ++s) {
       const std::size_t point = k * r.scales.size() + s;
       if (!o.quiet) {
-        std::fprintf(stderr, "filter-sweep [%zu/%zu] floor.roughness=%g, scale %d (%.1f s)\n", point + 1, n, r.roughness[k],
-                     r.scales[s], elapsed());
+        std::fprintf(stderr, "filter-sweep [%zu/%zu] floor.roughness=%g, scale %d (%.1f s)\n", point + 1, n,
+                     r.roughness[k], r.scales[s], elapsed());
         input_options.progress = [&](std::string_view stage, double fraction) {
-          if (fraction == 1.0) std::fprintf(stderr, "  %.*s done (%.1f s)\n", int(stage.size()), stage.data(), elapsed());
+          if (fraction == 1.0)
+            std::fprintf(stderr, "  %.*s done (%.1f s)\n", int(stage.size()), stage.data(), elapsed());
         };
       }
       input_options.scale = r.scales[s];
@@ -183,13 +192,15 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes, 
       try {
         render::FilterInputs inputs = render::prepare_filter_inputs(scenes[k], input_options);
         for (const auto w : r.weights)
-          r.rows.push_back({r.scales[s], r.roughness[k], w, render::upsample_indirect(inputs, w, o.job.parameters), point});
+          r.rows.push_back(
+              {r.scales[s], r.roughness[k], w, render::upsample_indirect(inputs, w, o.job.parameters), point});
         r.points.push_back(point_summary(inputs));
         if (s == 0) first = std::move(inputs);
       } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
       }
-      r.points.back().seconds_reference = first.seconds.reference;  // the reference's time, also for the rows that reused it
+      r.points.back().seconds_reference =
+          first.seconds.reference;  // the reference's time, also for the rows that reused it
     }
   }
   r.seconds = elapsed();
@@ -197,21 +208,49 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes, 
 
 std::string points_csv(const Result& r) {
   std::string points;
-  runner::append_csv_record(points, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "smape", "rmse", "max_abs",
-                                                     "glossy_relative_l2", "glossy_smape", "glossy_rmse", "diffuse_relative_l2",
-                                                     "diffuse_smape", "diffuse_rmse", "fallback_pixels", "pixels_hit",
-                                                     "glossy_receivers", "vpl_count", "seconds_low_res", "seconds_upsampling",
-                                                     "seconds_reference"});
+  runner::append_csv_record(points, std::vector<std::string>{"scale",
+                                                             "floor_roughness",
+                                                             "weights",
+                                                             "relative_l2",
+                                                             "smape",
+                                                             "rmse",
+                                                             "max_abs",
+                                                             "glossy_relative_l2",
+                                                             "glossy_smape",
+                                                             "glossy_rmse",
+                                                             "diffuse_relative_l2",
+                                                             "diffuse_smape",
+                                                             "diffuse_rmse",
+                                                             "fallback_pixels",
+                                                             "pixels_hit",
+                                                             "glossy_receivers",
+                                                             "vpl_count",
+                                                             "seconds_low_res",
+                                                             "seconds_upsampling",
+                                                             "seconds_reference"});
   for (const Row& row : r.rows) {
     const Point& p = r.points[row.point];
     const auto& e = row.result;
-    runner::append_csv_record(points, std::vector<std::string>{
-                                  std::to_string(row.scale), runner::csv_number(row.roughness), std::string(render::filter_weights_name(row.weights)), stat_number(e.all.relative_l2),
-                                  stat_number(e.all.smape), stat_number(e.all.rmse), stat_number(e.all.max_abs), stat_number(e.glossy.relative_l2),
-                                  stat_number(e.glossy.smape), stat_number(e.glossy.rmse), stat_number(e.diffuse.relative_l2),
-                                  stat_number(e.diffuse.smape), stat_number(e.diffuse.rmse), std::to_string(e.fallback_pixels),
-                                  std::to_string(p.pixels_hit), std::to_string(p.glossy_receivers), std::to_string(p.vpl_count),
-                                  runner::csv_number(p.seconds_low_res), stat_number(e.seconds), runner::csv_number(p.seconds_reference)});
+    runner::append_csv_record(points, std::vector<std::string>{std::to_string(row.scale),
+                                                               runner::csv_number(row.roughness),
+                                                               std::string(render::filter_weights_name(row.weights)),
+                                                               stat_number(e.all.relative_l2),
+                                                               stat_number(e.all.smape),
+                                                               stat_number(e.all.rmse),
+                                                               stat_number(e.all.max_abs),
+                                                               stat_number(e.glossy.relative_l2),
+                                                               stat_number(e.glossy.smape),
+                                                               stat_number(e.glossy.rmse),
+                                                               stat_number(e.diffuse.relative_l2),
+                                                               stat_number(e.diffuse.smape),
+                                                               stat_number(e.diffuse.rmse),
+                                                               std::to_string(e.fallback_pixels),
+                                                               std::to_string(p.pixels_hit),
+                                                               std::to_string(p.glossy_receivers),
+                                                               std::to_string(p.vpl_count),
+                                                               runner::csv_number(p.seconds_low_res),
+                                                               stat_number(e.seconds),
+                                                               runner::csv_number(p.seconds_reference)});
   }
   return points;
 }
@@ -219,16 +258,18 @@ std::string points_csv(const Result& r) {
 // The CSV table: one row per (roughness, weights), the statistics of the Markdown table.
 std::string summary_csv(const Result& r) {
   std::string csv;
-  runner::append_csv_record(csv, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2", "glossy_relative_l2",
-                                                  "diffuse_relative_l2", "smape", "glossy_smape", "diffuse_smape", "rmse",
-                                                  "fallback_pixels"});
+  runner::append_csv_record(csv, std::vector<std::string>{"scale", "floor_roughness", "weights", "relative_l2",
+                                                          "glossy_relative_l2", "diffuse_relative_l2", "smape",
+                                                          "glossy_smape", "diffuse_smape", "rmse", "fallback_pixels"});
   for (const Row& row : r.rows) {
     const auto& e = row.result;
-    runner::append_csv_record(csv, std::vector<std::string>{std::to_string(row.scale), runner::csv_number(row.roughness), std::string(render::filter_weights_name(row.weights)),
-                                                    stat_number(e.all.relative_l2), stat_number(e.glossy.relative_l2),
-                                                    stat_number(e.diffuse.relative_l2), stat_number(e.all.smape),
-                                                    stat_number(e.glossy.smape), stat_number(e.diffuse.smape), stat_number(e.all.rmse),
-                                                    std::to_string(e.fallback_pixels)});
+    runner::append_csv_record(
+        csv,
+        std::vector<std::string>{std::to_string(row.scale), runner::csv_number(row.roughness),
+                                 std::string(render::filter_weights_name(row.weights)), stat_number(e.all.relative_l2),
+                                 stat_number(e.glossy.relative_l2), stat_number(e.diffuse.relative_l2),
+                                 stat_number(e.all.smape), stat_number(e.glossy.smape), stat_number(e.diffuse.smape),
+                                 stat_number(e.all.rmse), std::to_string(e.fallback_pixels)});
   }
   return csv;
 }
@@ -240,13 +281,16 @@ std::string markdown_intro(const Result& r) {
   return fmt::format(
       "# Upsampling indirect light: normal/depth-aware vs lobe-aware weights over the floor's roughness\n\n"
       "Scene `{}`{}, {}×{} pixels; indirect light computed at 1/scale resolution (scale {{{}}}; {} low-resolution "
-      "source, RSM {}² → {} VPLs at the first point) and upsampled by joint bilateral upsampling over {}×{} low-resolution samples "
+      "source, RSM {}² → {} VPLs at the first point) and upsampled by joint bilateral upsampling over {}×{} "
+      "low-resolution samples "
       "(image-space σ_s = {} low-resolution pixels) with the range weights:\n\n"
       "- **spatial**: none (Gaussian upsampling);\n"
       "- **normal**: G(n_p; n_q, 1/σ_n²)·g(z_p − z_q, (σ_z z_p)²), σ_n² = {}, σ_z = {} (relative depth);\n"
-      "- **lobe-depth**: the lobe-aware directional weight q_ω^β times the normal weighting's depth term (what the lobes "
+      "- **lobe-depth**: the lobe-aware directional weight q_ω^β times the normal weighting's depth term (what the "
+      "lobes "
       "alone change);\n"
-      "- **lobe**: lobe-aware q^β (Tokuyoshi 2015 (lobe-aware filtering), Eq. (12)/App. E for the lobes, App. A for the positions), "
+      "- **lobe**: lobe-aware q^β (Tokuyoshi 2015 (lobe-aware filtering), Eq. (12)/App. E for the lobes, App. A for "
+      "the positions), "
       "β = {}, κ = {}, ν = {} scene units; diffuse lobe = SG of sharpness {:.4f} about the normal (= 2λ_c: App. D, the "
       "normal weight with σ_n² = (2λ_c + κ)/(βλ_cκ)), specular lobe = the GGX lobe's SG by the spherical warp "
       "(App. B: axis = reflected view, λ = (2/α²)/(4|ω_o·n|)).\n\n"
@@ -256,14 +300,16 @@ std::string markdown_intro(const Result& r) {
       "**diffuse**: the other surfaces. \"X vs normal\" = (X − normal)/normal: negative is better. Per-row data "
       "with RMSE, max error and times: `{}_points.csv` in the `--out` directory.\n\n",
       o.job.render.scene_path,
-      o.job.render.overrides.empty() ? "" : fmt::format(" with `--set {}`", fmt::join(o.job.render.overrides, "`, `--set ")),
-      in0.width, in0.height, fmt::join(r.scales, ", "), o.job.source, r.rsm_resolution, in0.vpl_count,
-      2 * p.radius, 2 * p.radius, p.spatial_sigma, p.sigma_n2, p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness, o.table);
+      o.job.render.overrides.empty() ? ""
+                                     : fmt::format(" with `--set {}`", fmt::join(o.job.render.overrides, "`, `--set ")),
+      in0.width, in0.height, fmt::join(r.scales, ", "), o.job.source, r.rsm_resolution, in0.vpl_count, 2 * p.radius,
+      2 * p.radius, p.spatial_sigma, p.sigma_n2, p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness, o.table);
 }
 
 // One Markdown table: relative L2 or SMAPE over a subset of pixels (0 all, 1 glossy, 2 diffuse
 // receivers), per weighting, and each weighting in `compared` relative to normal.
-std::string markdown_table(const Result& r, bool smape, int subset, const std::vector<render::FilterWeights>& compared) {
+std::string markdown_table(const Result& r, bool smape, int subset,
+                           const std::vector<render::FilterWeights>& compared) {
   const char* subset_names[] = {"all pixels", "glossy receivers", "diffuse receivers"};
   const auto find = [&](int scale, double a, render::FilterWeights w) -> const Row* {
     for (const Row& row : r.rows)
@@ -272,10 +318,13 @@ std::string markdown_table(const Result& r, bool smape, int subset, const std::v
   };
   const auto pick = [subset, smape](const Row* row) {
     if (!row) return std::numeric_limits<double>::quiet_NaN();
-    const render::ImageError& e = subset == 0 ? row->result.all : subset == 1 ? row->result.glossy : row->result.diffuse;
+    const render::ImageError& e = subset == 0   ? row->result.all
+                                  : subset == 1 ? row->result.glossy
+                                                : row->result.diffuse;
     return smape ? e.smape : e.relative_l2;
   };
-  std::string md = fmt::format("## {}, {}\n\n| scale | floor α |", smape ? "SMAPE" : "Relative L2", subset_names[subset]);
+  std::string md = fmt::format("## {}, {}\n\n| scale | floor α |", smape ? "SMAPE" : "Relative L2",
+                               subset_names[subset]);
   std::string rule = "|---|---|";
   for (const auto w : r.weights) {
     md += fmt::format(" {} |", render::filter_weights_name(w));
@@ -292,8 +341,9 @@ std::string markdown_table(const Result& r, bool smape, int subset, const std::v
       // (appended piecewise: GCC 12 warns falsely (-Wrestrict) on " " + std::string + " |")
       for (const auto w : r.weights) md += fmt::format(" {} |", cell(pick(find(sc, a, w))));
       for (const auto w : compared)
-        md += fmt::format(" {} |", cell(percent_change(pick(find(sc, a, w)), pick(find(sc, a, render::FilterWeights::normal))),
-                                        "{:+.1f} %"));
+        md += fmt::format(
+            " {} |",
+            cell(percent_change(pick(find(sc, a, w)), pick(find(sc, a, render::FilterWeights::normal))), "{:+.1f} %"));
       md += "\n";
     }
   return md + "\n";
@@ -338,7 +388,8 @@ std::string bright_pixels_table(const Result& r) {
   };
   std::string md =
       "## Where the relative L2 lies: the brightest 1 % of pixels\n\n"
-      "Share of each weighting's squared error that lies in the brightest 1 % of pixels (by the exact VPL sum), and the "
+      "Share of each weighting's squared error that lies in the brightest 1 % of pixels (by the exact VPL sum), and "
+      "the "
       "relative L2 over the other 99 %.\n\n"
       "| scale | floor α | share, normal | share, lobe | rel. L2 of the other 99 %, normal | lobe | lobe vs normal |\n"
       "|---|---|---|---|---|---|---|\n";
@@ -348,8 +399,9 @@ std::string bright_pixels_table(const Result& r) {
       const Row* lobe = find(sc, a, render::FilterWeights::lobe);
       if (!normal || !lobe) return "";
       const BrightSplit n = bright_split(normal->result), l = bright_split(lobe->result);
-      md += fmt::format("| {} | {:g} | {:.0f} % | {:.0f} % | {:.4f} | {:.4f} | {} |\n", sc, a, 100 * n.share, 100 * l.share,
-                        n.rest_relative_l2, l.rest_relative_l2, cell(percent_change(l.rest_relative_l2, n.rest_relative_l2), "{:+.1f} %"));
+      md += fmt::format("| {} | {:g} | {:.0f} % | {:.0f} % | {:.4f} | {:.4f} | {} |\n", sc, a, 100 * n.share,
+                        100 * l.share, n.rest_relative_l2, l.rest_relative_l2,
+                        cell(percent_change(l.rest_relative_l2, n.rest_relative_l2), "{:+.1f} %"));
     }
   return md + "\n" + std::string(kScaleTwoNote) + "\n";
 }
@@ -403,8 +455,9 @@ void write(const Result& r) {
   runner::write_table(o.out, o.table + "_points", r.provenance, "", t.points_csv);
   runner::write_table(runner::tables_place(o.tables_dir, o.out), o.table, r.provenance, t.markdown, t.csv);
   std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
-  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n", runner::tables_place(o.tables_dir, o.out).c_str(), o.table.c_str(),
-               o.out.c_str(), o.table.c_str(), r.seconds);
+  std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n",
+               runner::tables_place(o.tables_dir, o.out).c_str(), o.table.c_str(), o.out.c_str(), o.table.c_str(),
+               r.seconds);
 }
 
 }  // namespace filter_sweep
@@ -424,7 +477,8 @@ bool given(const CLI::Option* option) { return option && option->count() > 0; }
 denoise_sweep::Options denoise_options(const filter_sweep::Options& f, const DenoiseOptions& d) {
   for (const CLI::Option* upsampling : {d.scale, d.spatial_sigma, d.source})
     if (given(upsampling))
-      throw UsageError(fmt::format("{} is the upsampling sweep's; --noisy filters full-resolution noisy images", upsampling->get_name()));
+      throw UsageError(fmt::format("{} is the upsampling sweep's; --noisy filters full-resolution noisy images",
+                                   upsampling->get_name()));
   denoise_sweep::Options o = d.defaults;
   o.noisy = d.noisy;
   o.job = f.job;
@@ -443,30 +497,38 @@ denoise_sweep::Options denoise_options(const filter_sweep::Options& f, const Den
 void add_filter_sweep_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<filter_sweep::Options>();
   auto noisy = std::make_shared<DenoiseOptions>();
-  auto* sub = app.add_subcommand("filter-sweep",
-                                 "Upsampling error per weighting (spatial, normal, lobe) over the floor's roughness (filtering.*); with "
-                                 "--noisy, the error of filtered noisy VPL-subset images (filtering_denoise.*)");
+  auto* sub = app.add_subcommand(
+      "filter-sweep",
+      "Upsampling error per weighting (spatial, normal, lobe) over the floor's roughness (filtering.*); with "
+      "--noisy, the error of filtered noisy VPL-subset images (filtering_denoise.*)");
   sub->add_option("--scene", opts->job.render.scene_path, "scene JSON with an object named floor")->required();
-  noisy->roughness = sub->add_option("--roughness", opts->roughness, "floor GGX roughness values, comma-separated")->capture_default_str();
+  noisy->roughness = sub->add_option("--roughness", opts->roughness, "floor GGX roughness values, comma-separated")
+                         ->capture_default_str();
   noisy->weights = sub->add_option("--weights", opts->weights, "weightings, comma-separated")
                        ->capture_default_str()
                        ->check(one_of(render::filter_weights_names(), "weights", true));
   add_places_options(*sub, opts->out, opts->tables_dir, "directory for the per-row CSV (and the figure's images)",
                      "directory for NAME.md and NAME.csv (default: the --out directory)");
-  noisy->table = sub->add_option("--table", opts->table, "table name (default filtering, with --noisy filtering_denoise)")->capture_default_str();
+  noisy->table = sub->add_option("--table", opts->table,
+                                 "table name (default filtering, with --noisy filtering_denoise)")
+                     ->capture_default_str();
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
-  noisy->scale =
-      sub->add_option("--scale", opts->scales, "scales (the indirect light at 1/SCALE resolution), comma-separated")->capture_default_str();
-  sub->add_option("--noisy", noisy->noisy,
-                  fmt::format("filter noisy full-resolution images instead of upsampling: noisy inputs, comma-separated, each {} "
-                              "(e.g. {}); --radius then is the window's half-width in pixels (default M, or 4)",
-                              render::kNoisySpecForms, noisy->defaults.noisy));
+  noisy->scale = sub->add_option("--scale", opts->scales,
+                                 "scales (the indirect light at 1/SCALE resolution), comma-separated")
+                     ->capture_default_str();
+  sub->add_option(
+      "--noisy", noisy->noisy,
+      fmt::format("filter noisy full-resolution images instead of upsampling: noisy inputs, comma-separated, each {} "
+                  "(e.g. {}); --radius then is the window's half-width in pixels (default M, or 4)",
+                  render::kNoisySpecForms, noisy->defaults.noisy));
   sub->add_option("--noisy-seed", noisy->defaults.noisy_seed, "--noisy: seed of the subsets' shift or of the draws")
       ->capture_default_str()
       ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
-  sub->add_option("--figure-roughness", noisy->defaults.figure_roughness, "--noisy: roughness values whose images the figure crops")
+  sub->add_option("--figure-roughness", noisy->defaults.figure_roughness,
+                  "--noisy: roughness values whose images the figure crops")
       ->capture_default_str();
-  sub->add_option("--figure-noisy", noisy->defaults.figure_noisy, "--noisy: the noisy input of the figure's images")->capture_default_str();
+  sub->add_option("--figure-noisy", noisy->defaults.figure_noisy, "--noisy: the noisy input of the figure's images")
+      ->capture_default_str();
   add_filter_job_options(*sub, opts->job, false);
   noisy->radius = sub->get_option("--radius");
   noisy->spatial_sigma = sub->get_option("--spatial-sigma");
@@ -492,37 +554,43 @@ std::vector<Step> filtering_steps(const Places& p) {
     const std::string base = p.out + "/filtering/cornell-glossy-" + weights;
     v.push_back(sglab_step(std::string("filter-cornell-glossy-") + weights,
                            std::string("upsampling 1/4-resolution indirect light with ") +
-                               (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") + " weights (EXR + stats)",
-                           {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--out", base + ".exr", "--stats",
-                            base + ".json"},
+                               (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") +
+                               " weights (EXR + stats)",
+                           {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--out", base + ".exr",
+                            "--stats", base + ".json"},
                            {"--width", "64", "--height", "64"}, "", true));
     v.push_back(sglab_step(std::string("filter-cornell-glossy-denoise-") + weights,
                            std::string("filtering a noisy 4×4-interleaved VPL image with ") +
-                               (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") + " weights (EXR + stats)",
-                           {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--noisy", "interleaved:4", "--out",
-                            base + "-denoise.exr", "--stats", base + "-denoise.json"},
+                               (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") +
+                               " weights (EXR + stats)",
+                           {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--noisy", "interleaved:4",
+                            "--out", base + "-denoise.exr", "--stats", base + "-denoise.json"},
                            {"--width", "64", "--height", "64"}, "", true));
   }
-  v.push_back(sglab_step("filter-sweep",
-                         "upsampling error per weighting over the floor's roughness on cornell-glossy (paper_tables/filtering.*)",
-                         {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", p.out + "/filtering"},
-                         {"--width", "64", "--height", "64"}, "--tables-dir", true));
+  v.push_back(sglab_step(
+      "filter-sweep",
+      "upsampling error per weighting over the floor's roughness on cornell-glossy (paper_tables/filtering.*)",
+      {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", p.out + "/filtering"},
+      {"--width", "64", "--height", "64"}, "--tables-dir", true));
   // Its table carries the filter's time per pixel: nothing runs beside it.
-  v.push_back(timed(sglab_step("filter-sweep-denoise",
-                         "filtering noisy interleaved VPL images: error per weighting over the floor's roughness × M on "
-                         "cornell-glossy (paper_tables/filtering_denoise.*)",
-                         {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--noisy", "interleaved:2,interleaved:4,interleaved:8",
-                          "--out", p.out + "/filtering"},
-                         {"--width", "64", "--height", "64"}, "--tables-dir", true)));
-  v.push_back(plot_step("plot-filtering-denoise",
-                        "crops of the glossy floor and a diffuse wall: noisy, normal- and lobe-filtered, exact, at two roughnesses",
-                        {"plots/filtering_denoise.py", p.out + "/filtering/filtering_denoise_images.csv", p.key_figures()}));
+  v.push_back(
+      timed(sglab_step("filter-sweep-denoise",
+                       "filtering noisy interleaved VPL images: error per weighting over the floor's roughness × M on "
+                       "cornell-glossy (paper_tables/filtering_denoise.*)",
+                       {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--noisy",
+                        "interleaved:2,interleaved:4,interleaved:8", "--out", p.out + "/filtering"},
+                       {"--width", "64", "--height", "64"}, "--tables-dir", true)));
+  v.push_back(plot_step(
+      "plot-filtering-denoise",
+      "crops of the glossy floor and a diffuse wall: noisy, normal- and lobe-filtered, exact, at two roughnesses",
+      {"plots/filtering_denoise.py", p.out + "/filtering/filtering_denoise_images.csv", p.key_figures()}));
   return v;
 }
 
 Experiment filtering_experiment() {
   return {"filter-sweep",
-          "upsampling and noisy-image filtering error per weighting (normal/depth vs lobe-aware) over the floor's roughness "
+          "upsampling and noisy-image filtering error per weighting (normal/depth vs lobe-aware) over the floor's "
+          "roughness "
           "(filtering.*, filtering_denoise.*)",
           cli::add_filter_sweep_command, filtering_steps};
 }

@@ -29,8 +29,9 @@ nlohmann::ordered_json fit_record_json(const fit::FitResult& r, const Judgement&
   if (!jd.method.empty()) {
     j["standard_grid_error"] = {
         {"method", jd.method},
-        {"grid", "sglab error-vs-time grid (full), double, |method - reference| / reference at c = 1; published = the "
-                 "method's own published constants (sglab eval --list)"},
+        {"grid",
+         "sglab error-vs-time grid (full), double, |method - reference| / reference at c = 1; published = the "
+         "method's own published constants (sglab eval --list)"},
         {"published", {{"max", jd.published.max_error}, {"rms", jd.published.rms_error}}},
         {"fit", {{"max", jd.fitted.max_error}, {"rms", jd.fitted.rms_error}}}};
   }

@@ -59,8 +59,8 @@ namespace near_wall {
 namespace {
 
 namespace fs = std::filesystem;
-using render::Vec3;
 using nlohmann::json;
+using render::Vec3;
 
 constexpr std::string_view kQuantity = "clamped-cosine";
 const std::string kTable = "near_wall_smape";
@@ -82,7 +82,8 @@ double number_field(const json& o, const std::string& key, double min, bool incl
   const json& v = o.at(key);
   if (!v.is_number()) throw UsageError(fmt::format("{}: {} is not a number", where, v.dump()));
   const double x = v.get<double>();
-  if (!std::isfinite(x) || (inclusive ? !(x >= min) : !(x > min))) throw UsageError(fmt::format("{}: {} {}", where, v.dump(), rule));
+  if (!std::isfinite(x) || (inclusive ? !(x >= min) : !(x > min)))
+    throw UsageError(fmt::format("{}: {} {}", where, v.dump(), rule));
   return x;
 }
 
@@ -91,10 +92,11 @@ SgLight parse_sg_light(const json& document, const std::string& source) {
     throw UsageError(source + ": sg_light: missing (the near-wall scene needs an SG light, scenes/README.md)");
   const json& o = document.at("sg_light");
   for (const auto& [key, value] : o.items())
-    if (key != "target" && key != "normal" && key != "distance" && key != "axis" && key != "sharpness" && key != "amplitude" &&
-        key != "radius")
-      throw UsageError(fmt::format("{}: sg_light.{}: unknown key (allowed: target, normal, distance, axis, sharpness, amplitude, radius)",
-                                   source, key));
+    if (key != "target" && key != "normal" && key != "distance" && key != "axis" && key != "sharpness" &&
+        key != "amplitude" && key != "radius")
+      throw UsageError(fmt::format(
+          "{}: sg_light.{}: unknown key (allowed: target, normal, distance, axis, sharpness, amplitude, radius)",
+          source, key));
   try {
     SgLight l;
     const Vec3 target = vec3_field(o, "target");
@@ -150,7 +152,8 @@ std::vector<Pixel> render_pixels(const render::Scene& scene, const SgLight& ligh
     const render::ShadingPoint& p = g.points[k];
     Pixel& px = out[k];
     px.object = g.object[k];
-    const VsglPositionalSg<double> pos = vsgl_positional_sg<double>(light.position, light.radius * light.radius, p.position);
+    const VsglPositionalSg<double> pos = vsgl_positional_sg<double>(light.position, light.radius * light.radius,
+                                                                    p.position);
     if (pos.empty) return;
     const VsglIncomingSg<double> in = vsgl_incoming_sg<double>(pos, light.axis, light.sharpness);
     if (!(in.log_scale > -std::numeric_limits<double>::infinity())) return;
@@ -202,10 +205,11 @@ std::string command_line(const Options& o) {
 }
 
 std::string light_text(const SgLight& l) {
-  return fmt::format("axis ({:.4g}, {:.4g}, {:.4g}), sharpness λ = {:g}, amplitude {:g}, radius σ = {:g}, "
-                     "μ = ({:.4g}, {:.4g}, {:.4g}), {:g} from the wall",
-                     l.axis.x(), l.axis.y(), l.axis.z(), l.sharpness, l.amplitude, l.radius, l.position.x(), l.position.y(),
-                     l.position.z(), l.distance);
+  return fmt::format(
+      "axis ({:.4g}, {:.4g}, {:.4g}), sharpness λ = {:g}, amplitude {:g}, radius σ = {:g}, "
+      "μ = ({:.4g}, {:.4g}, {:.4g}), {:g} from the wall",
+      l.axis.x(), l.axis.y(), l.axis.z(), l.sharpness, l.amplitude, l.radius, l.position.x(), l.position.y(),
+      l.position.z(), l.distance);
 }
 
 const char* kWhat =
@@ -224,8 +228,8 @@ std::string method_table_markdown(const Result& r) {
       "| rank | method | mean SMAPE | max SMAPE | pixels |\n|---|---|---|---|---|\n",
       o.job.scene_path, r.width, r.height, light_text(r.light), kWhat);
   for (std::size_t i = 0; i < r.errors.size(); ++i)
-    md += fmt::format("| {} | `{}` | {:.4g} | {:.4g} | {} |\n", i + 1, r.errors[i].method, r.errors[i].mean, r.errors[i].max,
-                      r.errors[i].pixels);
+    md += fmt::format("| {} | `{}` | {:.4g} | {:.4g} | {} |\n", i + 1, r.errors[i].method, r.errors[i].mean,
+                      r.errors[i].max, r.errors[i].pixels);
   std::vector<std::string> order;
   for (const auto& e : r.errors) order.push_back(fmt::format("`{}` ({:.3g})", e.method, e.mean));
   md += fmt::format("\nRanking by mean SMAPE, lowest first: {}.\n", fmt::join(order, " < "));
@@ -236,7 +240,8 @@ std::string method_table_csv(const std::vector<MethodError>& errors) {
   std::string csv;
   runner::append_csv_record(csv, std::vector<std::string>{"method", "mean_smape", "max_smape", "pixels"});
   for (const auto& e : errors)
-    runner::append_csv_record(csv, std::vector<std::string>{e.method, runner::csv_number(e.mean), runner::csv_number(e.max), std::to_string(e.pixels)});
+    runner::append_csv_record(csv, std::vector<std::string>{e.method, runner::csv_number(e.mean),
+                                                            runner::csv_number(e.max), std::to_string(e.pixels)});
   return csv;
 }
 
@@ -250,9 +255,13 @@ std::string dump_csv(const Result& r) {
   for (std::size_t k = 0; k < r.pixels.size(); ++k) {
     const Pixel& p = r.pixels[k];
     if (!p.lit) continue;
-    std::vector<std::string> row{std::to_string(k % std::size_t(r.width)), std::to_string(k / std::size_t(r.width)),
-                                 std::to_string(p.object), runner::csv_number(p.sharpness), runner::csv_number(p.cosine),
-                                 runner::csv_number(p.log_radiance_scale), runner::csv_number(p.reference)};
+    std::vector<std::string> row{std::to_string(k % std::size_t(r.width)),
+                                 std::to_string(k / std::size_t(r.width)),
+                                 std::to_string(p.object),
+                                 runner::csv_number(p.sharpness),
+                                 runner::csv_number(p.cosine),
+                                 runner::csv_number(p.log_radiance_scale),
+                                 runner::csv_number(p.reference)};
     for (const double v : p.value) row.push_back(runner::csv_number(v));
     runner::append_csv_record(csv, row);
   }
@@ -260,7 +269,9 @@ std::string dump_csv(const Result& r) {
 }
 
 // The sweep's values: the given lists, or the scene's own value.
-std::vector<double> or_scene(const std::vector<double>& given, double scene) { return given.empty() ? std::vector<double>{scene} : given; }
+std::vector<double> or_scene(const std::vector<double>& given, double scene) {
+  return given.empty() ? std::vector<double>{scene} : given;
+}
 
 // The document with the sweep point's sharpness and distance set.
 json at_point(const json& document, double sharpness, double distance) {
@@ -286,7 +297,8 @@ std::vector<SweepPoint> compute_sweep(const Options& o, const json& document, co
 
 void sweep_tables(const Result& r, Tables& t) {
   const Options& o = r.options;
-  runner::append_csv_record(t.sweep_csv, std::vector<std::string>{"sharpness", "distance", "method", "mean_smape", "max_smape", "pixels"});
+  runner::append_csv_record(
+      t.sweep_csv, std::vector<std::string>{"sharpness", "distance", "method", "mean_smape", "max_smape", "pixels"});
   std::string& md = t.sweep_markdown;
   md = fmt::format(
       "# Near-wall SG light: mean SMAPE against the exact integral over the light's sharpness and distance\n\n"
@@ -302,10 +314,13 @@ void sweep_tables(const Result& r, Tables& t) {
   for (const SweepPoint& p : r.sweep) {
     md += fmt::format("| {:g} | {:g} |", p.sharpness, p.distance);
     for (std::size_t i = 0; i < r.methods.size(); ++i) {
-      const auto it = std::find_if(p.errors.begin(), p.errors.end(), [&](const MethodError& e) { return e.method == r.methods[i]; });
+      const auto it = std::find_if(p.errors.begin(), p.errors.end(),
+                                   [&](const MethodError& e) { return e.method == r.methods[i]; });
       md += fmt::format(" {:.3g} |", it->mean);
-      runner::append_csv_record(t.sweep_csv, std::vector<std::string>{runner::csv_number(p.sharpness), runner::csv_number(p.distance), it->method,
-                                                              runner::csv_number(it->mean), runner::csv_number(it->max), std::to_string(it->pixels)});
+      runner::append_csv_record(
+          t.sweep_csv, std::vector<std::string>{runner::csv_number(p.sharpness), runner::csv_number(p.distance),
+                                                it->method, runner::csv_number(it->mean), runner::csv_number(it->max),
+                                                std::to_string(it->pixels)});
       if (r.methods[i] == p.errors.front().method) ++wins[i];
     }
     md += fmt::format(" `{}` |\n", p.errors.front().method);
@@ -318,9 +333,11 @@ void sweep_tables(const Result& r, Tables& t) {
 
 void check_sweep_options(const Options& o) {
   if (o.sweep_width < 1 || o.sweep_width > 4096 || o.sweep_height < 1 || o.sweep_height > 4096)
-    throw UsageError(fmt::format("--sweep-width/--sweep-height {}×{} is outside [1, 4096]", o.sweep_width, o.sweep_height));
+    throw UsageError(
+        fmt::format("--sweep-width/--sweep-height {}×{} is outside [1, 4096]", o.sweep_width, o.sweep_height));
   for (const double s : o.sweep_sharpness)
-    if (!(std::isfinite(s) && s >= 0)) throw UsageError(fmt::format("--sweep-sharpness {}: must be a non-negative sharpness", s));
+    if (!(std::isfinite(s) && s >= 0))
+      throw UsageError(fmt::format("--sweep-sharpness {}: must be a non-negative sharpness", s));
   for (const double d : o.sweep_distance)
     if (!(std::isfinite(d) && d > 0)) throw UsageError(fmt::format("--sweep-distance {}: must be positive", d));
 }
@@ -378,14 +395,18 @@ void write(const Result& r) {
 
 void add_near_wall_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<near_wall::Options>();
-  auto* sub = app.add_subcommand(
-      "near-wall", "Tokuyoshi 2022 poster's figure: per pixel, each clamped-cosine method against the exact integral for a sharp SG light near a wall");
-  sub->add_option("--scene", o->job.scene_path, "near-wall scene JSON with an sg_light (scenes/sg-light-near-wall-poster.json)");
+  auto* sub = app.add_subcommand("near-wall",
+                                 "Tokuyoshi 2022 poster's figure: per pixel, each clamped-cosine method against the "
+                                 "exact integral for a sharp SG light near a wall");
+  sub->add_option("--scene", o->job.scene_path,
+                  "near-wall scene JSON with an sg_light (scenes/sg-light-near-wall-poster.json)");
   sub->add_option("--set", o->job.overrides, "KEY=VALUE scene override, e.g. sg_light.sharpness=1000 (repeatable)");
   sub->add_option("--width", o->job.width, "image width (default: the scene's camera.width)");
   sub->add_option("--height", o->job.height, "image height (default: the scene's camera.height)");
-  sub->add_option("--dump", o->dump, "per-pixel CSV: i, j, object, sharpness, cosine, log_radiance_scale, D of every method");
-  sub->add_option("--tables-dir", o->tables_dir, "directory for near_wall_smape{,_sweep}.{md,csv}")->capture_default_str();
+  sub->add_option("--dump", o->dump,
+                  "per-pixel CSV: i, j, object, sharpness, cosine, log_radiance_scale, D of every method");
+  sub->add_option("--tables-dir", o->tables_dir, "directory for near_wall_smape{,_sweep}.{md,csv}")
+      ->capture_default_str();
   sub->add_option("--sweep-sharpness", o->sweep_sharpness, "SG light sharpness values of the sweep")->delimiter(',');
   sub->add_option("--sweep-distance", o->sweep_distance, "light distances from the wall of the sweep")->delimiter(',');
   sub->add_option("--sweep-width", o->sweep_width, "image width of each sweep point")->capture_default_str();
@@ -407,20 +428,24 @@ std::vector<Step> near_wall_steps(const Places& p) {
   const std::string reference = find_quantity("clamped-cosine")->reference_method;
   for (const auto& m : render::diffuse_method_names()) {
     if (m == reference) continue;
-    v.push_back(render_step(p, "render-near-wall-" + m, "near-wall scene with diffuse method " + m + " (one VSGL against the VPL sum)",
-                            "scenes/sg-light-near-wall.json", "near-wall-" + m, 160, 120, {"--width", "64", "--height", "48"},
-                            {"--diffuse", m}));
+    v.push_back(render_step(p, "render-near-wall-" + m,
+                            "near-wall scene with diffuse method " + m + " (one VSGL against the VPL sum)",
+                            "scenes/sg-light-near-wall.json", "near-wall-" + m, 160, 120,
+                            {"--width", "64", "--height", "48"}, {"--diffuse", m}));
     plot.push_back(m + "=" + p.out + "/renders/near-wall-" + m + ".csv");
   }
-  v.push_back(plot_step("plot-near-wall-vsgl-vs-vpl-sum", "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot));
+  v.push_back(plot_step("plot-near-wall-vsgl-vs-vpl-sum",
+                        "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot));
   // The poster's figure (Tokuyoshi 2022, Fig. b-d): every clamped-cosine method of the
   // registry against the exact integral per pixel, and the sweep over the light's sharpness and distance.
-  v.push_back(sglab_step("near-wall",
-                         "sharp SG light near a wall: each diffuse method against the exact integral (paper_tables/near_wall_smape*)",
-                         {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", p.out + "/near_wall/pixels.csv",
-                          "--sweep-sharpness", "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
-                         {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}, "--tables-dir"));
-  v.push_back(plot_step("plot-near-wall-smape", "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
+  v.push_back(sglab_step(
+      "near-wall",
+      "sharp SG light near a wall: each diffuse method against the exact integral (paper_tables/near_wall_smape*)",
+      {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", p.out + "/near_wall/pixels.csv",
+       "--sweep-sharpness", "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
+      {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}, "--tables-dir"));
+  v.push_back(plot_step("plot-near-wall-smape",
+                        "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
                         {"plots/near_wall_smape.py", p.out + "/near_wall/pixels.csv", p.key_figures(),
                          p.tables + "/near_wall_smape.csv"}));
   return v;

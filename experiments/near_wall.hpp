@@ -35,7 +35,7 @@ struct Pixel {
   double sharpness = 0, cosine = 0;
   double log_radiance_scale = 0;  // log(R_d/π · c · e^{log_scale}): radiance = e^{this} · D
   double reference = 0;
-  std::vector<double> value;      // D per compared method (NaN outside its domain)
+  std::vector<double> value;  // D per compared method (NaN outside its domain)
 };
 
 struct MethodError {
@@ -54,12 +54,12 @@ struct Result {
   Options options;
   SgLight light;
   int width = 0, height = 0;
-  std::string reference;              // the registry's reference method
-  std::vector<std::string> methods;   // the compared methods, in registry order (Pixel::value's order)
-  std::vector<Pixel> pixels;          // row-major, width × height
-  std::vector<MethodError> errors;    // ranked by mean SMAPE
-  bool swept = false;                 // --sweep-sharpness or --sweep-distance given
-  std::vector<SweepPoint> sweep;      // sharpness slowest
+  std::string reference;             // the registry's reference method
+  std::vector<std::string> methods;  // the compared methods, in registry order (Pixel::value's order)
+  std::vector<Pixel> pixels;         // row-major, width × height
+  std::vector<MethodError> errors;   // ranked by mean SMAPE
+  bool swept = false;                // --sweep-sharpness or --sweep-distance given
+  std::vector<SweepPoint> sweep;     // sharpness slowest
 };
 
 // InputError for a bad scene, SG light or sweep value (every sweep point is checked first).

@@ -73,10 +73,12 @@ double number(const runner::CsvRecord& r, std::size_t c, const std::string& sour
 std::vector<Point> read_points(const std::string& path) {
   const runner::CsvTable t = runner::read_sweep_points(path);
   std::map<std::string, std::size_t> col;
-  for (const char* name : {"roughness", "light_sharpness", "view_cos", "f0", "position", "light_cos", "light_azimuth", "reference",
-                           "method", "value"}) {
+  for (const char* name : {"roughness", "light_sharpness", "view_cos", "f0", "position", "light_cos", "light_azimuth",
+                           "reference", "method", "value"}) {
     const std::size_t c = t.column(name);
-    if (c == runner::CsvTable::npos) throw UsageError(fmt::format("{}: no column `{}` (not a `sglab sweep specular` points file)", clip_text(path), name));
+    if (c == runner::CsvTable::npos)
+      throw UsageError(
+          fmt::format("{}: no column `{}` (not a `sglab sweep specular` points file)", clip_text(path), name));
     col[name] = c;
   }
   std::vector<Point> points;
@@ -93,17 +95,26 @@ std::vector<Point> read_points(const std::string& path) {
     const std::string& pos = r.fields.at(col["position"]);
     auto [rit, rfresh] = row_index.try_emplace({a, l, v, pos}, p.rows.size());
     if (rfresh)
-      p.rows.push_back({a, l, v, number(r, col["light_cos"], path), number(r, col["light_azimuth"], path), number(r, col["f0"], path),
-                        number(r, col["reference"], path), pos, {}});
+      p.rows.push_back({a,
+                        l,
+                        v,
+                        number(r, col["light_cos"], path),
+                        number(r, col["light_azimuth"], path),
+                        number(r, col["f0"], path),
+                        number(r, col["reference"], path),
+                        pos,
+                        {}});
     if (!r.fields.at(col["value"]).empty()) p.rows[rit->second].value[method] = number(r, col["value"], path);
   }
   for (const auto& p : points)
     for (const auto& r : p.rows)
       for (const auto& m : kMethods)
         if (!r.value.count(m))
-          throw UsageError(fmt::format("{}: no value of `{}` at α={} λ={} view_cos={} {} (run `sglab sweep specular` with this build)",
-                                       clip_text(path), m, r.alpha, r.lambda, r.view, r.position));
-  if (points.empty()) throw UsageError(fmt::format("{}: no rows of the methods {}", clip_text(path), fmt::join(kMethods, ", ")));
+          throw UsageError(fmt::format(
+              "{}: no value of `{}` at α={} λ={} view_cos={} {} (run `sglab sweep specular` with this build)",
+              clip_text(path), m, r.alpha, r.lambda, r.view, r.position));
+  if (points.empty())
+    throw UsageError(fmt::format("{}: no rows of the methods {}", clip_text(path), fmt::join(kMethods, ", ")));
   return points;
 }
 
@@ -179,7 +190,7 @@ std::string rule(std::size_t n) {
 // exploratory Nelder–Mead fit of the objective of `sglab fit sglab-specular`, %.17g). Its float
 // batch cost against asg's, measured by `sglab_core_bench --versus specular sglab asg` (31
 // interleaved rounds, this machine, AVX-512) beside the rational form's in the same build state:
-const SglabSpecularParams<double> kExponentialHorizonFit{2.893977942635126, 0.9841108750322174, 1.215235190311403,
+const SglabSpecularParams<double> kExponentialHorizonFit{2.893977942635126,  0.9841108750322174, 1.215235190311403,
                                                          2.0138124709730194, 0.4168545149496669, 1.031837551468632};
 constexpr double kExponentialHorizonCostVsAsg = 1.123;  // float sglab / asg, median of the rounds
 constexpr double kRationalHorizonCostVsAsg = 0.996;
@@ -199,26 +210,44 @@ std::vector<Form> forms() {
   };
   const double none = 1e300;  // a light floor that never binds
   return {
-      {"A", "steps 1–3 only (t smoothing, W at the product's peak), nothing fitted: ν from c_ν = 2, κ = 0, no light correction, no horizon factor",
-       with([&](auto& p) { p.nu_slope = 2; p.inflation = 0; p.light_weight = 0; p.horizon_depth = 0; })},
-      {"B", "A + the true light at the peak (step 4, w = 1, no floor)",
-       with([&](auto& p) { p.nu_slope = 2; p.inflation = 0; p.light_weight = 1; p.light_floor = none; p.horizon_depth = 0; })},
+      {"A",
+       "steps 1–3 only (t smoothing, W at the product's peak), nothing fitted: ν from c_ν = 2, κ = 0, no light "
+       "correction, no horizon factor",
+       with([&](auto& p) {
+         p.nu_slope = 2;
+         p.inflation = 0;
+         p.light_weight = 0;
+         p.horizon_depth = 0;
+       })},
+      {"B", "A + the true light at the peak (step 4, w = 1, no floor)", with([&](auto& p) {
+         p.nu_slope = 2;
+         p.inflation = 0;
+         p.light_weight = 1;
+         p.light_floor = none;
+         p.horizon_depth = 0;
+       })},
       {"C", "final constants without the horizon factor (h_d = 0)", with([&](auto& p) { p.horizon_depth = 0; })},
       {"D", "final constants without the light floor (f = ∞)", with([&](auto& p) { p.light_floor = none; })},
       {"E", "final constants without the light correction (w = 0)", with([&](auto& p) { p.light_weight = 0; })},
       {"F", "final constants with κ = 0 (no variance inflation)", with([&](auto& p) { p.inflation = 0; })},
-      {"G", "final constants with ν = 2 throughout (c_ν = 0: the GGX t, never Gaussian)", with([&](auto& p) { p.nu_slope = 0; })},
-      {"H", "the exponential horizon factor 1 − h_d e^{−h_r t} instead of the rational one, with the constants fitted for it (c_ν, κ, w, f, h_d, h_r = " +
-                fmt::format("{:.6g}, {:.6g}, {:.6g}, {:.6g}, {:.6g}, {:.6g}", kExponentialHorizonFit.nu_slope, kExponentialHorizonFit.inflation,
-                            kExponentialHorizonFit.light_weight, kExponentialHorizonFit.light_floor, kExponentialHorizonFit.horizon_depth,
-                            kExponentialHorizonFit.horizon_rate) +
-                ")",
+      {"G", "final constants with ν = 2 throughout (c_ν = 0: the GGX t, never Gaussian)",
+       with([&](auto& p) { p.nu_slope = 0; })},
+      {"H",
+       "the exponential horizon factor 1 − h_d e^{−h_r t} instead of the rational one, with the constants fitted for "
+       "it (c_ν, κ, w, f, h_d, h_r = " +
+           fmt::format("{:.6g}, {:.6g}, {:.6g}, {:.6g}, {:.6g}, {:.6g}", kExponentialHorizonFit.nu_slope,
+                       kExponentialHorizonFit.inflation, kExponentialHorizonFit.light_weight,
+                       kExponentialHorizonFit.light_floor, kExponentialHorizonFit.horizon_depth,
+                       kExponentialHorizonFit.horizon_rate) +
+           ")",
        kExponentialHorizonFit, SglabHorizon::exponential},
       {"sglab", "the final form (the constants of SglabSpecular)", f},
   };
 }
 auto form_value(const SglabSpecularParams<double>& p, SglabHorizon horizon = SglabHorizon::rational) {
-  return [p, horizon](const Row& r) { return specular_sglab<double>({r.alpha, r.lambda, r.light_cos, r.view, r.azimuth, r.f0}, p, horizon); };
+  return [p, horizon](const Row& r) {
+    return specular_sglab<double>({r.alpha, r.lambda, r.light_cos, r.view, r.azimuth, r.f0}, p, horizon);
+  };
 }
 
 struct Output {
@@ -227,40 +256,60 @@ struct Output {
 
 Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int off_count) {
   Output o;
-  runner::append_csv_record(o.csv, std::vector<std::string>{"table", "set", "group", "method", "brightness_weighted", "bright_smape", "points"});
-  auto csv_row = [&](const std::string& table, const std::string& set, const std::string& group, const std::string& method, const Measures& m) {
-    runner::append_csv_record(o.csv, std::vector<std::string>{table, set, group, method, runner::csv_number(m.weighted), runner::csv_number(m.bright_smape),
-                                                      std::to_string(m.points)});
+  runner::append_csv_record(o.csv, std::vector<std::string>{"table", "set", "group", "method", "brightness_weighted",
+                                                            "bright_smape", "points"});
+  auto csv_row = [&](const std::string& table, const std::string& set, const std::string& group,
+                     const std::string& method, const Measures& m) {
+    runner::append_csv_record(o.csv,
+                              std::vector<std::string>{table, set, group, method, runner::csv_number(m.weighted),
+                                                       runner::csv_number(m.bright_smape), std::to_string(m.points)});
   };
   const SglabSpecular c{};
   std::string& md = o.markdown;
   md += "# sglab's own specular approximation (`specular/sglab`): an SG light off GGX\n\n";
   md += fmt::format(
-      "Method `sglab` of the `specular` quantity (core/include/sglab/specular_sglab.hpp; the derivation in docs/math.md, "
-      "\"sglab specular\"), constants of core SglabSpecular (the exploratory fit of the objective of `sglab fit sglab-specular`, which re-derives them: fit/sglab_specular.cpp): ν slope c_ν = {:.6g}, "
-      "inflation κ = {:.6g}, light weight w = {:.6g}, light floor f = {:.6g}, horizon depth h_d = {:.6g}, horizon rate h_r = {:.6g}. "
+      "Method `sglab` of the `specular` quantity (core/include/sglab/specular_sglab.hpp; the derivation in "
+      "docs/math.md, "
+      "\"sglab specular\"), constants of core SglabSpecular (the exploratory fit of the objective of `sglab fit "
+      "sglab-specular`, which re-derives them: fit/sglab_specular.cpp): ν slope c_ν = {:.6g}, "
+      "inflation κ = {:.6g}, light weight w = {:.6g}, light floor f = {:.6g}, horizon depth h_d = {:.6g}, horizon rate "
+      "h_r = {:.6g}. "
       "Measured against the quadrature reference (`reference`, ≤ 1e-6 relative) on the grid of `sglab sweep specular` "
-      "(which is also the fitting grid) and on {} seeded points off it (seed {}; α log-uniform over [0.01, 1], λ over [1, 1e4], "
-      "view_cos uniform over [0.1, 1], each with the sweep's light positions). Brightness-weighted error = per point Σ|v − r|/Σr "
-      "over its light positions, averaged over the points; bright SMAPE = SMAPE over the rows whose reference is ≥ 10 % of their "
-      "point's peak (the definitions of paper_tables/specular_vs_roughness.md). All numbers in %. Cost: paper_tables/error_vs_time.md "
+      "(which is also the fitting grid) and on {} seeded points off it (seed {}; α log-uniform over [0.01, 1], λ over "
+      "[1, 1e4], "
+      "view_cos uniform over [0.1, 1], each with the sweep's light positions). Brightness-weighted error = per point "
+      "Σ|v − r|/Σr "
+      "over its light positions, averaged over the points; bright SMAPE = SMAPE over the rows whose reference is ≥ 10 "
+      "% of their "
+      "point's peak (the definitions of paper_tables/specular_vs_roughness.md). All numbers in %. Cost: "
+      "paper_tables/error_vs_time.md "
       "(batch float ns/eval beside `asg` in one run).\n\n",
       c.nu_slope, c.inflation, c.light_weight, c.light_floor, c.horizon_depth, c.horizon_rate, off_count, kOffGridSeed);
 
   // ---- form ---------------------------------------------------------------------------------
-  md += "## The form\n\n"
-        "The integral is taken over the microfacet slope m instead of ω: f⟨ω·n⟩dω = P22(m)·W(m)dm with W = 4(ωo·h)/h_z·F·V·⟨ω·n⟩. "
-        "(1) GGX's slope density P22 is a bivariate Student t with ν = 2 and scale α²/2. (2) Near the slope m_ξ of the half vector of "
-        "ωo and the light axis ξ the light is a Gaussian in m with precision A = λJᵀJ, J = ∂ω/∂m in closed form. (3) A t smoothed by a "
-        "Gaussian is nearly a t whose scale adds the Gaussian's covariance and whose ν grows with the Gaussian's share ρ of the spread: "
-        "∫K·P22 ≈ det(I + s_D A)^{−½}(1 + Q/ν)^{−(ν/2+1)}, s_D = ½α²(1 + κρ0), ν = 2 + c_ν ρ/(1 − ρ). (4) W is taken at the product's "
-        "peak m* and the Gaussian light model is corrected there by the true light, exp(w·max(λ(ξ·ω* − 1) − quadratic, −f)). "
-        "(5) The lobe's part below the horizon: 1 − h_d/(1 + h_r t²)², t = ω*_z/width (rational in t², no square root or exp; "
-        "the exponential form tried before it is H below). The point-light limit λ → ∞ is the BRDF times 2π/λ "
-        "exactly (tests/specular_sglab_test.cpp); the mirror limit α → 0 is F times the light at the mirror direction.\n\n";
+  md +=
+      "## The form\n\n"
+      "The integral is taken over the microfacet slope m instead of ω: f⟨ω·n⟩dω = P22(m)·W(m)dm with W = "
+      "4(ωo·h)/h_z·F·V·⟨ω·n⟩. "
+      "(1) GGX's slope density P22 is a bivariate Student t with ν = 2 and scale α²/2. (2) Near the slope m_ξ of the "
+      "half vector of "
+      "ωo and the light axis ξ the light is a Gaussian in m with precision A = λJᵀJ, J = ∂ω/∂m in closed form. (3) A t "
+      "smoothed by a "
+      "Gaussian is nearly a t whose scale adds the Gaussian's covariance and whose ν grows with the Gaussian's share ρ "
+      "of the spread: "
+      "∫K·P22 ≈ det(I + s_D A)^{−½}(1 + Q/ν)^{−(ν/2+1)}, s_D = ½α²(1 + κρ0), ν = 2 + c_ν ρ/(1 − ρ). (4) W is taken at "
+      "the product's "
+      "peak m* and the Gaussian light model is corrected there by the true light, exp(w·max(λ(ξ·ω* − 1) − quadratic, "
+      "−f)). "
+      "(5) The lobe's part below the horizon: 1 − h_d/(1 + h_r t²)², t = ω*_z/width (rational in t², no square root or "
+      "exp; "
+      "the exponential form tried before it is H below). The point-light limit λ → ∞ is the BRDF times 2π/λ "
+      "exactly (tests/specular_sglab_test.cpp); the mirror limit α → 0 is F times the light at the mirror "
+      "direction.\n\n";
 
   // ---- headline ------------------------------------------------------------------------------
-  md += "## Result\n\n| set | measure | " + fmt::format("{}", fmt::join(kMethods, " | ")) + " |\n|---|---|" + rule(kMethods.size()) + "\n";
+  md += "## Result\n\n| set | measure | " + fmt::format("{}", fmt::join(kMethods, " | ")) + " |\n|---|---|" +
+        rule(kMethods.size()) + "\n";
   for (const auto& [set, pts] : {std::pair<std::string, const std::vector<Point>*>{"sweep grid (fitting grid)", &grid},
                                  std::pair<std::string, const std::vector<Point>*>{"off the grid", &off}}) {
     std::string w = "| " + set + " | brightness-weighted |", b = "| " + set + " | bright SMAPE |";
@@ -290,7 +339,8 @@ Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int
   for (const auto& [lo, hi] : bins) {
     md += fmt::format("| off grid [{:.3g}, {:.3g}) |", lo, hi);
     for (const auto& m : kMethods) {
-      const Measures x = measures(off, method_value(m), [lo, hi](const Point& p) { return p.alpha >= lo && (p.alpha < hi || hi == 1.0); });
+      const Measures x = measures(off, method_value(m),
+                                  [lo, hi](const Point& p) { return p.alpha >= lo && (p.alpha < hi || hi == 1.0); });
       md += " " + (x.points ? pct(x.weighted) : std::string("—")) + " |";
       csv_row("roughness", "off", fmt::format("[{:.3g},{:.3g})", lo, hi), m, x);
     }
@@ -301,8 +351,10 @@ Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int
   std::vector<double> views;
   for (const auto& p : grid)
     if (std::find(views.begin(), views.end(), p.view) == views.end()) views.push_back(p.view);
-  md += "\n## Error map over (α, view_cos): brightness-weighted error, sglab / asg\n\nMean over the light sharpnesses of the "
-        "per-point error.\n\n| α \\ view_cos |";
+  md +=
+      "\n## Error map over (α, view_cos): brightness-weighted error, sglab / asg\n\nMean over the light sharpnesses of "
+      "the "
+      "per-point error.\n\n| α \\ view_cos |";
   for (double v : views) md += fmt::format(" {:.3g} |", v);
   md += "\n|---|" + rule(views.size()) + "\n";
   for (double a : alphas) {
@@ -317,10 +369,13 @@ Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int
     md += "\n";
   }
   const std::vector<std::string> positions = {"mirror", "toward-normal", "toward-horizon", "side", "side-3w", "normal"};
-  md += "\n## Error map over (α, light offset): each position's share of the brightness-weighted error, sglab / asg\n\n"
-        "Per point |v − r|/Σr of that position's row (0 where the position is below the horizon or a duplicate), averaged over "
-        "λ and view_cos; the six columns of a row add up to the row's brightness-weighted error. Offsets in the lobe's widths "
-        "(mirror 0; toward-normal, toward-horizon, side 1; side-3w 3; normal: the surface normal).\n\n| α |";
+  md +=
+      "\n## Error map over (α, light offset): each position's share of the brightness-weighted error, sglab / asg\n\n"
+      "Per point |v − r|/Σr of that position's row (0 where the position is below the horizon or a duplicate), "
+      "averaged over "
+      "λ and view_cos; the six columns of a row add up to the row's brightness-weighted error. Offsets in the lobe's "
+      "widths "
+      "(mirror 0; toward-normal, toward-horizon, side 1; side-3w 3; normal: the surface normal).\n\n| α |";
   for (const auto& pos : positions) md += " " + pos + " |";
   md += "\n|---|---|---|---|---|---|---|\n";
   for (double a : alphas) {
@@ -345,47 +400,69 @@ Output tables(const std::vector<Point>& grid, const std::vector<Point>& off, int
   }
 
   // ---- forms tried ---------------------------------------------------------------------------
-  md += "\n## Forms tried (ablations of the final form, evaluated on the sweep grid)\n\n"
-        "Each step of the derivation switched off through its constant, the others at their fitted values (A and B: nothing "
-        "fitted). Where each fails: A overestimates broad lights at grazing view (the slope-space Gaussian of a broad light is far "
-        "too wide where J is nearly singular) and misses GGX's peak where 1/λ ≈ α²; B fixes the broad lights but is still 10–30 % "
-        "high at α ≥ 0.3 with view_cos ≤ 0.3 (the lobe below the horizon); the horizon factor (C) and the fitted κ, c_ν (F, G) "
-        "remove most of that; the floor (D) keeps the correction from zeroing lights near the horizon at α ≥ 0.5. H is the horizon "
-        "factor this form had before, exponential in t = ω*_z/width: about as accurate, but its square root and exp made the "
-        "method's float batch cost " + fmt::format("{:.2f}", kExponentialHorizonCostVsAsg) + "× asg's, against " +
-        fmt::format("{:.2f}", kRationalHorizonCostVsAsg) + "× with the rational factor (`sglab_core_bench --versus specular sglab asg`: "
-        "median of 31 interleaved rounds on this machine; the rational form's run with the other cuts of its kernel's dependency "
-        "chain: 1/|v|² instead of a square root before JᵀJ, JᵀJ through sums of terms ≥ 0, powers of two instead of 1/s and 1/D "
-        "before ω*); the cost column of paper_tables/error_vs_time.md is the current form's.\n\n"
-        "| form | what | brightness-weighted | bright SMAPE | worst roughness |\n|---|---|---|---|---|\n";
+  md +=
+      "\n## Forms tried (ablations of the final form, evaluated on the sweep grid)\n\n"
+      "Each step of the derivation switched off through its constant, the others at their fitted values (A and B: "
+      "nothing "
+      "fitted). Where each fails: A overestimates broad lights at grazing view (the slope-space Gaussian of a broad "
+      "light is far "
+      "too wide where J is nearly singular) and misses GGX's peak where 1/λ ≈ α²; B fixes the broad lights but is "
+      "still 10–30 % "
+      "high at α ≥ 0.3 with view_cos ≤ 0.3 (the lobe below the horizon); the horizon factor (C) and the fitted κ, c_ν "
+      "(F, G) "
+      "remove most of that; the floor (D) keeps the correction from zeroing lights near the horizon at α ≥ 0.5. H is "
+      "the horizon "
+      "factor this form had before, exponential in t = ω*_z/width: about as accurate, but its square root and exp made "
+      "the "
+      "method's float batch cost " +
+      fmt::format("{:.2f}", kExponentialHorizonCostVsAsg) + "× asg's, against " +
+      fmt::format("{:.2f}", kRationalHorizonCostVsAsg) +
+      "× with the rational factor (`sglab_core_bench --versus specular sglab asg`: "
+      "median of 31 interleaved rounds on this machine; the rational form's run with the other cuts of its kernel's "
+      "dependency "
+      "chain: 1/|v|² instead of a square root before JᵀJ, JᵀJ through sums of terms ≥ 0, powers of two instead of 1/s "
+      "and 1/D "
+      "before ω*); the cost column of paper_tables/error_vs_time.md is the current form's.\n\n"
+      "| form | what | brightness-weighted | bright SMAPE | worst roughness |\n|---|---|---|---|---|\n";
   for (const auto& f : forms()) {
     const Measures x = measures(grid, form_value(f.params, f.horizon), all_points);
     double worst = 0;
     for (double a : alphas)
-      worst = std::max(worst, measures(grid, form_value(f.params, f.horizon), [a](const Point& p) { return p.alpha == a; }).weighted);
+      worst = std::max(worst, measures(grid, form_value(f.params, f.horizon), [a](const Point& p) {
+                                return p.alpha == a;
+                              }).weighted);
     md += fmt::format("| {} | {} | {} | {} | {} |\n", f.name, f.what, pct(x.weighted), pct(x.bright_smape), pct(worst));
     csv_row("form", "grid", f.name, "sglab", x);
   }
-  md += "\nBefore this form, the exploration (scipy, against the same reference) tried the slope-space t smoothing with W "
-        "evaluated at the light axis instead of at the product's peak: 35 % brightness-weighted on this grid, because at "
-        "grazing view and large α the light axis sits where the BRDF weight is far from its value over the lobe.\n";
+  md +=
+      "\nBefore this form, the exploration (scipy, against the same reference) tried the slope-space t smoothing with "
+      "W "
+      "evaluated at the light axis instead of at the product's peak: 35 % brightness-weighted on this grid, because at "
+      "grazing view and large α the light axis sits where the BRDF weight is far from its value over the lobe.\n";
 
   // ---- what limits -----------------------------------------------------------------------------
   std::vector<std::pair<double, const Point*>> worst;
   for (const auto& p : grid) worst.push_back({point_error(p, method_value("sglab")), &p});
   std::sort(worst.begin(), worst.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-  md += "\n## What limits the remaining error\n\nThe worst points of the sweep grid (per-point brightness-weighted error):\n\n"
-        "| α | λ | view_cos | sglab | asg |\n|---|---|---|---|---|\n";
+  md +=
+      "\n## What limits the remaining error\n\nThe worst points of the sweep grid (per-point brightness-weighted "
+      "error):\n\n"
+      "| α | λ | view_cos | sglab | asg |\n|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < std::min<std::size_t>(8, worst.size()); ++i) {
     const Point& p = *worst[i].second;
     md += fmt::format("| {:.3g} | {:g} | {:g} | {} | {} |\n", p.alpha, p.lambda, p.view, pct(worst[i].first),
                       pct(point_error(p, method_value("asg"))));
   }
-  md += "\nThey are broad lights (λ ≤ 10) on rough surfaces at grazing view: the light is a Gaussian in slope space only near "
-        "its axis, and there the slope map ω(m) folds the light over the horizon, where neither the one-point weight W nor the "
-        "horizon factor (a function of one distance) follows the true clipped product. Sharp lights (λ ≥ 100) are within a few "
-        "per cent everywhere; the remaining error is in the broad-light, grazing corner, which a second evaluation point (or a "
-        "fitted table over (α, view_cos, λ)) would be needed to reach.\n";
+  md +=
+      "\nThey are broad lights (λ ≤ 10) on rough surfaces at grazing view: the light is a Gaussian in slope space only "
+      "near "
+      "its axis, and there the slope map ω(m) folds the light over the horizon, where neither the one-point weight W "
+      "nor the "
+      "horizon factor (a function of one distance) follows the true clipped product. Sharp lights (λ ≥ 100) are within "
+      "a few "
+      "per cent everywhere; the remaining error is in the broad-light, grazing corner, which a second evaluation point "
+      "(or a "
+      "fitted table over (α, view_cos, λ)) would be needed to reach.\n";
   return o;
 }
 
@@ -405,9 +482,13 @@ void write(const Options& o, const runner::RunContext& run) {
 
 void add_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<Options>();
-  auto* sub = app.add_subcommand("own-specular", "write-up of sglab's own specular method: errors on and off the sweep grid, error maps, forms tried");
-  sub->add_option("--points", o->points, "specular_points.csv of `sglab sweep specular` (full or --quick grid)")->capture_default_str();
-  sub->add_option("--out", o->out, "output directory (own_specular.{md,csv} unless --tables-dir)")->capture_default_str();
+  auto* sub = app.add_subcommand(
+      "own-specular",
+      "write-up of sglab's own specular method: errors on and off the sweep grid, error maps, forms tried");
+  sub->add_option("--points", o->points, "specular_points.csv of `sglab sweep specular` (full or --quick grid)")
+      ->capture_default_str();
+  sub->add_option("--out", o->out, "output directory (own_specular.{md,csv} unless --tables-dir)")
+      ->capture_default_str();
   sub->add_option("--tables-dir", o->tables_dir, "directory for own_specular.{md,csv} (default: --out)");
   sub->add_flag("--quick", o->quick, "8 off-grid points instead of 60");
   sub->callback([o, run] { write(*o, run); });
@@ -418,10 +499,11 @@ void add_command(CLI::App& app, const runner::RunContext& run) {
 namespace sglab::experiments {
 
 std::vector<Step> own_specular_steps(const Places& p) {
-  return std::vector<Step>{sglab_step("own-specular",
-                                      "sglab's own specular method: on and off the sweep grid, error maps, forms tried (paper_tables/own_specular.*)",
-                                      {"own-specular", "--points", p.out + "/specular/specular_points.csv", "--out", p.out + "/own_specular"},
-                                      {"--quick"}, "--tables-dir")};
+  return std::vector<Step>{sglab_step(
+      "own-specular",
+      "sglab's own specular method: on and off the sweep grid, error maps, forms tried (paper_tables/own_specular.*)",
+      {"own-specular", "--points", p.out + "/specular/specular_points.csv", "--out", p.out + "/own_specular"},
+      {"--quick"}, "--tables-dir")};
 }
 
 Experiment own_specular_experiment() {

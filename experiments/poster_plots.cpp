@@ -126,7 +126,8 @@ std::vector<HemisphericalRmse> hemispherical_rmse() {
 Result compute(const Options& o) {
   Result r;
   r.options = o;
-  r.provenance.command = "sglab poster-plots" + runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
+  r.provenance.command = "sglab poster-plots" +
+                         runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
   r.cosine_term = cosine_term_rows();
   r.curves = cosine_term_curves();
   r.hemispherical = hemispherical_rmse();
@@ -136,21 +137,28 @@ Result compute(const Options& o) {
 Tables tables(const Result& r) {
   Tables t;
   t.cosine_term_csv = runner::csv_header(r.provenance);
-  runner::append_csv_record(t.cosine_term_csv, std::vector<std::string>{"lambda", "approximation_error", "float_error_bound", "sum",
-                                                                "measured_float_error"});
+  runner::append_csv_record(
+      t.cosine_term_csv,
+      std::vector<std::string>{"lambda", "approximation_error", "float_error_bound", "sum", "measured_float_error"});
   for (const CosineTermRow& c : r.cosine_term)
-    runner::append_csv_record(t.cosine_term_csv, std::vector<std::string>{runner::csv_number(c.lambda), runner::csv_number(c.approximation_error),
-                                                                  runner::csv_number(c.float_error_bound), runner::csv_number(c.sum),
-                                                                  runner::csv_number(c.measured_float_error)});
+    runner::append_csv_record(
+        t.cosine_term_csv,
+        std::vector<std::string>{runner::csv_number(c.lambda), runner::csv_number(c.approximation_error),
+                                 runner::csv_number(c.float_error_bound), runner::csv_number(c.sum),
+                                 runner::csv_number(c.measured_float_error)});
   t.curves_csv = runner::csv_header(r.provenance);
-  runner::append_csv_record(t.curves_csv, std::vector<std::string>{"lambda", "t", "approximation_error", "float_difference"});
+  runner::append_csv_record(t.curves_csv,
+                            std::vector<std::string>{"lambda", "t", "approximation_error", "float_difference"});
   for (const CurvePoint& c : r.curves)
-    runner::append_csv_record(t.curves_csv, std::vector<std::string>{runner::csv_number(c.lambda), runner::csv_number(c.t), runner::csv_number(c.approximation_error),
-                                                             runner::csv_number(c.float_difference)});
+    runner::append_csv_record(
+        t.curves_csv,
+        std::vector<std::string>{runner::csv_number(c.lambda), runner::csv_number(c.t),
+                                 runner::csv_number(c.approximation_error), runner::csv_number(c.float_difference)});
   t.hemispherical_csv = runner::csv_header(r.provenance);
   runner::append_csv_record(t.hemispherical_csv, std::vector<std::string>{"lambda", "method", "rmse_normalized"});
   for (const HemisphericalRmse& h : r.hemispherical)
-    runner::append_csv_record(t.hemispherical_csv, std::vector<std::string>{runner::csv_number(h.lambda), h.method, runner::csv_number(h.rmse_normalized)});
+    runner::append_csv_record(t.hemispherical_csv, std::vector<std::string>{runner::csv_number(h.lambda), h.method,
+                                                                            runner::csv_number(h.rmse_normalized)});
   return t;
 }
 
@@ -160,16 +168,19 @@ void write(const Result& r) {
   runner::write_file_atomically(dir / "cosine_term_error.csv", t.cosine_term_csv);
   runner::write_file_atomically(dir / "cosine_term_error_curves.csv", t.curves_csv);
   runner::write_file_atomically(dir / "hemispherical_rmse.csv", t.hemispherical_csv);
-  std::fprintf(stderr, "poster-plots: wrote %s/cosine_term_error{,_curves}.csv and hemispherical_rmse.csv\n", r.options.tables_dir.c_str());
+  std::fprintf(stderr, "poster-plots: wrote %s/cosine_term_error{,_curves}.csv and hemispherical_rmse.csv\n",
+               r.options.tables_dir.c_str());
 }
 
 }  // namespace poster_plots
 
 void add_poster_plots_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<poster_plots::Options>();
-  auto* sub = app.add_subcommand("poster-plots",
-                                 "Tokuyoshi 2022 poster's two plots: cosine-term error against the float bound, hemispherical RMSE (CSV)");
-  sub->add_option("--tables-dir", o->tables_dir, "directory for cosine_term_error*.csv and hemispherical_rmse.csv")->capture_default_str();
+  auto* sub = app.add_subcommand(
+      "poster-plots",
+      "Tokuyoshi 2022 poster's two plots: cosine-term error against the float bound, hemispherical RMSE (CSV)");
+  sub->add_option("--tables-dir", o->tables_dir, "directory for cosine_term_error*.csv and hemispherical_rmse.csv")
+      ->capture_default_str();
   sub->callback([o, run] { poster_plots::write(runner::with_run(poster_plots::compute(*o), run)); });
 }
 
@@ -179,15 +190,16 @@ namespace sglab::experiments {
 
 std::vector<Step> poster_plots_steps(const Places& p) {
   return std::vector<Step>{
-      sglab_step("poster-plots",
-                 "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE (paper_tables/*.csv)",
-                 {"poster-plots"}, {}, "--tables-dir"),
-      plot_step("plot-poster-plots", "figures of the poster's two plots", {"plots/poster_plots.py", p.tables, p.key_figures()})};
+      sglab_step(
+          "poster-plots",
+          "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE (paper_tables/*.csv)",
+          {"poster-plots"}, {}, "--tables-dir"),
+      plot_step("plot-poster-plots", "figures of the poster's two plots",
+                {"plots/poster_plots.py", p.tables, p.key_figures()})};
 }
 
 Experiment poster_plots_experiment() {
-  return {"poster-plots",
-          "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE",
+  return {"poster-plots", "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE",
           cli::add_poster_plots_command, poster_plots_steps};
 }
 

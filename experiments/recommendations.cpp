@@ -31,12 +31,14 @@
 namespace sglab::cli::recommendations {
 
 const std::vector<std::string>& input_tables() {
-  static const std::vector<std::string> files = {
-      "error_vs_time.csv",        "stability.csv",          "near_wall_smape.csv",
-      "near_wall_smape_sweep.csv", "hemispherical_rmse.csv", "specular_vs_roughness.csv",
-      "vsgl_error_vs_count.csv",  "vsgl_error_vs_roughness_distance.csv", "vsgl_visibility_off.csv",
-      "vsgl_visibility_on.csv",   "filtering.csv",          "filtering_denoise.csv",
-      "envmap_lobes.csv",         "envmap_bases.csv",       "shader_export.csv"};
+  static const std::vector<std::string> files = {"error_vs_time.csv",       "stability.csv",
+                                                 "near_wall_smape.csv",     "near_wall_smape_sweep.csv",
+                                                 "hemispherical_rmse.csv",  "specular_vs_roughness.csv",
+                                                 "vsgl_error_vs_count.csv", "vsgl_error_vs_roughness_distance.csv",
+                                                 "vsgl_visibility_off.csv", "vsgl_visibility_on.csv",
+                                                 "filtering.csv",           "filtering_denoise.csv",
+                                                 "envmap_lobes.csv",        "envmap_bases.csv",
+                                                 "shader_export.csv"};
   return files;
 }
 
@@ -46,7 +48,8 @@ std::vector<Candidate> pareto_front(std::vector<Candidate> all) {
   });
   std::vector<Candidate> front;
   for (const auto& c : all)
-    if (std::isfinite(c.cost) && std::isfinite(c.error) && (front.empty() || c.error < front.back().error)) front.push_back(c);
+    if (std::isfinite(c.cost) && std::isfinite(c.error) && (front.empty() || c.error < front.back().error))
+      front.push_back(c);
   return front;
 }
 
@@ -58,7 +61,9 @@ std::string g(double x) { return std::isfinite(x) ? fmt::format("{:.3g}", x) : "
 // A count (instructions, ulps, points, floats): every digit.
 std::string count(double x) { return std::isfinite(x) ? fmt::format("{:.0f}", x) : "—"; }
 // A measured cost: three significant digits, every integer digit from 1000 up (2249, not 2.25e+03).
-std::string magnitude(double x) { return std::isfinite(x) && std::abs(x) >= 1000 && std::abs(x) < 1e9 ? count(x) : g(x); }
+std::string magnitude(double x) {
+  return std::isfinite(x) && std::abs(x) >= 1000 && std::abs(x) < 1e9 ? count(x) : g(x);
+}
 
 // The shader section's "cheapest within": a max error of 1 % of the reference, the generator's own
 // choice of a diffuse error small enough to trade for instructions (the most accurate export is
@@ -87,10 +92,13 @@ struct Table {
     try {
       return runner::parse_table_number(s);
     } catch (const runner::NumberError& e) {
-      throw UsageError(fmt::format("recommend: {} line {}, column '{}': {} {}", file, r.line, column, quote(s), e.what()));
+      throw UsageError(
+          fmt::format("recommend: {} line {}, column '{}': {} {}", file, r.line, column, quote(s), e.what()));
     }
   }
-  std::string source() const { return "[" + file + "](" + file + ")" + (command.empty() ? "" : " (`" + command + "`)"); }
+  std::string source() const {
+    return "[" + file + "](" + file + ")" + (command.empty() ? "" : " (`" + command + "`)");
+  }
 };
 
 // The tables read, by file name; a table that is not there is listed in `missing`.
@@ -132,7 +140,8 @@ class Tables {
 };
 
 // The choice per budget along a front.
-std::string budget_text(const std::vector<Candidate>& front, const std::string& cost_label, std::string (*cost)(double) = g) {
+std::string budget_text(const std::vector<Candidate>& front, const std::string& cost_label,
+                        std::string (*cost)(double) = g) {
   std::string s = "By budget (" + cost_label + "): ";
   for (std::size_t i = 0; i < front.size(); ++i)
     s += fmt::format("{}from {}: **{}**", i ? "; " : "", cost(front[i].cost), front[i].name) +
@@ -141,8 +150,8 @@ std::string budget_text(const std::vector<Candidate>& front, const std::string& 
 }
 
 // The front as a Markdown table, and the choice per budget.
-std::string front_text(const std::vector<Candidate>& front, const std::string& cost_label, const std::string& error_label,
-                       std::string (*cost)(double) = g) {
+std::string front_text(const std::vector<Candidate>& front, const std::string& cost_label,
+                       const std::string& error_label, std::string (*cost)(double) = g) {
   std::string s = fmt::format("| choice | {} | {} |\n|---|---|---|\n", cost_label, error_label);
   for (const auto& c : front) s += fmt::format("| {} | {} | {} |\n", c.name, cost(c.cost), g(c.error));
   return s + "\n" + budget_text(front, cost_label, cost);
@@ -176,8 +185,8 @@ std::string grid_flaws(const Table& t, const std::string& quantity) {
     if (t.text(r, "quantity") != quantity || t.text(r, "method").find('[') != std::string::npos) continue;
     const double neg = t.number(r, "negatives"), bad = t.number(r, "non_finite");
     if (neg > 0 || bad > 0)
-      s += fmt::format("- {} ({}): {} negative and {} non-finite outputs on error-vs-time's grid.\n", t.text(r, "method"),
-                       t.text(r, "precision"), g(neg), g(bad));
+      s += fmt::format("- {} ({}): {} negative and {} non-finite outputs on error-vs-time's grid.\n",
+                       t.text(r, "method"), t.text(r, "precision"), g(neg), g(bad));
   }
   return s;
 }
@@ -189,22 +198,26 @@ std::string stability_caveats(const Table* st, const std::string& quantity, cons
   for (const auto& c : front)
     for (const auto& r : st->csv.rows)
       if (st->text(r, "quantity") == quantity && st->text(r, "method") == c.name)
-        s += fmt::format("- {} ({}), stability atlas: {} NaN, {} Inf, {} negative, {} of {} points > 1 % off; worst error "
-                         "relative to the peak {} at {}.\n",
-                         c.name, st->text(r, "precision"), st->text(r, "nan"), st->text(r, "inf"), st->text(r, "negative"),
-                         st->text(r, "wrong_rel_1pct"), st->text(r, "compared"), st->text(r, "max_peak_error"),
-                         st->text(r, "max_peak_error_at"));
+        s += fmt::format(
+            "- {} ({}), stability atlas: {} NaN, {} Inf, {} negative, {} of {} points > 1 % off; worst error "
+            "relative to the peak {} at {}.\n",
+            c.name, st->text(r, "precision"), st->text(r, "nan"), st->text(r, "inf"), st->text(r, "negative"),
+            st->text(r, "wrong_rel_1pct"), st->text(r, "compared"), st->text(r, "max_peak_error"),
+            st->text(r, "max_peak_error_at"));
   return s.empty() ? "" : s + "  (" + st->source() + ")\n";
 }
 
 // The headline choice: the most accurate member of the front, and the cheapest one within `good`.
-std::string headline(const std::vector<Candidate>& front, const std::string& cost_unit, const std::string& error_name, double good) {
+std::string headline(const std::vector<Candidate>& front, const std::string& cost_unit, const std::string& error_name,
+                     double good) {
   if (front.empty()) return "no data";
   const Candidate& best = front.back();
-  std::string s = fmt::format("**{}** (the most accurate: {} {}, {} {})", best.name, error_name, g(best.error), g(best.cost), cost_unit);
+  std::string s = fmt::format("**{}** (the most accurate: {} {}, {} {})", best.name, error_name, g(best.error),
+                              g(best.cost), cost_unit);
   for (const auto& c : front)
     if (c.error <= good && c.name != best.name) {
-      s += fmt::format("; cheapest within {} {}: **{}** ({}, {} {})", error_name, g(good), c.name, g(c.error), g(c.cost), cost_unit);
+      s += fmt::format("; cheapest within {} {}: **{}** ({}, {} {})", error_name, g(good), c.name, g(c.error),
+                       g(c.cost), cost_unit);
       break;
     }
   return s;
@@ -227,8 +240,8 @@ Section diffuse(Tables& tables) {
   for (const auto& c : grid_candidates(*evt, "clamped-cosine", "rmse")) rmse[c.name] = c.error;
   for (std::size_t i = 0; i + 1 < front.size(); ++i)
     if (rmse[front[i].name] < rmse[front[i + 1].name])
-      b += fmt::format("- RMSE against max: {} has the lower RMSE ({} against {}'s {}) though the larger max error.\n", front[i].name,
-                       g(rmse[front[i].name]), front[i + 1].name, g(rmse[front[i + 1].name]));
+      b += fmt::format("- RMSE against max: {} has the lower RMSE ({} against {}'s {}) though the larger max error.\n",
+                       front[i].name, g(rmse[front[i].name]), front[i + 1].name, g(rmse[front[i + 1].name]));
   b += stability_caveats(tables.get("stability.csv"), "clamped-cosine", front);
   if (const Table* nw = tables.get("near_wall_smape.csv")) {
     std::string by_mean, by_max;
@@ -238,8 +251,9 @@ Section diffuse(Tables& tables) {
       if (mean < best_mean) best_mean = mean, by_mean = nw->text(r, "method");
       if (max < best_max) best_max = max, by_max = nw->text(r, "method");
     }
-    b += fmt::format("- Near-wall render (the 2022 poster's figure): lowest mean SMAPE {} ({}), lowest max SMAPE {} ({}){}. {}\n", by_mean,
-                     g(best_mean), by_max, g(best_max), by_mean == by_max ? "" : ": mean and max disagree", nw->source());
+    b += fmt::format(
+        "- Near-wall render (the 2022 poster's figure): lowest mean SMAPE {} ({}), lowest max SMAPE {} ({}){}. {}\n",
+        by_mean, g(best_mean), by_max, g(best_max), by_mean == by_max ? "" : ": mean and max disagree", nw->source());
   }
   std::vector<Candidate> by_error = all;
   std::sort(by_error.begin(), by_error.end(), [](const Candidate& x, const Candidate& y) { return x.error < y.error; });
@@ -247,7 +261,8 @@ Section diffuse(Tables& tables) {
     // Where the runner-up in max error beats the most accurate method in mean SMAPE over the sweep's cells.
     const std::string a = front.back().name, bname = by_error[by_error[0].name == a ? 1 : 0].name;
     std::map<std::pair<std::string, std::string>, std::map<std::string, double>> cells;
-    for (const auto& r : sw->csv.rows) cells[{sw->text(r, "sharpness"), sw->text(r, "distance")}][sw->text(r, "method")] = sw->number(r, "mean_smape");
+    for (const auto& r : sw->csv.rows)
+      cells[{sw->text(r, "sharpness"), sw->text(r, "distance")}][sw->text(r, "method")] = sw->number(r, "mean_smape");
     std::set<std::string> sharp;
     int worse = 0, total = 0;
     for (const auto& [cell, m] : cells)
@@ -256,8 +271,9 @@ Section diffuse(Tables& tables) {
         if (m.at(bname) < m.at(a)) ++worse, sharp.insert(cell.first);
       }
     if (total)
-      b += fmt::format("- Near-wall sweep (sharpness × distance): {}'s mean SMAPE is above {}'s in {} of {} cells{}. {}\n", a, bname, worse,
-                       total, sharp.empty() ? "" : fmt::format(" (at sharpness {})", fmt::join(sharp, ", ")), sw->source());
+      b += fmt::format(
+          "- Near-wall sweep (sharpness × distance): {}'s mean SMAPE is above {}'s in {} of {} cells{}. {}\n", a, bname,
+          worse, total, sharp.empty() ? "" : fmt::format(" (at sharpness {})", fmt::join(sharp, ", ")), sw->source());
   }
   b += "\nSources: " + evt->source() + ".\n";
   return sec;
@@ -280,9 +296,12 @@ Section hemispherical(Tables& tables) {
     if (worst.count(c.name)) all.push_back({c.name, c.cost, worst[c.name].first});
   const auto front = pareto_front(all);
   sec.headline = headline(front, "ns/eval", "max normalized RMSE", 1e-3);
-  sec.body = "Pareto front of the largest normalized RMSE over λ against the method's ns per evaluation (error-vs-time, "
-             "double):\n\n" + front_text(front, "ns/eval", "max normalized RMSE") + "\nWhere each method is worst:\n\n";
-  for (const auto& [m, w] : worst) sec.body += fmt::format("- {}: {} at λ = {:.3g}.\n", m, g(w.first), std::strtod(w.second.c_str(), nullptr));
+  sec.body =
+      "Pareto front of the largest normalized RMSE over λ against the method's ns per evaluation (error-vs-time, "
+      "double):\n\n" +
+      front_text(front, "ns/eval", "max normalized RMSE") + "\nWhere each method is worst:\n\n";
+  for (const auto& [m, w] : worst)
+    sec.body += fmt::format("- {}: {} at λ = {:.3g}.\n", m, g(w.first), std::strtod(w.second.c_str(), nullptr));
   sec.body += "\nSources: " + h->source() + ", " + evt->source() + ".\n";
   return sec;
 }
@@ -303,15 +322,19 @@ Section specular(Tables& tables) {
   const auto front = pareto_front(all);
   sec.headline = headline(front, "ns/eval", "brightness-weighted error", 0.1);
   std::string& b = sec.body;
-  b += "Pareto front of the brightness-weighted relative error over the whole roughness sweep against ns per evaluation "
-       "(error-vs-time, double):\n\n" + front_text(front, "ns/eval", "brightness-weighted error") + "\nCaveats measured:\n\n";
+  b +=
+      "Pareto front of the brightness-weighted relative error over the whole roughness sweep against ns per evaluation "
+      "(error-vs-time, double):\n\n" +
+      front_text(front, "ns/eval", "brightness-weighted error") + "\nCaveats measured:\n\n";
   for (const auto& c : front) {
     const auto& r = *overall[c.name];
-    b += fmt::format("- {}: max relative error {} and SMAPE {} over the sweep; worst at roughness {}, light sharpness {}, view cos {}, "
-                     "light {}; on error-vs-time's grid max error {}.\n",
-                     c.name, g(sv->number(r, "max_relative")), g(sv->number(r, "smape")), g(sv->number(r, "worst_roughness")),
-                     sv->text(r, "worst_light_sharpness"), sv->text(r, "worst_view_cos"), sv->text(r, "worst_position"),
-                     g(named(grid_candidates(*evt, "specular", "max_error"), c.name)->error));
+    b += fmt::format(
+        "- {}: max relative error {} and SMAPE {} over the sweep; worst at roughness {}, light sharpness {}, view cos "
+        "{}, "
+        "light {}; on error-vs-time's grid max error {}.\n",
+        c.name, g(sv->number(r, "max_relative")), g(sv->number(r, "smape")), g(sv->number(r, "worst_roughness")),
+        sv->text(r, "worst_light_sharpness"), sv->text(r, "worst_view_cos"), sv->text(r, "worst_position"),
+        g(named(grid_candidates(*evt, "specular", "max_error"), c.name)->error));
   }
   // Roughnesses where the recommended method is not the best one.
   if (!front.empty()) {
@@ -327,8 +350,9 @@ Section specular(Tables& tables) {
     }
     for (const auto& [roughness, l] : leader)
       if (l.second != best && best_error.count(roughness))
-        b += fmt::format("- At roughness {}: {} is ahead ({} against {}'s {}).\n", g(std::strtod(roughness.c_str(), nullptr)), l.second,
-                         g(l.first), best, g(best_error[roughness]));
+        b += fmt::format("- At roughness {}: {} is ahead ({} against {}'s {}).\n",
+                         g(std::strtod(roughness.c_str(), nullptr)), l.second, g(l.first), best,
+                         g(best_error[roughness]));
   }
   b += grid_flaws(*evt, "specular");
   b += "\nSources: " + sv->source() + ", " + evt->source() + ".\n";
@@ -343,11 +367,13 @@ Section vsgl(Tables& tables) {
   if (!t) return sec;
   std::vector<Candidate> all;
   for (const auto& r : t->csv.rows)
-    all.push_back({t->text(r, "vsgl"), t->number(r, "seconds_vsgl") + t->number(r, "seconds_shading"), t->number(r, "relative_l2")});
+    all.push_back({t->text(r, "vsgl"), t->number(r, "seconds_vsgl") + t->number(r, "seconds_shading"),
+                   t->number(r, "relative_l2")});
   const auto front = pareto_front(all);
   sec.headline = headline(front, "s (build + shading)", "relative L2", 0.5);
   std::string& b = sec.body;
-  b += "Pareto front of the indirect light's relative L2 against the exact VPL sum on cornell-glossy, against the seconds "
+  b += "Pareto front of the indirect light's relative L2 against the exact VPL sum on cornell-glossy, against the "
+       "seconds "
        "to build and shade the VSGLs (the sum of the table's two columns):\n\n" +
        front_text(front, "s (build + shading)", "relative L2") + "\nCaveats measured:\n\n";
   if (const Table* rd = tables.get("vsgl_error_vs_roughness_distance.csv")) {
@@ -358,8 +384,8 @@ Section vsgl(Tables& tables) {
         w = {e, rd->text(r, "floor.roughness"), rd->text(r, "light.distance")};
     }
     for (const auto& [m, w] : worst)
-      b += fmt::format("- {}: worst relative L2 {} at floor roughness {}, light distance {} ({}).\n", m, g(std::get<0>(w)), std::get<1>(w),
-                       std::get<2>(w), rd->file);
+      b += fmt::format("- {}: worst relative L2 {} at floor roughness {}, light distance {} ({}).\n", m,
+                       g(std::get<0>(w)), std::get<1>(w), std::get<2>(w), rd->file);
   }
   const Table* off = tables.get("vsgl_visibility_off.csv");
   const Table* on = tables.get("vsgl_visibility_on.csv");
@@ -367,9 +393,9 @@ Section vsgl(Tables& tables) {
     for (const auto& r : off->csv.rows)
       for (const auto& q : on->csv.rows)
         if (off->text(r, "vsgl") == on->text(q, "vsgl"))
-          b += fmt::format("- {} with the 2016 visibility: relative L2 {} → {} (SMAPE {} → {}).\n", off->text(r, "vsgl"),
-                           g(off->number(r, "relative_l2")), g(on->number(q, "relative_l2")), g(off->number(r, "smape")),
-                           g(on->number(q, "smape")));
+          b += fmt::format("- {} with the 2016 visibility: relative L2 {} → {} (SMAPE {} → {}).\n",
+                           off->text(r, "vsgl"), g(off->number(r, "relative_l2")), g(on->number(q, "relative_l2")),
+                           g(off->number(r, "smape")), g(on->number(q, "smape")));
   b += "\nSources: " + t->source() + ".\n";
   return sec;
 }
@@ -392,16 +418,18 @@ Section filtering(Tables& tables) {
     a.sum += e;
     a.glossy += t->number(r, "glossy_relative_l2");
     ++a.n;
-    if (e > a.worst) a.worst = e, a.at = "scale " + t->text(r, "scale") + ", floor roughness " + t->text(r, "floor_roughness");
+    if (e > a.worst)
+      a.worst = e, a.at = "scale " + t->text(r, "scale") + ", floor roughness " + t->text(r, "floor_roughness");
   }
   std::vector<std::pair<double, std::string>> ranked;
   for (const auto& [w, a] : acc) ranked.push_back({a.sum / a.n, w});
   std::sort(ranked.begin(), ranked.end());
   if (!ranked.empty())
-    sec.headline = fmt::format("**{}** (lowest mean relative L2 over the sweep, {}; the table measures no cost)", ranked.front().second,
-                               g(ranked.front().first));
+    sec.headline = fmt::format("**{}** (lowest mean relative L2 over the sweep, {}; the table measures no cost)",
+                               ranked.front().second, g(ranked.front().first));
   std::string& b = sec.body;
-  b += "The table times no weighting, so there is no cost axis: the weightings ranked by their mean relative L2 over every "
+  b += "The table times no weighting, so there is no cost axis: the weightings ranked by their mean relative L2 over "
+       "every "
        "scale × floor roughness of the sweep, with the glossy pixels' mean and the worst row:\n\n"
        "| weights | mean relative L2 | mean glossy relative L2 | worst relative L2 | at |\n|---|---|---|---|---|\n";
   for (const auto& [mean, w] : ranked) {
@@ -433,13 +461,15 @@ Section environment(Tables& tables) {
   for (auto [name, cn] : acc) all.push_back({name, cn.first.cost / cn.second, cn.first.error / cn.second});
   const auto front = pareto_front(all);
   sec.headline = headline(front, "s (fit)", "mean fit error", 0.1);
-  sec.body = fmt::format("Pareto front of the mixture's relative fit error against the fit's seconds, each the mean over the "
-                         "table's {} environments:\n\n",
-                         std::set<std::string>([&] {
-                           std::set<std::string> e;
-                           for (const auto& [k, r] : fits) e.insert(k.first);
-                           return e;
-                         }()).size()) +
+  sec.body = fmt::format(
+                 "Pareto front of the mixture's relative fit error against the fit's seconds, each the mean over the "
+                 "table's {} environments:\n\n",
+                 std::set<std::string>([&] {
+                   std::set<std::string> e;
+                   for (const auto& [k, r] : fits) e.insert(k.first);
+                   return e;
+                 }())
+                     .size()) +
              front_text(front, "s (fit)", "mean fit error") + "\nSources: " + t->source() + ".\n";
   return sec;
 }
@@ -501,19 +531,23 @@ Section denoise(Tables& tables) {
   for (const auto& in : inputs) {
     const auto gl = lowest(in, kReceiverClasses[0].column), di = lowest(in, kReceiverClasses[1].column);
     if (gl.second == di.second)
-      verdicts.push_back(fmt::format("{}: **{}** on both (glossy {}, diffuse {}{})", in, gl.second, g(gl.first), g(di.first), cost(in, gl.second)));
+      verdicts.push_back(fmt::format("{}: **{}** on both (glossy {}, diffuse {}{})", in, gl.second, g(gl.first),
+                                     g(di.first), cost(in, gl.second)));
     else
-      verdicts.push_back(fmt::format("{}: glossy **{}** ({}{}), diffuse **{}** ({}{})", in, gl.second, g(gl.first), cost(in, gl.second), di.second,
-                                     g(di.first), cost(in, di.second)));
+      verdicts.push_back(fmt::format("{}: glossy **{}** ({}{}), diffuse **{}** ({}{})", in, gl.second, g(gl.first),
+                                     cost(in, gl.second), di.second, g(di.first), cost(in, di.second)));
   }
-  sec.headline = fmt::format("lowest mean relative L2 over the floor roughnesses, per noisy input — {}{}", fmt::join(verdicts, "; "),
-                             timed ? "" : "; the table measures no cost");
+  sec.headline = fmt::format("lowest mean relative L2 over the floor roughnesses, per noisy input — {}{}",
+                             fmt::join(verdicts, "; "), timed ? "" : "; the table measures no cost");
   std::string& b = sec.body;
-  b += "Per noisy input, each weighting's mean relative L2 over the table's floor roughnesses (all pixels, glossy receivers, diffuse "
+  b += "Per noisy input, each weighting's mean relative L2 over the table's floor roughnesses (all pixels, glossy "
+       "receivers, diffuse "
        "receivers) and its worst row (all pixels)";
-  b += timed ? ", with the filter's mean ns per pixel (the table's cost column):\n\n" : "; the table measures no cost:\n\n";
-  b += "| noisy input | weights | ns/pixel | relative L2 | glossy | diffuse | worst relative L2 | at floor roughness |\n"
-       "|---|---|---|---|---|---|---|---|\n";
+  b += timed ? ", with the filter's mean ns per pixel (the table's cost column):\n\n"
+             : "; the table measures no cost:\n\n";
+  b +=
+      "| noisy input | weights | ns/pixel | relative L2 | glossy | diffuse | worst relative L2 | at floor roughness |\n"
+      "|---|---|---|---|---|---|---|---|\n";
   for (const auto& in : inputs)
     for (const auto& w : weights) {
       if (!rows[in].count(w)) continue;
@@ -521,9 +555,10 @@ Section denoise(Tables& tables) {
       const runner::CsvRecord* worst = rs.front();
       for (const auto* r : rs)
         if (t->number(*r, "relative_l2") > t->number(*worst, "relative_l2")) worst = r;
-      b += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", in, w, timed ? magnitude(mean(rs, "ns_per_pixel")) : "—", g(mean(rs, "relative_l2")),
-                       g(mean(rs, kReceiverClasses[0].column)), g(mean(rs, kReceiverClasses[1].column)), g(t->number(*worst, "relative_l2")),
-                       t->text(*worst, "floor_roughness"));
+      b += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", in, w,
+                       timed ? magnitude(mean(rs, "ns_per_pixel")) : "—", g(mean(rs, "relative_l2")),
+                       g(mean(rs, kReceiverClasses[0].column)), g(mean(rs, kReceiverClasses[1].column)),
+                       g(t->number(*worst, "relative_l2")), t->text(*worst, "floor_roughness"));
     }
   if (timed)
     for (const auto& in : inputs) {
@@ -552,11 +587,14 @@ Section denoise(Tables& tables) {
             if (!(e > o)) continue;
             ++above;
             where.push_back(t->text(*r, "floor_roughness"));
-            if (e / o - 1 > most) most = e / o - 1, at = t->text(*r, "floor_roughness"), values = fmt::format("{} against {}", g(e), g(o));
+            if (e / o - 1 > most)
+              most = e / o - 1, at = t->text(*r, "floor_roughness"), values = fmt::format("{} against {}", g(e), g(o));
           }
         if (above)
-          b += fmt::format("- {}, {} receivers: {} (the lowest mean) is above {} at {} of {} floor roughnesses ({}); most at {}, {} ({}).\n", in,
-                           rc.name, best, other, above, n, fmt::join(where, ", "), at, signed_percent(most), values);
+          b += fmt::format(
+              "- {}, {} receivers: {} (the lowest mean) is above {} at {} of {} floor roughnesses ({}); most at {}, {} "
+              "({}).\n",
+              in, rc.name, best, other, above, n, fmt::join(where, ", "), at, signed_percent(most), values);
       }
     }
     // Mean against worst row (all pixels).
@@ -569,8 +607,8 @@ Section denoise(Tables& tables) {
     }
     const auto best_mean = lowest(in, "relative_l2");
     if (best_worst.second != best_mean.second)
-      b += fmt::format("- {}, all pixels: {} has the lowest mean relative L2 ({}), {} the lowest worst row ({}).\n", in, best_mean.second,
-                       g(best_mean.first), best_worst.second, g(best_worst.first));
+      b += fmt::format("- {}, all pixels: {} has the lowest mean relative L2 ({}), {} the lowest worst row ({}).\n", in,
+                       best_mean.second, g(best_mean.first), best_worst.second, g(best_worst.first));
   }
   // Filtering that makes it worse than the noisy input it starts from.
   if (t->has("noisy_relative_l2"))
@@ -585,11 +623,14 @@ Section denoise(Tables& tables) {
           if (!(e > noisy)) continue;
           ++worse;
           if (e / noisy - 1 > most)
-            most = e / noisy - 1, at = fmt::format("{}, floor roughness {}: {} against {}", in, t->text(*r, "floor_roughness"), g(e), g(noisy));
+            most = e / noisy - 1, at = fmt::format("{}, floor roughness {}: {} against {}", in,
+                                                   t->text(*r, "floor_roughness"), g(e), g(noisy));
         }
       if (worse)
-        b += fmt::format("- {}: the filtered image is further from the reference than its noisy input on {} of {} rows (most {} at {}).\n", w,
-                         worse, n, signed_percent(most), at);
+        b += fmt::format(
+            "- {}: the filtered image is further from the reference than its noisy input on {} of {} rows (most {} at "
+            "{}).\n",
+            w, worse, n, signed_percent(most), at);
     }
   b += "\nSources: " + t->source() + ".\n";
   return sec;
@@ -609,15 +650,16 @@ Section bases(Tables& tables) {
   const Table* t = tables.get("envmap_bases.csv");
   if (!t) return sec;
   // diffuse-engine (the shading an engine runs: SG by hill-fitted) is held to the diffuse target too.
-  const std::vector<BasisLayer> layers = {{"diffuse", "diffuse", eb::kDiffuseTarget},
-                                          {"diffuse-engine", "diffuse-engine", eb::kDiffuseTarget},
-                                          {"specular", fmt::format("specular α = {:g}", eb::kTargetRoughness), eb::kSpecularTarget}};
+  const std::vector<BasisLayer> layers = {
+      {"diffuse", "diffuse", eb::kDiffuseTarget},
+      {"diffuse-engine", "diffuse-engine", eb::kDiffuseTarget},
+      {"specular", fmt::format("specular α = {:g}", eb::kTargetRoughness), eb::kSpecularTarget}};
   // One basis at one size ("sg-fixed nnls N=16"), over the environments.
   struct Fit {
     std::string family, size;
-    double floats = 0, lobes = 0;  // lobes: N, 0 for a basis of another size symbol (SH's L)
-    std::map<std::string, double> seconds, ns, zero;                  // per environment
-    std::map<std::string, std::map<std::string, double>> error;       // layer → environment → relative L2
+    double floats = 0, lobes = 0;                     // lobes: N, 0 for a basis of another size symbol (SH's L)
+    std::map<std::string, double> seconds, ns, zero;  // per environment
+    std::map<std::string, std::map<std::string, double>> error;  // layer → environment → relative L2
   };
   std::vector<std::string> order, envs, families;
   std::map<std::string, Fit> fits;
@@ -652,24 +694,29 @@ Section bases(Tables& tables) {
     return w;
   };
   std::string& b = sec.body;
-  b += fmt::format("The table's x axis is storage: per basis and size, its stored float count, and the median over the table's {} "
-                   "environments of each layer's relative L2 (with the largest, the median fit seconds and the median ns per pixel of "
-                   "the engine's diffuse shading). Pareto front of the median error against stored floats, per layer:\n",
-                   envs.size());
+  b += fmt::format(
+      "The table's x axis is storage: per basis and size, its stored float count, and the median over the table's {} "
+      "environments of each layer's relative L2 (with the largest, the median fit seconds and the median ns per pixel "
+      "of "
+      "the engine's diffuse shading). Pareto front of the median error against stored floats, per layer:\n",
+      envs.size());
   std::vector<std::string> verdicts;
   for (const auto& layer : layers) {
     std::vector<Candidate> all;
     for (const auto& name : order)
-      if (fits[name].error.count(layer.key)) all.push_back({name, fits[name].floats, median(values(fits[name].error[layer.key]))});
+      if (fits[name].error.count(layer.key))
+        all.push_back({name, fits[name].floats, median(values(fits[name].error[layer.key]))});
     const auto front = pareto_front(all);
-    b += fmt::format("\n**{}** (target {:g} %):\n\n| choice | floats | median relative L2 | max (environment) | median fit s | median ns/pixel |\n"
-                     "|---|---|---|---|---|---|\n",
-                     layer.label, 100 * layer.target);
+    b += fmt::format(
+        "\n**{}** (target {:g} %):\n\n| choice | floats | median relative L2 | max (environment) | median fit s | "
+        "median ns/pixel |\n"
+        "|---|---|---|---|---|---|\n",
+        layer.label, 100 * layer.target);
     for (const auto& c : front) {
       Fit& f = fits[c.name];
       const auto w = max_at(f.error[layer.key]);
-      b += fmt::format("| {} | {} | {} | {} ({}) | {} | {} |\n", c.name, count(c.cost), g(c.error), g(w.first), w.second, g(median(values(f.seconds))),
-                       magnitude(median(values(f.ns))));
+      b += fmt::format("| {} | {} | {} | {} ({}) | {} | {} |\n", c.name, count(c.cost), g(c.error), g(w.first),
+                       w.second, g(median(values(f.seconds))), magnitude(median(values(f.ns))));
     }
     b += "\n" + budget_text(front, "stored floats", count);
     const Candidate* reach = nullptr;
@@ -680,20 +727,23 @@ Section bases(Tables& tables) {
       }
     if (reach) {
       const auto w = max_at(fits[reach->name].error[layer.key]);
-      verdicts.push_back(fmt::format("{} ≤ {:g} % from **{}** ({} floats: median {}, max {} {})", layer.label, 100 * layer.target, reach->name,
-                                     count(reach->cost), g(reach->error), g(w.first), w.second));
+      verdicts.push_back(fmt::format("{} ≤ {:g} % from **{}** ({} floats: median {}, max {} {})", layer.label,
+                                     100 * layer.target, reach->name, count(reach->cost), g(reach->error), g(w.first),
+                                     w.second));
     } else if (!front.empty()) {
-      verdicts.push_back(fmt::format("{} ≤ {:g} % not reached; the most accurate **{}** ({} floats: median {})", layer.label, 100 * layer.target,
-                                     front.back().name, count(front.back().cost), g(front.back().error)));
+      verdicts.push_back(fmt::format("{} ≤ {:g} % not reached; the most accurate **{}** ({} floats: median {})",
+                                     layer.label, 100 * layer.target, front.back().name, count(front.back().cost),
+                                     g(front.back().error)));
     }
   }
   sec.headline = fmt::format("median over {} environments — {}", envs.size(), fmt::join(verdicts, "; "));
   // The smallest storage reaching each target, per environment and basis.
   std::vector<std::string> targets;
   for (const auto& l : layers) targets.push_back(fmt::format("{} ≤ {:g} %", l.label, 100 * l.target));
-  b += fmt::format("\nSmallest stored-float count at which each basis reaches the targets, per environment (each cell: {}; relative "
-                   "L2):\n\n| environment |",
-                   fmt::join(targets, " / "));
+  b += fmt::format(
+      "\nSmallest stored-float count at which each basis reaches the targets, per environment (each cell: {}; relative "
+      "L2):\n\n| environment |",
+      fmt::join(targets, " / "));
   for (const auto& fam : families) b += " " + fam + " |";
   b += "\n|---|" + [&] {
     std::string s;
@@ -733,11 +783,13 @@ Section bases(Tables& tables) {
       }
     }
     if (with)
-      b += fmt::format("- {}: zero-amplitude lobes in {} of {} fits, up to {} of {} ({}): stored floats that carry nothing.\n", fam, with, n, count(most),
-                       count(of), at);
+      b += fmt::format(
+          "- {}: zero-amplitude lobes in {} of {} fits, up to {} of {} ({}): stored floats that carry nothing.\n", fam,
+          with, n, count(most), count(of), at);
   }
   if (!t->has("negatives"))
-    b += "- The table counts no negative values: where a least-squares fit (signed amplitudes, `sg-fixed ls`) or SH ringing makes the "
+    b += "- The table counts no negative values: where a least-squares fit (signed amplitudes, `sg-fixed ls`) or SH "
+         "ringing makes the "
          "representation negative is not measured.\n";
   // Error growing with storage, per basis and layer (each environment's sizes in the table's order).
   for (const auto& fam : families)
@@ -755,15 +807,16 @@ Section bases(Tables& tables) {
             const double a = prev->error.at(layer.key).at(env), e = f.error[layer.key][env];
             if (e > a) {
               ++rises;
-              if (e / a > most) most = e / a, at = fmt::format("{}: {} at {} → {} at {}", env, g(a), prev->size, g(e), f.size);
+              if (e / a > most)
+                most = e / a, at = fmt::format("{}: {} at {} → {} at {}", env, g(a), prev->size, g(e), f.size);
             }
           }
           prev = &f;
         }
       }
       if (rises)
-        b += fmt::format("- {}, {}: the error grows with storage in {} of {} steps to the next size; most at {}.\n", fam, layer.label, rises,
-                         steps, at);
+        b += fmt::format("- {}, {}: the error grows with storage in {} of {} steps to the next size; most at {}.\n",
+                         fam, layer.label, rises, steps, at);
     }
   // The engine's diffuse shading against the exact diffuse of the same representation.
   for (const auto& fam : families) {
@@ -774,10 +827,13 @@ Section bases(Tables& tables) {
       if (f.family != fam || !f.error.count("diffuse-engine")) continue;
       for (const auto& [env, e] : f.error["diffuse-engine"])
         if (f.error["diffuse"].count(env) && e / f.error["diffuse"][env] > most)
-          most = e / f.error["diffuse"][env], at = fmt::format("{} {}: {} against the exact {}", env, f.size, g(e), g(f.error["diffuse"][env]));
+          most = e / f.error["diffuse"][env],
+          at = fmt::format("{} {}: {} against the exact {}", env, f.size, g(e), g(f.error["diffuse"][env]));
     }
     if (!at.empty())
-      b += fmt::format("- {}: the engine's diffuse shading (layer diffuse-engine) is furthest above the exact diffuse at {}.\n", fam, at);
+      b += fmt::format(
+          "- {}: the engine's diffuse shading (layer diffuse-engine) is furthest above the exact diffuse at {}.\n", fam,
+          at);
   }
   // Environments the table barely tells apart: the median relative difference of their rows.
   for (std::size_t i = 0; i < envs.size(); ++i)
@@ -794,9 +850,11 @@ Section bases(Tables& tables) {
             if (d > most) most = d, at = name + ", " + layer;
           }
       if (!diff.empty() && median(diff) < kSameEnvironment)
-        b += fmt::format("- {} and {}: their {} rows differ by a median {:.2g} % (max {:.2g} % at {}): the table barely tells them apart "
-                         "(see its text).\n",
-                         envs[i], envs[j], diff.size(), 100 * median(diff), 100 * most, at);
+        b += fmt::format(
+            "- {} and {}: their {} rows differ by a median {:.2g} % (max {:.2g} % at {}): the table barely tells them "
+            "apart "
+            "(see its text).\n",
+            envs[i], envs[j], diff.size(), 100 * median(diff), 100 * most, at);
     }
   b += "\nSources: " + t->source() + ".\n";
   return sec;
@@ -809,7 +867,8 @@ Section shaders(Tables& tables) {
   const Table* t = tables.get("shader_export.csv");
   if (!t) return sec;
   struct Export {
-    double instructions = NAN, error = NAN, ulps = NAN, compiles = 1, grid_bad = 0, stiff = 0, stiff_negative = 0, stiff_bad = 0;
+    double instructions = NAN, error = NAN, ulps = NAN, compiles = 1, grid_bad = 0, stiff = 0, stiff_negative = 0,
+           stiff_bad = 0;
   };
   std::vector<std::string> quantities, evaluators, languages;  // languages: the evaluators with a SPIR-V count
   std::map<std::string, std::vector<std::string>> methods;     // quantity → methods, in the table's order
@@ -818,7 +877,8 @@ Section shaders(Tables& tables) {
     const std::string& full = t->text(r, "method");
     const auto slash = full.find('/');
     if (slash == std::string::npos)
-      throw UsageError(fmt::format("recommend: {} line {}: method '{}' is not QUANTITY/METHOD", t->file, r.line, clip_text(full)));
+      throw UsageError(
+          fmt::format("recommend: {} line {}: method '{}' is not QUANTITY/METHOD", t->file, r.line, clip_text(full)));
     const std::string q = full.substr(0, slash), m = full.substr(slash + 1), e = t->text(r, "evaluator");
     remember(quantities, q);
     remember(methods[q], m);
@@ -843,12 +903,16 @@ Section shaders(Tables& tables) {
     return distinct.size() == 1 ? *distinct.begin() : fmt::format("{}", fmt::join(v, " / "));
   };
   std::string& b = sec.body;
-  b += fmt::format("Per quantity, every exported method: its max error against the quantity's reference ({}), the largest difference from "
-                   "sglab's own float evaluation in ulps, and the SPIR-V instruction count of the compiled shader — glslang's unoptimized "
-                   "count, a proxy for cost, not a cycle count. The fronts: max error against SPIR-V instructions, per language.\n",
-                   fmt::join(evaluators, ", "));
+  b += fmt::format(
+      "Per quantity, every exported method: its max error against the quantity's reference ({}), the largest "
+      "difference from "
+      "sglab's own float evaluation in ulps, and the SPIR-V instruction count of the compiled shader — glslang's "
+      "unoptimized "
+      "count, a proxy for cost, not a cycle count. The fronts: max error against SPIR-V instructions, per language.\n",
+      fmt::join(evaluators, ", "));
   std::string headline_quantity = quantities.empty() ? "" : quantities.front();
-  if (std::find(quantities.begin(), quantities.end(), "clamped-cosine") != quantities.end()) headline_quantity = "clamped-cosine";
+  if (std::find(quantities.begin(), quantities.end(), "clamped-cosine") != quantities.end())
+    headline_quantity = "clamped-cosine";
   for (const auto& q : quantities) {
     b += "\n**" + q + "**:\n\n| method | " + fmt::format("{}", fmt::join(evaluators, " max error | ")) + " max error |";
     for (const auto& l : languages) b += " " + l + " ulps | " + l + " SPIR-V |";
@@ -859,7 +923,8 @@ Section shaders(Tables& tables) {
       b += "| " + m + " |";
       for (const auto& e : evaluators) b += " " + (ex[q][m].count(e) ? g(ex[q][m][e].error) : "—") + " |";
       for (const auto& l : languages)
-        b += " " + (ex[q][m].count(l) ? count(ex[q][m][l].ulps) : "—") + " | " + (ex[q][m].count(l) ? count(ex[q][m][l].instructions) : "—") + " |";
+        b += " " + (ex[q][m].count(l) ? count(ex[q][m][l].ulps) : "—") + " | " +
+             (ex[q][m].count(l) ? count(ex[q][m][l].instructions) : "—") + " |";
       b += "\n";
     }
     // The export-only formulas (`filtering/…`: the filtering weights) answer different questions,
@@ -869,7 +934,8 @@ Section shaders(Tables& tables) {
     for (const auto& l : languages) {
       std::vector<Candidate> all;
       for (const auto& m : methods[q])
-        if (ex[q][m].count(l) && ex[q][m][l].compiles > 0) all.push_back({m, ex[q][m][l].instructions, ex[q][m][l].error});
+        if (ex[q][m].count(l) && ex[q][m][l].compiles > 0)
+          all.push_back({m, ex[q][m][l].instructions, ex[q][m][l].error});
       fronts[l] = pareto_front(all);
       b += "\n" + l + " front:\n\n" + front_text(fronts[l], "SPIR-V instructions", "max error", count);
     }
@@ -910,15 +976,19 @@ Section shaders(Tables& tables) {
     sec.headline = fmt::format("{}: paste {}", q, verdict);
     if (cheap != best) {
       const std::string c = describe(cheap);
-      sec.headline += fmt::format("; cheapest within max error {}: {}", g(kShaderTolerance), c.empty() ? "the languages disagree (see the fronts)" : c);
+      sec.headline += fmt::format("; cheapest within max error {}: {}", g(kShaderTolerance),
+                                  c.empty() ? "the languages disagree (see the fronts)" : c);
     }
     sec.headline += "; measured on lavapipe (a CPU), not a GPU";
   }
   b += "\nCaveats measured:\n\n";
   if (!languages.empty())
-    b += fmt::format("- The {} rows ran on lavapipe, Vulkan on the CPU (shader_export.md names the device), not on a GPU, whose exp, log and "
-                     "sqrt approximations may change the ulps; the SPIR-V counts are unoptimized and compare within a language only.\n",
-                     fmt::join(languages, " and "));
+    b += fmt::format(
+        "- The {} rows ran on lavapipe, Vulkan on the CPU (shader_export.md names the device), not on a GPU, whose "
+        "exp, log and "
+        "sqrt approximations may change the ulps; the SPIR-V counts are unoptimized and compare within a language "
+        "only.\n",
+        fmt::join(languages, " and "));
   for (const auto& q : quantities)
     for (const auto& m : methods[q]) {
       std::vector<std::string> notes;
@@ -928,17 +998,21 @@ Section shaders(Tables& tables) {
         const Export& x = ex[q][m][e];
         if (x.compiles <= 0) by_note["does not compile"].push_back(e);
         if (x.grid_bad > 0) by_note[fmt::format("{} NaN/Inf on the grid", count(x.grid_bad))].push_back(e);
-        if (x.stiff_negative > 0) by_note[fmt::format("{} negative of {} stiff points", count(x.stiff_negative), count(x.stiff))].push_back(e);
-        if (x.stiff_bad > 0) by_note[fmt::format("{} NaN/Inf of {} stiff points", count(x.stiff_bad), count(x.stiff))].push_back(e);
+        if (x.stiff_negative > 0)
+          by_note[fmt::format("{} negative of {} stiff points", count(x.stiff_negative), count(x.stiff))].push_back(e);
+        if (x.stiff_bad > 0)
+          by_note[fmt::format("{} NaN/Inf of {} stiff points", count(x.stiff_bad), count(x.stiff))].push_back(e);
       }
       for (const auto& [note, es] : by_note)
-        notes.push_back(es.size() == evaluators.size() ? note + " (every evaluator)" : fmt::format("{} ({})", note, fmt::join(es, ", ")));
+        notes.push_back(es.size() == evaluators.size() ? note + " (every evaluator)"
+                                                       : fmt::format("{} ({})", note, fmt::join(es, ", ")));
       // A shader whose max error is not sglab float's: the port's rounding shows at the error's size.
       if (ex[q][m].count("sglab float"))
         for (const auto& l : languages)
           if (ex[q][m].count(l) && g(ex[q][m][l].error) != g(ex[q][m]["sglab float"].error))
-            notes.push_back(fmt::format("{} max error {} against sglab float's {} ({} ulps apart)", l, g(ex[q][m][l].error),
-                                        g(ex[q][m]["sglab float"].error), count(ex[q][m][l].ulps)));
+            notes.push_back(fmt::format("{} max error {} against sglab float's {} ({} ulps apart)", l,
+                                        g(ex[q][m][l].error), g(ex[q][m]["sglab float"].error),
+                                        count(ex[q][m][l].ulps)));
       if (!notes.empty()) b += fmt::format("- {}/{}: {}.\n", q, m, fmt::join(notes, "; "));
     }
   // What `sglab export` refuses by name: the registry's methods of these quantities without a traced formula.
@@ -948,7 +1022,8 @@ Section shaders(Tables& tables) {
       for (const auto& m : reg->methods)
         if (!m.trace && m.name != reg->reference_method) refused.push_back(m.name);
       if (!refused.empty())
-        b += fmt::format("- {}: not exportable (`sglab export` refuses them by name, so they have no row): {}.\n", q, fmt::join(refused, ", "));
+        b += fmt::format("- {}: not exportable (`sglab export` refuses them by name, so they have no row): {}.\n", q,
+                         fmt::join(refused, ", "));
     }
   b += "\nSources: " + t->source() + ".\n";
   return sec;
@@ -958,35 +1033,42 @@ Section shaders(Tables& tables) {
 
 Result compute(const Options& o) {
   Result r;
-  r.provenance.command =
-      "sglab recommend" + runner::option_argument("--from", o.from, Options{}.from) +
-      (o.tables_dir.empty() ? runner::option_argument("--out", o.out, Options{}.out) : runner::option_argument("--tables-dir", o.tables_dir));
+  r.provenance.command = "sglab recommend" + runner::option_argument("--from", o.from, Options{}.from) +
+                         (o.tables_dir.empty() ? runner::option_argument("--out", o.out, Options{}.out)
+                                               : runner::option_argument("--tables-dir", o.tables_dir));
   // A --from that is not a directory, or holds none of the tables, is bad input: the report would
   // be all "no data" (it was written with exit status 0).
   std::error_code ec;
-  if (!fs::is_directory(o.from, ec)) throw UsageError(fmt::format("recommend: --from {} is not a directory", quote(o.from)));
+  if (!fs::is_directory(o.from, ec))
+    throw UsageError(fmt::format("recommend: --from {} is not a directory", quote(o.from)));
   Tables tables(o.from, r.missing);
   for (Section s : {diffuse(tables), hemispherical(tables), specular(tables), vsgl(tables), filtering(tables),
                     denoise(tables), environment(tables), bases(tables), shaders(tables)})
     if (!s.body.empty()) r.sections.push_back(std::move(s));
   if (r.sections.empty())
-    throw UsageError(fmt::format("recommend: --from {} holds none of the tables it reads (a full `sglab reproduce`'s: {}, …)",
-                                 quote(o.from), input_tables().front()));
+    throw UsageError(
+        fmt::format("recommend: --from {} holds none of the tables it reads (a full `sglab reproduce`'s: {}, …)",
+                    quote(o.from), input_tables().front()));
   return r;
 }
 
 std::string markdown(const Result& r) {
   std::string md =
       "# Recommendations: which method to ship\n\n"
-      "Read from the tables of a full `sglab reproduce` (each section names its tables and the command that wrote them): per "
-      "quantity, the Pareto front of error against cost (no method off it is both cheaper and more accurate), the choice per "
-      "cost budget, and the caveats the tables measured. Every number here is a table's, or the mean, median or maximum of a "
-      "table's rows where the text says so. Costs are CPU measures of this machine's run; compare within a table, not across.\n\n"
+      "Read from the tables of a full `sglab reproduce` (each section names its tables and the command that wrote "
+      "them): per "
+      "quantity, the Pareto front of error against cost (no method off it is both cheaper and more accurate), the "
+      "choice per "
+      "cost budget, and the caveats the tables measured. Every number here is a table's, or the mean, median or "
+      "maximum of a "
+      "table's rows where the text says so. Costs are CPU measures of this machine's run; compare within a table, not "
+      "across.\n\n"
       "## Headlines\n\n";
   for (const auto& s : r.sections) md += "- **" + s.title + "**: " + s.headline + "\n";
   for (const auto& s : r.sections) md += "\n## " + s.title + "\n\n" + s.body;
   if (!r.missing.empty())
-    md += fmt::format("\nNot present when this was generated (their sections are left out): {}.\n", fmt::join(r.missing, ", "));
+    md += fmt::format("\nNot present when this was generated (their sections are left out): {}.\n",
+                      fmt::join(r.missing, ", "));
   return md;
 }
 
@@ -1002,9 +1084,12 @@ namespace sglab::cli {
 
 void add_recommend_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<recommendations::Options>();
-  auto* sub = app.add_subcommand("recommend", "Which method to ship, per quantity: Pareto fronts and caveats read from the tables");
-  sub->add_option("--from", o->from, "directory of the tables to read (a full `sglab reproduce`'s)")->capture_default_str();
-  add_places_options(*sub, o->out, o->tables_dir, "directory for recommendations.md", "where recommendations.md goes (default: the --out directory)");
+  auto* sub = app.add_subcommand("recommend",
+                                 "Which method to ship, per quantity: Pareto fronts and caveats read from the tables");
+  sub->add_option("--from", o->from, "directory of the tables to read (a full `sglab reproduce`'s)")
+      ->capture_default_str();
+  add_places_options(*sub, o->out, o->tables_dir, "directory for recommendations.md",
+                     "where recommendations.md goes (default: the --out directory)");
   sub->callback([o, run] { recommendations::write(*o, runner::with_run(recommendations::compute(*o), run)); });
 }
 
@@ -1013,10 +1098,11 @@ void add_recommend_command(CLI::App& app, const runner::RunContext& run) {
 namespace sglab::experiments {
 
 Experiment recommendations_experiment() {
-  return {"recommend", "which method to ship, per quantity, from the tables (recommendations.md)", cli::add_recommend_command,
-          [](const Places& p) {
+  return {"recommend", "which method to ship, per quantity, from the tables (recommendations.md)",
+          cli::add_recommend_command, [](const Places& p) {
             Step s = sglab_step("recommend", "recommendations.md: Pareto fronts, budgets and caveats from every table",
-                                {"recommend", "--from", p.tables, "--out", p.out + "/recommendations"}, {}, "--tables-dir");
+                                {"recommend", "--from", p.tables, "--out", p.out + "/recommendations"}, {},
+                                "--tables-dir");
             for (const auto& f : cli::recommendations::input_tables()) s.reads.push_back(p.tables + "/" + f);
             return std::vector<Step>{s};
           }};

@@ -15,9 +15,9 @@
 namespace sglab::cli::recommendations {
 
 struct Options {
-  std::string from = "paper_tables";             // --from: the tables read
-  std::string out = "results/recommendations";   // --out
-  std::string tables_dir;                        // --tables-dir: where recommendations.md goes (default: --out)
+  std::string from = "paper_tables";            // --from: the tables read
+  std::string out = "results/recommendations";  // --out
+  std::string tables_dir;                       // --tables-dir: where recommendations.md goes (default: --out)
 };
 
 // The tables `compute` reads (file names in Options::from), every one of them: `sglab reproduce`

@@ -18,7 +18,8 @@ void add_experiment_commands(CLI::App& parent, std::string_view under, const run
 
 Step sglab_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args,
                 std::string tables_option, bool takes_constants) {
-  return {std::move(name), std::move(what), std::move(args), std::move(quick_args), false, std::move(tables_option), takes_constants};
+  return {std::move(name), std::move(what),          std::move(args), std::move(quick_args),
+          false,           std::move(tables_option), takes_constants};
 }
 
 Step timed(Step s) {

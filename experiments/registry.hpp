@@ -54,10 +54,11 @@ struct Step {
 Step timed(Step s);
 
 // A step running `sglab ARGS` (with QUICK_ARGS appended in a --quick run).
-Step sglab_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args = {},
-                std::string tables_option = "", bool takes_constants = false);
+Step sglab_step(std::string name, std::string what, std::vector<std::string> args,
+                std::vector<std::string> quick_args = {}, std::string tables_option = "", bool takes_constants = false);
 // A step running `python3 SCRIPT ARGS…` (a figure).
-Step plot_step(std::string name, std::string what, std::vector<std::string> args, std::vector<std::string> quick_args = {});
+Step plot_step(std::string name, std::string what, std::vector<std::string> args,
+               std::vector<std::string> quick_args = {});
 
 // `sglab render SCENE EXTRA… --out OUT/renders/BASE.exr --stats ….json --dump-csv ….csv --width W
 // --height H` (it takes the constant sets).
@@ -96,9 +97,9 @@ struct Experiment {
   X(near_wall)               \
   X(poster_plots)            \
   X(sweep_specular)          \
-  X(own_specular)             \
-  X(shader_export)            \
-  X(own_method)               \
+  X(own_specular)            \
+  X(shader_export)           \
+  X(own_method)              \
   X(recommendations)
 
 #define SGLAB_DECLARE_EXPERIMENT(name) Experiment name##_experiment();

@@ -38,16 +38,20 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
   app.add_option("--shadow-map", job.shadow_map, "shadow map resolution for direct light")->capture_default_str();
   app.add_option("--width", job.width, "image width (default: the scene's camera.width)");
   app.add_option("--height", job.height, "image height (default: the scene's camera.height)");
-  app.add_option("--set", job.overrides, "KEY=VALUE scene override, e.g. floor.roughness=0.1 or light.distance=0.05 (repeatable)");
+  app.add_option("--set", job.overrides,
+                 "KEY=VALUE scene override, e.g. floor.roughness=0.1 or light.distance=0.05 (repeatable)");
   app.add_option("--seed", job.seed, "seed of the VSGL importance sampling (fis, kmeans)")
       ->capture_default_str()
       ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
-  app.add_option("--kmeans-space", job.kmeans_space, "k-means clustering space: world (position + normal) or image (RSM texels)")
+  app.add_option("--kmeans-space", job.kmeans_space,
+                 "k-means clustering space: world (position + normal) or image (RSM texels)")
       ->capture_default_str()
       ->check(one_of({"world", "image"}, "k-means space"));
-  app.add_flag("--visibility", job.visibility,
-               "VSGL visibility from a cube shadow map at each mu_v (Tokuyoshi 2016); the reference ray-casts VPL visibility");
-  app.add_flag("--sg-cosine-a-pi", job.sg_cosine_a_is_pi, "with --diffuse sg-cosine: take A(λ_d) ≈ π as the 2015 poster does");
+  app.add_flag(
+      "--visibility", job.visibility,
+      "VSGL visibility from a cube shadow map at each mu_v (Tokuyoshi 2016); the reference ray-casts VPL visibility");
+  app.add_flag("--sg-cosine-a-pi", job.sg_cosine_a_is_pi,
+               "with --diffuse sg-cosine: take A(λ_d) ≈ π as the 2015 poster does");
   app.add_option("--precision", job.precision,
                  "arithmetic of the VPL-sum reference and of the diffuse method in VSGL shading: double, or float "
                  "(within 1e-5 relative L2 of double: docs/simd.md)")
@@ -58,15 +62,16 @@ void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl) {
       ->check(one_of({"double", "float"}, "precision"));
   add_constants_option(app, job.constants);
   // A repeated option takes its last value (so that a script can append an override).
-  for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed", "--kmeans-space",
-                           "--precision", "--reference-precision"})
+  for (const char* name : {"--vsgl", "--count", "--diffuse", "--rsm", "--shadow-map", "--width", "--height", "--seed",
+                           "--kmeans-space", "--precision", "--reference-precision"})
     if (auto* o = app.get_option_no_throw(name)) o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }
 
 nlohmann::json load_scene_document(const std::string& path, const std::vector<std::string>& overrides) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec)) throw UsageError(fmt::format("the scene {} is a directory, not a JSON file", quote(path)));
+  if (fs::is_directory(path, ec))
+    throw UsageError(fmt::format("the scene {} is a directory, not a JSON file", quote(path)));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UsageError(fmt::format("cannot open the scene file {}", quote(path)));
   std::ostringstream text;
@@ -95,11 +100,13 @@ render::Scene scene_from_document(const nlohmann::json& document, const RenderJo
     throw UsageError(fmt::format("{}: {}", job.scene_path, e.what()));
   }
   if (job.width) {
-    if (*job.width < 1 || *job.width > 16384) throw UsageError(fmt::format("--width {} is outside [1, 16384]", *job.width));
+    if (*job.width < 1 || *job.width > 16384)
+      throw UsageError(fmt::format("--width {} is outside [1, 16384]", *job.width));
     scene.camera.width = *job.width;
   }
   if (job.height) {
-    if (*job.height < 1 || *job.height > 16384) throw UsageError(fmt::format("--height {} is outside [1, 16384]", *job.height));
+    if (*job.height < 1 || *job.height > 16384)
+      throw UsageError(fmt::format("--height {} is outside [1, 16384]", *job.height));
     scene.camera.height = *job.height;
   }
   return scene;
@@ -112,7 +119,8 @@ render::Scene load_scene(const RenderJob& job) {
 render::RenderOptions render_options(const RenderJob& job) {
   render::RenderOptions o;
   const auto mode = render::parse_vsgl_mode(job.vsgl);
-  if (!mode) throw UsageError(fmt::format("--vsgl {} is not a VSGL mode (two, two-shared, fis, kmeans)", quote(job.vsgl)));
+  if (!mode)
+    throw UsageError(fmt::format("--vsgl {} is not a VSGL mode (two, two-shared, fis, kmeans)", quote(job.vsgl)));
   if (job.count < 1 || job.count > 65536) throw UsageError(fmt::format("--count {} is outside [1, 65536]", job.count));
   if (job.rsm < 1 || job.rsm > 4096) throw UsageError(fmt::format("--rsm {} is outside [1, 4096]", job.rsm));
   if (job.shadow_map < 1 || job.shadow_map > 16384)
@@ -130,7 +138,8 @@ render::RenderOptions render_options(const RenderJob& job) {
   if (job.precision != "float" && job.precision != "double")
     throw UsageError(fmt::format("--precision {} is neither float nor double", quote(job.precision)));
   if (!job.reference_precision.empty() && job.reference_precision != "float" && job.reference_precision != "double")
-    throw UsageError(fmt::format("--reference-precision {} is neither float nor double", quote(job.reference_precision)));
+    throw UsageError(
+        fmt::format("--reference-precision {} is neither float nor double", quote(job.reference_precision)));
   if (!job.reference_precision.empty())
     o.reference_precision = job.reference_precision == "float" ? render::Precision::single : render::Precision::double_;
   try {
@@ -191,13 +200,16 @@ void check_render_memory(const render::Scene& scene, const render::RenderOptions
   // ~400 B a pixel (G-buffer, four RGB layers in double and float, the EXR), ~256 B a VPL, 8 B a
   // shadow-map texel; the CSV dump ~140 B a pixel.
   const double bytes = pixels * (400 + (with_csv ? 140 : 0)) + rsm * 256 + shadow * 8;
-  runner::check_memory(bytes, fmt::format("a {}×{} render (RSM {}², shadow map {}²)", scene.camera.width, scene.camera.height,
-                                  options.rsm_resolution, options.shadow_map_resolution));
+  runner::check_memory(bytes, fmt::format("a {}×{} render (RSM {}², shadow map {}²)", scene.camera.width,
+                                          scene.camera.height, options.rsm_resolution, options.shadow_map_resolution));
 }
 
 void check_render_finite(const render::RenderResult& r) {
   const std::pair<const char*, const std::vector<render::Rgb>*> layers[] = {
-      {"direct", &r.direct}, {"indirect", &r.indirect}, {"indirect_reference", &r.indirect_reference}, {"error", &r.error}};
+      {"direct", &r.direct},
+      {"indirect", &r.indirect},
+      {"indirect_reference", &r.indirect_reference},
+      {"error", &r.error}};
   for (const auto& [name, layer] : layers)
     for (std::size_t k = 0; k < layer->size(); ++k)
       if (!(*layer)[k].allFinite())
@@ -207,12 +219,15 @@ void check_render_finite(const render::RenderResult& r) {
             name, k % std::size_t(r.width), k / std::size_t(r.width), (*layer)[k](0), (*layer)[k](1), (*layer)[k](2)));
   // Finite pixels whose squares overflow: the statistics would be written as inf or null.
   const auto& e = r.error_metrics;
-  for (const auto& [name, value] : {std::pair<const char*, double>{"rmse", e.rmse}, {"smape", e.smape},
-                                    {"relative_l2", e.relative_l2}, {"max_abs", e.max_abs}})
+  for (const auto& [name, value] : {std::pair<const char*, double>{"rmse", e.rmse},
+                                    {"smape", e.smape},
+                                    {"relative_l2", e.relative_l2},
+                                    {"max_abs", e.max_abs}})
     if (!std::isfinite(value))
-      throw UsageError(fmt::format("the error statistic {} of indirect against indirect_reference is {}: the scene's values "
-                                   "overflow double in it (e.g. light.power); nothing written",
-                                   name, value));
+      throw UsageError(
+          fmt::format("the error statistic {} of indirect against indirect_reference is {}: the scene's values "
+                      "overflow double in it (e.g. light.power); nothing written",
+                      name, value));
 }
 
 namespace {
@@ -256,8 +271,9 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
                {"kmeans_space", job.kmeans_space}};
   j["seed"] = st.seed;
   j["constants"] = render_constants_json(job);
-  j["seconds"] = {{"gbuffer", r.seconds.gbuffer}, {"shadow_map", r.seconds.shadow_map}, {"direct", r.seconds.direct},
-                  {"rsm", r.seconds.rsm},         {"vsgl", r.seconds.vsgl},             {"shading", r.seconds.shading},
+  j["seconds"] = {{"gbuffer", r.seconds.gbuffer},    {"shadow_map", r.seconds.shadow_map},
+                  {"direct", r.seconds.direct},      {"rsm", r.seconds.rsm},
+                  {"vsgl", r.seconds.vsgl},          {"shading", r.seconds.shading},
                   {"reference", r.seconds.reference}};
   j["speedup_vsgl_over_reference"] = vsgl_seconds > 0 ? r.seconds.reference / vsgl_seconds : 0.0;
   j["error"] = {{"rmse", r.error_metrics.rmse},
@@ -271,10 +287,11 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
   j["reference_precision"] = job.reference_precision.empty() ? job.precision : job.reference_precision;
   j["instruction_set"] = std::string(render::kernel_isa());  // sglab::simd::active_isa(): registry and renderer
   j["notes"] =
-      std::string(options.visibility
-                      ? "VSGL visibility V(y_p, mu_v) from a cube shadow map at each VSGL's mean (Tokuyoshi 2016 supplement "
-                        "4.1); VPL visibility by ray casting in the reference. "
-                      : "VSGL visibility ignored, as in the papers: every VSGL lights every shading point. ") +
+      std::string(
+          options.visibility
+              ? "VSGL visibility V(y_p, mu_v) from a cube shadow map at each VSGL's mean (Tokuyoshi 2016 supplement "
+                "4.1); VPL visibility by ray casting in the reference. "
+              : "VSGL visibility ignored, as in the papers: every VSGL lights every shading point. ") +
       "Reference: the exact sum over "
       "every VPL with the true BRDFs at both ends (Lambert + GGX·G2·Schlick), the same visibility assumption, 1/d² "
       "bounded as 1/(d² + r_i²) with r_i the VPL's footprint radius (reference.hpp). Times are wall-clock seconds on "

@@ -27,14 +27,14 @@ struct RenderJob {
   std::string diffuse = "tokuyoshi2024";
   int rsm = 64;
   int shadow_map = 1024;
-  std::optional<int> width, height;    // override the scene's camera size
+  std::optional<int> width, height;  // override the scene's camera size
   std::uint64_t seed = render::kDefaultVsglSeed;
-  bool sg_cosine_a_is_pi = false;  // --sg-cosine-a-pi: A(λ_d) ≈ π in sg-cosine shading
+  bool sg_cosine_a_is_pi = false;      // --sg-cosine-a-pi: A(λ_d) ≈ π in sg-cosine shading
   std::string kmeans_space = "world";  // --kmeans-space world | image
   bool visibility = false;             // --visibility: VSGL and VPL visibility (Tokuyoshi 2016 §4.1)
-  Constants constants;                 // --constants, read as parsed (constant_sets.hpp): λ_d and the diffuse method's constants
-  std::string precision = "double";    // --precision float | double: the renderer's vectorized loops (vpl.hpp Precision)
-  std::string reference_precision;     // --reference-precision float | double: the VPL sum alone (empty: --precision)
+  Constants constants;  // --constants, read as parsed (constant_sets.hpp): λ_d and the diffuse method's constants
+  std::string precision = "double";  // --precision float | double: the renderer's vectorized loops (vpl.hpp Precision)
+  std::string reference_precision;   // --reference-precision float | double: the VPL sum alone (empty: --precision)
 };
 
 // Adds the options every render-like command has (--vsgl … --seed) to `app`, bound to `job`.

@@ -78,7 +78,8 @@ std::string files_state(const std::vector<std::string>& command, const std::vect
       state += "file " + path + " " + file_fnv1a(path) + "\n";
       if (fs::path(path).extension() == ".json")
         for (const auto& f : cli::environment_files(path))
-          state += "environment " + f + " " + (fs::is_regular_file(f, ec) ? file_fnv1a(f) : std::string("missing")) + "\n";
+          state += "environment " + f + " " + (fs::is_regular_file(f, ec) ? file_fnv1a(f) : std::string("missing")) +
+                   "\n";
     }
   }
   return state;
@@ -99,7 +100,8 @@ Snapshot snapshot(const std::vector<std::string>& roots, const std::vector<std::
   for (const auto& root : roots) {
     std::error_code ec;
     if (!fs::is_directory(root, ec)) continue;
-    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec))
+    for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec))
       if (it->is_regular_file(ec) && !excluded(it->path().string()))
         out[it->path().string()] = {it->file_size(ec), it->last_write_time(ec)};
   }
@@ -237,8 +239,13 @@ namespace {
 class StepRun {
  public:
   StepRun(const ReproduceOptions& o, const SglabRunner& run_sglab, const Places& p, const std::vector<Step>& all)
-      : o_(o), run_sglab_(run_sglab), p_(p), all_(all), markers_(std::filesystem::path(p.out) / ".steps"),
-        times_csv_(std::filesystem::path(p.out) / "reproduce_times.csv"), figures_{p.key_figures(), p.out + "/figures"} {
+      : o_(o),
+        run_sglab_(run_sglab),
+        p_(p),
+        all_(all),
+        markers_(std::filesystem::path(p.out) / ".steps"),
+        times_csv_(std::filesystem::path(p.out) / "reproduce_times.csv"),
+        figures_{p.key_figures(), p.out + "/figures"} {
     std::filesystem::create_directories(markers_);
     command_ = "sglab reproduce";
     if (o.quick) command_ += " --quick";
@@ -254,7 +261,8 @@ class StepRun {
     const std::filesystem::path marker = markers_ / (s.name + ".done");
     if (!o_.force && done_earlier(marker, line, args, s.reads)) {
       const std::lock_guard guard(lock_);
-      std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all_.size(), s.name.c_str(), line.c_str());
+      std::fprintf(stderr, "reproduce [%zu/%zu] %s: done earlier, skipped (%s)\n", k + 1, all_.size(), s.name.c_str(),
+                   line.c_str());
       ++skipped_;
       times_.add(s.name, "skipped", -1, -1);
       return;
@@ -278,8 +286,10 @@ class StepRun {
     const double cpu = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN) - cpu_start;
     times_.add("total", "", wall, cpu);
     times_.write(times_csv_, command_, o_.quick);
-    std::printf("reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in %s\n",
-                done_, skipped_, wall, cpu, p_.out.c_str(), p_.tables.c_str(), times_csv_.string().c_str());
+    std::printf(
+        "reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in "
+        "%s\n",
+        done_, skipped_, wall, cpu, p_.out.c_str(), p_.tables.c_str(), times_csv_.string().c_str());
   }
 
  private:
@@ -290,11 +300,13 @@ class StepRun {
 
   // Runs step k and records its marker and times. What each kind of step writes: the plots only
   // figures, the sglab steps everything else, so that steps running side by side keep apart.
-  void run(std::size_t k, const std::vector<std::string>& args, const std::string& line, const std::filesystem::path& marker) {
+  void run(std::size_t k, const std::vector<std::string>& args, const std::string& line,
+           const std::filesystem::path& marker) {
     const Step& s = all_[k];
     {
       const std::lock_guard guard(lock_);
-      std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all_.size(), s.name.c_str(), s.what.c_str(), line.c_str());
+      std::fprintf(stderr, "reproduce [%zu/%zu] %s: %s\n  $ %s\n", k + 1, all_.size(), s.name.c_str(), s.what.c_str(),
+                   line.c_str());
     }
     const auto t0 = std::chrono::steady_clock::now();
     // The step times are written by either thread at any time: nobody's output.
@@ -320,7 +332,8 @@ class StepRun {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::lock_guard guard(lock_);
     ++done_;
-    std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all_.size(), s.name.c_str(), wall, cpu);
+    std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all_.size(),
+                 s.name.c_str(), wall, cpu);
     times_.add(s.name, s.python ? "run beside" : "run", wall, cpu);
     times_.write(times_csv_, command_, o_.quick);
   }
@@ -345,7 +358,8 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
   const Places p = reproduce_places(o);
   const auto all = all_steps(p);
   if (o.list) {  // the steps of this mode and their command lines; nothing is run or written
-    for (const auto& s : all) std::printf("%s\t%s%s\n", s.name.c_str(), s.python ? "python3 " : "sglab ", join(step_args(s, o, p)).c_str());
+    for (const auto& s : all)
+      std::printf("%s\t%s%s\n", s.name.c_str(), s.python ? "python3 " : "sglab ", join(step_args(s, o, p)).c_str());
     return;
   }
   std::vector<std::string> names;
@@ -355,7 +369,8 @@ void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
     // The steps are too many to list in a bounded message: the closest one, and where the list is.
     const std::string near = runner::closest_name(name, names);
     throw runner::InputError("reproduce: --only: unknown step '" + clip_text(name) + "' (" +
-                             (near.empty() ? "" : "did you mean '" + near + "'?; ") + "`sglab reproduce --list` lists the steps)");
+                             (near.empty() ? "" : "did you mean '" + near + "'?; ") +
+                             "`sglab reproduce --list` lists the steps)");
   }
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN);

@@ -29,8 +29,8 @@ const char* const kTable = "shader_export";
 const std::vector<std::string> kEvaluators = {"sglab float", "c", "glsl", "hlsl"};
 
 bool is_diffuse(const Quantity& q) {
-  return q.columns.size() == 2 && q.columns[0].kind == ColumnKind::sharpness && q.columns[1].kind == ColumnKind::cosine &&
-         !q.reference_method.empty();
+  return q.columns.size() == 2 && q.columns[0].kind == ColumnKind::sharpness &&
+         q.columns[1].kind == ColumnKind::cosine && !q.reference_method.empty();
 }
 bool is_specular(const Quantity& q) { return q.name == "specular"; }
 // The export-only filtering weights (shader::export_only_quantities): each against the same
@@ -56,7 +56,7 @@ struct Grids {
   std::size_t arity = 0;
   std::vector<float> rows;  // error grid, then stiff grid; `arity` floats a row
   std::size_t grid_points = 0, stiff_points = 0;
-  std::vector<double> args;  // per error-grid point, as the float inputs, in double (arity each)
+  std::vector<double> args;           // per error-grid point, as the float inputs, in double (arity each)
   std::vector<std::size_t> scale_of;  // per error-grid point: the index of the point whose reference is its scale
   // The error is relative to each point's own reference (the filtering weights), and points whose
   // reference is below FLT_MIN (an underflowed weight) are left out of the error and the ulps.
@@ -135,7 +135,8 @@ Grids filtering_grids(bool lobe, bool quick) {
   g.relative = true;
   const double pi = 3.14159265358979323846, inf = std::numeric_limits<double>::infinity();
   const double fmax = double(std::numeric_limits<float>::max());
-  const std::vector<double> thetas = quick ? std::vector<double>{0.0, 1.2, pi / 2} : std::vector<double>{0.0, 0.5, 1.2, pi / 2 - 1e-3, pi / 2};
+  const std::vector<double> thetas = quick ? std::vector<double>{0.0, 1.2, pi / 2}
+                                           : std::vector<double>{0.0, 0.5, 1.2, pi / 2 - 1e-3, pi / 2};
   const std::vector<double> deltas = quick ? std::vector<double>{0.0, 1e-3, 0.3, 2.0}
                                            : std::vector<double>{0.0, 1e-3, 0.01, 0.1, 0.3, 1.0, 2.0, pi};
   std::vector<AxisPair> pairs;
@@ -152,7 +153,8 @@ Grids filtering_grids(bool lobe, bool quick) {
       for (double x : row) g.rows.push_back(float(x));
     }
   };
-  const std::vector<double> ls = quick ? std::vector<double>{0.1, 10.0, 1e4} : std::vector<double>{0.1, 1.0, 10.0, 100.0, 1e3, 1e4};
+  const std::vector<double> ls = quick ? std::vector<double>{0.1, 10.0, 1e4}
+                                       : std::vector<double>{0.1, 1.0, 10.0, 100.0, 1e3, 1e4};
   const std::vector<double> betas = quick ? std::vector<double>{1.0, 20.0} : std::vector<double>{1.0, 20.0, 100.0};
   const std::vector<double> kappas = quick ? std::vector<double>{100.0} : std::vector<double>{10.0, 100.0, 1e3};
   const std::vector<double> variances = {0.01, 0.05404477, 0.5, 2.0};
@@ -172,9 +174,9 @@ Grids filtering_grids(bool lobe, bool quick) {
   g.grid_points = g.args.size() / g.arity;
   // Stiff: coincident (bit-identical), nearly coincident (1e-7 rad), orthogonal, opposite, and
   // axes in or just off the horizontal plane.
-  std::vector<AxisPair> stiff_pairs = {axes_at(0.7, 0.0, 0.3), axes_at(0.7, 1e-7, 0.3), axes_at(0.7, pi / 2, 0.3),
-                                       axes_at(0.7, pi, 0.3),  axes_at(pi / 2, 0.0, 1.1), axes_at(pi / 2, 1e-8, 1.1),
-                                       axes_at(pi / 2, -1e-8, 1.1), axes_at(pi / 2, pi, 1.1)};
+  std::vector<AxisPair> stiff_pairs = {
+      axes_at(0.7, 0.0, 0.3),    axes_at(0.7, 1e-7, 0.3),    axes_at(0.7, pi / 2, 0.3),   axes_at(0.7, pi, 0.3),
+      axes_at(pi / 2, 0.0, 1.1), axes_at(pi / 2, 1e-8, 1.1), axes_at(pi / 2, -1e-8, 1.1), axes_at(pi / 2, pi, 1.1)};
   const std::vector<double> stiff_ls = {0.0, 1e-8, 1.0, 1e8, 1e20, 1e30, fmax};
   for (const auto& p : stiff_pairs) {
     if (lobe) {
@@ -235,9 +237,10 @@ Result compute(const Options& o) {
   const Grids diffuse = diffuse_grids(o.quick);
   r.grid = fmt::format("error-vs-time's diffuse grid{} ({} points, inputs rounded to float)", o.quick ? " (quick)" : "",
                        diffuse.grid_points);
-  r.stiff = fmt::format("λ ∈ {{0, 1e-8 … 1e8 (2 per decade), 1e10 … 1e35, FLT_MAX}} × the stiff cosines (±1 and the float/double "
-                        "steps around them, 0, ±1e-8, 15 interior values): {} points, those in each method's domain",
-                        diffuse.stiff_points);
+  r.stiff = fmt::format(
+      "λ ∈ {{0, 1e-8 … 1e8 (2 per decade), 1e10 … 1e35, FLT_MAX}} × the stiff cosines (±1 and the float/double "
+      "steps around them, 0, ±1e-8, 15 interior values): {} points, those in each method's domain",
+      diffuse.stiff_points);
   std::optional<Grids> specular;
   // The references of a quantity's grid, computed once (the specular one is a 2D quadrature).
   std::map<std::string, std::vector<double>> quantity_reference;
@@ -255,13 +258,15 @@ Result compute(const Options& o) {
       specular = specular_grids(q, o.quick);
       r.specular_grid = fmt::format("error-vs-time's specular grid{} ({} points, inputs rounded to float)",
                                     o.quick ? " (quick)" : "", specular->grid_points);
-      r.specular_stiff = fmt::format("the stability atlas's grid of `specular`{} ({} points; rows with a value past FLT_MAX left out)",
-                                     o.quick ? " (quick)" : "", specular->stiff_points);
+      r.specular_stiff = fmt::format(
+          "the stability atlas's grid of `specular`{} ({} points; rows with a value past FLT_MAX left out)",
+          o.quick ? " (quick)" : "", specular->stiff_points);
     }
     std::optional<Grids> own_grids;
     if (is_filtering(q)) {
       own_grids = filtering_grids(m.name == "lobe-weight", o.quick);
-      r.filtering_grids.push_back(fmt::format("`{}`: {} error points, {} stiff points", name, own_grids->grid_points, own_grids->stiff_points));
+      r.filtering_grids.push_back(
+          fmt::format("`{}`: {} error points, {} stiff points", name, own_grids->grid_points, own_grids->stiff_points));
     }
     const Grids& g = own_grids ? *own_grids : is_specular(q) ? *specular : diffuse;
     std::vector<double> reference(g.grid_points), scale(g.grid_points);
@@ -269,9 +274,11 @@ Result compute(const Options& o) {
       // The same template in double on the float inputs.
       const Method bound_ref = bind(m, set);
       for (std::size_t k = 0; k < g.grid_points; ++k) reference[k] = bound_ref.eval_double(g.point(k));
-    } else if (const Method& refm = *q.find(q.reference_method); m.name == "vmf-tokuyoshi2024" || !quantity_reference.count(q.name)) {
+    } else if (const Method& refm = *q.find(q.reference_method);
+               m.name == "vmf-tokuyoshi2024" || !quantity_reference.count(q.name)) {
       std::fprintf(stderr, "shader-export: the reference of %s (%zu points)\n", name.c_str(), g.grid_points);
-      tbb::parallel_for(std::size_t(0), g.grid_points, [&](std::size_t k) { reference[k] = reference_for(m, refm, g.point(k)); });
+      tbb::parallel_for(std::size_t(0), g.grid_points,
+                        [&](std::size_t k) { reference[k] = reference_for(m, refm, g.point(k)); });
       if (m.name != "vmf-tokuyoshi2024") quantity_reference[q.name] = reference;
     } else {
       reference = quantity_reference[q.name];
@@ -280,7 +287,8 @@ Result compute(const Options& o) {
     const Method bound = bind(m, set);
     const std::size_t n = g.rows.size() / g.arity;
     std::vector<float> sglab_float(n);
-    for (std::size_t k = 0; k < n; ++k) sglab_float[k] = bound.eval_float(std::span<const float>(&g.rows[g.arity * k], g.arity));
+    for (std::size_t k = 0; k < n; ++k)
+      sglab_float[k] = bound.eval_float(std::span<const float>(&g.rows[g.arity * k], g.arity));
     const shader::TracedMethod traced = shader::trace_method(q, m, set);
     for (const auto& evaluator : kEvaluators) {
       Row row;
@@ -294,7 +302,8 @@ Result compute(const Options& o) {
         } else {
           const shader::Language lang = *shader::parse_language(evaluator);
           const shader::TracedMethod* one = &traced;
-          const std::string src = shader::emit(std::span(one, 1), lang, "sglab export " + name + " --lang " + evaluator);
+          const std::string src = shader::emit(std::span(one, 1), lang,
+                                               "sglab export " + name + " --lang " + evaluator);
           if (lang == shader::Language::c) {
             v = shader::run_c(src, traced, g.rows);
           } else {
@@ -316,59 +325,74 @@ Result compute(const Options& o) {
 
 Tables tables(const Result& r) {
   Tables t;
-  t.csv = "method,evaluator,compiles,spirv_instructions,max_error,max_ulps_vs_sglab_float,grid_non_finite,stiff_points,"
-          "stiff_negatives,stiff_non_finite\n";
+  t.csv =
+      "method,evaluator,compiles,spirv_instructions,max_error,max_ulps_vs_sglab_float,grid_non_finite,stiff_points,"
+      "stiff_negatives,stiff_non_finite\n";
   t.markdown = fmt::format(
       "# Exported shader code, compiled and run\n\n"
-      "Every exportable method (`sglab export QUANTITY/METHOD --lang L`) as C, GLSL and HLSL, in float: the C compiled by "
+      "Every exportable method (`sglab export QUANTITY/METHOD --lang L`) as C, GLSL and HLSL, in float: the C compiled "
+      "by "
       "`cc -O2` and loaded, the GLSL and HLSL compiled to SPIR-V by glslang (HLSL by its HLSL front end), validated by "
-      "spirv-val, and run as a Vulkan compute shader on **{}**. The row `sglab float` is sglab's own float evaluation of "
+      "spirv-val, and run as a Vulkan compute shader on **{}**. The row `sglab float` is sglab's own float evaluation "
+      "of "
       "the same formula, for comparison.\n\n"
       "- max error: max |value − reference| / reference at c = 1 on {}; the reference is the quantity's quadrature "
-      "(hemispherical/vmf-tokuyoshi2024: H/A(λ), the normalized quantity that method returns). NaN/Inf there are counted "
+      "(hemispherical/vmf-tokuyoshi2024: H/A(λ), the normalized quantity that method returns). NaN/Inf there are "
+      "counted "
       "apart (`grid NaN`).{}\n"
       "- ulps: max |value − sglab float| on the same grid, in float units in the last place of the larger of sglab "
-      "float's value and the reference at c = 1 (`specular`: with the light at the mirror direction; raw ulps near zero, "
+      "float's value and the reference at c = 1 (`specular`: with the light at the mirror direction; raw ulps near "
+      "zero, "
       "in the back-facing tail, would count differences far below the value's scale).\n"
-      "- SPIR-V: instructions of the exported function and its helpers as glslang emits them, unoptimized, less those of "
+      "- SPIR-V: instructions of the exported function and its helpers as glslang emits them, unoptimized, less those "
+      "of "
       "the same compute entry point around an identity function — a cost proxy, not a cycle count.\n"
       "- stiff: outputs < 0 and NaN/Inf on {}.{}\n"
       "{}\n"
       "lavapipe evaluates exp, log, sqrt, sin and cos with LLVM's CPU code, not a GPU's hardware approximations: on a "
-      "GPU the ulps (and the helpers' accuracy, which rests on exp and log) may differ. The GLSL and HLSL arithmetic is "
-      "`precise` (SPIR-V NoContraction: evaluated as written, no reassociation or fused multiply-add). The C uses the C "
+      "GPU the ulps (and the helpers' accuracy, which rests on exp and log) may differ. The GLSL and HLSL arithmetic "
+      "is "
+      "`precise` (SPIR-V NoContraction: evaluated as written, no reassociation or fused multiply-add). The C uses the "
+      "C "
       "library's expm1f, erff, erfcf, sinf and cosf (the functions sglab's float path calls); GLSL and HLSL lack the "
       "first three and get helpers written into the code (docs/export.md).\n\n"
-      "| method | evaluator | compiles | SPIR-V instr. | max error | max diff. from sglab float (ulps) | grid NaN | stiff neg | stiff NaN/Inf |\n"
+      "| method | evaluator | compiles | SPIR-V instr. | max error | max diff. from sglab float (ulps) | grid NaN | "
+      "stiff neg | stiff NaN/Inf |\n"
       "|---|---|---|---|---|---|---|---|---|\n",
       r.device, r.grid,
-      r.specular_grid.empty() ? std::string()
-                              : fmt::format(" `specular`: max |value − reference| / reference with the light at the mirror "
-                                            "direction (the peak) for the same α, λ and view, on {}; the reference is its "
-                                            "2D quadrature.",
-                                            r.specular_grid),
+      r.specular_grid.empty()
+          ? std::string()
+          : fmt::format(" `specular`: max |value − reference| / reference with the light at the mirror "
+                        "direction (the peak) for the same α, λ and view, on {}; the reference is its "
+                        "2D quadrature.",
+                        r.specular_grid),
       r.stiff, r.specular_stiff.empty() ? std::string() : fmt::format(" `specular`: on {}.", r.specular_stiff),
       r.filtering_grids.empty()
           ? std::string()
-          : fmt::format("- `filtering/…` (the filtering weights of Tokuyoshi 2015 (lobe-aware filtering), App. E and D; not "
-                        "registry quantities, `sglab export` names them): max error is |value − w| / w against the same "
-                        "template evaluated in double on the float inputs (w < FLT_MIN, an underflowed weight, left out of the "
-                        "error and the ulps), ulps are of the value itself; the error grid has sharpness 0.1 … 1e4, β 1 … 100, "
-                        "κ 10 … 1e3 (σ_n² 0.01 … 2) and axes 0 … π apart from the pole to the horizon, the stiff grid coincident, "
-                        "nearly coincident, orthogonal, opposite and grazing axes with sharpness 0 … FLT_MAX, β 0 … 1e4, κ 1e-8 … +∞ "
-                        "(σ_n² 0 … FLT_MAX): {}.\n",
-                        fmt::join(r.filtering_grids, "; ")));
+          : fmt::format(
+                "- `filtering/…` (the filtering weights of Tokuyoshi 2015 (lobe-aware filtering), App. E and D; not "
+                "registry quantities, `sglab export` names them): max error is |value − w| / w against the same "
+                "template evaluated in double on the float inputs (w < FLT_MIN, an underflowed weight, left out of the "
+                "error and the ulps), ulps are of the value itself; the error grid has sharpness 0.1 … 1e4, β 1 … 100, "
+                "κ 10 … 1e3 (σ_n² 0.01 … 2) and axes 0 … π apart from the pole to the horizon, the stiff grid "
+                "coincident, "
+                "nearly coincident, orthogonal, opposite and grazing axes with sharpness 0 … FLT_MAX, β 0 … 1e4, κ "
+                "1e-8 … +∞ "
+                "(σ_n² 0 … FLT_MAX): {}.\n",
+                fmt::join(r.filtering_grids, "; ")));
   for (const Row& w : r.rows) {
     const std::string instr = w.instructions >= 0 ? std::to_string(w.instructions) : "—";
     const std::string compiles = w.evaluator == "sglab float" ? "—" : w.compiles ? "yes" : "**no**";
-    t.csv += fmt::format("{},{},{},{},{:.6e},{},{},{},{},{}\n", w.method, w.evaluator, w.compiles ? 1 : 0, w.instructions,
-                         w.max_error, w.max_ulps, w.grid_non_finite, w.stiff_points, w.stiff_negatives, w.stiff_non_finite);
+    t.csv += fmt::format("{},{},{},{},{:.6e},{},{},{},{},{}\n", w.method, w.evaluator, w.compiles ? 1 : 0,
+                         w.instructions, w.max_error, w.max_ulps, w.grid_non_finite, w.stiff_points, w.stiff_negatives,
+                         w.stiff_non_finite);
     if (!w.compiles) {
       t.markdown += fmt::format("| {} | {} | **no** | — | — | — | — | — | — |\n", w.method, w.evaluator);
       continue;
     }
-    t.markdown += fmt::format("| {} | {} | {} | {} | {:.3e} | {:.0f} | {} | {} | {} |\n", w.method, w.evaluator, compiles, instr,
-                              w.max_error, w.max_ulps, w.grid_non_finite, w.stiff_negatives, w.stiff_non_finite);
+    t.markdown += fmt::format("| {} | {} | {} | {} | {:.3e} | {:.0f} | {} | {} | {} |\n", w.method, w.evaluator,
+                              compiles, instr, w.max_error, w.max_ulps, w.grid_non_finite, w.stiff_negatives,
+                              w.stiff_non_finite);
   }
   if (!r.not_exportable.empty()) {
     t.markdown += "\nNot exportable (`sglab export` refuses them with exit status 2 and this reason):\n\n";
@@ -393,16 +417,18 @@ namespace sglab::cli {
 
 void add_shader_export_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<shader_export::Options>();
-  auto* sub = app.add_subcommand("shader-export",
-                                 "Every exportable method as C, GLSL and HLSL, compiled and run (Vulkan, lavapipe) against "
-                                 "the reference and sglab float");
+  auto* sub = app.add_subcommand(
+      "shader-export",
+      "Every exportable method as C, GLSL and HLSL, compiled and run (Vulkan, lavapipe) against "
+      "the reference and sglab float");
   sub->add_option("--tables-dir", o->tables_dir, "directory for shader_export.{md,csv}")->capture_default_str();
   sub->add_flag("--quick", o->quick, "the quick diffuse grid");
   add_constants_option(*sub, o->constants);
   sub->callback([o, run] {
-    runner::check_output_paths({{"--tables-dir (shader_export.md)", std::filesystem::path(o->tables_dir) / "shader_export.md"},
-                        {"--tables-dir (shader_export.csv)", std::filesystem::path(o->tables_dir) / "shader_export.csv"}},
-                       {});
+    runner::check_output_paths(
+        {{"--tables-dir (shader_export.md)", std::filesystem::path(o->tables_dir) / "shader_export.md"},
+         {"--tables-dir (shader_export.csv)", std::filesystem::path(o->tables_dir) / "shader_export.csv"}},
+        {});
     shader_export::write(*o, runner::with_run(shader_export::compute(*o), run));
   });
 }
@@ -412,9 +438,10 @@ void add_shader_export_command(CLI::App& app, const runner::RunContext& run) {
 namespace sglab::experiments {
 
 std::vector<Step> shader_export_steps(const Places&) {
-  return {sglab_step("shader-export",
-                     "every exportable method as C, GLSL and HLSL, compiled and run on lavapipe (paper_tables/shader_export.*)",
-                     {"shader-export"}, {"--quick"}, "--tables-dir")};
+  return {sglab_step(
+      "shader-export",
+      "every exportable method as C, GLSL and HLSL, compiled and run on lavapipe (paper_tables/shader_export.*)",
+      {"shader-export"}, {"--quick"}, "--tables-dir")};
 }
 
 Experiment shader_export_experiment() {

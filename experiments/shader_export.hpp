@@ -17,7 +17,7 @@ namespace sglab::cli::shader_export {
 
 struct Options {
   std::string tables_dir = "results/shader_export";
-  bool quick = false;                  // the quick diffuse grid
+  bool quick = false;   // the quick diffuse grid
   Constants constants;  // --constants (constant_sets.hpp): exported with the set's values
 };
 
@@ -26,11 +26,11 @@ struct Row {
   std::string method;  // "clamped-cosine/tokuyoshi2024"
   std::string evaluator;
   bool compiles = true;
-  std::string error;              // why it did not compile or run
-  long instructions = -1;         // SPIR-V instructions of the exported functions (shaders only)
-  double max_error = 0;           // max |value − reference| / reference at c = 1, error grid
-  double max_ulps = 0;            // max |value − sglab float| in float ulps of max(|sglab float|, reference at c = 1), error grid
-  long grid_non_finite = 0;       // NaN/Inf on the error grid
+  std::string error;       // why it did not compile or run
+  long instructions = -1;  // SPIR-V instructions of the exported functions (shaders only)
+  double max_error = 0;    // max |value − reference| / reference at c = 1, error grid
+  double max_ulps = 0;  // max |value − sglab float| in float ulps of max(|sglab float|, reference at c = 1), error grid
+  long grid_non_finite = 0;                                          // NaN/Inf on the error grid
   long stiff_negatives = 0, stiff_non_finite = 0, stiff_points = 0;  // the stiff grid
 };
 
@@ -42,8 +42,8 @@ struct NotExportable {
 
 struct Result {
   runner::Provenance provenance;
-  std::string device;         // the Vulkan device the shaders ran on
-  std::string grid, stiff;    // descriptions of the diffuse quantities' two grids
+  std::string device;                         // the Vulkan device the shaders ran on
+  std::string grid, stiff;                    // descriptions of the diffuse quantities' two grids
   std::string specular_grid, specular_stiff;  // the same for `specular` ("" when not measured)
   std::vector<std::string> filtering_grids;   // the filtering weights' grids, one line per weight
   std::vector<Row> rows;
@@ -51,7 +51,8 @@ struct Result {
 };
 
 // Measures every exportable method of a (sharpness, cosine) quantity with a reference, of
-// `specular` and the filtering weights (runner::InputError for a bad constant set; std::runtime_error when no Vulkan device exists).
+// `specular` and the filtering weights (runner::InputError for a bad constant set; std::runtime_error when no Vulkan
+// device exists).
 Result compute(const Options& o);
 
 struct Tables {

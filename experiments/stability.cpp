@@ -27,7 +27,7 @@ namespace {
 
 struct Options {
   std::string out_dir = "results/stability";
-  std::string tables_dir;  // --tables; empty: the --out directory
+  std::string tables_dir;         // --tables; empty: the --out directory
   std::vector<std::string> only;  // quantity names; empty: all
   bool quick = false;
   Constants constants;  // --constants (constant_sets.hpp)
@@ -43,7 +43,8 @@ std::vector<std::filesystem::path> checked_outputs(const Options& o) {
     if (!find_quantity(name)) {
       throw UsageError("stability: " + runner::unknown_name_message("quantity", name, quantity_names()));
     }
-  for (const auto& [option, dir] : {std::pair{"--out", o.out_dir}, std::pair{"--tables", o.tables_dir.empty() ? o.out_dir : o.tables_dir}})
+  for (const auto& [option, dir] :
+       {std::pair{"--out", o.out_dir}, std::pair{"--tables", o.tables_dir.empty() ? o.out_dir : o.tables_dir}})
     for (fs::path p = dir; !p.empty(); p = p.parent_path()) {  // the deepest existing one must be a directory
       std::error_code ec;
       if (fs::exists(p, ec)) {
@@ -55,11 +56,12 @@ std::vector<std::filesystem::path> checked_outputs(const Options& o) {
     }
   const fs::path out(o.out_dir), tables = runner::tables_place(o.tables_dir, o.out_dir);
   const std::vector<runner::NamedPath> outputs{{"--out", out / "stability_cells.csv"},
-                                       {"--tables", tables / "stability.csv"},
-                                       {"--tables", tables / "stability.md"},
-                                       {"--out", out / "stability.csv"},
-                                       {"--out", out / "stability.md"}};
-  runner::check_output_paths(o.tables_dir.empty() ? std::vector<runner::NamedPath>(outputs.begin(), outputs.begin() + 3) : outputs, {});
+                                               {"--tables", tables / "stability.csv"},
+                                               {"--tables", tables / "stability.md"},
+                                               {"--out", out / "stability.csv"},
+                                               {"--out", out / "stability.md"}};
+  runner::check_output_paths(
+      o.tables_dir.empty() ? std::vector<runner::NamedPath>(outputs.begin(), outputs.begin() + 3) : outputs, {});
   std::vector<fs::path> paths;
   for (const auto& n : outputs) paths.push_back(n.path);
   return paths;
@@ -70,7 +72,8 @@ std::string command_line(const Options& o) {
   for (const auto& n : o.only) command += " --quantity " + n;
   if (o.quick) command += " --quick";
   for (const auto& a : constants_arguments(o.constants)) command += " " + a;
-  return command + (o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir) : runner::option_argument("--tables", o.tables_dir));
+  return command + (o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir)
+                                         : runner::option_argument("--tables", o.tables_dir));
 }
 
 // Computes the atlas and commits its five outputs as one set: none is replaced unless all were
@@ -92,8 +95,8 @@ void write(const Options& o, const runner::RunContext& run) {
   const std::string command = command_line(o);
   const std::string csv = atlas::summary_csv(result);
   const runner::Provenance provenance{command, o.quick || run.quick};
-  const std::string md =
-      runner::markdown_header(provenance) + atlas::markdown(result, constants_text(options.constants, uses, "- "));
+  const std::string md = runner::markdown_header(provenance) +
+                         atlas::markdown(result, constants_text(options.constants, uses, "- "));
   runner::OutputSet outputs;
   outputs.add(paths[0], atlas::cells_csv(result));
   outputs.add(paths[1], runner::csv_header(provenance) + csv);
@@ -105,7 +108,9 @@ void write(const Options& o, const runner::RunContext& run) {
   outputs.commit();
   std::size_t methods = 0;
   for (const auto& q : result.quantities) methods += q.methods.size();
-  std::fprintf(stderr, "stability: %zu quantities, %zu methods, %.1f s; wrote %s/stability{.csv,_cells.csv,.md} and %s/stability.{md,csv}\n",
+  std::fprintf(stderr,
+               "stability: %zu quantities, %zu methods, %.1f s; wrote %s/stability{.csv,_cells.csv,.md} and "
+               "%s/stability.{md,csv}\n",
                result.quantities.size(), methods, result.seconds, o.out_dir.c_str(), paths[1].parent_path().c_str());
 }
 
@@ -113,12 +118,15 @@ void write(const Options& o, const runner::RunContext& run) {
 
 void add_stability_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<Options>();
-  auto* sub = app.add_subcommand("stability",
-                                 "Stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method over the stiff inputs");
-  add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for stability.csv, stability_cells.csv, stability.md",
+  auto* sub = app.add_subcommand(
+      "stability",
+      "Stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method over the stiff inputs");
+  add_places_options(*sub, opts->out_dir, opts->tables_dir,
+                     "directory for stability.csv, stability_cells.csv, stability.md",
                      "directory for stability.{md,csv} (default: the --out directory)", "--tables");
   add_constants_option(*sub, opts->constants);
-  sub->add_option("--quantity", opts->only, "only these quantities (repeatable; default: all)")->check(one_of(quantity_names(), "quantity"));
+  sub->add_option("--quantity", opts->only, "only these quantities (repeatable; default: all)")
+      ->check(one_of(quantity_names(), "quantity"));
   sub->add_flag("--quick", opts->quick, "coarser grids, fewer 50-digit evaluations");
   sub->callback([opts, run] { write(*opts, run); });
 }
@@ -138,7 +146,8 @@ Experiment stability_experiment() {
                            "(paper_tables/stability.*)",
                            {"stability", "--out", p.out + "/stability"}, {"--quick"}, "--tables", true),
                 plot_step("plot-stability", "stability heat map per method, float and double side by side",
-                          {"plots/stability_heatmap.py", p.out + "/stability/stability_cells.csv", p.out + "/figures/stability"},
+                          {"plots/stability_heatmap.py", p.out + "/stability/stability_cells.csv",
+                           p.out + "/figures/stability"},
                           {"--quick"})};
           }};
 }

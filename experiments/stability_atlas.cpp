@@ -63,7 +63,10 @@ Assessment assess(const Evaluation& e, double tiny) {
     a.rounding_rel = diff / std::max(std::fabs(e.exact), tiny);
     if (std::isfinite(e.self_peak)) a.rounding_peak = diff / std::max({e.self_peak, std::fabs(e.exact), tiny});
   }
-  a.flag = a.negative ? Flag::negative : a.wrong_peak ? Flag::wrong : a.wrong_relative ? Flag::wrong_relative : Flag::ok;
+  a.flag = a.negative         ? Flag::negative
+           : a.wrong_peak     ? Flag::wrong
+           : a.wrong_relative ? Flag::wrong_relative
+                              : Flag::ok;
   return a;
 }
 
@@ -154,8 +157,7 @@ std::vector<double> column_values(ColumnKind kind, Level level) {
   constexpr double pi = std::numbers::pi;
   switch (kind) {
     case ColumnKind::sharpness:
-    case ColumnKind::nonnegative:
-    {
+    case ColumnKind::nonnegative: {
       // {0} ∪ 1e-8 … 1e8, then the extreme tail up to FLT_MAX and DBL_MAX (stiff_cases.hpp).
       std::vector<double> v = level == Level::full     ? stiff::sharpnesses(4)
                               : level == Level::coarse ? stiff::sharpnesses(1)
@@ -221,7 +223,8 @@ Grid registry_grid(const Quantity& q, bool quick) {
     const Column& column = q.columns[c];
     names.push_back(column.name);
     if (column.stiff_values.empty()) values.push_back(column_values(column.kind, l));
-    else values.push_back(quick && !column.stiff_values_quick.empty() ? column.stiff_values_quick : column.stiff_values);
+    else
+      values.push_back(quick && !column.stiff_values_quick.empty() ? column.stiff_values_quick : column.stiff_values);
   }
   const bool y_cos = y >= 0 && q.columns[std::size_t(y)].kind == ColumnKind::cosine;
   return make_grid(std::move(names), std::move(values), x, y, y_cos);

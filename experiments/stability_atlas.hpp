@@ -61,10 +61,10 @@ struct Evaluation {
 struct Assessment {
   Flag flag = Flag::ok;
   bool negative = false, wrong_relative = false, wrong_peak = false;
-  double rel_error = std::numeric_limits<double>::quiet_NaN();       // |v − ref| / max(|ref|, tiny)
-  double peak_error = std::numeric_limits<double>::quiet_NaN();      // |v − ref| / peak
-  double rounding_rel = std::numeric_limits<double>::quiet_NaN();    // |v − exact| / max(|exact|, tiny)
-  double rounding_peak = std::numeric_limits<double>::quiet_NaN();   // |v − exact| / self_peak
+  double rel_error = std::numeric_limits<double>::quiet_NaN();      // |v − ref| / max(|ref|, tiny)
+  double peak_error = std::numeric_limits<double>::quiet_NaN();     // |v − ref| / peak
+  double rounding_rel = std::numeric_limits<double>::quiet_NaN();   // |v − exact| / max(|exact|, tiny)
+  double rounding_peak = std::numeric_limits<double>::quiet_NaN();  // |v − exact| / self_peak
 };
 Assessment assess(const Evaluation& e, double tiny);
 
@@ -104,7 +104,7 @@ struct Grid {
   std::vector<std::string> column_names;
   std::vector<std::vector<double>> values;  // per column
   int x_column = 0, y_column = -1;
-  bool y_is_cosine = false;                 // the peak is taken along y only when it is a cosine
+  bool y_is_cosine = false;  // the peak is taken along y only when it is a cosine
   std::size_t rows = 0;
 
   std::vector<double> row(std::size_t r) const;
@@ -244,7 +244,7 @@ struct PrecisionResult {
 struct MethodResult {
   std::string name, flaws;
   bool is_reference = false;
-  std::string rounding_note;               // why the rounding error was not measured, if it was not
+  std::string rounding_note;                // why the rounding error was not measured, if it was not
   std::vector<PrecisionResult> precisions;  // float, then double
 };
 

@@ -72,8 +72,8 @@ std::vector<double> reference_values(const Case& c, const Method& ref, std::vect
   const Grid& g = c.grid;
   const auto t0 = std::chrono::steady_clock::now();
   const auto n = std::count_if(c.reference_rows.begin(), c.reference_rows.end(), [](char k) { return k != 0; });
-  std::fprintf(stderr, "stability: %s: reference '%s' on %zu of %zu points…\n", c.quantity.name.c_str(), ref.name.c_str(),
-               std::size_t(n), g.rows);
+  std::fprintf(stderr, "stability: %s: reference '%s' on %zu of %zu points…\n", c.quantity.name.c_str(),
+               ref.name.c_str(), std::size_t(n), g.rows);
   evals = evaluate(c.quantity, ref, Precision::float64, g, {}, {}, {}, c.reference_rows);
   std::vector<double> reference(g.rows, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t r = 0; r < g.rows; ++r) {
@@ -113,8 +113,9 @@ std::vector<double> self_peaks(const Grid& g, std::span<const Evaluation> d) {
   return peak;
 }
 
-PrecisionResult assess_precision(const Grid& g, Precision p, std::vector<Evaluation>& evals, std::span<const double> reference,
-                                 std::span<const double> peak, std::span<const double> self_peak) {
+PrecisionResult assess_precision(const Grid& g, Precision p, std::vector<Evaluation>& evals,
+                                 std::span<const double> reference, std::span<const double> peak,
+                                 std::span<const double> self_peak) {
   for (std::size_t r = 0; r < g.rows; ++r) {
     if (!reference.empty()) evals[r].reference = reference[r];
     evals[r].peak = peak[r];
@@ -177,7 +178,9 @@ Result compute(const Options& o, std::span<const Quantity> quantities) {
   for (const auto& name : o.only)
     if (std::none_of(quantities.begin(), quantities.end(), [&](const Quantity& q) { return q.name == name; }))
       throw std::invalid_argument("unknown quantity '" + name + "'");
-  auto wanted = [&](const Quantity& q) { return o.only.empty() || std::find(o.only.begin(), o.only.end(), q.name) != o.only.end(); };
+  auto wanted = [&](const Quantity& q) {
+    return o.only.empty() || std::find(o.only.begin(), o.only.end(), q.name) != o.only.end();
+  };
   std::vector<Case> cases = registry_cases(o.quick, quantities);
   std::size_t total = 0;
   for (auto& c : cases) {
@@ -220,8 +223,9 @@ Result compute(const Options& o, std::span<const Quantity> quantities) {
     const std::string why = mr.rounding_note;
     result.quantities[i].methods[mi] = std::move(mr);
     const std::lock_guard guard(log);
-    std::fprintf(stderr, "stability [%zu/%zu] %s/%s: float and double in %.1f s%s\n", ++finished, total, c.quantity.name.c_str(),
-                 m.name.c_str(), seconds_since(t0), why.empty() ? "" : (" (rounding not measured: " + why + ")").c_str());
+    std::fprintf(stderr, "stability [%zu/%zu] %s/%s: float and double in %.1f s%s\n", ++finished, total,
+                 c.quantity.name.c_str(), m.name.c_str(), seconds_since(t0),
+                 why.empty() ? "" : (" (rounding not measured: " + why + ")").c_str());
   });
   result.seconds = seconds_since(t_start);
   return result;

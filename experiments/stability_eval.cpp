@@ -55,7 +55,7 @@ template <class T>
 Evaluation evaluate_row(const Quantity& q, const Method& m, const Grid& g, std::size_t r, bool rounding) {
   Evaluation e;
   const std::vector<double> row = g.row(r);
-  std::vector<T> in(row.begin(), row.end());   // the input rounded to T
+  std::vector<T> in(row.begin(), row.end());       // the input rounded to T
   std::vector<double> seen(in.begin(), in.end());  // … as the domain check and mp50 see it
   if (!valid_row(q, seen) || (m.domain_error && m.domain_error(seen))) {
     e.out_of_domain = true;
@@ -72,9 +72,9 @@ Evaluation evaluate_row(const Quantity& q, const Method& m, const Grid& g, std::
 }
 
 template <class T>
-std::vector<Evaluation> evaluate_in(const Quantity& q, const Method& m, const Grid& g, std::span<const double> reference,
-                                    std::span<const double> peak, std::span<const char> rounding_rows,
-                                    std::span<const char> rows) {
+std::vector<Evaluation> evaluate_in(const Quantity& q, const Method& m, const Grid& g,
+                                    std::span<const double> reference, std::span<const double> peak,
+                                    std::span<const char> rounding_rows, std::span<const char> rows) {
   std::vector<Evaluation> out(g.rows);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, g.rows, 16), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t r = range.begin(); r != range.end(); ++r) {
@@ -93,7 +93,8 @@ std::vector<Evaluation> evaluate_in(const Quantity& q, const Method& m, const Gr
 }
 
 template <class T>
-void measure_rounding_in(const Method& m, const Grid& g, std::vector<Evaluation>& evaluations, std::span<const char> rows) {
+void measure_rounding_in(const Method& m, const Grid& g, std::vector<Evaluation>& evaluations,
+                         std::span<const char> rows) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, g.rows, 4), [&](const tbb::blocked_range<std::size_t>& range) {
     for (std::size_t r = range.begin(); r != range.end(); ++r)
       if (!rows.empty() && rows[r]) add_exact<T>(m, g, r, evaluations[r]);
@@ -104,7 +105,8 @@ void measure_rounding_in(const Method& m, const Grid& g, std::vector<Evaluation>
 std::vector<Evaluation> evaluate(const Quantity& q, const Method& m, Precision p, const Grid& g,
                                  std::span<const double> reference, std::span<const double> peak,
                                  std::span<const char> rounding_rows, std::span<const char> rows) {
-  return with_scalar(p, [&](auto t) { return evaluate_in<decltype(t)>(q, m, g, reference, peak, rounding_rows, rows); });
+  return with_scalar(p,
+                     [&](auto t) { return evaluate_in<decltype(t)>(q, m, g, reference, peak, rounding_rows, rows); });
 }
 
 void measure_rounding(const Method& m, Precision p, const Grid& g, std::vector<Evaluation>& evaluations,

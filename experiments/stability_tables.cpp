@@ -14,7 +14,9 @@ namespace {
 
 std::string fmt_err(const Worst& w) { return w.measured() ? fmt::format("{:.3e}", w.error) : ""; }
 std::string md_err(const Worst& w) { return w.measured() ? fmt::format("{:.2e}", w.error) : "—"; }
-std::string md_count(long n, bool applicable = true) { return applicable ? (n == 0 ? "0" : fmt::format("**{}**", n)) : "—"; }
+std::string md_count(long n, bool applicable = true) {
+  return applicable ? (n == 0 ? "0" : fmt::format("**{}**", n)) : "—";
+}
 
 std::string grid_text(const Grid& g) {
   std::string s;
@@ -37,20 +39,29 @@ void for_each_row(const Result& r, F f) {
 std::string introduction(const Result& r) {
   return "Every method of every registry quantity, in float and double, over the stiff inputs of docs/math.md §10 "
          "(`core/include/sglab/stiff_cases.hpp`): sharpness {0} ∪ 1e-8 … 1e8 and a sparse tail "
-         "up to the largest finite value of each type (float rows stop at FLT_MAX ≈ 3.4e38, double rows go on to DBL_MAX ≈ "
+         "up to the largest finite value of each type (float rows stop at FLT_MAX ≈ 3.4e38, double rows go on to "
+         "DBL_MAX ≈ "
          "1.8e308), cosines ±1 exactly, the next float and double "
-         "past and before ±1, 1 ± 1e-7, 0, ±1e-8 and a uniform interior, mean lengths r → 1, roughness α → 0 (1e-4) and 1, "
-         "grazing view, light behind the surface; the stiff cases that are registry quantities of their own (opposite SG "
-         "lobes, degenerate VPL sets, the shading point on top of a VSGL) on their own grids. A float row evaluates the input "
+         "past and before ±1, 1 ± 1e-7, 0, ±1e-8 and a uniform interior, mean lengths r → 1, roughness α → 0 (1e-4) "
+         "and 1, "
+         "grazing view, light behind the surface; the stiff cases that are registry quantities of their own (opposite "
+         "SG "
+         "lobes, degenerate VPL sets, the shading point on top of a VSGL) on their own grids. A float row evaluates "
+         "the input "
          "rounded to float.\n\n"
-         "Columns: **dom** inputs the method's domain check rejects (a clear error, by design); **NaN**, **Inf**, **neg** "
-         "(< 0 where the true value is ≥ 0), **throw**; **>1 % rel** |v − ref| > 1 % of |ref| and **>1 % peak** |v − ref| > 1 % "
-         "of the peak (the largest reference along the cosine axis; where there is none, |ref| itself), both against the "
-         "quantity's reference in double (relative errors use max(|ref|, smallest normal) so underflow is not an error); "
+         "Columns: **dom** inputs the method's domain check rejects (a clear error, by design); **NaN**, **Inf**, "
+         "**neg** "
+         "(< 0 where the true value is ≥ 0), **throw**; **>1 % rel** |v − ref| > 1 % of |ref| and **>1 % peak** |v − "
+         "ref| > 1 % "
+         "of the peak (the largest reference along the cosine axis; where there is none, |ref| itself), both against "
+         "the "
+         "quantity's reference in double (relative errors use max(|ref|, smallest normal) so underflow is not an "
+         "error); "
          "**max err/peak** the worst approximation error and where; **max rounding** the worst |v − v₅₀|/max(|v₅₀|, "
          "smallest normal), v₅₀ the same method in 50 digits at the same rounded input, on up to " +
          fmt::format("{}", r.rounding_rows) +
-         " points spread over the grid, and **rnd/peak** |v − v₅₀| over the method's own largest double value along the "
+         " points spread over the grid, and **rnd/peak** |v − v₅₀| over the method's own largest double value along "
+         "the "
          "cosine axis (floored at 1e-20 of its largest value on the grid). Counts overlap (a negative output off by "
          "> 1 % counts twice). Heat maps: `plots/stability_heatmap.py`.\n\n";
 }
@@ -63,8 +74,11 @@ std::string summary(const Result& r) {
     for_each_row(r, [&](const QuantityResult& q, const MethodResult& m, const PrecisionResult& p) {
       const long n = count_of(p.tally);
       if (n == 0) return;
-      items += fmt::format("- `{}/{}` ({}): {} of {}{}\n", q.quantity.name, m.name, precision_name(p.precision), n, p.tally.points,
-                           p.worst_flag_at.empty() ? "" : fmt::format("; most severe ({}) at {}", flag_name(p.tally.worst_flag), p.worst_flag_at));
+      items += fmt::format(
+          "- `{}/{}` ({}): {} of {}{}\n", q.quantity.name, m.name, precision_name(p.precision), n, p.tally.points,
+          p.worst_flag_at.empty()
+              ? ""
+              : fmt::format("; most severe ({}) at {}", flag_name(p.tally.worst_flag), p.worst_flag_at));
     });
     md += fmt::format("**{}**: {}\n\n{}", what, items.empty() ? "none." : "", items.empty() ? "" : items + "\n");
   };
@@ -73,28 +87,33 @@ std::string summary(const Result& r) {
   list("Negative", [](const Tally& t) { return t.negative; });
   list("Evaluator threw", [](const Tally& t) { return t.throws; });
 
-  md += "**Worst rounding error per method**: relative (|v − v₅₀|/|v₅₀|, which is large wherever a tiny value is "
-        "flushed to 0), and over the method's own peak along the cosine axis (the measure that matters for shading; "
-        "— where the quantity has no cosine axis). Where the worst one over the peak occurs (the worst relative one where "
-        "there is no peak):\n\n"
-        "| quantity | method | float rel | float /peak | double rel | double /peak | float worst at | double worst at |\n"
-        "|---|---|---|---|---|---|---|---|\n";
+  md +=
+      "**Worst rounding error per method**: relative (|v − v₅₀|/|v₅₀|, which is large wherever a tiny value is "
+      "flushed to 0), and over the method's own peak along the cosine axis (the measure that matters for shading; "
+      "— where the quantity has no cosine axis). Where the worst one over the peak occurs (the worst relative one "
+      "where "
+      "there is no peak):\n\n"
+      "| quantity | method | float rel | float /peak | double rel | double /peak | float worst at | double worst at |\n"
+      "|---|---|---|---|---|---|---|---|\n";
   for (const auto& q : r.quantities)
     for (const auto& m : q.methods) {
       const PrecisionResult &f = m.precisions[0], &d = m.precisions[1];
       if (!f.tally.rounding_rel.measured()) continue;
-      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", q.quantity.name, m.name, md_err(f.tally.rounding_rel),
-                        md_err(f.tally.rounding_peak), md_err(d.tally.rounding_rel), md_err(d.tally.rounding_peak),
-                        f.rounding_where(), d.rounding_where());
+      md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", q.quantity.name, m.name,
+                        md_err(f.tally.rounding_rel), md_err(f.tally.rounding_peak), md_err(d.tally.rounding_rel),
+                        md_err(d.tally.rounding_peak), f.rounding_where(), d.rounding_where());
     }
   return md + "\n";
 }
 
 // One table per quantity.
 std::string quantity_section(const QuantityResult& q) {
-  std::string md = fmt::format("## {}\n\n{}\n\nGrid: {}. {}.\n\n", q.quantity.name, q.quantity.description, grid_text(q.grid), q.note);
-  md += "| method | prec | points | dom | NaN | Inf | neg | throw | >1 % rel | >1 % peak | max err/peak | at | max rounding | rnd/peak | at |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::string md = fmt::format("## {}\n\n{}\n\nGrid: {}. {}.\n\n", q.quantity.name, q.quantity.description,
+                               grid_text(q.grid), q.note);
+  md +=
+      "| method | prec | points | dom | NaN | Inf | neg | throw | >1 % rel | >1 % peak | max err/peak | at | max "
+      "rounding | rnd/peak | at |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::string notes;
   for (const auto& m : q.methods) {
     for (const auto& p : m.precisions) {
@@ -122,13 +141,30 @@ std::string summary_csv(const Result& r) {
       "max_rounding_rel_at,max_rounding_peak,max_rounding_peak_at,worst_flag,worst_flag_at,rounding_note\n";
   for_each_row(r, [&](const QuantityResult& q, const MethodResult& m, const PrecisionResult& p) {
     const Tally& t = p.tally;
-    const std::vector<std::string> f{
-        q.quantity.name, m.name, std::string(precision_name(p.precision)), std::to_string(t.points),
-        std::to_string(t.out_of_domain), std::to_string(t.throws), std::to_string(t.nan), std::to_string(t.inf),
-        std::to_string(t.negative), std::to_string(t.compared), std::to_string(t.wrong_relative),
-        std::to_string(t.wrong_peak), fmt_err(t.rel_error), p.rel_at, fmt_err(t.peak_error), p.peak_at,
-        std::to_string(t.rounding_points), fmt_err(t.rounding_rel), p.rounding_at, fmt_err(t.rounding_peak),
-        p.rounding_peak_at, std::string(flag_name(t.worst_flag)), p.worst_flag_at, m.rounding_note};
+    const std::vector<std::string> f{q.quantity.name,
+                                     m.name,
+                                     std::string(precision_name(p.precision)),
+                                     std::to_string(t.points),
+                                     std::to_string(t.out_of_domain),
+                                     std::to_string(t.throws),
+                                     std::to_string(t.nan),
+                                     std::to_string(t.inf),
+                                     std::to_string(t.negative),
+                                     std::to_string(t.compared),
+                                     std::to_string(t.wrong_relative),
+                                     std::to_string(t.wrong_peak),
+                                     fmt_err(t.rel_error),
+                                     p.rel_at,
+                                     fmt_err(t.peak_error),
+                                     p.peak_at,
+                                     std::to_string(t.rounding_points),
+                                     fmt_err(t.rounding_rel),
+                                     p.rounding_at,
+                                     fmt_err(t.rounding_peak),
+                                     p.rounding_peak_at,
+                                     std::string(flag_name(t.worst_flag)),
+                                     p.worst_flag_at,
+                                     m.rounding_note};
     sglab::runner::append_csv_record(csv, f);
   });
   return csv;
@@ -136,7 +172,8 @@ std::string summary_csv(const Result& r) {
 
 std::string cells_csv(const Result& r) {
   std::string csv =
-      "quantity,method,precision,x_column,x_index,x_value,y_column,y_index,y_value,points,compared,flag,flag_code,max_rel_error,"
+      "quantity,method,precision,x_column,x_index,x_value,y_column,y_index,y_value,points,compared,flag,flag_code,max_"
+      "rel_error,"
       "max_peak_error,max_rounding_rel\n";
   auto num = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{:.6g}", v); };
   for_each_row(r, [&](const QuantityResult& q, const MethodResult& m, const PrecisionResult& p) {
@@ -146,11 +183,22 @@ std::string cells_csv(const Result& r) {
     for (const Cell& cell : p.cells) {
       if (cell.points == 0) continue;
       const double yval = g.y_column < 0 ? 0.0 : g.values[std::size_t(g.y_column)][cell.y];
-      const std::vector<std::string> f{
-          q.quantity.name, m.name, std::string(precision_name(p.precision)), g.column_names[x], std::to_string(cell.x),
-          fmt::format("{:.17g}", g.values[x][cell.x]), yname, std::to_string(cell.y), fmt::format("{:.17g}", yval),
-          std::to_string(cell.points), std::to_string(cell.compared), std::string(flag_name(cell.flag)),
-          std::to_string(int(cell.flag)), num(cell.max_rel_error), num(cell.max_peak_error), num(cell.max_rounding_rel)};
+      const std::vector<std::string> f{q.quantity.name,
+                                       m.name,
+                                       std::string(precision_name(p.precision)),
+                                       g.column_names[x],
+                                       std::to_string(cell.x),
+                                       fmt::format("{:.17g}", g.values[x][cell.x]),
+                                       yname,
+                                       std::to_string(cell.y),
+                                       fmt::format("{:.17g}", yval),
+                                       std::to_string(cell.points),
+                                       std::to_string(cell.compared),
+                                       std::string(flag_name(cell.flag)),
+                                       std::to_string(int(cell.flag)),
+                                       num(cell.max_rel_error),
+                                       num(cell.max_peak_error),
+                                       num(cell.max_rounding_rel)};
       sglab::runner::append_csv_record(csv, f);
     }
   });

@@ -19,7 +19,8 @@
 // cores itself. Every point's scene is validated before anything runs (a bad value stops the
 // sweep with the point's override and the field named, exit status 2).
 // Outputs: DIR/NAME_points.csv (the runner's per-point CSV, sweep.hpp) and, derived from that file
-// alone, TABLES/NAME.{md,csv} headed by the command (TABLES: --tables-dir, default DIR). NAME defaults to vsgl_error_vs_count without
+// alone, TABLES/NAME.{md,csv} headed by the command (TABLES: --tables-dir, default DIR). NAME defaults to
+// vsgl_error_vs_count without
 // --vary, else vsgl_error_vs_ + the last component of each key ("vsgl_error_vs_roughness_distance").
 #include "sweep_render.hpp"
 
@@ -59,7 +60,8 @@ struct VsglConfig {
   render::VsglMode mode = render::VsglMode::two;
   int count = 1;
   std::string label() const {
-    return render::vsgl_mode_is_whole_rsm(mode) ? std::string(vsgl_mode_name(mode)) : fmt::format("{} {}", vsgl_mode_name(mode), count);
+    return render::vsgl_mode_is_whole_rsm(mode) ? std::string(vsgl_mode_name(mode))
+                                                : fmt::format("{} {}", vsgl_mode_name(mode), count);
   }
 };
 
@@ -113,13 +115,14 @@ Vary parse_vary(const std::string& text) {
   }
   if (parts.size() != 3) throw UsageError(where + ": expected KEY=a:b:n[:log|:lin]");
   const double a = parse_value(parts[0], where), b = parse_value(parts[1], where), nd = parse_value(parts[2], where);
-  if (nd != std::floor(nd) || nd < 1 || nd > 1000) throw UsageError(fmt::format("{}: n = {} is not an integer in [1, 1000]", where, parts[2]));
+  if (nd != std::floor(nd) || nd < 1 || nd > 1000)
+    throw UsageError(fmt::format("{}: n = {} is not an integer in [1, 1000]", where, parts[2]));
   const int n = int(nd);
   if (log_spaced && !(a > 0 && b > 0)) throw UsageError(fmt::format("{}: log spacing needs a, b > 0", where));
   for (int i = 0; i < n; ++i) {
     const double t = n == 1 ? 0.0 : double(i) / (n - 1);
     double x = log_spaced ? std::exp(std::log(a) + t * (std::log(b) - std::log(a))) : a + t * (b - a);
-    if (i == 0) x = a;                // the ends exactly as given
+    if (i == 0) x = a;  // the ends exactly as given
     if (i == n - 1 && n > 1) x = b;
     v.values.push_back(x);
   }
@@ -148,12 +151,14 @@ Vary parse_lambda_d_vary(const std::string& text, std::vector<std::string>& sour
 std::vector<Vary> parse_varies(const Options& o, std::vector<std::string>& lambda_d_sources) {
   std::vector<Vary> vary;
   for (const auto& v : o.vary)
-    vary.push_back(v.rfind(kLambdaDKey + "=", 0) == 0 && v.find(':') == std::string::npos ? parse_lambda_d_vary(v, lambda_d_sources)
-                                                                                          : parse_vary(v));
+    vary.push_back(v.rfind(kLambdaDKey + "=", 0) == 0 && v.find(':') == std::string::npos
+                       ? parse_lambda_d_vary(v, lambda_d_sources)
+                       : parse_vary(v));
   for (const auto& v : vary)
     if (v.key == kLambdaDKey)
       for (double x : v.values)
-        if (!(std::isfinite(x) && x > 0)) throw UsageError(fmt::format("--vary {}: λ_d = {} is not a positive number", v.key, x));
+        if (!(std::isfinite(x) && x > 0))
+          throw UsageError(fmt::format("--vary {}: λ_d = {} is not a positive number", v.key, x));
   return vary;
 }
 
@@ -166,12 +171,14 @@ VsglConfig parse_vsgl_config(const std::string& text) {
   if (!mode) throw UsageError(where + ": expected two, two-shared, fis:N or kmeans:N");
   c.mode = *mode;
   if (render::vsgl_mode_is_whole_rsm(c.mode)) {
-    if (colon != std::string::npos) throw UsageError(where + ": `" + std::string(vsgl_mode_name(c.mode)) + "` takes no count");
+    if (colon != std::string::npos)
+      throw UsageError(where + ": `" + std::string(vsgl_mode_name(c.mode)) + "` takes no count");
     return c;
   }
   if (colon == std::string::npos) throw UsageError(where + ": fis and kmeans need a count (fis:16)");
   const double n = parse_value(text.substr(colon + 1), where);
-  if (n != std::floor(n) || n < 1 || n > 65536) throw UsageError(fmt::format("{}: count {} is not an integer in [1, 65536]", where, text.substr(colon + 1)));
+  if (n != std::floor(n) || n < 1 || n > 65536)
+    throw UsageError(fmt::format("{}: count {} is not an integer in [1, 65536]", where, text.substr(colon + 1)));
   c.count = int(n);
   return c;
 }
@@ -181,10 +188,11 @@ std::string last_component(const std::string& key) {
   return dot == std::string::npos ? key : key.substr(dot + 1);
 }
 
-const std::vector<std::string> kColumns = {"vsgl",          "vsgl_mode",        "vsgl_requested",  "vsgl_count",
-                                           "specular_vsgls", "vpl_count",        "pixels_hit",      "relative_l2",
-                                           "smape",         "rmse",             "max_abs",         "seconds_rsm",
-                                           "seconds_vsgl",  "seconds_shading",  "seconds_reference", "speedup"};
+const std::vector<std::string> kColumns = {
+    "vsgl",      "vsgl_mode",   "vsgl_requested", "vsgl_count",      "specular_vsgls",
+    "vpl_count", "pixels_hit",  "relative_l2",    "smape",           "rmse",
+    "max_abs",   "seconds_rsm", "seconds_vsgl",   "seconds_shading", "seconds_reference",
+    "speedup"};
 
 std::string quote_if_needed(const std::string& s) {
   if (!s.empty() && s.find_first_of(" \t'\"\\$`[]*?") == std::string::npos) return s;
@@ -206,11 +214,13 @@ std::string checked_table_name(const Options& o, const std::vector<Vary>& vary) 
       for (const auto& v : vary) name += "_" + last_component(v.key);
     }
   }
-  if (name.find_first_of("/\\ ") != std::string::npos || name.empty()) throw UsageError(fmt::format("--table {} is not a file name", quote(name)));
+  if (name.find_first_of("/\\ ") != std::string::npos || name.empty())
+    throw UsageError(fmt::format("--table {} is not a file name", quote(name)));
   std::vector<runner::NamedPath> inputs{{"--scene", o.job.scene_path}};
   for (const auto& c : o.job.constants.paths) inputs.push_back({"--constants", c});
-  runner::check_output_paths({{"--table (CSV)", tables_dir(o) / (name + ".csv")}, {"--table (Markdown)", tables_dir(o) / (name + ".md")}},
-                     inputs);
+  runner::check_output_paths(
+      {{"--table (CSV)", tables_dir(o) / (name + ".csv")}, {"--table (Markdown)", tables_dir(o) / (name + ".md")}},
+      inputs);
   return name;
 }
 
@@ -263,7 +273,8 @@ struct Grid {
   std::string describe(std::size_t k) const {
     std::string s;
     const auto x = values_of(k);
-    for (std::size_t i = 0; i < vary.size(); ++i) s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", vary[i].key, x[i]);
+    for (std::size_t i = 0; i < vary.size(); ++i)
+      s += fmt::format("{}{}={:.4g}", s.empty() ? "" : " ", vary[i].key, x[i]);
     return s.empty() ? std::string("the scene") : s;
   }
   render::Scene scene_of(std::size_t k) const { return scene_from(document_of(k), k); }
@@ -291,7 +302,8 @@ struct Grid {
       return scene_from_document(doc, job);
     } catch (const UsageError& e) {
       std::string at;
-      for (std::size_t i = 0; i < vary.size(); ++i) at += fmt::format("{}{}={}", at.empty() ? "" : ", ", vary[i].key, x[i]);
+      for (std::size_t i = 0; i < vary.size(); ++i)
+        at += fmt::format("{}{}={}", at.empty() ? "" : ", ", vary[i].key, x[i]);
       throw UsageError(fmt::format("at {}: {}", at.empty() ? "the scene" : at, e.what()));
     }
   }
@@ -319,8 +331,8 @@ struct CommonPassMemo {
 };
 
 // Point k's rows: its G-buffer, RSM and VPL sum once (or the memo's), then each configuration's VSGLs.
-std::vector<runner::SweepRow> point_rows(const Grid& g, const std::vector<VsglConfig>& configs, const render::RenderOptions& options,
-                                 CommonPassMemo& memo, std::size_t k) {
+std::vector<runner::SweepRow> point_rows(const Grid& g, const std::vector<VsglConfig>& configs,
+                                         const render::RenderOptions& options, CommonPassMemo& memo, std::size_t k) {
   const render::Scene scene = g.scene_of(k);
   const auto x = g.values_of(k);
   std::vector<render::VsglOptions> variants;
@@ -351,17 +363,20 @@ std::vector<runner::SweepRow> point_rows(const Grid& g, const std::vector<VsglCo
     for (const double v : x) row.push_back(runner::csv_number(v));
     row.insert(row.end(), {configs[c].label(), st.mode, std::to_string(st.requested),
                            std::to_string(st.diffuse_vsgls + st.specular_vsgls), std::to_string(st.specular_vsgls),
-                           std::to_string(r.vpl_count), std::to_string(r.pixels_hit), runner::csv_number(r.error_metrics.relative_l2),
-                           runner::csv_number(r.error_metrics.smape), runner::csv_number(r.error_metrics.rmse), runner::csv_number(r.error_metrics.max_abs),
-                           runner::csv_number(r.seconds.rsm), runner::csv_number(r.seconds.vsgl), runner::csv_number(r.seconds.shading),
-                           runner::csv_number(r.seconds.reference), runner::csv_number(vsgl_seconds > 0 ? r.seconds.reference / vsgl_seconds : 0.0)});
+                           std::to_string(r.vpl_count), std::to_string(r.pixels_hit),
+                           runner::csv_number(r.error_metrics.relative_l2), runner::csv_number(r.error_metrics.smape),
+                           runner::csv_number(r.error_metrics.rmse), runner::csv_number(r.error_metrics.max_abs),
+                           runner::csv_number(r.seconds.rsm), runner::csv_number(r.seconds.vsgl),
+                           runner::csv_number(r.seconds.shading), runner::csv_number(r.seconds.reference),
+                           runner::csv_number(vsgl_seconds > 0 ? r.seconds.reference / vsgl_seconds : 0.0)});
     rows.push_back(std::move(row));
   }
   return rows;
 }
 
 // The sweep's identity for the runner: its arguments, a complete description of its grid, columns.
-runner::SweepDefinition definition(const Options& o, const Grid& g, const std::vector<VsglConfig>& configs, const std::string& name) {
+runner::SweepDefinition definition(const Options& o, const Grid& g, const std::vector<VsglConfig>& configs,
+                                   const std::string& name) {
   runner::SweepDefinition d;
   d.name = name;
   d.args = {"sweep", "render", "--scene", o.job.scene_path};
@@ -370,12 +385,13 @@ runner::SweepDefinition definition(const Options& o, const Grid& g, const std::v
   for (const auto& a : render_job_arguments(o.job, false)) d.args.push_back(a);
   d.args.insert(d.args.end(), {"--table", name});
   // The scene's contents (after --set), not only its path: an edited scene file is another grid.
-  std::string grid = fmt::format("scene {} (contents fnv1a {}); overrides {{{}}}; ", o.job.scene_path, runner::fnv1a_hex(g.base.dump()),
-                                 fmt::join(o.job.overrides, ", "));
+  std::string grid = fmt::format("scene {} (contents fnv1a {}); overrides {{{}}}; ", o.job.scene_path,
+                                 runner::fnv1a_hex(g.base.dump()), fmt::join(o.job.overrides, ", "));
   for (const auto& v : g.vary) grid += fmt::format("{} {{{}}} × ", v.key, fmt::join(v.values, ", "));
   std::string labels;
   for (const auto& c : configs) labels += (labels.empty() ? "" : ", ") + c.label();
-  grid += fmt::format("VSGLs {{{}}}; diffuse {}; RSM {}; shadow map {}; seed {}", labels, o.job.diffuse, o.job.rsm, o.job.shadow_map, o.job.seed);
+  grid += fmt::format("VSGLs {{{}}}; diffuse {}; RSM {}; shadow map {}; seed {}", labels, o.job.diffuse, o.job.rsm,
+                      o.job.shadow_map, o.job.seed);
   // The constant sets' contents, not only their paths: an edited record is another sweep.
   if (o.job.constants.given()) grid += "; constants fnv1a " + o.job.constants.fingerprint;
   d.grid = grid;
@@ -395,9 +411,10 @@ Result compute(const Options& o, const runner::RunContext& run) {
   grid->vary = parse_varies(o, r.lambda_d_sources);
   grid->job = o.job;
   std::vector<VsglConfig> configs;
-  for (const auto& c : o.vsgl.empty() ? std::vector<std::string>{"two"} : o.vsgl) configs.push_back(parse_vsgl_config(c));
+  for (const auto& c : o.vsgl.empty() ? std::vector<std::string>{"two"} : o.vsgl)
+    configs.push_back(parse_vsgl_config(c));
   render::RenderOptions options = render_options(o.job);  // validates --rsm, --diffuse, …
-  options.direct = false;  // the rows measure the indirect layer alone
+  options.direct = false;                                 // the rows measure the indirect layer alone
   grid->base = load_scene_document(o.job.scene_path, o.job.overrides);
   r.name = checked_table_name(o, grid->vary);
   check_distinct_fields(grid->vary, grid->base);
@@ -413,10 +430,12 @@ Result compute(const Options& o, const runner::RunContext& run) {
   // A row read back must be at point k's grid point (its --vary values) and of a configuration run.
   d.check_row = [grid, configs](std::size_t k, const runner::SweepRow& row) -> std::optional<std::string> {
     const auto x = grid->values_of(k);
-    if (row.size() != x.size() + kColumns.size()) return fmt::format("{} fields, expected {}", row.size(), x.size() + kColumns.size());
+    if (row.size() != x.size() + kColumns.size())
+      return fmt::format("{} fields, expected {}", row.size(), x.size() + kColumns.size());
     for (std::size_t i = 0; i < x.size(); ++i)
       if (row[i] != runner::csv_number(x[i]))
-        return fmt::format("{} {} is not the grid point's {} (moved off the grid)", grid->vary[i].key, quote(row[i]), runner::csv_number(x[i]));
+        return fmt::format("{} {} is not the grid point's {} (moved off the grid)", grid->vary[i].key, quote(row[i]),
+                           runner::csv_number(x[i]));
     const std::string& label = row[x.size()];
     if (std::none_of(configs.begin(), configs.end(), [&](const VsglConfig& c) { return c.label() == label; }))
       return fmt::format("VSGL configuration {} is not one this sweep runs", quote(label));
@@ -436,9 +455,10 @@ Result compute(const Options& o, const runner::RunContext& run) {
 static std::string arithmetic_text(const RenderJob& job) {
   const std::string reference = job.reference_precision.empty() ? job.precision : job.reference_precision;
   if (job.precision == "double" && reference == "double") return "double";
-  return fmt::format("the VPL sum (reference) in {}, the VSGLs' diffuse method in {}, the rest in double; float is within "
-                     "1e-5 relative L2 of the double path (docs/simd.md)",
-                     reference, job.precision);
+  return fmt::format(
+      "the VPL sum (reference) in {}, the VSGLs' diffuse method in {}, the rest in double; float is within "
+      "1e-5 relative L2 of the double path (docs/simd.md)",
+      reference, job.precision);
 }
 
 // The summary table (Markdown and CSV) from the per-point CSV alone.
@@ -447,7 +467,8 @@ Tables tables(const Result& r) {
   const Options& o = r.options;
   const auto col = [&](const std::string& c) {
     const auto i = t.column(c);
-    if (i == runner::CsvTable::npos) throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
+    if (i == runner::CsvTable::npos)
+      throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
     return i;
   };
   const auto num = [](const std::string& s) { return s.empty() ? NAN : std::stod(s); };
@@ -460,12 +481,12 @@ Tables tables(const Result& r) {
       "reference / VSGL. Arithmetic: {}.\n\n",
       o.job.scene_path,
       o.job.overrides.empty() ? "" : " with " + fmt::format("`--set {}`", fmt::join(o.job.overrides, "`, `--set ")),
-      o.job.visibility ? "VSGL visibility from a cube shadow map at each μ_v (Tokuyoshi 2016 §4.1), VPL visibility by ray casting"
-                       : "none",
+      o.job.visibility
+          ? "VSGL visibility from a cube shadow map at each μ_v (Tokuyoshi 2016 §4.1), VPL visibility by ray casting"
+          : "none",
       arithmetic_text(o.job));
   md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
-        constants_text(o.job.constants.set, {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") +
-        "\n";
+        constants_text(o.job.constants.set, {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") + "\n";
   if (!r.lambda_d_sources.empty())
     md += fmt::format("Varied {}: {}.\n\n", kLambdaDKey, fmt::join(r.lambda_d_sources, "; "));
   std::string header = "|", rule = "|";
@@ -504,9 +525,11 @@ void write(const Result& r) {
 
 void add_sweep_render(CLI::App& sweep, const runner::RunContext& run) {
   auto o = std::make_shared<sweep_render::Options>();
-  auto* sub = sweep.add_subcommand("render", "VSGL error against the exact VPL sum, and both times, over scene parameters × VSGL configurations");
+  auto* sub = sweep.add_subcommand(
+      "render", "VSGL error against the exact VPL sum, and both times, over scene parameters × VSGL configurations");
   sub->add_option("--scene", o->job.scene_path, "scene JSON (schema: scenes/README.md)");
-  sub->add_option("--vary", o->vary, "KEY=a:b:n (linear), KEY=a:b:n:log, or KEY=v1,v2,… (repeatable: Cartesian product)");
+  sub->add_option("--vary", o->vary,
+                  "KEY=a:b:n (linear), KEY=a:b:n:log, or KEY=v1,v2,… (repeatable: Cartesian product)");
   sub->add_option("--vsgl", o->vsgl, "VSGL configuration MODE or MODE:N (fis:64, kmeans:64; repeatable; default two)")
       ->check(one_of(render::vsgl_mode_names(), "VSGL mode", false, true));
   add_render_job_options(*sub, o->job, false);
@@ -515,7 +538,8 @@ void add_sweep_render(CLI::App& sweep, const runner::RunContext& run) {
   sub->add_option("--tables-dir", o->tables_dir, "directory for NAME.{md,csv} (default: the --out directory)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
       ->check(shard_given());
-  sub->add_option("--threads", o->threads, "points computed at once (each render uses all cores; 1 keeps timings clean)")
+  sub->add_option("--threads", o->threads,
+                  "points computed at once (each render uses all cores; 1 keeps timings clean)")
       ->capture_default_str()
       ->check(unsigned_at_most(runner::kMaxThreads));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
@@ -547,9 +571,10 @@ std::vector<Step> sweep_render_steps(const Places& p) {
     return configuration;
   };
   std::vector<Step> v = {
-      sweep("sweep-render-count", "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
-            with_float_reference({"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--vsgl", "kmeans:16", "--vsgl",
-                                  "kmeans:64", "--width", "512", "--height", "512", "--out", sweep_out}),
+      sweep("sweep-render-count",
+            "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
+            with_float_reference({"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--vsgl", "kmeans:16",
+                                  "--vsgl", "kmeans:64", "--width", "512", "--height", "512", "--out", sweep_out}),
             {"--width", "64", "--height", "64", "--rsm", "32"}),
       sweep("sweep-render-roughness-distance",
             "VSGL error against floor roughness × light distance on cornell-glossy "
@@ -563,15 +588,16 @@ std::vector<Step> sweep_render_steps(const Places& p) {
             {"--vary",
              "vsgl.lambda_d=2," + p.out + "/fits/lambda-d.json," + p.out + "/fits-objectives/lambda-d-l2-theta.json," +
                  p.out + "/fits-objectives/lambda-d-l2-hemisphere.json",
-             "--vsgl", "two", "--width", "256", "--height", "256", "--out", sweep_out, "--table", "vsgl_error_vs_lambda_d",
-             "--reference-precision", "float"},
+             "--vsgl", "two", "--width", "256", "--height", "256", "--out", sweep_out, "--table",
+             "vsgl_error_vs_lambda_d", "--reference-precision", "float"},
             coarse)};
   // Tokuyoshi 2016 §4.1 visibility on cornell-glossy: the same configurations without and
   // with it (each against the reference that makes the same assumption).
   for (const bool vis : {false, true}) {
     const std::string on = vis ? "on" : "off";
-    std::vector<std::string> configuration = {"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--width", "128",
-                                              "--height", "128", "--out", sweep_out, "--table", "vsgl_visibility_" + on};
+    std::vector<std::string> configuration = {
+        "--vsgl", "two",      "--vsgl", "fis:16", "--vsgl",  "fis:64",  "--width",
+        "128",    "--height", "128",    "--out",  sweep_out, "--table", "vsgl_visibility_" + on};
     if (vis) configuration.push_back("--visibility");
     configuration = with_float_reference(configuration);
     v.push_back(sweep("sweep-render-visibility-" + on,

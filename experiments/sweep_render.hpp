@@ -37,11 +37,11 @@ struct Vary {
 struct Result {
   runner::Provenance provenance;  // the command line that reproduces it
   Options options;
-  std::string name;                            // the table's NAME
+  std::string name;  // the table's NAME
   std::vector<Vary> vary;
-  std::vector<std::string> lambda_d_sources;   // where each varied λ_d came from
-  bool sharded = false;                        // one shard of several: no summary (join with `sglab merge`)
-  runner::CsvTable points;                     // OUT/NAME_points.csv as written (empty when sharded)
+  std::vector<std::string> lambda_d_sources;  // where each varied λ_d came from
+  bool sharded = false;                       // one shard of several: no summary (join with `sglab merge`)
+  runner::CsvTable points;                    // OUT/NAME_points.csv as written (empty when sharded)
 };
 
 // Validates every option and every point's scene (InputError naming the value), then runs or

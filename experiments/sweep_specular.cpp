@@ -43,7 +43,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* quantity_name(SpecularBrdf brdf) { return brdf == SpecularBrdf::ggx ? "specular" : "specular-gaussian-ndf"; }
+const char* quantity_name(SpecularBrdf brdf) {
+  return brdf == SpecularBrdf::ggx ? "specular" : "specular-gaussian-ndf";
+}
 
 const Quantity& specular_quantity(SpecularBrdf brdf) {
   const Quantity* q = find_quantity(quantity_name(brdf));
@@ -67,10 +69,9 @@ std::string join_numbers(const std::vector<double>& v) {
   return s;
 }
 
-
-const std::vector<std::string> kColumns = {"roughness", "light_sharpness", "view_cos", "f0", "position",
-                                           "light_cos", "light_azimuth", "reference", "scale", "method",
-                                           "value", "status", "relative_error", "scaled_error"};
+const std::vector<std::string> kColumns = {"roughness", "light_sharpness", "view_cos",       "f0",          "position",
+                                           "light_cos", "light_azimuth",   "reference",      "scale",       "method",
+                                           "value",     "status",          "relative_error", "scaled_error"};
 
 }  // namespace
 
@@ -99,9 +100,11 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf,
   std::string method_names;
   for (const Method* m : methods) method_names += (method_names.empty() ? "" : ", ") + m->name;
   std::string position_names;
-  for (const auto& p : specular_light_positions(0.1, 1, 0.7)) position_names += (position_names.empty() ? "" : ", ") + p.name;
+  for (const auto& p : specular_light_positions(0.1, 1, 0.7))
+    position_names += (position_names.empty() ? "" : ", ") + p.name;
   d.grid = fmt::format(
-      "{}roughness {{{}}} × light_sharpness {{{}}} × view_cos {{{}}}; f0 {}; positions {{{}}} (offsets in the lobe's widths "
+      "{}roughness {{{}}} × light_sharpness {{{}}} × view_cos {{{}}}; f0 {}; positions {{{}}} (offsets in the lobe's "
+      "widths "
       "min(√(1/λ + 2α²), π/6) in the plane of incidence, min(√(1/λ + 2α²v²), π/6) across; above the horizon only, "
       "no duplicates); reference `{}`; methods {{{}}}; near zero below {} of the point's largest reference",
       gaussian ? "BRDF: Gaussian-angle NDF (`specular-gaussian-ndf`, roughness = the NDF width m); " : "",
@@ -121,19 +124,22 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf,
   };
   // A row read back must be at point k's grid point: its (α, λ, view_cos, f0), one of its light
   // positions with that position's (light_cos, light_azimuth), and a method the sweep measures.
-  d.check_row = [inputs, bound, methods, f0 = g.f0](std::size_t k, const runner::SweepRow& row) -> std::optional<std::string> {
+  d.check_row = [inputs, bound, methods, f0 = g.f0](std::size_t k,
+                                                    const runner::SweepRow& row) -> std::optional<std::string> {
     if (row.size() != kColumns.size()) return fmt::format("{} fields, expected {}", row.size(), kColumns.size());
     const auto [alpha, lambda, v] = inputs(k);
     const std::array<double, 4> at{alpha, lambda, v, f0};
     for (std::size_t i = 0; i < at.size(); ++i)
       if (row[i] != runner::csv_number(at[i]))
-        return fmt::format("{} {} is not the grid point's {} (moved off the grid)", kColumns[i], quote(row[i]), runner::csv_number(at[i]));
+        return fmt::format("{} {} is not the grid point's {} (moved off the grid)", kColumns[i], quote(row[i]),
+                           runner::csv_number(at[i]));
     bool position = false;
     for (const auto& p : specular_light_positions(alpha, lambda, v))
-      position = position || (row[4] == p.name && row[5] == runner::csv_number(p.light_cos) && row[6] == runner::csv_number(p.light_azimuth));
+      position = position || (row[4] == p.name && row[5] == runner::csv_number(p.light_cos) &&
+                              row[6] == runner::csv_number(p.light_azimuth));
     if (!position)
-      return fmt::format("light position {} at light_cos {} light_azimuth {} is not one of the grid point's", quote(row[4]),
-                         quote(row[5]), quote(row[6]));
+      return fmt::format("light position {} at light_cos {} light_azimuth {} is not one of the grid point's",
+                         quote(row[4]), quote(row[5]), quote(row[6]));
     if (std::none_of(methods.begin(), methods.end(), [&](const Method* m) { return m->name == row[9]; }))
       return fmt::format("method {} is not measured by this sweep", quote(row[9]));
     return std::nullopt;
@@ -177,9 +183,10 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf,
             }
           }
         }
-        rows.push_back({runner::csv_number(alpha), runner::csv_number(lambda), runner::csv_number(v), runner::csv_number(f0), positions[j].name,
-                        runner::csv_number(a[2]), runner::csv_number(a[4]), runner::csv_number(refs[j]), runner::csv_number(scale), m->name, value,
-                        status, relative, scaled});
+        rows.push_back({runner::csv_number(alpha), runner::csv_number(lambda), runner::csv_number(v),
+                        runner::csv_number(f0), positions[j].name, runner::csv_number(a[2]), runner::csv_number(a[4]),
+                        runner::csv_number(refs[j]), runner::csv_number(scale), m->name, value, status, relative,
+                        scaled});
       }
     }
     return rows;
@@ -217,7 +224,8 @@ void add_brightness(const Brightness& b, SpecularSummaryRow& row) {
 std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable& t, const std::string& source) {
   auto column = [&](const std::string& name) {
     const std::size_t c = t.column(name);
-    if (c == runner::CsvTable::npos) throw UsageError(fmt::format("{}: no column '{}' (not a specular sweep's per-point CSV?)", source, name));
+    if (c == runner::CsvTable::npos)
+      throw UsageError(fmt::format("{}: no column '{}' (not a specular sweep's per-point CSV?)", source, name));
     return c;
   };
   const std::size_t c_reference = column("reference"), c_scale = column("scale"), c_value = column("value"),
@@ -227,22 +235,21 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
     try {
       return runner::parse_decimal<double>(r.fields[c]);
     } catch (const runner::NumberError& e) {
-      throw UsageError(fmt::format("{}: line {}, column '{}': '{}' {}", source, r.line, t.header[c], r.fields[c], e.what()));
+      throw UsageError(
+          fmt::format("{}: line {}, column '{}': '{}' {}", source, r.line, t.header[c], r.fields[c], e.what()));
     }
   };
 
   struct Group {
     std::string by;
-    std::size_t column;      // npos: one group "all"
-    bool near_lobe_only;     // only the rows of the near-lobe positions
+    std::size_t column;   // npos: one group "all"
+    bool near_lobe_only;  // only the rows of the near-lobe positions
     std::vector<std::string> order;
   };
-  std::vector<Group> groups = {{"roughness", c_roughness, false, {}},
-                               {"roughness_near_lobe", c_roughness, true, {}},
-                               {"light_sharpness", c_sharpness, false, {}},
-                               {"view_cos", c_view, false, {}},
-                               {"position", c_position, false, {}},
-                               {"all", runner::CsvTable::npos, false, {}}};
+  std::vector<Group> groups = {
+      {"roughness", c_roughness, false, {}},       {"roughness_near_lobe", c_roughness, true, {}},
+      {"light_sharpness", c_sharpness, false, {}}, {"view_cos", c_view, false, {}},
+      {"position", c_position, false, {}},         {"all", runner::CsvTable::npos, false, {}}};
   std::vector<std::string> methods;
   std::map<std::tuple<std::size_t, std::string, std::string>, metrics::ErrorAccumulator> acc;  // (group, value, method)
   std::map<std::tuple<std::size_t, std::string, std::string>, Brightness> brightness;
@@ -292,21 +299,48 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
 
 std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows) {
   std::string csv;
-  runner::append_csv_record(csv, std::vector<std::string>{"by", "group", "method", "points", "relative_points", "near_zero",
-                                                  "missing", "rmse_relative", "max_relative", "smape", "max_scaled", "rmse_scaled",
-                                                  "worst_roughness", "worst_light_sharpness", "worst_view_cos",
-                                                  "worst_position", "weighted_error", "weighted_points", "bright_smape",
-                                                  "bright_rows"});
+  runner::append_csv_record(csv, std::vector<std::string>{"by",
+                                                          "group",
+                                                          "method",
+                                                          "points",
+                                                          "relative_points",
+                                                          "near_zero",
+                                                          "missing",
+                                                          "rmse_relative",
+                                                          "max_relative",
+                                                          "smape",
+                                                          "max_scaled",
+                                                          "rmse_scaled",
+                                                          "worst_roughness",
+                                                          "worst_light_sharpness",
+                                                          "worst_view_cos",
+                                                          "worst_position",
+                                                          "weighted_error",
+                                                          "weighted_points",
+                                                          "bright_smape",
+                                                          "bright_rows"});
   for (const auto& r : rows) {
     const metrics::ErrorStats& s = r.stats;
-    runner::append_csv_record(csv, std::vector<std::string>{r.by, r.group, r.method, std::to_string(s.points),
-                                                    std::to_string(s.relative), std::to_string(s.near_zero),
-                                                    std::to_string(s.missing), runner::csv_number(s.rmse_relative),
-                                                    runner::csv_number(s.max_relative), runner::csv_number(s.smape),
-                                                    runner::csv_number(s.max_scaled), runner::csv_number(s.rmse_scaled), r.worst_roughness, r.worst_light_sharpness,
-                                                    r.worst_view_cos, r.worst_position, runner::csv_number(r.weighted_error),
-                                                    std::to_string(r.weighted_points), runner::csv_number(r.bright_smape),
-                                                    std::to_string(r.bright_rows)});
+    runner::append_csv_record(csv, std::vector<std::string>{r.by,
+                                                            r.group,
+                                                            r.method,
+                                                            std::to_string(s.points),
+                                                            std::to_string(s.relative),
+                                                            std::to_string(s.near_zero),
+                                                            std::to_string(s.missing),
+                                                            runner::csv_number(s.rmse_relative),
+                                                            runner::csv_number(s.max_relative),
+                                                            runner::csv_number(s.smape),
+                                                            runner::csv_number(s.max_scaled),
+                                                            runner::csv_number(s.rmse_scaled),
+                                                            r.worst_roughness,
+                                                            r.worst_light_sharpness,
+                                                            r.worst_view_cos,
+                                                            r.worst_position,
+                                                            runner::csv_number(r.weighted_error),
+                                                            std::to_string(r.weighted_points),
+                                                            runner::csv_number(r.bright_smape),
+                                                            std::to_string(r.bright_rows)});
   }
   return csv;
 }
@@ -370,59 +404,76 @@ struct SummaryIndex {
 };
 
 // What is compared with what: the BRDF, the quantity, the grid, the measures.
-std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIndex& x, const runner::Provenance& provenance,
-                          SpecularBrdf brdf) {
+std::string summary_intro(const std::vector<SpecularSummaryRow>& rows, SummaryIndex& x,
+                          const runner::Provenance& provenance, SpecularBrdf brdf) {
   std::size_t near_zero = 0, points = 0;
   for (const auto& r : rows)
     if (r.by == "all") near_zero = std::max(near_zero, r.stats.near_zero), points = std::max(points, r.stats.points);
   const auto values = [&](const std::string& by) { return x.values(by); };
 
   const bool gaussian = brdf == SpecularBrdf::gaussian;
-  const std::string title = gaussian ? "Specular reflection of an SG light off the Gaussian-angle NDF BRDF: error against m"
-                                     : "Specular reflection of an SG light off GGX: error against roughness";
+  const std::string title = gaussian
+                                ? "Specular reflection of an SG light off the Gaussian-angle NDF BRDF: error against m"
+                                : "Specular reflection of an SG light off GGX: error against roughness";
   const std::string model =
-      gaussian ? "Every method of the `specular-gaussian-ndf` quantity (`sglab eval --list`): the SG approximations of the "
-                 "Cook–Torrance-style BRDF of Wang et al. 2009 (NDF e^{−(θ_h/m)²} ≈ G(h; n, 2/m²) warped about the mirror "
-                 "direction, M_o = F·S/(π(n·ω)(n·ωo)) at the lobe axis; `sg-warp-meder` is the form of the blog post "
-                 "\"Rendering using Spherical Gaussians\", the cosine as Meder & Brüderlin 2018's SG as in PhySG) against "
-                 "`reference`, THE SAME BRDF integrated exactly (adaptive 2D quadrature, ≤ 1e-6 relative), not against GGX: "
-                 "unit-amplitude SG light, D = e^{−(θ_h/m)²} with D(n) = 1, V-cavity S (Cook & Torrance 1982), Schlick "
-                 "f0 = 0.04 (docs/math.md §5). In the tables below **α is the NDF width m** (radians; ≈ the Beckmann/GGX α "
-                 "at small angles), over m"
-               : "Every method of the `specular` quantity (`sglab eval --list`) against `reference` (adaptive 2D "
-                 "quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated Smith and Schlick "
-                 "f0 = 0.04, over roughness α";
-  return runner::markdown_header(provenance) + fmt::format(
-      "# {9}\n\n"
-      "Command: `{0}` (per-point data: `{11}_points.csv` in its `--out` directory; sharded runs joined by "
-      "`sglab merge` give the same file). {10} ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
-      "× light positions {{{4}}} in the lobe's own frame: the mirror direction; one in-plane width toward the normal and "
-      "toward the horizon; one and three widths across the plane of incidence (the lobe is cos θo narrower across it: "
-      "in-plane width min(√(1/λ + 2α²), π/6), across min(√(1/λ + 2α²cos²θo), π/6)); the normal. Only lights above the "
-      "horizon, and no duplicate rows (at view_cos = 1 the mirror is the normal and the one-width positions are one).\n\n"
-      "**Brightness-weighted error** = per point Σ|v − r|/Σr over its light positions, averaged over the points: the "
-      "error in proportion to how much each light contributes. **Bright SMAPE** = SMAPE over the rows whose reference "
-      "is at least {8} % of their point's peak (the largest reference over its positions). Plain SMAPE = mean of "
-      "2|v − r|/(|v| + |r|) (0–200 %) over all significant rows, dominated by dim rows where a method returning ~0 scores "
-      "~200 %; RMSE = root mean square of the relative error. **Near-zero references**: a reference below {5} of its "
-      "point's peak has no meaningful relative error; such rows ({6} of {7} per method over the grid) are left out of "
-      "SMAPE, RMSE and the maximum and counted. The scaled error |v − r| / (the peak), over all rows, covers them "
-      "(\"RMSE scaled\", \"max scaled\"). All numbers in %.\n\n",
-      provenance.command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
-      runner::csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff), title, model,
-      gaussian ? "specular-gaussian" : "specular");
+      gaussian
+          ? "Every method of the `specular-gaussian-ndf` quantity (`sglab eval --list`): the SG approximations of the "
+            "Cook–Torrance-style BRDF of Wang et al. 2009 (NDF e^{−(θ_h/m)²} ≈ G(h; n, 2/m²) warped about the mirror "
+            "direction, M_o = F·S/(π(n·ω)(n·ωo)) at the lobe axis; `sg-warp-meder` is the form of the blog post "
+            "\"Rendering using Spherical Gaussians\", the cosine as Meder & Brüderlin 2018's SG as in PhySG) against "
+            "`reference`, THE SAME BRDF integrated exactly (adaptive 2D quadrature, ≤ 1e-6 relative), not against GGX: "
+            "unit-amplitude SG light, D = e^{−(θ_h/m)²} with D(n) = 1, V-cavity S (Cook & Torrance 1982), Schlick "
+            "f0 = 0.04 (docs/math.md §5). In the tables below **α is the NDF width m** (radians; ≈ the Beckmann/GGX α "
+            "at small angles), over m"
+          : "Every method of the `specular` quantity (`sglab eval --list`) against `reference` (adaptive 2D "
+            "quadrature, ≤ 1e-6 relative), unit-amplitude SG light, GGX with height-correlated Smith and Schlick "
+            "f0 = 0.04, over roughness α";
+  return runner::markdown_header(provenance) +
+         fmt::format(
+             "# {9}\n\n"
+             "Command: `{0}` (per-point data: `{11}_points.csv` in its `--out` directory; sharded runs joined by "
+             "`sglab merge` give the same file). {10} ∈ {{{1}}} × light sharpness λ ∈ {{{2}}} × view_cos ∈ {{{3}}} "
+             "× light positions {{{4}}} in the lobe's own frame: the mirror direction; one in-plane width toward the "
+             "normal and "
+             "toward the horizon; one and three widths across the plane of incidence (the lobe is cos θo narrower "
+             "across it: "
+             "in-plane width min(√(1/λ + 2α²), π/6), across min(√(1/λ + 2α²cos²θo), π/6)); the normal. Only lights "
+             "above the "
+             "horizon, and no duplicate rows (at view_cos = 1 the mirror is the normal and the one-width positions are "
+             "one).\n\n"
+             "**Brightness-weighted error** = per point Σ|v − r|/Σr over its light positions, averaged over the "
+             "points: the "
+             "error in proportion to how much each light contributes. **Bright SMAPE** = SMAPE over the rows whose "
+             "reference "
+             "is at least {8} % of their point's peak (the largest reference over its positions). Plain SMAPE = mean "
+             "of "
+             "2|v − r|/(|v| + |r|) (0–200 %) over all significant rows, dominated by dim rows where a method returning "
+             "~0 scores "
+             "~200 %; RMSE = root mean square of the relative error. **Near-zero references**: a reference below {5} "
+             "of its "
+             "point's peak has no meaningful relative error; such rows ({6} of {7} per method over the grid) are left "
+             "out of "
+             "SMAPE, RMSE and the maximum and counted. The scaled error |v − r| / (the peak), over all rows, covers "
+             "them "
+             "(\"RMSE scaled\", \"max scaled\"). All numbers in %.\n\n",
+             provenance.command, values("roughness"), values("light_sharpness"), values("view_cos"), values("position"),
+             runner::csv_number(kSpecularNearZero), near_zero, points, fmt::format("{:g}", 100 * kSpecularBrightCutoff),
+             title, model, gaussian ? "specular-gaussian" : "specular");
 }
 
 // The whole grid: every statistic per method.
 std::string whole_grid_table(const std::vector<SpecularSummaryRow>& rows) {
   std::string md;
-  md += "## Over the whole grid\n\n| method | brightness-weighted | bright SMAPE | SMAPE | max relative | RMSE | RMSE scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  md +=
+      "## Over the whole grid\n\n| method | brightness-weighted | bright SMAPE | SMAPE | max relative | RMSE | RMSE "
+      "scaled | max scaled | near 0 | missing | worst point (α, λ, view_cos, position) "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     if (r.by != "all") continue;
     const metrics::ErrorStats& s = r.stats;
     md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", r.method, percent(r.weighted_error),
-                      percent(r.bright_smape), percent(s.smape), percent(s.max_relative),
-                      percent(s.rmse_relative), percent(s.rmse_scaled), percent(s.max_scaled), s.near_zero, s.missing,
+                      percent(r.bright_smape), percent(s.smape), percent(s.max_relative), percent(s.rmse_relative),
+                      percent(s.rmse_scaled), percent(s.max_scaled), s.near_zero, s.missing,
                       r.worst_roughness.empty() ? "—"
                                                 : fmt::format("{}, {}, {}, {}", short_group(r.worst_roughness),
                                                               short_group(r.worst_light_sharpness),
@@ -443,22 +494,29 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
   auto rmse = [](const metrics::ErrorStats& s) { return percent(s.rmse_relative); };
   auto rmse_scaled = [](const metrics::ErrorStats& s) { return percent(s.rmse_scaled); };
   auto both = [](const metrics::ErrorStats& s) { return percent(s.smape) + " / " + percent(s.max_relative); };
-  const auto rtable = [&](const std::string& by, const std::string& first, auto show) { return x.rtable(by, first, show); };
-  const auto table = [&](const std::string& by, const std::string& first, auto show) { return x.table(by, first, show); };
+  const auto rtable = [&](const std::string& by, const std::string& first, auto show) {
+    return x.rtable(by, first, show);
+  };
+  const auto table = [&](const std::string& by, const std::string& first, auto show) {
+    return x.table(by, first, show);
+  };
   std::string md = summary_intro(rows, x, provenance, brdf);
   md += "## Brightness-weighted error Σ|v − r|/Σr (%) by roughness α\n\n" + rtable("roughness", "α", weighted);
-  md += fmt::format("## SMAPE (%) over rows ≥ {:g} % of the point's peak, by roughness α\n\n", 100 * kSpecularBrightCutoff) +
+  md += fmt::format("## SMAPE (%) over rows ≥ {:g} % of the point's peak, by roughness α\n\n",
+                    100 * kSpecularBrightCutoff) +
         rtable("roughness", "α", bright);
   md += "## SMAPE (%) by roughness α\n\n" + table("roughness", "α", smape);
   md += "## Maximum relative error (%) by roughness α\n\n" + table("roughness", "α", max_rel);
   md += "## RMSE of the relative error (%) by roughness α\n\n" + table("roughness", "α", rmse);
-  md += "## RMSE of the scaled error (%) by roughness α\n\n|v − r| / (the point's largest reference), all rows: how much "
-        "the error shows next to the brightest light position.\n\n" +
-        table("roughness", "α", rmse_scaled);
-  md += "## Near the highlight: SMAPE / maximum relative error (%) by roughness α\n\nOnly the light positions within "
-        "one width of the mirror direction (mirror, toward-normal, toward-horizon, side); the tables above include the "
-        "lobe's tails too.\n\n" +
-        table("roughness_near_lobe", "α", both);
+  md +=
+      "## RMSE of the scaled error (%) by roughness α\n\n|v − r| / (the point's largest reference), all rows: how much "
+      "the error shows next to the brightest light position.\n\n" +
+      table("roughness", "α", rmse_scaled);
+  md +=
+      "## Near the highlight: SMAPE / maximum relative error (%) by roughness α\n\nOnly the light positions within "
+      "one width of the mirror direction (mirror, toward-normal, toward-horizon, side); the tables above include the "
+      "lobe's tails too.\n\n" +
+      table("roughness_near_lobe", "α", both);
   md += "## Where each method breaks: SMAPE / maximum relative error (%)\n\n";
   md += "By view angle (all α, λ, positions):\n\n" + table("view_cos", "view_cos", both);
   md += "By light sharpness:\n\n" + table("light_sharpness", "λ", both);
@@ -490,7 +548,8 @@ void run_specular(const SpecularOptions& o, const runner::RunContext& run) {
   const auto rows = summarize_specular_points(runner::read_sweep_points(r.points_csv), r.points_csv.string());
   std::string command = "sglab";
   for (const auto& a : d.args) command += " " + a;
-  command += o.tables_dir.empty() ? runner::option_argument("--out", o.out, SpecularOptions{}.out) : runner::option_argument("--tables-dir", o.tables_dir);
+  command += o.tables_dir.empty() ? runner::option_argument("--out", o.out, SpecularOptions{}.out)
+                                  : runner::option_argument("--tables-dir", o.tables_dir);
   const fs::path tables = runner::tables_place(o.tables_dir, o.out);
   const std::string csv = specular_summary_csv(rows);
   const runner::Provenance provenance{command, o.quick || run.quick};
@@ -501,22 +560,25 @@ void run_specular(const SpecularOptions& o, const runner::RunContext& run) {
   outputs.add(tables / (base + "_vs_roughness.md"), md);
   outputs.commit();
   std::fputs(md.c_str(), stdout);
-  std::fprintf(stderr, "sweep specular: wrote %s/%s_summary.csv and %s/%s_vs_roughness.{md,csv} (%.1f s)\n", o.out.c_str(),
-               base.c_str(), tables.c_str(), base.c_str(), r.seconds);
+  std::fprintf(stderr, "sweep specular: wrote %s/%s_summary.csv and %s/%s_vs_roughness.{md,csv} (%.1f s)\n",
+               o.out.c_str(), base.c_str(), tables.c_str(), base.c_str(), r.seconds);
 }
 
 }  // namespace
 
 void add_sweep_specular(CLI::App& sweep, const runner::RunContext& run) {
   auto o = std::make_shared<SpecularOptions>();
-  auto* sub = sweep.add_subcommand("specular",
-                                   "Every specular method vs the reference over roughness × light sharpness × view × light position");
+  auto* sub = sweep.add_subcommand(
+      "specular", "Every specular method vs the reference over roughness × light sharpness × view × light position");
   sub->add_option("--out", o->out, "directory for specular_points.csv and specular_summary.csv")->capture_default_str();
   sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
       ->check(shard_given());
-  sub->add_option("--threads", o->threads, "worker threads (0: all cores)")->capture_default_str()->check(unsigned_at_most(runner::kMaxThreads));
-  sub->add_option("--tables-dir", o->tables_dir, "directory for specular_vs_roughness.{md,csv} (default: the --out directory)");
+  sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
+      ->capture_default_str()
+      ->check(unsigned_at_most(runner::kMaxThreads));
+  sub->add_option("--tables-dir", o->tables_dir,
+                  "directory for specular_vs_roughness.{md,csv} (default: the --out directory)");
   sub->add_option("--brdf", o->brdf,
                   "ggx (the `specular` quantity) or gaussian (the Gaussian-angle NDF BRDF, `specular-gaussian-ndf`; "
                   "tables specular_gaussian_vs_roughness.{md,csv})")
@@ -539,14 +601,14 @@ std::vector<Step> sweep_specular_steps(const Places& p) {
       sglab_step("sweep-specular-gaussian",
                  "specular methods of the Gaussian-angle NDF BRDF against that BRDF's own reference "
                  "(paper_tables/specular_gaussian_vs_roughness.*)",
-                 {"sweep", "specular", "--brdf", "gaussian", "--out", p.out + "/specular"}, {"--quick"}, "--tables-dir", true),
+                 {"sweep", "specular", "--brdf", "gaussian", "--out", p.out + "/specular"}, {"--quick"}, "--tables-dir",
+                 true),
       plot_step("plot-specular", "specular error against roughness, one line per method",
                 {"plots/specular_vs_roughness.py", p.out + "/specular/specular_summary.csv", p.key_figures()})};
 }
 
 Experiment sweep_specular_experiment() {
-  return {"sweep-specular",
-          "`sglab sweep specular`: specular methods against the GGX reference over roughness",
+  return {"sweep-specular", "`sglab sweep specular`: specular methods against the GGX reference over roughness",
           cli::add_sweep_specular, sweep_specular_steps, "sweep"};
 }
 

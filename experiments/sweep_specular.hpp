@@ -72,9 +72,9 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf 
 
 // One summary row: the statistics of one method over one group of rows.
 struct SpecularSummaryRow {
-  std::string by;      // what the group is: "roughness", "roughness_near_lobe" (only the rows of the
-                       // near-lobe positions), "light_sharpness", "view_cos", "position", "all"
-  std::string group;   // the group's value as printed in the per-point CSV ("0.01", "mirror", "all")
+  std::string by;     // what the group is: "roughness", "roughness_near_lobe" (only the rows of the
+                      // near-lobe positions), "light_sharpness", "view_cos", "position", "all"
+  std::string group;  // the group's value as printed in the per-point CSV ("0.01", "mirror", "all")
   std::string method;
   metrics::ErrorStats stats;
   // Brightness-weighted error: per point Σ|v − r|/Σ r over its rows with a value, then the mean
@@ -90,9 +90,9 @@ struct SpecularSummaryRow {
 
 // The summary derived from a per-point CSV alone (the file the sweep or `sglab merge` wrote):
 // per roughness (all positions, then only the near-lobe ones), per light sharpness, per view_cos,
-// per position and over all points, per method, in the order of first appearance. Errors are recomputed from the value, reference and
-// scale columns (near zero: kSpecularNearZero). Throws UsageError naming `source`, the line and
-// the column for a missing column or a bad number.
+// per position and over all points, per method, in the order of first appearance. Errors are recomputed from the value,
+// reference and scale columns (near zero: kSpecularNearZero). Throws UsageError naming `source`, the line and the
+// column for a missing column or a bad number.
 std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable& points, const std::string& source);
 
 // The summary as CSV (header + rows).

@@ -40,7 +40,8 @@ namespace {
 namespace fs = std::filesystem;
 using render::Vec3;
 
-const std::vector<std::string> kScenes = {"scenes/cornell-glossy.json", "scenes/diffuse-only.json", "scenes/sg-light-near-wall.json"};
+const std::vector<std::string> kScenes = {"scenes/cornell-glossy.json", "scenes/diffuse-only.json",
+                                          "scenes/sg-light-near-wall.json"};
 const std::vector<int> kCounts = {4, 16, 64};
 constexpr int kRandomResolution = 8;
 constexpr std::uint64_t kRandomRsmSeed = 20161001;  // arbitrary, fixed
@@ -137,12 +138,12 @@ void rsm_rows(const std::string& name, const render::ReflectiveShadowMap& rsm, i
     const double first_scale = e.s.importance * sigma;
     const double first_se = std::sqrt(std::pow(first[0].standard_error(), 2) + std::pow(first[1].standard_error(), 2) +
                                       std::pow(first[2].standard_error(), 2));
-    out.push_back({name, n, "importance", e.s.importance, importance.mean, (importance.mean - e.s.importance) / e.s.importance,
-                   importance.standard_error() / e.s.importance});
+    out.push_back({name, n, "importance", e.s.importance, importance.mean,
+                   (importance.mean - e.s.importance) / e.s.importance, importance.standard_error() / e.s.importance});
     out.push_back({name, n, "total_power", e.s.power, power.mean, (power.mean - e.s.power) / e.s.power,
                    power.standard_error() / e.s.power});
-    out.push_back({name, n, "first_moment", e.s.first.norm(), first_mean.norm(), (first_mean - e.s.first).norm() / first_scale,
-                   first_se / first_scale});
+    out.push_back({name, n, "first_moment", e.s.first.norm(), first_mean.norm(),
+                   (first_mean - e.s.first).norm() / first_scale, first_se / first_scale});
     out.push_back({name, n, "second_moment", e.s.second, second.mean, (second.mean - e.s.second) / e.s.second,
                    second.standard_error() / e.s.second});
   }
@@ -163,8 +164,8 @@ Result compute(const Options& o) {
                     random_rsm(kRandomResolution, kRandomRsmSeed));
   Result r;
   r.options = o;
-  r.provenance.command =
-      fmt::format("sglab vsgl-fis-bias --seeds {} --rsm {}", o.seeds, o.rsm) + runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
+  r.provenance.command = fmt::format("sglab vsgl-fis-bias --seeds {} --rsm {}", o.seeds, o.rsm) +
+                         runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
   for (const auto& [name, rsm] : rsms) rsm_rows(name, rsm, o.seeds, r.rows);
   return r;
 }
@@ -172,30 +173,34 @@ Result compute(const Options& o) {
 Tables tables(const Result& r) {
   const Options& o = r.options;
   Tables t;
-  runner::append_csv_record(t.csv, std::vector<std::string>{"rsm", "n", "quantity", "exact", "mean_estimate", "relative_bias",
-                                                    "standard_error", "seeds"});
+  runner::append_csv_record(t.csv, std::vector<std::string>{"rsm", "n", "quantity", "exact", "mean_estimate",
+                                                            "relative_bias", "standard_error", "seeds"});
   t.markdown = fmt::format(
       "# Bias of the FIS VSGLs (Tokuyoshi 2016, modified FIS) against the exact sums\n\n"
       "Each row: N FIS VSGLs built with seeds 1 … {} from one RSM ({}×{} for the shipped scenes), their sums compared "
       "with the exact sums over every texel (u = Y(Φ(R_d + R_s)) the importance, ȳ the importance-weighted mean): "
       "importance Σu (exact by construction), total power ΣΦ(R_d + R_s) (RGB summed), first moment Σu(y − ȳ) = 0 (bias "
       "given as ‖mean − exact‖/(Wσ), σ² = Σu‖y − ȳ‖²/W), second moment Σu‖y − ȳ‖². Relative bias = (mean over seeds − "
-      "exact)/exact, ± its standard error (sample sd/√seeds). A |bias| well above 2 standard errors is a real bias: the "
+      "exact)/exact, ± its standard error (sample sd/√seeds). A |bias| well above 2 standard errors is a real bias: "
+      "the "
       "per-sample mip level and the trilinear interpolation between levels make the estimator biased for every sum but "
       "the importance.\n\n"
-      "| RSM | N | total power bias | ± s.e. | first moment bias | ± s.e. | second moment bias | ± s.e. | importance bias |\n"
+      "| RSM | N | total power bias | ± s.e. | first moment bias | ± s.e. | second moment bias | ± s.e. | importance "
+      "bias |\n"
       "|---|---|---|---|---|---|---|---|---|\n",
       o.seeds, o.rsm, o.rsm);
   for (const Row& row : r.rows)
-    runner::append_csv_record(t.csv, std::vector<std::string>{row.rsm, std::to_string(row.n), row.quantity, runner::csv_number(row.exact),
-                                                      runner::csv_number(row.mean), runner::csv_number(row.bias),
-                                                      runner::csv_number(row.standard_error), std::to_string(o.seeds)});
+    runner::append_csv_record(
+        t.csv, std::vector<std::string>{row.rsm, std::to_string(row.n), row.quantity, runner::csv_number(row.exact),
+                                        runner::csv_number(row.mean), runner::csv_number(row.bias),
+                                        runner::csv_number(row.standard_error), std::to_string(o.seeds)});
   // One Markdown line per (RSM, N): its four rows, importance first.
   for (std::size_t i = 0; i + 3 < r.rows.size(); i += 4) {
     const Row* q = &r.rows[i];
-    t.markdown += fmt::format("| {} | {} | {:+.2f} % | {:.2f} % | {:.2f} % | {:.2f} % | {:+.2f} % | {:.2f} % | {:+.1e} |\n",
-                              q[0].rsm, q[0].n, 100 * q[1].bias, 100 * q[1].standard_error, 100 * q[2].bias,
-                              100 * q[2].standard_error, 100 * q[3].bias, 100 * q[3].standard_error, q[0].bias);
+    t.markdown += fmt::format(
+        "| {} | {} | {:+.2f} % | {:.2f} % | {:.2f} % | {:.2f} % | {:+.2f} % | {:.2f} % | {:+.1e} |\n", q[0].rsm, q[0].n,
+        100 * q[1].bias, 100 * q[1].standard_error, 100 * q[2].bias, 100 * q[2].standard_error, 100 * q[3].bias,
+        100 * q[3].standard_error, q[0].bias);
   }
   return t;
 }
@@ -212,7 +217,8 @@ namespace sglab::cli {
 
 void add_vsgl_fis_bias_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<vsgl_fis_bias::Options>();
-  auto* sub = app.add_subcommand("vsgl-fis-bias", "bias of the FIS VSGLs' sums (power, moments) against the exact sums, over seeds");
+  auto* sub = app.add_subcommand("vsgl-fis-bias",
+                                 "bias of the FIS VSGLs' sums (power, moments) against the exact sums, over seeds");
   sub->add_option("--seeds", o->seeds, "seeds 1 … S per RSM and N")->capture_default_str();
   sub->add_option("--rsm", o->rsm, "RSM resolution of the shipped scenes")->capture_default_str();
   sub->add_option("--tables-dir", o->tables_dir, "directory for vsgl_fis_bias.{md,csv}")->capture_default_str();
@@ -224,14 +230,14 @@ void add_vsgl_fis_bias_command(CLI::App& app, const runner::RunContext& run) {
 namespace sglab::experiments {
 
 std::vector<Step> vsgl_fis_bias_steps(const Places&) {
-  return std::vector<Step>{sglab_step(
-      "vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over 64 seeds (paper_tables/vsgl_fis_bias.*)",
-      {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"}, "--tables-dir")};
+  return std::vector<Step>{
+      sglab_step("vsgl-fis-bias",
+                 "bias of the FIS VSGLs' sums against the exact sums over 64 seeds (paper_tables/vsgl_fis_bias.*)",
+                 {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"}, "--tables-dir")};
 }
 
 Experiment vsgl_fis_bias_experiment() {
-  return {"vsgl-fis-bias",
-          "bias of the FIS VSGLs' sums against the exact sums over seeds (vsgl_fis_bias.*)",
+  return {"vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over seeds (vsgl_fis_bias.*)",
           cli::add_vsgl_fis_bias_command, vsgl_fis_bias_steps};
 }
 

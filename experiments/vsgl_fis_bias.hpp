@@ -12,7 +12,7 @@ namespace sglab::cli::vsgl_fis_bias {
 
 struct Options {
   int seeds = 64;
-  int rsm = 64;  // RSM resolution of the shipped scenes
+  int rsm = 64;                                      // RSM resolution of the shipped scenes
   std::string tables_dir = "results/vsgl_fis_bias";  // --tables-dir (paper_tables/ only in `sglab reproduce`)
 };
 

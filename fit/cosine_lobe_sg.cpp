@@ -22,7 +22,9 @@ constexpr double kSharpness = CosineLobeSg::sharpness;
 // a·G(t; λ) at t = ω·n.
 struct ScaledSg {
   template <class T>
-  T operator()(const T& t, const T* p) const { return p[0] * sg_eval_cos(t, p[1]); }
+  T operator()(const T& t, const T* p) const {
+    return p[0] * sg_eval_cos(t, p[1]);
+  }
 };
 using Model = AxisModel<ScaledSg>;
 using Residual = GridResidual<Model>;

@@ -44,7 +44,9 @@ constexpr double kPublishedOffset = MederCosineSg::offset;
 // a·G(t; λ) − b at t = ω·n.
 struct OffsetSg {
   template <class T>
-  T operator()(const T& t, const T* p) const { return p[0] * sg_eval_cos(t, p[1]) - p[2]; }
+  T operator()(const T& t, const T* p) const {
+    return p[0] * sg_eval_cos(t, p[1]) - p[2];
+  }
 };
 using CosineSgModel = AxisModel<OffsetSg>;
 using CosineSgResidual = GridResidual<CosineSgModel>;
@@ -98,8 +100,9 @@ FitResult solve_rounding(const std::string& precision) {
   FitSpec spec = bounded_spec(1e-8);
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.17g", f.u);
-  spec.objective = "l2-rounding (" + precision + "): int_{w.n>0} (a G - b - w.n)^2 + (u (|a G| + |b|))^2 dw, u = " +
-                   std::string(buf) + ", lambda >= 1e-8";
+  spec.objective = "l2-rounding (" + precision +
+                   "): int_{w.n>0} (a G - b - w.n)^2 + (u (|a G| + |b|))^2 dw, u = " + std::string(buf) +
+                   ", lambda >= 1e-8";
   // The balance point is λ ≈ 7√u (half: 0.16); start around it and on a fixed ladder.
   for (double l : {7 * std::sqrt(f.u), 2 * std::sqrt(f.u), 20 * std::sqrt(f.u), 1.0, 0.1, 0.01, 0.001}) {
     if (l > 1e-8) spec.starts.push_back({std::exp(l) / l, l, 1 / l});
@@ -160,15 +163,12 @@ FitResult fit_cosine_sg(const FitOptions& o) {
   FitResult r = solve(o.objective, f, kPublishedSharpness);
   char buf[256];
   const double pub[3] = {kPublishedAmplitude, kPublishedSharpness, kPublishedOffset};
-  std::snprintf(buf, sizeof buf, "published triple's cost on this grid: %.6g",
-                0.5 * f.squared_error(pub));
+  std::snprintf(buf, sizeof buf, "published triple's cost on this grid: %.6g", 0.5 * f.squared_error(pub));
   r.notes.push_back(buf);
   for (double bound : {1.0, 0.3, 0.1, kPublishedSharpness, 0.01, 0.001, 0.0001}) {
     const FitResult t = solve(o.objective, f, bound);
-    std::snprintf(buf, sizeof buf,
-                  "trajectory: lambda >= %-7g -> a = %.8g, lambda = %.6g, b = %.8g, cost = %.4g",
-                  bound, t.parameters[0].value, t.parameters[1].value, t.parameters[2].value,
-                  t.final_cost);
+    std::snprintf(buf, sizeof buf, "trajectory: lambda >= %-7g -> a = %.8g, lambda = %.6g, b = %.8g, cost = %.4g",
+                  bound, t.parameters[0].value, t.parameters[1].value, t.parameters[2].value, t.final_cost);
     r.notes.push_back(buf);
   }
   return r;

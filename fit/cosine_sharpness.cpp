@@ -74,9 +74,7 @@ struct LogObjective {
 
 }  // namespace
 
-double cosine_sharpness_objective(double lambda, double unit_roundoff) {
-  return objective(lambda, unit_roundoff);
-}
+double cosine_sharpness_objective(double lambda, double unit_roundoff) { return objective(lambda, unit_roundoff); }
 
 FitResult fit_cosine_sharpness(const FitOptions& o) {
   const double u = unit_roundoff(o.precision);
@@ -84,8 +82,7 @@ FitResult fit_cosine_sharpness(const FitOptions& o) {
   FitSpec spec = fit_spec("cosine-sharpness", "Tokuyoshi 2022 (accurate diffuse SG lighting), for float32",
                           {{"lambda", kPublishedLambda, -HUGE_VAL, HUGE_VAL}});
   spec.objective = "max-plus-rounding: [alpha(e^l - 1) - 1] + alpha*u*(e^l + 1), u = 2^" +
-                   std::to_string(static_cast<int>(std::lround(std::log2(u)))) + " (" +
-                   o.precision + ")";
+                   std::to_string(static_cast<int>(std::lround(std::log2(u)))) + " (" + o.precision + ")";
   spec.domain = "upper hemisphere, w.n in [0, 1] (max-norm: attained at w.n = 1)";
   spec.starts = {{std::sqrt(12 * u)}, {1e-3}, {1e-1}, {1e-6}};
   spec.derived = [](const std::vector<double>& x) {
@@ -100,8 +97,8 @@ FitResult fit_cosine_sharpness(const FitOptions& o) {
     for (auto& v : r.relative_difference) v.value = std::numeric_limits<double>::quiet_NaN();
   }
   // Independent 1D cross-check: Brent on log λ.
-  const auto brent = boost::math::tools::brent_find_minima(
-      [u](double ll) { return objective(std::exp(ll), u); }, std::log(1e-12), std::log(1.0), 52);
+  const auto brent = boost::math::tools::brent_find_minima([u](double ll) { return objective(std::exp(ll), u); },
+                                                           std::log(1e-12), std::log(1.0), 52);
   add_brent_note(r, 0, std::exp(brent.first));
   return r;
 }

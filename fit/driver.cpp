@@ -207,8 +207,7 @@ FitResult finish_at(const FitSpec& spec, const std::vector<double>& x) {
   return r;
 }
 
-FitResult run_least_squares(const FitSpec& spec,
-                            const std::function<ceres::CostFunction*()>& make_cost) {
+FitResult run_least_squares(const FitSpec& spec, const std::function<ceres::CostFunction*()>& make_cost) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t k = spec.names.size();
   FitResult best;
@@ -259,8 +258,7 @@ void judge_least_squares(const FitSpec& spec, const std::function<ceres::CostFun
   for (std::size_t j = 0; j < k; ++j) r.cost_range.push_back(one_percent_range(cost, x, j));
 }
 
-FitResult run_scalar_fit(const FitSpec& spec,
-                         const std::function<ceres::FirstOrderFunction*()>& make_function) {
+FitResult run_scalar_fit(const FitSpec& spec, const std::function<ceres::FirstOrderFunction*()>& make_function) {
   const auto t0 = std::chrono::steady_clock::now();
   FitResult best;
   bool have = false;
@@ -293,7 +291,7 @@ FitResult run_scalar_fit(const FitSpec& spec,
     return ff->Evaluate(u.data(), &c, nullptr) ? c : std::nan("");
   };
   const bool published = all_published(spec) && std::all_of(spec.published.begin(), spec.published.end(),
-                                                             [](double v) { return v > 0; });  // log-parameters
+                                                            [](double v) { return v > 0; });  // log-parameters
   if (published) best.published_cost = cost(spec.published);
   for (std::size_t j = 0; j < best_x.size(); ++j) best.cost_range.push_back(one_percent_range(cost, best_x, j));
   return best;
@@ -327,8 +325,7 @@ std::string choose_objective(const Fitter& f, const std::string& requested) {
   }
   std::string offered;
   for (const auto& o : f.objectives) offered += (offered.empty() ? "" : ", ") + o;
-  throw std::invalid_argument("fit " + f.name + ": unknown objective '" + requested +
-                              "' (offered: " + offered + ")");
+  throw std::invalid_argument("fit " + f.name + ": unknown objective '" + requested + "' (offered: " + offered + ")");
 }
 
 void add_brent_note(FitResult& r, std::size_t index, double brent_value) {

@@ -167,7 +167,8 @@ std::vector<Tile> make_tiles(const Level& level) {
 }
 
 // The lobes that reach each tile (see kCutoff) for parameters x of N lobes.
-std::vector<std::vector<int>> active_lobes(const Level& level, const std::vector<Tile>& tiles, const std::vector<double>& x, int N) {
+std::vector<std::vector<int>> active_lobes(const Level& level, const std::vector<Tile>& tiles,
+                                           const std::vector<double>& x, int N) {
   const double margin = kMarginTexels * M_PI / double(level.height);
   std::vector<Vec3d> axis(static_cast<std::size_t>(N));
   std::vector<double> reach(static_cast<std::size_t>(N));
@@ -216,7 +217,8 @@ Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_
         double* base = x.data() + std::size_t(kStride * j);
         blocks.insert(blocks.end(), {base, base + 3, base + 4});
       }
-      problem.AddResidualBlock(new MixtureCost(&level, tiles[k].texels, int(active[k].size()), log_objective), nullptr, blocks);
+      problem.AddResidualBlock(new MixtureCost(&level, tiles[k].texels, int(active[k].size()), log_objective), nullptr,
+                               blocks);
     }
     for (int j = 0; j < N; ++j) {
       double* base = x.data() + std::size_t(kStride * j);
@@ -252,12 +254,6 @@ Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_
   return result;
 }
 
-
-
-
-
-
-
 // Indices into the pyramid: the finest level whose Jacobian fits the budget, and the coarsest
 // level that still has more residuals than 4 × the parameter count (start of coarse to fine).
 void choose_levels(const std::vector<EnvMap>& levels, int N, double budget, std::size_t& finest, std::size_t& start) {
@@ -276,7 +272,8 @@ void choose_levels(const std::vector<EnvMap>& levels, int N, double budget, std:
 void validate(const EnvMap& map, const EnvFitOptions& o) {
   if (o.lobes < 1) throw std::invalid_argument("--lobes must be at least 1 (got " + std::to_string(o.lobes) + ")");
   if (std::size_t(o.lobes) > map.size())
-    throw std::invalid_argument("--lobes " + std::to_string(o.lobes) + " exceeds the map's pixel count " + std::to_string(map.size()));
+    throw std::invalid_argument("--lobes " + std::to_string(o.lobes) + " exceeds the map's pixel count " +
+                                std::to_string(map.size()));
   if (o.init != "fibonacci" && o.init != "kmeans")
     throw std::invalid_argument("unknown --init " + quote(o.init) + " (fibonacci, kmeans)");
   if (o.objective != "l2" && o.objective != "log-l2")
@@ -294,7 +291,8 @@ std::vector<double> pack(const std::vector<Cluster>& clusters, const Level& leve
   std::vector<double> x;
   for (const auto& cl : clusters) {
     x.insert(x.end(), {cl.axis(0), cl.axis(1), cl.axis(2), std::log(cl.sharpness)});
-    for (int c = 0; c < 3; ++c) x.push_back(std::max(0.0, cl.weight * power[std::size_t(c)] / sg_integral(cl.sharpness)));
+    for (int c = 0; c < 3; ++c)
+      x.push_back(std::max(0.0, cl.weight * power[std::size_t(c)] / sg_integral(cl.sharpness)));
   }
   return x;
 }
@@ -330,7 +328,8 @@ void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::v
   if (sparse) {  // against the full map, by the sparse map's quadrature
     const SgMixture& m = r.mixture;
     r.error = sparse_error(*sparse, r.texel_means,
-                           tile_texel_means(*sparse, [&m](const Vec3d& w) { return mixture_eval(m, w); }, kErrorSupersample));
+                           tile_texel_means(
+                               *sparse, [&m](const Vec3d& w) { return mixture_eval(m, w); }, kErrorSupersample));
     r.detail_tiles = int(sparse->tiles.size());
   } else {
     r.error = envmap_error(map, r.texel_means);
@@ -341,11 +340,14 @@ void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::v
 // Refits the lobes `sharp` of x alone on the texels of `full` within 4 standard deviations (+ 2
 // texels) of their axes, every other lobe held fixed (its texel-blurred values subtracted from
 // the targets).
-void refit_lobes_locally(const Level& full, std::vector<double>& x, int N, const std::vector<int>& sharp, const EnvFitOptions& o,
-                         EnvFitResult& r) {
+void refit_lobes_locally(const Level& full, std::vector<double>& x, int N, const std::vector<int>& sharp,
+                         const EnvFitOptions& o, EnvFitResult& r) {
   std::vector<char> is_sharp(std::size_t(N), 0);
   for (int j : sharp) is_sharp[std::size_t(j)] = 1;
-  auto axis = [&](int j) { return Vec3d(x[std::size_t(kStride * j)], x[std::size_t(kStride * j + 1)], x[std::size_t(kStride * j + 2)]).normalized(); };
+  auto axis = [&](int j) {
+    return Vec3d(x[std::size_t(kStride * j)], x[std::size_t(kStride * j + 1)], x[std::size_t(kStride * j + 2)])
+        .normalized();
+  };
   const double delta = M_PI / double(full.height);
   Level sub;
   sub.width = full.width;
@@ -377,7 +379,8 @@ void refit_lobes_locally(const Level& full, std::vector<double>& x, int N, const
   r.iterations += s.iterations;
   r.converged = r.converged && s.converged;
   for (std::size_t i = 0; i < sharp.size(); ++i)
-    std::copy(xs.begin() + kStride * std::ptrdiff_t(i), xs.begin() + kStride * std::ptrdiff_t(i + 1), x.begin() + kStride * sharp[i]);
+    std::copy(xs.begin() + kStride * std::ptrdiff_t(i), xs.begin() + kStride * std::ptrdiff_t(i + 1),
+              x.begin() + kStride * sharp[i]);
 }
 
 // On each level finer than the last one fitted (the Jacobian budget stops the full joint fit
@@ -433,7 +436,8 @@ double level_cost(const Level& level, const std::vector<double>& x, int N) {
 // bound `bound` (a sun held by a texel of the reduced map) are refitted alone on the sparse map's
 // texels (refit_lobes_locally), where the sun is at full resolution; kept only if the sparse
 // map's cost falls.
-void refine_on_sparse(const Level& sparse, double bound, std::vector<double>& x, int N, const EnvFitOptions& o, EnvFitResult& r) {
+void refine_on_sparse(const Level& sparse, double bound, std::vector<double>& x, int N, const EnvFitOptions& o,
+                      EnvFitResult& r) {
   std::vector<int> sharp;
   for (int j = 0; j < N; ++j)
     if (std::exp(x[std::size_t(kStride * j + 3)]) >= 0.5 * bound) sharp.push_back(j);
@@ -479,7 +483,8 @@ void seed_bright_lobes(const Level& full, std::vector<double>& x, int N, const E
       const double g = q * std::exp(std::min(0.0, l.sharpness * q * (full.dirs[t].dot(l.axis) - 1)));
       for (int c = 0; c < 3; ++c) model[std::size_t(c)] += l.amplitude[std::size_t(c)] * g;
     }
-    for (int c = 0; c < 3; ++c) residual[t][std::size_t(c)] = std::max(0.0, full.value[t][std::size_t(c)] - model[std::size_t(c)]);
+    for (int c = 0; c < 3; ++c)
+      residual[t][std::size_t(c)] = std::max(0.0, full.value[t][std::size_t(c)] - model[std::size_t(c)]);
   });
   const double lambda = max_sharpness(full) / 4, q = 1 / (1 + lambda * s2);
   std::vector<int> seeds;
@@ -499,7 +504,8 @@ void seed_bright_lobes(const Level& full, std::vector<double>& x, int N, const E
     for (int c = 0; c < 3; ++c) b[4 + c] = amp[std::size_t(c)] / q;
     for (std::size_t t = 0; t < residual.size(); ++t) {  // the new lobe's share leaves the residual
       const double g = q * std::exp(std::min(0.0, lambda * q * (full.dirs[t].dot(a) - 1)));
-      for (int c = 0; c < 3; ++c) residual[t][std::size_t(c)] = std::max(0.0, residual[t][std::size_t(c)] - b[4 + c] * g);
+      for (int c = 0; c < 3; ++c)
+        residual[t][std::size_t(c)] = std::max(0.0, residual[t][std::size_t(c)] - b[4 + c] * g);
     }
     seeds.push_back(j);
   }
@@ -820,7 +826,11 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
 
 }  // namespace
 
-EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) { return fit_scale_free(map, o, fit_envmap_ceres_unscaled); }
-EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) { return fit_scale_free(map, o, fit_envmap_vmf_em_unscaled); }
+EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
+  return fit_scale_free(map, o, fit_envmap_ceres_unscaled);
+}
+EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
+  return fit_scale_free(map, o, fit_envmap_vmf_em_unscaled);
+}
 
 }  // namespace sglab::fit

@@ -63,29 +63,29 @@ struct EnvFitOptions {
   std::string objective = "l2";    // l2 | log-l2
   double jacobian_budget = 1.5e6;  // Ceres: estimated Jacobian nonzeros of the finest level fitted
   int threads = 2;
-  int max_iterations = 60;         // Levenberg–Marquardt iterations per level
-  int em_max_iterations = 200;     // vMF EM iterations (fit_envmap_vmf_em)
-  unsigned seed = 1;               // k-means++ seeding (printed by the callers)
+  int max_iterations = 60;      // Levenberg–Marquardt iterations per level
+  int em_max_iterations = 200;  // vMF EM iterations (fit_envmap_vmf_em)
+  unsigned seed = 1;            // k-means++ seeding (printed by the callers)
   // Ceres: called with the result of every rung of the lobe ladder below N (⌈N/2⌉, ⌈N/4⌉, … ≥ 1;
   // seconds counted from the start of the whole fit), so one fit at N = 128 also gives 64, 32, ….
   std::function<void(const EnvFitResult&)> on_stage;
   // A resolved map (envmap_sparse.hpp; its reduced map must be the fitted map): each rung of the
   // Ceres fit runs its full-map steps once more on the sparse map's texels (the detail tiles at
   // full resolution): the sharp lobes refitted, then the weakest lobes moved onto the brightest
-  // residual texels (seed_bright_lobes), each kept only if the sparse map's cost falls; vMF EM runs its E and M steps and its amplitude solve on them, and both report
-  // the error against the full map by the sparse map's quadrature.
+  // residual texels (seed_bright_lobes), each kept only if the sparse map's cost falls; vMF EM runs its E and M steps
+  // and its amplitude solve on them, and both report the error against the full map by the sparse map's quadrature.
   const SparseEnvMap* sparse = nullptr;
 };
 
 struct EnvFitResult {
-  std::string method;      // "ceres" | "vmf-em"
+  std::string method;  // "ceres" | "vmf-em"
   SgMixture mixture;
-  EnvMapError error;       // against the full map
-  EnvMap texel_means;      // the mixture's texel means on the full map's grid (what `error` compares)
+  EnvMapError error;   // against the full map
+  EnvMap texel_means;  // the mixture's texel means on the full map's grid (what `error` compares)
   double seconds = 0;
-  int iterations = 0;      // LM iterations (all levels) or EM iterations
-  bool converged = false;  // every level's LM (EM: the log-likelihood) stopped on a tolerance, not the cap
-  double final_cost = 0;   // of the finest level
+  int iterations = 0;                 // LM iterations (all levels) or EM iterations
+  bool converged = false;             // every level's LM (EM: the log-likelihood) stopped on a tolerance, not the cap
+  double final_cost = 0;              // of the finest level
   int fit_width = 0, fit_height = 0;  // the finest level fitted
   // Ceres lobe ladder: when a rung's own fit ended with a larger error against the full map than
   // the rung before it, the result is that rung's mixture plus zero-amplitude lobes (the guard of

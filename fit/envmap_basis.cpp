@@ -40,12 +40,14 @@ std::array<double, 3> EnvBasisFit::diffuse(const Vec3<double>& n) const {
     const double a = sh_clamped_cosine_band<double>(l) / M_PI;
     if (a == 0) continue;
     for (int m = -l; m <= l; ++m)
-      for (int c = 0; c < 3; ++c) out[std::size_t(c)] += a * sh[std::size_t(sh_index(l, m))][std::size_t(c)] * y[sh_index(l, m)];
+      for (int c = 0; c < 3; ++c)
+        out[std::size_t(c)] += a * sh[std::size_t(sh_index(l, m))][std::size_t(c)] * y[sh_index(l, m)];
   }
   return out;
 }
 
-std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& f, const std::vector<Vec3<double>>& normals, LobeDiffuseCache& cache) {
+std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& f, const std::vector<Vec3<double>>& normals,
+                                              LobeDiffuseCache& cache) {
   std::vector<std::array<double, 3>> out(normals.size());
   if (f.sh_order >= 0) {
     tbb::parallel_for(std::size_t(0), normals.size(), [&](std::size_t k) { out[k] = f.diffuse(normals[k]); });
@@ -77,7 +79,8 @@ std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& f, const std::v
       const auto& l = f.mixture[j];
       if (l.amplitude[0] == 0 && l.amplitude[1] == 0 && l.amplitude[2] == 0) continue;
       double& d = factor[k * n + j];  // row k is this task's alone
-      if (std::isnan(d)) d = clamped_cosine_reference(l.sharpness, std::clamp(l.axis.dot(normals[k]), -1.0, 1.0)) / M_PI;
+      if (std::isnan(d))
+        d = clamped_cosine_reference(l.sharpness, std::clamp(l.axis.dot(normals[k]), -1.0, 1.0)) / M_PI;
       for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += l.amplitude[std::size_t(c)] * d;
     }
     out[k] = sum;

@@ -35,18 +35,18 @@ struct EnvBasisOptions {
 
 // One fitted representation of a map.
 struct EnvBasisFit {
-  std::string basis, variant;  // "sg-fixed", "nnls"
-  int size = 0;                // L (sh) or N (SG bases)
-  int floats = 0;              // stored floats
-  double seconds = 0;          // wall time of the fit
-  int zero_lobes = 0;          // SG: lobes whose RGB amplitude is exactly 0
-  int kept_lobes = 0;          // sg-free: lobes kept from the rung N/2 by the ladder's guard (EnvFitResult)
-  int iterations = 0;          // vmf-em: EM iterations; sg-free: LM iterations of the whole ladder up to N
+  std::string basis, variant;         // "sg-fixed", "nnls"
+  int size = 0;                       // L (sh) or N (SG bases)
+  int floats = 0;                     // stored floats
+  double seconds = 0;                 // wall time of the fit
+  int zero_lobes = 0;                 // SG: lobes whose RGB amplitude is exactly 0
+  int kept_lobes = 0;                 // sg-free: lobes kept from the rung N/2 by the ladder's guard (EnvFitResult)
+  int iterations = 0;                 // vmf-em: EM iterations; sg-free: LM iterations of the whole ladder up to N
   int fit_width = 0, fit_height = 0;  // vmf-em, sg-free: the finest pyramid level fitted
-  int detail_tiles = 0;        // vmf-em, sg-free: full-resolution tiles of a resolved map (EnvFitResult)
-  int sh_order = -1;           // sh: L, coefficients [channel][sh_index]
+  int detail_tiles = 0;               // vmf-em, sg-free: full-resolution tiles of a resolved map (EnvFitResult)
+  int sh_order = -1;                  // sh: L, coefficients [channel][sh_index]
   std::vector<std::array<double, 3>> sh;
-  SgMixture mixture;           // SG bases
+  SgMixture mixture;  // SG bases
 
   // The represented radiance at the unit direction w.
   std::array<double, 3> radiance(const Vec3<double>& w) const;
@@ -70,7 +70,8 @@ struct LobeDiffuseCache {
   static constexpr std::size_t kEntries = 8;
   std::vector<Entry> entries;
 };
-std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& fit, const std::vector<Vec3<double>>& normals, LobeDiffuseCache& cache);
+std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& fit, const std::vector<Vec3<double>>& normals,
+                                              LobeDiffuseCache& cache);
 
 struct EnvBasis {
   std::string name;                   // "sh"

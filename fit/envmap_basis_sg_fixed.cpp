@@ -56,7 +56,8 @@ std::vector<EnvBasisFit> fit_sg_fixed(const EnvMap& map, const std::vector<int>&
     throw std::invalid_argument("unknown sg-fixed amplitude solver '" + variant + "' (ls, nnls, running-average)");
   std::vector<EnvBasisFit> out;
   for (int N : sizes) {
-    if (N < 1 || std::size_t(N) > map.size()) throw std::invalid_argument("sg-fixed N = " + std::to_string(N) + " outside [1, texels]");
+    if (N < 1 || std::size_t(N) > map.size())
+      throw std::invalid_argument("sg-fixed N = " + std::to_string(N) + " outside [1, texels]");
     const auto t0 = std::chrono::steady_clock::now();
     const auto axes = envmap_detail::fibonacci_axes(N);
     const double lambda = fixed_sharpness(N);
@@ -90,7 +91,8 @@ std::vector<EnvBasisFit> fit_sg_fixed(const EnvMap& map, const std::vector<int>&
     } else {
       Eigen::MatrixXd H(N, N);
       for (int j = 0; j < N; ++j)
-        for (int k = 0; k <= j; ++k) H(j, k) = H(k, j) = sg_product_integral(axes[std::size_t(j)], lambda, axes[std::size_t(k)], lambda);
+        for (int k = 0; k <= j; ++k)
+          H(j, k) = H(k, j) = sg_product_integral(axes[std::size_t(j)], lambda, axes[std::size_t(k)], lambda);
       // b_j per channel, by rows in parallel
       const int s = 2, W = map.width * s, Hh = map.height * s;
       std::vector<Eigen::MatrixXd> rows(static_cast<std::size_t>(Hh));
@@ -140,7 +142,11 @@ int sg_fixed_floats(int n) { return 3 * n; }
 }  // namespace
 
 EnvBasis sg_fixed_basis() {
-  return {"sg-fixed", "N", {"ls", "nnls", "running-average"}, {4, 8, 16, 32, 64, 128}, sg_fixed_floats,
+  return {"sg-fixed",
+          "N",
+          {"ls", "nnls", "running-average"},
+          {4, 8, 16, 32, 64, 128},
+          sg_fixed_floats,
           "N lobes on a spherical Fibonacci set, λ = N ln2/2 (Pettineo 2016's threshold rule, ε = ½ at the radius of a "
           "4π/N cap), amplitudes by least squares (ls), non-negative least squares (nnls, Lawson–Hanson) or Pettineo's "
           "non-negative running average (2^16 uniform samples); 3N floats",

@@ -13,7 +13,8 @@ namespace {
 
 EnvBasisFit from_result(const EnvFitResult& r) { return basis_fit_from("sg-free", r); }
 
-std::vector<EnvBasisFit> fit_sg_free(const EnvMap& map, const std::vector<int>& sizes, const std::string&, const EnvBasisOptions& o) {
+std::vector<EnvBasisFit> fit_sg_free(const EnvMap& map, const std::vector<int>& sizes, const std::string&,
+                                     const EnvBasisOptions& o) {
   std::map<int, EnvBasisFit> fits;
   auto fit_n = [&](int n, bool ladder) {
     EnvFitOptions fo;
@@ -40,10 +41,15 @@ std::vector<EnvBasisFit> fit_sg_free(const EnvMap& map, const std::vector<int>& 
 }  // namespace
 
 EnvBasis sg_free_basis() {
-  return {"sg-free", "N", {""}, {4, 8, 16, 32, 64, 128}, six_floats_per_lobe,
-          "the Ceres free-lobe fit of `sglab fit envmap` (axes, sharpnesses, RGB amplitudes; k-means start, lobe ladder); "
-          "6N floats",
-          fit_sg_free};
+  return {
+      "sg-free",
+      "N",
+      {""},
+      {4, 8, 16, 32, 64, 128},
+      six_floats_per_lobe,
+      "the Ceres free-lobe fit of `sglab fit envmap` (axes, sharpnesses, RGB amplitudes; k-means start, lobe ladder); "
+      "6N floats",
+      fit_sg_free};
 }
 
 }  // namespace sglab::fit

@@ -48,7 +48,8 @@ Coefficients project(const EnvMap& map, int order) {
       add);
 }
 
-std::vector<EnvBasisFit> fit_sh(const EnvMap& map, const std::vector<int>& sizes, const std::string&, const EnvBasisOptions&) {
+std::vector<EnvBasisFit> fit_sh(const EnvMap& map, const std::vector<int>& sizes, const std::string&,
+                                const EnvBasisOptions&) {
   std::vector<EnvBasisFit> out;
   for (int L : sizes) {
     if (L < 1 || L > kMaxShOrder) throw std::invalid_argument("sh order L = " + std::to_string(L) + " outside [1, 8]");
@@ -70,10 +71,15 @@ int sh_floats(int L) { return 3 * sh_count(L); }
 }  // namespace
 
 EnvBasis sh_basis() {
-  return {"sh", "L", {""}, {1, 2, 3, 4, 6, 8}, sh_floats,
-          "real SH of order L, 3(L+1)² floats; projection by texel quadrature (4×4 sub-texels per texel); diffuse by the "
-          "clamped-cosine zonal convolution of Ramamoorthi & Hanrahan 2001, unwindowed",
-          fit_sh};
+  return {
+      "sh",
+      "L",
+      {""},
+      {1, 2, 3, 4, 6, 8},
+      sh_floats,
+      "real SH of order L, 3(L+1)² floats; projection by texel quadrature (4×4 sub-texels per texel); diffuse by the "
+      "clamped-cosine zonal convolution of Ramamoorthi & Hanrahan 2001, unwindowed",
+      fit_sh};
 }
 
 }  // namespace sglab::fit

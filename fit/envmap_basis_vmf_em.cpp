@@ -8,7 +8,8 @@
 namespace sglab::fit {
 namespace {
 
-std::vector<EnvBasisFit> fit_vmf_em(const EnvMap& map, const std::vector<int>& sizes, const std::string&, const EnvBasisOptions& o) {
+std::vector<EnvBasisFit> fit_vmf_em(const EnvMap& map, const std::vector<int>& sizes, const std::string&,
+                                    const EnvBasisOptions& o) {
   std::vector<EnvBasisFit> out;
   for (int N : sizes) {
     EnvFitOptions fo;
@@ -25,7 +26,11 @@ std::vector<EnvBasisFit> fit_vmf_em(const EnvMap& map, const std::vector<int>& s
 }  // namespace
 
 EnvBasis vmf_em_basis() {
-  return {"vmf-em", "N", {""}, {4, 8, 16, 32, 64, 128}, six_floats_per_lobe,
+  return {"vmf-em",
+          "N",
+          {""},
+          {4, 8, 16, 32, 64, 128},
+          six_floats_per_lobe,
           "EM for a von Mises–Fisher mixture (Banerjee et al. 2005) on Ω·(mean RGB)-weighted texel directions, "
           "k-means++ start, then NNLS RGB amplitudes; 6N floats",
           fit_vmf_em};

@@ -27,7 +27,6 @@ Level make_level(const EnvMap& m) {
   return l;
 }
 
-
 // Points of a spherical Fibonacci lattice (González 2010, "Measurement of areas on a sphere using
 // Fibonacci and latitude–longitude lattices").
 std::vector<Vec3d> fibonacci_axes(int n) {

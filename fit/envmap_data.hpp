@@ -18,7 +18,7 @@ struct Level {
   std::vector<double> omega;                 // solid angle
   std::vector<std::array<double, 3>> value;  // target radiance
   double texel_variance = 0;                 // s² = δ²/12 of the box filter, δ = π/H
-  bool grid = true;  // texels in row-major width × height order (else an irregular subset)
+  bool grid = true;                          // texels in row-major width × height order (else an irregular subset)
 };
 
 // Sharpnesses are bounded below by kMinSharpness and above, per level, by 4/δ² = 1/(3s²) (a lobe

@@ -18,7 +18,8 @@ SparseEnvMap make_sparse_envmap(const EnvMap& full, int width, double tolerance)
   s.full_width = full.width;
   s.full_height = full.height;
   s.reduced = full;
-  while (s.reduced.width > width && s.reduced.width % 2 == 0 && s.reduced.height % 2 == 0) s.reduced = downsample_envmap(s.reduced);
+  while (s.reduced.width > width && s.reduced.width % 2 == 0 && s.reduced.height % 2 == 0)
+    s.reduced = downsample_envmap(s.reduced);
   s.factor = full.width / s.reduced.width;
   const EnvMap& r = s.reduced;
   const int F = s.factor;
@@ -58,16 +59,20 @@ SparseEnvMap make_sparse_envmap(const EnvMap& full, int width, double tolerance)
   return s;
 }
 
-EnvMapError sparse_error(const SparseEnvMap& s, const EnvMap& approx, const std::vector<std::vector<std::array<float, 3>>>& approx_tiles) {
+EnvMapError sparse_error(const SparseEnvMap& s, const EnvMap& approx,
+                         const std::vector<std::vector<std::array<float, 3>>>& approx_tiles) {
   const EnvMapError reduced = envmap_error(s.reduced, approx);
   if (s.tiles.empty()) return reduced;  // the reduced map's error, bit for bit
   auto squared = [](const std::array<float, 3>& a, const std::array<float, 3>& m) {
     double sum = 0;
-    for (int c = 0; c < 3; ++c) sum += (double(a[std::size_t(c)]) - double(m[std::size_t(c)])) * (double(a[std::size_t(c)]) - double(m[std::size_t(c)]));
+    for (int c = 0; c < 3; ++c)
+      sum += (double(a[std::size_t(c)]) - double(m[std::size_t(c)])) *
+             (double(a[std::size_t(c)]) - double(m[std::size_t(c)]));
     return sum;
   };
   double se = reduced.l2 * reduced.l2;
-  for (std::size_t k = 0; k < s.tiles.size(); ++k) {  // per tile: the full texels' squared error less the reduced texel's
+  for (std::size_t k = 0; k < s.tiles.size();
+       ++k) {  // per tile: the full texels' squared error less the reduced texel's
     const SparseTile& t = s.tiles[k];
     double tile = 0;
     for (int y = 0; y < s.factor; ++y) {
@@ -77,7 +82,8 @@ EnvMapError sparse_error(const SparseEnvMap& s, const EnvMap& approx, const std:
         tile += omega * squared(approx_tiles[k][i], t.texels[i]);
       }
     }
-    tile -= texel_solid_angle(s.reduced.width, s.reduced.height, t.v) * squared(approx.at(t.u, t.v), s.reduced.at(t.u, t.v));
+    tile -= texel_solid_angle(s.reduced.width, s.reduced.height, t.v) *
+            squared(approx.at(t.u, t.v), s.reduced.at(t.u, t.v));
     se += tile;
   }
   const std::array<float, 3> zero{0, 0, 0};
@@ -88,9 +94,8 @@ EnvMapError sparse_error(const SparseEnvMap& s, const EnvMap& approx, const std:
   return e;
 }
 
-std::vector<std::vector<std::array<float, 3>>> tile_texel_means(const SparseEnvMap& s,
-                                                               const std::function<std::array<double, 3>(const Vec3<double>&)>& radiance,
-                                                               int supersample) {
+std::vector<std::vector<std::array<float, 3>>> tile_texel_means(
+    const SparseEnvMap& s, const std::function<std::array<double, 3>(const Vec3<double>&)>& radiance, int supersample) {
   std::vector<std::vector<std::array<float, 3>>> out(s.tiles.size());
   const int n = supersample;
   tbb::parallel_for(std::size_t(0), s.tiles.size(), [&](std::size_t k) {

@@ -21,17 +21,17 @@
 namespace sglab::fit {
 
 struct SparseTile {
-  int u = 0, v = 0;                              // the reduced texel replaced
-  std::vector<std::array<float, 3>> texels;      // the full map's factor × factor texels, row-major
+  int u = 0, v = 0;                          // the reduced texel replaced
+  std::vector<std::array<float, 3>> texels;  // the full map's factor × factor texels, row-major
 };
 
 struct SparseEnvMap {
-  EnvMap reduced;                   // the full map reduced to at most `width` texels wide
+  EnvMap reduced;  // the full map reduced to at most `width` texels wide
   int full_width = 0, full_height = 0;
-  int factor = 1;                   // full texels per reduced texel side
-  std::vector<SparseTile> tiles;    // in the order chosen (largest error contribution first)
-  double relative_l2 = 0;           // of the sparse map against the full map
-  double reduced_relative_l2 = 0;   // of the reduced map alone against the full map
+  int factor = 1;                  // full texels per reduced texel side
+  std::vector<SparseTile> tiles;   // in the order chosen (largest error contribution first)
+  double relative_l2 = 0;          // of the sparse map against the full map
+  double reduced_relative_l2 = 0;  // of the reduced map alone against the full map
 };
 
 // Throws std::invalid_argument for τ ∉ (0, 1) or width < 1. A map already at most `width` wide is its
@@ -66,7 +66,8 @@ double sparse_quadrature(const SparseEnvMap& s, const F& f) {
         tile += omega * f(SparseTexelRef{s.full_width, s.full_height, t.u * s.factor + x, v, int(k),
                                          &t.texels[std::size_t(y) * std::size_t(s.factor) + std::size_t(x)]});
     }
-    tile -= texel_solid_angle(r.width, r.height, t.v) * f(SparseTexelRef{r.width, r.height, t.u, t.v, -1, &r.at(t.u, t.v)});
+    tile -= texel_solid_angle(r.width, r.height, t.v) *
+            f(SparseTexelRef{r.width, r.height, t.u, t.v, -1, &r.at(t.u, t.v)});
     sum += tile;
   }
   return sum;
@@ -75,13 +76,13 @@ double sparse_quadrature(const SparseEnvMap& s, const F& f) {
 // The solid-angle-weighted error of a representation against the full map by the quadrature above:
 // `approx` holds the representation's texel means on the reduced grid, approx_tiles[k] on tile
 // k's full-resolution texels (row-major). With no tiles: envmap_error(reduced, approx), bit for bit.
-EnvMapError sparse_error(const SparseEnvMap& s, const EnvMap& approx, const std::vector<std::vector<std::array<float, 3>>>& approx_tiles);
+EnvMapError sparse_error(const SparseEnvMap& s, const EnvMap& approx,
+                         const std::vector<std::vector<std::array<float, 3>>>& approx_tiles);
 
 // A representation's texel means (supersample² points per texel) on every tile's full-resolution
 // texels, for sparse_error; tiles in parallel.
-std::vector<std::vector<std::array<float, 3>>> tile_texel_means(const SparseEnvMap& s,
-                                                               const std::function<std::array<double, 3>(const Vec3<double>&)>& radiance,
-                                                               int supersample);
+std::vector<std::vector<std::array<float, 3>>> tile_texel_means(
+    const SparseEnvMap& s, const std::function<std::array<double, 3>(const Vec3<double>&)>& radiance, int supersample);
 
 // The sparse map as fitting data: the reduced texels no tile replaces, then every tile's texels (an
 // irregular texel set, Level::grid false, width × height the reduced map's). Its texel variance is

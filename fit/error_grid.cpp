@@ -24,7 +24,8 @@ DiffuseAxes diffuse_grid_axes(bool quick) {
 
 SpecularGridPoints specular_grid_points(bool quick) {
   SpecularGridPoints p;
-  p.roughnesses = quick ? std::vector<double>{0.05, 0.2, 0.5, 1} : std::vector<double>{0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1};
+  p.roughnesses = quick ? std::vector<double>{0.05, 0.2, 0.5, 1}
+                        : std::vector<double>{0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1};
   p.light_sharpnesses = quick ? std::vector<double>{10, 100} : std::vector<double>{1, 10, 100, 1000};
   const std::vector<double> views = {0.9, 0.5, 0.2};
   const std::vector<double> tilts = {0, 0.1, 0.3, 0.6};  // radians from the mirror direction

@@ -10,8 +10,7 @@
 
 namespace sglab::fit {
 
-LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_lambda,
-                                    int c_subdivisions) {
+LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_lambda, int c_subdivisions) {
   const std::vector<double> ls = log_spaced(lambda_min, lambda_max, n_lambda);
   const Quadrature qc = gauss_legendre({-1.0, 0.0, 1.0}, c_subdivisions);
   LambdaCosineGrid g;
@@ -28,8 +27,7 @@ LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_
 std::vector<double> hemispherical_targets(const LambdaCosineGrid& g) {
   std::vector<double> out(g.size());
   for (std::size_t i = 0; i < g.size(); ++i) {
-    out[i] = hemispherical_reference<double>(g.lambda[i], g.cosine[i]) /
-             hemispherical_upper<double>(g.lambda[i]);
+    out[i] = hemispherical_reference<double>(g.lambda[i], g.cosine[i]) / hemispherical_upper<double>(g.lambda[i]);
   }
   return out;
 }

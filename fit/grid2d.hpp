@@ -19,8 +19,7 @@ struct LambdaCosineGrid {
   std::size_t size() const { return lambda.size(); }
 };
 
-LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_lambda,
-                                    int c_subdivisions);
+LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_lambda, int c_subdivisions);
 
 // H_ref(λ, c)/H(λ, 1): the exact hemispherical integral normalized by its upper bound
 // 2π(1 − e^{−λ})/λ (a fraction in [e^{−λ}, 1]).
@@ -103,8 +102,8 @@ const GridResidual<LambdaCosineModel<Curve>>& lambda_cosine_reference(const Lamb
 template <int K, class Curve>
 Fitter lambda_cosine_fitter(const LambdaCosineFit& fit) {
   if (fit.parameters.size() != std::size_t(K))
-    throw std::logic_error("fit " + fit.name + ": " + std::to_string(fit.parameters.size()) + " parameters, K = " +
-                           std::to_string(K));
+    throw std::logic_error("fit " + fit.name + ": " + std::to_string(fit.parameters.size()) +
+                           " parameters, K = " + std::to_string(K));
   Fitter f;
   f.name = fit.name;
   f.description = fit.description;

@@ -29,9 +29,13 @@ struct HillCurve {
 
 LambdaCosineFit hill_fit() {
   // c0 = 0.36 as published, defined in core (HillIrradiance, clamped_cosine.hpp).
-  return {"hill-irradiance", "c0 of the Pettineo/Hill fitted SG irradiance",
-          "Pettineo 2016 (Hill's fit), SG series part 3", kClampedCosineTarget, {1, 100, 20},
-          {{"c0", HillIrradiance::c0, 0.05, 2.0}}, {{0.2}, {0.6}}};
+  return {"hill-irradiance",
+          "c0 of the Pettineo/Hill fitted SG irradiance",
+          "Pettineo 2016 (Hill's fit), SG series part 3",
+          kClampedCosineTarget,
+          {1, 100, 20},
+          {{"c0", HillIrradiance::c0, 0.05, 2.0}},
+          {{0.2}, {0.6}}};
 }
 
 }  // namespace
@@ -45,8 +49,8 @@ Fitter hill_irradiance_fitter() {
     FitResult r = run(o);
     if (o.objective != "l2-normalized") return r;
     const auto& p = lambda_cosine_reference<HillCurve>(fit);
-    const auto brent = boost::math::tools::brent_find_minima(
-        [&](double c0) { return p.squared_error(&c0); }, fit.parameters[0].lower, fit.parameters[0].upper, 40);
+    const auto brent = boost::math::tools::brent_find_minima([&](double c0) { return p.squared_error(&c0); },
+                                                             fit.parameters[0].lower, fit.parameters[0].upper, 40);
     add_brent_note(r, 0, brent.first);
     return r;
   };

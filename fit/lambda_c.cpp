@@ -64,14 +64,14 @@ LambdaCResidual problem(const std::string& objective) {
 }
 
 const std::vector<std::string>& objectives() {
-  static const std::vector<std::string> o = {"abs-sin-0-pi",     "abs-dphi-0-pi",
-                                             "abs-sin-0-halfpi", "abs-dphi-0-halfpi",
-                                             "rel-sin-0-halfpi", "rel-dphi-0-halfpi"};
+  static const std::vector<std::string> o = {"abs-sin-0-pi",      "abs-dphi-0-pi",    "abs-sin-0-halfpi",
+                                             "abs-dphi-0-halfpi", "rel-sin-0-halfpi", "rel-dphi-0-halfpi"};
   return o;
 }
 
 FitSpec spec_for(const std::string& objective, double beta, double kappa) {
-  FitSpec spec = fit_spec("lambda-c", "Tokuyoshi lobe-aware filtering, App. D", {{"lambda_c", kPublishedLambdaC, 1e-3, 50.0}});
+  FitSpec spec = fit_spec("lambda-c", "Tokuyoshi lobe-aware filtering, App. D",
+                          {{"lambda_c", kPublishedLambdaC, 1e-3, 50.0}});
   const bool rel = objective.rfind("rel", 0) == 0;
   const bool sin_measure = objective.find("-sin-") != std::string::npos;
   const bool half = objective.find("halfpi") != std::string::npos;
@@ -82,8 +82,7 @@ FitSpec spec_for(const std::string& objective, double beta, double kappa) {
   spec.derived = [beta, kappa](const std::vector<double>& x) {
     std::vector<std::pair<NamedValue, double>> out;
     // Published 0.05404477 holds for β = 20, κ = 100 only; other β, κ have no published value.
-    const double pub = (beta == 20 && kappa == 100) ? kPublishedSigmaN2
-                                                    : std::numeric_limits<double>::quiet_NaN();
+    const double pub = (beta == 20 && kappa == 100) ? kPublishedSigmaN2 : std::numeric_limits<double>::quiet_NaN();
     out.push_back({{"sigma_n2", normal_weight_variance(x[0], beta, kappa)}, pub});
     return out;
   };
@@ -127,10 +126,11 @@ FitResult fit_lambda_c(const FitOptions& o) {
     const double ratio = std::log(similarity(phi)) / (std::cos(phi) - 1);
     if (ratio < min_ratio) min_ratio = ratio, at = phi;
   }
-  r.notes.push_back(fmt("min over phi of log q/(cos phi - 1) = %.6f at phi = %.4f > 0.9426: "
-                        "G(phi; 0.9426) > q(phi) everywhere, so no pointwise least-squares "
-                        "objective has its optimum at 0.9426; the errors above at 0.9426 are not %.5g either",
-                        min_ratio, at, kPublishedError));
+  r.notes.push_back(
+      fmt("min over phi of log q/(cos phi - 1) = %.6f at phi = %.4f > 0.9426: "
+          "G(phi; 0.9426) > q(phi) everywhere, so no pointwise least-squares "
+          "objective has its optimum at 0.9426; the errors above at 0.9426 are not %.5g either",
+          min_ratio, at, kPublishedError));
   r.notes.push_back(fmt("sigma_n2 from the published lambda_c = 0.9426: %.10f (published %.8f)",
                         normal_weight_variance(kPublishedLambdaC, 20.0, 100.0), kPublishedSigmaN2));
   return r;

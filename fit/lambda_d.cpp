@@ -26,7 +26,9 @@ constexpr double kPublishedLambdaD = LambertSharpness::vsgl_code;
 // G(t; λ_d)/A(λ_d): the normalized SG at t = ω·n.
 struct NormalizedSg {
   template <class T>
-  T operator()(const T& t, const T* p) const { return sg_eval_cos(t, p[0]) / sg_integral(p[0]); }
+  T operator()(const T& t, const T* p) const {
+    return sg_eval_cos(t, p[0]) / sg_integral(p[0]);
+  }
 };
 using LambdaDModel = AxisModel<NormalizedSg>;
 using LambdaDResidual = GridResidual<LambdaDModel>;
@@ -39,10 +41,9 @@ LambdaDResidual problem(const std::string& objective) {
 FitSpec spec_for(const std::string& objective) {
   FitSpec spec = fit_spec("lambda-d", "VSGL public code 2.292504 (Tokuyoshi 2015 poster and 2016: ~2)",
                           {{"lambda_d", kPublishedLambdaD, 1e-6, 100.0}});
-  spec.objective = objective == "l2-theta" ? "l2-theta: int_0^pi (G/A - <cos>/pi)^2 dtheta"
-                   : objective == "l2-hemisphere"
-                       ? "l2-hemisphere: int_{w.n>0} (G/A - w.n/pi)^2 dw"
-                       : "l2-solid-angle: int_{S^2} (G/A - <w.n>/pi)^2 dw";
+  spec.objective = objective == "l2-theta"        ? "l2-theta: int_0^pi (G/A - <cos>/pi)^2 dtheta"
+                   : objective == "l2-hemisphere" ? "l2-hemisphere: int_{w.n>0} (G/A - w.n/pi)^2 dw"
+                                                  : "l2-solid-angle: int_{S^2} (G/A - <w.n>/pi)^2 dw";
   spec.domain = objective == "l2-hemisphere" ? "upper hemisphere, w.n in [0, 1]"
                                              : "whole sphere (panels split at theta = pi/2)";
   spec.starts = {{2.0}, {0.5}, {8.0}};

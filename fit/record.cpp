@@ -17,7 +17,8 @@ nlohmann::ordered_json record_json(const FitResult& r) {
   auto obj = [](const std::vector<NamedValue>& v) {
     nlohmann::ordered_json o = nlohmann::ordered_json::object();
     for (const auto& nv : v) {
-      if (std::isfinite(nv.value)) o[nv.name] = nv.value; else o[nv.name] = nullptr;
+      if (std::isfinite(nv.value)) o[nv.name] = nv.value;
+      else o[nv.name] = nullptr;
     }
     return o;
   };
@@ -31,7 +32,9 @@ nlohmann::ordered_json record_json(const FitResult& r) {
   j["iterations"] = r.iterations;
   j["converged"] = r.converged;
   j["seconds"] = r.seconds;
-  auto number_or_null = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
+  auto number_or_null = [](double v) {
+    return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json();
+  };
   j["objective_at_published"] = number_or_null(r.published_cost);
   j["objective_at_fit"] = r.final_cost;
   j["singular_values"] = r.singular_values;

@@ -58,8 +58,14 @@ FitSpec make_spec(const std::vector<double>& start) {
   // Nothing is published: the comparison column holds the constants compiled into core.
   using S = SglabDiffuse;
   FitSpec spec = fit_spec("sglab", "sglab (this project); start: Tokuyoshi et al. 2024's t(lambda)",
-                          {{"A", S::A, 1e-6, 1e4}, {"B", S::B, 1e-6, 1e4}, {"C", S::C, 1e-6, 1e4}, {"D", S::D, 1e-6, 1e4},
-                           {"E", S::E, 1e-6, 1e4}, {"k", S::k, 0, 1}, {"P", S::P, -100, 100}, {"Q", S::Q, 1e-6, 1e4}});
+                          {{"A", S::A, 1e-6, 1e4},
+                           {"B", S::B, 1e-6, 1e4},
+                           {"C", S::C, 1e-6, 1e4},
+                           {"D", S::D, 1e-6, 1e4},
+                           {"E", S::E, 1e-6, 1e4},
+                           {"k", S::k, 0, 1},
+                           {"P", S::P, -100, 100},
+                           {"Q", S::Q, 1e-6, 1e4}});
   spec.objective = "minimax: max |D - D_ref|/D_ref(l,1), Lawson IRLS of Ceres least squares";
   spec.domain = "lambda in [1e-3, 1e4] (16 per decade) x c in [-1, 1] (step 1/40), plus the stiff cases";
   spec.starts = {start};
@@ -68,8 +74,8 @@ FitSpec make_spec(const std::vector<double>& start) {
 
 // Tokuyoshi et al. 2024's A…E (defined once, in core), and a correction that is off at λ → 0 and
 // saturates at λ ≈ 4.
-const std::vector<double> kStart = {Tokuyoshi2024T::A, Tokuyoshi2024T::B, Tokuyoshi2024T::C, Tokuyoshi2024T::D,
-                                    Tokuyoshi2024T::E, 0.035, 0.0, 15.6};
+const std::vector<double> kStart = {
+    Tokuyoshi2024T::A, Tokuyoshi2024T::B, Tokuyoshi2024T::C, Tokuyoshi2024T::D, Tokuyoshi2024T::E, 0.035, 0.0, 15.6};
 
 FitResult solve_lawson(Residual f) {
   std::vector<double> x = kStart;
@@ -122,9 +128,7 @@ FitResult solve_lawson(Residual f) {
 }
 
 // Synthetic recovery: one unweighted least-squares solve against the model's own values.
-FitResult solve_plain(const Residual& f) {
-  return solve_least_squares<8>(make_spec(kStart), f);
-}
+FitResult solve_plain(const Residual& f) { return solve_least_squares<8>(make_spec(kStart), f); }
 
 }  // namespace
 

@@ -155,15 +155,18 @@ const std::vector<double> kStart = {2.9, 0.98, 1.2, 2.0, 0.42, 1.0};
 
 FitSpec make_spec(const std::vector<double>& start) {
   using S = SglabSpecular;
-  FitSpec spec = fit_spec("sglab-specular", "sglab (this project); start: an exploratory Nelder-Mead fit of the same objective",
+  FitSpec spec = fit_spec("sglab-specular",
+                          "sglab (this project); start: an exploratory Nelder-Mead fit of the same objective",
                           {{"nu_slope", S::nu_slope, 1e-2, 100},
                            {"inflation", S::inflation, 0, 10},
                            {"light_weight", S::light_weight, 0, 5},
                            {"light_floor", S::light_floor, 0, 50},
                            {"horizon_depth", S::horizon_depth, 0, 0.95},
                            {"horizon_rate", S::horizon_rate, 1e-2, 20}});
-  spec.objective = "L1: brightness-weighted error + bright relative error on the sweep grid, IRLS of Ceres least squares";
-  spec.domain = "the rows of `sglab sweep specular` (9 roughness x 5 light sharpness x 4 view_cos x light positions, f0 = 0.04)";
+  spec.objective =
+      "L1: brightness-weighted error + bright relative error on the sweep grid, IRLS of Ceres least squares";
+  spec.domain =
+      "the rows of `sglab sweep specular` (9 roughness x 5 light sharpness x 4 view_cos x light positions, f0 = 0.04)";
   spec.starts = {start};
   return spec;
 }
@@ -191,7 +194,8 @@ FitResult solve_irls(Residual f) {
     const Measures m = measures(x);
     const double j = m.weighted + m.bright_smape;
     char buf[96];
-    std::snprintf(buf, sizeof buf, "%sround %d: %.4f + %.4f", trajectory.empty() ? "" : "; ", round, m.weighted, m.bright_smape);
+    std::snprintf(buf, sizeof buf, "%sround %d: %.4f + %.4f", trajectory.empty() ? "" : "; ", round, m.weighted,
+                  m.bright_smape);
     trajectory += buf;
     if (j < best_j) {
       best_j = j;
@@ -207,13 +211,16 @@ FitResult solve_irls(Residual f) {
     }
   }
   f.sqrt_w = best_sqrt_w;
-  judge_least_squares(make_spec(kStart), [&] { return make_autodiff<6>(f, f.size()); }, best_x, best);
+  judge_least_squares(
+      make_spec(kStart), [&] { return make_autodiff<6>(f, f.size()); }, best_x, best);
   best.seconds = seconds;
   best.iterations = iterations;
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "on the fit grid (%zu rows, %zu points): brightness-weighted error %.4f, bright SMAPE %.4f, worst roughness's brightness-weighted error %.4f",
-                data().rows.size(), data().point_sum.size(), best_m.weighted, best_m.bright_smape, best_m.worst_roughness);
+                "on the fit grid (%zu rows, %zu points): brightness-weighted error %.4f, bright SMAPE %.4f, worst "
+                "roughness's brightness-weighted error %.4f",
+                data().rows.size(), data().point_sum.size(), best_m.weighted, best_m.bright_smape,
+                best_m.worst_roughness);
   best.notes.push_back(buf);
   best.notes.push_back("IRLS (brightness-weighted + bright SMAPE) by round: " + trajectory);
   return best;
@@ -224,7 +231,8 @@ FitResult solve_irls(Residual f) {
 Fitter sglab_specular_fitter() {
   Fitter f;
   f.name = "sglab-specular";
-  f.description = "sglab's own specular approximation (an SG light off GGX): the t-smoothing, light and horizon constants";
+  f.description =
+      "sglab's own specular approximation (an SG light off GGX): the t-smoothing, light and horizon constants";
   f.objectives = {"l1-weighted"};
   f.parameters = make_spec(kStart).names;
   f.run = [](const FitOptions&) { return solve_irls(problem()); };

@@ -76,9 +76,8 @@ py::list quantities_list() {
                               py::arg("description") = c.description));
     py::list methods;
     for (const auto& m : q.methods) methods.append(m.name);
-    out.append(py::dict(py::arg("name") = q.name, py::arg("description") = q.description,
-                        py::arg("columns") = columns, py::arg("reference_method") = q.reference_method,
-                        py::arg("methods") = methods));
+    out.append(py::dict(py::arg("name") = q.name, py::arg("description") = q.description, py::arg("columns") = columns,
+                        py::arg("reference_method") = q.reference_method, py::arg("methods") = methods));
   }
   return out;
 }
@@ -143,13 +142,13 @@ struct Failure {
   for (std::size_t j = 0; j < q.columns.size(); ++j) row.push_back(fmt::format("{} {}", q.columns[j].name, values[j]));
   const std::string at = fmt::format("{}: index {} ({})", where, index_text(f.index, shape), fmt::join(row, ", "));
   switch (f.kind) {
-    case Failure::input:
-      throw py::value_error(fmt::format("{}: outside the method's domain: {}", at, f.message));
+    case Failure::input: throw py::value_error(fmt::format("{}: outside the method's domain: {}", at, f.message));
     case Failure::method_threw:
       throw std::runtime_error(fmt::format("{}: the method failed in {}: {}", at, precision, f.message));
     case Failure::not_finite:
-      PyErr_SetString(PyExc_FloatingPointError,
-                      fmt::format("{}: the method returned {} in {}, not a finite number", at, f.message, precision).c_str());
+      PyErr_SetString(
+          PyExc_FloatingPointError,
+          fmt::format("{}: the method returned {} in {}, not a finite number", at, f.message, precision).c_str());
       throw py::error_already_set();
   }
   throw std::logic_error("unreachable");
@@ -212,7 +211,8 @@ std::string value_text(const T& v) {
 template <class T>
 std::optional<std::string> subnormal_error(T v) {
   if (std::fpclassify(v) != FP_SUBNORMAL) return std::nullopt;
-  return std::string("is out of the range of ") + (std::is_same_v<T, float> ? "float" : "double") + " (too close to zero: subnormal)";
+  return std::string("is out of the range of ") + (std::is_same_v<T, float> ? "float" : "double") +
+         " (too close to zero: subnormal)";
 }
 
 // How each column is read: `step` bytes from one element to the next in C order when the column
@@ -227,7 +227,8 @@ struct Layout {
 };
 
 // The column's step in C order if it is flat, else −1.
-py::ssize_t flat_step(const std::vector<py::ssize_t>& shape, const std::vector<py::ssize_t>& strides, py::ssize_t itemsize) {
+py::ssize_t flat_step(const std::vector<py::ssize_t>& shape, const std::vector<py::ssize_t>& strides,
+                      py::ssize_t itemsize) {
   if (std::all_of(strides.begin(), strides.end(), [](py::ssize_t s) { return s == 0; })) return 0;
   py::ssize_t expected = itemsize;
   for (std::size_t d = shape.size(); d-- > 0;) {
@@ -296,8 +297,8 @@ bool column_chunk_ok(const Column& column, const T* v, std::size_t len) {
 // failure. `batch`: through the method's batch evaluator (one call per chunk); otherwise row by
 // row through the scalar definition (Method::eval_*), which `sglab eval` calls.
 template <class T>
-std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t begin, std::size_t end, const Layout& l,
-                                 bool batch, T* out) {
+std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t begin, std::size_t end,
+                                 const Layout& l, bool batch, T* out) {
   const std::size_t k = l.data.size(), len = end - begin;
   thread_local ChunkScratch<T> s;
   std::span<const T> args;
@@ -328,7 +329,8 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
   } else {
     s.args.resize(len * k);
     for_each_element(begin, end, l.shape, l.strides, [&](std::size_t i, const std::vector<py::ssize_t>& offset) {
-      for (std::size_t j = 0; j < k; ++j) s.args[(i - begin) * k + j] = *reinterpret_cast<const T*>(l.data[j] + offset[j]);
+      for (std::size_t j = 0; j < k; ++j)
+        s.args[(i - begin) * k + j] = *reinterpret_cast<const T*>(l.data[j] + offset[j]);
     });
     args = s.args;
     if (auto f = check_rows<T>(q, m, begin, end, args, false)) return f;
@@ -353,10 +355,12 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
   int not_finite = 0;
   const T* o = out + begin;
 #pragma omp simd reduction(| : not_finite)
-  for (std::size_t r = 0; r < len; ++r) not_finite |= (o[r] < 0 ? -o[r] : o[r]) <= std::numeric_limits<T>::max() ? 0 : 1;
+  for (std::size_t r = 0; r < len; ++r)
+    not_finite |= (o[r] < 0 ? -o[r] : o[r]) <= std::numeric_limits<T>::max() ? 0 : 1;
   if (not_finite)
     for (std::size_t r = 0; r < len; ++r)
-      if (!is_finite_value(out[begin + r])) return Failure{Failure::not_finite, begin + r, value_text(out[begin + r]), std::nullopt};
+      if (!is_finite_value(out[begin + r]))
+        return Failure{Failure::not_finite, begin + r, value_text(out[begin + r]), std::nullopt};
   return std::nullopt;
 }
 
@@ -367,7 +371,8 @@ std::vector<std::string> element_values(std::size_t flat, const std::vector<cons
                                         const std::vector<std::vector<py::ssize_t>>& strides) {
   std::vector<std::string> values(data.size());
   for_each_element(flat, flat + 1, shape, strides, [&](std::size_t, const std::vector<py::ssize_t>& offset) {
-    for (std::size_t j = 0; j < data.size(); ++j) values[j] = value_text(*reinterpret_cast<const T*>(data[j] + offset[j]));
+    for (std::size_t j = 0; j < data.size(); ++j)
+      values[j] = value_text(*reinterpret_cast<const T*>(data[j] + offset[j]));
   });
   return values;
 }
@@ -379,16 +384,19 @@ std::vector<std::string> element_values(std::size_t flat, const std::vector<cons
 // definition, as `sglab eval` (the others' batch evaluator is that definition in a loop: the same
 // values, one call per chunk).
 template <class T>
-py::array_t<T> eval_numeric(const std::string& quantity, const std::string& method, const std::vector<py::array>& columns,
-                            const std::vector<std::string>& constants, bool vectorized) {
+py::array_t<T> eval_numeric(const std::string& quantity, const std::string& method,
+                            const std::vector<py::array>& columns, const std::vector<std::string>& constants,
+                            bool vectorized) {
   const Quantity& q = quantity_named(quantity);
   const Method bound = bound_method(method_named(q, method), constants);
   const Method& m = bound;
   const std::string_view precision = precision_name(std::is_same_v<T, float> ? Precision::float32 : Precision::float64);
   if (!batch_of<T>(m) || !evaluator_of<T>(m))
-    throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry", m.name, q.name, precision));
+    throw std::logic_error(
+        fmt::format("method '{}' of '{}' has no {} evaluator in the registry", m.name, q.name, precision));
   if (columns.size() != q.columns.size())
-    throw py::value_error(fmt::format("quantity '{}' takes {} columns, got {}", q.name, q.columns.size(), columns.size()));
+    throw py::value_error(
+        fmt::format("quantity '{}' takes {} columns, got {}", q.name, q.columns.size(), columns.size()));
   Layout l;
   for (std::size_t j = 0; j < columns.size(); ++j) {
     const py::array& a = columns[j];
@@ -426,14 +434,15 @@ py::array_t<T> eval_numeric(const std::string& quantity, const std::string& meth
 // `sglab eval`'s parser, or Python floats, taken exactly. Returns the values as 50-digit strings,
 // the text `sglab eval --precision mp50` prints.
 std::vector<std::string> eval_mp50(const std::string& quantity, const std::string& method,
-                                   const std::vector<std::vector<py::object>>& columns, const std::vector<py::ssize_t>& shape,
-                                   const std::vector<std::string>& constants) {
+                                   const std::vector<std::vector<py::object>>& columns,
+                                   const std::vector<py::ssize_t>& shape, const std::vector<std::string>& constants) {
   const Quantity& q = quantity_named(quantity);
   const Method bound = bound_method(method_named(q, method), constants);
   const Method& m = bound;
   if (!m.eval_mp50) throw std::logic_error(fmt::format("method '{}' of '{}' has no mp50 evaluator", m.name, q.name));
   if (columns.size() != q.columns.size())
-    throw py::value_error(fmt::format("quantity '{}' takes {} columns, got {}", q.name, q.columns.size(), columns.size()));
+    throw py::value_error(
+        fmt::format("quantity '{}' takes {} columns, got {}", q.name, q.columns.size(), columns.size()));
   const std::size_t k = columns.size(), n = k ? columns[0].size() : 0;
   std::vector<mp50> args(n * k);
   std::vector<std::string> text(n * k);
@@ -446,16 +455,17 @@ std::vector<std::string> eval_mp50(const std::string& quantity, const std::strin
         try {
           args[i * k + j] = runner::parse_decimal<mp50>(v.cast<std::string>());
         } catch (const runner::NumberError& e) {
-          throw py::value_error(fmt::format("sglab.eval('{}', '{}'): column '{}', index {}, value {}: {}", q.name, m.name,
-                                            q.columns[j].name, index_text(i, shape), text[i * k + j], e.what()));
+          throw py::value_error(fmt::format("sglab.eval('{}', '{}'): column '{}', index {}, value {}: {}", q.name,
+                                            m.name, q.columns[j].name, index_text(i, shape), text[i * k + j],
+                                            e.what()));
         }
       } else {
         const double d = v.cast<double>();
         args[i * k + j] = mp50(d);
         text[i * k + j] = fmt::format("{}", d);
         if (auto e = subnormal_error(d))
-          throw py::value_error(fmt::format("sglab.eval('{}', '{}'): column '{}', index {}, value {}: {}", q.name, m.name,
-                                            q.columns[j].name, index_text(i, shape), text[i * k + j], *e));
+          throw py::value_error(fmt::format("sglab.eval('{}', '{}'): column '{}', index {}, value {}: {}", q.name,
+                                            m.name, q.columns[j].name, index_text(i, shape), text[i * k + j], *e));
       }
     }
   }
@@ -467,8 +477,9 @@ std::vector<std::string> eval_mp50(const std::string& quantity, const std::strin
     for (std::size_t j = 0; j < k; ++j) {
       checked[j] = runner::validation_double(args[i * k + j]);
       if (m.evaluates_in_double && runner::outside_double(args[i * k + j]))
-        raise(Failure{Failure::input, i, fmt::format("is outside double's range, and method '{}' evaluates in double", m.name), j}, q, m,
-              shape, values_at(i), "mp50");
+        raise(Failure{Failure::input, i,
+                      fmt::format("is outside double's range, and method '{}' evaluates in double", m.name), j},
+              q, m, shape, values_at(i), "mp50");
     }
     if (auto e = row_error(q, m, checked))
       raise(Failure{Failure::input, i, e->message, e->column}, q, m, shape, values_at(i), "mp50");
@@ -536,8 +547,8 @@ py::array layer_array(std::vector<render::Rgb>&& layer, int width, int height) {
 // exactly what the command takes and refuses (ValueError) what it refuses. `scene` is a path, or
 // the scene's JSON text when `is_text` (`source` names it in messages; an environment's relative
 // paths are taken from the working directory then). Progress on stderr only when `verbose`.
-py::dict run_render(const std::string& scene_text, bool is_text, const std::string& source, const std::vector<std::string>& words,
-                    bool verbose) {
+py::dict run_render(const std::string& scene_text, bool is_text, const std::string& source,
+                    const std::vector<std::string>& words, bool verbose) {
   cli::RenderJob job;
   std::string specular(render::kDefaultSpecularMethod);
   {
@@ -552,14 +563,15 @@ py::dict run_render(const std::string& scene_text, bool is_text, const std::stri
     }
   }
   job.scene_path = source;
-  render::Scene scene = is_text ? cli::scene_from_document(cli::scene_document_from_text(scene_text, source, job.overrides), job)
+  render::Scene scene = is_text ? cli::scene_from_document(
+                                      cli::scene_document_from_text(scene_text, source, job.overrides), job)
                                 : cli::load_scene(job);
   cli::RenderJobRun run(job, specular, std::move(scene));
   std::vector<std::string> args = cli::render_job_arguments(job);
   if (specular != render::kDefaultSpecularMethod) args.insert(args.end(), {"--specular", specular});
-  const std::string command =
-      fmt::format("sglab.render({}{}) (as `sglab render` {})", is_text ? "a scene dict" : "'" + source + "'",
-                  args.empty() ? "" : ", …", fmt::join(args, " "));
+  const std::string command = fmt::format("sglab.render({}{}) (as `sglab render` {})",
+                                          is_text ? "a scene dict" : "'" + source + "'", args.empty() ? "" : ", …",
+                                          fmt::join(args, " "));
   if (verbose)
     run.options.progress = [](std::string_view stage, double fraction) {
       if (fraction == 0 || fraction == 1)
@@ -608,7 +620,8 @@ PYBIND11_MODULE(_sglab, m) {
   m.def("fits", &fits_list);
   m.def("fit", &run_fit, py::arg("name"), py::arg("objective"), py::arg("precision"));
   m.def("vsgl_modes", &sglab::render::vsgl_mode_names);
-  m.def("render", &run_render, py::arg("scene"), py::arg("is_text"), py::arg("source"), py::arg("words"), py::arg("verbose"));
+  m.def("render", &run_render, py::arg("scene"), py::arg("is_text"), py::arg("source"), py::arg("words"),
+        py::arg("verbose"));
   // The options of `sglab render` (the words run_render parses): Python's render() and its stub
   // are checked against this list.
   m.def("render_options", [] {

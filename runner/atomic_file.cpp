@@ -107,8 +107,7 @@ const char* file_kind(const struct stat& st) {
 
 AtomicFile::AtomicFile(std::filesystem::path target) : target_(std::move(target)) {
   const std::filesystem::path dir = target_.has_parent_path() ? target_.parent_path() : ".";
-  const std::string pattern =
-      fmt::format("{}/.{}.tmp-XXXXXX", dir.string(), target_.filename().string());
+  const std::string pattern = fmt::format("{}/.{}.tmp-XXXXXX", dir.string(), target_.filename().string());
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   fd_ = ::mkstemp(name.data());
@@ -171,9 +170,9 @@ void AtomicFile::publish() {
   // The target may have become a special file since the command's checks: never replace one.
   struct stat st {};
   if (::lstat(target_.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-    throw InputError(fmt::format("'{}' is {}; refusing to replace it with an output file", target_.string(), file_kind(st)));
-  if (::rename(temp_.c_str(), target_.c_str()) != 0)
-    throw_errno("cannot rename the output to", target_);
+    throw InputError(
+        fmt::format("'{}' is {}; refusing to replace it with an output file", target_.string(), file_kind(st)));
+  if (::rename(temp_.c_str(), target_.c_str()) != 0) throw_errno("cannot rename the output to", target_);
   committed_ = true;
   unregister_temporary(slot_);
   // Make the rename itself durable. The file is already published, so a failure here (some file
@@ -210,8 +209,8 @@ void check_output_paths(const std::vector<NamedPath>& outputs, const std::vector
                                    o.path.string(), file_kind(st)));
     for (const NamedPath& in : inputs)
       if (!in.path.empty() && same(o.path, in.path))
-        throw InputError(fmt::format("{} '{}' is the input {}; refusing to overwrite an input", o.option, o.path.string(),
-                                     in.option));
+        throw InputError(fmt::format("{} '{}' is the input {}; refusing to overwrite an input", o.option,
+                                     o.path.string(), in.option));
     for (std::size_t j = 0; j < i; ++j)
       if (!outputs[j].path.empty() && same(o.path, outputs[j].path))
         throw InputError(fmt::format("{} '{}' is also the output of {}; each output needs its own file", o.option,

@@ -52,10 +52,11 @@ inline std::string join_names(const std::vector<std::string>& names, const char*
 }
 
 // "unknown WHAT 'VALUE' (did you mean 'NAME'?; valid: A, B, …)", the value clipped.
-inline std::string unknown_name_message(std::string_view what, std::string_view value, const std::vector<std::string>& names) {
+inline std::string unknown_name_message(std::string_view what, std::string_view value,
+                                        const std::vector<std::string>& names) {
   const std::string near = closest_name(value, names);
-  return "unknown " + std::string(what) + " '" + clip_text(value) + "' (" + (near.empty() ? "" : "did you mean '" + near + "'?; ") +
-         "valid: " + join_names(names) + ")";
+  return "unknown " + std::string(what) + " '" + clip_text(value) + "' (" +
+         (near.empty() ? "" : "did you mean '" + near + "'?; ") + "valid: " + join_names(names) + ")";
 }
 
 }  // namespace sglab::runner

@@ -12,9 +12,7 @@
 namespace sglab::runner {
 namespace {
 
-bool is_digit(char ch) {
-  return ch >= '0' && ch <= '9';
-}
+bool is_digit(char ch) { return ch >= '0' && ch <= '9'; }
 
 // The text without surrounding spaces and tabs (hand-written CSV often has "1, 0.5").
 std::string_view trim(std::string_view s) {
@@ -133,7 +131,8 @@ T parse_decimal(std::string_view text) {
     const long long e10 = decimal_exponent(s);
     if (e10 == kZeroMantissa) return mp50(std::string(s));
     if (e10 > std::numeric_limits<mp50>::max_exponent10) throw NumberError("is out of the range of mp50 (too large)");
-    if (e10 < std::numeric_limits<mp50>::min_exponent10) throw NumberError("is out of the range of mp50 (too close to zero)");
+    if (e10 < std::numeric_limits<mp50>::min_exponent10)
+      throw NumberError("is out of the range of mp50 (too close to zero)");
     const mp50 value(std::string{s});
     if (!boost::multiprecision::isfinite(value)) throw NumberError("is out of the range of mp50 (too large)");
     if (value == 0 || abs(value) < std::numeric_limits<mp50>::min())

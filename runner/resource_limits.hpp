@@ -36,8 +36,8 @@ inline std::size_t physical_memory_bytes() {
 inline void check_memory(double bytes, const std::string& what) {
   const std::size_t have = physical_memory_bytes();
   if (have > 0 && !(bytes <= double(have)))
-    throw InputError(fmt::format("{} would need about {:.3g} GB of memory; this machine has {:.3g} GB", what, bytes / 1e9,
-                                 double(have) / 1e9));
+    throw InputError(fmt::format("{} would need about {:.3g} GB of memory; this machine has {:.3g} GB", what,
+                                 bytes / 1e9, double(have) / 1e9));
 }
 
 // The largest thread count accepted by --threads (more is an error, not an allocation failure).

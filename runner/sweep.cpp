@@ -79,7 +79,8 @@ std::string code_version() { return "sglab " SGLAB_VERSION; }
 
 bool valid_sweep_name(const std::string& name) {
   return !name.empty() && name.size() <= 200 && name[0] != '.' &&
-         name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") == std::string::npos;
+         name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") ==
+             std::string::npos;
 }
 
 }  // namespace sweep_detail
@@ -122,12 +123,10 @@ std::string format_seconds(double s) {
 
 nlohmann::json manifest_json(const SweepDefinition& d, const Shard& shard, std::size_t rows, double seconds,
                              const std::string& csv) {
-  return {{"sweep", d.name},       {"args", d.args},
-          {"command", "sglab " + join(d.args, " ")},
-          {"grid", d.grid},        {"points", d.point_count},
-          {"shard", shard.text()}, {"columns", with_point(d.columns)},
-          {"rows", rows},          {"seconds", seconds},
-          {"version", kCodeVersion}, {"points_fnv1a", fnv1a_hex(csv)}};
+  return {
+      {"sweep", d.name},         {"args", d.args},          {"command", "sglab " + join(d.args, " ")}, {"grid", d.grid},
+      {"points", d.point_count}, {"shard", shard.text()},   {"columns", with_point(d.columns)},        {"rows", rows},
+      {"seconds", seconds},      {"version", kCodeVersion}, {"points_fnv1a", fnv1a_hex(csv)}};
 }
 
 // The rows of each point of `points_in_shard` found in `table` (a per-point CSV or checkpoint),
@@ -220,7 +219,8 @@ bool finished_earlier(const SweepDefinition& d, const Shard& shard, SweepRunResu
     const nlohmann::json m = nlohmann::json::parse(read_text(result.manifest));
     same = m.is_object() && m.value("sweep", "") == d.name && m.value("args", std::vector<std::string>{}) == d.args &&
            m.value("grid", "") == d.grid && m.value("points", std::size_t(0)) == d.point_count &&
-           m.value("shard", "") == shard.text() && m.value("columns", std::vector<std::string>{}) == with_point(d.columns) &&
+           m.value("shard", "") == shard.text() &&
+           m.value("columns", std::vector<std::string>{}) == with_point(d.columns) &&
            m.value("version", "") == kCodeVersion &&
            // The CSV as the manifest recorded it: a deleted or edited row is not "finished".
            m.value("points_fnv1a", "") == fnv1a_hex(read_text(result.points_csv));
@@ -248,8 +248,9 @@ bool finished_earlier(const SweepDefinition& d, const Shard& shard, SweepRunResu
 
 // The rows of the points a checkpoint of the same sweep (fingerprint `print`) holds, into
 // rows/done (by position in `mine`); how many. A foreign, altered or unreadable checkpoint is ignored.
-std::size_t load_checkpoint(const fs::path& checkpoint, const std::string& print, const SweepDefinition& d, const Shard& shard,
-                            const std::vector<std::size_t>& mine, std::vector<std::vector<SweepRow>>& rows, std::vector<char>& done,
+std::size_t load_checkpoint(const fs::path& checkpoint, const std::string& print, const SweepDefinition& d,
+                            const Shard& shard, const std::vector<std::size_t>& mine,
+                            std::vector<std::vector<SweepRow>>& rows, std::vector<char>& done,
                             const std::function<void(const std::string&)>& say) {
   if (!fs::exists(checkpoint)) return 0;
   const std::string text = read_text(checkpoint);
@@ -282,7 +283,8 @@ std::size_t load_checkpoint(const fs::path& checkpoint, const std::string& print
     done[j] = 1;
     ++resumed;
   }
-  say(fmt::format("resuming: {} of {} points finished earlier (checkpoint {})", resumed, mine.size(), checkpoint.string()));
+  say(fmt::format("resuming: {} of {} points finished earlier (checkpoint {})", resumed, mine.size(),
+                  checkpoint.string()));
   return resumed;
 }
 
@@ -309,7 +311,8 @@ struct PointRun {
   std::mutex mutex;
   Clock::time_point last_checkpoint, last_progress, t_compute;
 
-  PointRun(const SweepDefinition& d_, const SweepRunOptions& o_, const std::vector<std::size_t>& mine_, const std::string& label_)
+  PointRun(const SweepDefinition& d_, const SweepRunOptions& o_, const std::vector<std::size_t>& mine_,
+           const std::string& label_)
       : d(d_), o(o_), mine(mine_), label(label_), rows(mine_.size()), done(mine_.size(), 0) {}
 
   // The CSV text of every finished point in point order (the checkpoint and the final output).
@@ -343,8 +346,8 @@ struct PointRun {
     const std::size_t total_done = resumed + finished;
     const double eta = rate > 0 ? double(todo.size() - finished) / rate : NAN;
     std::fprintf(stderr, "%s: %zu/%zu points (%.1f %%), %.3g points/s, ETA %s; finished %s\n", label.c_str(),
-                 total_done, mine.size(), 100.0 * double(total_done) / double(std::max<std::size_t>(mine.size(), 1)), rate,
-                 format_seconds(eta).c_str(),
+                 total_done, mine.size(), 100.0 * double(total_done) / double(std::max<std::size_t>(mine.size(), 1)),
+                 rate, format_seconds(eta).c_str(),
                  d.describe ? d.describe(mine[j]).c_str() : fmt::format("point {}", mine[j]).c_str());
   }
 
@@ -355,14 +358,15 @@ struct PointRun {
       throw std::logic_error(fmt::format("sweep {}: point {} gave no rows", d.name, mine[j]));
     for (const auto& row : point_rows)
       if (row.size() != d.columns.size())
-        throw std::logic_error(fmt::format("sweep {}: point {} gave a row of {} fields for {} columns", d.name,
-                                           mine[j], row.size(), d.columns.size()));
+        throw std::logic_error(fmt::format("sweep {}: point {} gave a row of {} fields for {} columns", d.name, mine[j],
+                                           row.size(), d.columns.size()));
     std::lock_guard lock(mutex);
     rows[j] = std::move(point_rows);
     done[j] = 1;
     ++finished;
     progress(j, false);
-    if (std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= o.checkpoint_seconds && finished < todo.size())
+    if (std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= o.checkpoint_seconds &&
+        finished < todo.size())
       write_checkpoint();
   }
 
@@ -374,19 +378,21 @@ struct PointRun {
     tbb::task_arena arena(o.threads > 0 ? int(o.threads) : tbb::task_arena::automatic);
     try {
       arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t t = r.begin(); t != r.end(); ++t) {
-            if (tbb::is_current_task_group_canceling()) return;  // another point failed
-            compute_point(todo[t]);
-          }
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            for (std::size_t t = r.begin(); t != r.end(); ++t) {
+                              if (tbb::is_current_task_group_canceling()) return;  // another point failed
+                              compute_point(todo[t]);
+                            }
+                          });
       });
     } catch (...) {
       std::lock_guard lock(mutex);
       if (finished > 0) {
         try {
           write_checkpoint();
-          say(fmt::format("stopped by an error; {} finished points kept in {}", resumed + finished, checkpoint.string()));
+          say(fmt::format("stopped by an error; {} finished points kept in {}", resumed + finished,
+                          checkpoint.string()));
         } catch (const std::exception& e) {
           say(std::string("could not write the checkpoint: ") + e.what());
         }
@@ -423,9 +429,10 @@ SweepRunResult run_sweep(const SweepDefinition& d, const SweepRunOptions& o) {
   if (o.summary_only && !problem.empty())
     throw InputError(fmt::format("{}: {}: {}; nothing recomputed", label, result.points_csv.string(), problem));
   if (o.summary_only)
-    throw InputError(fmt::format("{}: {} is not the finished output of the sweep `sglab {}` as defined here (another "
-                                 "grid, scene, version, or altered rows); nothing recomputed",
-                                 label, result.points_csv.string(), clip_text(join(d.args, " "), 400)));
+    throw InputError(
+        fmt::format("{}: {} is not the finished output of the sweep `sglab {}` as defined here (another "
+                    "grid, scene, version, or altered rows); nothing recomputed",
+                    label, result.points_csv.string(), clip_text(join(d.args, " "), 400)));
 
   // 2. A checkpoint of the same sweep: its points are done.
   PointRun run(d, o, mine, label);
@@ -487,18 +494,22 @@ std::size_t given_cpus() {
 }
 
 SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::string& out_dir,
-                                 const std::string& shard_text, std::size_t threads, bool fresh, const RunContext& run) {
+                                 const std::string& shard_text, std::size_t threads, bool fresh,
+                                 const RunContext& run) {
   const Shard shard = shard_text.empty() ? Shard{} : parse_shard(shard_text);
   // The whole sweep within the CPUs given: its points and each point's own parallel loops.
   const std::size_t cpus = given_cpus();
   const tbb::global_control cap(tbb::global_control::max_allowed_parallelism, cpus);
   if (threads == 0 || threads > cpus) threads = cpus;
-  std::fprintf(stderr, "sweep %s: %zu point(s) at once, within the %zu CPU(s) given\n", definition.name.c_str(), threads, cpus);
+  std::fprintf(stderr, "sweep %s: %zu point(s) at once, within the %zu CPU(s) given\n", definition.name.c_str(),
+               threads, cpus);
   if (fresh || run.fresh)
-    for (const auto& p : {sweep_points_path(out_dir, definition.name, shard), sweep_manifest_path(out_dir, definition.name, shard),
-                          sweep_checkpoint_path(out_dir, definition.name, shard)})
+    for (const auto& p :
+         {sweep_points_path(out_dir, definition.name, shard), sweep_manifest_path(out_dir, definition.name, shard),
+          sweep_checkpoint_path(out_dir, definition.name, shard)})
       std::filesystem::remove(p);
-  SweepRunResult r = run_sweep(definition, {.out_dir = out_dir, .shard = shard, .threads = threads, .summary_only = run.summary_only});
+  SweepRunResult r = run_sweep(
+      definition, {.out_dir = out_dir, .shard = shard, .threads = threads, .summary_only = run.summary_only});
   if (r.sharded)
     std::fprintf(stderr,
                  "sweep %s: shard %s written to %s; no summary from a part of the grid. When every shard is done:\n"

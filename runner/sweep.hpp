@@ -81,12 +81,12 @@ std::vector<std::size_t> shard_points(std::size_t point_count, const Shard& shar
 using SweepRow = std::vector<std::string>;
 
 struct SweepDefinition {
-  std::string name;                // file names and messages: "specular"
-  std::vector<std::string> args;   // the sglab arguments that define the sweep, without --out,
-                                   // --shard, --threads or --tables-dir: {"sweep", "specular", "--quick"};
-                                   // the summary's header names this command
-  std::string grid;                // a complete description of the grid and of the methods; part of
-                                   // the identity checked on resume and merge
+  std::string name;               // file names and messages: "specular"
+  std::vector<std::string> args;  // the sglab arguments that define the sweep, without --out,
+                                  // --shard, --threads or --tables-dir: {"sweep", "specular", "--quick"};
+                                  // the summary's header names this command
+  std::string grid;               // a complete description of the grid and of the methods; part of
+                                  // the identity checked on resume and merge
   std::size_t point_count = 0;
   std::vector<std::string> columns;  // per-point CSV columns after the leading "point"
   // The rows of point k (at least one — a point without rows could not be told from a missing
@@ -105,10 +105,10 @@ struct SweepDefinition {
 struct SweepRunOptions {
   std::filesystem::path out_dir;
   Shard shard;
-  std::size_t threads = 0;          // 0: every CPU given (given_cpus())
-  double checkpoint_seconds = 10;   // at most this long between checkpoints (0: after every point)
-  double progress_seconds = 2;      // at most this often a progress line on stderr
-  bool quiet = false;               // no progress lines (tests)
+  std::size_t threads = 0;         // 0: every CPU given (given_cpus())
+  double checkpoint_seconds = 10;  // at most this long between checkpoints (0: after every point)
+  double progress_seconds = 2;     // at most this often a progress line on stderr
+  bool quiet = false;              // no progress lines (tests)
   // Compute nothing (RunContext::summary_only): if the output in the directory is not the
   // finished output of this definition, throw InputError instead of recomputing it.
   bool summary_only = false;
@@ -143,8 +143,10 @@ SweepRunResult run_sweep_command(const SweepDefinition& definition, const std::s
 
 // The file names of the runner's outputs (for callers and tests).
 std::filesystem::path sweep_points_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);
-std::filesystem::path sweep_manifest_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);
-std::filesystem::path sweep_checkpoint_path(const std::filesystem::path& dir, const std::string& name, const Shard& shard);
+std::filesystem::path sweep_manifest_path(const std::filesystem::path& dir, const std::string& name,
+                                          const Shard& shard);
+std::filesystem::path sweep_checkpoint_path(const std::filesystem::path& dir, const std::string& name,
+                                            const Shard& shard);
 
 // Reads a per-point CSV (InputError naming the file if it is missing or malformed).
 CsvTable read_sweep_points(const std::filesystem::path& path);

@@ -42,7 +42,8 @@ std::vector<ShardFile> find_shards(
       for (const auto& e : fs::directory_iterator(in))
         if (e.is_regular_file() && std::regex_match(e.path().filename().string(), shard_manifest))
           found.push_back(e.path());
-      if (found.empty()) throw InputError("merge: no shard manifest (NAME_sweep.shard-i-of-N.json) in '" + in.string() + "'");
+      if (found.empty())
+        throw InputError("merge: no shard manifest (NAME_sweep.shard-i-of-N.json) in '" + in.string() + "'");
       std::sort(found.begin(), found.end());
       manifests.insert(manifests.end(), found.begin(), found.end());
     } else if (fs::is_regular_file(in)) {
@@ -56,13 +57,15 @@ std::vector<ShardFile> find_shards(
     ShardFile f;
     f.manifest = p;
     f.json = read_json(p);
-    if (!f.json.is_object()) throw InputError(fmt::format("merge: {}: not a sweep manifest (not a JSON object)", p.string()));
+    if (!f.json.is_object())
+      throw InputError(fmt::format("merge: {}: not a sweep manifest (not a JSON object)", p.string()));
     // Every field is checked for its type: a manifest is data from anywhere.
     const auto field = [&](const char* key, bool ok, const char* expected) {
       if (!f.json.contains(key)) throw InputError(fmt::format("merge: {}: the manifest has no '{}'", p.string(), key));
       if (!ok)
-        throw InputError(fmt::format("merge: {}: '{}' is {}, expected {}", p.string(), key, clip_text(f.json[key].dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)),
-                                     expected));
+        throw InputError(fmt::format(
+            "merge: {}: '{}' is {}, expected {}", p.string(), key,
+            clip_text(f.json[key].dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)), expected));
     };
     const auto strings = [&](const char* key) {
       if (!f.json.contains(key) || !f.json[key].is_array()) return false;
@@ -80,8 +83,8 @@ std::vector<ShardFile> find_shards(
     field("points_fnv1a", f.json.contains("points_fnv1a") && f.json["points_fnv1a"].is_string(), "a string");
     const std::string name = f.json["sweep"].get<std::string>();
     if (!valid_sweep_name(name))
-      throw InputError(fmt::format("merge: {}: sweep name '{}' is not a plain file name (letters, digits, _ . -)", p.string(),
-                                   clip_text(name)));
+      throw InputError(fmt::format("merge: {}: sweep name '{}' is not a plain file name (letters, digits, _ . -)",
+                                   p.string(), clip_text(name)));
     const auto args = f.json["args"].get<std::vector<std::string>>();
     if (check_args) check_args(args, p);
     for (const auto& a : args)
@@ -123,7 +126,8 @@ void check_same_sweep(const std::string& name, const std::vector<const ShardFile
 
 // Each shard's CSV as its manifest recorded it (a deleted row changes both), read before the
 // per-point tables are sized: a manifest cannot make merge allocate for points no file holds.
-std::vector<CsvTable> read_shard_tables(const std::string& name, const std::vector<const ShardFile*>& group, std::size_t n) {
+std::vector<CsvTable> read_shard_tables(const std::string& name, const std::vector<const ShardFile*>& group,
+                                        std::size_t n) {
   std::vector<CsvTable> tables;
   std::size_t total_rows = 0;
   for (const ShardFile* s : group) {
@@ -135,12 +139,13 @@ std::vector<CsvTable> read_shard_tables(const std::string& name, const std::vect
     tables.push_back(read_csv(in, s->points.string()));
     if (tables.back().rows.size() != s->json["rows"].get<std::size_t>())
       throw InputError(fmt::format("merge: {}: {} rows, its manifest {} says {}", s->points.string(),
-                                   tables.back().rows.size(), s->manifest.string(), s->json["rows"].get<std::size_t>()));
+                                   tables.back().rows.size(), s->manifest.string(),
+                                   s->json["rows"].get<std::size_t>()));
     total_rows += tables.back().rows.size();
   }
   if (n > total_rows)
-    throw InputError(fmt::format("merge: sweep '{}': the manifests say {} points, the shards hold {} rows in all", name, n,
-                                 total_rows));
+    throw InputError(fmt::format("merge: sweep '{}': the manifests say {} points, the shards hold {} rows in all", name,
+                                 n, total_rows));
   return tables;
 }
 
@@ -165,33 +170,35 @@ void assign_rows(const ShardFile& s, const CsvTable& t, std::vector<std::vector<
   for (const auto& r : t.rows) {
     const auto k = parse_index(r.fields[0]);
     if (!k || *k >= n)
-      throw InputError(fmt::format("merge: {}: line {}: point '{}' is not an index in [0, {})", s.points.string(), r.line,
-                                   r.fields[0], n));
+      throw InputError(fmt::format("merge: {}: line {}: point '{}' is not an index in [0, {})", s.points.string(),
+                                   r.line, r.fields[0], n));
     if (!s.shard.contains(*k))
-      throw InputError(fmt::format("merge: {}: line {}: point {} does not belong to shard {}", s.points.string(), r.line, *k,
-                                   s.shard.text()));
+      throw InputError(fmt::format("merge: {}: line {}: point {} does not belong to shard {}", s.points.string(),
+                                   r.line, *k, s.shard.text()));
     if (owner[*k] && owner[*k] != &s)
       throw InputError(fmt::format("merge: point {} appears twice: in {} and in {}", *k, owner[*k]->points.string(),
                                    s.points.string()));
     if (owner[*k] == &s && previous != *k)
-      throw InputError(fmt::format("merge: {}: line {}: point {} appears twice (its rows are not contiguous)", s.points.string(),
-                                   r.line, *k));
+      throw InputError(fmt::format("merge: {}: line {}: point {} appears twice (its rows are not contiguous)",
+                                   s.points.string(), r.line, *k));
     owner[*k] = &s;
     previous = *k;
     rows[*k].push_back(r.fields);
   }
 }
 
-void check_no_missing(const std::string& name, const std::vector<const ShardFile*>& group, const std::vector<const ShardFile*>& owner) {
+void check_no_missing(const std::string& name, const std::vector<const ShardFile*>& group,
+                      const std::vector<const ShardFile*>& owner) {
   std::vector<std::size_t> missing;
   for (std::size_t k = 0; k < owner.size(); ++k)
     if (!owner[k]) missing.push_back(k);
   if (missing.empty()) return;
   std::string list, found;
-  for (std::size_t i = 0; i < std::min<std::size_t>(missing.size(), 8); ++i) list += (i ? ", " : "") + std::to_string(missing[i]);
+  for (std::size_t i = 0; i < std::min<std::size_t>(missing.size(), 8); ++i)
+    list += (i ? ", " : "") + std::to_string(missing[i]);
   for (const ShardFile* s : group) found += (found.empty() ? "" : ", ") + s->shard.text();
-  throw InputError(fmt::format("merge: sweep '{}': {} of {} points missing (first: {}{}); shards found: {}", name, missing.size(),
-                               owner.size(), list, missing.size() > 8 ? ", …" : "", found));
+  throw InputError(fmt::format("merge: sweep '{}': {} of {} points missing (first: {}{}); shards found: {}", name,
+                               missing.size(), owner.size(), list, missing.size() > 8 ? ", …" : "", found));
 }
 
 // One sweep's merged per-point CSV and manifest, checked and ready to write.
@@ -212,8 +219,9 @@ Pending merge_group(const std::string& name, const std::vector<const ShardFile*>
     if (!sh->json.contains("version") || !sh->json["version"].is_string())
       throw InputError(fmt::format("merge: {}: the manifest has no 'version'", sh->manifest.string()));
     if (sh->json["version"].get<std::string>() != code_version())
-      throw InputError(fmt::format("merge: {}: written by {}, this is {}; rerun the shard with this version", sh->manifest.string(),
-                                   quote(sh->json["version"].get<std::string>()), code_version()));
+      throw InputError(fmt::format("merge: {}: written by {}, this is {}; rerun the shard with this version",
+                                   sh->manifest.string(), quote(sh->json["version"].get<std::string>()),
+                                   code_version()));
   }
   std::vector<std::vector<std::vector<std::string>>> rows(n);
   std::vector<const ShardFile*> owner(n, nullptr);
@@ -240,8 +248,8 @@ Pending merge_group(const std::string& name, const std::vector<const ShardFile*>
   m["rows"] = row_count;
   // Not the merged sweep's wall time: the shards ran apart (in parallel, on other machines).
   m["seconds"] = seconds;
-  m["seconds_are"] = fmt::format("the sum of the {} shards' own wall seconds (each shard's run; not a wall time of the sweep)",
-                                 group.size());
+  m["seconds_are"] = fmt::format(
+      "the sum of the {} shards' own wall seconds (each shard's run; not a wall time of the sweep)", group.size());
   m["merged_from"] = sources;
   m["points_fnv1a"] = fnv1a_hex(p.csv);
   p.manifest = m.dump(2) + "\n";

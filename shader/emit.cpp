@@ -28,12 +28,15 @@ std::string identifier(std::string_view s) {
 // decimal point and the f suffix every one of the three languages accepts.
 std::string float_literal(float v, Language lang) {
   if (std::isinf(v)) {
-    const char* inf = lang == Language::glsl ? "uintBitsToFloat(0x7F800000u)"
+    const char* inf = lang == Language::glsl   ? "uintBitsToFloat(0x7F800000u)"
                       : lang == Language::hlsl ? "asfloat(0x7F800000u)"
                                                : "INFINITY";
     return v > 0 ? inf : fmt::format("(-{})", inf);
   }
-  if (std::isnan(v)) return lang == Language::c ? "NAN" : lang == Language::glsl ? "uintBitsToFloat(0x7FC00000u)" : "asfloat(0x7FC00000u)";
+  if (std::isnan(v))
+    return lang == Language::c      ? "NAN"
+           : lang == Language::glsl ? "uintBitsToFloat(0x7FC00000u)"
+                                    : "asfloat(0x7FC00000u)";
   char buf[64];
   const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;  // shortest round-trip, fixed or scientific
   std::string s(buf, end);
@@ -91,7 +94,8 @@ const std::vector<Helper>& helpers() {
        "  float z = abs(x);\n"
        "  precise float t = 1.0f / (1.0f + 0.5f * z);\n"
        "  precise float p = -1.26551223f + t * (1.00002368f + t * (0.37409196f + t * (0.09678418f + t * (-0.18628806f\n"
-       "      + t * (0.27886807f + t * (-1.13520398f + t * (1.48851587f + t * (-0.82215223f + t * 0.17087277f))))))));\n"
+       "      + t * (0.27886807f + t * (-1.13520398f + t * (1.48851587f + t * (-0.82215223f + t * "
+       "0.17087277f))))))));\n"
        "  precise float r = t * exp(-z * z + p);\n"
        "  precise float l = 2.0f - r;\n"
        "  return x >= 0.0f ? r : l;\n"
@@ -253,15 +257,16 @@ std::string emit_function(const TracedMethod& m, Language lang) {
   std::string s;
   s += fmt::format("// {}: {}\n", m.name(), meth.source);
   s += fmt::format("// Quantity: {}\n", q.description);
-  s += is_export_only(q) ? std::string("// Arguments, in order:") : "// Arguments, in the order of the columns of `sglab eval " + q.name + "`:";
+  s += is_export_only(q) ? std::string("// Arguments, in order:")
+                         : "// Arguments, in the order of the columns of `sglab eval " + q.name + "`:";
   for (std::size_t i = 0; i < q.columns.size(); ++i)
     s += fmt::format("{} {} ({})", i ? ";" : "", m.inputs[i], q.columns[i].description);
   s += ".\n";
   if (!meth.flaws.empty()) s += fmt::format("// Known flaws, kept as published: {}\n", meth.flaws);
   if (!m.constants.empty()) {
-    s += "// Constants (float literals with the digits that round-trip the float; the value as bound, shortest round-trip double):\n";
-    for (const auto& c : m.constants)
-      s += fmt::format("//   {} = {}: {}\n", c.name, c.value, c.provenance);
+    s += "// Constants (float literals with the digits that round-trip the float; the value as bound, shortest "
+         "round-trip double):\n";
+    for (const auto& c : m.constants) s += fmt::format("//   {} = {}: {}\n", c.name, c.value, c.provenance);
   }
   std::string params;
   for (std::size_t i = 0; i < m.inputs.size(); ++i) params += fmt::format("{}float {}", i ? ", " : "", m.inputs[i]);
@@ -290,9 +295,10 @@ const std::vector<std::string>& language_names() { return kLanguageNames; }
 
 std::string not_exportable_reason(const Quantity& q, const Method& m) {
   if (!m.not_exportable_because.empty()) return m.not_exportable_because;
-  return fmt::format("its formula is not written for the tracing type (a branch on its inputs that is not a select, or a "
-                     "quadrature){}",
-                     m.name == q.reference_method ? " — it is the quantity's reference" : "");
+  return fmt::format(
+      "its formula is not written for the tracing type (a branch on its inputs that is not a select, or a "
+      "quadrature){}",
+      m.name == q.reference_method ? " — it is the quantity's reference" : "");
 }
 
 bool is_export_only(const Quantity& q) {
@@ -313,11 +319,12 @@ MethodRef find_exportable(std::string_view name) {
         break;
       }
   if (!m)
-    throw runner::InputError(fmt::format("unknown method '{}' (QUANTITY/METHOD; `sglab export --list` lists the exportable ones)",
-                                         clip_text(name)));
+    throw runner::InputError(fmt::format(
+        "unknown method '{}' (QUANTITY/METHOD; `sglab export --list` lists the exportable ones)", clip_text(name)));
   if (!m->trace)
-    throw runner::InputError(fmt::format("{}/{} cannot be exported: {}; `sglab export --list` lists the exportable methods",
-                                         q->name, m->name, not_exportable_reason(*q, *m)));
+    throw runner::InputError(
+        fmt::format("{}/{} cannot be exported: {}; `sglab export --list` lists the exportable methods", q->name,
+                    m->name, not_exportable_reason(*q, *m)));
   return {q, m};
 }
 
@@ -363,10 +370,13 @@ TracedMethod trace_method(const Quantity& q, const Method& m, const ConstantSet&
 std::string emit(std::span<const TracedMethod> methods, Language lang, std::string_view command) {
   std::string s;
   s += fmt::format("// Generated by `{}`.\n", command);
-  s += fmt::format("// {} source, float arithmetic: each function is the method's formula as sglab evaluates it (traced from\n"
-                   "// core/, not retyped): the same stable forms, its branches as selects (both sides computed, one kept).\n"
-                   "// Where it was measured against sglab's reference: paper_tables/shader_export.md.\n",
-                   lang == Language::glsl ? "GLSL" : lang == Language::hlsl ? "HLSL" : "C99");
+  s += fmt::format(
+      "// {} source, float arithmetic: each function is the method's formula as sglab evaluates it (traced from\n"
+      "// core/, not retyped): the same stable forms, its branches as selects (both sides computed, one kept).\n"
+      "// Where it was measured against sglab's reference: paper_tables/shader_export.md.\n",
+      lang == Language::glsl   ? "GLSL"
+      : lang == Language::hlsl ? "HLSL"
+                               : "C99");
   std::set<TraceOp> ops;
   for (const auto& m : methods) ops.merge(used_operations(m));
   if (lang == Language::c) {

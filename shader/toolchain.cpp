@@ -124,8 +124,10 @@ std::string compute_shader_source(const std::string& exported, const TracedMetho
     return "[[vk::binding(0, 0)]] RWStructuredBuffer<float> inputs;\n"
            "[[vk::binding(1, 0)]] RWStructuredBuffer<float> outputs;\n" +
            exported +
-           fmt::format("\n[numthreads(64, 1, 1)]\nvoid main(uint3 id : SV_DispatchThreadID) {{\n  uint i = id.x;\n  outputs[i] = {};\n}}\n",
-                       call_row(m, "inputs", "i"));
+           fmt::format(
+               "\n[numthreads(64, 1, 1)]\nvoid main(uint3 id : SV_DispatchThreadID) {{\n  uint i = id.x;\n  outputs[i] "
+               "= {};\n}}\n",
+               call_row(m, "inputs", "i"));
   throw std::invalid_argument("compute_shader_source: C is not a shading language");
 }
 

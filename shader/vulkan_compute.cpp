@@ -60,7 +60,8 @@ struct Buffer {
     vkGetBufferMemoryRequirements(device, buffer, &req);
     auto ai = info<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
     ai.allocationSize = req.size;
-    ai.memoryTypeIndex = s.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+    ai.memoryTypeIndex = s.memory_type(req.memoryTypeBits,
+                                       VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
     check(vkAllocateMemory(device, &ai, nullptr, &memory), "vkAllocateMemory");
     check(vkBindBufferMemory(device, buffer, memory, 0), "vkBindBufferMemory");
     check(vkMapMemory(device, memory, 0, bytes, 0, &mapped), "vkMapMemory");
@@ -131,7 +132,8 @@ VulkanCompute::~VulkanCompute() {
 
 const std::string& VulkanCompute::device_name() const { return s_->name; }
 
-std::vector<float> VulkanCompute::run(std::span<const std::uint32_t> spirv, std::span<const float> input, std::uint32_t groups) {
+std::vector<float> VulkanCompute::run(std::span<const std::uint32_t> spirv, std::span<const float> input,
+                                      std::uint32_t groups) {
   const VkDevice dev = s_->device;
   const std::size_t outputs = std::size_t(groups) * 64;
   Buffer in(*s_, std::max<std::size_t>(input.size_bytes(), 4));
@@ -230,8 +232,8 @@ std::vector<float> VulkanCompute::run(std::span<const std::uint32_t> spirv, std:
   auto barrier = info<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
   barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
   barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0,
-                       nullptr);
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0,
+                       nullptr, 0, nullptr);
   check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
   auto fi = info<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
   check(vkCreateFence(dev, &fi, nullptr, &fence), "vkCreateFence");

@@ -13,9 +13,7 @@
 namespace sglab {
 namespace {
 
-Asg<double> standard(double ex, double ey) {
-  return {Vec3d(1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, 0, 1), ex, ey};
-}
+Asg<double> standard(double ex, double ey) { return {Vec3d(1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, 0, 1), ex, ey}; }
 
 double asg_sphere_quadrature(const Asg<double>& g) {
   const double w = 1 / std::sqrt(std::max({1.0, g.eta_x, g.eta_y}));
@@ -54,10 +52,10 @@ mp50 bessel_i0_scaled_series(const mp50& x) {
 
 // Both sides of the switch to the asymptotic series (x0 = −ln ε: 15.9 in float, 36.0 in double) on
 // a grid dense enough to see it move: 40 points per decade on [0.01, 100], every integer and
-// half-integer on [1, 200] and every fifth integer on [205, 400], which includes the float range 89–159 where Boost's I0 overflows
-// float (a switch moved up there throws overflow_error). Bound: 16 ε relative per type
-// (measured ≤ 4 ε); a switch moved down to x0/10 sums the asymptotic series where it has not
-// converged (the smallest term at x = 3.6 is ~1e-3).
+// half-integer on [1, 200] and every fifth integer on [205, 400], which includes the float range 89–159 where Boost's
+// I0 overflows float (a switch moved up there throws overflow_error). Bound: 16 ε relative per type (measured ≤ 4 ε); a
+// switch moved down to x0/10 sums the asymptotic series where it has not converged (the smallest term at x = 3.6 is
+// ~1e-3).
 template <class T>
 void expect_bessel_i0_scaled_exact() {
   const double eps = std::numeric_limits<T>::epsilon();
@@ -73,15 +71,16 @@ void expect_bessel_i0_scaled_exact() {
     EXPECT_LE(e, 16 * eps) << "x = " << xd;
     if (e > worst) worst = e, worst_x = xd;
   }
-  std::printf("%s: e^-x I0(x) worst relative error %.2f ε at x = %g (switch at %g)\n", sizeof(T) == 4 ? "float" : "double",
-              worst / eps, worst_x, -std::log(eps));
+  std::printf("%s: e^-x I0(x) worst relative error %.2f ε at x = %g (switch at %g)\n",
+              sizeof(T) == 4 ? "float" : "double", worst / eps, worst_x, -std::log(eps));
 }
 
 TEST(BesselI0Scaled, BothSidesOfTheSwitchDouble) { expect_bessel_i0_scaled_exact<double>(); }
 TEST(BesselI0Scaled, BothSidesOfTheSwitchFloat) { expect_bessel_i0_scaled_exact<float>(); }
 
 TEST(AsgIntegral, ExactMatchesTwoDimensionalQuadrature) {
-  for (auto [x, y] : {std::pair{0.0, 0.0}, {1.0, 1.0}, {10.0, 1.0}, {100.0, 3.0}, {1e4, 1e2}, {5.0, 0.0}, {0.3, 40.0}}) {
+  for (auto [x, y] :
+       {std::pair{0.0, 0.0}, {1.0, 1.0}, {10.0, 1.0}, {100.0, 3.0}, {1e4, 1e2}, {5.0, 0.0}, {0.3, 40.0}}) {
     const double exact = asg_integral_exact(x, y);
     const double quad = asg_sphere_quadrature(standard(x, y));
     EXPECT_NEAR(exact / quad, 1.0, 1e-9) << x << " " << y;
@@ -123,8 +122,8 @@ TEST(AsgSgProduct, PublishedFormsAgainstQuadrature) {
     const double printed = asg_sg_product_lobe_aware_printed(g, xi);
     std::printf("asg×sg eta=(200,50) lambda=%g: exact %.6e two-vsgls rel %+.3e lobe-aware(printed) rel %+.3e\n", lambda,
                 exact, tv / exact - 1, printed / exact - 1);
-    EXPECT_NEAR(tv / exact, 1.0, 0.05);     // sharp lobes: the plane approximation is good
-    EXPECT_NEAR(corr / tv, 1.0, 1e-14);     // the corrected lobe-aware reading is the same formula
+    EXPECT_NEAR(tv / exact, 1.0, 0.05);  // sharp lobes: the plane approximation is good
+    EXPECT_NEAR(corr / tv, 1.0, 1e-14);  // the corrected lobe-aware reading is the same formula
   }
   // The printed lobe-aware form does not depend on λ at all.
   EXPECT_EQ(asg_sg_product_lobe_aware_printed(g, Vec3d(0, 0, 1)), asg_sg_product_lobe_aware_printed(g, Vec3d(0, 0, 1)));
@@ -144,10 +143,13 @@ TEST(AsgAsgProduct, AlgebraicFormAgainstQuadrature) {
   g2.eta_y = 400;
   const SphereFocus foci[1] = {{g2.z, 0.05}};
   const Vec3d clips[2] = {g1.z, g2.z};
-  const double exact = integrate_sphere([&](const Vec3d& w) { return asg_eval(w, g1) * asg_eval(w, g2); }, g1.z, 0.05, foci, clips);
+  const double exact = integrate_sphere([&](const Vec3d& w) { return asg_eval(w, g1) * asg_eval(w, g2); }, g1.z, 0.05,
+                                        foci, clips);
   const double approx = asg_asg_product_integral(g1, g2);
-  const double with_exact_b = asg_asg_product_integral(g1, g2, [](double x, double y) { return asg_integral_exact(x, y); });
-  std::printf("asg×asg: exact %.6e, printed form rel %+.3e, with exact B rel %+.3e\n", exact, approx / exact - 1, with_exact_b / exact - 1);
+  const double with_exact_b = asg_asg_product_integral(g1, g2,
+                                                       [](double x, double y) { return asg_integral_exact(x, y); });
+  std::printf("asg×asg: exact %.6e, printed form rel %+.3e, with exact B rel %+.3e\n", exact, approx / exact - 1,
+              with_exact_b / exact - 1);
   EXPECT_NEAR(approx / exact, 1.0, 0.02);
   EXPECT_NEAR(with_exact_b / exact, 1.0, 0.02);
   // Opposite lobes: C = 0.

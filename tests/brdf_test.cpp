@@ -68,7 +68,8 @@ TEST(Brdf, CosineFormEqualsDefinition) {
   const double a = 0.3, f0 = 0.04;
   const Vec3d wo = Vec3d(0.6, 0, 0.8), wi = Vec3d(-0.5, 0.2, std::sqrt(1 - 0.29));
   const Vec3d h = (wo + wi).normalized();
-  const double f = ggx_ndf(a, h(2)) * smith_g2_ggx(a, wo(2), wi(2)) * fresnel_schlick(f0, wo.dot(h)) / (4 * wo(2) * wi(2));
+  const double f = ggx_ndf(a, h(2)) * smith_g2_ggx(a, wo(2), wi(2)) * fresnel_schlick(f0, wo.dot(h)) /
+                   (4 * wo(2) * wi(2));
   EXPECT_NEAR(ggx_brdf(a, f0, wo, wi), f, 1e-14 * f);
   EXPECT_NEAR(ggx_brdf_cosine(a, f0, wo, wi), f * wi(2), 1e-14 * f);
   EXPECT_EQ(ggx_brdf_cosine(a, f0, wo, Vec3d(0, 0.6, -0.8)), 0.0);

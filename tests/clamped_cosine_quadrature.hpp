@@ -23,7 +23,7 @@ inline double clamped_cosine_quadrature(double lambda, double c) {
     if (b <= -a) return 0.0;
     return 2 * (b * std::acos(-b / a) + std::sqrt(a * a - b * b));
   };
-  const double u_max = std::min(2.0, 80.0 / lambda);  // e^{−80}: far below any tolerance here
+  const double u_max = std::min(2.0, 80.0 / lambda);    // e^{−80}: far below any tolerance here
   const double theta_k = std::atan2(std::fabs(c), s0);  // where a = |b|
   std::vector<double> cuts = {0.0, u_max};
   for (const double u : {1 - std::cos(theta_k), 1 + std::cos(theta_k)})

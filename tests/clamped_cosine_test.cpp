@@ -154,7 +154,8 @@ TEST(ClampedCosine, SglabMaxErrorOnFixedGridDouble) {
 }
 
 TEST(ClampedCosine, SglabMaxErrorOnFixedGridFloat) {
-  const double e = grid().max_error([](double l, double c) { return double(clamped_cosine_sglab(float(l), float(c))); });
+  const double e = grid().max_error(
+      [](double l, double c) { return double(clamped_cosine_sglab(float(l), float(c))); });
   std::printf("float max error / D(λ,1): sglab %.3e\n", e);
   EXPECT_LE(e, 1e-4 + 1e-6);
 }
@@ -183,7 +184,8 @@ void check_sglab_stiff() {
       }
     }
   }
-  std::printf("%s: %ld stiff points with a non-zero reference, all non-zero\n", sizeof(T) == 4 ? "float" : "double", checked);
+  std::printf("%s: %ld stiff points with a non-zero reference, all non-zero\n", sizeof(T) == 4 ? "float" : "double",
+              checked);
   // Up to the largest finite λ: D → 2π⟨c⟩/λ (the punctual limit, error O(1/λ)) for c > 0 and
   // √(2π)/λ^{3/2} at c = 0 (the planar Gaussian's half-width).
   for (T l : {T(1e12), T(1e30), std::numeric_limits<T>::max() / T(4), std::numeric_limits<T>::max()}) {
@@ -200,7 +202,9 @@ void check_sglab_stiff() {
     }
   }
   const T l = T(1e12);
-  EXPECT_LE(test::relative_error(double(clamped_cosine_sglab(l, T(0))), std::sqrt(2 * pi<double>()) / std::pow(1e12, 1.5)), 1e-4);
+  EXPECT_LE(
+      test::relative_error(double(clamped_cosine_sglab(l, T(0))), std::sqrt(2 * pi<double>()) / std::pow(1e12, 1.5)),
+      1e-4);
 }
 TEST(ClampedCosine, SglabStiffGridFiniteNonNegativeNonZeroDouble) { check_sglab_stiff<double>(); }
 TEST(ClampedCosine, SglabStiffGridFiniteNonNegativeNonZeroFloat) { check_sglab_stiff<float>(); }
@@ -297,15 +301,20 @@ TEST(ClampedCosine, PublishedConstantsAsPrinted) {
       {"tokuyoshi2022", [](const double& l, const double& c) { return clamped_cosine_tokuyoshi2022(l, c); },
        [](const mp50& l, const mp50& c) {  // Tokuyoshi 2022: λc (20 digits), A, B, C
          const mp50 lc("0.00084560872241480124");
-         return clamped_cosine_tokuyoshi2022_with(l, c, lc, mp50(lc / (2 * (expm1(lc) - lc))), mp50("0.6517328826907056"),
-                                                  mp50("1.3418280033141288"), mp50("7.2216687798956709"));
+         return clamped_cosine_tokuyoshi2022_with(l, c, lc, mp50(lc / (2 * (expm1(lc) - lc))),
+                                                  mp50("0.6517328826907056"), mp50("1.3418280033141288"),
+                                                  mp50("7.2216687798956709"));
        },
        2364},
       {"cosine-lobe-sg", [](const double& l, const double& c) { return clamped_cosine_cosine_lobe_sg(l, c); },
-       [](const mp50& l, const mp50& c) { return clamped_cosine_cosine_lobe_sg(l, c, mp50("1.17"), mp50("2.133")); },  // Pettineo 2016
+       [](const mp50& l, const mp50& c) {
+         return clamped_cosine_cosine_lobe_sg(l, c, mp50("1.17"), mp50("2.133"));
+       },  // Pettineo 2016
        1},
       {"sg-cosine", [](const double& l, const double& c) { return clamped_cosine_sg_cosine(l, c); },
-       [](const mp50& l, const mp50& c) { return clamped_cosine_sg_cosine(l, c, mp50(2)); },  // Tokuyoshi 2015/2016: λ_d ≈ 2
+       [](const mp50& l, const mp50& c) {
+         return clamped_cosine_sg_cosine(l, c, mp50(2));
+       },  // Tokuyoshi 2015/2016: λ_d ≈ 2
        1},
   };
   for (const auto& k : cases) {

@@ -28,7 +28,8 @@ class Cli : public TempDirTest {
   void expect_help_lists(const std::string& args, const std::vector<std::string>& names) const {
     const auto r = sglab(args + " --help");
     ASSERT_EQ(r.status, 0) << args << "\n" << r.err;
-    for (const auto& n : names) EXPECT_NE(r.out.find(n), std::string::npos) << "`sglab " << args << " --help` does not list " << n;
+    for (const auto& n : names)
+      EXPECT_NE(r.out.find(n), std::string::npos) << "`sglab " << args << " --help` does not list " << n;
   }
   // `sglab ARGS` refused: exit 2, the bad value quoted and `closest` suggested, nothing on stdout.
   void expect_suggestion(const std::string& args, const std::string& value, const std::string& closest) const {
@@ -114,12 +115,14 @@ TEST(Names, EditDistanceAndClosest) {
 TEST(RepositoryText, NoTrackerWording) {
   namespace fs = std::filesystem;
   const fs::path root = SGLAB_SOURCE_DIR;
-  const std::regex tracker(R"(\b(the|this|that|an?) issue\b|\bissues? ?#?[0-9]+|\btickets?\b|\bcan (be )?closed?\b|\bpull request|\bPR ?#|\btracker\b|closing note)",
-                           std::regex::icase);
+  const std::regex tracker(
+      R"(\b(the|this|that|an?) issue\b|\bissues? ?#?[0-9]+|\btickets?\b|\bcan (be )?closed?\b|\bpull request|\bPR ?#|\btracker\b|closing note)",
+      std::regex::icase);
   std::vector<fs::path> files = {root / "README.md", root / "scenes/README.md"};
   for (const char* dir : {"paper_tables", "docs"})
     for (const auto& e : fs::recursive_directory_iterator(root / dir))
-      if (e.is_regular_file() && (e.path().extension() == ".md" || e.path().extension() == ".csv" || e.path().extension() == ".tex"))
+      if (e.is_regular_file() &&
+          (e.path().extension() == ".md" || e.path().extension() == ".csv" || e.path().extension() == ".tex"))
         files.push_back(e.path());
   ASSERT_GT(files.size(), 20u);
   for (const auto& f : files) {

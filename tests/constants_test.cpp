@@ -62,7 +62,8 @@ TEST(Constants, RegistryParametersAreConsistentAndProducedByTheirFit) {
   for (const auto& q : sglab::quantities())
     for (const auto& m : q.methods) {
       std::set<std::string> names;
-      for (const auto& p : m.parameters) EXPECT_TRUE(names.insert(p.fit + "." + p.name).second) << q.name << "/" << m.name;
+      for (const auto& p : m.parameters)
+        EXPECT_TRUE(names.insert(p.fit + "." + p.name).second) << q.name << "/" << m.name;
       // A method with constants can be bound; one without has nothing to bind.
       EXPECT_EQ(bool(m.bind), !m.parameters.empty()) << q.name << "/" << m.name;
     }
@@ -117,8 +118,10 @@ std::vector<std::pair<double, std::string>> float_literals(const std::string& co
   std::vector<std::pair<double, std::string>> out;
   for (std::size_t i = 0; i < code.size();) {
     const bool starts = (std::isdigit(static_cast<unsigned char>(code[i])) ||
-                         (code[i] == '.' && i + 1 < code.size() && std::isdigit(static_cast<unsigned char>(code[i + 1])))) &&
-                        (i == 0 || !(std::isalnum(static_cast<unsigned char>(code[i - 1])) || code[i - 1] == '_' || code[i - 1] == '.'));
+                         (code[i] == '.' && i + 1 < code.size() &&
+                          std::isdigit(static_cast<unsigned char>(code[i + 1])))) &&
+                        (i == 0 || !(std::isalnum(static_cast<unsigned char>(code[i - 1])) || code[i - 1] == '_' ||
+                                     code[i - 1] == '.'));
     if (!starts) {
       ++i;
       continue;
@@ -130,7 +133,8 @@ std::vector<std::pair<double, std::string>> float_literals(const std::string& co
     std::string token = code.substr(i, j - i);
     token.erase(std::remove(token.begin(), token.end(), '\''), token.end());
     const bool hex = token.size() > 1 && (token[1] == 'x' || token[1] == 'X');
-    if (!hex && token.find_first_of(".eE") != std::string::npos) out.push_back({std::strtod(token.c_str(), nullptr), token});
+    if (!hex && token.find_first_of(".eE") != std::string::npos)
+      out.push_back({std::strtod(token.c_str(), nullptr), token});
     i = j;
   }
   return out;
@@ -140,13 +144,15 @@ TEST(Constants, EveryPublishedConstantHasExactlyOneDefinition) {
   std::vector<fs::path> files;
   for (const char* dir : {"core", "fit", "experiments"})
     for (const auto& e : fs::recursive_directory_iterator(fs::path(SGLAB_SOURCE_DIR) / dir))
-      if (e.is_regular_file() && (e.path().extension() == ".hpp" || e.path().extension() == ".cpp")) files.push_back(e.path());
+      if (e.is_regular_file() && (e.path().extension() == ".hpp" || e.path().extension() == ".cpp"))
+        files.push_back(e.path());
   ASSERT_GT(files.size(), 20u);
   std::map<double, std::vector<std::string>> where;  // |value| → "file: literal" per occurrence
   std::set<double> values;  // magnitudes: a literal carries no sign (-3.6 is '-' applied to 3.6)
   for (const auto& use : sglab::constant_uses())
     // Integers (λ_d = 2) cannot be told apart from every other 2 in the code; they are skipped.
-    if (use.parameter->published != std::floor(use.parameter->published)) values.insert(std::abs(use.parameter->published));
+    if (use.parameter->published != std::floor(use.parameter->published))
+      values.insert(std::abs(use.parameter->published));
   ASSERT_GT(values.size(), 15u);
   for (const auto& file : files) {
     std::ifstream in(file);
@@ -158,7 +164,8 @@ TEST(Constants, EveryPublishedConstantHasExactlyOneDefinition) {
   for (double v : values) {
     std::string list;
     for (const auto& w : where[v]) list += "\n  " + w;
-    EXPECT_EQ(where[v].size(), 1u) << "published constant " << v << " is defined " << where[v].size() << " times:" << list;
+    EXPECT_EQ(where[v].size(), 1u) << "published constant " << v << " is defined " << where[v].size()
+                                   << " times:" << list;
   }
 }
 

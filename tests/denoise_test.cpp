@@ -22,9 +22,12 @@
 namespace sglab::render {
 namespace {
 
-constexpr FilterWeights kAllWeights[] = {FilterWeights::spatial, FilterWeights::normal, FilterWeights::lobe, FilterWeights::lobe_depth};
+constexpr FilterWeights kAllWeights[] = {FilterWeights::spatial, FilterWeights::normal, FilterWeights::lobe,
+                                         FilterWeights::lobe_depth};
 
-Scene tiny_scene() { return parse_scene(parse_scene_text(sglab::test::SmallScene{.width = 20, .height = 16}.json(), "tiny")); }
+Scene tiny_scene() {
+  return parse_scene(parse_scene_text(sglab::test::SmallScene{.width = 20, .height = 16}.json(), "tiny"));
+}
 
 Scene cornell(int width, int height) {
   std::ifstream f(SGLAB_SOURCE_DIR "/scenes/cornell-glossy.json");
@@ -36,7 +39,8 @@ Scene cornell(int width, int height) {
   return scene;
 }
 
-DenoiseInputs noisy_inputs(const Scene& scene, NoisySpec spec, std::uint64_t seed, int rsm, const std::vector<Rgb>* reference = nullptr) {
+DenoiseInputs noisy_inputs(const Scene& scene, NoisySpec spec, std::uint64_t seed, int rsm,
+                           const std::vector<Rgb>* reference = nullptr) {
   DenoiseInputOptions o;
   o.noisy = spec;
   o.seed = seed;
@@ -64,7 +68,8 @@ TEST(NoisyInput, InterleavedSubsetsPartitionTheVplsAndTheirMeanIsTheFullSum) {
         Rgb mean = Rgb::Zero();
         for (const VplList& s : subsets) mean += reference_radiance(in.full[k].point, s) / double(m * m);
         for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(mean(c), in.reference[k](c), 1e-12 * in.reference[k](c) + 1e-300) << "M = " << m << " pixel " << k;
+          EXPECT_NEAR(mean(c), in.reference[k](c), 1e-12 * in.reference[k](c) + 1e-300)
+              << "M = " << m << " pixel " << k;
       }
     }
   }
@@ -88,7 +93,8 @@ std::vector<Rgb> interleaved_image(const DenoiseInputs& g, const VplList& all, i
   return image;
 }
 
-SeedMean mean_over_seeds(const Scene& scene, NoisySpec spec, int seeds, std::uint64_t first_seed, const DenoiseInputs& exact) {
+SeedMean mean_over_seeds(const Scene& scene, NoisySpec spec, int seeds, std::uint64_t first_seed,
+                         const DenoiseInputs& exact) {
   const std::size_t n = exact.reference.size();
   const VplList all = prepare_vpls(render_rsm(scene, 12));
   std::vector<Rgb> sum(n, Rgb::Zero()), sum2(n, Rgb::Zero());
@@ -118,10 +124,9 @@ SeedMean mean_over_seeds(const Scene& scene, NoisySpec spec, int seeds, std::uin
 }
 
 TEST(NoisyInput, MeanOverSeedsIsTheFullVplSumWithinItsStandardError) {
-  // Both modes are unbiased per pixel: the mean over 160 seeds (interleaved:4; 40 of random:64, whose rare draws need many) of
-  // each pixel's estimate lies within
-  // 5 standard errors of the exact VPL sum (|z| > 5 in at most 0.5 % of the pixel-channels: the
-  // estimates are not Gaussian), and the image's total within 4 standard errors.
+  // Both modes are unbiased per pixel: the mean over 160 seeds (interleaved:4; 40 of random:64, whose rare draws need
+  // many) of each pixel's estimate lies within 5 standard errors of the exact VPL sum (|z| > 5 in at most 0.5 % of the
+  // pixel-channels: the estimates are not Gaussian), and the image's total within 4 standard errors.
   const Scene scene = tiny_scene();
   auto rng = test::seeded_rng(2401);
   const std::uint64_t first_seed = rng();
@@ -161,7 +166,8 @@ TEST(NoisyInput, MeanOverSeedsIsTheFullVplSumWithinItsStandardError) {
 TEST(NoisyInput, SpecsParseAndBadOnesAreRefused) {
   EXPECT_EQ(parse_noisy_spec("interleaved:4")->count, 4);
   EXPECT_EQ(parse_noisy_spec("random:16")->mode, NoisyMode::random);
-  for (const char* bad : {"interleaved", "interleaved:", "interleaved:0", "interleaved:65", "random:-1", "random:4x", "stratified:4", ""})
+  for (const char* bad :
+       {"interleaved", "interleaved:", "interleaved:0", "interleaved:65", "random:-1", "random:4x", "stratified:4", ""})
     EXPECT_FALSE(parse_noisy_spec(bad)) << bad;
   EXPECT_EQ(default_denoise_radius({NoisyMode::interleaved, 8}), 8);
   EXPECT_TRUE(denoise_radius_error({NoisyMode::interleaved, 4}, 3));  // the window would miss subsets
@@ -183,10 +189,12 @@ TEST(DenoiseFilter, ConstantImagesAreReturnedUnchanged) {
       const DenoiseResult r = denoise_indirect(in, w, a);
       for (std::size_t k = 0; k < in.full.size(); ++k) {
         const ShadingPoint& p = in.full[k].point;
-        const Rgb expected = in.full[k].valid ? Rgb(diffuse * p.diffuse_reflectance + (p.glossy() ? Rgb(specular * p.f0) : Rgb::Zero()))
+        const Rgb expected = in.full[k].valid ? Rgb(diffuse * p.diffuse_reflectance +
+                                                    (p.glossy() ? Rgb(specular * p.f0) : Rgb::Zero()))
                                               : Rgb::Zero();
         for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(r.filtered[k](c), expected(c), 1e-12 * expected(c)) << filter_weights_name(w) << " R " << radius << " pixel " << k;
+          EXPECT_NEAR(r.filtered[k](c), expected(c), 1e-12 * expected(c))
+              << filter_weights_name(w) << " R " << radius << " pixel " << k;
       }
     }
 }
@@ -229,7 +237,8 @@ TEST(DenoiseFilter, BoxFootprintGivesEveryInterleavedSubsetTheSameWeight) {
           ++compared;
           const Rgb expected = Rgb(mean, 2 * mean, 3 * mean) * in.full[k].point.diffuse_reflectance;
           for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(r.filtered[k](c), expected(c), 1e-12 * expected(c)) << "M " << m << " R " << radius << " pixel " << i << ", " << j;
+            EXPECT_NEAR(r.filtered[k](c), expected(c), 1e-12 * expected(c))
+                << "M " << m << " R " << radius << " pixel " << i << ", " << j;
         }
     }
   }
@@ -268,7 +277,8 @@ TEST(DenoiseFilter, WeightsAreBoundedByOneAndSymmetricWhereTheyShouldBe) {
       FilterSample q_at_p_depth = q;
       q_at_p_depth.depth = p.depth;
       for (const auto w : {FilterWeights::normal, FilterWeights::lobe_depth})
-        EXPECT_NEAR(filter_range_weight(p, q_at_p_depth, specular, w, a), filter_range_weight(q_at_p_depth, p, specular, w, a), 1e-14);
+        EXPECT_NEAR(filter_range_weight(p, q_at_p_depth, specular, w, a),
+                    filter_range_weight(q_at_p_depth, p, specular, w, a), 1e-14);
     }
   }
 }
@@ -290,9 +300,11 @@ TEST(DenoiseFilter, AppendixDLobeDepthIsTheNormalFilterOnLambertReceivers) {
   for (std::size_t k = 0; k < in.full.size(); ++k) {
     if (!in.hit[k] || in.glossy[k]) continue;
     ++compared;
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, test::relative_error(lobe_depth.filtered[k](c), normal.filtered[k](c)));
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, test::relative_error(lobe_depth.filtered[k](c), normal.filtered[k](c)));
   }
-  std::printf("[ measured ] max relative difference lobe-depth vs normal on %zu diffuse receivers: %.3g\n", compared, worst);
+  std::printf("[ measured ] max relative difference lobe-depth vs normal on %zu diffuse receivers: %.3g\n", compared,
+              worst);
   EXPECT_GT(compared, 100u);
   EXPECT_LE(worst, 1e-7);
 }
@@ -309,9 +321,9 @@ TEST(DenoiseFilter, FilteredErrorIsBelowTheNoisyErrorOnDiffuseWallsAtM4) {
     a.radius = 4;
     for (const auto w : kAllWeights) {
       const DenoiseResult r = denoise_indirect(in, w, a);
-      std::printf("[ measured ] seed %llu %-10s diffuse relative L2 %.4f -> %.4f, SMAPE %.4f -> %.4f\n", (unsigned long long)seed,
-                  std::string(filter_weights_name(w)).c_str(), noisy.diffuse.relative_l2, r.diffuse.relative_l2, noisy.diffuse.smape,
-                  r.diffuse.smape);
+      std::printf("[ measured ] seed %llu %-10s diffuse relative L2 %.4f -> %.4f, SMAPE %.4f -> %.4f\n",
+                  (unsigned long long)seed, std::string(filter_weights_name(w)).c_str(), noisy.diffuse.relative_l2,
+                  r.diffuse.relative_l2, noisy.diffuse.smape, r.diffuse.smape);
       EXPECT_LT(r.diffuse.relative_l2, noisy.diffuse.relative_l2) << filter_weights_name(w);
       EXPECT_LT(r.diffuse.smape, noisy.diffuse.smape) << filter_weights_name(w);
     }

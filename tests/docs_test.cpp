@@ -168,7 +168,8 @@ TEST(Docs, ArchitectureCountsMatchTheTree) {
     EXPECT_EQ(quoted, actual) << "docs/architecture.md, Counts: write | " << what << " | " << actual << " |";
   }
   EXPECT_GE(rows, named.size());
-  for (const auto& [what, n] : named) EXPECT_TRUE(seen.count(what)) << "docs/architecture.md, Counts: no row | " << what << " | " << n << " |";
+  for (const auto& [what, n] : named)
+    EXPECT_TRUE(seen.count(what)) << "docs/architecture.md, Counts: no row | " << what << " | " << n << " |";
 }
 
 // Adding a fitted method: its header, its registry entry, its fit file, its entry in SGLAB_FITTERS
@@ -191,11 +192,13 @@ TEST(Docs, FittedMethodRecipeIsTheBuildsList) {
   EXPECT_EQ(names.size(), sglab::fit::fitters().size()) << "SGLAB_FITTERS against fitters()";
   for (const auto& name : names) {
     const std::string own = "fit/" + name + ".cpp";
-    EXPECT_NE(read_doc(own).find("Fitter " + name + "_fitter() {"), std::string::npos) << own << " defines no " << name << "_fitter()";
+    EXPECT_NE(read_doc(own).find("Fitter " + name + "_fitter() {"), std::string::npos)
+        << own << " defines no " << name << "_fitter()";
     for (const auto& e : fs::directory_iterator(fs::path(SGLAB_SOURCE_DIR) / "fit")) {
       const std::string f = "fit/" + e.path().filename().string();
       if (f == own || (e.path().extension() != ".cpp" && e.path().extension() != ".hpp")) continue;
-      EXPECT_EQ(read_doc(f).find(name + "_fitter"), std::string::npos) << f << " names " << name << "_fitter: SGLAB_FITTERS should";
+      EXPECT_EQ(read_doc(f).find(name + "_fitter"), std::string::npos)
+          << f << " names " << name << "_fitter: SGLAB_FITTERS should";
     }
   }
   const std::string arch = read_doc("docs/architecture.md");
@@ -206,8 +209,8 @@ TEST(Docs, FittedMethodRecipeIsTheBuildsList) {
   std::set<std::string> steps;
   const std::regex step(R"(\n  [0-9]+\. (`[^`]+`|docs/math\.md))");
   for (std::sregex_iterator it(text.begin(), text.end(), step), end; it != end; ++it) steps.insert((*it)[1].str());
-  EXPECT_EQ(steps, (std::set<std::string>{"`core/include/sglab/NAME.hpp`", "`core/src/registry_core.cpp`", "`fit/NAME.cpp`",
-                                          "`fit/CMakeLists.txt`", "docs/math.md"}))
+  EXPECT_EQ(steps, (std::set<std::string>{"`core/include/sglab/NAME.hpp`", "`core/src/registry_core.cpp`",
+                                          "`fit/NAME.cpp`", "`fit/CMakeLists.txt`", "docs/math.md"}))
       << "docs/architecture.md's recipe for a fitted method";
   EXPECT_NE(text.find("SGLAB_FITTERS"), std::string::npos);
 }

@@ -64,10 +64,15 @@ TEST(Sh, ValuesMatchClosedFormsUpToOrderTwo) {
     double y[9];
     sglab::sh_eval(2, w, y);
     const double x = w(0), yy = w(1), z = w(2);
-    const double expect[9] = {0.28209479177387814,     0.4886025119029199 * yy, 0.4886025119029199 * z,
-                              0.4886025119029199 * x,  1.0925484305920792 * x * yy,
-                              1.0925484305920792 * yy * z, 0.31539156525252005 * (3 * z * z - 1),
-                              1.0925484305920792 * x * z, 0.5462742152960396 * (x * x - yy * yy)};
+    const double expect[9] = {0.28209479177387814,
+                              0.4886025119029199 * yy,
+                              0.4886025119029199 * z,
+                              0.4886025119029199 * x,
+                              1.0925484305920792 * x * yy,
+                              1.0925484305920792 * yy * z,
+                              0.31539156525252005 * (3 * z * z - 1),
+                              1.0925484305920792 * x * z,
+                              0.5462742152960396 * (x * x - yy * yy)};
     for (int k = 0; k < 9; ++k) EXPECT_NEAR(y[k], expect[k], 1e-14) << "index " << k;
   }
 }
@@ -221,7 +226,8 @@ TEST(SgFixed, SolversRecoverAFixedLobeMapsAmplitudes) {
       for (int j = 0; j < N; ++j) {
         EXPECT_NEAR(fits[0].mixture[std::size_t(j)].sharpness, lambda, 1e-12);
         for (int c = 0; c < 3; ++c) {
-          const double e = std::abs(fits[0].mixture[std::size_t(j)].amplitude[std::size_t(c)] - m[std::size_t(j)].amplitude[std::size_t(c)]);
+          const double e = std::abs(fits[0].mixture[std::size_t(j)].amplitude[std::size_t(c)] -
+                                    m[std::size_t(j)].amplitude[std::size_t(c)]);
           worst = std::max(worst, e);
           EXPECT_LT(e, 0.04) << "N " << N << " " << solver << " lobe " << j << " channel " << c;
         }
@@ -250,8 +256,8 @@ TEST(EnvmapBases, TablesHaveEveryBasisAndBadOptionsAreInputErrors) {
   namespace eb = sglab::cli::envmap_bases;
   const fs::path dir = fs::temp_directory_path() / ("sglab_envmap_bases_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  sglab::runner::write_file_atomically(dir / "mix.exr",
-                                       sglab::render::encode_environment(sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 32, 16, 2)));
+  sglab::runner::write_file_atomically(dir / "mix.exr", sglab::render::encode_environment(sglab::rasterize_mixture(
+                                                            sglab::render::synthetic_mixture(), 32, 16, 2)));
   eb::Options o;
   o.envs = {"mix=" + (dir / "mix.exr").string()};
   o.bases = {"sh", "sg-fixed"};
@@ -401,8 +407,8 @@ TEST(SgFree, BasisErrorDoesNotGrowWithN) {
   double previous = 1;
   for (const auto& f : fits) {
     const double e = sglab::envmap_error(map, sglab::rasterize_mixture(f.mixture, map.width, map.height, 4)).relative;
-    std::printf("N = %d: map error %.6g, kept %d, zero lobes %d, %d LM iterations on %d×%d\n", f.size, e, f.kept_lobes, f.zero_lobes,
-                f.iterations, f.fit_width, f.fit_height);
+    std::printf("N = %d: map error %.6g, kept %d, zero lobes %d, %d LM iterations on %d×%d\n", f.size, e, f.kept_lobes,
+                f.zero_lobes, f.iterations, f.fit_width, f.fit_height);
     EXPECT_LE(e, previous) << "N = " << f.size;
     EXPECT_GE(f.zero_lobes, f.kept_lobes > 0 ? f.size - f.kept_lobes : 0) << "N = " << f.size;
     EXPECT_GT(f.iterations, 0);
@@ -435,7 +441,9 @@ double map_quadrature(const sglab::EnvMap& m, const F& f) {
   return sum;
 }
 
-double squared(const std::array<float, 3>& x) { return double(x[0]) * x[0] + double(x[1]) * x[1] + double(x[2]) * x[2]; }
+double squared(const std::array<float, 3>& x) {
+  return double(x[0]) * x[0] + double(x[1]) * x[1] + double(x[2]) * x[2];
+}
 double power(const std::array<float, 3>& x) { return double(x[0]) + double(x[1]) + double(x[2]); }
 
 }  // namespace
@@ -448,8 +456,8 @@ double power(const std::array<float, 3>& x) { return double(x[0]) + double(x[1])
 TEST(SparseEnvMap, QuadratureMatchesTheFullMapOnASun) {
   const sglab::EnvMap full = small_sun_sky(512);
   const fit::SparseEnvMap s = fit::make_sparse_envmap(full, 64, 0.01);
-  std::printf("%zu tiles of %d×%d; relative L2 %.4g (reduced alone %.4g)\n", s.tiles.size(), s.factor, s.factor, s.relative_l2,
-              s.reduced_relative_l2);
+  std::printf("%zu tiles of %d×%d; relative L2 %.4g (reduced alone %.4g)\n", s.tiles.size(), s.factor, s.factor,
+              s.relative_l2, s.reduced_relative_l2);
   EXPECT_EQ(s.reduced.width, 64);
   EXPECT_EQ(s.factor, 8);
   EXPECT_GT(s.reduced_relative_l2, 0.5);
@@ -481,8 +489,10 @@ TEST(SparseEnvMap, WithoutTilesIsTheReducedMapBitForBit) {
   while (reduced.width > 32) reduced = sglab::downsample_envmap(reduced);
   ASSERT_EQ(reduced.texels, s.reduced.texels);
   auto f = [](const std::array<float, 3>& x) { return std::sin(double(x[0])) + double(x[1]) * double(x[2]); };
-  EXPECT_EQ(fit::sparse_quadrature(s, [&](const fit::SparseTexelRef& t) { return f(*t.value); }), map_quadrature(reduced, f));
-  const sglab::EnvMap approx = sglab::rasterize_mixture(sglab::SgMixture{sglab::render::synthetic_mixture()[0]}, 32, 16, 4);
+  EXPECT_EQ(fit::sparse_quadrature(s, [&](const fit::SparseTexelRef& t) { return f(*t.value); }),
+            map_quadrature(reduced, f));
+  const sglab::EnvMap approx = sglab::rasterize_mixture(sglab::SgMixture{sglab::render::synthetic_mixture()[0]}, 32, 16,
+                                                        4);
   const auto a = fit::sparse_error(s, approx, {});
   const auto b = sglab::envmap_error(reduced, approx);
   EXPECT_EQ(a.l2, b.l2);
@@ -502,13 +512,16 @@ TEST(OneLobeDiskFloor, MatchesQuadratureOnTheSphere) {
     const double R = diameter_deg / 2 * M_PI / 180;
     const double disk2 = 2 * M_PI * (1 - std::cos(R));
     auto share = [&](double lambda) {  // ⟨D, G⟩²/(‖G‖² ‖D‖²) with unit μ
-      const double dg = 2 * M_PI * G::integrate([&](double t) { return std::exp(lambda * (std::cos(t) - 1)) * std::sin(t); }, 0.0, R);
+      const double dg = 2 * M_PI *
+                        G::integrate([&](double t) { return std::exp(lambda * (std::cos(t) - 1)) * std::sin(t); }, 0.0,
+                                     R);
       // ‖G‖² over [0, π], split where the lobe has fallen by e^{-50}
       const double cut = std::min(M_PI, std::sqrt(100 / lambda));
       double gg = 0;
       for (int k = 0; k < 8; ++k)
-        gg += 2 * M_PI * G::integrate([&](double t) { return std::exp(2 * lambda * (std::cos(t) - 1)) * std::sin(t); }, cut * k / 8,
-                                      cut * (k + 1) / 8);
+        gg += 2 * M_PI *
+              G::integrate([&](double t) { return std::exp(2 * lambda * (std::cos(t) - 1)) * std::sin(t); },
+                           cut * k / 8, cut * (k + 1) / 8);
       return dg * dg / (gg * disk2);
     };
     double a = std::log(0.1 / (R * R)), b = std::log(20 / (R * R));  // log λ; t = λR²/2 in [0.05, 10]
@@ -542,7 +555,8 @@ TEST(SparseEnvMap, ResolvedSunImprovesOnTheUnresolvedFit) {
   std::printf("seed %u\n", o.seed);
   auto against_full = [&](const sglab::SgMixture& m) {
     return fit::sparse_error(s, sglab::rasterize_mixture(m, s.reduced.width, s.reduced.height, fit::kErrorSupersample),
-                             fit::tile_texel_means(s, [&m](const V& w) { return sglab::mixture_eval(m, w); }, fit::kErrorSupersample))
+                             fit::tile_texel_means(
+                                 s, [&m](const V& w) { return sglab::mixture_eval(m, w); }, fit::kErrorSupersample))
         .relative;
   };
   for (const bool vmf : {false, true}) {
@@ -551,8 +565,8 @@ TEST(SparseEnvMap, ResolvedSunImprovesOnTheUnresolvedFit) {
     o.sparse = &s;
     const auto resolved = vmf ? fit::fit_envmap_vmf_em(s.reduced, o) : fit::fit_envmap_ceres(s.reduced, o);
     const double e_plain = against_full(plain.mixture), e_resolved = against_full(resolved.mixture);
-    std::printf("%s N = 16: against the full map %.4g unresolved, %.4g resolved (reported %.4g, %d tiles)\n", vmf ? "vmf-em" : "sg-free",
-                e_plain, e_resolved, resolved.error.relative, resolved.detail_tiles);
+    std::printf("%s N = 16: against the full map %.4g unresolved, %.4g resolved (reported %.4g, %d tiles)\n",
+                vmf ? "vmf-em" : "sg-free", e_plain, e_resolved, resolved.error.relative, resolved.detail_tiles);
     EXPECT_NEAR(resolved.error.relative, e_resolved, 1e-12);
     EXPECT_EQ(resolved.detail_tiles, int(s.tiles.size()));
     EXPECT_LT(e_resolved, 0.45) << (vmf ? "vmf-em" : "sg-free");

@@ -103,7 +103,8 @@ TEST(EnvMapQuadrature, DiffuseMatchesClampedCosineReference) {
       const double ref = sglab::clamped_cosine_reference(lambda, std::clamp(l.axis.dot(p.normal), -1.0, 1.0)) / M_PI;
       for (int c = 0; c < 3; ++c) {
         const double expect = ref * l.amplitude[std::size_t(c)];
-        EXPECT_NEAR(shading[std::size_t(p.pixel)](c), expect, 2e-4 * std::abs(expect) + 1e-7) << "λ " << lambda << " pixel " << p.pixel;
+        EXPECT_NEAR(shading[std::size_t(p.pixel)](c), expect, 2e-4 * std::abs(expect) + 1e-7)
+            << "λ " << lambda << " pixel " << p.pixel;
       }
     }
   }
@@ -159,7 +160,8 @@ TEST(EnvMapRaster, TexelMeansMatchTheirDefinition) {
             }
         for (int c = 0; c < 3; ++c) {
           const float ref = float(sum[c] / (s * s)), got = fast.at(u, v)[std::size_t(c)];
-          EXPECT_NEAR(got, ref, 2 * std::numeric_limits<float>::epsilon() * ref) << "s " << s << " texel " << u << "," << v;
+          EXPECT_NEAR(got, ref, 2 * std::numeric_limits<float>::epsilon() * ref)
+              << "s " << s << " texel " << u << "," << v;
           EXPECT_EQ(halves.at(u, v)[std::size_t(c)], got) << "s " << s << " texel " << u << "," << v;
         }
       }
@@ -200,7 +202,8 @@ TEST(EnvMapFit, RecoversSyntheticMixture) {
     const auto& f = r.mixture[best];
     EXPECT_LT(std::acos(std::min(1.0, bc)), 1e-3) << "λ " << t.sharpness;
     EXPECT_NEAR(f.sharpness, t.sharpness, 1e-2 * t.sharpness);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(f.amplitude[c], t.amplitude[c], 1e-2 * t.amplitude[c]) << "λ " << t.sharpness;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(f.amplitude[c], t.amplitude[c], 1e-2 * t.amplitude[c]) << "λ " << t.sharpness;
   }
 }
 
@@ -222,8 +225,9 @@ TEST(EnvMapFit, LadderErrorDoesNotGrowWithN) {
   double previous = 0;
   for (std::size_t k = 0; k < rungs.size(); ++k) {
     const auto& r = rungs[k];
-    const double error =
-        sglab::envmap_error(map, sglab::rasterize_mixture(r.mixture, map.width, map.height, sglab::fit::kErrorSupersample)).relative;
+    const double error = sglab::envmap_error(map, sglab::rasterize_mixture(r.mixture, map.width, map.height,
+                                                                           sglab::fit::kErrorSupersample))
+                             .relative;
     std::printf("N = %zu: relative error %.6g, kept from N/2: %d lobes\n", r.mixture.size(), error, r.kept_lobes);
     EXPECT_EQ(int(r.mixture.size()), 2 << k);
     EXPECT_EQ(error, r.error.relative) << "N = " << r.mixture.size();
@@ -257,20 +261,24 @@ class EnvMapCommand : public sglab::test::TempDirTest {
   // `sglab fit envmap FILE --lobes N --json … --exr …`: must exit 2 naming `what`, and write
   // neither output.
   void expect_rejected(const std::string& file, int lobes, const std::string& what) {
-    const Result r = sglab(fmt::format("fit envmap '{}' --lobes {} --json '{}' --exr '{}'", (dir_ / file).string(), lobes,
-                                       (dir_ / "out.json").string(), (dir_ / "out.exr").string()));
+    const Result r = sglab(fmt::format("fit envmap '{}' --lobes {} --json '{}' --exr '{}'", (dir_ / file).string(),
+                                       lobes, (dir_ / "out.json").string(), (dir_ / "out.exr").string()));
     expect_bad_input(r, file, what, {"out.json", "out.exr"});
   }
-  EnvMap uniform(int w, int h, float value = 1) const { return {w, h, std::vector<std::array<float, 3>>(std::size_t(w * h), {value, value, value})}; }
+  EnvMap uniform(int w, int h, float value = 1) const {
+    return {w, h, std::vector<std::array<float, 3>>(std::size_t(w * h), {value, value, value})};
+  }
 };
 
 TEST_F(EnvMapCommand, FitsAndWritesRecordAndReconstruction) {
   write_map(dir_ / "m.exr", sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 64, 32));
-  const Result r = sglab(fmt::format("fit envmap '{}' --lobes 4 --init kmeans --json '{}' --exr '{}'", (dir_ / "m.exr").string(),
-                                     (dir_ / "fit.json").string(), (dir_ / "recon.exr").string()));
+  const Result r = sglab(fmt::format("fit envmap '{}' --lobes 4 --init kmeans --json '{}' --exr '{}'",
+                                     (dir_ / "m.exr").string(), (dir_ / "fit.json").string(),
+                                     (dir_ / "recon.exr").string()));
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string json = read_file(dir_ / "fit.json");
-  for (const char* key : {"\"fit\": \"envmap\"", "\"parameters\"", "\"lobe3.sharpness\"", "\"relative_error\"", "\"seconds\""})
+  for (const char* key :
+       {"\"fit\": \"envmap\"", "\"parameters\"", "\"lobe3.sharpness\"", "\"relative_error\"", "\"seconds\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
   const EnvMap recon = sglab::render::load_environment((dir_ / "recon.exr").string());
   EXPECT_EQ(recon.width, 64);
@@ -335,13 +343,19 @@ class SceneEnvironment : public EnvMapCommand {
   nlohmann::json scene(const nlohmann::json& environment) const {
     return {{"camera", {{"position", {0, 0, 3}}, {"look_at", {0, 0, 0}}, {"fov", 45}, {"width", 20}, {"height", 20}}},
             {"light", {{"position", {0, 3, 0}}, {"direction", {0, -1, 0}}, {"cone_angle", 20}, {"power", 0}}},
-            {"objects", {{{"name", "ball"}, {"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1}, {"material", {{"albedo", 0.5}}}}}},
+            {"objects",
+             {{{"name", "ball"},
+               {"type", "sphere"},
+               {"center", {0, 0, 0}},
+               {"radius", 1},
+               {"material", {{"albedo", 0.5}}}}}},
             {"environment", environment}};
   }
   Result render(const nlohmann::json& doc) {
     std::ofstream(dir_ / "scene.json") << doc.dump();
-    return sglab(fmt::format("render '{}' --out '{}' --stats '{}' --quiet --rsm 8 --shadow-map 8 --count 2", (dir_ / "scene.json").string(),
-                             (dir_ / "out.exr").string(), (dir_ / "stats.json").string()));
+    return sglab(fmt::format("render '{}' --out '{}' --stats '{}' --quiet --rsm 8 --shadow-map 8 --count 2",
+                             (dir_ / "scene.json").string(), (dir_ / "out.exr").string(),
+                             (dir_ / "stats.json").string()));
   }
 };
 
@@ -365,8 +379,10 @@ TEST_F(SceneEnvironment, SingleSgMatchesClampedCosineReference) {
       const char* ch[3] = {"R", "G", "B"};
       // quadrature of the piecewise-constant 256×128 map of 8×8-point texel means: 1e-3 relative,
       // and 1e-5 of the peak where the clamped cosine's kink at the terminator crosses texels
-      EXPECT_NEAR(image.channels.at(std::string("environment_map.") + ch[c])[k], expect, 1e-3 * expect + 1e-5 * peak) << "pixel " << k;
-      EXPECT_NEAR(image.channels.at(std::string("environment_mixture.") + ch[c])[k], expect, 1e-5 * expect + 1e-7) << "pixel " << k;
+      EXPECT_NEAR(image.channels.at(std::string("environment_map.") + ch[c])[k], expect, 1e-3 * expect + 1e-5 * peak)
+          << "pixel " << k;
+      EXPECT_NEAR(image.channels.at(std::string("environment_mixture.") + ch[c])[k], expect, 1e-5 * expect + 1e-7)
+          << "pixel " << k;
     }
     ++checked;
   }
@@ -394,7 +410,8 @@ TEST_F(SceneEnvironment, RejectsBadInput) {
       {{{"mixture", "one.json"}, {"colour", 1}}, "environment.colour"},
       {nlohmann::json::object(), "environment"},
   };
-  for (const auto& [env, what] : cases) expect_bad_input(render(scene(env)), env.dump(), what, {"out.exr", "stats.json"});
+  for (const auto& [env, what] : cases)
+    expect_bad_input(render(scene(env)), env.dump(), what, {"out.exr", "stats.json"});
 }
 
 }  // namespace

@@ -31,10 +31,12 @@ TEST(ErrorMap, ReferenceAndErrorsAgainstAnIndependentQuadrature) {
   for (std::size_t k = 0; k < r.points(); ++k) {
     const double l = r.sharpness[k / nc], c = r.cosine[k % nc];
     const double pole = sglab::test::clamped_cosine_quadrature(l, 1.0);
-    EXPECT_NEAR(r.reference[k] / pole, sglab::test::clamped_cosine_quadrature(l, c) / pole, 1e-9) << "λ=" << l << " c=" << c;
+    EXPECT_NEAR(r.reference[k] / pole, sglab::test::clamped_cosine_quadrature(l, c) / pole, 1e-9)
+        << "λ=" << l << " c=" << c;
   }
   // punctual-approx, (2π/λ)⟨c⟩ written here: its signed error and its summary.
-  const auto it = std::find_if(r.methods.begin(), r.methods.end(), [](const em::MethodMap& m) { return m.summary.method == "punctual-approx"; });
+  const auto it = std::find_if(r.methods.begin(), r.methods.end(),
+                               [](const em::MethodMap& m) { return m.summary.method == "punctual-approx"; });
   ASSERT_NE(it, r.methods.end());
   double max_abs = 0;
   for (std::size_t k = 0; k < r.points(); ++k) {
@@ -53,7 +55,8 @@ TEST(ErrorMap, TablesHaveOneSummaryRowPerMethod) {
   std::size_t lines = 0;
   for (char ch : t.summary_csv) lines += ch == '\n';
   EXPECT_EQ(lines, r.methods.size() + 1);
-  for (const auto& m : r.methods) EXPECT_NE(t.markdown.find("| " + m.summary.method + " |"), std::string::npos) << m.summary.method;
+  for (const auto& m : r.methods)
+    EXPECT_NE(t.markdown.find("| " + m.summary.method + " |"), std::string::npos) << m.summary.method;
   EXPECT_EQ(r.provenance.command, "sglab error-map --quantity clamped-cosine --size 9");
 }
 

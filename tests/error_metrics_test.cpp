@@ -18,14 +18,14 @@ using sglab::metrics::RootMeanSquare;
 
 TEST(ErrorMetrics, SmapeClosedForm) {
   using sglab::metrics::smape;
-  EXPECT_DOUBLE_EQ(smape(3.0, 1.0), 1.0);      // 2·2/(3 + 1)
-  EXPECT_DOUBLE_EQ(smape(1.0, 3.0), 1.0);      // symmetric
-  EXPECT_DOUBLE_EQ(smape(1.5, 1.0), 0.4);      // 2·0.5/2.5
-  EXPECT_DOUBLE_EQ(smape(-1.0, 1.0), 2.0);     // 2·2/(1 + 1): the upper bound
-  EXPECT_DOUBLE_EQ(smape(1.0, 0.0), 2.0);      // a value against a zero reference
-  EXPECT_EQ(smape(0.0, 0.0), 0.0);             // both zero: 0, not NaN
+  EXPECT_DOUBLE_EQ(smape(3.0, 1.0), 1.0);   // 2·2/(3 + 1)
+  EXPECT_DOUBLE_EQ(smape(1.0, 3.0), 1.0);   // symmetric
+  EXPECT_DOUBLE_EQ(smape(1.5, 1.0), 0.4);   // 2·0.5/2.5
+  EXPECT_DOUBLE_EQ(smape(-1.0, 1.0), 2.0);  // 2·2/(1 + 1): the upper bound
+  EXPECT_DOUBLE_EQ(smape(1.0, 0.0), 2.0);   // a value against a zero reference
+  EXPECT_EQ(smape(0.0, 0.0), 0.0);          // both zero: 0, not NaN
   EXPECT_EQ(smape(2.5, 2.5), 0.0);
-  EXPECT_FLOAT_EQ(smape(3.0f, 1.0f), 1.0f);    // templated on the scalar
+  EXPECT_FLOAT_EQ(smape(3.0f, 1.0f), 1.0f);  // templated on the scalar
   EXPECT_EQ(smape(0.0f, 0.0f), 0.0f);
 }
 

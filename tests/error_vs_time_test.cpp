@@ -105,8 +105,9 @@ TEST(ErrorVsTime, PunctualApproxFromItsFormula) {
 TEST(ErrorVsTime, SpeedVerdictsHaveANoiseMargin) {
   evt::SpeedComparison c{"a", "b", "sglab batch"};
   c.margin = 0.05;
-  for (const auto& [ratio, verdict] : {std::pair{0.90, "holds"}, std::pair{0.96, "within noise"}, std::pair{1.0, "within noise"},
-                                       std::pair{1.049, "within noise"}, std::pair{1.06, "does not hold"}}) {
+  for (const auto& [ratio, verdict] :
+       {std::pair{0.90, "holds"}, std::pair{0.96, "within noise"}, std::pair{1.0, "within noise"},
+        std::pair{1.049, "within noise"}, std::pair{1.06, "does not hold"}}) {
     c.ratio = ratio;
     EXPECT_EQ(c.faster_verdict(), verdict) << ratio;
   }

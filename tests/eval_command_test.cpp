@@ -31,9 +31,7 @@ namespace fs = std::filesystem;
 using Result = sglab::test::CommandResult;
 using sglab::test::read_file;
 
-void write_file(const fs::path& p, const std::string& text) {
-  std::ofstream(p, std::ios::binary) << text;
-}
+void write_file(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> parts;
@@ -56,9 +54,9 @@ std::vector<std::string> values_of(const std::string& csv) {
 // Significant digits printed in a %g-style number ("-1.25e-05" has 3).
 int significant_digits(const std::string& number) {
   std::string mantissa = number.substr(0, number.find_first_of("eE"));
-  mantissa.erase(std::remove_if(mantissa.begin(), mantissa.end(),
-                                [](char ch) { return ch == '-' || ch == '+' || ch == '.'; }),
-                 mantissa.end());
+  mantissa.erase(
+      std::remove_if(mantissa.begin(), mantissa.end(), [](char ch) { return ch == '-' || ch == '+' || ch == '.'; }),
+      mantissa.end());
   const auto first = mantissa.find_first_not_of('0');
   return first == std::string::npos ? 1 : static_cast<int>(mantissa.size() - first);
 }
@@ -91,8 +89,8 @@ class EvalCommand : public sglab::test::TempDirTest {
   std::string eval_csv(const std::string& args, const std::string& csv) const {
     write_file(path("in.csv"), csv);
     fs::remove(path("out.csv"));
-    const Result run = eval(fmt::format("{} --in '{}' --out '{}'", args, path("in.csv").string(),
-                                        path("out.csv").string()));
+    const Result run = eval(
+        fmt::format("{} --in '{}' --out '{}'", args, path("in.csv").string(), path("out.csv").string()));
     EXPECT_EQ(run.status, 0) << args << "\n" << run.err;
     EXPECT_EQ(run.out, "");
     return read_file(path("out.csv"));
@@ -108,8 +106,7 @@ std::string grid_csv() {
   std::string csv = "sharpness,cosine\n";
   // fmt's shortest form of a T reads back as exactly that T.
   for (const double l : kSharpness)
-    for (const double c : kCosine)
-      csv += fmt::format("{},{}\n", static_cast<T>(l), static_cast<T>(c));
+    for (const double c : kCosine) csv += fmt::format("{},{}\n", static_cast<T>(l), static_cast<T>(c));
   return csv;
 }
 
@@ -121,8 +118,7 @@ void expect_matches_core(const std::string& precision, int digits, const std::st
   int max_digits = 0;
   for (const double l : kSharpness) {
     for (const double c : kCosine) {
-      const T expected =
-          sglab::clamped_cosine_tokuyoshi2024<T>(static_cast<T>(l), static_cast<T>(c));
+      const T expected = sglab::clamped_cosine_tokuyoshi2024<T>(static_cast<T>(l), static_cast<T>(c));
       EXPECT_EQ(values[i], fmt::format("{:.{}g}", expected, digits))
           << precision << " at sharpness " << l << ", cosine " << c;
       // Round trip: the printed text reads back as the very value core computed.
@@ -137,9 +133,8 @@ void expect_matches_core(const std::string& precision, int digits, const std::st
 }
 
 TEST_F(EvalCommand, DoubleEqualsCoreCallToTheLastDigit) {
-  expect_matches_core<double>(
-      "double", 17,
-      eval_csv("clamped-cosine --method tokuyoshi2024 --precision double", grid_csv<double>()));
+  expect_matches_core<double>("double", 17,
+                              eval_csv("clamped-cosine --method tokuyoshi2024 --precision double", grid_csv<double>()));
 }
 
 TEST_F(EvalCommand, DoubleIsTheDefaultPrecision) {
@@ -149,9 +144,8 @@ TEST_F(EvalCommand, DoubleIsTheDefaultPrecision) {
 }
 
 TEST_F(EvalCommand, FloatEqualsCoreCallToTheLastDigit) {
-  expect_matches_core<float>(
-      "float", 9,
-      eval_csv("clamped-cosine --method tokuyoshi2024 --precision float", grid_csv<float>()));
+  expect_matches_core<float>("float", 9,
+                             eval_csv("clamped-cosine --method tokuyoshi2024 --precision float", grid_csv<float>()));
 }
 
 TEST_F(EvalCommand, Mp50EqualsCoreCallToTheLastDigit) {
@@ -162,15 +156,13 @@ TEST_F(EvalCommand, Mp50EqualsCoreCallToTheLastDigit) {
   std::string csv = "sharpness,cosine\n";
   for (const auto& l : sharpness)
     for (const auto& c : cosine) csv += l + "," + c + "\n";
-  const auto values =
-      values_of(eval_csv("clamped-cosine --method tokuyoshi2024 --precision mp50", csv));
+  const auto values = values_of(eval_csv("clamped-cosine --method tokuyoshi2024 --precision mp50", csv));
   ASSERT_EQ(values.size(), sharpness.size() * cosine.size());
   std::size_t i = 0;
   int max_digits = 0;
   for (const auto& l : sharpness) {
     for (const auto& c : cosine) {
-      const sglab::mp50 expected =
-          sglab::clamped_cosine_tokuyoshi2024(sglab::mp50(l), sglab::mp50(c));
+      const sglab::mp50 expected = sglab::clamped_cosine_tokuyoshi2024(sglab::mp50(l), sglab::mp50(c));
       EXPECT_EQ(values[i], expected.str(50)) << l << "," << c;
       max_digits = std::max(max_digits, significant_digits(values[i]));
       ++i;
@@ -180,13 +172,12 @@ TEST_F(EvalCommand, Mp50EqualsCoreCallToTheLastDigit) {
 }
 
 TEST_F(EvalCommand, Mp50ParsesTheDecimalTextNotItsDoubleRounding) {
-  const auto value = values_of(eval_csv("clamped-cosine --method tokuyoshi2024 --precision mp50",
-                                        "sharpness,cosine\n1.1,0.1\n"));
+  const auto value = values_of(
+      eval_csv("clamped-cosine --method tokuyoshi2024 --precision mp50", "sharpness,cosine\n1.1,0.1\n"));
   ASSERT_EQ(value.size(), 1u);
   const auto via_double = sglab::clamped_cosine_tokuyoshi2024(sglab::mp50(1.1), sglab::mp50(0.1));
   EXPECT_NE(value[0], via_double.str(50));
-  EXPECT_EQ(value[0],
-            sglab::clamped_cosine_tokuyoshi2024(sglab::mp50("1.1"), sglab::mp50("0.1")).str(50));
+  EXPECT_EQ(value[0], sglab::clamped_cosine_tokuyoshi2024(sglab::mp50("1.1"), sglab::mp50("0.1")).str(50));
 }
 
 TEST_F(EvalCommand, ExtraColumnsPassThroughInAnyOrder) {
@@ -219,8 +210,8 @@ TEST_F(EvalCommand, HeaderOnlyInputGivesHeaderOnlyOutput) {
 }
 
 TEST_F(EvalCommand, CosineRoundingPastOneIsAccepted) {
-  const auto values = values_of(eval_csv("clamped-cosine --method tokuyoshi2024",
-                                         "sharpness,cosine\n3,1.0000005\n3,-1.0000005\n"));
+  const auto values = values_of(
+      eval_csv("clamped-cosine --method tokuyoshi2024", "sharpness,cosine\n3,1.0000005\n3,-1.0000005\n"));
   EXPECT_EQ(values.size(), 2u);
 }
 
@@ -234,13 +225,11 @@ TEST_F(EvalCommand, EveryRegisteredMethodEvaluatesInEveryPrecision) {
     }
     for (const auto& m : q.methods) {
       for (const std::string precision : {"float", "double", "mp50"}) {
-        const auto values = values_of(
-            eval_csv(fmt::format("{} --method {} --precision {}", q.name, m.name, precision),
-                     fmt::format("{}\n{}\n", join(header, ","), join(row, ","))));
+        const auto values = values_of(eval_csv(fmt::format("{} --method {} --precision {}", q.name, m.name, precision),
+                                               fmt::format("{}\n{}\n", join(header, ","), join(row, ","))));
         ASSERT_EQ(values.size(), 1u) << q.name << " " << m.name << " " << precision;
         const double v = std::strtod(values[0].c_str(), nullptr);
-        EXPECT_TRUE(std::isfinite(v))
-            << q.name << " " << m.name << " " << precision << ": " << values[0];
+        EXPECT_TRUE(std::isfinite(v)) << q.name << " " << m.name << " " << precision << ": " << values[0];
       }
     }
   }
@@ -250,8 +239,8 @@ TEST_F(EvalCommand, EveryRegisteredMethodEvaluatesInEveryPrecision) {
 
 struct ErrorCase {
   std::string name;
-  std::string args;   // after `sglab eval`, without --in/--out
-  std::string input;  // CSV text: bad input, so exit status 2
+  std::string args;                  // after `sglab eval`, without --in/--out
+  std::string input;                 // CSV text: bad input, so exit status 2
   std::vector<std::string> message;  // each must appear in standard error
 };
 
@@ -259,59 +248,89 @@ std::vector<ErrorCase> error_cases() {
   const std::string cc = "clamped-cosine --method tokuyoshi2024";
   std::vector<ErrorCase> cases{
       {"missing column", cc, "sharpness,foo\n1,2\n", {"missing column 'cosine'", "line 1"}},
-      {"value column in the input", cc, "sharpness,cosine,value\n1,0.5,3\n",
+      {"value column in the input",
+       cc,
+       "sharpness,cosine,value\n1,0.5,3\n",
        {"line 1 (header)", "already has a column 'value'", "rename it"}},
-      {"non-number", cc, "sharpness,cosine\n1,0.5\nabc,0.5\n",
+      {"non-number",
+       cc,
+       "sharpness,cosine\n1,0.5\nabc,0.5\n",
        {"row 2 (line 3)", "column 'sharpness'", "value 'abc'", "not a number"}},
-      {"empty field", cc, "sharpness,cosine\n1,0.5\n2,0.5\n3,\n",
+      {"empty field",
+       cc,
+       "sharpness,cosine\n1,0.5\n2,0.5\n3,\n",
        {"row 3 (line 4)", "column 'cosine'", "value ''", "empty"}},
-      {"trailing garbage", cc, "sharpness,cosine\n1,0.5x\n",
+      {"trailing garbage",
+       cc,
+       "sharpness,cosine\n1,0.5x\n",
        {"row 1 (line 2)", "column 'cosine'", "value '0.5x'", "not a number"}},
       {"nan", cc, "sharpness,cosine\nnan,0.5\n", {"row 1 (line 2)", "column 'sharpness'", "value 'nan'"}},
       {"inf", cc, "sharpness,cosine\n1,0\ninf,0.5\n", {"row 2 (line 3)", "column 'sharpness'", "value 'inf'"}},
       {"-inf", cc, "sharpness,cosine\n1,-inf\n", {"row 1 (line 2)", "column 'cosine'", "value '-inf'"}},
       {"hexadecimal", cc, "sharpness,cosine\n0x1p3,0\n", {"row 1 (line 2)", "column 'sharpness'", "value '0x1p3'"}},
       {"overflow", cc, "sharpness,cosine\n1e999,0\n", {"row 1 (line 2)", "value '1e999'", "out of the range"}},
-      {"float overflow", cc + " --precision float", "sharpness,cosine\n1e39,0\n",
+      {"float overflow",
+       cc + " --precision float",
+       "sharpness,cosine\n1e39,0\n",
        {"row 1 (line 2)", "value '1e39'", "out of the range of float"}},
-      {"mp50 non-number", cc + " --precision mp50", "sharpness,cosine\n1,0.5\n1e5x,0\n",
+      {"mp50 non-number",
+       cc + " --precision mp50",
+       "sharpness,cosine\n1,0.5\n1e5x,0\n",
        {"row 2 (line 3)", "column 'sharpness'", "value '1e5x'"}},
-      {"negative sharpness", cc, "sharpness,cosine\n1,0.5\n-1,0.5\n",
+      {"negative sharpness",
+       cc,
+       "sharpness,cosine\n1,0.5\n-1,0.5\n",
        {"row 2 (line 3)", "column 'sharpness'", "value '-1'", ">= 0"}},
-      {"negative sharpness mp50", cc + " --precision mp50", "sharpness,cosine\n-0.5,0.5\n",
+      {"negative sharpness mp50",
+       cc + " --precision mp50",
+       "sharpness,cosine\n-0.5,0.5\n",
        {"row 1 (line 2)", "column 'sharpness'", "value '-0.5'"}},
-      {"cosine above 1", cc, "sharpness,cosine\n1,1.00001\n",
+      {"cosine above 1",
+       cc,
+       "sharpness,cosine\n1,1.00001\n",
        {"row 1 (line 2)", "column 'cosine'", "value '1.00001'", "[-1, 1]"}},
-      {"cosine below -1", cc + " --precision float", "sharpness,cosine\n1,-1.000002\n",
+      {"cosine below -1",
+       cc + " --precision float",
+       "sharpness,cosine\n1,-1.000002\n",
        {"row 1 (line 2)", "column 'cosine'", "value '-1.000002'"}},
-      {"domain error", "clamped-cosine --method punctual-approx", "sharpness,cosine\n1,0.5\n2,0.5\n0,0.5\n",
+      {"domain error",
+       "clamped-cosine --method punctual-approx",
+       "sharpness,cosine\n1,0.5\n2,0.5\n0,0.5\n",
        {"row 3 (line 4)", "sharpness '0'", "cosine '0.5'", "punctual-approx", "sharpness 0"}},
       // λ = 1e-39 is a subnormal float (2π/λ would overflow float): refused as input, naming it.
-      {"subnormal input", "sg-integral --method approx --precision float", "sharpness\n1\n1e-39\n",
+      {"subnormal input",
+       "sg-integral --method approx --precision float",
+       "sharpness\n1\n1e-39\n",
        {"row 2 (line 3)", "value '1e-39'", "subnormal"}},
       // A quoted field spanning two lines: the row and line numbers differ.
-      {"row and line differ", cc, "note,sharpness,cosine\n\"two\nlines\",1,0.5\nx,-2,0\n",
+      {"row and line differ",
+       cc,
+       "note,sharpness,cosine\n\"two\nlines\",1,0.5\nx,-2,0\n",
        {"row 2 (line 4)", "column 'sharpness'", "value '-2'"}},
       {"field count", cc, "sharpness,cosine\n1,0.5\n1,0.5,3\n", {"row 2 (line 3)", "3 fields", "header has 2"}},
       {"unterminated quote", cc, "sharpness,cosine\n\"1,0.5\n", {"line 2", "never closed"}},
       {"duplicate column", cc, "sharpness,cosine,sharpness\n1,0.5,2\n", {"line 1", "'sharpness' appears twice"}},
       {"value column exists", cc, "sharpness,cosine,value\n1,0.5,2\n", {"line 1", "'value'"}},
       {"empty input", cc, "", {"empty"}},
-      {"unknown precision", cc + " --precision quad", "sharpness,cosine\n1,0.5\n",
+      {"unknown precision",
+       cc + " --precision quad",
+       "sharpness,cosine\n1,0.5\n",
        {"unknown precision 'quad'", "float", "double", "mp50"}},
   };
 
   std::vector<std::string> quantity_names;
   for (const auto& q : sglab::quantities()) quantity_names.push_back(q.name);
-  ErrorCase unknown_quantity{"unknown quantity", "no-such-quantity --method exact", "sharpness\n1\n",
-                             {"unknown quantity 'no-such-quantity'"}};
+  ErrorCase unknown_quantity{
+      "unknown quantity", "no-such-quantity --method exact", "sharpness\n1\n", {"unknown quantity 'no-such-quantity'"}};
   unknown_quantity.message.push_back(join(quantity_names));
   cases.push_back(unknown_quantity);
 
   for (const auto& q : sglab::quantities()) {
     std::vector<std::string> methods;
     for (const auto& m : q.methods) methods.push_back(m.name);
-    cases.push_back({"unknown method of " + q.name, q.name + " --method no-such-method", "x\n1\n",
+    cases.push_back({"unknown method of " + q.name,
+                     q.name + " --method no-such-method",
+                     "x\n1\n",
                      {"unknown method 'no-such-method'", "'" + q.name + "'", join(methods)}});
   }
   return cases;
@@ -350,8 +369,7 @@ TEST_F(EvalCommand, BadInputFailsNamingRowColumnAndValueAndWritesNothing) {
 }
 
 TEST_F(EvalCommand, MissingInputFileIsBadInput) {
-  const Result run =
-      eval(fmt::format("clamped-cosine --method reference --in '{}'", path("absent.csv").string()));
+  const Result run = eval(fmt::format("clamped-cosine --method reference --in '{}'", path("absent.csv").string()));
   EXPECT_EQ(run.status, 2);
   EXPECT_NE(run.err.find("absent.csv"), std::string::npos) << run.err;
 }
@@ -377,9 +395,8 @@ TEST_F(EvalCommand, ListNamesEveryQuantityColumnAndMethodAndMarksNegativeOnes) {
     const auto end = std::find(begin, lines.end(), "");
     const std::vector<std::string> block(begin, end);
     const auto has = [&](const std::string& text) {
-      return std::any_of(block.begin(), block.end(), [&](const std::string& line) {
-        return line.find(text) != std::string::npos;
-      });
+      return std::any_of(block.begin(), block.end(),
+                         [&](const std::string& line) { return line.find(text) != std::string::npos; });
     };
     EXPECT_TRUE(has(q.description));
     for (const auto& c : q.columns) EXPECT_TRUE(has(c.name + " ")) << c.name;
@@ -424,8 +441,7 @@ TEST_F(EvalCommand, ListJsonMatchesTheRegistry) {
     }
   }
   for (const auto& p : j.at("precisions"))
-    EXPECT_EQ(p.at("digits"),
-              sglab::round_trip_digits(*sglab::parse_precision(p.at("name").get<std::string>())));
+    EXPECT_EQ(p.at("digits"), sglab::round_trip_digits(*sglab::parse_precision(p.at("name").get<std::string>())));
 }
 
 TEST_F(EvalCommand, ListExcludesEvaluationOptions) {
@@ -443,8 +459,7 @@ TEST_F(EvalCommand, Tokuyoshi2024WithinPointTwoPercentOfReference) {
   std::string csv = "sharpness,cosine\n";
   for (int i = 0; i < kLambdas; ++i)
     for (int j = 0; j < kCosines; ++j)
-      csv += fmt::format("{},{}\n", std::pow(10.0, -3.0 + 7.0 * i / (kLambdas - 1)),
-                         -1.0 + 2.0 * j / (kCosines - 1));
+      csv += fmt::format("{},{}\n", std::pow(10.0, -3.0 + 7.0 * i / (kLambdas - 1)), -1.0 + 2.0 * j / (kCosines - 1));
   const auto reference = values_of(eval_csv("clamped-cosine --method reference", csv));
   const auto tokuyoshi = values_of(eval_csv("clamped-cosine --method tokuyoshi2024", csv));
   ASSERT_EQ(reference.size(), std::size_t(kLambdas * kCosines));

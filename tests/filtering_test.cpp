@@ -25,7 +25,8 @@ Vec3 random_unit(std::mt19937_64& rng) {
   return Vec3(n(rng), n(rng), n(rng)).normalized();
 }
 
-FilterSample sample_with(const Vec3& normal, double depth, bool glossy, const Vec3& axis = Vec3::UnitZ(), double sharpness = 0) {
+FilterSample sample_with(const Vec3& normal, double depth, bool glossy, const Vec3& axis = Vec3::UnitZ(),
+                         double sharpness = 0) {
   FilterSample s;
   s.valid = true;
   s.point.normal = normal;
@@ -65,7 +66,8 @@ TEST(FilterRangeWeight, DepthTermIsRelativeToTheDepth) {
   // directional factor is 1).
   const FilterParameters a;
   for (const double zp : {2.0, 20.0, 0.2}) {
-    const FilterSample p = sample_with(Vec3::UnitZ(), zp, false), q = sample_with(Vec3::UnitZ(), zp * (1 + a.depth_sigma), false);
+    const FilterSample p = sample_with(Vec3::UnitZ(), zp, false),
+                       q = sample_with(Vec3::UnitZ(), zp * (1 + a.depth_sigma), false);
     EXPECT_NEAR(filter_range_weight(p, q, false, FilterWeights::normal, a), std::exp(-0.5), 1e-12) << zp;
     EXPECT_NEAR(filter_range_weight(p, q, false, FilterWeights::lobe_depth, a), std::exp(-0.5), 1e-12) << zp;
   }
@@ -89,7 +91,8 @@ TEST(FilterRangeWeight, LobePositionalTermIsTheThreeDimensionalSimilarity) {
 TEST(FilterRangeWeight, MatchesCoreWeightsAndPrefersSimilarSpecularLobes) {
   const FilterParameters a;
   // Specular part: the lobe-aware weight of the two warped GGX lobes (filtering_weights.hpp).
-  const Vec3 axis(0, 0.6, 0.8), near_axis = Vec3(0.05, 0.6, 0.8).normalized(), far_axis = Vec3(0.4, 0.6, 0.7).normalized();
+  const Vec3 axis(0, 0.6, 0.8), near_axis = Vec3(0.05, 0.6, 0.8).normalized(),
+                                far_axis = Vec3(0.4, 0.6, 0.7).normalized();
   const FilterSample p = sample_with(Vec3::UnitZ(), 2.0, true, axis, 200.0);
   const FilterSample q_near = sample_with(Vec3::UnitZ(), 2.0, true, near_axis, 200.0);
   const FilterSample q_far = sample_with(Vec3::UnitZ(), 2.0, true, far_axis, 200.0);
@@ -99,7 +102,8 @@ TEST(FilterRangeWeight, MatchesCoreWeightsAndPrefersSimilarSpecularLobes) {
   // Same normal, same depth: `normal` cannot tell these apart; the lobes can.
   EXPECT_DOUBLE_EQ(filter_range_weight(p, q_far, true, FilterWeights::normal, a), 1.0);
   EXPECT_GT(w_near, 100 * filter_range_weight(p, q_far, true, FilterWeights::lobe_depth, a));
-  EXPECT_LT(filter_range_weight(p, q_rough, true, FilterWeights::lobe_depth, a), w_near);  // a sharpness mismatch costs too
+  EXPECT_LT(filter_range_weight(p, q_rough, true, FilterWeights::lobe_depth, a),
+            w_near);  // a sharpness mismatch costs too
   // `lobe` adds App. A's positional weight: samples at the same place are unaffected.
   EXPECT_DOUBLE_EQ(filter_range_weight(p, q_near, true, FilterWeights::lobe, a), w_near);
   EXPECT_EQ(filter_range_weight(p, q_far, true, FilterWeights::spatial, a), 1.0);
@@ -168,8 +172,10 @@ TEST(UpsampleIndirect, UpsampledPixelsAreConvexCombinationsOfTheirSamples) {
           }
         const Rgb albedo = in.full[k].point.diffuse_reflectance;
         for (int c = 0; c < 3; ++c) {
-          EXPECT_GE(r.upsampled[k](c), lo(c) * albedo(c) * (1 - 1e-12)) << filter_weights_name(w) << " " << i << "," << j;
-          EXPECT_LE(r.upsampled[k](c), hi(c) * albedo(c) * (1 + 1e-12)) << filter_weights_name(w) << " " << i << "," << j;
+          EXPECT_GE(r.upsampled[k](c), lo(c) * albedo(c) * (1 - 1e-12))
+              << filter_weights_name(w) << " " << i << "," << j;
+          EXPECT_LE(r.upsampled[k](c), hi(c) * albedo(c) * (1 + 1e-12))
+              << filter_weights_name(w) << " " << i << "," << j;
         }
       }
   }

@@ -48,16 +48,14 @@ TEST(FilteringReference, SmoothedRingIntegralMatchesAzimuthalQuadratureOfTheSmoo
   // smoothed profile c, by Gauss–Kronrod over ϕ, with c independent of this header: for an SG,
   // the exact Tsai–Shih convolution c(t) = ∫G(ω'; ξ, λ)K(ω'·ω)dω' = e^{L}A(λ3)/A(κ) (sg.hpp);
   // for the clamped cosine, c(t) = D(κ, t)/A(κ) with the diffuse reference of reference.hpp.
-  auto check = [](const ZonalLobe<double>& f, double kappa, double theta, double phi,
-                  const auto& profile, double tol) {
+  auto check = [](const ZonalLobe<double>& f, double kappa, double theta, double phi, const auto& profile, double tol) {
     const double ring = smoothed_ring_integral(f, theta, phi, kappa);
     auto g = [&](double az) {
       return profile(std::cos(theta) * std::cos(phi) + std::sin(theta) * std::sin(phi) * std::cos(az));
     };
-    const double direct =
-        2 * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(g, 0.0, pi<double>(), 12, 1e-13);
-    EXPECT_LE(test::relative_error(ring, direct), tol)
-        << "kappa=" << kappa << " theta=" << theta << " phi=" << phi;
+    const double direct = 2 * boost::math::quadrature::gauss_kronrod<double, 61>::integrate(g, 0.0, pi<double>(), 12,
+                                                                                            1e-13);
+    EXPECT_LE(test::relative_error(ring, direct), tol) << "kappa=" << kappa << " theta=" << theta << " phi=" << phi;
   };
   for (double kappa : {3.0, 100.0}) {
     for (double lambda : {0.5, 40.0}) {
@@ -91,12 +89,11 @@ TEST(GaussianLobeWeight, SimilarityMatchesQuadratureOfSmoothedLobes) {
       reference *= gaussian_similarity_reference_1d(dx, ti, tj, nu);
     }
     const double bi = smoothed_variance(ti, nu), bj = smoothed_variance(tj, nu);
-    SCOPED_TRACE(testing::Message() << "m=" << m << " d2=" << d2 << " tau_i^2=" << ti
-                                    << " tau_j^2=" << tj << " nu^2=" << nu);
+    SCOPED_TRACE(testing::Message() << "m=" << m << " d2=" << d2 << " tau_i^2=" << ti << " tau_j^2=" << tj
+                                    << " nu^2=" << nu);
     EXPECT_LE(test::relative_error(gaussian_lobe_similarity(d2, bi, bj, m), reference), 1e-13);
     for (double beta : {1.0, 4.0, 20.0}) {
-      EXPECT_LE(test::relative_error(gaussian_lobe_weight(d2, bi, bj, beta, m),
-                                     std::pow(reference, beta)),
+      EXPECT_LE(test::relative_error(gaussian_lobe_weight(d2, bi, bj, beta, m), std::pow(reference, beta)),
                 1e-13 * beta);
     }
     const float qf = gaussian_lobe_similarity(float(d2), float(bi), float(bj), m);
@@ -112,9 +109,7 @@ TEST(GaussianLobeWeight, EqualVariancesGiveTheGaussianWeightOfAppendixA) {
     const double d = std::uniform_real_distribution<double>(0, 3)(rng);
     const double beta = log_uniform(rng, 0.5, 50);
     const double reference = std::pow(gaussian_similarity_reference_1d(d, tau, tau, nu), beta);
-    EXPECT_LE(test::relative_error(gaussian_lobe_weight_equal_variance(d * d, tau, nu, beta),
-                                   reference),
-              1e-12 * beta)
+    EXPECT_LE(test::relative_error(gaussian_lobe_weight_equal_variance(d * d, tau, nu, beta), reference), 1e-12 * beta)
         << "tau^2=" << tau << " nu^2=" << nu << " d=" << d << " beta=" << beta;
   }
 }
@@ -165,8 +160,7 @@ TEST(DiffuseLobeSimilarity, SgApproximationErrorIsThePapersFit) {
     const double phi = pi<double>() * i / 40, c = std::cos(phi);
     const double reference = lobe_similarity_reference(cosine_lobe(), cosine_lobe(), c, kInf);
     max_q = std::max(max_q, std::fabs(diffuse_lobe_similarity_sg(c, kLambdaC, kInf) - reference));
-    max_w = std::max(max_w, std::fabs(diffuse_lobe_weight(c, kLambdaC, 20.0, kInf) -
-                                      std::pow(reference, 20.0)));
+    max_w = std::max(max_w, std::fabs(diffuse_lobe_weight(c, kLambdaC, 20.0, kInf) - std::pow(reference, 20.0)));
   }
   std::printf("[ measured ] max |G(lambda_c) - q| = %.4g, beta = 20: %.4g\n", max_q, max_w);
   EXPECT_LE(max_q, 0.16);
@@ -222,8 +216,7 @@ TEST(DiffuseLobeWeight, ReducesToTheNormalWeightWithThePapersSigmaN2) {
   // ≤ 0.0041, see the previous test).
   for (double c : {0.995, 0.95, 0.8}) {
     const double reference = lobe_similarity_reference(cosine_lobe(), cosine_lobe(), c, 100.0, 1e-9);
-    EXPECT_NEAR(normal_weight(c, LobeAwareFiltering::sigma_n2), std::pow(reference, 20.0), 0.0055)
-        << c;
+    EXPECT_NEAR(normal_weight(c, LobeAwareFiltering::sigma_n2), std::pow(reference, 20.0), 0.0055) << c;
   }
 }
 
@@ -275,8 +268,7 @@ TEST(SgLobeSimilarity, Mp50ExactFormMatchesMp50Quadrature) {
   // the log-amplitude L = −2 min(λ_i, λ_j), to 40 digits.
   for (const auto& [li, lj, c] : {std::tuple{"200", "50", "-1"}}) {
     const ZonalLobe<mp50> a{ZonalLobeShape::sg, mp50(li)}, b{ZonalLobeShape::sg, mp50(lj)};
-    const mp50 reference =
-        lobe_similarity_reference(a, b, mp50(c), mp50(std::numeric_limits<double>::infinity()));
+    const mp50 reference = lobe_similarity_reference(a, b, mp50(c), mp50(std::numeric_limits<double>::infinity()));
     const mp50 q = sg_lobe_similarity_exact(mp50(c), mp50(li), mp50(lj));
     EXPECT_LT(abs(q / reference - 1), mp50("1e-40")) << li << " " << lj << " " << c;
   }
@@ -312,13 +304,11 @@ TEST(SgLobeWeight, SmoothedLobesAgainstQuadratureOfConvolvedLobes) {
     const double bmin = std::min(bi, bj);
     const double c = std::cos(std::uniform_real_distribution<double>(0, 2)(rng) / std::sqrt(bmin));
     const double reference = lobe_similarity_reference(sg_lobe(li), sg_lobe(lj), c, kappa, 1e-9);
-    SCOPED_TRACE(testing::Message() << "kappa=" << kappa << " li=" << li << " lj=" << lj
-                                    << " c=" << c);
+    SCOPED_TRACE(testing::Message() << "kappa=" << kappa << " li=" << li << " lj=" << lj << " c=" << c);
     EXPECT_LE(std::fabs(sg_lobe_similarity(c, bi, bj) - reference), 0.15 / bmin);
     // The vector form (what a filter calls) is the same weight.
     const Vec3<double> a(0, 0, 1), b(std::sqrt((1 - c) * (1 + c)), 0, c);
-    EXPECT_LE(test::relative_error(lobe_aware_weight(a, li, b, lj, 1.0, kappa),
-                                   sg_lobe_similarity(c, bi, bj)),
+    EXPECT_LE(test::relative_error(lobe_aware_weight(a, li, b, lj, 1.0, kappa), sg_lobe_similarity(c, bi, bj)),
               1e-13 * (1 + (1 - c) * bmin));
   }
 }
@@ -362,8 +352,7 @@ TEST(SgLobeWeight, OptimizedFormEqualsDirectForm) {
     const double direct = sg_lobe_weight_direct(c, li, lj, beta);
     const double optimized = sg_lobe_weight(c, li, lj, beta);
     const double log_w = -std::log(std::max(direct, 1e-300));
-    SCOPED_TRACE(testing::Message() << "li=" << li << " lj=" << lj << " beta=" << beta
-                                    << " c=" << c);
+    SCOPED_TRACE(testing::Message() << "li=" << li << " lj=" << lj << " beta=" << beta << " c=" << c);
     if (direct > 1e-280) {
       EXPECT_LE(test::relative_error(optimized, direct), 2.3e-16 * (8 + 4 * beta + 2 * log_w));
       const float of = sg_lobe_weight(float(c), float(li), float(lj), float(beta));
@@ -375,8 +364,8 @@ TEST(SgLobeWeight, OptimizedFormEqualsDirectForm) {
       EXPECT_LE(optimized, 1e-270);
     }
   }
-  for (const auto& [li, lj, c, beta] : {std::tuple{"0.7", "300", "0.99", "20"},
-                                        std::tuple{"1e5", "2e4", "0.99999", "50"}}) {
+  for (const auto& [li, lj, c, beta] :
+       {std::tuple{"0.7", "300", "0.99", "20"}, std::tuple{"1e5", "2e4", "0.99999", "50"}}) {
     const mp50 direct = sg_lobe_weight_direct(mp50(c), mp50(li), mp50(lj), mp50(beta));
     const mp50 optimized = sg_lobe_weight(mp50(c), mp50(li), mp50(lj), mp50(beta));
     EXPECT_LT(abs(optimized / direct - 1), mp50("1e-45")) << li << " " << lj;
@@ -387,13 +376,10 @@ TEST(SgLobeWeight, JetDerivativesMatchMp50Differences) {
   // d w/d c and d w/d λ̄_i of App. E's form by autodiff against central differences of the
   // 50-digit evaluation (step 1e-20: truncation ~1e-40).
   using J = ceres::Jet<double, 2>;
-  for (const auto& [li, lj, c, beta] :
-       {std::tuple{3.0, 40.0, 0.97, 20.0}, std::tuple{500.0, 80.0, 0.999, 5.0}}) {
+  for (const auto& [li, lj, c, beta] : {std::tuple{3.0, 40.0, 0.97, 20.0}, std::tuple{500.0, 80.0, 0.999, 5.0}}) {
     const J w = sg_lobe_weight(J(c, 0), J(li, 1), J(lj), J(beta));
     const mp50 h("1e-20");
-    auto f = [&](const mp50& cc, const mp50& l) {
-      return sg_lobe_weight(cc, l, mp50(lj), mp50(beta));
-    };
+    auto f = [&](const mp50& cc, const mp50& l) { return sg_lobe_weight(cc, l, mp50(lj), mp50(beta)); };
     const double dc = double((f(mp50(c) + h, mp50(li)) - f(mp50(c) - h, mp50(li))) / (2 * h));
     const double dl = double((f(mp50(c), mp50(li) + h) - f(mp50(c), mp50(li) - h)) / (2 * h));
     EXPECT_DOUBLE_EQ(w.a, sg_lobe_weight(c, li, lj, beta));
@@ -445,17 +431,14 @@ TEST(LobeSimilarity, IdenticalLobesHaveSimilarityOne) {
 template <class T>
 void expect_stiff_ends_finite_in_unit_interval() {
   const T inf = T(std::numeric_limits<double>::infinity());
-  auto ok = [](const T& w) {
-    return is_finite_value(w) && value_of(w) >= 0 && value_of(w) <= 1;
-  };
+  auto ok = [](const T& w) { return is_finite_value(w) && value_of(w) >= 0 && value_of(w) <= 1; };
   std::vector<double> sharpnesses = test::stiff_sharpnesses(1);
   if constexpr (!std::is_same_v<T, float>) sharpnesses.push_back(1e30);
   for (double li : sharpnesses) {
     for (double lj : {0.0, 1e-8, 1.0, 1e8}) {
       for (double c : test::stiff_cosines(4)) {
         for (double beta : {0.0, 1.0, 20.0, 1e6}) {
-          SCOPED_TRACE(testing::Message() << "li=" << li << " lj=" << lj << " c=" << c
-                                          << " beta=" << beta);
+          SCOPED_TRACE(testing::Message() << "li=" << li << " lj=" << lj << " c=" << c << " beta=" << beta);
           EXPECT_TRUE(ok(sg_lobe_weight(T(c), T(li), T(lj), T(beta))));
           EXPECT_TRUE(ok(sg_lobe_weight_direct(T(c), T(li), T(lj), T(beta))));
           EXPECT_TRUE(ok(diffuse_lobe_weight(T(c), T(kLambdaC), T(beta), T(lj))));

@@ -36,7 +36,9 @@ TEST(FitAllTables, RowsDigitsEscapesAndClosestObjective) {
   for (const double rel : {1e-3, 1e-6}) {
     const double value = 2.0 * (1 + rel);
     const std::string digits = fmt::format("{:.1f}", -std::log10(std::fabs(value / 2.0 - 1)));
-    EXPECT_NE(t.csv.find(fmt::format("lambda-d,lambda_d,2,\"Tokuyoshi 2016, \"\"VSGL\"\"\",{:.17g},", value)), std::string::npos) << t.csv;
+    EXPECT_NE(t.csv.find(fmt::format("lambda-d,lambda_d,2,\"Tokuyoshi 2016, \"\"VSGL\"\"\",{:.17g},", value)),
+              std::string::npos)
+        << t.csv;
     EXPECT_NE(t.csv.find("," + digits + "\n"), std::string::npos) << digits << "\n" << t.csv;
   }
   // '|' escaped in Markdown cells, '_' and '^' in LaTeX.

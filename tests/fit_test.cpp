@@ -31,15 +31,9 @@ TEST(FitSynthetic, LambdaD) { expect_recovers("lambda-d", {3.7}, 1e-9); }
 TEST(FitSynthetic, LambdaC) { expect_recovers("lambda-c", {1.7}, 1e-9); }
 TEST(FitSynthetic, CosineSg) { expect_recovers("cosine-sg", {3.0, 0.7, 1.5}, 1e-7); }
 TEST(FitSynthetic, MederLogistic) { expect_recovers("meder-logistic", {1.5, 9.0, 5.0, 12.0}, 1e-6); }
-TEST(FitSynthetic, Tokuyoshi2022Steepness) {
-  expect_recovers("tokuyoshi2022-steepness", {0.8, 2.0, 6.0}, 1e-6);
-}
-TEST(FitSynthetic, Tokuyoshi2024T) {
-  expect_recovers("tokuyoshi2024-t", {3.0, 20.0, 5.0, 14.0, 90.0}, 1e-5);
-}
-TEST(FitSynthetic, Sglab) {
-  expect_recovers("sglab", {1.1, 7.5, 2.6, 6.0, 30.0, 0.03, -3.0, 16.0}, 1e-5);
-}
+TEST(FitSynthetic, Tokuyoshi2022Steepness) { expect_recovers("tokuyoshi2022-steepness", {0.8, 2.0, 6.0}, 1e-6); }
+TEST(FitSynthetic, Tokuyoshi2024T) { expect_recovers("tokuyoshi2024-t", {3.0, 20.0, 5.0, 14.0, 90.0}, 1e-5); }
+TEST(FitSynthetic, Sglab) { expect_recovers("sglab", {1.1, 7.5, 2.6, 6.0, 30.0, 0.03, -3.0, 16.0}, 1e-5); }
 TEST(FitSynthetic, HillIrradiance) { expect_recovers("hill-irradiance", {0.42}, 1e-8); }
 TEST(FitSynthetic, CosineLobeSg) { expect_recovers("cosine-lobe-sg", {0.8, 3.3}, 1e-9); }
 
@@ -48,15 +42,13 @@ TEST(FitPublished, LambdaDSolidAngle) {
   EXPECT_TRUE(r.converged);
   EXPECT_NEAR(r.parameters[0].value, 2.2925, 1e-4);
   // Independent 1D check: Brent on the same grid objective.
-  const auto b = boost::math::tools::brent_find_minima(
-      [](double l) { return lambda_d_objective("l2-solid-angle", l); }, 0.5, 8.0, 52);
+  const auto b = boost::math::tools::brent_find_minima([](double l) { return lambda_d_objective("l2-solid-angle", l); },
+                                                       0.5, 8.0, 52);
   EXPECT_NEAR(r.parameters[0].value, b.first, 1e-7);
   EXPECT_NEAR(b.first, 2.2925, 1e-4);
 }
 
-TEST(FitPublished, SigmaN2FromPublishedLambdaC) {
-  EXPECT_NEAR(sigma_n2(0.9426, 20, 100), 0.05404477, 1e-8);
-}
+TEST(FitPublished, SigmaN2FromPublishedLambdaC) { EXPECT_NEAR(sigma_n2(0.9426, 20, 100), 0.05404477, 1e-8); }
 
 TEST(FitPublished, FloatCosineSharpness) {
   const Fitter* f = find_fitter("cosine-sharpness");
@@ -79,8 +71,7 @@ TEST(FitPublished, CosineSharpnessMatchesBrentForEveryPrecision) {
     o.precision = p;
     const FitResult r = find_fitter("cosine-sharpness")->run(o);
     const auto b = boost::math::tools::brent_find_minima(
-        [u](double ll) { return cosine_sharpness_objective(std::exp(ll), u); }, std::log(1e-12),
-        0.0, 52);
+        [u](double ll) { return cosine_sharpness_objective(std::exp(ll), u); }, std::log(1e-12), 0.0, 52);
     // Brent locates a smooth minimum to ~√ε in its argument.
     EXPECT_NEAR(r.parameters[0].value / std::exp(b.first), 1.0, 1e-6) << p;
     // E ≈ λ/6 + 2u/λ, so λ* ≈ √(12u).
@@ -175,7 +166,8 @@ TEST(FitReal, EveryObjectiveReproducesTheCommittedConstants) {
     const auto f = csv_fields(line);
     ASSERT_EQ(f.size(), 7u) << line;
     const std::string objective = f[5].substr(0, f[5].find(':'));
-    if (f[0] == "sglab" || f[0] == "sglab-specular" || (objective == "minimax" && (f[0] == "meder-logistic" || f[0] == "tokuyoshi2022-steepness")) ||
+    if (f[0] == "sglab" || f[0] == "sglab-specular" ||
+        (objective == "minimax" && (f[0] == "meder-logistic" || f[0] == "tokuyoshi2022-steepness")) ||
         (f[0] == "tokuyoshi2024-t" && objective != "l2-normalized"))
       continue;
     runs[{f[0], objective}].push_back({f[1], std::stod(f[4])});
@@ -190,7 +182,8 @@ TEST(FitReal, EveryObjectiveReproducesTheCommittedConstants) {
     o.objective = objective;
     const FitResult r = fitter->run(o);
     for (const auto& [constant, value] : expected) {
-      const auto it = std::find_if(r.parameters.begin(), r.parameters.end(), [&](const auto& p) { return p.name == constant; });
+      const auto it = std::find_if(r.parameters.begin(), r.parameters.end(),
+                                   [&](const auto& p) { return p.name == constant; });
       ASSERT_NE(it, r.parameters.end()) << name << " " << constant;
       const double difference = std::fabs(it->value - value);
       worst = std::max(worst, difference / std::max(std::fabs(value), 1e-3));

@@ -47,7 +47,8 @@ void check_ndf_against_definition(double tolerance) {
       EXPECT_LE(std::fabs(d - ref), tolerance * ref) << "m " << m << " θ " << theta;
       const double dc = double(gaussian_angle_ndf_cos(T(m), T(h(2))));
       // From the cosine: the cosine's rounding costs ~ε/θ in θ near 0, times 2θ²/m² in D.
-      EXPECT_LE(std::fabs(dc - ref), tolerance * ref + 4 * double(epsilon<T>()) / (m * m)) << "m " << m << " θ " << theta;
+      EXPECT_LE(std::fabs(dc - ref), tolerance * ref + 4 * double(epsilon<T>()) / (m * m))
+          << "m " << m << " θ " << theta;
     }
   EXPECT_EQ(gaussian_angle_ndf(T(0.2), Vec3<T>(T(0), T(0), T(1))), T(1));  // D(n) = 1 exactly
   EXPECT_EQ(gaussian_angle_ndf_cos(T(0.2), T(1)), T(1));
@@ -94,7 +95,8 @@ TEST(GaussianNdf, BrdfIsReciprocalAndFiniteAtGrazingView) {
     EXPECT_NEAR(a, b, 1e-13 * std::max(a, 1e-300)) << k;
     EXPECT_TRUE(std::isfinite(a) && a >= 0);
     const Vec3<float> of = o.cast<float>(), fi = i.cast<float>();
-    const float af = gaussian_ndf_brdf(float(m), float(f0), of, fi), bf = gaussian_ndf_brdf(float(m), float(f0), fi, of);
+    const float af = gaussian_ndf_brdf(float(m), float(f0), of, fi),
+                bf = gaussian_ndf_brdf(float(m), float(f0), fi, of);
     EXPECT_NEAR(af, bf, 2e-5f * std::max(af, 1e-30f)) << k;
     // The V-cavity S is 1 at h = n and ≤ 1 everywhere.
     const Vec3d h = half_vector(o, i);
@@ -129,8 +131,9 @@ TEST(GaussianNdf, JetDerivatives) {
 // ---- the reference -----------------------------------------------------------------------------
 
 // The same L by an independent route: integrate over the half vector h (spherical coordinates
-// about n), ω = 2(ωo·h)h − ωo, dω = 4(ωo·h) dh, with Boost's adaptive Gauss–Kronrod (relative 1e-10 inside, 1e-9 outside, 61 points, ≤ 12 bisections)
-// in θ_h ∈ [0, min(π/2, 8m)] (D < e^{−64} beyond) and φ_h, both split at the light's half vector.
+// about n), ω = 2(ωo·h)h − ωo, dω = 4(ωo·h) dh, with Boost's adaptive Gauss–Kronrod (relative 1e-10 inside, 1e-9
+// outside, 61 points, ≤ 12 bisections) in θ_h ∈ [0, min(π/2, 8m)] (D < e^{−64} beyond) and φ_h, both split at the
+// light's half vector.
 double half_vector_quadrature(const SpecularConfig& c) {
   using boost::math::quadrature::gauss_kronrod;
   const Vec3d wo = specular_view(c.view_cos), xi = specular_light_axis(c.light_cos, c.light_azimuth);
@@ -145,7 +148,8 @@ double half_vector_quadrature(const SpecularConfig& c) {
     if (!(w(2) > 0)) return 0.0;
     const double s_over_co = vcavity_over_cos_o(wo(2), w(2), h(2), oh);
     const double d = std::exp(-(theta / c.roughness) * (theta / c.roughness));
-    return sg_eval(w, xi, c.light_sharpness) * d * fresnel_schlick(c.f0, oh) * s_over_co / kPi * 4 * oh * std::sin(theta);
+    return sg_eval(w, xi, c.light_sharpness) * d * fresnel_schlick(c.f0, oh) * s_over_co / kPi * 4 * oh *
+           std::sin(theta);
   };
   auto inner = [&](double phi) {
     auto g = [&](double t) { return integrand(t, phi); };
@@ -160,18 +164,18 @@ double half_vector_quadrature(const SpecularConfig& c) {
 
 TEST(GaussianNdfReference, MatchesAnIndependentHalfVectorQuadrature) {
   const std::vector<SpecularConfig> cases = {
-      {0.3, 10, 0.6, 0.7, kPi, 0.04},     // near the mirror direction
-      {0.1, 100, 0.3, 0.3, kPi, 0.5},     // the mirror direction, oblique view
-      {0.5, 1, 0.2, 0.1, 1.0, 0.04},      // broad light, nearly grazing view
-      {0.05, 1e3, 0.9, 0.9, 3.2, 0.04},   // sharp light beside a narrow lobe
-      {1.0, 0.0, 1.0, 0.5, 0.0, 1.0},     // constant light: the directional albedo
-      {0.2, 30, 0.95, 1.0, 0.0, 0.04},    // normal view
+      {0.3, 10, 0.6, 0.7, kPi, 0.04},    // near the mirror direction
+      {0.1, 100, 0.3, 0.3, kPi, 0.5},    // the mirror direction, oblique view
+      {0.5, 1, 0.2, 0.1, 1.0, 0.04},     // broad light, nearly grazing view
+      {0.05, 1e3, 0.9, 0.9, 3.2, 0.04},  // sharp light beside a narrow lobe
+      {1.0, 0.0, 1.0, 0.5, 0.0, 1.0},    // constant light: the directional albedo
+      {0.2, 30, 0.95, 1.0, 0.0, 0.04},   // normal view
       // Exactly grazing view: the mirror direction is a point singularity on the horizon (the pole there)
-      {0.2, 1, 1, 0, kPi / 2, 1},         // broad light at the normal
-      {1.0, 0.0, -1.0, 0.0, 0.0, 0.0},    // constant light
-      {1.0, 1e-4, -1, 0, 0, 0.5},         // broad light at −n
-      {0.5, 30, 0.3, 0, kPi, 0.04},       // light beside the mirror direction
-      {0.2, 1e3, -1e-8, 0, kPi, 0},       // sharp light at the mirror direction
+      {0.2, 1, 1, 0, kPi / 2, 1},       // broad light at the normal
+      {1.0, 0.0, -1.0, 0.0, 0.0, 0.0},  // constant light
+      {1.0, 1e-4, -1, 0, 0, 0.5},       // broad light at −n
+      {0.5, 30, 0.3, 0, kPi, 0.04},     // light beside the mirror direction
+      {0.2, 1e3, -1e-8, 0, kPi, 0},     // sharp light at the mirror direction
   };
   for (const auto& c : cases) {
     const double ref = specular_gaussian_ndf_reference(c), hv = half_vector_quadrature(c);
@@ -188,13 +192,14 @@ TEST(GaussianNdfReference, SharpLightLimit) {
   const Vec3d wo = specular_view(0.7);
   for (const auto& [light_cos, azimuth] : std::vector<std::pair<double, double>>{{0.7, kPi}, {0.55, 3.0}, {0.9, 2.5}}) {
     const double lambda = 1e4;
-    const SpecularConfig a{0.3, lambda, light_cos, 0.7, azimuth, 0.04}, b{0.3, 2 * lambda, light_cos, 0.7, azimuth, 0.04};
+    const SpecularConfig a{0.3, lambda, light_cos, 0.7, azimuth, 0.04},
+        b{0.3, 2 * lambda, light_cos, 0.7, azimuth, 0.04};
     const double la = specular_gaussian_ndf_reference(a) / sg_integral(lambda);
     const double lb = specular_gaussian_ndf_reference(b) / sg_integral(2 * lambda);
     const double g = gaussian_ndf_brdf_cosine(0.3, 0.04, wo, specular_light_axis(light_cos, azimuth));
     std::printf("light_cos %g: L/A(λ) %.10e, Richardson %.10e, f·cos %.10e\n", light_cos, la, 2 * lb - la, g);
     EXPECT_LE(std::fabs(2 * lb - la - g), 1e-5 * g);  // 3 × the reference's 1e-6, and O(λ⁻²) ~ 1e-7
-    EXPECT_LE(std::fabs(la - g), 1e-3 * g);            // the 1/λ term itself: Δg/(2λg) ~ 1e-4 here
+    EXPECT_LE(std::fabs(la - g), 1e-3 * g);           // the 1/λ term itself: Δg/(2λg) ~ 1e-4 here
   }
 }
 
@@ -210,9 +215,11 @@ TEST(GaussianNdfMethods, SharpLightAtTheMirrorDirection) {
     const double ref = specular_gaussian_ndf_reference_value(in);
     const double warp = specular_gaussian_ndf_sg_warp(in), exact = specular_gaussian_ndf_sg_exact_cosine(in),
                  meder = specular_gaussian_ndf_sg_meder(in);
-    const double fit = (MederCosineSg::amplitude * std::exp(MederCosineSg::sharpness * (v - 1)) - MederCosineSg::offset) / v;
-    std::printf("view_cos %g: reference %.8e sg-warp %+.2e exact-cosine %+.2e meder/(ref·fit) %+.2e\n", v, ref, warp / ref - 1,
-                exact / ref - 1, meder / (ref * fit) - 1);
+    const double fit = (MederCosineSg::amplitude * std::exp(MederCosineSg::sharpness * (v - 1)) -
+                        MederCosineSg::offset) /
+                       v;
+    std::printf("view_cos %g: reference %.8e sg-warp %+.2e exact-cosine %+.2e meder/(ref·fit) %+.2e\n", v, ref,
+                warp / ref - 1, exact / ref - 1, meder / (ref * fit) - 1);
     EXPECT_NEAR(warp / ref, 1, 3e-4);
     EXPECT_NEAR(exact / ref, 1, 3e-4);
     EXPECT_NEAR(meder / (ref * fit), 1, 3e-4);
@@ -227,7 +234,8 @@ TEST(GaussianNdfMethods, SmallRoughnessAtNormalView) {
     const SpecularInput<double> in{0.01, lambda, 1.0, 1.0, 0.0, 0.04};
     const double ref = specular_gaussian_ndf_reference_value(in);
     const double warp = specular_gaussian_ndf_sg_warp(in), exact = specular_gaussian_ndf_sg_exact_cosine(in);
-    std::printf("λ %g: reference %.8e sg-warp %+.3e exact-cosine %+.3e\n", lambda, ref, warp / ref - 1, exact / ref - 1);
+    std::printf("λ %g: reference %.8e sg-warp %+.3e exact-cosine %+.3e\n", lambda, ref, warp / ref - 1,
+                exact / ref - 1);
     EXPECT_NEAR(exact / ref, 1, 1e-3);
     EXPECT_NEAR(warp / ref, 1, 1e-3);
   }
@@ -271,7 +279,8 @@ TEST(GaussianNdfMethods, StiffCasesAreFiniteInEveryPrecision) {
 class GaussianNdfCommand : public test::TempDirTest {};
 
 TEST_F(GaussianNdfCommand, EvalEveryMethodAndPrecisionMatchesTheCore) {
-  std::ofstream(path("in.csv")) << "roughness,light_sharpness,light_cos,view_cos,light_azimuth,f0\n0.2,30,0.6,0.7,3.0,0.04\n";
+  std::ofstream(path("in.csv"))
+      << "roughness,light_sharpness,light_cos,view_cos,light_azimuth,f0\n0.2,30,0.6,0.7,3.0,0.04\n";
   const SpecularInput<double> in{0.2, 30, 0.6, 0.7, 3.0, 0.04};
   const std::vector<std::pair<std::string, double>> expected = {
       {"reference", specular_gaussian_ndf_reference_value(in)},
@@ -280,7 +289,8 @@ TEST_F(GaussianNdfCommand, EvalEveryMethodAndPrecisionMatchesTheCore) {
       {"sg-warp-exact-cosine", specular_gaussian_ndf_sg_exact_cosine(in)}};
   for (const auto& [method, value] : expected)
     for (const std::string precision : {"float", "double", "mp50"}) {
-      const auto r = sglab("eval specular-gaussian-ndf --method " + method + " --precision " + precision + " --in in.csv");
+      const auto r = sglab("eval specular-gaussian-ndf --method " + method + " --precision " + precision +
+                           " --in in.csv");
       ASSERT_EQ(r.status, 0) << method << " " << precision << ": " << r.err;
       const std::string last = r.out.substr(r.out.rfind(',') + 1);
       const double v = std::strtod(last.c_str(), nullptr);
@@ -295,7 +305,7 @@ TEST_F(GaussianNdfCommand, EvalEveryMethodAndPrecisionMatchesTheCore) {
 
 TEST_F(GaussianNdfCommand, BadInputExitsTwoNamingTheValueAndWritesNothing) {
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"0,30,0.6,0.7,3.0,0.04", "roughness"},         // m must be > 0
+      {"0,30,0.6,0.7,3.0,0.04", "roughness"},          // m must be > 0
       {"0.2,30,0.6,1.5,3.0,0.04", "view_cos"},         // outside [0, 1]
       {"0.2,-1,0.6,0.7,3.0,0.04", "light_sharpness"},  // negative sharpness
   };
@@ -307,7 +317,8 @@ TEST_F(GaussianNdfCommand, BadInputExitsTwoNamingTheValueAndWritesNothing) {
       EXPECT_NE(r.err.find(column), std::string::npos) << r.err;
       EXPECT_FALSE(std::filesystem::exists(path("out.csv")));
     }
-  std::ofstream(path("in.csv")) << "roughness,light_sharpness,light_cos,view_cos,light_azimuth,f0\n1e-4,30,0.6,0.7,3.0,0.04\n";
+  std::ofstream(path("in.csv"))
+      << "roughness,light_sharpness,light_cos,view_cos,light_azimuth,f0\n1e-4,30,0.6,0.7,3.0,0.04\n";
   const auto r = sglab("eval specular-gaussian-ndf --method reference --in in.csv --out out.csv");
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("below 0.001"), std::string::npos) << r.err;
@@ -318,9 +329,11 @@ TEST_F(GaussianNdfCommand, SweepWithTheGaussianBrdfWritesItsOwnTable) {
   const auto r = sglab("sweep specular --brdf gaussian --quick --out out --tables-dir tables");
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string md = test::read_file(path("tables/specular_gaussian_vs_roughness.md"));
-  EXPECT_EQ(md.rfind("<!-- Generated by `sglab sweep specular --brdf gaussian --quick --tables-dir tables`", 0), 0u) << md.substr(0, 120);
+  EXPECT_EQ(md.rfind("<!-- Generated by `sglab sweep specular --brdf gaussian --quick --tables-dir tables`", 0), 0u)
+      << md.substr(0, 120);
   EXPECT_NE(md.find("Gaussian-angle"), std::string::npos);
-  for (const std::string m : {"sg-warp", "sg-warp-meder", "sg-warp-exact-cosine"}) EXPECT_NE(md.find(m), std::string::npos) << m;
+  for (const std::string m : {"sg-warp", "sg-warp-meder", "sg-warp-exact-cosine"})
+    EXPECT_NE(md.find(m), std::string::npos) << m;
   EXPECT_TRUE(std::filesystem::exists(path("tables/specular_gaussian_vs_roughness.csv")));
   EXPECT_FALSE(std::filesystem::exists(path("tables/specular_vs_roughness.md")));  // the GGX table is not touched
   const auto bad = sglab("sweep specular --brdf phong --quick --out out2 --tables-dir tables2");

@@ -12,13 +12,13 @@ namespace {
 
 const double kPi = M_PI;
 const SpecularConfig kConfigs[] = {
-    {1.0, 1.0, 0.5, 0.5, kPi, 0.04},        // broad both
-    {0.3, 100.0, 0.5, 0.5, kPi, 0.04},      // light at the mirror direction
-    {0.01, 1e4, 0.5, 0.5, 3.0, 0.04},       // sharp both, separated
-    {0.01, 100.0, 0.9, 0.2, 1.0, 0.04},     // sharp BRDF, far light
-    {0.05, 1000.0, -0.1, 0.3, kPi, 0.9},    // light just behind the surface
-    {0.2, 50.0, 0.05, 0.02, 3.0, 0.04},     // grazing view and light
-    {0.1, 1e4, 0.3, 0.05, kPi, 0.04},       // grazing view, sharp light
+    {1.0, 1.0, 0.5, 0.5, kPi, 0.04},      // broad both
+    {0.3, 100.0, 0.5, 0.5, kPi, 0.04},    // light at the mirror direction
+    {0.01, 1e4, 0.5, 0.5, 3.0, 0.04},     // sharp both, separated
+    {0.01, 100.0, 0.9, 0.2, 1.0, 0.04},   // sharp BRDF, far light
+    {0.05, 1000.0, -0.1, 0.3, kPi, 0.9},  // light just behind the surface
+    {0.2, 50.0, 0.05, 0.02, 3.0, 0.04},   // grazing view and light
+    {0.1, 1e4, 0.3, 0.05, kPi, 0.04},     // grazing view, sharp light
 };
 
 TEST(GlossyReference, ConvergesAgainstAFinerRule) {
@@ -40,13 +40,14 @@ TEST(GlossyReference, ConvergesAgainstAFinerRule) {
 TEST(GlossyReference, AgreesWithMonteCarlo) {
   const std::uint64_t seed = 20261122;
   const std::uint64_t n = 1000000;
-  std::printf("Monte Carlo seed %llu, %llu samples per configuration\n", (unsigned long long)seed, (unsigned long long)n);
+  std::printf("Monte Carlo seed %llu, %llu samples per configuration\n", (unsigned long long)seed,
+              (unsigned long long)n);
   for (const auto& c : kConfigs) {
     const double r = specular_reference(c);
     const auto mc = specular_monte_carlo(c, n, seed);
     const double z = (mc.mean - r) / mc.standard_error;
-    std::printf("alpha=%g lambda=%g: ref %.10e  MC %.10e ± %.2e (rel se %.1e, %+.2f se)\n", c.roughness, c.light_sharpness,
-                r, mc.mean, mc.standard_error, mc.standard_error / mc.mean, z);
+    std::printf("alpha=%g lambda=%g: ref %.10e  MC %.10e ± %.2e (rel se %.1e, %+.2f se)\n", c.roughness,
+                c.light_sharpness, r, mc.mean, mc.standard_error, mc.standard_error / mc.mean, z);
     EXPECT_LT(std::abs(z), 4.0);
     EXPECT_LT(mc.standard_error / mc.mean, 0.05);  // the estimator is informative (light behind: 2%)
   }

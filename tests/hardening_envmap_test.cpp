@@ -45,8 +45,13 @@ class HardeningEnvmap : public sglab::test::TempDirTest {
     // A 16 × 8 map of one RGB lobe (texel means), and the lobe as a mixture record.
     std::ofstream(path("m.exr"), std::ios::binary)
         << sglab::render::encode_environment(sglab::rasterize_mixture({lobe()}, 16, 8, 2));
-    write_mixture("fit.json", {{"lobe0.axis_x", 0.0}, {"lobe0.axis_y", 0.6}, {"lobe0.axis_z", 0.8}, {"lobe0.sharpness", 4.0},
-                               {"lobe0.r", 1.0}, {"lobe0.g", 2.0}, {"lobe0.b", 0.5}});
+    write_mixture("fit.json", {{"lobe0.axis_x", 0.0},
+                               {"lobe0.axis_y", 0.6},
+                               {"lobe0.axis_z", 0.8},
+                               {"lobe0.sharpness", 4.0},
+                               {"lobe0.r", 1.0},
+                               {"lobe0.g", 2.0},
+                               {"lobe0.b", 0.5}});
     std::ofstream(path("in.csv")) << "sharpness,cosine\n1,0.5\n";
   }
   static sglab::SgLight lobe() {
@@ -56,7 +61,8 @@ class HardeningEnvmap : public sglab::test::TempDirTest {
     l.amplitude = {1, 2, 0.5};
     return l;
   }
-  void write_mixture(const std::string& name, const nlohmann::json& parameters, const std::string& fit = "envmap") const {
+  void write_mixture(const std::string& name, const nlohmann::json& parameters,
+                     const std::string& fit = "envmap") const {
     std::ofstream(path(name)) << nlohmann::json{{"fit", fit}, {"parameters", parameters}}.dump();
   }
 };
@@ -80,7 +86,9 @@ TEST_F(HardeningEnvmap, GroupA_OutputsAreOneSetAndNeverInputs) {
   // shards ran, so the merged output is not the sweep the scene now defines): the merged
   // per-point CSV and manifest are removed again.
   std::ofstream(path("scene.json")) << sglab::test::SmallScene{.crate = false}.json();
-  const std::string sweep = "sweep render --scene scene.json --rsm 8 --shadow-map 16 --width 8 --height 8 --vary light.power=1,2 --table t --out shards";
+  const std::string sweep =
+      "sweep render --scene scene.json --rsm 8 --shadow-map 16 --width 8 --height 8 --vary light.power=1,2 --table t "
+      "--out shards";
   for (const char* shard : {"0/2", "1/2"}) ASSERT_EQ(sglab(sweep + " --shard " + shard).status, 0);
   nlohmann::json edited = nlohmann::json::parse(read_file(path("scene.json")));
   edited["description"] = "edited after the shards ran";
@@ -105,7 +113,8 @@ TEST_F(HardeningEnvmap, GroupB_LongNamesAreClipped) {
     const CommandResult r = sglab(args);
     EXPECT_EQ(r.status, 2) << args << "\n" << r.err.substr(0, 300);
     EXPECT_LT(r.err.size(), kShortMessage) << args << "\n" << r.err.substr(0, 300);
-    EXPECT_NE(r.err.find("xxxxxxxx"), std::string::npos) << args << ": the message names the value\n" << r.err.substr(0, 300);
+    EXPECT_NE(r.err.find("xxxxxxxx"), std::string::npos) << args << ": the message names the value\n"
+                                                         << r.err.substr(0, 300);
   }
   EXPECT_FALSE(fs::exists(path("o.exr")));
 }
@@ -138,31 +147,40 @@ TEST_F(HardeningEnvmap, GroupC_SizesRefusedBeforeAllocation) {
 // D. Values outside an option's domain: exit 2 naming the value, nothing written.
 TEST_F(HardeningEnvmap, GroupD_BadOptionValues) {
   refused(sglab("fit envmap m.exr --lobes 1 --threads 0 --json f.json"), "'0' is not an integer in [1,", {"f.json"});
-  refused(sglab("fit envmap m.exr --lobes 1 --max-iterations -1 --json f.json"), "'-1' is not an integer in [1,", {"f.json"});
+  refused(sglab("fit envmap m.exr --lobes 1 --max-iterations -1 --json f.json"), "'-1' is not an integer in [1,",
+          {"f.json"});
   for (const char* v : {"nan", "inf", "-inf", "1e999"})
-    refused(sglab(fmt::format("envmap make sky --width 8 --sun-azimuth {} --out o.exr", v)), "is not a finite number", {"o.exr"});
+    refused(sglab(fmt::format("envmap make sky --width 8 --sun-azimuth {} --out o.exr", v)), "is not a finite number",
+            {"o.exr"});
   for (const char* v : {"nan", "0", "-1", "2", "1e-300"})
-    refused(sglab(fmt::format("envmap lobes --env a=m.exr --roughness {} --quick --out o --tables-dir o", v)), "is not a finite number", {"o"});
-  for (const char* v : {"0", "-3"}) refused(sglab(fmt::format("envmap lobes --env a=m.exr --res {} --quick --out o", v)), "[2, 2048]", {"o"});
-  refused(sglab("envmap lobes --env \"$(printf 'a\\nb')=m.exr\" --quick --out o --tables-dir o"), "a\\x0ab=m.exr", {"o"});
+    refused(sglab(fmt::format("envmap lobes --env a=m.exr --roughness {} --quick --out o --tables-dir o", v)),
+            "is not a finite number", {"o"});
+  for (const char* v : {"0", "-3"})
+    refused(sglab(fmt::format("envmap lobes --env a=m.exr --res {} --quick --out o", v)), "[2, 2048]", {"o"});
+  refused(sglab("envmap lobes --env \"$(printf 'a\\nb')=m.exr\" --quick --out o --tables-dir o"), "a\\x0ab=m.exr",
+          {"o"});
   refused(sglab("sweep specular --quick --shard '' --out o"), "an empty shard", {"o"});
 }
 
 // E. Mixture records: every key a lobe field, every lobe whole, axes normalised without overflow,
 // the record of this fit only.
 TEST_F(HardeningEnvmap, GroupE_MixtureRecords) {
-  const nlohmann::json one = {{"lobe0.axis_x", 0.0}, {"lobe0.axis_y", 0.0}, {"lobe0.axis_z", 1.0}, {"lobe0.sharpness", 3.0},
-                              {"lobe0.r", 1.0},      {"lobe0.g", 1.0},      {"lobe0.b", 1.0}};
+  const nlohmann::json one = {{"lobe0.axis_x", 0.0},    {"lobe0.axis_y", 0.0}, {"lobe0.axis_z", 1.0},
+                              {"lobe0.sharpness", 3.0}, {"lobe0.r", 1.0},      {"lobe0.g", 1.0},
+                              {"lobe0.b", 1.0}};
   nlohmann::json gap = one;
   for (const char* f : {"axis_x", "axis_y", "axis_z", "sharpness", "r", "g", "b"}) gap[std::string("lobe2.") + f] = 1.0;
   write_mixture("gap.json", gap);
-  refused(sglab("envmap make mixture --mixture gap.json --width 8 --out o.exr"), "\"lobe1.axis_x\" is missing", {"o.exr"});
+  refused(sglab("envmap make mixture --mixture gap.json --width 8 --out o.exr"), "\"lobe1.axis_x\" is missing",
+          {"o.exr"});
   nlohmann::json unknown = one;
   unknown["lobe0.sharpnes"] = 1.0;
   write_mixture("unknown.json", unknown);
-  refused(sglab("envmap make mixture --mixture unknown.json --width 8 --out o.exr"), "'lobe0.sharpnes' is not a lobe field", {"o.exr"});
+  refused(sglab("envmap make mixture --mixture unknown.json --width 8 --out o.exr"),
+          "'lobe0.sharpnes' is not a lobe field", {"o.exr"});
   write_mixture("other.json", one, "lambda-d");
-  refused(sglab("envmap make mixture --mixture other.json --width 8 --out o.exr"), "\"fit\" is '\"lambda-d\"'", {"o.exr"});
+  refused(sglab("envmap make mixture --mixture other.json --width 8 --out o.exr"), "\"fit\" is '\"lambda-d\"'",
+          {"o.exr"});
   nlohmann::json zero = one;
   zero["lobe0.axis_z"] = 0.0;
   write_mixture("zero.json", zero);
@@ -174,7 +192,8 @@ TEST_F(HardeningEnvmap, GroupE_MixtureRecords) {
   write_mixture("far.json", far);
   ASSERT_EQ(sglab("envmap make mixture --mixture one.json --width 16 --out one.exr").status, 0);
   ASSERT_EQ(sglab("envmap make mixture --mixture far.json --width 16 --out far.exr").status, 0);
-  const auto a = sglab::render::load_environment(path("one.exr").string()), b = sglab::render::load_environment(path("far.exr").string());
+  const auto a = sglab::render::load_environment(path("one.exr").string()),
+             b = sglab::render::load_environment(path("far.exr").string());
   EXPECT_EQ(a.texels, b.texels);
   const sglab::SgMixture m = sglab::render::load_mixture(path("far.json").string());
   ASSERT_EQ(m.size(), 1u);
@@ -184,21 +203,26 @@ TEST_F(HardeningEnvmap, GroupE_MixtureRecords) {
 // F. Values that would overflow to Inf or NaN downstream are refused up front: a sun whose texels
 // overflow float, amplitudes of 1e308, a roughness of 1e-300, a lobe of sharpness 1e8.
 TEST_F(HardeningEnvmap, GroupF_NoInfOrNullWritten) {
-  refused(sglab("envmap make sky --width 8 --sun-luminance 1e308 --out o.exr"), "'1e308' is not a finite number in [0, 1e+30]", {"o.exr"});
+  refused(sglab("envmap make sky --width 8 --sun-luminance 1e308 --out o.exr"),
+          "'1e308' is not a finite number in [0, 1e+30]", {"o.exr"});
   nlohmann::json big = {{"lobe0.axis_x", 0.0}, {"lobe0.axis_y", 0.0}, {"lobe0.axis_z", 1.0}, {"lobe0.sharpness", 3.0},
                         {"lobe0.r", 1e308},    {"lobe0.g", 1.0},      {"lobe0.b", 1.0}};
   write_mixture("big.json", big);
-  refused(sglab("envmap make mixture --mixture big.json --width 8 --out o.exr"), "lobe0.r 1e+308 is outside [0, 1e+30]", {"o.exr"});
-  refused(sglab("envmap render m.exr --mixture fit.json --res 4 --roughness 1e-300 --out o.exr"), "is not a finite number in [0.001, 1]", {"o.exr"});
+  refused(sglab("envmap make mixture --mixture big.json --width 8 --out o.exr"), "lobe0.r 1e+308 is outside [0, 1e+30]",
+          {"o.exr"});
+  refused(sglab("envmap render m.exr --mixture fit.json --res 4 --roughness 1e-300 --out o.exr"),
+          "is not a finite number in [0.001, 1]", {"o.exr"});
   big["lobe0.r"] = 1.0;
   big["lobe0.sharpness"] = 1e8;
   write_mixture("sharp.json", big);
-  refused(sglab("envmap render m.exr --mixture sharp.json --res 4 --out o.exr"), "lobe0.sharpness 100000000 is outside [0, 1e+06]", {"o.exr"});
+  refused(sglab("envmap render m.exr --mixture sharp.json --res 4 --out o.exr"),
+          "lobe0.sharpness 100000000 is outside [0, 1e+06]", {"o.exr"});
   // The largest accepted amplitude renders to finite layers and statistics.
   big["lobe0.sharpness"] = sglab::render::kMaxMixtureSharpness;
   big["lobe0.r"] = sglab::render::kMaxMixtureAmplitude;
   write_mixture("edge.json", big);
-  const CommandResult r = sglab("envmap render m.exr --mixture edge.json --res 4 --roughness 0.001 --out o.exr --stats s.json");
+  const CommandResult r = sglab(
+      "envmap render m.exr --mixture edge.json --res 4 --roughness 0.001 --out o.exr --stats s.json");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(read_file(path("s.json")).find("null"), std::string::npos) << read_file(path("s.json"));
 }
@@ -208,7 +232,8 @@ TEST_F(HardeningEnvmap, GroupF_NoInfOrNullWritten) {
 TEST_F(HardeningEnvmap, GroupH_FingerprintsCoverContents) {
   std::ofstream(path("scene.json")) << sglab::test::SmallScene{.crate = false}.json();
   std::ofstream(path("ld.json")) << R"({"fit": "lambda-d", "parameters": {"lambda_d": 3.25}})";
-  const std::string sweep = "sweep render --scene scene.json --rsm 8 --shadow-map 16 --width 8 --height 8 --constants ld.json --out sw";
+  const std::string sweep =
+      "sweep render --scene scene.json --rsm 8 --shadow-map 16 --width 8 --height 8 --constants ld.json --out sw";
   ASSERT_EQ(sglab(sweep).status, 0);
   CommandResult r = sglab(sweep);
   ASSERT_EQ(r.status, 0) << r.err;
@@ -218,7 +243,9 @@ TEST_F(HardeningEnvmap, GroupH_FingerprintsCoverContents) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.err.find("finished earlier"), std::string::npos) << r.err;
 
-  const std::string shards = "sweep render --scene scene.json --rsm 8 --shadow-map 16 --width 8 --height 8 --vary light.power=1,2 --table t --out shards";
+  const std::string shards =
+      "sweep render --scene scene.json --rsm 8 --shadow-map 16 --width 8 --height 8 --vary light.power=1,2 --table t "
+      "--out shards";
   for (const char* shard : {"0/2", "1/2"}) ASSERT_EQ(sglab(shards + " --shard " + shard).status, 0);
   const fs::path manifest = path("shards/t_sweep.shard-1-of-2.json");
   nlohmann::json m = nlohmann::json::parse(read_file(manifest));

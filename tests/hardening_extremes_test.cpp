@@ -62,10 +62,10 @@ mp50 point_light_limit(const H& h_mp50, const std::vector<double>& row) {
 TEST(HardeningExtremes, GroupG_SpecularReferenceAtSharpLights) {
   const std::vector<std::vector<double>> configs = {
       // roughness, (λ), light_cos, view_cos, light_azimuth, f0
-      {0.3, 0, 0.7, 0.6, 3.0, 0.04},   // near the mirror direction
-      {0.5, 0, 0.4, 0.9, 1.0, 0.5},    // off it
+      {0.3, 0, 0.7, 0.6, 3.0, 0.04},               // near the mirror direction
+      {0.5, 0, 0.4, 0.9, 1.0, 0.5},                // off it
       {0.2, 0, 0.5, 0.5, std::numbers::pi, 0.04},  // on it
-      {0.4, 0, 0.8, 0.0, 2.0, 0.04},   // grazing view (the Gaussian-NDF reference's mirror-pole branch before)
+      {0.4, 0, 0.8, 0.0, 2.0, 0.04},  // grazing view (the Gaussian-NDF reference's mirror-pole branch before)
   };
   for (const char* quantity : {"specular", "specular-gaussian-ndf"}) {
     const bool ggx = std::string(quantity) == "specular";
@@ -100,8 +100,9 @@ TEST(HardeningExtremes, GroupG_SpecularReferenceMeetsTheLimit) {
   std::vector<double> row{0.5, 0, 0.4, 0.9, 1.0, 0.5};
   for (const double lambda : {1e10, 1e12, 1e14}) {
     row[1] = lambda;
-    const mp50 expected =
-        point_light_limit([&](const auto& wo, const auto& xi) { return sglab::ggx_brdf_cosine(mp50(row[0]), mp50(row[5]), wo, xi); }, row);
+    const mp50 expected = point_light_limit(
+        [&](const auto& wo, const auto& xi) { return sglab::ggx_brdf_cosine(mp50(row[0]), mp50(row[5]), wo, xi); },
+        row);
     EXPECT_LT(rel(eval_row<double>(ref, row), expected), 1e-6) << "λ=" << lambda;
   }
 }
@@ -113,7 +114,8 @@ mp50 line_integral_mp50(double eta_y, double lambda, double cosine) {
   // ξ = (√(1 − c²), 0, c) at azimuth 0, off the line by its x component: ξ·ω(b) = c·cos b.
   boost::math::quadrature::tanh_sinh<mp50> ts;
   const mp50 half_pi = boost::math::constants::half_pi<mp50>();
-  return ts.integrate([&](const mp50& b) { return cos(b) * exp(-ey * sin(b) * sin(b) + l * (c * cos(b) - 1)); }, -half_pi, half_pi);
+  return ts.integrate([&](const mp50& b) { return cos(b) * exp(-ey * sin(b) * sin(b) + l * (c * cos(b) - 1)); },
+                      -half_pi, half_pi);
 }
 
 // line_integral_mp50, each once.
@@ -143,8 +145,8 @@ TEST(HardeningExtremes, GroupG_AsgSgProductAtSharpAsg) {
         for (const double cosine : {1.0, 0.999}) {
           const mp50 expected = sqrt(pi / mp50(eta_x)) * line_integral_cached(eta_y, lambda, cosine);
           const double u = eval_row<double>(exact, {eta_x, eta_y, lambda, cosine, 0.0});
-          EXPECT_LT(rel(u, expected), 1e-6) << "ηx=" << eta_x << " ηy=" << eta_y << " λ=" << lambda << " c=" << cosine << ": " << u
-                                            << " vs " << expected;
+          EXPECT_LT(rel(u, expected), 1e-6) << "ηx=" << eta_x << " ηy=" << eta_y << " λ=" << lambda << " c=" << cosine
+                                            << ": " << u << " vs " << expected;
         }
       }
     }
@@ -154,7 +156,8 @@ TEST(HardeningExtremes, GroupG_AsgSgProductAtSharpAsg) {
   for (const double eta_x : {1e4, 1e5, 1e6, 1e7, 1e9})
     for (const double eta_y : {0.0, 1.0, 10.0}) {
       const double exact_value = sglab::asg_integral_exact(eta_x, eta_y);
-      EXPECT_NEAR(eval_row<double>(exact, {eta_x, eta_y, 0.0, 0.5, 0.3}) / exact_value, 1.0, 1e-6) << "ηx=" << eta_x << " ηy=" << eta_y;
+      EXPECT_NEAR(eval_row<double>(exact, {eta_x, eta_y, 0.0, 0.5, 0.3}) / exact_value, 1.0, 1e-6)
+          << "ηx=" << eta_x << " ηy=" << eta_y;
     }
   // Both bandwidths huge: the point limit π G(z; ξ, λ)/√(ηxηy) (to O(1/η)).
   for (const double eta : {1e20, 1e100, 1e300}) {
@@ -227,11 +230,13 @@ mp50 grazing_quadrature_mp50(const GrazingBrdf& brdf, const mp50& lambda, const 
       return exp(-lambda * (x * x + y * y + z * z) / 2) * brdf(theta, psi) / rl;
     };
     mp50 sum = 0;
-    for (std::size_t i = 0; i + 1 < tb.size(); ++i) sum += gauss_kronrod<mp50, 15>::integrate(g, tb[i], tb[i + 1], 0, mp50(0));
+    for (std::size_t i = 0; i + 1 < tb.size(); ++i)
+      sum += gauss_kronrod<mp50, 15>::integrate(g, tb[i], tb[i + 1], 0, mp50(0));
     return sum;
   };
   mp50 sum = 0;
-  for (std::size_t i = 0; i + 1 < pb.size(); ++i) sum += gauss_kronrod<mp50, 15>::integrate(inner, pb[i], pb[i + 1], 0, mp50(0));
+  for (std::size_t i = 0; i + 1 < pb.size(); ++i)
+    sum += gauss_kronrod<mp50, 15>::integrate(inner, pb[i], pb[i + 1], 0, mp50(0));
   return sum;
 }
 
@@ -333,7 +338,8 @@ TEST(HardeningExtremes, GroupK_GrazingMirrorReferences) {
       auto expected_for = [&](const mp50& lambda_t, const mp50& light_cos, const mp50& azimuth) {
         const GrazingBrdf brdf{ggx, mp50(0.3), mp50(0.04)};
         const auto [dy, dz] = light_offset_yz(light_cos, azimuth);
-        return lambda <= 1e12 ? grazing_quadrature_mp50(brdf, lambda_t, dy, dz) : grazing_limit_mp50(brdf, lambda_t, dy, dz);
+        return lambda <= 1e12 ? grazing_quadrature_mp50(brdf, lambda_t, dy, dz)
+                              : grazing_limit_mp50(brdf, lambda_t, dy, dz);
       };
       const mp50 expected = expected_for(mp50(lambda), mp50(0.0), mp50(std::numbers::pi));
       const double d = eval_row<double>(ref, row);
@@ -347,7 +353,8 @@ TEST(HardeningExtremes, GroupK_GrazingMirrorReferences) {
       // rad changes L by O(1.22e-16·√λ) ≤ 1.3e-10 relative (tolerance 2e-6): the quadrature for the double row
       // serves (it is the test's costliest part). Beyond, the sharp limit at the 50-digit offset.
       const mp50 expected50 = (ggx || lambda <= 1e12) ? expected : expected_for(mp50(lambda), mp50(0), pi);
-      std::printf("%s λ=%g: mp50 (azimuth π to 50 digits) %.6e, expected %.6e\n", name, lambda, double(m50), double(expected50));
+      std::printf("%s λ=%g: mp50 (azimuth π to 50 digits) %.6e, expected %.6e\n", name, lambda, double(m50),
+                  double(expected50));
       expect_close(m50, expected50, 2e-6, std::string(name) + " mp50 λ=" + std::to_string(lambda));
       if (lambda <= 1e38) {
         const float fl = eval_row<float>(ref, row);
@@ -364,7 +371,8 @@ TEST(HardeningExtremes, GroupK_GrazingMirrorReferences) {
     const sglab::SpecularConfig c{0.3, lambda, 0.0, 0.0, std::numbers::pi, 0.04};
     const double v = sglab::specular_gaussian_ndf_reference_grazing(c, sglab::Vec3d(0, 0, 0));
     const mp50 expected = grazing_limit_mp50(brdf, mp50(lambda), mp50(0), mp50(0));
-    std::printf("δ = 0, λ=%g: %.6e·λ^{-1/2}, expected %.6e·λ^{-1/2}\n", lambda, v * std::sqrt(lambda), double(expected * sqrt(mp50(lambda))));
+    std::printf("δ = 0, λ=%g: %.6e·λ^{-1/2}, expected %.6e·λ^{-1/2}\n", lambda, v * std::sqrt(lambda),
+                double(expected * sqrt(mp50(lambda))));
     expect_close(v, expected, 2e-6, "δ = 0 λ=" + std::to_string(lambda));
   }
 }
@@ -393,21 +401,24 @@ TEST(HardeningExtremes, GroupL_AsgSgProductBothSharp) {
   std::vector<std::vector<double>> rows;
   for (const double e : {1e8, 1e10, 1e12, 1e14, 1e16, 1e20, 1e50, 1e100, 1e200, 1e300, kDblMax}) {
     // (ηx, ηy, λ) ratios around 1: equal, anisotropic, the SG 4× broader or 4× sharper
-    for (const auto& [ry, rl] : std::vector<std::pair<double, double>>{{1, 1}, {0.5, 1}, {1, 0.25}, {0.1, 0.3}, {1, 0.004}}) {
+    for (const auto& [ry, rl] :
+         std::vector<std::pair<double, double>>{{1, 1}, {0.5, 1}, {1, 0.25}, {0.1, 0.3}, {1, 0.004}}) {
       rows.push_back({e, e * ry, e * rl, 1.0, 0.0});
       if (e <= 1e14)
-        for (const auto& [k, az] : std::vector<std::pair<double, double>>{{1, 0.0}, {2, 0.7}, {0.5, 2.0}}) rows.push_back({e, e * ry, e * rl, 1 - k / e, az});
+        for (const auto& [k, az] : std::vector<std::pair<double, double>>{{1, 0.0}, {2, 0.7}, {0.5, 2.0}})
+          rows.push_back({e, e * ry, e * rl, 1 - k / e, az});
     }
     if (e <= 1e300) rows.push_back({e / 4, e, 4 * e, 1.0, 0.0});  // the SG the sharpest
   }
   for (const auto& r : rows) {
     const mp50 expected = limit(r);
-    const std::string what = "ηx=" + std::to_string(r[0]) + " ηy=" + std::to_string(r[1]) + " λ=" + std::to_string(r[2]) +
-                             " c=" + std::to_string(r[3]) + " φ=" + std::to_string(r[4]);
+    const std::string what = "ηx=" + std::to_string(r[0]) + " ηy=" + std::to_string(r[1]) +
+                             " λ=" + std::to_string(r[2]) + " c=" + std::to_string(r[3]) + " φ=" + std::to_string(r[4]);
     expect_close(eval_row<double>(exact, r), expected, 2e-6, "double " + what);
     expect_close(eval_row<mp50>(exact, r), expected, 2e-6, "mp50 " + what);
     if (r[0] <= 1e30 && r[2] <= 1e30 && r[3] == 1.0)  // float: the inputs exact in float, the value a normal float
-      expect_close(eval_row<float>(exact, r), limit({double(float(r[0])), double(float(r[1])), double(float(r[2])), 1.0, 0.0}), 2e-6,
+      expect_close(eval_row<float>(exact, r),
+                   limit({double(float(r[0])), double(float(r[1])), double(float(r[2])), 1.0, 0.0}), 2e-6,
                    "float " + what);
   }
 }

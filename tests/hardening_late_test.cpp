@@ -35,7 +35,6 @@ namespace fs = std::filesystem;
 using sglab::test::CommandResult;
 using sglab::test::read_file;
 
-
 class HardeningLate : public sglab::test::TempDirTest {
  protected:
   void write_map(const std::string& name, const sglab::EnvMap& map) const {
@@ -70,7 +69,8 @@ sglab::EnvMap scaled(const sglab::EnvMap& map, double s) {
 TEST_F(HardeningLate, GroupH_OffGridRowsAreRefused) {
   std::ofstream(path("scene.json")) << sglab::test::SmallScene{.crate = false}.json();
   const std::string shards =
-      "sweep render --scene scene.json --rsm 8 --shadow-map 16 --width 8 --height 8 --vary light.power=1,2 --table t --out shards";
+      "sweep render --scene scene.json --rsm 8 --shadow-map 16 --width 8 --height 8 --vary light.power=1,2 --table t "
+      "--out shards";
   for (const char* shard : {"0/2", "1/2"}) ASSERT_EQ(sglab(shards + " --shard " + shard).status, 0);
   const fs::path csv = path("shards/t_points.shard-0-of-2.csv"), manifest = path("shards/t_sweep.shard-0-of-2.json");
   std::string text = read_file(csv);
@@ -81,7 +81,8 @@ TEST_F(HardeningLate, GroupH_OffGridRowsAreRefused) {
   nlohmann::json m = nlohmann::json::parse(read_file(manifest));
   m["points_fnv1a"] = sglab::runner::fnv1a_hex(text);
   std::ofstream(manifest) << m.dump();
-  refused(sglab("merge --out merged shards"), "light.power '1.5' is not the grid point's 1", {"merged/t_points.csv", "merged/t_sweep.json"});
+  refused(sglab("merge --out merged shards"), "light.power '1.5' is not the grid point's 1",
+          {"merged/t_points.csv", "merged/t_sweep.json"});
 
   // A configuration the sweep does not run, on the grid point: refused too.
   text.replace(at, 7, "\n0,1,");
@@ -125,7 +126,8 @@ TEST_F(HardeningLate, GroupH_RunnerChecksRowsAgainstTheGrid) {
       sglab::runner::run_sweep(d, summary_only);
       ADD_FAILURE() << "an off-grid row was summarised";
     } catch (const sglab::cli::UsageError& e) {
-      EXPECT_NE(std::string(e.what()).find("line 5: point 3: x '35' is not the grid point's 30"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("line 5: point 3: x '35' is not the grid point's 30"), std::string::npos)
+          << e.what();
     }
   }
   r = sglab::runner::run_sweep(d, o);
@@ -141,7 +143,8 @@ TEST_F(HardeningLate, GroupH_RunnerChecksRowsAgainstTheGrid) {
   SweepRow moved = rows.front();
   moved[0] = "0.123";
   ASSERT_TRUE(s.check_row(0, moved));
-  EXPECT_NE(s.check_row(0, moved)->find("roughness '0.123' is not the grid point's"), std::string::npos) << *s.check_row(0, moved);
+  EXPECT_NE(s.check_row(0, moved)->find("roughness '0.123' is not the grid point's"), std::string::npos)
+      << *s.check_row(0, moved);
   moved = rows.front();
   moved[5] = "0.321";
   ASSERT_TRUE(s.check_row(0, moved));
@@ -172,13 +175,14 @@ TEST(HardeningLateFit, GroupF_FitIsScaleFree) {
     ASSERT_LT(one.error.relative, 0.5) << method;
     for (const double s : {1e-30, 1e30}) {
       const sglab::fit::EnvFitResult r = fit(scaled(map, s));
-      EXPECT_NEAR(r.error.relative / one.error.relative, 1.0, 1e-3) << method << " ×" << s << ": " << r.error.relative << " vs "
-                                                                    << one.error.relative;
+      EXPECT_NEAR(r.error.relative / one.error.relative, 1.0, 1e-3)
+          << method << " ×" << s << ": " << r.error.relative << " vs " << one.error.relative;
       EXPECT_NEAR(r.error.l2 / (one.error.l2 * s), 1.0, 1e-3) << method << " ×" << s;
       ASSERT_EQ(r.mixture.size(), one.mixture.size());
       for (std::size_t j = 0; j < r.mixture.size(); ++j)
         for (int c = 0; c < 3; ++c)
-          EXPECT_NEAR(r.mixture[j].amplitude[c], one.mixture[j].amplitude[c] * s, 1e-2 * (one.mixture[j].amplitude[c] + 0.1) * s)
+          EXPECT_NEAR(r.mixture[j].amplitude[c], one.mixture[j].amplitude[c] * s,
+                      1e-2 * (one.mixture[j].amplitude[c] + 0.1) * s)
               << method << " ×" << s << " lobe " << j;
     }
   }
@@ -191,15 +195,16 @@ TEST(HardeningLateFit, GroupF_FitIsScaleFree) {
   const sglab::fit::EnvFitResult r = sglab::fit::fit_envmap_ceres(scaled(uniform, double(tiny)), o);
   EXPECT_EQ(r.error.relative, one.error.relative);
   EXPECT_LT(r.error.relative, 1e-2);
-  for (std::size_t j = 0; j < r.mixture.size(); ++j) EXPECT_EQ(r.mixture[j].amplitude[0], one.mixture[j].amplitude[0] * double(tiny));
+  for (std::size_t j = 0; j < r.mixture.size(); ++j)
+    EXPECT_EQ(r.mixture[j].amplitude[0], one.mixture[j].amplitude[0] * double(tiny));
 }
 
 // F. A uniform map of FLT_MAX: the fit is finite, but its amplitudes exceed what a mixture record
 // holds (the loader refuses them): refused by name, nothing written.
 TEST_F(HardeningLate, GroupF_UnrepresentableFitIsRefused) {
   write_map("max.exr", sglab::EnvMap{16, 8, std::vector<std::array<float, 3>>(16 * 8, {FLT_MAX, FLT_MAX, FLT_MAX})});
-  refused(sglab("fit envmap max.exr --lobes 1 --json f.json --exr f.exr"), "is outside [0, 1e+30], the amplitudes a mixture record holds",
-          {"f.json", "f.exr"});
+  refused(sglab("fit envmap max.exr --lobes 1 --json f.json --exr f.exr"),
+          "is outside [0, 1e+30], the amplitudes a mixture record holds", {"f.json", "f.exr"});
   // The same map × 2^-100 fits and writes finite numbers (the fit does not depend on the scale).
   write_map("big.exr", sglab::EnvMap{16, 8, std::vector<std::array<float, 3>>(16 * 8, {0x1p27f, 0x1p27f, 0x1p27f})});
   const CommandResult ok = sglab("fit envmap big.exr --lobes 1 --json f.json");
@@ -216,7 +221,8 @@ TEST_F(HardeningLate, GroupC_RenderTimeFitCostIsBounded) {
   const auto t0 = std::chrono::steady_clock::now();
   const CommandResult r = sglab("render scene.json --rsm 8 --shadow-map 16 --out o.exr --stats s.json");
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  refused(r, "fitting 1024 lobes to the 4096×2048 map at render time costs ~1.4e+11 lobe evaluations", {"o.exr", "s.json"});
+  refused(r, "fitting 1024 lobes to the 4096×2048 map at render time costs ~1.4e+11 lobe evaluations",
+          {"o.exr", "s.json"});
   EXPECT_NE(r.err.find("\"long_fit\": true"), std::string::npos) << r.err;
   EXPECT_LT(seconds, 20);
   // A mis-typed override is refused by name.
@@ -247,8 +253,10 @@ TEST_F(HardeningLate, GroupJ_Mp50BeyondDoubleRange) {
   const sglab::mp50 v1(first.substr(first.rfind(',') + 1)), v2(second.substr(second.rfind(',') + 1));
   EXPECT_LT(abs(v1 / (pi * sglab::mp50("1e400")) - 1), sglab::mp50("1e-45")) << first;
   EXPECT_LT(abs(v2 / (pi * sglab::mp50("1e-400")) - 1), sglab::mp50("1e-45")) << second;
-  refused(sglab("eval clamped-cosine --method punctual-approx --precision double --in in.csv"), "is out of the range of double");
-  std::ofstream(path("spec.csv")) << "roughness,light_sharpness,light_cos,view_cos,light_azimuth,f0\n0.3,1e400,0.5,0.5,3,0.04\n";
+  refused(sglab("eval clamped-cosine --method punctual-approx --precision double --in in.csv"),
+          "is out of the range of double");
+  std::ofstream(path("spec.csv"))
+      << "roughness,light_sharpness,light_cos,view_cos,light_azimuth,f0\n0.3,1e400,0.5,0.5,3,0.04\n";
   refused(sglab("eval specular --method reference --precision mp50 --in spec.csv"),
           "value '1e400': is outside double's range, and method 'reference' of 'specular' evaluates in double");
 }
@@ -295,7 +303,8 @@ TEST_F(HardeningLate, GroupM_RealOptionsQuoteTheText) {
       {bases + "--tolerance 1e400", "--tolerance: '1e400' is out of the range of double (too large)"},
       {bases + "--tolerance -1e400", "--tolerance: '-1e400' is out of the range of double"},
       {bases + "--tolerance 1e-400", "--tolerance: '1e-400' is out of the range of double (too close to zero)"},
-      {bases + "--tolerance 1e-310", "--tolerance: '1e-310' is out of the range of double (too close to zero: subnormal)"},
+      {bases + "--tolerance 1e-310",
+       "--tolerance: '1e-310' is out of the range of double (too close to zero: subnormal)"},
       {bases + "--tolerance inf", "--tolerance: 'inf' is not a number"},
       {bases + "--tolerance 0x1p-3", "--tolerance: '0x1p-3' is not a number"},
       {bases + "--roughness 0.5 --roughness 1e999", "--roughness: '1e999' is out of the range of double"},
@@ -313,8 +322,10 @@ TEST_F(HardeningLate, GroupM_RealOptionsQuoteTheText) {
 // N. `sglab export` with the same method twice wrote its function twice (a source that does not
 // compile), exit 0: refused by name.
 TEST_F(HardeningLate, GroupN_ExportRefusesARepeatedMethod) {
-  refused(sglab("export clamped-cosine/meder clamped-cosine/meder --lang c --out x.c"), "'clamped-cosine/meder' is given twice", {"x.c"});
-  refused(sglab("export clamped-cosine/meder specular/sg-warp clamped-cosine/meder --lang glsl --out x.glsl"), "is given twice", {"x.glsl"});
+  refused(sglab("export clamped-cosine/meder clamped-cosine/meder --lang c --out x.c"),
+          "'clamped-cosine/meder' is given twice", {"x.c"});
+  refused(sglab("export clamped-cosine/meder specular/sg-warp clamped-cosine/meder --lang glsl --out x.glsl"),
+          "is given twice", {"x.glsl"});
   const CommandResult ok = sglab("export clamped-cosine/meder specular/sg-warp --lang c --out y.c");
   EXPECT_EQ(ok.status, 0) << ok.err;
   EXPECT_TRUE(fs::exists(path("y.c")));

@@ -86,10 +86,10 @@ class Hardening : public sglab::test::TempDirTest {
   }
 };
 
-#define EXPECT_REFUSED(r, needle)                                          \
-  do {                                                                     \
-    EXPECT_EQ((r).status, 2) << (r).err.substr(0, 2000);                   \
-    EXPECT_LT((r).err.size(), kShortMessage) << (r).err.substr(0, 2000);   \
+#define EXPECT_REFUSED(r, needle)                                                  \
+  do {                                                                             \
+    EXPECT_EQ((r).status, 2) << (r).err.substr(0, 2000);                           \
+    EXPECT_LT((r).err.size(), kShortMessage) << (r).err.substr(0, 2000);           \
     EXPECT_NE((r).err.find(needle), std::string::npos) << (r).err.substr(0, 2000); \
   } while (0)
 
@@ -99,7 +99,8 @@ TEST_F(Hardening, Group01_DeepJsonIsRefused) {
     std::ofstream(path("deep.txt")) << std::string(depth, '[') << std::string(depth, ']');
     const Result r = sglab(render_args() + " --out out.exr --set \"camera.fov=$(cat deep.txt)\"");
     EXPECT_REFUSED(r, "nested deeper than 64");
-    std::ofstream(path("deep.json")) << "{\"description\": " << std::string(depth, '[') << std::string(depth, ']') << "}";
+    std::ofstream(path("deep.json")) << "{\"description\": " << std::string(depth, '[') << std::string(depth, ']')
+                                     << "}";
     const Result s = sglab(render_args("deep.json") + " --out out.exr");
     EXPECT_REFUSED(s, "nested deeper than 64");
   }
@@ -109,9 +110,13 @@ TEST_F(Hardening, Group01_DeepJsonIsRefused) {
 // 2. A shard manifest is data: its args are never run as a command, its sweep name never a path.
 TEST_F(Hardening, Group02_ManifestsAreNotCommands) {
   fs::create_directories(path("shards"));
-  const auto manifest = [&](const std::string& file, const nlohmann::json& m) { std::ofstream(path("shards") / file) << m.dump(); };
-  nlohmann::json m = {{"sweep", "toy"},    {"args", {"merge", path("shards").string()}}, {"grid", "g"}, {"points", 2},
-                      {"shard", "0/2"},    {"columns", {"point", "x"}}, {"rows", 1}, {"points_fnv1a", "0"}};
+  const auto manifest = [&](const std::string& file, const nlohmann::json& m) {
+    std::ofstream(path("shards") / file) << m.dump();
+  };
+  nlohmann::json m = {{"sweep", "toy"}, {"args", {"merge", path("shards").string()}},
+                      {"grid", "g"},    {"points", 2},
+                      {"shard", "0/2"}, {"columns", {"point", "x"}},
+                      {"rows", 1},      {"points_fnv1a", "0"}};
   manifest("toy_sweep.shard-0-of-2.json", m);
   Result r = sglab("merge --out merged shards");
   EXPECT_REFUSED(r, "is not a `sweep specular` or `sweep render` command line");
@@ -145,7 +150,8 @@ TEST_F(Hardening, Group04_OutputsNeverOverwriteInputsOrEachOther) {
   const std::string scene = read_file(path("scene.json"));
   EXPECT_REFUSED(sglab(render_args() + " --out " + p("scene.json")), "refusing to overwrite an input");
   EXPECT_REFUSED(sglab(render_args() + " --out " + p("./scene.json")), "refusing to overwrite an input");
-  EXPECT_REFUSED(sglab("filter " + p("scene.json") + " --weights normal --out " + p("scene.json")), "refusing to overwrite an input");
+  EXPECT_REFUSED(sglab("filter " + p("scene.json") + " --weights normal --out " + p("scene.json")),
+                 "refusing to overwrite an input");
   EXPECT_EQ(read_file(path("scene.json")), scene);
   EXPECT_REFUSED(sglab(render_args() + " --out x --stats x"), "each output needs its own file");
   EXPECT_FALSE(fs::exists(path("x")));
@@ -179,7 +185,8 @@ TEST_F(Hardening, Group05_TablePairsAreOneSet) {
   // `sweep render`: NAME.csv exists, NAME.md is a directory.
   fs::create_directories(path("tables") / "t.md");
   std::ofstream(path("tables") / "t.csv") << "old table";
-  Result r = sglab("sweep render --scene " + p("scene.json") + " --rsm 8 --shadow-map 64 --out sw --tables-dir tables --table t");
+  Result r = sglab("sweep render --scene " + p("scene.json") +
+                   " --rsm 8 --shadow-map 64 --out sw --tables-dir tables --table t");
   EXPECT_REFUSED(r, "is a directory");
   EXPECT_LT(r.seconds, 10);
   EXPECT_EQ(read_file(path("tables") / "t.csv"), "old table");
@@ -268,7 +275,8 @@ void check_extreme_sharpness(const char* type) {
     const double ld = double(l);
     const auto rel = [](double v, double ref) { return std::fabs(v - ref) / std::fabs(ref); };
     const double c = 0.5;
-    EXPECT_LT(rel(double(sglab::clamped_cosine_tokuyoshi2024(l, T(c))), two_pi * c / ld), 0.01) << type << " λ=" << lambda;
+    EXPECT_LT(rel(double(sglab::clamped_cosine_tokuyoshi2024(l, T(c))), two_pi * c / ld), 0.01)
+        << type << " λ=" << lambda;
     EXPECT_LT(rel(double(sglab::hemispherical_tokuyoshi2022(l, T(c))), two_pi / ld), 0.01) << type << " λ=" << lambda;
     EXPECT_LT(rel(double(sglab::hemispherical_vmf_tokuyoshi2024(l, T(c))), 1.0), 0.01) << type << " λ=" << lambda;
     EXPECT_LT(rel(double(sglab::tokuyoshi2024_t(l)), std::sqrt(ld / 2)), 1e-3) << type << " λ=" << lambda;
@@ -287,8 +295,10 @@ TEST(HardeningNumerics, Group08_ExtremeSharpness) {
   for (const double eta_x : {1e20, 1e300, 1.797e308, std::numeric_limits<double>::max()})
     for (const double eta_y : {0.0, 1.0, 100.0}) {
       const double pi = std::numbers::pi;
-      const double limit = eta_y == 0 ? 2 * std::sqrt(pi / eta_x) : std::sqrt(pi / eta_x) * std::sqrt(pi / eta_y) * std::erf(std::sqrt(eta_y));
-      EXPECT_LT(std::fabs(sglab::asg_integral_exact(eta_x, eta_y) / limit - 1), 1e-6) << "ηx=" << eta_x << " ηy=" << eta_y;
+      const double limit = eta_y == 0 ? 2 * std::sqrt(pi / eta_x)
+                                      : std::sqrt(pi / eta_x) * std::sqrt(pi / eta_y) * std::erf(std::sqrt(eta_y));
+      EXPECT_LT(std::fabs(sglab::asg_integral_exact(eta_x, eta_y) / limit - 1), 1e-6)
+          << "ηx=" << eta_x << " ηy=" << eta_y;
     }
 }
 
@@ -312,8 +322,9 @@ TEST_F(Hardening, Group09_RenderExtremes) {
   EXPECT_NEAR(rb, ra, 1e-9 * ra);  // the scaled direction may differ from [0, −1, −0.7] in the last bit
 
   // Edges 45° apart are not perpendicular at any scale.
-  EXPECT_REFUSED(sglab(render_args() + " --out out.exr --set 'floor.edge_u=[1e200,0,0]' --set 'floor.edge_v=[1e200,0,1e200]'"),
-                 "is not perpendicular");
+  EXPECT_REFUSED(
+      sglab(render_args() + " --out out.exr --set 'floor.edge_u=[1e200,0,0]' --set 'floor.edge_v=[1e200,0,1e200]'"),
+      "is not perpendicular");
 }
 
 // 10. `sweep render --vary`: aliased and duplicate keys, and a point count that overflows, are
@@ -331,7 +342,8 @@ TEST_F(Hardening, Group10_SweepVaryKeys) {
     eight += fmt::format("--vary {}=0.1:0.9:256 ", key);
   r = sglab(sweep + eight);
   EXPECT_REFUSED(r, "too large to count");
-  EXPECT_FALSE(fs::exists(path("sw") / "vsgl_error_vs_roughness_albedo_albedo_f0_distance_power_cone_angle_fov_points.csv"));
+  EXPECT_FALSE(
+      fs::exists(path("sw") / "vsgl_error_vs_roughness_albedo_albedo_f0_distance_power_cone_angle_fov_points.csv"));
 }
 
 // 11. Resume and merge check what is on disk: a deleted row, an altered checkpoint, an edited
@@ -351,7 +363,8 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
     if (++calls == fail_on) throw std::runtime_error("interrupted");
     return std::vector<SweepRow>{{std::to_string(k)}, {std::to_string(k + 100)}};  // two rows a point
   };
-  sglab::runner::SweepRunOptions o{.out_dir = path("run"), .shard = {}, .threads = 1, .checkpoint_seconds = 0, .quiet = true};
+  sglab::runner::SweepRunOptions o{
+      .out_dir = path("run"), .shard = {}, .threads = 1, .checkpoint_seconds = 0, .quiet = true};
 
   // A deleted row of a point that keeps its other row: recomputed, not summarised.
   auto r = sglab::runner::run_sweep(d, o);
@@ -380,7 +393,8 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
   EXPECT_EQ(read_file(r.points_csv), whole);
 
   // A deleted row in a shard: merge refuses.
-  for (std::size_t i = 0; i < 2; ++i) sglab::runner::run_sweep(d, {.out_dir = path("shards"), .shard = {i, 2}, .quiet = true});
+  for (std::size_t i = 0; i < 2; ++i)
+    sglab::runner::run_sweep(d, {.out_dir = path("shards"), .shard = {i, 2}, .quiet = true});
   const fs::path shard0 = sglab::runner::sweep_points_path(path("shards"), "toy", {0, 2});
   text = read_file(shard0);
   text.erase(text.find("4,104\n"), 6);
@@ -389,7 +403,8 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
   EXPECT_FALSE(fs::exists(path("merged")));
 
   // An edited scene file is another sweep: `sweep render` recomputes instead of republishing.
-  const std::string sweep = "sweep render --scene " + p("scene.json") + " --rsm 8 --shadow-map 64 --out sw --tables-dir tables";
+  const std::string sweep = "sweep render --scene " + p("scene.json") +
+                            " --rsm 8 --shadow-map 64 --out sw --tables-dir tables";
   Result first = sglab(sweep);
   ASSERT_EQ(first.status, 0) << first.err;
   std::string scene = read_file(path("scene.json"));
@@ -413,12 +428,14 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
 
 // 12. Out-of-range options are refused (they used to wrap or give negative/null results).
 TEST_F(Hardening, Group12_OptionRanges) {
-  for (const char* beta : {"-1", "0", "nan"}) EXPECT_REFUSED(sglab(std::string("fit lambda-c --beta ") + beta), "--beta");
+  for (const char* beta : {"-1", "0", "nan"})
+    EXPECT_REFUSED(sglab(std::string("fit lambda-c --beta ") + beta), "--beta");
   EXPECT_REFUSED(sglab(render_args() + " --out out.exr --seed -1"), "not an integer in [0, 18446744073709551615]");
   EXPECT_REFUSED(sglab(render_args() + " --out out.exr --seed 18446744073709551616"), "18446744073709551616");
   EXPECT_REFUSED(sglab("sweep specular --quick --out sw --threads -1"), "--threads");
   EXPECT_REFUSED(sglab("error-map --quick --out em --size 0"), "--size must be in [2, 2000], got 0");
-  EXPECT_REFUSED(sglab(render_args() + " --out out.exr --reference-precision half"), "--reference-precision: unknown precision 'half'");
+  EXPECT_REFUSED(sglab(render_args() + " --out out.exr --reference-precision half"),
+                 "--reference-precision: unknown precision 'half'");
   EXPECT_FALSE(fs::exists(path("out.exr")));
 }
 
@@ -438,7 +455,8 @@ TEST_F(Hardening, Group13_ParseErrorsExit2) {
 
 // 14. Messages name the right value and the right cause.
 TEST_F(Hardening, Group14_MessagesNameTheValue) {
-  EXPECT_REFUSED(sglab(render_args() + " --out out.exr --set camera.width=18446744073709551615"), "18446744073709551615 is outside");
+  EXPECT_REFUSED(sglab(render_args() + " --out out.exr --set camera.width=18446744073709551615"),
+                 "18446744073709551615 is outside");
   // A tiny direction is a direction, and a huge up vector is not parallel to anything.
   Result r = sglab(render_args() + " --out t.exr --set 'light.direction=[0,-1e-200,-0.7e-200]'");
   EXPECT_EQ(r.status, 0) << r.err;
@@ -516,8 +534,9 @@ TEST_F(Hardening, Group16_UpFrontSizes) {
   EXPECT_REFUSED(sglab("sweep specular --quick --out sw --threads 99999999999"), "99999999999");
 
   fs::create_directories(path("shards"));
-  nlohmann::json m = {{"sweep", "toy"}, {"args", {"sweep", "specular"}}, {"grid", "g"},   {"points", 100000000},
-                      {"shard", "0/2"}, {"columns", {"point", "x"}},     {"rows", 1},     {"points_fnv1a", "8b2ba22e45ea1a52"}};
+  nlohmann::json m = {
+      {"sweep", "toy"}, {"args", {"sweep", "specular"}}, {"grid", "g"}, {"points", 100000000},
+      {"shard", "0/2"}, {"columns", {"point", "x"}},     {"rows", 1},   {"points_fnv1a", "8b2ba22e45ea1a52"}};
   std::ofstream(path("shards") / "toy_points.shard-0-of-2.csv") << "point,x\n0,1\n";
   m["points_fnv1a"] = sglab::runner::fnv1a_hex("point,x\n0,1\n");
   std::ofstream(path("shards") / "toy_sweep.shard-0-of-2.json") << m.dump();
@@ -531,7 +550,8 @@ TEST_F(Hardening, Group16_UpFrontSizes) {
 // 16, continued: `filter` and `filter-sweep` estimate their memory before allocating (the
 // documented maximum image, 16384², needs ~100 GB of G-buffers and layers).
 TEST_F(Hardening, Group16_FilterMemoryUpFront) {
-  Result r = sglab("filter " + p("scene.json") + " --weights normal --out f.exr --stats f.json --quiet --width 16384 --height 16384");
+  Result r = sglab("filter " + p("scene.json") +
+                   " --weights normal --out f.exr --stats f.json --quiet --width 16384 --height 16384");
   EXPECT_REFUSED(r, "GB of memory");
   EXPECT_NE(r.err.find("16384×16384 filter run"), std::string::npos) << r.err;
   EXPECT_LT(r.seconds, 10);
@@ -550,7 +570,8 @@ TEST_F(Hardening, Group17_Minor) {
   Result r = sglab("eval sg-integral -m exact", std::string("sharpness\n1\0x\n", 14));
   EXPECT_REFUSED(r, "value '1\\x00x'");
   {  // standard input redirected from a directory
-    const std::string command = fmt::format("'{}' eval sg-integral -m exact < '{}' 2> '{}'", SGLAB_EXE, dir_.string(), path("err").string());
+    const std::string command = fmt::format("'{}' eval sg-integral -m exact < '{}' 2> '{}'", SGLAB_EXE, dir_.string(),
+                                            path("err").string());
     const int raw = std::system(command.c_str());
     r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
     r.err = read_file(path("err"));

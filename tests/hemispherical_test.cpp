@@ -60,7 +60,8 @@ TEST(Hemispherical, StiffInputsInFloat) {
   for (double l : test::stiff_sharpnesses(2)) {
     for (double c : test::stiff_cosines(4)) {
       const float lf = float(l), cf = float(c);
-      for (float v : {hemispherical_meder(lf, cf), hemispherical_tokuyoshi2022(lf, cf), hemispherical_vmf_tokuyoshi2024(lf, cf)}) {
+      for (float v : {hemispherical_meder(lf, cf), hemispherical_tokuyoshi2022(lf, cf),
+                      hemispherical_vmf_tokuyoshi2024(lf, cf)}) {
         EXPECT_TRUE(std::isfinite(v) && v >= 0) << l << " " << c << " " << v;
       }
     }
@@ -72,7 +73,9 @@ TEST(Hemispherical, JetDerivativesMatchFiniteDifferences) {
   for (double l : {0.01, 1.3, 25.0}) {
     for (double c : {-0.6, 0.2, 0.9}) {
       for (int method = 0; method < 2; ++method) {
-        auto f = [&](const J& a, const J& b) { return method == 0 ? hemispherical_meder(a, b) : hemispherical_tokuyoshi2022(a, b); };
+        auto f = [&](const J& a, const J& b) {
+          return method == 0 ? hemispherical_meder(a, b) : hemispherical_tokuyoshi2022(a, b);
+        };
         const J r = f(J(l, 0), J(c, 1));
         const double hl = 1e-6 * l, hc = 1e-6;
         const double dl = (f(J(l + hl), J(c)).a - f(J(l - hl), J(c)).a) / (2 * hl);

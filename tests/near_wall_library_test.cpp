@@ -44,12 +44,14 @@ TEST(NearWallLibrary, ReferenceAgainstQuadratureAndSmapeFromThePixels) {
     for (const nw::Pixel& p : r.pixels) {
       if (!p.lit || std::isnan(p.value[i])) continue;
       const double v = p.value[i], ref = p.reference;
-      const double s = std::fabs(v) + std::fabs(ref) > 0 ? 2 * std::fabs(v - ref) / (std::fabs(v) + std::fabs(ref)) : 0.0;
+      const double s = std::fabs(v) + std::fabs(ref) > 0 ? 2 * std::fabs(v - ref) / (std::fabs(v) + std::fabs(ref))
+                                                         : 0.0;
       sum += s;
       max = std::max(max, s);
       ++n;
     }
-    const auto it = std::find_if(r.errors.begin(), r.errors.end(), [&](const nw::MethodError& e) { return e.method == r.methods[i]; });
+    const auto it = std::find_if(r.errors.begin(), r.errors.end(),
+                                 [&](const nw::MethodError& e) { return e.method == r.methods[i]; });
     ASSERT_NE(it, r.errors.end()) << r.methods[i];
     EXPECT_EQ(it->pixels, n) << r.methods[i];
     EXPECT_NEAR(it->mean, sum / double(n), 1e-12) << r.methods[i];

@@ -150,8 +150,8 @@ TEST_F(NearWall, BadInputExitsTwoAndWritesNothing) {
   for (const char* bad : {"--set sg_light.sharpness=-1", "--set sg_light.distance=0", "--set 'sg_light.axis=[0,0,0]'",
                           "--set sg_light.colour=1", "--sweep-distance 0.1,-0.1", "--sweep-width 0"}) {
     std::string err;
-    EXPECT_EQ(sglab(fmt::format("near-wall --scene '{}' --width 8 --height 6 {} --dump '{}' --tables-dir '{}'", scene(), bad,
-                                path("dump.csv").string(), path("tables").string()),
+    EXPECT_EQ(sglab(fmt::format("near-wall --scene '{}' --width 8 --height 6 {} --dump '{}' --tables-dir '{}'", scene(),
+                                bad, path("dump.csv").string(), path("tables").string()),
                     &err),
               2)
         << bad << ": " << err;

@@ -30,9 +30,28 @@ namespace {
 
 constexpr std::size_t kMaxMessage = 1000;
 
-const std::vector<std::string> kTokens = {"[", "]", "{", "}", "\"", ",", "\n", "\r\n", std::string(1, '\0'), "\\",
-                                          "1e999", "-1", "0", "1e-320", "18446744073709551616", "nan", "null", ":",
-                                          std::string(200, '['), std::string(100, 'x'), "\xEF\xBB\xBF", "\xff"};
+const std::vector<std::string> kTokens = {"[",
+                                          "]",
+                                          "{",
+                                          "}",
+                                          "\"",
+                                          ",",
+                                          "\n",
+                                          "\r\n",
+                                          std::string(1, '\0'),
+                                          "\\",
+                                          "1e999",
+                                          "-1",
+                                          "0",
+                                          "1e-320",
+                                          "18446744073709551616",
+                                          "nan",
+                                          "null",
+                                          ":",
+                                          std::string(200, '['),
+                                          std::string(100, 'x'),
+                                          "\xEF\xBB\xBF",
+                                          "\xff"};
 
 std::string mutate(std::string s, std::mt19937_64& rng) {
   const int edits = 1 + int(rng() % 6);
@@ -95,10 +114,17 @@ const char* kSceneText = R"({
   ]
 })";
 
-const std::vector<std::string> kOverrides = {"floor.roughness=0.1", "light.power=1e300", "camera.width=18446744073709551615",
-                                             "objects.0.edge_u=[1e200,0,0]", "light.direction=[0,-1e-200,0]",
-                                             "crate.max=[[[[1]]]]", "camera.fov=\"x\"", "objects.9.name=q", "a..b=1",
-                                             "ball.radius=-0", "light=5"};
+const std::vector<std::string> kOverrides = {"floor.roughness=0.1",
+                                             "light.power=1e300",
+                                             "camera.width=18446744073709551615",
+                                             "objects.0.edge_u=[1e200,0,0]",
+                                             "light.direction=[0,-1e-200,0]",
+                                             "crate.max=[[[[1]]]]",
+                                             "camera.fov=\"x\"",
+                                             "objects.9.name=q",
+                                             "a..b=1",
+                                             "ball.radius=-0",
+                                             "light=5"};
 
 TEST(ParserFuzz, SceneReaderFailsOnlyWithShortSceneErrors) {
   for (std::uint64_t seed = 1; seed <= 3000; ++seed) {
@@ -115,7 +141,8 @@ TEST(ParserFuzz, SceneReaderFailsOnlyWithShortSceneErrors) {
       ASSERT_GE(scene.camera.width, 1) << "seed " << seed;
       ASSERT_FALSE(scene.objects.empty()) << "seed " << seed;
     } catch (const sglab::render::SceneError& e) {
-      ASSERT_LT(std::string(e.what()).size(), kMaxMessage) << "seed " << seed << ": " << std::string(e.what()).substr(0, 300);
+      ASSERT_LT(std::string(e.what()).size(), kMaxMessage)
+          << "seed " << seed << ": " << std::string(e.what()).substr(0, 300);
     } catch (const std::exception& e) {
       FAIL() << "seed " << seed << ": unexpected " << typeid(e).name() << ": " << std::string(e.what()).substr(0, 300);
     }
@@ -143,7 +170,8 @@ TEST(ParserFuzz, ConstantSetReaderFailsOnlyWithShortUsageErrors) {
       const auto set = sglab::cli::load_constant_sets({file.string()});
       for (const auto& v : set.values) ASSERT_TRUE(std::isfinite(v.value)) << "seed " << seed;
     } catch (const sglab::cli::UsageError& e) {
-      ASSERT_LT(std::string(e.what()).size(), kMaxMessage) << "seed " << seed << ": " << std::string(e.what()).substr(0, 300);
+      ASSERT_LT(std::string(e.what()).size(), kMaxMessage)
+          << "seed " << seed << ": " << std::string(e.what()).substr(0, 300);
     } catch (const std::exception& e) {
       FAIL() << "seed " << seed << ": unexpected " << typeid(e).name() << ": " << std::string(e.what()).substr(0, 300);
     }
@@ -158,11 +186,27 @@ TEST(ParserFuzz, ConstantSetReaderFailsOnlyWithShortUsageErrors) {
 TEST(NumberGrammar, AcceptedTextsAndTheirValues) {
   using sglab::runner::parse_decimal;
   const std::pair<const char*, double> accepted[] = {
-      {"0.5", 0.5},       {"-0.5", -0.5},       {"+2", 2.0},        {"1.", 1.0},          {".5", 0.5},
-      {"-.5", -0.5},      {"1e3", 1e3},         {"1E-3", 1e-3},     {"-1.5e+2", -150.0},  {"2.5E2", 250.0},
-      {"0", 0.0},         {"-0", -0.0},         {"000123", 123.0},  {" 0.25", 0.25},      {"0.25 ", 0.25},
-      {"\t7", 7.0},       {" \t-3e-1\t ", -0.3}, {"1e308", 1e308},  {"2.2250738585072014e-308", 2.2250738585072014e-308},
-      {"0.1", 0.1},       {"123456789012345678901234567890", 123456789012345678901234567890.0},
+      {"0.5", 0.5},
+      {"-0.5", -0.5},
+      {"+2", 2.0},
+      {"1.", 1.0},
+      {".5", 0.5},
+      {"-.5", -0.5},
+      {"1e3", 1e3},
+      {"1E-3", 1e-3},
+      {"-1.5e+2", -150.0},
+      {"2.5E2", 250.0},
+      {"0", 0.0},
+      {"-0", -0.0},
+      {"000123", 123.0},
+      {" 0.25", 0.25},
+      {"0.25 ", 0.25},
+      {"\t7", 7.0},
+      {" \t-3e-1\t ", -0.3},
+      {"1e308", 1e308},
+      {"2.2250738585072014e-308", 2.2250738585072014e-308},
+      {"0.1", 0.1},
+      {"123456789012345678901234567890", 123456789012345678901234567890.0},
   };
   for (const auto& [text, value] : accepted) {
     double got = 0;
@@ -182,10 +226,47 @@ TEST(NumberGrammar, RefusedTextsNameTheReason) {
   using sglab::runner::NumberError;
   using sglab::runner::parse_decimal;
   const char* not_numbers[] = {
-      " ",      "\t",    "0.5x",  "x0.5",  "1e",     "1e+",  "1e-",      "e5",    ".",     "-",     "+",
-      "+-1",    "--1",   "1..2",  "1.2.3", "1e5.5",  "1e5e5", "0x10",    "0x1p3", "nan",   "NaN",   "-nan",
-      "inf",    "-inf",  "+inf",  "infinity", "1,5", "1 2",  "1_000",    "0.5\n", "\n0.5", "0.5\r", "１",
-      "1e+-5",  ".e5",   "- 1",   "1.5f",  "1d0",    "0b1",  "\xEF\xBB\xBF" "1",
+      " ",
+      "\t",
+      "0.5x",
+      "x0.5",
+      "1e",
+      "1e+",
+      "1e-",
+      "e5",
+      ".",
+      "-",
+      "+",
+      "+-1",
+      "--1",
+      "1..2",
+      "1.2.3",
+      "1e5.5",
+      "1e5e5",
+      "0x10",
+      "0x1p3",
+      "nan",
+      "NaN",
+      "-nan",
+      "inf",
+      "-inf",
+      "+inf",
+      "infinity",
+      "1,5",
+      "1 2",
+      "1_000",
+      "0.5\n",
+      "\n0.5",
+      "0.5\r",
+      "１",
+      "1e+-5",
+      ".e5",
+      "- 1",
+      "1.5f",
+      "1d0",
+      "0b1",
+      "\xEF\xBB\xBF"
+      "1",
   };
   for (const char* text : not_numbers) {
     try {
@@ -199,8 +280,8 @@ TEST(NumberGrammar, RefusedTextsNameTheReason) {
   // Out of double's range, subnormals included: refused in double, and mp50 numbers (mp50 reads
   // them into its own, far wider range; its callers validate them through validation_double).
   const std::pair<const char*, const char*> out_of_range[] = {
-      {"1e309", "too large"}, {"-1e400", "too large"}, {"1e-400", "too close to zero"}, {"4e-320", "too close to zero"},
-      {"2.2e-308", "too close to zero"},
+      {"1e309", "too large"},          {"-1e400", "too large"},           {"1e-400", "too close to zero"},
+      {"4e-320", "too close to zero"}, {"2.2e-308", "too close to zero"},
   };
   for (const auto& [text, why] : out_of_range) {
     try {
@@ -217,9 +298,12 @@ TEST(NumberGrammar, RefusedTextsNameTheReason) {
   // mp50's own range ends: the decimal exponent is judged on the text (a 10^(10^12) is never
   // converted), then the value.
   const std::pair<const char*, const char*> out_of_mp50[] = {
-      {"1e999999999999", "too large"},         {"-1e999999999999", "too large"},
-      {"1e-999999999999", "too close to zero"}, {"0.000001e-999999999999", "too close to zero"},
-      {"1e99999999999999999999999999", "too large"}, {"123456e-99999999999999999999999999", "too close to zero"},
+      {"1e999999999999", "too large"},
+      {"-1e999999999999", "too large"},
+      {"1e-999999999999", "too close to zero"},
+      {"0.000001e-999999999999", "too close to zero"},
+      {"1e99999999999999999999999999", "too large"},
+      {"123456e-99999999999999999999999999", "too close to zero"},
   };
   for (const auto& [text, why] : out_of_mp50) {
     try {
@@ -245,7 +329,8 @@ TEST(NumberGrammar, RefusedTextsNameTheReason) {
   EXPECT_FALSE(sglab::runner::outside_double(sglab::mp50(kMax)));
   EXPECT_FALSE(sglab::runner::outside_double(sglab::mp50(kMin)));
   EXPECT_FALSE(sglab::runner::outside_double(sglab::mp50(0)));
-  for (const char* text : {"3.5e38", "1e39", "1e-40", "1e-46", "1.1e-38"}) EXPECT_THROW((void)parse_decimal<float>(text), NumberError) << text;
+  for (const char* text : {"3.5e38", "1e39", "1e-40", "1e-46", "1.1e-38"})
+    EXPECT_THROW((void)parse_decimal<float>(text), NumberError) << text;
 }
 
 }  // namespace

@@ -16,7 +16,6 @@ namespace {
 using namespace sglab::test;
 using namespace sglab::render;
 
-
 // ---- intersections --------------------------------------------------------------------------
 
 TEST(RayCast, SphereClosedForms) {
@@ -71,7 +70,7 @@ TEST(RayCast, BoxHitsAreOnTheNearestFace) {
   ASSERT_TRUE(h);
   EXPECT_DOUBLE_EQ(h->distance, 1);
   EXPECT_EQ(h->normal, Vec3(0, 1, 0));
-  EXPECT_FALSE(intersect(b, Ray{Vec3(0.6, 1, -4), Vec3(0, 0, 1)}, 0, INFINITY));   // parallel, outside the x slab
+  EXPECT_FALSE(intersect(b, Ray{Vec3(0.6, 1, -4), Vec3(0, 0, 1)}, 0, INFINITY));    // parallel, outside the x slab
   EXPECT_FALSE(intersect(b, Ray{Vec3(-0.2, 1, -4), Vec3(0, 0, -1)}, 0, INFINITY));  // pointing away
   // Random rays from outside towards random interior points.
   auto rng = sglab::test::seeded_rng(7007);
@@ -114,7 +113,8 @@ TEST(RayCast, RectangleHitsAtTheirParameters) {
     const Ray ray{origin, (target - origin).normalized()};
     const auto h = intersect(r, ray, 0, INFINITY);
     const bool inside = a >= 0 && a <= 1 && c >= 0 && c <= 1;
-    const bool margin = std::fabs(a) < 1e-9 || std::fabs(a - 1) < 1e-9 || std::fabs(c) < 1e-9 || std::fabs(c - 1) < 1e-9;
+    const bool margin = std::fabs(a) < 1e-9 || std::fabs(a - 1) < 1e-9 || std::fabs(c) < 1e-9 ||
+                        std::fabs(c - 1) < 1e-9;
     if (margin) continue;
     ASSERT_EQ(bool(h), inside) << k;
     if (h) {

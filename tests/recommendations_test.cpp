@@ -17,7 +17,8 @@ namespace rec = sglab::cli::recommendations;
 namespace fs = std::filesystem;
 
 TEST(Recommendations, ParetoFront) {
-  const auto front = rec::pareto_front({{"a", 1, 5}, {"c", 3, 4}, {"b", 2, 3}, {"d", 4, 1}, {"e", 4, 0.5}, {"f", 5, 0.5}, {"n", NAN, 0}});
+  const auto front = rec::pareto_front(
+      {{"a", 1, 5}, {"c", 3, 4}, {"b", 2, 3}, {"d", 4, 1}, {"e", 4, 0.5}, {"f", 5, 0.5}, {"n", NAN, 0}});
   std::vector<std::string> names;
   for (const auto& c : front) names.push_back(c.name);
   EXPECT_EQ(names, (std::vector<std::string>{"a", "b", "e"}));
@@ -32,7 +33,8 @@ class RecommendationsFromTables : public sglab::test::TempDirTest {
 
 TEST_F(RecommendationsFromTables, EveryNumberIsATables) {
   write("error_vs_time.csv",
-        "quantity,method,precision,rmse,max_error,max_error_subset,max_rounding_error,ns_per_eval,negatives,non_finite,out_of_domain\n"
+        "quantity,method,precision,rmse,max_error,max_error_subset,max_rounding_error,ns_per_eval,negatives,non_finite,"
+        "out_of_domain\n"
         "clamped-cosine,punctual,double,0.7,2.5,1,1e-16,1.25,0,0,0\n"
         "clamped-cosine,meder,double,0.002,0.0375,0.01,1e-16,6.5,0,0,0\n"
         "clamped-cosine,hill-fitted,double,0.001,0.0125,0.01,1e-16,3.75,12,0,0\n"
@@ -73,12 +75,14 @@ TEST(Recommendations, TheCommittedTables) {
   const rec::Result r = rec::compute(o);
   std::vector<std::string> titles;
   for (const auto& s : r.sections) titles.push_back(s.title);
-  for (const char* want : {"Diffuse", "Hemispherical", "Specular", "Indirect light: the VSGL mode", "Upsampling", "Environment lighting: the SG"}) {
+  for (const char* want : {"Diffuse", "Hemispherical", "Specular", "Indirect light: the VSGL mode", "Upsampling",
+                           "Environment lighting: the SG"}) {
     bool found = false;
     for (const auto& t : titles) found = found || t.rfind(want, 0) == 0;
     EXPECT_TRUE(found) << want;
   }
-  for (const char* want : {"Denoising: the filter", "Environment lighting: the basis", "Shaders: the exported methods"}) {
+  for (const char* want :
+       {"Denoising: the filter", "Environment lighting: the basis", "Shaders: the exported methods"}) {
     bool found = false;
     for (const auto& t : titles) found = found || t == want;
     EXPECT_TRUE(found) << want;
@@ -112,7 +116,8 @@ TEST(Recommendations, EveryInputTableIsCommitted) {
 //   Worse than the noisy input: normal at interleaved:8 α 0.1, 0.4 against 0.35 = +14.3 %, 1 of 4 rows.
 TEST_F(RecommendationsFromTables, DenoisingVerdictFromTheTable) {
   write("filtering_denoise.csv",
-        "noisy,floor_roughness,weights,relative_l2,glossy_relative_l2,diffuse_relative_l2,noisy_relative_l2,ns_per_pixel\n"
+        "noisy,floor_roughness,weights,relative_l2,glossy_relative_l2,diffuse_relative_l2,noisy_relative_l2,ns_per_"
+        "pixel\n"
         "interleaved:2,0.1,normal,0.2,0.3,0.1,0.5,100\n"
         "interleaved:2,0.1,lobe,0.1,0.2,0.1,0.5,300\n"
         "interleaved:2,0.4,normal,0.2,0.1,0.3,0.5,100\n"
@@ -126,20 +131,31 @@ TEST_F(RecommendationsFromTables, DenoisingVerdictFromTheTable) {
   const rec::Result r = rec::compute(o);
   const std::string md = rec::markdown(r);
   const auto has = [&](const std::string& s) { return md.find(s) != std::string::npos; };
-  EXPECT_TRUE(has("- **Denoising: the filter**: lowest mean relative L2 over the floor roughnesses, per noisy input — interleaved:2: "
-                  "**lobe** on both (glossy 0.175, diffuse 0.15, 300 ns/pixel); interleaved:8: glossy **normal** (0.4, 200 ns/pixel), "
-                  "diffuse **lobe** (0.2, 600 ns/pixel)\n"))
+  EXPECT_TRUE(
+      has("- **Denoising: the filter**: lowest mean relative L2 over the floor roughnesses, per noisy input — "
+          "interleaved:2: "
+          "**lobe** on both (glossy 0.175, diffuse 0.15, 300 ns/pixel); interleaved:8: glossy **normal** (0.4, 200 "
+          "ns/pixel), "
+          "diffuse **lobe** (0.2, 600 ns/pixel)\n"))
       << md;
   EXPECT_TRUE(has("| interleaved:2 | lobe | 300 | 0.15 | 0.175 | 0.15 | 0.2 | 0.4 |")) << md;
   EXPECT_TRUE(has("| interleaved:8 | normal | 200 | 0.35 | 0.4 | 0.3 | 0.4 | 0.1 |")) << md;
   EXPECT_TRUE(has("from 100: **normal** (below 300); from 300: **lobe** and above.")) << md;
   EXPECT_TRUE(has("from 200: **normal** (below 600); from 600: **lobe** and above.")) << md;
-  EXPECT_TRUE(has("- interleaved:2, glossy receivers: lobe (the lowest mean) is above normal at 1 of 2 floor roughnesses (0.4); most at 0.4, "
-                  "+50.0 % (0.15 against 0.1).")) << md;
-  EXPECT_TRUE(has("- interleaved:8, all pixels: lobe has the lowest mean relative L2 (0.325), normal the lowest worst row (0.4).")) << md;
-  EXPECT_TRUE(has("- normal: the filtered image is further from the reference than its noisy input on 1 of 4 rows (most +14.3 % at "
-                  "interleaved:8, floor roughness 0.1: 0.4 against 0.35).")) << md;
-  EXPECT_FALSE(has("interleaved:8, glossy receivers: normal (the lowest mean) is above")) << "0.3 against 0.3 is not above";
+  EXPECT_TRUE(
+      has("- interleaved:2, glossy receivers: lobe (the lowest mean) is above normal at 1 of 2 floor roughnesses "
+          "(0.4); most at 0.4, "
+          "+50.0 % (0.15 against 0.1)."))
+      << md;
+  EXPECT_TRUE(has(
+      "- interleaved:8, all pixels: lobe has the lowest mean relative L2 (0.325), normal the lowest worst row (0.4)."))
+      << md;
+  EXPECT_TRUE(has(
+      "- normal: the filtered image is further from the reference than its noisy input on 1 of 4 rows (most +14.3 % at "
+      "interleaved:8, floor roughness 0.1: 0.4 against 0.35)."))
+      << md;
+  EXPECT_FALSE(has("interleaved:8, glossy receivers: normal (the lowest mean) is above"))
+      << "0.3 against 0.3 is not above";
 }
 
 // Without a cost column the section says so and draws no front.
@@ -150,7 +166,9 @@ TEST_F(RecommendationsFromTables, DenoisingWithoutCost) {
   rec::Options o;
   o.from = dir_.string();
   const std::string md = rec::markdown(rec::compute(o));
-  EXPECT_NE(md.find("random:4: **normal** on both (glossy 0.3, diffuse 0.1); the table measures no cost\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("random:4: **normal** on both (glossy 0.3, diffuse 0.1); the table measures no cost\n"),
+            std::string::npos)
+      << md;
   EXPECT_EQ(md.find("Pareto front of random:4"), std::string::npos) << md;
 }
 
@@ -168,7 +186,9 @@ TEST_F(RecommendationsFromTables, DenoisingWithoutCost) {
 //   caveats: nnls N=8 in c has 3 zero lobes (1 of 6 fits); nnls specular rises in a 0.3 → 0.35;
 //             nnls's engine diffuse in a at N=4 is 0.4 against the exact 0.08; no negatives column.
 TEST_F(RecommendationsFromTables, BasisVerdictFromTheTable) {
-  std::string csv = "environment,basis,variant,size_symbol,size,floats,fit_seconds,zero_lobes,layer,roughness,relative_l2,diffuse_ns_per_pixel\n";
+  std::string csv =
+      "environment,basis,variant,size_symbol,size,floats,fit_seconds,zero_lobes,layer,roughness,relative_l2,diffuse_ns_"
+      "per_pixel\n";
   struct Fit {
     const char *basis, *variant, *symbol;
     int size, floats;
@@ -182,9 +202,9 @@ TEST_F(RecommendationsFromTables, BasisVerdictFromTheTable) {
   const char* envs[] = {"a", "b", "c"};
   for (int e = 0; e < 3; ++e)
     for (const auto& f : fits) {
-      const std::string head = std::string(envs[e]) + "," + f.basis + "," + f.variant + "," + f.symbol + "," + std::to_string(f.size) + "," +
-                               std::to_string(f.floats) + "," + std::to_string(f.seconds) + "," +
-                               (e == 2 && f.size == 8 ? "3" : "0") + ",";
+      const std::string head = std::string(envs[e]) + "," + f.basis + "," + f.variant + "," + f.symbol + "," +
+                               std::to_string(f.size) + "," + std::to_string(f.floats) + "," +
+                               std::to_string(f.seconds) + "," + (e == 2 && f.size == 8 ? "3" : "0") + ",";
       std::string ns = ",";  // appended: GCC 12 -Wrestrict misfires on "," + std::string&& (PR 105651)
       ns += std::to_string(f.ns) + "\n";
       const double engine = e == 0 && f.size == 4 && std::string(f.basis) == "sg-fixed" ? 0.4 : f.diffuse[e];
@@ -198,23 +218,38 @@ TEST_F(RecommendationsFromTables, BasisVerdictFromTheTable) {
   o.from = dir_.string();
   const std::string md = rec::markdown(rec::compute(o));
   const auto has = [&](const std::string& s) { return md.find(s) != std::string::npos; };
-  EXPECT_TRUE(has("- **Environment lighting: the basis**: median over 3 environments — diffuse ≤ 5 % from **sg-fixed nnls N=8** (24 floats: "
-                  "median 0.05, max 0.07 c); diffuse-engine ≤ 5 % from **sg-fixed nnls N=8** (24 floats: median 0.05, max 0.07 c); "
-                  "specular α = 0.3 ≤ 20 % from **sh L=2** (27 floats: median 0.15, max 0.3 c)\n"))
+  EXPECT_TRUE(has(
+      "- **Environment lighting: the basis**: median over 3 environments — diffuse ≤ 5 % from **sg-fixed nnls N=8** "
+      "(24 floats: "
+      "median 0.05, max 0.07 c); diffuse-engine ≤ 5 % from **sg-fixed nnls N=8** (24 floats: median 0.05, max 0.07 c); "
+      "specular α = 0.3 ≤ 20 % from **sh L=2** (27 floats: median 0.15, max 0.3 c)\n"))
       << md;
   EXPECT_TRUE(has("| sg-fixed nnls N=8 | 24 | 0.05 | 0.07 (c) | 0.002 | 40 |")) << md;
-  EXPECT_TRUE(has("By budget (stored floats): from 12: **sg-fixed nnls N=4** (below 24); from 24: **sg-fixed nnls N=8** (below 27); from 27: "
-                  "**sh L=2** and above.")) << md;
-  EXPECT_TRUE(has("By budget (stored floats): from 12: **sg-fixed nnls N=4** (below 27); from 27: **sh L=2** and above.")) << md;
-  EXPECT_TRUE(has("| sh L=1 | 12 | 0.12 | 0.3 (c) | 0.01 | 30 |\n| sg-fixed nnls N=8 |")) << "the engine front starts at sh L=1\n" << md;
+  EXPECT_TRUE(
+      has("By budget (stored floats): from 12: **sg-fixed nnls N=4** (below 24); from 24: **sg-fixed nnls N=8** (below "
+          "27); from 27: "
+          "**sh L=2** and above."))
+      << md;
+  EXPECT_TRUE(
+      has("By budget (stored floats): from 12: **sg-fixed nnls N=4** (below 27); from 27: **sh L=2** and above."))
+      << md;
+  EXPECT_TRUE(has("| sh L=1 | 12 | 0.12 | 0.3 (c) | 0.01 | 30 |\n| sg-fixed nnls N=8 |"))
+      << "the engine front starts at sh L=1\n"
+      << md;
   EXPECT_TRUE(has("| a | 27 / 27 / 27 | 24 / 24 / not reached |")) << md;
   EXPECT_TRUE(has("| b | 27 / 27 / 27 | 24 / 24 / 24 |")) << md;
   EXPECT_TRUE(has("| c | not reached / not reached / not reached | not reached / not reached / not reached |")) << md;
   EXPECT_TRUE(has("- sg-fixed nnls: zero-amplitude lobes in 1 of 6 fits, up to 3 of 8 (c N=8)")) << md;
-  EXPECT_TRUE(has("- sg-fixed nnls, specular α = 0.3: the error grows with storage in 1 of 3 steps to the next size; most at a: 0.3 at N=4 → "
-                  "0.35 at N=8.")) << md;
-  EXPECT_TRUE(has("- sg-fixed nnls: the engine's diffuse shading (layer diffuse-engine) is furthest above the exact diffuse at a N=4: 0.4 "
-                  "against the exact 0.08.")) << md;
+  EXPECT_TRUE(
+      has("- sg-fixed nnls, specular α = 0.3: the error grows with storage in 1 of 3 steps to the next size; most at "
+          "a: 0.3 at N=4 → "
+          "0.35 at N=8."))
+      << md;
+  EXPECT_TRUE(
+      has("- sg-fixed nnls: the engine's diffuse shading (layer diffuse-engine) is furthest above the exact diffuse at "
+          "a N=4: 0.4 "
+          "against the exact 0.08."))
+      << md;
   EXPECT_TRUE(has("The table counts no negative values")) << md;
   EXPECT_FALSE(has("barely tells them apart")) << md;
 }
@@ -225,7 +260,8 @@ TEST_F(RecommendationsFromTables, BasisVerdictFromTheTable) {
 // 423 off); within 0.01 first tokuyoshi2024.
 TEST_F(RecommendationsFromTables, ShaderVerdictFromTheTable) {
   write("shader_export.csv",
-        "method,evaluator,compiles,spirv_instructions,max_error,max_ulps_vs_sglab_float,grid_non_finite,stiff_points,stiff_negatives,stiff_non_finite\n"
+        "method,evaluator,compiles,spirv_instructions,max_error,max_ulps_vs_sglab_float,grid_non_finite,stiff_points,"
+        "stiff_negatives,stiff_non_finite\n"
         "clamped-cosine/sg-cosine,sglab float,1,-1,0.144,0,0,1189,0,0\n"
         "clamped-cosine/sg-cosine,glsl,1,77,0.144,3,0,1189,0,0\n"
         "clamped-cosine/sg-cosine,hlsl,1,28,0.144,3,0,1189,0,0\n"
@@ -247,17 +283,23 @@ TEST_F(RecommendationsFromTables, ShaderVerdictFromTheTable) {
   o.from = dir_.string();
   const std::string md = rec::markdown(rec::compute(o));
   const auto has = [&](const std::string& s) { return md.find(s) != std::string::npos; };
-  EXPECT_TRUE(has("- **Shaders: the exported methods**: clamped-cosine: paste **sglab** (max error 7.9e-05, ≤ 3 ulps from sglab float; SPIR-V "
-                  "instructions 695 glsl / 252 hlsl); cheapest within max error 0.01: **tokuyoshi2024** (max error 0.00155, ≤ 2 ulps from "
-                  "sglab float; SPIR-V instructions 560 glsl / 221 hlsl); measured on lavapipe (a CPU), not a GPU\n"))
+  EXPECT_TRUE(
+      has("- **Shaders: the exported methods**: clamped-cosine: paste **sglab** (max error 7.9e-05, ≤ 3 ulps from "
+          "sglab float; SPIR-V "
+          "instructions 695 glsl / 252 hlsl); cheapest within max error 0.01: **tokuyoshi2024** (max error 0.00155, ≤ "
+          "2 ulps from "
+          "sglab float; SPIR-V instructions 560 glsl / 221 hlsl); measured on lavapipe (a CPU), not a GPU\n"))
       << md;
   EXPECT_TRUE(has("| sg-cosine | 77 | 0.144 |\n| tokuyoshi2024 | 560 | 0.00155 |\n| sglab | 695 | 7.9e-05 |\n")) << md;
   EXPECT_TRUE(has("| sg-cosine | 28 | 0.144 |\n| tokuyoshi2024 | 221 | 0.00155 |\n| sglab | 252 | 7.9e-05 |\n")) << md;
   EXPECT_TRUE(has("| meder | 0.0123 | 0.0123 | 0.0123 | 448 | 960 | 448 | 423 |")) << md;
   EXPECT_TRUE(has("- clamped-cosine/meder: 86 negative of 1189 stiff points (every evaluator).")) << md;
   EXPECT_TRUE(has("- clamped-cosine/hill-fitted: 6 NaN/Inf of 1189 stiff points (hlsl).")) << md;
-  EXPECT_TRUE(has("- clamped-cosine/sglab: glsl max error 7.9e-05 against sglab float's 8e-05 (3 ulps apart); hlsl max error 7.9e-05 against "
-                  "sglab float's 8e-05 (3 ulps apart).")) << md;
+  EXPECT_TRUE(
+      has("- clamped-cosine/sglab: glsl max error 7.9e-05 against sglab float's 8e-05 (3 ulps apart); hlsl max error "
+          "7.9e-05 against "
+          "sglab float's 8e-05 (3 ulps apart)."))
+      << md;
   EXPECT_TRUE(has("lavapipe, Vulkan on the CPU")) << md;
   EXPECT_TRUE(has("a proxy for cost, not a cycle count")) << md;
   // Every clamped-cosine and specular method but the references has a traced formula (specular/sglab

@@ -23,12 +23,14 @@ TEST(Reference, ClosedFormsAtPoles) {
     SCOPED_TRACE(l);
     EXPECT_LE(test::relative_error(hemispherical_reference(l, 1.0), hemispherical_upper(l)), kRefTol);
     EXPECT_LE(test::relative_error(hemispherical_reference(l, 0.0), sg_integral(l) / 2), kRefTol);
-    EXPECT_LE(test::relative_error(clamped_cosine_reference(l, 1.0),
-                                   two_pi<double>() * clamped_cosine_upper_over_2pi(l)), kRefTol);
+    EXPECT_LE(
+        test::relative_error(clamped_cosine_reference(l, 1.0), two_pi<double>() * clamped_cosine_upper_over_2pi(l)),
+        kRefTol);
     if (hemispherical_lower(l) > 1e-290) {
       EXPECT_LE(test::relative_error(hemispherical_reference(l, -1.0), hemispherical_lower(l)), kRefTol);
-      EXPECT_LE(test::relative_error(clamped_cosine_reference(l, -1.0),
-                                     two_pi<double>() * clamped_cosine_lower_over_2pi(l)), kRefTol);
+      EXPECT_LE(
+          test::relative_error(clamped_cosine_reference(l, -1.0), two_pi<double>() * clamped_cosine_lower_over_2pi(l)),
+          kRefTol);
     }
   }
 }

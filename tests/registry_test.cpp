@@ -57,8 +57,10 @@ TEST(Registry, EveryMethodFiniteAndNonNegativeOnStiffInputs) {
         const double vd = m.eval_double(row);
         const float vf = m.eval_float(rf);
         ++checked;
-        EXPECT_TRUE(std::isfinite(vd)) << q.name << "/" << m.name << " double at " << ::testing::PrintToString(row) << " = " << vd;
-        EXPECT_TRUE(std::isfinite(vf)) << q.name << "/" << m.name << " float at " << ::testing::PrintToString(row) << " = " << vf;
+        EXPECT_TRUE(std::isfinite(vd)) << q.name << "/" << m.name << " double at " << ::testing::PrintToString(row)
+                                       << " = " << vd;
+        EXPECT_TRUE(std::isfinite(vf)) << q.name << "/" << m.name << " float at " << ::testing::PrintToString(row)
+                                       << " = " << vf;
         if (!m.may_be_negative) {
           EXPECT_GE(vd, 0.0) << q.name << "/" << m.name << " double at " << ::testing::PrintToString(row);
           EXPECT_GE(vf, 0.0f) << q.name << "/" << m.name << " float at " << ::testing::PrintToString(row);
@@ -88,8 +90,9 @@ TEST(Registry, NamesAreUniqueAndReferencesExist) {
   const std::map<std::string, std::vector<std::string>> required{
       {"sg-integral", {"exact", "approx"}},
       {"hemispherical", {"reference", "meder", "tokuyoshi2022", "vmf-tokuyoshi2024"}},
-      {"clamped-cosine", {"reference", "punctual", "punctual-approx", "sg-cosine", "cosine-lobe-sg",
-                          "hill-fitted", "meder", "tokuyoshi2022", "tokuyoshi2024"}},
+      {"clamped-cosine",
+       {"reference", "punctual", "punctual-approx", "sg-cosine", "cosine-lobe-sg", "hill-fitted", "meder",
+        "tokuyoshi2022", "tokuyoshi2024"}},
       {"product-integral", {"exact", "iwasaki"}},
       {"vmf-sharpness", {"toksvig", "banerjee"}},
       {"vmf-mean-length", {"banerjee"}}};

@@ -66,7 +66,8 @@ TEST(RenderPrecision, FloatIsWithinTheStatedBoundOfDouble) {
   for (std::size_t v = 0; v < variants.size(); ++v) {
     const ImageError shading = image_error(f[v].indirect, d[v].indirect, d[v].hit);
     std::printf("%s: VSGL shading float vs double: relative L2 %.3g, max per-pixel relative %.3g\n",
-                v == 0 ? "two" : "fis 64", shading.relative_l2, max_pixel_relative(f[v].indirect, d[v].indirect, d[v].hit));
+                v == 0 ? "two" : "fis 64", shading.relative_l2,
+                max_pixel_relative(f[v].indirect, d[v].indirect, d[v].hit));
     EXPECT_LE(shading.relative_l2, bound) << v;
     EXPECT_GT(shading.relative_l2, 0) << "the float path did not run";
   }
@@ -116,7 +117,8 @@ TEST(RenderDispatch, OneInstructionSetForRegistryAndRenderer) {
   simd::force_isa(initial);
   for (std::size_t i = 1; i < results.size(); ++i) {
     EXPECT_LE(image_error(results[i].indirect, results[0].indirect, results[0].hit).relative_l2, 1e-12) << i;
-    EXPECT_LE(image_error(results[i].indirect_reference, results[0].indirect_reference, results[0].hit).relative_l2, 1e-12)
+    EXPECT_LE(image_error(results[i].indirect_reference, results[0].indirect_reference, results[0].hit).relative_l2,
+              1e-12)
         << i;
   }
 }
@@ -128,7 +130,8 @@ class RenderDispatchCommand : public sglab::test::TempDirTest {};
 TEST_F(RenderDispatchCommand, SglabSimdForcesTheRenderer) {
   std::ofstream(path("scene.json")) << sglab::test::SmallScene{}.json();
   const std::string args = fmt::format("render '{}' --out '{}' --stats '{}' --rsm 8 --shadow-map 64 --quiet",
-                                       path("scene.json").string(), path("out.exr").string(), path("stats.json").string());
+                                       path("scene.json").string(), path("out.exr").string(),
+                                       path("stats.json").string());
   const auto r = run_shell(fmt::format("SGLAB_SIMD=sse2 '{}' {} --precision float", SGLAB_EXE, args));
   ASSERT_EQ(r.status, 0) << r.err;
   const auto stats = nlohmann::json::parse(sglab::test::read_file(path("stats.json")));

@@ -40,10 +40,16 @@ inline render::Object rectangle(const std::string& name, render::Vec3 corner, re
 inline render::Scene floor_scene(double half, const render::Material& m, const render::Vec3& light_position,
                                  const render::Vec3& light_direction, double cone_degrees, double falloff_degrees) {
   render::Scene s;
-  s.camera = {.position = render::Vec3(0.2, 2.5, 2.0), .look_at = render::Vec3(0, 0, 0), .vertical_fov = 50 * kDeg,
-              .width = 24, .height = 20};
-  s.light = {.position = light_position, .direction = light_direction.normalized(), .cone_angle = cone_degrees * kDeg,
-             .falloff = falloff_degrees * kDeg, .power = render::Rgb(3, 2, 1)};
+  s.camera = {.position = render::Vec3(0.2, 2.5, 2.0),
+              .look_at = render::Vec3(0, 0, 0),
+              .vertical_fov = 50 * kDeg,
+              .width = 24,
+              .height = 20};
+  s.light = {.position = light_position,
+             .direction = light_direction.normalized(),
+             .cone_angle = cone_degrees * kDeg,
+             .falloff = falloff_degrees * kDeg,
+             .power = render::Rgb(3, 2, 1)};
   s.objects.push_back(
       rectangle("floor", render::Vec3(-half, 0, -half), render::Vec3(0, 0, 2 * half), render::Vec3(2 * half, 0, 0), m));
   return s;

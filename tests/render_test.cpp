@@ -51,7 +51,8 @@ TEST(Rsm, ImageSolidAnglesAddUpToThePyramid) {
     double sum = 0;
     for (int j = 0; j < 7; ++j)
       for (int i = 0; i < 7; ++i)
-        sum += image_rectangle_solid_angle(v.x_lo(i), v.x_lo(i) + v.texel_size(), v.y_lo(j), v.y_lo(j) + v.texel_size());
+        sum += image_rectangle_solid_angle(v.x_lo(i), v.x_lo(i) + v.texel_size(), v.y_lo(j),
+                                           v.y_lo(j) + v.texel_size());
     EXPECT_NEAR(sum, pyramid, 1e-13 * pyramid) << cone;
   }
 }
@@ -84,10 +85,10 @@ TEST(Rsm, EmissionFractionsAddUpToOne) {
 // s = 1 for θ ≤ θi, 0 for θ ≥ θo and smoothstep 3t² − 2t³ of t = (cos θ − cos θo)/(cos θi − cos θo)
 // in between (scene.hpp), integrated over the image-plane square as dx dy/(1 + x² + y²)^{3/2} in
 // Cartesian coordinates, row by row, with panel ends where each row crosses the inner and outer
-// circles (the code integrates the profile in closed form along r and over the azimuth instead). Every texel of the image, so the texels inside the inner cone, across
-// its edge, inside the falloff band, across the outer edge and outside are all checked (the
-// test counts each kind); a wrong polynomial in the band's radial integral changes the texels
-// of the band while their sum stays 1.
+// circles (the code integrates the profile in closed form along r and over the azimuth instead). Every texel of the
+// image, so the texels inside the inner cone, across its edge, inside the falloff band, across the outer edge and
+// outside are all checked (the test counts each kind); a wrong polynomial in the band's radial integral changes the
+// texels of the band while their sum stays 1.
 TEST(Rsm, EmissionFractionsMatchTheSpotProfileOverEachTexel) {
   using boost::math::quadrature::gauss;
   using boost::math::quadrature::gauss_kronrod;
@@ -143,12 +144,17 @@ TEST(Rsm, EmissionFractionsMatchTheSpotProfileOverEachTexel) {
           for (const double r : {r_i, r_o})
             if (std::fabs(y) < r) xb.insert(xb.end(), {-std::sqrt(r * r - y * y), std::sqrt(r * r - y * y)});
           const auto f = [&](double x) { return emitted(x, y); };
-          return pieces([&](double a, double b) { return mapped(f, a, b, [](const auto& g) { return gauss<double, 20>::integrate(g, -1.0, 1.0); }); },
-                        x0, x1, xb);
+          return pieces(
+              [&](double a, double b) {
+                return mapped(f, a, b, [](const auto& g) { return gauss<double, 20>::integrate(g, -1.0, 1.0); });
+              },
+              x0, x1, xb);
         };
         const double expected = pieces(
             [&](double a, double b) {
-              return mapped(row, a, b, [](const auto& g) { return gauss_kronrod<double, 15>::integrate(g, -1.0, 1.0, 10, 1e-11); });
+              return mapped(row, a, b, [](const auto& g) {
+                return gauss_kronrod<double, 15>::integrate(g, -1.0, 1.0, 10, 1e-11);
+              });
             },
             y0, y1, {-r_o, -r_i, r_i, r_o});
         const double got = texel_emission_fraction(l, v, i, j);
@@ -157,8 +163,8 @@ TEST(Rsm, EmissionFractionsMatchTheSpotProfileOverEachTexel) {
         // 2–20 % of it.
         const double scale = peak * image_rectangle_solid_angle(x0, x1, y0, y1);
         worst = std::max(worst, std::fabs(got - expected) / scale);
-        EXPECT_NEAR(got, expected, 1e-11 * scale) << "cone " << k.cone << "°, falloff " << k.falloff << "°, res " << k.res
-                                                 << ", texel (" << i << ", " << j << ")";
+        EXPECT_NEAR(got, expected, 1e-11 * scale) << "cone " << k.cone << "°, falloff " << k.falloff << "°, res "
+                                                  << k.res << ", texel (" << i << ", " << j << ")";
         const double r_min = std::hypot(std::clamp(0.0, x0, x1), std::clamp(0.0, y0, y1));
         const double r_max = std::hypot(std::max(std::fabs(x0), std::fabs(x1)), std::max(std::fabs(y0), std::fabs(y1)));
         if (r_max <= r_i) ++inside;
@@ -168,9 +174,10 @@ TEST(Rsm, EmissionFractionsMatchTheSpotProfileOverEachTexel) {
         else ++outside;
       }
   }
-  std::printf("[ measured ] worst |fraction − quadrature| / (I0/Φ·Ω_texel): %.3g; texels inside %d, across the inner edge %d, "
-              "in the band %d, across the outer edge %d, outside %d\n",
-              worst, inside, across_inner, band, across_outer, outside);
+  std::printf(
+      "[ measured ] worst |fraction − quadrature| / (I0/Φ·Ω_texel): %.3g; texels inside %d, across the inner edge %d, "
+      "in the band %d, across the outer edge %d, outside %d\n",
+      worst, inside, across_inner, band, across_outer, outside);
   EXPECT_GT(inside, 20);
   EXPECT_GT(across_inner, 20);
   EXPECT_GT(band, 20);
@@ -196,8 +203,8 @@ TEST(Rsm, FluxOverAPlaneIsThePower) {
         EXPECT_NEAR((v.incoming - (light - v.position).normalized()).norm(), 0, 1e-12);
         // r_i = √(Ω_i/π)·t_i with the texel's exact solid angle.
         const LightView view(s.light, 24);
-        const double omega =
-            image_rectangle_solid_angle(view.x_lo(i), view.x_lo(i) + view.texel_size(), view.y_lo(j), view.y_lo(j) + view.texel_size());
+        const double omega = image_rectangle_solid_angle(view.x_lo(i), view.x_lo(i) + view.texel_size(), view.y_lo(j),
+                                                         view.y_lo(j) + view.texel_size());
         EXPECT_NEAR(v.footprint_radius, std::sqrt(omega / kPi) * (light - v.position).norm(), 1e-12);
         EXPECT_TRUE((v.diffuse_reflectance == Rgb(0.5, 0.5, 0.5)).all());
       }
@@ -240,8 +247,9 @@ TEST(Rsm, GgxDirectionalAlbedoMatchesSphereQuadrature) {
       const std::vector<sglab::Vec3d> clips{n};
       double ref[2];
       for (int f0 = 0; f0 <= 1; ++f0)
-        ref[f0] = sglab::integrate_sphere([&](const sglab::Vec3d& w) { return sglab::ggx_brdf_cosine(alpha, double(f0), wo, w); },
-                                          mirror, alpha, foci, clips);
+        ref[f0] = sglab::integrate_sphere(
+            [&](const sglab::Vec3d& w) { return sglab::ggx_brdf_cosine(alpha, double(f0), wo, w); }, mirror, alpha,
+            foci, clips);
       const GgxAlbedo e = ggx_directional_albedo(alpha, mu);
       // Documented accuracy (rsm.hpp): 3e-4 at grazing incidence, 3e-5 from cos θ' = 0.2 up.
       const double tolerance = mu < 0.2 ? 3e-4 : 3e-5;
@@ -297,7 +305,8 @@ sglab::Vec3d to_local(const Vec3& w, const Vec3& n) {
   return sglab::Vec3d(w.dot(t), w.dot(b), w.dot(n));
 }
 // f(ωo, ωi)⟨n·ωi⟩ of a material, per channel, with core's tangent-frame GGX.
-double brute_brdf_cosine(const Rgb& albedo, const Rgb& f0, double alpha, const Vec3& n, const Vec3& wo, const Vec3& wi, int c) {
+double brute_brdf_cosine(const Rgb& albedo, const Rgb& f0, double alpha, const Vec3& n, const Vec3& wo, const Vec3& wi,
+                         int c) {
   const sglab::Vec3d lo = to_local(wo, n), li = to_local(wi, n);
   if (!(li.z() > 0)) return 0;
   double f = albedo(c) / kPi * li.z();
@@ -307,9 +316,13 @@ double brute_brdf_cosine(const Rgb& albedo, const Rgb& f0, double alpha, const V
 
 TEST(Reference, VplSumMatchesBruteForce) {
   Scene s;
-  s.camera = {.position = Vec3(0.3, 1.2, 2.5), .look_at = Vec3(0, 0.3, 0), .vertical_fov = 60 * kDeg, .width = 10, .height = 8};
-  s.light = {.position = Vec3(-0.2, 1.4, 0.6), .direction = Vec3(0.1, -1, -0.5).normalized(), .cone_angle = 35 * kDeg,
-             .falloff = 5 * kDeg, .power = Rgb(5, 4, 3)};
+  s.camera = {
+      .position = Vec3(0.3, 1.2, 2.5), .look_at = Vec3(0, 0.3, 0), .vertical_fov = 60 * kDeg, .width = 10, .height = 8};
+  s.light = {.position = Vec3(-0.2, 1.4, 0.6),
+             .direction = Vec3(0.1, -1, -0.5).normalized(),
+             .cone_angle = 35 * kDeg,
+             .falloff = 5 * kDeg,
+             .power = Rgb(5, 4, 3)};
   s.objects.push_back(rectangle("floor", Vec3(-1, 0, -1), Vec3(0, 0, 2), Vec3(2, 0, 0), glossy(0.4, 0.7, 0.25)));
   s.objects.push_back(rectangle("back", Vec3(-1, 0, -1), Vec3(2, 0, 0), Vec3(0, 1.5, 0), lambert(0.7)));
   s.objects.push_back(Object{"ball", Sphere{Vec3(0.3, 0.25, 0), 0.25}, glossy(0.2, 0.9, 0.1)});
@@ -332,7 +345,8 @@ TEST(Reference, VplSumMatchesBruteForce) {
         const Vec3 w = d.normalized();
         const double emitted = brute_brdf_cosine(v.diffuse_reflectance, v.f0, v.roughness, v.normal, v.incoming, w, c);
         const double reflected = brute_brdf_cosine(p.diffuse_reflectance, p.f0, p.roughness, p.normal, p.view, -w, c);
-        const double term = v.flux(c) * emitted * reflected / (d.squaredNorm() + v.footprint_radius * v.footprint_radius);
+        const double term = v.flux(c) * emitted * reflected /
+                            (d.squaredNorm() + v.footprint_radius * v.footprint_radius);
         brute += term;
         scale += std::fabs(term);
       }
@@ -472,7 +486,8 @@ TEST(Exr, LayersRoundTrip) {
       const std::string name = l.name + "." + "RGB"[c];
       ASSERT_TRUE(image.channels.count(name)) << name;
       const auto& plane = image.channels.at(name);
-      for (int k = 0; k < w * h; ++k) EXPECT_EQ(plane[std::size_t(k)], float(l.pixels[std::size_t(k)](c))) << name << " " << k;
+      for (int k = 0; k < w * h; ++k)
+        EXPECT_EQ(plane[std::size_t(k)], float(l.pixels[std::size_t(k)](c))) << name << " " << k;
     }
   EXPECT_EQ(image.attributes.at("sglab_command"), "sglab render x.json --out y.exr");
   EXPECT_THROW(read_exr("/nonexistent/sglab.exr"), std::runtime_error);

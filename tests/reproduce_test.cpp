@@ -90,7 +90,8 @@ TEST(Reproduce, QuickNeverTouchesPaperTables) {
   EXPECT_EQ(p.out, "results/quick");
   EXPECT_EQ(p.tables, "results/quick/tables");
   for (const ex::Step& s : ex::all_steps(p))
-    for (const auto& a : ex::step_args(s, o, p)) EXPECT_EQ(a.find("paper_tables"), std::string::npos) << s.name << ": " << a;
+    for (const auto& a : ex::step_args(s, o, p))
+      EXPECT_EQ(a.find("paper_tables"), std::string::npos) << s.name << ": " << a;
   const ex::Places full = ex::reproduce_places({});
   for (const ex::Step& s : ex::all_steps(full)) {
     if (s.tables_option.empty()) continue;
@@ -113,7 +114,8 @@ TEST(Reproduce, NearWallRendersEveryRendererMethod) {
     if (m.name == q->reference_method) continue;
     EXPECT_TRUE(rendered.count(m.name)) << m.name;
   }
-  for (const char* m : {"sg-cosine", "punctual-approx", "hill-fitted", "meder", "tokuyoshi2022", "tokuyoshi2024", "sglab"})
+  for (const char* m :
+       {"sg-cosine", "punctual-approx", "hill-fitted", "meder", "tokuyoshi2022", "tokuyoshi2024", "sglab"})
     EXPECT_TRUE(rendered.count(m)) << m;
 }
 
@@ -123,7 +125,8 @@ namespace {
 
 std::vector<std::string> subcommand_names(const CLI::App& app) {
   std::vector<std::string> names;
-  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(sub->get_name());
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    names.push_back(sub->get_name());
   return names;
 }
 
@@ -155,7 +158,8 @@ TEST(ExperimentRegistry, EveryCommandIsRegisteredOnce) {
     expected[e.under].insert(own[0]);
   }
   for (const auto& [parent, names] : expected) {
-    for (const auto& n : names) EXPECT_EQ(names.count(n), 1u) << "'" << n << "' under '" << parent << "' is registered twice";
+    for (const auto& n : names)
+      EXPECT_EQ(names.count(n), 1u) << "'" << n << "' under '" << parent << "' is registered twice";
     const CLI::App* p = parent.empty() ? &app : app.get_subcommand(parent);
     std::vector<std::string> got = subcommand_names(*p), want(names.begin(), names.end());
     std::sort(got.begin(), got.end());

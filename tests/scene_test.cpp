@@ -60,8 +60,8 @@ struct Refusal {
 void expect_refused(const std::vector<Refusal>& cases) {
   for (const auto& c : cases) {
     const std::string message = error_after(c.assignment);
-    EXPECT_TRUE(starts_with(message, c.expected_prefix)) << c.assignment << "\n  got:      " << message
-                                                         << "\n  expected: " << c.expected_prefix << "…";
+    EXPECT_TRUE(starts_with(message, c.expected_prefix))
+        << c.assignment << "\n  got:      " << message << "\n  expected: " << c.expected_prefix << "…";
   }
 }
 
@@ -106,13 +106,13 @@ TEST(Scene, LightByPositionAndDirectionIsNormalized) {
 
 TEST(Scene, OverridesLandOnTheNamedField) {
   json doc = base_scene();
-  apply_override(doc, "floor.roughness=0.1");        // shorthand for floor.material.roughness
+  apply_override(doc, "floor.roughness=0.1");  // shorthand for floor.material.roughness
   apply_override(doc, "light.distance=0.05");
   apply_override(doc, "ball.material.albedo=[0.9, 0.8, 0.7]");
-  apply_override(doc, "objects.1.max=[1, 1, 1]");    // by index
+  apply_override(doc, "objects.1.max=[1, 1, 1]");  // by index
   apply_override(doc, "camera.width=32");
   apply_override(doc, "light.power=4");
-  apply_override(doc, "ball.f0=0.5");                // a new key inside the material (optional field)
+  apply_override(doc, "ball.f0=0.5");  // a new key inside the material (optional field)
   const Scene s = parse_scene(doc);
   EXPECT_DOUBLE_EQ(s.objects[0].material.roughness, 0.1);
   EXPECT_TRUE((s.light.position - Vec3(0, 0.05, 0)).norm() < 1e-15);
@@ -177,9 +177,12 @@ TEST(Scene, EveryBadFieldIsNamed) {
       {"ball.radius=0", "objects[2].radius: 0 is not positive (zero-sized sphere)"},
       {"ball.radius=-1", "objects[2].radius: -1 is not positive"},
       // the light inside (or on) an object
-      {"light.target=[0.4, -1.75, 0.4]", "light.distance: the light at (0.4, 0.25, 0.4) is inside or on objects[1] (\"block\")"},
-      {"light.target=[-0.4, -1.75, 0]", "light.distance: the light at (-0.4, 0.25, 0) is inside or on objects[2] (\"ball\")"},
-      {"light.target=[0.5, -2, 0.5]", "light.distance: the light at (0.5, 0, 0.5) is inside or on objects[0] (\"floor\")"},
+      {"light.target=[0.4, -1.75, 0.4]",
+       "light.distance: the light at (0.4, 0.25, 0.4) is inside or on objects[1] (\"block\")"},
+      {"light.target=[-0.4, -1.75, 0]",
+       "light.distance: the light at (-0.4, 0.25, 0) is inside or on objects[2] (\"ball\")"},
+      {"light.target=[0.5, -2, 0.5]",
+       "light.distance: the light at (0.5, 0, 0.5) is inside or on objects[0] (\"floor\")"},
       {"light.distance=0", "light.distance: 0 is not positive"},
       {"light.position=[0, 3, 0]", "light.target: give either light.position, or light.target and light.distance"},
       // light cone
@@ -285,8 +288,9 @@ TEST(Scene, SpotlightIntensityIntegratesToItsPower) {
       };
       using boost::math::quadrature::gauss_kronrod;
       const double ti = s.cone_angle - s.falloff, to = s.cone_angle;
-      double total = 2 * std::numbers::pi * (gauss_kronrod<double, 31>::integrate(g, 0.0, ti, 15, 1e-13) +
-                                             gauss_kronrod<double, 31>::integrate(g, ti, to, 15, 1e-13));
+      double total = 2 * std::numbers::pi *
+                     (gauss_kronrod<double, 31>::integrate(g, 0.0, ti, 15, 1e-13) +
+                      gauss_kronrod<double, 31>::integrate(g, ti, to, 15, 1e-13));
       EXPECT_NEAR(total / s.power(0), 1.0, 1e-12) << "cone " << cone << "°, falloff fraction " << falloff_fraction;
       // Nothing outside the cone, full intensity inside the inner cone.
       EXPECT_EQ(s.profile(std::cos(to + 1e-9)), 0.0);

@@ -28,8 +28,8 @@ using shader::Language;
 std::vector<float> check_rows() {
   std::vector<float> rows;
   std::vector<double> ls = stiff::sharpnesses(3);
-  for (double l : {double(FLT_MIN), 1e-30, 0.3, 0.7, 0.99, 1.0, 1.01, 1.5, 3.0, 9999.0, 10001.0, 1e12, 1e20, 1e30, 3.4e38,
-                   double(FLT_MAX)})
+  for (double l : {double(FLT_MIN), 1e-30, 0.3, 0.7, 0.99, 1.0, 1.01, 1.5, 3.0, 9999.0, 10001.0, 1e12, 1e20, 1e30,
+                   3.4e38, double(FLT_MAX)})
     ls.push_back(l);
   for (double l : ls)
     for (double c : stiff::cosines(16)) rows.insert(rows.end(), {float(l), float(c)});
@@ -45,7 +45,8 @@ std::vector<float> specular_check_rows() {
   const double pi = 3.14159265358979323846;
   for (double a : {1e-9, 1e-8, 1e-4, 0.02, 0.3, 1.0, 2.5})
     for (double l : {0.0, 1e-8, 0.5, 1.0, 30.0, 1e4, 1e12, 1e20, double(FLT_MAX)})
-      for (double c : {-1.0, -0.3, -1e-8, 0.0, 1e-8, 0.2, 0.7, double(std::nextafter(1.0f, 0.0f)), 1.0, double(std::nextafter(1.0f, 2.0f))})
+      for (double c : {-1.0, -0.3, -1e-8, 0.0, 1e-8, 0.2, 0.7, double(std::nextafter(1.0f, 0.0f)), 1.0,
+                       double(std::nextafter(1.0f, 2.0f))})
         for (double v : {0.0, 1e-8, 0.2, 0.9, 1.0})
           for (double phi : {0.0, 1.0, pi})
             rows.insert(rows.end(), {float(a), float(l), float(c), float(v), float(phi), 0.04f});
@@ -64,7 +65,8 @@ std::vector<Axes> filtering_axes() {
   for (double theta : {0.0, 0.7, pi / 2})
     for (double delta : {0.0, 1e-8, 1e-7, 1e-3, 0.3, pi / 2, 2.0, pi, -1e-8})
       out.push_back({{std::sin(theta) * std::cos(0.4), std::sin(theta) * std::sin(0.4), std::cos(theta)},
-                     {std::sin(theta + delta) * std::cos(0.4), std::sin(theta + delta) * std::sin(0.4), std::cos(theta + delta)}});
+                     {std::sin(theta + delta) * std::cos(0.4), std::sin(theta + delta) * std::sin(0.4),
+                      std::cos(theta + delta)}});
   return out;
 }
 std::vector<float> filtering_check_rows(bool lobe) {
@@ -75,11 +77,12 @@ std::vector<float> filtering_check_rows(bool lobe) {
         for (double lj : {0.0, 1e-8, 1.0, 100.0, 1e20, double(FLT_MAX)})
           for (double beta : {0.0, 1.0, 20.0, 1e4})
             for (double kappa : {1e-8, 1.0, 100.0, 1e30, double(INFINITY)})
-              rows.insert(rows.end(), {float(x.a[0]), float(x.a[1]), float(x.a[2]), float(li), float(x.b[0]), float(x.b[1]),
-                                       float(x.b[2]), float(lj), float(beta), float(kappa)});
+              rows.insert(rows.end(), {float(x.a[0]), float(x.a[1]), float(x.a[2]), float(li), float(x.b[0]),
+                                       float(x.b[1]), float(x.b[2]), float(lj), float(beta), float(kappa)});
     } else {
       for (double v : {0.0, 1e-30, 1e-8, 0.05404477, 0.5, 2.0, 1e8, double(FLT_MAX)})
-        rows.insert(rows.end(), {float(x.a[0]), float(x.a[1]), float(x.a[2]), float(x.b[0]), float(x.b[1]), float(x.b[2]), float(v)});
+        rows.insert(rows.end(), {float(x.a[0]), float(x.a[1]), float(x.a[2]), float(x.b[0]), float(x.b[1]),
+                                 float(x.b[2]), float(v)});
     }
   }
   return rows;
@@ -118,7 +121,10 @@ TEST(Trace, InterpreterIsSglabFloatBitForBit) {
       const shader::TracedMethod t = shader::trace_method(*ref.quantity, *ref.method, set);
       const Method bound = bind(*ref.method, set);
       const std::size_t arity = ref.quantity->columns.size();
-      const std::vector<float>& rows = arity == 6 ? specular_rows : arity == 10 ? lobe_rows : arity == 7 ? normal_rows : diffuse_rows;
+      const std::vector<float>& rows = arity == 6    ? specular_rows
+                                       : arity == 10 ? lobe_rows
+                                       : arity == 7  ? normal_rows
+                                                     : diffuse_rows;
       ASSERT_TRUE(arity == 2 || (arity == 6 && ref.quantity->name == "specular") ||
                   ((arity == 10 || arity == 7) && ref.quantity->name == "filtering"))
           << name;
@@ -128,7 +134,8 @@ TEST(Trace, InterpreterIsSglabFloatBitForBit) {
         const float want = bound.eval_float(a), got = t.evaluate(a);
         if (!same_float(want, got) && ++mismatches <= 3 && name != "specular/sglab") {
           std::string at;
-          for (std::size_t j = 0; j < arity; ++j) at += (j ? ", " : "") + ref.quantity->columns[j].name + " = " + std::to_string(a[j]);
+          for (std::size_t j = 0; j < arity; ++j)
+            at += (j ? ", " : "") + ref.quantity->columns[j].name + " = " + std::to_string(a[j]);
           ADD_FAILURE() << name << " at " << at << ": traced " << got << ", sglab float " << want;
         }
       }
@@ -149,7 +156,8 @@ TEST(Trace, ValueDependentBranchIsRefused) {
   const Trace p = Trace::parameter(0, 2.0f);
   EXPECT_TRUE(static_cast<bool>(p > 1.0));
   // select records both sides; the interpreter picks per input.
-  const Trace s = select(x > 1.0, [&] { return x * 2.0; }, [&] { return x - 5.0; });
+  const Trace s = select(
+      x > 1.0, [&] { return x * 2.0; }, [&] { return x - 5.0; });
   const float in0[1] = {3.f}, in1[1] = {0.5f};
   EXPECT_EQ(g.evaluate(s.id, in0), 6.f);
   EXPECT_EQ(g.evaluate(s.id, in1), -4.5f);
@@ -210,8 +218,9 @@ TEST(ShaderExport, EveryMethodCompilesRunsAndMatchesTheReference) {
   for (const auto& r : result.rows) {
     if (r.evaluator == "sglab float") continue;
     const auto& f = own.at(r.method);
-    std::printf("%-40s %-5s instr %5ld  max error %.3e (sglab float %.3e)  ulps %.0f  stiff neg %ld nan %ld\n", r.method.c_str(),
-                r.evaluator.c_str(), r.instructions, r.max_error, f.max_error, r.max_ulps, r.stiff_negatives, r.stiff_non_finite);
+    std::printf("%-40s %-5s instr %5ld  max error %.3e (sglab float %.3e)  ulps %.0f  stiff neg %ld nan %ld\n",
+                r.method.c_str(), r.evaluator.c_str(), r.instructions, r.max_error, f.max_error, r.max_ulps,
+                r.stiff_negatives, r.stiff_non_finite);
     ASSERT_TRUE(r.compiles) << r.method << " " << r.evaluator << ": " << r.error;
     const bool cancels = r.method == "clamped-cosine/tokuyoshi2022";
     const bool meder = r.method == "clamped-cosine/meder";
@@ -259,8 +268,8 @@ TEST(ShaderExport, RefitConstantsChangeLiteralsAndValues) {
     for (double c : {-0.6, -0.2, 0.1, 0.5}) rows.insert(rows.end(), {float(l), float(c)});
   shader::VulkanCompute gpu;
   auto run = [&](const shader::TracedMethod& t, const std::string& src) {
-    return shader::run_compute(gpu, shader::compile_to_spirv(shader::compute_shader_source(src, t, Language::glsl), Language::glsl),
-                               rows, 2);
+    return shader::run_compute(
+        gpu, shader::compile_to_spirv(shader::compute_shader_source(src, t, Language::glsl), Language::glsl), rows, 2);
   };
   const std::vector<float> v_pub = run(published, src_pub), v_fit = run(refit, src_fit);
   const Method bound = bind(*ref.method, set);
@@ -308,7 +317,8 @@ TEST(ShaderExport, PunctualApproxIsZeroBehindTheHorizonAtTinySharpness) {
     for (std::size_t k = 0; k < v.size(); ++k) {
       const double l = rows[2 * k], c = rows[2 * k + 1];
       const double exact = c > 0 ? 2 * 3.14159265358979323846 * c / l : 0.0;
-      const std::string at = std::string(shader::language_name(lang)) + " at λ = " + std::to_string(l) + ", c = " + std::to_string(c);
+      const std::string at = std::string(shader::language_name(lang)) + " at λ = " + std::to_string(l) +
+                             ", c = " + std::to_string(c);
       if (c <= 0) {
         EXPECT_EQ(v[k], 0.0f) << at;
       } else if (exact > double(FLT_MAX)) {
@@ -336,7 +346,8 @@ TEST(ShaderExport, CosineLobeSgIsFiniteAtTheLargestFloat) {
     for (std::size_t k = 0; k < v.size(); ++k) {
       const std::span<const float> a(&rows[2 * k], 2);
       const float own = ref.method->eval_float(a);
-      const std::string at = std::string(shader::language_name(lang)) + " at λ = " + std::to_string(a[0]) + ", c = " + std::to_string(a[1]);
+      const std::string at = std::string(shader::language_name(lang)) + " at λ = " + std::to_string(a[0]) +
+                             ", c = " + std::to_string(a[1]);
       ASSERT_TRUE(std::isfinite(own) && own >= 0) << "sglab float " << at;
       EXPECT_TRUE(std::isfinite(v[k]) && v[k] >= 0) << at << ": " << v[k];
       if (own >= FLT_MIN) {
@@ -379,7 +390,8 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
       for (double lj : {0.1, 30.0, 1e5})
         for (double beta : {1.0, 20.0, 100.0})
           for (double kappa : {10.0, 100.0, 1e4}) {
-            lobe.insert(lobe.end(), {a[0], a[1], a[2], float(li), b[0], b[1], b[2], float(lj), float(beta), float(kappa)});
+            lobe.insert(lobe.end(),
+                        {a[0], a[1], a[2], float(li), b[0], b[1], b[2], float(lj), float(beta), float(kappa)});
             const double fi = float(li), fj = float(lj), fb = float(beta), fk = float(kappa);
             const double si = fi * fk / (fi + fk), sj = fj * fk / (fj + fk);
             const double u = si * sj, v = si + sj;
@@ -423,9 +435,11 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
       const double rel = std::fabs(double(w[k]) - lobe_exact[k]) / lobe_exact[k];
       const double bound = (8 + 8 * std::fabs(lobe_e[k])) * eps;
       worst = std::max(worst, rel / ((1 + std::fabs(lobe_e[k])) * eps));
-      EXPECT_LE(rel, bound) << ln << " lobe-weight row " << k << ": " << w[k] << " vs " << lobe_exact[k] << " (E = " << lobe_e[k] << ")";
+      EXPECT_LE(rel, bound) << ln << " lobe-weight row " << k << ": " << w[k] << " vs " << lobe_exact[k]
+                            << " (E = " << lobe_e[k] << ")";
     }
-    std::printf("%s lobe-weight: max |w − w_exact|/w_exact / ((1 + |E|)·2⁻²⁴) = %.2f over %zu rows\n", ln.c_str(), worst, w.size());
+    std::printf("%s lobe-weight: max |w − w_exact|/w_exact / ((1 + |E|)·2⁻²⁴) = %.2f over %zu rows\n", ln.c_str(),
+                worst, w.size());
     const std::vector<float> n = run_exported("filtering/normal-weight", lang, normal);
     worst = 0;
     for (std::size_t k = 0; k < n.size(); ++k) {
@@ -433,9 +447,11 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
       if (normal_exact[k] < double(FLT_MIN)) continue;
       const double rel = std::fabs(double(n[k]) - normal_exact[k]) / normal_exact[k];
       worst = std::max(worst, rel / ((1 + std::fabs(normal_e[k])) * eps));
-      EXPECT_LE(rel, (8 + 8 * std::fabs(normal_e[k])) * eps) << ln << " normal-weight row " << k << ": " << n[k] << " vs " << normal_exact[k];
+      EXPECT_LE(rel, (8 + 8 * std::fabs(normal_e[k])) * eps)
+          << ln << " normal-weight row " << k << ": " << n[k] << " vs " << normal_exact[k];
     }
-    std::printf("%s normal-weight: max relative error / ((1 + |E|)·2⁻²⁴) = %.2f over %zu rows\n", ln.c_str(), worst, n.size());
+    std::printf("%s normal-weight: max relative error / ((1 + |E|)·2⁻²⁴) = %.2f over %zu rows\n", ln.c_str(), worst,
+                n.size());
     const std::vector<float> sv = run_exported("filtering/lobe-weight", lang, stiff);
     for (std::size_t k = 0; k < sv.size(); ++k) {
       std::string at;
@@ -445,13 +461,17 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
     // The largest sharpness unsmoothed (κ = +∞) beside a finite one, coincident axes: the mismatch
     // (4ab/(a + b)²)^(β/2) alone (λ̄ = FLT_MAX once gave ∞ through 1/(1/λ) and 2λ̄): 1e30 gives
     // √(4·1e30·FLT_MAX)/(FLT_MAX + 1e30) per unit of β, 1e-8 underflows to 0.
-    const float big[] = {a0, a1, a2, fmax, a0, a1, a2, 1e30f, 1.0f, inf, a0, a1, a2, fmax, a0, a1, a2, 1e-8f, 20.0f, inf};
-    const std::vector<float> bv = run_exported("filtering/lobe-weight", lang, std::vector<float>(std::begin(big), std::end(big)));
+    const float big[] = {a0, a1, a2, fmax, a0, a1, a2, 1e30f, 1.0f,  inf,
+                         a0, a1, a2, fmax, a0, a1, a2, 1e-8f, 20.0f, inf};
+    const std::vector<float> bv = run_exported("filtering/lobe-weight", lang,
+                                               std::vector<float>(std::begin(big), std::end(big)));
     const double A = double(fmax), B = double(1e30f);
-    EXPECT_NEAR(double(bv[0]) / (2 * std::sqrt(A * B) / (A + B)), 1.0, 81 * eps) << ln << ": " << bv[0];  // (8 + 8|E|)·2⁻²⁴, E = −9.1
+    EXPECT_NEAR(double(bv[0]) / (2 * std::sqrt(A * B) / (A + B)), 1.0, 81 * eps)
+        << ln << ": " << bv[0];  // (8 + 8|E|)·2⁻²⁴, E = −9.1
     EXPECT_EQ(bv[1], 0.0f) << ln;
     const float n0[] = {a0, a1, a2, a0, a1, a2, 0.0f, a0, a1, a2, -a0, -a1, -a2, 0.0f, a0, a1, a2, a0, a1, a2, fmax};
-    const std::vector<float> nv = run_exported("filtering/normal-weight", lang, std::vector<float>(std::begin(n0), std::end(n0)));
+    const std::vector<float> nv = run_exported("filtering/normal-weight", lang,
+                                               std::vector<float>(std::begin(n0), std::end(n0)));
     EXPECT_EQ(nv, (std::vector<float>{1.0f, 0.0f, 1.0f})) << ln;
   }
 }
@@ -462,7 +482,8 @@ TEST_F(ExportCommand, WritesPasteableSourceAndRefusesBadInput) {
   auto r = sglab("export clamped-cosine/tokuyoshi2024 hemispherical/meder --lang hlsl --out x.hlsl");
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string src = test::read_file(path("x.hlsl"));
-  EXPECT_NE(src.find("float sglab_clamped_cosine_tokuyoshi2024(float sharpness, float cosine)"), std::string::npos) << src;
+  EXPECT_NE(src.find("float sglab_clamped_cosine_tokuyoshi2024(float sharpness, float cosine)"), std::string::npos)
+      << src;
   EXPECT_NE(src.find("float sglab_hemispherical_meder(float sharpness, float cosine)"), std::string::npos);
   EXPECT_NE(src.find("float sglab_erfc(float x)"), std::string::npos);
   r = sglab("export clamped-cosine/sglab --lang c");
@@ -470,36 +491,41 @@ TEST_F(ExportCommand, WritesPasteableSourceAndRefusesBadInput) {
   EXPECT_NE(r.out.find("#include <math.h>"), std::string::npos);
   EXPECT_NE(r.out.find("erfcf("), std::string::npos);
 
-  expect_bad_input(sglab("export clamped-cosine/nope --lang glsl --out o.glsl"), "unknown method", "unknown method 'clamped-cosine/nope'",
-                   {"o.glsl"});
+  expect_bad_input(sglab("export clamped-cosine/nope --lang glsl --out o.glsl"), "unknown method",
+                   "unknown method 'clamped-cosine/nope'", {"o.glsl"});
   expect_bad_input(sglab("export clamped-cosine/reference --lang glsl --out o.glsl"), "not exportable",
                    "clamped-cosine/reference cannot be exported", {"o.glsl"});
   // A specular method takes the six columns of `sglab eval specular`, in order.
   r = sglab("export specular/asg specular/sg-warp-dvn --lang glsl");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("float sglab_specular_asg(float roughness, float light_sharpness, float light_cos, float view_cos, "
-                       "float light_azimuth, float f0)"),
-            std::string::npos)
+  EXPECT_NE(
+      r.out.find("float sglab_specular_asg(float roughness, float light_sharpness, float light_cos, float view_cos, "
+                 "float light_azimuth, float f0)"),
+      std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("float sglab_specular_sg_warp_dvn("), std::string::npos);
   // sglab's own specular method and the filtering weights (export-only names, arguments in order).
   r = sglab("export specular/sglab --lang hlsl");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("float sglab_specular_sglab(float roughness, float light_sharpness, float light_cos, float view_cos, "
-                       "float light_azimuth, float f0)"),
-            std::string::npos)
+  EXPECT_NE(
+      r.out.find("float sglab_specular_sglab(float roughness, float light_sharpness, float light_cos, float view_cos, "
+                 "float light_azimuth, float f0)"),
+      std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("const float c_nu_slope = "), std::string::npos) << r.out;
   r = sglab("export filtering/lobe-weight filtering/normal-weight --lang glsl --out f.glsl");
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string fsrc = test::read_file(path("f.glsl"));
-  EXPECT_NE(fsrc.find("float sglab_filtering_lobe_weight(float axis_i_x, float axis_i_y, float axis_i_z, float sharpness_i, "
-                      "float axis_j_x, float axis_j_y, float axis_j_z, float sharpness_j, float beta, float kappa)"),
-            std::string::npos)
+  EXPECT_NE(
+      fsrc.find("float sglab_filtering_lobe_weight(float axis_i_x, float axis_i_y, float axis_i_z, float sharpness_i, "
+                "float axis_j_x, float axis_j_y, float axis_j_z, float sharpness_j, float beta, float kappa)"),
+      std::string::npos)
       << fsrc;
-  EXPECT_NE(fsrc.find("float sglab_filtering_normal_weight(float normal_i_x, float normal_i_y, float normal_i_z, float normal_j_x, "
-                      "float normal_j_y, float normal_j_z, float sigma_n2)"),
-            std::string::npos);
+  EXPECT_NE(
+      fsrc.find(
+          "float sglab_filtering_normal_weight(float normal_i_x, float normal_i_y, float normal_i_z, float normal_j_x, "
+          "float normal_j_y, float normal_j_z, float sigma_n2)"),
+      std::string::npos);
   EXPECT_NE(fsrc.find("// Arguments, in order: axis_i_x ("), std::string::npos) << fsrc;
   EXPECT_NE(fsrc.find("float sglab_log1p(float x)"), std::string::npos);  // log(4u/v²) through log1p
   r = sglab("export --list");
@@ -507,15 +533,15 @@ TEST_F(ExportCommand, WritesPasteableSourceAndRefusesBadInput) {
   for (const char* n : {"specular/sglab\n", "filtering/lobe-weight\n", "filtering/normal-weight\n"})
     EXPECT_NE(r.out.find(n), std::string::npos) << r.out;
   expect_bad_input(sglab("export filtering/lobe-weight --lang xyz --out o.glsl"), "bad language", "xyz", {"o.glsl"});
-  expect_bad_input(sglab("export filtering/nope --lang glsl --out o.glsl"), "unknown method", "unknown method 'filtering/nope'",
-                   {"o.glsl"});
-  expect_bad_input(sglab("export filtering/lobe-weight --lang c --constants missing.json --out o.c"), "bad constant set",
-                   "missing.json", {"o.c"});
+  expect_bad_input(sglab("export filtering/nope --lang glsl --out o.glsl"), "unknown method",
+                   "unknown method 'filtering/nope'", {"o.glsl"});
+  expect_bad_input(sglab("export filtering/lobe-weight --lang c --constants missing.json --out o.c"),
+                   "bad constant set", "missing.json", {"o.c"});
   r = sglab("export filtering/lobe-weight --lang xyz");
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(r.out.empty()) << r.out;
-  expect_bad_input(sglab("export clamped-cosine/sglab --lang glsl --constants missing.json --out o.glsl"), "bad constant set",
-                   "missing.json", {"o.glsl"});
+  expect_bad_input(sglab("export clamped-cosine/sglab --lang glsl --constants missing.json --out o.glsl"),
+                   "bad constant set", "missing.json", {"o.glsl"});
   expect_bad_input(sglab("export clamped-cosine/sglab --lang cuda --out o.glsl"), "bad language", "cuda", {"o.glsl"});
   r = sglab("export clamped-cosine/nope --lang glsl");
   EXPECT_EQ(r.status, 2);

@@ -23,12 +23,11 @@
 // - S, the condition of the point: the largest change of the scalar value when one input moves
 //   by 4 ulps (relative; the angle absolute 4ε·max(1, |φ|)), and twice the scalar path's own
 //   error (against the same template in the next precision: double for float, mp50 for double;
-//   computed only where the difference exceeds the rest of the allowance: mp50 is slow). The products exp(λ3 − λ1 − λ2) have
-//   the condition number |L| (up to ~700 before underflow), and the lobe sharpness reaches 1e13 at
-//   α = 1e-3 at grazing view: one ulp in the lobe's cosine (a 3-term dot product rounded twice by
-//   either path) moves the value by λ_s·ε relative. No fixed ulp count can hold there; the
-//   scalar template's own sensitivity to its inputs' last bits is the yardstick for the rounding
-//   of the intermediates that carry them.
+//   computed only where the difference exceeds the rest of the allowance: mp50 is slow). The products exp(λ3 − λ1 − λ2)
+//   have the condition number |L| (up to ~700 before underflow), and the lobe sharpness reaches 1e13 at α = 1e-3 at
+//   grazing view: one ulp in the lobe's cosine (a 3-term dot product rounded twice by either path) moves the value by
+//   λ_s·ε relative. No fixed ulp count can hold there; the scalar template's own sensitivity to its inputs' last bits
+//   is the yardstick for the rounding of the intermediates that carry them.
 // Also: no NaN, Inf or negative value where the scalar path has none (sg-warp-meder, published as
 // going negative, may flip sign only within the allowance of 0). Results below the smallest
 // normal number compare absolutely (libmvec's subnormal lanes are returned as 0, docs/simd.md).
@@ -187,8 +186,9 @@ void check(const Method& m, const Reference<T>& ref, double k, const std::string
     const double s = ref.value[i], v = out[i];
     const Row& r = ref.rows[i];
     const auto where = [&] {
-      return ::testing::Message() << label << " at (α, λ, light_cos, view_cos, φ, f0) = (" << r[0] << ", " << r[1] << ", "
-                                  << r[2] << ", " << r[3] << ", " << r[4] << ", " << r[5] << "): scalar " << s << ", batch " << v;
+      return ::testing::Message() << label << " at (α, λ, light_cos, view_cos, φ, f0) = (" << r[0] << ", " << r[1]
+                                  << ", " << r[2] << ", " << r[3] << ", " << r[4] << ", " << r[5] << "): scalar " << s
+                                  << ", batch " << v;
     };
     if (std::isfinite(s) && !std::isfinite(v)) {
       if (++failures <= 5) ADD_FAILURE() << where() << " (new NaN/Inf)";
@@ -202,8 +202,8 @@ void check(const Method& m, const Reference<T>& ref, double k, const std::string
     if (s >= 0 && v < 0 && !signless && ++failures <= 5) ADD_FAILURE() << where() << " (new negative value)";
     if (d < 2 * tiny) continue;  // subnormal results are returned as 0 (docs/simd.md)
     if (d > allowance && ++failures <= 5)
-      ADD_FAILURE() << where() << ": |difference| " << d << " > " << allowance << " (" << k << " ulps of " << ref.scale[i]
-                    << " + 2 × condition " << ref.condition[i] << ")";
+      ADD_FAILURE() << where() << ": |difference| " << d << " > " << allowance << " (" << k << " ulps of "
+                    << ref.scale[i] << " + 2 × condition " << ref.condition[i] << ")";
     // Report in ulps of the scale where the condition term does not dominate.
     if (ref.condition[i] <= k * eps * ref.scale[i] && ref.scale[i] > 0) {
       const double ulps = d / (eps * ref.scale[i]);
@@ -212,9 +212,10 @@ void check(const Method& m, const Reference<T>& ref, double k, const std::string
       worst_cond = std::max(worst_cond, d / allowance);
     }
   }
-  std::printf("[ simd     ] %-48s %-6s %6zu rows: well-conditioned max %.3g ulps (k = %g) at row %zu; "
-              "ill-conditioned max %.3g of the allowance\n",
-              label.c_str(), sizeof(T) == 4 ? "float" : "double", out.size(), worst, k, at, worst_cond);
+  std::printf(
+      "[ simd     ] %-48s %-6s %6zu rows: well-conditioned max %.3g ulps (k = %g) at row %zu; "
+      "ill-conditioned max %.3g of the allowance\n",
+      label.c_str(), sizeof(T) == 4 ? "float" : "double", out.size(), worst, k, at, worst_cond);
 }
 
 bool is_specular(const std::string& name) { return name.rfind("specular", 0) == 0; }
@@ -279,8 +280,8 @@ TEST(SimdSpecular, PairIsTheBatchAtFresnelZeroAndOne) {
           ++bad;
           first = std::min(first, i);
         }
-      EXPECT_EQ(bad, 0u) << simd::isa_name(isa) << " " << m.name << ": first at row " << first << " (" << got0[first] << ", "
-                         << got1[first] << ") against (" << want0[first] << ", " << want1[first] << ")";
+      EXPECT_EQ(bad, 0u) << simd::isa_name(isa) << " " << m.name << ": first at row " << first << " (" << got0[first]
+                         << ", " << got1[first] << ") against (" << want0[first] << ", " << want1[first] << ")";
     }
   }
   // Every `specular` method but the quadrature reference, on each instruction set.
@@ -299,7 +300,8 @@ TEST(SimdSpecular, PairOnlyForTheRegistrysOwnMethodsAndRowsOfFive) {
   for (const auto& p : sglab.parameters) values.push_back(p.published);
   ASSERT_TRUE(sglab.bind);
   EXPECT_FALSE(simd::specular_pair_evaluator(sglab.bind(values)));
-  EXPECT_FALSE(simd::specular_pair_evaluator(*find_quantity("specular")->find(find_quantity("specular")->reference_method)));
+  EXPECT_FALSE(
+      simd::specular_pair_evaluator(*find_quantity("specular")->find(find_quantity("specular")->reference_method)));
   std::vector<double> args(6, 0.5), out0(1), out1(1);
   EXPECT_THROW(simd::specular_pair_evaluator(sglab)(args, out0, out1), std::invalid_argument);
 }

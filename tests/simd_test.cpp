@@ -12,10 +12,11 @@
 // designed ×2364 amplification is in its k. The two paths differ only in the transcendental functions (glibc libmvec's
 // vector exp, expm1, erf, erfc against glibc's scalar ones; glibc states ≤ 4 ulp for libmvec, and
 // the scalar ones are within 1–2) and in the Horner sum of the bound series below λ = 1: k = 4
-// unless tolerance_ulps says otherwise, with the reason. Values below the smallest normal number are compared absolutely (xsimd does
-// returns exp and erfc results below the smallest normal number as 0, a difference < 2·min normal). Also: no NaN, Inf or negative value where the
-// scalar path has none (for the two methods published as going negative, meder and hill-fitted,
-// a sign flip is accepted only where the scalar value is itself within the allowance of 0).
+// unless tolerance_ulps says otherwise, with the reason. Values below the smallest normal number are compared
+// absolutely (xsimd does returns exp and erfc results below the smallest normal number as 0, a difference < 2·min
+// normal). Also: no NaN, Inf or negative value where the scalar path has none (for the two methods published as going
+// negative, meder and hill-fitted, a sign flip is accepted only where the scalar value is itself within the allowance
+// of 0).
 #include <cfloat>
 #include <cmath>
 #include <map>
@@ -113,8 +114,8 @@ struct Worst {
 };
 
 template <class T>
-void check(const std::string& name, const Method& m, const std::vector<double>& params, const std::vector<Point>& pts, double k,
-           const std::string& label) {
+void check(const std::string& name, const Method& m, const std::vector<double>& params, const std::vector<Point>& pts,
+           double k, const std::string& label) {
   std::vector<T> args;
   std::vector<T> ref, peak;
   std::vector<Point> used;

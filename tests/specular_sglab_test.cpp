@@ -34,7 +34,8 @@ TEST(SpecularSglab, OffTheFittingGridAgainstTheReference) {
   double sum = 0, sum_asg = 0;
   const int points = 10;
   for (int k = 0; k < points; ++k) {
-    const double alpha = std::pow(10.0, -1.3 + 1.3 * u(rng)), lambda = std::pow(10.0, 4 * u(rng)), v = 0.1 + 0.9 * u(rng);
+    const double alpha = std::pow(10.0, -1.3 + 1.3 * u(rng)), lambda = std::pow(10.0, 4 * u(rng)),
+                 v = 0.1 + 0.9 * u(rng);
     double err = 0, err_asg = 0, total = 0;
     for (const auto& p : specular_light_positions(alpha, lambda, v)) {
       const SpecularInput<double> in{alpha, lambda, p.light_cos, v, p.light_azimuth, kSpecularF0};
@@ -43,8 +44,8 @@ TEST(SpecularSglab, OffTheFittingGridAgainstTheReference) {
       err_asg += std::abs(specular_asg(in) - r);
       total += r;
     }
-    std::printf("alpha %.4g lambda %.4g view_cos %.3f: sglab %.2f %%, asg %.2f %%\n", alpha, lambda, v, 100 * err / total,
-                100 * err_asg / total);
+    std::printf("alpha %.4g lambda %.4g view_cos %.3f: sglab %.2f %%, asg %.2f %%\n", alpha, lambda, v,
+                100 * err / total, 100 * err_asg / total);
     EXPECT_LE(err / total, 0.30) << alpha << " " << lambda << " " << v;
     sum += err / total;
     sum_asg += err_asg / total;
@@ -87,16 +88,19 @@ TEST(SpecularSglab, FiniteAndNonNegativeOnTheStiffGrid) {
           for (double phi : {0.0, pi_ / 2, pi_}) {
             const std::vector<double> d{a, l, std::clamp(lc, -1.0, 1.0), v, phi, 0.04};
             const double x = m->eval_double(d);
-            ASSERT_TRUE(std::isfinite(x) && x >= 0) << "double " << a << " " << l << " " << lc << " " << v << " " << phi << ": " << x;
+            ASSERT_TRUE(std::isfinite(x) && x >= 0)
+                << "double " << a << " " << l << " " << lc << " " << v << " " << phi << ": " << x;
             if (l <= double(FLT_MAX)) {
               const std::vector<float> f(d.begin(), d.end());
               const float y = m->eval_float(f);
-              ASSERT_TRUE(std::isfinite(y) && y >= 0) << "float " << a << " " << l << " " << lc << " " << v << " " << phi << ": " << y;
+              ASSERT_TRUE(std::isfinite(y) && y >= 0)
+                  << "float " << a << " " << l << " " << lc << " " << v << " " << phi << ": " << y;
             }
             if ((rows++ % 97) == 0) {
               const std::vector<mp50> p(d.begin(), d.end());
               const mp50 z = m->eval_mp50(p);
-              ASSERT_TRUE(boost::multiprecision::isfinite(z) && z >= 0) << "mp50 " << a << " " << l << " " << lc << " " << v;
+              ASSERT_TRUE(boost::multiprecision::isfinite(z) && z >= 0)
+                  << "mp50 " << a << " " << l << " " << lc << " " << v;
             }
           }
   std::printf("%d stiff rows\n", rows);

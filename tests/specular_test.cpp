@@ -20,8 +20,8 @@ TEST(Specular, MethodsApproachReferenceInTheirLimits) {
     const SpecularInput<double> in{0.05, lambda, 1.0, 1.0, 0.0, 0.04};
     const double ref = specular_reference_value(in);
     const double sg = specular_sg_warp(in), as = specular_asg(in), dvn = specular_sg_warp_dvn(in);
-    std::printf("lambda %g: ref %.6e sg-warp %+.3e asg %+.3e sg-warp-dvn %+.3e\n", lambda, ref, sg / ref - 1, as / ref - 1,
-                dvn / ref - 1);
+    std::printf("lambda %g: ref %.6e sg-warp %+.3e asg %+.3e sg-warp-dvn %+.3e\n", lambda, ref, sg / ref - 1,
+                as / ref - 1, dvn / ref - 1);
     if (lambda == 100.0) continue;
     EXPECT_NEAR(sg / ref, 1.0, 0.03);
     EXPECT_NEAR(as / ref, 1.0, 0.03);
@@ -66,7 +66,8 @@ TEST(Specular, StiffCasesAreFiniteAndNonNegativeInEveryPrecision) {
 TEST(Specular, FactorAtTheLobeAxisHasNoFalseZero) {
   const SpecularInput<double> in{0.31622776601683794, 10.0, -0.5, 1.0, M_PI, 0.04};
   const double ref = specular_reference_value(in);
-  const double lobe = specular_sg_warp(in), product = specular_sg_warp(in, SgProductForm::exact, false, FactorAt::product_axis);
+  const double lobe = specular_sg_warp(in),
+               product = specular_sg_warp(in, SgProductForm::exact, false, FactorAt::product_axis);
   std::printf("reference %.6e sg-warp %.6e product-axis %.6e\n", ref, lobe, product);
   EXPECT_GT(ref, 1e-5);
   EXPECT_EQ(product, 0.0);

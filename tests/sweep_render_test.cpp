@@ -46,7 +46,8 @@ TEST(SweepRender, RowsMatchIndependentRendersOfTheirPoints) {
   for (std::size_t i = 0; i < r.points.rows.size(); ++i) {
     const double roughness = field(r.points, i, "floor.roughness"), lambda_d = field(r.points, i, "vsgl.lambda_d");
     const std::string vsgl = r.points.rows[i].fields[r.points.column("vsgl")];
-    SCOPED_TRACE("row " + std::to_string(i) + ": roughness " + std::to_string(roughness) + ", λ_d " + std::to_string(lambda_d) + ", " + vsgl);
+    SCOPED_TRACE("row " + std::to_string(i) + ": roughness " + std::to_string(roughness) + ", λ_d " +
+                 std::to_string(lambda_d) + ", " + vsgl);
     // Rows in grid order: roughness slowest, then λ_d, then the configurations.
     EXPECT_EQ(roughness, i / 4 == 0 ? 0.1 : 0.5);
     EXPECT_EQ(lambda_d, (i / 2) % 2 == 0 ? 2.0 : 3.5);
@@ -80,7 +81,9 @@ TEST(SweepRender, RowsMatchIndependentRendersOfTheirPoints) {
   // The summary: one Markdown line and one CSV line per row.
   const sr::Tables t = sr::tables(r);
   std::size_t md_rows = 0, csv_lines = 0;
-  for (auto at = t.markdown.find("\n| 0.1 | 2 |"); at != std::string::npos; at = t.markdown.find("\n| 0.1 | 2 |", at + 1)) ++md_rows;
+  for (auto at = t.markdown.find("\n| 0.1 | 2 |"); at != std::string::npos;
+       at = t.markdown.find("\n| 0.1 | 2 |", at + 1))
+    ++md_rows;
   for (char ch : t.csv) csv_lines += ch == '\n';
   EXPECT_EQ(md_rows, 2u);  // two configurations at (0.1, 2)
   EXPECT_EQ(csv_lines, r.points.rows.size() + 1);

@@ -59,7 +59,7 @@ TEST(SpecularPositions, OffsetWidthsClosedForm) {
   EXPECT_NEAR(specular_offset_widths(0.1, 100, 1).across, std::sqrt(0.01 + 0.02), 1e-16);
   EXPECT_NEAR(specular_offset_widths(0.1, 100, 0.1).across, std::sqrt(0.01 + 0.02 * 0.01), 1e-16);
   EXPECT_NEAR(specular_offset_widths(0.01, 1e4, 0.3).in_plane, std::sqrt(1e-4 + 2e-4), 1e-17);
-  EXPECT_EQ(specular_offset_widths(1, 1, 1).in_plane, std::numbers::pi / 6);   // capped
+  EXPECT_EQ(specular_offset_widths(1, 1, 1).in_plane, std::numbers::pi / 6);     // capped
   EXPECT_EQ(specular_offset_widths(0.01, 0, 0.5).across, std::numbers::pi / 6);  // λ = 0: 1/λ = ∞
 }
 
@@ -90,8 +90,11 @@ TEST(SpecularPositions, GeometryAboveTheHorizonNoDuplicates) {
               << ps[i].name << " = " << ps[j].name;
       }
       // Which of the six candidates are kept: each exactly when it is above the horizon and new.
-      const std::vector<std::pair<std::string, double>> expected_angle = {
-          {"mirror", 0}, {"toward-normal", w.in_plane}, {"toward-horizon", w.in_plane}, {"side", w.across}, {"side-3w", 3 * w.across}};
+      const std::vector<std::pair<std::string, double>> expected_angle = {{"mirror", 0},
+                                                                          {"toward-normal", w.in_plane},
+                                                                          {"toward-horizon", w.in_plane},
+                                                                          {"side", w.across},
+                                                                          {"side-3w", 3 * w.across}};
       for (const auto& [name, a] : expected_angle) {
         const auto it = std::find_if(ps.begin(), ps.end(), [&](const LightPosition& p) { return p.name == name; });
         if (it == ps.end()) continue;
@@ -128,16 +131,18 @@ TEST(SpecularSweep, RowsEnumerateTheRegistryAndRoundTrip) {
   // The first point of the last α: α = 1, λ = 1, view_cos = 1 (k runs over α, λ, view_cos).
   const std::size_t k = (g.roughness.size() - 1) * g.light_sharpness.size() * g.view_cos.size();
   const auto rows = d.compute(k);
-  ASSERT_EQ(rows.size(), specular_light_positions(g.roughness.back(), g.light_sharpness.front(), g.view_cos.front()).size() *
-                            methods.size());
+  ASSERT_EQ(rows.size(),
+            specular_light_positions(g.roughness.back(), g.light_sharpness.front(), g.view_cos.front()).size() *
+                methods.size());
   auto col = [&](const std::string& name) {
     const auto it = std::find(d.columns.begin(), d.columns.end(), name);
     EXPECT_NE(it, d.columns.end()) << name;
     return std::size_t(it - d.columns.begin());
   };
   const std::size_t c_r = col("roughness"), c_l = col("light_sharpness"), c_v = col("view_cos"), c_f0 = col("f0"),
-                    c_lc = col("light_cos"), c_az = col("light_azimuth"), c_ref = col("reference"), c_scale = col("scale"),
-                    c_m = col("method"), c_val = col("value"), c_st = col("status"), c_rel = col("relative_error");
+                    c_lc = col("light_cos"), c_az = col("light_azimuth"), c_ref = col("reference"),
+                    c_scale = col("scale"), c_m = col("method"), c_val = col("value"), c_st = col("status"),
+                    c_rel = col("relative_error");
   double scale = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto& r = rows[i];
@@ -147,8 +152,9 @@ TEST(SpecularSweep, RowsEnumerateTheRegistryAndRoundTrip) {
     EXPECT_EQ(parse_decimal<double>(r[c_l]), g.light_sharpness.front());
     EXPECT_EQ(parse_decimal<double>(r[c_v]), g.view_cos.front());
     // The printed inputs read back to the evaluated ones: re-evaluating them gives the same bits.
-    const std::array<double, 6> a{parse_decimal<double>(r[c_r]), parse_decimal<double>(r[c_l]), parse_decimal<double>(r[c_lc]),
-                                  parse_decimal<double>(r[c_v]),  parse_decimal<double>(r[c_az]), parse_decimal<double>(r[c_f0])};
+    const std::array<double, 6> a{parse_decimal<double>(r[c_r]),  parse_decimal<double>(r[c_l]),
+                                  parse_decimal<double>(r[c_lc]), parse_decimal<double>(r[c_v]),
+                                  parse_decimal<double>(r[c_az]), parse_decimal<double>(r[c_f0])};
     const double ref = q.find(q.reference_method)->eval_double(a);
     EXPECT_EQ(parse_decimal<double>(r[c_ref]), ref);
     const double value = q.find(r[c_m])->eval_double(a);
@@ -197,8 +203,9 @@ TEST(SpecularSweep, ConstantSetBindsTheOwnMethodsConstants) {
     }
     ++own;
     ASSERT_FALSE(b[10].empty()) << "row " << i << ": " << b[11];
-    const sglab::SpecularInput<double> in{parse_decimal<double>(b[0]), parse_decimal<double>(b[1]), parse_decimal<double>(b[5]),
-                                          parse_decimal<double>(b[2]), parse_decimal<double>(b[6]), parse_decimal<double>(b[3])};
+    const sglab::SpecularInput<double> in{parse_decimal<double>(b[0]), parse_decimal<double>(b[1]),
+                                          parse_decimal<double>(b[5]), parse_decimal<double>(b[2]),
+                                          parse_decimal<double>(b[6]), parse_decimal<double>(b[3])};
     EXPECT_EQ(parse_decimal<double>(b[10]), sglab::specular_sglab(in, params)) << "row " << i;
     EXPECT_EQ(parse_decimal<double>(a[10]), sglab::specular_sglab(in)) << "row " << i;
     changed += a[10] != b[10];
@@ -210,7 +217,8 @@ TEST(SpecularSweep, ConstantSetBindsTheOwnMethodsConstants) {
 // ---- the summary on a hand-written per-point CSV ----------------------------------------------------
 
 const char* kTinyPoints =
-    "point,roughness,light_sharpness,view_cos,f0,position,light_cos,light_azimuth,reference,scale,method,value,status,relative_error,scaled_error\n"
+    "point,roughness,light_sharpness,view_cos,f0,position,light_cos,light_azimuth,reference,scale,method,value,status,"
+    "relative_error,scaled_error\n"
     "0,0.01,1,1,0.04,mirror,1,0,2,2,a,2.2,ok,0.1,0.1\n"
     "0,0.01,1,1,0.04,mirror,1,0,2,2,b,1,ok,0.5,0.5\n"
     "0,0.01,1,1,0.04,below,-0.5,3,1e-9,2,a,0,near_zero_reference,,5e-10\n"
@@ -243,12 +251,12 @@ TEST(SpecularSummary, HandCheckedStatistics) {
   EXPECT_EQ(a0.near_zero, 1u);
   EXPECT_NEAR(a0.rmse_relative, 0.1, 1e-15);
   EXPECT_NEAR(a0.max_relative, 0.1, 1e-15);
-  EXPECT_NEAR(a0.smape, 0.4 / 4.2, 1e-15);        // 2·0.2/(2.2 + 2)
-  EXPECT_NEAR(a0.max_scaled, 0.1, 1e-15);         // max(0.2/2, 1e-9/2)
+  EXPECT_NEAR(a0.smape, 0.4 / 4.2, 1e-15);               // 2·0.2/(2.2 + 2)
+  EXPECT_NEAR(a0.max_scaled, 0.1, 1e-15);                // max(0.2/2, 1e-9/2)
   EXPECT_NEAR(a0.rmse_scaled, std::sqrt(0.005), 1e-15);  // √((0.1² + (5e-10)²)/2)
   // α = 0.01, method b: the near-zero row still shows in max_scaled: 0.5/2 = 0.25 < 1/2.
   const auto& b0 = find_row(rows, "roughness", "0.01", "b").stats;
-  EXPECT_NEAR(b0.smape, 2.0 / 3.0, 1e-15);        // 2·1/(1 + 2)
+  EXPECT_NEAR(b0.smape, 2.0 / 3.0, 1e-15);  // 2·1/(1 + 2)
   EXPECT_NEAR(b0.max_scaled, 0.5, 1e-15);
   // α = 1, method a: relative errors 0.25 and 0.
   const auto& a1r = find_row(rows, "roughness", "1", "a");
@@ -260,8 +268,8 @@ TEST(SpecularSummary, HandCheckedStatistics) {
   const auto& b1 = find_row(rows, "roughness", "1", "b").stats;
   EXPECT_EQ(b1.missing, 1u);
   EXPECT_EQ(b1.relative, 1u);
-  EXPECT_NEAR(b1.smape, 0.4, 1e-15);              // 2·0.5/(1.5 + 1)
-  EXPECT_NEAR(b1.max_scaled, 0.125, 1e-15);       // 0.5/4
+  EXPECT_NEAR(b1.smape, 0.4, 1e-15);         // 2·0.5/(1.5 + 1)
+  EXPECT_NEAR(b1.max_scaled, 0.125, 1e-15);  // 0.5/4
   // Over everything, method b: relative errors 0.5 (α 0.01 mirror, first) and 0.5 (α 1 below).
   const auto& all_b = find_row(rows, "all", "all", "b");
   EXPECT_EQ(all_b.stats.points, 4u);
@@ -309,10 +317,12 @@ TEST(SpecularSummary, HandCheckedStatistics) {
   EXPECT_EQ(md.rfind("<!-- Generated by `sglab sweep specular --quick`", 0), 0u) << md.substr(0, 80);
   for (const char* bad : {"nan", "inf"}) EXPECT_EQ(md.find(bad), std::string::npos) << bad;
   const std::string csv = specular_summary_csv(rows);
-  EXPECT_EQ(csv.substr(0, csv.find('\n')),
-            "by,group,method,points,relative_points,near_zero,missing,rmse_relative,max_relative,smape,max_scaled,rmse_scaled,"
-            "worst_roughness,worst_light_sharpness,worst_view_cos,worst_position,weighted_error,weighted_points,bright_smape,"
-            "bright_rows");
+  EXPECT_EQ(
+      csv.substr(0, csv.find('\n')),
+      "by,group,method,points,relative_points,near_zero,missing,rmse_relative,max_relative,smape,max_scaled,rmse_"
+      "scaled,"
+      "worst_roughness,worst_light_sharpness,worst_view_cos,worst_position,weighted_error,weighted_points,bright_smape,"
+      "bright_rows");
 }
 
 TEST(SpecularSummary, BadInputNamesTheLineAndColumn) {

@@ -29,12 +29,12 @@
 namespace {
 
 namespace fs = std::filesystem;
+using sglab::cli::UsageError;
 using sglab::runner::parse_shard;
 using sglab::runner::Shard;
 using sglab::runner::SweepDefinition;
 using sglab::runner::SweepRow;
 using sglab::runner::SweepRunOptions;
-using sglab::cli::UsageError;
 
 using sglab::test::read_file;
 
@@ -83,14 +83,13 @@ std::string expected_toy_csv(std::size_t n, const Shard& shard = {}) {
   for (std::size_t k = 0; k < n; ++k) {
     if (k % shard.count != shard.index) continue;
     for (std::size_t j = 0; j < 1 + k % 3; ++j)
-      s += std::to_string(k) + "," + std::to_string(k * k + j) + ",\"p" + std::to_string(k) + "," + std::to_string(j) + "\"\n";
+      s += std::to_string(k) + "," + std::to_string(k * k + j) + ",\"p" + std::to_string(k) + "," + std::to_string(j) +
+           "\"\n";
   }
   return s;
 }
 
-SweepRunOptions quiet(const fs::path& dir, Shard shard = {}) {
-  return {.out_dir = dir, .shard = shard, .quiet = true};
-}
+SweepRunOptions quiet(const fs::path& dir, Shard shard = {}) { return {.out_dir = dir, .shard = shard, .quiet = true}; }
 
 // ---- --shard ------------------------------------------------------------------------------------
 
@@ -107,8 +106,8 @@ TEST(ParseShard, AcceptsIOfN) {
 }
 
 TEST(ParseShard, RejectsBadValuesNamingThem) {
-  for (const std::string bad : {"0/0", "3/2", "2/2", "x", "", "1/", "/2", "-1/2", "1/-2", "1/2/3", "1.0/2", " 1/2", "1/2x",
-                                "99999999999999999999999/2"}) {
+  for (const std::string bad : {"0/0", "3/2", "2/2", "x", "", "1/", "/2", "-1/2", "1/-2", "1/2/3", "1.0/2", " 1/2",
+                                "1/2x", "99999999999999999999999/2"}) {
     try {
       parse_shard(bad);
       ADD_FAILURE() << "accepted --shard '" << bad << "'";
@@ -131,7 +130,8 @@ TEST(ShardPoints, PartitionExactly) {
           ++seen[k];
         }
       }
-      for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(seen[k], 1) << "point " << k << " of " << n << ", " << count << " shards";
+      for (std::size_t k = 0; k < n; ++k)
+        EXPECT_EQ(seen[k], 1) << "point " << k << " of " << n << ", " << count << " shards";
     }
 }
 
@@ -196,7 +196,8 @@ TEST_F(SweepTest, ShardsWriteTheirOwnPoints) {
 TEST_F(SweepTest, ResumeSkipsFinishedPointsAndGivesIdenticalOutput) {
   // An uninterrupted run, for the bytes to compare with.
   Toy whole;
-  const std::string uninterrupted = read_file(sglab::runner::run_sweep(whole.definition(), quiet(dir_ / "whole")).points_csv);
+  const std::string uninterrupted = read_file(
+      sglab::runner::run_sweep(whole.definition(), quiet(dir_ / "whole")).points_csv);
 
   // Interrupted on the 9th call; one thread, a checkpoint after every point.
   Toy first;
@@ -370,7 +371,8 @@ TEST_F(SweepTest, MergeRefusesAPointOutsideItsShard) {
 
 TEST_F(SweepTest, MergeNeedsShards) {
   EXPECT_NE(merge_error({dir_}, dir_ / "out").find("no shard manifest"), std::string::npos);
-  EXPECT_NE(merge_error({dir_ / "nonexistent"}, dir_ / "out").find("neither a directory nor a file"), std::string::npos);
+  EXPECT_NE(merge_error({dir_ / "nonexistent"}, dir_ / "out").find("neither a directory nor a file"),
+            std::string::npos);
 }
 
 // ---- numbers ------------------------------------------------------------------------------------

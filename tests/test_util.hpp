@@ -27,8 +27,8 @@ namespace sglab::test {
 inline std::mt19937_64 seeded_rng(std::uint64_t default_seed) {
   std::uint64_t seed = default_seed;
   if (const char* env = std::getenv("SGLAB_TEST_SEED")) seed = std::strtoull(env, nullptr, 10);
-  std::printf("[ seed     ] %llu (replay with SGLAB_TEST_SEED=%llu)\n",
-              static_cast<unsigned long long>(seed), static_cast<unsigned long long>(seed));
+  std::printf("[ seed     ] %llu (replay with SGLAB_TEST_SEED=%llu)\n", static_cast<unsigned long long>(seed),
+              static_cast<unsigned long long>(seed));
   return std::mt19937_64(seed);
 }
 
@@ -36,7 +36,9 @@ inline std::mt19937_64 seeded_rng(std::uint64_t default_seed) {
 // (`sglab stability`), so the tests and the atlas sweep the same stiff inputs.
 
 // log-spaced values from 10^lo to 10^hi, `per_decade` points per decade, ends included.
-inline std::vector<double> log_grid(double lo, double hi, int per_decade) { return stiff::log_grid(lo, hi, per_decade); }
+inline std::vector<double> log_grid(double lo, double hi, int per_decade) {
+  return stiff::log_grid(lo, hi, per_decade);
+}
 
 // The stiff sharpnesses of docs/math.md §10: 0 and 1e-8 … 1e8.
 inline std::vector<double> stiff_sharpnesses(int per_decade = 2) { return stiff::sharpnesses(per_decade); }
@@ -70,16 +72,20 @@ struct SmallScene {
 
   std::string json() const {
     return "{\n  \"camera\": {\"position\": [0, 1, 2.5], \"look_at\": [0, 0.4, 0], \"fov\": 50, \"width\": " +
-           std::to_string(width) + ", \"height\": " + std::to_string(height) + "},\n  \"light\": {\"target\": " + light_target +
-           ", \"direction\": " + light_direction + ", \"distance\": 1.2, \"cone_angle\": " + std::to_string(cone_angle) +
+           std::to_string(width) + ", \"height\": " + std::to_string(height) +
+           "},\n  \"light\": {\"target\": " + light_target + ", \"direction\": " + light_direction +
+           ", \"distance\": 1.2, \"cone_angle\": " + std::to_string(cone_angle) +
            ", \"falloff\": 4, \"power\": 5},\n  \"objects\": [\n"
-           "    {\"name\": \"floor\", \"type\": \"rectangle\", \"corner\": [-1, 0, -1], \"edge_u\": [0, 0, 2], \"edge_v\": [2, 0, 0],\n"
+           "    {\"name\": \"floor\", \"type\": \"rectangle\", \"corner\": [-1, 0, -1], \"edge_u\": [0, 0, 2], "
+           "\"edge_v\": [2, 0, 0],\n"
            "     \"material\": {\"albedo\": 0.4, \"f0\": 0.5, \"roughness\": 0.3}},\n"
-           "    {\"name\": \"wall\", \"type\": \"rectangle\", \"corner\": [-1, 0, -1], \"edge_u\": [2, 0, 0], \"edge_v\": [0, 2, 0],\n"
+           "    {\"name\": \"wall\", \"type\": \"rectangle\", \"corner\": [-1, 0, -1], \"edge_u\": [2, 0, 0], "
+           "\"edge_v\": [0, 2, 0],\n"
            "     \"material\": {\"albedo\": [0.7, 0.6, 0.5]}}" +
-           (crate ? ",\n    {\"name\": \"crate\", \"type\": \"box\", \"min\": [0.3, 0, -0.6], \"max\": [0.7, 0.4, -0.2], "
-                    "\"material\": {\"albedo\": 0.5}}"
-                  : "") +
+           (crate
+                ? ",\n    {\"name\": \"crate\", \"type\": \"box\", \"min\": [0.3, 0, -0.6], \"max\": [0.7, 0.4, -0.2], "
+                  "\"material\": {\"albedo\": 0.5}}"
+                : "") +
            "\n  ]\n}";
   }
 };

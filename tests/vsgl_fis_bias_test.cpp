@@ -58,7 +58,8 @@ std::map<std::pair<std::string, int>, TableRow> committed_table() {
 
 TEST(VsglFisBias, ShippedScenesTotalPowerNoWorseThanTheTable) {
   const auto table = committed_table();
-  for (const std::string name : {"scenes/cornell-glossy.json", "scenes/diffuse-only.json", "scenes/sg-light-near-wall.json"}) {
+  for (const std::string name :
+       {"scenes/cornell-glossy.json", "scenes/diffuse-only.json", "scenes/sg-light-near-wall.json"}) {
     const Scene scene = parse_scene(parse_scene_text(read_file(std::string(SGLAB_SOURCE_DIR) + "/" + name), name));
     const ReflectiveShadowMap rsm = render_rsm(scene, 64);
     double exact = 0;
@@ -103,7 +104,8 @@ TEST(VsglFisBias, ComputeAgainstTheTexelSums) {
     if (row.quantity == "importance") {
       EXPECT_LE(std::fabs(row.bias), 1e-12) << row.rsm << " N = " << row.n;
     }
-  for (const std::string name : {"scenes/cornell-glossy.json", "scenes/diffuse-only.json", "scenes/sg-light-near-wall.json"}) {
+  for (const std::string name :
+       {"scenes/cornell-glossy.json", "scenes/diffuse-only.json", "scenes/sg-light-near-wall.json"}) {
     const Scene scene = parse_scene(parse_scene_text(read_file(name), name));
     double exact = 0;
     for (const Vpl& v : render_rsm(scene, o.rsm).texels) {

@@ -61,7 +61,8 @@ TEST(VsglGeneration, TwoHasOneGaussianPerComponent) {
       EXPECT_EQ(c.has_specular, !diffuse);
       EXPECT_LE(max_rel(diffuse ? c.diffuse_power : c.specular_power, diffuse ? t.diffuse : t.specular), 1e-13);
       auto weight = [&](const Vpl& v) {
-        return luminance<double>(Rgb(v.flux * (diffuse ? v.diffuse_reflectance : Rgb(v.glossy() ? v.specular_reflectance : Rgb::Zero()))));
+        return luminance<double>(
+            Rgb(v.flux * (diffuse ? v.diffuse_reflectance : Rgb(v.glossy() ? v.specular_reflectance : Rgb::Zero()))));
       };
       double w = 0;
       Vec3 m = Vec3::Zero();
@@ -254,7 +255,8 @@ TEST(VsglGeneration, FisIsUnbiased) {
     mean /= seeds;
     for (const Rgb& x : *samples) sq += (x - mean).square();
     const Rgb se = (sq / (seeds - 1) / seeds).sqrt();
-    std::printf("mean %s, total %s, standard error %s\n", fmt_rgb(mean).c_str(), fmt_rgb(total).c_str(), fmt_rgb(se).c_str());
+    std::printf("mean %s, total %s, standard error %s\n", fmt_rgb(mean).c_str(), fmt_rgb(total).c_str(),
+                fmt_rgb(se).c_str());
     EXPECT_TRUE(((mean - total).abs() <= 4 * se + 1e-15).all());
     EXPECT_TRUE((se > 0).all());  // it is an estimate (chromaticity varies), not an identity
   }

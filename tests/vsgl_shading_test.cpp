@@ -191,11 +191,13 @@ TEST(VsglShading, EveryRegistryMethodGivesItsScalarValue) {
     double worst = 0;
     for (const auto& c : one_lobe::cases()) {
       Method scalar = m;
-      if (!m.parameters.empty() && m.parameters[0].name == "lambda_d") scalar = m.bind(std::vector<double>{c.set.lambda_d});
+      if (!m.parameters.empty() && m.parameters[0].name == "lambda_d")
+        scalar = m.bind(std::vector<double>{c.set.lambda_d});
       const double cosine = std::clamp(c.axis.dot(c.point.normal), -1.0, 1.0);
       const std::array<double, 2> row{c.sharpness, cosine};
       const double d = scalar.eval_double(row);
-      const Rgb expected = c.point.diffuse_reflectance / one_lobe::kPi * c.set.clusters[0].diffuse.amplitude * std::exp(c.log_scale) * d;
+      const Rgb expected = c.point.diffuse_reflectance / one_lobe::kPi * c.set.clusters[0].diffuse.amplitude *
+                           std::exp(c.log_scale) * d;
       const VsglShading got = VsglShader(c.set, o).shade(c.point);
       EXPECT_TRUE((got.specular == 0).all());
       for (int k = 0; k < 3; ++k) {
@@ -203,7 +205,8 @@ TEST(VsglShading, EveryRegistryMethodGivesItsScalarValue) {
         worst = std::max(worst, expected(k) == 0 ? std::fabs(got.diffuse(k)) : err);
       }
     }
-    std::printf("%-16s one lobe, max relative difference to the registry's scalar value: %.3e\n", m.name.c_str(), worst);
+    std::printf("%-16s one lobe, max relative difference to the registry's scalar value: %.3e\n", m.name.c_str(),
+                worst);
     EXPECT_LT(worst, 1e-10) << m.name;
   }
 }
@@ -226,8 +229,11 @@ TEST(VsglShading, SpecularIsTheRegistryAsgMethod) {
       const VsglShading got = VsglShader(c.set, shading_options("tokuyoshi2024")).shade(c.point);
       EXPECT_TRUE((got.diffuse == 0).all());
       for (int k = 0; k < 3; ++k) {
-        const std::array<double, 6> row{roughness, c.sharpness, std::clamp(c.axis.dot(n), -1.0, 1.0),
-                                        std::clamp(c.point.view.dot(n), 0.0, 1.0), std::atan2(c.axis.dot(y), c.axis.dot(x)),
+        const std::array<double, 6> row{roughness,
+                                        c.sharpness,
+                                        std::clamp(c.axis.dot(n), -1.0, 1.0),
+                                        std::clamp(c.point.view.dot(n), 0.0, 1.0),
+                                        std::atan2(c.axis.dot(y), c.axis.dot(x)),
                                         c.point.f0(k)};
         const double expected = c.set.clusters[0].diffuse.amplitude(k) * std::exp(c.log_scale) * asg->eval_double(row);
         const double err = std::fabs(got.specular(k) - expected) / std::max(std::fabs(expected), 1e-300);
@@ -286,12 +292,12 @@ TEST(VsglShading, PerPointVisibilityEqualsTheVisibleClustersAlone) {
         EXPECT_LE(max_rel(many[i].diffuse, alone.diffuse), 1e-13) << name << " point " << i;
         EXPECT_LE(max_rel(many[i].specular, alone.specular), 1e-13) << name << " point " << i;
         // And the one-point form with the point's own visibility.
-        const VsglShading one =
-            shader.shade(pts[i], std::span<const char>(visible.data() + i * clusters, clusters));
+        const VsglShading one = shader.shade(pts[i], std::span<const char>(visible.data() + i * clusters, clusters));
         EXPECT_LE(max_rel(many[i].total(), one.total()), 1e-13) << name << " point " << i;
       }
       // A visibility of the wrong size is refused.
-      EXPECT_THROW(shader.shade(pts, std::span<const char>(visible.data(), visible.size() - 1), many), std::invalid_argument);
+      EXPECT_THROW(shader.shade(pts, std::span<const char>(visible.data(), visible.size() - 1), many),
+                   std::invalid_argument);
     }
   }
 }

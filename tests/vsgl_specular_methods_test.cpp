@@ -84,8 +84,8 @@ TEST(VsglSpecularMethods, APixelsSpecularIsTheRegistryMethodsValue) {
       ASSERT_TRUE((want > 0).all()) << name << " α = " << roughness;
       // The batch evaluator against the scalar template (≤ 8 ulps, tests/simd_specular_test.cpp)
       // and two computations of the same angles: 1e-12.
-      EXPECT_LT(max_rel(s.specular, want), 1e-12) << name << " α = " << roughness << ": shaded " << s.specular.transpose()
-                                                  << ", method " << want.transpose();
+      EXPECT_LT(max_rel(s.specular, want), 1e-12)
+          << name << " α = " << roughness << ": shaded " << s.specular.transpose() << ", method " << want.transpose();
       EXPECT_TRUE((s.diffuse == 0).all()) << name;  // no diffuse lobe in the set
     }
   }

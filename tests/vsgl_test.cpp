@@ -23,7 +23,8 @@ using C3 = Rgb<double>;
 V3 random_unit(std::mt19937_64& rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   V3 v;
-  do v = V3(g(rng), g(rng), g(rng)); while (v.norm() < 1e-3);
+  do v = V3(g(rng), g(rng), g(rng));
+  while (v.norm() < 1e-3);
   return v.normalized();
 }
 
@@ -42,16 +43,17 @@ void check_symmetric_pairs(const Vec3<T>& origin) {
   const Vec3<T> mu0(T(0.75), T(-1.5), T(2.25));
   const T a = T(0.5), b = T(0.25), c = T(1.0);
   const T w1 = T(1), w2 = T(2), w3 = T(0.5);
-  std::vector<std::pair<T, Vec3<T>>> vpls = {
-      {w1, mu0 + Vec3<T>(a, 0, 0)}, {w1, mu0 - Vec3<T>(a, 0, 0)}, {w2, mu0 + Vec3<T>(0, b, 0)},
-      {w2, mu0 - Vec3<T>(0, b, 0)}, {w3, mu0 + Vec3<T>(0, 0, c)}, {w3, mu0 - Vec3<T>(0, 0, c)}};
+  std::vector<std::pair<T, Vec3<T>>> vpls = {{w1, mu0 + Vec3<T>(a, 0, 0)}, {w1, mu0 - Vec3<T>(a, 0, 0)},
+                                             {w2, mu0 + Vec3<T>(0, b, 0)}, {w2, mu0 - Vec3<T>(0, b, 0)},
+                                             {w3, mu0 + Vec3<T>(0, 0, c)}, {w3, mu0 - Vec3<T>(0, 0, c)}};
   VsglPositionSums<T> all, first_half, second_half;
   for (std::size_t i = 0; i < vpls.size(); ++i) {
     add_position(all, vpls[i].first, vpls[i].second, origin);
     add_position(i < 3 ? first_half : second_half, vpls[i].first, vpls[i].second, origin);
   }
   const double var = double((w1 * a * a + w2 * b * b + w3 * c * c) / (w1 + w2 + w3));
-  const double rel_tol = 4 * double(std::numeric_limits<T>::epsilon()) * (double((mu0 - origin).squaredNorm()) + var) / var;
+  const double rel_tol = 4 * double(std::numeric_limits<T>::epsilon()) * (double((mu0 - origin).squaredNorm()) + var) /
+                         var;
   VsglPositionSums<T> merged = first_half;
   merged += second_half;  // sums are additive (mip levels and clusters add them)
   for (const auto* s : {&all, &merged}) {
@@ -93,8 +95,8 @@ void check_far_coplanar(double far, double h, double rel_tol) {
   // What the reference point buys: the same sums relative to 0 (printed, not asserted).
   VsglPositionSums<T> naive;
   for (const auto& y : pts) add_position(naive, T(0.5), y, Vec3<T>::Zero());
-  std::printf("far %g, h %g (%s): variance rel. error %.2e relative to a point of the set, %.2e relative to 0\n", far, h,
-              sizeof(T) == 4 ? "float" : "double", test::relative_error(double(p.variance), var),
+  std::printf("far %g, h %g (%s): variance rel. error %.2e relative to a point of the set, %.2e relative to 0\n", far,
+              h, sizeof(T) == 4 ? "float" : "double", test::relative_error(double(p.variance), var),
               test::relative_error(double(vsgl_position(naive, Vec3<T>::Zero()).variance), var));
 }
 
@@ -198,8 +200,8 @@ TEST(VsglIncoming, EqualsTheDirectProductAtRandomDirections) {
     const double sharpness = log_uniform(rng, 1e-3, 1e3);
     const VsglIncomingSg<double> in = vsgl_incoming_sg(vsgl_positional_sg(mean, variance, yp), axis, sharpness);
     const VsglIncomingSg<float> inf = vsgl_incoming_sg(
-        vsgl_positional_sg<float>(mean.cast<float>(), float(variance), yp.cast<float>()), Vec3<float>(axis.cast<float>()),
-        float(sharpness));
+        vsgl_positional_sg<float>(mean.cast<float>(), float(variance), yp.cast<float>()),
+        Vec3<float>(axis.cast<float>()), float(sharpness));
     const double lambda_sigma = (mean - yp).squaredNorm() / variance;
     for (int k = 0; k < 8; ++k) {
       // Half of the directions near the product's axis, where the value is not negligible.
@@ -222,7 +224,8 @@ TEST(VsglIncoming, EqualsTheDirectProductAtRandomDirections) {
       ++compared;
     }
   }
-  std::printf("compared %d points; worst error / (1 + λ_v + λ_σ): double %.2e, float %.2e\n", compared, worst, worst_float);
+  std::printf("compared %d points; worst error / (1 + λ_v + λ_σ): double %.2e, float %.2e\n", compared, worst,
+              worst_float);
   EXPECT_GT(compared, 1000);
 }
 
@@ -268,7 +271,9 @@ TEST(VsglIncoming, ZeroVarianceIsAPointLight) {
   const VsglPositionalSg<double> on = vsgl_positional_sg(mean, 0.0, mean);
   EXPECT_TRUE(on.empty);
   const VsglIncomingSg<double> none = vsgl_incoming_sg(on, axis, sharpness);
-  EXPECT_EQ(vsgl_clamped_cosine(none, V3(0, 0, 1), [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); }), 0.0);
+  EXPECT_EQ(
+      vsgl_clamped_cosine(none, V3(0, 0, 1), [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); }),
+      0.0);
 }
 
 TEST(VsglIncoming, TinyVarianceDoesNotOverflow) {
@@ -282,9 +287,8 @@ TEST(VsglIncoming, TinyVarianceDoesNotOverflow) {
   const VsglIncomingSg<double> in = vsgl_incoming_sg(vsgl_positional_sg(mean, 1e-31, yp), axis, 2.0);
   const double d = vsgl_clamped_cosine(in, n, method);
   EXPECT_TRUE(std::isfinite(d) && d > 0) << d;
-  const VsglIncomingSg<float> inf =
-      vsgl_incoming_sg(vsgl_positional_sg<float>(Vec3<float>::Zero(), 1e-40f, Vec3<float>(1e-17f, 0, 0)),
-                       Vec3<float>(1, 0, 0), 2.0f);
+  const VsglIncomingSg<float> inf = vsgl_incoming_sg(
+      vsgl_positional_sg<float>(Vec3<float>::Zero(), 1e-40f, Vec3<float>(1e-17f, 0, 0)), Vec3<float>(1, 0, 0), 2.0f);
   const float df = vsgl_clamped_cosine(inf, Vec3<float>(-1, 0, 0), method);
   EXPECT_TRUE(std::isfinite(df) && df > 0) << df;
   EXPECT_GT(inf.log_scale, 89.0f);  // e^{log_scale} alone would overflow float
@@ -315,12 +319,12 @@ TEST(VsglSingleVplLimit, ShadingConvergesToThePointLight) {
   // Point-light references (per unit ΦR, R_d = 1 at the receiver, without the 1/π of R_d/π for diffuse).
   const double cos_p = std::max(0.0, xi_mu.dot(np));
   const double point_cosine = 4 * intensity * cos_p / d2;
-  const double point_sg_cosine = 4 * intensity * pi<double>() * sg_eval(xi_mu, np, lambda_d) / sg_integral(lambda_d) / d2;
+  const double point_sg_cosine = 4 * intensity * pi<double>() * sg_eval(xi_mu, np, lambda_d) / sg_integral(lambda_d) /
+                                 d2;
   const VsglSpecularReceiver<double> rec = vsgl_specular_receiver(np, view, alpha);
   const V3 xi_local(xi_mu.dot(rec.tangent), xi_mu.dot(rec.bitangent), xi_mu.dot(rec.normal));
-  const double point_specular =
-      4 * intensity * brdf_factor_m(rec.roughness, 1.0, rec.view_local, xi_local) * asg_eval(xi_local, rec.lobe) *
-      rec.ndf_amplitude / d2;
+  const double point_specular = 4 * intensity * brdf_factor_m(rec.roughness, 1.0, rec.view_local, xi_local) *
+                                asg_eval(xi_local, rec.lobe) * rec.ndf_amplitude / d2;
   ASSERT_GT(cos_p, 0.3);
   ASSERT_GT(point_specular, 0.0);
 
@@ -334,7 +338,8 @@ TEST(VsglSingleVplLimit, ShadingConvergesToThePointLight) {
       {"reference", [](double l, double c) { return clamped_cosine_reference(l, c); }, point_cosine, 1e-7},
       {"punctual-approx", [](double l, double c) { return clamped_cosine_punctual_approx(l, c); }, point_cosine, 1e-7},
       {"tokuyoshi2024", [](double l, double c) { return clamped_cosine_tokuyoshi2024(l, c); }, point_cosine, 1e-7},
-      {"sg-cosine", [&](double l, double c) { return clamped_cosine_sg_cosine(l, c, lambda_d); }, point_sg_cosine, 1e-7},
+      {"sg-cosine", [&](double l, double c) { return clamped_cosine_sg_cosine(l, c, lambda_d); }, point_sg_cosine,
+       1e-7},
   };
   // The four VPLs at ±s along e1 and e2 around y, summed, as their intensity SG and the incoming
   // SG at the receiver.
@@ -353,7 +358,8 @@ TEST(VsglSingleVplLimit, ShadingConvergesToThePointLight) {
   // Quadratic convergence: each tenfold shrink of s divides the error by ≈ 100 (≤ 1/80 asserted;
   // linear convergence would give 1/10), until λ_σ = d²/s² reaches the 1e8 cap (s ≤ 1.6e-4 here),
   // from where the cluster is the capped point light of σ² = 0, within tol_at_zero.
-  const auto expect_converges = [](const char* name, double tol_at_zero, const std::function<double(double)>& error_at) {
+  const auto expect_converges = [](const char* name, double tol_at_zero,
+                                   const std::function<double(double)>& error_at) {
     double previous = 1;
     for (double s : {1e-1, 1e-2, 1e-3, 1e-4, 0.0}) {
       const double err = error_at(s);
@@ -449,7 +455,8 @@ TEST(VsglStiff, FloatShadingIsFiniteAndNonNegative) {
         EXPECT_TRUE(std::isfinite(d) && d >= 0) << variance << " " << mean.transpose() << " " << sharpness;
         for (const auto* r : {&rec, &grazing}) {
           const auto s = vsgl_specular(in, *r);
-          EXPECT_TRUE(std::isfinite(s.at_f0_zero) && s.at_f0_zero >= 0 && std::isfinite(s.at_f0_one) && s.at_f0_one >= 0)
+          EXPECT_TRUE(std::isfinite(s.at_f0_zero) && s.at_f0_zero >= 0 && std::isfinite(s.at_f0_one) &&
+                      s.at_f0_one >= 0)
               << variance << " " << mean.transpose() << " " << sharpness;
         }
       }

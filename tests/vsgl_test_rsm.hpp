@@ -50,7 +50,8 @@ inline ReflectiveShadowMap make_rsm(const RsmSpec& spec) {
       v.incoming = (light - v.position).normalized();
       // R_s as the RSM pass computes it: the GGX layer's directional albedo (rsm.hpp).
       if (v.glossy())
-        v.specular_reflectance = Rgb::Constant(ggx_directional_albedo(v.roughness, v.incoming.dot(v.normal)).reflectance(0.04));
+        v.specular_reflectance = Rgb::Constant(
+            ggx_directional_albedo(v.roughness, v.incoming.dot(v.normal)).reflectance(0.04));
       v.flux = flux * tint * 1e-3;
     }
   }

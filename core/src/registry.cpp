@@ -19,9 +19,9 @@ namespace {
 constexpr EnumName<Precision> kPrecisionNames[] = {
     {Precision::float32, "float"}, {Precision::float64, "double"}, {Precision::mp50, "mp50"}};
 constexpr EnumName<ColumnKind> kColumnKindNames[] = {
-    {ColumnKind::sharpness, "sharpness"},     {ColumnKind::cosine, "cosine"},
-    {ColumnKind::mean_length, "mean_length"}, {ColumnKind::positive, "positive"},
-    {ColumnKind::nonnegative, "nonnegative"}, {ColumnKind::angle, "angle"},
+    {ColumnKind::sharpness, "sharpness"},        {ColumnKind::cosine, "cosine"},
+    {ColumnKind::mean_length, "mean_length"},    {ColumnKind::positive, "positive"},
+    {ColumnKind::nonnegative, "nonnegative"},    {ColumnKind::angle, "angle"},
     {ColumnKind::unit_interval, "unit_interval"}};
 }  // namespace
 
@@ -89,8 +89,7 @@ std::optional<std::string> column_value_error(const Column& column, double v) {
     case ColumnKind::nonnegative:
       if (v < 0) return "must be >= 0, got " + fmt(v);
       break;
-    case ColumnKind::angle:
-      break;
+    case ColumnKind::angle: break;
   }
   return std::nullopt;
 }
@@ -144,11 +143,14 @@ struct Standalone {
 };
 const std::vector<Standalone>& standalone_constants() {
   static const std::vector<Standalone> all{
-      {"render", {"lambda_d", "lambda-d", LambertSharpness::papers,
-                  "Tokuyoshi 2015 (two-VSGL poster) and 2016: λ_d ≈ 2, the diffuse VSGL's vMF sharpness "
-                  "(the public VSGL code's 2.292504 is the L2 fit, `sglab fit lambda-d`)", ColumnKind::positive}},
-      {"filter", {"lambda_c", "lambda-c", LobeAwareFiltering::lambda_c,
-                  "Tokuyoshi, lobe-aware filtering, App. D (diffuse lobe similarity)", ColumnKind::positive}},
+      {"render",
+       {"lambda_d", "lambda-d", LambertSharpness::papers,
+        "Tokuyoshi 2015 (two-VSGL poster) and 2016: λ_d ≈ 2, the diffuse VSGL's vMF sharpness "
+        "(the public VSGL code's 2.292504 is the L2 fit, `sglab fit lambda-d`)",
+        ColumnKind::positive}},
+      {"filter",
+       {"lambda_c", "lambda-c", LobeAwareFiltering::lambda_c,
+        "Tokuyoshi, lobe-aware filtering, App. D (diffuse lobe similarity)", ColumnKind::positive}},
   };
   return all;
 }

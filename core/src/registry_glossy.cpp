@@ -96,11 +96,11 @@ constexpr double kAsgLineLimitError = 5e-4;
 // dω = du db, the ASG is e^{−ηx u²} times a function smooth in u, so by Laplace's method
 //   ∫ Ĝ G dω = √(π/ηx)·∫_{−π/2}^{π/2} ψ(0; b)·(1 + ψ''(0; b)/(4ηx ψ(0; b))) db·(1 + O(ε²)),
 // ψ(0; b) = cos b e^{−ηy sin²b} G((0, sin b, cos b); ξ, λ), ψ''/ψ = (λξx)² − 1 + 2ηy sin²b − λρ cos(b − β)
-// (the second derivative across the line of log ψ plus the square of its first, λξx), ε = asg_line_limit_error. With ξ = (ξx, ρ sin β, ρ cos β), ‖ω − ξ‖²/2 = (1 − ρ) + 2ρ sin²((b − β)/2)
-// on the line, 1 − ρ = ξx²/(1 + ρ). The 1D integral is adaptive Gauss–Kronrod split geometrically
-// about b = 0 (width 1/√ηy) and b = β (width 1/√λ), in the offset from the sharper of the two so
-// that its width is resolved down to the smallest double. The ASG's 2D quadrature floors its widths
-// at 1e-7 rad and evaluates ω·x from ω: it gave 2.9e-19 at ηx = 1e20 and 0 at 1e30.
+// (the second derivative across the line of log ψ plus the square of its first, λξx), ε = asg_line_limit_error. With ξ
+// = (ξx, ρ sin β, ρ cos β), ‖ω − ξ‖²/2 = (1 − ρ) + 2ρ sin²((b − β)/2) on the line, 1 − ρ = ξx²/(1 + ρ). The 1D integral
+// is adaptive Gauss–Kronrod split geometrically about b = 0 (width 1/√ηy) and b = β (width 1/√λ), in the offset from
+// the sharper of the two so that its width is resolved down to the smallest double. The ASG's 2D quadrature floors its
+// widths at 1e-7 rad and evaluates ω·x from ω: it gave 2.9e-19 at ηx = 1e20 and 0 at 1e30.
 double asg_sg_product_line_limit(double eta_x, double eta_y, double lambda, const Vec3d& xi) {
   const double pi = std::numbers::pi;
   const double rho = std::hypot(xi(1), xi(2)), beta = std::atan2(xi(1), xi(2));
@@ -123,10 +123,12 @@ double asg_sg_product_line_limit(double eta_x, double eta_y, double lambda, cons
   detail::add_geometric_breaks(br, beta - centre, 0.25 * (lambda > 1 ? 1 / std::sqrt(lambda) : 1.0), lo, hi, q.ratio);
   std::sort(br.begin(), br.end());
   using boost::math::quadrature::gauss_kronrod;
-  const double coarse = detail::sum_panels(br, [&](double a, double b) { return gauss_kronrod<double, 15>::integrate(g, a, b, 0, 0.0); });
+  const double coarse = detail::sum_panels(
+      br, [&](double a, double b) { return gauss_kronrod<double, 15>::integrate(g, a, b, 0, 0.0); });
   if (!(coarse > 0)) return 0.0;
   const double share = 1e-3 * q.tolerance * coarse / double(br.size());
-  const double line = detail::sum_panels(br, [&](double a, double b) { return detail::gauss_kronrod_absolute(g, a, b, share, q.max_depth); });
+  const double line = detail::sum_panels(
+      br, [&](double a, double b) { return detail::gauss_kronrod_absolute(g, a, b, share, q.max_depth); });
   return std::sqrt(pi / eta_x) * line;
 }
 
@@ -147,7 +149,8 @@ double asg_sg_product_quadrature(double eta_x, double eta_y, double lambda, doub
   const Vec3d prod = sg_product(xi, lambda, g.z, 2 * std::sqrt(eta_x) * std::sqrt(eta_y)).axis;
   const SphereFocus foci[2] = {{g.z, w_asg}, {prod, std::min(w_asg, w_sg)}};
   const Vec3d clips[1] = {g.z};
-  return integrate_sg_about_axis([&](const Vec3d& w) { return asg_eval(w, g); }, xi, lambda, foci, clips, SphereQuadrature{});
+  return integrate_sg_about_axis([&](const Vec3d& w) { return asg_eval(w, g); }, xi, lambda, foci, clips,
+                                 SphereQuadrature{});
 }
 
 }  // namespace
@@ -157,7 +160,8 @@ std::vector<Column> specular_columns(std::string roughness) {
           {"light_sharpness", ColumnKind::sharpness, "SG light sharpness λ ≥ 0"},
           {"light_cos", ColumnKind::cosine, "cosine between the light axis and the normal"},
           {"view_cos", ColumnKind::unit_interval, "cosine between the view direction and the normal, in [0, 1]"},
-          {"light_azimuth", ColumnKind::angle, "light azimuth from the view's azimuth (radians; π with light_cos = view_cos is the mirror direction)"},
+          {"light_azimuth", ColumnKind::angle,
+           "light azimuth from the view's azimuth (radians; π with light_cos = view_cos is the mirror direction)"},
           {"f0", ColumnKind::unit_interval, "Schlick reflectance at normal incidence"}};
 }
 
@@ -168,45 +172,59 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
   // ---- asg-integral ---------------------------------------------------------------------------
   {
     Quantity q{"asg-integral", "∫ Ĝ(ω; ξx, ξy, ξz, ηx, ηy) dω (docs/math.md §4)", {eta_x, eta_y}, "exact", {}};
-    q.methods.push_back(method("exact", "π∫_0^1 e^{−ηmin u} e^{−tu/2}I0(tu/2) du, t = |ηx − ηy| (derived in asg.hpp), tanh-sinh",
-                               "float evaluates in double and rounds", nullptr,
-                               [](auto a) { return asg_integral_exact(a[0], a[1]); }));
-    q.methods.push_back(method("approx", "π/√(ηxηy) (Xu et al. 2013): the Gaussian over the whole tangent plane",
-                               "overestimates by the tail beyond the disc (≈ π e^{−(ηx+ηy)/2} I0(|ηx−ηy|/2)/ηmin); diverges as ηx or ηy → 0",
-                               all_positive({0, 1}, "π/√(ηxηy) diverges"),
-                               [](auto a) { return asg_integral_approx(a[0], a[1]); }));
-    q.methods.push_back(method("as-printed", "B(λx, λy) as printed in Tokuyoshi 2015 (lobe-aware filtering) App. C, F(t) = 2π e^{−t/2}I0(t/2) exact",
-                               "undefined at ηmin = 0 (t/λy); see tests/asg_test.cpp for its measured error", all_positive({0, 1}, "B divides by λy"),
-                               [](auto a) { return asg_integral_as_printed(a[0], a[1]); }));
+    q.methods.push_back(
+        method("exact", "π∫_0^1 e^{−ηmin u} e^{−tu/2}I0(tu/2) du, t = |ηx − ηy| (derived in asg.hpp), tanh-sinh",
+               "float evaluates in double and rounds", nullptr, [](auto a) { return asg_integral_exact(a[0], a[1]); }));
+    q.methods.push_back(method(
+        "approx", "π/√(ηxηy) (Xu et al. 2013): the Gaussian over the whole tangent plane",
+        "overestimates by the tail beyond the disc (≈ π e^{−(ηx+ηy)/2} I0(|ηx−ηy|/2)/ηmin); diverges as ηx or ηy → 0",
+        all_positive({0, 1}, "π/√(ηxηy) diverges"), [](auto a) { return asg_integral_approx(a[0], a[1]); }));
+    q.methods.push_back(
+        method("as-printed",
+               "B(λx, λy) as printed in Tokuyoshi 2015 (lobe-aware filtering) App. C, F(t) = 2π e^{−t/2}I0(t/2) exact",
+               "undefined at ηmin = 0 (t/λy); see tests/asg_test.cpp for its measured error",
+               all_positive({0, 1}, "B divides by λy"), [](auto a) { return asg_integral_as_printed(a[0], a[1]); }));
     out.push_back(std::move(q));
   }
 
   // ---- asg-sg-product-integral ------------------------------------------------------------------
   {
     Quantity q{"asg-sg-product-integral",
-               "∫ Ĝ(ω; x, y, z, ηx, ηy) G(ω; ξ, λ) dω, ASG in the standard frame, ξ = (s cos φ, s sin φ, cosine) (docs/math.md §4)",
-               {eta_x, eta_y, {"sharpness", ColumnKind::sharpness, "SG sharpness λ ≥ 0"},
+               "∫ Ĝ(ω; x, y, z, ηx, ηy) G(ω; ξ, λ) dω, ASG in the standard frame, ξ = (s cos φ, s sin φ, cosine) "
+               "(docs/math.md §4)",
+               {eta_x,
+                eta_y,
+                {"sharpness", ColumnKind::sharpness, "SG sharpness λ ≥ 0"},
                 {"cosine", ColumnKind::cosine, "ξ·ξz, cosine between the SG axis and the ASG axis"},
                 {"azimuth", ColumnKind::angle, "azimuth of ξ about ξz, from ξx (radians)"}},
-               "exact", {}};
+               "exact",
+               {}};
     q.methods.push_back(double_only_method(
         "exact", "2D adaptive Gauss–Kronrod about the SG axis and the ASG axis (glossy_reference.hpp integrate_sphere)",
         "double quadrature (≤ 1e-6 relative); float rounds and mp50 converts the double result",
         [](std::span<const double> a) { return asg_sg_product_quadrature(a[0], a[1], a[2], a[3], a[4]); }));
-    q.methods.push_back(method("two-vsgls", "π Ĝ(ξ; ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ/2 (Tokuyoshi 2015 (two-VSGL poster) §3.2; Xu et al. 2013)",
-                               "0 whenever ξ·ξz ≤ 0 (the ASG is evaluated at the SG axis); poor for broad lobes (plane approximation)",
-                               [](std::span<const double> a) -> std::optional<std::string> {
-                                 if ((a[0] + a[2] / 2) > 0 && (a[1] + a[2] / 2) > 0) return std::nullopt;
-                                 return std::string("undefined when ηx + λ/2 or ηy + λ/2 is 0 (division by zero)");
-                               },
-                               [](auto a) {
-                                 using T = typename decltype(a)::value_type;
-                                 return asg_sg_product_two_vsgls(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4]), T(a[2]));
-                               }));
-    q.methods.push_back(method("lobe-aware", "2π Ĝ(ξ; λxλy/(2λx+λy), λxλy/(2λy+λx))/√((2λx+λy)(2λy+λx)) AS PRINTED in Tokuyoshi 2015 (lobe-aware filtering) App. C",
-                               "AS PRINTED IT DOES NOT DEPEND ON THE SG SHARPNESS λ (evidently a typo: with λ in place of the second bandwidth of each pair it equals `two-vsgls` exactly); 0 whenever ξ·ξz ≤ 0",
-                               all_positive({0, 1}, "the printed form is 0/0 at ηx = ηy = 0"),
-                               [](auto a) { return asg_sg_product_lobe_aware_printed(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4])); }));
+    q.methods.push_back(method(
+        "two-vsgls",
+        "π Ĝ(ξ; ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)), ν = λ/2 (Tokuyoshi 2015 (two-VSGL poster) §3.2; Xu et al. "
+        "2013)",
+        "0 whenever ξ·ξz ≤ 0 (the ASG is evaluated at the SG axis); poor for broad lobes (plane approximation)",
+        [](std::span<const double> a) -> std::optional<std::string> {
+          if ((a[0] + a[2] / 2) > 0 && (a[1] + a[2] / 2) > 0) return std::nullopt;
+          return std::string("undefined when ηx + λ/2 or ηy + λ/2 is 0 (division by zero)");
+        },
+        [](auto a) {
+          using T = typename decltype(a)::value_type;
+          return asg_sg_product_two_vsgls(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4]), T(a[2]));
+        }));
+    q.methods.push_back(
+        method("lobe-aware",
+               "2π Ĝ(ξ; λxλy/(2λx+λy), λxλy/(2λy+λx))/√((2λx+λy)(2λy+λx)) AS PRINTED in Tokuyoshi 2015 (lobe-aware "
+               "filtering) App. C",
+               "AS PRINTED IT DOES NOT DEPEND ON THE SG SHARPNESS λ (evidently a typo: with λ in place of the second "
+               "bandwidth of each pair it equals `two-vsgls` exactly); 0 whenever ξ·ξz ≤ 0",
+               all_positive({0, 1}, "the printed form is 0/0 at ηx = ηy = 0"), [](auto a) {
+                 return asg_sg_product_lobe_aware_printed(standard_asg(a[0], a[1]), product_sg_axis(a[3], a[4]));
+               }));
     q.reference_reach.max_sharpness = kQuadratureMaxSharpness;
     q.reference_reach.rows = 40;
     q.reference_reach.rows_quick = 10;
@@ -219,43 +237,72 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
     Quantity q{"specular",
                "L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω, unit-amplitude SG light, GGX + height-correlated Smith + Schlick; "
                "n = (0,0,1), ωo = (√(1−v²), 0, v), ξ = (s cos φ, s sin φ, light_cos)",
-               specular_columns("GGX α > 0"), "reference", {}};
-    q.methods.push_back(double_only_method(
-        "reference", "adaptive 2D Gauss–Kronrod about the light axis and the mirror/dominant-visible-normal directions (glossy_reference.hpp)",
-        "double quadrature, ≤ 1e-6 relative (checked against a finer rule and Monte Carlo); float rounds and mp50 converts the double result (an mp50 2D quadrature is too slow)",
-        [](std::span<const double> a) { return specular_reference_value(specular_input(a)); }));
+               specular_columns("GGX α > 0"),
+               "reference",
+               {}};
+    q.methods.push_back(
+        double_only_method("reference",
+                           "adaptive 2D Gauss–Kronrod about the light axis and the mirror/dominant-visible-normal "
+                           "directions (glossy_reference.hpp)",
+                           "double quadrature, ≤ 1e-6 relative (checked against a finer rule and Monte Carlo); float "
+                           "rounds and mp50 converts the double result (an mp50 2D quadrature is too slow)",
+                           [](std::span<const double> a) { return specular_reference_value(specular_input(a)); }));
     // Its cost grows without bound as α → 0: refused below kMinReferenceRoughness.
     q.methods.back().domain_error = [](std::span<const double> a) -> std::optional<std::string> {
       if (a[0] >= kMinReferenceRoughness) return std::nullopt;
       return "roughness below " + std::to_string(kMinReferenceRoughness).substr(0, 5) +
              ": the quadrature's cost grows without bound as α → 0 (the renderer's minimum α is the same)";
     };
-    q.methods.push_back(exportable_method("sg-warp", "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; Tokuyoshi 2015 (two-VSGL poster) §1.1, Tokuyoshi 2015 (lobe-aware filtering) App. B) × SG light, exact product integral (Tsai & Shih 2006), M at the lobe axis ξ_s (Wang et al. 2009)",
-                               "isotropic lobe about the mirror direction: wrong shape and position at grazing view and for rough surfaces; energy not normalized", nullptr,
-                               [](auto a) { return specular_sg_warp(specular_input(a)); }));
-    q.methods.push_back(exportable_method("sg-warp-product-axis", "as sg-warp with M at the product lobe's axis ξ_m = (λξ + λ_sξ_s)/‖…‖ instead of ξ_s (a variant, not Wang et al. 2009)",
-                               "as sg-warp; a false 0 where ξ_m is at or below the horizon though the light still reaches the surface", nullptr,
-                               [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::exact, false, FactorAt::product_axis); }));
-    q.methods.push_back(exportable_method("sg-warp-iwasaki", "as sg-warp with the Iwasaki et al. 2012 product integral (Tokuyoshi 2015 (lobe-aware filtering) Eq. C.1)",
-                               "as sg-warp; the Iwasaki product overestimates broad lobes (2π/(λ1+λ2) > 4π at small λ)", nullptr,
-                               [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::iwasaki); }));
+    q.methods.push_back(
+        exportable_method("sg-warp",
+                          "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; Tokuyoshi 2015 (two-VSGL "
+                          "poster) §1.1, Tokuyoshi 2015 (lobe-aware filtering) App. B) × SG light, exact product "
+                          "integral (Tsai & Shih 2006), M at the lobe axis ξ_s (Wang et al. 2009)",
+                          "isotropic lobe about the mirror direction: wrong shape and position at grazing view and for "
+                          "rough surfaces; energy not normalized",
+                          nullptr, [](auto a) { return specular_sg_warp(specular_input(a)); }));
+    q.methods.push_back(exportable_method(
+        "sg-warp-product-axis",
+        "as sg-warp with M at the product lobe's axis ξ_m = (λξ + λ_sξ_s)/‖…‖ instead of ξ_s (a variant, not Wang et "
+        "al. 2009)",
+        "as sg-warp; a false 0 where ξ_m is at or below the horizon though the light still reaches the surface",
+        nullptr, [](auto a) {
+          return specular_sg_warp(specular_input(a), SgProductForm::exact, false, FactorAt::product_axis);
+        }));
+    q.methods.push_back(exportable_method(
+        "sg-warp-iwasaki",
+        "as sg-warp with the Iwasaki et al. 2012 product integral (Tokuyoshi 2015 (lobe-aware filtering) Eq. C.1)",
+        "as sg-warp; the Iwasaki product overestimates broad lobes (2π/(λ1+λ2) > 4π at small λ)", nullptr,
+        [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::iwasaki); }));
     q.methods.push_back(exportable_method("sg-warp-th2019", "as sg-warp with λ_h = 2/α² − 2 (Tokuyoshi & Harada 2019)",
-                               "as sg-warp; λ_h = 0 at α = 1 (a constant lobe)", nullptr,
-                               [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::exact, true); }));
-    q.methods.push_back(exportable_method("asg", "ASG lobe (Xu et al. 2013 warp, ηx = λ_h/8, ηy = λ_h/(8 v²)) × SG light, product integral of Tokuyoshi 2015 (two-VSGL poster) §3.2 (ν = λ/2), M at ξ_m",
-                               "0 when the light axis is ≥ 90° from the mirror direction; the plane approximation of the product overestimates broad lobes; energy not normalized", nullptr,
-                               [](auto a) { return specular_asg(specular_input(a)); }));
-    q.methods.push_back(exportable_method("sg-warp-dvn", "refinement: vMF about the GGX dominant-visible-normal reflection (Tokuyoshi et al. 2024, λ_h = 2/α² − 2) as the VNDF reflection pdf, times F·G2/G1(ωo) at the product axis, exact product",
-                               "isotropic lobe (no grazing anisotropy); F·G2/G1 taken at one direction", nullptr,
-                               [](auto a) { return specular_sg_warp_dvn(specular_input(a)); }));
+                                          "as sg-warp; λ_h = 0 at α = 1 (a constant lobe)", nullptr, [](auto a) {
+                                            return specular_sg_warp(specular_input(a), SgProductForm::exact, true);
+                                          }));
+    q.methods.push_back(
+        exportable_method("asg",
+                          "ASG lobe (Xu et al. 2013 warp, ηx = λ_h/8, ηy = λ_h/(8 v²)) × SG light, product integral of "
+                          "Tokuyoshi 2015 (two-VSGL poster) §3.2 (ν = λ/2), M at ξ_m",
+                          "0 when the light axis is ≥ 90° from the mirror direction; the plane approximation of the "
+                          "product overestimates broad lobes; energy not normalized",
+                          nullptr, [](auto a) { return specular_asg(specular_input(a)); }));
+    q.methods.push_back(exportable_method(
+        "sg-warp-dvn",
+        "refinement: vMF about the GGX dominant-visible-normal reflection (Tokuyoshi et al. 2024, λ_h = 2/α² − 2) as "
+        "the VNDF reflection pdf, times F·G2/G1(ωo) at the product axis, exact product",
+        "isotropic lobe (no grazing anisotropy); F·G2/G1 taken at one direction", nullptr,
+        [](auto a) { return specular_sg_warp_dvn(specular_input(a)); }));
     {
-      const std::string src = "sglab (this project): constants of `sglab fit sglab-specular` (paper_tables/own_specular.md)";
+      const std::string src =
+          "sglab (this project): constants of `sglab fit sglab-specular` (paper_tables/own_specular.md)";
       using S = SglabSpecular;
       q.methods.push_back(make_method_with_parameters(
           exportable, "sglab",
-          "sglab (this project): GGX's slope density as a Student t smoothed by the light's Gaussian in slope space (scale s_D = α²/2·(1 + κρ0), ν = 2 + c_ν ρ/(1 − ρ)), "
-          "the BRDF weight and the true light at the product's peak, a horizon factor; constants from `sglab fit sglab-specular` (paper_tables/own_specular.md)",
-          "fitted, not derived: measured on the sweep grid and off it (paper_tables/own_specular.md), none guaranteed between points; the light is Gaussian in slope "
+          "sglab (this project): GGX's slope density as a Student t smoothed by the light's Gaussian in slope space "
+          "(scale s_D = α²/2·(1 + κρ0), ν = 2 + c_ν ρ/(1 − ρ)), "
+          "the BRDF weight and the true light at the product's peak, a horizon factor; constants from `sglab fit "
+          "sglab-specular` (paper_tables/own_specular.md)",
+          "fitted, not derived: measured on the sweep grid and off it (paper_tables/own_specular.md), none guaranteed "
+          "between points; the light is Gaussian in slope "
           "space only near its axis (broad lights at grazing view carry the largest error); roughness held at ≤ 1e4",
           false, nullptr,
           {{"nu_slope", "sglab-specular", S::nu_slope, src, ColumnKind::positive},

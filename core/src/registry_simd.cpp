@@ -102,8 +102,7 @@ Isa active_isa() {
 }
 
 void force_isa(Isa isa) {
-  if (!isa_supported(isa))
-    throw std::invalid_argument("force_isa: this CPU cannot run " + std::string(isa_name(isa)));
+  if (!isa_supported(isa)) throw std::invalid_argument("force_isa: this CPU cannot run " + std::string(isa_name(isa)));
   g_isa.store(static_cast<int>(isa));
   g_table.store(&table_of(isa), std::memory_order_release);
 }
@@ -125,9 +124,7 @@ std::array<T, simd_detail::kKernelParams> kernel_params(Kernel k, Params v, bool
   for (std::size_t i = 0; i < v.size() && i < p.size(); ++i) p[i] = T(v[i]);
   switch (k) {
     case Kernel::cc_sg_cosine: p[1] = pi<T>() / sg_integral(p[0]); break;
-    case Kernel::cc_tokuyoshi2022:
-      p[4] = published ? tokuyoshi2022_alpha_c<T>() : tokuyoshi2022_alpha(p[0]);
-      break;
+    case Kernel::cc_tokuyoshi2022: p[4] = published ? tokuyoshi2022_alpha_c<T>() : tokuyoshi2022_alpha(p[0]); break;
     default: break;
   }
   if (simd_detail::kernel_arity(k) == 6) {
@@ -147,8 +144,9 @@ template <class T>
 BatchFn<T> simd_batch(Kernel k, std::array<T, simd_detail::kKernelParams> p) {
   return [k, p](std::span<const T> args, std::size_t arity, std::span<T> out) {
     if (arity != simd_detail::kernel_arity(k) || args.size() < arity * out.size())
-      throw std::invalid_argument("vectorized batch evaluator: expected rows of " + std::to_string(simd_detail::kernel_arity(k)) +
-                                  " values, got " + std::to_string(arity));
+      throw std::invalid_argument("vectorized batch evaluator: expected rows of " +
+                                  std::to_string(simd_detail::kernel_arity(k)) + " values, got " +
+                                  std::to_string(arity));
     const auto& t = simd::active_table();
     const int i = static_cast<int>(k);
     if constexpr (std::is_same_v<T, float>) t.f[i](args.data(), out.data(), out.size(), p.data());
@@ -222,7 +220,8 @@ static_assert(simd::kSpecularPairArity == simd_detail::kSpecularPairArity);
 
 simd::SpecularPairFn simd::specular_pair_evaluator(const Method& method) {
   const Quantity* q = find_quantity("specular");
-  if (!q || std::none_of(q->methods.begin(), q->methods.end(), [&](const Method& m) { return &m == &method; })) return {};
+  if (!q || std::none_of(q->methods.begin(), q->methods.end(), [&](const Method& m) { return &m == &method; }))
+    return {};
   for (const auto& e : kEntries) {
     if (e.quantity != q->name || e.method != method.name) continue;
     const int i = static_cast<int>(e.kernel) - static_cast<int>(Kernel::spec_sg_warp);

@@ -48,59 +48,68 @@ std::vector<Column> opposite_columns() {
 Quantity opposite_integral() {
   Quantity q{"sg-product-opposite",
              "∫ G(ω; ξ1, λ) G(ω; ξ2, λ) dω with ξ2 at angle δ from −ξ1 (docs/math.md §1, §10: product sharpness → 0)",
-             opposite_columns(), "definition", {}};
-  q.methods.push_back(make_method("definition", "v = λξ1 + λξ2, λ3 = ‖v‖, e^{λ3−2λ}·A(λ3), in 50 digits (no stable-form rewriting)",
+             opposite_columns(),
+             "definition",
+             {}};
+  q.methods.push_back(make_method("definition",
+                                  "v = λξ1 + λξ2, λ3 = ‖v‖, e^{λ3−2λ}·A(λ3), in 50 digits (no stable-form rewriting)",
                                   "", false, nullptr, [](auto a) {
                                     using T = typename decltype(a)::value_type;
                                     return T(opposite_integral_definition(mp50(a[0]), mp50(a[1])));
                                   }));
-  q.methods.push_back(make_method("sg_product", "sg.hpp sg_product(ξ1, λ, ξ2, λ): e^{L}·A(λ3) from the vector form; NaN if the axis is not finite",
-                                  "", false, nullptr, [](auto a) {
-                                    using T = typename decltype(a)::value_type;
-                                    using std::exp;
-                                    using std::isfinite;
-                                    const auto [x1, x2] = opposite_axes<T>(a[1]);
-                                    const SgProduct<T> p = sg_product(x1, a[0], x2, a[0]);
-                                    for (int k = 0; k < 3; ++k)
-                                      if (!isfinite(p.axis(k))) return T(std::numeric_limits<double>::quiet_NaN());
-                                    return T(exp(p.log_amplitude) * sg_integral(p.sharpness));
-                                  }));
-  q.methods.push_back(make_method("product_integral_exact", "sg.hpp product_integral_exact(λ, λ, ξ1·ξ2), the scalar stable form",
-                                  "", false, nullptr, [](auto a) {
+  q.methods.push_back(make_method(
+      "sg_product", "sg.hpp sg_product(ξ1, λ, ξ2, λ): e^{L}·A(λ3) from the vector form; NaN if the axis is not finite",
+      "", false, nullptr, [](auto a) {
+        using T = typename decltype(a)::value_type;
+        using std::exp;
+        using std::isfinite;
+        const auto [x1, x2] = opposite_axes<T>(a[1]);
+        const SgProduct<T> p = sg_product(x1, a[0], x2, a[0]);
+        for (int k = 0; k < 3; ++k)
+          if (!isfinite(p.axis(k))) return T(std::numeric_limits<double>::quiet_NaN());
+        return T(exp(p.log_amplitude) * sg_integral(p.sharpness));
+      }));
+  q.methods.push_back(make_method("product_integral_exact",
+                                  "sg.hpp product_integral_exact(λ, λ, ξ1·ξ2), the scalar stable form", "", false,
+                                  nullptr, [](auto a) {
                                     using T = typename decltype(a)::value_type;
                                     const auto [x1, x2] = opposite_axes<T>(a[1]);
                                     return product_integral_exact(a[0], a[0], T(x1.dot(x2)));
                                   }));
-  q.methods.push_back(make_method("iwasaki", "sg.hpp product_integral_iwasaki(λ, λ, ξ1·ξ2) (Iwasaki et al. 2012)", "", false,
-                                  [](std::span<const double> a) -> std::optional<std::string> {
-                                    if (a[0] > 0) return std::nullopt;
-                                    return std::string("undefined at λ1 + λ2 = 0");
-                                  },
-                                  [](auto a) {
-                                    using T = typename decltype(a)::value_type;
-                                    const auto [x1, x2] = opposite_axes<T>(a[1]);
-                                    return product_integral_iwasaki(a[0], a[0], T(x1.dot(x2)));
-                                  }));
+  q.methods.push_back(make_method(
+      "iwasaki", "sg.hpp product_integral_iwasaki(λ, λ, ξ1·ξ2) (Iwasaki et al. 2012)", "", false,
+      [](std::span<const double> a) -> std::optional<std::string> {
+        if (a[0] > 0) return std::nullopt;
+        return std::string("undefined at λ1 + λ2 = 0");
+      },
+      [](auto a) {
+        using T = typename decltype(a)::value_type;
+        const auto [x1, x2] = opposite_axes<T>(a[1]);
+        return product_integral_iwasaki(a[0], a[0], T(x1.dot(x2)));
+      }));
   return q;
 }
 
 Quantity opposite_value() {
   Quantity q{"sg-product-opposite-value",
              "G(ξ1; ξ1, λ)·G(ξ1; ξ2, λ) = e^{−λ(1 + cos δ)} through the product SG e^{L}G(ξ1; ξ3, λ3) (uses its axis)",
-             opposite_columns(), "definition", {}};
-  q.methods.push_back(make_method("definition", "e^{λ(ξ1·ξ2 − 1)} = e^{−λ(1 + cos δ)} in 50 digits", "", false, nullptr,
-                                  [](auto a) {
-                                    using T = typename decltype(a)::value_type;
-                                    const mp50 l(a[0]), d(a[1]);
-                                    return T(exp(-l * (1 + cos(d))));
-                                  }));
-  q.methods.push_back(make_method("sg_product", "sg.hpp sg_product: e^{L}·sg_eval(ξ1, ξ3, λ3)", "", false, nullptr, [](auto a) {
-    using T = typename decltype(a)::value_type;
-    using std::exp;
-    const auto [x1, x2] = opposite_axes<T>(a[1]);
-    const SgProduct<T> p = sg_product(x1, a[0], x2, a[0]);
-    return T(exp(p.log_amplitude) * sg_eval(x1, p.axis, p.sharpness));
-  }));
+             opposite_columns(),
+             "definition",
+             {}};
+  q.methods.push_back(
+      make_method("definition", "e^{λ(ξ1·ξ2 − 1)} = e^{−λ(1 + cos δ)} in 50 digits", "", false, nullptr, [](auto a) {
+        using T = typename decltype(a)::value_type;
+        const mp50 l(a[0]), d(a[1]);
+        return T(exp(-l * (1 + cos(d))));
+      }));
+  q.methods.push_back(
+      make_method("sg_product", "sg.hpp sg_product: e^{L}·sg_eval(ξ1, ξ3, λ3)", "", false, nullptr, [](auto a) {
+        using T = typename decltype(a)::value_type;
+        using std::exp;
+        const auto [x1, x2] = opposite_axes<T>(a[1]);
+        const SgProduct<T> p = sg_product(x1, a[0], x2, a[0]);
+        return T(exp(p.log_amplitude) * sg_eval(x1, p.axis, p.sharpness));
+      }));
   return q;
 }
 
@@ -127,20 +136,30 @@ T patch_variance(const T& distance, const T& spacing, bool origin_at_first) {
 }
 
 Quantity vsgl_variance() {
-  Quantity q{"vsgl-variance",
-             "σ_v² of nine VPLs on a 3×3 patch of spacing h at distance D from the origin (vsgl.hpp; docs/math.md §7, §10); "
-             "the exact variance is 4h²/3 (0 for a single point), so a relative error where it is 0 means any non-zero σ²",
-             {{"distance", ColumnKind::nonnegative, "D, the patch's distance from the origin", {0.0, 1.0, 1e2, 1e4, 1e6, 1e8}, {}},
-              {"spacing", ColumnKind::nonnegative, "h, the grid spacing (0: a single point)", {0.0, 1e-6, 1e-3, 1.0, 1e3}, {}}},
-             "exact", {}};
+  Quantity q{
+      "vsgl-variance",
+      "σ_v² of nine VPLs on a 3×3 patch of spacing h at distance D from the origin (vsgl.hpp; docs/math.md §7, §10); "
+      "the exact variance is 4h²/3 (0 for a single point), so a relative error where it is 0 means any non-zero σ²",
+      {{"distance",
+        ColumnKind::nonnegative,
+        "D, the patch's distance from the origin",
+        {0.0, 1.0, 1e2, 1e4, 1e6, 1e8},
+        {}},
+       {"spacing",
+        ColumnKind::nonnegative,
+        "h, the grid spacing (0: a single point)",
+        {0.0, 1e-6, 1e-3, 1.0, 1e3},
+        {}}},
+      "exact",
+      {}};
   q.methods.push_back(make_method("exact", "4h²/3 (closed form)", "", false, nullptr, [](auto a) {
     using T = typename decltype(a)::value_type;
     return T(4) * a[1] * a[1] / T(3);
   }));
-  q.methods.push_back(make_method("origin-zero", "sums relative to o = 0: σ² = E‖y‖² − ‖E y‖² (the papers' form)", "", false,
-                                  nullptr, [](auto a) { return patch_variance(a[0], a[1], false); }));
-  q.methods.push_back(make_method("origin-first-vpl", "sums relative to o = the first VPL (vsgl.hpp's reference point)", "",
-                                  false, nullptr, [](auto a) { return patch_variance(a[0], a[1], true); }));
+  q.methods.push_back(make_method("origin-zero", "sums relative to o = 0: σ² = E‖y‖² − ‖E y‖² (the papers' form)", "",
+                                  false, nullptr, [](auto a) { return patch_variance(a[0], a[1], false); }));
+  q.methods.push_back(make_method("origin-first-vpl", "sums relative to o = the first VPL (vsgl.hpp's reference point)",
+                                  "", false, nullptr, [](auto a) { return patch_variance(a[0], a[1], true); }));
   return q;
 }
 
@@ -182,8 +201,8 @@ Method on_top_method(const Method& cc, bool is_reference) {
       return eval_as<T>(*m, std::span<const T>(in));
     });
   };
-  return make_method(cc.name, "vsgl.hpp vsgl_clamped_cosine with clamped-cosine/" + cc.name, "", cc.may_be_negative, domain,
-                     [shade, is_reference](auto a) {
+  return make_method(cc.name, "vsgl.hpp vsgl_clamped_cosine with clamped-cosine/" + cc.name, "", cc.may_be_negative,
+                     domain, [shade, is_reference](auto a) {
                        using T = typename decltype(a)::value_type;
                        if constexpr (std::is_same_v<T, float>)
                          if (is_reference) return float(shade(double(a[0]), double(a[1])));
@@ -195,10 +214,12 @@ Quantity vsgl_on_top(const Quantity& clamped_cosine) {
   Quantity q{"vsgl-on-top",
              "∫ L_in⟨ω·n⟩ dω / c_v of one VSGL (λ_v = 10) at a shading point `distance` from μ_v, σ_v² = variance "
              "(vsgl.hpp Eq. 7; docs/math.md §10: λ_σ → 0, ξ_μ undefined on top of μ_v; σ² = 0 a point light). Float "
-             "positions (μ = (1, 2, 3)) cannot resolve distances below ~1e-7, so float sees the shading point on top of μ_v there",
+             "positions (μ = (1, 2, 3)) cannot resolve distances below ~1e-7, so float sees the shading point on top "
+             "of μ_v there",
              {{"distance", ColumnKind::nonnegative, "‖μ_v − y_p‖", {0.0, 1e-12, 1e-8, 1e-4, 1.0, 1e4}, {}},
               {"variance", ColumnKind::nonnegative, "σ_v²", {0.0, 1e-12, 1e-6, 1.0, 1e6}, {}}},
-             clamped_cosine.reference_method, {}};
+             clamped_cosine.reference_method,
+             {}};
   for (const Method& m : clamped_cosine.methods) q.methods.push_back(on_top_method(m, m.name == q.reference_method));
   return q;
 }

@@ -38,15 +38,16 @@ SpecularGrid specular_grid(bool quick) {
 SpecularWidths specular_offset_widths(double roughness, double light_sharpness, double view_cos) {
   const double cap = std::numbers::pi / 6;  // also caps λ = 0 (1/λ = ∞)
   const double a2 = 2 * roughness * roughness, c = std::clamp(view_cos, 0.0, 1.0);
-  return {std::min(std::sqrt(1 / light_sharpness + a2), cap), std::min(std::sqrt(1 / light_sharpness + a2 * c * c), cap)};
+  return {std::min(std::sqrt(1 / light_sharpness + a2), cap),
+          std::min(std::sqrt(1 / light_sharpness + a2 * c * c), cap)};
 }
 
 std::vector<LightPosition> specular_light_positions(double roughness, double light_sharpness, double view_cos) {
   const double v = std::clamp(view_cos, 0.0, 1.0), s = std::sqrt(std::max(0.0, (1 - v) * (1 + v)));
-  const Vec mirror{-s, 0, v};          // reflection of ωo = (s, 0, v) about n
-  const Vec to_horizon{-v, 0, -s};     // d(mirror)/dθ: in the plane of incidence, away from n
+  const Vec mirror{-s, 0, v};       // reflection of ωo = (s, 0, v) about n
+  const Vec to_horizon{-v, 0, -s};  // d(mirror)/dθ: in the plane of incidence, away from n
   const Vec to_normal{v, 0, s};
-  const Vec side{0, 1, 0};             // perpendicular to the plane of incidence
+  const Vec side{0, 1, 0};  // perpendicular to the plane of incidence
   const SpecularWidths w = specular_offset_widths(roughness, light_sharpness, v);
   const std::vector<LightPosition> all = {position("mirror", mirror),
                                           position("toward-normal", rotate_toward(mirror, to_normal, w.in_plane)),
@@ -73,8 +74,8 @@ std::vector<double> specular_timing_rows(std::size_t rows) {
   std::vector<double> out;
   out.reserve(6 * rows);
   for (std::size_t k = 0; k < rows; ++k)
-    out.insert(out.end(), {0.02 * std::pow(50.0, u(rng)), std::pow(10.0, 3 * u(rng)), -1 + 2 * u(rng), 0.05 + 0.95 * u(rng),
-                           2 * std::numbers::pi * u(rng), kSpecularF0});
+    out.insert(out.end(), {0.02 * std::pow(50.0, u(rng)), std::pow(10.0, 3 * u(rng)), -1 + 2 * u(rng),
+                           0.05 + 0.95 * u(rng), 2 * std::numbers::pi * u(rng), kSpecularF0});
   return out;
 }
 

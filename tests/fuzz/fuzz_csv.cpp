@@ -19,7 +19,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const auto table = sglab::runner::read_csv(in, "<fuzz>");
     for (const auto& row : table.rows)
-      if (row.fields.size() != table.header.size()) sglab::fuzz::fail("a row whose field count differs from the header's");
+      if (row.fields.size() != table.header.size())
+        sglab::fuzz::fail("a row whose field count differs from the header's");
   } catch (const sglab::cli::UsageError& e) {
     sglab::fuzz::check_message(e.what());
   }

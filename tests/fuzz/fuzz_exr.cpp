@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       sglab::fuzz::fail("an image outside the reader's limits");
     if (image.channels.size() > kMaxExrChannels) sglab::fuzz::fail("more channels than the limit");
     for (const auto& [name, plane] : image.channels)
-      if (plane.size() != std::size_t(image.width) * std::size_t(image.height)) sglab::fuzz::fail("a channel of the wrong size");
+      if (plane.size() != std::size_t(image.width) * std::size_t(image.height))
+        sglab::fuzz::fail("a channel of the wrong size");
   } catch (const std::runtime_error& e) {
     sglab::fuzz::check_message(e.what());
   }

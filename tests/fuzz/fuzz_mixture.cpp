@@ -18,7 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (m.empty() || m.size() > kMaxMixtureLobes) sglab::fuzz::fail("a lobe count outside [1, kMaxMixtureLobes]");
     for (const auto& l : m) {
       if (!(std::fabs(l.axis.norm() - 1) < 1e-12)) sglab::fuzz::fail("a lobe axis that is not a unit vector");
-      if (!(l.sharpness >= 0 && l.sharpness <= kMaxMixtureSharpness)) sglab::fuzz::fail("a sharpness outside its bounds");
+      if (!(l.sharpness >= 0 && l.sharpness <= kMaxMixtureSharpness))
+        sglab::fuzz::fail("a sharpness outside its bounds");
       for (double a : l.amplitude)
         if (!(a >= 0 && a <= kMaxMixtureAmplitude)) sglab::fuzz::fail("an amplitude outside its bounds");
     }

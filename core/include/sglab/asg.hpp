@@ -114,10 +114,12 @@ template <class T>
 T asg_eval(const Vec3<T>& omega, const Asg<T>& g) {
   using std::exp;
   const T cz = T(omega.dot(g.z));
-  return select(!(value_of(cz) > 0), []() -> T { return T(0); }, [&]() -> T {
-    const T cx = T(omega.dot(g.x)), cy = T(omega.dot(g.y));
-    return cz * exp(-g.eta_x * cx * cx - g.eta_y * cy * cy);
-  });
+  return select(
+      !(value_of(cz) > 0), []() -> T { return T(0); },
+      [&]() -> T {
+        const T cx = T(omega.dot(g.x)), cy = T(omega.dot(g.y));
+        return cz * exp(-g.eta_x * cx * cx - g.eta_y * cy * cy);
+      });
 }
 
 // The same ASG at the same frame with other bandwidths (used by the product forms).
@@ -213,9 +215,12 @@ T asg_integral_as_printed(const T& eta_x, const T& eta_y) {
 template <class T>
 T reduced_bandwidth(const T& a, const T& b) {
   const auto a_small = value_of(a) <= value_of(b);
-  const T lo = select(a_small, [&]() -> T { return a; }, [&]() -> T { return b; });
-  const T hi = select(a_small, [&]() -> T { return b; }, [&]() -> T { return a; });
-  return select(!(value_of(lo) > 0), []() -> T { return T(0); }, [&]() -> T { return lo / (T(1) + lo / hi); });
+  const T lo = select(
+      a_small, [&]() -> T { return a; }, [&]() -> T { return b; });
+  const T hi = select(
+      a_small, [&]() -> T { return b; }, [&]() -> T { return a; });
+  return select(
+      !(value_of(lo) > 0), []() -> T { return T(0); }, [&]() -> T { return lo / (T(1) + lo / hi); });
 }
 
 // Tokuyoshi 2015 (two-VSGL poster) §3.2 (Xu et al. 2013, Eq. 11, with the SG written as exp(2ν(ω·ξ − 1)), i.e.

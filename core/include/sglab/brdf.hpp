@@ -22,7 +22,7 @@ struct SgLobe {
 // ---- Lambert ---------------------------------------------------------------------------------
 // ⟨ω·n⟩/π ≈ G(ω; n, λ_d)/A(λ_d) (Tokuyoshi 2015 (two-VSGL poster) Eq. 1, Tokuyoshi 2016 Eq. 1).
 struct LambertSharpness {
-  static constexpr double papers = 2.0;         // "λ_d ≈ 2 … least square method" (Tokuyoshi 2015 poster and 2016)
+  static constexpr double papers = 2.0;  // "λ_d ≈ 2 … least square method" (Tokuyoshi 2015 poster and 2016)
   static constexpr double vsgl_code = 2.292504;  // public VSGL implementation (docs/math.md §5)
 };
 
@@ -143,10 +143,13 @@ T smith_g2_ggx(const T& alpha, const T& cos_o, const T& cos_i) {
 template <class T>
 T smith_visibility_ggx(const T& alpha, const T& cos_o, const T& cos_i) {
   const auto zero = (!(value_of(cos_o) > 0) && !(value_of(cos_i) > 0)) || value_of(cos_o) < 0 || value_of(cos_i) < 0;
-  return select(zero, []() -> T { return T(0); }, [&]() -> T {
-    const T den = cos_i * smith_root(alpha, cos_o) + cos_o * smith_root(alpha, cos_i);
-    return select(!(value_of(den) > 0), []() -> T { return T(0); }, [&]() -> T { return T(1) / (T(2) * den); });
-  });
+  return select(
+      zero, []() -> T { return T(0); },
+      [&]() -> T {
+        const T den = cos_i * smith_root(alpha, cos_o) + cos_o * smith_root(alpha, cos_i);
+        return select(
+            !(value_of(den) > 0), []() -> T { return T(0); }, [&]() -> T { return T(1) / (T(2) * den); });
+      });
 }
 
 // Schlick 1994: F = f0 + (1 − f0)(1 − ωo·h)⁵ (clamped cosine so rounding past 1 gives f0).
@@ -165,8 +168,9 @@ template <class T>
 Vec3<T> half_vector(const Vec3<T>& wo, const Vec3<T>& wi) {
   const Vec3<T> h = wo + wi;
   const T length = T(h.norm());
-  return select(!(value_of(length) > 0), []() -> Vec3<T> { return Vec3<T>(T(0), T(0), T(1)); },
-                [&]() -> Vec3<T> { return h / length; });
+  return select(
+      !(value_of(length) > 0), []() -> Vec3<T> { return Vec3<T>(T(0), T(0), T(1)); },
+      [&]() -> Vec3<T> { return h / length; });
 }
 
 // f(ωo, ωi)·⟨ωi·n⟩ for the ground-truth GGX BRDF f = D·G2·F/(4 co ci) (Walter et al. 2007 Eq. 20
@@ -206,9 +210,9 @@ inline constexpr double kMinWarpCosine = 1e-8;
 // by O(λ/λ_s) ≤ 1e-7 even at light sharpness 1e8.
 inline constexpr double kMinRoughness = 1e-8;
 
-// Spherical warp (Wang et al. 2009; Tokuyoshi 2015 (two-VSGL poster) §1.1, Tokuyoshi 2015 (lobe-aware filtering) App. B): the
-// NDF lobe G(h; n, λ_h) becomes G(ω; ξ_s, λ_s), ξ_s = reflection of ωo about n,
-// λ_s = λ_h/(4|ξ_s·n|) (the Jacobian dω/dh = 4(ωo·h) at h = n, ξ_s·n = ωo·n). Amplitude kept.
+// Spherical warp (Wang et al. 2009; Tokuyoshi 2015 (two-VSGL poster) §1.1, Tokuyoshi 2015 (lobe-aware filtering) App.
+// B): the NDF lobe G(h; n, λ_h) becomes G(ω; ξ_s, λ_s), ξ_s = reflection of ωo about n, λ_s = λ_h/(4|ξ_s·n|) (the
+// Jacobian dω/dh = 4(ωo·h) at h = n, ξ_s·n = ωo·n). Amplitude kept.
 template <class T>
 SgLobe<T> spherical_warp(const SgLobe<T>& ndf, const Vec3<T>& wo) {
   using std::abs;
@@ -230,7 +234,8 @@ Vec3<T> ggx_dominant_visible_normal(const T& alpha, const Vec3<T>& wo) {
   const T a2 = alpha * alpha;
   const T len2 = a2 * (wo(0) * wo(0) + wo(1) * wo(1));
   const T t = sqrt(len2 + wo(2) * wo(2));
-  const T z = select(value_of(wo(2)) >= 0, [&]() -> T { return t + wo(2); }, [&]() -> T { return len2 / (t - wo(2)); });
+  const T z = select(
+      value_of(wo(2)) >= 0, [&]() -> T { return t + wo(2); }, [&]() -> T { return len2 / (t - wo(2)); });
   const Vec3<T> m(a2 * wo(0), a2 * wo(1), z);
   return m / T(m.norm());
 }
@@ -266,8 +271,9 @@ Asg<T> asg_warp(const T& lambda_h, const Vec3<T>& wo) {
   g.z = reflect_about(wo, n);
   // ξy ⟂ plane of incidence: n × ωo normalized; at normal incidence any tangent will do.
   const T s = sqrt(wo(0) * wo(0) + wo(1) * wo(1));
-  g.y = select(value_of(s) > 0, [&]() -> Vec3<T> { return Vec3<T>(T(-wo(1) / s), T(wo(0) / s), T(0)); },
-               []() -> Vec3<T> { return Vec3<T>(T(0), T(1), T(0)); });
+  g.y = select(
+      value_of(s) > 0, [&]() -> Vec3<T> { return Vec3<T>(T(-wo(1) / s), T(wo(0) / s), T(0)); },
+      []() -> Vec3<T> { return Vec3<T>(T(0), T(1), T(0)); });
   g.x = g.y.cross(g.z);
   g.x /= T(g.x.norm());
   const T c = max(wo(2), T(kMinWarpCosine));
@@ -282,10 +288,12 @@ Asg<T> asg_warp(const T& lambda_h, const Vec3<T>& wo) {
 template <class T>
 T brdf_factor_m(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& w) {
   const T ci = w(2);
-  return select(!(value_of(ci) > 0) || value_of(wo(2)) < 0, []() -> T { return T(0); }, [&]() -> T {
-    const Vec3<T> h = half_vector(wo, w);
-    return fresnel_schlick(f0, T(wo.dot(h))) * smith_visibility_ggx(alpha, T(wo(2)), ci) * ci;
-  });
+  return select(
+      !(value_of(ci) > 0) || value_of(wo(2)) < 0, []() -> T { return T(0); },
+      [&]() -> T {
+        const Vec3<T> h = half_vector(wo, w);
+        return fresnel_schlick(f0, T(wo.dot(h))) * smith_visibility_ggx(alpha, T(wo(2)), ci) * ci;
+      });
 }
 
 }  // namespace sglab

@@ -25,7 +25,8 @@ T clamped_cosine_punctual(const T& sharpness, const T& cosine) {
 template <class T>
 T clamped_cosine_punctual_approx(const T& sharpness, const T& cosine) {
   const T c = positive_part(clamp_cosine(cosine));
-  return select(value_of(c) > 0, [&]() -> T { return two_pi<T>() * c / sharpness; }, []() -> T { return T(0); });
+  return select(
+      value_of(c) > 0, [&]() -> T { return two_pi<T>() * c / sharpness; }, []() -> T { return T(0); });
 }
 
 // ---- sg-cosine: the cosine as a normalized SG, Iwasaki product (Tokuyoshi 2015 (two-VSGL poster) §3.2) ------
@@ -38,10 +39,8 @@ struct SgCosine {
 };
 
 template <class T>
-T clamped_cosine_sg_cosine(const T& sharpness, const T& cosine,
-                           const T& lambda_d = T(SgCosine::lambda_d)) {
-  return pi<T>() / sg_integral(lambda_d) *
-         product_integral_iwasaki(sharpness, lambda_d, clamp_cosine(cosine));
+T clamped_cosine_sg_cosine(const T& sharpness, const T& cosine, const T& lambda_d = T(SgCosine::lambda_d)) {
+  return pi<T>() / sg_integral(lambda_d) * product_integral_iwasaki(sharpness, lambda_d, clamp_cosine(cosine));
 }
 
 // ---- cosine-lobe-sg: ⟨ω·n⟩ ≈ 1.17·G(ω; n, 2.133), exact SG product integral ------------------
@@ -71,8 +70,7 @@ struct HillIrradiance {
 };
 
 template <class T>
-T clamped_cosine_hill_fitted(const T& sharpness, const T& cosine,
-                             const T& c0 = T(HillIrradiance::c0)) {
+T clamped_cosine_hill_fitted(const T& sharpness, const T& cosine, const T& c0 = T(HillIrradiance::c0)) {
   using std::abs;
   using std::exp;
   using std::sqrt;
@@ -88,8 +86,8 @@ T clamped_cosine_hill_fitted(const T& sharpness, const T& cosine,
   const T x0 = c0 * c;
   const T x1 = c1 * x;
   const T n = x0 + x1;
-  const T y = select(abs(value_of(x0)) <= value_of(x1), [&]() -> T { return n * n / x; },
-                     [&]() -> T { return clamp(c, T(0), T(1)); });
+  const T y = select(
+      abs(value_of(x0)) <= value_of(x1), [&]() -> T { return n * n / x; }, [&]() -> T { return clamp(c, T(0), T(1)); });
   return (scale * y + bias) * two_pi<T>() * rl;
 }
 
@@ -109,22 +107,22 @@ struct MederCosineSg {
 // constant e^{L} and any axis gives the same hemispherical integral only if H(0, ·) is constant,
 // which holds for every H here: H(0, c) = 2π).
 template <class T, class Hemi>
-T hemispherical_product(const T& sharpness, const T& cosine, const T& sharpness2,
-                        const T& extra_log_amplitude, const Hemi& hemi) {
+T hemispherical_product(const T& sharpness, const T& cosine, const T& sharpness2, const T& extra_log_amplitude,
+                        const Hemi& hemi) {
   using std::exp;
   const T c = clamp_cosine(cosine);
   const T l3 = product_sharpness(sharpness, sharpness2, c);
   const T log_amp = product_log_amplitude(sharpness, sharpness2, c, l3) + extra_log_amplitude;
-  const T c3 = select(value_of(l3) > 0, [&]() -> T { return clamp_cosine(T((sharpness * c + sharpness2) / l3)); },
-                      []() -> T { return T(1); });
+  const T c3 = select(
+      value_of(l3) > 0, [&]() -> T { return clamp_cosine(T((sharpness * c + sharpness2) / l3)); },
+      []() -> T { return T(1); });
   return exp(log_amp) * hemi(l3, c3);
 }
 
 // amplitude, lobe_sharpness, offset (the cosine fit) and p1…p4 (the Meder logistic of both
 // hemispherical integrals) default to the published values.
 template <class T>
-T clamped_cosine_meder(const T& sharpness, const T& cosine,
-                       const T& amplitude = T(MederCosineSg::amplitude),
+T clamped_cosine_meder(const T& sharpness, const T& cosine, const T& amplitude = T(MederCosineSg::amplitude),
                        const T& lobe_sharpness = T(MederCosineSg::sharpness),
                        const T& offset = T(MederCosineSg::offset), const T& p1 = T(MederLogistic::p1),
                        const T& p2 = T(MederLogistic::p2), const T& p3 = T(MederLogistic::p3),
@@ -154,16 +152,19 @@ T tokuyoshi2022_alpha(const T& lambda) {
   using std::abs;
   using std::expm1;
   // e^λ − 1 − λ = Σ_{n≥2} λ^n/n!
-  return select(abs(value_of(lambda)) < 0.5, [&]() -> T {
-    T term = lambda * lambda / T(2);
-    T sum = term;
-    for (int n = 3; n < 200; ++n) {
-      term *= lambda / T(n);
-      sum += term;
-      if (series_converged(term, sum, n - 1)) break;
-    }
-    return lambda / (T(2) * sum);
-  }, [&]() -> T { return lambda / (T(2) * (expm1(lambda) - lambda)); });
+  return select(
+      abs(value_of(lambda)) < 0.5,
+      [&]() -> T {
+        T term = lambda * lambda / T(2);
+        T sum = term;
+        for (int n = 3; n < 200; ++n) {
+          term *= lambda / T(n);
+          sum += term;
+          if (series_converged(term, sum, n - 1)) break;
+        }
+        return lambda / (T(2) * sum);
+      },
+      [&]() -> T { return lambda / (T(2) * (expm1(lambda) - lambda)); });
 }
 
 // λc and α(λc) at T's precision: the published double values for float/double/Jet (no
@@ -211,17 +212,18 @@ struct Tokuyoshi2024T {
 };
 
 template <class T>
-T tokuyoshi2024_t(const T& sharpness, const T& A = T(Tokuyoshi2024T::A),
-                  const T& B = T(Tokuyoshi2024T::B), const T& C = T(Tokuyoshi2024T::C),
-                  const T& D = T(Tokuyoshi2024T::D), const T& E = T(Tokuyoshi2024T::E)) {
+T tokuyoshi2024_t(const T& sharpness, const T& A = T(Tokuyoshi2024T::A), const T& B = T(Tokuyoshi2024T::B),
+                  const T& C = T(Tokuyoshi2024T::C), const T& D = T(Tokuyoshi2024T::D),
+                  const T& E = T(Tokuyoshi2024T::E)) {
   using std::sqrt;
   const T& l = sharpness;
   // Above 1e4 the same rational function divided through by λ² and λ³: the direct form's λ³
   // overflows from λ ≈ 7e12 in float and 6e102 in double (t then came out 0 or NaN).
   // t = √λ·√(½(1 + (A + B/λ)/λ)/(1 + (C + (D + E/λ)/λ)/λ)) → √(λ/2).
-  return select(value_of(l) > 1e4,
-                [&]() -> T { return sqrt(l) * sqrt(T(0.5) * (T(1) + (A + B / l) / l) / (T(1) + (C + (D + E / l) / l) / l)); },
-                [&]() -> T { return l * sqrt(T(0.5) * ((l + A) * l + B) / (((l + C) * l + D) * l + E)); });
+  return select(
+      value_of(l) > 1e4,
+      [&]() -> T { return sqrt(l) * sqrt(T(0.5) * (T(1) + (A + B / l) / l) / (T(1) + (C + (D + E / l) / l) / l)); },
+      [&]() -> T { return l * sqrt(T(0.5) * ((l + A) * l + B) / (((l + C) * l + D) * l + E)); });
 }
 
 // f(t, c) = ½(c·erfc(−tc) + erfc(t)) − e^{−t²c²}·expm1(t²(c² − 1))/(2√π t), clamped to [0, 1].
@@ -250,16 +252,19 @@ template <class T>
 T clamped_cosine_upper_over_2pi(const T& sharpness) {
   using std::abs;
   const T& l = sharpness;
-  return select(value_of(l) < 1, [&]() -> T {
-    T term = T(0.5);  // n = 1: 1/2!
-    T sum = term;
-    for (int n = 2; n < 400; ++n) {
-      term *= -l / T(n + 1);
-      sum += term;
-      if (series_converged(term, sum, n)) break;
-    }
-    return sum;
-  }, [&]() -> T { return (T(1) - expm1_over_x(-l)) / l; });
+  return select(
+      value_of(l) < 1,
+      [&]() -> T {
+        T term = T(0.5);  // n = 1: 1/2!
+        T sum = term;
+        for (int n = 2; n < 400; ++n) {
+          term *= -l / T(n + 1);
+          sum += term;
+          if (series_converged(term, sum, n)) break;
+        }
+        return sum;
+      },
+      [&]() -> T { return (T(1) - expm1_over_x(-l)) / l; });
 }
 
 // D at c = −1 divided by 2π: e^{−λ}((1 − e^{−λ})/λ − e^{−λ})/λ, with
@@ -269,19 +274,22 @@ T clamped_cosine_lower_over_2pi(const T& sharpness) {
   using std::abs;
   using std::exp;
   const T& l = sharpness;
-  const T inner = select(value_of(l) < 1, [&]() -> T {
-    T power = T(1);   // λ^{n−1}
-    T fact = T(2);    // (n+1)!
-    T sum = T(0.5);   // n = 1
-    for (int n = 2; n < 400; ++n) {
-      power *= -l;
-      fact *= T(n + 1);
-      const T term = T(n) * power / fact;
-      sum += term;
-      if (series_converged(term, sum, n)) break;
-    }
-    return sum;
-  }, [&]() -> T { return (expm1_over_x(-l) - exp(-l)) / l; });
+  const T inner = select(
+      value_of(l) < 1,
+      [&]() -> T {
+        T power = T(1);  // λ^{n−1}
+        T fact = T(2);   // (n+1)!
+        T sum = T(0.5);  // n = 1
+        for (int n = 2; n < 400; ++n) {
+          power *= -l;
+          fact *= T(n + 1);
+          const T term = T(n) * power / fact;
+          sum += term;
+          if (series_converged(term, sum, n)) break;
+        }
+        return sum;
+      },
+      [&]() -> T { return (expm1_over_x(-l) - exp(-l)) / l; });
   return exp(-l) * inner;
 }
 

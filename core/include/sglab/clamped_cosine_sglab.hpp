@@ -67,14 +67,17 @@ template <class T>
 void sglab_steepness(const T& sharpness, const SglabDiffuseParams<T>& p, T& t, T& k_over_t) {
   using std::sqrt;
   const T& l = sharpness;
-  const std::array<T, 2> out = select(value_of(l) <= kSglabLargeSharpness, [&]() -> std::array<T, 2> {
-    const T s = sqrt(T(0.5) * ((l + p.A) * l + p.B) / (((l + p.C) * l + p.D) * l + p.E));  // t/λ
-    return {l * s, p.k * l / (((l + p.P) * l + p.Q) * s)};
-  }, [&]() -> std::array<T, 2> {
-    const T r = T(1) / l;
-    const T t_large = sqrt(T(0.5) * l * ((p.B * r + p.A) * r + T(1)) / (((p.E * r + p.D) * r + p.C) * r + T(1)));
-    return {t_large, p.k / (((p.Q * r + p.P) * r + T(1)) * t_large)};
-  });
+  const std::array<T, 2> out = select(
+      value_of(l) <= kSglabLargeSharpness,
+      [&]() -> std::array<T, 2> {
+        const T s = sqrt(T(0.5) * ((l + p.A) * l + p.B) / (((l + p.C) * l + p.D) * l + p.E));  // t/λ
+        return {l * s, p.k * l / (((l + p.P) * l + p.Q) * s)};
+      },
+      [&]() -> std::array<T, 2> {
+        const T r = T(1) / l;
+        const T t_large = sqrt(T(0.5) * l * ((p.B * r + p.A) * r + T(1)) / (((p.E * r + p.D) * r + p.C) * r + T(1)));
+        return {t_large, p.k / (((p.Q * r + p.P) * r + T(1)) * t_large)};
+      });
   t = out[0];
   k_over_t = out[1];
 }
@@ -99,7 +102,8 @@ T sglab_factor(const T& t, const T& k_over_t, const T& cosine) {
   const T g = T(0.5) * (erfc(t) - a * erfc(t * a)) + tail / (T(2) * sqrt(pi<T>()));
   const T corrected = g + k_over_t * (gauss * x - t * tail);
   const T half = T(0.5) * g;
-  const T even = select(value_of(corrected) > value_of(half), [&]() -> T { return corrected; }, [&]() -> T { return half; });
+  const T even = select(
+      value_of(corrected) > value_of(half), [&]() -> T { return corrected; }, [&]() -> T { return half; });
   return clamp(T(positive_part(c) + even), T(0), T(1));
 }
 
@@ -113,12 +117,15 @@ template <class T>
 void sglab_bounds_over_2pi(const T& sharpness, T& upper, T& lower) {
   using std::exp;
   const T& l = sharpness;
-  const std::array<T, 2> out = select(value_of(l) < 1, [&]() -> std::array<T, 2> {
-    return {clamped_cosine_upper_over_2pi(l), clamped_cosine_lower_over_2pi(l)};
-  }, [&]() -> std::array<T, 2> {
-    const T e = exp(-l);
-    return {((l - T(1)) + e) / l / l, e * (((T(1) - e) / l - e) / l)};
-  });
+  const std::array<T, 2> out = select(
+      value_of(l) < 1,
+      [&]() -> std::array<T, 2> {
+        return {clamped_cosine_upper_over_2pi(l), clamped_cosine_lower_over_2pi(l)};
+      },
+      [&]() -> std::array<T, 2> {
+        const T e = exp(-l);
+        return {((l - T(1)) + e) / l / l, e * (((T(1) - e) / l - e) / l)};
+      });
   upper = out[0];
   lower = out[1];
 }

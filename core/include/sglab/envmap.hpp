@@ -26,7 +26,9 @@ struct EnvMap {
   int width = 0, height = 0;
   std::vector<std::array<float, 3>> texels;
   std::size_t size() const { return std::size_t(width) * std::size_t(height); }
-  const std::array<float, 3>& at(int u, int v) const { return texels[std::size_t(v) * std::size_t(width) + std::size_t(u)]; }
+  const std::array<float, 3>& at(int u, int v) const {
+    return texels[std::size_t(v) * std::size_t(width) + std::size_t(u)];
+  }
 };
 
 // Direction of the point (x, y) in texel units (x ∈ [0, W], y ∈ [0, H]); texel centres are
@@ -88,7 +90,8 @@ inline void rasterize_mixture_rows(const SgMixture& m, int supersample, int v0, 
       cos_phi[std::size_t(u * s + sx)] = std::cos(phi);
       sin_phi[std::size_t(u * s + sx)] = std::sin(phi);
     }
-  std::vector<double> sin_theta(static_cast<std::size_t>(s)), cos_theta(static_cast<std::size_t>(s));  // per sample row of row v
+  std::vector<double> sin_theta(static_cast<std::size_t>(s)),
+      cos_theta(static_cast<std::size_t>(s));  // per sample row of row v
   for (int v = v0; v < v1; ++v) {
     for (int sy = 0; sy < s; ++sy) {
       const double y = v + (sy + 0.5) / s;

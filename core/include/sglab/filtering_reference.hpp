@@ -84,8 +84,7 @@ boost::math::quadrature::tanh_sinh<T>& integrator(int level) {
 
 // Panel ends c ± w·2^k (k = −1, 0, 1, …) inside (lo, hi), plus c itself if inside.
 template <class T>
-void add_geometric_breaks(std::vector<T>& out, const T& c, const T& width, const T& lo,
-                          const T& hi) {
+void add_geometric_breaks(std::vector<T>& out, const T& c, const T& width, const T& lo, const T& hi) {
   if (c > lo && c < hi) out.push_back(c);
   if (!(width > 0)) return;
   for (T d = width / 2; d < hi - lo; d *= 2) {
@@ -113,8 +112,8 @@ T integrate_panels(std::vector<T> breaks, const F& f, int level, const T& tolera
   std::vector<T> value(n, T(0)), error(n, T(0)), l1(n, T(0));
   T scale = T(0);
   for (std::size_t i = 0; i < n; ++i) {
-    value[i] = boost::math::quadrature::gauss_kronrod<T, 31>::integrate(
-        f, breaks[i], breaks[i + 1], 0, T(0), &error[i], &l1[i]);
+    value[i] = boost::math::quadrature::gauss_kronrod<T, 31>::integrate(f, breaks[i], breaks[i + 1], 0, T(0), &error[i],
+                                                                        &l1[i]);
     scale += l1[i];
   }
   const T target = tolerance * scale / T(n > 0 ? n : 1);
@@ -127,8 +126,7 @@ T integrate_panels(std::vector<T> breaks, const F& f, int level, const T& tolera
       // Boost's two-argument form (abscissa, distance to the nearer end): the one-argument
       // form of Boost 1.74 can place an abscissa exactly on an end of a short panel (its
       // assertion `position != a`).
-      value[i] = ts.integrate([&](const T& x, const T&) { return f(x); }, breaks[i],
-                              breaks[i + 1], relative);
+      value[i] = ts.integrate([&](const T& x, const T&) { return f(x); }, breaks[i], breaks[i + 1], relative);
     }
     sum += value[i];
   }
@@ -176,16 +174,14 @@ T sg_reach(const T& sharpness) {
 // φ and geometric about it at the SG's width (`width`, already including any smoothing), and the
 // kinks π/2 ± φ of the clamped cosine.
 template <class T>
-void add_lobe_breaks(std::vector<T>& b, const ZonalLobe<T>& f, const T& phi, const T& width,
-                     const T& lo, const T& hi) {
+void add_lobe_breaks(std::vector<T>& b, const ZonalLobe<T>& f, const T& phi, const T& width, const T& lo, const T& hi) {
   const T half_pi = pi<T>() / 2;
   if (f.shape == ZonalLobeShape::sg) {
     add_geometric_breaks(b, phi, width, lo, hi);
   } else {
     if (phi > lo && phi < hi) b.push_back(phi);
     // The kinks of R_f: θ + φ = π/2 or 3π/2, |θ − φ| = π/2 (see zonal_ring_integral).
-    for (const T& k : {T(half_pi - phi), T(T(3) * half_pi - phi), T(phi + half_pi),
-                       T(phi - half_pi)}) {
+    for (const T& k : {T(half_pi - phi), T(T(3) * half_pi - phi), T(phi + half_pi), T(phi - half_pi)}) {
       if (k > lo && k < hi) b.push_back(k);
     }
   }
@@ -206,8 +202,7 @@ T zonal_ring_integral(const ZonalLobe<T>& f, const T& theta, const T& phi) {
     // e^{−x}I0(x) = e^{−x}(1 + x²/4 + x⁴/64 + …): for x below ε^{1/4} the two terms are exact.
     // (The axes at φ = 0 or π make x a rounding residue; Boost's I0 costs ~1 ms in 50 digits.)
     using std::exp;
-    const T i0e = x < T(series_threshold<T>(4)) ? T(exp(-x) * (T(1) + x * x / T(4)))
-                                                 : T(bessel_i0_scaled(x));
+    const T i0e = x < T(series_threshold<T>(4)) ? T(exp(-x) * (T(1) + x * x / T(4))) : T(bessel_i0_scaled(x));
     return two_pi<T>() * filtering_detail::sg_of_angle(f.sharpness, T(theta - phi)) * i0e;
   }
   // The circle is wholly above the horizon iff cos(θ + φ) ≥ 0 (u ≥ v), i.e. θ + φ ≤ π/2 or
@@ -227,8 +222,7 @@ T zonal_ring_integral(const ZonalLobe<T>& f, const T& theta, const T& phi) {
 // over the kernel's reach about θ (beyond it the kernel is below ε³ of its peak).
 template <class T>
 T smoothed_ring_integral(const ZonalLobe<T>& f, const T& theta, const T& phi, const T& kappa,
-                         const T& tolerance = filtering_detail::default_tolerance<T>(),
-                         int level = 1) {
+                         const T& tolerance = filtering_detail::default_tolerance<T>(), int level = 1) {
   using std::isinf;
   using std::sin;
   if (isinf(kappa)) return zonal_ring_integral(f, theta, phi);
@@ -244,18 +238,15 @@ T smoothed_ring_integral(const ZonalLobe<T>& f, const T& theta, const T& phi, co
   const T lo = theta - reach > T(0) ? T(theta - reach) : T(0);
   const T hi = theta + reach < pi<T>() ? T(theta + reach) : pi<T>();
   std::vector<T> breaks{lo, hi};
-  filtering_detail::add_geometric_breaks(breaks, theta, filtering_detail::angular_width(kappa), lo,
-                                         hi);
-  filtering_detail::add_lobe_breaks(breaks, f, phi, filtering_detail::angular_width(f.sharpness),
-                                    lo, hi);
+  filtering_detail::add_geometric_breaks(breaks, theta, filtering_detail::angular_width(kappa), lo, hi);
+  filtering_detail::add_lobe_breaks(breaks, f, phi, filtering_detail::angular_width(f.sharpness), lo, hi);
   return filtering_detail::integrate_panels(std::move(breaks), integrand, level, tolerance);
 }
 
 // ∫_{S²} c_i(ω·ξ_i) c_j(ω·ξ_j) dω for lobes smoothed by the vMF kernel of sharpness κ
 // (κ = +∞: the lobes themselves), ξ_i·ξ_j = cosine.
 template <class T>
-T zonal_lobe_inner_product(const ZonalLobe<T>& lobe_i, const ZonalLobe<T>& lobe_j,
-                           const T& cosine, const T& kappa,
+T zonal_lobe_inner_product(const ZonalLobe<T>& lobe_i, const ZonalLobe<T>& lobe_j, const T& cosine, const T& kappa,
                            const T& tolerance = filtering_detail::default_tolerance<T>()) {
   using std::acos;
   using std::atan2;
@@ -283,8 +274,7 @@ T zonal_lobe_inner_product(const ZonalLobe<T>& lobe_i, const ZonalLobe<T>& lobe_
   // place panel ends; the integral itself is exact).
   auto width = [&](const ZonalLobe<T>& f) -> T {
     if (f.shape != ZonalLobeShape::sg) return pi<T>();
-    const T inv = (f.sharpness > T(0) ? T(T(1) / f.sharpness) : T(1)) +
-                  (smoothed ? T(T(1) / kappa) : T(0));
+    const T inv = (f.sharpness > T(0) ? T(T(1) / f.sharpness) : T(1)) + (smoothed ? T(T(1) / kappa) : T(0));
     return filtering_detail::angular_width(T(T(1) / inv));
   };
   std::vector<T> breaks{T(0), pi<T>()};
@@ -295,16 +285,14 @@ T zonal_lobe_inner_product(const ZonalLobe<T>& lobe_i, const ZonalLobe<T>& lobe_
     const T li = lobe_i.sharpness, lj = lobe_j.sharpness;
     const T peak = atan2(T(lj * sin(phi)), T(li + lj * cos(phi)));
     const T l3 = sqrt(li * li + lj * lj + T(2) * li * lj * cos(phi));
-    filtering_detail::add_geometric_breaks(breaks, peak, filtering_detail::angular_width(l3),
-                                           T(0), pi<T>());
+    filtering_detail::add_geometric_breaks(breaks, peak, filtering_detail::angular_width(l3), T(0), pi<T>());
   }
   return filtering_detail::integrate_panels(std::move(breaks), integrand, 0, tolerance);
 }
 
 // q_ij = ∫c_ic_j/√(∫c_i² ∫c_j²) by direct numerical integration (see the header comment).
 template <class T>
-T lobe_similarity_reference(const ZonalLobe<T>& lobe_i, const ZonalLobe<T>& lobe_j,
-                            const T& cosine, const T& kappa,
+T lobe_similarity_reference(const ZonalLobe<T>& lobe_i, const ZonalLobe<T>& lobe_j, const T& cosine, const T& kappa,
                             const T& tolerance = filtering_detail::default_tolerance<T>()) {
   using std::sqrt;
   const T ij = zonal_lobe_inner_product(lobe_i, lobe_j, cosine, kappa, tolerance);
@@ -333,12 +321,10 @@ T gaussian_similarity_reference_1d(const T& offset, const T& variance_i, const T
     filtering_detail::add_geometric_breaks(breaks, centre, sd, T(centre - reach), T(centre + reach));
     filtering_detail::add_geometric_breaks(breaks, x, sd_k, T(x - reach), T(x + reach));
     return filtering_detail::integrate_panels(
-        std::move(breaks),
-        [&](const T& xp) { return g(T(xp - centre), var) * g(T(x - xp), kernel_variance); }, 1,
+        std::move(breaks), [&](const T& xp) { return g(T(xp - centre), var) * g(T(x - xp), kernel_variance); }, 1,
         filtering_detail::default_tolerance<T>());
   };
-  auto inner = [&](const T& ci, const T& vi, const T& si, const T& cj, const T& vj,
-                   const T& sj) -> T {
+  auto inner = [&](const T& ci, const T& vi, const T& si, const T& cj, const T& vj, const T& sj) -> T {
     const T wi = sqrt(vi + kernel_variance), wj = sqrt(vj + kernel_variance);
     const T lo = (ci < cj ? ci : cj) - T(40) * (wi > wj ? wi : wj);
     const T hi = (ci > cj ? ci : cj) + T(40) * (wi > wj ? wi : wj);
@@ -346,8 +332,7 @@ T gaussian_similarity_reference_1d(const T& offset, const T& variance_i, const T
     filtering_detail::add_geometric_breaks(breaks, ci, wi, lo, hi);
     filtering_detail::add_geometric_breaks(breaks, cj, wj, lo, hi);
     return filtering_detail::integrate_panels(
-        std::move(breaks),
-        [&](const T& x) { return smoothed(x, ci, vi, si) * smoothed(x, cj, vj, sj); }, 0,
+        std::move(breaks), [&](const T& x) { return smoothed(x, ci, vi, si) * smoothed(x, cj, vj, sj); }, 0,
         filtering_detail::default_tolerance<T>());
   };
   const T ij = inner(T(0), variance_i, sd_i, offset, variance_j, sd_j);

@@ -54,9 +54,13 @@ struct LobeAwareFiltering {
 template <class T>
 T gaussian_weight(const T& distance_squared, const T& variance) {
   using std::exp;
-  return select(!(value_of(variance) > 0),
-                [&]() -> T { return select(value_of(distance_squared) > 0, []() -> T { return T(0); }, []() -> T { return T(1); }); },
-                [&]() -> T { return exp(-distance_squared / (T(2) * variance)); });
+  return select(
+      !(value_of(variance) > 0),
+      [&]() -> T {
+        return select(
+            value_of(distance_squared) > 0, []() -> T { return T(0); }, []() -> T { return T(1); });
+      },
+      [&]() -> T { return exp(-distance_squared / (T(2) * variance)); });
 }
 
 // App. A: a Gaussian lobe g(x − x_i, τ_i²) smoothed by the kernel g(·, ν²) is the Gaussian of
@@ -84,8 +88,9 @@ T log_mismatch(const T& a, const T& b) {
   const T sum = a + b;
   const T r = (a - b) / sum;
   const T r2 = r * r;
-  return select(value_of(r2) <= 0.5, [&]() -> T { return log1p(T(-r2)); },
-                [&]() -> T { return log(T(T(2) * T(a / sum)) * T(T(2) * T(b / sum))); });
+  return select(
+      value_of(r2) <= 0.5, [&]() -> T { return log1p(T(-r2)); },
+      [&]() -> T { return log(T(T(2) * T(a / sum)) * T(T(2) * T(b / sum))); });
 }
 
 }  // namespace detail
@@ -95,8 +100,8 @@ T log_mismatch(const T& a, const T& b) {
 // with (2τ̄_iτ̄_j/(a + b))^{m/2} = (4ab/(a + b)²)^{m/4}, a = τ̄_i², b = τ̄_j² (detail::log_mismatch).
 // Both variances must be positive (a zero-variance lobe is a delta, not in L²).
 template <class T>
-T gaussian_lobe_log_similarity(const T& distance_squared, const T& smoothed_variance_i,
-                               const T& smoothed_variance_j, int dimension) {
+T gaussian_lobe_log_similarity(const T& distance_squared, const T& smoothed_variance_i, const T& smoothed_variance_j,
+                               int dimension) {
   const T sum = smoothed_variance_i + smoothed_variance_j;
   return T(dimension) / T(4) * detail::log_mismatch(smoothed_variance_i, smoothed_variance_j) -
          distance_squared / (T(2) * sum);
@@ -104,23 +109,23 @@ T gaussian_lobe_log_similarity(const T& distance_squared, const T& smoothed_vari
 
 // q_ij of App. A (see gaussian_lobe_log_similarity).
 template <class T>
-T gaussian_lobe_similarity(const T& distance_squared, const T& smoothed_variance_i,
-                           const T& smoothed_variance_j, int dimension) {
+T gaussian_lobe_similarity(const T& distance_squared, const T& smoothed_variance_i, const T& smoothed_variance_j,
+                           int dimension) {
   using std::exp;
-  return clamp(T(exp(gaussian_lobe_log_similarity(distance_squared, smoothed_variance_i,
-                                                  smoothed_variance_j, dimension))),
-               T(0), T(1));
+  return clamp(
+      T(exp(gaussian_lobe_log_similarity(distance_squared, smoothed_variance_i, smoothed_variance_j, dimension))), T(0),
+      T(1));
 }
 
 // The distribution-aware weight for Gaussian lobes (App. A):
 //   w(i, j) = q_ij^β = (2τ̄_iτ̄_j/(τ̄_i² + τ̄_j²))^{βm/2} g(x_i − x_j, (τ̄_i² + τ̄_j²)/β),
 // evaluated as exp(β log q_ij) (β·log q ≤ 0: underflows to 0 for large β, never overflows).
 template <class T>
-T gaussian_lobe_weight(const T& distance_squared, const T& smoothed_variance_i,
-                       const T& smoothed_variance_j, const T& beta, int dimension) {
+T gaussian_lobe_weight(const T& distance_squared, const T& smoothed_variance_i, const T& smoothed_variance_j,
+                       const T& beta, int dimension) {
   using std::exp;
-  return clamp(T(exp(beta * gaussian_lobe_log_similarity(distance_squared, smoothed_variance_i,
-                                                         smoothed_variance_j, dimension))),
+  return clamp(T(exp(beta * gaussian_lobe_log_similarity(distance_squared, smoothed_variance_i, smoothed_variance_j,
+                                                         dimension))),
                T(0), T(1));
 }
 
@@ -128,8 +133,8 @@ T gaussian_lobe_weight(const T& distance_squared, const T& smoothed_variance_i,
 //   w(i, j) = g(x_i − x_j, (2/β)τ² + 2ν²/β)
 // ("the linear transformation of input-dependent variance τ² using ν² and β").
 template <class T>
-T gaussian_lobe_weight_equal_variance(const T& distance_squared, const T& variance,
-                                      const T& kernel_variance, const T& beta) {
+T gaussian_lobe_weight_equal_variance(const T& distance_squared, const T& variance, const T& kernel_variance,
+                                      const T& beta) {
   return gaussian_weight(distance_squared, T((T(2) * variance + T(2) * kernel_variance) / beta));
 }
 
@@ -222,10 +227,12 @@ T diffuse_lobe_weight(const T& cosine, const T& lambda_c, const T& beta, const T
 template <class T>
 T smoothed_lobe_sharpness(const T& sharpness, const T& kappa) {
   using std::min;
-  return select(!(value_of(sharpness) > 0), []() -> T { return T(0); }, [&]() -> T {
-    const T s = T(1) / (T(1) / sharpness + T(1) / kappa);
-    return min(s, sharpness);
-  });
+  return select(
+      !(value_of(sharpness) > 0), []() -> T { return T(0); },
+      [&]() -> T {
+        const T s = T(1) / (T(1) / sharpness + T(1) / kappa);
+        return min(s, sharpness);
+      });
 }
 
 namespace detail {
@@ -240,19 +247,21 @@ T sg_reduced_sharpness(const T& sharpness_i, const T& sharpness_j) {
 // (λ̄_i = λ̄_j = 0) are identical: log q = 0. One uniform and one sharp lobe: the approximation
 // gives q = 0 (as published; the mismatch factor is 0).
 template <class T>
-T sg_lobe_log_weight(const T& one_minus_cosine, const T& sharpness_i, const T& sharpness_j,
-                     const T& beta) {
+T sg_lobe_log_weight(const T& one_minus_cosine, const T& sharpness_i, const T& sharpness_j, const T& beta) {
   const T v = sharpness_i + sharpness_j;
   // β = 0 written as β ≤ 0 ∧ β ≥ 0 (false for NaN, as !(β ≠ 0) is): the tracing type has no ≠.
   const auto beta_zero = value_of(beta) <= 0 && value_of(beta) >= 0;
-  return select(!(value_of(v) > 0) || beta_zero, []() -> T { return T(0); }, [&]() -> T {  // q^0 = 1, uniform lobes: q = 1
-    return select(!(value_of(sharpness_i) > 0) || !(value_of(sharpness_j) > 0),
-                  []() -> T { return T(-std::numeric_limits<value_type_t<T>>::infinity()); }, [&]() -> T {
-                    const T omc = clamp(one_minus_cosine, T(0), T(2));
-                    return beta * (T(0.5) * log_mismatch(sharpness_i, sharpness_j) -
-                                   sg_reduced_sharpness(sharpness_i, sharpness_j) * omc);
-                  });
-  });
+  return select(
+      !(value_of(v) > 0) || beta_zero, []() -> T { return T(0); }, [&]() -> T {  // q^0 = 1, uniform lobes: q = 1
+        return select(
+            !(value_of(sharpness_i) > 0) || !(value_of(sharpness_j) > 0),
+            []() -> T { return T(-std::numeric_limits<value_type_t<T>>::infinity()); },
+            [&]() -> T {
+              const T omc = clamp(one_minus_cosine, T(0), T(2));
+              return beta * (T(0.5) * log_mismatch(sharpness_i, sharpness_j) -
+                             sg_reduced_sharpness(sharpness_i, sharpness_j) * omc);
+            });
+      });
 }
 
 }  // namespace detail
@@ -264,8 +273,7 @@ T sg_lobe_log_weight(const T& one_minus_cosine, const T& sharpness_i, const T& s
 template <class T>
 T sg_lobe_similarity(const T& cosine, const T& sharpness_i, const T& sharpness_j) {
   using std::exp;
-  return exp(detail::sg_lobe_log_weight(T(T(1) - clamp_cosine(cosine)), sharpness_i, sharpness_j,
-                                        T(1)));
+  return exp(detail::sg_lobe_log_weight(T(T(1) - clamp_cosine(cosine)), sharpness_i, sharpness_j, T(1)));
 }
 
 // The exact similarity of two SG lobes (no Iwasaki approximation): ∫G_iG_j/√(∫G_i²∫G_j²) with
@@ -288,16 +296,14 @@ T sg_lobe_similarity_exact(const T& cosine, const T& sharpness_i, const T& sharp
 //   w_ω(i, j) ≈ (2√(λ̄_iλ̄_j)/(λ̄_i + λ̄_j))^β · G(ξ_i; ξ_j, βλ̄_iλ̄_j/(λ̄_i + λ̄_j)).
 // A pow and an exp; the sharpnesses are the smoothed ones (smoothed_lobe_sharpness).
 template <class T>
-T sg_lobe_weight_direct(const T& cosine, const T& sharpness_i, const T& sharpness_j,
-                        const T& beta) {
+T sg_lobe_weight_direct(const T& cosine, const T& sharpness_i, const T& sharpness_j, const T& beta) {
   using std::pow;
   using std::sqrt;
   const T v = sharpness_i + sharpness_j;
   if (!(value_of(v) > 0)) return T(1);
   // ≤ 1 by the AM–GM inequality; rounding can put equal sharpnesses at 1 + ε, hence the clamp.
   const T mismatch = clamp(T(T(2) * sqrt(sharpness_i) * sqrt(sharpness_j) / v), T(0), T(1));
-  return pow(mismatch, beta) *
-         sg_eval_cos(cosine, T(beta * detail::sg_reduced_sharpness(sharpness_i, sharpness_j)));
+  return pow(mismatch, beta) * sg_eval_cos(cosine, T(beta * detail::sg_reduced_sharpness(sharpness_i, sharpness_j)));
 }
 
 // The optimized form of App. E:
@@ -308,16 +314,15 @@ T sg_lobe_weight_direct(const T& cosine, const T& sharpness_i, const T& sharpnes
 template <class T>
 T sg_lobe_weight(const T& cosine, const T& sharpness_i, const T& sharpness_j, const T& beta) {
   using std::exp;
-  return exp(detail::sg_lobe_log_weight(T(T(1) - clamp_cosine(cosine)), sharpness_i, sharpness_j,
-                                        beta));
+  return exp(detail::sg_lobe_log_weight(T(T(1) - clamp_cosine(cosine)), sharpness_i, sharpness_j, beta));
 }
 
 // The lobe-aware weight of two pixels' SG lobes (axes ξ, unsmoothed sharpnesses λ), with kernel
 // sharpness κ and exponent β (Eq. (9), (12), App. E): smooth both lobes, then App. E with
 // 1 − ξ_i·ξ_j = ‖ξ_i − ξ_j‖²/2 (no cancellation for nearly equal axes).
 template <class T>
-T lobe_aware_weight(const Vec3<T>& axis_i, const T& sharpness_i, const Vec3<T>& axis_j,
-                    const T& sharpness_j, const T& beta, const T& kappa) {
+T lobe_aware_weight(const Vec3<T>& axis_i, const T& sharpness_i, const Vec3<T>& axis_j, const T& sharpness_j,
+                    const T& beta, const T& kappa) {
   using std::exp;
   const T li = smoothed_lobe_sharpness(sharpness_i, kappa);
   const T lj = smoothed_lobe_sharpness(sharpness_j, kappa);

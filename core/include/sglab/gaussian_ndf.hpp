@@ -143,8 +143,8 @@ template <class T>
 struct GaussianNdfSetup {
   SgLobe<T> lobe;  // the warped NDF lobe G(ω; p_D, λ_D, 1)
   Vec3<T> light_axis;
-  T cos_o;         // n·o, floored at kMinWarpCosine
-  T fresnel;       // F(n·o): Schlick at the lobe axis
+  T cos_o;    // n·o, floored at kMinWarpCosine
+  T fresnel;  // F(n·o): Schlick at the lobe axis
 };
 template <class T>
 GaussianNdfSetup<T> gaussian_ndf_setup(const SpecularInput<T>& in) {
@@ -173,7 +173,8 @@ T specular_gaussian_ndf_with_cosine(const SpecularInput<T>& in, const CosineInte
 template <class T>
 T specular_gaussian_ndf_sg_warp(const SpecularInput<T>& in) {
   const detail::GaussianNdfSetup<T> s = detail::gaussian_ndf_setup(in);
-  const T integral = product_integral_exact(s.lobe.sharpness, in.light_sharpness, clamp_cosine(T(s.lobe.axis.dot(s.light_axis))));
+  const T integral = product_integral_exact(s.lobe.sharpness, in.light_sharpness,
+                                            clamp_cosine(T(s.lobe.axis.dot(s.light_axis))));
   return s.fresnel / (pi<T>() * s.cos_o) * integral;
 }
 
@@ -182,7 +183,8 @@ T specular_gaussian_ndf_sg_warp(const SpecularInput<T>& in) {
 // Brüderlin's hemispherical integral: clamped_cosine_meder of the product lobe.
 template <class T>
 T specular_gaussian_ndf_sg_meder(const SpecularInput<T>& in) {
-  return detail::specular_gaussian_ndf_with_cosine(in, [](const T& l, const T& c) { return clamped_cosine_meder(l, c); });
+  return detail::specular_gaussian_ndf_with_cosine(in,
+                                                   [](const T& l, const T& c) { return clamped_cosine_meder(l, c); });
 }
 
 // `sg-warp-exact-cosine`: the post's form before the cosine is fitted: the cosine kept exactly, the
@@ -190,7 +192,8 @@ T specular_gaussian_ndf_sg_meder(const SpecularInput<T>& in) {
 // for Jets (a quadrature).
 template <class T>
 T specular_gaussian_ndf_sg_exact_cosine(const SpecularInput<T>& in) {
-  return detail::specular_gaussian_ndf_with_cosine(in, [](const T& l, const T& c) { return clamped_cosine_reference(l, c); });
+  return detail::specular_gaussian_ndf_with_cosine(
+      in, [](const T& l, const T& c) { return clamped_cosine_reference(l, c); });
 }
 
 // ---- the exact reference ------------------------------------------------------------------------
@@ -285,11 +288,12 @@ inline double specular_gaussian_ndf_reference_grazing(const SpecularConfig& c, c
 // glossy_reference.hpp: pole = the light axis (width 1/√λ, capped at 1 rad), focus = the mirror
 // direction p_D, the peak of D, of width ~m(n·o) across the plane of incidence in ω (D's standard
 // deviation m/√2 in h, doubled by the warp in the plane and times n·o across it; m·max(n·o, 1e-3)
-// is that width's lower end), clip = the horizon. ≤ 1e-6 relative (tests/gaussian_ndf_test.cpp checks it against an independent
-// quadrature over the half vector and the sharp-light limit).
+// is that width's lower end), clip = the horizon. ≤ 1e-6 relative (tests/gaussian_ndf_test.cpp checks it against an
+// independent quadrature over the half vector and the sharp-light limit).
 inline double specular_gaussian_ndf_reference(const SpecularConfig& c, const SphereQuadrature& q = {}) {
   const Vec3d wo = specular_view(c.view_cos);
-  if (wo(2) == 0) return specular_gaussian_ndf_reference_grazing(c, detail::grazing_light_offset(c.light_cos, c.light_azimuth), q);
+  if (wo(2) == 0)
+    return specular_gaussian_ndf_reference_grazing(c, detail::grazing_light_offset(c.light_cos, c.light_azimuth), q);
   const Vec3d xi = specular_light_axis(c.light_cos, c.light_azimuth);
   const double m = c.roughness;
   auto h = [&](const Vec3d& w) { return gaussian_ndf_brdf_cosine(m, c.f0, wo, w); };

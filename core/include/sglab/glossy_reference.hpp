@@ -73,8 +73,7 @@ inline void orthonormal_frame(const Vec3d& p, Vec3d& e1, Vec3d& e2) {
 }
 
 // Breakpoints c ± w·ratio^k (k = 0, 1, …) inside (lo, hi), plus c itself if inside.
-inline void add_geometric_breaks(std::vector<double>& out, double c, double w, double lo, double hi,
-                                 double ratio) {
+inline void add_geometric_breaks(std::vector<double>& out, double c, double w, double lo, double hi, double ratio) {
   if (c > lo && c < hi) out.push_back(c);
   for (double d = w; d < hi - lo; d *= ratio) {
     if (c + d > lo && c + d < hi) out.push_back(c + d);
@@ -98,7 +97,6 @@ inline bool visible_theta_interval(double A, double B, double& lo, double& hi) {
   }
   return hi > lo;
 }
-
 
 // Adaptive Gauss–Kronrod (7/15 points, Boost.Math's nodes) to an ABSOLUTE error abs_tol: split
 // until the Kronrod–Gauss difference of a piece is below its share of the tolerance. Absolute,
@@ -208,17 +206,15 @@ inline double sg_support_angle(double lambda) {
 // or with a SpherePoint if it takes one; only then is a pole width below q.min_width kept (an f of
 // ω alone cannot resolve a narrower pole). f is taken to be 0 past θ = pole_support about the pole.
 template <class F>
-double integrate_sphere(const F& f, const Vec3d& pole, double pole_width,
-                        std::span<const SphereFocus> foci, std::span<const Vec3d> clips,
-                        const SphereQuadrature& q = {},
+double integrate_sphere(const F& f, const Vec3d& pole, double pole_width, std::span<const SphereFocus> foci,
+                        std::span<const Vec3d> clips, const SphereQuadrature& q = {},
                         double pole_support = boost::math::constants::pi<double>()) {
   using boost::math::quadrature::gauss_kronrod;
   const double pi = boost::math::constants::pi<double>();
   constexpr bool polar_f = std::is_invocable_v<const F&, const SpherePoint&>;
   Vec3d e1, e2;
   detail::orthonormal_frame(pole, e1, e2);
-  const double w_pole =
-      std::max(pole_width, polar_f ? std::numeric_limits<double>::min() : q.min_width);
+  const double w_pole = std::max(pole_width, polar_f ? std::numeric_limits<double>::min() : q.min_width);
   const std::vector<detail::FocusPolar> polar = detail::foci_polar(foci, pole, e1, e2, q.min_width);
 
   // The θ integral along the meridian of azimuth φ, over where every clip is visible.
@@ -336,8 +332,7 @@ inline double specular_reference(const SpecularConfig& c, const SphereQuadrature
   const Vec3d n(0, 0, 1);
   auto h = [&](const Vec3d& w) { return ggx_brdf_cosine(alpha, c.f0, wo, w); };
   const double lobe_width = std::min(1.0, 2.0 * alpha * std::max(wo(2), 1e-3));
-  const SphereFocus foci[2] = {{reflect_about(wo, n), lobe_width},
-                               {dvn_reflection_lobe(alpha, wo).axis, lobe_width}};
+  const SphereFocus foci[2] = {{reflect_about(wo, n), lobe_width}, {dvn_reflection_lobe(alpha, wo).axis, lobe_width}};
   const Vec3d clips[1] = {n};
   return integrate_sg_about_axis(h, xi, lambda, foci, clips, q);
 }
@@ -355,8 +350,7 @@ struct MonteCarloEstimate {
 // Jakob 2012 "Numerically stable sampling of the von Mises–Fisher distribution on S²"), half from
 // the GGX NDF (Walter et al. 2007 Eq. 35–36, h reflected to ω with pdf D(h)(n·h)/(4|ωo·h|)).
 // The mixture pdf covers both peaks, so the variance stays small at α = 0.01 and λ = 1e4.
-inline MonteCarloEstimate specular_monte_carlo(const SpecularConfig& c, std::uint64_t samples,
-                                               std::uint64_t seed) {
+inline MonteCarloEstimate specular_monte_carlo(const SpecularConfig& c, std::uint64_t samples, std::uint64_t seed) {
   const double pi = boost::math::constants::pi<double>();
   const double alpha = c.roughness, a2 = alpha * alpha;
   const double lambda = c.light_sharpness;

@@ -41,15 +41,15 @@ struct MederLogistic {
 };
 
 template <class T>
-T meder_steepness(const T& sharpness, const T& p1 = T(MederLogistic::p1),
-                  const T& p2 = T(MederLogistic::p2), const T& p3 = T(MederLogistic::p3),
-                  const T& p4 = T(MederLogistic::p4)) {
+T meder_steepness(const T& sharpness, const T& p1 = T(MederLogistic::p1), const T& p2 = T(MederLogistic::p2),
+                  const T& p3 = T(MederLogistic::p3), const T& p4 = T(MederLogistic::p4)) {
   using std::sqrt;
   const T& l = sharpness;
   // Above 1e4 divided through by λ²: the direct form's λ² overflows from λ ≈ 1.8e19 in float and
   // 1.3e154 in double (∞/∞ = NaN). t = √λ·(p1 + p2/λ)/(1 + (p3 + p4/λ)/λ) → p1√λ.
-  return select(value_of(l) > 1e4, [&]() -> T { return safe_sqrt(l) * (p1 + p2 / l) / (T(1) + (p3 + p4 / l) / l); },
-                [&]() -> T { return safe_sqrt(l) * (p1 * l * l + p2 * l) / (l * l + p3 * l + p4); });
+  return select(
+      value_of(l) > 1e4, [&]() -> T { return safe_sqrt(l) * (p1 + p2 / l) / (T(1) + (p3 + p4 / l) / l); },
+      [&]() -> T { return safe_sqrt(l) * (p1 * l * l + p2 * l) / (l * l + p3 * l + p4); });
 }
 
 // The logistic interpolant s = (ab − 1)/((a − 1)(b + 1)) with a = e^t, b = e^{tc}, rewritten
@@ -66,20 +66,27 @@ T meder_logistic(const T& steepness, const T& cosine) {
   using std::expm1;
   const T c = clamp_cosine(cosine);
   const T& t = steepness;
-  return select(value_of(t) < 1, [&]() -> T {
-    const T den = expm1_over_x(-t);
-    return select(value_of(c) >= 0,
-                  [&]() -> T { return (T(1) + c) * expm1_over_x(-t * (T(1) + c)) / (den * (T(1) + exp(-t * c))); },
-                  [&]() -> T { return exp(-t) * (T(1) + c) * expm1_over_x(t * (T(1) + c)) / (den * (T(1) + exp(t * c))); });
-  }, [&]() -> T {
-    const T den = -expm1(-t);
-    return select(value_of(c) >= 0, [&]() -> T { return -expm1(-t * (T(1) + c)) / (den * (T(1) + exp(-t * c))); }, [&]() -> T {
-      // e^{tc} − e^{−t} = e^{−t}·expm1(t(1 + c)) where t(1 + c) is small (no cancellation).
-      const T num = select(value_of(t * (T(1) + c)) < 1, [&]() -> T { return exp(-t) * expm1(t * (T(1) + c)); },
-                           [&]() -> T { return exp(t * c) - exp(-t); });
-      return num / (den * (T(1) + exp(t * c)));
-    });
-  });
+  return select(
+      value_of(t) < 1,
+      [&]() -> T {
+        const T den = expm1_over_x(-t);
+        return select(
+            value_of(c) >= 0,
+            [&]() -> T { return (T(1) + c) * expm1_over_x(-t * (T(1) + c)) / (den * (T(1) + exp(-t * c))); },
+            [&]() -> T { return exp(-t) * (T(1) + c) * expm1_over_x(t * (T(1) + c)) / (den * (T(1) + exp(t * c))); });
+      },
+      [&]() -> T {
+        const T den = -expm1(-t);
+        return select(
+            value_of(c) >= 0, [&]() -> T { return -expm1(-t * (T(1) + c)) / (den * (T(1) + exp(-t * c))); },
+            [&]() -> T {
+              // e^{tc} − e^{−t} = e^{−t}·expm1(t(1 + c)) where t(1 + c) is small (no cancellation).
+              const T num = select(
+                  value_of(t * (T(1) + c)) < 1, [&]() -> T { return exp(-t) * expm1(t * (T(1) + c)); },
+                  [&]() -> T { return exp(t * c) - exp(-t); });
+              return num / (den * (T(1) + exp(t * c)));
+            });
+      });
 }
 
 // H ≈ lower·(1 − s) + upper·s = upper·lerp(e^{−λ}, 1, s)  (Meder & Brüderlin 2018).
@@ -104,14 +111,14 @@ struct Tokuyoshi2022Steepness {
 
 template <class T>
 T tokuyoshi2022_steepness(const T& sharpness, const T& A = T(Tokuyoshi2022Steepness::A),
-                          const T& B = T(Tokuyoshi2022Steepness::B),
-                          const T& C = T(Tokuyoshi2022Steepness::C)) {
+                          const T& B = T(Tokuyoshi2022Steepness::B), const T& C = T(Tokuyoshi2022Steepness::C)) {
   using std::sqrt;
   const T& l = sharpness;
   // Above 1e4 divided through by λ: the direct form's λ² overflows from λ ≈ 1.8e19 in float and
   // 1.3e154 in double (k then came out 0 or NaN). k = √λ·√((½ + A/λ)/(1 + (B + C/λ)/λ)) → √(λ/2).
-  return select(value_of(l) > 1e4, [&]() -> T { return sqrt(l) * sqrt((T(0.5) + A / l) / (T(1) + (B + C / l) / l)); },
-                [&]() -> T { return l * sqrt((l / T(2) + A) / ((l + B) * l + C)); });
+  return select(
+      value_of(l) > 1e4, [&]() -> T { return sqrt(l) * sqrt((T(0.5) + A / l) / (T(1) + (B + C / l) / l)); },
+      [&]() -> T { return l * sqrt((l / T(2) + A) / ((l + B) * l + C)); });
 }
 
 // erf(k c)/erf(k), with the k → 0 limit c(1 + k²(1 − c²)/3) (from erf(x) = 2/√π (x − x³/3 + …))
@@ -119,8 +126,9 @@ T tokuyoshi2022_steepness(const T& sharpness, const T& A = T(Tokuyoshi2022Steepn
 template <class T>
 T erf_ratio(const T& k, const T& c) {
   using std::erf;
-  return select(value_of(k) < series_threshold<T>(4), [&]() -> T { return c * (T(1) + k * k * (T(1) - c * c) / T(3)); },
-                [&]() -> T { return erf(k * c) / erf(k); });
+  return select(
+      value_of(k) < series_threshold<T>(4), [&]() -> T { return c * (T(1) + k * k * (T(1) - c * c) / T(3)); },
+      [&]() -> T { return erf(k * c) / erf(k); });
 }
 
 // The sigmoid factor f = ½ + ½ erf(kc)/erf(k) ∈ [0, 1].

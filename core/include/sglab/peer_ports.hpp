@@ -125,8 +125,9 @@ template <class T>
 T cc_tokuyoshi2024(T l, T c) {
   using K = Tokuyoshi2024T;
   const T t = l * std::sqrt(T(0.5) * ((l + T(K::A)) * l + T(K::B)) / (((l + T(K::C)) * l + T(K::D)) * l + T(K::E)));
-  const T f = std::clamp(T(0.5) * (c * std::erfc(-t * c) + std::erfc(t)) -
-                             std::exp(-t * t * c * c) * std::expm1(t * t * (c * c - T(1))) / (T(2) * std::sqrt(kPi<T>) * t),
+  const T f = std::clamp(T(0.5) * (c * std::erfc(-t * c) + std::erfc(t)) - std::exp(-t * t * c * c) *
+                                                                               std::expm1(t * t * (c * c - T(1))) /
+                                                                               (T(2) * std::sqrt(kPi<T>) * t),
                          T(0), T(1));
   const T e = std::exp(-l);
   const T upper = (T(1) - (T(1) - e) / l) / l;
@@ -161,17 +162,29 @@ struct V3 {
   T x, y, z;
 };
 template <class T>
-V3<T> operator+(V3<T> a, V3<T> b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+V3<T> operator+(V3<T> a, V3<T> b) {
+  return {a.x + b.x, a.y + b.y, a.z + b.z};
+}
 template <class T>
-V3<T> operator*(T s, V3<T> a) { return {s * a.x, s * a.y, s * a.z}; }
+V3<T> operator*(T s, V3<T> a) {
+  return {s * a.x, s * a.y, s * a.z};
+}
 template <class T>
-T dot(V3<T> a, V3<T> b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+T dot(V3<T> a, V3<T> b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 template <class T>
-T length(V3<T> a) { return std::sqrt(dot(a, a)); }
+T length(V3<T> a) {
+  return std::sqrt(dot(a, a));
+}
 template <class T>
-V3<T> normalize(V3<T> a) { return (T(1) / length(a)) * a; }
+V3<T> normalize(V3<T> a) {
+  return (T(1) / length(a)) * a;
+}
 template <class T>
-V3<T> cross(V3<T> a, V3<T> b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+V3<T> cross(V3<T> a, V3<T> b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 
 // ∫ G(ω; a1, λ1) G(ω; a2, λ2) dω (Pettineo's SGInnerProduct).
 template <class T>
@@ -189,7 +202,9 @@ T ggx_factor_m(T a, T f0, V3<T> wo, V3<T> w) {
   return f * vis * nl;
 }
 template <class T>
-V3<T> view_of(T v) { return {std::sqrt(T(1) - v * v), T(0), v}; }
+V3<T> view_of(T v) {
+  return {std::sqrt(T(1) - v * v), T(0), v};
+}
 template <class T>
 V3<T> light_of(T lc, T phi) {
   const T s = std::sqrt(T(1) - lc * lc);
@@ -211,13 +226,21 @@ T spec_sg_warp_form(T a, T l, T lc, T v, T phi, T f0) {
   return ggx_factor_m(a, f0, wo, xm) * integral / (kPi<T> * a * a);
 }
 template <class T>
-T spec_sg_warp(T a, T l, T lc, T v, T phi, T f0) { return spec_sg_warp_form<T, false, false, false>(a, l, lc, v, phi, f0); }
+T spec_sg_warp(T a, T l, T lc, T v, T phi, T f0) {
+  return spec_sg_warp_form<T, false, false, false>(a, l, lc, v, phi, f0);
+}
 template <class T>
-T spec_sg_warp_product_axis(T a, T l, T lc, T v, T phi, T f0) { return spec_sg_warp_form<T, false, false, true>(a, l, lc, v, phi, f0); }
+T spec_sg_warp_product_axis(T a, T l, T lc, T v, T phi, T f0) {
+  return spec_sg_warp_form<T, false, false, true>(a, l, lc, v, phi, f0);
+}
 template <class T>
-T spec_sg_warp_iwasaki(T a, T l, T lc, T v, T phi, T f0) { return spec_sg_warp_form<T, true, false, false>(a, l, lc, v, phi, f0); }
+T spec_sg_warp_iwasaki(T a, T l, T lc, T v, T phi, T f0) {
+  return spec_sg_warp_form<T, true, false, false>(a, l, lc, v, phi, f0);
+}
 template <class T>
-T spec_sg_warp_th2019(T a, T l, T lc, T v, T phi, T f0) { return spec_sg_warp_form<T, false, true, false>(a, l, lc, v, phi, f0); }
+T spec_sg_warp_th2019(T a, T l, T lc, T v, T phi, T f0) {
+  return spec_sg_warp_form<T, false, true, false>(a, l, lc, v, phi, f0);
+}
 
 // Xu et al. 2013's ASG warp (ηx = λ_h/8, ηy = λ_h/(8 v²)) and Tokuyoshi 2015's ASG × SG
 // product (ν = λ/2), M at the product axis.
@@ -241,7 +264,8 @@ template <class T>
 T spec_sg_warp_dvn(T a, T l, T lc, T v, T phi, T f0) {
   const V3<T> wo = view_of(v), xi = light_of(lc, phi);
   const T a2 = a * a;
-  const V3<T> m = normalize(V3<T>{a2 * wo.x, a2 * wo.y, std::sqrt(a2 * (wo.x * wo.x + wo.y * wo.y) + wo.z * wo.z) + wo.z});
+  const V3<T> m = normalize(
+      V3<T>{a2 * wo.x, a2 * wo.y, std::sqrt(a2 * (wo.x * wo.x + wo.y * wo.y) + wo.z * wo.z) + wo.z});
   const T om = dot(wo, m);
   const V3<T> axis = (T(2) * om) * m + T(-1) * wo;
   const T ll = (T(2) / a2 - T(2)) * m.z / (T(4) * om);
@@ -342,7 +366,8 @@ struct Port {
   void (*batch_double)(const double*, double*, std::size_t);
 };
 
-#define SGLAB_PEER_PORT(q, m, fn) Port{q, m, &port_batch<float, fn<float>>, &port_batch<double, fn<double>>}
+#define SGLAB_PEER_PORT(q, m, fn) \
+  Port { q, m, &port_batch<float, fn<float>>, &port_batch<double, fn<double>> }
 inline constexpr Port kPorts[] = {
     SGLAB_PEER_PORT("clamped-cosine", "punctual", cc_punctual),
     SGLAB_PEER_PORT("clamped-cosine", "punctual-approx", cc_punctual_approx),
@@ -356,7 +381,8 @@ inline constexpr Port kPorts[] = {
     SGLAB_PEER_PORT("hemispherical", "meder", hemi_meder),
     SGLAB_PEER_PORT("hemispherical", "tokuyoshi2022", hemi_tokuyoshi2022),
     SGLAB_PEER_PORT("hemispherical", "vmf-tokuyoshi2024", hemi_vmf_tokuyoshi2024),
-#define SGLAB_PEER_PORT6(q, m, fn) Port{q, m, &port_batch6<float, fn<float>>, &port_batch6<double, fn<double>>}
+#define SGLAB_PEER_PORT6(q, m, fn) \
+  Port { q, m, &port_batch6<float, fn<float>>, &port_batch6<double, fn<double>> }
     SGLAB_PEER_PORT6("specular", "sg-warp", spec_sg_warp),
     SGLAB_PEER_PORT6("specular", "sg-warp-product-axis", spec_sg_warp_product_axis),
     SGLAB_PEER_PORT6("specular", "sg-warp-iwasaki", spec_sg_warp_iwasaki),

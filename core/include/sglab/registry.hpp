@@ -30,13 +30,13 @@ int round_trip_digits(Precision p);
 
 // What an input column holds; it decides the column's validation.
 enum class ColumnKind {
-  sharpness,    // λ ≥ 0, finite
-  cosine,       // |c| ≤ 1 + kCosineSlack (rounding past ±1 is accepted and clamped)
-  mean_length,  // r ∈ [0, 1]
-  positive,     // > 0, finite
-  nonnegative,  // ≥ 0, finite
-  angle,        // any finite value (radians)
-  unit_interval, // [0, 1]
+  sharpness,      // λ ≥ 0, finite
+  cosine,         // |c| ≤ 1 + kCosineSlack (rounding past ±1 is accepted and clamped)
+  mean_length,    // r ∈ [0, 1]
+  positive,       // > 0, finite
+  nonnegative,    // ≥ 0, finite
+  angle,          // any finite value (radians)
+  unit_interval,  // [0, 1]
   finite = angle  // any finite value (a constant of either sign)
 };
 
@@ -82,10 +82,10 @@ enum class ParameterRole {
 };
 
 struct Parameter {
-  std::string name;    // as in the fit record: "lambda_d", "A", "p1", …
-  std::string fit;     // the `sglab fit` name that re-derives it ("" if none)
+  std::string name;  // as in the fit record: "lambda_d", "A", "p1", …
+  std::string fit;   // the `sglab fit` name that re-derives it ("" if none)
   double published = 0;
-  std::string source;  // paper and equation
+  std::string source;                      // paper and equation
   ColumnKind kind = ColumnKind::positive;  // its domain, checked with column_value_error
   ParameterRole role = ParameterRole::constant;
 };
@@ -101,8 +101,8 @@ using BindFn = std::function<Method(std::span<const double> values)>;
 
 struct Method {
   std::string name;
-  std::string source;   // paper and equation
-  std::string flaws;    // known flaws, as published; "" if none known
+  std::string source;            // paper and equation
+  std::string flaws;             // known flaws, as published; "" if none known
   bool may_be_negative = false;  // the published form itself goes negative (kept, measured)
   // Evaluates in double whatever the precision (a quadrature reference: float rounds and mp50
   // converts the double result). An mp50 argument outside double's range cannot reach it, so
@@ -201,8 +201,7 @@ void set_evaluators(Method& m, F f) {
   m.eval_mp50 = [f](std::span<const mp50> a) { return f(a); };
   auto batch = [f](auto args, std::size_t arity, auto out) {
     using T = typename decltype(out)::value_type;
-    for (std::size_t i = 0; i < out.size(); ++i)
-      out[i] = f(std::span<const T>(args.data() + i * arity, arity));
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = f(std::span<const T>(args.data() + i * arity, arity));
   };
   m.batch_float = [batch](std::span<const float> a, std::size_t n, std::span<float> o) { batch(a, n, o); };
   m.batch_double = [batch](std::span<const double> a, std::size_t n, std::span<double> o) { batch(a, n, o); };
@@ -263,7 +262,8 @@ Method make_method(Exportable, std::string name, std::string source, std::string
 }
 
 template <class F, class G>
-Method make_method_with_parameters(Exportable, std::string name, std::string source, std::string flaws, bool may_be_negative,
+Method make_method_with_parameters(Exportable, std::string name, std::string source, std::string flaws,
+                                   bool may_be_negative,
                                    std::function<std::optional<std::string>(std::span<const double>)> domain,
                                    std::vector<Parameter> parameters, F published, G with) {
   Method m = make_method_with_parameters(std::move(name), std::move(source), std::move(flaws), may_be_negative,

@@ -104,15 +104,19 @@ bool series_converged(const T& term, const T& sum, int /*terms*/) {
 // max(x, 0) written so that Jets keep their derivative on the positive side.
 template <class T>
 T positive_part(const T& x) {
-  return select(value_of(x) > 0, [&]() -> T { return x; }, []() -> T { return T(0); });
+  return select(
+      value_of(x) > 0, [&]() -> T { return x; }, []() -> T { return T(0); });
 }
 
 // Clamp x into [lo, hi] by value (for Jets the derivative is that of the selected branch).
 template <class T>
 T clamp(const T& x, const T& lo, const T& hi) {
-  return select(value_of(x) < value_of(lo), [&]() -> T { return lo; }, [&]() -> T {
-    return select(value_of(x) > value_of(hi), [&]() -> T { return hi; }, [&]() -> T { return x; });
-  });
+  return select(
+      value_of(x) < value_of(lo), [&]() -> T { return lo; },
+      [&]() -> T {
+        return select(
+            value_of(x) > value_of(hi), [&]() -> T { return hi; }, [&]() -> T { return x; });
+      });
 }
 
 // A cosine that rounding may have pushed just past ±1 (|c| = 1 + 1 ulp from a dot product of
@@ -129,7 +133,8 @@ T clamp_cosine(const T& c) {
 template <class T>
 T safe_sqrt(const T& x) {
   using std::sqrt;
-  return select(value_of(x) > 0, [&]() -> T { return sqrt(x); }, []() -> T { return T(0); });
+  return select(
+      value_of(x) > 0, [&]() -> T { return sqrt(x); }, []() -> T { return T(0); });
 }
 
 // Below this |x| the first terms of a Taylor series are exact to T's precision. For a series
@@ -150,9 +155,10 @@ template <class T>
 T expm1_over_x(const T& x) {
   using std::abs;
   using std::expm1;
-  return select(abs(value_of(x)) < series_threshold<T>(4),
-                [&]() -> T { return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(24)))); },
-                [&]() -> T { return expm1(x) / x; });
+  return select(
+      abs(value_of(x)) < series_threshold<T>(4),
+      [&]() -> T { return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(24)))); },
+      [&]() -> T { return expm1(x) / x; });
 }
 
 // 1 − e^{−x} for x ≥ 0 without cancellation.

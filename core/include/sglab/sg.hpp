@@ -35,9 +35,9 @@ T sg_eval_cos(const T& cosine, const T& sharpness) {
 // λ > max/2 (FLT_MAX in float gave 0 instead of 2π/λ).
 template <class T>
 T sg_integral(const T& sharpness) {
-  return select(value_of(sharpness) > 1,
-                [&]() -> T { return two_pi<T>() * one_minus_exp_neg(T(2) * sharpness) / sharpness; },
-                [&]() -> T { return T(2) * two_pi<T>() * expm1_over_x(T(-2) * sharpness); });
+  return select(
+      value_of(sharpness) > 1, [&]() -> T { return two_pi<T>() * one_minus_exp_neg(T(2) * sharpness) / sharpness; },
+      [&]() -> T { return T(2) * two_pi<T>() * expm1_over_x(T(-2) * sharpness); });
 }
 
 // The large-λ approximation A(λ) ≈ 2π/λ (Iwasaki et al. 2012; Tokuyoshi 2016 §4.2).
@@ -75,51 +75,58 @@ inline constexpr double kProductScaleSharpness = 1e18;  // (1e18)²·4 = 4e36 < 
 // max(λ1, λ2) (the first when neither is larger).
 template <class T>
 T larger_sharpness(const T& sharpness1, const T& sharpness2) {
-  return select(value_of(sharpness1) > value_of(sharpness2), [&]() -> T { return sharpness1; },
-                [&]() -> T { return sharpness2; });
+  return select(
+      value_of(sharpness1) > value_of(sharpness2), [&]() -> T { return sharpness1; },
+      [&]() -> T { return sharpness2; });
 }
 
 template <class T>
 T product_sharpness(const T& sharpness1, const T& sharpness2, const T& cosine) {
   const T c = clamp_cosine(cosine);
   const T s = larger_sharpness(sharpness1, sharpness2);
-  return select(value_of(s) > kProductScaleSharpness, [&]() -> T {
-    const T u1 = sharpness1 / s, u2 = sharpness2 / s, du = u1 - u2;
-    return s * safe_sqrt(du * du + T(2) * u1 * u2 * (T(1) + c));
-  }, [&]() -> T {
-    const T d = sharpness1 - sharpness2;
-    return safe_sqrt(d * d + T(2) * sharpness1 * sharpness2 * (T(1) + c));
-  });
+  return select(
+      value_of(s) > kProductScaleSharpness,
+      [&]() -> T {
+        const T u1 = sharpness1 / s, u2 = sharpness2 / s, du = u1 - u2;
+        return s * safe_sqrt(du * du + T(2) * u1 * u2 * (T(1) + c));
+      },
+      [&]() -> T {
+        const T d = sharpness1 - sharpness2;
+        return safe_sqrt(d * d + T(2) * sharpness1 * sharpness2 * (T(1) + c));
+      });
 }
 
 // L = λ3 − λ1 − λ2, computed as −λ1λ2‖ξ1 − ξ2‖²/(λ3 + λ1 + λ2) = −2λ1λ2(1 − c)/(λ3 + λ1 + λ2):
 // the same value without the cancellation of three large numbers (docs/math.md §1). 0 when both
 // sharpnesses are 0.
 template <class T>
-T product_log_amplitude(const T& sharpness1, const T& sharpness2, const T& cosine,
-                        const T& product_sharpness_value) {
+T product_log_amplitude(const T& sharpness1, const T& sharpness2, const T& cosine, const T& product_sharpness_value) {
   const T c = clamp_cosine(cosine);
   const T s = larger_sharpness(sharpness1, sharpness2);
-  return select(value_of(s) > kProductScaleSharpness, [&]() -> T {  // L = s·L(λ1/s, λ2/s): no overflowing product
-    const T u1 = sharpness1 / s, u2 = sharpness2 / s;
-    return T(-2) * u1 * u2 * (T(1) - c) / (product_sharpness_value / s + u1 + u2) * s;
-  }, [&]() -> T {
-    const T denom = product_sharpness_value + sharpness1 + sharpness2;
-    return select(!(value_of(denom) > 0), []() -> T { return T(0); },
-                  [&]() -> T { return T(-2) * sharpness1 * sharpness2 * (T(1) - c) / denom; });
-  });
+  return select(
+      value_of(s) > kProductScaleSharpness,
+      [&]() -> T {  // L = s·L(λ1/s, λ2/s): no overflowing product
+        const T u1 = sharpness1 / s, u2 = sharpness2 / s;
+        return T(-2) * u1 * u2 * (T(1) - c) / (product_sharpness_value / s + u1 + u2) * s;
+      },
+      [&]() -> T {
+        const T denom = product_sharpness_value + sharpness1 + sharpness2;
+        return select(
+            !(value_of(denom) > 0), []() -> T { return T(0); },
+            [&]() -> T { return T(-2) * sharpness1 * sharpness2 * (T(1) - c) / denom; });
+      });
 }
 
 // Vector form. When λ3 = 0 (opposite axes of equal sharpness, or both sharpnesses 0) the product
 // is the constant e^{L}: its axis is undefined and ξ1 is returned with sharpness 0, which makes
 // G(ω; ξ1, 0) ≡ 1 — the right function whatever the axis.
 template <class T>
-SgProduct<T> sg_product(const Vec3<T>& axis1, const T& sharpness1, const Vec3<T>& axis2,
-                        const T& sharpness2) {
+SgProduct<T> sg_product(const Vec3<T>& axis1, const T& sharpness1, const Vec3<T>& axis2, const T& sharpness2) {
   // ‖v‖ is only used for the direction: past kProductScaleSharpness v is scaled by 1/max(λ1, λ2)
   // first (its squared norm overflows from λ ≈ 1.8e19 in float, and v/∞ gave a zero axis).
   const T big = larger_sharpness(sharpness1, sharpness2);
-  const T scale = select(value_of(big) > kProductScaleSharpness, [&]() -> T { return T(1) / big; }, []() -> T { return T(1); });
+  const T scale = select(
+      value_of(big) > kProductScaleSharpness, [&]() -> T { return T(1) / big; }, []() -> T { return T(1); });
   const Vec3<T> v = (sharpness1 * scale) * axis1 + (sharpness2 * scale) * axis2;
   const T cosine = clamp_cosine(T(axis1.dot(axis2)));
   // The stable scalar form of ‖v‖ (exact 0 for opposite axes of equal sharpness).
@@ -127,8 +134,9 @@ SgProduct<T> sg_product(const Vec3<T>& axis1, const T& sharpness1, const Vec3<T>
   const T log_amplitude = product_log_amplitude(sharpness1, sharpness2, cosine, lambda3);
   SgProduct<T> out;
   const T vnorm = T(v.norm());
-  out.axis = select(value_of(vnorm) > 0 && value_of(lambda3) > 0, [&]() -> Vec3<T> { return v / vnorm; },
-                    [&]() -> Vec3<T> { return axis1; });
+  out.axis = select(
+      value_of(vnorm) > 0 && value_of(lambda3) > 0, [&]() -> Vec3<T> { return v / vnorm; },
+      [&]() -> Vec3<T> { return axis1; });
   out.sharpness = lambda3;
   out.log_amplitude = log_amplitude;
   return out;
@@ -141,22 +149,25 @@ template <class T>
 T product_integral_exact(const T& sharpness1, const T& sharpness2, const T& cosine) {
   using std::exp;
   const T s = larger_sharpness(sharpness1, sharpness2);
-  return select(value_of(s) > kProductScaleSharpness, [&]() -> T {
-    // In units of s = max(λ1, λ2): λ3 = s·r may overflow (λ1 = λ2 = FLT_MAX, c = 1 gave A(∞) = 0),
-    // but A(λ3) = (2π/s)/r·(1 − e^{−2λ3}) does not.
-    const T u1 = sharpness1 / s, u2 = sharpness2 / s;
-    const T r = product_sharpness(u1, u2, cosine);
-    const T log_amplitude = s * product_log_amplitude(u1, u2, cosine, r);
-    const T lambda3 = s * r;
-    const T area = select(value_of(lambda3) > 1,
-                          [&]() -> T { return two_pi<T>() / s / r * one_minus_exp_neg(T(2) * lambda3); },
-                          [&]() -> T { return sg_integral(lambda3); });
-    return exp(log_amplitude) * area;
-  }, [&]() -> T {
-    const T lambda3 = product_sharpness(sharpness1, sharpness2, cosine);
-    const T log_amplitude = product_log_amplitude(sharpness1, sharpness2, cosine, lambda3);
-    return exp(log_amplitude) * sg_integral(lambda3);
-  });
+  return select(
+      value_of(s) > kProductScaleSharpness,
+      [&]() -> T {
+        // In units of s = max(λ1, λ2): λ3 = s·r may overflow (λ1 = λ2 = FLT_MAX, c = 1 gave A(∞) = 0),
+        // but A(λ3) = (2π/s)/r·(1 − e^{−2λ3}) does not.
+        const T u1 = sharpness1 / s, u2 = sharpness2 / s;
+        const T r = product_sharpness(u1, u2, cosine);
+        const T log_amplitude = s * product_log_amplitude(u1, u2, cosine, r);
+        const T lambda3 = s * r;
+        const T area = select(
+            value_of(lambda3) > 1, [&]() -> T { return two_pi<T>() / s / r * one_minus_exp_neg(T(2) * lambda3); },
+            [&]() -> T { return sg_integral(lambda3); });
+        return exp(log_amplitude) * area;
+      },
+      [&]() -> T {
+        const T lambda3 = product_sharpness(sharpness1, sharpness2, cosine);
+        const T log_amplitude = product_log_amplitude(sharpness1, sharpness2, cosine, lambda3);
+        return exp(log_amplitude) * sg_integral(lambda3);
+      });
 }
 
 // Iwasaki et al. 2012 (Tokuyoshi 2015 (lobe-aware filtering), Eq. C.1):
@@ -165,13 +176,16 @@ T product_integral_exact(const T& sharpness1, const T& sharpness2, const T& cosi
 template <class T>
 T product_integral_iwasaki(const T& sharpness1, const T& sharpness2, const T& cosine) {
   const T sum = sharpness1 + sharpness2;
-  return select(!(value_of(sum) > 0), []() -> T { return T(std::numeric_limits<value_type_t<T>>::infinity()); }, [&]() -> T {
-    // λ1λ2/(λ1 + λ2) as the larger sharpness times (the smaller)/(sum) ≤ 1: λ1λ2 overflows from
-    // λ ≈ 1.8e19 in float, 1.3e154 in double (then ∞/∞ or ∞·0 = NaN in the exponent).
-    const T reduced = select(value_of(sharpness1) > value_of(sharpness2), [&]() -> T { return sharpness1 * (sharpness2 / sum); },
-                             [&]() -> T { return sharpness2 * (sharpness1 / sum); });
-    return two_pi<T>() * sg_eval_cos(cosine, reduced) / sum;
-  });
+  return select(
+      !(value_of(sum) > 0), []() -> T { return T(std::numeric_limits<value_type_t<T>>::infinity()); },
+      [&]() -> T {
+        // λ1λ2/(λ1 + λ2) as the larger sharpness times (the smaller)/(sum) ≤ 1: λ1λ2 overflows from
+        // λ ≈ 1.8e19 in float, 1.3e154 in double (then ∞/∞ or ∞·0 = NaN in the exponent).
+        const T reduced = select(
+            value_of(sharpness1) > value_of(sharpness2), [&]() -> T { return sharpness1 * (sharpness2 / sum); },
+            [&]() -> T { return sharpness2 * (sharpness1 / sum); });
+        return two_pi<T>() * sg_eval_cos(cosine, reduced) / sum;
+      });
 }
 
 }  // namespace sglab

@@ -54,13 +54,13 @@ enum class SgProductForm { exact, iwasaki };
 // Where the factor M = F·G2/(4 cos θo) (the BRDF·cosine without its NDF) is evaluated and pulled
 // out of the integral.
 enum class FactorAt {
-  lobe_axis,     // the warped lobe's axis ξ_s (the mirror direction): Wang et al. 2009, as published
+  lobe_axis,  // the warped lobe's axis ξ_s (the mirror direction): Wang et al. 2009, as published
   product_axis,  // the product lobe's axis ξ_m = (λξ + λ_sξ_s)/‖…‖ (a variant; 0 when ξ_m is below the horizon)
 };
 
-// `sg-warp` (Wang et al. 2009; Tokuyoshi 2015 (two-VSGL poster) §1.1 and §3.2, Tokuyoshi 2015 (lobe-aware filtering) App. B):
-// D(h) ≈ G(h; n, λ_h)/(πα²), warped to G(ω; ξ_s, λ_s/…) about the mirror direction, M evaluated
-// at the lobe axis ξ_s (as Wang et al. 2009; `factor_at` = product_axis: at ξ_m) and pulled out:
+// `sg-warp` (Wang et al. 2009; Tokuyoshi 2015 (two-VSGL poster) §1.1 and §3.2, Tokuyoshi 2015 (lobe-aware filtering)
+// App. B): D(h) ≈ G(h; n, λ_h)/(πα²), warped to G(ω; ξ_s, λ_s/…) about the mirror direction, M evaluated at the lobe
+// axis ξ_s (as Wang et al. 2009; `factor_at` = product_axis: at ξ_m) and pulled out:
 //   L ≈ M(ξ_s)/(πα²) · ∫ G(ω; ξ_s, λ_s) G(ω; ξ, λ) dω,
 // with the exact (Tsai & Shih 2006) or Iwasaki 2012 product integral. `lambda_h` selects the NDF
 // sharpness (2/α², or 2/α² − 2 of Tokuyoshi & Harada 2019).
@@ -76,8 +76,9 @@ T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductFor
   const T integral = form == SgProductForm::exact
                          ? product_integral_exact(lobe.sharpness, in.light_sharpness, cosine)
                          : product_integral_iwasaki(lobe.sharpness, in.light_sharpness, cosine);
-  const Vec3<T> xm = factor_at == FactorAt::lobe_axis ? lobe.axis
-                                                      : detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
+  const Vec3<T> xm = factor_at == FactorAt::lobe_axis
+                         ? lobe.axis
+                         : detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
   return lobe.amplitude * brdf_factor_m(alpha, in.f0, wo, xm) * integral;
 }
 
@@ -102,11 +103,14 @@ T specular_asg(const SpecularInput<T>& in) {
 // form (So + co)·ci/(ci So + co Si) (from 1 + Λ = (S/c + 1)/2): finite at co → 0 (limit 1).
 template <class T>
 T smith_g2_over_g1o(const T& alpha, const T& cos_o, const T& cos_i) {
-  return select(!(value_of(cos_i) > 0) || value_of(cos_o) < 0, []() -> T { return T(0); }, [&]() -> T {
-    const T so = smith_root(alpha, cos_o), si = smith_root(alpha, cos_i);
-    const T den = cos_i * so + cos_o * si;
-    return select(!(value_of(den) > 0), []() -> T { return T(0); }, [&]() -> T { return (so + cos_o) * cos_i / den; });
-  });
+  return select(
+      !(value_of(cos_i) > 0) || value_of(cos_o) < 0, []() -> T { return T(0); },
+      [&]() -> T {
+        const T so = smith_root(alpha, cos_o), si = smith_root(alpha, cos_i);
+        const T den = cos_i * so + cos_o * si;
+        return select(
+            !(value_of(den) > 0), []() -> T { return T(0); }, [&]() -> T { return (so + cos_o) * cos_i / den; });
+      });
 }
 
 // `sg-warp-dvn` (refinement, after Tokuyoshi et al. 2024): f⟨ω·n⟩ = p_v(ω)·F·G2/G1(ωo), where
@@ -128,11 +132,13 @@ T specular_sg_warp_dvn(const SpecularInput<T>& in) {
   const T integral = product_integral_exact(lobe.sharpness, in.light_sharpness, cosine) / sg_integral(lobe.sharpness);
   const Vec3<T> xm = detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
   const T ci = xm(2);
-  return select(!(value_of(ci) > 0), []() -> T { return T(0); }, [&]() -> T {
-    const Vec3<T> h = half_vector(wo, xm);
-    const T weight = fresnel_schlick(in.f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, T(wo(2)), ci);
-    return weight * integral;
-  });
+  return select(
+      !(value_of(ci) > 0), []() -> T { return T(0); },
+      [&]() -> T {
+        const Vec3<T> h = half_vector(wo, xm);
+        const T weight = fresnel_schlick(in.f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, T(wo(2)), ci);
+        return weight * integral;
+      });
 }
 
 // `sglab` (this project; specular_sglab.hpp): the GGX slope density as a Student t, smoothed by

@@ -76,7 +76,8 @@ struct SglabSpecularParams {
   T nu_slope, inflation, light_weight, light_floor, horizon_depth, horizon_rate;
   static SglabSpecularParams fitted() {
     using S = SglabSpecular;
-    return {T(S::nu_slope), T(S::inflation), T(S::light_weight), T(S::light_floor), T(S::horizon_depth), T(S::horizon_rate)};
+    return {T(S::nu_slope),    T(S::inflation),     T(S::light_weight),
+            T(S::light_floor), T(S::horizon_depth), T(S::horizon_rate)};
   }
 };
 
@@ -112,12 +113,15 @@ V sglab_inverse_scale(const V& s) {
 template <class T>
 T sglab_slope_weight(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& w, const Vec3<T>& h) {
   const T ci = w(2), co = wo(2);
-  return select(!(value_of(ci) > 0) || value_of(co) < 0 || !(value_of(h(2)) > 0), []() -> T { return T(0); }, [&]() -> T {
-    const T coh = clamp(T(wo.dot(h)), T(0), T(1));
-    const T den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
-    return select(!(value_of(den) > 0), []() -> T { return T(0); },
-                  [&]() -> T { return T(2) * coh * fresnel_schlick(f0, coh) * ci / (h(2) * den); });
-  });
+  return select(
+      !(value_of(ci) > 0) || value_of(co) < 0 || !(value_of(h(2)) > 0), []() -> T { return T(0); },
+      [&]() -> T {
+        const T coh = clamp(T(wo.dot(h)), T(0), T(1));
+        const T den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
+        return select(
+            !(value_of(den) > 0), []() -> T { return T(0); },
+            [&]() -> T { return T(2) * coh * fresnel_schlick(f0, coh) * ci / (h(2) * den); });
+      });
 }
 
 }  // namespace detail
@@ -140,15 +144,18 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T vv0 = T(v0.squaredNorm());
   // (v = 0 where |v|² is below the smallest normal number, where 1/|v|² would overflow.)
   const auto zero_length = !(value_of(vv0) >= std::numeric_limits<value_type_t<T>>::min());
-  const Vec3<T> v = select(zero_length, []() -> Vec3<T> { return Vec3<T>(T(0), T(0), T(1)); }, [&]() -> Vec3<T> { return v0; });
-  const T vv = select(zero_length, []() -> T { return T(1); }, [&]() -> T { return vv0; });
+  const Vec3<T> v = select(
+      zero_length, []() -> Vec3<T> { return Vec3<T>(T(0), T(0), T(1)); }, [&]() -> Vec3<T> { return v0; });
+  const T vv = select(
+      zero_length, []() -> T { return T(1); }, [&]() -> T { return vv0; });
   const T il2 = T(1) / vv;
   const T vlen = sqrt(vv);  // (beside 1/|v|², not after it)
   const T il = il2 * vlen;
   const Vec3<T> h = il * v;  // (the weight below the horizon)
   const T zfloor = T(kMinWarpCosine) * vlen;
   const auto floored = value_of(v(2)) < value_of(zfloor);
-  const T hz2 = select(floored, []() -> T { return T(kMinWarpCosine) * T(kMinWarpCosine); }, [&]() -> T { return v(2) * v(2) * il2; });
+  const T hz2 = select(
+      floored, []() -> T { return T(kMinWarpCosine) * T(kMinWarpCosine); }, [&]() -> T { return v(2) * v(2) * il2; });
   const T rz = T(1) / max(T(v(2)), zfloor);  // 1/(h_z|v|)
   const T mx = -v(0) * rz, my = -v(1) * rz;
   // JᵀJ (step 2): k = (ωo·h)²h_z², q = h_z·u, u = −(ωo − (ωo·h)h)_xy.
@@ -162,7 +169,7 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   // t_z² = 1 − |h_xy|² = v_z²/|v|² (the unfloored h_z²) and u ⊥ h (so u·v_xy = −u_z v_z):
   const T tz2 = v(2) * v(2) * il2;
   const T uu = ux * ux + uy * uy;
-  const T uv = (wo(2) - pw * v(2)) * v(2);  // u·v_xy; (q·h_xy)² = h_z²·uv²/|v|²
+  const T uv = (wo(2) - pw * v(2)) * v(2);            // u·v_xy; (q·h_xy)² = h_z²·uv²/|v|²
   const T tr = T(4) * (hz2 * uu + k * (T(1) + tz2));  // S = 4(|q|² + k(2 − |h_xy|²))
   // Δ = 16k(|q|² − (q × h_xy)² + k h_z²) with |q|² − (q × h_xy)² = |q|²(1 − |h_xy|²) + (q·h_xy)²
   // and 1 − |h_xy|² = the unfloored h_z² = v_z²/|v|²: a sum of terms ≥ 0 (the difference cancels
@@ -170,14 +177,16 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T det = max(T(T(16) * k * hz2 * (uu * tz2 + il2 * uv * uv + k)), T(0));  // Δ
   // ρ0 = S/(S + 2α²λΔ) (1 when the light has no precision at all).
   const T rho_den = tr + T(2) * a2 * lambda * det;
-  const T rho0 = select(value_of(rho_den) > 0, [&]() -> T { return tr / rho_den; }, []() -> T { return T(1); });
+  const T rho0 = select(
+      value_of(rho_den) > 0, [&]() -> T { return tr / rho_den; }, []() -> T { return T(1); });
   const T sd = a2 / T(2) * (T(1) + p.inflation * rho0);
   // s = s_D·λ as ½α²λ + ½α²λκ·ρ0 (both products formed before ρ0 is known).
   const T half_a2_lambda = a2 / T(2) * lambda;
   // Held at the largest finite value where it overflows (∞·ρ0 = ∞·0 included).
   const T s0 = half_a2_lambda + T(half_a2_lambda * p.inflation) * rho0;
-  const T s = select(value_of(s0) <= std::numeric_limits<value_type_t<T>>::max(), [&]() -> T { return s0; },
-                     []() -> T { return T(std::numeric_limits<value_type_t<T>>::max()); });
+  const T s = select(
+      value_of(s0) <= std::numeric_limits<value_type_t<T>>::max(), [&]() -> T { return s0; },
+      []() -> T { return T(std::numeric_limits<value_type_t<T>>::max()); });
   // m ∥ v_xy: JᵀJm = 4[q(q·m) + k t_z² m] and mᵀJᵀJm = 4[(q·m)² + k t_z²|m|²], q·m = h_z·(u·m).
   const T mm = mx * mx + my * my;
   const T um = -rz * uv;  // u·m
@@ -189,7 +198,8 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   // Q = g(a·mᵀJm + bΔ|m|²)/D with g = λa, m* = b(a·Jm + bΔm)/D, w² = s_D·a(aS + 2bΔ)/D,
   // 1/ν = 2bΔ/(4bΔ + c_ν aS) and det(I + s_D A)^{−½} = a/√D: one reciprocal of D for all of them.
   const auto small = value_of(s) <= 1;
-  const T a = select(small, []() -> T { return T(1); }, [&]() -> T { return T(detail::sglab_inverse_scale(value_of(s))); });
+  const T a = select(
+      small, []() -> T { return T(1); }, [&]() -> T { return T(detail::sglab_inverse_scale(value_of(s))); });
   const T b = a * s;
   const T g = lambda * a;
   // D > 0; held at the smallest normal number where every term underflows (float, α ≤ 1e-3 at
@@ -201,18 +211,21 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   const T msx = nx * rd, msy = ny * rd;
   const T w2 = sd * a * (a * tr + T(2) * b * det) * rd;
   const T nd = T(4) * b * det + p.nu_slope * a * tr;
-  const T inv_nu = select(value_of(nd) > 0, [&]() -> T { return T(2) * b * det / nd; }, []() -> T { return T(0); });
+  const T inv_nu = select(
+      value_of(nd) > 0, [&]() -> T { return T(2) * b * det / nd; }, []() -> T { return T(0); });
   // det(I + s_D A) ≥ 1; rounding (D underflowing in float) must not take its inverse root above 1.
   const T inv_root_det = min(T(a * sqrt(rd)), T(1));
   // The t power (1 + Q/ν)^{−(ν/2 + 1)} = exp(−(½ + 1/ν)·ν·log1p(x)), x = Q/ν: Q = ∞ (float
   // overflow at grazing view) gives −∞, not NaN. ν itself (not 1/(1/ν)) so that the batch kernels
   // divide beside the log1p, not after it. For x ≤ ε it is Q itself (ν·log1p(x) = Q(1 − x/2 + …),
   // within half an ulp of Q), where x may be subnormal.
-  const T x = select(value_of(inv_nu) > 0, [&]() -> T { return q * inv_nu; }, []() -> T { return T(0); });
+  const T x = select(
+      value_of(inv_nu) > 0, [&]() -> T { return q * inv_nu; }, []() -> T { return T(0); });
   const T half_inv_nu = T(0.5) + inv_nu;
-  const T t_exponent = select(value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon(),
-                              [&]() -> T { return -T(half_inv_nu * T(nd / (T(2) * b * det))) * log1p(x); },
-                              [&]() -> T { return -half_inv_nu * q; });
+  const T t_exponent = select(
+      value_of(x) > std::numeric_limits<value_type_t<T>>::epsilon(),
+      [&]() -> T { return -T(half_inv_nu * T(nd / (T(2) * b * det))) * log1p(x); },
+      [&]() -> T { return -half_inv_nu * q; });
   // The product's peak: h* from m*, ω* its reflection of ωo, 2(ωo·h*)h* − ωo written with the
   // unnormalized u = (−m*, 1) (one division, no square root before ω*).
   // u ∝ (−m*, 1) is taken as c_D·(−D·m*, D), c_D = sglab_inverse_scale(D) (a power of two, D·c_D ∈
@@ -232,33 +245,44 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   // and agree to O(|d|³)), while their rounding, ~ε² each, is multiplied by λ: past λ = 1/ε² it
   // is left out (0), where the rounding alone would swing it between its floor and its cap.
   const auto corrected = above && !(value_of(lambda) > value_type_t<T>(1) / (epsilon<T>() * epsilon<T>()));
-  const T light = select(corrected, [&]() -> T {
-    // λ(ξ·ω* − 1) + ½dᵀAd = −½λ(|ξ − ω*|² − dᵀJd): one product, no ∞ − ∞.
-    const T dx = msx - mx, dy = msy - my;
-    // dᵀJᵀJd = 4[(q·d)² + k(t_z²|d|² + (h_xy × d)²)]
-    const T ud = ux * dx + uy * dy, vd = v(0) * dy - v(1) * dx;
-    const T dJd = T(4) * (hz2 * (ud * ud) + k * (tz2 * (dx * dx + dy * dy) + il2 * (vd * vd)));
-    const Vec3<T> e = v0 - twice * hu;  // ξ − ω* = (ξ + ωo) − 2(ωo·h*)h*
-    const T diff = T(-0.5) * lambda * (T(e.squaredNorm()) - dJd);
-    return min(T(p.light_weight * max(diff, T(-p.light_floor))), T(kSglabSpecularMaxExponent));
-  }, []() -> T { return T(0); });
-  const T weight = select(above, [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, ws, hs); },
-                          [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, xi, h); });
+  const T light = select(
+      corrected,
+      [&]() -> T {
+        // λ(ξ·ω* − 1) + ½dᵀAd = −½λ(|ξ − ω*|² − dᵀJd): one product, no ∞ − ∞.
+        const T dx = msx - mx, dy = msy - my;
+        // dᵀJᵀJd = 4[(q·d)² + k(t_z²|d|² + (h_xy × d)²)]
+        const T ud = ux * dx + uy * dy, vd = v(0) * dy - v(1) * dx;
+        const T dJd = T(4) * (hz2 * (ud * ud) + k * (tz2 * (dx * dx + dy * dy) + il2 * (vd * vd)));
+        const Vec3<T> e = v0 - twice * hu;  // ξ − ω* = (ξ + ωo) − 2(ωo·h*)h*
+        const T diff = T(-0.5) * lambda * (T(e.squaredNorm()) - dJd);
+        return min(T(p.light_weight * max(diff, T(-p.light_floor))), T(kSglabSpecularMaxExponent));
+      },
+      []() -> T { return T(0); });
+  const T weight = select(
+      above, [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, ws, hs); },
+      [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, xi, h); });
   // Step 5, 1 − h_d/(1 + h_r t²)² with t² = ω*_z²/w²: h_d·(w²/(w² + h_r ω*_z²))², one quotient; 1
   // where that denominator is 0 (w² = 0 and ω*_z² underflowing: no width, t = ∞). The form tried
   // before it, 1 − h_d·e^{−h_r t}, on request (SglabHorizon).
-  const T horizon = select(!above, []() -> T { return T(1); }, [&]() -> T {
-    if (horizon_form == SglabHorizon::exponential) {
-      const T wr = sqrt(w2);
-      return select(value_of(wr) > 0, [&]() -> T { return T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) * T(T(1) / wr))); },
-                    []() -> T { return T(1); });
-    }
-    const T hden = w2 + p.horizon_rate * ws(2) * ws(2);
-    return select(value_of(hden) > 0, [&]() -> T {
-      const T u = min(T(w2 / hden), T(1));
-      return T(1) - p.horizon_depth * (u * u);
-    }, []() -> T { return T(1); });
-  });
+  const T horizon = select(
+      !above, []() -> T { return T(1); },
+      [&]() -> T {
+        if (horizon_form == SglabHorizon::exponential) {
+          const T wr = sqrt(w2);
+          return select(
+              value_of(wr) > 0,
+              [&]() -> T { return T(1) - p.horizon_depth * exp(T(-p.horizon_rate * ws(2) * T(T(1) / wr))); },
+              []() -> T { return T(1); });
+        }
+        const T hden = w2 + p.horizon_rate * ws(2) * ws(2);
+        return select(
+            value_of(hden) > 0,
+            [&]() -> T {
+              const T u = min(T(w2 / hden), T(1));
+              return T(1) - p.horizon_depth * (u * u);
+            },
+            []() -> T { return T(1); });
+      });
   const T exponent = min(T(t_exponent + light), T(kSglabSpecularMaxExponent));
   const T integral = min(T(exp(exponent) * inv_root_det), T(1));
   return weight * integral * horizon;

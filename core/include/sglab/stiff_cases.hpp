@@ -47,8 +47,8 @@ inline std::vector<double> extreme_sharpnesses(bool coarse = false) {
 // 1); the double steps 1 ± 2^-52 round to exactly ±1 when converted to float, so both are needed.
 inline double float_after_one() { return static_cast<double>(std::nextafter(1.0f, 2.0f)); }   // 1 + 2^-23
 inline double float_before_one() { return static_cast<double>(std::nextafter(1.0f, 0.0f)); }  // 1 − 2^-24
-inline double double_after_one() { return std::nextafter(1.0, 2.0); }                          // 1 + 2^-52
-inline double double_before_one() { return std::nextafter(1.0, 0.0); }                         // 1 − 2^-53
+inline double double_after_one() { return std::nextafter(1.0, 2.0); }                         // 1 + 2^-52
+inline double double_before_one() { return std::nextafter(1.0, 0.0); }                        // 1 − 2^-53
 
 // The rounding steps around ±1 (ascending): −1 − float ulp, −1 − double ulp, −1 − 1e-7, −1,
 // −1 + …, and the mirror images at +1. Every value is within the 1e-6 rounding slack that input

@@ -87,7 +87,10 @@ inline bool valid_utf8(std::string_view s) {
     const auto b = static_cast<unsigned char>(s[i]);
     std::size_t n = 0;
     unsigned long cp = 0, min = 0;
-    if (b < 0x80) { ++i; continue; }
+    if (b < 0x80) {
+      ++i;
+      continue;
+    }
     if ((b & 0xe0) == 0xc0) n = 1, cp = b & 0x1f, min = 0x80;
     else if ((b & 0xf0) == 0xe0) n = 2, cp = b & 0x0f, min = 0x800;
     else if ((b & 0xf8) == 0xf0) n = 3, cp = b & 0x07, min = 0x10000;
@@ -120,7 +123,8 @@ inline std::optional<std::string> json_nesting_error(std::string_view text, std:
       in_string = true;
     } else if (ch == '[' || ch == '{') {
       if (++depth > max_depth)
-        return "JSON nested deeper than " + std::to_string(max_depth) + " levels (at byte " + std::to_string(i + 1) + ")";
+        return "JSON nested deeper than " + std::to_string(max_depth) + " levels (at byte " + std::to_string(i + 1) +
+               ")";
     } else if ((ch == ']' || ch == '}') && depth > 0) {
       --depth;
     }
@@ -154,11 +158,14 @@ inline std::string read_input_file(const std::string& path, std::size_t max_byte
     ~Closer() { ::close(fd); }
   } closer{fd};
   struct stat st {};
-  if (::fstat(fd, &st) != 0) throw InputFileError(quote(path) + ": cannot stat " + what + " (" + std::strerror(errno) + ")");
+  if (::fstat(fd, &st) != 0)
+    throw InputFileError(quote(path) + ": cannot stat " + what + " (" + std::strerror(errno) + ")");
   if (!S_ISREG(st.st_mode))
-    throw InputFileError(quote(path) + " is " + (S_ISDIR(st.st_mode) ? "a directory" : "not a regular file (a device, FIFO or socket)") +
+    throw InputFileError(quote(path) + " is " +
+                         (S_ISDIR(st.st_mode) ? "a directory" : "not a regular file (a device, FIFO or socket)") +
                          ", not " + what);
-  if (const auto error = input_size_error(std::size_t(st.st_size), max_bytes, what)) throw InputFileError(quote(path) + ": " + *error);
+  if (const auto error = input_size_error(std::size_t(st.st_size), max_bytes, what))
+    throw InputFileError(quote(path) + ": " + *error);
   std::string text(std::size_t(st.st_size), '\0');
   std::size_t got = 0;
   while (got < text.size()) {

@@ -34,13 +34,32 @@
 namespace sglab {
 
 enum class TraceOp : std::uint8_t {
-  input, param, literal,                              // leaves
-  neg, exp, expm1, log, log1p, sqrt, erf, erfc, abs,  // unary
-  sin, cos,                                           // unary (the specular light axis's azimuth)
-  add, sub, mul, div,                                 // binary arithmetic
-  lt, le, gt, ge,                                     // comparisons (give booleans)
-  not_, and_, or_,                                    // boolean logic
-  select                                              // a ? b : c (a boolean)
+  input,
+  param,
+  literal,  // leaves
+  neg,
+  exp,
+  expm1,
+  log,
+  log1p,
+  sqrt,
+  erf,
+  erfc,
+  abs,  // unary
+  sin,
+  cos,  // unary (the specular light axis's azimuth)
+  add,
+  sub,
+  mul,
+  div,  // binary arithmetic
+  lt,
+  le,
+  gt,
+  ge,  // comparisons (give booleans)
+  not_,
+  and_,
+  or_,    // boolean logic
+  select  // a ? b : c (a boolean)
 };
 
 struct TraceNode {
@@ -93,8 +112,7 @@ class TraceGraph {
       n.varying = false;
       for (int o : {n.a, n.b, n.c})
         if (o >= 0) n.varying = n.varying || nodes[o].varying;
-      if (!n.varying)
-        n.value = trace_apply(n.op, value(n.a), value(n.b), value(n.c));
+      if (!n.varying) n.value = trace_apply(n.op, value(n.a), value(n.b), value(n.c));
     }
     const Key k = key(n);
     if (auto it = index_.find(k); it != index_.end()) return it->second;
@@ -126,7 +144,8 @@ class TraceGraph {
   struct KeyHash {
     std::size_t operator()(const Key& k) const {
       std::size_t h = std::size_t(k.op);
-      for (std::size_t v : {std::size_t(k.a), std::size_t(k.b), std::size_t(k.c), std::size_t(k.index), std::size_t(k.bits)})
+      for (std::size_t v :
+           {std::size_t(k.a), std::size_t(k.b), std::size_t(k.c), std::size_t(k.index), std::size_t(k.bits)})
         h = h * 1000003u ^ v;
       return h;
     }
@@ -214,8 +233,7 @@ struct TraceBool {
   bool varying() const { return trace_graph().nodes[id].varying; }
   explicit operator bool() const {
     const TraceNode& n = trace_graph().nodes[id];
-    if (n.varying)
-      throw TraceBranchError("a branch on a value that depends on an input (it needs a select)");
+    if (n.varying) throw TraceBranchError("a branch on a value that depends on an input (it needs a select)");
     return n.value != 0;
   }
 };
@@ -231,8 +249,12 @@ inline TraceBool operator<=(const Trace& a, const Trace& b) { return {Trace::nod
 inline TraceBool operator>(const Trace& a, const Trace& b) { return {Trace::node(TraceOp::gt, a.id, b.id).id}; }
 inline TraceBool operator>=(const Trace& a, const Trace& b) { return {Trace::node(TraceOp::ge, a.id, b.id).id}; }
 inline TraceBool operator!(const TraceBool& a) { return {Trace::node(TraceOp::not_, a.id).id}; }
-inline TraceBool operator&&(const TraceBool& a, const TraceBool& b) { return {Trace::node(TraceOp::and_, a.id, b.id).id}; }
-inline TraceBool operator||(const TraceBool& a, const TraceBool& b) { return {Trace::node(TraceOp::or_, a.id, b.id).id}; }
+inline TraceBool operator&&(const TraceBool& a, const TraceBool& b) {
+  return {Trace::node(TraceOp::and_, a.id, b.id).id};
+}
+inline TraceBool operator||(const TraceBool& a, const TraceBool& b) {
+  return {Trace::node(TraceOp::or_, a.id, b.id).id};
+}
 
 inline Trace exp(const Trace& x) { return Trace::node(TraceOp::exp, x.id); }
 inline Trace expm1(const Trace& x) { return Trace::node(TraceOp::expm1, x.id); }
@@ -266,7 +288,8 @@ auto select(const TraceBool& cond, F&& if_true, G&& if_false) -> decltype(if_tru
     return Trace::node(TraceOp::select, cond.id, a.id, b.id);
   } else {
     R out;
-    for (std::size_t i = 0; i < static_cast<std::size_t>(out.size()); ++i) out[i] = Trace::node(TraceOp::select, cond.id, a[i].id, b[i].id);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(out.size()); ++i)
+      out[i] = Trace::node(TraceOp::select, cond.id, a[i].id, b[i].id);
     return out;
   }
 }
@@ -276,10 +299,12 @@ auto select(const TraceBool& cond, F&& if_true, G&& if_false) -> decltype(if_tru
 // argument-dependent lookup (non-templates, preferred to std::max<Trace>, whose `<` would be a
 // branch on the inputs) and records the same choice sglab's float path makes.
 inline Trace max(const Trace& a, const Trace& b) {
-  return select(a < b, [&] { return b; }, [&] { return a; });
+  return select(
+      a < b, [&] { return b; }, [&] { return a; });
 }
 inline Trace min(const Trace& a, const Trace& b) {
-  return select(b < a, [&] { return b; }, [&] { return a; });
+  return select(
+      b < a, [&] { return b; }, [&] { return a; });
 }
 
 // Terms a traced series sums (series_converged). Every series in core is in powers of |x| ≤ 1

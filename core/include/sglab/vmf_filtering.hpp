@@ -54,7 +54,8 @@ T vmf_mean_length_banerjee(const T& sharpness) {
   T r = l / (l + T(3));
   for (int it = 0; it < 200; ++it) {
     const T hr = h(r);
-    if (value_of(hr) < 0) lo = r; else hi = r;
+    if (value_of(hr) < 0) lo = r;
+    else hi = r;
     T next = r - hr / dh(r);
     if (!(value_of(next) > value_of(lo) && value_of(next) < value_of(hi))) {
       next = (lo + hi) / T(2);

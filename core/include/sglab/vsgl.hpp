@@ -18,8 +18,8 @@
 // Why a reference point (docs/math.md §7, §10): σ² = Q/W_y − ‖S/W_y‖² is a difference of two numbers
 // of size ‖μ − o‖² + σ²; its relative rounding error is ≈ ε(‖μ − o‖² + σ²)/σ². With o = 0 and VPLs
 // 1e6 units from the origin spread over 1e-2 (σ² ≈ 1e-4) that is ε·3e12/1e-4 ≈ 7: no digit of a
-// double is left (tests/vsgl_test.cpp prints it). With o near the set it is ≈ ε. Sums are plain sums, so they add (mip levels, clusters) exactly as the
-// papers' GPU mip-maps do — provided they share o.
+// double is left (tests/vsgl_test.cpp prints it). With o near the set it is ≈ ε. Sums are plain sums, so they add (mip
+// levels, clusters) exactly as the papers' GPU mip-maps do — provided they share o.
 #pragma once
 
 #include <cmath>
@@ -117,23 +117,27 @@ struct MemberwiseSums {
 
 template <class T>
 struct VsglLobeSums : MemberwiseSums<VsglLobeSums<T>, T> {
-  Rgb<T> power = Rgb<T>::Zero();                // Σ Φ_i R_i
-  T weight = T(0);                              // Σ w_i
-  Vec3<T> mean_direction = Vec3<T>::Zero();     // Σ w_i ξ̄_i
+  Rgb<T> power = Rgb<T>::Zero();             // Σ Φ_i R_i
+  T weight = T(0);                           // Σ w_i
+  Vec3<T> mean_direction = Vec3<T>::Zero();  // Σ w_i ξ̄_i
 
   template <class S>
-  static auto members(S& s) { return std::tie(s.power, s.weight, s.mean_direction); }
+  static auto members(S& s) {
+    return std::tie(s.power, s.weight, s.mean_direction);
+  }
   bool empty() const { return !(value_of(weight) > 0); }
 };
 
 template <class T>
 struct VsglPositionSums : MemberwiseSums<VsglPositionSums<T>, T> {
-  T weight = T(0);                       // Σ u_i
-  Vec3<T> offset = Vec3<T>::Zero();      // Σ u_i (y_i − o)
-  T squared_offset = T(0);               // Σ u_i ‖y_i − o‖²
+  T weight = T(0);                   // Σ u_i
+  Vec3<T> offset = Vec3<T>::Zero();  // Σ u_i (y_i − o)
+  T squared_offset = T(0);           // Σ u_i ‖y_i − o‖²
 
   template <class S>
-  static auto members(S& s) { return std::tie(s.weight, s.offset, s.squared_offset); }
+  static auto members(S& s) {
+    return std::tie(s.weight, s.offset, s.squared_offset);
+  }
 };
 
 // Everything one cluster accumulates: the shared position and the two lobes.
@@ -143,7 +147,9 @@ struct VsglSums : MemberwiseSums<VsglSums<T>, T> {
   VsglLobeSums<T> diffuse, specular;
 
   template <class S>
-  static auto members(S& s) { return std::tie(s.position, s.diffuse, s.specular); }
+  static auto members(S& s) {
+    return std::tie(s.position, s.diffuse, s.specular);
+  }
 };
 
 // One lobe of one VPL: power Φ_i R_i (RGB), unit axis ξ_i, mean length r(λ_i) (precomputed by
@@ -158,7 +164,8 @@ void add_lobe(VsglLobeSums<T>& sums, const Id<Rgb<T>>& power, const Id<Vec3<T>>&
 
 // One VPL position with weight u_i, relative to the reference point `origin`.
 template <class T>
-void add_position(VsglPositionSums<T>& sums, const Id<T>& weight, const Id<Vec3<T>>& position, const Id<Vec3<T>>& origin) {
+void add_position(VsglPositionSums<T>& sums, const Id<T>& weight, const Id<Vec3<T>>& position,
+                  const Id<Vec3<T>>& origin) {
   const Vec3<T> d = position - origin;
   sums.weight += weight;
   sums.offset += weight * d;
@@ -175,7 +182,7 @@ template <class T>
 struct VsglIntensity {
   Rgb<T> amplitude = Rgb<T>::Zero();  // c_v
   Vec3<T> axis = Vec3<T>(T(0), T(0), T(1));
-  T sharpness = T(0);                 // λ_v
+  T sharpness = T(0);  // λ_v
 };
 
 template <class T>
@@ -265,8 +272,8 @@ VsglPositionalSg<T> vsgl_positional_sg(const Vec3<T>& mean, const Id<T>& varianc
     return out;
   }
   out.sharpness = d2 / variance;
-  out.log_normalization =
-      isnan(value_of(log_two_pi_variance)) ? T(-log(T(two_pi<T>() * variance))) : T(-log_two_pi_variance);
+  out.log_normalization = isnan(value_of(log_two_pi_variance)) ? T(-log(T(two_pi<T>() * variance)))
+                                                               : T(-log_two_pi_variance);
   return out;
 }
 
@@ -330,8 +337,8 @@ struct VsglSpecularReceiver {
   Vec3<T> view_local;                  // ω_o in the local frame
   Asg<T> lobe;                         // in the local frame
   T lambda_s = T(0);
-  T ndf_amplitude = T(0);              // 1/(πα²)
-  T roughness = T(1);                  // α, floored at kMinRoughness
+  T ndf_amplitude = T(0);  // 1/(πα²)
+  T roughness = T(1);      // α, floored at kMinRoughness
 };
 
 template <class T>

@@ -19,7 +19,7 @@ namespace {
 
 using namespace filtering_detail;
 
-constexpr int kMaxSubsetSide = 64;        // M: at most 4096 subsets
+constexpr int kMaxSubsetSide = 64;         // M: at most 4096 subsets
 constexpr int kMaxVplsPerPixel = 1 << 20;  // K
 constexpr int kDefaultRandomRadius = 4;
 // δ of the defensive mixture p_i = (1 − δ)P_i/ΣP + δ/N (Hesterberg 1995): every VPL keeps p_i ≥ δ/N,
@@ -53,7 +53,8 @@ struct VplSampler {
     cdf.resize(n);
     double running = 0;
     for (std::size_t i = 0; i < n; ++i) {
-      pdf[i] = (total > 0 ? (1 - kUniformFraction) * power[i] / total : 0.0) + (total > 0 ? kUniformFraction : 1.0) / double(n);
+      pdf[i] = (total > 0 ? (1 - kUniformFraction) * power[i] / total : 0.0) +
+               (total > 0 ? kUniformFraction : 1.0) / double(n);
       running += pdf[i];
       cdf[i] = running;
     }
@@ -65,7 +66,8 @@ struct VplSampler {
 };
 
 // K VPLs drawn for pixel k, each with flux ×1/(K p_i).
-void draw_pixel_vpls(const VplList& all, const VplSampler& sampler, int count, std::uint64_t seed, std::size_t pixel, VplList& out) {
+void draw_pixel_vpls(const VplList& all, const VplSampler& sampler, int count, std::uint64_t seed, std::size_t pixel,
+                     VplList& out) {
   out.vpls.clear();
   out.any_glossy = false;
   std::uint64_t state = splitmix64(seed ^ splitmix64(pixel + 1));
@@ -82,7 +84,8 @@ void draw_pixel_vpls(const VplList& all, const VplSampler& sampler, int count, s
 }  // namespace
 
 std::vector<VplList> interleaved_vpl_subsets(const VplList& vpls, int m, std::uint64_t seed) {
-  if (m < 1 || m > kMaxSubsetSide) throw std::invalid_argument(fmt::format("M = {} is outside [1, {}]", m, kMaxSubsetSide));
+  if (m < 1 || m > kMaxSubsetSide)
+    throw std::invalid_argument(fmt::format("M = {} is outside [1, {}]", m, kMaxSubsetSide));
   const std::uint64_t subsets = std::uint64_t(m) * std::uint64_t(m);
   std::vector<VplList> out(subsets);
   const double weight = double(subsets);
@@ -122,7 +125,8 @@ int default_denoise_radius(const NoisySpec& spec) {
 std::optional<std::string> denoise_radius_error(const NoisySpec& spec, int radius) {
   if (radius < 1 || radius > 16) return fmt::format("radius {} is outside [1, 16]", radius);
   if (spec.mode == NoisyMode::interleaved && radius < spec.count)
-    return fmt::format("radius {} is below M = {}: the window would not see every interleaved subset", radius, spec.count);
+    return fmt::format("radius {} is below M = {}: the window would not see every interleaved subset", radius,
+                       spec.count);
   return std::nullopt;
 }
 
@@ -162,7 +166,8 @@ DenoiseInputs prepare_denoise_inputs(const Scene& scene, const DenoiseInputOptio
     const int m = o.noisy.count;
     const std::vector<VplList> subsets = interleaved_vpl_subsets(vpls, m, o.seed);
     for_each_row(in.width, in.height, "noisy (interleaved)", o.progress, [&](std::size_t k, int i, int j) {
-      if (in.full[k].valid) store(k, split_vpl_sum(in.full[k].point, subsets[std::size_t(j % m) * std::size_t(m) + std::size_t(i % m)]));
+      if (in.full[k].valid)
+        store(k, split_vpl_sum(in.full[k].point, subsets[std::size_t(j % m) * std::size_t(m) + std::size_t(i % m)]));
     });
   } else if (!vpls.vpls.empty()) {
     const VplSampler sampler(vpls.vpls);
@@ -176,7 +181,8 @@ DenoiseInputs prepare_denoise_inputs(const Scene& scene, const DenoiseInputOptio
   in.seconds.noisy = seconds_since(t0);
 
   t0 = Clock::now();
-  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference)) in.seconds.reference = seconds_since(t0);
+  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference))
+    in.seconds.reference = seconds_since(t0);
   return in;
 }
 

@@ -17,7 +17,8 @@ EnvMap load_environment(const std::string& path) {
   const auto status = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(status)) throw EnvironmentError("environment " + quote(path) + ": no such file");
   // A FIFO would block the reader forever, a device never end: only a regular file is read.
-  if (!std::filesystem::is_regular_file(status)) throw EnvironmentError("environment " + quote(path) + " is not a regular file");
+  if (!std::filesystem::is_regular_file(status))
+    throw EnvironmentError("environment " + quote(path) + " is not a regular file");
   ExrImage image;
   try {
     image = read_exr(path);
@@ -41,20 +42,23 @@ EnvMap load_environment(const std::string& path) {
   if (!found) {
     std::string names;
     for (const auto& [name, plane] : image.channels) names += (names.empty() ? "" : ", ") + name;
-    throw EnvironmentError("environment " + quote(path) + " has no RGB channels (channels: " + (names.empty() ? "none" : clip_text(names, 300)) + ")");
+    throw EnvironmentError("environment " + quote(path) +
+                           " has no RGB channels (channels: " + (names.empty() ? "none" : clip_text(names, 300)) + ")");
   }
   if (image.width != 2 * image.height)
-    throw EnvironmentError(fmt::format("environment {} is {}×{}: an equirectangular map must be 2:1 (width = 2 × height)",
-                                       quote(path), image.width, image.height));
-  EnvMap map{image.width, image.height, std::vector<std::array<float, 3>>(std::size_t(image.width) * std::size_t(image.height))};
+    throw EnvironmentError(
+        fmt::format("environment {} is {}×{}: an equirectangular map must be 2:1 (width = 2 × height)", quote(path),
+                    image.width, image.height));
+  EnvMap map{image.width, image.height,
+             std::vector<std::array<float, 3>>(std::size_t(image.width) * std::size_t(image.height))};
   for (int c = 0; c < 3; ++c) {
     const auto& plane = image.channels.at(prefix + "RGB"[c]);
     for (std::size_t k = 0; k < plane.size(); ++k) {
       const float x = plane[k];
       if (!std::isfinite(x) || x < 0)
-        throw EnvironmentError(fmt::format("environment {}: texel (x {}, y {}) channel {} is {} (texels must be finite and ≥ 0)",
-                                           quote(path), k % std::size_t(image.width), k / std::size_t(image.width),
-                                           prefix + "RGB"[c], x));
+        throw EnvironmentError(
+            fmt::format("environment {}: texel (x {}, y {}) channel {} is {} (texels must be finite and ≥ 0)",
+                        quote(path), k % std::size_t(image.width), k / std::size_t(image.width), prefix + "RGB"[c], x));
       map.texels[k][std::size_t(c)] = x;
     }
   }
@@ -63,7 +67,8 @@ EnvMap load_environment(const std::string& path) {
 
 std::string encode_environment(const EnvMap& map, const std::vector<std::pair<std::string, std::string>>& attributes) {
   ImageLayer layer{"", std::vector<Rgb>(map.size())};
-  for (std::size_t k = 0; k < map.size(); ++k) layer.pixels[k] = Rgb(map.texels[k][0], map.texels[k][1], map.texels[k][2]);
+  for (std::size_t k = 0; k < map.size(); ++k)
+    layer.pixels[k] = Rgb(map.texels[k][0], map.texels[k][1], map.texels[k][2]);
   return encode_exr(map.width, map.height, {layer}, attributes);
 }
 
@@ -111,13 +116,16 @@ std::array<double, 3> xyY_to_linear_srgb(double x, double y, double Y) {
 
 EnvMap make_sky(const SkyOptions& o) {
   check_size(o.width, o.height);
-  if (!(o.turbidity >= 2 && o.turbidity <= 10)) throw EnvironmentError(fmt::format("--turbidity {} outside Preetham's [2, 10]", o.turbidity));
+  if (!(o.turbidity >= 2 && o.turbidity <= 10))
+    throw EnvironmentError(fmt::format("--turbidity {} outside Preetham's [2, 10]", o.turbidity));
   if (!(o.sun_elevation_deg >= 0 && o.sun_elevation_deg <= 90))
     throw EnvironmentError(fmt::format("--sun-elevation {} outside [0, 90] degrees", o.sun_elevation_deg));
-  if (!(o.sun_size_deg > 0 && o.sun_size_deg <= 45)) throw EnvironmentError(fmt::format("--sun-size {} outside (0, 45] degrees", o.sun_size_deg));
+  if (!(o.sun_size_deg > 0 && o.sun_size_deg <= 45))
+    throw EnvironmentError(fmt::format("--sun-size {} outside (0, 45] degrees", o.sun_size_deg));
   if (!(o.sun_luminance >= 0 && o.sun_luminance <= kMaxSunLuminance))
     throw EnvironmentError(fmt::format("--sun-luminance {} outside [0, {:g}]", o.sun_luminance, kMaxSunLuminance));
-  if (!std::isfinite(o.sun_azimuth_deg)) throw EnvironmentError(fmt::format("--sun-azimuth {} is not finite", o.sun_azimuth_deg));
+  if (!std::isfinite(o.sun_azimuth_deg))
+    throw EnvironmentError(fmt::format("--sun-azimuth {} is not finite", o.sun_azimuth_deg));
   if (!(o.ground_albedo >= 0 && o.ground_albedo <= 1)) throw EnvironmentError("--ground-albedo must be in [0, 1]");
   const double T = o.turbidity;
   // Preetham et al. 1999, Appendix A.2: Perez coefficients (A..E) for Y, x, y.
@@ -129,14 +137,17 @@ EnvMap make_sky(const SkyOptions& o) {
   const double chi = (4.0 / 9.0 - T / 120.0) * (M_PI - 2 * ts);
   const double Yz = (4.0453 * T - 4.9710) * std::tan(chi) - 0.2155 * T + 2.4192;
   const double t2 = T * T, s1 = ts, s2 = ts * ts, s3 = s2 * ts;
-  const double xz = t2 * (0.00166 * s3 - 0.00375 * s2 + 0.00209 * s1) + T * (-0.02903 * s3 + 0.06377 * s2 - 0.03202 * s1 + 0.00394) +
+  const double xz = t2 * (0.00166 * s3 - 0.00375 * s2 + 0.00209 * s1) +
+                    T * (-0.02903 * s3 + 0.06377 * s2 - 0.03202 * s1 + 0.00394) +
                     (0.11693 * s3 - 0.21196 * s2 + 0.06052 * s1 + 0.25886);
-  const double yz = t2 * (0.00275 * s3 - 0.00610 * s2 + 0.00317 * s1) + T * (-0.04214 * s3 + 0.08970 * s2 - 0.04153 * s1 + 0.00516) +
+  const double yz = t2 * (0.00275 * s3 - 0.00610 * s2 + 0.00317 * s1) +
+                    T * (-0.04214 * s3 + 0.08970 * s2 - 0.04153 * s1 + 0.00516) +
                     (0.15346 * s3 - 0.26756 * s2 + 0.06670 * s1 + 0.26688);
   const double zenith[3] = {Yz, xz, yz};
   auto perez = [](const double* k, double cos_theta, double gamma) {
     const double cg = std::cos(gamma);
-    return (1 + k[0] * std::exp(k[1] / std::max(cos_theta, 1e-3))) * (1 + k[2] * std::exp(k[3] * gamma) + k[4] * cg * cg);
+    return (1 + k[0] * std::exp(k[1] / std::max(cos_theta, 1e-3))) *
+           (1 + k[2] * std::exp(k[3] * gamma) + k[4] * cg * cg);
   };
   const Vec3 sun = direction_from_angles(o.sun_elevation_deg, o.sun_azimuth_deg);
   const double cos_sun_radius = std::cos(0.5 * o.sun_size_deg * M_PI / 180);
@@ -206,7 +217,8 @@ EnvMap make_studio(const StudioOptions& o) {
 
 EnvMap make_overcast(const OvercastOptions& o) {
   check_size(o.width, o.height);
-  if (!(o.zenith >= 0) || !std::isfinite(o.zenith)) throw EnvironmentError("overcast zenith radiance must be finite and ≥ 0");
+  if (!(o.zenith >= 0) || !std::isfinite(o.zenith))
+    throw EnvironmentError("overcast zenith radiance must be finite and ≥ 0");
   if (!(o.ground_albedo >= 0 && o.ground_albedo <= 1)) throw EnvironmentError("--ground-albedo must be in [0, 1]");
   // E = ∫_0^{π/2} L_z (1 + 2 cos θ)/3 cos θ sin θ dθ · 2π = 2π L_z (1/2 + 2/3)/3 = (7/9) π L_z.
   const double ground = o.ground_albedo * 7.0 / 9.0 * o.zenith;
@@ -257,10 +269,10 @@ SgMixture synthetic_mixture() {
     l.amplitude = amplitude;
     return l;
   };
-  return {lobe(60, 20, 2, {0.6, 0.7, 0.9}),      // broad sky-like lobe
-          lobe(20, -100, 12, {1.5, 1.2, 0.8}),   // medium
-          lobe(35, 130, 60, {4.0, 4.0, 3.5}),    // narrow
-          lobe(-40, 60, 6, {0.3, 0.25, 0.2})};   // below the horizon
+  return {lobe(60, 20, 2, {0.6, 0.7, 0.9}),     // broad sky-like lobe
+          lobe(20, -100, 12, {1.5, 1.2, 0.8}),  // medium
+          lobe(35, 130, 60, {4.0, 4.0, 3.5}),   // narrow
+          lobe(-40, 60, 6, {0.3, 0.25, 0.2})};  // below the horizon
 }
 
 }  // namespace sglab::render

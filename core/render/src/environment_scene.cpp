@@ -32,7 +32,8 @@ void add_weighted(std::vector<Rgb>& out, const std::vector<Rgb>& layer, const En
 using Diffuse = std::function<std::vector<Rgb>(const EnvImage&)>;
 using Specular = std::function<std::vector<Rgb>(const EnvImage&, double roughness, double f0)>;
 
-std::vector<Rgb> layer(const Scene& scene, const std::vector<EnvImage>& images, const Diffuse& diffuse, const Specular& specular) {
+std::vector<Rgb> layer(const Scene& scene, const std::vector<EnvImage>& images, const Diffuse& diffuse,
+                       const Specular& specular) {
   const std::size_t n = std::size_t(scene.camera.width) * std::size_t(scene.camera.height);
   std::vector<Rgb> out(n, Rgb::Zero());
   for (std::size_t o = 0; o < images.size(); ++o) {
@@ -54,7 +55,8 @@ std::vector<Rgb> layer(const Scene& scene, const std::vector<EnvImage>& images, 
 }  // namespace
 
 EnvironmentLayers shade_environment(const Scene& scene, const GBuffer& gbuffer, const EnvMap* map, const SgMixture& m,
-                                    const std::string& diffuse_method, const std::string& specular_method, int mixture_width) {
+                                    const std::string& diffuse_method, const std::string& specular_method,
+                                    int mixture_width) {
   EnvironmentLayers r;
   std::vector<EnvImage> images;
   for (std::size_t o = 0; o < scene.objects.size(); ++o) images.push_back(object_image(gbuffer, int(o)));

@@ -38,7 +38,8 @@ EnvImage plane_image(int res_azimuth, int res_elevation) {
     for (int i = 0; i < res_azimuth; ++i) {
       const double phi = 2 * M_PI * (i + 0.5) / res_azimuth;
       const double e = 0.5 * M_PI * (j + 0.5) / res_elevation;
-      im.points.push_back({j * res_azimuth + i, Vec3::UnitZ(), Vec3(std::cos(e) * std::cos(phi), std::cos(e) * std::sin(phi), std::sin(e))});
+      im.points.push_back({j * res_azimuth + i, Vec3::UnitZ(),
+                           Vec3(std::cos(e) * std::cos(phi), std::cos(e) * std::sin(phi), std::sin(e))});
     }
   return im;
 }
@@ -134,7 +135,8 @@ std::vector<Rgb> integrate_diffuse(const EnvMap& map, const EnvImage& image, int
 
 // The same quadrature as integrate() with the GGX weight (ggx_brdf_cosine, brdf.hpp, in the world
 // frame), through the renderer's vectorized loop on the nodes as arrays.
-std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, double roughness, double f0, int supersample) {
+std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, double roughness, double f0,
+                                    int supersample) {
   const auto n = nodes(map, supersample);
   std::vector<double> arrays(6 * n.size());
   double *x = arrays.data(), *y = x + n.size(), *z = y + n.size(), *wr = z + n.size(), *wg = wr + n.size(),
@@ -153,8 +155,8 @@ std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, do
   std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
   tbb::parallel_for(std::size_t(0), image.points.size(), [&](std::size_t k) {
     const auto& p = image.points[k];
-    const simd_detail::EnvReceiver r{p.normal(0), p.normal(1), p.normal(2), p.view(0), p.view(1), p.view(2),
-                                     p.normal.dot(p.view), roughness, f0};
+    const simd_detail::EnvReceiver r{p.normal(0), p.normal(1),          p.normal(2), p.view(0), p.view(1),
+                                     p.view(2),   p.normal.dot(p.view), roughness,   f0};
     double s[3] = {0, 0, 0};
     sum(view, r, s);
     out[std::size_t(p.pixel)] = Rgb(s[0], s[1], s[2]);

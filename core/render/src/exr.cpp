@@ -125,8 +125,9 @@ void check_header(Imf::IStream& in, unsigned long long file_bytes) {
   in.read(start, 8);
   if (!Imf::isImfMagic(start)) throw std::runtime_error("not an OpenEXR file (no magic number)");
   int version = int((unsigned char)start[4]) | int((unsigned char)start[5]) << 8 | int((unsigned char)start[6]) << 16 |
-                      int((unsigned char)start[7]) << 24;
-  if (version & Imf::MULTI_PART_FILE_FLAG) throw std::runtime_error("a multi-part EXR (sglab reads single-part images)");
+                int((unsigned char)start[7]) << 24;
+  if (version & Imf::MULTI_PART_FILE_FLAG)
+    throw std::runtime_error("a multi-part EXR (sglab reads single-part images)");
   if (version & Imf::NON_IMAGE_FLAG) throw std::runtime_error("a deep-data EXR (sglab reads flat images)");
   Imf::Header header;
   header.readFrom(in, version);
@@ -138,19 +139,22 @@ void check_header(Imf::IStream& in, unsigned long long file_bytes) {
     throw std::runtime_error(fmt::format("the header says {} × {} pixels; the limit is {} × {} and {} pixels", w, h,
                                          kMaxExrWidth, kMaxExrHeight, kMaxExrPixels));
   if (channel_count > kMaxExrChannels)
-    throw std::runtime_error(fmt::format("the header lists {} channels; the limit is {}", channel_count, kMaxExrChannels));
+    throw std::runtime_error(
+        fmt::format("the header lists {} channels; the limit is {}", channel_count, kMaxExrChannels));
   // The frame buffer is addressed from the window's origin: keep it near 0 (no pointer overflow).
   if (std::llabs(window.min.x) > kMaxExrOrigin || std::llabs(window.min.y) > kMaxExrOrigin)
-    throw std::runtime_error(fmt::format("the data window starts at ({}, {}); the limit is ±{}", window.min.x, window.min.y,
-                                         kMaxExrOrigin));
+    throw std::runtime_error(
+        fmt::format("the data window starts at ({}, {}); the limit is ±{}", window.min.x, window.min.y, kMaxExrOrigin));
   const unsigned long long need = (unsigned long long)(w * h) * std::max<std::size_t>(channel_count, 1) * sizeof(float);
   if (need > kMaxExrPlaneBytes)
-    throw std::runtime_error(fmt::format("{} × {} pixels in {} channels need {:.3g} GB as float; the limit is {:.3g} GB", w,
-                                         h, channel_count, double(need) / 1e9, double(kMaxExrPlaneBytes) / 1e9));
+    throw std::runtime_error(
+        fmt::format("{} × {} pixels in {} channels need {:.3g} GB as float; the limit is {:.3g} GB", w, h,
+                    channel_count, double(need) / 1e9, double(kMaxExrPlaneBytes) / 1e9));
   if (need > kExrSlackBytes + kExrExpansion * file_bytes)
-    throw std::runtime_error(fmt::format("the header says {} × {} pixels in {} channels ({:.3g} MB as float), more than a "
-                                         "file of {} bytes can hold",
-                                         w, h, channel_count, double(need) / 1e6, file_bytes));
+    throw std::runtime_error(
+        fmt::format("the header says {} × {} pixels in {} channels ({:.3g} MB as float), more than a "
+                    "file of {} bytes can hold",
+                    w, h, channel_count, double(need) / 1e6, file_bytes));
   in.seekg(0);
 }
 
@@ -167,13 +171,15 @@ ExrImage decode(Imf::InputFile& file) {
     auto& plane = image.channels[it.name()];
     plane.assign(n, 0.0f);
     char* base = reinterpret_cast<char*>(plane.data()) -
-                 (std::ptrdiff_t(window.min.x) + std::ptrdiff_t(window.min.y) * image.width) * std::ptrdiff_t(sizeof(float));
+                 (std::ptrdiff_t(window.min.x) + std::ptrdiff_t(window.min.y) * image.width) *
+                     std::ptrdiff_t(sizeof(float));
     frame.insert(it.name(), Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * std::size_t(image.width)));
   }
   file.setFrameBuffer(frame);
   file.readPixels(window.min.y, window.max.y);
   for (auto it = file.header().begin(); it != file.header().end(); ++it)
-    if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) image.attributes[it.name()] = s->value();
+    if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+      image.attributes[it.name()] = s->value();
   return image;
 }
 

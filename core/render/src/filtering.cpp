@@ -78,11 +78,13 @@ std::pair<Rgb, Rgb> split_vpl_sum(const ShadingPoint& point, const VplList& vpls
   return {reference_radiance(d, vpls), point.glossy() ? reference_radiance(g, vpls) : Rgb::Zero()};
 }
 
-bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given, int width,
-                    const std::function<void(std::string_view, double)>& progress, std::vector<Rgb>& reference) {
+bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given,
+                    int width, const std::function<void(std::string_view, double)>& progress,
+                    std::vector<Rgb>& reference) {
   const std::size_t n = full.size();
   if (given) {
-    if (given->size() != n) throw std::invalid_argument(fmt::format("the reference given has {} pixels, the image {}", given->size(), n));
+    if (given->size() != n)
+      throw std::invalid_argument(fmt::format("the reference given has {} pixels, the image {}", given->size(), n));
     reference = *given;
     return false;
   }
@@ -93,11 +95,12 @@ bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, 
   return true;
 }
 
-ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const std::vector<char>& hit,
-                               const std::vector<char>& glossy) {
+ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference,
+                               const std::vector<char>& hit, const std::vector<char>& glossy) {
   std::vector<char> diffuse_mask(hit.size(), 0);
   for (std::size_t k = 0; k < hit.size(); ++k) diffuse_mask[k] = hit[k] && !glossy[k];
-  return {image_error(value, reference, hit), image_error(value, reference, glossy), image_error(value, reference, diffuse_mask)};
+  return {image_error(value, reference, hit), image_error(value, reference, glossy),
+          image_error(value, reference, diffuse_mask)};
 }
 
 }  // namespace filtering_detail
@@ -106,11 +109,11 @@ using namespace filtering_detail;
 
 namespace {
 constexpr EnumName<FilterWeights> kFilterWeightsNames[] = {{FilterWeights::spatial, "spatial"},
-                                                          {FilterWeights::normal, "normal"},
-                                                          {FilterWeights::lobe, "lobe"},
-                                                          {FilterWeights::lobe_depth, "lobe-depth"}};
+                                                           {FilterWeights::normal, "normal"},
+                                                           {FilterWeights::lobe, "lobe"},
+                                                           {FilterWeights::lobe_depth, "lobe-depth"}};
 constexpr EnumName<IndirectSource> kIndirectSourceNames[] = {{IndirectSource::exact, "exact"},
-                                                            {IndirectSource::vsgl, "vsgl"}};
+                                                             {IndirectSource::vsgl, "vsgl"}};
 }  // namespace
 
 std::optional<FilterWeights> parse_filter_weights(std::string_view name) {
@@ -139,7 +142,8 @@ std::optional<std::string> filter_parameters_error(const FilterParameters& p) {
   // κ = +∞ is allowed: no smoothing.
   if (!(p.kappa > 0)) return fmt::format("kappa {} is not positive", p.kappa);
   if (!(std::isfinite(p.nu) && p.nu >= 0)) return fmt::format("nu {} is not a non-negative number", p.nu);
-  if (!positive(p.diffuse_sharpness)) return fmt::format("diffuse sharpness {} is not a positive number", p.diffuse_sharpness);
+  if (!positive(p.diffuse_sharpness))
+    return fmt::format("diffuse sharpness {} is not a positive number", p.diffuse_sharpness);
   return std::nullopt;
 }
 
@@ -151,23 +155,22 @@ double filter_range_weight(const FilterSample& p, const FilterSample& q, bool sp
     return gaussian_weight(dz * dz, sz * sz);
   };
   const auto lobes = [&] {
-    return specular ? lobe_aware_weight(p.specular_axis, p.specular_sharpness, q.specular_axis, q.specular_sharpness, a.beta, a.kappa)
-                    : lobe_aware_weight(p.point.normal, a.diffuse_sharpness, q.point.normal, a.diffuse_sharpness, a.beta, a.kappa);
+    return specular ? lobe_aware_weight(p.specular_axis, p.specular_sharpness, q.specular_axis, q.specular_sharpness,
+                                        a.beta, a.kappa)
+                    : lobe_aware_weight(p.point.normal, a.diffuse_sharpness, q.point.normal, a.diffuse_sharpness,
+                                        a.beta, a.kappa);
   };
   switch (weights) {
-    case FilterWeights::spatial:
-      return 1.0;
-    case FilterWeights::normal:
-      return normal_weight(p.point.normal, q.point.normal, a.sigma_n2) * depth();
-    case FilterWeights::lobe_depth:
-      return lobes() * depth();
+    case FilterWeights::spatial: return 1.0;
+    case FilterWeights::normal: return normal_weight(p.point.normal, q.point.normal, a.sigma_n2) * depth();
+    case FilterWeights::lobe_depth: return lobes() * depth();
     case FilterWeights::lobe: {
       const double directional = lobes();
       if (directional == 0) return 0.0;
       const double nu2 = a.nu * a.nu;
-      const double positional =
-          gaussian_lobe_weight((p.point.position - q.point.position).squaredNorm(), smoothed_variance(p.footprint * p.footprint, nu2),
-                               smoothed_variance(q.footprint * q.footprint, nu2), a.beta, 3);
+      const double positional = gaussian_lobe_weight((p.point.position - q.point.position).squaredNorm(),
+                                                     smoothed_variance(p.footprint * p.footprint, nu2),
+                                                     smoothed_variance(q.footprint * q.footprint, nu2), a.beta, 3);
       return directional * positional;
     }
   }
@@ -184,13 +187,15 @@ void fill_gbuffers(const Scene& scene, const FilterInputOptions& o, FilterInputs
   fill_full_gbuffer(scene, o.progress, in.full, in.hit, in.glossy);
   in.low.resize(std::size_t(in.low_width) * std::size_t(in.low_height));
   for_each_row(in.low_width, in.low_height, "g-buffer (low)", {}, [&](std::size_t k, int i, int j) {
-    const double px = std::min(o.scale * (i + 0.5), double(in.width)), py = std::min(o.scale * (j + 0.5), double(in.height));
+    const double px = std::min(o.scale * (i + 0.5), double(in.width)),
+                 py = std::min(o.scale * (j + 0.5), double(in.height));
     in.low[k] = sample_at(scene, px, py, o.scale * pixel_angle);
   });
 }
 
 // The low-resolution indirect light, split into its diffuse and specular parts.
-void fill_low_res_indirect(const ReflectiveShadowMap& rsm, const VplList& vpls, const FilterInputOptions& o, FilterInputs& in) {
+void fill_low_res_indirect(const ReflectiveShadowMap& rsm, const VplList& vpls, const FilterInputOptions& o,
+                           FilterInputs& in) {
   const std::size_t m = in.low.size();
   in.low_diffuse.assign(m, Rgb::Zero());
   in.low_specular.assign(m, Rgb::Zero());
@@ -247,7 +252,8 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
 
   t0 = Clock::now();
   // seconds.reference stays 0 when the reference was given: nothing was computed.
-  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference)) in.seconds.reference = seconds_since(t0);
+  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference))
+    in.seconds.reference = seconds_since(t0);
   return in;
 }
 

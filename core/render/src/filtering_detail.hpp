@@ -58,8 +58,9 @@ std::pair<Rgb, Rgb> split_vpl_sum(const ShadingPoint& point, const VplList& vpls
 
 // The exact VPL sum at every valid sample (0 elsewhere): `given` if not null (its size must be the
 // samples'; std::invalid_argument otherwise), else computed. Returns whether it was computed.
-bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given, int width,
-                    const std::function<void(std::string_view, double)>& progress, std::vector<Rgb>& reference);
+bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given,
+                    int width, const std::function<void(std::string_view, double)>& progress,
+                    std::vector<Rgb>& reference);
 
 // Per-channel a/b with 0 where b is 0.
 Rgb demodulate(const Rgb& value, const Rgb& reflectance);
@@ -70,7 +71,7 @@ bool has_part(const FilterSample& s, bool specular);
 struct ReceiverErrors {
   ImageError all, glossy, diffuse;
 };
-ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const std::vector<char>& hit,
-                               const std::vector<char>& glossy);
+ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference,
+                               const std::vector<char>& hit, const std::vector<char>& glossy);
 
 }  // namespace sglab::render::filtering_detail

@@ -50,7 +50,9 @@ SgMixture parse_mixture(std::string_view text, const std::string& name) {
   }
   if (!j.is_object()) throw fail("not a JSON object (a fit record of `sglab fit envmap --json`)");
   if (!j.contains("fit") || !j["fit"].is_string() || j["fit"].get<std::string>() != "envmap")
-    throw fail("\"fit\" is " + (j.contains("fit") ? quote(j["fit"].dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)) : std::string("missing")) +
+    throw fail("\"fit\" is " +
+               (j.contains("fit") ? quote(j["fit"].dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))
+                                  : std::string("missing")) +
                "; a mixture record is the output of `sglab fit envmap --json` (\"fit\": \"envmap\")");
   if (!j.contains("parameters") || !j["parameters"].is_object()) throw fail("has no \"parameters\" object");
   const auto& p = j["parameters"];
@@ -74,8 +76,9 @@ SgMixture parse_mixture(std::string_view text, const std::string& name) {
     const auto it = values.find(k);
     for (int f = 0; f < 7; ++f)
       if (it == values.end() || !it->second[std::size_t(f)])
-        throw fail(fmt::format("\"lobe{}.{}\" is missing (the record has lobes up to lobe{}; each needs all seven fields)", k,
-                               kMixtureLobeFields[f], count - 1));
+        throw fail(
+            fmt::format("\"lobe{}.{}\" is missing (the record has lobes up to lobe{}; each needs all seven fields)", k,
+                        kMixtureLobeFields[f], count - 1));
     double v[7];
     for (int f = 0; f < 7; ++f) v[f] = *it->second[std::size_t(f)];
     // Scaled by the largest component before the norm, so that no square overflows or underflows.
@@ -89,7 +92,8 @@ SgMixture parse_mixture(std::string_view text, const std::string& name) {
       throw fail(fmt::format("lobe{}.sharpness {} is outside [0, {:g}]", k, v[3], kMaxMixtureSharpness));
     for (int c = 0; c < 3; ++c)
       if (!(v[4 + c] >= 0 && v[4 + c] <= kMaxMixtureAmplitude))
-        throw fail(fmt::format("lobe{}.{} {} is outside [0, {:g}]", k, kMixtureLobeFields[4 + c], v[4 + c], kMaxMixtureAmplitude));
+        throw fail(fmt::format("lobe{}.{} {} is outside [0, {:g}]", k, kMixtureLobeFields[4 + c], v[4 + c],
+                               kMaxMixtureAmplitude));
     m.push_back(l);
   }
   if (j.contains("lobes") && !(j["lobes"].is_number_unsigned() && j["lobes"].get<std::size_t>() == m.size()))

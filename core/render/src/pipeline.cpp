@@ -57,7 +57,8 @@ void for_each_pixel(const GBuffer& g, std::string_view stage, const RenderOption
 
 }  // namespace
 
-ImageError image_error(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const std::vector<char>& mask) {
+ImageError image_error(const std::vector<Rgb>& value, const std::vector<Rgb>& reference,
+                       const std::vector<char>& mask) {
   metrics::ErrorSums sums;
   for (std::size_t k = 0; k < value.size(); ++k) {
     if (!mask[k]) continue;
@@ -69,9 +70,11 @@ ImageError image_error(const std::vector<Rgb>& value, const std::vector<Rgb>& re
 namespace {
 
 void check_render_options(const RenderOptions& o, const std::vector<VsglOptions>& variants) {
-  if (o.rsm_resolution < 1) throw std::invalid_argument("rsm resolution " + std::to_string(o.rsm_resolution) + " is below 1");
+  if (o.rsm_resolution < 1)
+    throw std::invalid_argument("rsm resolution " + std::to_string(o.rsm_resolution) + " is below 1");
   if (o.visibility && (o.visibility_map_resolution < 1 || o.visibility_map_resolution > 4096))
-    throw std::invalid_argument("visibility map resolution " + std::to_string(o.visibility_map_resolution) + " is outside [1, 4096]");
+    throw std::invalid_argument("visibility map resolution " + std::to_string(o.visibility_map_resolution) +
+                                " is outside [1, 4096]");
   if (o.shadow_map_resolution < 1)
     throw std::invalid_argument("shadow map resolution " + std::to_string(o.shadow_map_resolution) + " is below 1");
   for (const auto& v : variants)
@@ -79,7 +82,8 @@ void check_render_options(const RenderOptions& o, const std::vector<VsglOptions>
 }
 
 // Every hit pixel shaded by the VSGLs into v.indirect.
-void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, const VsglShader& shader, RenderResult& v) {
+void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, const VsglShader& shader,
+                 RenderResult& v) {
   std::vector<CubeShadowMap> maps;
   if (o.visibility) maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
   // A row's hit pixels at once, so that the diffuse method runs on wide batches (per-thread
@@ -116,7 +120,8 @@ void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, c
 }
 
 // One variant: its VSGLs from the shared RSM, their shading and the error against the reference.
-RenderResult render_variant(const Scene& scene, const RenderOptions& o, const CommonPass& c, const VsglOptions& variant) {
+RenderResult render_variant(const Scene& scene, const RenderOptions& o, const CommonPass& c,
+                            const VsglOptions& variant) {
   RenderResult v = c.result;
   const std::size_t n = std::size_t(v.width) * std::size_t(v.height);
   v.indirect.assign(n, Rgb::Zero());
@@ -181,17 +186,16 @@ CommonPass render_common(const Scene& scene, const RenderOptions& o) {
   }
 
   t0 = Clock::now();
-  for_each_pixel(g, "reference (VPL sum)", o,
-                 [&](std::size_t k) {
-                   r.indirect_reference[k] =
-                       reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr,
-                                          o.reference_precision.value_or(o.shading.precision));
-                 });
+  for_each_pixel(g, "reference (VPL sum)", o, [&](std::size_t k) {
+    r.indirect_reference[k] = reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr,
+                                                 o.reference_precision.value_or(o.shading.precision));
+  });
   r.seconds.reference = seconds_since(t0);
   return c;
 }
 
-std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& o, const std::vector<VsglOptions>& variants) {
+std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& o,
+                                                const std::vector<VsglOptions>& variants) {
   check_render_options(o, variants);
   return render_scene_variants(scene, o, render_common(scene, o), variants);
 }

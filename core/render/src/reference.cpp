@@ -41,8 +41,8 @@ struct OccluderArrays {
       } else if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
         const Vec3 n = r->edge_u.cross(r->edge_v).normalized();  // as intersect(Rectangle) has it
         rectangle.insert(rectangle.end(), {r->corner.x(), r->corner.y(), r->corner.z(), r->edge_u.x(), r->edge_u.y(),
-                                           r->edge_u.z(), r->edge_v.x(), r->edge_v.y(), r->edge_v.z(), n.x(), n.y(), n.z(),
-                                           r->edge_u.squaredNorm(), r->edge_v.squaredNorm()});
+                                           r->edge_u.z(), r->edge_v.x(), r->edge_v.y(), r->edge_v.z(), n.x(), n.y(),
+                                           n.z(), r->edge_u.squaredNorm(), r->edge_v.squaredNorm()});
       } else if (const auto* sp = std::get_if<Sphere>(&object.shape)) {
         sphere.insert(sphere.end(), {sp->center.x(), sp->center.y(), sp->center.z(), sp->radius});
       }
@@ -71,7 +71,8 @@ struct VisibilityMasks {
       v.n = arrays->x.size();
       v.x = arrays->x.data(), v.y = arrays->y.data(), v.z = arrays->z.data();
       v.nx = arrays->nx.data(), v.ny = arrays->ny.data(), v.nz = arrays->nz.data();
-      if constexpr (std::is_same_v<T, float>) t.visibility_f(v, position, normal, shapes.view(), scratch.data(), mask->data());
+      if constexpr (std::is_same_v<T, float>)
+        t.visibility_f(v, position, normal, shapes.view(), scratch.data(), mask->data());
       else t.visibility_d(v, position, normal, shapes.view(), scratch.data(), mask->data());
     }
   }
@@ -80,9 +81,18 @@ struct VisibilityMasks {
 template <class T>
 void vpl_sums(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert, const VplArraysT<T>& glossy,
               const ShadingPoint& p, const VisibilityMasks<T>* masks, double* out) {
-  simd_detail::Receiver<T> r{T(p.position.x()), T(p.position.y()), T(p.position.z()), T(p.normal.x()),
-                             T(p.normal.y()),   T(p.normal.z()),   T(p.view.x()),     T(p.view.y()),
-                             T(p.view.z()),     {},                {},                T(p.roughness),
+  simd_detail::Receiver<T> r{T(p.position.x()),
+                             T(p.position.y()),
+                             T(p.position.z()),
+                             T(p.normal.x()),
+                             T(p.normal.y()),
+                             T(p.normal.z()),
+                             T(p.view.x()),
+                             T(p.view.y()),
+                             T(p.view.z()),
+                             {},
+                             {},
+                             T(p.roughness),
                              T(p.normal.dot(p.view))};
   for (int c = 0; c < 3; ++c) {
     r.rd[c] = T(p.diffuse_reflectance(c) / std::numbers::pi);
@@ -101,7 +111,8 @@ void put(std::vector<T>& c, double value) {
 template <class T>
 void push_padded(VplArraysT<T>& a, const Vpl* v) {
   if (!v) {  // padding: normal 0, so ⟨ω·n_i⟩ = 0 and the term is masked
-    for (auto* c : {&a.x, &a.y, &a.z, &a.nx, &a.ny, &a.nz, &a.ix, &a.iy, &a.iz, &a.lambert_r, &a.lambert_g, &a.lambert_b})
+    for (auto* c :
+         {&a.x, &a.y, &a.z, &a.nx, &a.ny, &a.nz, &a.ix, &a.iy, &a.iz, &a.lambert_r, &a.lambert_g, &a.lambert_b})
       put(*c, 0.0);
     put(a.r2, 1.0);
     return;

@@ -50,8 +50,8 @@ namespace {
 // the inner cone; (1 − c_i) + w(½ − t³ + t⁴/2) in the smoothstep band (t = (c − c_o)/w,
 // w = c_i − c_o, from ∫_t^1 (3τ² − 2τ³) dτ); (1 − c_i) + w/2 outside the cone.
 struct EmissionProfile {
-  double r_inner, r_outer;        // tan θi, tan θo
-  double one_minus_ci, co, w;     // 1 − cos θi, cos θo, cos θi − cos θo
+  double r_inner, r_outer;     // tan θi, tan θo
+  double one_minus_ci, co, w;  // 1 − cos θi, cos θo, cos θi − cos θo
 
   explicit EmissionProfile(const Spotlight& l)
       : r_inner(std::tan(l.cone_angle - l.falloff)),
@@ -176,8 +176,8 @@ GgxAlbedo ggx_directional_albedo(double alpha, double cos_incoming) {
         const double ci = 2 * oh * ch - mu;            // (2(ω'·h)h − ω')·n
         if (!(oh > 0) || !(ci > 0)) continue;
         // V·ci·4(ω'·h)/cos θh · 2v = V·ci·8(ω'·h)√d; 1/(2π) for du dφ/(2π), ×2 for φ ∈ [π, 2π].
-        const double w = outer.weights[a] * inner.weights[b] * smith_visibility_ggx(alpha, mu, ci) * ci * 8 * oh * root /
-                         std::numbers::pi;
+        const double w = outer.weights[a] * inner.weights[b] * smith_visibility_ggx(alpha, mu, ci) * ci * 8 * oh *
+                         root / std::numbers::pi;
         const double m = 1 - oh, m2 = m * m;
         sum.e1 += w;
         sum.e5 += w * m2 * m2 * m;
@@ -212,7 +212,8 @@ ReflectiveShadowMap render_rsm(const Scene& scene, int resolution) {
   // One albedo table per distinct roughness of a glossy material.
   std::map<double, GgxAlbedoTable> albedo;
   for (const Object& o : scene.objects)
-    if (o.material.glossy() && !albedo.count(o.material.roughness)) albedo.emplace(o.material.roughness, GgxAlbedoTable(o.material.roughness));
+    if (o.material.glossy() && !albedo.count(o.material.roughness))
+      albedo.emplace(o.material.roughness, GgxAlbedoTable(o.material.roughness));
   tbb::parallel_for(tbb::blocked_range<int>(0, resolution), [&](const tbb::blocked_range<int>& rows) {
     for (int j = rows.begin(); j < rows.end(); ++j)
       for (int i = 0; i < resolution; ++i) {
@@ -235,7 +236,8 @@ ReflectiveShadowMap render_rsm(const Scene& scene, int resolution) {
           const GgxAlbedo a = albedo.at(m.roughness)(v.normal.dot(v.incoming));
           for (int k = 0; k < 3; ++k) v.specular_reflectance(k) = a.reflectance(m.f0(k));
         }
-        const double omega = image_rectangle_solid_angle(view.x_lo(i), view.x_lo(i) + s, view.y_lo(j), view.y_lo(j) + s);
+        const double omega = image_rectangle_solid_angle(view.x_lo(i), view.x_lo(i) + s, view.y_lo(j),
+                                                         view.y_lo(j) + s);
         v.footprint_radius = std::sqrt(omega / std::numbers::pi) * hit->distance;
       }
   });

@@ -128,8 +128,9 @@ Rgb rgb_in_unit_interval(const json& v, const std::string& path) {
 int positive_int(const json& v, const std::string& path, int max) {
   if (!v.is_number_integer()) fail(path, fmt::format("expected a positive integer, got {}", shown(v)));
   // An unsigned value above LLONG_MAX (e.g. 18446744073709551615) must not wrap to a negative.
-  if (v.is_number_unsigned() ? (v.get<unsigned long long>() < 1 || v.get<unsigned long long>() > static_cast<unsigned long long>(max))
-                             : (v.get<long long>() < 1 || v.get<long long>() > max))
+  if (v.is_number_unsigned()
+          ? (v.get<unsigned long long>() < 1 || v.get<unsigned long long>() > static_cast<unsigned long long>(max))
+          : (v.get<long long>() < 1 || v.get<long long>() > max))
     fail(path, fmt::format("{} is outside [1, {}]", shown(v), max));
   return int(v.get<long long>());
 }
@@ -146,8 +147,11 @@ Material parse_material(const json& v, const std::string& path) {
   if (v.contains("roughness")) {
     const std::string p = join(path, "roughness");
     const double a = number(v.at("roughness"), p);
-    if (a < 0) fail(p, fmt::format("{} is negative (GGX α must be in [{}, 1])", shown(v.at("roughness")), kMinSceneRoughness));
-    if (a == 0) fail(p, fmt::format("0 is zero (GGX α must be in [{}, 1]; a perfect mirror has no GGX lobe)", kMinSceneRoughness));
+    if (a < 0)
+      fail(p, fmt::format("{} is negative (GGX α must be in [{}, 1])", shown(v.at("roughness")), kMinSceneRoughness));
+    if (a == 0)
+      fail(p,
+           fmt::format("0 is zero (GGX α must be in [{}, 1]; a perfect mirror has no GGX lobe)", kMinSceneRoughness));
     if (a < kMinSceneRoughness || a > 1)
       fail(p, fmt::format("{} is outside [{}, 1] (GGX α)", shown(v.at("roughness")), kMinSceneRoughness));
     m.roughness = a;
@@ -169,8 +173,8 @@ Camera parse_camera(const json& v) {
   if (v.contains("height")) c.height = positive_int(v.at("height"), "camera.height", 16384);
   const Vec3 forward = c.look_at - c.position;
   if (!forward.allFinite())
-    fail("camera.look_at", fmt::format("{} is so far from camera.position {} that their difference overflows", fmt_vec(c.look_at),
-                                       fmt_vec(c.position)));
+    fail("camera.look_at", fmt::format("{} is so far from camera.position {} that their difference overflows",
+                                       fmt_vec(c.look_at), fmt_vec(c.position)));
   if (forward == Vec3::Zero()) fail("camera.look_at", "equals camera.position (no viewing direction)");
   if (c.up == Vec3::Zero()) fail("camera.up", "is the zero vector");
   if (!(safe_normalized(forward).cross(safe_normalized(c.up)).norm() > 1e-6))
@@ -187,8 +191,8 @@ Spotlight parse_light(const json& v, std::string& position_field) {
   s.direction = safe_normalized(dir);
   const double cone = number(require(v, path, "cone_angle"), "light.cone_angle");
   if (!(cone > 0 && cone <= kMaxConeAngleDegrees))
-    fail("light.cone_angle", fmt::format("{} is outside (0, {}] degrees (the half-angle of the cone)", shown(v.at("cone_angle")),
-                                         kMaxConeAngleDegrees));
+    fail("light.cone_angle", fmt::format("{} is outside (0, {}] degrees (the half-angle of the cone)",
+                                         shown(v.at("cone_angle")), kMaxConeAngleDegrees));
   s.cone_angle = cone * kDegree;
   if (v.contains("falloff")) {
     const double f = number(v.at("falloff"), "light.falloff");
@@ -201,7 +205,8 @@ Spotlight parse_light(const json& v, std::string& position_field) {
   const bool has_position = v.contains("position");
   const bool has_target = v.contains("target"), has_distance = v.contains("distance");
   if (has_position && (has_target || has_distance))
-    fail(has_target ? "light.target" : "light.distance", "give either light.position, or light.target and light.distance, not both");
+    fail(has_target ? "light.target" : "light.distance",
+         "give either light.position, or light.target and light.distance, not both");
   if (has_position) {
     s.position = vec3(v.at("position"), "light.position");
     position_field = "light.position";
@@ -230,8 +235,9 @@ Object parse_object(const json& v, const std::string& path) {
     b.max = vec3(require(v, path, "max"), join(path, "max"));
     for (int k = 0; k < 3; ++k)
       if (!(b.max(k) > b.min(k)))
-        fail(join(path, "max"), fmt::format("{} does not exceed min {} on axis {} (a box needs a positive size on every axis)",
-                                            fmt_vec(b.max), fmt_vec(b.min), "xyz"[k]));
+        fail(join(path, "max"),
+             fmt::format("{} does not exceed min {} on axis {} (a box needs a positive size on every axis)",
+                         fmt_vec(b.max), fmt_vec(b.min), "xyz"[k]));
     o.shape = b;
   } else if (t == "rectangle") {
     check_keys(v, path, {"name", "type", "corner", "edge_u", "edge_v", "material"});
@@ -243,14 +249,16 @@ Object parse_object(const json& v, const std::string& path) {
     if (r.edge_v == Vec3::Zero()) fail(join(path, "edge_v"), "is the zero vector (zero-sized rectangle)");
     // On the unit vectors: |u·v| ≤ 1e-9|u||v| would overflow (inf ≤ inf) for edges of 1e200.
     if (!(std::fabs(safe_normalized(r.edge_u).dot(safe_normalized(r.edge_v))) <= 1e-9))
-      fail(join(path, "edge_v"), fmt::format("{} is not perpendicular to edge_u {}", fmt_vec(r.edge_v), fmt_vec(r.edge_u)));
+      fail(join(path, "edge_v"),
+           fmt::format("{} is not perpendicular to edge_u {}", fmt_vec(r.edge_v), fmt_vec(r.edge_u)));
     o.shape = r;
   } else if (t == "sphere") {
     check_keys(v, path, {"name", "type", "center", "radius", "material"});
     Sphere s;
     s.center = vec3(require(v, path, "center"), join(path, "center"));
     s.radius = number(require(v, path, "radius"), join(path, "radius"));
-    if (!(s.radius > 0)) fail(join(path, "radius"), fmt::format("{} is not positive (zero-sized sphere)", shown(v.at("radius"))));
+    if (!(s.radius > 0))
+      fail(join(path, "radius"), fmt::format("{} is not positive (zero-sized sphere)", shown(v.at("radius"))));
     o.shape = s;
   } else {
     fail(join(path, "type"), fmt::format("unknown object type \"{}\" (box, rectangle or sphere)", clip_text(t)));
@@ -260,15 +268,18 @@ Object parse_object(const json& v, const std::string& path) {
     fail(join(path, "name"), fmt::format("expected a non-empty string, got {}", shown(name)));
   o.name = name.get<std::string>();
   if (o.name == "camera" || o.name == "light" || o.name == "objects" || o.name == "description")
-    fail(join(path, "name"), fmt::format("\"{}\" is reserved (it would shadow the top-level key in --set)", clip_text(o.name)));
-  if (o.name.find('.') != std::string::npos) fail(join(path, "name"), fmt::format("\"{}\" contains '.' (--set splits keys at dots)", clip_text(o.name)));
+    fail(join(path, "name"),
+         fmt::format("\"{}\" is reserved (it would shadow the top-level key in --set)", clip_text(o.name)));
+  if (o.name.find('.') != std::string::npos)
+    fail(join(path, "name"), fmt::format("\"{}\" contains '.' (--set splits keys at dots)", clip_text(o.name)));
   o.material = parse_material(require(v, path, "material"), join(path, "material"));
   return o;
 }
 
 // Whether p lies inside or on the object (for the light-inside-an-object check).
 bool contains(const Shape& shape, const Vec3& p) {
-  if (const auto* b = std::get_if<Box>(&shape)) return (p.array() >= b->min.array()).all() && (p.array() <= b->max.array()).all();
+  if (const auto* b = std::get_if<Box>(&shape))
+    return (p.array() >= b->min.array()).all() && (p.array() <= b->max.array()).all();
   if (const auto* s = std::get_if<Sphere>(&shape)) return (p - s->center).norm() <= s->radius;
   const auto& r = std::get<Rectangle>(shape);
   const Vec3 d = p - r.corner;
@@ -285,7 +296,8 @@ SceneEnvironment parse_environment(const json& e) {
   auto text = [&](const char* key, std::string& out) {
     if (!e.contains(key)) return;
     const json& v = e.at(key);
-    if (!v.is_string() || v.get<std::string>().empty()) fail(join(path, key), fmt::format("expected a non-empty string, got {} {}", type_name(v), shown(v)));
+    if (!v.is_string() || v.get<std::string>().empty())
+      fail(join(path, key), fmt::format("expected a non-empty string, got {} {}", type_name(v), shown(v)));
     out = v.get<std::string>();
   };
   auto integer = [&](const char* key, int& out, int lo, int hi) {
@@ -303,12 +315,15 @@ SceneEnvironment parse_environment(const json& e) {
   integer("width", env.width, 8, 4096);
   integer("lobes", env.lobes, 1, 1024);
   if (e.contains("long_fit")) {
-    if (!e.at("long_fit").is_boolean()) fail(join(path, "long_fit"), fmt::format("expected true or false, got {} {}", type_name(e.at("long_fit")), shown(e.at("long_fit"))));
+    if (!e.at("long_fit").is_boolean())
+      fail(join(path, "long_fit"),
+           fmt::format("expected true or false, got {} {}", type_name(e.at("long_fit")), shown(e.at("long_fit"))));
     env.long_fit = e.at("long_fit").get<bool>();
   }
   if (env.width % 2 != 0) fail(join(path, "width"), fmt::format("{} is odd (the map is width × width/2)", env.width));
   if (!env.exr.empty() && !env.generate.empty()) fail(path, "give \"exr\" or \"generate\", not both");
-  if (env.exr.empty() && env.generate.empty() && env.mixture.empty()) fail(path, "needs \"exr\", \"generate\" or \"mixture\"");
+  if (env.exr.empty() && env.generate.empty() && env.mixture.empty())
+    fail(path, "needs \"exr\", \"generate\" or \"mixture\"");
   if (!env.generate.empty() && env.generate != "sky" && env.generate != "studio" && env.generate != "mixture")
     fail(join(path, "generate"), fmt::format("\"{}\" is not sky, studio or mixture", clip_text(env.generate)));
   return env;
@@ -332,13 +347,14 @@ Scene parse_scene(const nlohmann::json& document) {
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const std::string path = fmt::format("objects[{}]", i);
     Object o = parse_object(objects[i], path);
-    if (scene.find(o.name) >= 0) fail(join(path, "name"), fmt::format("\"{}\" is used by an earlier object", clip_text(o.name)));
+    if (scene.find(o.name) >= 0)
+      fail(join(path, "name"), fmt::format("\"{}\" is used by an earlier object", clip_text(o.name)));
     scene.objects.push_back(std::move(o));
   }
   for (std::size_t i = 0; i < scene.objects.size(); ++i)
     if (contains(scene.objects[i].shape, scene.light.position))
-      fail(position_field, fmt::format("the light at {} is inside or on objects[{}] (\"{}\")", fmt_vec(scene.light.position), i,
-                                       scene.objects[i].name));
+      fail(position_field, fmt::format("the light at {} is inside or on objects[{}] (\"{}\")",
+                                       fmt_vec(scene.light.position), i, scene.objects[i].name));
   return scene;
 }
 
@@ -352,7 +368,8 @@ nlohmann::json parse_scene_text(const std::string& text, const std::string& sour
     // e.what() reads "[json.exception.parse_error.101] parse error at line 3, column 5: …".
     std::string what = e.what();
     const auto at = what.find("parse error");
-    throw SceneError(fmt::format("{}: malformed JSON: {}", source, clip_text(at == std::string::npos ? what : what.substr(at), 400)));
+    throw SceneError(fmt::format("{}: malformed JSON: {}", source,
+                                 clip_text(at == std::string::npos ? what : what.substr(at), 400)));
   } catch (const json::exception& e) {  // e.g. out_of_range.406: a number overflowing double
     throw SceneError(fmt::format("{}: malformed JSON: {}", source, clip_text(e.what(), 400)));
   }
@@ -411,7 +428,8 @@ OverrideTarget named_object(json& document, const std::string& name, const std::
     }
   }
   if (!found.node)
-    throw SceneError(fmt::format("{}: no top-level key or object named \"{}\" (objects: {})", where, clip_text(name), clip_text(names)));
+    throw SceneError(fmt::format("{}: no top-level key or object named \"{}\" (objects: {})", where, clip_text(name),
+                                 clip_text(names)));
   return found;
 }
 
@@ -422,13 +440,15 @@ void step_into(OverrideTarget& t, const std::string& part, bool last, const std:
     char* end = nullptr;
     const unsigned long index = std::strtoul(part.c_str(), &end, 10);
     if (*end != '\0' || index >= current.size())
-      throw SceneError(fmt::format("{}: {} has {} elements; \"{}\" is not an index of it", where, t.path, current.size(), clip_text(part)));
+      throw SceneError(fmt::format("{}: {} has {} elements; \"{}\" is not an index of it", where, t.path,
+                                   current.size(), clip_text(part)));
     t.node = &current[index];
     t.path += fmt::format("[{}]", index);
     return;
   }
   if (!current.is_object())
-    throw SceneError(fmt::format("{}: {} is {}, which has no field \"{}\"", where, t.path, shown(current), clip_text(part)));
+    throw SceneError(
+        fmt::format("{}: {} is {}, which has no field \"{}\"", where, t.path, shown(current), clip_text(part)));
   if (current.contains(part)) {
     t.node = &current[part];
     t.path = join(t.path, part);

@@ -12,7 +12,8 @@
 
 namespace sglab::render {
 
-LightView::LightView(const Spotlight& light, int res) : origin(light.position), forward(light.direction), resolution(res) {
+LightView::LightView(const Spotlight& light, int res)
+    : origin(light.position), forward(light.direction), resolution(res) {
   // Any frame around the axis will do (the cone is round): take `right` ⟂ to the axis and to
   // whichever world axis is least aligned with it.
   const Vec3 a = forward.cwiseAbs();
@@ -53,7 +54,9 @@ bool ShadowMap::lit(const Vec3& p, const Vec3& n) const {
   return t <= d + bias;
 }
 
-ShadowMap render_shadow_map(const Scene& scene, int resolution) { return render_shadow_map(scene, LightView(scene.light, resolution)); }
+ShadowMap render_shadow_map(const Scene& scene, int resolution) {
+  return render_shadow_map(scene, LightView(scene.light, resolution));
+}
 
 ShadowMap render_shadow_map(const Scene& scene, const LightView& view) {
   const int resolution = view.resolution;
@@ -65,7 +68,8 @@ ShadowMap render_shadow_map(const Scene& scene, const LightView& view) {
     for (int j = rows.begin(); j < rows.end(); ++j)
       for (int i = 0; i < resolution; ++i) {
         const Ray r = m.view.ray(m.view.x_lo(i) + 0.5 * s, m.view.y_lo(j) + 0.5 * s);
-        if (const auto hit = cast_ray(scene, r)) m.depth[std::size_t(j) * std::size_t(resolution) + std::size_t(i)] = hit->distance;
+        if (const auto hit = cast_ray(scene, r))
+          m.depth[std::size_t(j) * std::size_t(resolution) + std::size_t(i)] = hit->distance;
       }
   });
   return m;

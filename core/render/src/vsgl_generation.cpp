@@ -34,7 +34,8 @@ std::optional<std::string> vsgl_options_error(const VsglOptions& o) {
     return std::string("VSGL option ") + field + " = " + std::to_string(value) + ": " + why;
   };
   if (!vsgl_mode_is_whole_rsm(o.mode) && o.count < 1) return bad("count", o.count, "must be at least 1");
-  if (!(std::isfinite(o.lambda_d) && o.lambda_d > 0)) return bad("lambda_d", o.lambda_d, "must be a finite positive sharpness");
+  if (!(std::isfinite(o.lambda_d) && o.lambda_d > 0))
+    return bad("lambda_d", o.lambda_d, "must be a finite positive sharpness");
   if (!(std::isfinite(o.fis_k) && o.fis_k > 0)) return bad("fis_k", o.fis_k, "must be finite and positive");
   if (o.fis_bisection_iterations < 0 || o.fis_bisection_iterations > 60)
     return bad("fis_bisection_iterations", o.fis_bisection_iterations, "must be in [0, 60]");
@@ -49,7 +50,8 @@ VsglSums<double> vpl_sums(const Vpl& vpl, const Vec3& origin, double diffuse_mea
   VsglSums<double> s;
   if (!vpl.valid) return s;
   const Rgb pd = position == PositionWeight::specular ? Rgb(Rgb::Zero()) : Rgb(vpl.flux * vpl.diffuse_reflectance);
-  const Rgb ps = vpl.glossy() && position != PositionWeight::diffuse ? Rgb(vpl.flux * vpl.specular_reflectance) : Rgb(Rgb::Zero());
+  const Rgb ps = vpl.glossy() && position != PositionWeight::diffuse ? Rgb(vpl.flux * vpl.specular_reflectance)
+                                                                     : Rgb(Rgb::Zero());
   // Position weight u_i = Y(Φ_i(R_d + R_s)) (Tokuyoshi 2016 §3.2), also the importance; with
   // one component only, Y(Φ_i R_d) or Y(Φ_i R_s) (Tokuyoshi 2015 (two-VSGL poster) §2.2).
   const double u = luminance<double>(Rgb(pd + ps));
@@ -137,7 +139,8 @@ Sums sum_texels(const ReflectiveShadowMap& rsm, const std::vector<std::size_t>* 
   return tbb::parallel_deterministic_reduce(
       tbb::blocked_range<std::size_t>(0, count, 1024), Sums{},
       [&](const tbb::blocked_range<std::size_t>& r, Sums acc) {
-        for (std::size_t k = r.begin(); k != r.end(); ++k) acc += vpl_sums(texel(k), origin, p.diffuse_mean_length, e, w);
+        for (std::size_t k = r.begin(); k != r.end(); ++k)
+          acc += vpl_sums(texel(k), origin, p.diffuse_mean_length, e, w);
         return acc;
       },
       [](Sums a, const Sums& b) { return a += b; });
@@ -145,8 +148,8 @@ Sums sum_texels(const ReflectiveShadowMap& rsm, const std::vector<std::size_t>* 
 
 // ---- the mip pyramid of sums (fis) ------------------------------------------------------------
 struct Pyramid {
-  std::vector<int> size;                   // side length per level
-  std::vector<std::vector<Sums>> sums;     // level → row-major blocks
+  std::vector<int> size;                          // side length per level
+  std::vector<std::vector<Sums>> sums;            // level → row-major blocks
   std::vector<std::vector<std::uint32_t>> count;  // contributing texels per block
   int top() const { return int(size.size()) - 1; }
   const Sums& at(int level, int x, int y) const { return sums[level][std::size_t(y) * size[level] + x]; }
@@ -263,7 +266,8 @@ double fis_level(const Pyramid& py, double total, int x, int y, double target, i
   double lmin = 0, lmax = py.top();
   for (int k = 0; k < iterations; ++k) {
     const double l = (lmin + lmax) / 2;
-    if (fis_mass(py, total, x, y, l) < target) lmin = l; else lmax = l;
+    if (fis_mass(py, total, x, y, l) < target) lmin = l;
+    else lmax = l;
   }
   return (lmin + lmax) / 2;
 }
@@ -275,7 +279,11 @@ std::vector<VsglCluster> build_fis(const ReflectiveShadowMap& rsm, const Prepare
   const double target = o.fis_k / n;
   const auto texels = sample_texels(py, n, o.seed);
   // Identical clusters (same level-⌊l⌋ block, same l) are merged: key → index.
-  struct Sample { int x, y; double level; int copies; };
+  struct Sample {
+    int x, y;
+    double level;
+    int copies;
+  };
   std::vector<Sample> samples;
   std::map<std::tuple<int, int, double>, std::size_t> index;  // (block x, block y, l) → sample
   for (const auto& [x, y] : texels) {
@@ -283,7 +291,10 @@ std::vector<VsglCluster> build_fis(const ReflectiveShadowMap& rsm, const Prepare
     const int l0 = std::min(int(std::floor(l)), py.top());
     const auto [it, inserted] = index.emplace(std::make_tuple(x >> l0, y >> l0, l), samples.size());
     if (inserted) samples.push_back({x, y, l, 1});
-    else { ++samples[it->second].copies; ++merged; }
+    else {
+      ++samples[it->second].copies;
+      ++merged;
+    }
   }
   std::vector<VsglCluster> out(samples.size());
   tbb::parallel_for(std::size_t(0), samples.size(), [&](std::size_t i) {
@@ -329,7 +340,10 @@ KmeansCentres kmeans_seed(const ReflectiveShadowMap& rsm, const Prepared& p, con
   {
     const Pyramid py = build_pyramid(rsm, p, o);
     for (const auto& t : sample_texels(py, o.count, o.seed)) {
-      if (std::find(c.texels.begin(), c.texels.end(), t) != c.texels.end()) { ++merged; continue; }
+      if (std::find(c.texels.begin(), c.texels.end(), t) != c.texels.end()) {
+        ++merged;
+        continue;
+      }
       c.texels.push_back(t);
     }
   }
@@ -348,7 +362,10 @@ void kmeans_assign(const ReflectiveShadowMap& rsm, const Prepared& p, const Kmea
                    double normal_coef, std::vector<int>& label) {
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, label.size()), [&](const auto& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      if (!(p.importance[i] > 0)) { label[i] = -1; continue; }
+      if (!(p.importance[i] > 0)) {
+        label[i] = -1;
+        continue;
+      }
       const Vpl& v = rsm.texels[i];
       const Eigen::Vector2d t = texel_coordinates(rsm, i);
       double best = std::numeric_limits<double>::infinity();
@@ -357,7 +374,10 @@ void kmeans_assign(const ReflectiveShadowMap& rsm, const Prepared& p, const Kmea
         const double d = image ? (t - c.image[j]).squaredNorm()
                                : (v.position - c.position[j]).squaredNorm() +
                                      normal_coef * (v.normal - c.normal[j]).squaredNorm();
-        if (d < best) { best = d; arg = int(j); }
+        if (d < best) {
+          best = d;
+          arg = int(j);
+        }
       }
       label[i] = arg;
     }

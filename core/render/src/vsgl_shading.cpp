@@ -62,7 +62,7 @@ const double kDirectLimit = std::log(std::numeric_limits<double>::max()) / 2;
 struct VsglShader::Data {
   LobeArrays lobes;
   std::size_t clusters = 0;  // of the set (the visibility's stride per point)
-  Method diffuse;          // bound where needed
+  Method diffuse;            // bound where needed
   bool floor_sharpness = false;
   double diffuse_factor = 1;  // sg-cosine with A(λ_d) ≈ π
   ShadingOptions options;
@@ -85,7 +85,8 @@ VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std:
     for (const Parameter& p : method.parameters) values.push_back(&p == lambda_d ? set.lambda_d : p.published);
     d.diffuse = method.bind(values);
   }
-  if (!d.diffuse.batch_double) throw std::invalid_argument("diffuse method '" + method.name + "' has no batch evaluator");
+  if (!d.diffuse.batch_double)
+    throw std::invalid_argument("diffuse method '" + method.name + "' has no batch evaluator");
   d.floor_sharpness = bool(method.domain_error);
   // A(λ_d) ≈ π: the exact form's π/A(λ_d) factor becomes 1.
   if (o.sg_cosine_a_is_pi && lambda_d) d.diffuse_factor = sg_integral(set.lambda_d) / pi<double>();
@@ -118,8 +119,8 @@ VsglShader::VsglShader(const VsglSet& set, const ShadingOptions& o) : data_(std:
 
 VsglShading VsglShader::shade(const ShadingPoint& p, std::span<const char> visible) const {
   if (!visible.empty() && visible.size() != clusters())
-    throw std::invalid_argument("VsglShader::shade: visible has " + std::to_string(visible.size()) + " entries, not one per cluster (" +
-                                std::to_string(clusters()) + ")");
+    throw std::invalid_argument("VsglShader::shade: visible has " + std::to_string(visible.size()) +
+                                " entries, not one per cluster (" + std::to_string(clusters()) + ")");
   VsglShading out;
   shade_block(std::span<const ShadingPoint>(&p, 1), visible, std::span<VsglShading>(&out, 1));
   return out;
@@ -129,7 +130,8 @@ void VsglShader::shade(std::span<const ShadingPoint> points, std::span<VsglShadi
   shade(points, {}, out);
 }
 
-void VsglShader::shade(std::span<const ShadingPoint> points, std::span<const char> visible, std::span<VsglShading> out) const {
+void VsglShader::shade(std::span<const ShadingPoint> points, std::span<const char> visible,
+                       std::span<VsglShading> out) const {
   if (out.size() != points.size()) throw std::invalid_argument("VsglShader::shade: points and out differ in size");
   if (!visible.empty() && visible.size() != points.size() * clusters())
     throw std::invalid_argument("VsglShader::shade: visible has " + std::to_string(visible.size()) +
@@ -150,11 +152,12 @@ namespace {
 // The specular receivers of a block's glossy points as arrays (simd_detail::SpecularReceivers).
 struct Receivers {
   std::vector<std::size_t> point;
-  std::vector<double> tx, ty, tz, bx, by, bz, nx, ny, nz, wox, woy, woz, xx, xy, xz, yx, yy, yz, zx, zy, zz, eta_x, eta_y,
-      lambda_s, ndf_amplitude, roughness, f0_r, f0_g, f0_b;
+  std::vector<double> tx, ty, tz, bx, by, bz, nx, ny, nz, wox, woy, woz, xx, xy, xz, yx, yy, yz, zx, zy, zz, eta_x,
+      eta_y, lambda_s, ndf_amplitude, roughness, f0_r, f0_g, f0_b;
   std::array<std::vector<double>*, 29> all() {
-    return {&tx, &ty, &tz, &bx, &by, &bz, &nx, &ny, &nz, &wox, &woy, &woz, &xx, &xy, &xz, &yx, &yy, &yz, &zx, &zy, &zz,
-            &eta_x, &eta_y, &lambda_s, &ndf_amplitude, &roughness, &f0_r, &f0_g, &f0_b};
+    return {&tx,   &ty,   &tz,  &bx, &by, &bz, &nx, &ny, &nz,    &wox,   &woy,      &woz,           &xx,
+            &xy,   &xz,   &yx,  &yy, &yz, &zx, &zy, &zz, &eta_x, &eta_y, &lambda_s, &ndf_amplitude, &roughness,
+            &f0_r, &f0_g, &f0_b};
   }
   void clear() {
     point.clear();
@@ -162,12 +165,35 @@ struct Receivers {
   }
   void push(std::size_t i, const VsglSpecularReceiver<double>& r, const Rgb& f0) {
     point.push_back(i);
-    const double values[] = {r.tangent.x(),    r.tangent.y(),    r.tangent.z(),    r.bitangent.x(),  r.bitangent.y(),
-                             r.bitangent.z(),  r.normal.x(),     r.normal.y(),     r.normal.z(),     r.view_local.x(),
-                             r.view_local.y(), r.view_local.z(), r.lobe.x.x(),     r.lobe.x.y(),     r.lobe.x.z(),
-                             r.lobe.y.x(),     r.lobe.y.y(),     r.lobe.y.z(),     r.lobe.z.x(),     r.lobe.z.y(),
-                             r.lobe.z.z(),     r.lobe.eta_x,     r.lobe.eta_y,     r.lambda_s,       r.ndf_amplitude,
-                             r.roughness,      f0(0),            f0(1),            f0(2)};
+    const double values[] = {r.tangent.x(),
+                             r.tangent.y(),
+                             r.tangent.z(),
+                             r.bitangent.x(),
+                             r.bitangent.y(),
+                             r.bitangent.z(),
+                             r.normal.x(),
+                             r.normal.y(),
+                             r.normal.z(),
+                             r.view_local.x(),
+                             r.view_local.y(),
+                             r.view_local.z(),
+                             r.lobe.x.x(),
+                             r.lobe.x.y(),
+                             r.lobe.x.z(),
+                             r.lobe.y.x(),
+                             r.lobe.y.y(),
+                             r.lobe.y.z(),
+                             r.lobe.z.x(),
+                             r.lobe.z.y(),
+                             r.lobe.z.z(),
+                             r.lobe.eta_x,
+                             r.lobe.eta_y,
+                             r.lambda_s,
+                             r.ndf_amplitude,
+                             r.roughness,
+                             f0(0),
+                             f0(1),
+                             f0(2)};
     std::size_t k = 0;
     for (auto* v : all()) v->push_back(values[k++]);
   }
@@ -187,7 +213,7 @@ struct Receivers {
 
 // Per thread, reused: no allocation per block once the arrays have grown.
 struct Scratch {
-  std::vector<double> px, py, pz, nx, ny, nz, diffuse;  // per point
+  std::vector<double> px, py, pz, nx, ny, nz, diffuse;                                                      // per point
   std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2, capped, mask, fallback, visible;  // per row
   std::vector<double> args_double, value_double;
   std::vector<float> args_float, value_float;
@@ -248,7 +274,7 @@ struct BlockPass {
     }
     block = {m, s.px.data(), s.py.data(), s.pz.data(), s.nx.data(), s.ny.data(), s.nz.data(), s.diffuse.data()};
     in = {s.sharpness.data(), s.cosine.data(), s.log_scale.data(), s.xi_x.data(), s.xi_y.data(),
-          s.xi_z.data(),      s.d2.data(),     s.capped.data(),    s.mask.data(),  s.visible.data()};
+          s.xi_z.data(),      s.d2.data(),     s.capped.data(),    s.mask.data(), s.visible.data()};
   }
 
   // The incoming SG of every (lobe, point), row j·m + i, and the diffuse method's rows (λ, c).
@@ -264,13 +290,14 @@ struct BlockPass {
 
   // D(λ_in, ξ_in·n) for every row in one batch call; e^{log_scale}-weighted sums per point.
   void diffuse(const Method& method, double factor, bool single) {
-    const std::size_t fallbacks =
-        single ? (method.batch_float(s.args_float, 2, s.value_float),
-                  t.weighted_sum_f(lobes, m, s.log_scale.data(), s.value_float.data(), s.mask.data(), factor, kDirectLimit,
-                                   s.fallback.data(), s.sum_r.data(), s.sum_g.data(), s.sum_b.data()))
-               : (method.batch_double(s.args_double, 2, s.value_double),
-                  t.weighted_sum_d(lobes, m, s.log_scale.data(), s.value_double.data(), s.mask.data(), factor, kDirectLimit,
-                                   s.fallback.data(), s.sum_r.data(), s.sum_g.data(), s.sum_b.data()));
+    const std::size_t fallbacks = single ? (method.batch_float(s.args_float, 2, s.value_float),
+                                            t.weighted_sum_f(lobes, m, s.log_scale.data(), s.value_float.data(),
+                                                             s.mask.data(), factor, kDirectLimit, s.fallback.data(),
+                                                             s.sum_r.data(), s.sum_g.data(), s.sum_b.data()))
+                                         : (method.batch_double(s.args_double, 2, s.value_double),
+                                            t.weighted_sum_d(lobes, m, s.log_scale.data(), s.value_double.data(),
+                                                             s.mask.data(), factor, kDirectLimit, s.fallback.data(),
+                                                             s.sum_r.data(), s.sum_g.data(), s.sum_b.data()));
     for (std::size_t i = 0; i < m; ++i) {
       if (s.diffuse[i] == 0) continue;
       Rgb sum(s.sum_r[i], s.sum_g[i], s.sum_b[i]);
@@ -314,19 +341,20 @@ struct BlockPass {
     Receivers& g = s.receivers;
     g.clear();
     for (std::size_t i = 0; i < m; ++i)
-      if (points[i].glossy()) g.push(i, vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness), points[i].f0);
+      if (points[i].glossy())
+        g.push(i, vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness), points[i].f0);
     const std::size_t gn = g.point.size();
     if (gn == 0) return;
     s.spec_fallback.resize(n * gn);
     for (auto* v : {&s.sum_r, &s.sum_g, &s.sum_b}) v->resize(std::max(m, gn));
-    const std::size_t fallbacks = t.specular(lobes, m, in, g.view(), kDirectLimit, s.spec_fallback.data(), s.sum_r.data(),
-                                             s.sum_g.data(), s.sum_b.data());
+    const std::size_t fallbacks = t.specular(lobes, m, in, g.view(), kDirectLimit, s.spec_fallback.data(),
+                                             s.sum_r.data(), s.sum_g.data(), s.sum_b.data());
     for (std::size_t k = 0; k < gn; ++k) {
       const std::size_t i = g.point[k];
       Rgb specular(s.sum_r[k], s.sum_g[k], s.sum_b[k]);
       if (fallbacks > 0) {
-        const VsglSpecularReceiver<double> receiver =
-            vsgl_specular_receiver<double>(points[i].normal, points[i].view, points[i].roughness);
+        const VsglSpecularReceiver<double> receiver = vsgl_specular_receiver<double>(points[i].normal, points[i].view,
+                                                                                     points[i].roughness);
         for (std::size_t j = 0; j < n; ++j) {
           if (s.spec_fallback[gn >= n ? j * gn + k : k * n + j] == 0) continue;
           const std::size_t r = j * m + i;

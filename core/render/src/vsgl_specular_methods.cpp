@@ -55,9 +55,10 @@ const Method* find_specular_method(std::string_view name) {
   if (!m || m->name == q.reference_method) {
     std::string names;
     for (const auto& n : specular_method_names()) names += (names.empty() ? "" : ", ") + n;
-    throw std::invalid_argument("unknown specular method " + quote(name) +
-                                (m ? " (the quadrature reference, 0.02–2 s per evaluation, is not a shading method)" : "") +
-                                " (specular methods: " + names + ")");
+    throw std::invalid_argument(
+        "unknown specular method " + quote(name) +
+        (m ? " (the quadrature reference, 0.02–2 s per evaluation, is not a shading method)" : "") +
+        " (specular methods: " + names + ")");
   }
   return m;
 }
@@ -97,7 +98,8 @@ void shade_specular_with_method(const Method& method, std::span<const ShadingPoi
     s.rows.clear();
     for (std::size_t k = 0; k < n; ++k)
       for (double f0 : {0.0, 1.0}) {
-        s.rows.insert(s.rows.end(), s.args.begin() + std::ptrdiff_t(k * kArity), s.args.begin() + std::ptrdiff_t((k + 1) * kArity));
+        s.rows.insert(s.rows.end(), s.args.begin() + std::ptrdiff_t(k * kArity),
+                      s.args.begin() + std::ptrdiff_t((k + 1) * kArity));
         s.rows.push_back(f0);
       }
     std::vector<double>& value = s.args;  // no longer needed: the values, in pairs

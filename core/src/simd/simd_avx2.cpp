@@ -1,5 +1,5 @@
-// The kernels of simd_kernels.hpp (diffuse) and simd_specular.hpp for avx2 (compiled with -mavx2 -mfma (core/CMakeLists.txt)). Run only when the CPU
-// supports it (registry_simd.cpp checks before selecting this table).
+// The kernels of simd_kernels.hpp (diffuse) and simd_specular.hpp for avx2 (compiled with -mavx2 -mfma
+// (core/CMakeLists.txt)). Run only when the CPU supports it (registry_simd.cpp checks before selecting this table).
 // glibc libmvec's names for this instruction set: _ZGVdN4v_<fn> on 4 double lanes, _ZGVdN8v_<fn>f on
 // 8 float lanes. The declarations, kernels and table: simd_isa.hpp.
 #define SGLAB_ISA avx2

@@ -19,8 +19,8 @@
 #define SGLAB_MVEC_F SGLAB_ISA_PASTE(__m, SGLAB_VEC_BITS)
 #define SGLAB_MVEC_D SGLAB_ISA_PASTE(SGLAB_MVEC_F, d)
 // libmvec's double and float variants of `fn` for this instruction set.
-#define SGLAB_DECLARE_LIBMVEC(fn)                \
-  SGLAB_MVEC_D SGLAB_VEC_D(fn)(SGLAB_MVEC_D);    \
+#define SGLAB_DECLARE_LIBMVEC(fn)             \
+  SGLAB_MVEC_D SGLAB_VEC_D(fn)(SGLAB_MVEC_D); \
   SGLAB_MVEC_F SGLAB_VEC_F(fn)(SGLAB_MVEC_F);
 
 extern "C" {

@@ -269,9 +269,9 @@ struct CcTokuyoshi2024 {
     B t = l * xsimd::sqrt(T(0.5) * ((l + A) * l + Bc) / (((l + C) * l + D) * l + E));
     const auto big = l > B(T(kLarge));
     if (xsimd::any(big))
-      t = xsimd::select(big, xsimd::sqrt(l) * xsimd::sqrt(T(0.5) * (T(1) + (A + Bc / l) / l) /
-                                                           (T(1) + (C + (D + E / l) / l) / l)),
-                        t);
+      t = xsimd::select(
+          big, xsimd::sqrt(l) * xsimd::sqrt(T(0.5) * (T(1) + (A + Bc / l) / l) / (T(1) + (C + (D + E / l) / l) / l)),
+          t);
     const B c = clamp_cosine(cosine);
     const B c2m1 = c * c - T(1);
     const B q = t * t * c2m1;
@@ -412,14 +412,16 @@ void run_specular(const T* args, T* out, std::size_t n, const T* params) {
   constexpr T kPad[6] = {T(0.5), T(1), T(0.5), T(0.5), T(0), T(0.04)};
   B p[kKernelParams];
   for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
-  for_each_specular_batch<B>(args, n, kPad, [&](const B* a, std::size_t i, std::size_t rest) { store_lanes(K::eval(a, p), out + i, rest); });
+  for_each_specular_batch<B>(
+      args, n, kPad, [&](const B* a, std::size_t i, std::size_t rest) { store_lanes(K::eval(a, p), out + i, rest); });
 }
 
 // The pair driver (simd_fresnel_pair.hpp): rows of the first kSpecularPairArity columns (no f0),
 // the same padding; K::eval_f0 with F0Pair. Flattened: the kernel's helpers inlined (measured:
 // their calls, with batches passed through memory, cost a few per cent of the pass).
 template <class Arch, class T, class K>
-__attribute__((flatten)) void run_specular_pair(const T* args, T* at_f0_zero, T* at_f0_one, std::size_t n, const T* params) {
+__attribute__((flatten)) void run_specular_pair(const T* args, T* at_f0_zero, T* at_f0_one, std::size_t n,
+                                                const T* params) {
   using B = xsimd::batch<T, Arch>;
   constexpr T kPad[kSpecularPairArity] = {T(0.5), T(1), T(0.5), T(0.5), T(0)};
   B p[kKernelParams];
@@ -433,24 +435,38 @@ __attribute__((flatten)) void run_specular_pair(const T* args, T* at_f0_zero, T*
 
 template <class Arch, class T>
 constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
-    &run<Arch, T, CcPunctual>,    &run<Arch, T, CcPunctualApprox>, &run<Arch, T, CcSgCosine>,
-    &run<Arch, T, CcCosineLobeSg>, &run<Arch, T, CcHillFitted>,    &run<Arch, T, CcMeder>,
-    &run<Arch, T, CcTokuyoshi2022>, &run<Arch, T, CcTokuyoshi2024>, &run<Arch, T, CcSglab>,
-    &run<Arch, T, HemiMeder>,     &run<Arch, T, HemiTokuyoshi2022>, &run<Arch, T, HemiVmfTokuyoshi2024>,
-    &run_specular<Arch, T, SpecSgWarp<false, false, false>>, &run_specular<Arch, T, SpecSgWarp<false, false, true>>,
-    &run_specular<Arch, T, SpecSgWarp<true, false, false>>,  &run_specular<Arch, T, SpecSgWarp<false, true, false>>,
-    &run_specular<Arch, T, SpecAsg>,                         &run_specular<Arch, T, SpecSgWarpDvn>,
+    &run<Arch, T, CcPunctual>,
+    &run<Arch, T, CcPunctualApprox>,
+    &run<Arch, T, CcSgCosine>,
+    &run<Arch, T, CcCosineLobeSg>,
+    &run<Arch, T, CcHillFitted>,
+    &run<Arch, T, CcMeder>,
+    &run<Arch, T, CcTokuyoshi2022>,
+    &run<Arch, T, CcTokuyoshi2024>,
+    &run<Arch, T, CcSglab>,
+    &run<Arch, T, HemiMeder>,
+    &run<Arch, T, HemiTokuyoshi2022>,
+    &run<Arch, T, HemiVmfTokuyoshi2024>,
+    &run_specular<Arch, T, SpecSgWarp<false, false, false>>,
+    &run_specular<Arch, T, SpecSgWarp<false, false, true>>,
+    &run_specular<Arch, T, SpecSgWarp<true, false, false>>,
+    &run_specular<Arch, T, SpecSgWarp<false, true, false>>,
+    &run_specular<Arch, T, SpecAsg>,
+    &run_specular<Arch, T, SpecSgWarpDvn>,
     &run_specular<Arch, T, SpecSglab>,
-    &run_specular<Arch, T, GndfSgWarp>,                      &run_specular<Arch, T, GndfSgWarpMeder>};
+    &run_specular<Arch, T, GndfSgWarp>,
+    &run_specular<Arch, T, GndfSgWarpMeder>};
 
 // The `specular` kernels' pair drivers (simd_fresnel_pair.hpp), in the order of Kernel from
 // spec_sg_warp to spec_sglab.
 template <class Arch>
-constexpr SpecularPairFn pair_list[] = {
-    &run_specular_pair<Arch, double, SpecSgWarp<false, false, false>>, &run_specular_pair<Arch, double, SpecSgWarp<false, false, true>>,
-    &run_specular_pair<Arch, double, SpecSgWarp<true, false, false>>,  &run_specular_pair<Arch, double, SpecSgWarp<false, true, false>>,
-    &run_specular_pair<Arch, double, SpecAsg>,                         &run_specular_pair<Arch, double, SpecSgWarpDvn>,
-    &run_specular_pair<Arch, double, SpecSglab>};
+constexpr SpecularPairFn pair_list[] = {&run_specular_pair<Arch, double, SpecSgWarp<false, false, false>>,
+                                        &run_specular_pair<Arch, double, SpecSgWarp<false, false, true>>,
+                                        &run_specular_pair<Arch, double, SpecSgWarp<true, false, false>>,
+                                        &run_specular_pair<Arch, double, SpecSgWarp<false, true, false>>,
+                                        &run_specular_pair<Arch, double, SpecAsg>,
+                                        &run_specular_pair<Arch, double, SpecSgWarpDvn>,
+                                        &run_specular_pair<Arch, double, SpecSglab>};
 
 template <class Arch>
 SpecularPairTable make_pair_table() {

@@ -66,10 +66,10 @@ inline B clamp_to(const B& x, value_t<B> lo, value_t<B> hi) {
   return xsimd::select(x < B(lo), B(lo), xsimd::select(x > B(hi), B(hi), x));
 }
 // libmvec's `fn` on the batch x (of type B) in B's precision.
-#define SGLAB_VEC(fn, x)                                                      \
-  [&] {                                                                       \
-    if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(fn)(x));      \
-    else return B(SGLAB_VEC_F(fn)(x));                                        \
+#define SGLAB_VEC(fn, x)                                                 \
+  [&] {                                                                  \
+    if constexpr (sizeof(value_t<B>) == 8) return B(SGLAB_VEC_D(fn)(x)); \
+    else return B(SGLAB_VEC_F(fn)(x));                                   \
   }()
 template <class B>
 inline B vm_exp(const B& x0) {
@@ -87,9 +87,9 @@ inline B vm_expm1(const B& x0) {
 // e^x with the subnormal results kept (as the scalar path keeps them) but without libmvec's slow
 // per-lane path, which every lane below exp_lo takes (measured: a vector of floats all below it
 // costs ~15 times one above it): there e^x = e^{x+K}·e^{−K}, K = 40 ≥ the width of the range
-// below exp_lo where e^x is a nonzero subnormal (16.6 in float, 36.7 in double). x + K is exact there (x and x + K share a binade's ulp or
-// x + K's is finer); below exp_lo − K the argument is held at exp_lo and the product rounds to 0,
-// as e^x does. e^{−K} is the compiler's correctly rounded value.
+// below exp_lo where e^x is a nonzero subnormal (16.6 in float, 36.7 in double). x + K is exact there (x and x + K
+// share a binade's ulp or x + K's is finer); below exp_lo − K the argument is held at exp_lo and the product rounds to
+// 0, as e^x does. e^{−K} is the compiler's correctly rounded value.
 template <class B>
 inline B vm_exp_subnormal(const B& x0) {
   using T = value_t<B>;

@@ -347,7 +347,8 @@ struct SpecSglab : RowF0<SpecSglab> {
     const B x = xsimd::select(inv_nu > zero, q * inv_nu, zero);
     const B nu = nd / (T(2) * sb * det);
     const B half_inv_nu = T(0.5) + inv_nu;
-    const B t_exponent = xsimd::select(x > B(std::numeric_limits<T>::epsilon()), -(half_inv_nu * nu) * vm_log1p(x), -half_inv_nu * q);
+    const B t_exponent = xsimd::select(x > B(std::numeric_limits<T>::epsilon()), -(half_inv_nu * nu) * vm_log1p(x),
+                                       -half_inv_nu * q);
     const B cd = inverse_scale(dd);
     const V3<B> hu{-nx * cd, -ny * cd, dd * cd};
     const B rn2 = one / dot(hu, hu);

@@ -18,7 +18,6 @@
 namespace sglab::render::simd_detail {
 namespace {
 
-
 [[gnu::always_inline]] inline double sqrt_(double x) { return __builtin_sqrt(x); }
 [[gnu::always_inline]] inline float sqrt_(float x) { return __builtin_sqrtf(x); }
 template <class T>
@@ -37,8 +36,8 @@ struct GgxLayer {
   T dv, cos_oh;
 };
 template <class T>
-[[gnu::always_inline]] inline GgxLayer<T> ggx_layer(T alpha, T nx, T ny, T nz, T wox, T woy, T woz, T wix, T wiy,
-                                                    T wiz, T co, T ci) {
+[[gnu::always_inline]] inline GgxLayer<T> ggx_layer(T alpha, T nx, T ny, T nz, T wox, T woy, T woz, T wix, T wiy, T wiz,
+                                                    T co, T ci) {
   T hx = wox + wix, hy = woy + wiy, hz = woz + wiz;
   const T h2 = hx * hx + hy * hy + hz * hz;
   const T inv = h2 > 0 ? T(1) / sqrt_(h2) : T(0);  // Eigen's normalized(): h = 0 stays 0
@@ -79,7 +78,7 @@ void vpl_sum_terms(const VplView<T>& a, const Receiver<T>& p, double* out) {
   for (std::size_t i = 0; i < n; ++i) {
     const T ox = p.px - x[i], oy = p.py - y[i], oz = p.pz - z[i];
     const T d2 = ox * ox + oy * oy + oz * oz;
-    const T inv = T(1) / sqrt_(d2);  // d2 = 0 gives NaN below, masked by `on`
+    const T inv = T(1) / sqrt_(d2);                       // d2 = 0 gives NaN below, masked by `on`
     const T wx = ox * inv, wy = oy * inv, wz = oz * inv;  // ω: from the VPL towards the point
     const T cv = wx * nx[i] + wy * ny[i] + wz * nz[i];
     const T cp = -(wx * p.nx + wy * p.ny + wz * p.nz);
@@ -129,26 +128,26 @@ void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
 // below every load comes before the conditions (a load under && would not vectorize).
 // (A macro on the loop's own scalars, the flags as 0/1 doubles: GCC 12 vectorizes neither a helper
 // taking them by reference, nor one passing a struct, nor bool flags mixed with double lanes.)
-#define SGLAB_SLAB(o, d, lo_b, hi_b)                                         \
-  {                                                                          \
-    const bool zero = (d) == 0;                                              \
-    miss = zero && ((o) < (lo_b) || (o) > (hi_b)) ? 1.0 : miss;              \
-    const double sd = zero ? 1.0 : (d);                                      \
-    const double ta = ((lo_b) - (o)) / sd, tb = ((hi_b) - (o)) / sd;         \
-    const double lo = ta > tb ? tb : ta, hi = ta > tb ? ta : tb;             \
-    const bool enter = !zero && lo > t0, exit = !zero && hi < t1;            \
-    t0 = enter ? lo : t0;                                                    \
-    t1 = exit ? hi : t1;                                                     \
-    entered = enter ? 1.0 : entered;                                         \
-    exited = exit ? 1.0 : exited;                                            \
-    miss = !zero && t0 > t1 ? 1.0 : miss;                                    \
+#define SGLAB_SLAB(o, d, lo_b, hi_b)                                 \
+  {                                                                  \
+    const bool zero = (d) == 0;                                      \
+    miss = zero && ((o) < (lo_b) || (o) > (hi_b)) ? 1.0 : miss;      \
+    const double sd = zero ? 1.0 : (d);                              \
+    const double ta = ((lo_b) - (o)) / sd, tb = ((hi_b) - (o)) / sd; \
+    const double lo = ta > tb ? tb : ta, hi = ta > tb ? ta : tb;     \
+    const bool enter = !zero && lo > t0, exit = !zero && hi < t1;    \
+    t0 = enter ? lo : t0;                                            \
+    t1 = exit ? hi : t1;                                             \
+    entered = enter ? 1.0 : entered;                                 \
+    exited = exit ? 1.0 : exited;                                    \
+    miss = !zero && t0 > t1 ? 1.0 : miss;                            \
   }
 
 // Every ray of a block against every shape of one kind (`count` shapes of `stride` values from
 // `shapes`): live[i] becomes 0 where hit(shape, i, tmax) says the ray is blocked.
 template <class Hit>
-[[gnu::always_inline]] inline void block_rays(const double* shapes, std::size_t count, std::size_t stride, std::size_t n,
-                                              const double* tm, double* live, const Hit& hit) {
+[[gnu::always_inline]] inline void block_rays(const double* shapes, std::size_t count, std::size_t stride,
+                                              std::size_t n, const double* tm, double* live, const Hit& hit) {
   for (std::size_t k = 0; k < count; ++k) {
     const double* s = shapes + stride * k;
 #pragma omp simd
@@ -159,7 +158,8 @@ template <class Hit>
 template <class M>
 void vpl_visibility_block(const VplView<double>& a, std::size_t begin, std::size_t n, const double* p, const double* pn,
                           const Occluders& shapes, double* scratch, M* out) {
-  double *ox = scratch, *oy = ox + n, *oz = oy + n, *dx = oz + n, *dy = dx + n, *dz = dy + n, *tm = dz + n, *live = tm + n;
+  double *ox = scratch, *oy = ox + n, *oz = oy + n, *dx = oz + n, *dy = dx + n, *dz = dy + n, *tm = dz + n,
+         *live = tm + n;
   const double *x = a.x + begin, *y = a.y + begin, *z = a.z + begin, *nx = a.nx + begin, *ny = a.ny + begin,
                *nz = a.nz + begin;
   out += begin;
@@ -200,9 +200,11 @@ void vpl_visibility_block(const VplView<double>& a, std::size_t begin, std::size
   block_rays(shapes.rectangle, shapes.rectangles, 14, n, tm, live,  // intersect(Rectangle)
              [&](const double* s, std::size_t i, double tmax) [[gnu::always_inline]] {
                const double denom = dot3(s[9], s[10], s[11], dx[i], dy[i], dz[i]);
-               const double t = dot3(s[9], s[10], s[11], s[0] - ox[i], s[1] - oy[i], s[2] - oz[i]) / (denom == 0 ? 1.0 : denom);
+               const double t = dot3(s[9], s[10], s[11], s[0] - ox[i], s[1] - oy[i], s[2] - oz[i]) /
+                                (denom == 0 ? 1.0 : denom);
                const double hx = ox[i] + t * dx[i] - s[0], hy = oy[i] + t * dy[i] - s[1], hz = oz[i] + t * dz[i] - s[2];
-               const double u = dot3(hx, hy, hz, s[3], s[4], s[5]) / s[12], v = dot3(hx, hy, hz, s[6], s[7], s[8]) / s[13];
+               const double u = dot3(hx, hy, hz, s[3], s[4], s[5]) / s[12],
+                            v = dot3(hx, hy, hz, s[6], s[7], s[8]) / s[13];
                return denom != 0 && t > 0 && t < tmax && !(u < 0 || u > 1 || v < 0 || v > 1);
              });
   block_rays(shapes.sphere, shapes.spheres, 4, n, tm, live,  // intersect(Sphere)
@@ -223,11 +225,11 @@ void vpl_visibility_block(const VplView<double>& a, std::size_t begin, std::size
 #undef SGLAB_SLAB
 
 template <class M>
-void vpl_visibility(const VplView<double>& a, const double* p, const double* pn, const Occluders& shapes, double* scratch,
-                    M* out) {
+void vpl_visibility(const VplView<double>& a, const double* p, const double* pn, const Occluders& shapes,
+                    double* scratch, M* out) {
   for (std::size_t begin = 0; begin < a.n; begin += kVisibilityBlock)
-    vpl_visibility_block(a, begin, a.n - begin < kVisibilityBlock ? a.n - begin : kVisibilityBlock, p, pn, shapes, scratch,
-                         out);
+    vpl_visibility_block(a, begin, a.n - begin < kVisibilityBlock ? a.n - begin : kVisibilityBlock, p, pn, shapes,
+                         scratch, out);
 }
 
 // ---- VSGL shading -----------------------------------------------------------------------------
@@ -314,10 +316,10 @@ constexpr double kVectorExpFloor = -700;
 // < 0.4^14/14! ≈ 3e-17 relative), 2^k written into the exponent bits. k is rounded with the
 // 1.5·2^52 trick, which leaves k in the low bits of the sum. Within 2 ulp of std::exp.
 [[gnu::always_inline]] inline double exp_in_range(double x) {
-  constexpr double log2e = 1.4426950408889634074;         // 1/ln 2
-  constexpr double ln2_hi = 6.93147180369123816490e-01;   // ln 2, upper part (fdlibm's e_exp.c)
-  constexpr double ln2_lo = 1.90821492927058770002e-10;   // ln 2 − ln2_hi
-  constexpr double round_shift = 6755399441055744.0;      // 1.5·2^52
+  constexpr double log2e = 1.4426950408889634074;        // 1/ln 2
+  constexpr double ln2_hi = 6.93147180369123816490e-01;  // ln 2, upper part (fdlibm's e_exp.c)
+  constexpr double ln2_lo = 1.90821492927058770002e-10;  // ln 2 − ln2_hi
+  constexpr double round_shift = 6755399441055744.0;     // 1.5·2^52
   const double t = x * log2e + round_shift;
   const double k = t - round_shift;
   const double r = (x - k * ln2_hi) - k * ln2_lo;
@@ -341,9 +343,9 @@ constexpr double kVectorExpFloor = -700;
 }
 
 template <class T>
-std::size_t weighted_sum(const LobeView& a, std::size_t m, const double* log_scale, const T* value,
-                         const double* mask, double factor, double direct_limit, double* fallback, double* out_r,
-                         double* out_g, double* out_b) {
+std::size_t weighted_sum(const LobeView& a, std::size_t m, const double* log_scale, const T* value, const double* mask,
+                         double factor, double direct_limit, double* fallback, double* out_r, double* out_g,
+                         double* out_b) {
   for (std::size_t i = 0; i < m; ++i) out_r[i] = out_g[i] = out_b[i] = 0;
   std::size_t fallbacks = 0;
   for (std::size_t j = 0; j < a.n; ++j) {
@@ -440,8 +442,8 @@ std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows,
     for (std::size_t j = 0; j < n; ++j) {
       const double ar = a.amp_r[j], ag = a.amp_g[j], ab = a.amp_b[j];
       const std::size_t r0 = j * m;
-      const double *lam = rows.sharpness + r0, *lsj = rows.log_scale + r0, *ix = rows.xi_x + r0,
-                   *iy = rows.xi_y + r0, *iz = rows.xi_z + r0, *vj = rows.visible + r0;
+      const double *lam = rows.sharpness + r0, *lsj = rows.log_scale + r0, *ix = rows.xi_x + r0, *iy = rows.xi_y + r0,
+                   *iz = rows.xi_z + r0, *vj = rows.visible + r0;
       double* fj = fallback + j * gn;
       std::size_t count = 0;
 #pragma omp simd reduction(+ : count)
@@ -468,8 +470,7 @@ std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows,
 #pragma omp simd reduction(+ : s0, s1, s2, count)
     for (std::size_t j = 0; j < n; ++j) {
       const std::size_t r = j * m + i;
-      const SpecularTerm t =
-          specular_term(p, g, lsr[r], lam[r], ix[r], iy[r], iz[r], vis[r], direct_limit);
+      const SpecularTerm t = specular_term(p, g, lsr[r], lam[r], ix[r], iy[r], iz[r], vis[r], direct_limit);
       fg[j] = t.fallback;
       count += t.fallback > 0 ? 1 : 0;
       s0 += amp_r[j] * t.r;
@@ -495,8 +496,8 @@ void env_specular_sum(const EnvNodes& a, const EnvReceiver& p, double* out) {
 #pragma omp simd reduction(+ : s0, s1, s2)
   for (std::size_t k = 0; k < n; ++k) {
     const double ci = p.nx * x[k] + p.ny * y[k] + p.nz * z[k];
-    const GgxLayer<double> g =
-        ggx_layer(p.alpha, p.nx, p.ny, p.nz, p.wox, p.woy, p.woz, x[k], y[k], z[k], p.cos_view, ci);
+    const GgxLayer<double> g = ggx_layer(p.alpha, p.nx, p.ny, p.nz, p.wox, p.woy, p.woz, x[k], y[k], z[k], p.cos_view,
+                                         ci);
     const double w = ci > 0 ? g.dv * schlick(p.f0, g.cos_oh) : 0.0;
     s0 += w * wr[k];
     s1 += w * wg[k];

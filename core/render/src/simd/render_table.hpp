@@ -35,7 +35,7 @@ struct VplView {
 template <class T>
 struct Receiver {
   T px, py, pz, nx, ny, nz, vx, vy, vz;
-  T rd[3];     // R_d,p/π
+  T rd[3];  // R_d,p/π
   T f0[3];
   T alpha;     // GGX α
   T cos_view;  // n_p·ω_o
@@ -99,8 +99,8 @@ using IncomingFn = std::size_t (*)(const LobeView& lobes, const PointBlock& poin
 // vsgl.hpp scaled_by_exp's) get fallback = 1 (returned: how many) and are left to the caller.
 template <class T>
 using WeightedSumFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const double* log_scale, const T* value,
-                                      const double* mask, double factor, double direct_limit, double* fallback, double* out_r,
-                                      double* out_g, double* out_b);
+                                      const double* mask, double factor, double direct_limit, double* fallback,
+                                      double* out_r, double* out_g, double* out_b);
 
 // The block's glossy points as arrays: vsgl.hpp's VsglSpecularReceiver (local frame t, b, n; ω_o
 // in it; the ASG lobe x, y, z, ηx, ηy; λ_s; 1/(πα²); α) and the point's f0.
@@ -115,8 +115,8 @@ struct SpecularReceivers {
 // out_{r,g,b}[g] = Σ_j amp_j · (at_f0_zero + f0·(at_f0_one − at_f0_zero)) of vsgl.hpp's
 // vsgl_specular for every lobe j (mask: its cluster visible and log_scale > −∞) and glossy point g
 // (in lobe order, or partly in vector lanes when there are more lobes than glossy points: the same
-// to rounding). The mask's visibility is rows.visible. Rows whose exponent is outside the vectorized exponential's range get fallback = 1
-// (returned: how many; at j·count + g if count ≥ lobes, else at g·lobes + j) and are left to the
+// to rounding). The mask's visibility is rows.visible. Rows whose exponent is outside the vectorized exponential's
+// range get fallback = 1 (returned: how many; at j·count + g if count ≥ lobes, else at g·lobes + j) and are left to the
 // caller.
 using SpecularFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const IncomingRows& rows,
                                    const SpecularReceivers& receivers, double direct_limit, double* fallback,

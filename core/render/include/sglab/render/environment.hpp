@@ -23,7 +23,8 @@ struct EnvironmentError : std::invalid_argument {
 // Throws EnvironmentError.
 EnvMap load_environment(const std::string& path);
 // The bytes of an EXR holding the map as channels R, G, B (32-bit float).
-std::string encode_environment(const EnvMap& map, const std::vector<std::pair<std::string, std::string>>& attributes = {});
+std::string encode_environment(const EnvMap& map,
+                               const std::vector<std::pair<std::string, std::string>>& attributes = {});
 
 // ---- generated environments -----------------------------------------------------------------
 
@@ -53,7 +54,7 @@ struct SkyOptions {
   double sun_size_deg = 2;        // angular diameter (the real sun: 0.53°)
   double sun_luminance = 500;     // disk luminance / zenith luminance
   double ground_albedo = 0.2;
-  int supersample = 4;            // per texel side (the sun's edge)
+  int supersample = 4;  // per texel side (the sun's edge)
 };
 EnvMap make_sky(const SkyOptions& o);
 

@@ -38,8 +38,8 @@ struct EnvironmentLayers {
 // `map` may be null. Layer (2)'s specular quadrature uses the mixture's texel means at the map's
 // size (or mixture_width × mixture_width/2 without a map). Throws std::invalid_argument for an
 // unknown method.
-EnvironmentLayers shade_environment(const Scene& scene, const GBuffer& gbuffer, const EnvMap* map, const SgMixture& mixture,
-                                    const std::string& diffuse_method, const std::string& specular_method,
-                                    int mixture_width = 512);
+EnvironmentLayers shade_environment(const Scene& scene, const GBuffer& gbuffer, const EnvMap* map,
+                                    const SgMixture& mixture, const std::string& diffuse_method,
+                                    const std::string& specular_method, int mixture_width = 512);
 
 }  // namespace sglab::render

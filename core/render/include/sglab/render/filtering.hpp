@@ -95,10 +95,10 @@ std::optional<std::string> filter_parameters_error(const FilterParameters& p);
 struct FilterSample {
   bool valid = false;
   ShadingPoint point;
-  double depth = 0;                 // distance to the camera
-  double footprint = 0;             // τ: the sample's pixel width in the scene at that depth
+  double depth = 0;      // distance to the camera
+  double footprint = 0;  // τ: the sample's pixel width in the scene at that depth
   Vec3 specular_axis = Vec3::UnitZ();
-  double specular_sharpness = 0;    // 0 for non-glossy samples
+  double specular_sharpness = 0;  // 0 for non-glossy samples
 };
 
 // Everything the weightings share: the two G-buffers, the low-resolution indirect light split and
@@ -120,11 +120,11 @@ struct FilterInputs {
 };
 
 struct FilterInputOptions {
-  int scale = 4;                 // ≥ 1
+  int scale = 4;  // ≥ 1
   IndirectSource source = IndirectSource::exact;
   int rsm_resolution = 64;
-  VsglOptions vsgl;              // for source = vsgl
-  ShadingOptions shading;        // for source = vsgl
+  VsglOptions vsgl;        // for source = vsgl
+  ShadingOptions shading;  // for source = vsgl
   // Called as stages progress (stage name, fraction in [0, 1]), possibly from worker threads.
   std::function<void(std::string_view stage, double fraction)> progress;
   // The full-resolution reference of the same scene and image size, if already computed (a sweep

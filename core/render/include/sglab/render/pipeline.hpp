@@ -60,17 +60,17 @@ struct RenderTimes {  // wall-clock seconds
 struct RenderResult {
   int width = 0, height = 0;
   std::vector<Rgb> direct, indirect, indirect_reference, error;  // row-major; error = indirect − reference
-  std::vector<char> hit;                                          // pixels that saw geometry
+  std::vector<char> hit;                                         // pixels that saw geometry
   std::size_t pixels_hit = 0;
   std::size_t glossy_receivers = 0;  // pixels whose surface is glossy
   std::size_t vpl_count = 0;         // VPLs in the sum: valid RSM texels with non-zero flux
   std::size_t glossy_vpls = 0;
-  Rgb rsm_flux = Rgb::Zero();        // Σ Φ_i over those VPLs
-  VsglSet vsgls;                     // what was built (clusters and stats)
-  bool specular_shading = false;     // whether any ASG × SG product was evaluated
-  std::size_t asg_evaluations = 0;   // glossy receivers × specular VSGLs
+  Rgb rsm_flux = Rgb::Zero();       // Σ Φ_i over those VPLs
+  VsglSet vsgls;                    // what was built (clusters and stats)
+  bool specular_shading = false;    // whether any ASG × SG product was evaluated
+  std::size_t asg_evaluations = 0;  // glossy receivers × specular VSGLs
   RenderTimes seconds;
-  ImageError error_metrics;          // indirect against indirect_reference
+  ImageError error_metrics;  // indirect against indirect_reference
 };
 
 // Throws std::invalid_argument for bad options (resolutions < 1, VSGL options).
@@ -93,7 +93,7 @@ struct CommonPass {
 CommonPass render_common(const Scene& scene, const RenderOptions& options);
 // The variants over a common pass that render_common made of the same scene with the same options
 // (options.vsgl aside).
-std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& options, const CommonPass& common,
-                                                const std::vector<VsglOptions>& variants);
+std::vector<RenderResult> render_scene_variants(const Scene& scene, const RenderOptions& options,
+                                                const CommonPass& common, const std::vector<VsglOptions>& variants);
 
 }  // namespace sglab::render

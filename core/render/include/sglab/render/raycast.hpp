@@ -59,8 +59,8 @@ Ray camera_ray(const Camera& camera, double px, double py);
 struct GBuffer {
   int width = 0, height = 0;
   std::vector<ShadingPoint> points;
-  std::vector<char> hit;      // 1 where the pixel's ray hit geometry
-  std::vector<int> object;    // index of the object hit, −1 for none
+  std::vector<char> hit;    // 1 where the pixel's ray hit geometry
+  std::vector<int> object;  // index of the object hit, −1 for none
 };
 // Parallel over rows (TBB).
 GBuffer render_gbuffer(const Scene& scene);

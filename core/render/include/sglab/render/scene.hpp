@@ -96,11 +96,11 @@ inline constexpr double kMaxConeAngleDegrees = 85;
 // the spotlight: a map (an EXR, or one sglab generates) and/or an SG mixture record. Without a
 // mixture, one is fitted at render time with `lobes` lobes; without a map there is no layer (1).
 struct SceneEnvironment {
-  std::string exr;       // path (relative paths: from the scene file's directory)
-  std::string generate;  // or "sky" | "studio" | "mixture": the map `sglab envmap make` writes
-  int width = 256;       // of the generated map (height width/2)
-  std::string mixture;   // path of a mixture record (`sglab fit envmap --json`)
-  int lobes = 16;        // of the fit made at render time when there is no mixture
+  std::string exr;        // path (relative paths: from the scene file's directory)
+  std::string generate;   // or "sky" | "studio" | "mixture": the map `sglab envmap make` writes
+  int width = 256;        // of the generated map (height width/2)
+  std::string mixture;    // path of a mixture record (`sglab fit envmap --json`)
+  int lobes = 16;         // of the fit made at render time when there is no mixture
   bool long_fit = false;  // allow a render-time fit past its cost budget (experiments/environment_render.cpp)
   std::string diffuse = "tokuyoshi2024", specular = "sg-warp";  // registry methods of layer (3)
 };

@@ -25,14 +25,14 @@ std::string_view kernel_isa();
 
 // One virtual point light = one RSM texel (Dachsbacher & Stamminger 2005).
 struct Vpl {
-  bool valid = false;             // the texel saw geometry (false: the spotlight's ray missed)
-  Vec3 position = Vec3::Zero();   // x_i
-  Vec3 normal = Vec3::UnitZ();    // n_i, unit
-  Vec3 incoming = Vec3::UnitZ();  // ω' at x_i: unit direction from x_i towards the light
-  Rgb flux = Rgb::Zero();         // Φ_i: power the spotlight delivers to the texel's patch (W)
-  Rgb diffuse_reflectance = Rgb::Zero();   // R_d: Lambert albedo of the surface
-  Rgb f0 = Rgb::Zero();                    // Schlick f0 of the GGX layer (zero: not glossy)
-  double roughness = 1;                    // GGX α of the surface
+  bool valid = false;                     // the texel saw geometry (false: the spotlight's ray missed)
+  Vec3 position = Vec3::Zero();           // x_i
+  Vec3 normal = Vec3::UnitZ();            // n_i, unit
+  Vec3 incoming = Vec3::UnitZ();          // ω' at x_i: unit direction from x_i towards the light
+  Rgb flux = Rgb::Zero();                 // Φ_i: power the spotlight delivers to the texel's patch (W)
+  Rgb diffuse_reflectance = Rgb::Zero();  // R_d: Lambert albedo of the surface
+  Rgb f0 = Rgb::Zero();                   // Schlick f0 of the GGX layer (zero: not glossy)
+  double roughness = 1;                   // GGX α of the surface
   // R_s: the fraction of Φ_i the specular lobe reflects — the directional albedo of the
   // GGX·G2·Schlick BRDF at `incoming`, computed by the RSM pass. Zero for non-glossy surfaces.
   Rgb specular_reflectance = Rgb::Zero();

@@ -73,7 +73,7 @@ inline constexpr std::uint64_t kDefaultVsglSeed = 20151102;  // arbitrary, fixed
 
 struct VsglOptions {
   VsglMode mode = VsglMode::two;
-  int count = 16;                  // N: clusters requested (fis, kmeans; `two` builds one)
+  int count = 16;  // N: clusters requested (fis, kmeans; `two` builds one)
   std::uint64_t seed = kDefaultVsglSeed;
   // λ_d of the diffuse VPL lobe (and of `sg-cosine` at the receiver): the papers' λ_d ≈ 2
   // (LambertSharpness::papers, Tokuyoshi 2015 and 2016 supplements Eq. 1); the public VSGL code's
@@ -105,33 +105,34 @@ struct VsglLobe {
 };
 
 struct VsglCluster {
-  Vec3 mean = Vec3::Zero();     // μ_v
-  double variance = 0;          // σ_v² (VsglOptions::variance convention)
+  Vec3 mean = Vec3::Zero();        // μ_v
+  double variance = 0;             // σ_v² (VsglOptions::variance convention)
   double log_two_pi_variance = 0;  // log(2πσ_v²); −∞ when σ_v² = 0 (shading then uses the floor)
   bool has_diffuse = false, has_specular = false;
   VsglLobe diffuse, specular;
   // Provenance, for stats and tests:
-  double weight = 1;            // factor applied to the sums (fis: W/(N ŵ) × duplicates; else 1)
-  double position_weight = 0;   // Σ u_i of the (weighted) sums: the cluster's share of the importance
-  double mip_level = 0;         // fis: l_i; else 0
+  double weight = 1;               // factor applied to the sums (fis: W/(N ŵ) × duplicates; else 1)
+  double position_weight = 0;      // Σ u_i of the (weighted) sums: the cluster's share of the importance
+  double mip_level = 0;            // fis: l_i; else 0
   int texel_x = -1, texel_y = -1;  // fis: the sampled texel; kmeans: the initial centre's texel
-  std::size_t texels = 0;       // RSM texels in the cluster (fis: of the level-⌊l⌋ block)
+  std::size_t texels = 0;          // RSM texels in the cluster (fis: of the level-⌊l⌋ block)
   Rgb diffuse_power = Rgb::Zero(), specular_power = Rgb::Zero();  // ΣΦR_d, ΣΦR_s (weighted)
 };
 
 // What was built (for the render command's stats).
 struct VsglStats {
   std::string mode;
-  int requested = 0;            // N asked for (1 for two)
+  int requested = 0;  // N asked for (1 for two)
   std::size_t clusters = 0;
   std::size_t diffuse_vsgls = 0;
   std::size_t specular_vsgls = 0;
   std::size_t valid_vpls = 0;   // valid RSM texels with non-zero power
   std::size_t glossy_vpls = 0;  // of which glossy
-  std::size_t merged_duplicates = 0;  // fis: samples merged into an identical cluster; kmeans: duplicate centres dropped
+  std::size_t merged_duplicates =
+      0;  // fis: samples merged into an identical cluster; kmeans: duplicate centres dropped
   std::uint64_t seed = 0;
   double lambda_d = 0;
-  double seconds = 0;           // wall time of build_vsgls
+  double seconds = 0;  // wall time of build_vsgls
 };
 
 struct VsglSet {

@@ -59,13 +59,13 @@ struct ShadingOptions {
   // (sg-cosine's λ_d) is the VSGL set's λ_d: the method is bound to it. Methods whose domain
   // excludes λ = 0 (Method::domain_error set) are evaluated at λ_in ≥ 1e-8.
   std::shared_ptr<const Method> diffuse;
-  bool specular = true;                     // ASG specular on glossy receivers
+  bool specular = true;  // ASG specular on glossy receivers
   // The specular method: a method of the registry's `specular` quantity
   // (vsgl_specular_methods.hpp); nullptr: the VSGL ASG form below (kDefaultSpecularMethod).
   const Method* specular_method = nullptr;
-  // sg-cosine only (the method with a vsgl_diffuse_sharpness parameter): take A(λ_d) ≈ π as the two-VSGL poster does (Tokuyoshi 2015 supplement §3.2,
-  // after Iwasaki et al. 2012), i.e. D = 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d); false: the
-  // exact A(λ_d).
+  // sg-cosine only (the method with a vsgl_diffuse_sharpness parameter): take A(λ_d) ≈ π as the two-VSGL poster does
+  // (Tokuyoshi 2015 supplement §3.2, after Iwasaki et al. 2012), i.e. D = 2π G(ξ_in; n, λ_inλ_d/(λ_in+λ_d))/(λ_in+λ_d);
+  // false: the exact A(λ_d).
   bool sg_cosine_a_is_pi = false;
   // Precision::single: the diffuse method runs in float (Method::batch_float, its arguments λ_in
   // and ξ_in·n rounded to float); the incoming SGs, the e^{log_scale} weights, the sums and the
@@ -118,7 +118,8 @@ class VsglShader {
 
  private:
   // visible: empty (all visible) or visible[i·clusters() + c] for points[i].
-  void shade_block(std::span<const ShadingPoint> points, std::span<const char> visible, std::span<VsglShading> out) const;
+  void shade_block(std::span<const ShadingPoint> points, std::span<const char> visible,
+                   std::span<VsglShading> out) const;
   struct Data;
   std::unique_ptr<Data> data_;
 };
