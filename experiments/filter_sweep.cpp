@@ -32,6 +32,7 @@
 #include "registry.hpp"
 #include "sglab/text_limits.hpp"
 #include "sglab/render/filtering.hpp"
+#include "csv_fields.hpp"
 
 namespace sglab::experiments {
 namespace filter_sweep {
@@ -232,26 +233,13 @@ std::string points_csv(const Result& r) {
   for (const Row& row : r.rows) {
     const Point& p = r.points[row.point];
     const auto& e = row.result;
-    runner::append_csv_record(points, std::vector<std::string>{std::to_string(row.scale),
-                                                               runner::csv_number(row.roughness),
-                                                               std::string(render::filter_weights_name(row.weights)),
-                                                               stat_number(e.all.relative_l2),
-                                                               stat_number(e.all.smape),
-                                                               stat_number(e.all.rmse),
-                                                               stat_number(e.all.max_abs),
-                                                               stat_number(e.glossy.relative_l2),
-                                                               stat_number(e.glossy.smape),
-                                                               stat_number(e.glossy.rmse),
-                                                               stat_number(e.diffuse.relative_l2),
-                                                               stat_number(e.diffuse.smape),
-                                                               stat_number(e.diffuse.rmse),
-                                                               std::to_string(e.fallback_pixels),
-                                                               std::to_string(p.pixels_hit),
-                                                               std::to_string(p.glossy_receivers),
-                                                               std::to_string(p.vpl_count),
-                                                               runner::csv_number(p.seconds_low_res),
-                                                               stat_number(e.seconds),
-                                                               runner::csv_number(p.seconds_reference)});
+    runner::append_csv_fields(
+        points, row.scale, runner::csv_number(row.roughness), render::filter_weights_name(row.weights),
+        stat_number(e.all.relative_l2), stat_number(e.all.smape), stat_number(e.all.rmse), stat_number(e.all.max_abs),
+        stat_number(e.glossy.relative_l2), stat_number(e.glossy.smape), stat_number(e.glossy.rmse),
+        stat_number(e.diffuse.relative_l2), stat_number(e.diffuse.smape), stat_number(e.diffuse.rmse),
+        e.fallback_pixels, p.pixels_hit, p.glossy_receivers, p.vpl_count, runner::csv_number(p.seconds_low_res),
+        stat_number(e.seconds), runner::csv_number(p.seconds_reference));
   }
   return points;
 }

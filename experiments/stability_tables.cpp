@@ -8,6 +8,7 @@
 
 #include "csv.hpp"
 #include "stability_atlas.hpp"
+#include "csv_fields.hpp"
 
 namespace sglab::experiments::atlas {
 namespace {
@@ -141,31 +142,11 @@ std::string summary_csv(const Result& r) {
       "max_rounding_rel_at,max_rounding_peak,max_rounding_peak_at,worst_flag,worst_flag_at,rounding_note\n";
   for_each_row(r, [&](const QuantityResult& q, const MethodResult& m, const PrecisionResult& p) {
     const Tally& t = p.tally;
-    const std::vector<std::string> f{q.quantity.name,
-                                     m.name,
-                                     std::string(precision_name(p.precision)),
-                                     std::to_string(t.points),
-                                     std::to_string(t.out_of_domain),
-                                     std::to_string(t.throws),
-                                     std::to_string(t.nan),
-                                     std::to_string(t.inf),
-                                     std::to_string(t.negative),
-                                     std::to_string(t.compared),
-                                     std::to_string(t.wrong_relative),
-                                     std::to_string(t.wrong_peak),
-                                     fmt_err(t.rel_error),
-                                     p.rel_at,
-                                     fmt_err(t.peak_error),
-                                     p.peak_at,
-                                     std::to_string(t.rounding_points),
-                                     fmt_err(t.rounding_rel),
-                                     p.rounding_at,
-                                     fmt_err(t.rounding_peak),
-                                     p.rounding_peak_at,
-                                     std::string(flag_name(t.worst_flag)),
-                                     p.worst_flag_at,
-                                     m.rounding_note};
-    sglab::runner::append_csv_record(csv, f);
+    sglab::runner::append_csv_fields(
+        csv, q.quantity.name, m.name, precision_name(p.precision), t.points, t.out_of_domain, t.throws, t.nan, t.inf,
+        t.negative, t.compared, t.wrong_relative, t.wrong_peak, fmt_err(t.rel_error), p.rel_at, fmt_err(t.peak_error),
+        p.peak_at, t.rounding_points, fmt_err(t.rounding_rel), p.rounding_at, fmt_err(t.rounding_peak),
+        p.rounding_peak_at, flag_name(t.worst_flag), p.worst_flag_at, m.rounding_note);
   });
   return csv;
 }

@@ -37,6 +37,7 @@
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 #include "registry.hpp"
+#include "csv_fields.hpp"
 
 namespace sglab::experiments {
 namespace {
@@ -299,48 +300,18 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
 
 std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows) {
   std::string csv;
-  runner::append_csv_record(csv, std::vector<std::string>{"by",
-                                                          "group",
-                                                          "method",
-                                                          "points",
-                                                          "relative_points",
-                                                          "near_zero",
-                                                          "missing",
-                                                          "rmse_relative",
-                                                          "max_relative",
-                                                          "smape",
-                                                          "max_scaled",
-                                                          "rmse_scaled",
-                                                          "worst_roughness",
-                                                          "worst_light_sharpness",
-                                                          "worst_view_cos",
-                                                          "worst_position",
-                                                          "weighted_error",
-                                                          "weighted_points",
-                                                          "bright_smape",
-                                                          "bright_rows"});
+  runner::append_csv_fields(csv, "by", "group", "method", "points", "relative_points", "near_zero", "missing",
+                            "rmse_relative", "max_relative", "smape", "max_scaled", "rmse_scaled", "worst_roughness",
+                            "worst_light_sharpness", "worst_view_cos", "worst_position", "weighted_error",
+                            "weighted_points", "bright_smape", "bright_rows");
   for (const auto& r : rows) {
     const metrics::ErrorStats& s = r.stats;
-    runner::append_csv_record(csv, std::vector<std::string>{r.by,
-                                                            r.group,
-                                                            r.method,
-                                                            std::to_string(s.points),
-                                                            std::to_string(s.relative),
-                                                            std::to_string(s.near_zero),
-                                                            std::to_string(s.missing),
-                                                            runner::csv_number(s.rmse_relative),
-                                                            runner::csv_number(s.max_relative),
-                                                            runner::csv_number(s.smape),
-                                                            runner::csv_number(s.max_scaled),
-                                                            runner::csv_number(s.rmse_scaled),
-                                                            r.worst_roughness,
-                                                            r.worst_light_sharpness,
-                                                            r.worst_view_cos,
-                                                            r.worst_position,
-                                                            runner::csv_number(r.weighted_error),
-                                                            std::to_string(r.weighted_points),
-                                                            runner::csv_number(r.bright_smape),
-                                                            std::to_string(r.bright_rows)});
+    runner::append_csv_fields(csv, r.by, r.group, r.method, s.points, s.relative, s.near_zero, s.missing,
+                              runner::csv_number(s.rmse_relative), runner::csv_number(s.max_relative),
+                              runner::csv_number(s.smape), runner::csv_number(s.max_scaled),
+                              runner::csv_number(s.rmse_scaled), r.worst_roughness, r.worst_light_sharpness,
+                              r.worst_view_cos, r.worst_position, runner::csv_number(r.weighted_error),
+                              r.weighted_points, runner::csv_number(r.bright_smape), r.bright_rows);
   }
   return csv;
 }

@@ -5,15 +5,16 @@
 #include <concepts>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "csv.hpp"
 
 namespace sglab::runner {
 
 inline std::string csv_field(std::string_view text) { return std::string(text); }
-template <class I>
-  requires std::integral<I> && (!std::same_as<I, bool>) && (!std::same_as<I, char>)
+template <std::integral I>
 std::string csv_field(I value) {
+  static_assert(!std::is_same_v<I, bool> && !std::is_same_v<I, char>, "a flag or a character is text: name it");
   return std::to_string(value);
 }
 
