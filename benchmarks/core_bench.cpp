@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "interleaved.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/peer_ports.hpp"
@@ -35,6 +36,21 @@ namespace {
 
 constexpr std::size_t kBatch = 4096;
 constexpr std::uint64_t kSeed = 20261122;  // fixed: every run times the same inputs
+
+// One pass of `batch` over the kBatch inputs (into `out`) per iteration under Google Benchmark,
+// reported as items per second and ns per evaluation.
+template <class T, class F>
+void time_batch(benchmark::State& state, std::vector<T>& out, F&& batch) {
+  for (auto _ : state) {
+    batch();
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
+  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * kBatch),
+                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
+                                                 benchmark::Counter::kIs1000);
+}
 
 // λ log-uniform in [1e-3, 1e4] and c uniform in [−1, 1] (the error grid's range); other column
 // kinds get values in their natural range.
@@ -66,15 +82,7 @@ void run(benchmark::State& state, const sglab::Method* m, std::size_t arity, con
     if constexpr (std::is_same_v<T, float>) return m->batch_float;
     else return m->batch_double;
   }();
-  for (auto _ : state) {
-    batch(args, arity, out);
-    benchmark::DoNotOptimize(out.data());
-    benchmark::ClobberMemory();
-  }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
-  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * kBatch),
-                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
-                                                 benchmark::Counter::kIs1000);
+  time_batch(state, out, [&] { batch(args, arity, out); });
 }
 
 // Scalar: the method's template called directly per (λ, c) on the same seeded inputs, inlined as
@@ -84,15 +92,9 @@ template <class T, class F>
 void run_scalar(benchmark::State& state, F f, const std::vector<double>& in) {
   std::vector<T> args(in.begin(), in.end());
   std::vector<T> out(kBatch);
-  for (auto _ : state) {
+  time_batch(state, out, [&] {
     for (std::size_t i = 0; i < kBatch; ++i) out[i] = f(args[2 * i], args[2 * i + 1]);
-    benchmark::DoNotOptimize(out.data());
-    benchmark::ClobberMemory();
-  }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
-  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * kBatch),
-                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
-                                                 benchmark::Counter::kIs1000);
+  });
 }
 
 template <class T>
@@ -168,15 +170,7 @@ template <class T>
 void run_loop(benchmark::State& state, void (*loop)(const T*, T*, std::size_t), const std::vector<double>& in) {
   std::vector<T> args(in.begin(), in.end());
   std::vector<T> out(kBatch);
-  for (auto _ : state) {
-    loop(args.data(), out.data(), kBatch);
-    benchmark::DoNotOptimize(out.data());
-    benchmark::ClobberMemory();
-  }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
-  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * kBatch),
-                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
-                                                 benchmark::Counter::kIs1000);
+  time_batch(state, out, [&] { loop(args.data(), out.data(), kBatch); });
 }
 
 // ---- --ratios: one table, medians of thread CPU time ---------------------------------------------
@@ -299,20 +293,15 @@ int print_versus(const std::string& quantity, const std::string& a_name, const s
           n);
     };
     const CpuTimer ta = timer(a), tb = timer(b);
-    std::vector<double> ratios;
-    for (int k = 0; k < rounds; ++k) {
-      double na, nb;
-      if (k % 2 == 0) na = ta.run(), nb = tb.run();
-      else nb = tb.run(), na = ta.run();
-      ratios.push_back(na / nb);
-      std::printf("%s round %2d: %s %.2f ns, %s %.2f ns, ratio %.3f\n", p, k + 1, a_name.c_str(), na, b_name.c_str(),
-                  nb, na / nb);
-      std::fflush(stdout);
-    }
-    std::sort(ratios.begin(), ratios.end());
-    const auto quantile = [&](double f) { return ratios[std::size_t(std::lround(f * double(ratios.size() - 1)))]; };
+    const sglab::runner::InterleavedRatios ratios = sglab::runner::interleaved_ratios(
+        [&] { return ta.run(); }, [&] { return tb.run(); }, rounds,
+        [&](int k, double na, double nb) {
+          std::printf("%s round %2d: %s %.2f ns, %s %.2f ns, ratio %.3f\n", p, k + 1, a_name.c_str(), na,
+                      b_name.c_str(), nb, na / nb);
+          std::fflush(stdout);
+        });
     std::printf("%s: %s / %s median %.3f (quartiles %.3f-%.3f, %d rounds)\n", p, a_name.c_str(), b_name.c_str(),
-                quantile(0.5), quantile(0.25), quantile(0.75), rounds);
+                ratios.quantile(0.5), ratios.quantile(0.25), ratios.quantile(0.75), rounds);
   };
   precision(0.0f);
   precision(0.0);

@@ -19,6 +19,7 @@
 #include <tbb/parallel_for.h>
 
 #include "atomic_file.hpp"
+#include "interleaved.hpp"
 #include "table.hpp"
 #include "error_vs_time.hpp"
 #include "option_checks.hpp"
@@ -92,26 +93,18 @@ double time_ns_per_eval(const BatchFn<T>& batch, const std::vector<T>& args, std
 // routine on a shared machine even between interleaved runs.
 constexpr double kMinSpeedMargin = 0.03;
 
-// Relative speed of A against B: `rounds` rounds of one run each, interleaved (A B, then B A, …, so
-// that a slow spell of the machine falls on both); per round the ratio A/B of ns per evaluation.
-// The verdict's noise margin is the larger of kMinSpeedMargin and the ratios' interquartile
-// half-width.
+// Relative speed of A against B: `rounds` interleaved rounds of one run each (runner/interleaved.hpp),
+// per round the ratio A/B of ns per evaluation. The verdict's noise margin is the larger of
+// kMinSpeedMargin and the ratios' interquartile half-width.
 template <class T>
 SpeedComparison compare_speed(std::string a_name, const BatchFn<T>& a, std::string b_name, const BatchFn<T>& b,
                               std::string measure, const std::vector<T>& args, std::size_t arity, int rounds) {
   BatchTimer<T> ta(a, args, arity), tb(b, args, arity);
-  std::vector<double> ratios;
-  for (int k = 0; k < rounds; ++k) {
-    double na, nb;
-    if (k % 2 == 0) na = ta.run(), nb = tb.run();
-    else nb = tb.run(), na = ta.run();
-    ratios.push_back(na / nb);
-  }
-  std::sort(ratios.begin(), ratios.end());
-  const auto quantile = [&](double q) { return ratios[std::size_t(std::lround(q * double(ratios.size() - 1)))]; };
+  const runner::InterleavedRatios ratios = runner::interleaved_ratios([&] { return ta.run(); },
+                                                                      [&] { return tb.run(); }, rounds);
   SpeedComparison c{std::move(a_name), std::move(b_name), std::move(measure)};
-  c.ratio = quantile(0.5);
-  c.margin = std::max(kMinSpeedMargin, 0.5 * (quantile(0.75) - quantile(0.25)));
+  c.ratio = ratios.quantile(0.5);
+  c.margin = std::max(kMinSpeedMargin, 0.5 * (ratios.quantile(0.75) - ratios.quantile(0.25)));
   c.rounds = rounds;
   return c;
 }
