@@ -1,11 +1,13 @@
-// The --env NAME=MAP.exr arguments of `sglab envmap lobes` and `sglab envmap bases`: one check for
-// both. A name is a table label and a CSV field, so a plain word, given once.
+// The --env NAME=MAP.exr arguments of `sglab envmap lobes` and `sglab envmap bases`: one check and
+// one reader for both. A name is a table label and a CSV field, so a plain word, given once.
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "input_error.hpp"
+#include "sglab/envmap.hpp"
+#include "sglab/render/environment.hpp"
 #include "sglab/text_limits.hpp"
 
 namespace sglab::experiments {
@@ -25,6 +27,23 @@ inline void check_env_arguments(const std::vector<std::string>& envs) {
     for (std::size_t j = 0; j < i; ++j)
       if (envs[j].substr(0, envs[j].find('=')) == name)
         throw runner::InputError("--env: the name " + quote(name) + " is given twice");
+  }
+}
+
+// One --env argument read: its name, its map's path and the map.
+struct LoadedEnv {
+  std::string name, path;
+  EnvMap map;
+};
+
+// One --env NAME=MAP.exr argument (checked by check_env_arguments) with its map read (InputError
+// naming the file when it is not a readable environment map).
+inline LoadedEnv load_env_argument(const std::string& env) {
+  const auto eq = env.find('=');
+  try {
+    return {env.substr(0, eq), env.substr(eq + 1), render::load_environment(env.substr(eq + 1))};
+  } catch (const render::EnvironmentError& err) {
+    throw runner::InputError(err.what());
   }
 }
 

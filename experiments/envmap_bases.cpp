@@ -93,16 +93,9 @@ Options effective(const Options& o) {
 std::vector<Loaded> load(const Options& a) {
   std::vector<Loaded> out;
   for (const auto& e : a.envs) {
-    const auto eq = e.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw runner::InputError("--env '" + clip_text(e) + "' must be NAME=MAP.exr");
-    EnvMap m;
-    try {
-      m = render::load_environment(e.substr(eq + 1));
-    } catch (const render::EnvironmentError& err) {
-      throw runner::InputError(err.what());
-    }
-    const std::string name = e.substr(0, eq);
+    LoadedEnv env = load_env_argument(e);
+    EnvMap& m = env.map;
+    const std::string& name = env.name;
     if (std::find(a.resolve.begin(), a.resolve.end(), name) != a.resolve.end()) {
       // The same reduced map as below, plus the detail tiles of the full map.
       fit::SparseEnvMap sparse = fit::make_sparse_envmap(m, a.width, a.resolve_tolerance);

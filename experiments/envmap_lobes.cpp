@@ -39,11 +39,6 @@ struct Geometry {
   render::EnvImage image;
 };
 
-struct LoadedEnv {
-  std::string name, path;
-  EnvMap map;
-};
-
 std::vector<std::string> method_names(const std::string& quantity) {
   std::vector<std::string> v;
   for (const auto& m : find_quantity(quantity)->methods)
@@ -75,13 +70,7 @@ Options effective(const Options& o) {
 std::vector<LoadedEnv> load_envs(const Options& a) {
   std::vector<LoadedEnv> envs;
   for (const auto& e : a.envs) {
-    const auto eq = e.find('=');
-    if (eq == std::string::npos || eq == 0) throw runner::InputError("--env " + quote(e) + " must be NAME=MAP.exr");
-    try {
-      envs.push_back({e.substr(0, eq), e.substr(eq + 1), render::load_environment(e.substr(eq + 1))});
-    } catch (const render::EnvironmentError& err) {
-      throw runner::InputError(err.what());
-    }
+    envs.push_back(load_env_argument(e));
     for (int n : a.lobes)
       if (std::size_t(n) > envs.back().map.size())
         throw runner::InputError(fmt::format("--lobes {} exceeds {}'s pixel count", n, envs.back().name));
