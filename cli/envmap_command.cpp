@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "atomic_file.hpp"
+#include "input_checked.hpp"
 #include "resource_limits.hpp"
 #include "table.hpp"
 #include "commands.hpp"
@@ -174,12 +175,8 @@ struct FitEnvArgs {
 };
 
 fit::EnvFitResult run_fit_method(const EnvMap& map, const std::string& method, const fit::EnvFitOptions& o) {
-  try {
-    if (method == "ceres") return fit::fit_envmap_ceres(map, o);
-    if (method == "vmf-em") return fit::fit_envmap_vmf_em(map, o);
-  } catch (const std::invalid_argument& e) {
-    throw runner::InputError(e.what());
-  }
+  if (method == "ceres") return runner::input_checked([&] { return fit::fit_envmap_ceres(map, o); });
+  if (method == "vmf-em") return runner::input_checked([&] { return fit::fit_envmap_vmf_em(map, o); });
   throw runner::InputError("unknown --method " + quote(method) + " (ceres, vmf-em)");
 }
 
@@ -262,7 +259,7 @@ void run_render(const RenderArgs& a) {
   const SgMixture m = read_mixture(a.mixture);
   const render::EnvImage image = make_image(a.geometry, a.res);
   std::vector<render::Rgb> layers[6];
-  try {
+  runner::input_checked([&] {
     const EnvMap recon = rasterize_mixture(m, map.width, map.height, fit::kErrorSupersample);
     layers[0] = render::integrate_diffuse(map, image);
     layers[1] = render::mixture_diffuse_reference(m, image);
@@ -270,9 +267,7 @@ void run_render(const RenderArgs& a) {
     layers[3] = render::integrate_specular(map, image, a.roughness, a.f0);
     layers[4] = render::integrate_specular(recon, image, a.roughness, a.f0);
     layers[5] = render::mixture_specular_method(m, image, a.specular, a.roughness, a.f0);
-  } catch (const std::invalid_argument& e) {
-    throw runner::InputError(e.what());
-  }
+  });
   const std::string command = fmt::format(
       "sglab envmap render {} --mixture {} --geometry {} --res {} --diffuse {} --specular {} --roughness {} --f0 {} "
       "--out {}",

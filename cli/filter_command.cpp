@@ -25,6 +25,7 @@
 #include <fmt/format.h>
 
 #include "atomic_file.hpp"
+#include "input_checked.hpp"
 #include "commands.hpp"
 #include "option_checks.hpp"
 #include "filter_job.hpp"
@@ -85,14 +86,10 @@ nlohmann::json stats_head(const Options& o, const render::Scene& scene, int widt
           {"height", height}};
 }
 
-nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rsm_resolution,
-                            const render::FilterInputs& in, const render::FilterResult& r, const std::string& command) {
-  nlohmann::json stats = stats_head(o, scene, in.width, in.height, command);
-  stats["scale"] = in.scale;
-  stats["low_width"] = in.low_width;
-  stats["low_height"] = in.low_height;
-  stats["source"] = std::string(render::indirect_source_name(in.source));
-  stats["weights"] = std::string(render::filter_weights_name(r.weights));
+// The stats both passes share (a JSON object: its keys are sorted): the filter's parameters and
+// constants, the RSM, the VPLs and the receivers (hit pixels, the glossy ones) of their inputs.
+template <class Inputs>
+void add_input_stats(nlohmann::json& stats, const Options& o, int rsm_resolution, const Inputs& in) {
   stats["parameters"] = frontend::filter_parameters_json(o.job.parameters);
   stats["constants"] = frontend::filter_constants_json(o.job);
   stats["rsm_resolution"] = rsm_resolution;
@@ -101,6 +98,17 @@ nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rs
   for (std::size_t k = 0; k < in.hit.size(); ++k) hit += in.hit[k] != 0, glossy += in.glossy[k] != 0;
   stats["pixels_hit"] = hit;
   stats["glossy_receivers"] = glossy;
+}
+
+nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rsm_resolution,
+                            const render::FilterInputs& in, const render::FilterResult& r, const std::string& command) {
+  nlohmann::json stats = stats_head(o, scene, in.width, in.height, command);
+  stats["scale"] = in.scale;
+  stats["low_width"] = in.low_width;
+  stats["low_height"] = in.low_height;
+  stats["source"] = std::string(render::indirect_source_name(in.source));
+  stats["weights"] = std::string(render::filter_weights_name(r.weights));
+  add_input_stats(stats, o, rsm_resolution, in);
   stats["fallback_pixels"] = r.fallback_pixels;
   stats["error"] = {{"all", frontend::image_error_json(r.all)},
                     {"glossy_receivers", frontend::image_error_json(r.glossy)},
@@ -128,6 +136,14 @@ std::function<void(std::string_view, double)> progress_printer() {
   };
 }
 
+// OUT (the EXR) and, with --stats, the stats record, written as one set.
+void write_outputs(const Options& o, const std::string& exr, const std::function<nlohmann::json()>& stats) {
+  runner::OutputSet outputs;
+  outputs.add(o.out, exr);
+  if (!o.stats.empty()) outputs.add(o.stats, stats().dump(2) + "\n");
+  outputs.commit();
+}
+
 void run_upsampling(const Options& o, const render::FilterWeights weights) {
   render::FilterInputOptions input_options = frontend::filter_input_options(o.job);
   const render::Scene scene = frontend::load_scene(o.job.render);
@@ -140,24 +156,17 @@ void run_upsampling(const Options& o, const render::FilterWeights weights) {
                  o.job.render.scene_path.c_str(), scene.camera.width, scene.camera.height, o.job.scale,
                  o.job.source.c_str(), input_options.rsm_resolution, input_options.rsm_resolution, o.weights.c_str());
   }
-  render::FilterInputs in;
-  render::FilterResult r;
-  try {
-    in = render::prepare_filter_inputs(scene, input_options);
-    r = render::upsample_indirect(in, weights, o.job.parameters);
-  } catch (const std::invalid_argument& e) {
-    throw runner::InputError(e.what());
-  }
-
-  const std::string exr = render::encode_exr(
-      in.width, in.height,
-      {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low_res_image(in)}},
-      {{"sglab_command", command}});
-  runner::OutputSet outputs;
-  outputs.add(o.out, exr);
-  if (!o.stats.empty())
-    outputs.add(o.stats, filter_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
-  outputs.commit();
+  const render::FilterInputs in = runner::input_checked(
+      [&] { return render::prepare_filter_inputs(scene, input_options); });
+  const render::FilterResult r = runner::input_checked(
+      [&] { return render::upsample_indirect(in, weights, o.job.parameters); });
+  write_outputs(
+      o,
+      render::encode_exr(
+          in.width, in.height,
+          {{"upsampled", r.upsampled}, {"reference", in.reference}, {"error", r.error}, {"low_res", low_res_image(in)}},
+          {{"sglab_command", command}}),
+      [&] { return filter_stats(o, scene, input_options.rsm_resolution, in, r, command); });
 
   std::printf(
       "filter %s: %d×%d from %d×%d (%s), weights %s\n"
@@ -178,14 +187,7 @@ nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int r
   stats["noisy_seed"] = in.seed;
   stats["weights"] = std::string(render::filter_weights_name(r.weights));
   stats["radius"] = r.radius;
-  stats["parameters"] = frontend::filter_parameters_json(o.job.parameters);
-  stats["constants"] = frontend::filter_constants_json(o.job);
-  stats["rsm_resolution"] = rsm_resolution;
-  stats["vpl_count"] = in.vpl_count;
-  std::size_t hit = 0, glossy = 0;
-  for (std::size_t k = 0; k < in.hit.size(); ++k) hit += in.hit[k] != 0, glossy += in.glossy[k] != 0;
-  stats["pixels_hit"] = hit;
-  stats["glossy_receivers"] = glossy;
+  add_input_stats(stats, o, rsm_resolution, in);
   const render::NoisyError noisy = render::noisy_error(in);
   const char* of =
       "against the exact VPL sum (all VPLs) at every pixel, all channels; relative_l2 = ||v - r||/||r||, "
@@ -240,23 +242,16 @@ void run_denoise(const Options& options, const render::FilterWeights weights) {
                  input_options.rsm_resolution, input_options.rsm_resolution, o.weights.c_str(),
                  o.job.parameters.radius);
   }
-  render::DenoiseInputs in;
-  render::DenoiseResult r;
-  try {
-    in = render::prepare_denoise_inputs(scene, input_options);
-    r = render::denoise_indirect(in, weights, o.job.parameters);
-  } catch (const std::invalid_argument& e) {
-    throw runner::InputError(e.what());
-  }
-  const std::string exr = render::encode_exr(
-      in.width, in.height,
-      {{"noisy", in.noisy_image}, {"filtered", r.filtered}, {"exact", in.reference}, {"error", r.error}},
-      {{"sglab_command", command}});
-  runner::OutputSet outputs;
-  outputs.add(o.out, exr);
-  if (!o.stats.empty())
-    outputs.add(o.stats, denoise_stats(o, scene, input_options.rsm_resolution, in, r, command).dump(2) + "\n");
-  outputs.commit();
+  const render::DenoiseInputs in = runner::input_checked(
+      [&] { return render::prepare_denoise_inputs(scene, input_options); });
+  const render::DenoiseResult r = runner::input_checked(
+      [&] { return render::denoise_indirect(in, weights, o.job.parameters); });
+  write_outputs(o,
+                render::encode_exr(
+                    in.width, in.height,
+                    {{"noisy", in.noisy_image}, {"filtered", r.filtered}, {"exact", in.reference}, {"error", r.error}},
+                    {{"sglab_command", command}}),
+                [&] { return denoise_stats(o, scene, input_options.rsm_resolution, in, r, command); });
   const render::NoisyError noisy = render::noisy_error(in);
   std::printf(
       "filter %s: %d×%d, noisy %s, weights %s, radius %d\n"
