@@ -17,6 +17,7 @@
 
 #include "sglab/render/denoise.hpp"
 #include "sglab/render/rsm.hpp"
+#include "render_scenes.hpp"
 #include "test_util.hpp"
 
 namespace sglab::render {
@@ -29,15 +30,7 @@ Scene tiny_scene() {
   return parse_scene(parse_scene_text(sglab::test::SmallScene{.width = 20, .height = 16}.json(), "tiny"));
 }
 
-Scene cornell(int width, int height) {
-  std::ifstream f(SGLAB_SOURCE_DIR "/scenes/cornell-glossy.json");
-  std::stringstream text;
-  text << f.rdbuf();
-  Scene scene = parse_scene(parse_scene_text(text.str(), "cornell-glossy"));
-  scene.camera.width = width;
-  scene.camera.height = height;
-  return scene;
-}
+Scene cornell(int width, int height) { return sglab::test::repository_scene("cornell-glossy", width, height); }
 
 DenoiseInputs noisy_inputs(const Scene& scene, NoisySpec spec, std::uint64_t seed, int rsm,
                            const std::vector<Rgb>* reference = nullptr) {

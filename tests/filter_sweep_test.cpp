@@ -13,6 +13,17 @@
 #include "input_error.hpp"
 
 namespace fsw = sglab::experiments::filter_sweep;
+
+// compute(o) refuses the options with an InputError naming `value`.
+template <class Compute, class Options>
+void expect_refused(Compute compute, const Options& o, const std::string& value) {
+  try {
+    compute(o);
+    ADD_FAILURE() << "no error; expected one naming " << value;
+  } catch (const sglab::runner::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(value), std::string::npos) << e.what();
+  }
+}
 namespace render = sglab::render;
 
 namespace {
@@ -93,12 +104,7 @@ TEST(FilterSweep, TablesHaveOneLinePerRow) {
 TEST(FilterSweep, BadValuesAreInputErrorsNamingThem) {
   fsw::Options o = small_sweep();
   o.roughness = "0.1,abc";
-  try {
-    fsw::compute(o);
-    FAIL() << "no error";
-  } catch (const sglab::runner::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("'abc'"), std::string::npos) << e.what();
-  }
+  expect_refused(fsw::compute, o, "'abc'");
   o = small_sweep();
   o.scales = "2.5";
   EXPECT_THROW(fsw::compute(o), sglab::runner::InputError);
@@ -169,12 +175,7 @@ TEST(DenoiseSweep, RowsMatchIndependentlyPreparedPointsAndTablesHaveOneLinePerRo
 TEST(DenoiseSweep, BadValuesAreInputErrorsNamingThem) {
   dsw::Options o = small_denoise_sweep();
   o.noisy = "interleaved:2,interleaved:x";
-  try {
-    dsw::compute(o);
-    FAIL() << "no error";
-  } catch (const sglab::runner::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("'interleaved:x'"), std::string::npos) << e.what();
-  }
+  expect_refused(dsw::compute, o, "'interleaved:x'");
   o = small_denoise_sweep();
   o.radius = 1;  // below M = 2
   EXPECT_THROW(dsw::compute(o), sglab::runner::InputError);

@@ -17,6 +17,7 @@
 #include "sglab/render/pipeline.hpp"
 #include "sglab/render/scene.hpp"
 #include "sglab/simd.hpp"
+#include "render_scenes.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -24,15 +25,7 @@ namespace {
 using namespace sglab::render;
 namespace simd = sglab::simd;
 
-Scene cornell(int size) {
-  std::ifstream file(std::string(SGLAB_SOURCE_DIR) + "/scenes/cornell-glossy.json");
-  std::stringstream text;
-  text << file.rdbuf();
-  Scene scene = parse_scene(parse_scene_text(text.str(), "cornell-glossy.json"));
-  scene.camera.width = size;
-  scene.camera.height = size;
-  return scene;
-}
+Scene cornell(int size) { return sglab::test::repository_scene("cornell-glossy", size, size); }
 
 // The largest per-pixel relative difference max_c |a − b|/max(|a|, |b|) over the hit pixels,
 // ignoring values below 1e-6 of the image's largest (relative differences of near-zero values).

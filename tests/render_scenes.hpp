@@ -1,14 +1,30 @@
-// Scenes and materials the renderer's tests share (render_test.cpp, raycast_test.cpp). The
+// Scenes and materials the renderer's tests share (render_test.cpp, raycast_test.cpp; the
+// repository's scene files: denoise_test.cpp, render_precision_test.cpp, visibility_test.cpp). The
 // renderer's types are named qualified (render::…): a header brings no namespace into its includers.
 #pragma once
 
+#include <fstream>
 #include <numbers>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include "sglab/render/scene.hpp"
 
 namespace sglab::test {
+
+#ifdef SGLAB_SOURCE_DIR
+// The repository's scenes/NAME.json, at width × height pixels (tests built with SOURCE_DIR).
+inline render::Scene repository_scene(const std::string& name, int width, int height) {
+  std::ifstream in(std::string(SGLAB_SOURCE_DIR) + "/scenes/" + name + ".json");
+  std::ostringstream text;
+  text << in.rdbuf();
+  render::Scene scene = render::parse_scene(render::parse_scene_text(text.str(), name + ".json"));
+  scene.camera.width = width;
+  scene.camera.height = height;
+  return scene;
+}
+#endif
 
 inline constexpr double kPi = std::numbers::pi;
 inline constexpr double kDeg = kPi / 180;

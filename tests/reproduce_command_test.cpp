@@ -72,6 +72,16 @@ class ReproduceCommand : public sglab::test::TempDirTest {
   void link_inputs() const {
     for (const char* d : {"scenes", "plots"}) fs::create_directory_symlink(fs::path(SGLAB_SOURCE_DIR) / d, path(d));
   }
+  // `sglab reproduce --quick --only STEP` ran and left its tables in results/quick/tables/, its
+  // marker in results/quick/.steps/ and nothing in paper_tables/.
+  void run_quick_step(const std::string& step, std::initializer_list<const char*> tables) const {
+    const auto r = sglab("reproduce --quick --only " + step);
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const char* table : tables)
+      EXPECT_TRUE(fs::exists(path("results/quick/tables") / table)) << table << "\n" << r.err;
+    EXPECT_TRUE(fs::exists(path("results/quick/.steps/" + step + ".done")));
+    EXPECT_FALSE(fs::exists(path("paper_tables"))) << r.err;
+  }
 };
 
 TEST_F(ReproduceCommand, QuickListWritesOnlyUnderResultsQuick) {
@@ -135,12 +145,8 @@ TEST_F(ReproduceCommand, ExplicitOutAndTablesDirAreObeyed) {
 // the suite does not run those two fits twice).
 TEST_F(ReproduceCommand, QuickFitStepWritesIntoResultsQuick) {
   link_inputs();
-  const auto r = sglab("reproduce --quick --only fit-all");
-  ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* table : {"constants.md", "constants.csv"})
-    EXPECT_TRUE(fs::exists(path("results/quick/tables") / table)) << table << "\n" << r.err;
-  EXPECT_TRUE(fs::exists(path("results/quick/.steps/fit-all.done")));
-  EXPECT_FALSE(fs::exists(path("paper_tables"))) << r.err;
+  run_quick_step("fit-all", {"constants.md", "constants.csv"});
+  if (HasFatalFailure()) return;
   EXPECT_FALSE(fs::exists(path("results/fits"))) << "a --quick run keeps out of the full run's results/";
   // Every fit the constants table names (its first column, below the two header lines) has its
   // record, and the record says it converged.
@@ -166,13 +172,9 @@ TEST_F(ReproduceCommand, QuickFitStepWritesIntoResultsQuick) {
 // The render sweep: its table and its per-point CSV.
 TEST_F(ReproduceCommand, QuickRenderSweepStepWritesIntoResultsQuick) {
   link_inputs();
-  const auto r = sglab("reproduce --quick --only sweep-render-count");
-  ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* table : {"vsgl_error_vs_count.md", "vsgl_error_vs_count.csv"})
-    EXPECT_TRUE(fs::exists(path("results/quick/tables") / table)) << table << "\n" << r.err;
+  run_quick_step("sweep-render-count", {"vsgl_error_vs_count.md", "vsgl_error_vs_count.csv"});
+  if (HasFatalFailure()) return;
   EXPECT_TRUE(fs::exists(path("results/quick/render_sweep/vsgl_error_vs_count_points.csv")));
-  EXPECT_TRUE(fs::exists(path("results/quick/.steps/sweep-render-count.done")));
-  EXPECT_FALSE(fs::exists(path("paper_tables"))) << r.err;
   EXPECT_FALSE(fs::exists(path("results/render_sweep"))) << "a --quick run keeps out of the full run's results/";
 }
 

@@ -20,18 +20,13 @@
 #include "sglab/render/visibility.hpp"
 #include "sglab/simd.hpp"
 
+#include "render_scenes.hpp"
+
 namespace {
 
 using namespace sglab::render;
 
-Scene cornell(int size) {
-  std::ifstream in(std::string(SGLAB_SOURCE_DIR) + "/scenes/cornell-glossy.json");
-  std::ostringstream text;
-  text << in.rdbuf();
-  Scene s = parse_scene(parse_scene_text(text.str(), "cornell-glossy.json"));
-  s.camera.width = s.camera.height = size;
-  return s;
-}
+Scene cornell(int size) { return sglab::test::repository_scene("cornell-glossy", size, size); }
 
 TEST(Visibility, CubeShadowMapAgreesWithRayCasting) {
   const Scene scene = cornell(48);
