@@ -207,11 +207,11 @@ TEST(ShaderExport, NotExportableAndUnknownAreRefusedByName) {
 //  them.
 TEST(ShaderExport, EveryMethodCompilesRunsAndMatchesTheReference) {
   if (!shader::vulkan_available()) GTEST_SKIP() << "no Vulkan device (install mesa-vulkan-drivers)";
-  cli::shader_export::Options o;
+  experiments::shader_export::Options o;
   o.quick = true;
-  const auto result = cli::shader_export::compute(o);
+  const auto result = experiments::shader_export::compute(o);
   std::printf("device: %s\n", result.device.c_str());
-  std::map<std::string, cli::shader_export::Row> own;
+  std::map<std::string, experiments::shader_export::Row> own;
   for (const auto& r : result.rows)
     if (r.evaluator == "sglab float") own[r.method] = r;
   EXPECT_GE(own.size(), 21u);  // the exportable methods: 12 diffuse, 7 specular, 2 filtering weights
