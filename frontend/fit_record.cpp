@@ -27,7 +27,7 @@ nlohmann::ordered_json fit_record_json(const fit::FitResult& r, const Judgement&
   nlohmann::ordered_json j = fit::record_json(r);
   j["precision"] = precision;
   if (!jd.method.empty()) {
-    j["fit::standard_grid_error"] = {
+    j["standard_grid_error"] = {
         {"method", jd.method},
         {"grid",
          "sglab error-vs-time grid (full), double, |method - reference| / reference at c = 1; published = the "
