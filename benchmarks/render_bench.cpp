@@ -281,8 +281,10 @@ VsglSet fis_vsgls(const Setting& s, int count) {
 // VSGL shading with visibility (`sglab render --visibility`), fis 64, cube maps of 64² per face:
 // range(0) = 1, the peer: the loop the renderer ran before (each point alone: its clusters' cube
 // map lookups, then VsglShader::shade of that one point); 0: the renderer's loop now (a row's
-// points at once: the lookups one cluster's map at a time, then the points shaded in blocks with
-// the (point, cluster) visibility as a mask). Both include the lookups; ns per pixel·lobe.
+// points at once: the lookups vectorized over the points one cluster's map at a time
+// (cube_visibility), then the points shaded in blocks with the (point, cluster) visibility as a
+// mask). Both include the lookups; ns per pixel·lobe. The maps are built once, outside the loop
+// (BM_CubeShadowMaps times them).
 void BM_ShadingVisibility(benchmark::State& state) {
   const Setting& s = setting();
   const VsglSet set = fis_vsgls(s, 64);
@@ -302,9 +304,7 @@ void BM_ShadingVisibility(benchmark::State& state) {
         shaded[i] = shader.shade(timed[i], v);
       }
     } else {
-      for (std::size_t c = 0; c < clusters; ++c)
-        for (std::size_t i = 0; i < timed.size(); ++i)
-          visible[i * clusters + c] = maps[c].lit(timed[i].position, timed[i].normal) ? 1 : 0;
+      cube_visibility(maps, timed, visible);
       shader.shade(timed, visible, shaded);
     }
   };

@@ -232,6 +232,66 @@ void vpl_visibility(const VplView<double>& a, const double* p, const double* pn,
                          scratch, out);
 }
 
+// ---- VSGL visibility from cube shadow maps ------------------------------------------------------
+
+// Entry `column` of face k's row of 9 (CubeView::frame) by selects: a gather from the table does
+// not vectorize.
+[[gnu::always_inline]] inline double face_value(const double* column, double k) {
+  const double c0 = column[0], c1 = column[9], c2 = column[18], c3 = column[27], c4 = column[36], c5 = column[45];
+  return k == 0 ? c0 : (k == 1 ? c1 : (k == 2 ? c2 : (k == 3 ? c3 : (k == 4 ? c4 : c5))));
+}
+
+// CubeShadowMap::lit and ShadowMap::lit (visibility.cpp, shadow_map.cpp) branch-free: the face by
+// Eigen's maxCoeff (the first largest |component|), LightView::project's dot products with the
+// face's frame, the texel by floor, the bias from |n·(p − o)|/|p − o|; then the depth, gathered
+// from the face's image in a plain loop (a load through a per-lane pointer does not vectorize),
+// and the comparison. scratch: 4·m doubles.
+void cube_lookup(const CubeView& c, std::size_t m, const double* const* points, double* scratch, double* out) {
+  const double *px = points[0], *py = points[1], *pz = points[2], *qx = points[3], *qy = points[4], *qz = points[5];
+  const double ox = c.ox, oy = c.oy, oz = c.oz, he = c.half_extent, s = c.texel, res = c.resolution;
+  // The frames copied into locals (read from the view inside the loop, GCC 12 sinks the loads into
+  // the selects' branches, as masked loads it does not vectorize).
+  double frame[54];
+  for (int a = 0; a < 54; ++a) frame[a] = c.frame[a / 9][a % 9];
+  double *face = scratch, *texel = face + m, *dist = texel + m, *reach = dist + m;
+#pragma omp simd
+  for (std::size_t i = 0; i < m; ++i) {
+    const double dx = px[i] - ox, dy = py[i] - oy, dz = pz[i] - oz;
+    const double ax = __builtin_fabs(dx), ay = __builtin_fabs(dy), az = __builtin_fabs(dz);
+    // The flags as 0/1 doubles, combined by products (bools mixed with double lanes do not vectorize).
+    const double big = ay > ax ? ay : ax;
+    const double axis = az > big ? 2.0 : (ay > ax ? 1.0 : 0.0);
+    const double da = az > big ? dz : (ay > ax ? dy : dx);
+    const double k = 2 * axis + (da >= 0 ? 0.0 : 1.0);
+    const double z = dot3(dx, dy, dz, face_value(frame, k), face_value(frame + 1, k), face_value(frame + 2, k));
+    const double zs = z > 0 ? z : 1.0;
+    const double x = dot3(dx, dy, dz, face_value(frame + 3, k), face_value(frame + 4, k), face_value(frame + 5, k)) /
+                     zs;
+    const double y = dot3(dx, dy, dz, face_value(frame + 6, k), face_value(frame + 7, k), face_value(frame + 8, k)) /
+                     zs;
+    const double ti = __builtin_floor((x + he) / s), tj = __builtin_floor((he - y) / s);
+    const double t2 = dot3(dx, dy, dz, dx, dy, dz), t = sqrt_(t2);
+    const double cos_s = __builtin_fabs(dot3(qx[i], qy[i], qz[i], dx, dy, dz)) / t;
+    const double sin2 = 1 - cos_s * cos_s;
+    const double tan_s = sqrt_(0 < sin2 ? sin2 : 0.0) / (cos_s < 1e-300 ? 1e-300 : cos_s);
+    const double bias = t * s * (1 + (20.0 < tan_s ? 20.0 : tan_s));
+    // At the origin: lit; outside the face's image: not; else the comparison below.
+    const double away = t2 > 0 ? 1.0 : 0.0;
+    const double inside = away * (z > 0 ? 1.0 : 0.0) * (ti >= 0 ? 1.0 : 0.0) * (tj >= 0 ? 1.0 : 0.0) *
+                          (ti < res ? 1.0 : 0.0) * (tj < res ? 1.0 : 0.0);
+    face[i] = inside > 0 ? k : -1.0;
+    texel[i] = inside > 0 ? tj * res + ti : 0.0;
+    dist[i] = away > 0 ? t : 0.0;
+    reach[i] = away > 0 ? bias : 0.0;
+  }
+  for (std::size_t i = 0; i < m; ++i) out[i] = face[i] < 0 ? 0.0 : c.depth[std::size_t(face[i])][std::size_t(texel[i])];
+#pragma omp simd
+  for (std::size_t i = 0; i < m; ++i) {
+    const bool lit = face[i] >= 0 ? dist[i] <= out[i] + reach[i] : dist[i] == 0;
+    out[i] = lit ? 1.0 : 0.0;
+  }
+}
+
 // ---- VSGL shading -----------------------------------------------------------------------------
 
 // vsgl_positional_sg and vsgl_incoming_sg (vsgl.hpp) for every (lobe, point), lobe-major, each
@@ -485,6 +545,71 @@ std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows,
   return fallbacks;
 }
 
+// ---- VSGL shading by a registry `specular` method ------------------------------------------------
+
+void method_rows(std::size_t lobes, std::size_t m, const IncomingRows& rows, const MethodReceivers& p,
+                 const MethodColumns& out) {
+  const std::size_t gn = p.count;
+  const std::size_t* point = p.point;
+  const double *tx = p.tx, *ty = p.ty, *tz = p.tz, *bx = p.bx, *by = p.by, *bz = p.bz, *nx = p.nx, *ny = p.ny,
+               *nz = p.nz, *view_cos = p.view_cos, *roughness = p.roughness;
+  for (std::size_t j = 0; j < lobes; ++j) {
+    const std::size_t r0 = j * m, k0 = j * gn;
+    const double *lam = rows.sharpness + r0, *ix = rows.xi_x + r0, *iy = rows.xi_y + r0, *iz = rows.xi_z + r0;
+    double *ro = out.roughness + k0, *ls = out.light_sharpness + k0, *lc = out.light_cos + k0, *vc = out.view_cos + k0,
+           *ac = out.azimuth_cos + k0, *as = out.azimuth_sin + k0;
+#pragma omp simd
+    for (std::size_t g = 0; g < gn; ++g) {
+      const std::size_t i = point[g];
+      const double x = ix[i], y = iy[i], z = iz[i];
+      const double ct = dot3(x, y, z, tx[g], ty[g], tz[g]), cb = dot3(x, y, z, bx[g], by[g], bz[g]);
+      const double rho2 = ct * ct + cb * cb;
+      const double inv = rho2 > 0 ? 1 / sqrt_(rho2 > 0 ? rho2 : 1.0) : 0.0;
+      ro[g] = roughness[g];
+      ls[g] = lam[i];
+      lc[g] = clamp1(dot3(x, y, z, nx[g], ny[g], nz[g]));
+      vc[g] = view_cos[g];
+      ac[g] = rho2 > 0 ? ct * inv : 1.0;
+      as[g] = rho2 > 0 ? cb * inv : 0.0;
+    }
+  }
+}
+
+std::size_t method_sum(std::size_t lobes, const double* amp_r, const double* amp_g, const double* amp_b, std::size_t m,
+                       const IncomingRows& rows, const MethodReceivers& p, const double* at0, const double* at1,
+                       double direct_limit, double* fallback, double* out_r, double* out_g, double* out_b) {
+  const std::size_t gn = p.count;
+  const std::size_t* point = p.point;
+  const double *f0r = p.f0_r, *f0g = p.f0_g, *f0b = p.f0_b;
+  for (std::size_t g = 0; g < gn; ++g) out_r[g] = out_g[g] = out_b[g] = 0;
+  std::size_t fallbacks = 0;
+  for (std::size_t j = 0; j < lobes; ++j) {
+    const double ar = amp_r[j], ag = amp_g[j], ab = amp_b[j];
+    const std::size_t r0 = j * m, k0 = j * gn;
+    const double *lsj = rows.log_scale + r0, *vj = rows.visible + r0, *z0 = at0 + k0, *z1 = at1 + k0;
+    double* fj = fallback + k0;
+    std::size_t count = 0;
+#pragma omp simd reduction(+ : count)
+    for (std::size_t g = 0; g < gn; ++g) {
+      const std::size_t i = point[g];
+      const double ls = lsj[i];
+      const double lit = (ls > -std::numeric_limits<double>::infinity() ? 1.0 : 0.0) * vj[i];
+      const double in_range = (ls > kVectorExpFloor ? 1.0 : 0.0) * (ls < direct_limit ? 1.0 : 0.0);
+      const double fb = lit * (1 - in_range);
+      fj[g] = fb;
+      count += fb > 0 ? 1 : 0;
+      const bool on = lit * in_range > 0;
+      const double e = on ? exp_in_range(in_range > 0 ? ls : 0.0) : 0.0;
+      const double a0 = on ? e * z0[g] : 0.0, a1 = on ? e * z1[g] : 0.0;
+      out_r[g] += ar * (a0 + f0r[g] * (a1 - a0));
+      out_g[g] += ag * (a0 + f0g[g] * (a1 - a0));
+      out_b[g] += ab * (a0 + f0b[g] * (a1 - a0));
+    }
+    fallbacks += count;
+  }
+  return fallbacks;
+}
+
 // ---- environment quadrature ------------------------------------------------------------------
 
 // The GGX texel quadrature of environment_shading.cpp's integrate_specular: each lane sums its
@@ -521,11 +646,14 @@ RenderKernelTable make_render_table(const char* isa) {
   t.vpl_sum_f[3] = vpl_sum<float, true, true>;
   t.visibility_d = vpl_visibility<double>;
   t.visibility_f = vpl_visibility<float>;
+  t.cube_lookup = cube_lookup;
   t.incoming_d = incoming<double>;
   t.incoming_f = incoming<float>;
   t.weighted_sum_d = weighted_sum<double>;
   t.weighted_sum_f = weighted_sum<float>;
   t.specular = specular;
+  t.method_rows = method_rows;
+  t.method_sum = method_sum;
   t.env_specular_sum = env_specular_sum;
   return t;
 }
