@@ -3,6 +3,9 @@
 // visibility never exceeds the reference without it (every term is non-negative and is kept or
 // dropped), and drops light somewhere in a scene with occluders.
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -110,6 +113,41 @@ TEST(Visibility, CubeVisibilityIsLitPointByPoint) {
   EXPECT_LT(lit, visible.size() * 9 / 10);
   std::vector<char> wrong(visible.size() + 1);
   EXPECT_THROW(cube_visibility(maps, points, wrong), std::invalid_argument);
+}
+
+// render_shadow_map (a row's rays at once, vectorized) is cast_ray texel by texel, exactly (the
+// same depth, +∞ for a miss), on every instruction set: the spotlight's view and the six faces of
+// cube maps inside the box, at the sphere and outside the box (where many rays miss).
+TEST(Visibility, ShadowMapDepthIsCastRayTexelByTexel) {
+  const Scene scene = cornell(8);
+  std::vector<LightView> views{LightView(scene.light, 37)};
+  for (const Vec3& o : {Vec3(0.3, 1.2, 0.2), Vec3(-0.5, 0.4, 0.5), Vec3(0.0, 3.5, 4.0)})
+    for (const ShadowMap& face : render_cube_shadow_map(scene, o, 1).faces) {
+      LightView v = face.view;
+      v.resolution = 29;
+      views.push_back(v);
+    }
+  std::size_t misses = 0, hits = 0;
+  for (const auto isa : sglab::simd::supported_isas()) {
+    sglab::simd::force_isa(isa);
+    for (const LightView& v : views) {
+      const ShadowMap map = render_shadow_map(scene, v);
+      const double s = v.texel_size();
+      for (int j = 0; j < v.resolution; ++j)
+        for (int i = 0; i < v.resolution; ++i) {
+          const auto hit = cast_ray(scene, v.ray(v.x_lo(i) + 0.5 * s, v.y_lo(j) + 0.5 * s));
+          const double want = hit ? hit->distance : std::numeric_limits<double>::infinity();
+          ASSERT_EQ(std::bit_cast<std::uint64_t>(map.depth[std::size_t(j * v.resolution + i)]),
+                    std::bit_cast<std::uint64_t>(want))
+              << sglab::simd::isa_name(isa) << ": texel (" << i << ", " << j << ") of the view from "
+              << v.origin.transpose() << " along " << v.forward.transpose();
+          (hit ? hits : misses) += 1;
+        }
+    }
+  }
+  sglab::simd::force_isa(sglab::simd::supported_isas().back());
+  EXPECT_GT(misses, 100u);
+  EXPECT_GT(hits, 1000u);
 }
 
 TEST(Visibility, ReferenceWithVisibilityNeverExceedsWithout) {

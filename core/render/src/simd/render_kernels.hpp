@@ -117,10 +117,12 @@ void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
 
 // ---- VPL visibility -----------------------------------------------------------------------------
 
-// Eigen's order for the dot product of two 3-vectors (its unrolled reduction: a0·b0 + (a1·b1 + a2·b2)),
-// so that every quantity below rounds as the scalar ray casting's does.
+// Eigen's order for the dot product (and squaredNorm) of two 3-vectors of double in the scalar
+// code of this library (its SSE2 packet sums the first two products: (a0·b0 + a1·b1) + a2·b2;
+// measured against Vec3::dot on 10^6 random pairs, as simd_specular.hpp's dot has it), so that
+// every quantity below rounds as the scalar ray casting does.
 [[gnu::always_inline]] inline double dot3(double a0, double a1, double a2, double b0, double b1, double b2) {
-  return a0 * b0 + (a1 * b1 + a2 * b2);
+  return (a0 * b0 + a1 * b1) + a2 * b2;
 }
 
 // The slab test of intersect(Box) (Kay & Kajiya 1986) for one axis, on selects: `zero` stands for
@@ -143,16 +145,42 @@ void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
     miss = !zero && t0 > t1 ? 1.0 : miss;                            \
   }
 
-// Every ray of a block against every shape of one kind (`count` shapes of `stride` values from
-// `shapes`): live[i] becomes 0 where hit(shape, i, tmax) says the ray is blocked.
-template <class Hit>
-[[gnu::always_inline]] inline void block_rays(const double* shapes, std::size_t count, std::size_t stride,
-                                              std::size_t n, const double* tm, double* live, const Hit& hit) {
-  for (std::size_t k = 0; k < count; ++k) {
-    const double* s = shapes + stride * k;
-#pragma omp simd
-    for (std::size_t i = 0; i < n; ++i) live[i] = hit(s, i, tm[i]) ? 0.0 : live[i];
-  }
+// intersect(Box) of the ray (o, d) up to tmax with box s (min xyz, max xyz) as `hit` and its
+// distance `t`, declared in the loop body that expands it (see SGLAB_SLAB; GCC 12 vectorizes it
+// there, not as a function returning the distance).
+#define SGLAB_BOX(s, ox, oy, oz, dx, dy, dz, tmax) \
+  double t0 = 0, t1 = (tmax);                      \
+  double entered = 0, exited = 0, miss = 0;        \
+  SGLAB_SLAB(ox, dx, s[0], s[3])                   \
+  SGLAB_SLAB(oy, dy, s[1], s[4])                   \
+  SGLAB_SLAB(oz, dz, s[2], s[5])                   \
+  const double t = entered != 0 ? t0 : t1;         \
+  const bool hit = miss == 0 && (entered != 0 || (exited != 0 && t1 < (tmax))) && t > 0 && t < (tmax);
+
+// The distance at which the ray (o, d) hits a shape in (0, tmax), +∞ if it does not: intersect()
+// of raycast.cpp for a rectangle (14 values, Occluders) and a sphere (4 values), on plain values
+// and selects (inlined into the loops over rays, they vectorize). A box: SGLAB_BOX below.
+constexpr double kNoHit = std::numeric_limits<double>::infinity();
+constexpr std::size_t kShapeValues = 14;  // the most values of a shape (a rectangle's)
+[[gnu::always_inline]] inline double rectangle_distance(const double* s, double ox, double oy, double oz, double dx,
+                                                        double dy, double dz, double tmax) {
+  const double denom = dot3(s[9], s[10], s[11], dx, dy, dz);
+  const double t = dot3(s[9], s[10], s[11], s[0] - ox, s[1] - oy, s[2] - oz) / (denom == 0 ? 1.0 : denom);
+  const double hx = ox + t * dx - s[0], hy = oy + t * dy - s[1], hz = oz + t * dz - s[2];
+  const double u = dot3(hx, hy, hz, s[3], s[4], s[5]) / s[12], v = dot3(hx, hy, hz, s[6], s[7], s[8]) / s[13];
+  return denom != 0 && t > 0 && t < tmax && !(u < 0 || u > 1 || v < 0 || v > 1) ? t : kNoHit;
+}
+[[gnu::always_inline]] inline double sphere_distance(const double* s, double ox, double oy, double oz, double dx,
+                                                     double dy, double dz, double tmax) {
+  const double fx = ox - s[0], fy = oy - s[1], fz = oz - s[2];
+  const double b = dot3(fx, fy, fz, dx, dy, dz), r2 = s[3] * s[3];
+  const double gx = fx - b * dx, gy = fy - b * dy, gz = fz - b * dz;
+  const double disc = r2 - dot3(gx, gy, gz, gx, gy, gz);
+  const double c = dot3(fx, fy, fz, fx, fy, fz) - r2;
+  const double q = -b - __builtin_copysign(sqrt_(disc < 0 ? 0.0 : disc), b);
+  const double ta = q == 0 ? 0.0 : c / (q == 0 ? 1.0 : q), tb = q;
+  const double lo = ta > tb ? tb : ta, hi = ta > tb ? ta : tb;
+  return disc < 0 ? kNoHit : (lo > 0 && lo < tmax ? lo : (hi > 0 && hi < tmax ? hi : kNoHit));
 }
 
 template <class M>
@@ -182,46 +210,66 @@ void vpl_visibility_block(const VplView<double>& a, std::size_t begin, std::size
     tm[i] = len * kRayReach;
     live[i] = on ? 1.0 : 0.0;
   }
-  for (std::size_t b = 0; b < shapes.boxes; ++b) {  // intersect(Box)
-    const double* s = shapes.box + 6 * b;
+  // Every ray against every shape: blocked where a shape is hit before tmax.
+  const auto block = [&](const double* shapes_of_kind, std::size_t count, std::size_t stride, auto distance) {
+    for (std::size_t k = 0; k < count; ++k) {
+      double s[kShapeValues];  // a local copy (see nearest_hits)
+      for (std::size_t v = 0; v < stride; ++v) s[v] = shapes_of_kind[stride * k + v];
+#pragma omp simd
+      for (std::size_t i = 0; i < n; ++i)
+        live[i] = distance(s, ox[i], oy[i], oz[i], dx[i], dy[i], dz[i], tm[i]) < kNoHit ? 0.0 : live[i];
+    }
+  };
+  for (std::size_t b = 0; b < shapes.boxes; ++b) {
+    double s[6];  // a local copy (see nearest_hits)
+    for (int v = 0; v < 6; ++v) s[v] = shapes.box[6 * b + std::size_t(v)];
 #pragma omp simd
     for (std::size_t i = 0; i < n; ++i) {
       const double tmax = tm[i];
-      double t0 = 0, t1 = tmax;
-      double entered = 0, exited = 0, miss = 0;
-      SGLAB_SLAB(ox[i], dx[i], s[0], s[3])
-      SGLAB_SLAB(oy[i], dy[i], s[1], s[4])
-      SGLAB_SLAB(oz[i], dz[i], s[2], s[5])
-      const double t = entered != 0 ? t0 : t1;
-      const bool hit = miss == 0 && (entered != 0 || (exited != 0 && t1 < tmax)) && t > 0 && t < tmax;
+      SGLAB_BOX(s, ox[i], oy[i], oz[i], dx[i], dy[i], dz[i], tmax)
       live[i] = hit ? 0.0 : live[i];
     }
   }
-  block_rays(shapes.rectangle, shapes.rectangles, 14, n, tm, live,  // intersect(Rectangle)
-             [&](const double* s, std::size_t i, double tmax) [[gnu::always_inline]] {
-               const double denom = dot3(s[9], s[10], s[11], dx[i], dy[i], dz[i]);
-               const double t = dot3(s[9], s[10], s[11], s[0] - ox[i], s[1] - oy[i], s[2] - oz[i]) /
-                                (denom == 0 ? 1.0 : denom);
-               const double hx = ox[i] + t * dx[i] - s[0], hy = oy[i] + t * dy[i] - s[1], hz = oz[i] + t * dz[i] - s[2];
-               const double u = dot3(hx, hy, hz, s[3], s[4], s[5]) / s[12],
-                            v = dot3(hx, hy, hz, s[6], s[7], s[8]) / s[13];
-               return denom != 0 && t > 0 && t < tmax && !(u < 0 || u > 1 || v < 0 || v > 1);
-             });
-  block_rays(shapes.sphere, shapes.spheres, 4, n, tm, live,  // intersect(Sphere)
-             [&](const double* s, std::size_t i, double tmax) [[gnu::always_inline]] {
-               const double fx = ox[i] - s[0], fy = oy[i] - s[1], fz = oz[i] - s[2];
-               const double b = dot3(fx, fy, fz, dx[i], dy[i], dz[i]), r2 = s[3] * s[3];
-               const double gx = fx - b * dx[i], gy = fy - b * dy[i], gz = fz - b * dz[i];
-               const double disc = r2 - dot3(gx, gy, gz, gx, gy, gz);
-               const double c = dot3(fx, fy, fz, fx, fy, fz) - r2;
-               const double q = -b - __builtin_copysign(sqrt_(disc < 0 ? 0.0 : disc), b);
-               const double ta = q == 0 ? 0.0 : c / (q == 0 ? 1.0 : q), tb = q;
-               const double lo = ta > tb ? tb : ta, hi = ta > tb ? ta : tb;
-               return !(disc < 0) && ((lo > 0 && lo < tmax) || (hi > 0 && hi < tmax));
-             });
+  block(shapes.rectangle, shapes.rectangles, 14, rectangle_distance);
+  block(shapes.sphere, shapes.spheres, 4, sphere_distance);
 #pragma omp simd
   for (std::size_t i = 0; i < n; ++i) out[i] = M(live[i]);
 }
+
+// cast_ray's distance (raycast.cpp) for n rays from one origin: the nearest of every shape's
+// distance with tmax = +∞ (the same as cast_ray's shape-by-shape shrinking t_max: each shape's
+// distance does not depend on tmax below it), +∞ where nothing is hit.
+void nearest_hits(const Occluders& shapes, const double* origin, std::size_t n, const double* dx, const double* dy,
+                  const double* dz, double* distance) {
+  const double ox = origin[0], oy = origin[1], oz = origin[2];
+  for (std::size_t i = 0; i < n; ++i) distance[i] = kNoHit;
+  const auto nearest = [&](const double* shapes_of_kind, std::size_t count, std::size_t stride, auto hit) {
+    for (std::size_t k = 0; k < count; ++k) {
+      // The shape's values copied into a local array: read through the table's pointer, GCC 12 sinks
+      // the loads into the selects' branches, as masked loads it does not vectorize.
+      double s[kShapeValues];
+      for (std::size_t v = 0; v < stride; ++v) s[v] = shapes_of_kind[stride * k + v];
+#pragma omp simd
+      for (std::size_t i = 0; i < n; ++i) {
+        const double t = hit(s, ox, oy, oz, dx[i], dy[i], dz[i], kNoHit);
+        distance[i] = t < distance[i] ? t : distance[i];
+      }
+    }
+  };
+  for (std::size_t b = 0; b < shapes.boxes; ++b) {
+    double s[6];  // a local copy (see nearest_hits)
+    for (int v = 0; v < 6; ++v) s[v] = shapes.box[6 * b + std::size_t(v)];
+#pragma omp simd
+    for (std::size_t i = 0; i < n; ++i) {
+      const double tmax = kNoHit;
+      SGLAB_BOX(s, ox, oy, oz, dx[i], dy[i], dz[i], tmax)
+      distance[i] = hit && t < distance[i] ? t : distance[i];
+    }
+  }
+  nearest(shapes.rectangle, shapes.rectangles, 14, rectangle_distance);
+  nearest(shapes.sphere, shapes.spheres, 4, sphere_distance);
+}
+#undef SGLAB_BOX
 #undef SGLAB_SLAB
 
 template <class M>
@@ -646,6 +694,7 @@ RenderKernelTable make_render_table(const char* isa) {
   t.vpl_sum_f[3] = vpl_sum<float, true, true>;
   t.visibility_d = vpl_visibility<double>;
   t.visibility_f = vpl_visibility<float>;
+  t.nearest_hits = nearest_hits;
   t.cube_lookup = cube_lookup;
   t.incoming_d = incoming<double>;
   t.incoming_f = incoming<float>;

@@ -63,6 +63,12 @@ template <class M>
 using VisibilityFn = void (*)(const VplView<double>& vpls, const double* p, const double* n, const Occluders& shapes,
                               double* scratch, M* out);
 
+// ---- shadow maps (shadow_map.cpp) ----
+// distance[i] = cast_ray's hit distance (raycast.cpp) of the ray from `origin` along the unit
+// direction (dx, dy, dz)[i], +∞ for a miss: the same arithmetic, so the same value.
+using NearestHitsFn = void (*)(const Occluders& shapes, const double* origin, std::size_t n, const double* dx,
+                               const double* dy, const double* dz, double* distance);
+
 // ---- VSGL visibility from cube shadow maps (visibility.cpp) ----
 // One cube shadow map (visibility.hpp CubeShadowMap): its origin, its faces' common half extent
 // T, texel size (LightView::texel_size) and resolution, and per face its depth image and its frame
@@ -184,6 +190,7 @@ struct RenderKernelTable {
   VplSumFn<float> vpl_sum_f[4];
   VisibilityFn<double> visibility_d;
   VisibilityFn<float> visibility_f;
+  NearestHitsFn nearest_hits;
   CubeLookupFn cube_lookup;
   IncomingFn<double> incoming_d;
   IncomingFn<float> incoming_f;
