@@ -104,6 +104,8 @@ void shade_specular_with_method(const Method& method, std::span<const ShadingPoi
       s.bx.data(),  s.by.data(),       s.bz.data(),        s.nx.data(),   s.ny.data(),
       s.nz.data(),  s.view_cos.data(), s.roughness.data(), s.f0_r.data(), s.f0_g.data(),
       s.f0_b.data()};
+  // The rows as the kernels take them (IncomingRows: the incoming kernel's output, hence non-const
+  // pointers); method_rows and method_sum only read them.
   simd_detail::IncomingRows rows{};
   rows.sharpness = const_cast<double*>(in.sharpness), rows.log_scale = const_cast<double*>(in.log_scale);
   rows.xi_x = const_cast<double*>(in.xi_x), rows.xi_y = const_cast<double*>(in.xi_y);
