@@ -290,12 +290,20 @@ void measure_row(const EnvReferences& e, const fit::EnvBasisFit& f, fit::LobeDif
 // on the same inputs in either place, so the values do not depend on which thread measured it.
 class RowMeasurer {
  public:
-  RowMeasurer() : idle_(&RowMeasurer::idle_loop, this) {}
+  // beside = false: each row is measured on the calling thread as it is pushed (no idle thread).
+  explicit RowMeasurer(bool beside) {
+    if (beside) idle_ = std::thread(&RowMeasurer::idle_loop, this);
+  }
   ~RowMeasurer() { finish_noexcept(); }
   RowMeasurer(const RowMeasurer&) = delete;
   RowMeasurer& operator=(const RowMeasurer&) = delete;
 
   void push(const EnvReferences* e, fit::EnvBasisFit f, Row* row) {
+    if (!idle_.joinable()) {
+      Job j{e, std::move(f), row};
+      run(j);
+      return;
+    }
     {
       const std::lock_guard guard(lock_);
       jobs_.push_back({e, std::move(f), row});
@@ -305,6 +313,7 @@ class RowMeasurer {
 
   // Measures what is left on this thread (all cores), then waits for the idle thread's last row.
   void finish() {
+    if (!idle_.joinable()) return;
     {
       const std::lock_guard guard(lock_);
       closed_ = true;
@@ -398,7 +407,7 @@ Result compute(const Options& o) {
   // Kept in place until every row is measured: the rows point into them.
   std::deque<EnvReferences> references;
   std::vector<std::deque<Row>> rows(envs.size());
-  RowMeasurer measurer;
+  RowMeasurer measurer(a.measure_beside_fits);
   for (std::size_t ei = 0; ei < envs.size(); ++ei) {
     const Loaded& env = envs[ei];
     Environment out;
