@@ -256,7 +256,7 @@ TEST(VmfEm, HonoursItsIterationCap) {
 // (its sparse quadrature).
 TEST(EnvmapBases, RowsMeasuredBesideTheFitsAreTheInlineRowsBitForBit) {
   namespace fs = std::filesystem;
-  namespace eb = sglab::cli::envmap_bases;
+  namespace eb = sglab::experiments::envmap_bases;
   const fs::path dir = fs::temp_directory_path() / ("sglab_envmap_bases_beside_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   sglab::runner::write_file_atomically(dir / "mix.exr", sglab::render::encode_environment(sglab::rasterize_mixture(
