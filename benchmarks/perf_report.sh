@@ -22,6 +22,11 @@
 #                       --specular M`): the built-in vsgl-asg and the registry methods asg, sg-warp,
 #                       sglab, medians of 5 repetitions of sglab_render_bench's BM_SpecularMethod, with
 #                       each one's ratio to vsgl-asg (asg is the same formula as vsgl-asg)
+#   render-visibility   ns per (pixel, lobe) of VSGL shading with --visibility (fis 64, the cube-map
+#                       lookups included: BM_ShadingVisibility), median of 5, against each pixel
+#                       shaded alone with scalar lookups in the same run
+#   render-cube-shadow-maps  ns per ray of the cube shadow maps of --visibility (BM_CubeShadowMaps,
+#                       one thread), median of 5, against cast_ray texel by texel in the same run
 #   tu/PATH             with --tu-times: the ten heaviest translation units of build-main (CPU
 #                       seconds each, benchmarks/tu_time.sh as the compiler launcher)
 # --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
@@ -36,7 +41,7 @@ cold=1 tests=1 full=1 quick=1 python=1 render=1 keep=0 jobs=2 tu_times=0
 touch_file=core/src/registry_core.cpp
 csv=results/perf_report.csv
 args=("$@")
-usage() { sed -n '2,27p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,32p' "$0" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     --skip-cold) cold=0 ;;
@@ -159,6 +164,18 @@ if [ "$render" = 1 ]; then
         name = $0; sub(/.*specular /, "", name); sub(/ .*/, "", name)
         n++; names[n] = name; values[n] = v; if (name == "vsgl-asg") builtin = v }
       END { for (i = 1; i <= n; i++) print names[i], values[i], builtin }' "$scratch/render-bench.log")
+    timed render-visibility-bench "sglab_render_bench BM_ShadingVisibility, BM_CubeShadowMaps, 5 repetitions" \
+      "$bench" --benchmark_filter='BM_ShadingVisibility|BM_CubeShadowMaps' --benchmark_repetitions=5 \
+      --benchmark_report_aggregates_only=true
+    # One row per benchmark: the library's median and its ratio to the peer's (the old loop).
+    while read -r name unit mine peer; do
+      rows+=("$name|||$mine ns per $unit, median of 5; the old loop $peer ($(awk -v a="$peer" -v b="$mine" 'BEGIN { printf "%.2f", a / b }')× faster)")
+    done < <(awk '/_median/ && /ns_per_(pixel_lobe|ray)=/ {
+        for (i = 1; i <= NF; i++) if ($i ~ /^ns_per_(pixel_lobe|ray)=/) { v = $i; unit = v; sub(/=.*/, "", unit); sub(/^ns_per_/, "", unit); sub(/^[a-z_]*=/, "", v); sub(/ns$/, "", v) }
+        name = $1; peer = name ~ /peer:1/; sub(/\/peer:.*/, "", name)
+        row = name == "BM_CubeShadowMaps" ? "render-cube-shadow-maps" : "render-visibility"
+        if (peer) old[row] = v; else { lib[row] = v; units[row] = unit == "ray" ? "ray" : "(pixel, lobe)" } }
+      END { for (r in lib) print r, units[r] == "ray" ? "ray" : "pixel·lobe", lib[r], old[r] }' "$scratch/render-visibility-bench.log")
   else
     echo "perf_report: no $bench: render rows skipped (build the benchmarks)" >&2
   fi

@@ -11,11 +11,13 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
 
 #include "peak.hpp"
 
@@ -25,6 +27,7 @@
 #include "sglab/render/reference.hpp"
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/scene.hpp"
+#include "sglab/render/shadow_map.hpp"
 #include "sglab/render/vsgl_generation.hpp"
 #include "sglab/render/visibility.hpp"
 #include "sglab/render/vsgl_shading.hpp"
@@ -281,8 +284,10 @@ VsglSet fis_vsgls(const Setting& s, int count) {
 // VSGL shading with visibility (`sglab render --visibility`), fis 64, cube maps of 64² per face:
 // range(0) = 1, the peer: the loop the renderer ran before (each point alone: its clusters' cube
 // map lookups, then VsglShader::shade of that one point); 0: the renderer's loop now (a row's
-// points at once: the lookups one cluster's map at a time, then the points shaded in blocks with
-// the (point, cluster) visibility as a mask). Both include the lookups; ns per pixel·lobe.
+// points at once: the lookups vectorized over the points one cluster's map at a time
+// (cube_visibility), then the points shaded in blocks with the (point, cluster) visibility as a
+// mask). Both include the lookups; ns per pixel·lobe. The maps are built once, outside the loop
+// (BM_CubeShadowMaps times them).
 void BM_ShadingVisibility(benchmark::State& state) {
   const Setting& s = setting();
   const VsglSet set = fis_vsgls(s, 64);
@@ -302,9 +307,7 @@ void BM_ShadingVisibility(benchmark::State& state) {
         shaded[i] = shader.shade(timed[i], v);
       }
     } else {
-      for (std::size_t c = 0; c < clusters; ++c)
-        for (std::size_t i = 0; i < timed.size(); ++i)
-          visible[i * clusters + c] = maps[c].lit(timed[i].position, timed[i].normal) ? 1 : 0;
+      cube_visibility(maps, timed, visible);
       shader.shade(timed, visible, shaded);
     }
   };
@@ -332,6 +335,53 @@ void BM_ShadingVisibility(benchmark::State& state) {
                       : "sglab: a row's lookups, then blocks with a mask");
 }
 BENCHMARK(BM_ShadingVisibility)->Arg(1)->Arg(0)->ArgNames({"peer"})->Unit(benchmark::kMillisecond);
+
+// The cube shadow maps of `sglab render --visibility` (one per cluster, six faces each): range(0) = 1,
+// the peer: the loop render_shadow_map ran before (cast_ray texel by texel, kept here only);
+// 0: the library's (a row's rays at once, vectorized over them). One map of 64² per face at the
+// first cluster's μ_v, on one thread; ns per ray. "max_abs_diff": the largest depth difference
+// between the two (the same arithmetic: 0).
+void BM_CubeShadowMaps(benchmark::State& state) {
+  const Setting& s = setting();
+  const Vec3 origin = fis_vsgls(s, 64).clusters.front().mean;
+  const bool peer = state.range(0) == 1;
+  constexpr int kResolution = 64;
+  auto old_map = [&](const LightView& view) {
+    ShadowMap m;
+    m.view = view;
+    m.depth.assign(std::size_t(kResolution) * kResolution, std::numeric_limits<double>::infinity());
+    const double t = view.texel_size();
+    for (int j = 0; j < kResolution; ++j)
+      for (int i = 0; i < kResolution; ++i)
+        if (const auto hit = cast_ray(s.scene, view.ray(view.x_lo(i) + 0.5 * t, view.y_lo(j) + 0.5 * t)))
+          m.depth[std::size_t(j) * kResolution + std::size_t(i)] = hit->distance;
+    return m;
+  };
+  const CubeShadowMap library = render_cube_shadow_map(s.scene, origin, kResolution);
+  const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  std::size_t rays = 0;
+  for (auto _ : state) {
+    if (peer) {
+      for (const ShadowMap& face : library.faces) benchmark::DoNotOptimize(old_map(face.view).depth.data());
+    } else {
+      // One face at a time on this thread, as the peer (TBB held to one thread above).
+      for (const ShadowMap& face : library.faces)
+        benchmark::DoNotOptimize(render_shadow_map(s.scene, face.view).depth.data());
+    }
+    rays += 6 * std::size_t(kResolution) * kResolution;
+  }
+  double worst = 0;
+  for (const ShadowMap& face : library.faces) {
+    const ShadowMap old = old_map(face.view);
+    for (std::size_t k = 0; k < old.depth.size(); ++k)
+      if (old.depth[k] != face.depth[k]) worst = std::max(worst, std::fabs(old.depth[k] - face.depth[k]));
+  }
+  state.counters["ns_per_ray"] = benchmark::Counter(double(rays),
+                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["max_abs_diff"] = worst;
+  state.SetLabel(peer ? "peer: cast_ray texel by texel" : "sglab: a row's rays at once");
+}
+BENCHMARK(BM_CubeShadowMaps)->Arg(1)->Arg(0)->ArgNames({"peer"})->Unit(benchmark::kMillisecond);
 
 // The specular term by a registry method (`sglab render --specular METHOD`) against the built-in
 // vsgl-asg (the same ASG × SG formula as the registry's `asg`), fis 64, the diffuse part with

@@ -1,8 +1,9 @@
 // `sglab envmap bases`: environment-lighting bases compared at equal storage (envmap_bases.hpp).
 //
 // Environments run one after another and the fits of one environment one after another (each
-// fit's own loops in parallel), so that the fit times are those of one fit on the machine; the
-// shading quadratures run in parallel over pixels.
+// fit's own loops in parallel), so that the fit times are those of one fit on the machine; each
+// fitted row is measured (map, diffuse and specular error) beside the later fits on core time they
+// leave idle (RowMeasurer), and what is left once every fit is done in parallel over pixels.
 #include "envmap_bases.hpp"
 
 #include "env_arguments.hpp"
@@ -13,11 +14,20 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
 #include <optional>
+#include <thread>
+
+#include <pthread.h>
+#include <sched.h>
 
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "atomic_file.hpp"
 #include "envmap_basis.hpp"
@@ -198,6 +208,182 @@ std::string command_line(const Options& a) {
   return c + " --out " + a.out + " --tables-dir " + a.tables_dir;
 }
 
+// What the rows of one environment are measured against: its map, its converged quadratures and
+// the images they were computed on.
+struct EnvReferences {
+  const Loaded* env = nullptr;
+  const Options* options = nullptr;
+  const render::EnvImage* normals = nullptr;
+  const render::EnvImage* sphere = nullptr;
+  const std::vector<Vec3<double>>* normal_dirs = nullptr;
+  std::vector<Rgb> exact_diffuse;
+  std::vector<std::vector<Rgb>> exact_specular;  // per roughness
+  std::vector<Convergence> convergence;          // diffuse, then per roughness
+};
+
+// The errors and the diffuse cost of one fit (one row of the tables).
+void measure_row(const EnvReferences& e, const fit::EnvBasisFit& f, fit::LobeDiffuseCache& diffuse_cache,
+                 std::mutex& cache_lock, Row& row) {
+  const Loaded& env = *e.env;
+  const Options& a = *e.options;
+  const render::EnvImage& normals = *e.normals;
+  const render::EnvImage& sphere = *e.sphere;
+  const EnvMap means = texel_means(f, env.map.width, env.map.height, kMeanSubsamples);
+  row.map_error = env.sparse ? fit::sparse_error(*env.sparse, means,
+                                                 fit::tile_texel_means(
+                                                     *env.sparse, [&f](const Vec3<double>& w) { return f.radiance(w); },
+                                                     kMeanSubsamples))
+                                   .relative
+                             : envmap_error(env.map, means).relative;
+  std::vector<Rgb> diffuse(normals.points.size());
+  std::vector<std::array<double, 3>> exact;
+  {
+    const std::lock_guard guard(cache_lock);
+    exact = fit::diffuse_at(f, *e.normal_dirs, diffuse_cache);
+  }
+  for (std::size_t k = 0; k < exact.size(); ++k) diffuse[k] = Rgb(exact[k][0], exact[k][1], exact[k][2]);
+  row.diffuse_error = render::shading_error(diffuse, e.exact_diffuse, normals).relative_l2;
+  if (f.sh_order >= 0) {
+    row.engine_diffuse_error = row.diffuse_error;
+    row.diffuse_ns = ns_per_pixel(
+        [&] {
+          for (const auto& p : normals.points) diffuse[std::size_t(p.pixel)][0] = f.diffuse(p.normal)[0];
+        },
+        normals.points.size());
+  } else {
+    const auto engine = render::mixture_diffuse_method(f.mixture, normals, kEngineDiffuse);
+    row.engine_diffuse_error = render::shading_error(engine, e.exact_diffuse, normals).relative_l2;
+    row.diffuse_ns = ns_per_pixel([&] { render::mixture_diffuse_method(f.mixture, normals, kEngineDiffuse); },
+                                  normals.points.size());
+  }
+  // The representation integrated on the same nodes as the map's accepted quadrature.
+  std::map<int, EnvMap> grids;
+  for (std::size_t ri = 0; ri < a.roughness.size(); ++ri) {
+    const int s = e.convergence[ri + 1].subsamples;
+    if (!grids.count(s))
+      grids.emplace(s, texel_means(env.sparse && f.sh_order < 0 ? blurred_for_grid(f, env.map.height * s) : f,
+                                   env.map.width * s, env.map.height * s, 1));
+    const auto spec = render::integrate_specular(grids.at(s), sphere, a.roughness[ri], a.f0, 1);
+    row.specular_error.push_back(render::shading_error(spec, e.exact_specular[ri], sphere).relative_l2);
+  }
+  std::fprintf(stderr,
+               "envmap bases: %s %s%s%s %s=%d (%d floats): map %.3g, diffuse %.3g, specular(0.3) %.3g, %.3f s%s\n",
+               env.name.c_str(), row.basis.c_str(), row.variant.empty() ? "" : " ", row.variant.c_str(),
+               row.size_symbol.c_str(), f.size, f.floats, row.map_error, row.diffuse_error,
+               row.specular_error[std::size_t(std::find(a.roughness.begin(), a.roughness.end(), kTargetRoughness) -
+                                              a.roughness.begin())],
+               f.seconds, f.zero_lobes ? fmt::format(", {} zero-amplitude lobes", f.zero_lobes).c_str() : "");
+}
+
+// The rows' measurements (measure_row) beside the fits. The fits run one at a time on the calling
+// thread, and their times are part of the tables; the free-lobe fit's Ceres solves leave a core
+// mostly idle (Ceres 2.1's conjugate-gradient products run on one thread). A thread of its own, at
+// the idle scheduling class (SCHED_IDLE: it runs only where a core would otherwise be idle, and
+// yields to the fits at once), measures the rows already fitted, one at a time and each on that
+// thread alone (a task arena of one slot), in the order fitted; once every fit is done, the calling
+// thread measures the rows still waiting, with every core. Every row is measured by the same calls
+// on the same inputs in either place, so the values do not depend on which thread measured it.
+class RowMeasurer {
+ public:
+  // beside = false: each row is measured on the calling thread as it is pushed (no idle thread).
+  explicit RowMeasurer(bool beside) {
+    if (beside) idle_ = std::thread(&RowMeasurer::idle_loop, this);
+  }
+  ~RowMeasurer() { finish_noexcept(); }
+  RowMeasurer(const RowMeasurer&) = delete;
+  RowMeasurer& operator=(const RowMeasurer&) = delete;
+
+  void push(const EnvReferences* e, fit::EnvBasisFit f, Row* row) {
+    if (!idle_.joinable()) {
+      Job j{e, std::move(f), row};
+      run(j);
+      return;
+    }
+    {
+      const std::lock_guard guard(lock_);
+      jobs_.push_back({e, std::move(f), row});
+    }
+    wake_.notify_one();
+  }
+
+  // Measures what is left on this thread (all cores), then waits for the idle thread's last row.
+  void finish() {
+    if (!idle_.joinable()) return;
+    {
+      const std::lock_guard guard(lock_);
+      closed_ = true;
+    }
+    wake_.notify_one();
+    // The idle thread's current row is now waited for: it may run at normal priority (where the
+    // system allows raising it back; otherwise it keeps the idle class).
+    sched_param normal{};
+    pthread_setschedparam(idle_.native_handle(), SCHED_OTHER, &normal);
+    for (std::optional<Job> j; (j = take());) run(*j);
+    idle_.join();
+    if (failure_) std::rethrow_exception(failure_);
+  }
+
+ private:
+  struct Job {
+    const EnvReferences* e;
+    fit::EnvBasisFit f;
+    Row* row;
+  };
+
+  std::optional<Job> take() {
+    const std::lock_guard guard(lock_);
+    if (jobs_.empty()) return std::nullopt;
+    Job j = std::move(jobs_.front());
+    jobs_.pop_front();
+    return j;
+  }
+
+  void run(Job& j) { measure_row(*j.e, j.f, cache_, cache_lock_, *j.row); }
+
+  void idle_loop() {
+    sched_param idle{};
+    pthread_setschedparam(pthread_self(), SCHED_IDLE, &idle);  // if refused: normal priority
+    tbb::task_arena alone(1);
+    for (;;) {
+      std::optional<Job> j;
+      {
+        std::unique_lock guard(lock_);
+        wake_.wait(guard, [&] { return closed_ || !jobs_.empty(); });
+        if (jobs_.empty() || failure_) return;
+        j = std::move(jobs_.front());
+        jobs_.pop_front();
+      }
+      try {
+        alone.execute([&] { run(*j); });
+      } catch (...) {
+        const std::lock_guard guard(lock_);
+        failure_ = std::current_exception();
+        return;
+      }
+    }
+  }
+
+  void finish_noexcept() {
+    if (!idle_.joinable()) return;
+    {
+      const std::lock_guard guard(lock_);
+      closed_ = true;
+      jobs_.clear();
+    }
+    wake_.notify_one();
+    idle_.join();
+  }
+
+  std::mutex lock_;
+  std::condition_variable wake_;
+  std::deque<Job> jobs_;
+  bool closed_ = false;
+  std::exception_ptr failure_;
+  fit::LobeDiffuseCache cache_;  // shared by both threads under cache_lock_ (its values do not depend on hits)
+  std::mutex cache_lock_;
+  std::thread idle_;  // last: started once the members it uses exist
+};
+
 }  // namespace
 
 Result compute(const Options& o) {
@@ -211,10 +397,14 @@ Result compute(const Options& o) {
   const render::EnvImage sphere = render::sphere_image(a.sphere_res);
   std::vector<Vec3<double>> normal_dirs;
   for (const auto& p : normals.points) normal_dirs.push_back(p.normal);
-  fit::LobeDiffuseCache diffuse_cache;
   fit::EnvBasisOptions bo;
   bo.seed = a.seed;
-  for (const auto& env : envs) {
+  // Kept in place until every row is measured: the rows point into them.
+  std::deque<EnvReferences> references;
+  std::vector<std::deque<Row>> rows(envs.size());
+  RowMeasurer measurer(a.measure_beside_fits);
+  for (std::size_t ei = 0; ei < envs.size(); ++ei) {
+    const Loaded& env = envs[ei];
     Environment out;
     out.name = env.name;
     out.width = env.map.width;
@@ -234,18 +424,24 @@ Result compute(const Options& o) {
     }
     std::fprintf(stderr, "envmap bases: %s (%d×%d): converged quadratures of the map …\n", env.name.c_str(), out.width,
                  out.height);
+    EnvReferences& ref = references.emplace_back();
+    ref.env = &env;
+    ref.options = &a;
+    ref.normals = &normals;
+    ref.sphere = &sphere;
+    ref.normal_dirs = &normal_dirs;
     Convergence cd;
-    const auto exact_diffuse = converged([&](int s) { return render::integrate_diffuse(env.map, normals, s); }, normals,
-                                         a.tolerance, cd);
-    out.convergence.push_back(cd);
-    std::vector<std::vector<Rgb>> exact_specular;
+    ref.exact_diffuse = converged([&](int s) { return render::integrate_diffuse(env.map, normals, s); }, normals,
+                                  a.tolerance, cd);
+    ref.convergence.push_back(cd);
     for (double rough : a.roughness) {
       Convergence cs;
       cs.roughness = rough;
-      exact_specular.push_back(converged(
+      ref.exact_specular.push_back(converged(
           [&](int s) { return render::integrate_specular(env.map, sphere, rough, a.f0, s); }, sphere, a.tolerance, cs));
-      out.convergence.push_back(cs);
+      ref.convergence.push_back(cs);
     }
+    out.convergence = ref.convergence;
     for (const auto& name : a.bases) {
       const fit::EnvBasis& basis = *fit::find_envmap_basis(name);
       for (const auto& variant : basis.variants) {
@@ -255,8 +451,8 @@ Result compute(const Options& o) {
         } catch (const std::invalid_argument& e) {
           throw runner::InputError(e.what());
         }
-        for (const auto& f : fits) {
-          Row row;
+        for (auto& f : fits) {
+          Row& row = rows[ei].emplace_back();
           row.basis = basis.name;
           row.variant = variant;
           row.size_symbol = basis.size_symbol;
@@ -269,55 +465,15 @@ Result compute(const Options& o) {
           row.fit_height = f.fit_height;
           row.detail_tiles = f.detail_tiles;
           row.seconds = f.seconds;
-          const EnvMap means = texel_means(f, env.map.width, env.map.height, kMeanSubsamples);
-          row.map_error = env.sparse ? fit::sparse_error(
-                                           *env.sparse, means,
-                                           fit::tile_texel_means(
-                                               *env.sparse, [&f](const Vec3<double>& w) { return f.radiance(w); },
-                                               kMeanSubsamples))
-                                           .relative
-                                     : envmap_error(env.map, means).relative;
-          std::vector<Rgb> diffuse(normals.points.size());
-          const auto exact = fit::diffuse_at(f, normal_dirs, diffuse_cache);
-          for (std::size_t k = 0; k < exact.size(); ++k) diffuse[k] = Rgb(exact[k][0], exact[k][1], exact[k][2]);
-          row.diffuse_error = render::shading_error(diffuse, exact_diffuse, normals).relative_l2;
-          if (f.sh_order >= 0) {
-            row.engine_diffuse_error = row.diffuse_error;
-            row.diffuse_ns = ns_per_pixel(
-                [&] {
-                  for (const auto& p : normals.points) diffuse[std::size_t(p.pixel)][0] = f.diffuse(p.normal)[0];
-                },
-                normals.points.size());
-          } else {
-            const auto engine = render::mixture_diffuse_method(f.mixture, normals, kEngineDiffuse);
-            row.engine_diffuse_error = render::shading_error(engine, exact_diffuse, normals).relative_l2;
-            row.diffuse_ns = ns_per_pixel([&] { render::mixture_diffuse_method(f.mixture, normals, kEngineDiffuse); },
-                                          normals.points.size());
-          }
-          // The representation integrated on the same nodes as the map's accepted quadrature.
-          std::map<int, EnvMap> grids;
-          for (std::size_t ri = 0; ri < a.roughness.size(); ++ri) {
-            const int s = out.convergence[ri + 1].subsamples;
-            if (!grids.count(s))
-              grids.emplace(s, texel_means(env.sparse && f.sh_order < 0 ? blurred_for_grid(f, env.map.height * s) : f,
-                                           env.map.width * s, env.map.height * s, 1));
-            const auto spec = render::integrate_specular(grids.at(s), sphere, a.roughness[ri], a.f0, 1);
-            row.specular_error.push_back(render::shading_error(spec, exact_specular[ri], sphere).relative_l2);
-          }
-          std::fprintf(
-              stderr,
-              "envmap bases: %s %s%s%s %s=%d (%d floats): map %.3g, diffuse %.3g, specular(0.3) %.3g, %.3f s%s\n",
-              env.name.c_str(), basis.name.c_str(), variant.empty() ? "" : " ", variant.c_str(),
-              basis.size_symbol.c_str(), f.size, f.floats, row.map_error, row.diffuse_error,
-              row.specular_error[std::size_t(std::find(a.roughness.begin(), a.roughness.end(), kTargetRoughness) -
-                                             a.roughness.begin())],
-              f.seconds, f.zero_lobes ? fmt::format(", {} zero-amplitude lobes", f.zero_lobes).c_str() : "");
-          out.rows.push_back(std::move(row));
+          measurer.push(&ref, std::move(f), &row);
         }
       }
     }
     r.environments.push_back(std::move(out));
   }
+  measurer.finish();
+  for (std::size_t ei = 0; ei < envs.size(); ++ei)
+    r.environments[ei].rows.assign(std::make_move_iterator(rows[ei].begin()), std::make_move_iterator(rows[ei].end()));
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   return r;
 }

@@ -46,6 +46,9 @@ struct Options {
   std::string out = "results/envmap";
   std::string tables_dir = "results/envmap";
   bool quick = false;  // 64-wide maps, sizes ≤ 32 lobes (sg-free ≤ 16) / L ≤ 4
+  // Rows measured beside the later fits on idle core time (envmap_bases.cpp, RowMeasurer); false:
+  // each right after its fit, on the calling thread. The values are the same either way.
+  bool measure_beside_fits = true;
   // Environments held at full resolution where the reduced map loses detail (fit/envmap_sparse.hpp):
   // the reduced map plus detail tiles until the sparse map is within resolve_tolerance (relative
   // L2) of the full map. vmf-em and sg-free fit the sparse map, and every basis's map error is

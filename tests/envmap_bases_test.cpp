@@ -249,6 +249,49 @@ TEST(VmfEm, HonoursItsIterationCap) {
   EXPECT_FALSE(r.converged);
 }
 
+// The rows measured beside the fits (a thread of the idle class, one row at a time) against the
+// same rows measured each right after its fit on the calling thread: every value the same bits,
+// whichever thread measured a row. The fixed-lobe fits (bit-for-bit the same fits in both runs; the
+// SH projection's parallel sum and Ceres's per-thread sums are not), on a plain and a resolved map
+// (its sparse quadrature).
+TEST(EnvmapBases, RowsMeasuredBesideTheFitsAreTheInlineRowsBitForBit) {
+  namespace fs = std::filesystem;
+  namespace eb = sglab::experiments::envmap_bases;
+  const fs::path dir = fs::temp_directory_path() / ("sglab_envmap_bases_beside_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  sglab::runner::write_file_atomically(dir / "mix.exr", sglab::render::encode_environment(sglab::rasterize_mixture(
+                                                            sglab::render::synthetic_mixture(), 128, 64, 2)));
+  eb::Options o;
+  o.envs = {"mix=" + (dir / "mix.exr").string(), "res=" + (dir / "mix.exr").string()};
+  o.resolve = {"res"};
+  o.bases = {"sg-fixed"};
+  o.width = 32;
+  o.quick = true;
+  o.sphere_res = 6;
+  o.normals = 16;
+  o.tables_dir = dir.string();
+  o.measure_beside_fits = false;
+  const eb::Result inline_rows = eb::compute(o);
+  o.measure_beside_fits = true;
+  const eb::Result beside = eb::compute(o);
+  ASSERT_EQ(beside.environments.size(), inline_rows.environments.size());
+  for (std::size_t e = 0; e < beside.environments.size(); ++e) {
+    const auto &x = beside.environments[e].rows, &y = inline_rows.environments[e].rows;
+    ASSERT_EQ(x.size(), y.size());
+    ASSERT_GT(x.size(), 0u);
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      SCOPED_TRACE(x[k].basis + " " + x[k].variant + " " + std::to_string(x[k].size));
+      EXPECT_EQ(x[k].basis + x[k].variant, y[k].basis + y[k].variant);
+      EXPECT_EQ(x[k].size, y[k].size);
+      EXPECT_EQ(x[k].map_error, y[k].map_error);
+      EXPECT_EQ(x[k].diffuse_error, y[k].diffuse_error);
+      EXPECT_EQ(x[k].engine_diffuse_error, y[k].engine_diffuse_error);
+      EXPECT_EQ(x[k].specular_error, y[k].specular_error);
+    }
+  }
+  fs::remove_all(dir);
+}
+
 // The comparison's rows on a small map: every basis and variant at every quick size, and bad
 // options are input errors.
 TEST(EnvmapBases, TablesHaveEveryBasisAndBadOptionsAreInputErrors) {

@@ -174,10 +174,10 @@ double own_error(const Method& m, const Reference<T>& ref, std::size_t i) {
   return std::isfinite(exact) ? std::fabs(ref.value[i] - exact) : 0.0;
 }
 
+// `out`, the values of the rows of `ref` by a vectorized path, against the scalar ones.
 template <class T>
-void check(const Method& m, const Reference<T>& ref, double k, const std::string& label) {
-  std::vector<T> out(ref.value.size());
-  test::batch_as<T>(m, ref.args, 6, out);
+void check_values(const Method& m, const Reference<T>& ref, const std::vector<T>& out, double k,
+                  const std::string& label) {
   const double eps = std::numeric_limits<T>::epsilon(), tiny = std::numeric_limits<T>::min();
   double worst = 0, worst_cond = 0;
   std::size_t at = 0;
@@ -216,6 +216,14 @@ void check(const Method& m, const Reference<T>& ref, double k, const std::string
       "[ simd     ] %-48s %-6s %6zu rows: well-conditioned max %.3g ulps (k = %g) at row %zu; "
       "ill-conditioned max %.3g of the allowance\n",
       label.c_str(), sizeof(T) == 4 ? "float" : "double", out.size(), worst, k, at, worst_cond);
+}
+
+// The batch evaluator against the scalar template.
+template <class T>
+void check(const Method& m, const Reference<T>& ref, double k, const std::string& label) {
+  std::vector<T> out(ref.value.size());
+  test::batch_as<T>(m, ref.args, 6, out);
+  check_values(m, ref, out, k, label);
 }
 
 bool is_specular(const std::string& name) { return name.rfind("specular", 0) == 0; }
@@ -289,6 +297,47 @@ TEST(SimdSpecular, PairIsTheBatchAtFresnelZeroAndOne) {
   simd::force_isa(simd::supported_isas().back());
 }
 
+// The column evaluators (sglab/simd_specular_pair.hpp SpecularPairColumns: cos φ and sin φ in
+// place of φ) against the scalar template at f0 = 0 and f0 = 1, with the batch evaluator's
+// tolerance, on every instruction set, over the rows above; cos φ and sin φ as the scalar template
+// takes them (std::cos, std::sin). The rows less three: the last batch is partial.
+TEST(SimdSpecular, ColumnsMatchTheScalarTemplateAtFresnelZeroAndOne) {
+  std::vector<Row> rows = stiff_rows();
+  for (const Row& r : random_rows()) rows.push_back(r);
+  rows.resize(rows.size() - 3);
+  const Quantity& q = *find_quantity("specular");
+  int methods = 0;
+  for (const Method& m : q.methods) {
+    if (!simd::specular_pair_columns_evaluator(m)) continue;
+    const std::string name = "specular/" + m.name;
+    const double k = tolerance_ulps().at(name);
+    for (double f0 : {0.0, 1.0}) {
+      std::vector<Row> at = rows;
+      for (Row& r : at) r[5] = f0;
+      const Reference<double> ref = reference<double>(name, m, at);
+      std::vector<double> c[6];
+      for (const Row& r : ref.rows) {
+        for (int j = 0; j < 4; ++j) c[j].push_back(r[std::size_t(j)]);
+        c[4].push_back(std::cos(r[4]));
+        c[5].push_back(std::sin(r[4]));
+      }
+      const std::size_t n = ref.rows.size();
+      for (const auto isa : simd::supported_isas()) {
+        simd::force_isa(isa);
+        std::vector<double> got0(n), got1(n);
+        simd::specular_pair_columns_evaluator(m)(
+            {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data()}, n, got0.data(),
+            got1.data());
+        check_values(m, ref, f0 == 0 ? got0 : got1, k,
+                     std::string(simd::isa_name(isa)) + " columns f0 = " + (f0 == 0 ? "0 " : "1 ") + name);
+        ++methods;
+      }
+    }
+  }
+  EXPECT_EQ(methods, 2 * 7 * int(simd::supported_isas().size()));
+  simd::force_isa(simd::supported_isas().back());
+}
+
 // Only the registry's own methods have one: a bound method, or a copy, is evaluated by its batch
 // evaluator (its constants may differ from the published ones the pair kernel takes).
 TEST(SimdSpecular, PairOnlyForTheRegistrysOwnMethodsAndRowsOfFive) {
@@ -296,6 +345,8 @@ TEST(SimdSpecular, PairOnlyForTheRegistrysOwnMethodsAndRowsOfFive) {
   ASSERT_TRUE(simd::specular_pair_evaluator(sglab));
   const Method copy = sglab;
   EXPECT_FALSE(simd::specular_pair_evaluator(copy));
+  ASSERT_TRUE(simd::specular_pair_columns_evaluator(sglab));
+  EXPECT_FALSE(simd::specular_pair_columns_evaluator(copy));
   std::vector<double> values;
   for (const auto& p : sglab.parameters) values.push_back(p.published);
   ASSERT_TRUE(sglab.bind);

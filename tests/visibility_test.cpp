@@ -2,12 +2,18 @@
 // the same point, over the camera's first hits of a shipped scene; and the reference with VPL
 // visibility never exceeds the reference without it (every term is non-negative and is kept or
 // dropped), and drops light somewhere in a scene with occluders.
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <limits>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -48,6 +54,95 @@ TEST(Visibility, CubeShadowMapAgreesWithRayCasting) {
     // Nearest-texel lookup: only points within a texel or so of a shadow edge may differ.
     EXPECT_GE(double(agree) / double(points), 0.97) << agree << " of " << points;
   }
+}
+
+// cube_visibility (vectorized over the points) is CubeShadowMap::lit point by point, exactly, on
+// every instruction set: over the camera's first hits, random points of the box's volume (some
+// behind walls, some on the maps' own origins), and points on the faces' diagonals (|dx| = |dy|
+// and the like, where the face is chosen by Eigen's first-largest rule) and on texel edges.
+TEST(Visibility, CubeVisibilityIsLitPointByPoint) {
+  const Scene scene = cornell(32);
+  const GBuffer g = render_gbuffer(scene);
+  const std::vector<Vec3> origins{Vec3(0.3, 1.2, 0.2), Vec3(-0.5, 0.4, 0.5), Vec3(0.0, 1.0, 0.0)};
+  std::vector<CubeShadowMap> maps;
+  for (const Vec3& o : origins) maps.push_back(render_cube_shadow_map(scene, o, 16));
+  const unsigned seed = 20261203;
+  std::printf("seed %u\n", seed);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  std::vector<ShadingPoint> points;
+  for (std::size_t k = 0; k < g.points.size(); ++k)
+    if (g.hit[k]) points.push_back(g.points[k]);
+  const auto add = [&](const Vec3& position) {
+    ShadingPoint p;
+    p.position = position;
+    p.normal = Vec3(u(rng), u(rng), u(rng)).normalized();
+    points.push_back(p);
+  };
+  for (int k = 0; k < 4000; ++k) add(Vec3(u(rng), u(rng) + 1, u(rng)));
+  for (const Vec3& o : origins) {
+    add(o);
+    for (double a : {0.25, 0.5, 0.7})
+      for (Vec3 d : {Vec3(a, a, 0.1), Vec3(-a, a, a), Vec3(a, -a, -a), Vec3(0.1, a, -a), Vec3(a, 0, 0),
+                     Vec3(a, a / 8, -a / 16), Vec3(-a, 0.0, a)})
+        add(o + d);
+  }
+  std::vector<char> visible(points.size() * maps.size());
+  std::size_t lit = 0;
+  for (const auto isa : sglab::simd::supported_isas()) {
+    sglab::simd::force_isa(isa);
+    std::fill(visible.begin(), visible.end(), char(2));
+    cube_visibility(maps, points, visible);
+    lit = 0;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      for (std::size_t c = 0; c < maps.size(); ++c) {
+        const bool want = maps[c].lit(points[i].position, points[i].normal);
+        ASSERT_EQ(int(visible[i * maps.size() + c]), want ? 1 : 0)
+            << sglab::simd::isa_name(isa) << ": point " << i << " (" << points[i].position.transpose() << "), map " << c
+            << ", seed " << seed;
+        lit += want ? 1 : 0;
+      }
+  }
+  sglab::simd::force_isa(sglab::simd::supported_isas().back());
+  EXPECT_GT(lit, visible.size() / 10);
+  EXPECT_LT(lit, visible.size() * 9 / 10);
+  std::vector<char> wrong(visible.size() + 1);
+  EXPECT_THROW(cube_visibility(maps, points, wrong), std::invalid_argument);
+}
+
+// render_shadow_map (a row's rays at once, vectorized) is cast_ray texel by texel, exactly (the
+// same depth, +∞ for a miss), on every instruction set: the spotlight's view and the six faces of
+// cube maps inside the box, at the sphere and outside the box (where many rays miss).
+TEST(Visibility, ShadowMapDepthIsCastRayTexelByTexel) {
+  const Scene scene = cornell(8);
+  std::vector<LightView> views{LightView(scene.light, 37)};
+  for (const Vec3& o : {Vec3(0.3, 1.2, 0.2), Vec3(-0.5, 0.4, 0.5), Vec3(0.0, 3.5, 4.0)})
+    for (const ShadowMap& face : render_cube_shadow_map(scene, o, 1).faces) {
+      LightView v = face.view;
+      v.resolution = 29;
+      views.push_back(v);
+    }
+  std::size_t misses = 0, hits = 0;
+  for (const auto isa : sglab::simd::supported_isas()) {
+    sglab::simd::force_isa(isa);
+    for (const LightView& v : views) {
+      const ShadowMap map = render_shadow_map(scene, v);
+      const double s = v.texel_size();
+      for (int j = 0; j < v.resolution; ++j)
+        for (int i = 0; i < v.resolution; ++i) {
+          const auto hit = cast_ray(scene, v.ray(v.x_lo(i) + 0.5 * s, v.y_lo(j) + 0.5 * s));
+          const double want = hit ? hit->distance : std::numeric_limits<double>::infinity();
+          ASSERT_EQ(std::bit_cast<std::uint64_t>(map.depth[std::size_t(j * v.resolution + i)]),
+                    std::bit_cast<std::uint64_t>(want))
+              << sglab::simd::isa_name(isa) << ": texel (" << i << ", " << j << ") of the view from "
+              << v.origin.transpose() << " along " << v.forward.transpose();
+          (hit ? hits : misses) += 1;
+        }
+    }
+  }
+  sglab::simd::force_isa(sglab::simd::supported_isas().back());
+  EXPECT_GT(misses, 100u);
+  EXPECT_GT(hits, 1000u);
 }
 
 TEST(Visibility, ReferenceWithVisibilityNeverExceedsWithout) {

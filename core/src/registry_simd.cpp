@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cstdlib>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -218,24 +219,49 @@ const simd_detail::SpecularPairTable& pair_table_of(simd::Isa isa) {
 
 static_assert(simd::kSpecularPairArity == simd_detail::kSpecularPairArity);
 
-simd::SpecularPairFn simd::specular_pair_evaluator(const Method& method) {
+namespace {
+
+// The pair table index of `method` and its kernel's constants, when it is one of the registry's
+// own vectorized `specular` methods.
+struct PairKernel {
+  int index;
+  std::array<double, simd_detail::kKernelParams> params;
+};
+std::optional<PairKernel> pair_kernel_of(const Method& method) {
   const Quantity* q = find_quantity("specular");
   if (!q || std::none_of(q->methods.begin(), q->methods.end(), [&](const Method& m) { return &m == &method; }))
-    return {};
+    return std::nullopt;
   for (const auto& e : kEntries) {
     if (e.quantity != q->name || e.method != method.name) continue;
     const int i = static_cast<int>(e.kernel) - static_cast<int>(Kernel::spec_sg_warp);
-    if (i < 0 || i >= simd_detail::kSpecularPairKernels) return {};
-    const auto params = kernel_params<double>(e.kernel, published_constants(method, e.kernel), true);
-    return [i, params](std::span<const double> args, std::span<double> at0, std::span<double> at1) {
-      const std::size_t n = args.size() / kSpecularPairArity;
-      if (args.size() != n * kSpecularPairArity || at0.size() < n || at1.size() < n)
-        throw std::invalid_argument("specular pair evaluator: expected rows of " + std::to_string(kSpecularPairArity) +
-                                    " values and an output per row");
-      pair_table_of(active_isa()).d[i](args.data(), at0.data(), at1.data(), n, params.data());
-    };
+    if (i < 0 || i >= simd_detail::kSpecularPairKernels) return std::nullopt;
+    return PairKernel{i, kernel_params<double>(e.kernel, published_constants(method, e.kernel), true)};
   }
-  return {};
+  return std::nullopt;
+}
+
+}  // namespace
+
+simd::SpecularPairColumnsFn simd::specular_pair_columns_evaluator(const Method& method) {
+  const std::optional<PairKernel> k = pair_kernel_of(method);
+  if (!k) return {};
+  return [k = *k](const SpecularPairColumns& rows, std::size_t n, double* at0, double* at1) {
+    const double* const columns[simd_detail::kSpecularPairColumns] = {
+        rows.roughness, rows.light_sharpness, rows.light_cos, rows.view_cos, rows.azimuth_cos, rows.azimuth_sin};
+    pair_table_of(active_isa()).columns[k.index](columns, at0, at1, n, k.params.data());
+  };
+}
+
+simd::SpecularPairFn simd::specular_pair_evaluator(const Method& method) {
+  const std::optional<PairKernel> k = pair_kernel_of(method);
+  if (!k) return {};
+  return [k = *k](std::span<const double> args, std::span<double> at0, std::span<double> at1) {
+    const std::size_t n = args.size() / kSpecularPairArity;
+    if (args.size() != n * kSpecularPairArity || at0.size() < n || at1.size() < n)
+      throw std::invalid_argument("specular pair evaluator: expected rows of " + std::to_string(kSpecularPairArity) +
+                                  " values and an output per row");
+    pair_table_of(active_isa()).d[k.index](args.data(), at0.data(), at1.data(), n, k.params.data());
+  };
 }
 
 const std::vector<std::string>& simd::vectorized_methods() {

@@ -18,15 +18,15 @@ mutant i0-switch-up core/include/sglab/asg.hpp 's#const V threshold = -log(V(eps
   asg_test registry_test
 mutant i0-switch-down core/include/sglab/asg.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -log(V(epsilon<T>())) / 10;#' \
   asg_test registry_test
-mutant cc-upper-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_upper_over_2pi(const T/,/return sum;/ s#^      value_of(l) < 1,#      value_of(l) < 10,#' \
+mutant cc-upper-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_upper_over_2pi(const T/,/return sum;/ s#value_of(l) < 1,#value_of(l) < 10,#' \
   clamped_cosine_test
-mutant cc-lower-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_lower_over_2pi(const T/,/return sum;/ s#^      value_of(l) < 1,#      value_of(l) < 10,#' \
+mutant cc-lower-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_lower_over_2pi(const T/,/return sum;/ s#value_of(l) < 1,#value_of(l) < 10,#' \
   clamped_cosine_test
-mutant t2022-alpha-switch core/include/sglab/clamped_cosine.hpp 's#^      abs(value_of(lambda)) < 0\.5,#      abs(value_of(lambda)) < 0.0005,#' \
+mutant t2022-alpha-switch core/include/sglab/clamped_cosine.hpp 's#abs(value_of(lambda)) < 0\.5,#abs(value_of(lambda)) < 0.0005,#' \
   clamped_cosine_test
 mutant t2024-D-digits core/include/sglab/clamped_cosine.hpp 's#D = 15\.219156263147211;#D = 15.291156263147211;#' \
   clamped_cosine_test
-mutant t2024-large-switch core/include/sglab/clamped_cosine.hpp 's#^      value_of(l) > 1e4,#      value_of(l) > 1e14,#' \
+mutant t2024-large-switch core/include/sglab/clamped_cosine.hpp 's#value_of(l) > 1e4,#value_of(l) > 1e14,#' \
   clamped_cosine_test hardening_test:HardeningNumerics.*
 mutant meder-offset core/include/sglab/clamped_cosine.hpp 's#offset = 31\.7003;#offset = 31.7030;#' \
   clamped_cosine_test hemispherical_test
@@ -90,7 +90,7 @@ mutant fit-grid-weights fit/grid2d.cpp 's#std::sqrt(qc\.w\[i\] / n_lambda)#std::
   fit_test
 mutant fit-lambda-d-target fit/lambda_d.cpp 's#std::max(t, 0\.0) / pi<double>()#std::max(t, 0.0) / 3.1416#' \
   fit_test
-mutant fit-hill-domain fit/hill_irradiance.cpp '/kClampedCosineTarget,$/,/{1, 100, 20},/ s#{1, 100, 20},#{1, 100, 10},#' \
+mutant fit-hill-domain fit/hill_irradiance.cpp '/kClampedCosineTarget,/,/{1, 100, 20}/ s#{1, 100, 20},#{1, 100, 10},#' \
   fit_test
 mutant fit-float-roundoff fit/driver.cpp 's#std::ldexp(1\.0, -24)#std::ldexp(1.0, -23)#' \
   fit_test

@@ -29,4 +29,19 @@ using SpecularPairFn =
 // f0 = 0 and f0 = 1. Each call runs on the instruction set active then (active_isa()).
 SpecularPairFn specular_pair_evaluator(const Method& method);
 
+// The rows as columns (structure of arrays, n values each): roughness, light_sharpness, light_cos,
+// view_cos, and the light azimuth φ given by cos φ and sin φ (a caller holding the light's axis in
+// the local frame has them as its tangent components over their length: no angle, no sine or
+// cosine is evaluated). Read without transposition, so the columns need no gathering.
+struct SpecularPairColumns {
+  const double *roughness, *light_sharpness, *light_cos, *view_cos, *azimuth_cos, *azimuth_sin;
+};
+// Evaluates n rows into at_f0_zero[0 … n) and at_f0_one[0 … n).
+using SpecularPairColumnsFn =
+    std::function<void(const SpecularPairColumns& rows, std::size_t n, double* at_f0_zero, double* at_f0_one)>;
+// The column evaluator of `method`, for the same methods as specular_pair_evaluator (empty for the
+// others). Its values are the pair evaluator's with its sine and cosine of φ replaced by the given
+// ones: for cos φ, sin φ within an ulp of the pair kernel's, within a few ulps of its values.
+SpecularPairColumnsFn specular_pair_columns_evaluator(const Method& method);
+
 }  // namespace sglab::simd

@@ -88,8 +88,8 @@ void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, c
   if (o.visibility) maps = vsgl_shadow_maps(scene, v.vsgls, o.visibility_map_resolution);
   // A row's hit pixels at once, so that the diffuse method runs on wide batches (per-thread
   // arrays, reused row after row); with visibility, the row's shadow-map lookups first, one
-  // cluster's cube map at a time over the row's points, then the row shaded in blocks with its
-  // (point, cluster) visibility as a mask.
+  // cluster's cube map at a time over the row's points (vectorized, cube_visibility), then the row
+  // shaded in blocks with its (point, cluster) visibility as a mask.
   for_each_row(g, "vsgl shading", o, [&](int j) {
     thread_local std::vector<ShadingPoint> points;
     thread_local std::vector<std::size_t> pixels;
@@ -106,11 +106,8 @@ void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, c
     }
     shaded.resize(points.size());
     if (o.visibility) {
-      const std::size_t clusters = maps.size();
-      visible.resize(points.size() * clusters);
-      for (std::size_t c = 0; c < clusters; ++c)
-        for (std::size_t i = 0; i < points.size(); ++i)
-          visible[i * clusters + c] = maps[c].lit(points[i].position, points[i].normal) ? 1 : 0;
+      visible.resize(points.size() * maps.size());
+      cube_visibility(maps, points, visible);
       shader.shade(points, visible, shaded);
     } else {
       shader.shade(points, shaded);

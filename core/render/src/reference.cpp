@@ -10,6 +10,7 @@
 
 #include "sglab/render/material_brdf.hpp"
 #include "sglab/render/visibility.hpp"
+#include "occluder_arrays.hpp"
 #include "simd/render_table.hpp"
 
 namespace sglab::render {
@@ -30,28 +31,6 @@ simd_detail::VplView<T> view_of(const VplArraysT<T>& a, const T* visible) {
   v.visible = visible;
   return v;
 }
-
-// The scene's shapes as the visibility kernel reads them (render_table.hpp Occluders).
-struct OccluderArrays {
-  std::vector<double> box, rectangle, sphere;
-  explicit OccluderArrays(const Scene& scene) {
-    for (const auto& object : scene.objects) {
-      if (const auto* b = std::get_if<Box>(&object.shape)) {
-        box.insert(box.end(), {b->min.x(), b->min.y(), b->min.z(), b->max.x(), b->max.y(), b->max.z()});
-      } else if (const auto* r = std::get_if<Rectangle>(&object.shape)) {
-        const Vec3 n = r->edge_u.cross(r->edge_v).normalized();  // as intersect(Rectangle) has it
-        rectangle.insert(rectangle.end(), {r->corner.x(), r->corner.y(), r->corner.z(), r->edge_u.x(), r->edge_u.y(),
-                                           r->edge_u.z(), r->edge_v.x(), r->edge_v.y(), r->edge_v.z(), n.x(), n.y(),
-                                           n.z(), r->edge_u.squaredNorm(), r->edge_v.squaredNorm()});
-      } else if (const auto* sp = std::get_if<Sphere>(&object.shape)) {
-        sphere.insert(sphere.end(), {sp->center.x(), sp->center.y(), sp->center.z(), sp->radius});
-      }
-    }
-  }
-  simd_detail::Occluders view() const {
-    return {box.size() / 6, rectangle.size() / 14, sphere.size() / 4, box.data(), rectangle.data(), sphere.data()};
-  }
-};
 
 // V(y_p, x_i) of every VPL in the arrays' order (each array padded with 0), by the vectorized ray
 // casting of vpl_visible; 0 where the term is already 0 by its cosines.

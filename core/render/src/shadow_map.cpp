@@ -4,11 +4,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "sglab/render/material_brdf.hpp"
+#include "occluder_arrays.hpp"
+#include "simd/render_table.hpp"
 
 namespace sglab::render {
 
@@ -64,13 +67,25 @@ ShadowMap render_shadow_map(const Scene& scene, const LightView& view) {
   m.view = view;
   m.depth.assign(std::size_t(resolution) * std::size_t(resolution), std::numeric_limits<double>::infinity());
   const double s = m.view.texel_size();
+  // A row's rays at once: their directions as LightView::ray forms them, then cast_ray's distance
+  // for all of them in a loop vectorized over the rays (render_kernels.hpp nearest_hits: the same
+  // arithmetic, so the same depth; +∞ stays where nothing is hit).
+  const OccluderArrays shapes(scene);
+  const simd_detail::Occluders occluders = shapes.view();
+  const double origin[3] = {view.origin.x(), view.origin.y(), view.origin.z()};
+  const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
   tbb::parallel_for(tbb::blocked_range<int>(0, resolution), [&](const tbb::blocked_range<int>& rows) {
-    for (int j = rows.begin(); j < rows.end(); ++j)
+    thread_local std::vector<double> dx, dy, dz;
+    for (auto* v : {&dx, &dy, &dz}) v->resize(std::size_t(resolution));
+    for (int j = rows.begin(); j < rows.end(); ++j) {
       for (int i = 0; i < resolution; ++i) {
         const Ray r = m.view.ray(m.view.x_lo(i) + 0.5 * s, m.view.y_lo(j) + 0.5 * s);
-        if (const auto hit = cast_ray(scene, r))
-          m.depth[std::size_t(j) * std::size_t(resolution) + std::size_t(i)] = hit->distance;
+        dx[std::size_t(i)] = r.direction.x(), dy[std::size_t(i)] = r.direction.y(),
+        dz[std::size_t(i)] = r.direction.z();
       }
+      t.nearest_hits(occluders, origin, std::size_t(resolution), dx.data(), dy.data(), dz.data(),
+                     m.depth.data() + std::size_t(j) * std::size_t(resolution));
+    }
   });
   return m;
 }

@@ -54,9 +54,6 @@ simd_detail::LobeView view_of(const LobeArrays& a) {
   return v;
 }
 
-// The largest log_scale for which e^{log_scale}·x is formed directly (vsgl.hpp scaled_by_exp's).
-const double kDirectLimit = std::log(std::numeric_limits<double>::max()) / 2;
-
 }  // namespace
 
 struct VsglShader::Data {
@@ -220,8 +217,6 @@ struct Scratch {
   std::vector<double> sum_r, sum_g, sum_b;  // per point (or per glossy point)
   Receivers receivers;                      // the glossy points
   std::vector<double> spec_fallback;        // per (lobe, glossy point)
-  // The incoming SGs point-major, for a registry specular method (vsgl_specular_methods.hpp).
-  std::vector<double> by_point_xi_x, by_point_xi_y, by_point_xi_z, by_point_sharpness, by_point_log_scale;
   void resize(std::size_t points, std::size_t rows, bool single) {
     for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &diffuse, &sum_r, &sum_g, &sum_b}) v->resize(points);
     for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped, &mask, &fallback, &visible})
@@ -290,14 +285,15 @@ struct BlockPass {
 
   // D(λ_in, ξ_in·n) for every row in one batch call; e^{log_scale}-weighted sums per point.
   void diffuse(const Method& method, double factor, bool single) {
-    const std::size_t fallbacks = single ? (method.batch_float(s.args_float, 2, s.value_float),
-                                            t.weighted_sum_f(lobes, m, s.log_scale.data(), s.value_float.data(),
-                                                             s.mask.data(), factor, kDirectLimit, s.fallback.data(),
-                                                             s.sum_r.data(), s.sum_g.data(), s.sum_b.data()))
-                                         : (method.batch_double(s.args_double, 2, s.value_double),
-                                            t.weighted_sum_d(lobes, m, s.log_scale.data(), s.value_double.data(),
-                                                             s.mask.data(), factor, kDirectLimit, s.fallback.data(),
-                                                             s.sum_r.data(), s.sum_g.data(), s.sum_b.data()));
+    const std::size_t fallbacks =
+        single ? (method.batch_float(s.args_float, 2, s.value_float),
+                  t.weighted_sum_f(lobes, m, s.log_scale.data(), s.value_float.data(), s.mask.data(), factor,
+                                   simd_detail::scaled_by_exp_direct_limit(), s.fallback.data(), s.sum_r.data(),
+                                   s.sum_g.data(), s.sum_b.data()))
+               : (method.batch_double(s.args_double, 2, s.value_double),
+                  t.weighted_sum_d(lobes, m, s.log_scale.data(), s.value_double.data(), s.mask.data(), factor,
+                                   simd_detail::scaled_by_exp_direct_limit(), s.fallback.data(), s.sum_r.data(),
+                                   s.sum_g.data(), s.sum_b.data()));
     for (std::size_t i = 0; i < m; ++i) {
       if (s.diffuse[i] == 0) continue;
       Rgb sum(s.sum_r[i], s.sum_g[i], s.sum_b[i]);
@@ -311,27 +307,12 @@ struct BlockPass {
     }
   }
 
-  // A registry method (vsgl_specular_methods.cpp): it reads the incoming SGs point-major
-  // (row i·n + j), so the block's rows are handed over in that order.
+  // A registry method (vsgl_specular_methods.cpp), on the block's rows as they are.
   void specular_with(const Method& method) {
-    for (auto* v : {&s.by_point_xi_x, &s.by_point_xi_y, &s.by_point_xi_z, &s.by_point_sharpness, &s.by_point_log_scale})
-      v->resize(rows);
-    for (std::size_t j = 0; j < n; ++j)
-      for (std::size_t i = 0; i < m; ++i) {
-        const std::size_t from = j * m + i, to = i * n + j;
-        s.by_point_xi_x[to] = s.xi_x[from];
-        s.by_point_xi_y[to] = s.xi_y[from];
-        s.by_point_xi_z[to] = s.xi_z[from];
-        s.by_point_sharpness[to] = s.sharpness[from];
-        s.by_point_log_scale[to] = s.log_scale[from];
-      }
-    const auto active = [&](std::size_t r) {
-      return s.by_point_log_scale[r] > -std::numeric_limits<double>::infinity() && s.visible[(r % n) * m + r / n] != 0;
-    };
-    shade_specular_with_method(method, points, n,
-                               {s.by_point_xi_x.data(), s.by_point_xi_y.data(), s.by_point_xi_z.data(),
-                                s.by_point_sharpness.data(), s.by_point_log_scale.data()},
-                               a.amplitude, active, out);
+    shade_specular_with_method(
+        method, points,
+        {s.xi_x.data(), s.xi_y.data(), s.xi_z.data(), s.sharpness.data(), s.log_scale.data(), s.visible.data()},
+        a.amplitude, out);
   }
 
   // The default ASG specular: the block's glossy points' specular receivers (vsgl.hpp) as arrays,
@@ -347,8 +328,8 @@ struct BlockPass {
     if (gn == 0) return;
     s.spec_fallback.resize(n * gn);
     for (auto* v : {&s.sum_r, &s.sum_g, &s.sum_b}) v->resize(std::max(m, gn));
-    const std::size_t fallbacks = t.specular(lobes, m, in, g.view(), kDirectLimit, s.spec_fallback.data(),
-                                             s.sum_r.data(), s.sum_g.data(), s.sum_b.data());
+    const std::size_t fallbacks = t.specular(lobes, m, in, g.view(), simd_detail::scaled_by_exp_direct_limit(),
+                                             s.spec_fallback.data(), s.sum_r.data(), s.sum_g.data(), s.sum_b.data());
     for (std::size_t k = 0; k < gn; ++k) {
       const std::size_t i = g.point[k];
       Rgb specular(s.sum_r[k], s.sum_g[k], s.sum_b[k]);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "sglab/render/vsgl_shading.hpp"
+#include "simd/render_table.hpp"
 #include "sglab/simd_specular_pair.hpp"
 #include "sglab/vsgl.hpp"
 #include "sglab/text_limits.hpp"
@@ -63,58 +64,95 @@ const Method* find_specular_method(std::string_view name) {
   return m;
 }
 
-void shade_specular_with_method(const Method& method, std::span<const ShadingPoint> points, std::size_t lobes,
-                                const IncomingLobes& in, std::span<const Rgb> amplitude,
-                                const std::function<bool(std::size_t)>& active, std::span<VsglShading> out) {
-  constexpr std::size_t kArity = simd::kSpecularPairArity;  // the `specular` columns but f0
+void shade_specular_with_method(const Method& method, std::span<const ShadingPoint> points, const IncomingLobes& in,
+                                std::span<const Rgb> amplitude, std::span<VsglShading> out) {
+  const std::size_t m = points.size(), lobes = amplitude.size();
+  // Per thread, reused: no allocation per block once the arrays have grown.
   struct Scratch {
-    std::vector<double> args, rows, at0, at1;
-    std::vector<std::size_t> row;  // the (point, lobe) row of each evaluation
+    std::vector<std::size_t> point;
+    std::vector<double> tx, ty, tz, bx, by, bz, nx, ny, nz, view_cos, roughness, f0_r, f0_g, f0_b;  // per glossy point
+    std::vector<double> amp_r, amp_g, amp_b;                                                        // per lobe
+    std::vector<double> columns[6], at0, at1, fallback, sum_r, sum_g, sum_b, rows;                  // per row
   };
   thread_local Scratch s;
-  s.args.clear();
-  s.row.clear();
-  for (std::size_t i = 0; i < points.size(); ++i) {
+  s.point.clear();
+  for (auto* v : {&s.tx, &s.ty, &s.tz, &s.bx, &s.by, &s.bz, &s.nx, &s.ny, &s.nz, &s.view_cos, &s.roughness, &s.f0_r,
+                  &s.f0_g, &s.f0_b})
+    v->clear();
+  for (std::size_t i = 0; i < m; ++i) {
     const ShadingPoint& p = points[i];
     if (!p.glossy()) continue;
     const Frame f = frame_of(p);
-    for (std::size_t j = 0; j < lobes; ++j) {
-      const std::size_t r = i * lobes + j;
-      if (!active(r)) continue;
-      const Vec3 xi(in.xi_x[r], in.xi_y[r], in.xi_z[r]);
-      const double light_cos = std::clamp(xi.dot(f.n), -1.0, 1.0);
-      const double azimuth = std::atan2(xi.dot(f.b), xi.dot(f.t));
-      s.args.insert(s.args.end(), {p.roughness, in.sharpness[r], light_cos, f.view_cos, azimuth});
-      s.row.push_back(r);
-    }
+    s.point.push_back(i);
+    const double values[] = {f.t.x(), f.t.y(), f.t.z(),    f.b.x(),     f.b.y(), f.b.z(), f.n.x(),
+                             f.n.y(), f.n.z(), f.view_cos, p.roughness, p.f0(0), p.f0(1), p.f0(2)};
+    std::size_t k = 0;
+    for (auto* v : {&s.tx, &s.ty, &s.tz, &s.bx, &s.by, &s.bz, &s.nx, &s.ny, &s.nz, &s.view_cos, &s.roughness, &s.f0_r,
+                    &s.f0_g, &s.f0_b})
+      v->push_back(values[k++]);
   }
-  const std::size_t n = s.row.size();
+  const std::size_t gn = s.point.size(), n = lobes * gn;
   if (n == 0) return;
-  s.at0.resize(n);
-  s.at1.resize(n);
-  if (const simd::SpecularPairFn pair = simd::specular_pair_evaluator(method)) {
-    pair(s.args, s.at0, s.at1);
-  } else {  // rows at f0 = 0 and f0 = 1, one after the other
-    s.rows.clear();
-    for (std::size_t k = 0; k < n; ++k)
-      for (double f0 : {0.0, 1.0}) {
-        s.rows.insert(s.rows.end(), s.args.begin() + std::ptrdiff_t(k * kArity),
-                      s.args.begin() + std::ptrdiff_t((k + 1) * kArity));
-        s.rows.push_back(f0);
+  s.amp_r.resize(lobes), s.amp_g.resize(lobes), s.amp_b.resize(lobes);
+  for (std::size_t j = 0; j < lobes; ++j)
+    s.amp_r[j] = amplitude[j](0), s.amp_g[j] = amplitude[j](1), s.amp_b[j] = amplitude[j](2);
+  for (auto* v : {&s.at0, &s.at1, &s.fallback}) v->resize(n);
+  for (auto& c : s.columns) c.resize(n);
+  for (auto* v : {&s.sum_r, &s.sum_g, &s.sum_b}) v->resize(gn);
+  const simd_detail::MethodReceivers receivers{
+      gn,           s.point.data(),    s.tx.data(),        s.ty.data(),   s.tz.data(),
+      s.bx.data(),  s.by.data(),       s.bz.data(),        s.nx.data(),   s.ny.data(),
+      s.nz.data(),  s.view_cos.data(), s.roughness.data(), s.f0_r.data(), s.f0_g.data(),
+      s.f0_b.data()};
+  // The rows as the kernels take them (IncomingRows: the incoming kernel's output, hence non-const
+  // pointers); method_rows and method_sum only read them.
+  simd_detail::IncomingRows rows{};
+  rows.sharpness = const_cast<double*>(in.sharpness), rows.log_scale = const_cast<double*>(in.log_scale);
+  rows.xi_x = const_cast<double*>(in.xi_x), rows.xi_y = const_cast<double*>(in.xi_y);
+  rows.xi_z = const_cast<double*>(in.xi_z), rows.visible = in.visible;
+  const simd_detail::MethodColumns columns{s.columns[0].data(), s.columns[1].data(), s.columns[2].data(),
+                                           s.columns[3].data(), s.columns[4].data(), s.columns[5].data()};
+  const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
+  t.method_rows(lobes, m, rows, receivers, columns);
+  if (const simd::SpecularPairColumnsFn pair = simd::specular_pair_columns_evaluator(method)) {
+    pair({columns.roughness, columns.light_sharpness, columns.light_cos, columns.view_cos, columns.azimuth_cos,
+          columns.azimuth_sin},
+         n, s.at0.data(), s.at1.data());
+  } else {  // rows at f0 = 0 and f0 = 1, one after the other, the azimuth as an angle
+    constexpr std::size_t kArity = simd::kSpecularPairArity + 1;  // the `specular` columns
+    s.rows.resize(2 * n * kArity);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double azimuth = std::atan2(columns.azimuth_sin[k], columns.azimuth_cos[k]);
+      for (std::size_t f = 0; f < 2; ++f) {
+        double* row = s.rows.data() + (2 * k + f) * kArity;
+        row[0] = columns.roughness[k], row[1] = columns.light_sharpness[k], row[2] = columns.light_cos[k];
+        row[3] = columns.view_cos[k], row[4] = azimuth, row[5] = double(f);
       }
-    std::vector<double>& value = s.args;  // no longer needed: the values, in pairs
+    }
+    std::vector<double>& value = s.fallback;  // not needed yet: the values, in pairs
     value.resize(2 * n);
-    method.batch_double(s.rows, kArity + 1, value);
+    method.batch_double(s.rows, kArity, value);
     for (std::size_t k = 0; k < n; ++k) {
       s.at0[k] = value[2 * k];
       s.at1[k] = value[2 * k + 1];
     }
   }
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t r = s.row[k], i = r / lobes, j = r % lobes;
-    const double at0 = scaled_by_exp(in.log_scale[r], s.at0[k]);
-    const double at1 = scaled_by_exp(in.log_scale[r], s.at1[k]);
-    out[i].specular += amplitude[j] * (at0 + points[i].f0 * (at1 - at0));
+  s.fallback.resize(n);
+  const std::size_t fallbacks = t.method_sum(lobes, s.amp_r.data(), s.amp_g.data(), s.amp_b.data(), m, rows, receivers,
+                                             s.at0.data(), s.at1.data(), simd_detail::scaled_by_exp_direct_limit(),
+                                             s.fallback.data(), s.sum_r.data(), s.sum_g.data(), s.sum_b.data());
+  for (std::size_t g = 0; g < gn; ++g) {
+    const std::size_t i = s.point[g];
+    Rgb specular(s.sum_r[g], s.sum_g[g], s.sum_b[g]);
+    if (fallbacks > 0)
+      for (std::size_t j = 0; j < lobes; ++j) {
+        const std::size_t k = j * gn + g;
+        if (s.fallback[k] == 0) continue;
+        const double ls = in.log_scale[j * m + i];
+        const double at0 = scaled_by_exp(ls, s.at0[k]), at1 = scaled_by_exp(ls, s.at1[k]);
+        specular += amplitude[j] * (at0 + points[i].f0 * (at1 - at0));
+      }
+    out[i].specular += specular;
   }
 }
 

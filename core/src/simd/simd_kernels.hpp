@@ -433,6 +433,39 @@ __attribute__((flatten)) void run_specular_pair(const T* args, T* at_f0_zero, T*
   });
 }
 
+// The column pair driver: the rows as six columns (roughness, light_sharpness, light_cos,
+// view_cos, cos φ, sin φ of the light azimuth), loaded as they are (no transposition; the last
+// partial batch from padded copies, padding (0.5, 1, 0.5, 0.5, 1, 0)); K::eval_f0 on
+// AzimuthCosSinRow with F0Pair (no sine or cosine evaluated).
+template <class Arch, class T, class K>
+__attribute__((flatten)) void run_specular_pair_columns(const T* const* columns, T* at_f0_zero, T* at_f0_one,
+                                                        std::size_t n, const T* params) {
+  using B = xsimd::batch<T, Arch>;
+  constexpr std::size_t W = B::size;
+  constexpr T kPad[kSpecularPairColumns] = {T(0.5), T(1), T(0.5), T(0.5), T(1), T(0)};
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
+  B a[kSpecularPairColumns];
+  const auto eval = [&](std::size_t i, std::size_t rest) {
+    const FresnelPair<B> r = K::eval_f0(AzimuthCosSinRow<B>{a}, p, F0Pair{});
+    store_lanes(r.at_f0_zero, at_f0_zero + i, rest);
+    store_lanes(r.at_f0_one, at_f0_one + i, rest);
+  };
+  std::size_t i = 0;
+  for (; i + W <= n; i += W) {
+    for (std::size_t j = 0; j < kSpecularPairColumns; ++j) a[j] = B::load_unaligned(columns[j] + i);
+    eval(i, W);
+  }
+  if (i < n) {
+    alignas(64) T col[kSpecularPairColumns][W];
+    for (std::size_t j = 0; j < kSpecularPairColumns; ++j) {
+      for (std::size_t k = 0; k < W; ++k) col[j][k] = i + k < n ? columns[j][i + k] : kPad[j];
+      a[j] = B::load_aligned(col[j]);
+    }
+    eval(i, n - i);
+  }
+}
+
 template <class Arch, class T>
 constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
     &run<Arch, T, CcPunctual>,
@@ -469,10 +502,24 @@ constexpr SpecularPairFn pair_list[] = {&run_specular_pair<Arch, double, SpecSgW
                                         &run_specular_pair<Arch, double, SpecSglab>};
 
 template <class Arch>
+constexpr SpecularPairColumnsFn pair_columns_list[] = {
+    &run_specular_pair_columns<Arch, double, SpecSgWarp<false, false, false>>,
+    &run_specular_pair_columns<Arch, double, SpecSgWarp<false, false, true>>,
+    &run_specular_pair_columns<Arch, double, SpecSgWarp<true, false, false>>,
+    &run_specular_pair_columns<Arch, double, SpecSgWarp<false, true, false>>,
+    &run_specular_pair_columns<Arch, double, SpecAsg>,
+    &run_specular_pair_columns<Arch, double, SpecSgWarpDvn>,
+    &run_specular_pair_columns<Arch, double, SpecSglab>};
+
+template <class Arch>
 SpecularPairTable make_pair_table() {
   static_assert(std::size(pair_list<Arch>) == kSpecularPairKernels, "one pair driver per `specular` kernel");
+  static_assert(std::size(pair_columns_list<Arch>) == kSpecularPairKernels, "one column driver per `specular` kernel");
   SpecularPairTable t{};
-  for (int i = 0; i < kSpecularPairKernels; ++i) t.d[i] = pair_list<Arch>[i];
+  for (int i = 0; i < kSpecularPairKernels; ++i) {
+    t.d[i] = pair_list<Arch>[i];
+    t.columns[i] = pair_columns_list<Arch>[i];
+  }
   return t;
 }
 

@@ -57,8 +57,9 @@ struct SpecularRow {
   B alpha, light_sharpness;  // f0 (a[5]) is the kernel's argument: simd_fresnel_pair.hpp
   V3<B> wo, xi;
 };
+// The row from its first four columns and cos φ, sin φ of the light azimuth.
 template <class B>
-inline SpecularRow<B> specular_row(const B* a, const B* p) {
+inline SpecularRow<B> specular_row_at(const B* a, const B* p, const B& cos_azimuth, const B& sin_azimuth) {
   using T = value_t<B>;
   SpecularRow<B> r;
   r.alpha = xsimd::select(a[0] < p[0], p[0], a[0]);
@@ -67,8 +68,22 @@ inline SpecularRow<B> specular_row(const B* a, const B* p) {
   r.wo = {safe_sqrt(sin2_from_cos(v)), B(T(0)), v};
   const B c = clamp_cosine(a[2]);
   const B s = safe_sqrt(sin2_from_cos(c));
-  r.xi = {s * vm_cos(a[4]), s * vm_sin(a[4]), c};
+  r.xi = {s * cos_azimuth, s * sin_azimuth, c};
   return r;
+}
+template <class B>
+inline SpecularRow<B> specular_row(const B* a, const B* p) {
+  return specular_row_at(a, p, vm_cos(a[4]), vm_sin(a[4]));
+}
+// A row whose a[4], a[5] are cos φ and sin φ of the light azimuth, not φ (the column pair driver,
+// simd_kernels.hpp run_specular_pair_columns): no sine or cosine to evaluate.
+template <class B>
+struct AzimuthCosSinRow {
+  const B* a;
+};
+template <class B>
+inline SpecularRow<B> specular_row(const AzimuthCosSinRow<B>& row, const B* p) {
+  return specular_row_at(row.a, p, row.a[4], row.a[5]);
 }
 
 // The reflection of ωo about n, 2(ωo·n)n − ωo = (−ωo.x, 0, ωo.z) exactly (ωo.y = 0).
@@ -167,8 +182,8 @@ inline B smith_g2_over_g1o(const B& alpha, const B& co, const B& ci) {
 // specular_sg_warp(in, form, tokuyoshi_harada_sharpness, factor_at).
 template <bool kIwasaki, bool kTokuyoshiHarada, bool kProductAxis>
 struct SpecSgWarp : RowF0<SpecSgWarp<kIwasaki, kTokuyoshiHarada, kProductAxis>> {
-  template <class B, class F0>
-  static auto eval_f0(const B* a, const B* p, const F0& f0) {
+  template <class A, class B, class F0>
+  static auto eval_f0(const A& a, const B* p, const F0& f0) {
     using T = value_t<B>;
     const SpecularRow<B> r = specular_row(a, p);
     const B two_over_a2 = T(2) / (r.alpha * r.alpha);
@@ -193,8 +208,8 @@ inline B reduced_bandwidth(const B& a, const B& b) {
   return xsimd::select(lo > B(T(0)), lo / (T(1) + lo / hi), B(T(0)));
 }
 struct SpecAsg : RowF0<SpecAsg> {
-  template <class B, class F0>
-  static auto eval_f0(const B* a, const B* p, const F0& f0) {
+  template <class A, class B, class F0>
+  static auto eval_f0(const A& a, const B* p, const F0& f0) {
     using T = value_t<B>;
     const B zero(T(0)), one(T(1));
     const SpecularRow<B> r = specular_row(a, p);
@@ -224,8 +239,8 @@ struct SpecAsg : RowF0<SpecAsg> {
 // specular_sg_warp_dvn: dvn_reflection_lobe (ggx_dominant_visible_normal), the normalized exact
 // product, F·G2/G1(ωo) at the product axis.
 struct SpecSgWarpDvn : RowF0<SpecSgWarpDvn> {
-  template <class B, class F0>
-  static auto eval_f0(const B* a, const B* p, const F0& f0) {
+  template <class A, class B, class F0>
+  static auto eval_f0(const A& a, const B* p, const F0& f0) {
     using T = value_t<B>;
     const B zero(T(0));
     const SpecularRow<B> r = specular_row(a, p);
@@ -279,8 +294,8 @@ inline auto sglab_slope_weight(const B& alpha, const F0& f0, const V3<B>& wo, co
 // kSglabSpecularMaxExponent (passed in from their single definitions); both branches of s ≤ 1 /
 // s > 1 computed and selected.
 struct SpecSglab : RowF0<SpecSglab> {
-  template <class B, class F0>
-  static auto eval_f0(const B* a, const B* p, const F0& f0) {
+  template <class A, class B, class F0>
+  static auto eval_f0(const A& a, const B* p, const F0& f0) {
     using T = value_t<B>;
     const B zero(T(0)), one(T(1));
     const SpecularRow<B> r = specular_row(a, p);

@@ -1,5 +1,7 @@
 // The renderer's kernel table: the one of the instruction set the whole program uses
 // (sglab/simd.hpp active_isa(), which also reads SGLAB_SIMD and is what force_isa changes).
+#include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "render_table.hpp"
@@ -16,6 +18,11 @@ static_assert(kPi == std::numbers::pi);
 static_assert(kCap == kMaxPositionalSharpness);
 static_assert(kProductScale == kProductScaleSharpness);
 static_assert(kRayLift == kVplRayLift && kRayReach == kVplRayReach);
+
+double scaled_by_exp_direct_limit() {
+  static const double limit = std::log(std::numeric_limits<double>::max()) / 2;
+  return limit;
+}
 
 const RenderKernelTable& render_kernels() {
   switch (simd::active_isa()) {

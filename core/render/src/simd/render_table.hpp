@@ -63,6 +63,28 @@ template <class M>
 using VisibilityFn = void (*)(const VplView<double>& vpls, const double* p, const double* n, const Occluders& shapes,
                               double* scratch, M* out);
 
+// ---- shadow maps (shadow_map.cpp) ----
+// distance[i] = cast_ray's hit distance (raycast.cpp) of the ray from `origin` along the unit
+// direction (dx, dy, dz)[i], +∞ for a miss: the same arithmetic, so the same value.
+using NearestHitsFn = void (*)(const Occluders& shapes, const double* origin, std::size_t n, const double* dx,
+                               const double* dy, const double* dz, double* distance);
+
+// ---- VSGL visibility from cube shadow maps (visibility.cpp) ----
+// One cube shadow map (visibility.hpp CubeShadowMap): its origin, its faces' common half extent
+// T, texel size (LightView::texel_size) and resolution, and per face its depth image and its frame
+// (forward, right, up).
+struct CubeView {
+  double ox, oy, oz, half_extent, texel, resolution;
+  const double* depth[6];
+  double frame[6][9];
+};
+// out[i] = 1 where CubeShadowMap::lit(p_i, n_i) (the face of p_i's largest |p_i − origin|
+// component, then ShadowMap::lit's nearest texel and slope-scaled bias), else 0: the same
+// arithmetic lane by lane, so the same answer. (p, n): m points as arrays px, py, pz, nx, ny, nz;
+// scratch: 4·m doubles.
+using CubeLookupFn = void (*)(const CubeView& cube, std::size_t m, const double* const* points, double* scratch,
+                              double* out);
+
 // ---- VSGL shading (vsgl_shading.cpp) ----
 
 // The lobes of a VSGL set as arrays (cluster order), double.
@@ -122,6 +144,30 @@ using SpecularFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const I
                                    const SpecularReceivers& receivers, double direct_limit, double* fallback,
                                    double* out_r, double* out_g, double* out_b);
 
+// The block's glossy points for a registry `specular` method (vsgl_specular_methods.cpp): the
+// local frame (t towards the view, b = n × t, n), n·ω_o clamped to [0, 1], α, and f0.
+struct MethodReceivers {
+  std::size_t count = 0;
+  const std::size_t* point;  // the point's index in the block
+  const double *tx, *ty, *tz, *bx, *by, *bz, *nx, *ny, *nz, *view_cos, *roughness, *f0_r, *f0_g, *f0_b;
+};
+// The method's rows as columns (sglab/simd_specular_pair.hpp SpecularPairColumns), row j·count + g
+// for lobe j and glossy point g.
+struct MethodColumns {
+  double *roughness, *light_sharpness, *light_cos, *view_cos, *azimuth_cos, *azimuth_sin;
+};
+// The columns of every (lobe, glossy point) from the incoming rows (j·m + i): α, λ_in,
+// ξ·n clamped to [−1, 1], n·ω_o, and (ξ·t, ξ·b)/|(ξ·t, ξ·b)| for cos φ, sin φ ((1, 0) where both are 0).
+using MethodRowsFn = void (*)(std::size_t lobes, std::size_t m, const IncomingRows& rows,
+                              const MethodReceivers& receivers, const MethodColumns& out);
+// out_{r,g,b}[g] = Σ_j amp_j · (a0 + f0·(a1 − a0)), a_k = e^{log_scale}·at_f0_k of row j·count + g,
+// over the rows with visible 1 and log_scale > −∞, in lobe order; rows whose log_scale is outside
+// the vectorized exponential's range get fallback = 1 (returned: how many) and are left to the caller.
+using MethodSumFn = std::size_t (*)(std::size_t lobes, const double* amp_r, const double* amp_g, const double* amp_b,
+                                    std::size_t m, const IncomingRows& rows, const MethodReceivers& receivers,
+                                    const double* at_f0_zero, const double* at_f0_one, double direct_limit,
+                                    double* fallback, double* out_r, double* out_g, double* out_b);
+
 // ---- environment quadrature (environment_shading.cpp) ----
 
 // A map's quadrature nodes as arrays: unit direction and ω·L per channel (solid angle times radiance).
@@ -144,17 +190,25 @@ struct RenderKernelTable {
   VplSumFn<float> vpl_sum_f[4];
   VisibilityFn<double> visibility_d;
   VisibilityFn<float> visibility_f;
+  NearestHitsFn nearest_hits;
+  CubeLookupFn cube_lookup;
   IncomingFn<double> incoming_d;
   IncomingFn<float> incoming_f;
   WeightedSumFn<double> weighted_sum_d;
   WeightedSumFn<float> weighted_sum_f;
   SpecularFn specular;
+  MethodRowsFn method_rows;
+  MethodSumFn method_sum;
   EnvSpecularSumFn env_specular_sum;
 };
 
 const RenderKernelTable& render_kernels_sse2();
 const RenderKernelTable& render_kernels_avx2();
 const RenderKernelTable& render_kernels_avx512();
+
+// The largest log_scale for which vsgl.hpp scaled_by_exp forms e^{log_scale}·x directly (half the
+// log of the largest double; render_dispatch.cpp): the kernels' direct_limit.
+double scaled_by_exp_direct_limit();
 
 // The table of the instruction set sglab::simd::active_isa() names.
 const RenderKernelTable& render_kernels();

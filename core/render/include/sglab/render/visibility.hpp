@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include "sglab/render/scene.hpp"
@@ -21,6 +22,14 @@ struct CubeShadowMap {
   // p − origin, then ShadowMap::lit.
   bool lit(const Vec3& p, const Vec3& n) const;
 };
+
+// Whether each map's origin sees each point, for many points and maps at once:
+// visible[i·maps.size() + c] = maps[c].lit(points[i].position, points[i].normal) ? 1 : 0, one map
+// at a time over all the points in a loop vectorized over them (core/render/src/simd/): the same
+// arithmetic lane by lane, so the same answers. Throws std::invalid_argument if visible's size is
+// not points × maps.
+void cube_visibility(std::span<const CubeShadowMap> maps, std::span<const ShadingPoint> points,
+                     std::span<char> visible);
 
 // Parallel over rows of each face (TBB).
 CubeShadowMap render_cube_shadow_map(const Scene& scene, const Vec3& origin, int resolution);

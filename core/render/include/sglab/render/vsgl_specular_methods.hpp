@@ -7,7 +7,8 @@
 // its local frame: n = the point's normal, ωo = its view at azimuth 0 (tangent t = the view's
 // projection on the tangent plane, b = n × t; any tangent at normal view), ξ = the incoming SG's
 // axis (vsgl_shading.hpp, Eq. 7): roughness α, light sharpness λ_in, light_cos = ξ·n,
-// view_cos = ωo·n (clamped to [0, 1]), light_azimuth = atan2(ξ·b, ξ·t), f0. Every method is affine
+// view_cos = ωo·n (clamped to [0, 1]), light_azimuth = atan2(ξ·b, ξ·t) (handed to the kernels as
+// its cosine and sine, (ξ·t, ξ·b)/|(ξ·t, ξ·b)|), f0. Every method is affine
 // in Schlick's f0 (F = f0 + (1 − f0)(1 − ωo·h)⁵ is a factor of each), so it is evaluated at f0 = 0
 // and f0 = 1 and interpolated per channel, as vsgl-asg is. The value is for a unit-amplitude SG
 // light: times the lobe's amplitude and e^{log_scale} (vsgl.hpp scaled_by_exp). All rows of a
@@ -16,7 +17,6 @@
 // f0 values in one evaluation, bit for bit the batch evaluator's.
 #pragma once
 
-#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -39,15 +39,18 @@ std::vector<std::string> specular_method_names();
 // std::invalid_argument naming the bad name and listing the valid ones.
 const Method* find_specular_method(std::string_view name);
 
-// The incoming SGs of `lobes` lobes for each of `points` (row i·lobes + j, vsgl_shading.cpp).
+// The incoming SGs of the lobes for each of the points, lobe-major (row j·points + i,
+// vsgl_shading.cpp), and per row 1 where the lobe's cluster is visible from the point, else 0.
 struct IncomingLobes {
-  const double *xi_x, *xi_y, *xi_z, *sharpness, *log_scale;
+  const double *xi_x, *xi_y, *xi_z, *sharpness, *log_scale, *visible;
 };
 
-// Adds to out[i].specular the specular radiance of every glossy point from every lobe j with
-// active(i·lobes + j), through `method`'s pair evaluator or batch evaluator; amplitude[j] is lobe j's.
-void shade_specular_with_method(const Method& method, std::span<const ShadingPoint> points, std::size_t lobes,
-                                const IncomingLobes& in, std::span<const Rgb> amplitude,
-                                const std::function<bool(std::size_t)>& active, std::span<VsglShading> out);
+// Adds to out[i].specular the specular radiance of every glossy point from every lobe j visible
+// from it (and log_scale > −∞), amplitude[j] being lobe j's: the rows as columns, cos φ and sin φ
+// of the light azimuth from the light's tangent components (no angle), through `method`'s column
+// pair evaluator (sglab/simd_specular_pair.hpp), or its batch evaluator at f0 = 0 and f0 = 1 (the
+// azimuth then by atan2) for a method without one; the e^{log_scale}-weighted sums vectorized.
+void shade_specular_with_method(const Method& method, std::span<const ShadingPoint> points, const IncomingLobes& in,
+                                std::span<const Rgb> amplitude, std::span<VsglShading> out);
 
 }  // namespace sglab::render
