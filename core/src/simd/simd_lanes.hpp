@@ -187,6 +187,24 @@ inline auto select(const LaneMask<B>& cond, F&& if_true, G&& if_false) -> declty
   return join(cond, a, b);
 }
 
+// The clamps of scalar.hpp, which every formula applies to its inputs, as plain blends: their
+// sides are values already computed, so testing the mask first (select above) costs more than it
+// saves. The same values as scalar.hpp's selects.
+template <class B>
+inline Lanes<B> clamp(const Lanes<B>& x, const Lanes<B>& lo, const Lanes<B>& hi) {
+  return {xsimd::select(x.v < lo.v, lo.v, xsimd::select(x.v > hi.v, hi.v, x.v))};
+}
+template <class B>
+inline Lanes<B> clamp_cosine(const Lanes<B>& c) {
+  using T = typename B::value_type;
+  return clamp(c, Lanes<B>(T(-1)), Lanes<B>(T(1)));
+}
+template <class B>
+inline Lanes<B> positive_part(const Lanes<B>& x) {
+  using T = typename B::value_type;
+  return {xsimd::select(x.v > B(T(0)), x.v, B(T(0)))};
+}
+
 // A series summed until its term no longer changes the sum stops when that holds in every lane (a
 // lane that converged earlier adds terms below ε of its sum).
 template <class B>
