@@ -75,6 +75,9 @@ void print_list_text() {
     for (const auto& m : q.methods) {
       out += fmt::format("    {}{}{}\n", m.name, m.may_be_negative ? "  " : "", m.may_be_negative ? kNegativeMark : "");
       out += fmt::format("      source: {}\n", m.source);
+      out += fmt::format("      batch:  {}\n", m.batch_path == BatchPath::vectorized
+                                                   ? "vectorized (SIMD lanes, docs/simd.md)"
+                                                   : "scalar (the template row by row)");
       if (!m.flaws.empty()) out += fmt::format("      flaws:  {}\n", m.flaws);
       for (const auto& p : m.parameters)
         out += fmt::format("      constant {} = {:.17g} (fit {}; {})\n", p.name, p.published, p.fit, p.source);
@@ -105,6 +108,7 @@ void print_list_json() {
                                {"source", m.source},
                                {"flaws", m.flaws},
                                {"may_be_negative", m.may_be_negative},
+                               {"batch", batch_path_name(m.batch_path)},
                                {"parameters", params}});
     }
     j["quantities"].push_back(std::move(jq));

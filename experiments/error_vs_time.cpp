@@ -334,6 +334,7 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
       r.flaws = m.flaws;
       const bool is_float = std::string(precision) == "float";
       measure_errors(m, is_float, g, r);
+      r.batch = m.batch_path;
       r.ns_per_eval = is_float ? time_ns_per_eval<float>(m.batch_float, timing_f, arity, repeats)
                                : time_ns_per_eval<double>(m.batch_double, g.timing, arity, repeats);
       // The naive peer (sglab/peer_ports.hpp) on the same inputs, timed the same way.
@@ -437,8 +438,8 @@ Tables tables(const Result& result) {
       "Per quantity, every registered method against the quantity's reference, in float and double. Rounding: the "
       "method in that precision against the same formula in 50 digits on the same input, shown apart from the "
       "approximation error. Cost: median ns per evaluation over seeded inputs on this machine (one core, warm-up, "
-      "median of 7 runs of ≥ 10 ms each), through the registry's batch evaluators (vectorized for the diffuse and "
-      "specular methods: docs/simd.md); "
+      "median of 7 runs of ≥ 10 ms each), through the registry's batch evaluators: vectorized (the method's template "
+      "on SIMD lanes, docs/simd.md) unless the cost says `scalar` (the template row by row); "
       "beside it the same inputs through a naive scalar port of the published formula (std:: math, no stable forms: "
       "`core/include/sglab/peer_ports.hpp`, a speed baseline, not a method) and the port's time over sglab's. "
       "`neg`: outputs < 0 on the grid. Figure: `plots/error_vs_time.py`.\n");
@@ -456,13 +457,14 @@ Tables tables(const Result& result) {
         s.quantity, s.error_label, s.grid_description, s.points(), s.subset_label);
     for (const auto& r : s.rows) {
       if (r.method == s.reference_method) {
-        md += fmt::format("| {} (reference) | {} | — | — | — | — | {:.0f} | — | — | — |\n", r.method, r.precision,
-                          r.ns_per_eval);
+        md += fmt::format("| {} (reference) | {} | — | — | — | — | {:.0f}{} | — | — | — |\n", r.method, r.precision,
+                          r.ns_per_eval, r.batch == BatchPath::scalar ? " scalar" : "");
         continue;
       }
       const bool port = std::isfinite(r.port_ns_per_eval);
-      md += fmt::format("| {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2e} | {:.1f} | {} | {} | {} |\n", r.method,
+      md += fmt::format("| {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2e} | {:.1f}{} | {} | {} | {} |\n", r.method,
                         r.precision, r.rmse, r.max_error, r.max_error_sharp, r.max_rounding, r.ns_per_eval,
+                        r.batch == BatchPath::scalar ? " scalar" : "",
                         port ? fmt::format("{:.1f}", r.port_ns_per_eval) : "—",
                         port ? fmt::format("{:.1f}×", r.port_ns_per_eval / r.ns_per_eval) : "—", r.negatives);
     }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "constant_sets.hpp"
+#include "sglab/registry.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::error_vs_time {
@@ -25,7 +26,8 @@ struct Options {
 struct Row {
   std::string method, precision;
   double rmse = 0, max_error = 0, max_error_sharp = 0, max_rounding = 0, ns_per_eval = 0;
-  double port_ns_per_eval = NAN;  // the naive peer port's cost on the same inputs (NaN: no port)
+  double port_ns_per_eval = NAN;        // the naive peer port's cost on the same inputs (NaN: no port)
+  BatchPath batch = BatchPath::scalar;  // what ns_per_eval timed: SIMD lanes or the scalar loop
   long negatives = 0, non_finite = 0, out_of_domain = 0;
   std::string flaws;
 };

@@ -407,6 +407,10 @@ TEST_F(EvalCommand, ListNamesEveryQuantityColumnAndMethodAndMarksNegativeOnes) {
       ASSERT_NE(line, block.end()) << m.name;
       EXPECT_EQ(line->find("NEGATIVE") != std::string::npos, m.may_be_negative) << *line;
       EXPECT_TRUE(has(m.source)) << m.name;
+      // Its batch path, on the line after its source: what the cost columns time.
+      ASSERT_GT(std::distance(line, block.end()), 2) << m.name;
+      EXPECT_TRUE((line + 2)->starts_with("      batch:  " + std::string(sglab::batch_path_name(m.batch_path))))
+          << m.name << ": " << *(line + 2);
       if (!m.flaws.empty()) {
         EXPECT_TRUE(has(m.flaws)) << m.name;
       }
@@ -438,6 +442,7 @@ TEST_F(EvalCommand, ListJsonMatchesTheRegistry) {
       EXPECT_EQ(jq["methods"][k].at("source"), m.source);
       EXPECT_EQ(jq["methods"][k].at("flaws"), m.flaws);
       EXPECT_EQ(jq["methods"][k].at("may_be_negative"), m.may_be_negative);
+      EXPECT_EQ(jq["methods"][k].at("batch"), sglab::batch_path_name(m.batch_path));
     }
   }
   for (const auto& p : j.at("precisions"))

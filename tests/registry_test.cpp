@@ -5,6 +5,8 @@
 // method declares outside its domain (which must then say why). Enumerates the registry, so a new
 // method is covered the moment it is registered.
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -103,21 +105,92 @@ TEST(Registry, NamesAreUniqueAndReferencesExist) {
   }
 }
 
-TEST(Registry, BatchEqualsSingleEvaluation) {
-  const Quantity* q = find_quantity("clamped-cosine");
-  ASSERT_NE(q, nullptr);
-  const std::vector<double> args{0.5, 0.3, 10.0, -0.2, 1e4, 0.99};
-  const auto& vectorized = simd::vectorized_methods();
-  for (const auto& m : q->methods) {
-    std::vector<double> out(3);
-    m.batch_double(args, 2, out);
-    // The vectorized batch evaluators differ from the scalar definition in the last bits (their
-    // tolerances and reasons: tests/simd_test.cpp); every other batch is the scalar loop itself.
-    const bool simd = std::find(vectorized.begin(), vectorized.end(), q->name + "/" + m.name) != vectorized.end();
-    for (int i = 0; i < 3; ++i) {
-      const double single = m.eval_double(std::span<const double>(args.data() + 2 * i, 2));
-      if (simd) EXPECT_NEAR(out[i], single, 1e-11 * std::max(1.0, std::fabs(single))) << m.name;
-      else EXPECT_EQ(out[i], single) << m.name;
+// Rows inside every column's domain (benign points: tests/simd_test.cpp and simd_specular_test.cpp
+// hold the vectorized kernels to their templates on the stiff ones).
+std::vector<double> benign_rows(const Quantity& q) {
+  constexpr int kRows = 3;
+  std::vector<double> args;
+  for (int k = 0; k < kRows; ++k)
+    for (const auto& col : q.columns) {
+      switch (col.kind) {
+        case ColumnKind::sharpness: args.push_back(std::array{0.5, 10.0, 1e4}[k]); break;
+        case ColumnKind::cosine: args.push_back(std::array{0.3, -0.2, 0.99}[k]); break;
+        case ColumnKind::angle: args.push_back(std::array{0.3, 1.0, 2.5}[k]); break;
+        case ColumnKind::mean_length:
+        case ColumnKind::unit_interval: args.push_back(std::array{0.5, 0.2, 0.9}[k]); break;
+        case ColumnKind::positive:
+        case ColumnKind::nonnegative: args.push_back(std::array{0.5, 2.0, 1.0}[k]); break;
+      }
+    }
+  return args;
+}
+
+// Every method's batch evaluators against its scalar evaluators, and against its batch path: a method
+// that says it is vectorized runs a vectorized kernel (and is listed by simd::vectorized_methods()),
+// within the last bits of its template; every other one is the scalar loop, to the bit. Its bound
+// version (published constants) says and does the same.
+template <class T>
+void check_batch_path(const Quantity& q, const Method& m, const std::vector<double>& rows) {
+  const std::size_t arity = q.columns.size(), n = rows.size() / arity;
+  const std::vector<T> args(rows.begin(), rows.end());
+  std::vector<T> out(n);
+  const auto before = simd::vectorized_batch_calls();
+  if constexpr (std::is_same_v<T, float>) m.batch_float(args, arity, out);
+  else m.batch_double(args, arity, out);
+  const bool vectorized = m.batch_path == BatchPath::vectorized;
+  EXPECT_EQ(simd::vectorized_batch_calls() > before, vectorized) << batch_path_name(m.batch_path);
+  const auto& listed = simd::vectorized_methods();
+  EXPECT_EQ(std::find(listed.begin(), listed.end(), q.name + "/" + m.name) != listed.end(), vectorized);
+  // The vectorized kernels' allowance on benign inputs, far inside tests/simd_test.cpp's k ulps.
+  const double tol = std::is_same_v<T, float> ? 1e-5 : 1e-11;
+  for (std::size_t i = 0; i < n; ++i) {
+    const T single = eval_as<T>(m, std::span<const T>(args.data() + i * arity, arity));
+    if (vectorized) EXPECT_NEAR(out[i], single, tol * std::max(1.0, std::fabs(double(single)))) << "row " << i;
+    else EXPECT_EQ(out[i], single) << "row " << i;
+  }
+}
+
+TEST(Registry, BatchPathIsWhatTheBatchEvaluatorsRun) {
+  int vectorized = 0;
+  for (const auto& q : quantities()) {
+    const std::vector<double> all = benign_rows(q);
+    for (const auto& m : q.methods) {
+      SCOPED_TRACE(q.name + "/" + m.name);
+      std::vector<double> rows;  // the rows inside the method's own domain
+      for (std::size_t i = 0; i < all.size(); i += q.columns.size()) {
+        const std::span<const double> row(all.data() + i, q.columns.size());
+        if (!row_error(q, m, row)) rows.insert(rows.end(), row.begin(), row.end());
+      }
+      // A reference (a quadrature) is the scalar loop: one row is enough to see it.
+      if (m.name == q.reference_method) rows.resize(std::min(rows.size(), q.columns.size()));
+      check_batch_path<float>(q, m, rows);
+      check_batch_path<double>(q, m, rows);
+      if (m.bind) {
+        std::vector<double> published;
+        for (const auto& p : m.parameters) published.push_back(p.published);
+        const Method b = m.bind(published);
+        EXPECT_EQ(b.batch_path, m.batch_path);
+        check_batch_path<double>(q, b, rows);
+      }
+      vectorized += m.batch_path == BatchPath::vectorized;
+    }
+  }
+  EXPECT_EQ(std::size_t(vectorized), simd::vectorized_methods().size());
+}
+
+// A diffuse method whose formula is written with selects (exportable: it instantiates on the
+// tracing type) instantiates on SIMD lanes too, so it has a vectorized batch evaluator: a new one
+// gets it from one kernel-table entry (docs/architecture.md, "Adding a method"). Listed here: the
+// quantities whose every such method is vectorized.
+TEST(Registry, EveryExportableDiffuseMethodIsVectorized) {
+  for (const char* name : {"clamped-cosine", "hemispherical"}) {
+    const Quantity* q = find_quantity(name);
+    ASSERT_NE(q, nullptr);
+    for (const auto& m : q->methods) {
+      if (!m.trace) continue;
+      EXPECT_EQ(m.batch_path, BatchPath::vectorized)
+          << q->name << "/" << m.name << " runs its scalar template row by row: add it to the kernel table "
+          << "(core/src/simd/simd_kernels.hpp, docs/simd.md)";
     }
   }
 }

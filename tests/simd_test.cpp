@@ -1,5 +1,5 @@
 // The vectorized batch evaluators (core/src/simd, docs/simd.md) against the scalar templates they
-// transcribe, on every instruction set this CPU runs (forced one at a time), in float and double,
+// instantiate on SIMD lanes, on every instruction set this CPU runs (forced one at a time), in float and double,
 // with the published constants and with other (bound) constants: over the stiff grid of
 // docs/math.md §10 (with the extreme sharpnesses up to the type's largest value), the error grid of
 // `sglab error-vs-time`, and seeded random points.

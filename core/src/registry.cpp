@@ -23,9 +23,13 @@ constexpr EnumName<ColumnKind> kColumnKindNames[] = {
     {ColumnKind::mean_length, "mean_length"},    {ColumnKind::positive, "positive"},
     {ColumnKind::nonnegative, "nonnegative"},    {ColumnKind::angle, "angle"},
     {ColumnKind::unit_interval, "unit_interval"}};
+constexpr EnumName<BatchPath> kBatchPathNames[] = {{BatchPath::scalar, "scalar"},
+                                                   {BatchPath::vectorized, "vectorized"}};
 }  // namespace
 
 std::string_view precision_name(Precision p) { return enum_name(kPrecisionNames, p); }
+
+std::string_view batch_path_name(BatchPath path) { return enum_name(kBatchPathNames, path); }
 
 std::optional<Precision> parse_precision(std::string_view name) { return parse_enum(kPrecisionNames, name); }
 

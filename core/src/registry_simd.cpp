@@ -141,9 +141,12 @@ std::array<T, simd_detail::kKernelParams> kernel_params(Kernel k, Params v, bool
   return p;
 }
 
+thread_local std::uint64_t t_vectorized_batch_calls = 0;
+
 template <class T>
 BatchFn<T> simd_batch(Kernel k, std::array<T, simd_detail::kKernelParams> p) {
   return [k, p](std::span<const T> args, std::size_t arity, std::span<T> out) {
+    ++t_vectorized_batch_calls;
     if (arity != simd_detail::kernel_arity(k) || args.size() < arity * out.size())
       throw std::invalid_argument("vectorized batch evaluator: expected rows of " +
                                   std::to_string(simd_detail::kernel_arity(k)) + " values, got " +
@@ -158,6 +161,7 @@ BatchFn<T> simd_batch(Kernel k, std::array<T, simd_detail::kKernelParams> p) {
 void set_simd_batches(Method& m, Kernel k, Params values, bool published) {
   m.batch_float = simd_batch<float>(k, kernel_params<float>(k, values, published));
   m.batch_double = simd_batch<double>(k, kernel_params<double>(k, values, published));
+  m.batch_path = BatchPath::vectorized;
 }
 
 struct Entry {
@@ -263,6 +267,8 @@ simd::SpecularPairFn simd::specular_pair_evaluator(const Method& method) {
     pair_table_of(active_isa()).d[k.index](args.data(), at0.data(), at1.data(), n, k.params.data());
   };
 }
+
+std::uint64_t simd::vectorized_batch_calls() { return t_vectorized_batch_calls; }
 
 const std::vector<std::string>& simd::vectorized_methods() {
   static const std::vector<std::string> names = [] {

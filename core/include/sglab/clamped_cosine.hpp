@@ -38,9 +38,15 @@ struct SgCosine {
   static constexpr double lambda_d = LambertSharpness::papers;
 };
 
+// `scale` = π/A(λ_d), which depends on the constant alone (the vectorized evaluator computes it once
+// per constant set, registry_simd.cpp).
+template <class T>
+T clamped_cosine_sg_cosine_scaled(const T& sharpness, const T& cosine, const T& lambda_d, const T& scale) {
+  return scale * product_integral_iwasaki(sharpness, lambda_d, clamp_cosine(cosine));
+}
 template <class T>
 T clamped_cosine_sg_cosine(const T& sharpness, const T& cosine, const T& lambda_d = T(SgCosine::lambda_d)) {
-  return pi<T>() / sg_integral(lambda_d) * product_integral_iwasaki(sharpness, lambda_d, clamp_cosine(cosine));
+  return clamped_cosine_sg_cosine_scaled(sharpness, cosine, lambda_d, T(pi<T>() / sg_integral(lambda_d)));
 }
 
 // ---- cosine-lobe-sg: ⟨ω·n⟩ ≈ 1.17·G(ω; n, 2.133), exact SG product integral ------------------
@@ -246,51 +252,68 @@ T tokuyoshi2024_factor(const T& t, const T& cosine) {
   return clamp(tokuyoshi2024_factor_unclamped(t, cosine), T(0), T(1));
 }
 
-// D at c = 1 divided by 2π: (1 − (1 − e^{−λ})/λ)/λ = Σ_{n≥1} (−1)^{n+1} λ^{n−1}/(n+1)!
-// (series below λ = 1, where 1 − (1 − e^{−λ})/λ cancels).
+// The Taylor series of D(λ, ±1)/2π below λ = 1, where their closed forms (below) cancel:
+//   upper: Σ_{n≥1} (−1)^{n+1} λ^{n−1}/(n+1)!,   inner: Σ_{n≥1} (−1)^{n+1} n λ^{n−1}/(n+1)!
+// (D(λ, −1)/2π = e^{−λ}·inner). Summed forward until the term no longer changes the sum. On SIMD
+// lanes these two are the one part of a formula summed differently: by Horner's rule over a fixed
+// number of terms (simd_kernels.hpp, found by argument-dependent lookup; docs/simd.md).
 template <class T>
-T clamped_cosine_upper_over_2pi(const T& sharpness) {
-  using std::abs;
+T clamped_cosine_upper_series(const T& sharpness) {
   const T& l = sharpness;
-  return select(
-      value_of(l) < 1,
-      [&]() -> T {
-        T term = T(0.5);  // n = 1: 1/2!
-        T sum = term;
-        for (int n = 2; n < 400; ++n) {
-          term *= -l / T(n + 1);
-          sum += term;
-          if (series_converged(term, sum, n)) break;
-        }
-        return sum;
-      },
-      [&]() -> T { return (T(1) - expm1_over_x(-l)) / l; });
+  T term = T(0.5);  // n = 1: 1/2!
+  T sum = term;
+  for (int n = 2; n < 400; ++n) {
+    term *= -l / T(n + 1);
+    sum += term;
+    if (series_converged(term, sum, n)) break;
+  }
+  return sum;
+}
+template <class T>
+T clamped_cosine_inner_series(const T& sharpness) {
+  const T& l = sharpness;
+  T power = T(1);  // λ^{n−1}
+  T fact = T(2);   // (n+1)!
+  T sum = T(0.5);  // n = 1
+  for (int n = 2; n < 400; ++n) {
+    power *= -l;
+    fact *= T(n + 1);
+    const T term = T(n) * power / fact;
+    sum += term;
+    if (series_converged(term, sum, n)) break;
+  }
+  return sum;
 }
 
-// D at c = −1 divided by 2π: e^{−λ}((1 − e^{−λ})/λ − e^{−λ})/λ, with
-// ((1 − e^{−λ})/λ − e^{−λ})/λ = Σ_{n≥1} (−1)^{n+1} n λ^{n−1}/(n+1)! below λ = 1.
+// D at c = 1 and at c = −1 divided by 2π, with e^{−λ} and E = (1 − e^{−λ})/λ computed once:
+//   upper = (1 − E)/λ,  lower = e^{−λ}(E − e^{−λ})/λ,
+// the series above below λ = 1.
 template <class T>
-T clamped_cosine_lower_over_2pi(const T& sharpness) {
-  using std::abs;
+void clamped_cosine_bounds_over_2pi(const T& sharpness, T& upper, T& lower) {
   using std::exp;
   const T& l = sharpness;
-  const T inner = select(
-      value_of(l) < 1,
-      [&]() -> T {
-        T power = T(1);  // λ^{n−1}
-        T fact = T(2);   // (n+1)!
-        T sum = T(0.5);  // n = 1
-        for (int n = 2; n < 400; ++n) {
-          power *= -l;
-          fact *= T(n + 1);
-          const T term = T(n) * power / fact;
-          sum += term;
-          if (series_converged(term, sum, n)) break;
-        }
-        return sum;
-      },
-      [&]() -> T { return (expm1_over_x(-l) - exp(-l)) / l; });
-  return exp(-l) * inner;
+  const T e = exp(-l);
+  const T ex = expm1_over_x(T(-l));
+  const auto below_one = value_of(l) < 1;
+  upper = select(
+      below_one, [&]() -> T { return clamped_cosine_upper_series(l); }, [&]() -> T { return (T(1) - ex) / l; });
+  lower = e *
+          select(
+              below_one, [&]() -> T { return clamped_cosine_inner_series(l); }, [&]() -> T { return (ex - e) / l; });
+}
+
+// Each bound alone.
+template <class T>
+T clamped_cosine_upper_over_2pi(const T& sharpness) {
+  T upper, lower;
+  clamped_cosine_bounds_over_2pi(sharpness, upper, lower);
+  return upper;
+}
+template <class T>
+T clamped_cosine_lower_over_2pi(const T& sharpness) {
+  T upper, lower;
+  clamped_cosine_bounds_over_2pi(sharpness, upper, lower);
+  return lower;
 }
 
 // A…E of t(λ) default to the published values; a constant set (`--constants`) passes others.
@@ -299,8 +322,8 @@ T clamped_cosine_tokuyoshi2024(const T& sharpness, const T& cosine, const T& A =
                                const T& B = T(Tokuyoshi2024T::B), const T& C = T(Tokuyoshi2024T::C),
                                const T& D = T(Tokuyoshi2024T::D), const T& E = T(Tokuyoshi2024T::E)) {
   const T f = tokuyoshi2024_factor(tokuyoshi2024_t(sharpness, A, B, C, D, E), cosine);
-  const T upper = clamped_cosine_upper_over_2pi(sharpness);
-  const T lower = clamped_cosine_lower_over_2pi(sharpness);
+  T upper, lower;
+  clamped_cosine_bounds_over_2pi(sharpness, upper, lower);
   return two_pi<T>() * (lower + f * (upper - lower));
 }
 

@@ -108,8 +108,8 @@ T sglab_factor(const T& t, const T& k_over_t, const T& cosine) {
 }
 
 // D(λ, 1)/2π and D(λ, −1)/2π (clamped_cosine.hpp). Below λ = 1 the series of
-// clamped_cosine_upper/lower_over_2pi. From λ = 1 on, one e^{−λ} serves both, and no expm1 is
-// needed (1 − e^{−λ} ≥ 0.63 does not cancel):
+// clamped_cosine_bounds_over_2pi. One e^{−λ} serves both (and the series' e^{−λ}·inner); from
+// λ = 1 on no expm1 is needed (1 − e^{−λ} ≥ 0.63 does not cancel):
 //   upper = ((λ − 1) + e^{−λ})/λ/λ   (λ − 1 is exact near 1, so the only cancellation of the
 //           form (1 − (1 − e^{−λ})/λ)/λ is gone; divided twice so that λ² never overflows),
 //   lower = e^{−λ}((1 − e^{−λ})/λ − e^{−λ})/λ.
@@ -117,13 +117,13 @@ template <class T>
 void sglab_bounds_over_2pi(const T& sharpness, T& upper, T& lower) {
   using std::exp;
   const T& l = sharpness;
+  const T e = exp(-l);
   const std::array<T, 2> out = select(
       value_of(l) < 1,
       [&]() -> std::array<T, 2> {
-        return {clamped_cosine_upper_over_2pi(l), clamped_cosine_lower_over_2pi(l)};
+        return {clamped_cosine_upper_series(l), e * clamped_cosine_inner_series(l)};
       },
       [&]() -> std::array<T, 2> {
-        const T e = exp(-l);
         return {((l - T(1)) + e) / l / l, e * (((T(1) - e) / l - e) / l)};
       });
   upper = out[0];

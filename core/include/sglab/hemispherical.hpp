@@ -24,10 +24,26 @@ T hemispherical_lower(const T& sharpness) {
 
 // e^{−λ} + s(1 − e^{−λ}) = lerp(e^{−λ}, 1, s), the normalized interpolation between the lower
 // and upper bound shared by Meder–Brüderlin and Tokuyoshi 2022. 1 − e^{−λ} through expm1.
+// From e = e^{−λ} and em = expm1(−λ) when the caller has them (one call each serves all uses: a
+// vectorized evaluation does not merge repeated calls, docs/simd.md).
+template <class T>
+T bound_lerp(const T& e, const T& em, const T& s) {
+  return e + s * -em;
+}
 template <class T>
 T bound_lerp(const T& sharpness, const T& s) {
   using std::exp;
-  return exp(-sharpness) + s * one_minus_exp_neg(sharpness);
+  using std::expm1;
+  return bound_lerp(T(exp(-sharpness)), T(expm1(-sharpness)), s);
+}
+
+// hemispherical_upper(λ)·bound_lerp(λ, s), the form of both published approximations below.
+template <class T>
+T hemispherical_upper_times_lerp(const T& sharpness, const T& s) {
+  using std::exp;
+  using std::expm1;
+  const T em = expm1(-sharpness);
+  return two_pi<T>() * expm1_over_x(T(-sharpness), em) * bound_lerp(T(exp(-sharpness)), em, s);
 }
 
 // ---- Meder & Brüderlin 2018, "Hemispherical Gaussians for Accurate Light Integration" -----
@@ -60,31 +76,44 @@ T meder_steepness(const T& sharpness, const T& p1 = T(MederLogistic::p1), const 
 // E(x) = expm1(x)/x and the common factor t cancelled analytically; t → 0 then gives the limit
 // (1 + c)/2 instead of 0/0. (For t ≥ 1 the E form would overflow: e^{−t}·E(t(1+c)) is 0·∞ at
 // large t.)
+//
+// The four exponentials every case uses are computed once, before the cases: e^{−t}, expm1(−t),
+// g = e^{−t|c|} (e^{−tc} for c ≥ 0 and e^{tc} for c < 0: the same rounded product (−t)|c|) and
+// expm1(x) with x = −t(1 + c) for c ≥ 0 and t(1 + c) for c < 0 (a vectorized evaluation runs
+// every case its lanes take; docs/simd.md).
 template <class T>
 T meder_logistic(const T& steepness, const T& cosine) {
+  using std::abs;
   using std::exp;
   using std::expm1;
   const T c = clamp_cosine(cosine);
   const T& t = steepness;
+  const T opc = T(1) + c;
+  const auto nonneg = value_of(c) >= 0;
+  const T e_t = exp(-t);
+  const T em_t = expm1(-t);
+  const T g = exp(-t * abs(c));
+  const T x = select(
+      nonneg, [&]() -> T { return -t * opc; }, [&]() -> T { return t * opc; });
+  const T em_x = expm1(x);
   return select(
       value_of(t) < 1,
       [&]() -> T {
-        const T den = expm1_over_x(-t);
+        const T den = expm1_over_x(T(-t), em_t);
+        const T ex_x = expm1_over_x(x, em_x);
         return select(
-            value_of(c) >= 0,
-            [&]() -> T { return (T(1) + c) * expm1_over_x(-t * (T(1) + c)) / (den * (T(1) + exp(-t * c))); },
-            [&]() -> T { return exp(-t) * (T(1) + c) * expm1_over_x(t * (T(1) + c)) / (den * (T(1) + exp(t * c))); });
+            nonneg, [&]() -> T { return opc * ex_x / (den * (T(1) + g)); },
+            [&]() -> T { return e_t * opc * ex_x / (den * (T(1) + g)); });
       },
       [&]() -> T {
-        const T den = -expm1(-t);
+        const T den = -em_t;
         return select(
-            value_of(c) >= 0, [&]() -> T { return -expm1(-t * (T(1) + c)) / (den * (T(1) + exp(-t * c))); },
+            nonneg, [&]() -> T { return -em_x / (den * (T(1) + g)); },
             [&]() -> T {
               // e^{tc} − e^{−t} = e^{−t}·expm1(t(1 + c)) where t(1 + c) is small (no cancellation).
               const T num = select(
-                  value_of(t * (T(1) + c)) < 1, [&]() -> T { return exp(-t) * expm1(t * (T(1) + c)); },
-                  [&]() -> T { return exp(t * c) - exp(-t); });
-              return num / (den * (T(1) + exp(t * c)));
+                  value_of(t * opc) < 1, [&]() -> T { return e_t * em_x; }, [&]() -> T { return g - e_t; });
+              return num / (den * (T(1) + g));
             });
       });
 }
@@ -96,7 +125,7 @@ T hemispherical_meder(const T& sharpness, const T& cosine, const T& p1 = T(Meder
                       const T& p2 = T(MederLogistic::p2), const T& p3 = T(MederLogistic::p3),
                       const T& p4 = T(MederLogistic::p4)) {
   const T s = meder_logistic(meder_steepness(sharpness, p1, p2, p3, p4), cosine);
-  return hemispherical_upper(sharpness) * bound_lerp(sharpness, s);
+  return hemispherical_upper_times_lerp(sharpness, s);
 }
 
 // ---- Tokuyoshi 2022, "Accurate Diffuse Lighting from Spherical Gaussian Lights" -------------
@@ -144,7 +173,7 @@ template <class T>
 T hemispherical_tokuyoshi2022(const T& sharpness, const T& cosine, const T& A = T(Tokuyoshi2022Steepness::A),
                               const T& B = T(Tokuyoshi2022Steepness::B), const T& C = T(Tokuyoshi2022Steepness::C)) {
   const T f = tokuyoshi2022_factor(tokuyoshi2022_steepness(sharpness, A, B, C), cosine);
-  return hemispherical_upper(sharpness) * bound_lerp(sharpness, f);
+  return hemispherical_upper_times_lerp(sharpness, f);
 }
 
 // The same factor for the normalized vMF: ∫_{ω·n>0} G/A(λ) dω ≈ lerp(e^{−λ}, 1, f)/(1 + e^{−λ})
@@ -155,8 +184,10 @@ T hemispherical_vmf_tokuyoshi2024(const T& sharpness, const T& cosine, const T& 
                                   const T& B = T(Tokuyoshi2022Steepness::B),
                                   const T& C = T(Tokuyoshi2022Steepness::C)) {
   using std::exp;
+  using std::expm1;
   const T f = tokuyoshi2022_factor(tokuyoshi2022_steepness(sharpness, A, B, C), cosine);
-  return bound_lerp(sharpness, f) / (T(1) + exp(-sharpness));
+  const T e = exp(-sharpness);
+  return bound_lerp(e, T(expm1(-sharpness)), f) / (T(1) + e);
 }
 
 }  // namespace sglab

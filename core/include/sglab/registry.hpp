@@ -61,6 +61,13 @@ using MethodFn = std::function<T(std::span<const T>)>;
 template <class T>
 using BatchFn = std::function<void(std::span<const T> args, std::size_t arity, std::span<T> out)>;
 
+// What a method's batch evaluators run: its scalar template row by row (every method registered
+// with set_evaluators), or the same template on SIMD lanes (the methods install_simd_batch_evaluators
+// lists, docs/simd.md). `sglab eval --list` and the cost column of `sglab error-vs-time` say which.
+enum class BatchPath { scalar, vectorized };
+// "scalar", "vectorized".
+std::string_view batch_path_name(BatchPath path);
+
 // ---- constants as data ----------------------------------------------------------------------
 // To give a method constants: define each published value once in its core header (a struct of
 // static constexpr doubles, as Tokuyoshi2024T), register the method with
@@ -117,6 +124,7 @@ struct Method {
   MethodFn<mp50> eval_mp50;
   BatchFn<float> batch_float;
   BatchFn<double> batch_double;
+  BatchPath batch_path = BatchPath::scalar;  // what batch_float and batch_double run
   // The method's constants (empty: none) and how to evaluate with other values (set when
   // `parameters` is not empty). A bound method has no `bind` of its own: bind the base method.
   std::vector<Parameter> parameters;
@@ -205,6 +213,7 @@ void set_evaluators(Method& m, F f) {
   };
   m.batch_float = [batch](std::span<const float> a, std::size_t n, std::span<float> o) { batch(a, n, o); };
   m.batch_double = [batch](std::span<const double> a, std::size_t n, std::span<double> o) { batch(a, n, o); };
+  m.batch_path = BatchPath::scalar;
 }
 
 // One registry entry from a generic callable (see set_evaluators).

@@ -151,14 +151,20 @@ value_type_t<T> series_threshold(int neglected_power) {
 // (docs/math.md §1) and every (1 − e^{−λ})/λ factor. Series 1 + x/2 + x²/6 + x³/24 below the
 // threshold; expm1 is accurate everywhere else (Higham, "Accuracy and Stability of Numerical
 // Algorithms", §1.14.1).
+// `em` = expm1(x), when the caller needs expm1(x) itself as well (one call serves both: a
+// vectorized evaluation runs both sides of a select whose lanes disagree, docs/simd.md).
 template <class T>
-T expm1_over_x(const T& x) {
+T expm1_over_x(const T& x, const T& em) {
   using std::abs;
-  using std::expm1;
   return select(
       abs(value_of(x)) < series_threshold<T>(4),
       [&]() -> T { return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(24)))); },
-      [&]() -> T { return expm1(x) / x; });
+      [&]() -> T { return em / x; });
+}
+template <class T>
+T expm1_over_x(const T& x) {
+  using std::expm1;
+  return expm1_over_x(x, T(expm1(x)));
 }
 
 // 1 − e^{−x} for x ≥ 0 without cancellation.

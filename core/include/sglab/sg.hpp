@@ -33,11 +33,15 @@ T sg_eval_cos(const T& cosine, const T& sharpness) {
 // Tokuyoshi 2015 (two-VSGL poster) §1, Tokuyoshi 2016 §2).
 // Past λ = 1 it is written 2π(1 − e^{−2λ})/λ directly: the expm1 form's −2λ overflows to −∞ for
 // λ > max/2 (FLT_MAX in float gave 0 instead of 2π/λ).
+// One expm1(−2λ) serves both sides (1 − e^{−2λ} = −expm1(−2λ); −(2λ) = (−2)λ exactly).
 template <class T>
 T sg_integral(const T& sharpness) {
+  using std::expm1;
+  const T x = T(-2) * sharpness;
+  const T em = expm1(x);
   return select(
-      value_of(sharpness) > 1, [&]() -> T { return two_pi<T>() * one_minus_exp_neg(T(2) * sharpness) / sharpness; },
-      [&]() -> T { return T(2) * two_pi<T>() * expm1_over_x(T(-2) * sharpness); });
+      value_of(sharpness) > 1, [&]() -> T { return two_pi<T>() * -em / sharpness; },
+      [&]() -> T { return T(2) * two_pi<T>() * expm1_over_x(x, em); });
 }
 
 // The large-λ approximation A(λ) ≈ 2π/λ (Iwasaki et al. 2012; Tokuyoshi 2016 §4.2).

@@ -5,6 +5,7 @@
 // or force_isa() selects a narrower one, so every compiled path can be checked on one machine.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -27,7 +28,12 @@ Isa active_isa();
 // Use `isa` from now on (for tests and benchmarks). Throws std::invalid_argument if unsupported.
 void force_isa(Isa isa);
 
-// The (quantity, method) pairs whose batch evaluators are vectorized, as "quantity/method".
+// The (quantity, method) pairs whose batch evaluators are vectorized, as "quantity/method" (their
+// registry entries have Method::batch_path == BatchPath::vectorized).
 const std::vector<std::string>& vectorized_methods();
+
+// Calls of a vectorized batch evaluator made on this thread so far: a test calls a method's batch
+// evaluator and sees whether a kernel ran.
+std::uint64_t vectorized_batch_calls();
 
 }  // namespace sglab::simd

@@ -1,14 +1,12 @@
-// Vectorized batch evaluators of the diffuse methods (docs/simd.md), written once on xsimd batch
-// types and compiled once per instruction set (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp, each
-// with its -m flags). Each kernel is the lane-wise transcription of the method's scalar template
-// in core/include/sglab (the definition): the same operations in the same order, the same stable
-// forms, and every `if` on a value turned into a select between both branches (branches that only
-// extreme inputs take, λ > 1e4 or λ > 1e18, are evaluated only when a lane needs them). The
-// scalar code's transcendental calls (std::exp, expm1, erf, erfc) become glibc libmvec's, sqrt the
-// hardware instruction (correctly rounded, as std::sqrt); the
-// Taylor series of the c = ±1 bounds below λ = 1 are summed by Horner's rule over a fixed number
-// of terms instead of a forward sum stopped at ε. tests/simd_test.cpp holds every kernel to its
-// template.
+// Vectorized batch evaluators of the diffuse methods (docs/simd.md), compiled once per instruction
+// set (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp, each with its -m flags).
+//
+// Every kernel IS the method's scalar template in core/include/sglab (the definition), instantiated
+// on Lanes (simd_lanes.hpp: an xsimd batch on which the template's selects, lane-wise math and
+// series work lane by lane): FromTemplate below, one small struct per method naming the template
+// and its constants. There is no second copy of a formula. One part is summed differently on lanes:
+// the Taylor series of the c = ±1 bounds below λ = 1 (tokuyoshi2024, sglab), by Horner's rule over a
+// fixed number of terms (below). tests/simd_test.cpp holds every kernel to its template.
 //
 // Everything here has internal linkage or is a template on the xsimd architecture: nothing
 // compiled with -mavx512f may be merged by the linker into code that runs on a smaller machine.
@@ -21,111 +19,24 @@
 #include <boost/math/constants/constants.hpp>
 #include <xsimd/xsimd.hpp>
 
+#include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_sglab.hpp"
+#include "sglab/hemispherical.hpp"
+#include "simd_lanes.hpp"
 #include "simd_math.hpp"
 #include "simd_table.hpp"
 
-namespace sglab::simd_detail {
+// ---- the c = ±1 bounds' series on lanes (clamped_cosine.hpp) -----------------------------------
+// clamped_cosine_upper_series and clamped_cosine_inner_series on Lanes, which the templates' calls
+// find by argument-dependent lookup (more specialized than the templates): the same series,
+// Σ_{n≥1} u^{n−1}/(n+1)! and Σ_{n≥1} n u^{n−1}/(n+1)! with u = −λ, summed by Horner's rule over N
+// terms instead of forward until the term drops below ε (a division per term and as many terms
+// as the slowest lane needs: several times the cost of the whole kernel on lanes). N is the first
+// term at which the coefficient drops below ε/50 of the sum's smallest value (1/3 and 0.26 at
+// λ = 1): 20 in double, 13 in float.
+namespace sglab::simd_lanes {
 namespace {
 
-// ---- hemispherical (hemispherical.hpp) -------------------------------------------------------
-// upper(λ)·lerp(e^{−λ}, 1, s) with e^{−λ} and expm1(−λ) computed once.
-template <class B>
-inline B upper_times_lerp(const B& l, const B& s) {
-  using T = value_t<B>;
-  const B em = vm_expm1(-l);
-  const B upper = kTwoPi<T> * expm1_over_x(-l, em);
-  const B lerp = vm_exp(-l) + s * -em;
-  return upper * lerp;
-}
-
-template <class B>
-inline B meder_steepness(const B& l, const B* p) {
-  using T = value_t<B>;
-  const B &p1 = p[0], &p2 = p[1], &p3 = p[2], &p4 = p[3];
-  B t = safe_sqrt(l) * (p1 * l * l + p2 * l) / (l * l + p3 * l + p4);
-  const auto big = l > B(T(kLarge));
-  if (xsimd::any(big)) t = xsimd::select(big, safe_sqrt(l) * (p1 + p2 / l) / (T(1) + (p3 + p4 / l) / l), t);
-  return t;
-}
-
-template <class B>
-inline B meder_logistic(const B& t, const B& cosine) {
-  using T = value_t<B>;
-  const B c = clamp_cosine(cosine);
-  const B opc = T(1) + c;
-  const auto nonneg = c >= B(T(0));
-  const B em_t = vm_expm1(-t);
-  const B e_t = vm_exp(-t);
-  // e^{−tc} for c ≥ 0 and e^{tc} for c < 0 are both e^{(−t)|c|} (the same rounded product).
-  const B g = vm_exp(-t * xsimd::abs(c));
-  const B x = xsimd::select(nonneg, -t * opc, t * opc);
-  const B em_x = vm_expm1(x);
-  const B ex_x = expm1_over_x(x, em_x);
-  // t < 1
-  const B den_s = expm1_over_x(-t, em_t);
-  const B s_pos = opc * ex_x / (den_s * (T(1) + g));
-  const B s_neg = e_t * opc * ex_x / (den_s * (T(1) + g));
-  // t ≥ 1
-  const B den_b = -em_t;
-  const B b_pos = -em_x / (den_b * (T(1) + g));
-  const B num = xsimd::select(t * opc < B(T(1)), e_t * em_x, g - e_t);
-  const B b_neg = num / (den_b * (T(1) + g));
-  return xsimd::select(t < B(T(1)), xsimd::select(nonneg, s_pos, s_neg), xsimd::select(nonneg, b_pos, b_neg));
-}
-
-template <class B>
-inline B hemispherical_meder(const B& l, const B& c, const B* p) {
-  return upper_times_lerp(l, meder_logistic(meder_steepness(l, p), c));
-}
-
-template <class B>
-inline B tokuyoshi2022_steepness(const B& l, const B* p) {
-  using T = value_t<B>;
-  const B &A = p[0], &Bc = p[1], &C = p[2];
-  B k = l * xsimd::sqrt((l / T(2) + A) / ((l + Bc) * l + C));
-  const auto big = l > B(T(kLarge));
-  if (xsimd::any(big))
-    k = xsimd::select(big, xsimd::sqrt(l) * xsimd::sqrt((T(0.5) + A / l) / (T(1) + (Bc + C / l) / l)), k);
-  return k;
-}
-
-template <class B>
-inline B tokuyoshi2022_factor(const B& k, const B& cosine) {
-  using T = value_t<B>;
-  const B c = clamp_cosine(cosine);
-  const B ratio = xsimd::select(k < B(series_threshold4<T>()), c * (T(1) + k * k * (T(1) - c * c) / T(3)),
-                                vm_erf(k * c) / vm_erf(k));
-  return clamp01(T(0.5) + T(0.5) * ratio);
-}
-
-template <class B>
-inline B hemispherical_tokuyoshi2022(const B& l, const B& c, const B* p) {
-  return upper_times_lerp(l, tokuyoshi2022_factor(tokuyoshi2022_steepness(l, p), c));
-}
-
-template <class B>
-inline B hemispherical_vmf_tokuyoshi2024(const B& l, const B& c, const B* p) {
-  using T = value_t<B>;
-  const B f = tokuyoshi2022_factor(tokuyoshi2022_steepness(l, p), c);
-  const B e = vm_exp(-l);
-  return (e + f * -vm_expm1(-l)) / (T(1) + e);
-}
-
-// ∫_{ω·n>0} G(ω;ξ,λ)G(ω;n,λ2)·e^{extra} dω through `hemi` (clamped_cosine.hpp hemispherical_product).
-template <class B, class Hemi>
-inline B hemispherical_product(const B& l, const B& cosine, const B& l2, const B& extra, const Hemi& hemi) {
-  using T = value_t<B>;
-  const B c = clamp_cosine(cosine);
-  const B l3 = product_sharpness(l, l2, c);
-  const B la = product_log_amplitude(l, l2, c, l3) + extra;
-  const B c3 = xsimd::select(l3 > B(T(0)), clamp_cosine((l * c + l2) / l3), B(T(1)));
-  return vm_exp(la) * hemi(l3, c3);
-}
-
-// ---- the c = ±1 bounds of D over 2π (clamped_cosine.hpp) ---------------------------------------
-// Below λ = 1: Σ_{n≥1} u^{n−1}/(n+1)! and Σ_{n≥1} n u^{n−1}/(n+1)! with u = −λ, by Horner's rule
-// over N terms, N the first at which the coefficient drops below ε/50 of the sum's smallest
-// value (1/3 and 0.26 at λ = 1): 20 in double, 13 in float.
 template <class T>
 constexpr int kSeriesTerms = sizeof(T) == 4 ? 13 : 20;
 constexpr double factorial(int n) {
@@ -148,194 +59,157 @@ struct SeriesCoefficients {
 template <class T>
 constexpr SeriesCoefficients<T> kSeries{};
 
-template <class B>
-inline void bound_series(const B& l, B& upper, B& inner) {
-  using T = value_t<B>;
+template <class B, class T = typename B::value_type, std::size_t K>
+inline Lanes<B> horner_series(const Lanes<B>& sharpness, const T (&coefficient)[K]) {
   constexpr int N = kSeriesTerms<T>;
-  const B u = -l;
-  B su(kSeries<T>.upper[N]), sl(kSeries<T>.inner[N]);
-  for (int n = N - 1; n >= 1; --n) {
-    su = su * u + kSeries<T>.upper[n];
-    sl = sl * u + kSeries<T>.inner[n];
-  }
-  upper = su;
-  inner = sl;
+  const B u = -sharpness.v;
+  B sum(coefficient[N]);
+  for (int n = N - 1; n >= 1; --n) sum = sum * u + coefficient[n];
+  return {sum};
+}
+template <class B>
+inline Lanes<B> clamped_cosine_upper_series(const Lanes<B>& sharpness) {
+  return horner_series(sharpness, kSeries<typename B::value_type>.upper);
+}
+template <class B>
+inline Lanes<B> clamped_cosine_inner_series(const Lanes<B>& sharpness) {
+  return horner_series(sharpness, kSeries<typename B::value_type>.inner);
 }
 
-// Below λ = 1 both pairs of bounds (tokuyoshi2024's and sglab's, the same two integrals over 2π)
-// cancel in closed form: there they are bound_series's (the lower one times e = e^{−λ}).
-template <class B>
-inline void series_below_one(const B& l, const B& e, B& upper, B& lower) {
-  using T = value_t<B>;
-  const auto small = l < B(T(1));
-  if (xsimd::any(small)) {
-    B su, si;
-    bound_series(l, su, si);
-    upper = xsimd::select(small, su, upper);
-    lower = xsimd::select(small, e * si, lower);
-  }
-}
+}  // namespace
+}  // namespace sglab::simd_lanes
 
-// tokuyoshi2024's bounds: clamped_cosine_upper_over_2pi and clamped_cosine_lower_over_2pi.
-template <class B>
-inline void tokuyoshi2024_bounds(const B& l, B& upper, B& lower) {
-  using T = value_t<B>;
-  const B e = vm_exp(-l);
-  const B ex = expm1_over_x(-l);
-  upper = (T(1) - ex) / l;
-  lower = e * ((ex - e) / l);
-  series_below_one(l, e, upper, lower);
-}
+namespace sglab::simd_detail {
+namespace {
 
 // ---- the kernels: one per (quantity, method); p are the constants broadcast ------------------
-struct CcPunctual {
+// The kernels that ARE the method's scalar template, instantiated on Lanes (simd_lanes.hpp):
+// F::formula(λ, c, q) calls the template with the constants q (F::kParams of them) and is the only
+// code the method has for its batch evaluator.
+template <class B>
+using Lanes = simd_lanes::Lanes<B>;
+template <class F>
+struct FromTemplate {
   template <class B>
-  static B eval(const B& l, const B& c, const B*) {
-    return sg_integral(l) * positive_part(clamp_cosine(c));
+  static B eval(const B& l, const B& c, const B* p) {
+    Lanes<B> q[F::kParams > 0 ? F::kParams : 1];
+    for (int i = 0; i < F::kParams; ++i) q[i] = Lanes<B>(p[i]);
+    return F::formula(Lanes<B>(l), Lanes<B>(c), q).v;
   }
 };
-struct CcPunctualApprox {
-  template <class B>
-  static B eval(const B& l, const B& c, const B*) {
-    using T = value_t<B>;
-    return kTwoPi<T> / l * positive_part(clamp_cosine(c));
+struct CcPunctual : FromTemplate<CcPunctual> {
+  static constexpr int kParams = 0;
+  template <class T>
+  static T formula(const T& l, const T& c, const T*) {
+    return clamped_cosine_punctual(l, c);
+  }
+};
+struct CcPunctualApprox : FromTemplate<CcPunctualApprox> {
+  static constexpr int kParams = 0;
+  template <class T>
+  static T formula(const T& l, const T& c, const T*) {
+    return clamped_cosine_punctual_approx(l, c);
   }
 };
 // p: λ_d, π/A(λ_d).
-struct CcSgCosine {
-  template <class B>
-  static B eval(const B& l, const B& cosine, const B* p) {
-    using T = value_t<B>;
-    const B& ld = p[0];
-    const B sum = l + ld;
-    const B reduced = xsimd::select(l > ld, l * (ld / sum), ld * (l / sum));
-    const B iwasaki = kTwoPi<T> * vm_exp(reduced * (clamp_cosine(cosine) - T(1))) / sum;
-    return xsimd::select(sum > B(T(0)), p[1] * iwasaki, p[1] * B(std::numeric_limits<T>::infinity()));
+struct CcSgCosine : FromTemplate<CcSgCosine> {
+  static constexpr int kParams = 2;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return clamped_cosine_sg_cosine_scaled(l, c, p[0], p[1]);
   }
 };
 // p: amplitude, sharpness.
-struct CcCosineLobeSg {
-  template <class B>
-  static B eval(const B& l, const B& c, const B* p) {
-    return p[0] * product_integral_exact(l, p[1], c);
+struct CcCosineLobeSg : FromTemplate<CcCosineLobeSg> {
+  static constexpr int kParams = 2;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return clamped_cosine_cosine_lobe_sg(l, c, p[0], p[1]);
   }
 };
 // p: c0.
-struct CcHillFitted {
-  template <class B>
-  static B eval(const B& l, const B& cosine, const B* p) {
-    using T = value_t<B>;
-    const B& c0 = p[0];
-    const B c = clamp_cosine(cosine);
-    const B c1 = T(1) / (T(4) * c0);
-    const B eml = vm_exp(-l);
-    const B em2l = eml * eml;
-    const B rl = T(1) / l;
-    const B scale = T(1) + T(2) * em2l - rl;
-    const B bias = (eml - em2l) * rl - em2l;
-    const B x = xsimd::sqrt(rl - T(2) * em2l);
-    const B x0 = c0 * c;
-    const B x1 = c1 * x;
-    const B n = x0 + x1;
-    const B y = xsimd::select(xsimd::abs(x0) <= x1, n * n / x, clamp01(c));
-    return (scale * y + bias) * kTwoPi<T> * rl;
+struct CcHillFitted : FromTemplate<CcHillFitted> {
+  static constexpr int kParams = 1;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return clamped_cosine_hill_fitted(l, c, p[0]);
   }
 };
 // p: amplitude, sharpness, offset, p1…p4.
-struct CcMeder {
-  template <class B>
-  static B eval(const B& l, const B& cosine, const B* p) {
-    using T = value_t<B>;
-    auto hemi = [p](const B& ll, const B& cc) { return hemispherical_meder(ll, cc, p + 3); };
-    return p[0] * hemispherical_product(l, cosine, p[1], B(T(0)), hemi) - p[2] * hemi(l, clamp_cosine(cosine));
+struct CcMeder : FromTemplate<CcMeder> {
+  static constexpr int kParams = 7;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return clamped_cosine_meder(l, c, p[0], p[1], p[2], p[3], p[4], p[5], p[6]);
   }
 };
 // p: λc, A, B, C, α.
-struct CcTokuyoshi2022 {
-  template <class B>
-  static B eval(const B& l, const B& cosine, const B* p) {
-    auto hemi = [p](const B& ll, const B& cc) { return hemispherical_tokuyoshi2022(ll, cc, p + 1); };
-    const B term1 = hemispherical_product(l, cosine, p[0], p[0], hemi);
-    const B term0 = hemi(l, clamp_cosine(cosine));
-    return positive_part(p[4] * (term1 - term0));
+struct CcTokuyoshi2022 : FromTemplate<CcTokuyoshi2022> {
+  static constexpr int kParams = 5;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return clamped_cosine_tokuyoshi2022_with(l, c, p[0], p[4], p[1], p[2], p[3]);
   }
 };
+// p: p1…p4.
+struct HemiMeder : FromTemplate<HemiMeder> {
+  static constexpr int kParams = 4;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return hemispherical_meder(l, c, p[0], p[1], p[2], p[3]);
+  }
+};
+// p: A, B, C.
+struct HemiTokuyoshi2022 : FromTemplate<HemiTokuyoshi2022> {
+  static constexpr int kParams = 3;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return hemispherical_tokuyoshi2022(l, c, p[0], p[1], p[2]);
+  }
+};
+struct HemiVmfTokuyoshi2024 : FromTemplate<HemiVmfTokuyoshi2024> {
+  static constexpr int kParams = 3;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return hemispherical_vmf_tokuyoshi2024(l, c, p[0], p[1], p[2]);
+  }
+};
+
 // p: A…E.
-struct CcTokuyoshi2024 {
-  template <class B>
-  static B eval(const B& l, const B& cosine, const B* p) {
-    using T = value_t<B>;
-    const B &A = p[0], &Bc = p[1], &C = p[2], &D = p[3], &E = p[4];
-    B t = l * xsimd::sqrt(T(0.5) * ((l + A) * l + Bc) / (((l + C) * l + D) * l + E));
-    const auto big = l > B(T(kLarge));
-    if (xsimd::any(big))
-      t = xsimd::select(
-          big, xsimd::sqrt(l) * xsimd::sqrt(T(0.5) * (T(1) + (A + Bc / l) / l) / (T(1) + (C + (D + E / l) / l) / l)),
-          t);
-    const B c = clamp_cosine(cosine);
-    const B c2m1 = c * c - T(1);
-    const B q = t * t * c2m1;
-    const B tail = vm_exp(-t * t * c * c) * t * c2m1 * expm1_over_x(q) / two_sqrt_pi<T>();
-    const B f = clamp01(T(0.5) * (c * vm_erfc(-t * c) + vm_erfc(t)) - tail);
-    B upper, lower;
-    tokuyoshi2024_bounds(l, upper, lower);
-    return kTwoPi<T> * (lower + f * (upper - lower));
+struct CcTokuyoshi2024 : FromTemplate<CcTokuyoshi2024> {
+  static constexpr int kParams = 5;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return clamped_cosine_tokuyoshi2024(l, c, p[0], p[1], p[2], p[3], p[4]);
   }
 };
 // p: A, B, C, D, E, k, P, Q (clamped_cosine_sglab.hpp).
-struct CcSglab {
-  template <class B>
-  static B eval(const B& l, const B& cosine, const B* p) {
-    using T = value_t<B>;
-    const B &A = p[0], &Bc = p[1], &C = p[2], &D = p[3], &E = p[4], &k = p[5], &P = p[6], &Q = p[7];
-    // sglab_steepness
-    const B s = xsimd::sqrt(T(0.5) * ((l + A) * l + Bc) / (((l + C) * l + D) * l + E));
-    B t = l * s;
-    B k_over_t = k * l / (((l + P) * l + Q) * s);
-    const auto big = l > B(T(kLarge));
-    if (xsimd::any(big)) {
-      const B r = T(1) / l;
-      const B tb = xsimd::sqrt(T(0.5) * l * ((Bc * r + A) * r + T(1)) / (((E * r + D) * r + C) * r + T(1)));
-      t = xsimd::select(big, tb, t);
-      k_over_t = xsimd::select(big, k / (((Q * r + P) * r + T(1)) * tb), k_over_t);
-    }
-    // sglab_bounds_over_2pi
-    const B e = vm_exp(-l);
-    B upper = ((l - T(1)) + e) / l / l;
-    B lower = e * (((T(1) - e) / l - e) / l);
-    series_below_one(l, e, upper, lower);
-    // sglab_factor
-    const B c = clamp_cosine(cosine);
-    const B a = xsimd::abs(c);
-    const B x = (T(1) - a) * (T(1) + a);
-    const B tt = t * t;
-    const B gauss = vm_exp(-tt * a * a);
-    const B tail = gauss * t * x * expm1_over_x(-tt * x);
-    const B g = T(0.5) * (vm_erfc(t) - a * vm_erfc(t * a)) + tail / two_sqrt_pi<T>();
-    const B corrected = g + k_over_t * (gauss * x - t * tail);
-    const B half = T(0.5) * g;
-    const B f = clamp01(positive_part(c) + xsimd::select(corrected > half, corrected, half));
-    return kTwoPi<T> * (lower + f * (upper - lower));
+struct CcSglab : FromTemplate<CcSglab> {
+  static constexpr int kParams = 8;
+  template <class T>
+  static T formula(const T& l, const T& c, const T* p) {
+    return clamped_cosine_sglab_with(l, c, SglabDiffuseParams<T>{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]});
   }
 };
-struct HemiMeder {
-  template <class B>
-  static B eval(const B& l, const B& c, const B* p) {
-    return hemispherical_meder(l, c, p);
-  }
-};
-struct HemiTokuyoshi2022 {
-  template <class B>
-  static B eval(const B& l, const B& c, const B* p) {
-    return hemispherical_tokuyoshi2022(l, c, p);
-  }
-};
-struct HemiVmfTokuyoshi2024 {
-  template <class B>
-  static B eval(const B& l, const B& c, const B* p) {
-    return hemispherical_vmf_tokuyoshi2024(l, c, p);
-  }
-};
+
+// sg.hpp's A(λ) and SG products for the specular kernels' batches (simd_specular.hpp): the
+// templates on Lanes.
+template <class B>
+inline B sg_integral(const B& l) {
+  return sglab::sg_integral(Lanes<B>(l)).v;
+}
+template <class B>
+inline B product_sharpness(const B& s1, const B& s2, const B& c) {
+  return sglab::product_sharpness(Lanes<B>(s1), Lanes<B>(s2), Lanes<B>(c)).v;
+}
+template <class B>
+inline B product_log_amplitude(const B& s1, const B& s2, const B& c, const B& l3) {
+  return sglab::product_log_amplitude(Lanes<B>(s1), Lanes<B>(s2), Lanes<B>(c), Lanes<B>(l3)).v;
+}
+template <class B>
+inline B product_integral_exact(const B& s1, const B& s2, const B& c) {
+  return sglab::product_integral_exact(Lanes<B>(s1), Lanes<B>(s2), Lanes<B>(c)).v;
+}
 
 }  // namespace
 }  // namespace sglab::simd_detail
@@ -348,8 +222,10 @@ namespace {
 // ---- the batch driver ---------------------------------------------------------------------
 // Rows of (λ, c) are de-interleaved into lane arrays; the last partial batch is padded with
 // (1, 0), a point inside every method's domain, and only its valid lanes are stored.
+// Flattened: every helper of the kernel inlined (the scalar templates' small functions, called on
+// Lanes, are otherwise left out of line with their batches passed through memory).
 template <class Arch, class T, class K>
-void run(const T* args, T* out, std::size_t n, const T* params) {
+__attribute__((flatten)) void run(const T* args, T* out, std::size_t n, const T* params) {
   using B = xsimd::batch<T, Arch>;
   constexpr std::size_t W = B::size;
   B p[kKernelParams];
@@ -406,8 +282,9 @@ inline void store_lanes(const B& r, value_t<B>* out, std::size_t rest) {
 
 // The specular kernels' driver: rows of 6 columns (roughness, light_sharpness, light_cos,
 // view_cos, light_azimuth, f0); padding (0.5, 1, 0.5, 0.5, 0, 0.04).
+// Flattened as run.
 template <class Arch, class T, class K>
-void run_specular(const T* args, T* out, std::size_t n, const T* params) {
+__attribute__((flatten)) void run_specular(const T* args, T* out, std::size_t n, const T* params) {
   using B = xsimd::batch<T, Arch>;
   constexpr T kPad[6] = {T(0.5), T(1), T(0.5), T(0.5), T(0), T(0.04)};
   B p[kKernelParams];

@@ -1,6 +1,6 @@
-// The lane-wise math the vectorized kernels share (simd_kernels.hpp, simd_specular.hpp): glibc
-// libmvec's transcendental functions on xsimd batches, the clamps and stable forms of the scalar
-// code (core/include/sglab/scalar.hpp, sg.hpp) and the SG products. Everything here has internal
+// The lane-wise math the vectorized kernels share (simd_lanes.hpp, simd_specular.hpp): glibc
+// libmvec's transcendental functions on xsimd batches, and the clamps of the scalar code
+// (core/include/sglab/scalar.hpp) for the hand-written specular kernels. Everything here has internal
 // linkage, for the reason simd_kernels.hpp gives.
 #pragma once
 
@@ -18,23 +18,6 @@ template <class T>
 constexpr T kPi = boost::math::constants::pi<T>();
 template <class T>
 constexpr T kTwoPi = boost::math::constants::two_pi<T>();
-// 2√π as the scalar code forms it: T(2)·sqrt(pi<T>()) (sqrt is correctly rounded).
-template <class T>
-inline T two_sqrt_pi() {
-  if constexpr (sizeof(T) == 4) return T(2) * __builtin_sqrtf(kPi<float>);
-  else return T(2) * __builtin_sqrt(kPi<double>);
-}
-// series_threshold<T>(4) of scalar.hpp: ε^{1/4}.
-template <class T>
-inline T series_threshold4() {
-  if constexpr (sizeof(T) == 4) return __builtin_powf(1.1920928955078125e-7f, 0.25f);
-  else return __builtin_pow(2.220446049250313080847e-16, 0.25);
-}
-// The product forms' rescaling threshold (sg.hpp kProductScaleSharpness) and the large-λ
-// threshold of the steepness polynomials (1e4 in every template). Both round down in float, so
-// `x > T(threshold)` selects the same lanes as the scalar `value_of(x) > threshold` in double.
-constexpr double kScale = 1e18;
-constexpr double kLarge = 1e4;
 
 template <class B>
 using value_t = typename B::value_type;
@@ -151,81 +134,9 @@ inline B safe_sqrt(const B& x) {
   return xsimd::select(x > B(T(0)), xsimd::sqrt(x), B(T(0)));
 }
 
-// expm1(x)/x given em = expm1(x) (scalar.hpp expm1_over_x).
-template <class B>
-inline B expm1_over_x(const B& x, const B& em) {
-  using T = value_t<B>;
-  const B series = T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(24))));
-  return xsimd::select(xsimd::abs(x) < B(series_threshold4<T>()), series, em / x);
-}
-template <class B>
-inline B expm1_over_x(const B& x) {
-  return expm1_over_x(x, vm_expm1(x));
-}
-
-// A(λ) (sg.hpp sg_integral): one expm1(−2λ) serves both branches (−(2λ) = (−2)λ exactly).
-template <class B>
-inline B sg_integral(const B& l) {
-  using T = value_t<B>;
-  const B x = T(-2) * l;
-  const B em = vm_expm1(x);
-  return xsimd::select(l > B(T(1)), kTwoPi<T> * -em / l, T(2) * kTwoPi<T> * expm1_over_x(x, em));
-}
-
-// ---- SG products (sg.hpp) --------------------------------------------------------------------
 template <class B>
 inline B larger(const B& a, const B& b) {
   return xsimd::select(a > b, a, b);
-}
-
-template <class B>
-inline B product_sharpness(const B& s1, const B& s2, const B& cosine) {
-  using T = value_t<B>;
-  const B c = clamp_cosine(cosine);
-  const B d = s1 - s2;
-  B r = safe_sqrt(d * d + T(2) * s1 * s2 * (T(1) + c));
-  const B s = larger(s1, s2);
-  const auto big = s > B(T(kScale));
-  if (xsimd::any(big)) {
-    const B u1 = s1 / s, u2 = s2 / s, du = u1 - u2;
-    r = xsimd::select(big, s * safe_sqrt(du * du + T(2) * u1 * u2 * (T(1) + c)), r);
-  }
-  return r;
-}
-
-template <class B>
-inline B product_log_amplitude(const B& s1, const B& s2, const B& cosine, const B& l3) {
-  using T = value_t<B>;
-  const B c = clamp_cosine(cosine);
-  const B denom = l3 + s1 + s2;
-  B r = xsimd::select(denom > B(T(0)), T(-2) * s1 * s2 * (T(1) - c) / denom, B(T(0)));
-  const B s = larger(s1, s2);
-  const auto big = s > B(T(kScale));
-  if (xsimd::any(big)) {
-    const B u1 = s1 / s, u2 = s2 / s;
-    r = xsimd::select(big, T(-2) * u1 * u2 * (T(1) - c) / (l3 / s + u1 + u2) * s, r);
-  }
-  return r;
-}
-
-template <class B>
-inline B product_integral_exact(const B& s1, const B& s2, const B& cosine) {
-  using T = value_t<B>;
-  const B l3 = product_sharpness(s1, s2, cosine);
-  const B la = product_log_amplitude(s1, s2, cosine, l3);
-  B r = vm_exp(la) * sg_integral(l3);
-  const B s = larger(s1, s2);
-  const auto big = s > B(T(kScale));
-  if (xsimd::any(big)) {
-    const B u1 = s1 / s, u2 = s2 / s;
-    const B rr = product_sharpness(u1, u2, cosine);
-    const B log_amplitude = s * product_log_amplitude(u1, u2, cosine, rr);
-    const B lambda3 = s * rr;
-    const B area = xsimd::select(lambda3 > B(T(1)), kTwoPi<T> / s / rr * -vm_expm1(-(T(2) * lambda3)),
-                                 sg_integral(lambda3));
-    r = xsimd::select(big, vm_exp(log_amplitude) * area, r);
-  }
-  return r;
 }
 
 }  // namespace

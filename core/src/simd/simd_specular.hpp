@@ -1,7 +1,7 @@
 // Vectorized batch evaluators of the specular methods (docs/simd.md): quantity `specular` (GGX,
 // core/include/sglab/specular.hpp) and `specular-gaussian-ndf` (gaussian_ndf.hpp). Included by
-// simd_kernels.hpp, after its scalar-function transcriptions (product integrals, A(λ), Meder's
-// clamped cosine), and compiled with it once per instruction set.
+// simd_kernels.hpp, after the diffuse kernels and sg.hpp's product integrals and A(λ) on lanes (the
+// scalar templates themselves), and compiled with it once per instruction set.
 //
 // Each kernel is the lane-wise transcription of the method's scalar template (the definition):
 // the same frame (n = (0, 0, 1), ωo = (√(1 − v²), 0, v), ξ = (s cos φ, s sin φ, light_cos)), the
@@ -110,7 +110,7 @@ template <class B>
 inline Product<B> sg_product(const V3<B>& a1, const B& s1, const V3<B>& a2, const B& s2) {
   using T = value_t<B>;
   const B big = larger(s1, s2);
-  const B scale = xsimd::select(big > B(T(kScale)), T(1) / big, B(T(1)));
+  const B scale = xsimd::select(big > B(T(kProductScaleSharpness)), T(1) / big, B(T(1)));
   const B k1 = s1 * scale, k2 = s2 * scale;
   const V3<B> v{k1 * a1.x + k2 * a2.x, k1 * a1.y + k2 * a2.y, k1 * a1.z + k2 * a2.z};
   const B cosine = clamp_cosine(dot(a1, a2));
