@@ -273,24 +273,73 @@ std::optional<Failure> check_rows(const Quantity& q, const Method& m, std::size_
 }
 
 // Whether every value of a flat column's chunk passes subnormal_error and column_value_error,
-// in one vectorizable pass: no NaN, infinity or subnormal, and the chunk's least and greatest
+// in one vectorized pass: no NaN, infinity or subnormal, and the chunk's least and greatest
 // values in the column's domain. That suffices because every ColumnKind's domain is an interval
 // (column_value_error: [0, ∞), [−1 − slack, 1 + slack], [0, 1], (0, ∞), or every finite value).
-// (`omp simd`: -fopenmp-simd, no OpenMP run time. A NaN leaves lo and hi as they were, but sets
-// `bad`.)
+// Written so that GCC vectorizes it (`omp simd`: -fopenmp-simd, no OpenMP run time): only
+// floating-point reductions of T, no int flag beside them. x·0 is ±0 for a finite x and NaN for
+// NaN or ±∞, so their sum is 0 exactly when every value is finite; `tiny` is the least nonzero
+// magnitude (a subnormal is below T's least normal). A NaN leaves lo and hi meaningless, but then
+// `nan_or_inf` is NaN and the chunk goes to check_rows.
 template <class T>
 bool column_chunk_ok(const Column& column, const T* v, std::size_t len) {
-  constexpr T kMax = std::numeric_limits<T>::max(), kMinNormal = std::numeric_limits<T>::min();
-  T lo = kMax, hi = -kMax;
-  int bad = 0;
-#pragma omp simd reduction(min : lo) reduction(max : hi) reduction(| : bad)
+  constexpr T kInf = std::numeric_limits<T>::infinity(), kMinNormal = std::numeric_limits<T>::min();
+  T lo = kInf, hi = -kInf, tiny = kInf, nan_or_inf = 0;
+#pragma omp simd reduction(min : lo, tiny) reduction(max : hi) reduction(+ : nan_or_inf)
   for (std::size_t i = 0; i < len; ++i) {
-    const T x = v[i], a = x < 0 ? -x : x;
-    bad |= (a <= kMax ? 0 : 1) | ((x != 0) & (a < kMinNormal) ? 1 : 0);
+    const T x = v[i], a = x < 0 ? -x : x, nonzero = a != 0 ? a : kInf;
+    nan_or_inf += x * T(0);
     lo = x < lo ? x : lo;
     hi = x > hi ? x : hi;
+    tiny = nonzero < tiny ? nonzero : tiny;
   }
-  return !bad && !column_value_error(column, double(lo)) && !column_value_error(column, double(hi));
+  return nan_or_inf == 0 && !(tiny < kMinNormal) && !column_value_error(column, double(lo)) &&
+         !column_value_error(column, double(hi));
+}
+
+// Whether every value of o[0, len) is finite: one vectorized pass (x·0 as in column_chunk_ok).
+template <class T>
+bool all_finite(const T* o, std::size_t len) {
+  T nan_or_inf = 0;
+#pragma omp simd reduction(+ : nan_or_inf)
+  for (std::size_t r = 0; r < len; ++r) nan_or_inf += o[r] * T(0);
+  return nan_or_inf == 0;
+}
+
+// Rows [begin, begin + len) of K flat columns interleaved into `a` (K values per row), the layout
+// the batch evaluators take; K known at compile time, so that the copy vectorizes (a column of
+// step 0, a broadcast scalar, repeats its one value).
+template <std::size_t K, class T>
+void interleave_rows(const Layout& l, std::size_t begin, std::size_t len, T* a) {
+  const T* c[K];
+  for (std::size_t j = 0; j < K; ++j) c[j] = reinterpret_cast<const T*>(l.data[j]) + (l.step[j] ? begin : 0);
+  std::size_t inc[K];
+  for (std::size_t j = 0; j < K; ++j) inc[j] = l.step[j] ? 1 : 0;
+  bool all_flat = true;
+  for (std::size_t j = 0; j < K; ++j) all_flat = all_flat && inc[j] == 1;
+  if (all_flat) {
+    for (std::size_t r = 0; r < len; ++r)
+      for (std::size_t j = 0; j < K; ++j) a[r * K + j] = c[j][r];
+  } else {
+    for (std::size_t r = 0; r < len; ++r)
+      for (std::size_t j = 0; j < K; ++j) a[r * K + j] = c[j][r * inc[j]];
+  }
+}
+template <class T>
+void interleave_rows(const Layout& l, std::size_t begin, std::size_t len, T* a) {
+  const std::size_t k = l.data.size();
+  switch (k) {
+    case 2: return interleave_rows<2>(l, begin, len, a);
+    case 3: return interleave_rows<3>(l, begin, len, a);
+    case 4: return interleave_rows<4>(l, begin, len, a);
+    case 5: return interleave_rows<5>(l, begin, len, a);
+    case 6: return interleave_rows<6>(l, begin, len, a);
+    default:
+      for (std::size_t j = 0; j < k; ++j) {
+        const T* c = reinterpret_cast<const T*>(l.data[j]);
+        for (std::size_t r = 0; r < len; ++r) a[r * k + j] = l.step[j] ? c[begin + r] : c[0];
+      }
+  }
 }
 
 // One chunk: read the rows, check them, evaluate, check every result. Returns the chunk's first
@@ -313,14 +362,7 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
       args = std::span<const T>(reinterpret_cast<const T*>(l.data[0]) + begin, len);
     } else {
       s.args.resize(len * k);
-      for (std::size_t j = 0; j < k; ++j) {
-        const T* c = reinterpret_cast<const T*>(l.data[j]);
-        T* a = s.args.data() + j;
-        if (l.step[j] == 0)
-          for (std::size_t r = 0; r < len; ++r) a[r * k] = c[0];
-        else
-          for (std::size_t r = 0; r < len; ++r) a[r * k] = c[begin + r];
-      }
+      interleave_rows(l, begin, len, s.args.data());
       args = s.args;
     }
     // A failing chunk (or a method with a domain check) is checked row by row, in order.
@@ -352,12 +394,7 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
         return Failure{Failure::method_threw, begin + r, e.what(), std::nullopt};
       }
     }
-  int not_finite = 0;
-  const T* o = out + begin;
-#pragma omp simd reduction(| : not_finite)
-  for (std::size_t r = 0; r < len; ++r)
-    not_finite |= (o[r] < 0 ? -o[r] : o[r]) <= std::numeric_limits<T>::max() ? 0 : 1;
-  if (not_finite)
+  if (!all_finite(out + begin, len))
     for (std::size_t r = 0; r < len; ++r)
       if (!is_finite_value(out[begin + r]))
         return Failure{Failure::not_finite, begin + r, value_text(out[begin + r]), std::nullopt};
