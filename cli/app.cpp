@@ -89,7 +89,7 @@ int run_sglab(std::vector<std::string> args, const runner::RunContext& run) {
     // codes, 104–109, would say nothing the message does not).
     const int status = app.exit(e);
     return status == 0 ? 0 : 2;
-  } catch (const UsageError& e) {
+  } catch (const runner::InputError& e) {
     std::fprintf(stderr, "sglab: error: %s\n", bounded_message(e.what()).c_str());
     return 2;
   } catch (const std::bad_alloc&) {

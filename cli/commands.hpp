@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "input_error.hpp"  // UsageError: bad input, exit status 2
+#include "input_error.hpp"  // runner::InputError: bad input, exit status 2
 #include "run_context.hpp"
 
 namespace sglab::cli {

@@ -26,7 +26,7 @@
 #include "commands.hpp"
 #include "envmap.hpp"
 #include "envmap_basis.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "registry.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/render/environment.hpp"
@@ -44,7 +44,7 @@ EnvMap load_map(const std::string& path) {
   try {
     return render::load_environment(path);
   } catch (const EnvironmentError& e) {
-    throw UsageError(e.what());
+    throw runner::InputError(e.what());
   }
 }
 
@@ -83,7 +83,7 @@ SgMixture read_mixture(const std::string& path) {
   try {
     return render::load_mixture(path);
   } catch (const EnvironmentError& e) {
-    throw UsageError(e.what());
+    throw runner::InputError(e.what());
   }
 }
 
@@ -93,9 +93,9 @@ void check_finite_map(const EnvMap& map, const std::string& what) {
   for (std::size_t k = 0; k < map.texels.size(); ++k)
     for (int c = 0; c < 3; ++c)
       if (!std::isfinite(map.texels[k][std::size_t(c)]))
-        throw UsageError(fmt::format("{}: texel (x {}, y {}) is {} (the lobes' sum overflows float)", what,
-                                     k % std::size_t(map.width), k / std::size_t(map.width),
-                                     map.texels[k][std::size_t(c)]));
+        throw runner::InputError(fmt::format("{}: texel (x {}, y {}) is {} (the lobes' sum overflows float)", what,
+                                             k % std::size_t(map.width), k / std::size_t(map.width),
+                                             map.texels[k][std::size_t(c)]));
 }
 
 std::string join_command(const std::string& head, const std::vector<std::string>& args) {
@@ -113,9 +113,9 @@ struct MakeArgs {
 };
 
 void run_make(const MakeArgs& a) {
-  if (a.out.empty()) throw UsageError("envmap make needs --out FILE.exr");
+  if (a.out.empty()) throw runner::InputError("envmap make needs --out FILE.exr");
   if (a.width < 2 || a.width % 2 != 0 || a.width > 8192)
-    throw UsageError(fmt::format("--width {} must be even and in [2, 8192]", a.width));
+    throw runner::InputError(fmt::format("--width {} must be even and in [2, 8192]", a.width));
   runner::check_output_paths({{"--out", a.out}}, {{"--mixture", a.mixture}});
   EnvMap map;
   std::vector<std::string> args{"--out", a.out, "--width", std::to_string(a.width)};
@@ -152,10 +152,11 @@ void run_make(const MakeArgs& a) {
       if (!a.mixture.empty()) args.insert(args.end(), {"--mixture", a.mixture});
       map = rasterize_mixture(m, a.width, a.width / 2);
     } else {
-      throw UsageError("unknown environment '" + clip_text(a.kind) + "' (sky, studio, overcast, indoor, mixture)");
+      throw runner::InputError("unknown environment '" + clip_text(a.kind) +
+                               "' (sky, studio, overcast, indoor, mixture)");
     }
   } catch (const EnvironmentError& e) {
-    throw UsageError(e.what());
+    throw runner::InputError(e.what());
   }
   check_finite_map(map, "envmap make " + a.kind);
   const std::string command = join_command("sglab envmap make " + a.kind, args);
@@ -177,14 +178,14 @@ fit::EnvFitResult run_fit_method(const EnvMap& map, const std::string& method, c
     if (method == "ceres") return fit::fit_envmap_ceres(map, o);
     if (method == "vmf-em") return fit::fit_envmap_vmf_em(map, o);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
+    throw runner::InputError(e.what());
   }
-  throw UsageError("unknown --method " + quote(method) + " (ceres, vmf-em)");
+  throw runner::InputError("unknown --method " + quote(method) + " (ceres, vmf-em)");
 }
 
 void run_fit_envmap(const FitEnvArgs& a) {
   if (a.method != "ceres" && a.method != "vmf-em")
-    throw UsageError("unknown --method " + quote(a.method) + " (ceres, vmf-em)");
+    throw runner::InputError("unknown --method " + quote(a.method) + " (ceres, vmf-em)");
   runner::check_output_paths({{"--json", a.json}, {"--exr", a.exr}}, {{"map", a.map}});
   const EnvMap map = load_map(a.map);
   fit::EnvFitOptions o = a.options;
@@ -216,7 +217,7 @@ void run_fit_envmap(const FitEnvArgs& a) {
   for (std::size_t j = 0; j < r.mixture.size(); ++j)
     for (int c = 0; c < 3; ++c)
       if (!(r.mixture[j].amplitude[std::size_t(c)] <= render::kMaxMixtureAmplitude))
-        throw UsageError(fmt::format(
+        throw runner::InputError(fmt::format(
             "fit envmap {}: lobe{}.{} {:g} is outside [0, {:g}], the amplitudes a mixture record holds "
             "(the map's values are too large; scale it down); nothing written",
             quote(a.map), j, "rgb"[c], r.mixture[j].amplitude[std::size_t(c)], render::kMaxMixtureAmplitude));
@@ -239,10 +240,10 @@ struct RenderArgs {
 };
 
 render::EnvImage make_image(const std::string& geometry, int res) {
-  if (res < 2 || res > 2048) throw UsageError(fmt::format("--res {} must be in [2, 2048]", res));
+  if (res < 2 || res > 2048) throw runner::InputError(fmt::format("--res {} must be in [2, 2048]", res));
   if (geometry == "sphere") return render::sphere_image(res);
   if (geometry == "plane") return render::plane_image(res, std::max(1, res / 2));
-  throw UsageError("unknown --geometry " + quote(geometry) + " (sphere, plane)");
+  throw runner::InputError("unknown --geometry " + quote(geometry) + " (sphere, plane)");
 }
 
 nlohmann::ordered_json error_json(const render::ShadingError& e) {
@@ -250,11 +251,12 @@ nlohmann::ordered_json error_json(const render::ShadingError& e) {
 }
 
 void run_render(const RenderArgs& a) {
-  if (a.out.empty()) throw UsageError("envmap render needs --out IMAGE.exr");
-  if (a.mixture.empty()) throw UsageError("envmap render needs --mixture FIT.json (from `sglab fit envmap … --json`)");
+  if (a.out.empty()) throw runner::InputError("envmap render needs --out IMAGE.exr");
+  if (a.mixture.empty())
+    throw runner::InputError("envmap render needs --mixture FIT.json (from `sglab fit envmap … --json`)");
   if (!(a.roughness >= render::kMinEnvRoughness && a.roughness <= 1))
-    throw UsageError(fmt::format("--roughness {} must be in [{:g}, 1]", a.roughness, render::kMinEnvRoughness));
-  if (!(a.f0 >= 0 && a.f0 <= 1)) throw UsageError(fmt::format("--f0 {} must be in [0, 1]", a.f0));
+    throw runner::InputError(fmt::format("--roughness {} must be in [{:g}, 1]", a.roughness, render::kMinEnvRoughness));
+  if (!(a.f0 >= 0 && a.f0 <= 1)) throw runner::InputError(fmt::format("--f0 {} must be in [0, 1]", a.f0));
   runner::check_output_paths({{"--out", a.out}, {"--stats", a.stats}}, {{"map", a.map}, {"--mixture", a.mixture}});
   const EnvMap map = load_map(a.map);
   const SgMixture m = read_mixture(a.mixture);
@@ -269,7 +271,7 @@ void run_render(const RenderArgs& a) {
     layers[4] = render::integrate_specular(recon, image, a.roughness, a.f0);
     layers[5] = render::mixture_specular_method(m, image, a.specular, a.roughness, a.f0);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
+    throw runner::InputError(e.what());
   }
   const std::string command = fmt::format(
       "sglab envmap render {} --mixture {} --geometry {} --res {} --diffuse {} --specular {} --roughness {} --f0 {} "
@@ -307,23 +309,23 @@ void add_fit_envmap_command(CLI::App& fit) {
   sub->add_option("--lobes", a->options.lobes, "number of lobes N")->required();
   sub->add_option("--init", a->options.init, "initial axes")
       ->capture_default_str()
-      ->check(one_of({"fibonacci", "kmeans"}, "--init"));
+      ->check(frontend::one_of({"fibonacci", "kmeans"}, "--init"));
   sub->add_option("--objective", a->options.objective, "objective (solid-angle weighted)")
       ->capture_default_str()
-      ->check(one_of({"l2", "log-l2"}, "objective"));
+      ->check(frontend::one_of({"l2", "log-l2"}, "objective"));
   sub->add_option("--method", a->method, "ceres, or vmf-em (the EM alternative)")
       ->capture_default_str()
-      ->check(one_of({"ceres", "vmf-em"}, "method"));
+      ->check(frontend::one_of({"ceres", "vmf-em"}, "method"));
   sub->add_option("--threads", a->options.threads, "Ceres threads")
       ->capture_default_str()
-      ->check(integer_in(1, runner::kMaxThreads));
+      ->check(frontend::integer_in(1, runner::kMaxThreads));
   sub->add_option("--seed", a->options.seed, "k-means++ seed")
       ->capture_default_str()
-      ->check(unsigned_at_most(std::numeric_limits<unsigned>::max()));
+      ->check(frontend::unsigned_at_most(std::numeric_limits<unsigned>::max()));
   sub->add_option("--max-iterations", a->max_iterations,
                   "iteration cap: Levenberg–Marquardt iterations per level (ceres, default 60) or EM iterations "
                   "(vmf-em, default 200)")
-      ->check(integer_in(1, 1000000));
+      ->check(frontend::integer_in(1, 1000000));
   sub->add_option("--json", a->json, "write the mixture as a fit record (JSON)");
   sub->add_option("--exr", a->exr, "write the reconstruction as an EXR of the map's size");
   sub->callback([a] { run_fit_envmap(*a); });
@@ -338,27 +340,29 @@ void add_envmap_command(CLI::App& app, const runner::RunContext& run) {
     auto* sub = cmd->add_subcommand("make", "write a generated environment as an equirectangular EXR");
     sub->add_option("kind", a->kind, "environment")
         ->required()
-        ->check(one_of({"sky", "studio", "overcast", "indoor", "mixture"}, "environment"));
+        ->check(frontend::one_of({"sky", "studio", "overcast", "indoor", "mixture"}, "environment"));
     sub->add_option("--out", a->out, "output EXR");
-    sub->add_option("--width", a->width, "width (height = width/2)")->capture_default_str()->check(integer_in(2, 8192));
+    sub->add_option("--width", a->width, "width (height = width/2)")
+        ->capture_default_str()
+        ->check(frontend::integer_in(2, 8192));
     sub->add_option("--turbidity", a->sky.turbidity, "sky: Preetham turbidity T in [2, 10]")
         ->capture_default_str()
-        ->check(finite_in(2, 10));
+        ->check(frontend::finite_in(2, 10));
     sub->add_option("--sun-elevation", a->sky.sun_elevation_deg, "sky: sun elevation (degrees)")
         ->capture_default_str()
-        ->check(finite_in(0, 90));
+        ->check(frontend::finite_in(0, 90));
     sub->add_option("--sun-azimuth", a->sky.sun_azimuth_deg, "sky: sun azimuth (degrees)")
         ->capture_default_str()
-        ->check(finite_in(-360, 360));
+        ->check(frontend::finite_in(-360, 360));
     sub->add_option("--sun-size", a->sky.sun_size_deg, "sky: sun disk angular diameter (degrees)")
         ->capture_default_str()
-        ->check(finite_in(0, 45));
+        ->check(frontend::finite_in(0, 45));
     sub->add_option("--sun-luminance", a->sky.sun_luminance, "sky: sun disk luminance / zenith luminance")
         ->capture_default_str()
-        ->check(finite_in(0, render::kMaxSunLuminance));
+        ->check(frontend::finite_in(0, render::kMaxSunLuminance));
     sub->add_option("--ground-albedo", a->sky.ground_albedo, "sky, overcast: albedo of the ground below the horizon")
         ->capture_default_str()
-        ->check(finite_in(0, 1));
+        ->check(frontend::finite_in(0, 1));
     sub->add_option("--mixture", a->mixture,
                     "mixture: lobes from a fit record JSON (default: the shipped synthetic mixture)");
     sub->callback([a] { run_make(*a); });
@@ -371,18 +375,18 @@ void add_envmap_command(CLI::App& app, const runner::RunContext& run) {
     sub->add_option("--mixture", a->mixture, "mixture fit record JSON (sglab fit envmap --json)");
     sub->add_option("--geometry", a->geometry, "geometry")
         ->capture_default_str()
-        ->check(one_of({"sphere", "plane"}, "geometry"));
-    sub->add_option("--res", a->res, "image size")->capture_default_str()->check(integer_in(2, 2048));
+        ->check(frontend::one_of({"sphere", "plane"}, "geometry"));
+    sub->add_option("--res", a->res, "image size")->capture_default_str()->check(frontend::integer_in(2, 2048));
     sub->add_option("--diffuse", a->diffuse, "clamped-cosine method (sglab eval --list)")
         ->capture_default_str()
-        ->check(one_of(method_names(*find_quantity("clamped-cosine")), "clamped-cosine method"));
+        ->check(frontend::one_of(frontend::method_names(*find_quantity("clamped-cosine")), "clamped-cosine method"));
     sub->add_option("--specular", a->specular, "specular method")
         ->capture_default_str()
-        ->check(one_of(method_names(*find_quantity("specular")), "specular method"));
+        ->check(frontend::one_of(frontend::method_names(*find_quantity("specular")), "specular method"));
     sub->add_option("--roughness", a->roughness, "GGX roughness")
         ->capture_default_str()
-        ->check(finite_in(render::kMinEnvRoughness, 1));
-    sub->add_option("--f0", a->f0, "Schlick f0")->capture_default_str()->check(finite_in(0, 1));
+        ->check(frontend::finite_in(render::kMinEnvRoughness, 1));
+    sub->add_option("--f0", a->f0, "Schlick f0")->capture_default_str()->check(frontend::finite_in(0, 1));
     sub->add_option("--out", a->out, "output EXR (layers diffuse_map, diffuse_mixture, diffuse_approx, specular_…)");
     sub->add_option("--stats", a->stats, "errors as JSON");
     sub->callback([a] { run_render(*a); });

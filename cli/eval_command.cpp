@@ -30,7 +30,7 @@
 #include "commands.hpp"
 #include "constant_sets.hpp"
 #include "csv.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "parse_number.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
@@ -51,7 +51,7 @@ struct EvalOptions {
   std::string out;
   bool list = false;
   bool json = false;
-  Constants constants;  // --constants, read as parsed
+  frontend::Constants constants;  // --constants, read as parsed
 };
 
 std::vector<std::string> column_names(const Quantity& q) {
@@ -139,21 +139,21 @@ std::string row_location(const std::string& source, const runner::CsvTable& tabl
   return fmt::format("{}: row {} (line {})", source, row + 1, table.rows[row].line);
 }
 
-// The input column of each of the quantity's arguments, in order; UsageError naming a missing
+// The input column of each of the quantity's arguments, in order; InputError naming a missing
 // column, or the input's own 'value' column (which eval appends).
 std::vector<std::size_t> argument_columns(const Quantity& q, const runner::CsvTable& table, const std::string& source) {
   std::vector<std::size_t> index;
   for (const auto& c : q.columns) {
     const std::size_t i = table.column(c.name);
     if (i == runner::CsvTable::npos)
-      throw UsageError(
+      throw runner::InputError(
           fmt::format("{}: line 1 (header): missing column '{}'; quantity '{}' needs the columns {}, the "
                       "header has {}",
                       source, c.name, q.name, fmt::join(column_names(q), ", "), fmt::join(table.header, ", ")));
     index.push_back(i);
   }
   if (table.column(kValueColumn) != runner::CsvTable::npos)
-    throw UsageError(
+    throw runner::InputError(
         fmt::format("{}: line 1 (header): the input already has a column '{}', which eval appends; rename it", source,
                     kValueColumn));
   return index;
@@ -179,21 +179,22 @@ std::vector<T> parse_arguments(const Quantity& q, const Method& method, const ru
       try {
         args[r * k + j] = runner::parse_decimal<T>(fields[index[j]]);
       } catch (const runner::NumberError& e) {
-        throw UsageError(fmt::format("{}: {}", where(j), e.what()));
+        throw runner::InputError(fmt::format("{}: {}", where(j), e.what()));
       }
       checked[j] = runner::validation_double(args[r * k + j]);
       if (method.evaluates_in_double && runner::outside_double(args[r * k + j]))
-        throw UsageError(fmt::format("{}: is outside double's range, and method '{}' of '{}' evaluates in double",
-                                     where(j), method.name, q.name));
+        throw runner::InputError(
+            fmt::format("{}: is outside double's range, and method '{}' of '{}' evaluates in double", where(j),
+                        method.name, q.name));
     }
     // The library's checks (registry.hpp: row_error), the same the Python module applies.
     if (const auto error = row_error(q, method, checked)) {
-      if (error->column) throw UsageError(fmt::format("{}: {}", where(*error->column), error->message));
+      if (error->column) throw runner::InputError(fmt::format("{}: {}", where(*error->column), error->message));
       std::vector<std::string> values;
       for (std::size_t j = 0; j < k; ++j)
         values.push_back(fmt::format("{} '{}'", q.columns[j].name, clip_text(fields[index[j]])));
-      throw UsageError(fmt::format("{}, {}: method '{}' of '{}': {}", row_location(source, table, r),
-                                   fmt::join(values, ", "), method.name, q.name, error->message));
+      throw runner::InputError(fmt::format("{}, {}: method '{}' of '{}': {}", row_location(source, table, r),
+                                           fmt::join(values, ", "), method.name, q.name, error->message));
     }
   }
   return args;
@@ -245,14 +246,15 @@ std::vector<std::string> evaluate(const Quantity& q, const Method& method, Preci
 runner::CsvTable read_input(const std::string& path) {
   if (path.empty()) {
     struct stat st {};
-    if (::fstat(0, &st) == 0 && S_ISDIR(st.st_mode)) throw UsageError("standard input is a directory, not a CSV file");
+    if (::fstat(0, &st) == 0 && S_ISDIR(st.st_mode))
+      throw runner::InputError("standard input is a directory, not a CSV file");
     return runner::read_csv(std::cin, "<stdin>");
   }
   // An ifstream opens a directory without complaint and fails only when reading it.
   if (std::filesystem::is_directory(path))
-    throw UsageError(fmt::format("the input '{}' is a directory, not a CSV file", path));
+    throw runner::InputError(fmt::format("the input '{}' is a directory, not a CSV file", path));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(fmt::format("cannot open the input file '{}'", path));
+  if (!in) throw runner::InputError(fmt::format("cannot open the input file '{}'", path));
   return runner::read_csv(in, path);
 }
 
@@ -273,20 +275,21 @@ void run_eval(const EvalOptions& o) {
     return;
   }
   if (o.quantity.empty())
-    throw UsageError(
-        fmt::format("eval needs a QUANTITY, one of: {} (see `sglab eval --list`)", fmt::join(quantity_names(), ", ")));
+    throw runner::InputError(fmt::format("eval needs a QUANTITY, one of: {} (see `sglab eval --list`)",
+                                         fmt::join(frontend::quantity_names(), ", ")));
   const Quantity* q = find_quantity(o.quantity);
-  if (!q) throw UsageError(runner::unknown_name_message("quantity", o.quantity, quantity_names()));
+  if (!q) throw runner::InputError(runner::unknown_name_message("quantity", o.quantity, frontend::quantity_names()));
   if (o.method.empty())
-    throw UsageError(fmt::format("eval {} needs --method, one of: {}", q->name, fmt::join(method_names(*q), ", ")));
+    throw runner::InputError(
+        fmt::format("eval {} needs --method, one of: {}", q->name, fmt::join(frontend::method_names(*q), ", ")));
   const Method* m = q->find(o.method);
   if (!m)
-    throw UsageError(runner::unknown_name_message("method", o.method, method_names(*q)) + " for quantity '" + q->name +
-                     "'");
+    throw runner::InputError(runner::unknown_name_message("method", o.method, frontend::method_names(*q)) +
+                             " for quantity '" + q->name + "'");
   const auto precision = parse_precision(o.precision);
   if (!precision)
-    throw UsageError(fmt::format("unknown precision {}; valid precisions: {}", quote(o.precision),
-                                 fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
+    throw runner::InputError(fmt::format("unknown precision {}; valid precisions: {}", quote(o.precision),
+                                         fmt::join(kPrecisions | std::views::transform(precision_name), ", ")));
 
   runner::check_output_paths({{"--out", o.out}}, {{"--in", o.in}});
 
@@ -296,7 +299,8 @@ void run_eval(const EvalOptions& o) {
   m = &bound;
   if (!m->parameters.empty())
     std::cerr << fmt::format("sglab eval: {} {} with constants:\n", q->name, m->name)
-              << constants_text(set, method_constant_uses(q->name + "/" + m->name, *m), "  ") << std::flush;
+              << frontend::constants_text(set, frontend::method_constant_uses(q->name + "/" + m->name, *m), "  ")
+              << std::flush;
 
   const runner::CsvTable table = read_input(o.in);
   const std::string source = o.in.empty() ? "<stdin>" : o.in;
@@ -326,9 +330,9 @@ void add_eval_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("eval",
                                      "Evaluate a method of a quantity on every row of a CSV; appends a 'value' column");
   auto* quantity = cmd->add_option("quantity", o->quantity, "Quantity to evaluate (see --list)")
-                       ->check(one_of(quantity_names(), "quantity"));
+                       ->check(frontend::one_of(frontend::quantity_names(), "quantity"));
   auto* method = cmd->add_option("--method,-m", o->method,
-                                 "Method of the quantity (see --list):" + methods_per_quantity());
+                                 "Method of the quantity (see --list):" + frontend::methods_per_quantity());
   auto* precision = cmd->add_option("--precision,-p", o->precision,
                                     "float, double or mp50 (50 decimal digits); values are printed "
                                     "with 9, 17 or 50 significant digits")
@@ -339,7 +343,7 @@ void add_eval_command(CLI::App& app) {
                               "succeeds, and replaced atomically");
   auto* list = cmd->add_flag("--list", o->list, "List every quantity with its columns and methods (source, flaws)");
   cmd->add_flag("--json", o->json, "With --list: print the list as JSON")->needs(list);
-  add_constants_option(*cmd, o->constants);
+  frontend::add_constants_option(*cmd, o->constants);
   list->excludes(quantity)->excludes(method)->excludes(precision)->excludes(in)->excludes(out);
   cmd->footer(
       "Exit status: 0 on success; 2 for bad input (unknown quantity, method or precision, a "

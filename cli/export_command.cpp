@@ -22,7 +22,7 @@ struct ExportOptions {
   std::vector<std::string> methods;
   std::string lang;
   std::string out;
-  Constants constants;
+  frontend::Constants constants;
   bool list = false;
 };
 
@@ -31,8 +31,8 @@ void run_export(const ExportOptions& o, const std::string& command) {
     for (const auto& name : shader::exportable_methods()) std::cout << name << '\n';
     return;
   }
-  if (o.methods.empty()) throw UsageError("export: name at least one QUANTITY/METHOD (`sglab export --list`)");
-  if (o.lang.empty()) throw UsageError("export: --lang is required (glsl, hlsl or c)");
+  if (o.methods.empty()) throw runner::InputError("export: name at least one QUANTITY/METHOD (`sglab export --list`)");
+  if (o.lang.empty()) throw runner::InputError("export: --lang is required (glsl, hlsl or c)");
   const shader::Language lang = *shader::parse_language(o.lang);  // checked by CLI11
   if (!o.out.empty()) {
     std::vector<runner::NamedPath> inputs;
@@ -47,7 +47,7 @@ void run_export(const ExportOptions& o, const std::string& command) {
     // The same method twice would define its function twice: a source that does not compile.
     if (std::find(o.methods.begin(), o.methods.begin() + std::ptrdiff_t(i), name) !=
         o.methods.begin() + std::ptrdiff_t(i))
-      throw UsageError(fmt::format("export: {} is given twice", quote(name)));
+      throw runner::InputError(fmt::format("export: {} is given twice", quote(name)));
     const shader::MethodRef ref = shader::find_exportable(name);
     traced.push_back(shader::trace_method(*ref.quantity, *ref.method, set));
   }
@@ -67,13 +67,13 @@ void add_export_command(CLI::App& app) {
       fmt::format("QUANTITY/METHOD, one or more; exportable: {}", fmt::join(shader::exportable_methods(), ", ")));
   sub->add_option("--lang", opts->lang, "glsl, hlsl or c")->check(CLI::IsMember(shader::language_names()));
   sub->add_option("--out", opts->out, "write the source to FILE (default: standard output)");
-  add_constants_option(*sub, opts->constants);
+  frontend::add_constants_option(*sub, opts->constants);
   sub->add_flag("--list", opts->list, "list the exportable methods");
   sub->callback([opts] {
     std::string command = "sglab export";
     for (const auto& m : opts->methods) command += " " + m;
     if (!opts->lang.empty()) command += " --lang " + opts->lang;
-    for (const auto& a : constants_arguments(opts->constants)) command += " " + a;
+    for (const auto& a : frontend::constants_arguments(opts->constants)) command += " " + a;
     run_export(*opts, command);
   });
 }

@@ -26,7 +26,7 @@
 
 #include "atomic_file.hpp"
 #include "commands.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "filter_job.hpp"
 #include "sglab/render/filtering.hpp"
 #include "sglab/render/exr.hpp"
@@ -35,7 +35,7 @@ namespace sglab::cli {
 namespace {
 
 struct Options {
-  FilterJob job;
+  frontend::FilterJob job;
   std::string weights;
   std::string out;
   std::string stats;
@@ -52,14 +52,15 @@ struct Options {
 bool given(const CLI::Option* option) { return option && option->count() > 0; }
 
 std::string command_line(const Options& o) {
-  std::string command = "sglab filter " + quote_argument(o.job.render.scene_path) + " --out " + quote_argument(o.out) +
-                        " --weights " + o.weights;
+  std::string command = "sglab filter " + frontend::quote_argument(o.job.render.scene_path) + " --out " +
+                        frontend::quote_argument(o.out) + " --weights " + o.weights;
   if (!o.noisy.empty()) {
-    command += " --noisy " + quote_argument(o.noisy) + " --radius " + std::to_string(o.job.parameters.radius);
+    command += " --noisy " + frontend::quote_argument(o.noisy) + " --radius " + std::to_string(o.job.parameters.radius);
     if (o.noisy_seed != Options{}.noisy_seed) command += " --noisy-seed " + std::to_string(o.noisy_seed);
   }
-  for (const auto& a : filter_job_arguments(o.job, true, o.noisy.empty())) command += " " + quote_argument(a);
-  if (!o.stats.empty()) command += " --stats " + quote_argument(o.stats);
+  for (const auto& a : frontend::filter_job_arguments(o.job, true, o.noisy.empty()))
+    command += " " + frontend::quote_argument(a);
+  if (!o.stats.empty()) command += " --stats " + frontend::quote_argument(o.stats);
   return command;
 }
 
@@ -92,8 +93,8 @@ nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rs
   stats["low_height"] = in.low_height;
   stats["source"] = std::string(render::indirect_source_name(in.source));
   stats["weights"] = std::string(render::filter_weights_name(r.weights));
-  stats["parameters"] = filter_parameters_json(o.job.parameters);
-  stats["constants"] = filter_constants_json(o.job);
+  stats["parameters"] = frontend::filter_parameters_json(o.job.parameters);
+  stats["constants"] = frontend::filter_constants_json(o.job);
   stats["rsm_resolution"] = rsm_resolution;
   stats["vpl_count"] = in.vpl_count;
   std::size_t hit = 0, glossy = 0;
@@ -101,9 +102,9 @@ nlohmann::json filter_stats(const Options& o, const render::Scene& scene, int rs
   stats["pixels_hit"] = hit;
   stats["glossy_receivers"] = glossy;
   stats["fallback_pixels"] = r.fallback_pixels;
-  stats["error"] = {{"all", image_error_json(r.all)},
-                    {"glossy_receivers", image_error_json(r.glossy)},
-                    {"diffuse_receivers", image_error_json(r.diffuse)},
+  stats["error"] = {{"all", frontend::image_error_json(r.all)},
+                    {"glossy_receivers", frontend::image_error_json(r.glossy)},
+                    {"diffuse_receivers", frontend::image_error_json(r.diffuse)},
                     {"of",
                      "upsampled against the exact VPL sum at full resolution, all channels; relative_l2 = "
                      "||v - r||/||r||, smape = mean 2|v - r|/(|v| + |r|), rmse in W/(m^2 sr)"}};
@@ -128,9 +129,9 @@ std::function<void(std::string_view, double)> progress_printer() {
 }
 
 void run_upsampling(const Options& o, const render::FilterWeights weights) {
-  render::FilterInputOptions input_options = filter_input_options(o.job);
-  const render::Scene scene = load_scene(o.job.render);
-  check_filter_memory(scene, input_options);
+  render::FilterInputOptions input_options = frontend::filter_input_options(o.job);
+  const render::Scene scene = frontend::load_scene(o.job.render);
+  frontend::check_filter_memory(scene, input_options);
   const std::string command = command_line(o);
 
   if (!o.quiet) {
@@ -145,7 +146,7 @@ void run_upsampling(const Options& o, const render::FilterWeights weights) {
     in = render::prepare_filter_inputs(scene, input_options);
     r = render::upsample_indirect(in, weights, o.job.parameters);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
+    throw runner::InputError(e.what());
   }
 
   const std::string exr = render::encode_exr(
@@ -177,8 +178,8 @@ nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int r
   stats["noisy_seed"] = in.seed;
   stats["weights"] = std::string(render::filter_weights_name(r.weights));
   stats["radius"] = r.radius;
-  stats["parameters"] = filter_parameters_json(o.job.parameters);
-  stats["constants"] = filter_constants_json(o.job);
+  stats["parameters"] = frontend::filter_parameters_json(o.job.parameters);
+  stats["constants"] = frontend::filter_constants_json(o.job);
   stats["rsm_resolution"] = rsm_resolution;
   stats["vpl_count"] = in.vpl_count;
   std::size_t hit = 0, glossy = 0;
@@ -190,13 +191,13 @@ nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int r
       "against the exact VPL sum (all VPLs) at every pixel, all channels; relative_l2 = ||v - r||/||r||, "
       "smape = mean 2|v - r|/(|v| + |r|), rmse in W/(m^2 sr)";
   stats["error"] = {{"noisy",
-                     {{"all", image_error_json(noisy.all)},
-                      {"glossy_receivers", image_error_json(noisy.glossy)},
-                      {"diffuse_receivers", image_error_json(noisy.diffuse)}}},
+                     {{"all", frontend::image_error_json(noisy.all)},
+                      {"glossy_receivers", frontend::image_error_json(noisy.glossy)},
+                      {"diffuse_receivers", frontend::image_error_json(noisy.diffuse)}}},
                     {"filtered",
-                     {{"all", image_error_json(r.all)},
-                      {"glossy_receivers", image_error_json(r.glossy)},
-                      {"diffuse_receivers", image_error_json(r.diffuse)}}},
+                     {{"all", frontend::image_error_json(r.all)},
+                      {"glossy_receivers", frontend::image_error_json(r.glossy)},
+                      {"diffuse_receivers", frontend::image_error_json(r.diffuse)}}},
                     {"of", of}};
   const double pixels = double(in.width) * double(in.height);
   stats["seconds"] = {{"gbuffer", in.seconds.gbuffer},
@@ -217,18 +218,20 @@ nlohmann::json denoise_stats(const Options& o, const render::Scene& scene, int r
 
 void run_denoise(const Options& options, const render::FilterWeights weights) {
   Options o = options;
-  if (given(o.scale_option)) throw UsageError("--scale is the upsampling pass's; --noisy filters at full resolution");
+  if (given(o.scale_option))
+    throw runner::InputError("--scale is the upsampling pass's; --noisy filters at full resolution");
   if (given(o.spatial_sigma_option))
-    throw UsageError("--spatial-sigma is the upsampling pass's; --noisy filters over a box of half-width --radius");
-  const render::NoisySpec spec = parse_noisy_option(o.noisy);
-  o.job.parameters.radius = denoise_radius(
+    throw runner::InputError(
+        "--spatial-sigma is the upsampling pass's; --noisy filters over a box of half-width --radius");
+  const render::NoisySpec spec = frontend::parse_noisy_option(o.noisy);
+  o.job.parameters.radius = frontend::denoise_radius(
       spec, given(o.radius_option) ? std::optional<int>(o.job.parameters.radius) : std::nullopt);
-  render::DenoiseInputOptions input_options = denoise_input_options(o.job, spec, o.noisy_seed);
-  const render::Scene scene = load_scene(o.job.render);
+  render::DenoiseInputOptions input_options = frontend::denoise_input_options(o.job, spec, o.noisy_seed);
+  const render::Scene scene = frontend::load_scene(o.job.render);
   render::FilterInputOptions footprint;  // the same buffers as upsampling at scale 1
   footprint.scale = 1;
   footprint.rsm_resolution = input_options.rsm_resolution;
-  check_filter_memory(scene, footprint);
+  frontend::check_filter_memory(scene, footprint);
   const std::string command = command_line(o);
   if (!o.quiet) {
     input_options.progress = progress_printer();
@@ -243,7 +246,7 @@ void run_denoise(const Options& options, const render::FilterWeights weights) {
     in = render::prepare_denoise_inputs(scene, input_options);
     r = render::denoise_indirect(in, weights, o.job.parameters);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
+    throw runner::InputError(e.what());
   }
   const std::string exr = render::encode_exr(
       in.width, in.height,
@@ -270,19 +273,19 @@ void run_denoise(const Options& options, const render::FilterWeights weights) {
 
 void run(const Options& options) {
   Options o = options;
-  apply_filter_constants(o.job);
-  if (o.out.empty()) throw UsageError("filter needs --out IMAGE.exr");
-  if (o.weights.empty()) throw UsageError("filter needs --weights normal|lobe|lobe-depth|spatial");
+  frontend::apply_filter_constants(o.job);
+  if (o.out.empty()) throw runner::InputError("filter needs --out IMAGE.exr");
+  if (o.weights.empty()) throw runner::InputError("filter needs --weights normal|lobe|lobe-depth|spatial");
   runner::check_output_paths({{"--out", o.out}, {"--stats", o.stats}}, {{"scene", o.job.render.scene_path}});
-  const render::FilterWeights weights = parse_weights_option(o.weights);
+  const render::FilterWeights weights = frontend::parse_weights_option(o.weights);
   if (o.noisy.empty()) {
-    check_filter_parameters(o.job.parameters);
+    frontend::check_filter_parameters(o.job.parameters);
     run_upsampling(o, weights);
     return;
   }
   render::FilterParameters checked = o.job.parameters;
   checked.radius = 1;  // the radius is checked against the noisy input
-  check_filter_parameters(checked);
+  frontend::check_filter_parameters(checked);
   run_denoise(o, weights);
 }
 
@@ -306,14 +309,14 @@ void add_filter_command(CLI::App& app) {
   sub->add_option("--noisy-seed", opts->noisy_seed,
                   "--noisy: seed of the subsets' shift (interleaved) or of the draws (random)")
       ->capture_default_str()
-      ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
+      ->check(frontend::unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
   sub->add_option("--weights", opts->weights,
                   "range weights: normal (normal + depth), lobe (lobe-aware), lobe-depth (lobe directions + depth), "
                   "spatial (none)")
-      ->check(one_of(render::filter_weights_names(), "weights"));
+      ->check(frontend::one_of(render::filter_weights_names(), "weights"));
   sub->add_option("--stats", opts->stats, "output stats JSON");
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
-  add_filter_job_options(*sub, opts->job);
+  frontend::add_filter_job_options(*sub, opts->job);
   opts->radius_option = sub->get_option("--radius");
   opts->scale_option = sub->get_option("--scale");
   opts->spatial_sigma_option = sub->get_option("--spatial-sigma");

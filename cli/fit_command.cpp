@@ -20,7 +20,7 @@
 #include "table.hpp"
 #include "commands.hpp"
 #include "driver.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "fit_all.hpp"
 #include "fit_record.hpp"
 #include "record.hpp"
@@ -29,9 +29,9 @@
 namespace sglab::cli {
 namespace {
 
-using fit_all::digits_text;
-using fit_all::number;
-using fit_all::range_text;
+using experiments::fit_all::digits_text;
+using experiments::fit_all::number;
+using experiments::fit_all::range_text;
 
 // The fits `sglab fit NAME` takes, and 'all'.
 std::vector<std::string> fit_names() {
@@ -51,7 +51,7 @@ struct FitArgs {
   std::string tables_dir;
 };
 
-void print_result(const fit::FitResult& r, const Judgement& jd) {
+void print_result(const fit::FitResult& r, const frontend::Judgement& jd) {
   std::printf("%s  [%s]\n  domain: %s\n  source: %s\n", r.fit.c_str(), r.objective.c_str(), r.domain.c_str(),
               r.source.c_str());
   std::printf("  %-10s %-24s %-24s %-15s %s\n", "parameter", "value", "published", "correct digits", "+1 % cost range");
@@ -77,22 +77,25 @@ void print_result(const fit::FitResult& r, const Judgement& jd) {
   std::printf("\n");
 }
 
-fit_all::Options all_options(const FitArgs& a) { return {a.precision, a.beta, a.kappa, a.json_dir, a.tables_dir}; }
+experiments::fit_all::Options all_options(const FitArgs& a) {
+  return {a.precision, a.beta, a.kappa, a.json_dir, a.tables_dir};
+}
 
 void run_fit(const FitArgs& a, const runner::RunContext& run) {
-  const fit_all::Options o = all_options(a);
+  const experiments::fit_all::Options o = all_options(a);
   if (a.name == "all") {
-    fit_all::write(
-        o, runner::with_run(fit_all::compute(o, [](const fit_all::Judged& j) { print_result(j.result, j.judgement); }),
+    experiments::fit_all::write(
+        o, runner::with_run(experiments::fit_all::compute(
+                                o, [](const experiments::fit_all::Judged& j) { print_result(j.result, j.judgement); }),
                             run));
     return;
   }
   const fit::Fitter* f = fit::find_fitter(a.name);
-  if (!f) throw UsageError(runner::unknown_name_message("fit", a.name, fit_names()));
-  const fit::FitResult r = fit_all::run_one(*f, a.objective, o);
-  const Judgement jd = judge(*f, r);
+  if (!f) throw runner::InputError(runner::unknown_name_message("fit", a.name, fit_names()));
+  const fit::FitResult r = experiments::fit_all::run_one(*f, a.objective, o);
+  const frontend::Judgement jd = frontend::judge(*f, r);
   print_result(r, jd);
-  const std::string record = fit_record_json(r, jd, a.precision).dump(2) + "\n";
+  const std::string record = frontend::fit_record_json(r, jd, a.precision).dump(2) + "\n";
   if (!a.json_file.empty()) runner::write_file_atomically(a.json_file, record);
   if (!a.json_dir.empty())
     runner::write_file_atomically(std::filesystem::path(a.json_dir) / (f->name + ".json"), record);
@@ -103,7 +106,7 @@ void run_fit(const FitArgs& a, const runner::RunContext& run) {
 void add_fit_command(CLI::App& app, const runner::RunContext& run) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* cmd = app.add_subcommand("fit", "re-derive a published constant with a Ceres fit");
-  cmd->add_option("name", a->name, "fit name, or 'all'")->check(one_of(fit_names(), "fit"));
+  cmd->add_option("name", a->name, "fit name, or 'all'")->check(frontend::one_of(fit_names(), "fit"));
   std::string objectives;
   std::vector<std::string> objective_names;
   for (const auto& g : fit::fitters()) {
@@ -113,9 +116,9 @@ void add_fit_command(CLI::App& app, const runner::RunContext& run) {
         objective_names.push_back(o);
   }
   cmd->add_option("--objective", a->objective, "objective (default: the fit's first), per fit:" + objectives)
-      ->check(one_of(objective_names, "objective"));
+      ->check(frontend::one_of(objective_names, "objective"));
   cmd->add_option("--precision", a->precision, "half|float|double (cosine-sharpness)")
-      ->check(one_of({"half", "float", "double"}, "precision"));
+      ->check(frontend::one_of({"half", "float", "double"}, "precision"));
   cmd->add_option("--beta", a->beta, "lambda-c: beta of sigma_n^2 (default 20)");
   cmd->add_option("--kappa", a->kappa, "lambda-c: kappa of sigma_n^2 (default 100)");
   cmd->add_option("--json", a->json_file, "write the fit's JSON record here");
@@ -125,7 +128,7 @@ void add_fit_command(CLI::App& app, const runner::RunContext& run) {
   add_fit_envmap_command(*cmd);  // `sglab fit envmap MAP.exr …` (envmap_command.cpp)
   cmd->callback([a, cmd, run] {
     if (cmd->got_subcommand("envmap")) return;
-    if (a->name.empty()) throw UsageError("fit needs a fit name, 'all', or 'envmap MAP.exr --lobes N'");
+    if (a->name.empty()) throw runner::InputError("fit needs a fit name, 'all', or 'envmap MAP.exr --lobes N'");
     run_fit(*a, run);
   });
 }

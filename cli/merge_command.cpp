@@ -35,8 +35,8 @@ void run_merge(const MergeOptions& o) {
     if (args.size() < 2 || args[0] != "sweep" || (args[1] != "specular" && args[1] != "render")) {
       std::string text;
       for (const auto& a : args) text += (text.empty() ? "" : " ") + a;
-      throw UsageError("merge: " + manifest.string() + ": 'args' \"" + clip_text(text) +
-                       "\" is not a `sweep specular` or `sweep render` command line");
+      throw runner::InputError("merge: " + manifest.string() + ": 'args' \"" + clip_text(text) +
+                               "\" is not a `sweep specular` or `sweep render` command line");
     }
   };
   const std::vector<runner::MergedSweep> merged = runner::merge_sweep_shards(inputs, o.out, sweep_command);
@@ -61,7 +61,7 @@ void summarize(const MergeOptions& o, const std::vector<runner::MergedSweep>& me
     args.insert(args.end(), {"--out", o.out});
     if (!o.tables_dir.empty()) args.insert(args.end(), {"--tables-dir", o.tables_dir});
     const int status = run_sglab(args, {.summary_only = true});
-    if (status == 2) throw UsageError("merge: the summary of sweep '" + m.name + "' was refused (see above)");
+    if (status == 2) throw runner::InputError("merge: the summary of sweep '" + m.name + "' was refused (see above)");
     if (status != 0) throw std::runtime_error("merge: the summary of sweep '" + m.name + "' failed");
   }
 }

@@ -15,7 +15,7 @@
 #include "atomic_file.hpp"
 #include "commands.hpp"
 #include "environment_render.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "render_job.hpp"
 #include "sglab/render/exr.hpp"
 #include "sglab/render/vsgl_specular_methods.hpp"
@@ -24,7 +24,7 @@ namespace sglab::cli {
 namespace {
 
 struct Options {
-  RenderJob job;
+  frontend::RenderJob job;
   std::string out;
   std::string stats;
   std::string dump_csv;
@@ -58,14 +58,14 @@ std::string quote_if_needed(const std::string& s) {
 }
 
 void run(const Options& o) {
-  if (o.out.empty()) throw UsageError("render needs --out IMAGE.exr");
+  if (o.out.empty()) throw runner::InputError("render needs --out IMAGE.exr");
   runner::check_output_paths({{"--out", o.out}, {"--stats", o.stats}, {"--dump-csv", o.dump_csv}},
                              {{"scene", o.job.scene_path}});
-  RenderJobRun job(o.job, o.specular, load_scene(o.job), !o.dump_csv.empty());
+  frontend::RenderJobRun job(o.job, o.specular, frontend::load_scene(o.job), !o.dump_csv.empty());
   const render::Scene& scene = job.scene;
   render::RenderOptions& options = job.options;
   std::string command = "sglab render " + quote_if_needed(o.job.scene_path) + " --out " + quote_if_needed(o.out);
-  for (const auto& a : render_job_arguments(o.job)) command += " " + quote_if_needed(a);
+  for (const auto& a : frontend::render_job_arguments(o.job)) command += " " + quote_if_needed(a);
   if (o.specular != render::kDefaultSpecularMethod) command += " --specular " + quote_if_needed(o.specular);
   if (!o.stats.empty()) command += " --stats " + quote_if_needed(o.stats);
   if (!o.dump_csv.empty()) command += " --dump-csv " + quote_if_needed(o.dump_csv);
@@ -133,8 +133,8 @@ void add_render_command(CLI::App& app) {
   sub->add_option("--stats", opts->stats, "output stats JSON");
   sub->add_option("--dump-csv", opts->dump_csv, "also write every pixel's layers as CSV (for plots/render_images.py)");
   sub->add_flag("--quiet", opts->quiet, "no progress on stderr");
-  add_specular_option(*sub, opts->specular);
-  add_render_job_options(*sub, opts->job);
+  frontend::add_specular_option(*sub, opts->specular);
+  frontend::add_render_job_options(*sub, opts->job);
   sub->callback([opts] { run(*opts); });
 }
 

@@ -5,7 +5,7 @@
 
 #include "commands.hpp"
 #include "constant_sets.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "registry.hpp"
 #include "reproduce.hpp"
 
@@ -35,9 +35,10 @@ void add_reproduce_command(CLI::App& app) {
                    "`sglab reproduce --list` lists the steps)";
           },
           "{" + runner::join_names(steps, "|") + "}"));
-  add_constants_option(*sub, opts->constants,
-                       "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
-                       "repeatable, later sets override earlier ones)");
+  frontend::add_constants_option(
+      *sub, opts->constants,
+      "constant set for every step but the fits (a fit record, a directory of them, or 'published'; "
+      "repeatable, later sets override earlier ones)");
   sub->callback([opts] {
     experiments::run_reproduce(*opts, [](const std::vector<std::string>& args, const runner::RunContext& run) {
       return run_sglab(args, run);

@@ -14,13 +14,13 @@
 #include <fmt/format.h>
 
 #include "csv.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "filter_sweep.hpp"
 #include "sglab/text_limits.hpp"
 #include "sweep.hpp"  // csv_number
 #include "table.hpp"
 
-namespace sglab::cli::denoise_sweep {
+namespace sglab::experiments::denoise_sweep {
 namespace {
 
 using filter_sweep::cell;
@@ -29,7 +29,7 @@ using render::FilterWeights;
 
 std::vector<render::NoisySpec> parse_noisy_list(const std::string& text) {
   std::vector<render::NoisySpec> specs;
-  for (const auto& t : filter_sweep::split(text)) specs.push_back(parse_noisy_option(t));
+  for (const auto& t : filter_sweep::split(text)) specs.push_back(frontend::parse_noisy_option(t));
   return specs;
 }
 
@@ -39,13 +39,13 @@ std::string command_line(const Options& o) {
                                    o.roughness,    "--weights", o.weights};
   if (o.radius) args.insert(args.end(), {"--radius", std::to_string(*o.radius)});
   if (o.noisy_seed != Options{}.noisy_seed) args.insert(args.end(), {"--noisy-seed", std::to_string(o.noisy_seed)});
-  for (const auto& a : filter_job_arguments(o.job, false, false)) args.push_back(a);
+  for (const auto& a : frontend::filter_job_arguments(o.job, false, false)) args.push_back(a);
   if (o.figure_roughness != Options{}.figure_roughness)
     args.insert(args.end(), {"--figure-roughness", o.figure_roughness});
   if (o.figure_noisy != Options{}.figure_noisy) args.insert(args.end(), {"--figure-noisy", o.figure_noisy});
   if (o.table != Options{}.table) args.insert(args.end(), {"--table", o.table});
   std::string command = "sglab";
-  for (const auto& a : args) command += " " + quote_argument(a);
+  for (const auto& a : args) command += " " + frontend::quote_argument(a);
   return command;
 }
 
@@ -65,10 +65,10 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes,
       if (!o.quiet)
         std::fprintf(stderr, "filter-sweep --noisy [%zu/%zu] floor.roughness=%g, %s (%.1f s)\n",
                      k * r.noisy.size() + s + 1, n, r.roughness[k], render::noisy_spec_name(spec).c_str(), elapsed());
-      render::DenoiseInputOptions io = denoise_input_options(o.job, spec, o.noisy_seed);
+      render::DenoiseInputOptions io = frontend::denoise_input_options(o.job, spec, o.noisy_seed);
       io.reference = reference.empty() ? nullptr : &reference;
       render::FilterParameters parameters = o.job.parameters;
-      parameters.radius = denoise_radius(spec, o.radius);
+      parameters.radius = frontend::denoise_radius(spec, o.radius);
       try {
         render::DenoiseInputs in = render::prepare_denoise_inputs(scenes[k], io);
         if (r.rows.empty()) {
@@ -93,7 +93,7 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes,
         if (figure) r.images.push_back(std::move(image));
         if (reference.empty()) reference = std::move(in.reference);
       } catch (const std::invalid_argument& e) {
-        throw UsageError(e.what());
+        throw runner::InputError(e.what());
       }
     }
   }
@@ -144,10 +144,10 @@ std::string markdown_table(const Result& r, bool smape, int subset) {
                         cell(pick_noisy(*first, smape, subset)));
       for (const auto w : r.weights) md += fmt::format(" {} |", cell(pick(find_row(r, a, spec, w), smape, subset)));
       for (const auto w : compared)
-        md += fmt::format(" {} |",
-                          cell(percent_change(pick(find_row(r, a, spec, w), smape, subset),
-                                              pick(find_row(r, a, spec, FilterWeights::normal), smape, subset)),
-                               "{:+.1f} %"));
+        md += fmt::format(
+            " {} |", cell(frontend::percent_change(pick(find_row(r, a, spec, w), smape, subset),
+                                                   pick(find_row(r, a, spec, FilterWeights::normal), smape, subset)),
+                          "{:+.1f} %"));
       md += "\n";
     }
   return md + "\n";
@@ -161,8 +161,8 @@ Change change_over_roughness(const Result& r, const render::NoisySpec& spec, Fil
   Change c{0, std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   int count = 0;
   for (const double a : r.roughness) {
-    const double x = percent_change(pick(find_row(r, a, spec, w), false, subset),
-                                    pick(find_row(r, a, spec, FilterWeights::normal), false, subset));
+    const double x = frontend::percent_change(pick(find_row(r, a, spec, w), false, subset),
+                                              pick(find_row(r, a, spec, FilterWeights::normal), false, subset));
     if (!std::isfinite(x)) continue;
     c.mean += x, c.lo = std::min(c.lo, x), c.hi = std::max(c.hi, x), ++count;
   }
@@ -193,10 +193,10 @@ std::string headline(const Result& r) {
       if (!n || !l) continue;
       ++points;
       smape_better += l->all.smape < n->all.smape;
-      if (percent_change(l->glossy.relative_l2, n->glossy.relative_l2) > 1) {
+      if (frontend::percent_change(l->glossy.relative_l2, n->glossy.relative_l2) > 1) {
         ++l2_worse;
         if (const Row* d = find_row(r, a, spec, FilterWeights::lobe_depth)) {
-          const double x = percent_change(d->glossy.relative_l2, n->glossy.relative_l2);
+          const double x = frontend::percent_change(d->glossy.relative_l2, n->glossy.relative_l2);
           depth_lo = std::min(depth_lo, x), depth_hi = std::max(depth_hi, x);
         }
       }
@@ -249,7 +249,7 @@ std::string markdown_intro(const Result& r) {
   const auto& p = o.job.parameters;
   std::vector<std::string> radii;
   for (const auto& spec : r.noisy)
-    radii.push_back(fmt::format("{} for {}", denoise_radius(spec, o.radius), render::noisy_spec_name(spec)));
+    radii.push_back(fmt::format("{} for {}", frontend::denoise_radius(spec, o.radius), render::noisy_spec_name(spec)));
   double ns = 0;
   for (const Row& row : r.rows) ns += row.ns_per_pixel;
   return fmt::format(
@@ -353,18 +353,18 @@ Result compute(const Options& options) {
   r.noisy = parse_noisy_list(o.noisy);
   r.weights = filter_sweep::parse_weights_list(o.weights);
   const std::vector<double> figure_roughness = filter_sweep::parse_roughness_list(o.figure_roughness);
-  const render::NoisySpec figure_noisy = parse_noisy_option(o.figure_noisy);
+  const render::NoisySpec figure_noisy = frontend::parse_noisy_option(o.figure_noisy);
   render::FilterParameters checked = o.job.parameters;
   checked.radius = 1;  // checked against each input below
-  check_filter_parameters(checked);
-  for (const auto& spec : r.noisy) denoise_radius(spec, o.radius);
+  frontend::check_filter_parameters(checked);
+  for (const auto& spec : r.noisy) frontend::denoise_radius(spec, o.radius);
   const std::vector<render::Scene> scenes = filter_sweep::roughness_scenes(o.job, r.roughness);
-  r.rsm_resolution = denoise_input_options(o.job, r.noisy.front(), o.noisy_seed).rsm_resolution;
+  r.rsm_resolution = frontend::denoise_input_options(o.job, r.noisy.front(), o.noisy_seed).rsm_resolution;
   if (!scenes.empty()) {  // one point's buffers at a time, plus the reference and the figure's images
     render::FilterInputOptions footprint;
     footprint.scale = 1;
     footprint.rsm_resolution = r.rsm_resolution;
-    check_filter_memory(scenes.front(), footprint, 2 + 2 * figure_roughness.size());
+    frontend::check_filter_memory(scenes.front(), footprint, 2 + 2 * figure_roughness.size());
   }
   r.provenance.command = command_line(o);
   compute_points(o, scenes, figure_roughness, figure_noisy, r);
@@ -386,4 +386,4 @@ void write(const Result& r) {
                o.table.c_str(), o.out.c_str(), o.table.c_str(), r.seconds);
 }
 
-}  // namespace sglab::cli::denoise_sweep
+}  // namespace sglab::experiments::denoise_sweep

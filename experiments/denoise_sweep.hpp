@@ -14,10 +14,10 @@
 #include "filter_job.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::denoise_sweep {
+namespace sglab::experiments::denoise_sweep {
 
 struct Options {
-  FilterJob job;  // parameters.radius is used only if `radius` is set
+  frontend::FilterJob job;  // parameters.radius is used only if `radius` is set
   std::string roughness = "0.02,0.05,0.1,0.2,0.4,0.7";
   std::string noisy = "interleaved:2,interleaved:4,interleaved:8";
   std::string weights = "spatial,normal,lobe,lobe-depth";
@@ -78,4 +78,4 @@ Tables tables(const Result& r);
 // TABLES/TABLE.{md,csv} and OUT/TABLE_images.csv; the Markdown also on stdout.
 void write(const Result& r);
 
-}  // namespace sglab::cli::denoise_sweep
+}  // namespace sglab::experiments::denoise_sweep

@@ -8,24 +8,24 @@
 #include "input_error.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 
-// Throws UsageError naming the argument: no '=' or an empty NAME, a NAME that is not 1–64 letters,
+// Throws InputError naming the argument: no '=' or an empty NAME, a NAME that is not 1–64 letters,
 // digits, '_', '.', '+' or '-' (a comma, quote or newline would break the CSV), a NAME given twice.
 inline void check_env_arguments(const std::vector<std::string>& envs) {
   for (std::size_t i = 0; i < envs.size(); ++i) {
     const auto eq = envs[i].find('=');
     if (eq == std::string::npos || eq + 1 == envs[i].size())
-      throw UsageError("--env " + quote(envs[i]) + " must be NAME=MAP.exr");
+      throw runner::InputError("--env " + quote(envs[i]) + " must be NAME=MAP.exr");
     const std::string name = envs[i].substr(0, eq);
     if (name.empty() || name.size() > 64 ||
         name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.+-") !=
             std::string::npos)
-      throw UsageError("--env " + quote(envs[i]) + ": NAME must be 1–64 letters, digits, '_', '.', '+' or '-'");
+      throw runner::InputError("--env " + quote(envs[i]) + ": NAME must be 1–64 letters, digits, '_', '.', '+' or '-'");
     for (std::size_t j = 0; j < i; ++j)
       if (envs[j].substr(0, envs[j].find('=')) == name)
-        throw UsageError("--env: the name " + quote(name) + " is given twice");
+        throw runner::InputError("--env: the name " + quote(name) + " is given twice");
   }
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::experiments

@@ -21,7 +21,7 @@
 
 #include "atomic_file.hpp"
 #include "envmap_basis.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "registry.hpp"
 #include "envmap_data.hpp"
 #include "envmap_sparse.hpp"
@@ -29,7 +29,7 @@
 #include "sglab/render/environment.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli::envmap_bases {
+namespace sglab::experiments::envmap_bases {
 namespace {
 
 using render::Rgb;
@@ -50,18 +50,18 @@ struct Loaded {
 
 Options effective(const Options& o) {
   Options a = o;
-  if (a.envs.empty()) throw UsageError("envmap bases needs at least one --env NAME=MAP.exr");
+  if (a.envs.empty()) throw runner::InputError("envmap bases needs at least one --env NAME=MAP.exr");
   // Checked before --quick replaces it: a bad --width is refused, not silently ignored.
-  if (a.width < 8 || a.width > 1024) throw UsageError(fmt::format("--width {} must be in [8, 1024]", a.width));
+  if (a.width < 8 || a.width > 1024) throw runner::InputError(fmt::format("--width {} must be in [8, 1024]", a.width));
   if (a.quick) a.width = 64;
   if (a.sphere_res < 2 || a.sphere_res > 256)
-    throw UsageError(fmt::format("--res {} must be in [2, 256]", a.sphere_res));
+    throw runner::InputError(fmt::format("--res {} must be in [2, 256]", a.sphere_res));
   if (a.normals < 1 || a.normals > 100000)
-    throw UsageError(fmt::format("--normals {} must be in [1, 100000]", a.normals));
+    throw runner::InputError(fmt::format("--normals {} must be in [1, 100000]", a.normals));
   if (!(a.tolerance > 0 && a.tolerance < 1))
-    throw UsageError(fmt::format("--tolerance {} must be in (0, 1)", a.tolerance));
+    throw runner::InputError(fmt::format("--tolerance {} must be in (0, 1)", a.tolerance));
   for (double r : a.roughness)
-    if (!(r > 0 && r <= 1)) throw UsageError(fmt::format("--roughness {} must be in (0, 1]", r));
+    if (!(r > 0 && r <= 1)) throw runner::InputError(fmt::format("--roughness {} must be in (0, 1]", r));
   if (std::find(a.roughness.begin(), a.roughness.end(), kTargetRoughness) == a.roughness.end())
     a.roughness.push_back(kTargetRoughness);
   std::sort(a.roughness.begin(), a.roughness.end());
@@ -69,23 +69,24 @@ Options effective(const Options& o) {
     for (const auto& b : fit::envmap_bases()) a.bases.push_back(b.name);
   for (std::size_t i = 0; i < a.bases.size(); ++i) {
     if (!fit::find_envmap_basis(a.bases[i]))
-      throw UsageError("unknown --basis '" + clip_text(a.bases[i]) + "' (bases: " + fit::envmap_basis_names() + ")");
+      throw runner::InputError("unknown --basis '" + clip_text(a.bases[i]) + "' (bases: " + fit::envmap_basis_names() +
+                               ")");
     if (std::find(a.bases.begin(), a.bases.begin() + std::ptrdiff_t(i), a.bases[i]) !=
         a.bases.begin() + std::ptrdiff_t(i))
-      throw UsageError("--basis " + quote(a.bases[i]) + " is given twice");
+      throw runner::InputError("--basis " + quote(a.bases[i]) + " is given twice");
   }
   check_env_arguments(a.envs);  // a name is a table label and a CSV field: a plain word, once
   std::vector<std::string> names;
   for (const auto& e : a.envs) names.push_back(e.substr(0, e.find('=')));
   for (std::size_t i = 0; i < a.resolve.size(); ++i) {
     if (std::find(names.begin(), names.end(), a.resolve[i]) == names.end())
-      throw UsageError("--resolve '" + clip_text(a.resolve[i]) + "' names no --env");
+      throw runner::InputError("--resolve '" + clip_text(a.resolve[i]) + "' names no --env");
     if (std::find(a.resolve.begin(), a.resolve.begin() + std::ptrdiff_t(i), a.resolve[i]) !=
         a.resolve.begin() + std::ptrdiff_t(i))
-      throw UsageError("--resolve " + quote(a.resolve[i]) + " is given twice");
+      throw runner::InputError("--resolve " + quote(a.resolve[i]) + " is given twice");
   }
   if (!(a.resolve_tolerance > 0 && a.resolve_tolerance < 1))
-    throw UsageError(fmt::format("--resolve-tolerance {} must be in (0, 1)", a.resolve_tolerance));
+    throw runner::InputError(fmt::format("--resolve-tolerance {} must be in (0, 1)", a.resolve_tolerance));
   return a;
 }
 
@@ -93,12 +94,13 @@ std::vector<Loaded> load(const Options& a) {
   std::vector<Loaded> out;
   for (const auto& e : a.envs) {
     const auto eq = e.find('=');
-    if (eq == std::string::npos || eq == 0) throw UsageError("--env '" + clip_text(e) + "' must be NAME=MAP.exr");
+    if (eq == std::string::npos || eq == 0)
+      throw runner::InputError("--env '" + clip_text(e) + "' must be NAME=MAP.exr");
     EnvMap m;
     try {
       m = render::load_environment(e.substr(eq + 1));
     } catch (const render::EnvironmentError& err) {
-      throw UsageError(err.what());
+      throw runner::InputError(err.what());
     }
     const std::string name = e.substr(0, eq);
     if (std::find(a.resolve.begin(), a.resolve.end(), name) != a.resolve.end()) {
@@ -258,7 +260,7 @@ Result compute(const Options& o) {
         try {
           fits = basis.fit(env.map, sizes(basis, a, env.map), variant, bo);
         } catch (const std::invalid_argument& e) {
-          throw UsageError(e.what());
+          throw runner::InputError(e.what());
         }
         for (const auto& f : fits) {
           Row row;
@@ -638,11 +640,11 @@ void write(const Result& r) {
   std::printf("envmap bases: %.1f s; wrote %s/envmap_bases.{md,csv}\n", r.seconds, r.options.tables_dir.c_str());
 }
 
-}  // namespace sglab::cli::envmap_bases
+}  // namespace sglab::experiments::envmap_bases
 
 // ---- the experiment: its command and its reproduce steps ----------------------------------------
 
-namespace sglab::cli {
+namespace sglab::experiments {
 
 // `sglab envmap bases` (registered under `envmap`).
 void add_envmap_bases_command(CLI::App& envmap, const runner::RunContext& run) {
@@ -666,15 +668,12 @@ void add_envmap_bases_command(CLI::App& envmap, const runner::RunContext& run) {
          "--resolve-tolerance", a->resolve_tolerance,
          "relative L2 of the reduced map plus detail tiles against the full map at which tiles stop being added")
       ->capture_default_str();
-  add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs", "where envmap_bases.{md,csv} go");
+  frontend::add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs",
+                               "where envmap_bases.{md,csv} go");
   sub->add_flag("--quick", a->quick,
                 "64-wide maps, N ≤ 32 (sg-free N ≤ 16), L ≤ 4 (a smoke run; not for paper_tables)");
   sub->callback([a, run] { envmap_bases::write(runner::with_run(envmap_bases::compute(*a), run)); });
 }
-
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
 
 // The three new generated environments (a physically sized sun, an overcast sky, an indoor room
 // with rectangular emitters), then every basis on them and on the three maps of the `envmap`
@@ -682,7 +681,7 @@ namespace sglab::experiments {
 Experiment envmap_bases_experiment() {
   return {"envmap-bases",
           "`sglab envmap bases`: SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.*)",
-          cli::add_envmap_bases_command,
+          add_envmap_bases_command,
           [](const Places& p) {
             std::vector<Step> v;
             const std::string dir = p.out + "/envmap/";

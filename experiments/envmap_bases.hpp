@@ -16,7 +16,7 @@
 #include "envmap_basis.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::envmap_bases {
+namespace sglab::experiments::envmap_bases {
 
 // The storage targets of the comparison (the smallest float count reaching them is tabulated, here
 // and in `sglab recommend`): diffuse within 5 % and specular at roughness α = 0.3 within 20 %
@@ -101,4 +101,4 @@ Tables tables(const Result& r);
 // TABLES/envmap_bases.{md,csv}.
 void write(const Result& r);
 
-}  // namespace sglab::cli::envmap_bases
+}  // namespace sglab::experiments::envmap_bases

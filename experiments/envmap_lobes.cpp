@@ -24,14 +24,14 @@
 #include <tbb/parallel_for.h>
 
 #include "atomic_file.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "registry.hpp"
 #include "sglab/render/environment.hpp"
 #include "input_error.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli::envmap_lobes {
+namespace sglab::experiments::envmap_lobes {
 namespace {
 
 struct Geometry {
@@ -59,15 +59,15 @@ Options effective(const Options& o) {
     a.lobes = {1, 4};
     a.sphere_res = 12;
   }
-  if (a.envs.empty()) throw UsageError("envmap lobes needs at least one --env NAME=MAP.exr");
+  if (a.envs.empty()) throw runner::InputError("envmap lobes needs at least one --env NAME=MAP.exr");
   for (int n : a.lobes)
-    if (n < 1) throw UsageError(fmt::format("--lobes {} must be ≥ 1", n));
+    if (n < 1) throw runner::InputError(fmt::format("--lobes {} must be ≥ 1", n));
   // The same bounds as the command's option checks, for callers of the library.
   if (a.sphere_res < 2 || a.sphere_res > 2048)
-    throw UsageError(fmt::format("--res {} must be in [2, 2048]", a.sphere_res));
+    throw runner::InputError(fmt::format("--res {} must be in [2, 2048]", a.sphere_res));
   for (double r : a.roughness)
     if (!(r >= render::kMinEnvRoughness && r <= 1))
-      throw UsageError(fmt::format("--roughness {} must be in [{:g}, 1]", r, render::kMinEnvRoughness));
+      throw runner::InputError(fmt::format("--roughness {} must be in [{:g}, 1]", r, render::kMinEnvRoughness));
   check_env_arguments(a.envs);  // a name is a table label and a CSV field: a plain word, once
   return a;
 }
@@ -76,15 +76,15 @@ std::vector<LoadedEnv> load_envs(const Options& a) {
   std::vector<LoadedEnv> envs;
   for (const auto& e : a.envs) {
     const auto eq = e.find('=');
-    if (eq == std::string::npos || eq == 0) throw UsageError("--env " + quote(e) + " must be NAME=MAP.exr");
+    if (eq == std::string::npos || eq == 0) throw runner::InputError("--env " + quote(e) + " must be NAME=MAP.exr");
     try {
       envs.push_back({e.substr(0, eq), e.substr(eq + 1), render::load_environment(e.substr(eq + 1))});
     } catch (const render::EnvironmentError& err) {
-      throw UsageError(err.what());
+      throw runner::InputError(err.what());
     }
     for (int n : a.lobes)
       if (std::size_t(n) > envs.back().map.size())
-        throw UsageError(fmt::format("--lobes {} exceeds {}'s pixel count", n, envs.back().name));
+        throw runner::InputError(fmt::format("--lobes {} exceeds {}'s pixel count", n, envs.back().name));
   }
   return envs;
 }
@@ -469,11 +469,11 @@ void write(const Result& r) {
               tables.c_str(), r.options.out.c_str());
 }
 
-}  // namespace sglab::cli::envmap_lobes
+}  // namespace sglab::experiments::envmap_lobes
 
 // ---- the experiment: its command and its reproduce steps ----------------------------------------
 
-namespace sglab::cli {
+namespace sglab::experiments {
 
 // `sglab envmap lobes` (registered under `envmap`).
 void add_envmap_lobes_command(CLI::App& envmap, const runner::RunContext& run) {
@@ -483,19 +483,15 @@ void add_envmap_lobes_command(CLI::App& envmap, const runner::RunContext& run) {
   sub->add_option("--lobes", a->lobes, "lobe counts")->capture_default_str();
   sub->add_option("--roughness", a->roughness, "GGX roughnesses")
       ->capture_default_str()
-      ->check(finite_in(render::kMinEnvRoughness, 1));
+      ->check(frontend::finite_in(render::kMinEnvRoughness, 1));
   sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")
       ->capture_default_str()
-      ->check(integer_in(2, 2048));
-  add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv",
-                     "where envmap_lobes.{md,csv} go (default: the --out directory)");
+      ->check(frontend::integer_in(2, 2048));
+  frontend::add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv",
+                               "where envmap_lobes.{md,csv} go (default: the --out directory)");
   sub->add_flag("--quick", a->quick, "N ∈ {1, 4}, 12-pixel sphere (a smoke run; not for paper_tables)");
   sub->callback([a, run] { envmap_lobes::write(runner::with_run(envmap_lobes::compute(*a), run)); });
 }
-
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
 
 // SG environment maps: the three generated environments, the fits and renders against N
 // (paper_tables/envmap_lobes.*), and the figures.
@@ -503,7 +499,7 @@ Experiment envmap_experiment() {
   return {
       "envmap",
       "`sglab envmap`: SG mixture fits of environment maps and shading error against the lobe count (envmap_lobes.*)",
-      cli::add_envmap_lobes_command,
+      add_envmap_lobes_command,
       [](const Places& p) {
         std::vector<Step> v;
         std::vector<std::string> lobes = {"envmap", "lobes", "--out", p.out + "/envmap"};

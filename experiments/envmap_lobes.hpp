@@ -12,7 +12,7 @@
 #include "sglab/render/environment.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::envmap_lobes {
+namespace sglab::experiments::envmap_lobes {
 
 struct Options {
   std::vector<std::string> envs;  // NAME=PATH
@@ -82,4 +82,4 @@ Tables tables(const Result& r);
 // TABLES/envmap_lobes.{md,csv} and OUT/envmap_images.csv.
 void write(const Result& r);
 
-}  // namespace sglab::cli::envmap_lobes
+}  // namespace sglab::experiments::envmap_lobes

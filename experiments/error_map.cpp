@@ -27,13 +27,13 @@
 
 #include "atomic_file.hpp"
 #include "constant_sets.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "registry.hpp"
 #include "sglab/error_metrics.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 namespace error_map {
 namespace {
 
@@ -52,9 +52,11 @@ std::vector<std::string> mapped_quantity_names() {
 const Quantity& checked_quantity(const Options& o) {
   const Quantity* q = find_quantity(o.quantity);
   if (!q)
-    throw UsageError("error-map: " + runner::unknown_name_message("quantity", o.quantity, mapped_quantity_names()));
+    throw runner::InputError("error-map: " +
+                             runner::unknown_name_message("quantity", o.quantity, mapped_quantity_names()));
   if (!is_mapped(*q))
-    throw UsageError("error-map: quantity '" + o.quantity + "' is not a (sharpness, cosine) quantity with a reference");
+    throw runner::InputError("error-map: quantity '" + o.quantity +
+                             "' is not a (sharpness, cosine) quantity with a reference");
   return *q;
 }
 
@@ -62,9 +64,9 @@ const Quantity& checked_quantity(const Options& o) {
 // last c is exactly 1, so D(λ, 1) is on the grid.
 void fill_grid(const Options& o, Result& r) {
   const int n = o.size >= 0 ? o.size : (o.quick ? 40 : 200);
-  if (n < 2 || n > 2000) throw UsageError(fmt::format("error-map: --size must be in [2, 2000], got {}", n));
+  if (n < 2 || n > 2000) throw runner::InputError(fmt::format("error-map: --size must be in [2, 2000], got {}", n));
   if (!(o.lambda_min > 0) || !(o.lambda_max > o.lambda_min) || !std::isfinite(o.lambda_max))
-    throw UsageError(
+    throw runner::InputError(
         fmt::format("error-map: need 0 < --lambda-min < --lambda-max, got {} and {}", o.lambda_min, o.lambda_max));
   std::vector<double>&ls = r.sharpness, &cs = r.cosine;
   ls.resize(static_cast<std::size_t>(n));
@@ -173,13 +175,13 @@ Result compute(const Options& o) {
   if (o.lambda_min != 1e-3 || o.lambda_max != 1e4)
     command += fmt::format(" --lambda-min {} --lambda-max {}", o.lambda_min, o.lambda_max);
   if (o.quick) command += " --quick";
-  for (const auto& a : constants_arguments(o.constants)) command += " " + a;
+  for (const auto& a : frontend::constants_arguments(o.constants)) command += " " + a;
   std::vector<ConstantUse> uses;
   for (const auto& m : q->methods) {
-    const auto u = method_constant_uses(q->name + "/" + m.name, m);
+    const auto u = frontend::method_constant_uses(q->name + "/" + m.name, m);
     uses.insert(uses.end(), u.begin(), u.end());
   }
-  if (!uses.empty()) r.constants = constants_text(set, uses, "- ");
+  if (!uses.empty()) r.constants = frontend::constants_text(set, uses, "- ");
   return r;
 }
 
@@ -247,20 +249,16 @@ void add_error_map_command(CLI::App& app, const runner::RunContext& run) {
                                  "Signed error of each diffuse method over the (λ, c) plane, against the reference");
   sub->add_option("--out", opts->out_dir, "directory for error_map.csv, error_map_summary.csv, error_map.md")
       ->capture_default_str();
-  add_constants_option(*sub, opts->constants);
+  frontend::add_constants_option(*sub, opts->constants);
   sub->add_option("--quantity", opts->quantity, "a (sharpness, cosine) quantity with a reference")
       ->capture_default_str()
-      ->check(one_of(error_map::mapped_quantity_names(), "quantity"));
+      ->check(frontend::one_of(error_map::mapped_quantity_names(), "quantity"));
   sub->add_option("--size", opts->size, "points per axis (default 200; 40 with --quick)");
   sub->add_option("--lambda-min", opts->lambda_min, "smallest sharpness")->capture_default_str();
   sub->add_option("--lambda-max", opts->lambda_max, "largest sharpness")->capture_default_str();
   sub->add_flag("--quick", opts->quick, "40 × 40 points");
   sub->callback([opts, run] { error_map::write(*opts, runner::with_run(error_map::compute(*opts), run)); });
 }
-
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
 
 std::vector<Step> error_map_steps(const Places& p) {
   return std::vector<Step>{
@@ -279,7 +277,7 @@ std::vector<Step> error_map_steps(const Places& p) {
 Experiment error_map_experiment() {
   return {"error-map",
           "signed error of each diffuse method over the (λ, c) plane, and sglab's own method (own_method.md)",
-          cli::add_error_map_command, error_map_steps};
+          add_error_map_command, error_map_steps};
 }
 
 }  // namespace sglab::experiments

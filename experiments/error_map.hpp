@@ -10,7 +10,7 @@
 #include "constant_sets.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::error_map {
+namespace sglab::experiments::error_map {
 
 struct Options {
   std::string out_dir = "results/error_map";
@@ -18,7 +18,7 @@ struct Options {
   int size = -1;  // points per axis; -1 (not given): 200 (40 with --quick)
   double lambda_min = 1e-3, lambda_max = 1e4;
   bool quick = false;
-  Constants constants;  // --constants (constant_sets.hpp)
+  frontend::Constants constants;  // --constants (constant_sets.hpp)
 };
 
 struct Summary {
@@ -58,4 +58,4 @@ Tables tables(const Result& r);
 // OUT/error_map.csv, OUT/error_map_summary.csv, OUT/error_map.md; the Markdown also on stdout.
 void write(const Options& o, const Result& r);
 
-}  // namespace sglab::cli::error_map
+}  // namespace sglab::experiments::error_map

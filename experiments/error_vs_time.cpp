@@ -21,7 +21,7 @@
 #include "atomic_file.hpp"
 #include "table.hpp"
 #include "error_vs_time.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "constant_sets.hpp"
 #include "error_grid.hpp"
 #include "sglab/error_metrics.hpp"
@@ -31,7 +31,7 @@
 #include "registry.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 namespace error_vs_time {
 namespace {
 
@@ -119,7 +119,7 @@ SpeedComparison compare_speed(std::string a_name, const BatchFn<T>& a, std::stri
 // The error grid of one quantity (fit/error_grid.hpp: points, references, per point the scale its
 // error is divided by), and per point whether it belongs to the quantity's "sharp" subset (the
 // third error column).
-struct Grid : ReferenceGrid {
+struct Grid : fit::ReferenceGrid {
   std::vector<char> in_subset;  // counted in the subset column
   std::vector<char> rounding;   // also checked against 50 digits (mp50 is slow)
   std::string description, error_label, subset_label;
@@ -130,9 +130,9 @@ struct Grid : ReferenceGrid {
 // log-spaced over [1e-3, 1e4], c uniform; errors relative to the reference at c = 1.
 Grid diffuse_grid(const Method& ref, bool quick) {
   Grid g;
-  static_cast<ReferenceGrid&>(g) = diffuse_reference_grid(ref, quick);
+  static_cast<fit::ReferenceGrid&>(g) = fit::diffuse_reference_grid(ref, quick);
   const int per_decade = quick ? 2 : 4, cos_steps = quick ? 20 : 40;
-  const DiffuseAxes axes = diffuse_grid_axes(quick);
+  const fit::DiffuseAxes axes = fit::diffuse_grid_axes(quick);
   const std::vector<double>& ls = axes.sharpnesses;
   const std::vector<double>& cs = axes.cosines;
   for (std::size_t i = 0; i < ls.size(); ++i)
@@ -161,7 +161,7 @@ Grid diffuse_grid(const Method& ref, bool quick) {
 Grid specular_grid(const Method& ref, bool quick) {
   Grid g;
   g.arity = 6;
-  const SpecularGridPoints points = specular_grid_points(quick);
+  const fit::SpecularGridPoints points = fit::specular_grid_points(quick);
   const std::vector<double>& alphas = points.roughnesses;
   const std::vector<double>& sharpness = points.light_sharpnesses;
   g.args = points.args;
@@ -169,7 +169,7 @@ Grid specular_grid(const Method& ref, bool quick) {
     g.in_subset.push_back(g.args[k] >= 0.1);
     g.rounding.push_back(true);
   }
-  fill_reference(g, ref);
+  fit::fill_reference(g, ref);
   const std::size_t per_peak = points.per_peak;
   for (std::size_t k = 0; k < g.size(); ++k) g.scale.push_back(g.reference[k - k % per_peak]);
   g.description = fmt::format(
@@ -243,10 +243,11 @@ std::vector<std::string> grid_quantity_names() {
 
 const Quantity& checked_quantity(const std::string& name) {
   const Quantity* q = find_quantity(name);
-  if (!q) throw UsageError("error-vs-time: " + runner::unknown_name_message("quantity", name, grid_quantity_names()));
+  if (!q)
+    throw runner::InputError("error-vs-time: " + runner::unknown_name_message("quantity", name, grid_quantity_names()));
   if (!has_grid(*q))
-    throw UsageError("error-vs-time: quantity '" + name +
-                     "' has no error grid (a (sharpness, cosine) quantity with a reference, or specular)");
+    throw runner::InputError("error-vs-time: quantity '" + name +
+                             "' has no error grid (a (sharpness, cosine) quantity with a reference, or specular)");
   return *q;
 }
 
@@ -398,7 +399,7 @@ Result compute(const Options& o) {
   command = "sglab error-vs-time";
   if (o.quantities != Options{}.quantities) command += " --quantity " + fmt::format("{}", fmt::join(o.quantities, " "));
   if (o.quick) command += " --quick";
-  for (const auto& a : constants_arguments(o.constants)) command += " " + a;
+  for (const auto& a : frontend::constants_arguments(o.constants)) command += " " + a;
   command += o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir)
                                   : runner::option_argument("--tables", o.tables_dir);
   const ConstantSet& set = o.constants.set;
@@ -408,7 +409,7 @@ Result compute(const Options& o) {
     s.reference_method = q->reference_method;
     std::vector<ConstantUse> uses;
     for (const auto& m : q->methods) {
-      const auto u = method_constant_uses(q->name + "/" + m.name, m);
+      const auto u = frontend::method_constant_uses(q->name + "/" + m.name, m);
       uses.insert(uses.end(), u.begin(), u.end());
     }
     if (!uses.empty())
@@ -417,7 +418,7 @@ Result compute(const Options& o) {
           "published ones):\n\n{}",
           q->name,
           !o.constants.given() ? std::string("published") : fmt::format("{}", fmt::join(o.constants.paths, ", ")),
-          constants_text(set, uses, "- "));
+          frontend::constants_text(set, uses, "- "));
     Grid g;
     s.rows = measure(*q, o.quick, g, set);
     if (q->name == "clamped-cosine") s.speed = poster_speed_claims(*q, g, o.quick);
@@ -508,20 +509,16 @@ void add_error_vs_time_command(CLI::App& app, const runner::RunContext& run) {
   sub->add_option("--quantity", opts->quantities,
                   "quantities: (sharpness, cosine) quantities with a reference, and specular")
       ->capture_default_str()
-      ->check(one_of(error_vs_time::grid_quantity_names(), "quantity"));
-  add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for the per-method CSV",
-                     "directory for error_vs_time.{md,csv} (default: the --out directory)", "--tables");
+      ->check(frontend::one_of(error_vs_time::grid_quantity_names(), "quantity"));
+  frontend::add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for the per-method CSV",
+                               "directory for error_vs_time.{md,csv} (default: the --out directory)", "--tables");
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
-  add_constants_option(*sub, opts->constants);
+  frontend::add_constants_option(*sub, opts->constants);
   sub->callback([opts, run] {
     error_vs_time::check_outputs(*opts);  // before the (long) measurement
     error_vs_time::write(*opts, runner::with_run(error_vs_time::compute(*opts), run));
   });
 }
-
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
 
 std::vector<Step> error_vs_time_steps(const Places& p) {
   return std::vector<Step>{
@@ -536,7 +533,7 @@ std::vector<Step> error_vs_time_steps(const Places& p) {
 
 Experiment error_vs_time_experiment() {
   return {"error-vs-time", "every method against its reference, in float and double, beside its cost (error_vs_time.*)",
-          cli::add_error_vs_time_command, error_vs_time_steps};
+          add_error_vs_time_command, error_vs_time_steps};
 }
 
 }  // namespace sglab::experiments

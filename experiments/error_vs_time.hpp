@@ -12,14 +12,14 @@
 #include "constant_sets.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::error_vs_time {
+namespace sglab::experiments::error_vs_time {
 
 struct Options {
   std::vector<std::string> quantities = {"clamped-cosine", "specular"};
   std::string out_dir = "results/error_vs_time";
   std::string tables_dir;  // --tables; empty: beside the per-method CSV (out_dir)
   bool quick = false;
-  Constants constants;  // --constants (constant_sets.hpp): refit rows beside the published ones
+  frontend::Constants constants;  // --constants (constant_sets.hpp): refit rows beside the published ones
 };
 
 struct Row {
@@ -76,4 +76,4 @@ void write(const Options& o, const Result& result);
 // before the (long) measurement.
 void check_outputs(const Options& o);
 
-}  // namespace sglab::cli::error_vs_time
+}  // namespace sglab::experiments::error_vs_time

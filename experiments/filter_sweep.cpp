@@ -24,7 +24,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "csv.hpp"
 #include "parse_number.hpp"
 #include "sweep.hpp"  // csv_number
@@ -33,7 +33,7 @@
 #include "sglab/text_limits.hpp"
 #include "sglab/render/filtering.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 namespace filter_sweep {
 namespace {
 
@@ -47,10 +47,10 @@ void parse_lists(const Options& o, Result& r) {
     try {
       x = runner::parse_decimal<double>(t);
     } catch (const runner::NumberError& e) {
-      throw UsageError(fmt::format("--scale: '{}' {}", clip_text(t), e.what()));
+      throw runner::InputError(fmt::format("--scale: '{}' {}", clip_text(t), e.what()));
     }
     if (x != std::floor(x) || x < 1 || x > 64)
-      throw UsageError(fmt::format("--scale: '{}' is not an integer in [1, 64]", clip_text(t)));
+      throw runner::InputError(fmt::format("--scale: '{}' is not an integer in [1, 64]", clip_text(t)));
     r.scales.push_back(int(x));
   }
   r.weights = parse_weights_list(o.weights);
@@ -73,11 +73,11 @@ std::string stat_number(double x) { return std::isfinite(x) ? runner::csv_number
 
 std::string cell(double x, const char* format) { return std::isfinite(x) ? fmt::format(fmt::runtime(format), x) : "–"; }
 
-void check_job_and_table(FilterJob& job, const std::string& table) {
-  apply_filter_constants(job);
-  if (job.render.scene_path.empty()) throw UsageError("filter-sweep needs --scene SCENE.json");
+void check_job_and_table(frontend::FilterJob& job, const std::string& table) {
+  frontend::apply_filter_constants(job);
+  if (job.render.scene_path.empty()) throw runner::InputError("filter-sweep needs --scene SCENE.json");
   if (table.empty() || table.find_first_of("/\\ ") != std::string::npos)
-    throw UsageError(fmt::format("--table '{}' is not a file name", clip_text(table)));
+    throw runner::InputError(fmt::format("--table '{}' is not a file name", clip_text(table)));
 }
 
 std::vector<double> parse_roughness_list(const std::string& text) {
@@ -86,7 +86,7 @@ std::vector<double> parse_roughness_list(const std::string& text) {
     try {
       values.push_back(runner::parse_decimal<double>(t));
     } catch (const runner::NumberError& e) {
-      throw UsageError(fmt::format("--roughness: '{}' {}", clip_text(t), e.what()));
+      throw runner::InputError(fmt::format("--roughness: '{}' {}", clip_text(t), e.what()));
     }
   }
   return values;
@@ -94,12 +94,12 @@ std::vector<double> parse_roughness_list(const std::string& text) {
 
 std::vector<render::FilterWeights> parse_weights_list(const std::string& text) {
   std::vector<render::FilterWeights> weights;
-  for (const auto& t : split(text)) weights.push_back(parse_weights_option(t));
+  for (const auto& t : split(text)) weights.push_back(frontend::parse_weights_option(t));
   return weights;
 }
 
-std::vector<render::Scene> roughness_scenes(const FilterJob& job, const std::vector<double>& roughness) {
-  const nlohmann::json base = load_scene_document(job.render.scene_path, job.render.overrides);
+std::vector<render::Scene> roughness_scenes(const frontend::FilterJob& job, const std::vector<double>& roughness) {
+  const nlohmann::json base = frontend::load_scene_document(job.render.scene_path, job.render.overrides);
   std::vector<render::Scene> scenes;
   for (const double a : roughness) {
     nlohmann::json doc = base;
@@ -107,12 +107,12 @@ std::vector<render::Scene> roughness_scenes(const FilterJob& job, const std::vec
     try {
       render::apply_override(doc, assignment);
     } catch (const render::SceneError& e) {
-      throw UsageError(fmt::format("--roughness {}: {}", a, e.what()));
+      throw runner::InputError(fmt::format("--roughness {}: {}", a, e.what()));
     }
     try {
-      scenes.push_back(scene_from_document(doc, job.render));
-    } catch (const UsageError& e) {
-      throw UsageError(fmt::format("--roughness {}: {}", a, e.what()));
+      scenes.push_back(frontend::scene_from_document(doc, job.render));
+    } catch (const runner::InputError& e) {
+      throw runner::InputError(fmt::format("--roughness {}: {}", a, e.what()));
     }
   }
   return scenes;
@@ -152,13 +152,14 @@ std::string command_line(const Options& o) {
   std::vector<std::string> args = {"filter-sweep", "--scene",   o.job.render.scene_path,
                                    "--roughness",  o.roughness, "--scale",
                                    o.scales,       "--weights", o.weights};
-  for (const auto& a : filter_job_arguments(o.job, false)) args.push_back(a);
+  for (const auto& a : frontend::filter_job_arguments(o.job, false)) args.push_back(a);
   if (o.table != Options{}.table) args.insert(args.end(), {"--table", o.table});
   std::string command = "sglab";
-  for (const auto& a : args) command += " " + quote_argument(a);
+  for (const auto& a : args) command += " " + frontend::quote_argument(a);
   return command + (o.tables_dir.empty()
-                        ? runner::option_argument("--out", quote_argument(o.out), quote_argument(Options{}.out))
-                        : runner::option_argument("--tables-dir", quote_argument(o.tables_dir)));
+                        ? runner::option_argument("--out", frontend::quote_argument(o.out),
+                                                  frontend::quote_argument(Options{}.out))
+                        : runner::option_argument("--tables-dir", frontend::quote_argument(o.tables_dir)));
 }
 
 Point point_summary(const render::FilterInputs& in) {
@@ -197,7 +198,7 @@ void compute_points(const Options& o, const std::vector<render::Scene>& scenes,
         r.points.push_back(point_summary(inputs));
         if (s == 0) first = std::move(inputs);
       } catch (const std::invalid_argument& e) {
-        throw UsageError(e.what());
+        throw runner::InputError(e.what());
       }
       r.points.back().seconds_reference =
           first.seconds.reference;  // the reference's time, also for the rows that reused it
@@ -341,9 +342,9 @@ std::string markdown_table(const Result& r, bool smape, int subset,
       // (appended piecewise: GCC 12 warns falsely (-Wrestrict) on " " + std::string + " |")
       for (const auto w : r.weights) md += fmt::format(" {} |", cell(pick(find(sc, a, w))));
       for (const auto w : compared)
-        md += fmt::format(
-            " {} |",
-            cell(percent_change(pick(find(sc, a, w)), pick(find(sc, a, render::FilterWeights::normal))), "{:+.1f} %"));
+        md += fmt::format(" {} |", cell(frontend::percent_change(pick(find(sc, a, w)),
+                                                                 pick(find(sc, a, render::FilterWeights::normal))),
+                                        "{:+.1f} %"));
       md += "\n";
     }
   return md + "\n";
@@ -401,7 +402,7 @@ std::string bright_pixels_table(const Result& r) {
       const BrightSplit n = bright_split(normal->result), l = bright_split(lobe->result);
       md += fmt::format("| {} | {:g} | {:.0f} % | {:.0f} % | {:.4f} | {:.4f} | {} |\n", sc, a, 100 * n.share,
                         100 * l.share, n.rest_relative_l2, l.rest_relative_l2,
-                        cell(percent_change(l.rest_relative_l2, n.rest_relative_l2), "{:+.1f} %"));
+                        cell(frontend::percent_change(l.rest_relative_l2, n.rest_relative_l2), "{:+.1f} %"));
     }
   return md + "\n" + std::string(kScaleTwoNote) + "\n";
 }
@@ -433,14 +434,14 @@ Result compute(const Options& options) {
   Options& o = r.options;
   check_job_and_table(o.job, o.table);
   parse_lists(o, r);
-  check_filter_parameters(o.job.parameters);
-  const render::FilterInputOptions input_options = filter_input_options(o.job);
+  frontend::check_filter_parameters(o.job.parameters);
+  const render::FilterInputOptions input_options = frontend::filter_input_options(o.job);
   r.rsm_resolution = input_options.rsm_resolution;
   const std::vector<render::Scene> scenes = roughness_scenes(o.job, r.roughness);
   if (!scenes.empty() && !r.scales.empty()) {  // bounded as if every point's inputs were kept, all at the finest scale
     render::FilterInputOptions finest = input_options;
     finest.scale = *std::min_element(r.scales.begin(), r.scales.end());
-    check_filter_memory(scenes.front(), finest, scenes.size() * r.scales.size());
+    frontend::check_filter_memory(scenes.front(), finest, scenes.size() * r.scales.size());
   }
   r.provenance.command = command_line(o);
   compute_points(o, scenes, input_options, r);
@@ -477,8 +478,8 @@ bool given(const CLI::Option* option) { return option && option->count() > 0; }
 denoise_sweep::Options denoise_options(const filter_sweep::Options& f, const DenoiseOptions& d) {
   for (const CLI::Option* upsampling : {d.scale, d.spatial_sigma, d.source})
     if (given(upsampling))
-      throw UsageError(fmt::format("{} is the upsampling sweep's; --noisy filters full-resolution noisy images",
-                                   upsampling->get_name()));
+      throw runner::InputError(fmt::format("{} is the upsampling sweep's; --noisy filters full-resolution noisy images",
+                                           upsampling->get_name()));
   denoise_sweep::Options o = d.defaults;
   o.noisy = d.noisy;
   o.job = f.job;
@@ -506,9 +507,10 @@ void add_filter_sweep_command(CLI::App& app, const runner::RunContext& run) {
                          ->capture_default_str();
   noisy->weights = sub->add_option("--weights", opts->weights, "weightings, comma-separated")
                        ->capture_default_str()
-                       ->check(one_of(render::filter_weights_names(), "weights", true));
-  add_places_options(*sub, opts->out, opts->tables_dir, "directory for the per-row CSV (and the figure's images)",
-                     "directory for NAME.md and NAME.csv (default: the --out directory)");
+                       ->check(frontend::one_of(render::filter_weights_names(), "weights", true));
+  frontend::add_places_options(*sub, opts->out, opts->tables_dir,
+                               "directory for the per-row CSV (and the figure's images)",
+                               "directory for NAME.md and NAME.csv (default: the --out directory)");
   noisy->table = sub->add_option("--table", opts->table,
                                  "table name (default filtering, with --noisy filtering_denoise)")
                      ->capture_default_str();
@@ -523,13 +525,13 @@ void add_filter_sweep_command(CLI::App& app, const runner::RunContext& run) {
                   render::kNoisySpecForms, noisy->defaults.noisy));
   sub->add_option("--noisy-seed", noisy->defaults.noisy_seed, "--noisy: seed of the subsets' shift or of the draws")
       ->capture_default_str()
-      ->check(unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
+      ->check(frontend::unsigned_at_most(std::numeric_limits<std::uint64_t>::max()));
   sub->add_option("--figure-roughness", noisy->defaults.figure_roughness,
                   "--noisy: roughness values whose images the figure crops")
       ->capture_default_str();
   sub->add_option("--figure-noisy", noisy->defaults.figure_noisy, "--noisy: the noisy input of the figure's images")
       ->capture_default_str();
-  add_filter_job_options(*sub, opts->job, false);
+  frontend::add_filter_job_options(*sub, opts->job, false);
   noisy->radius = sub->get_option("--radius");
   noisy->spatial_sigma = sub->get_option("--spatial-sigma");
   noisy->source = sub->get_option("--source");
@@ -541,10 +543,6 @@ void add_filter_sweep_command(CLI::App& app, const runner::RunContext& run) {
     }
   });
 }
-
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
 
 // Lobe-aware filtering, both passes: both weightings on cornell-glossy (`sglab filter`, upsampling and
 // a noisy interleaved image), then the roughness sweeps of each pass and the figure of the second.
@@ -592,7 +590,7 @@ Experiment filtering_experiment() {
           "upsampling and noisy-image filtering error per weighting (normal/depth vs lobe-aware) over the floor's "
           "roughness "
           "(filtering.*, filtering_denoise.*)",
-          cli::add_filter_sweep_command, filtering_steps};
+          add_filter_sweep_command, filtering_steps};
 }
 
 }  // namespace sglab::experiments

@@ -10,10 +10,10 @@
 #include "filter_job.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::filter_sweep {
+namespace sglab::experiments::filter_sweep {
 
 struct Options {
-  FilterJob job;
+  frontend::FilterJob job;
   std::string roughness = "0.02,0.05,0.1,0.2,0.4,0.7";  // comma-separated, as given
   std::string scales = "2,4,8";
   std::string weights = "spatial,normal,lobe,lobe-depth";
@@ -71,11 +71,11 @@ std::string stat_number(double x);
 // A Markdown cell: "–" when not finite.
 std::string cell(double x, const char* format = "{:.4f}");
 // Applies the constant set to the job, then: a scene is given, the table name is a file name.
-void check_job_and_table(FilterJob& job, const std::string& table);
-std::vector<double> parse_roughness_list(const std::string& text);               // --roughness (UsageError)
-std::vector<render::FilterWeights> parse_weights_list(const std::string& text);  // --weights (UsageError)
+void check_job_and_table(frontend::FilterJob& job, const std::string& table);
+std::vector<double> parse_roughness_list(const std::string& text);               // --roughness (InputError)
+std::vector<render::FilterWeights> parse_weights_list(const std::string& text);  // --weights (InputError)
 // The job's scene with `floor.roughness` set to each value (after the job's own --set overrides);
 // a bad value stops here, named.
-std::vector<render::Scene> roughness_scenes(const FilterJob& job, const std::vector<double>& roughness);
+std::vector<render::Scene> roughness_scenes(const frontend::FilterJob& job, const std::vector<double>& roughness);
 
-}  // namespace sglab::cli::filter_sweep
+}  // namespace sglab::experiments::filter_sweep

@@ -21,7 +21,7 @@
 #include "input_error.hpp"
 #include "record.hpp"
 
-namespace sglab::cli::fit_all {
+namespace sglab::experiments::fit_all {
 namespace {
 
 std::string tex_escape(const std::string& s) {
@@ -175,13 +175,13 @@ fit::FitResult run_one(const fit::Fitter& f, const std::string& objective, const
   try {
     o = fit::checked_options(f, objective, a.precision);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
+    throw runner::InputError(e.what());
   }
   // σ_n² = β·…/κ: a negative, zero or non-finite β or κ gives a negative or null σ_n².
   if (!(a.beta > 0 && std::isfinite(a.beta)))
-    throw UsageError(fmt::format("--beta {} is not a positive finite number", a.beta));
+    throw runner::InputError(fmt::format("--beta {} is not a positive finite number", a.beta));
   if (!(a.kappa > 0 && std::isfinite(a.kappa)))
-    throw UsageError(fmt::format("--kappa {} is not a positive finite number", a.kappa));
+    throw runner::InputError(fmt::format("--kappa {} is not a positive finite number", a.kappa));
   o.beta = a.beta;
   o.kappa = a.kappa;
   std::fprintf(stderr, "sglab fit: %s (%s)...\n", f.name.c_str(), o.objective.c_str());
@@ -234,12 +234,12 @@ Result compute(const Options& o, const std::function<void(const Judged&)>& each)
     for (std::size_t k; (k = next++) < order.size();) {
       const FitJob& job = jobs[order[k]];
       fit::FitResult f = run_one(*job.fitter, job.objective, o);
-      const Judgement jd = judge(*job.fitter, f);
+      const frontend::Judgement jd = frontend::judge(*job.fitter, f);
       Judged& j = r.judged[order[k]];
       j = {std::move(f), jd, job.objective.empty()};
       if (j.record && !o.json_dir.empty())
         runner::write_file_atomically(std::filesystem::path(o.json_dir) / (j.result.fit + ".json"),
-                                      fit_record_json(j.result, j.judgement, o.precision).dump(2) + "\n");
+                                      frontend::fit_record_json(j.result, j.judgement, o.precision).dump(2) + "\n");
     }
   });
   if (each)
@@ -265,4 +265,4 @@ void write(const Options& o, const Result& r) {
   std::fprintf(stderr, "sglab fit all: %.2f s; wrote %s/constants.{md,csv,tex}\n", r.seconds, d.c_str());
 }
 
-}  // namespace sglab::cli::fit_all
+}  // namespace sglab::experiments::fit_all

@@ -13,7 +13,7 @@
 #include "fit_record.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::fit_all {
+namespace sglab::experiments::fit_all {
 
 struct Options {
   std::string precision = "float";  // half | float | double (cosine-sharpness)
@@ -30,7 +30,7 @@ fit::FitResult run_one(const fit::Fitter& f, const std::string& objective, const
 
 struct Judged {
   fit::FitResult result;
-  Judgement judgement;
+  frontend::Judgement judgement;
   bool record = false;  // the fit's default objective: its record went to --json-dir
 };
 
@@ -59,4 +59,4 @@ std::string digits_text(double value, double published);
 std::string number(double v);
 std::string range_text(const std::pair<double, double>& r);
 
-}  // namespace sglab::cli::fit_all
+}  // namespace sglab::experiments::fit_all

@@ -43,7 +43,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "csv.hpp"
 #include "render_job.hpp"
 #include "sglab/error_metrics.hpp"
@@ -54,7 +54,7 @@
 #include "sweep.hpp"
 #include "registry.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 namespace near_wall {
 namespace {
 
@@ -67,34 +67,34 @@ const std::string kTable = "near_wall_smape";
 
 Vec3 vec3_field(const json& o, const std::string& key) {
   const std::string where = "sg_light." + key;
-  if (!o.contains(key)) throw UsageError(where + ": missing");
+  if (!o.contains(key)) throw runner::InputError(where + ": missing");
   const json& v = o.at(key);
   if (!v.is_array() || v.size() != 3 || !std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); }))
-    throw UsageError(fmt::format("{}: {} is not a 3-vector of numbers", where, v.dump()));
+    throw runner::InputError(fmt::format("{}: {} is not a 3-vector of numbers", where, v.dump()));
   const Vec3 r(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
-  if (!r.allFinite()) throw UsageError(fmt::format("{}: {} is not finite", where, v.dump()));
+  if (!r.allFinite()) throw runner::InputError(fmt::format("{}: {} is not finite", where, v.dump()));
   return r;
 }
 
 double number_field(const json& o, const std::string& key, double min, bool inclusive, const char* rule) {
   const std::string where = "sg_light." + key;
-  if (!o.contains(key)) throw UsageError(where + ": missing");
+  if (!o.contains(key)) throw runner::InputError(where + ": missing");
   const json& v = o.at(key);
-  if (!v.is_number()) throw UsageError(fmt::format("{}: {} is not a number", where, v.dump()));
+  if (!v.is_number()) throw runner::InputError(fmt::format("{}: {} is not a number", where, v.dump()));
   const double x = v.get<double>();
   if (!std::isfinite(x) || (inclusive ? !(x >= min) : !(x > min)))
-    throw UsageError(fmt::format("{}: {} {}", where, v.dump(), rule));
+    throw runner::InputError(fmt::format("{}: {} {}", where, v.dump(), rule));
   return x;
 }
 
 SgLight parse_sg_light(const json& document, const std::string& source) {
   if (!document.contains("sg_light") || !document.at("sg_light").is_object())
-    throw UsageError(source + ": sg_light: missing (the near-wall scene needs an SG light, scenes/README.md)");
+    throw runner::InputError(source + ": sg_light: missing (the near-wall scene needs an SG light, scenes/README.md)");
   const json& o = document.at("sg_light");
   for (const auto& [key, value] : o.items())
     if (key != "target" && key != "normal" && key != "distance" && key != "axis" && key != "sharpness" &&
         key != "amplitude" && key != "radius")
-      throw UsageError(fmt::format(
+      throw runner::InputError(fmt::format(
           "{}: sg_light.{}: unknown key (allowed: target, normal, distance, axis, sharpness, amplitude, radius)",
           source, key));
   try {
@@ -102,8 +102,8 @@ SgLight parse_sg_light(const json& document, const std::string& source) {
     const Vec3 target = vec3_field(o, "target");
     const Vec3 axis = vec3_field(o, "axis");
     const Vec3 normal = vec3_field(o, "normal");
-    if (!(normal.norm() > 0)) throw UsageError("sg_light.normal: the zero vector has no direction");
-    if (!(axis.norm() > 0)) throw UsageError("sg_light.axis: the zero vector has no direction");
+    if (!(normal.norm() > 0)) throw runner::InputError("sg_light.normal: the zero vector has no direction");
+    if (!(axis.norm() > 0)) throw runner::InputError("sg_light.axis: the zero vector has no direction");
     l.axis = axis.normalized();
     l.distance = number_field(o, "distance", 0, false, "must be positive");
     l.sharpness = number_field(o, "sharpness", 0, true, "must be a non-negative sharpness");
@@ -111,19 +111,19 @@ SgLight parse_sg_light(const json& document, const std::string& source) {
     l.radius = number_field(o, "radius", 0, true, "must be non-negative");
     l.position = target + l.distance * normal.normalized();
     return l;
-  } catch (const UsageError& e) {
-    throw UsageError(source + ": " + e.what());
+  } catch (const runner::InputError& e) {
+    throw runner::InputError(source + ": " + e.what());
   }
 }
 
 // The renderer's scene (camera + objects) with a zero-power placeholder spotlight at μ.
-render::Scene geometry(json document, const SgLight& light, const RenderJob& job) {
+render::Scene geometry(json document, const SgLight& light, const frontend::RenderJob& job) {
   document.erase("sg_light");
   document["light"] = {{"position", {light.position.x(), light.position.y(), light.position.z()}},
                        {"direction", {light.axis.x(), light.axis.y(), light.axis.z()}},
                        {"cone_angle", 45},
                        {"power", 0}};
-  return scene_from_document(document, job);
+  return frontend::scene_from_document(document, job);
 }
 
 // The clamped-cosine methods compared: every method of the registry but the reference.
@@ -282,7 +282,7 @@ json at_point(const json& document, double sharpness, double distance) {
 }
 
 std::vector<SweepPoint> compute_sweep(const Options& o, const json& document, const SgLight& light, const Compared& c) {
-  RenderJob job = o.job;
+  frontend::RenderJob job = o.job;
   job.width = o.sweep_width;
   job.height = o.sweep_height;
   std::vector<SweepPoint> sweep;
@@ -333,24 +333,24 @@ void sweep_tables(const Result& r, Tables& t) {
 
 void check_sweep_options(const Options& o) {
   if (o.sweep_width < 1 || o.sweep_width > 4096 || o.sweep_height < 1 || o.sweep_height > 4096)
-    throw UsageError(
+    throw runner::InputError(
         fmt::format("--sweep-width/--sweep-height {}×{} is outside [1, 4096]", o.sweep_width, o.sweep_height));
   for (const double s : o.sweep_sharpness)
     if (!(std::isfinite(s) && s >= 0))
-      throw UsageError(fmt::format("--sweep-sharpness {}: must be a non-negative sharpness", s));
+      throw runner::InputError(fmt::format("--sweep-sharpness {}: must be a non-negative sharpness", s));
   for (const double d : o.sweep_distance)
-    if (!(std::isfinite(d) && d > 0)) throw UsageError(fmt::format("--sweep-distance {}: must be positive", d));
+    if (!(std::isfinite(d) && d > 0)) throw runner::InputError(fmt::format("--sweep-distance {}: must be positive", d));
 }
 
 }  // namespace
 
 Result compute(const Options& o) {
-  if (o.job.scene_path.empty()) throw UsageError("near-wall needs --scene SCENE.json");
+  if (o.job.scene_path.empty()) throw runner::InputError("near-wall needs --scene SCENE.json");
   check_sweep_options(o);
   Result r;
   r.options = o;
   r.provenance.command = command_line(o);
-  const json document = load_scene_document(o.job.scene_path, o.job.overrides);
+  const json document = frontend::load_scene_document(o.job.scene_path, o.job.overrides);
   r.light = parse_sg_light(document, o.job.scene_path);
   const render::Scene scene = geometry(document, r.light, o.job);
   const Compared c = compared_methods();
@@ -414,10 +414,6 @@ void add_near_wall_command(CLI::App& app, const runner::RunContext& run) {
   sub->callback([o, run] { near_wall::write(runner::with_run(near_wall::compute(*o), run)); });
 }
 
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
-
 // The one-VSGL renderer against the exact VPL sum on the spotlight-near-a-wall scene, once per
 // diffuse method the renderer takes (every clamped-cosine method of the registry but its
 // reference), and one SMAPE map per method (near_wall_vsgl_vs_vpl_sum.png). Not the poster's
@@ -454,7 +450,7 @@ std::vector<Step> near_wall_steps(const Places& p) {
 Experiment near_wall_experiment() {
   return {"near-wall",
           "sharp SG light near a wall (Tokuyoshi 2022 poster): each diffuse method against the exact integral",
-          cli::add_near_wall_command, near_wall_steps};
+          add_near_wall_command, near_wall_steps};
 }
 
 }  // namespace sglab::experiments

@@ -11,10 +11,10 @@
 #include "render_job.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::near_wall {
+namespace sglab::experiments::near_wall {
 
 struct Options {
-  RenderJob job;  // scene path, --set, --width, --height
+  frontend::RenderJob job;  // scene path, --set, --width, --height
   std::string dump;
   std::string tables_dir = "results/near_wall";  // --tables-dir (paper_tables/ only in `sglab reproduce`)
   std::vector<double> sweep_sharpness, sweep_distance;
@@ -76,4 +76,4 @@ Tables tables(const Result& r);
 // the Markdown also on stdout.
 void write(const Result& r);
 
-}  // namespace sglab::cli::near_wall
+}  // namespace sglab::experiments::near_wall

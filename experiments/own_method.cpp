@@ -26,13 +26,13 @@
 #include <fmt/format.h>
 
 #include "csv.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "parse_number.hpp"
 #include "registry.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::own_method {
+namespace sglab::experiments::own_method {
 namespace {
 
 namespace fs = std::filesystem;
@@ -58,7 +58,8 @@ struct Input {
 
   const std::string& text(const runner::CsvRecord& r, const std::string& column) const {
     const std::size_t c = file.csv.column(column);
-    if (c == runner::CsvTable::npos) throw UsageError(fmt::format("{}: no column '{}'", clip_text(path), column));
+    if (c == runner::CsvTable::npos)
+      throw runner::InputError(fmt::format("{}: no column '{}'", clip_text(path), column));
     return r.fields[c];
   }
   // A field as a number: runner::parse_table_number (not parse_decimal, which refuses subnormals as
@@ -69,7 +70,7 @@ struct Input {
     try {
       return runner::parse_table_number(s);
     } catch (const runner::NumberError& e) {
-      throw UsageError(
+      throw runner::InputError(
           fmt::format("{} line {}, column '{}': {} {}", clip_text(path), r.line, column, quote(s), e.what()));
     }
   }
@@ -82,7 +83,7 @@ struct Input {
     }
     std::string what;
     for (const auto& [column, value] : key) what += fmt::format("{}{} = {}", what.empty() ? "" : ", ", column, value);
-    throw UsageError(fmt::format("{}: no row with {}", clip_text(path), what));
+    throw runner::InputError(fmt::format("{}: no row with {}", clip_text(path), what));
   }
   std::string name() const { return beside ? fs::path(path).filename().string() : path; }
   // A link to a table beside the write-up, else the path as given.
@@ -210,7 +211,7 @@ Output tables(const Options& o) {
     }
     for (const auto& m : {kPeer, kOurs}) {
       if (!stats.count(m))
-        throw UsageError(
+        throw runner::InputError(
             fmt::format("{}: no rows of method '{}' (not a `sglab error-map` CSV)", clip_text(map->path), m));
       stats[m].median_smape = median(smape[m]);
     }
@@ -303,7 +304,7 @@ Output tables(const Options& o) {
     const double published = consts.number(r, "published"), reproduced = consts.number(r, "reproduced"),
                  digits = consts.number(r, "correct_digits");
     if (published != value)
-      throw UsageError(fmt::format(
+      throw runner::InputError(fmt::format(
           "{}: sglab.{} = {:.17g} is not the compiled {:.17g} (regenerate it with this build: `sglab fit all`)",
           clip_text(consts.path), name, published, value));
     md += fmt::format("| {} | {:.17g} | {:.17g} | {:g} | {} |\n", name, value, reproduced, digits, consts.source());
@@ -406,7 +407,7 @@ void add_command(CLI::App& app, const runner::RunContext& run) {
   sub->callback([o, run] { write(*o, run); });
 }
 
-}  // namespace sglab::cli::own_method
+}  // namespace sglab::experiments::own_method
 
 namespace sglab::experiments {
 
@@ -421,7 +422,7 @@ std::vector<Step> own_method_steps(const Places& p) {
 
 Experiment own_method_experiment() {
   return {"own-method", "`sglab own-method`: the write-up of sglab's own diffuse method (own_method.*)",
-          cli::own_method::add_command, own_method_steps};
+          own_method::add_command, own_method_steps};
 }
 
 }  // namespace sglab::experiments

@@ -24,7 +24,7 @@
 #include <fmt/format.h>
 
 #include "csv.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "parse_number.hpp"
 #include "registry.hpp"
 #include "sglab/error_metrics.hpp"
@@ -34,7 +34,7 @@
 #include "sweep.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::own_specular {
+namespace sglab::experiments::own_specular {
 namespace {
 
 namespace fs = std::filesystem;
@@ -65,7 +65,7 @@ double number(const runner::CsvRecord& r, std::size_t c, const std::string& sour
   try {
     return runner::parse_decimal<double>(r.fields.at(c));
   } catch (const runner::NumberError&) {
-    throw UsageError(fmt::format("{}: column {} is not a number: {}", source, c, clip_text(r.fields.at(c))));
+    throw runner::InputError(fmt::format("{}: column {} is not a number: {}", source, c, clip_text(r.fields.at(c))));
   }
 }
 
@@ -77,7 +77,7 @@ std::vector<Point> read_points(const std::string& path) {
                            "reference", "method", "value"}) {
     const std::size_t c = t.column(name);
     if (c == runner::CsvTable::npos)
-      throw UsageError(
+      throw runner::InputError(
           fmt::format("{}: no column `{}` (not a `sglab sweep specular` points file)", clip_text(path), name));
     col[name] = c;
   }
@@ -110,11 +110,11 @@ std::vector<Point> read_points(const std::string& path) {
     for (const auto& r : p.rows)
       for (const auto& m : kMethods)
         if (!r.value.count(m))
-          throw UsageError(fmt::format(
+          throw runner::InputError(fmt::format(
               "{}: no value of `{}` at α={} λ={} view_cos={} {} (run `sglab sweep specular` with this build)",
               clip_text(path), m, r.alpha, r.lambda, r.view, r.position));
   if (points.empty())
-    throw UsageError(fmt::format("{}: no rows of the methods {}", clip_text(path), fmt::join(kMethods, ", ")));
+    throw runner::InputError(fmt::format("{}: no rows of the methods {}", clip_text(path), fmt::join(kMethods, ", ")));
   return points;
 }
 
@@ -494,7 +494,7 @@ void add_command(CLI::App& app, const runner::RunContext& run) {
   sub->callback([o, run] { write(*o, run); });
 }
 
-}  // namespace sglab::cli::own_specular
+}  // namespace sglab::experiments::own_specular
 
 namespace sglab::experiments {
 
@@ -508,7 +508,7 @@ std::vector<Step> own_specular_steps(const Places& p) {
 
 Experiment own_specular_experiment() {
   return {"own-specular", "`sglab own-specular`: the write-up of sglab's own specular method (own_specular.*)",
-          cli::own_specular::add_command, own_specular_steps};
+          own_specular::add_command, own_specular_steps};
 }
 
 }  // namespace sglab::experiments

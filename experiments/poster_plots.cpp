@@ -30,7 +30,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "csv.hpp"
 #include "fits.hpp"
 #include "sglab/clamped_cosine.hpp"
@@ -39,7 +39,7 @@
 #include "sweep.hpp"
 #include "registry.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 namespace poster_plots {
 namespace {
 
@@ -184,10 +184,6 @@ void add_poster_plots_command(CLI::App& app, const runner::RunContext& run) {
   sub->callback([o, run] { poster_plots::write(runner::with_run(poster_plots::compute(*o), run)); });
 }
 
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
-
 std::vector<Step> poster_plots_steps(const Places& p) {
   return std::vector<Step>{
       sglab_step(
@@ -200,7 +196,7 @@ std::vector<Step> poster_plots_steps(const Places& p) {
 
 Experiment poster_plots_experiment() {
   return {"poster-plots", "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE",
-          cli::add_poster_plots_command, poster_plots_steps};
+          add_poster_plots_command, poster_plots_steps};
 }
 
 }  // namespace sglab::experiments

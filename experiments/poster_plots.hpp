@@ -8,7 +8,7 @@
 
 #include "table.hpp"
 
-namespace sglab::cli::poster_plots {
+namespace sglab::experiments::poster_plots {
 
 struct Options {
   std::string tables_dir = "results/poster_plots";  // --tables-dir (paper_tables/ only in `sglab reproduce`)
@@ -47,4 +47,4 @@ Tables tables(const Result& r);
 // TABLES/cosine_term_error.csv, TABLES/cosine_term_error_curves.csv, TABLES/hemispherical_rmse.csv.
 void write(const Result& r);
 
-}  // namespace sglab::cli::poster_plots
+}  // namespace sglab::experiments::poster_plots

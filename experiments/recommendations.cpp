@@ -23,12 +23,12 @@
 #include "atomic_file.hpp"
 #include "csv.hpp"
 #include "envmap_bases.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "parse_number.hpp"
 #include "registry.hpp"
 #include "sglab/registry.hpp"
 
-namespace sglab::cli::recommendations {
+namespace sglab::experiments::recommendations {
 
 const std::vector<std::string>& input_tables() {
   static const std::vector<std::string> files = {"error_vs_time.csv",       "stability.csv",
@@ -81,7 +81,7 @@ struct Table {
   bool has(const std::string& column) const { return csv.column(column) != runner::CsvTable::npos; }
   const std::string& text(const runner::CsvRecord& r, const std::string& column) const {
     const std::size_t c = csv.column(column);
-    if (c == runner::CsvTable::npos) throw UsageError("recommend: " + file + " has no column '" + column + "'");
+    if (c == runner::CsvTable::npos) throw runner::InputError("recommend: " + file + " has no column '" + column + "'");
     return r.fields[c];
   }
   // The field as a number; NaN when empty ("—" in the Markdown tables). runner::parse_table_number:
@@ -92,7 +92,7 @@ struct Table {
     try {
       return runner::parse_table_number(s);
     } catch (const runner::NumberError& e) {
-      throw UsageError(
+      throw runner::InputError(
           fmt::format("recommend: {} line {}, column '{}': {} {}", file, r.line, column, quote(s), e.what()));
     }
   }
@@ -877,7 +877,7 @@ Section shaders(Tables& tables) {
     const std::string& full = t->text(r, "method");
     const auto slash = full.find('/');
     if (slash == std::string::npos)
-      throw UsageError(
+      throw runner::InputError(
           fmt::format("recommend: {} line {}: method '{}' is not QUANTITY/METHOD", t->file, r.line, clip_text(full)));
     const std::string q = full.substr(0, slash), m = full.substr(slash + 1), e = t->text(r, "evaluator");
     remember(quantities, q);
@@ -1040,13 +1040,13 @@ Result compute(const Options& o) {
   // be all "no data" (it was written with exit status 0).
   std::error_code ec;
   if (!fs::is_directory(o.from, ec))
-    throw UsageError(fmt::format("recommend: --from {} is not a directory", quote(o.from)));
+    throw runner::InputError(fmt::format("recommend: --from {} is not a directory", quote(o.from)));
   Tables tables(o.from, r.missing);
   for (Section s : {diffuse(tables), hemispherical(tables), specular(tables), vsgl(tables), filtering(tables),
                     denoise(tables), environment(tables), bases(tables), shaders(tables)})
     if (!s.body.empty()) r.sections.push_back(std::move(s));
   if (r.sections.empty())
-    throw UsageError(
+    throw runner::InputError(
         fmt::format("recommend: --from {} holds none of the tables it reads (a full `sglab reproduce`'s: {}, …)",
                     quote(o.from), input_tables().front()));
   return r;
@@ -1078,9 +1078,9 @@ void write(const Options& o, const Result& r) {
   std::fprintf(stderr, "recommend: wrote %s/recommendations.md (%zu sections)\n", dir.c_str(), r.sections.size());
 }
 
-}  // namespace sglab::cli::recommendations
+}  // namespace sglab::experiments::recommendations
 
-namespace sglab::cli {
+namespace sglab::experiments {
 
 void add_recommend_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<recommendations::Options>();
@@ -1088,22 +1088,18 @@ void add_recommend_command(CLI::App& app, const runner::RunContext& run) {
                                  "Which method to ship, per quantity: Pareto fronts and caveats read from the tables");
   sub->add_option("--from", o->from, "directory of the tables to read (a full `sglab reproduce`'s)")
       ->capture_default_str();
-  add_places_options(*sub, o->out, o->tables_dir, "directory for recommendations.md",
-                     "where recommendations.md goes (default: the --out directory)");
+  frontend::add_places_options(*sub, o->out, o->tables_dir, "directory for recommendations.md",
+                               "where recommendations.md goes (default: the --out directory)");
   sub->callback([o, run] { recommendations::write(*o, runner::with_run(recommendations::compute(*o), run)); });
 }
 
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
-
 Experiment recommendations_experiment() {
   return {"recommend", "which method to ship, per quantity, from the tables (recommendations.md)",
-          cli::add_recommend_command, [](const Places& p) {
+          add_recommend_command, [](const Places& p) {
             Step s = sglab_step("recommend", "recommendations.md: Pareto fronts, budgets and caveats from every table",
                                 {"recommend", "--from", p.tables, "--out", p.out + "/recommendations"}, {},
                                 "--tables-dir");
-            for (const auto& f : cli::recommendations::input_tables()) s.reads.push_back(p.tables + "/" + f);
+            for (const auto& f : recommendations::input_tables()) s.reads.push_back(p.tables + "/" + f);
             return std::vector<Step>{s};
           }};
 }

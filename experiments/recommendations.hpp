@@ -12,7 +12,7 @@
 
 #include "table.hpp"
 
-namespace sglab::cli::recommendations {
+namespace sglab::experiments::recommendations {
 
 struct Options {
   std::string from = "paper_tables";            // --from: the tables read
@@ -51,4 +51,4 @@ std::string markdown(const Result& r);
 // TABLES/recommendations.md (TABLES: --tables-dir, else --out).
 void write(const Options& o, const Result& r);
 
-}  // namespace sglab::cli::recommendations
+}  // namespace sglab::experiments::recommendations

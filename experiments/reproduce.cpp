@@ -64,7 +64,7 @@ std::string files_state(const std::vector<std::string>& command, const std::vect
     if (i > 0 && args[i - 1] == "--constants") {
       std::string print;
       try {
-        print = cli::constants_fingerprint({a});
+        print = frontend::constants_fingerprint({a});
       } catch (const std::exception&) {
         print = "unreadable";  // the step itself reports it
       }
@@ -77,7 +77,7 @@ std::string files_state(const std::vector<std::string>& command, const std::vect
       if (path.empty() || !fs::is_regular_file(path, ec)) continue;
       state += "file " + path + " " + file_fnv1a(path) + "\n";
       if (fs::path(path).extension() == ".json")
-        for (const auto& f : cli::environment_files(path))
+        for (const auto& f : frontend::environment_files(path))
           state += "environment " + f + " " + (fs::is_regular_file(f, ec) ? file_fnv1a(f) : std::string("missing")) +
                    "\n";
     }

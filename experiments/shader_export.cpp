@@ -15,14 +15,14 @@
 
 #include "constant_sets.hpp"
 #include "error_grid.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "registry.hpp"
 #include "sglab/sg.hpp"
 #include "sglab/stiff_cases.hpp"
 #include "stability_atlas.hpp"
 #include "toolchain.hpp"
 
-namespace sglab::cli::shader_export {
+namespace sglab::experiments::shader_export {
 namespace {
 
 const char* const kTable = "shader_export";
@@ -74,7 +74,7 @@ void add_error_point(Grids& g, std::span<const double> a) {
 Grids diffuse_grids(bool quick) {
   Grids g;
   g.arity = 2;
-  const DiffuseAxes axes = diffuse_grid_axes(quick);
+  const fit::DiffuseAxes axes = fit::diffuse_grid_axes(quick);
   const std::size_t nc = axes.cosines.size();
   for (std::size_t i = 0; i < axes.sharpnesses.size(); ++i)
     for (double c : axes.cosines) {
@@ -97,7 +97,7 @@ Grids diffuse_grids(bool quick) {
 Grids specular_grids(const Quantity& q, bool quick) {
   Grids g;
   g.arity = 6;
-  const SpecularGridPoints points = specular_grid_points(quick);
+  const fit::SpecularGridPoints points = fit::specular_grid_points(quick);
   for (std::size_t k = 0; k < points.args.size(); k += 6) {
     add_error_point(g, std::span<const double>(&points.args[k], 6));
     const std::size_t i = k / 6;
@@ -230,7 +230,7 @@ Result compute(const Options& o) {
   r.provenance.quick = o.quick;
   r.provenance.command = "sglab shader-export";
   if (o.quick) r.provenance.command += " --quick";
-  for (const auto& a : constants_arguments(o.constants)) r.provenance.command += " " + a;
+  for (const auto& a : frontend::constants_arguments(o.constants)) r.provenance.command += " " + a;
   const ConstantSet& set = o.constants.set;
   shader::VulkanCompute gpu;
   r.device = gpu.device_name();
@@ -411,9 +411,9 @@ void write(const Options& o, const Result& r) {
   std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
 }
 
-}  // namespace sglab::cli::shader_export
+}  // namespace sglab::experiments::shader_export
 
-namespace sglab::cli {
+namespace sglab::experiments {
 
 void add_shader_export_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<shader_export::Options>();
@@ -423,7 +423,7 @@ void add_shader_export_command(CLI::App& app, const runner::RunContext& run) {
       "the reference and sglab float");
   sub->add_option("--tables-dir", o->tables_dir, "directory for shader_export.{md,csv}")->capture_default_str();
   sub->add_flag("--quick", o->quick, "the quick diffuse grid");
-  add_constants_option(*sub, o->constants);
+  frontend::add_constants_option(*sub, o->constants);
   sub->callback([o, run] {
     runner::check_output_paths(
         {{"--tables-dir (shader_export.md)", std::filesystem::path(o->tables_dir) / "shader_export.md"},
@@ -432,10 +432,6 @@ void add_shader_export_command(CLI::App& app, const runner::RunContext& run) {
     shader_export::write(*o, runner::with_run(shader_export::compute(*o), run));
   });
 }
-
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
 
 std::vector<Step> shader_export_steps(const Places&) {
   return {sglab_step(
@@ -446,7 +442,7 @@ std::vector<Step> shader_export_steps(const Places&) {
 
 Experiment shader_export_experiment() {
   return {"shader-export", "exported C/GLSL/HLSL of every exportable method, compiled and run (shader_export.*)",
-          cli::add_shader_export_command, shader_export_steps};
+          add_shader_export_command, shader_export_steps};
 }
 
 }  // namespace sglab::experiments

@@ -13,12 +13,12 @@
 #include "constant_sets.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::shader_export {
+namespace sglab::experiments::shader_export {
 
 struct Options {
   std::string tables_dir = "results/shader_export";
-  bool quick = false;   // the quick diffuse grid
-  Constants constants;  // --constants (constant_sets.hpp): exported with the set's values
+  bool quick = false;             // the quick diffuse grid
+  frontend::Constants constants;  // --constants (constant_sets.hpp): exported with the set's values
 };
 
 // One method in one evaluator ("sglab float", "c", "glsl", "hlsl").
@@ -63,4 +63,4 @@ Tables tables(const Result& r);
 // TABLES/shader_export.{md,csv}; the Markdown also on stdout.
 void write(const Options& o, const Result& r);
 
-}  // namespace sglab::cli::shader_export
+}  // namespace sglab::experiments::shader_export

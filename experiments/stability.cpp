@@ -15,14 +15,14 @@
 #include <fmt/format.h>
 
 #include "atomic_file.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "constant_sets.hpp"
 #include "registry.hpp"
 #include "stability_atlas.hpp"
 #include "table.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 namespace {
 
 struct Options {
@@ -30,7 +30,7 @@ struct Options {
   std::string tables_dir;         // --tables; empty: the --out directory
   std::vector<std::string> only;  // quantity names; empty: all
   bool quick = false;
-  Constants constants;  // --constants (constant_sets.hpp)
+  frontend::Constants constants;  // --constants (constant_sets.hpp)
 };
 
 // Bad usage before anything is computed: an unknown quantity, or outputs that cannot be written
@@ -41,7 +41,8 @@ std::vector<std::filesystem::path> checked_outputs(const Options& o) {
   namespace fs = std::filesystem;
   for (const auto& name : o.only)
     if (!find_quantity(name)) {
-      throw UsageError("stability: " + runner::unknown_name_message("quantity", name, quantity_names()));
+      throw runner::InputError("stability: " +
+                               runner::unknown_name_message("quantity", name, frontend::quantity_names()));
     }
   for (const auto& [option, dir] :
        {std::pair{"--out", o.out_dir}, std::pair{"--tables", o.tables_dir.empty() ? o.out_dir : o.tables_dir}})
@@ -49,7 +50,7 @@ std::vector<std::filesystem::path> checked_outputs(const Options& o) {
       std::error_code ec;
       if (fs::exists(p, ec)) {
         if (!fs::is_directory(p, ec))
-          throw UsageError(fmt::format("stability: {} '{}': '{}' is not a directory", option, dir, p.string()));
+          throw runner::InputError(fmt::format("stability: {} '{}': '{}' is not a directory", option, dir, p.string()));
         break;
       }
       if (p == p.parent_path()) break;
@@ -71,7 +72,7 @@ std::string command_line(const Options& o) {
   std::string command = "sglab stability";
   for (const auto& n : o.only) command += " --quantity " + n;
   if (o.quick) command += " --quick";
-  for (const auto& a : constants_arguments(o.constants)) command += " " + a;
+  for (const auto& a : frontend::constants_arguments(o.constants)) command += " " + a;
   return command + (o.tables_dir.empty() ? runner::option_argument("--out", o.out_dir, Options{}.out_dir)
                                          : runner::option_argument("--tables", o.tables_dir));
 }
@@ -87,7 +88,7 @@ void write(const Options& o, const runner::RunContext& run) {
   std::vector<ConstantUse> uses;
   for (const auto& q : quantities())
     for (const auto& m : q.methods) {
-      const auto u = method_constant_uses(q.name + "/" + m.name, m);
+      const auto u = frontend::method_constant_uses(q.name + "/" + m.name, m);
       uses.insert(uses.end(), u.begin(), u.end());
     }
   const atlas::Result result = atlas::compute(options);
@@ -96,7 +97,7 @@ void write(const Options& o, const runner::RunContext& run) {
   const std::string csv = atlas::summary_csv(result);
   const runner::Provenance provenance{command, o.quick || run.quick};
   const std::string md = runner::markdown_header(provenance) +
-                         atlas::markdown(result, constants_text(options.constants, uses, "- "));
+                         atlas::markdown(result, frontend::constants_text(options.constants, uses, "- "));
   runner::OutputSet outputs;
   outputs.add(paths[0], atlas::cells_csv(result));
   outputs.add(paths[1], runner::csv_header(provenance) + csv);
@@ -121,17 +122,17 @@ void add_stability_command(CLI::App& app, const runner::RunContext& run) {
   auto* sub = app.add_subcommand(
       "stability",
       "Stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method over the stiff inputs");
-  add_places_options(*sub, opts->out_dir, opts->tables_dir,
-                     "directory for stability.csv, stability_cells.csv, stability.md",
-                     "directory for stability.{md,csv} (default: the --out directory)", "--tables");
-  add_constants_option(*sub, opts->constants);
+  frontend::add_places_options(*sub, opts->out_dir, opts->tables_dir,
+                               "directory for stability.csv, stability_cells.csv, stability.md",
+                               "directory for stability.{md,csv} (default: the --out directory)", "--tables");
+  frontend::add_constants_option(*sub, opts->constants);
   sub->add_option("--quantity", opts->only, "only these quantities (repeatable; default: all)")
-      ->check(one_of(quantity_names(), "quantity"));
+      ->check(frontend::one_of(frontend::quantity_names(), "quantity"));
   sub->add_flag("--quick", opts->quick, "coarser grids, fewer 50-digit evaluations");
   sub->callback([opts, run] { write(*opts, run); });
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::experiments
 
 // ---- the experiment: its reproduce steps --------------------------------------------------------
 
@@ -139,7 +140,7 @@ namespace sglab::experiments {
 
 Experiment stability_experiment() {
   return {"stability", "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method (stability.*)",
-          cli::add_stability_command, [](const Places& p) {
+          add_stability_command, [](const Places& p) {
             return std::vector<Step>{
                 sglab_step("stability",
                            "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method "

@@ -7,7 +7,7 @@
 
 #include "sglab/stiff_cases.hpp"
 
-namespace sglab::atlas {
+namespace sglab::experiments::atlas {
 
 std::string_view flag_name(Flag f) {
   switch (f) {
@@ -297,4 +297,4 @@ std::vector<Cell> cells(const Grid& g, std::span<const Evaluation> evaluations, 
   return out;
 }
 
-}  // namespace sglab::atlas
+}  // namespace sglab::experiments::atlas

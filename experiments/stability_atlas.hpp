@@ -23,7 +23,7 @@
 
 #include "sglab/registry.hpp"
 
-namespace sglab::atlas {
+namespace sglab::experiments::atlas {
 
 // "Wrong" means off by more than this fraction (1 %).
 inline constexpr double kWrongTolerance = 0.01;
@@ -285,4 +285,4 @@ std::string cells_csv(const Result& r);
 // The Markdown report: `command` heads it, `constants` lists the constants in use.
 std::string markdown(const Result& r, const std::string& constants);
 
-}  // namespace sglab::atlas
+}  // namespace sglab::experiments::atlas

@@ -14,7 +14,7 @@
 
 #include "stability_atlas.hpp"
 
-namespace sglab::atlas {
+namespace sglab::experiments::atlas {
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -231,4 +231,4 @@ Result compute(const Options& o, std::span<const Quantity> quantities) {
   return result;
 }
 
-}  // namespace sglab::atlas
+}  // namespace sglab::experiments::atlas

@@ -12,7 +12,7 @@
 
 #include "stability_atlas.hpp"
 
-namespace sglab::atlas {
+namespace sglab::experiments::atlas {
 
 namespace {
 // The one place a run-time precision picks the scalar type of the evaluations.
@@ -231,4 +231,4 @@ std::string describe_row(const Grid& g, std::size_t r, Precision p) {
   return s;
 }
 
-}  // namespace sglab::atlas
+}  // namespace sglab::experiments::atlas

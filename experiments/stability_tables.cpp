@@ -9,7 +9,7 @@
 #include "csv.hpp"
 #include "stability_atlas.hpp"
 
-namespace sglab::atlas {
+namespace sglab::experiments::atlas {
 namespace {
 
 std::string fmt_err(const Worst& w) { return w.measured() ? fmt::format("{:.3e}", w.error) : ""; }
@@ -213,4 +213,4 @@ std::string markdown(const Result& r, const std::string& constants) {
   return md + fmt::format("Run time: {:.1f} s on this machine.\n", r.seconds);
 }
 
-}  // namespace sglab::atlas
+}  // namespace sglab::experiments::atlas

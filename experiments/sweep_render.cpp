@@ -40,7 +40,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "constant_sets.hpp"
 #include "parse_number.hpp"
 #include "resource_limits.hpp"
@@ -49,7 +49,7 @@
 #include "registry.hpp"
 #include "sglab/render/vsgl_generation.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 namespace sweep_render {
 namespace {
 
@@ -78,7 +78,7 @@ double parse_value(const std::string& text, const std::string& where) {
   try {
     return runner::parse_decimal<double>(text);
   } catch (const runner::NumberError& e) {
-    throw UsageError(fmt::format("{}: {} {}", where, quote(text), e.what()));
+    throw runner::InputError(fmt::format("{}: {} {}", where, quote(text), e.what()));
   }
 }
 
@@ -97,7 +97,7 @@ Vary parse_vary(const std::string& text) {
   const std::string where = "--vary " + text;
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
-    throw UsageError(where + ": expected KEY=a:b:n[:log|:lin] or KEY=v1,v2,…");
+    throw runner::InputError(where + ": expected KEY=a:b:n[:log|:lin] or KEY=v1,v2,…");
   Vary v{text.substr(0, eq), text.substr(eq + 1), {}};
   if (v.spec.find(':') == std::string::npos) {
     for (const auto& item : split(v.spec, ',')) v.values.push_back(parse_value(item, where));
@@ -109,16 +109,16 @@ Vary parse_vary(const std::string& text) {
     if (parts[3] == "log") {
       log_spaced = true;
     } else if (parts[3] != "lin") {
-      throw UsageError(fmt::format("{}: spacing {} is neither log nor lin", where, quote(parts[3])));
+      throw runner::InputError(fmt::format("{}: spacing {} is neither log nor lin", where, quote(parts[3])));
     }
     parts.pop_back();
   }
-  if (parts.size() != 3) throw UsageError(where + ": expected KEY=a:b:n[:log|:lin]");
+  if (parts.size() != 3) throw runner::InputError(where + ": expected KEY=a:b:n[:log|:lin]");
   const double a = parse_value(parts[0], where), b = parse_value(parts[1], where), nd = parse_value(parts[2], where);
   if (nd != std::floor(nd) || nd < 1 || nd > 1000)
-    throw UsageError(fmt::format("{}: n = {} is not an integer in [1, 1000]", where, parts[2]));
+    throw runner::InputError(fmt::format("{}: n = {} is not an integer in [1, 1000]", where, parts[2]));
   const int n = int(nd);
-  if (log_spaced && !(a > 0 && b > 0)) throw UsageError(fmt::format("{}: log spacing needs a, b > 0", where));
+  if (log_spaced && !(a > 0 && b > 0)) throw runner::InputError(fmt::format("{}: log spacing needs a, b > 0", where));
   for (int i = 0; i < n; ++i) {
     const double t = n == 1 ? 0.0 : double(i) / (n - 1);
     double x = log_spaced ? std::exp(std::log(a) + t * (std::log(b) - std::log(a))) : a + t * (b - a);
@@ -137,9 +137,9 @@ Vary parse_lambda_d_vary(const std::string& text, std::vector<std::string>& sour
     if (try_parse_decimal(item, x)) {
       sources.push_back(fmt::format("{} (given)", item));
     } else {
-      const ConstantSet set = load_constant_sets({item});
+      const ConstantSet set = frontend::load_constant_sets({item});
       const ConstantValue* c = set.find("lambda-d", "lambda_d");
-      if (!c) throw UsageError(fmt::format("--vary {}: {} holds no lambda-d fit", kLambdaDKey, quote(item)));
+      if (!c) throw runner::InputError(fmt::format("--vary {}: {} holds no lambda-d fit", kLambdaDKey, quote(item)));
       x = c->value;
       sources.push_back(fmt::format("{:.10g} ({})", x, c->provenance));
     }
@@ -158,7 +158,7 @@ std::vector<Vary> parse_varies(const Options& o, std::vector<std::string>& lambd
     if (v.key == kLambdaDKey)
       for (double x : v.values)
         if (!(std::isfinite(x) && x > 0))
-          throw UsageError(fmt::format("--vary {}: λ_d = {} is not a positive number", v.key, x));
+          throw runner::InputError(fmt::format("--vary {}: λ_d = {} is not a positive number", v.key, x));
   return vary;
 }
 
@@ -168,17 +168,18 @@ VsglConfig parse_vsgl_config(const std::string& text) {
   c.text = text;
   const auto colon = text.find(':');
   const auto mode = render::parse_vsgl_mode(text.substr(0, colon));
-  if (!mode) throw UsageError(where + ": expected two, two-shared, fis:N or kmeans:N");
+  if (!mode) throw runner::InputError(where + ": expected two, two-shared, fis:N or kmeans:N");
   c.mode = *mode;
   if (render::vsgl_mode_is_whole_rsm(c.mode)) {
     if (colon != std::string::npos)
-      throw UsageError(where + ": `" + std::string(vsgl_mode_name(c.mode)) + "` takes no count");
+      throw runner::InputError(where + ": `" + std::string(vsgl_mode_name(c.mode)) + "` takes no count");
     return c;
   }
-  if (colon == std::string::npos) throw UsageError(where + ": fis and kmeans need a count (fis:16)");
+  if (colon == std::string::npos) throw runner::InputError(where + ": fis and kmeans need a count (fis:16)");
   const double n = parse_value(text.substr(colon + 1), where);
   if (n != std::floor(n) || n < 1 || n > 65536)
-    throw UsageError(fmt::format("{}: count {} is not an integer in [1, 65536]", where, text.substr(colon + 1)));
+    throw runner::InputError(
+        fmt::format("{}: count {} is not an integer in [1, 65536]", where, text.substr(colon + 1)));
   c.count = int(n);
   return c;
 }
@@ -215,7 +216,7 @@ std::string checked_table_name(const Options& o, const std::vector<Vary>& vary) 
     }
   }
   if (name.find_first_of("/\\ ") != std::string::npos || name.empty())
-    throw UsageError(fmt::format("--table {} is not a file name", quote(name)));
+    throw runner::InputError(fmt::format("--table {} is not a file name", quote(name)));
   std::vector<runner::NamedPath> inputs{{"--scene", o.job.scene_path}};
   for (const auto& c : o.job.constants.paths) inputs.push_back({"--constants", c});
   runner::check_output_paths(
@@ -233,21 +234,21 @@ void check_distinct_fields(const std::vector<Vary>& vary, const nlohmann::json& 
     if (vary[i].key == kLambdaDKey) {  // a render option, not a scene field
       targets.push_back(kLambdaDKey);
       for (std::size_t j = 0; j < i; ++j)
-        if (targets[j] == kLambdaDKey) throw UsageError(fmt::format("--vary {} is given twice", kLambdaDKey));
+        if (targets[j] == kLambdaDKey) throw runner::InputError(fmt::format("--vary {} is given twice", kLambdaDKey));
       continue;
     }
     nlohmann::json doc = base;
     try {
       render::apply_override(doc, vary[i].key + "=\"\u0001sglab-vary\"");
     } catch (const render::SceneError& e) {
-      throw UsageError(fmt::format("--vary {}: {}", clip_text(vary[i].key), e.what()));
+      throw runner::InputError(fmt::format("--vary {}: {}", clip_text(vary[i].key), e.what()));
     }
     const nlohmann::json patch = nlohmann::json::diff(base, doc);
     targets.push_back(patch.empty() ? vary[i].key : patch[0].value("path", vary[i].key));
     for (std::size_t j = 0; j < i; ++j)
       if (targets[j] == targets[i])
-        throw UsageError(fmt::format("--vary {} and --vary {} set the same field ({}); give each field once",
-                                     clip_text(vary[j].key), clip_text(vary[i].key), clip_text(targets[i])));
+        throw runner::InputError(fmt::format("--vary {} and --vary {} set the same field ({}); give each field once",
+                                             clip_text(vary[j].key), clip_text(vary[i].key), clip_text(targets[i])));
   }
 }
 
@@ -255,7 +256,7 @@ void check_distinct_fields(const std::vector<Vary>& vary, const nlohmann::json& 
 struct Grid {
   std::vector<Vary> vary;
   nlohmann::json base;  // the scene document after --set
-  RenderJob job;
+  frontend::RenderJob job;
 
   std::size_t points() const {
     std::size_t n = 1;
@@ -291,7 +292,7 @@ struct Grid {
       try {
         render::apply_override(doc, assignment);
       } catch (const render::SceneError& e) {
-        throw UsageError(fmt::format("--vary {}: {}", vary[i].key, e.what()));
+        throw runner::InputError(fmt::format("--vary {}: {}", vary[i].key, e.what()));
       }
     }
     return doc;
@@ -299,12 +300,12 @@ struct Grid {
   render::Scene scene_from(const nlohmann::json& doc, std::size_t k) const {
     const auto x = values_of(k);
     try {
-      return scene_from_document(doc, job);
-    } catch (const UsageError& e) {
+      return frontend::scene_from_document(doc, job);
+    } catch (const runner::InputError& e) {
       std::string at;
       for (std::size_t i = 0; i < vary.size(); ++i)
         at += fmt::format("{}{}={}", at.empty() ? "" : ", ", vary[i].key, x[i]);
-      throw UsageError(fmt::format("at {}: {}", at.empty() ? "the scene" : at, e.what()));
+      throw runner::InputError(fmt::format("at {}: {}", at.empty() ? "the scene" : at, e.what()));
     }
   }
 };
@@ -382,7 +383,7 @@ runner::SweepDefinition definition(const Options& o, const Grid& g, const std::v
   d.args = {"sweep", "render", "--scene", o.job.scene_path};
   for (const auto& v : g.vary) d.args.insert(d.args.end(), {"--vary", v.key + "=" + v.spec});
   for (const auto& c : configs) d.args.insert(d.args.end(), {"--vsgl", c.text});
-  for (const auto& a : render_job_arguments(o.job, false)) d.args.push_back(a);
+  for (const auto& a : frontend::render_job_arguments(o.job, false)) d.args.push_back(a);
   d.args.insert(d.args.end(), {"--table", name});
   // The scene's contents (after --set), not only its path: an edited scene file is another grid.
   std::string grid = fmt::format("scene {} (contents fnv1a {}); overrides {{{}}}; ", o.job.scene_path,
@@ -404,7 +405,7 @@ runner::SweepDefinition definition(const Options& o, const Grid& g, const std::v
 }  // namespace
 
 Result compute(const Options& o, const runner::RunContext& run) {
-  if (o.job.scene_path.empty()) throw UsageError("sweep render needs --scene SCENE.json");
+  if (o.job.scene_path.empty()) throw runner::InputError("sweep render needs --scene SCENE.json");
   Result r;
   r.options = o;
   auto grid = std::make_shared<Grid>();
@@ -413,15 +414,16 @@ Result compute(const Options& o, const runner::RunContext& run) {
   std::vector<VsglConfig> configs;
   for (const auto& c : o.vsgl.empty() ? std::vector<std::string>{"two"} : o.vsgl)
     configs.push_back(parse_vsgl_config(c));
-  render::RenderOptions options = render_options(o.job);  // validates --rsm, --diffuse, …
-  options.direct = false;                                 // the rows measure the indirect layer alone
-  grid->base = load_scene_document(o.job.scene_path, o.job.overrides);
+  render::RenderOptions options = frontend::render_options(o.job);  // validates --rsm, --diffuse, …
+  options.direct = false;                                           // the rows measure the indirect layer alone
+  grid->base = frontend::load_scene_document(o.job.scene_path, o.job.overrides);
   r.name = checked_table_name(o, grid->vary);
   check_distinct_fields(grid->vary, grid->base);
   const std::size_t points = grid->points();
-  if (points > 100000) throw UsageError(fmt::format("sweep render: {} points is too many (at most 100000)", points));
+  if (points > 100000)
+    throw runner::InputError(fmt::format("sweep render: {} points is too many (at most 100000)", points));
   for (std::size_t k = 0; k < points; ++k) grid->scene_of(k);  // every point's scene is valid before anything runs
-  check_render_memory(grid->scene_of(0), options);
+  frontend::check_render_memory(grid->scene_of(0), options);
 
   runner::SweepDefinition d = definition(o, *grid, configs, r.name);
   d.describe = [grid](std::size_t k) { return grid->describe(k); };
@@ -452,7 +454,7 @@ Result compute(const Options& o, const runner::RunContext& run) {
 }
 
 // What the table says of --precision and --reference-precision.
-static std::string arithmetic_text(const RenderJob& job) {
+static std::string arithmetic_text(const frontend::RenderJob& job) {
   const std::string reference = job.reference_precision.empty() ? job.precision : job.reference_precision;
   if (job.precision == "double" && reference == "double") return "double";
   return fmt::format(
@@ -468,7 +470,7 @@ Tables tables(const Result& r) {
   const auto col = [&](const std::string& c) {
     const auto i = t.column(c);
     if (i == runner::CsvTable::npos)
-      throw UsageError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
+      throw runner::InputError(fmt::format("sweep render: the per-point CSV has no column '{}'", c));
     return i;
   };
   const auto num = [](const std::string& s) { return s.empty() ? NAN : std::stod(s); };
@@ -486,7 +488,9 @@ Tables tables(const Result& r) {
           : "none",
       arithmetic_text(o.job));
   md += "Constants (`--constants`; a varied vsgl.lambda_d replaces the render's λ_d):\n\n" +
-        constants_text(o.job.constants.set, {{"render", find_standalone_constant("render", "lambda_d")}}, "- ") + "\n";
+        frontend::constants_text(o.job.constants.set, {{"render", find_standalone_constant("render", "lambda_d")}},
+                                 "- ") +
+        "\n";
   if (!r.lambda_d_sources.empty())
     md += fmt::format("Varied {}: {}.\n\n", kLambdaDKey, fmt::join(r.lambda_d_sources, "; "));
   std::string header = "|", rule = "|";
@@ -531,24 +535,20 @@ void add_sweep_render(CLI::App& sweep, const runner::RunContext& run) {
   sub->add_option("--vary", o->vary,
                   "KEY=a:b:n (linear), KEY=a:b:n:log, or KEY=v1,v2,… (repeatable: Cartesian product)");
   sub->add_option("--vsgl", o->vsgl, "VSGL configuration MODE or MODE:N (fis:64, kmeans:64; repeatable; default two)")
-      ->check(one_of(render::vsgl_mode_names(), "VSGL mode", false, true));
-  add_render_job_options(*sub, o->job, false);
+      ->check(frontend::one_of(render::vsgl_mode_names(), "VSGL mode", false, true));
+  frontend::add_render_job_options(*sub, o->job, false);
   sub->add_option("--out", o->out, "directory for NAME_points.csv")->capture_default_str();
   sub->add_option("--table", o->table, "NAME of the table (default vsgl_error_vs_count, or vsgl_error_vs_<keys>)");
   sub->add_option("--tables-dir", o->tables_dir, "directory for NAME.{md,csv} (default: the --out directory)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
-      ->check(shard_given());
+      ->check(frontend::shard_given());
   sub->add_option("--threads", o->threads,
                   "points computed at once (each render uses all cores; 1 keeps timings clean)")
       ->capture_default_str()
-      ->check(unsigned_at_most(runner::kMaxThreads));
+      ->check(frontend::unsigned_at_most(runner::kMaxThreads));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
   sub->callback([o, run] { sweep_render::write(sweep_render::compute(*o, run)); });
 }
-
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
 
 std::vector<Step> sweep_render_steps(const Places& p) {
   const std::string scene = "scenes/cornell-glossy.json", sweep_out = p.out + "/render_sweep";
@@ -611,7 +611,7 @@ std::vector<Step> sweep_render_steps(const Places& p) {
 Experiment sweep_render_experiment() {
   return {"sweep-render",
           "`sglab sweep render`: VSGL error and time over VSGL counts, roughness × distance, λ_d, visibility",
-          cli::add_sweep_render, sweep_render_steps, "sweep"};
+          add_sweep_render, sweep_render_steps, "sweep"};
 }
 
 }  // namespace sglab::experiments

@@ -12,13 +12,13 @@
 #include "render_job.hpp"
 #include "table.hpp"
 
-namespace sglab::cli::sweep_render {
+namespace sglab::experiments::sweep_render {
 
 // The --vary key that sets the diffuse VSGL's λ_d instead of a scene field.
 inline const std::string kLambdaDKey = "vsgl.lambda_d";
 
 struct Options {
-  RenderJob job;
+  frontend::RenderJob job;
   std::vector<std::string> vary, vsgl;
   std::string out = "results/sweep_render";
   std::string tables_dir;  // empty: the --out directory
@@ -58,4 +58,4 @@ Tables tables(const Result& r);
 // TABLES/NAME.{md,csv} (nothing for a shard); the Markdown also on stdout.
 void write(const Result& r);
 
-}  // namespace sglab::cli::sweep_render
+}  // namespace sglab::experiments::sweep_render

@@ -30,7 +30,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "parse_number.hpp"
 #include "resource_limits.hpp"
 #include "constant_sets.hpp"
@@ -38,7 +38,7 @@
 #include "sglab/text_limits.hpp"
 #include "registry.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 namespace {
 
 namespace fs = std::filesystem;
@@ -79,7 +79,7 @@ bool specular_position_near_lobe(const std::string& position) {
   return position == "mirror" || position == "toward-normal" || position == "toward-horizon" || position == "side";
 }
 
-runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf, const Constants& constants) {
+runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf, const frontend::Constants& constants) {
   const Quantity& q = specular_quantity(brdf);
   const Method& reference = *q.find(q.reference_method);
   // The measured methods with the set's constants bound (copies of the registry's when it sets
@@ -96,7 +96,7 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf,
   d.args = {"sweep", "specular"};
   if (gaussian) d.args.insert(d.args.end(), {"--brdf", "gaussian"});
   if (quick) d.args.push_back("--quick");
-  for (const auto& a : constants_arguments(constants)) d.args.push_back(a);
+  for (const auto& a : frontend::constants_arguments(constants)) d.args.push_back(a);
   std::string method_names;
   for (const Method* m : methods) method_names += (method_names.empty() ? "" : ", ") + m->name;
   std::string position_names;
@@ -225,7 +225,7 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
   auto column = [&](const std::string& name) {
     const std::size_t c = t.column(name);
     if (c == runner::CsvTable::npos)
-      throw UsageError(fmt::format("{}: no column '{}' (not a specular sweep's per-point CSV?)", source, name));
+      throw runner::InputError(fmt::format("{}: no column '{}' (not a specular sweep's per-point CSV?)", source, name));
     return c;
   };
   const std::size_t c_reference = column("reference"), c_scale = column("scale"), c_value = column("value"),
@@ -235,7 +235,7 @@ std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable
     try {
       return runner::parse_decimal<double>(r.fields[c]);
     } catch (const runner::NumberError& e) {
-      throw UsageError(
+      throw runner::InputError(
           fmt::format("{}: line {}, column '{}': '{}' {}", source, r.line, t.header[c], r.fields[c], e.what()));
     }
   };
@@ -535,8 +535,8 @@ struct SpecularOptions {
   std::size_t threads = 0;
   bool quick = false;
   bool fresh = false;
-  std::string brdf = "ggx";  // ggx | gaussian
-  Constants constants;       // --constants: the measured methods' fitted constants (sglab-specular's)
+  std::string brdf = "ggx";       // ggx | gaussian
+  frontend::Constants constants;  // --constants: the measured methods' fitted constants (sglab-specular's)
 };
 
 void run_specular(const SpecularOptions& o, const runner::RunContext& run) {
@@ -573,25 +573,21 @@ void add_sweep_specular(CLI::App& sweep, const runner::RunContext& run) {
   sub->add_option("--out", o->out, "directory for specular_points.csv and specular_summary.csv")->capture_default_str();
   sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
-      ->check(shard_given());
+      ->check(frontend::shard_given());
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")
       ->capture_default_str()
-      ->check(unsigned_at_most(runner::kMaxThreads));
+      ->check(frontend::unsigned_at_most(runner::kMaxThreads));
   sub->add_option("--tables-dir", o->tables_dir,
                   "directory for specular_vs_roughness.{md,csv} (default: the --out directory)");
   sub->add_option("--brdf", o->brdf,
                   "ggx (the `specular` quantity) or gaussian (the Gaussian-angle NDF BRDF, `specular-gaussian-ndf`; "
                   "tables specular_gaussian_vs_roughness.{md,csv})")
       ->capture_default_str()
-      ->check(one_of({"ggx", "gaussian"}, "BRDF"));
+      ->check(frontend::one_of({"ggx", "gaussian"}, "BRDF"));
   sub->add_flag("--fresh", o->fresh, "ignore earlier output and checkpoints of this sweep (recompute everything)");
-  add_constants_option(*sub, o->constants);
+  frontend::add_constants_option(*sub, o->constants);
   sub->callback([o, run] { run_specular(*o, run); });
 }
-
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
 
 std::vector<Step> sweep_specular_steps(const Places& p) {
   return std::vector<Step>{
@@ -609,7 +605,7 @@ std::vector<Step> sweep_specular_steps(const Places& p) {
 
 Experiment sweep_specular_experiment() {
   return {"sweep-specular", "`sglab sweep specular`: specular methods against the GGX reference over roughness",
-          cli::add_sweep_specular, sweep_specular_steps, "sweep"};
+          add_sweep_specular, sweep_specular_steps, "sweep"};
 }
 
 }  // namespace sglab::experiments

@@ -20,7 +20,7 @@
 #include "sweep.hpp"
 #include "table.hpp"
 
-namespace sglab::cli {
+namespace sglab::experiments {
 
 // A reference below this fraction of its point's scale (the largest reference over the point's
 // light positions) is "near zero": the point is left out of the relative statistics and counted
@@ -68,7 +68,7 @@ bool specular_position_near_lobe(const std::string& position);
 // `constants` (--constants) binds the measured methods' fitted constants (sglab-specular's); it
 // is part of the sweep's arguments and, by its contents' fingerprint, of its identity.
 runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf = SpecularBrdf::ggx,
-                                                  const Constants& constants = {});
+                                                  const frontend::Constants& constants = {});
 
 // One summary row: the statistics of one method over one group of rows.
 struct SpecularSummaryRow {
@@ -91,7 +91,7 @@ struct SpecularSummaryRow {
 // The summary derived from a per-point CSV alone (the file the sweep or `sglab merge` wrote):
 // per roughness (all positions, then only the near-lobe ones), per light sharpness, per view_cos,
 // per position and over all points, per method, in the order of first appearance. Errors are recomputed from the value,
-// reference and scale columns (near zero: kSpecularNearZero). Throws UsageError naming `source`, the line and the
+// reference and scale columns (near zero: kSpecularNearZero). Throws InputError naming `source`, the line and the
 // column for a missing column or a bad number.
 std::vector<SpecularSummaryRow> summarize_specular_points(const runner::CsvTable& points, const std::string& source);
 
@@ -103,4 +103,4 @@ std::string specular_summary_csv(const std::vector<SpecularSummaryRow>& rows);
 std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& rows, const runner::Provenance& provenance,
                                       SpecularBrdf brdf = SpecularBrdf::ggx);
 
-}  // namespace sglab::cli
+}  // namespace sglab::experiments

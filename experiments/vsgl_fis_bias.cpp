@@ -26,7 +26,7 @@
 
 #include "atomic_file.hpp"
 #include "table.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "csv.hpp"
 #include "render_job.hpp"
 #include "sglab/render/rsm.hpp"
@@ -34,7 +34,7 @@
 #include "sweep.hpp"
 #include "registry.hpp"
 
-namespace sglab::cli::vsgl_fis_bias {
+namespace sglab::experiments::vsgl_fis_bias {
 namespace {
 
 namespace fs = std::filesystem;
@@ -152,13 +152,14 @@ void rsm_rows(const std::string& name, const render::ReflectiveShadowMap& rsm, i
 }  // namespace
 
 Result compute(const Options& o) {
-  if (o.seeds < 2 || o.seeds > 100000) throw UsageError(fmt::format("--seeds {} is outside [2, 100000]", o.seeds));
-  if (o.rsm < 1 || o.rsm > 1024) throw UsageError(fmt::format("--rsm {} is outside [1, 1024]", o.rsm));
+  if (o.seeds < 2 || o.seeds > 100000)
+    throw runner::InputError(fmt::format("--seeds {} is outside [2, 100000]", o.seeds));
+  if (o.rsm < 1 || o.rsm > 1024) throw runner::InputError(fmt::format("--rsm {} is outside [1, 1024]", o.rsm));
   std::vector<std::pair<std::string, render::ReflectiveShadowMap>> rsms;
   for (const auto& path : kScenes) {
-    RenderJob job;
+    frontend::RenderJob job;
     job.scene_path = path;
-    rsms.emplace_back(path, render::render_rsm(load_scene(job), o.rsm));
+    rsms.emplace_back(path, render::render_rsm(frontend::load_scene(job), o.rsm));
   }
   rsms.emplace_back(fmt::format("random {0}×{0} RSM (seed {1})", kRandomResolution, kRandomRsmSeed),
                     random_rsm(kRandomResolution, kRandomRsmSeed));
@@ -211,9 +212,9 @@ void write(const Result& r) {
   std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
 }
 
-}  // namespace sglab::cli::vsgl_fis_bias
+}  // namespace sglab::experiments::vsgl_fis_bias
 
-namespace sglab::cli {
+namespace sglab::experiments {
 
 void add_vsgl_fis_bias_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<vsgl_fis_bias::Options>();
@@ -225,10 +226,6 @@ void add_vsgl_fis_bias_command(CLI::App& app, const runner::RunContext& run) {
   sub->callback([o, run] { vsgl_fis_bias::write(runner::with_run(vsgl_fis_bias::compute(*o), run)); });
 }
 
-}  // namespace sglab::cli
-
-namespace sglab::experiments {
-
 std::vector<Step> vsgl_fis_bias_steps(const Places&) {
   return std::vector<Step>{
       sglab_step("vsgl-fis-bias",
@@ -238,7 +235,7 @@ std::vector<Step> vsgl_fis_bias_steps(const Places&) {
 
 Experiment vsgl_fis_bias_experiment() {
   return {"vsgl-fis-bias", "bias of the FIS VSGLs' sums against the exact sums over seeds (vsgl_fis_bias.*)",
-          cli::add_vsgl_fis_bias_command, vsgl_fis_bias_steps};
+          add_vsgl_fis_bias_command, vsgl_fis_bias_steps};
 }
 
 }  // namespace sglab::experiments

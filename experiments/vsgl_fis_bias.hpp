@@ -8,7 +8,7 @@
 
 #include "table.hpp"
 
-namespace sglab::cli::vsgl_fis_bias {
+namespace sglab::experiments::vsgl_fis_bias {
 
 struct Options {
   int seeds = 64;
@@ -42,4 +42,4 @@ Tables tables(const Result& r);
 // TABLES/vsgl_fis_bias.{md,csv}; the Markdown also on stdout.
 void write(const Result& r);
 
-}  // namespace sglab::cli::vsgl_fis_bias
+}  // namespace sglab::experiments::vsgl_fis_bias

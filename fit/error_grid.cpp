@@ -12,7 +12,7 @@
 #include "sglab/error_metrics.hpp"
 #include "sglab/scalar.hpp"
 
-namespace sglab::cli {
+namespace sglab::fit {
 
 DiffuseAxes diffuse_grid_axes(bool quick) {
   const int per_decade = quick ? 2 : 4, cos_steps = quick ? 20 : 40;
@@ -87,4 +87,4 @@ GridError standard_grid_error(const Quantity& q, const Method& m) {
   return {rms.max, rms.rms()};
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::fit

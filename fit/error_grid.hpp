@@ -9,7 +9,7 @@
 
 #include "sglab/registry.hpp"
 
-namespace sglab::cli {
+namespace sglab::fit {
 
 struct GridError {
   double max_error = 0;  // max |method − reference| / reference at c = 1, over the grid
@@ -58,4 +58,4 @@ ReferenceGrid diffuse_reference_grid(const Method& ref, bool quick);
 // The grid's reference values are computed once per quantity and kept.
 GridError standard_grid_error(const Quantity& q, const Method& m);
 
-}  // namespace sglab::cli
+}  // namespace sglab::fit

@@ -15,7 +15,7 @@ namespace sglab::fit {
 FitOptions checked_options(const Fitter& f, const std::string& objective, const std::string& precision);
 
 // The fit's own fields of its JSON record (FitResult but the notes and the source, in order; the
-// whole record, with the precision and the self-judgement, is experiments/fit_record.hpp);
+// whole record, with the precision and the self-judgement, is frontend/fit_record.hpp);
 // "nothing published" (NaN) is null, since JSON has no NaN.
 nlohmann::ordered_json record_json(const FitResult& r);
 

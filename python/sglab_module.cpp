@@ -105,9 +105,9 @@ py::list methods_list(const std::string& quantity) {
 
 // `m` with the constant sets of `sglab eval --constants` (paths in order, later ones override
 // earlier ones, "published" resets); `m` itself (a copy) with none. A bad set is the loader's
-// UsageError (naming the file and the key), a ValueError in Python.
+// InputError (naming the file and the key), a ValueError in Python.
 Method bound_method(const Method& m, const std::vector<std::string>& constants) {
-  return bind(m, cli::load_constant_sets(constants));
+  return bind(m, sglab::frontend::load_constant_sets(constants));
 }
 
 // Where an element sits in the broadcast shape: "3" in 1-D, "(2, 5)" otherwise, "()" for 0-d.
@@ -624,7 +624,7 @@ std::string run_fit(const std::string& name, const std::string& objective, const
     py::gil_scoped_release release;
     r = f->run(o);
   }
-  return cli::fit_record_json(r, cli::judge(*f, r), o.precision).dump();
+  return sglab::frontend::fit_record_json(r, sglab::frontend::judge(*f, r), o.precision).dump();
 }
 
 // ---- render --------------------------------------------------------------------------------
@@ -645,12 +645,12 @@ py::array layer_array(std::vector<render::Rgb>&& layer, int width, int height) {
 // paths are taken from the working directory then). Progress on stderr only when `verbose`.
 py::dict run_render(const std::string& scene_text, bool is_text, const std::string& source,
                     const std::vector<std::string>& words, bool verbose) {
-  cli::RenderJob job;
+  sglab::frontend::RenderJob job;
   std::string specular(render::kDefaultSpecularMethod);
   {
     CLI::App app{"sglab.render"};
-    cli::add_render_job_options(app, job);
-    cli::add_specular_option(app, specular);
+    sglab::frontend::add_render_job_options(app, job);
+    sglab::frontend::add_specular_option(app, specular);
     std::vector<std::string> reversed(words.rbegin(), words.rend());  // CLI11 takes the vector last-argument-first
     try {
       app.parse(reversed);
@@ -659,11 +659,11 @@ py::dict run_render(const std::string& scene_text, bool is_text, const std::stri
     }
   }
   job.scene_path = source;
-  render::Scene scene = is_text ? cli::scene_from_document(
-                                      cli::scene_document_from_text(scene_text, source, job.overrides), job)
-                                : cli::load_scene(job);
-  cli::RenderJobRun run(job, specular, std::move(scene));
-  std::vector<std::string> args = cli::render_job_arguments(job);
+  render::Scene scene = is_text ? sglab::frontend::scene_from_document(
+                                      sglab::frontend::scene_document_from_text(scene_text, source, job.overrides), job)
+                                : sglab::frontend::load_scene(job);
+  sglab::frontend::RenderJobRun run(job, specular, std::move(scene));
+  std::vector<std::string> args = sglab::frontend::render_job_arguments(job);
   if (specular != render::kDefaultSpecularMethod) args.insert(args.end(), {"--specular", specular});
   const std::string command = fmt::format("sglab.render({}{}) (as `sglab render` {})",
                                           is_text ? "a scene dict" : "'" + source + "'", args.empty() ? "" : ", …",
@@ -673,7 +673,7 @@ py::dict run_render(const std::string& scene_text, bool is_text, const std::stri
       if (fraction == 0 || fraction == 1)
         std::fprintf(stderr, "sglab.render: %.*s %s\n", int(stage.size()), stage.data(), fraction == 0 ? "…" : "done");
     };
-  cli::RenderJobRun::Output r;
+  sglab::frontend::RenderJobRun::Output r;
   {
     py::gil_scoped_release release;
     r = run.run(command);
@@ -699,7 +699,7 @@ PYBIND11_MODULE(_sglab, m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
-    } catch (const sglab::cli::UsageError& e) {
+    } catch (const sglab::runner::InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const sglab::runner::NumberError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
@@ -722,10 +722,10 @@ PYBIND11_MODULE(_sglab, m) {
   // are checked against this list.
   m.def("render_options", [] {
     CLI::App app;
-    sglab::cli::RenderJob job;
+    sglab::frontend::RenderJob job;
     std::string specular;
-    sglab::cli::add_render_job_options(app, job);
-    sglab::cli::add_specular_option(app, specular);
+    sglab::frontend::add_render_job_options(app, job);
+    sglab::frontend::add_specular_option(app, specular);
     py::list names;
     for (const CLI::Option* o : app.get_options())
       if (!o->get_lnames().empty() && o->get_lnames().front() != "help") names.append(o->get_lnames().front());

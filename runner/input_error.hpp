@@ -12,9 +12,3 @@ struct InputError : std::runtime_error {
 };
 
 }  // namespace sglab::runner
-
-// The experiments and the commands (namespace sglab::cli) call it UsageError; they name the
-// runner's other helpers qualified (runner::…).
-namespace sglab::cli {
-using UsageError = runner::InputError;
-}  // namespace sglab::cli

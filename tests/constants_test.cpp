@@ -2,7 +2,7 @@
 // once in the sources, re-derived by a named fit, and replaceable at run time (sglab::bind).
 //  - the registry's parameters are consistent (distinct names per method; one published value per
 //    (fit, name); the fit exists and produces that name), and fit/ says which it produces;
-//  - each published value appears as a numeric literal exactly once in core/, fit/ and
+//  - each published value appears as a numeric literal exactly once in core/, fit/, frontend/ and
 //    experiments/ (comments and string literals are not definitions);
 //  - a bound method changes its output by what the formula predicts (independent closed forms).
 #include <algorithm>
@@ -142,7 +142,7 @@ std::vector<std::pair<double, std::string>> float_literals(const std::string& co
 
 TEST(Constants, EveryPublishedConstantHasExactlyOneDefinition) {
   std::vector<fs::path> files;
-  for (const char* dir : {"core", "fit", "experiments"})
+  for (const char* dir : {"core", "fit", "frontend", "experiments"})
     for (const auto& e : fs::recursive_directory_iterator(fs::path(SGLAB_SOURCE_DIR) / dir))
       if (e.is_regular_file() && (e.path().extension() == ".hpp" || e.path().extension() == ".cpp"))
         files.push_back(e.path());

@@ -253,7 +253,7 @@ TEST(VmfEm, HonoursItsIterationCap) {
 // options are input errors.
 TEST(EnvmapBases, TablesHaveEveryBasisAndBadOptionsAreInputErrors) {
   namespace fs = std::filesystem;
-  namespace eb = sglab::cli::envmap_bases;
+  namespace eb = sglab::experiments::envmap_bases;
   const fs::path dir = fs::temp_directory_path() / ("sglab_envmap_bases_test_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   sglab::runner::write_file_atomically(dir / "mix.exr", sglab::render::encode_environment(sglab::rasterize_mixture(
@@ -534,7 +534,7 @@ TEST(OneLobeDiskFloor, MatchesQuadratureOnTheSphere) {
     const double lambda = std::exp((a + b) / 2);
     const double floor = std::sqrt(1 - share(lambda));
     std::printf("disk %.2f°: floor %.6f at t = λR²/2 = %.5f\n", diameter_deg, floor, lambda * R * R / 2);
-    EXPECT_NEAR(floor, sglab::cli::envmap_bases::kOneLobeDiskFloor, 1e-4) << diameter_deg << "°";
+    EXPECT_NEAR(floor, sglab::experiments::envmap_bases::kOneLobeDiskFloor, 1e-4) << diameter_deg << "°";
   }
 }
 

@@ -16,7 +16,7 @@
 #include "envmap_lobes.hpp"
 #include "input_error.hpp"
 
-namespace el = sglab::cli::envmap_lobes;
+namespace el = sglab::experiments::envmap_lobes;
 namespace fs = std::filesystem;
 
 namespace {

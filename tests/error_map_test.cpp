@@ -11,7 +11,7 @@
 #include "error_map.hpp"
 #include "input_error.hpp"
 
-namespace em = sglab::cli::error_map;
+namespace em = sglab::experiments::error_map;
 
 namespace {
 

@@ -13,7 +13,7 @@
 #include "error_vs_time.hpp"
 #include "sglab/registry.hpp"
 
-namespace evt = sglab::cli::error_vs_time;
+namespace evt = sglab::experiments::error_vs_time;
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include "filter_sweep.hpp"
 #include "input_error.hpp"
 
-namespace fsw = sglab::cli::filter_sweep;
+namespace fsw = sglab::experiments::filter_sweep;
 namespace render = sglab::render;
 
 namespace {
@@ -46,10 +46,10 @@ TEST(FilterSweep, RowsMatchIndependentlyPreparedPointsAndTheRelativeL2Definition
   for (const fsw::Row& row : r.rows) {
     SCOPED_TRACE("roughness " + std::to_string(row.roughness) + ", scale " + std::to_string(row.scale) + ", " +
                  std::string(render::filter_weights_name(row.weights)));
-    nlohmann::json doc = sglab::cli::load_scene_document(o.job.render.scene_path, {});
+    nlohmann::json doc = sglab::frontend::load_scene_document(o.job.render.scene_path, {});
     render::apply_override(doc, "floor.roughness=" + std::to_string(row.roughness));
-    const render::Scene scene = sglab::cli::scene_from_document(doc, o.job.render);
-    render::FilterInputOptions io = sglab::cli::filter_input_options(o.job);
+    const render::Scene scene = sglab::frontend::scene_from_document(doc, o.job.render);
+    render::FilterInputOptions io = sglab::frontend::filter_input_options(o.job);
     io.scale = row.scale;
     const render::FilterInputs in = render::prepare_filter_inputs(scene, io);
     const render::FilterResult expected = render::upsample_indirect(in, row.weights, o.job.parameters);
@@ -109,7 +109,7 @@ TEST(FilterSweep, BadValuesAreInputErrorsNamingThem) {
 
 namespace {
 
-namespace dsw = sglab::cli::denoise_sweep;
+namespace dsw = sglab::experiments::denoise_sweep;
 
 dsw::Options small_denoise_sweep() {
   dsw::Options o;
@@ -137,9 +137,9 @@ TEST(DenoiseSweep, RowsMatchIndependentlyPreparedPointsAndTablesHaveOneLinePerRo
   for (const dsw::Row& row : r.rows) {
     SCOPED_TRACE("roughness " + std::to_string(row.roughness) + ", " + render::noisy_spec_name(row.noisy) + ", " +
                  std::string(render::filter_weights_name(row.weights)));
-    nlohmann::json doc = sglab::cli::load_scene_document(o.job.render.scene_path, {});
+    nlohmann::json doc = sglab::frontend::load_scene_document(o.job.render.scene_path, {});
     render::apply_override(doc, "floor.roughness=" + std::to_string(row.roughness));
-    const render::Scene scene = sglab::cli::scene_from_document(doc, o.job.render);
+    const render::Scene scene = sglab::frontend::scene_from_document(doc, o.job.render);
     render::DenoiseInputOptions io;
     io.noisy = row.noisy;
     io.seed = o.noisy_seed;

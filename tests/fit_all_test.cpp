@@ -9,7 +9,7 @@
 
 #include "fit_all.hpp"
 
-namespace fa = sglab::cli::fit_all;
+namespace fa = sglab::experiments::fit_all;
 
 namespace {
 

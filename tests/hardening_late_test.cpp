@@ -125,7 +125,7 @@ TEST_F(HardeningLate, GroupH_RunnerChecksRowsAgainstTheGrid) {
     try {
       sglab::runner::run_sweep(d, summary_only);
       ADD_FAILURE() << "an off-grid row was summarised";
-    } catch (const sglab::cli::UsageError& e) {
+    } catch (const sglab::runner::InputError& e) {
       EXPECT_NE(std::string(e.what()).find("line 5: point 3: x '35' is not the grid point's 30"), std::string::npos)
           << e.what();
     }
@@ -136,7 +136,7 @@ TEST_F(HardeningLate, GroupH_RunnerChecksRowsAgainstTheGrid) {
 
   // `sweep specular`: one computed row of the quick grid's first point passes; moved in roughness,
   // in light_cos, or given another method, it does not.
-  const SweepDefinition s = sglab::cli::specular_sweep_definition(true, sglab::cli::SpecularBrdf::ggx);
+  const SweepDefinition s = sglab::experiments::specular_sweep_definition(true, sglab::experiments::SpecularBrdf::ggx);
   const std::vector<SweepRow> rows = s.compute(0);
   ASSERT_FALSE(rows.empty());
   for (const auto& row : rows) EXPECT_FALSE(s.check_row(0, row)) << *s.check_row(0, row);

@@ -399,7 +399,7 @@ TEST_F(Hardening, Group11_OnDiskStateIsChecked) {
   text = read_file(shard0);
   text.erase(text.find("4,104\n"), 6);
   std::ofstream(shard0, std::ios::binary) << text;
-  EXPECT_THROW(sglab::runner::merge_sweep_shards({path("shards")}, path("merged")), sglab::cli::UsageError);
+  EXPECT_THROW(sglab::runner::merge_sweep_shards({path("shards")}, path("merged")), sglab::runner::InputError);
   EXPECT_FALSE(fs::exists(path("merged")));
 
   // An edited scene file is another sweep: `sweep render` recomputes instead of republishing.

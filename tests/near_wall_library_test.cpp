@@ -11,7 +11,7 @@
 #include "input_error.hpp"
 #include "near_wall.hpp"
 
-namespace nw = sglab::cli::near_wall;
+namespace nw = sglab::experiments::near_wall;
 
 namespace {
 

@@ -2,7 +2,7 @@
 // command that reads a table) and the scene reader (`render`, `filter`, `sweep render`: JSON,
 // --set overrides, validation). Valid documents are mutated at random (bytes replaced, inserted,
 // deleted, slices duplicated, nesting and numbers at their limits); every result must be either a
-// parsed value or the parser's own error (UsageError, SceneError) with a short message — never
+// parsed value or the parser's own error (InputError, SceneError) with a short message — never
 // another exception, a crash or a message as long as the input. Fixed seeds, printed on failure,
 // so a failure reproduces; a few thousand cases a parser, about a second.
 #include <unistd.h>
@@ -94,7 +94,7 @@ TEST(ParserFuzz, CsvReaderFailsOnlyWithShortUsageErrors) {
     try {
       const auto table = sglab::runner::read_csv(in, "<fuzz>");
       for (const auto& row : table.rows) ASSERT_EQ(row.fields.size(), table.header.size()) << "seed " << seed;
-    } catch (const sglab::cli::UsageError& e) {
+    } catch (const sglab::runner::InputError& e) {
       ASSERT_LT(std::string(e.what()).size(), kMaxMessage) << "seed " << seed;
     } catch (const std::exception& e) {
       FAIL() << "seed " << seed << ": unexpected " << typeid(e).name() << ": " << e.what();
@@ -150,7 +150,7 @@ TEST(ParserFuzz, SceneReaderFailsOnlyWithShortSceneErrors) {
 }
 
 // The constant-set reader (`--constants FILE`): a fit record as `sglab fit NAME --json` writes it,
-// mutated; each result is either a set or the reader's UsageError with a short message.
+// mutated; each result is either a set or the reader's InputError with a short message.
 const char* kFitRecord = R"({
   "fit": "lambda-c",
   "parameters": {"lambda_c": 0.63, "sigma_n2": 0.054},
@@ -167,9 +167,9 @@ TEST(ParserFuzz, ConstantSetReaderFailsOnlyWithShortUsageErrors) {
     std::mt19937_64 rng(seed);
     std::ofstream(file, std::ios::binary) << mutate(records[seed % records.size()], rng);
     try {
-      const auto set = sglab::cli::load_constant_sets({file.string()});
+      const auto set = sglab::frontend::load_constant_sets({file.string()});
       for (const auto& v : set.values) ASSERT_TRUE(std::isfinite(v.value)) << "seed " << seed;
-    } catch (const sglab::cli::UsageError& e) {
+    } catch (const sglab::runner::InputError& e) {
       ASSERT_LT(std::string(e.what()).size(), kMaxMessage)
           << "seed " << seed << ": " << std::string(e.what()).substr(0, 300);
     } catch (const std::exception& e) {

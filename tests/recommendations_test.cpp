@@ -13,7 +13,7 @@
 #include "recommendations.hpp"
 #include "test_util.hpp"
 
-namespace rec = sglab::cli::recommendations;
+namespace rec = sglab::experiments::recommendations;
 namespace fs = std::filesystem;
 
 TEST(Recommendations, ParetoFront) {

@@ -18,7 +18,7 @@
 #include "sglab/stiff_cases.hpp"
 #include "stability_atlas.hpp"
 
-namespace sglab::atlas {
+namespace sglab::experiments::atlas {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -474,4 +474,4 @@ TEST(StabilityAtlas, UnknownQuantityIsRefusedBeforeComputing) {
 }
 
 }  // namespace
-}  // namespace sglab::atlas
+}  // namespace sglab::experiments::atlas

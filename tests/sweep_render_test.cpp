@@ -12,7 +12,7 @@
 #include "input_error.hpp"
 #include "sweep_render.hpp"
 
-namespace sr = sglab::cli::sweep_render;
+namespace sr = sglab::experiments::sweep_render;
 namespace render = sglab::render;
 namespace fs = std::filesystem;
 
@@ -52,10 +52,10 @@ TEST(SweepRender, RowsMatchIndependentRendersOfTheirPoints) {
     EXPECT_EQ(roughness, i / 4 == 0 ? 0.1 : 0.5);
     EXPECT_EQ(lambda_d, (i / 2) % 2 == 0 ? 2.0 : 3.5);
     EXPECT_EQ(vsgl, i % 2 == 0 ? "two" : "fis 4");
-    nlohmann::json doc = sglab::cli::load_scene_document(o.job.scene_path, {});
+    nlohmann::json doc = sglab::frontend::load_scene_document(o.job.scene_path, {});
     render::apply_override(doc, "floor.roughness=" + std::to_string(roughness));
-    const render::Scene scene = sglab::cli::scene_from_document(doc, o.job);
-    render::RenderOptions options = sglab::cli::render_options(o.job);
+    const render::Scene scene = sglab::frontend::scene_from_document(doc, o.job);
+    render::RenderOptions options = sglab::frontend::render_options(o.job);
     options.vsgl.mode = *render::parse_vsgl_mode(i % 2 == 0 ? "two" : "fis");
     options.vsgl.count = 4;
     options.vsgl.lambda_d = lambda_d;

@@ -30,7 +30,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using namespace sglab::cli;
+using namespace sglab::experiments;
 using namespace sglab::runner;
 
 // ---- grid and positions ---------------------------------------------------------------------------
@@ -176,7 +176,7 @@ TEST(SpecularSweep, RowsEnumerateTheRegistryAndRoundTrip) {
 // rows are those of the published definition, and the set is part of the sweep's arguments and
 // identity.
 TEST(SpecularSweep, ConstantSetBindsTheOwnMethodsConstants) {
-  Constants constants;
+  sglab::frontend::Constants constants;
   constants.paths = {"refit.json"};
   constants.fingerprint = "0123456789abcdef";
   const double nu_slope = 2 * sglab::SglabSpecular::nu_slope;
@@ -331,14 +331,14 @@ TEST(SpecularSummary, BadInputNamesTheLineAndColumn) {
   try {
     summarize_specular_points(parse(text), "tiny.csv");
     ADD_FAILURE() << "accepted a bad number";
-  } catch (const UsageError& e) {
+  } catch (const sglab::runner::InputError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("tiny.csv: line 2, column 'value': '2.x'"), std::string::npos) << m;
   }
   try {
     summarize_specular_points(parse("point,method\n0,a\n"), "x.csv");
     ADD_FAILURE() << "accepted a table without the reference column";
-  } catch (const UsageError& e) {
+  } catch (const sglab::runner::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("no column 'reference'"), std::string::npos) << e.what();
   }
 }

@@ -29,7 +29,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using sglab::cli::UsageError;
+using sglab::runner::InputError;
 using sglab::runner::parse_shard;
 using sglab::runner::Shard;
 using sglab::runner::SweepDefinition;
@@ -111,7 +111,7 @@ TEST(ParseShard, RejectsBadValuesNamingThem) {
     try {
       parse_shard(bad);
       ADD_FAILURE() << "accepted --shard '" << bad << "'";
-    } catch (const UsageError& e) {
+    } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("'" + bad + "'"), std::string::npos) << e.what();
     }
   }
@@ -276,7 +276,7 @@ void run_toy_shards(const fs::path& dir, std::size_t count, const std::vector<st
 std::string merge_error(const std::vector<fs::path>& inputs, const fs::path& out) {
   try {
     sglab::runner::merge_sweep_shards(inputs, out);
-  } catch (const UsageError& e) {
+  } catch (const InputError& e) {
     return e.what();
   }
   return "(no error)";

@@ -93,7 +93,7 @@ TEST(VsglFisBias, ShippedScenesTotalPowerNoWorseThanTheTable) {
 // The experiment's compute() on small RSMs: the importance is exact by construction (every cluster
 // gets W/N), and the exact total power is the texels' sum computed here independently.
 TEST(VsglFisBias, ComputeAgainstTheTexelSums) {
-  namespace fb = sglab::cli::vsgl_fis_bias;
+  namespace fb = sglab::experiments::vsgl_fis_bias;
   std::filesystem::current_path(SGLAB_SOURCE_DIR);  // the experiment reads scenes/ relative to the checkout
   fb::Options o;
   o.seeds = 3;

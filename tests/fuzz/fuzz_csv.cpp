@@ -1,6 +1,6 @@
 // libFuzzer target: the CSV reader every `sglab` command that reads a table uses (csv.hpp).
 // Any input must give either a table whose rows all have the header's field count or the reader's
-// own UsageError with a short message; anything else (another exception, a crash, a sanitizer
+// own InputError with a short message; anything else (another exception, a crash, a sanitizer
 // report, a message as long as the input) is a finding. See docs/testing.md.
 #include <cstddef>
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "csv.hpp"
 #include "fuzz_common.hpp"
 
@@ -21,7 +21,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const auto& row : table.rows)
       if (row.fields.size() != table.header.size())
         sglab::fuzz::fail("a row whose field count differs from the header's");
-  } catch (const sglab::cli::UsageError& e) {
+  } catch (const sglab::runner::InputError& e) {
     sglab::fuzz::check_message(e.what());
   }
   return 0;

@@ -2,7 +2,7 @@
 // merge_sweep_shards). The input is the manifest text, a NUL, then the CSV text; they are written
 // as fz_sweep.shard-0-of-2.json and fz_points.shard-0-of-2.csv into a fresh directory and merged
 // (a one-point sweep is whole from shard 0 alone, so a valid pair merges and writes its output).
-// Any input must give either a merge or the merge's own UsageError with a short message.
+// Any input must give either a merge or the merge's own InputError with a short message.
 #include <unistd.h>
 
 #include <cstddef>
@@ -12,7 +12,7 @@
 #include <fstream>
 #include <string>
 
-#include "commands.hpp"
+#include "input_error.hpp"
 #include "fuzz_common.hpp"
 #include "sweep.hpp"
 
@@ -53,7 +53,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   write(sglab::runner::sweep_points_path(in, "fz", shard), nul == std::string::npos ? "" : input.substr(nul + 1));
   try {
     sglab::runner::merge_sweep_shards({in}, out);
-  } catch (const sglab::cli::UsageError& e) {
+  } catch (const sglab::runner::InputError& e) {
     sglab::fuzz::check_message(e.what());
   }
   return 0;

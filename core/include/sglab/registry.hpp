@@ -66,7 +66,7 @@ using BatchFn = std::function<void(std::span<const T> args, std::size_t arity, s
 // static constexpr doubles, as Tokuyoshi2024T), register the method with
 // make_method_with_parameters(…, {Parameter{…}, …}, published_fn, with_fn), and list the names in
 // the re-deriving fit's Fitter::parameters (fit/driver.hpp). Commands then accept the fit's
-// records through `--constants` (experiments/constant_sets.hpp) with no further change; the test
+// records through `--constants` (frontend/constant_sets.hpp) with no further change; the test
 // tests/constants_test.cpp checks the declarations and that each value is defined once.
 // A published constant a method (or the renderer, or the filter) depends on. Its value is defined
 // once in core, in the struct the registration cites (SgCosine, Tokuyoshi2024T, …); `sglab fit
@@ -274,7 +274,7 @@ Method make_method_with_parameters(Exportable, std::string name, std::string sou
 
 // A set of constants that replace published ones: (fit, parameter) → value, with where each value
 // came from. Later `set` calls override earlier ones. Lookups not in the set give the published
-// value. Reading sets from files is the CLI's business (experiments/constant_sets.hpp).
+// value. Reading sets from files is the CLI's business (frontend/constant_sets.hpp).
 struct ConstantValue {
   std::string fit;
   std::string name;

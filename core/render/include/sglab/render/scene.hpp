@@ -101,7 +101,7 @@ struct SceneEnvironment {
   int width = 256;        // of the generated map (height width/2)
   std::string mixture;    // path of a mixture record (`sglab fit envmap --json`)
   int lobes = 16;         // of the fit made at render time when there is no mixture
-  bool long_fit = false;  // allow a render-time fit past its cost budget (experiments/environment_render.cpp)
+  bool long_fit = false;  // allow a render-time fit past its cost budget (frontend/environment_render.cpp)
   std::string diffuse = "tokuyoshi2024", specular = "sg-warp";  // registry methods of layer (3)
 };
 

@@ -1,6 +1,7 @@
-// What an experiment's own `sglab` command needs: CLI11, and the runner's input error (bad input:
-// the message names the value, exit status 2). The command registers itself through the
-// experiment registry (registry.hpp), not through cli/.
+// The checks of a command's options, shared by every `sglab` command (cli/, an experiment's own
+// command) and the options the Python module passes through: CLI11 validators for integers,
+// numbers, shards and names from a registry, and the --out/--tables-dir pair; with the runner's
+// input error (bad input: the message names the value, exit status 2).
 #pragma once
 
 #include <charconv>
@@ -19,7 +20,7 @@
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 // A CLI11 check for an unsigned integer option: decimal digits only (no sign, so "-1" is not
 // wrapped to 2^64 − 1), no overflow (2^64 is not saturated), at most `max`.
@@ -129,4 +130,4 @@ inline void add_places_options(CLI::App& app, std::string& out, std::string& tab
   app.add_option(tables_option, tables_dir, tables_holds)->capture_default_str();
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

@@ -10,18 +10,18 @@
 #include "driver.hpp"
 #include "error_grid.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 // The first registry method that reads the fit's constants, measured on error-vs-time's standard
 // grid with the published and with the fitted values. `method` is empty when no registry method
 // reads them (lambda-c: only the filter does).
 struct Judgement {
   std::string method;  // "quantity/method"
-  GridError published, fitted;
+  fit::GridError published, fitted;
 };
 
 Judgement judge(const fit::Fitter& f, const fit::FitResult& r);
 
 nlohmann::ordered_json fit_record_json(const fit::FitResult& r, const Judgement& jd, const std::string& precision);
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

@@ -3,7 +3,7 @@
 #include "record.hpp"
 #include "sglab/registry.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 Judgement judge(const fit::Fitter& f, const fit::FitResult& r) {
   Judgement j;
@@ -16,8 +16,8 @@ Judgement judge(const fit::Fitter& f, const fit::FitResult& r) {
     ConstantSet set;
     for (const auto& p : r.parameters) set.set({r.fit, p.name, p.value, "this fit"});
     j.method = u.user;
-    j.published = standard_grid_error(*q, *m);
-    j.fitted = standard_grid_error(*q, bind(*m, set));
+    j.published = fit::standard_grid_error(*q, *m);
+    j.fitted = fit::standard_grid_error(*q, bind(*m, set));
     break;
   }
   return j;
@@ -27,7 +27,7 @@ nlohmann::ordered_json fit_record_json(const fit::FitResult& r, const Judgement&
   nlohmann::ordered_json j = fit::record_json(r);
   j["precision"] = precision;
   if (!jd.method.empty()) {
-    j["standard_grid_error"] = {
+    j["fit::standard_grid_error"] = {
         {"method", jd.method},
         {"grid",
          "sglab error-vs-time grid (full), double, |method - reference| / reference at c = 1; published = the "
@@ -38,4 +38,4 @@ nlohmann::ordered_json fit_record_json(const fit::FitResult& r, const Judgement&
   return j;
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

@@ -14,7 +14,7 @@
 #include "driver.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 namespace {
 
 namespace fs = std::filesystem;
@@ -33,7 +33,7 @@ std::string record_text(const std::string& file) {
   try {
     return read_input_file(file, kMaxJsonBytes, "a fit record");
   } catch (const InputFileError& e) {
-    throw UsageError(std::string("--constants ") + e.what());
+    throw runner::InputError(std::string("--constants ") + e.what());
   }
 }
 
@@ -45,68 +45,74 @@ std::vector<std::string> record_files(const std::string& p) {
   if (fs::is_directory(status)) {
     std::vector<std::string> files;
     fs::directory_iterator it(p, ec), end;
-    if (ec) throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
+    if (ec)
+      throw runner::InputError(
+          fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
     for (; it != end; it.increment(ec)) {
       if (ec)
-        throw UsageError(fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
+        throw runner::InputError(
+            fmt::format("--constants {}: cannot list the directory ({})", clip_text(p), ec.message()));
       if (it->path().extension() != ".json") continue;
       std::error_code entry_ec;
       const bool regular = it->is_regular_file(entry_ec);
       if (entry_ec)
-        throw UsageError(fmt::format("--constants {}: {} cannot be examined ({})", clip_text(p),
-                                     quote(it->path().filename().string()), entry_ec.message()));
+        throw runner::InputError(fmt::format("--constants {}: {} cannot be examined ({})", clip_text(p),
+                                             quote(it->path().filename().string()), entry_ec.message()));
       if (regular) files.push_back(it->path().string());
     }
     if (files.empty())
-      throw UsageError(fmt::format("--constants {}: the directory holds no fit record (*.json)", clip_text(p)));
+      throw runner::InputError(fmt::format("--constants {}: the directory holds no fit record (*.json)", clip_text(p)));
     std::sort(files.begin(), files.end());
     return files;
   }
   if (fs::exists(status)) return {p};
   if (ec && ec != std::errc::no_such_file_or_directory)
-    throw UsageError(fmt::format("--constants {}: cannot be examined ({})", clip_text(p), ec.message()));
-  throw UsageError(fmt::format(
+    throw runner::InputError(fmt::format("--constants {}: cannot be examined ({})", clip_text(p), ec.message()));
+  throw runner::InputError(fmt::format(
       "--constants {}: no such file or directory (a fit record, a directory of them, or 'published')", clip_text(p)));
 }
 
 void load_record(const std::string& file, ConstantSet& set) {
   const std::string text = record_text(file);
-  if (const auto error = json_nesting_error(text)) throw UsageError(fmt::format("--constants {}: {}", file, *error));
+  if (const auto error = json_nesting_error(text))
+    throw runner::InputError(fmt::format("--constants {}: {}", file, *error));
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
-    throw UsageError(fmt::format("--constants {}: not valid JSON: {}", file, clip_text(e.what(), 400)));
+    throw runner::InputError(fmt::format("--constants {}: not valid JSON: {}", file, clip_text(e.what(), 400)));
   }
-  if (!j.is_object()) throw UsageError(fmt::format("--constants {}: a fit record must be a JSON object", file));
+  if (!j.is_object()) throw runner::InputError(fmt::format("--constants {}: a fit record must be a JSON object", file));
   if (!j.contains("fit") || !j["fit"].is_string())
-    throw UsageError(fmt::format("--constants {}: key 'fit': missing or not a string (the `sglab fit` name)", file));
+    throw runner::InputError(
+        fmt::format("--constants {}: key 'fit': missing or not a string (the `sglab fit` name)", file));
   const std::string fit_name = j["fit"].get<std::string>();
   const fit::Fitter* f = fit::find_fitter(fit_name);
   if (!f) {
     std::vector<std::string> names;
     for (const auto& g : fit::fitters()) names.push_back(g.name);
-    throw UsageError(
+    throw runner::InputError(
         fmt::format("--constants {}: key 'fit': unknown fit '{}' (fits: {})", file, clip_text(fit_name), join(names)));
   }
   if (!j.contains("parameters") || !j["parameters"].is_object())
-    throw UsageError(fmt::format("--constants {}: key 'parameters': missing or not an object", file));
+    throw runner::InputError(fmt::format("--constants {}: key 'parameters': missing or not an object", file));
   const auto& params = j["parameters"];
   std::vector<std::string> known = f->parameters;
   known.insert(known.end(), f->derived.begin(), f->derived.end());
   for (const auto& [key, value] : params.items()) {
     if (std::find(known.begin(), known.end(), key) == known.end())
-      throw UsageError(
+      throw runner::InputError(
           fmt::format("--constants {}: key 'parameters.{}': unknown parameter of fit '{}' (parameters: {})", file,
                       clip_text(key), fit_name, join(known)));
     if (!value.is_number())
-      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': not a number ({})", file, key,
-                                   clip_text(value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))));
+      throw runner::InputError(
+          fmt::format("--constants {}: key 'parameters.{}': not a number ({})", file, key,
+                      clip_text(value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace))));
   }
   for (const auto& name : f->parameters)
     if (!params.contains(name))
-      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': missing (fit '{}' needs {})", file, name,
-                                   fit_name, join(f->parameters)));
+      throw runner::InputError(fmt::format("--constants {}: key 'parameters.{}': missing (fit '{}' needs {})", file,
+                                           name, fit_name, join(f->parameters)));
 
   std::string provenance = fmt::format("{}: fit {}", file, fit_name);
   if (j.contains("objective") && j["objective"].is_string())
@@ -122,11 +128,11 @@ void load_record(const std::string& file, ConstantSet& set) {
     for (const auto& u : uses) {
       if (u.parameter->name != name) continue;
       if (const auto error = column_value_error(Column{name, u.parameter->kind, ""}, v))
-        throw UsageError(fmt::format("--constants {}: key 'parameters.{}': {} (it is a constant of {})", file, name,
-                                     *error, u.user));
+        throw runner::InputError(fmt::format("--constants {}: key 'parameters.{}': {} (it is a constant of {})", file,
+                                             name, *error, u.user));
     }
     if (!std::isfinite(v))
-      throw UsageError(fmt::format("--constants {}: key 'parameters.{}': not a finite number", file, name));
+      throw runner::InputError(fmt::format("--constants {}: key 'parameters.{}': not a finite number", file, name));
     set.set({fit_name, name, v, provenance});
   }
 }
@@ -149,8 +155,8 @@ ConstantSet load_constant_sets(const std::vector<std::string>& paths) {
       for (const auto& v : record.values) {
         const auto [it, fresh] = set_by.emplace(std::pair(v.fit, v.name), f);
         if (!fresh)
-          throw UsageError(fmt::format("--constants {}: {}.{} is set by two records ({} and {}); keep one",
-                                       clip_text(p), v.fit, v.name, quote(it->second), quote(f)));
+          throw runner::InputError(fmt::format("--constants {}: {}.{} is set by two records ({} and {}); keep one",
+                                               clip_text(p), v.fit, v.name, quote(it->second), quote(f)));
         set.set(v);
       }
     }
@@ -237,4 +243,4 @@ std::vector<ConstantUse> method_constant_uses(const std::string& user, const Met
   return out;
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "resource_limits.hpp"
 #include "constant_sets.hpp"
 #include "sglab/filtering_weights.hpp"
@@ -16,7 +16,7 @@
 #include "sglab/render/vsgl_generation.hpp"
 #include "sglab/render/vsgl_shading.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 void add_filter_job_options(CLI::App& app, FilterJob& job, bool with_scale) {
   auto& p = job.parameters;
@@ -82,9 +82,10 @@ nlohmann::json filter_constants_json(const FilterJob& job) {
 
 render::FilterInputOptions filter_input_options(const FilterJob& job) {
   render::FilterInputOptions o;
-  if (job.scale < 1 || job.scale > 64) throw UsageError(fmt::format("--scale {} is outside [1, 64]", job.scale));
+  if (job.scale < 1 || job.scale > 64)
+    throw runner::InputError(fmt::format("--scale {} is outside [1, 64]", job.scale));
   const auto source = render::parse_indirect_source(job.source);
-  if (!source) throw UsageError(fmt::format("--source {} is neither exact nor vsgl", quote(job.source)));
+  if (!source) throw runner::InputError(fmt::format("--source {} is neither exact nor vsgl", quote(job.source)));
   const render::RenderOptions r = render_options(job.render);  // validates --rsm, --vsgl, --count, --diffuse
   o.scale = job.scale;
   o.source = *source;
@@ -96,7 +97,7 @@ render::FilterInputOptions filter_input_options(const FilterJob& job) {
 
 void check_filter_parameters(const render::FilterParameters& p) {
   auto bad = [](const char* option, double value, const char* what) {
-    throw UsageError(fmt::format("{} {} {}", option, value, what));
+    throw runner::InputError(fmt::format("{} {} {}", option, value, what));
   };
   auto positive = [](double x) { return std::isfinite(x) && x > 0; };
   if (p.radius < 1 || p.radius > 16) bad("--radius", p.radius, "is outside [1, 16]");
@@ -108,24 +109,26 @@ void check_filter_parameters(const render::FilterParameters& p) {
   if (!(std::isfinite(p.nu) && p.nu >= 0)) bad("--nu", p.nu, "is not a non-negative number");
   if (!positive(p.diffuse_sharpness)) bad("--diffuse-sharpness", p.diffuse_sharpness, "is not a positive number");
   // Anything the core check adds beyond these.
-  if (const auto error = render::filter_parameters_error(p)) throw UsageError(*error);
+  if (const auto error = render::filter_parameters_error(p)) throw runner::InputError(*error);
 }
 
 render::FilterWeights parse_weights_option(const std::string& text) {
   const auto w = render::parse_filter_weights(text);
-  if (!w) throw UsageError(fmt::format("--weights {} is not one of normal, lobe, lobe-depth, spatial", quote(text)));
+  if (!w)
+    throw runner::InputError(fmt::format("--weights {} is not one of normal, lobe, lobe-depth, spatial", quote(text)));
   return *w;
 }
 
 render::NoisySpec parse_noisy_option(const std::string& text) {
   const auto spec = render::parse_noisy_spec(text);
-  if (!spec) throw UsageError(fmt::format("--noisy '{}' is not {}", clip_text(text), render::kNoisySpecForms));
+  if (!spec) throw runner::InputError(fmt::format("--noisy '{}' is not {}", clip_text(text), render::kNoisySpecForms));
   return *spec;
 }
 
 int denoise_radius(const render::NoisySpec& spec, std::optional<int> radius) {
   if (!radius) return render::default_denoise_radius(spec);
-  if (const auto error = render::denoise_radius_error(spec, *radius)) throw UsageError(fmt::format("--{}", *error));
+  if (const auto error = render::denoise_radius_error(spec, *radius))
+    throw runner::InputError(fmt::format("--{}", *error));
   return *radius;
 }
 
@@ -215,4 +218,4 @@ std::string quote_argument(const std::string& s) {
   return q + "'";
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

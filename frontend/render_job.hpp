@@ -1,7 +1,7 @@
 // What `sglab render` and `sglab sweep render` share: reading a scene file with --set overrides,
 // turning the command's options into RenderOptions, and the stats record of a render. Every
 // failure caused by the input (unreadable file, malformed JSON, a bad field, a bad option value)
-// is a UsageError naming the field or option, raised before anything is written.
+// is an InputError naming the field or option, raised before anything is written.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +17,7 @@
 #include "sglab/render/scene.hpp"
 #include "sglab/render/vsgl_generation.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 struct RenderJob {
   std::string scene_path;
@@ -41,27 +41,27 @@ struct RenderJob {
 // --vsgl/--count are left out when `with_vsgl` is false (the sweep takes a list instead).
 void add_render_job_options(CLI::App& app, RenderJob& job, bool with_vsgl = true);
 
-// The scene document after the overrides (UsageError naming the file, the field or the --set).
+// The scene document after the overrides (InputError naming the file, the field or the --set).
 nlohmann::json load_scene_document(const std::string& path, const std::vector<std::string>& overrides);
 // The same from the scene's JSON text; `source` names it in messages (a path, "<dict>").
 nlohmann::json scene_document_from_text(const std::string& text, const std::string& source,
                                         const std::vector<std::string>& overrides);
-// Validated scene, with --width/--height applied (UsageError naming the field).
+// Validated scene, with --width/--height applied (InputError naming the field).
 render::Scene load_scene(const RenderJob& job);
 render::Scene scene_from_document(const nlohmann::json& document, const RenderJob& job);
 
-// The render options of a job (UsageError naming the bad option and value).
+// The render options of a job (InputError naming the bad option and value).
 render::RenderOptions render_options(const RenderJob& job);
 
 // The job's options as command-line arguments (after the scene path), for provenance.
 std::vector<std::string> render_job_arguments(const RenderJob& job, bool with_vsgl = true);
 
-// Refuses (UsageError) a render whose memory, estimated from the image, RSM and shadow-map sizes
+// Refuses (InputError) a render whose memory, estimated from the image, RSM and shadow-map sizes
 // (about 400 bytes a pixel as measured, plus the per-pixel CSV when `with_csv`), exceeds the
 // machine's, saying how much it would need.
 void check_render_memory(const render::Scene& scene, const render::RenderOptions& options, bool with_csv = false);
 
-// Refuses (UsageError) a result with an infinite or NaN value, naming the layer (the stage that
+// Refuses (InputError) a result with an infinite or NaN value, naming the layer (the stage that
 // produced it) and the first such pixel: such an image would be written as if it were a result.
 void check_render_finite(const render::RenderResult& result);
 
@@ -73,4 +73,4 @@ nlohmann::json render_constants_json(const RenderJob& job);
 nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, const render::RenderOptions& options,
                             const render::RenderResult& result, const std::string& command);
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

@@ -8,13 +8,13 @@
 
 #include "input_error.hpp"
 #include "envmap.hpp"
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "sglab/render/vsgl_specular_methods.hpp"
 #include "sglab/render/environment_scene.hpp"
 #include "sglab/render/raycast.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 namespace {
 // A path in a scene, relative to the scene file's directory.
@@ -48,7 +48,7 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
   const auto check_fit_cost = [&](int width, int height) {
     const double evaluations = render_fit_evaluations(width, height, e.lobes);
     if (!e.mixture.empty() || e.long_fit || !(evaluations > kMaxRenderFitEvaluations)) return;
-    throw UsageError(
+    throw runner::InputError(
         fmt::format("environment: fitting {} lobes to the {}×{} map at render time costs ~{:.2g} lobe evaluations "
                     "(texels × lobes × {} "
                     "sub-texel points), over the budget {:.2g} (~{:.0f} s here); give \"mixture\": FIT.json from "
@@ -83,7 +83,7 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
       out.source["mixture"] = resolve(e.mixture);
     }
   } catch (const render::EnvironmentError& x) {
-    throw UsageError(std::string("environment: ") + x.what());
+    throw runner::InputError(std::string("environment: ") + x.what());
   }
   if (e.mixture.empty()) {
     fit::EnvFitOptions o;
@@ -101,7 +101,7 @@ std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scen
     try {
       r = fit::fit_envmap_ceres(*out.map, o);
     } catch (const std::invalid_argument& x) {
-      throw UsageError(std::string("environment.lobes: ") + x.what());
+      throw runner::InputError(std::string("environment.lobes: ") + x.what());
     }
     out.mixture = r.mixture;
     out.source["mixture"] = fmt::format("fitted at render time: sglab fit envmap --lobes {} --init kmeans (seed {})",
@@ -128,7 +128,7 @@ void add_environment(const render::Scene& scene, const PreparedEnvironment& env,
   try {
     l = render::shade_environment(scene, g, env.map ? &*env.map : nullptr, env.mixture, e.diffuse, e.specular);
   } catch (const std::invalid_argument& x) {
-    throw UsageError(std::string("environment: ") + x.what());
+    throw runner::InputError(std::string("environment: ") + x.what());
   }
   nlohmann::ordered_json s = env.source;
   s["visibility"] = "ignored (V = 1)";
@@ -168,7 +168,7 @@ RenderJobRun::RenderJobRun(const RenderJob& j, const std::string& s, render::Sce
   try {
     options.shading.specular_method = render::find_specular_method(specular);
   } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("--specular: {}", e.what()));
+    throw runner::InputError(fmt::format("--specular: {}", e.what()));
   }
   check_render_memory(scene, options, with_csv);
 }
@@ -186,4 +186,4 @@ RenderJobRun::Output RenderJobRun::run(const std::string& command) const {
   return o;
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

@@ -1,5 +1,5 @@
 // What `sglab filter` and `sglab filter-sweep` share: the options of an upsampling run
-// (scene, low-resolution source, weight parameters), their validation into UsageErrors that name
+// (scene, low-resolution source, weight parameters), their validation into InputErrors that name
 // the option and value, the provenance arguments, and the stats record of a run.
 #pragma once
 
@@ -15,7 +15,7 @@
 #include "sglab/render/denoise.hpp"
 #include "sglab/render/filtering.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 struct FilterJob {
   // Scene path, --set, --width, --height, --rsm and, for --source vsgl, --vsgl/--count/--diffuse/--seed
@@ -38,18 +38,18 @@ void apply_filter_constants(FilterJob& job);
 // The filter's constants (λ_c) and the render's (λ_d, …) with value and provenance, for the stats.
 nlohmann::json filter_constants_json(const FilterJob& job);
 
-// Validated pieces (UsageError naming the option and value).
+// Validated pieces (InputError naming the option and value).
 render::FilterInputOptions filter_input_options(const FilterJob& job);
 void check_filter_parameters(const render::FilterParameters& p);
 render::FilterWeights parse_weights_option(const std::string& text);
-// Refuses (UsageError, exit status 2) a run whose estimated memory exceeds the machine's, saying
+// Refuses (InputError, exit status 2) a run whose estimated memory exceeds the machine's, saying
 // how much it would need, before anything is allocated: `runs` sets of filter inputs of `scene` at
 // o.scale kept at once (filter-sweep keeps one per point), with their output layers.
 void check_filter_memory(const render::Scene& scene, const render::FilterInputOptions& o, std::size_t runs = 1);
 
-// --noisy interleaved:M|random:K (UsageError quoting the clipped value and the valid forms).
+// --noisy interleaved:M|random:K (InputError quoting the clipped value and the valid forms).
 render::NoisySpec parse_noisy_option(const std::string& text);
-// The denoise pass's radius: `radius` if given (UsageError if below M for interleaved input or
+// The denoise pass's radius: `radius` if given (InputError if below M for interleaved input or
 // outside [1, 16]), else default_denoise_radius(spec).
 int denoise_radius(const render::NoisySpec& spec, std::optional<int> radius);
 // The noisy input's options from the job (--rsm) and the noisy-input seed.
@@ -71,4 +71,4 @@ double percent_change(double value, double baseline);
 
 std::string quote_argument(const std::string& s);
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

@@ -20,7 +20,7 @@ namespace CLI {
 class App;
 }  // namespace CLI
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 struct PreparedEnvironment {
   std::optional<EnvMap> map;
@@ -46,7 +46,7 @@ inline constexpr double kRenderFitEvaluationsPerSecond = 6e6;
 inline constexpr double kMaxRenderFitEvaluations = 4e8;
 
 // Before anything is rendered or written: loads the scene's environment (paths relative to the
-// scene file's directory). Bad input throws UsageError naming the value (exit status 2).
+// scene file's directory). Bad input throws InputError naming the value (exit status 2).
 std::optional<PreparedEnvironment> prepare_environment(const render::Scene& scene, const std::string& scene_path);
 
 // The files a scene file's environment reads (its "exr" and "mixture", resolved against the
@@ -84,4 +84,4 @@ struct RenderJobRun {
   render::RenderOptions options;
 };
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

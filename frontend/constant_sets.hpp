@@ -14,16 +14,16 @@
 
 #include "sglab/registry.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 // The sets named by --constants, in order. Bad input (unreadable or malformed file, unknown fit,
 // unknown or missing parameter, a value that is not a number or is outside the parameter's
-// domain) is a UsageError naming the file and the key, raised before anything is written.
+// domain) is an InputError naming the file and the key, raised before anything is written.
 ConstantSet load_constant_sets(const std::vector<std::string>& paths);
 
 // The fingerprint (FNV-1a) of the sets' contents: every record file the paths name, with its
 // bytes. Part of what checkpoints, sweep manifests and reproduce markers compare, so that an
-// edited record is another run, never a stale result. Throws UsageError as load_constant_sets.
+// edited record is another run, never a stale result. Throws InputError as load_constant_sets.
 std::string constants_fingerprint(const std::vector<std::string>& paths);
 
 // A command's constant set, read once where the command line is parsed (add_constants_option) and
@@ -34,7 +34,7 @@ struct Constants {
   std::string fingerprint;         // of their contents (constants_fingerprint); "" when no path is given
   bool given() const { return !paths.empty(); }
 };
-// Reads the sets (UsageError as load_constant_sets).
+// Reads the sets (InputError as load_constant_sets).
 Constants read_constants(const std::vector<std::string>& paths);
 
 // Adds `--constants PATH` (repeatable); `what` is its help line (the default describes a constant
@@ -61,4 +61,4 @@ std::string constants_text(const ConstantSet& set, const std::vector<ConstantUse
 // The constants of one method (its registry parameters), as uses.
 std::vector<ConstantUse> method_constant_uses(const std::string& user, const Method& m);
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend

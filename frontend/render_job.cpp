@@ -10,7 +10,7 @@
 
 #include <fmt/format.h>
 
-#include "experiment_command.hpp"
+#include "option_checks.hpp"
 #include "resource_limits.hpp"
 #include "constant_sets.hpp"
 #include "sglab/registry.hpp"
@@ -18,7 +18,7 @@
 #include "sglab/render/vsgl_shading.hpp"
 #include "sglab/text_limits.hpp"
 
-namespace sglab::cli {
+namespace sglab::frontend {
 
 using render::SceneError;
 
@@ -71,9 +71,9 @@ nlohmann::json load_scene_document(const std::string& path, const std::vector<st
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec))
-    throw UsageError(fmt::format("the scene {} is a directory, not a JSON file", quote(path)));
+    throw runner::InputError(fmt::format("the scene {} is a directory, not a JSON file", quote(path)));
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw UsageError(fmt::format("cannot open the scene file {}", quote(path)));
+  if (!in) throw runner::InputError(fmt::format("cannot open the scene file {}", quote(path)));
   std::ostringstream text;
   text << in.rdbuf();
   return scene_document_from_text(text.str(), path, overrides);
@@ -88,7 +88,7 @@ nlohmann::json scene_document_from_text(const std::string& text, const std::stri
   } catch (const SceneError& e) {
     // parse_scene_text's message already starts with the source.
     const std::string what = e.what();
-    throw UsageError(what.rfind(source, 0) == 0 ? what : source + ": " + what);
+    throw runner::InputError(what.rfind(source, 0) == 0 ? what : source + ": " + what);
   }
 }
 
@@ -97,16 +97,16 @@ render::Scene scene_from_document(const nlohmann::json& document, const RenderJo
   try {
     scene = render::parse_scene(document);
   } catch (const SceneError& e) {
-    throw UsageError(fmt::format("{}: {}", job.scene_path, e.what()));
+    throw runner::InputError(fmt::format("{}: {}", job.scene_path, e.what()));
   }
   if (job.width) {
     if (*job.width < 1 || *job.width > 16384)
-      throw UsageError(fmt::format("--width {} is outside [1, 16384]", *job.width));
+      throw runner::InputError(fmt::format("--width {} is outside [1, 16384]", *job.width));
     scene.camera.width = *job.width;
   }
   if (job.height) {
     if (*job.height < 1 || *job.height > 16384)
-      throw UsageError(fmt::format("--height {} is outside [1, 16384]", *job.height));
+      throw runner::InputError(fmt::format("--height {} is outside [1, 16384]", *job.height));
     scene.camera.height = *job.height;
   }
   return scene;
@@ -120,11 +120,13 @@ render::RenderOptions render_options(const RenderJob& job) {
   render::RenderOptions o;
   const auto mode = render::parse_vsgl_mode(job.vsgl);
   if (!mode)
-    throw UsageError(fmt::format("--vsgl {} is not a VSGL mode (two, two-shared, fis, kmeans)", quote(job.vsgl)));
-  if (job.count < 1 || job.count > 65536) throw UsageError(fmt::format("--count {} is outside [1, 65536]", job.count));
-  if (job.rsm < 1 || job.rsm > 4096) throw UsageError(fmt::format("--rsm {} is outside [1, 4096]", job.rsm));
+    throw runner::InputError(
+        fmt::format("--vsgl {} is not a VSGL mode (two, two-shared, fis, kmeans)", quote(job.vsgl)));
+  if (job.count < 1 || job.count > 65536)
+    throw runner::InputError(fmt::format("--count {} is outside [1, 65536]", job.count));
+  if (job.rsm < 1 || job.rsm > 4096) throw runner::InputError(fmt::format("--rsm {} is outside [1, 4096]", job.rsm));
   if (job.shadow_map < 1 || job.shadow_map > 16384)
-    throw UsageError(fmt::format("--shadow-map {} is outside [1, 16384]", job.shadow_map));
+    throw runner::InputError(fmt::format("--shadow-map {} is outside [1, 16384]", job.shadow_map));
   o.rsm_resolution = job.rsm;
   o.shadow_map_resolution = job.shadow_map;
   o.vsgl.mode = *mode;
@@ -133,12 +135,12 @@ render::RenderOptions render_options(const RenderJob& job) {
   o.visibility = job.visibility;
   if (job.kmeans_space == "image") o.vsgl.kmeans_space = render::VsglOptions::KmeansSpace::image;
   else if (job.kmeans_space != "world")
-    throw UsageError(fmt::format("--kmeans-space {} is neither world nor image", quote(job.kmeans_space)));
-  if (const auto error = render::vsgl_options_error(o.vsgl)) throw UsageError("VSGL options: " + *error);
+    throw runner::InputError(fmt::format("--kmeans-space {} is neither world nor image", quote(job.kmeans_space)));
+  if (const auto error = render::vsgl_options_error(o.vsgl)) throw runner::InputError("VSGL options: " + *error);
   if (job.precision != "float" && job.precision != "double")
-    throw UsageError(fmt::format("--precision {} is neither float nor double", quote(job.precision)));
+    throw runner::InputError(fmt::format("--precision {} is neither float nor double", quote(job.precision)));
   if (!job.reference_precision.empty() && job.reference_precision != "float" && job.reference_precision != "double")
-    throw UsageError(
+    throw runner::InputError(
         fmt::format("--reference-precision {} is neither float nor double", quote(job.reference_precision)));
   if (!job.reference_precision.empty())
     o.reference_precision = job.reference_precision == "float" ? render::Precision::single : render::Precision::double_;
@@ -147,7 +149,7 @@ render::RenderOptions render_options(const RenderJob& job) {
     o.shading.sg_cosine_a_is_pi = job.sg_cosine_a_is_pi;
     o.shading.precision = job.precision == "float" ? render::Precision::single : render::Precision::double_;
   } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("--diffuse: {}", e.what()));
+    throw runner::InputError(fmt::format("--diffuse: {}", e.what()));
   }
   // The constant set: the diffuse VSGL's λ_d, and the diffuse method's constants. A method whose
   // constants the set changes is shaded with them bound (the parameter that is the VSGL set's λ_d
@@ -213,7 +215,7 @@ void check_render_finite(const render::RenderResult& r) {
   for (const auto& [name, layer] : layers)
     for (std::size_t k = 0; k < layer->size(); ++k)
       if (!(*layer)[k].allFinite())
-        throw UsageError(fmt::format(
+        throw runner::InputError(fmt::format(
             "the {} layer is not finite at pixel ({}, {}) ({}, {}, {}): the scene's values overflow double "
             "(e.g. light.power); nothing written",
             name, k % std::size_t(r.width), k / std::size_t(r.width), (*layer)[k](0), (*layer)[k](1), (*layer)[k](2)));
@@ -224,7 +226,7 @@ void check_render_finite(const render::RenderResult& r) {
                                     {"relative_l2", e.relative_l2},
                                     {"max_abs", e.max_abs}})
     if (!std::isfinite(value))
-      throw UsageError(
+      throw runner::InputError(
           fmt::format("the error statistic {} of indirect against indirect_reference is {}: the scene's values "
                       "overflow double in it (e.g. light.power); nothing written",
                       name, value));
@@ -299,4 +301,4 @@ nlohmann::json render_stats(const RenderJob& job, const render::Scene& scene, co
   return j;
 }
 
-}  // namespace sglab::cli
+}  // namespace sglab::frontend
