@@ -7,6 +7,9 @@
 #  - `if (!ok || i != s.size())` → `if (!ok)` in runner/parse_number.cpp: from_chars_checked refuses
 #    every text it does not consume whole, so a grammar that stops early is refused there (with
 #    the same message); NumberGrammar.RefusedTextsNameTheReason holds either way.
+# Removed with the code they edited: simd-sglab-t, simd-t2024-tail, simd-sg-integral and simd-expm1-series mutated the
+# hand-written diffuse kernels, which are now the formulas' own templates on SIMD lanes (their
+# mutants above reach the lanes through simd_test); the series' lane form has its own two mutants.
 # Replaced: sg-product-scale once changed the constant kProductScaleSharpness itself, which a
 # static_assert in core/render/src/simd/render_dispatch.cpp pins to its SIMD copy (the build
 # fails: no test runs); it now moves the switch of product_sharpness alone.
@@ -18,9 +21,7 @@ mutant i0-switch-up core/include/sglab/asg.hpp 's#const V threshold = -log(V(eps
   asg_test registry_test
 mutant i0-switch-down core/include/sglab/asg.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -log(V(epsilon<T>())) / 10;#' \
   asg_test registry_test
-mutant cc-upper-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_upper_over_2pi(const T/,/return sum;/ s#value_of(l) < 1,#value_of(l) < 10,#' \
-  clamped_cosine_test
-mutant cc-lower-series-switch core/include/sglab/clamped_cosine.hpp '/clamped_cosine_lower_over_2pi(const T/,/return sum;/ s#value_of(l) < 1,#value_of(l) < 10,#' \
+mutant cc-bounds-series-switch core/include/sglab/clamped_cosine.hpp 's#const auto below_one = value_of(l) < 1;#const auto below_one = value_of(l) < 10;#' \
   clamped_cosine_test
 mutant t2022-alpha-switch core/include/sglab/clamped_cosine.hpp 's#abs(value_of(lambda)) < 0\.5,#abs(value_of(lambda)) < 0.0005,#' \
   clamped_cosine_test
@@ -32,27 +33,23 @@ mutant meder-offset core/include/sglab/clamped_cosine.hpp 's#offset = 31\.7003;#
   clamped_cosine_test hemispherical_test
 mutant meder-p2 core/include/sglab/hemispherical.hpp 's#p2 = 10\.8438;#p2 = 10.4838;#' \
   hemispherical_test clamped_cosine_test
-mutant sg-integral-2l core/include/sglab/sg.hpp 's#one_minus_exp_neg(T(2) \* sharpness) / sharpness#one_minus_exp_neg(sharpness) / sharpness#' \
+mutant sg-integral-2l core/include/sglab/sg.hpp 's#return T(2) \* two_pi<T>() \* expm1_over_x(x, em);#return two_pi<T>() * expm1_over_x(x, em);#' \
   sg_test
 mutant sg-log-amplitude core/include/sglab/sg.hpp 's#return T(-2) \* sharpness1 \* sharpness2 \* (T(1) - c) / denom;#return T(-2) * sharpness1 * sharpness2 * (T(1.01) - c) / denom;#' \
   sg_test
 mutant sg-product-scale core/include/sglab/sg.hpp '/^T product_sharpness(/,/^}/ s#value_of(s) > kProductScaleSharpness#value_of(s) > 1e30#' \
   sg_test hardening_test:HardeningNumerics.*
 mutant expm1-series core/include/sglab/scalar.hpp 's#return T(1) + x \* (T(0\.5) + x \* (T(1) / T(6) + x \* (T(1) / T(24))));#return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(12))));#' \
-  sg_test clamped_cosine_test
+  sg_test clamped_cosine_test simd_test
 
 # ---- SIMD kernels (core/src/simd, core/render/src/simd) ----------------------------------------
-mutant simd-hill-c1 core/src/simd/simd_kernels.hpp 's#const B c1 = T(1) / (T(4) \* c0);#const B c1 = T(1) / (T(2) * c0);#' \
+mutant hill-c1 core/include/sglab/clamped_cosine.hpp 's#const T c1 = T(1) / (T(4) \* c0);#const T c1 = T(1) / (T(2) * c0);#' \
+  clamped_cosine_test simd_test
+mutant simd-series-coefficient core/src/simd/simd_kernels.hpp 's#inner\[n\] = T(double(n) / factorial(n + 1));#inner[n] = T(double(n + 1) / factorial(n + 1));#' \
   simd_test
-mutant simd-sglab-t core/src/simd/simd_kernels.hpp 's#B k = l \* xsimd::sqrt((l / T(2) + A)#B k = l * xsimd::sqrt((l / T(3) + A)#' \
-  simd_test
-mutant simd-t2024-tail core/src/simd/simd_kernels.hpp 's#T(0\.5) \* (c \* vm_erfc(-t \* c) + vm_erfc(t)) - tail#T(0.5) * (c * vm_erfc(-t * c) + vm_erfc(t)) + tail#' \
-  simd_test
-mutant simd-sg-integral core/src/simd/simd_math.hpp 's#kTwoPi<T> \* -em / l#kTwoPi<T> * em / l#' \
+mutant simd-series-terms core/src/simd/simd_kernels.hpp 's#kSeriesTerms = sizeof(T) == 4 ? 13 : 20;#kSeriesTerms = sizeof(T) == 4 ? 13 : 9;#' \
   simd_test
 mutant simd-erfc-saturation core/src/simd/simd_math.hpp 's#T(26\.54) : T(9\.19)#T(26.54) : T(3.19)#' \
-  simd_test simd_specular_test
-mutant simd-expm1-series core/src/simd/simd_math.hpp 's#x \* (T(1) / T(24))#x * (T(1) / T(12))#' \
   simd_test simd_specular_test
 mutant simd-asg-nu core/src/simd/simd_specular.hpp 's#const B nu = r\.light_sharpness / T(2);#const B nu = r.light_sharpness / T(4);#' \
   simd_specular_test
