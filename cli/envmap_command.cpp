@@ -333,9 +333,12 @@ void add_envmap_command(CLI::App& app, const runner::RunContext& run) {
         ->required()
         ->check(frontend::one_of({"sky", "studio", "overcast", "indoor", "mixture"}, "environment"));
     sub->add_option("--out", a->out, "output EXR");
+    // A repeated --width takes its last value, as `sglab render`'s sizes (`sglab reproduce --quick`
+    // appends a smaller one to the 2048-wide maps).
     sub->add_option("--width", a->width, "width (height = width/2)")
         ->capture_default_str()
-        ->check(frontend::integer_in(2, 8192));
+        ->check(frontend::integer_in(2, 8192))
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     sub->add_option("--turbidity", a->sky.turbidity, "sky: Preetham turbidity T in [2, 10]")
         ->capture_default_str()
         ->check(frontend::finite_in(2, 10));

@@ -1,5 +1,5 @@
 // `sglab fit NAME [--objective …] [--precision …] [--json FILE]` and
-// `sglab fit all [--json-dir DIR] [--tables-dir DIR]`: re-derive the published constants of
+// `sglab fit all [--json-dir DIR] [--tables-dir DIR] [--quick]`: re-derive the published constants of
 // docs/math.md §9 with the Ceres fitters of fit/. Progress goes to stderr; the console table
 // gives value (%.17g), published value and correct digits (−log10|rel diff|) per parameter.
 // `fit all` writes constants.{md,csv,tex} (--tables-dir; `sglab reproduce` puts them in
@@ -49,6 +49,7 @@ struct FitArgs {
   std::string json_file;
   std::string json_dir;
   std::string tables_dir;
+  bool quick = false;
 };
 
 void print_result(const fit::FitResult& r, const frontend::Judgement& jd) {
@@ -78,7 +79,7 @@ void print_result(const fit::FitResult& r, const frontend::Judgement& jd) {
 }
 
 experiments::fit_all::Options all_options(const FitArgs& a) {
-  return {a.precision, a.beta, a.kappa, a.json_dir, a.tables_dir};
+  return {a.precision, a.beta, a.kappa, a.json_dir, a.tables_dir, a.quick};
 }
 
 void run_fit(const FitArgs& a, const runner::RunContext& run) {
@@ -125,6 +126,9 @@ void add_fit_command(CLI::App& app, const runner::RunContext& run) {
   cmd->add_option("--json-dir", a->json_dir, "one NAME.json per fit here (a constant set for --constants)");
   cmd->add_option("--tables-dir", a->tables_dir,
                   "fit all: where constants.{md,csv,tex} go (default: the --json-dir, else results/fits)");
+  cmd->add_flag("--quick", a->quick,
+                "a first look: sglab's and sglab-specular's fits on coarser grids, fewer Lawson rounds for the "
+                "minimax objectives");
   add_fit_envmap_command(*cmd);  // `sglab fit envmap MAP.exr …` (envmap_command.cpp)
   cmd->callback([a, cmd, run] {
     if (cmd->got_subcommand("envmap")) return;

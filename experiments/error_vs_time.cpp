@@ -320,8 +320,8 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
   const std::size_t arity = g.arity;
   const std::vector<float> timing_f(g.timing.begin(), g.timing.end());
   // Timed runs per cost (each ≥ 10 ms); the median of 7 is as stable as that of 15 against
-  // the odd slow run, at half the time.
-  const int repeats = quick ? 5 : 7;
+  // the odd slow run, at half the time. A --quick run (a first look) takes the median of 3.
+  const int repeats = quick ? 3 : 7;
 
   const std::vector<Method> variants = method_variants(qr, set);
   std::vector<Row> rows;

@@ -184,6 +184,7 @@ fit::FitResult run_one(const fit::Fitter& f, const std::string& objective, const
     throw runner::InputError(fmt::format("--kappa {} is not a positive finite number", a.kappa));
   o.beta = a.beta;
   o.kappa = a.kappa;
+  o.quick = a.quick;
   std::fprintf(stderr, "sglab fit: %s (%s)...\n", f.name.c_str(), o.objective.c_str());
   return f.run(o);
 }
@@ -221,7 +222,8 @@ Result compute(const Options& o, const std::function<void(const Judged&)>& each)
   const auto t0 = std::chrono::steady_clock::now();
   Result r;
   r.provenance.command = "sglab fit all" + runner::option_argument("--json-dir", o.json_dir) +
-                         runner::option_argument("--tables-dir", o.tables_dir);
+                         runner::option_argument("--tables-dir", o.tables_dir) + (o.quick ? " --quick" : "");
+  r.provenance.quick = o.quick;
   const std::vector<FitJob> jobs = all_fit_jobs();
   std::vector<std::size_t> order(jobs.size());
   std::iota(order.begin(), order.end(), std::size_t(0));

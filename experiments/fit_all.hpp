@@ -20,6 +20,7 @@ struct Options {
   double beta = 20, kappa = 100;    // lambda-c: σ_n² = (2λ_c + κ)/(βλ_cκ)
   std::string json_dir;             // one NAME.json per fit (its default objective): a constant set
   std::string tables_dir;           // constants.{md,csv,tex}; empty: json_dir, or results/fits without it
+  bool quick = false;               // --quick: the slow fits on coarser grids, fewer rounds (fit::FitOptions)
   std::filesystem::path tables() const {
     return !tables_dir.empty() ? tables_dir : !json_dir.empty() ? json_dir : "results/fits";
   }

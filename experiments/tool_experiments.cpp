@@ -12,7 +12,7 @@ Experiment fits_experiment() {
       "fits", "`sglab fit`: re-derive every published constant (constants.*), and the λ_d fits under other objectives",
       nullptr, [](const Places& p) {
         std::vector<Step> v = {sglab_step("fit-all", "re-derive every published constant (paper_tables/constants.*)",
-                                          {"fit", "all", "--json-dir", p.out + "/fits"}, {}, "--tables-dir")};
+                                          {"fit", "all", "--json-dir", p.out + "/fits"}, {"--quick"}, "--tables-dir")};
         // The other objectives of lambda-d, for the λ_d render sweep (which reads them by path).
         for (const char* objective : {"theta", "hemisphere"})
           v.push_back(sglab_step(std::string("fit-lambda-d-") + objective,

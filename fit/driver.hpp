@@ -306,8 +306,12 @@ GridResidual<Model> relative_problem(GridResidual<Model> f, double floor = kRela
 // `start`, the L2 fit). Ceres has no minimax solver; Lawson's weights converge to the minimax
 // solution's for linear models and are used here as a heuristic for these smooth nonlinear ones:
 // the record keeps the best max |error| seen, and its cost range is taken on the max itself.
+// Lawson rounds of a minimax fit: a full run's, and a --quick run's (the best max |error| of the first
+// rounds; the later ones gain little).
+inline constexpr int kMinimaxRounds = 40;
+inline constexpr int kQuickMinimaxRounds = 10;
 template <int K, class Model>
-FitResult run_minimax(FitSpec spec, GridResidual<Model> f, std::vector<double> start, int rounds = 40) {
+FitResult run_minimax(FitSpec spec, GridResidual<Model> f, std::vector<double> start, int rounds = kMinimaxRounds) {
   const std::size_t n = f.size();
   const auto max_abs = [&f, n](const double* p) {
     double m = 0;
@@ -356,10 +360,12 @@ FitResult run_minimax(FitSpec spec, GridResidual<Model> f, std::vector<double> s
 }
 
 // The fit under `objective`: "l2-relative" (relative_problem), "minimax" (run_minimax from the L2
-// fit), else the plain L2 fit of `spec` on f. The texts name the objectives in the record.
+// fit, `minimax_rounds` Lawson rounds), else the plain L2 fit of `spec` on f. The texts name the
+// objectives in the record.
 template <int K, class Model>
 FitResult solve_with_objective(const std::string& objective, const GridResidual<Model>& f, FitSpec spec,
-                               const std::string& relative_text, const std::string& minimax_text) {
+                               const std::string& relative_text, const std::string& minimax_text,
+                               int minimax_rounds = kMinimaxRounds) {
   if (objective == "l2-relative") {
     spec.objective = relative_text;
     return solve_least_squares<K>(spec, relative_problem(f));
@@ -369,7 +375,7 @@ FitResult solve_with_objective(const std::string& objective, const GridResidual<
   std::vector<double> x;
   for (std::size_t k = 0; k < spec.names.size(); ++k) x.push_back(first.parameters[k].value);
   spec.objective = minimax_text;
-  return run_minimax<K>(spec, f, x);
+  return run_minimax<K>(spec, f, x, minimax_rounds);
 }
 
 // The recovery-test hook shared by every misfit fit: a copy of the fit's problem with its
@@ -394,6 +400,10 @@ struct FitOptions {
   std::string precision = "float";  // cosine-sharpness, cosine-sg numerical-error terms
   double beta = 20;                 // lambda-c: σ_n² = (2λ_c + κ)/(βλ_cκ)
   double kappa = 100;
+  // A first look (`sglab fit --quick`, `sglab reproduce --quick`): the slow fits on coarser grids
+  // and with fewer reweighting rounds (sglab, sglab-specular, the minimax runs); the others as in a
+  // full run.
+  bool quick = false;
 };
 
 struct Fitter {

@@ -97,8 +97,8 @@ const GridResidual<LambdaCosineModel<Curve>>& lambda_cosine_reference(const Lamb
 }
 
 // The fitter of an approximation on a (λ, c) grid with K parameters: objectives l2-normalized (the
-// default: the plain L2 fit of lambda_cosine_spec), l2-relative and minimax (solve_with_objective);
-// its recovery test solves the default.
+// default: the plain L2 fit of lambda_cosine_spec), l2-relative and minimax (solve_with_objective;
+// fewer Lawson rounds with --quick); its recovery test solves the default.
 template <int K, class Curve>
 Fitter lambda_cosine_fitter(const LambdaCosineFit& fit) {
   if (fit.parameters.size() != std::size_t(K))
@@ -111,7 +111,8 @@ Fitter lambda_cosine_fitter(const LambdaCosineFit& fit) {
   for (const FitParameter& p : fit.parameters) f.parameters.push_back(p.name);
   f.run = [fit](const FitOptions& o) {
     return solve_with_objective<K>(o.objective, lambda_cosine_reference<Curve>(fit), lambda_cosine_spec(fit),
-                                   kRelativeObjective2d, kMinimaxObjective2d);
+                                   kRelativeObjective2d, kMinimaxObjective2d,
+                                   o.quick ? kQuickMinimaxRounds : kMinimaxRounds);
   };
   f.synthetic = synthetic_recovery([fit] { return lambda_cosine_reference<Curve>(fit); },
                                    [fit](const GridResidual<LambdaCosineModel<Curve>>& p) {

@@ -7,7 +7,8 @@
 // cosines of core stiff_cases.hpp). Solved by Lawson's iteratively reweighted least squares
 // (C. L. Lawson 1961; Rice & Usow 1968): each round is one Ceres Levenberg–Marquardt solve of
 // Σ w_i e_i² on the shared driver, then w_i ← w_i|e_i|/Σ_j w_j|e_j|, which drives the weighted
-// L2 solution towards the L∞ one. The round with the smallest max |e| is kept.
+// L2 solution towards the L∞ one. The round with the smallest max |e| is kept. --quick: 4 λ per
+// decade, c in steps of 1/20 (the stiff cases alike), 10 rounds.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,7 +22,16 @@
 namespace sglab::fit {
 namespace {
 
+// Lawson rounds of a full run and of a --quick one.
 constexpr int kLawsonRounds = 30;
+constexpr int kQuickLawsonRounds = 10;
+
+// The error grid's λ per decade and c steps per unit: a full run's, and a --quick run's (a first
+// look on a quarter of the λ and half the c of the full grid; the stiff cases alike).
+struct GridDensity {
+  int per_decade, cos_steps;
+};
+constexpr GridDensity kFullGrid{16, 40}, kQuickGrid{4, 20};
 
 struct SglabCurve {
   template <class T>
@@ -35,26 +45,30 @@ using Model = LambdaCosineModel<SglabCurve>;
 using Residual = GridResidual<Model>;
 
 // The error grid plus the stiff cases, each point with unit weight.
-LambdaCosineGrid error_grid() {
+LambdaCosineGrid error_grid(GridDensity d) {
   LambdaCosineGrid g;
   auto add = [&](double l, double c) {
     g.lambda.push_back(l);
     g.cosine.push_back(c);
     g.sqrt_w.push_back(1.0);
   };
-  for (double l : log_spaced(1e-3, 1e4, 7 * 16 + 1))
-    for (int j = 0; j <= 80; ++j) add(l, -1 + j / 40.0);
+  for (double l : log_spaced(1e-3, 1e4, 7 * d.per_decade + 1))
+    for (int j = 0; j <= 2 * d.cos_steps; ++j) add(l, -1 + j / double(d.cos_steps));
   for (double l : stiff::sharpnesses())
     for (double c : stiff::cosines()) add(l, std::clamp(c, -1.0, 1.0));
   return g;
 }
 
 const Residual& reference_problem() {
-  static const Residual f = lambda_cosine_problem<Model>(error_grid(), clamped_cosine_targets);
+  static const Residual f = lambda_cosine_problem<Model>(error_grid(kFullGrid), clamped_cosine_targets);
+  return f;
+}
+const Residual& quick_problem() {
+  static const Residual f = lambda_cosine_problem<Model>(error_grid(kQuickGrid), clamped_cosine_targets);
   return f;
 }
 
-FitSpec make_spec(const std::vector<double>& start) {
+FitSpec make_spec(const std::vector<double>& start, GridDensity d = kFullGrid) {
   // Nothing is published: the comparison column holds the constants compiled into core.
   using S = SglabDiffuse;
   FitSpec spec = fit_spec("sglab", "sglab (this project); start: Tokuyoshi et al. 2024's t(lambda)",
@@ -67,7 +81,8 @@ FitSpec make_spec(const std::vector<double>& start) {
                            {"P", S::P, -100, 100},
                            {"Q", S::Q, 1e-6, 1e4}});
   spec.objective = "minimax: max |D - D_ref|/D_ref(l,1), Lawson IRLS of Ceres least squares";
-  spec.domain = "lambda in [1e-3, 1e4] (16 per decade) x c in [-1, 1] (step 1/40), plus the stiff cases";
+  spec.domain = "lambda in [1e-3, 1e4] (" + std::to_string(d.per_decade) + " per decade) x c in [-1, 1] (step 1/" +
+                std::to_string(d.cos_steps) + "), plus the stiff cases";
   spec.starts = {start};
   return spec;
 }
@@ -77,7 +92,7 @@ FitSpec make_spec(const std::vector<double>& start) {
 const std::vector<double> kStart = {
     Tokuyoshi2024T::A, Tokuyoshi2024T::B, Tokuyoshi2024T::C, Tokuyoshi2024T::D, Tokuyoshi2024T::E, 0.035, 0.0, 15.6};
 
-FitResult solve_lawson(Residual f) {
+FitResult solve_lawson(Residual f, int rounds, GridDensity d) {
   std::vector<double> w(f.size(), 1.0 / f.size());
   for (std::size_t i = 0; i < w.size(); ++i) f.sqrt_w[i] = std::sqrt(w[i]);
   std::string trajectory;
@@ -92,14 +107,15 @@ FitResult solve_lawson(Residual f) {
     for (std::size_t i = 0; i < w.size(); ++i) sum += (w[i] *= e[i]);
     for (auto& wi : w) wi = std::max(wi / sum, 1e-14);
     for (std::size_t i = 0; i < w.size(); ++i) f.sqrt_w[i] = std::sqrt(w[i]);
-    if (round % 5 == 0 || round == kLawsonRounds - 1) {
+    if (round % 5 == 0 || round == rounds - 1) {
       char buf[64];
       std::snprintf(buf, sizeof buf, "%sround %d: %.4e", trajectory.empty() ? "" : "; ", round, max_e);
       trajectory += buf;
     }
     return max_e;
   };
-  ReweightedFit best = solve_reweighted<8>(f, kStart, kLawsonRounds, make_spec, lawson);
+  ReweightedFit best = solve_reweighted<8>(
+      f, kStart, rounds, [&](const std::vector<double>& x) { return make_spec(x, d); }, lawson);
   char buf[128];
   std::snprintf(buf, sizeof buf, "max |D - D_ref|/D_ref(l,1) on the fit grid (%d points): %.4e", f.size(), best.score);
   best.result.notes.push_back(buf);
@@ -118,7 +134,10 @@ Fitter sglab_fitter() {
   f.description = "sglab's own diffuse approximation: refitted t(lambda) and the even correction K(lambda)";
   f.objectives = {"minimax"};
   f.parameters = make_spec(kStart).names;
-  f.run = [](const FitOptions&) { return solve_lawson(reference_problem()); };
+  f.run = [](const FitOptions& o) {
+    return o.quick ? solve_lawson(quick_problem(), kQuickLawsonRounds, kQuickGrid)
+                   : solve_lawson(reference_problem(), kLawsonRounds, kFullGrid);
+  };
   f.synthetic = synthetic_recovery(reference_problem, solve_plain);
   return f;
 }

@@ -50,33 +50,41 @@ struct Data {
   std::size_t bright_rows = 0;
 };
 
-const Data& data() {
-  static const Data d = [] {
-    Data out;
-    const SpecularGrid g = specular_grid(false);
-    std::size_t point = 0;
-    for (double a : g.roughness)
-      for (double l : g.light_sharpness)
-        for (double v : g.view_cos) {
-          for (const auto& p : specular_light_positions(a, l, v))
-            out.rows.push_back({{a, l, p.light_cos, v, p.light_azimuth, g.f0}, 0.0, point});
-          ++point;
-        }
-    tbb::parallel_for(std::size_t(0), out.rows.size(), [&](std::size_t i) {
-      const auto& x = out.rows[i].in;
-      out.rows[i].reference = specular_reference_value({x[0], x[1], x[2], x[3], x[4], x[5]});
-    });
-    out.point_sum.assign(point, 0.0);
-    out.point_peak.assign(point, 0.0);
-    for (const auto& r : out.rows) {
-      out.point_sum[r.point] += r.reference;
-      out.point_peak[r.point] = std::max(out.point_peak[r.point], r.reference);
-    }
-    for (const auto& r : out.rows)
-      if (r.reference >= kBrightCutoff * out.point_peak[r.point]) ++out.bright_rows;
-    return out;
-  }();
-  return d;
+Data make_data(bool quick) {
+  Data out;
+  const SpecularGrid g = specular_grid(quick);
+  std::size_t point = 0;
+  for (double a : g.roughness)
+    for (double l : g.light_sharpness)
+      for (double v : g.view_cos) {
+        for (const auto& p : specular_light_positions(a, l, v))
+          out.rows.push_back({{a, l, p.light_cos, v, p.light_azimuth, g.f0}, 0.0, point});
+        ++point;
+      }
+  tbb::parallel_for(std::size_t(0), out.rows.size(), [&](std::size_t i) {
+    const auto& x = out.rows[i].in;
+    out.rows[i].reference = specular_reference_value({x[0], x[1], x[2], x[3], x[4], x[5]});
+  });
+  out.point_sum.assign(point, 0.0);
+  out.point_peak.assign(point, 0.0);
+  for (const auto& r : out.rows) {
+    out.point_sum[r.point] += r.reference;
+    out.point_peak[r.point] = std::max(out.point_peak[r.point], r.reference);
+  }
+  for (const auto& r : out.rows)
+    if (r.reference >= kBrightCutoff * out.point_peak[r.point]) ++out.bright_rows;
+  return out;
+}
+
+// The rows of the full grid, or of the --quick grid (`sglab sweep specular --quick`'s), with their
+// references, computed once.
+const Data& data(bool quick) {
+  if (quick) {
+    static const Data coarse = make_data(true);
+    return coarse;
+  }
+  static const Data full = make_data(false);
+  return full;
 }
 
 // One residual entry: row `row` scaled by `scale` (1/Σr of its point, or 1/r for a bright row),
@@ -100,8 +108,7 @@ struct Model {
 };
 using Residual = GridResidual<Model>;
 
-Residual problem() {
-  const Data& d = data();
+Residual problem(const Data& d) {
   Residual f;
   f.model.d = &d;
   const double points = double(d.point_sum.size());
@@ -123,8 +130,7 @@ Residual problem() {
 struct Measures {
   double weighted = 0, bright_smape = 0, worst_roughness = 0;
 };
-Measures measures(const std::vector<double>& x) {
-  const Data& d = data();
+Measures measures(const Data& d, const std::vector<double>& x) {
   const SglabSpecularParams<double> c{x[0], x[1], x[2], x[3], x[4], x[5]};
   std::vector<metrics::BrightnessWeighted> point(d.point_sum.size());
   Measures m;
@@ -153,7 +159,7 @@ Measures measures(const std::vector<double>& x) {
 // The exploratory fit's values (see the header), the start of the first round.
 const std::vector<double> kStart = {2.9, 0.98, 1.2, 2.0, 0.42, 1.0};
 
-FitSpec make_spec(const std::vector<double>& start) {
+FitSpec make_spec(const std::vector<double>& start, bool quick = false) {
   using S = SglabSpecular;
   FitSpec spec = fit_spec("sglab-specular",
                           "sglab (this project); start: an exploratory Nelder-Mead fit of the same objective",
@@ -165,13 +171,16 @@ FitSpec make_spec(const std::vector<double>& start) {
                            {"horizon_rate", S::horizon_rate, 1e-2, 20}});
   spec.objective =
       "L1: brightness-weighted error + bright relative error on the sweep grid, IRLS of Ceres least squares";
-  spec.domain =
-      "the rows of `sglab sweep specular` (9 roughness x 5 light sharpness x 4 view_cos x light positions, f0 = 0.04)";
+  const SpecularGrid g = specular_grid(quick);
+  spec.domain = "the rows of `sglab sweep specular" + std::string(quick ? " --quick" : "") + "` (" +
+                std::to_string(g.roughness.size()) + " roughness x " + std::to_string(g.light_sharpness.size()) +
+                " light sharpness x " + std::to_string(g.view_cos.size()) + " view_cos x light positions, f0 = 0.04)";
   spec.starts = {start};
   return spec;
 }
 
-FitResult solve_irls(Residual f) {
+FitResult solve_irls(const Data& d, bool quick) {
+  Residual f = problem(d);
   std::string trajectory;
   std::vector<Measures> by_round;
   const std::vector<double> c = [&] {
@@ -180,7 +189,7 @@ FitResult solve_irls(Residual f) {
     return out;
   }();
   const auto irls = [&](int round, const std::vector<double>& x) {
-    const Measures m = by_round.emplace_back(measures(x));
+    const Measures m = by_round.emplace_back(measures(d, x));
     char buf[96];
     std::snprintf(buf, sizeof buf, "%sround %d: %.4f + %.4f", trajectory.empty() ? "" : "; ", round, m.weighted,
                   m.bright_smape);
@@ -192,14 +201,14 @@ FitResult solve_irls(Residual f) {
     }
     return m.weighted + m.bright_smape;
   };
-  ReweightedFit best = solve_reweighted<6>(f, kStart, kRounds, make_spec, irls);
+  ReweightedFit best = solve_reweighted<6>(
+      f, kStart, kRounds, [&](const std::vector<double>& x) { return make_spec(x, quick); }, irls);
   const Measures& best_m = by_round[std::size_t(best.round)];
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 "on the fit grid (%zu rows, %zu points): brightness-weighted error %.4f, bright SMAPE %.4f, worst "
                 "roughness's brightness-weighted error %.4f",
-                data().rows.size(), data().point_sum.size(), best_m.weighted, best_m.bright_smape,
-                best_m.worst_roughness);
+                d.rows.size(), d.point_sum.size(), best_m.weighted, best_m.bright_smape, best_m.worst_roughness);
   best.result.notes.push_back(buf);
   best.result.notes.push_back("IRLS (brightness-weighted + bright SMAPE) by round: " + trajectory);
   return best.result;
@@ -214,7 +223,7 @@ Fitter sglab_specular_fitter() {
       "sglab's own specular approximation (an SG light off GGX): the t-smoothing, light and horizon constants";
   f.objectives = {"l1-weighted"};
   f.parameters = make_spec(kStart).names;
-  f.run = [](const FitOptions&) { return solve_irls(problem()); };
+  f.run = [](const FitOptions& o) { return solve_irls(data(o.quick), o.quick); };
   return f;
 }
 

@@ -342,10 +342,22 @@ ChunkExtremes<T> chunk_extremes(const T* v, std::size_t len) {
 // one pass: no NaN, infinity or subnormal, and the chunk's least and greatest values in the
 // column's domain. That suffices because every ColumnKind's domain is an interval
 // (column_value_error: [0, ∞), [−1 − slack, 1 + slack], [0, 1], (0, ∞), or every finite value).
+// `least` receives the chunk's least value (meaningful when the check passes).
 template <class T>
-bool column_chunk_ok(const Column& column, const T* v, std::size_t len) {
+bool column_chunk_ok(const Column& column, const T* v, std::size_t len, double& least) {
   const ChunkExtremes<T> e = chunk_extremes(v, len);
+  least = double(e.lo);
   return e.finite_normal() && !column_value_error(column, double(e.lo)) && !column_value_error(column, double(e.hi));
+}
+
+// Whether every row of a chunk whose columns' least values are `least` is in the method's domain
+// by its bounds (Method::domain_above): false when it states none, so that the rows are checked
+// one by one.
+bool chunk_in_domain_above(const Method& m, std::span<const double> least) {
+  if (m.domain_above.empty()) return false;
+  for (const auto& [column, bound] : m.domain_above)
+    if (!(column < least.size() && least[column] > bound)) return false;
+  return true;
 }
 
 // Whether every value of o[0, len) is finite (x·0 summed, as in ChunkExtremes).
@@ -413,9 +425,11 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
   if (l.flat) {
     // One column read in place; several interleaved into the rows the evaluators take.
     bool ok = true;
+    thread_local std::vector<double> least;
+    least.assign(k, 0.0);
     for (std::size_t j = 0; j < k && ok; ++j) {
       const T* c = reinterpret_cast<const T*>(l.data[j]) + (l.step[j] ? begin : 0);
-      ok = column_chunk_ok(q.columns[j], c, l.step[j] ? len : 1);
+      ok = column_chunk_ok(q.columns[j], c, l.step[j] ? len : 1, least[j]);
     }
     if (k == 1 && l.step[0] != 0) {
       args = std::span<const T>(reinterpret_cast<const T*>(l.data[0]) + begin, len);
@@ -424,8 +438,9 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
       interleave_rows(l, begin, len, s.args.data());
       args = s.args;
     }
-    // A failing chunk (or a method with a domain check) is checked row by row, in order.
-    if (!ok || m.domain_error)
+    // A failing chunk, or one of a method with a domain check that its bounds (domain_above) do not
+    // settle for the whole chunk, is checked row by row, in order.
+    if (!ok || (m.domain_error && !chunk_in_domain_above(m, least)))
       if (auto f = check_rows<T>(q, m, begin, end, args, ok)) return f;
   } else {
     s.args.resize(len * k);

@@ -107,8 +107,8 @@ TEST(FitPublished, CosineSgRoundingObjectiveMatchesProfiledBrent) {
 }
 
 // Every fit but sglab's and sglab-specular's: those two (sglab's minimax fit is 30 Lawson rounds of
-// a 10139-point least-squares problem, ≈ 20 s; sglab-specular's 12 IRLS rounds evaluate the specular
-// form with Jets on ~1450 residuals, ≈ 10 s) run once in the suite, in `sglab fit all` of
+// a 10139-point least-squares problem, ≈ 7 s; sglab-specular's references on its 827 rows, ≈ 12 s)
+// run once in the suite, on their --quick grids, in `sglab fit all --quick` of
 // ReproduceCommand.QuickFitStepWritesIntoResultsQuick, which checks that their records say they
 // converged.
 TEST(FitRegistry, EveryFitConvergesFromItsDefaultStart) {

@@ -107,6 +107,18 @@ std::vector<Parameter> fit_parameters(const std::string& fit, const std::string&
   return out;
 }
 
+Domain Domain::above(std::vector<std::pair<std::size_t, double>> bounds, std::string message) {
+  Domain d;
+  d.bounds = bounds;
+  d.error = [bounds = std::move(bounds),
+             message = std::move(message)](std::span<const double> row) -> std::optional<std::string> {
+    for (const auto& [column, bound] : bounds)
+      if (!(row[column] > bound)) return message;
+    return std::nullopt;
+  };
+  return d;
+}
+
 std::optional<RowError> row_error(const Quantity& q, const Method& m, std::span<const double> row) {
   for (std::size_t j = 0; j < q.columns.size(); ++j)
     if (auto error = column_value_error(q.columns[j], row[j])) return RowError{j, std::move(*error)};

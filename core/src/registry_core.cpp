@@ -15,14 +15,9 @@
 namespace sglab {
 namespace {
 
-using DomainFn = std::function<std::optional<std::string>(std::span<const double>)>;
-
 // Methods with a 1/λ factor are undefined at λ = 0 (column `column`).
-DomainFn sharpness_positive(std::size_t column, std::string why) {
-  return [column, why](std::span<const double> a) -> std::optional<std::string> {
-    if (a[column] > 0) return std::nullopt;
-    return "undefined at sharpness 0: " + why;
-  };
+Domain sharpness_positive(std::size_t column, std::string why) {
+  return Domain::above({{column, 0.0}}, "undefined at sharpness 0: " + why);
 }
 
 // The `reference` method of a (λ, c) quantity: reference(λ, c), a quadrature of reference.hpp. In

@@ -16,17 +16,15 @@
 namespace sglab {
 namespace {
 
-using DomainFn = std::function<std::optional<std::string>(std::span<const double>)>;
-
 template <class F>
-Method method(std::string name, std::string source, std::string flaws, DomainFn domain, F f) {
+Method method(std::string name, std::string source, std::string flaws, Domain domain, F f) {
   return make_method(std::move(name), std::move(source), std::move(flaws), false, std::move(domain), f);
 }
 
 // The same for a method whose formula also instantiates on the tracing type (every branch on an
 // input a select): `sglab export` emits it (registry.hpp `exportable`).
 template <class F>
-Method exportable_method(std::string name, std::string source, std::string flaws, DomainFn domain, F f) {
+Method exportable_method(std::string name, std::string source, std::string flaws, Domain domain, F f) {
   return make_method(exportable, std::move(name), std::move(source), std::move(flaws), false, std::move(domain), f);
 }
 
@@ -55,12 +53,10 @@ Method double_only_method(std::string name, std::string source, std::string flaw
   return m;
 }
 
-DomainFn all_positive(std::vector<std::size_t> columns, std::string why) {
-  return [columns, why](std::span<const double> a) -> std::optional<std::string> {
-    for (auto c : columns)
-      if (!(a[c] > 0)) return "undefined when a bandwidth is 0: " + why;
-    return std::nullopt;
-  };
+Domain all_positive(const std::vector<std::size_t>& columns, std::string why) {
+  std::vector<std::pair<std::size_t, double>> bounds;
+  for (auto c : columns) bounds.emplace_back(c, 0.0);
+  return Domain::above(std::move(bounds), "undefined when a bandwidth is 0: " + why);
 }
 
 // The ASG of the asg-sg-product-integral columns: the standard frame, bandwidths (ηx, ηy).
