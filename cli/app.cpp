@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <utility>
 
 #include "commands.hpp"
 #include "parse_number.hpp"
@@ -55,9 +56,58 @@ void require_decimal_reals(CLI::App& app) {
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) require_decimal_reals(*sub);
 }
 
-int run_sglab(std::vector<std::string> args, const runner::RunContext& run) {
+namespace {
+
+// The run's places from the options before the command (`sglab --results DIR --tables DIR
+// COMMAND …`, or OPTION=DIR), taken off the front of `args`: the rest is the command line.
+runner::RunContext take_places(std::vector<std::string>& args, runner::RunContext run) {
+  std::size_t i = 0;
+  for (; i < args.size(); ++i) {
+    std::string* place = nullptr;
+    std::string value;
+    for (const auto& [option, field] :
+         {std::pair{runner::kResultsOption, &run.places.out}, std::pair{runner::kTablesOption, &run.places.tables}}) {
+      const std::string name(option);
+      if (args[i] == name && i + 1 < args.size()) {
+        place = field;
+        value = args[++i];
+      } else if (args[i].rfind(name + "=", 0) == 0) {
+        place = field;
+        value = args[i].substr(name.size() + 1);
+      }
+      if (place) {
+        if (value.empty() || value[0] == '-')
+          throw runner::InputError(name + " " + quote(value) + ": expected a directory");
+        break;
+      }
+    }
+    if (!place) break;
+    *place = value;
+  }
+  args.erase(args.begin(), args.begin() + static_cast<std::ptrdiff_t>(i));
+  return run;
+}
+
+}  // namespace
+
+int run_sglab(std::vector<std::string> args, const runner::RunContext& given) {
+  runner::RunContext run;
+  try {
+    run = take_places(args, given);
+  } catch (const runner::InputError& e) {
+    std::fprintf(stderr, "sglab: error: %s\n", bounded_message(e.what()).c_str());
+    return 2;
+  }
   CLI::App app{"sglab: spherical Gaussian lighting research toolkit"};
   app.require_subcommand(1);
+  // Shown by --help; taken off the command line by take_places before the app parses it.
+  std::string shown;
+  app.add_option(std::string(runner::kResultsOption), shown,
+                 "before the command: every output directory under DIR (the command's --out defaults to "
+                 "DIR/ITS_DIR; default: " +
+                     runner::Places{}.out + ")");
+  app.add_option(std::string(runner::kTablesOption), shown,
+                 "before the command: every table into DIR (default: beside the command's other outputs)");
   add_all_commands(app, run);
   require_decimal_reals(app);
   // CLI11's own messages quote the bad value whole ("--width: Value … could not be converted").

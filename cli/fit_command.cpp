@@ -49,6 +49,7 @@ struct FitArgs {
   std::string json_file;
   std::string json_dir;
   std::string tables_dir;
+  std::string dir;  // the run's fits' directory (fit_all::Options::dir)
   bool quick = false;
 };
 
@@ -79,7 +80,7 @@ void print_result(const fit::FitResult& r, const frontend::Judgement& jd) {
 }
 
 experiments::fit_all::Options all_options(const FitArgs& a) {
-  return {a.precision, a.beta, a.kappa, a.json_dir, a.tables_dir, a.quick};
+  return {a.precision, a.beta, a.kappa, a.json_dir, a.tables_dir, a.dir, a.quick};
 }
 
 void run_fit(const FitArgs& a, const runner::RunContext& run) {
@@ -124,8 +125,12 @@ void add_fit_command(CLI::App& app, const runner::RunContext& run) {
   cmd->add_option("--kappa", a->kappa, "lambda-c: kappa of sigma_n^2 (default 100)");
   cmd->add_option("--json", a->json_file, "write the fit's JSON record here");
   cmd->add_option("--json-dir", a->json_dir, "one NAME.json per fit here (a constant set for --constants)");
+  a->tables_dir = run.places.tables;
+  a->dir = run.places.dir(experiments::fit_all::kDir);
   cmd->add_option("--tables-dir", a->tables_dir,
-                  "fit all: where constants.{md,csv,tex} go (default: the --json-dir, else results/fits)");
+                  "fit all: where constants.{md,csv,tex} go (default: the run's tables directory, else the "
+                  "--json-dir, else " +
+                      a->dir + ")");
   cmd->add_flag("--quick", a->quick,
                 "a first look: sglab's and sglab-specular's fits on coarser grids, fewer Lawson rounds for the "
                 "minimax objectives");

@@ -23,7 +23,7 @@ void add_reproduce_command(CLI::App& app) {
   sub->add_flag("--list", opts->list, "print each step and its command line in this mode, run nothing");
   sub->add_flag("--force", opts->force, "redo finished steps");
   std::vector<std::string> steps;
-  for (const auto& s : experiments::all_steps(experiments::Places{"results", "paper_tables"})) steps.push_back(s.name);
+  for (const auto& s : experiments::all_steps(experiments::reproduce_places({}))) steps.push_back(s.name);
   // The help lists every step; an unknown one gets the closest step and a pointer to --list (with
   // the whole list the message would run over a thousand characters).
   sub->add_option("--only", opts->only, "run only these steps")

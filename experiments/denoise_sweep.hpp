@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "filter_job.hpp"
+#include "filter_sweep.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::denoise_sweep {
@@ -27,8 +28,8 @@ struct Options {
   // noisy image, normal and lobe weights and the exact sum.
   std::string figure_roughness = "0.05,0.4";
   std::string figure_noisy = "interleaved:4";
-  std::string out = "results/filtering";
-  std::string tables_dir;  // empty: `out`
+  std::string out = runner::Places{}.dir(filter_sweep::kDir);  // a plain run's; the command's is filter-sweep's --out
+  std::string tables_dir;                                      // empty: `out`
   std::string table = "filtering_denoise";
   bool quiet = false;
 };

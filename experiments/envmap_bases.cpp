@@ -205,7 +205,7 @@ std::string command_line(const Options& a) {
   if (!a.resolve.empty()) c += fmt::format(" --resolve-tolerance {}", a.resolve_tolerance);
   c += fmt::format(" --width {} --res {} --normals {} --tolerance {} --seed {}", a.width, a.sphere_res, a.normals,
                    a.tolerance, a.seed);
-  return c + " --out " + a.out + " --tables-dir " + a.tables_dir;
+  return c + " --out " + a.out + " --tables-dir " + runner::tables_place(a.tables_dir, a.out).string();
 }
 
 // What the rows of one environment are measured against: its map, its converged quadratures and
@@ -784,9 +784,10 @@ Tables tables(const Result& r) {
 void write(const Result& r) {
   namespace fs = std::filesystem;
   const Tables t = tables(r);
-  runner::write_file_atomically(fs::path(r.options.tables_dir) / "envmap_bases.csv", t.csv);
-  runner::write_file_atomically(fs::path(r.options.tables_dir) / "envmap_bases.md", t.markdown);
-  std::printf("envmap bases: %.1f s; wrote %s/envmap_bases.{md,csv}\n", r.seconds, r.options.tables_dir.c_str());
+  const fs::path tables = runner::tables_place(r.options.tables_dir, r.options.out);
+  runner::write_file_atomically(tables / "envmap_bases.csv", t.csv);
+  runner::write_file_atomically(tables / "envmap_bases.md", t.markdown);
+  std::printf("envmap bases: %.1f s; wrote %s/envmap_bases.{md,csv}\n", r.seconds, tables.c_str());
 }
 
 }  // namespace sglab::experiments::envmap_bases
@@ -817,8 +818,8 @@ void add_envmap_bases_command(CLI::App& envmap, const runner::RunContext& run) {
          "--resolve-tolerance", a->resolve_tolerance,
          "relative L2 of the reduced map plus detail tiles against the full map at which tiles stop being added")
       ->capture_default_str();
-  frontend::add_places_options(*sub, a->out, a->tables_dir, "directory for per-run outputs",
-                               "where envmap_bases.{md,csv} go");
+  frontend::add_places_options(*sub, run.places, kEnvmapDir, a->out, a->tables_dir, "directory for per-run outputs",
+                               "where envmap_bases.{md,csv} go (default: the --out directory)");
   sub->add_flag("--quick", a->quick,
                 "64-wide maps, N ≤ 32 (sg-free N ≤ 16), L ≤ 4 (a smoke run; not for paper_tables)");
   sub->callback([a, run] { envmap_bases::write(runner::with_run(envmap_bases::compute(*a), run)); });
@@ -831,9 +832,9 @@ Experiment envmap_bases_experiment() {
   return {"envmap-bases",
           "`sglab envmap bases`: SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.*)",
           add_envmap_bases_command,
-          [](const Places& p) {
+          [](const runner::Places& p) {
             std::vector<Step> v;
-            const std::string dir = p.out + "/envmap/";
+            const std::string dir = p.dir(kEnvmapDir) + "/";
             // The sun of the sky at its real angular diameter, 0.53°, with the power of the default
             // 2° disk (luminance × (2/0.53)² ≈ 14.24, 500 → 7120).
             // Both suns at 2048 wide (a texel of 0.18°), held by `--resolve` as the 128-wide map plus
@@ -851,16 +852,15 @@ Experiment envmap_bases_experiment() {
             v.push_back(sglab_step("envmap-make-indoor",
                                    "generated environment: indoor room with rectangular emitters (512×256 EXR)",
                                    {"envmap", "make", "indoor", "--out", dir + "indoor.exr"}));
-            std::vector<std::string> args = {"envmap", "bases", "--out", p.out + "/envmap"};
+            std::vector<std::string> args = {"envmap", "bases"};
             for (const char* kind : {"sky", "sun", "overcast", "studio", "indoor", "mixture"})
               args.insert(args.end(), {"--env", std::string(kind) + "=" + dir +
                                                     (kind == std::string("sky") ? "sky_2048" : kind) + ".exr"});
             args.insert(args.end(), {"--resolve", "sky", "--resolve", "sun"});
             // --quick: also the map quadratures converged to 1 % instead of 0.2 %, and detail tiles
             // until the resolved maps are within 5 % of the full map instead of 1 %.
-            v.push_back(
-                timed(sglab_step("envmap-bases", "bases at equal storage (paper_tables/envmap_bases.*)", args,
-                                 {"--quick", "--tolerance", "0.01", "--resolve-tolerance", "0.05"}, "--tables-dir")));
+            v.push_back(timed(sglab_step("envmap-bases", "bases at equal storage (paper_tables/envmap_bases.*)", args,
+                                         {"--quick", "--tolerance", "0.01", "--resolve-tolerance", "0.05"})));
             v.push_back(plot_step("plot-envmap-bases", "error against stored floats, one panel per layer",
                                   {"plots/envmap_bases.py", p.tables + "/envmap_bases.csv", p.key_figures()}));
             return v;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "envmap_basis.hpp"
+#include "envmap_lobes.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::envmap_bases {
@@ -43,9 +44,9 @@ struct Options {
   double tolerance = 2e-3;  // relative L2 change at which the quadratures count as converged
   double f0 = 0.04;
   unsigned seed = 1;
-  std::string out = "results/envmap";
-  std::string tables_dir = "results/envmap";
-  bool quick = false;  // 64-wide maps, sizes ≤ 32 lobes (sg-free ≤ 16) / L ≤ 4
+  std::string out = runner::Places{}.dir(kEnvmapDir);  // --out: a plain run's
+  std::string tables_dir;                              // empty: the --out directory
+  bool quick = false;                                  // 64-wide maps, sizes ≤ 32 lobes (sg-free ≤ 16) / L ≤ 4
   // Rows measured beside the later fits on idle core time (envmap_bases.cpp, RowMeasurer); false:
   // each right after its fit, on the calling thread. The values are the same either way.
   bool measure_beside_fits = true;

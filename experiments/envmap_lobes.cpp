@@ -476,7 +476,7 @@ void add_envmap_lobes_command(CLI::App& envmap, const runner::RunContext& run) {
   sub->add_option("--res", a->sphere_res, "sphere image size (plane: res × res/2 view directions)")
       ->capture_default_str()
       ->check(frontend::integer_in(2, 2048));
-  frontend::add_places_options(*sub, a->out, a->tables_dir, "directory for envmap_images.csv",
+  frontend::add_places_options(*sub, run.places, kEnvmapDir, a->out, a->tables_dir, "directory for envmap_images.csv",
                                "where envmap_lobes.{md,csv} go (default: the --out directory)");
   sub->add_flag("--quick", a->quick, "N ∈ {1, 4}, 12-pixel sphere (a smoke run; not for paper_tables)");
   sub->callback([a, run] { envmap_lobes::write(runner::with_run(envmap_lobes::compute(*a), run)); });
@@ -489,11 +489,11 @@ Experiment envmap_experiment() {
       "envmap",
       "`sglab envmap`: SG mixture fits of environment maps and shading error against the lobe count (envmap_lobes.*)",
       add_envmap_lobes_command,
-      [](const Places& p) {
+      [](const runner::Places& p) {
         std::vector<Step> v;
-        std::vector<std::string> lobes = {"envmap", "lobes", "--out", p.out + "/envmap"};
+        std::vector<std::string> lobes = {"envmap", "lobes"};
         for (const char* kind : {"sky", "studio", "mixture"}) {
-          const std::string path = p.out + "/envmap/" + kind + ".exr";
+          const std::string path = p.dir(kEnvmapDir) + "/" + kind + ".exr";
           v.push_back(sglab_step(std::string("envmap-make-") + kind,
                                  std::string("generated environment: ") + kind + " (512×256 EXR)",
                                  {"envmap", "make", kind, "--out", path}));
@@ -501,10 +501,10 @@ Experiment envmap_experiment() {
         }
         v.push_back(timed(sglab_step("envmap-lobes",
                                      "SG mixture fits and shading error against N (paper_tables/envmap_lobes.*)", lobes,
-                                     {"--quick"}, "--tables-dir")));
+                                     {"--quick"})));
         v.push_back(plot_step("plot-envmap", "environment error against N, and each map beside its reconstructions",
                               {"plots/envmap_lobes.py", p.tables + "/envmap_lobes.csv",
-                               p.out + "/envmap/envmap_images.csv", p.key_figures()}));
+                               p.dir(kEnvmapDir) + "/envmap_images.csv", p.key_figures()}));
         return v;
       },
       "envmap"};

@@ -6,11 +6,21 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "envmap.hpp"
 #include "sglab/render/environment.hpp"
+#include "run_context.hpp"
 #include "table.hpp"
+
+namespace sglab::experiments {
+
+// The environment-map experiments' output directory in a run's places (runner::Places::dir):
+// `envmap lobes` and `envmap bases`, and the maps their steps generate.
+inline constexpr std::string_view kEnvmapDir = "envmap";
+
+}  // namespace sglab::experiments
 
 namespace sglab::experiments::envmap_lobes {
 
@@ -18,8 +28,8 @@ struct Options {
   std::vector<std::string> envs;  // NAME=PATH
   std::vector<int> lobes{1, 2, 4, 8, 16, 32, 64, 128};
   std::vector<double> roughness{0.1, 0.3, 0.7};
-  std::string out = "results/envmap";
-  std::string tables_dir;  // empty: the --out directory
+  std::string out = runner::Places{}.dir(kEnvmapDir);  // --out: a plain run's
+  std::string tables_dir;                              // empty: the --out directory
   int sphere_res = 24;
   double f0 = 0.04;
   bool quick = false;  // N ∈ {1, 4}, 12-pixel sphere

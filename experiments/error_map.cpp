@@ -247,6 +247,7 @@ void add_error_map_command(CLI::App& app, const runner::RunContext& run) {
   auto opts = std::make_shared<error_map::Options>();
   auto* sub = app.add_subcommand("error-map",
                                  "Signed error of each diffuse method over the (λ, c) plane, against the reference");
+  opts->out_dir = run.places.dir(error_map::kDir);
   sub->add_option("--out", opts->out_dir, "directory for error_map.csv, error_map_summary.csv, error_map.md")
       ->capture_default_str();
   frontend::add_constants_option(*sub, opts->constants);
@@ -260,18 +261,18 @@ void add_error_map_command(CLI::App& app, const runner::RunContext& run) {
   sub->callback([opts, run] { error_map::write(*opts, runner::with_run(error_map::compute(*opts), run)); });
 }
 
-std::vector<Step> error_map_steps(const Places& p) {
+std::vector<Step> error_map_steps(const runner::Places& p) {
+  const std::string csv = p.dir(error_map::kDir) + "/error_map.csv";
   return std::vector<Step>{
-      sglab_step("error-map", "signed error of each diffuse method over (λ, c) against the reference",
-                 {"error-map", "--out", p.out + "/error_map"}, {"--quick"}, "", true),
+      sglab_step("error-map", "signed error of each diffuse method over (λ, c) against the reference", {"error-map"},
+                 {"--quick"}, true),
       plot_step("plot-error-maps", "error maps of the diffuse methods, one panel per method",
-                {"plots/error_maps.py", p.out + "/error_map/error_map.csv", p.out + "/figures/error_maps"},
-                {"--quick"}),
+                {"plots/error_maps.py", csv, p.dir(kFiguresDir) + "/error_maps"}, {"--quick"}),
       plot_step("plot-own-method",
                 "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried "
                 "(paper_tables/own_method.md)",
-                {"plots/own_method.py", p.out + "/error_map/error_map.csv", "plots/own_method_forms.csv",
-                 p.tables + "/error_vs_time.csv", p.key_figures()})};
+                {"plots/own_method.py", csv, "plots/own_method_forms.csv", p.tables + "/error_vs_time.csv",
+                 p.key_figures()})};
 }
 
 Experiment error_map_experiment() {

@@ -5,15 +5,20 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "constant_sets.hpp"
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::error_map {
 
+// Its output directory in a run's places (runner::Places::dir).
+inline constexpr std::string_view kDir = "error_map";
+
 struct Options {
-  std::string out_dir = "results/error_map";
+  std::string out_dir = runner::Places{}.dir(kDir);  // --out: a plain run's
   std::string quantity = "clamped-cosine";
   int size = -1;  // points per axis; -1 (not given): 200 (40 with --quick)
   double lambda_min = 1e-3, lambda_max = 1e4;

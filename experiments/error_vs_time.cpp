@@ -25,6 +25,7 @@
 #include "option_checks.hpp"
 #include "constant_sets.hpp"
 #include "error_grid.hpp"
+#include "fit_all.hpp"
 #include "sglab/error_metrics.hpp"
 #include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
@@ -505,7 +506,8 @@ void add_error_vs_time_command(CLI::App& app, const runner::RunContext& run) {
                   "quantities: (sharpness, cosine) quantities with a reference, and specular")
       ->capture_default_str()
       ->check(frontend::one_of(error_vs_time::grid_quantity_names(), "quantity"));
-  frontend::add_places_options(*sub, opts->out_dir, opts->tables_dir, "directory for the per-method CSV",
+  frontend::add_places_options(*sub, run.places, error_vs_time::kDir, opts->out_dir, opts->tables_dir,
+                               "directory for the per-method CSV",
                                "directory for error_vs_time.{md,csv} (default: the --out directory)", "--tables");
   sub->add_flag("--quick", opts->quick, "coarser grid, fewer timing repeats");
   frontend::add_constants_option(*sub, opts->constants);
@@ -515,15 +517,14 @@ void add_error_vs_time_command(CLI::App& app, const runner::RunContext& run) {
   });
 }
 
-std::vector<Step> error_vs_time_steps(const Places& p) {
+std::vector<Step> error_vs_time_steps(const runner::Places& p) {
   return std::vector<Step>{
       timed(sglab_step(
           "error-vs-time",
           "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
-          {"error-vs-time", "--out", p.out + "/error_vs_time", "--constants", p.out + "/fits"}, {"--quick"}, "--tables",
-          true)),
+          {"error-vs-time", "--constants", p.dir(fit_all::kDir)}, {"--quick"}, true)),
       plot_step("plot-error-vs-time", "Pareto figure of error against time",
-                {"plots/error_vs_time.py", p.out + "/error_vs_time/error_vs_time.csv", p.key_figures()})};
+                {"plots/error_vs_time.py", p.dir(error_vs_time::kDir) + "/error_vs_time.csv", p.key_figures()})};
 }
 
 Experiment error_vs_time_experiment() {

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cmath>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "constant_sets.hpp"
@@ -15,10 +16,13 @@
 
 namespace sglab::experiments::error_vs_time {
 
+// Its output directory in a run's places (runner::Places::dir): results/error_vs_time.
+inline constexpr std::string_view kDir = "error_vs_time";
+
 struct Options {
   std::vector<std::string> quantities = {"clamped-cosine", "specular"};
-  std::string out_dir = "results/error_vs_time";
-  std::string tables_dir;  // --tables; empty: beside the per-method CSV (out_dir)
+  std::string out_dir = runner::Places{}.dir(kDir);  // --out: a plain run's; the command's default is its run's
+  std::string tables_dir;                            // --tables; empty: beside the per-method CSV (out_dir)
   bool quick = false;
   frontend::Constants constants;  // --constants (constant_sets.hpp): refit rows beside the published ones
 };

@@ -496,7 +496,7 @@ void add_filter_sweep_command(CLI::App& app, const runner::RunContext& run) {
   noisy->weights = sub->add_option("--weights", opts->weights, "weightings, comma-separated")
                        ->capture_default_str()
                        ->check(frontend::one_of(render::filter_weights_names(), "weights", true));
-  frontend::add_places_options(*sub, opts->out, opts->tables_dir,
+  frontend::add_places_options(*sub, run.places, filter_sweep::kDir, opts->out, opts->tables_dir,
                                "directory for the per-row CSV (and the figure's images)",
                                "directory for NAME.md and NAME.csv (default: the --out directory)");
   noisy->table = sub->add_option("--table", opts->table,
@@ -534,42 +534,41 @@ void add_filter_sweep_command(CLI::App& app, const runner::RunContext& run) {
 
 // Lobe-aware filtering, both passes: both weightings on cornell-glossy (`sglab filter`, upsampling and
 // a noisy interleaved image), then the roughness sweeps of each pass and the figure of the second.
-std::vector<Step> filtering_steps(const Places& p) {
+std::vector<Step> filtering_steps(const runner::Places& p) {
   std::vector<Step> v;
+  const std::string dir = p.dir(filter_sweep::kDir);
   for (const char* weights : {"normal", "lobe"}) {
-    const std::string base = p.out + "/filtering/cornell-glossy-" + weights;
+    const std::string base = dir + "/cornell-glossy-" + weights;
     v.push_back(sglab_step(std::string("filter-cornell-glossy-") + weights,
                            std::string("upsampling 1/4-resolution indirect light with ") +
                                (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") +
                                " weights (EXR + stats)",
                            {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--out", base + ".exr",
                             "--stats", base + ".json"},
-                           {"--width", "64", "--height", "64"}, "", true));
+                           {"--width", "64", "--height", "64"}, true));
     v.push_back(sglab_step(std::string("filter-cornell-glossy-denoise-") + weights,
                            std::string("filtering a noisy 4×4-interleaved VPL image with ") +
                                (std::string(weights) == "normal" ? "normal/depth" : "lobe-aware") +
                                " weights (EXR + stats)",
                            {"filter", "scenes/cornell-glossy.json", "--weights", weights, "--noisy", "interleaved:4",
                             "--out", base + "-denoise.exr", "--stats", base + "-denoise.json"},
-                           {"--width", "64", "--height", "64"}, "", true));
+                           {"--width", "64", "--height", "64"}, true));
   }
   v.push_back(sglab_step(
       "filter-sweep",
       "upsampling error per weighting over the floor's roughness on cornell-glossy (paper_tables/filtering.*)",
-      {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--out", p.out + "/filtering"},
-      {"--width", "64", "--height", "64"}, "--tables-dir", true));
+      {"filter-sweep", "--scene", "scenes/cornell-glossy.json"}, {"--width", "64", "--height", "64"}, true));
   // Its table carries the filter's time per pixel: nothing runs beside it.
-  v.push_back(
-      timed(sglab_step("filter-sweep-denoise",
-                       "filtering noisy interleaved VPL images: error per weighting over the floor's roughness × M on "
-                       "cornell-glossy (paper_tables/filtering_denoise.*)",
-                       {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--noisy",
-                        "interleaved:2,interleaved:4,interleaved:8", "--out", p.out + "/filtering"},
-                       {"--width", "64", "--height", "64"}, "--tables-dir", true)));
+  v.push_back(timed(sglab_step(
+      "filter-sweep-denoise",
+      "filtering noisy interleaved VPL images: error per weighting over the floor's roughness × M on "
+      "cornell-glossy (paper_tables/filtering_denoise.*)",
+      {"filter-sweep", "--scene", "scenes/cornell-glossy.json", "--noisy", "interleaved:2,interleaved:4,interleaved:8"},
+      {"--width", "64", "--height", "64"}, true)));
   v.push_back(plot_step(
       "plot-filtering-denoise",
       "crops of the glossy floor and a diffuse wall: noisy, normal- and lobe-filtered, exact, at two roughnesses",
-      {"plots/filtering_denoise.py", p.out + "/filtering/filtering_denoise_images.csv", p.key_figures()}));
+      {"plots/filtering_denoise.py", dir + "/filtering_denoise_images.csv", p.key_figures()}));
   return v;
 }
 

@@ -5,20 +5,25 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "filter_job.hpp"
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::filter_sweep {
+
+// The filtering sweeps' output directory in a run's places (runner::Places::dir), both passes'.
+inline constexpr std::string_view kDir = "filtering";
 
 struct Options {
   frontend::FilterJob job;
   std::string roughness = "0.02,0.05,0.1,0.2,0.4,0.7";  // comma-separated, as given
   std::string scales = "2,4,8";
   std::string weights = "spatial,normal,lobe,lobe-depth";
-  std::string out = "results/filtering";
-  std::string tables_dir;  // empty: the --out directory
+  std::string out = runner::Places{}.dir(kDir);  // --out: a plain run's
+  std::string tables_dir;                        // empty: the --out directory
   std::string table = "filtering";
   bool quiet = false;
 };

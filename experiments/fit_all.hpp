@@ -6,24 +6,31 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 #include "driver.hpp"
 #include "fit_record.hpp"
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::fit_all {
 
+// The fits' directory in a run's places (runner::Places::dir): results/fits, where `sglab
+// reproduce` has `fit all` write its records (--json-dir) for the steps that read them.
+inline constexpr std::string_view kDir = "fits";
+// The λ_d fits under the other objectives (`sglab fit lambda-d --objective …`), for the λ_d render sweep.
+inline constexpr std::string_view kObjectivesDir = "fits-objectives";
+
 struct Options {
-  std::string precision = "float";  // half | float | double (cosine-sharpness)
-  double beta = 20, kappa = 100;    // lambda-c: σ_n² = (2λ_c + κ)/(βλ_cκ)
-  std::string json_dir;             // one NAME.json per fit (its default objective): a constant set
-  std::string tables_dir;           // constants.{md,csv,tex}; empty: json_dir, or results/fits without it
-  bool quick = false;               // --quick: the slow fits on coarser grids, fewer rounds (fit::FitOptions)
-  std::filesystem::path tables() const {
-    return !tables_dir.empty() ? tables_dir : !json_dir.empty() ? json_dir : "results/fits";
-  }
+  std::string precision = "float";               // half | float | double (cosine-sharpness)
+  double beta = 20, kappa = 100;                 // lambda-c: σ_n² = (2λ_c + κ)/(βλ_cκ)
+  std::string json_dir;                          // one NAME.json per fit (its default objective): a constant set
+  std::string tables_dir;                        // constants.{md,csv,tex}; empty: json_dir, or `dir` without it
+  std::string dir = runner::Places{}.dir(kDir);  // the run's fits' directory
+  bool quick = false;  // --quick: the slow fits on coarser grids, fewer rounds (fit::FitOptions)
+  std::filesystem::path tables() const { return !tables_dir.empty() ? tables_dir : !json_dir.empty() ? json_dir : dir; }
 };
 
 // One fit with `objective` ("": the fit's default). InputError for a bad objective, precision, β or κ.

@@ -405,8 +405,8 @@ void add_near_wall_command(CLI::App& app, const runner::RunContext& run) {
   sub->add_option("--height", o->job.height, "image height (default: the scene's camera.height)");
   sub->add_option("--dump", o->dump,
                   "per-pixel CSV: i, j, object, sharpness, cosine, log_radiance_scale, D of every method");
-  sub->add_option("--tables-dir", o->tables_dir, "directory for near_wall_smape{,_sweep}.{md,csv}")
-      ->capture_default_str();
+  frontend::add_tables_option(*sub, run.places, near_wall::kDir, o->tables_dir,
+                              "directory for near_wall_smape{,_sweep}.{md,csv}");
   sub->add_option("--sweep-sharpness", o->sweep_sharpness, "SG light sharpness values of the sweep")->delimiter(',');
   sub->add_option("--sweep-distance", o->sweep_distance, "light distances from the wall of the sweep")->delimiter(',');
   sub->add_option("--sweep-width", o->sweep_width, "image width of each sweep point")->capture_default_str();
@@ -418,9 +418,10 @@ void add_near_wall_command(CLI::App& app, const runner::RunContext& run) {
 // diffuse method the renderer takes (every clamped-cosine method of the registry but its
 // reference), and one SMAPE map per method (near_wall_vsgl_vs_vpl_sum.png). Not the poster's
 // figure: that is `near-wall` (each method against the exact integral).
-std::vector<Step> near_wall_steps(const Places& p) {
+std::vector<Step> near_wall_steps(const runner::Places& p) {
   std::vector<Step> v;
   std::vector<std::string> plot = {"plots/near_wall_vsgl_vs_vpl_sum.py", p.key_figures()};
+  const std::string pixels = p.dir(near_wall::kDir) + "/pixels.csv";
   const std::string reference = find_quantity("clamped-cosine")->reference_method;
   for (const auto& m : render::diffuse_method_names()) {
     if (m == reference) continue;
@@ -428,7 +429,7 @@ std::vector<Step> near_wall_steps(const Places& p) {
                             "near-wall scene with diffuse method " + m + " (one VSGL against the VPL sum)",
                             "scenes/sg-light-near-wall.json", "near-wall-" + m, 160, 120,
                             {"--width", "64", "--height", "48"}, {"--diffuse", m}));
-    plot.push_back(m + "=" + p.out + "/renders/near-wall-" + m + ".csv");
+    plot.push_back(m + "=" + p.dir(kRendersDir) + "/near-wall-" + m + ".csv");
   }
   v.push_back(plot_step("plot-near-wall-vsgl-vs-vpl-sum",
                         "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot));
@@ -437,13 +438,13 @@ std::vector<Step> near_wall_steps(const Places& p) {
   v.push_back(sglab_step(
       "near-wall",
       "sharp SG light near a wall: each diffuse method against the exact integral (paper_tables/near_wall_smape*)",
-      {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", p.out + "/near_wall/pixels.csv",
-       "--sweep-sharpness", "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
-      {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}, "--tables-dir"));
+      {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", pixels, "--sweep-sharpness",
+       "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
+      {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}));
   v.push_back(plot_step("plot-near-wall-smape",
                         "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
-                        {"plots/near_wall_smape.py", p.out + "/near_wall/pixels.csv", p.key_figures(),
-                         p.tables + "/near_wall_smape.csv"}));
+                        {"plots/near_wall_smape.py", pixels, p.key_figures(),
+                         p.tables_or_dir(near_wall::kDir) + "/near_wall_smape.csv"}));
   return v;
 }
 

@@ -6,17 +6,23 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "render_job.hpp"
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::near_wall {
 
+// Its directory in a run's places (runner::Places::dir): its tables go to results/near_wall unless
+// the run has a tables directory (paper_tables/ in `sglab reproduce`).
+inline constexpr std::string_view kDir = "near_wall";
+
 struct Options {
   frontend::RenderJob job;  // scene path, --set, --width, --height
   std::string dump;
-  std::string tables_dir = "results/near_wall";  // --tables-dir (paper_tables/ only in `sglab reproduce`)
+  std::string tables_dir = runner::Places{}.tables_or_dir(kDir);  // --tables-dir: a plain run's
   std::vector<double> sweep_sharpness, sweep_distance;
   int sweep_width = 96, sweep_height = 72;
 };

@@ -20,12 +20,14 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "csv.hpp"
+#include "error_map.hpp"
 #include "option_checks.hpp"
 #include "parse_number.hpp"
 #include "registry.hpp"
@@ -37,11 +39,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Its output directory in a run's places (runner::Places::dir).
+constexpr std::string_view kDir = "own_method";
+
+// The error map's per-point CSV in a run's places.
+std::string error_map_csv(const runner::Places& p) { return p.dir(error_map::kDir) + "/error_map.csv"; }
+
+// The defaults: a plain run's (Places{}); the command's are its run's.
 struct Options {
-  std::string from = "paper_tables";  // error_vs_time.csv, stability.csv, constants.csv
-  std::string error_map = "results/error_map/error_map.csv";
+  std::string from = runner::Places{}.tables_read();  // error_vs_time.csv, stability.csv, constants.csv
+  std::string error_map = error_map_csv({});
   std::string forms = "plots/own_method_forms.csv";
-  std::string out = "results/own_method";
+  std::string out = runner::Places{}.dir(kDir);
   std::string tables_dir;  // default: --out
 };
 
@@ -393,6 +402,8 @@ void write(const Options& o, const runner::RunContext& run) {
 
 void add_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<Options>();
+  o->from = run.places.tables_read();
+  o->error_map = error_map_csv(run.places);
   auto* sub = app.add_subcommand(
       "own-method", "write-up of sglab's own diffuse method against tokuyoshi2024, from the tables it summarises");
   sub->add_option("--from", o->from, "directory of error_vs_time.csv, stability.csv and constants.csv")
@@ -402,8 +413,9 @@ void add_command(CLI::App& app, const runner::RunContext& run) {
       ->capture_default_str();
   sub->add_option("--forms", o->forms, "the forms tried (max error, the method each costs like)")
       ->capture_default_str();
-  sub->add_option("--out", o->out, "output directory (own_method.{md,csv} unless --tables-dir)")->capture_default_str();
-  sub->add_option("--tables-dir", o->tables_dir, "directory for own_method.{md,csv} (default: --out)");
+  frontend::add_places_options(*sub, run.places, kDir, o->out, o->tables_dir,
+                               "output directory (own_method.{md,csv} unless --tables-dir)",
+                               "directory for own_method.{md,csv} (default: --out)");
   sub->callback([o, run] { write(*o, run); });
 }
 
@@ -411,13 +423,12 @@ void add_command(CLI::App& app, const runner::RunContext& run) {
 
 namespace sglab::experiments {
 
-std::vector<Step> own_method_steps(const Places& p) {
+std::vector<Step> own_method_steps(const runner::Places& p) {
+  // Its inputs named (the marker fingerprints the files a step names); its outputs in the run's places.
   return std::vector<Step>{sglab_step("own-method",
                                       "sglab's own diffuse method against tokuyoshi2024, from the tables it summarises "
                                       "(paper_tables/own_method.*)",
-                                      {"own-method", "--from", p.tables, "--error-map",
-                                       p.out + "/error_map/error_map.csv", "--out", p.out + "/own_method"},
-                                      {}, "--tables-dir")};
+                                      {"own-method", "--from", p.tables, "--error-map", own_method::error_map_csv(p)})};
 }
 
 Experiment own_method_experiment() {

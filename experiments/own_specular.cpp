@@ -18,6 +18,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -32,6 +33,7 @@
 #include "sglab/specular.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sweep.hpp"
+#include "sweep_specular.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::own_specular {
@@ -39,9 +41,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Its output directory in a run's places (runner::Places::dir).
+constexpr std::string_view kDir = "own_specular";
+
+// The specular sweep's per-point CSV in a run's places.
+std::string points_csv(const runner::Places& p) { return p.dir(kSpecularDir) + "/specular_points.csv"; }
+
+// The defaults: a plain run's (Places{}); the command's are its run's.
 struct Options {
-  std::string points = "results/specular/specular_points.csv";
-  std::string out = "results/own_specular";
+  std::string points = points_csv({});
+  std::string out = runner::Places{}.dir(kDir);
   std::string tables_dir;  // default: --out
   bool quick = false;
 };
@@ -482,14 +491,15 @@ void write(const Options& o, const runner::RunContext& run) {
 
 void add_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<Options>();
+  o->points = points_csv(run.places);
   auto* sub = app.add_subcommand(
       "own-specular",
       "write-up of sglab's own specular method: errors on and off the sweep grid, error maps, forms tried");
   sub->add_option("--points", o->points, "specular_points.csv of `sglab sweep specular` (full or --quick grid)")
       ->capture_default_str();
-  sub->add_option("--out", o->out, "output directory (own_specular.{md,csv} unless --tables-dir)")
-      ->capture_default_str();
-  sub->add_option("--tables-dir", o->tables_dir, "directory for own_specular.{md,csv} (default: --out)");
+  frontend::add_places_options(*sub, run.places, kDir, o->out, o->tables_dir,
+                               "output directory (own_specular.{md,csv} unless --tables-dir)",
+                               "directory for own_specular.{md,csv} (default: --out)");
   sub->add_flag("--quick", o->quick, "8 off-grid points instead of 60");
   sub->callback([o, run] { write(*o, run); });
 }
@@ -498,12 +508,12 @@ void add_command(CLI::App& app, const runner::RunContext& run) {
 
 namespace sglab::experiments {
 
-std::vector<Step> own_specular_steps(const Places& p) {
+std::vector<Step> own_specular_steps(const runner::Places& p) {
+  // Its input named (the marker fingerprints the files a step names); its outputs in the run's places.
   return std::vector<Step>{sglab_step(
       "own-specular",
       "sglab's own specular method: on and off the sweep grid, error maps, forms tried (paper_tables/own_specular.*)",
-      {"own-specular", "--points", p.out + "/specular/specular_points.csv", "--out", p.out + "/own_specular"},
-      {"--quick"}, "--tables-dir")};
+      {"own-specular", "--points", own_specular::points_csv(p)}, {"--quick"})};
 }
 
 Experiment own_specular_experiment() {

@@ -179,19 +179,19 @@ void add_poster_plots_command(CLI::App& app, const runner::RunContext& run) {
   auto* sub = app.add_subcommand(
       "poster-plots",
       "Tokuyoshi 2022 poster's two plots: cosine-term error against the float bound, hemispherical RMSE (CSV)");
-  sub->add_option("--tables-dir", o->tables_dir, "directory for cosine_term_error*.csv and hemispherical_rmse.csv")
-      ->capture_default_str();
+  frontend::add_tables_option(*sub, run.places, poster_plots::kDir, o->tables_dir,
+                              "directory for cosine_term_error*.csv and hemispherical_rmse.csv");
   sub->callback([o, run] { poster_plots::write(runner::with_run(poster_plots::compute(*o), run)); });
 }
 
-std::vector<Step> poster_plots_steps(const Places& p) {
+std::vector<Step> poster_plots_steps(const runner::Places& p) {
   return std::vector<Step>{
       sglab_step(
           "poster-plots",
           "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE (paper_tables/*.csv)",
-          {"poster-plots"}, {}, "--tables-dir"),
+          {"poster-plots"}),
       plot_step("plot-poster-plots", "figures of the poster's two plots",
-                {"plots/poster_plots.py", p.tables, p.key_figures()})};
+                {"plots/poster_plots.py", p.tables_or_dir(poster_plots::kDir), p.key_figures()})};
 }
 
 Experiment poster_plots_experiment() {

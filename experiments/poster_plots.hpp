@@ -4,14 +4,20 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::poster_plots {
 
+// Its directory in a run's places (runner::Places::dir): its tables go there unless the run has
+// a tables directory (paper_tables/ in `sglab reproduce`).
+inline constexpr std::string_view kDir = "poster_plots";
+
 struct Options {
-  std::string tables_dir = "results/poster_plots";  // --tables-dir (paper_tables/ only in `sglab reproduce`)
+  std::string tables_dir = runner::Places{}.tables_or_dir(kDir);  // --tables-dir: a plain run's
 };
 
 // Per λ: max_t |α(e^{λt} − 1) − t|, the float32 bound α·u·(e^λ + 1), their sum, and the error

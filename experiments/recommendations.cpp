@@ -1103,21 +1103,22 @@ namespace sglab::experiments {
 
 void add_recommend_command(CLI::App& app, const runner::RunContext& run) {
   auto o = std::make_shared<recommendations::Options>();
+  o->from = run.places.tables_read();
   auto* sub = app.add_subcommand("recommend",
                                  "Which method to ship, per quantity: Pareto fronts and caveats read from the tables");
   sub->add_option("--from", o->from, "directory of the tables to read (a full `sglab reproduce`'s)")
       ->capture_default_str();
-  frontend::add_places_options(*sub, o->out, o->tables_dir, "directory for recommendations.md",
+  frontend::add_places_options(*sub, run.places, recommendations::kDir, o->out, o->tables_dir,
+                               "directory for recommendations.md",
                                "where recommendations.md goes (default: the --out directory)");
   sub->callback([o, run] { recommendations::write(*o, runner::with_run(recommendations::compute(*o), run)); });
 }
 
 Experiment recommendations_experiment() {
   return {"recommend", "which method to ship, per quantity, from the tables (recommendations.md)",
-          add_recommend_command, [](const Places& p) {
+          add_recommend_command, [](const runner::Places& p) {
             Step s = sglab_step("recommend", "recommendations.md: Pareto fronts, budgets and caveats from every table",
-                                {"recommend", "--from", p.tables, "--out", p.out + "/recommendations"}, {},
-                                "--tables-dir");
+                                {"recommend", "--from", p.tables});
             for (const auto& f : recommendations::input_tables()) s.reads.push_back(p.tables + "/" + f);
             return std::vector<Step>{s};
           }};

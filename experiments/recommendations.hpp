@@ -8,16 +8,21 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::recommendations {
 
+// Its output directory in a run's places (runner::Places::dir).
+inline constexpr std::string_view kDir = "recommendations";
+
 struct Options {
-  std::string from = "paper_tables";            // --from: the tables read
-  std::string out = "results/recommendations";  // --out
-  std::string tables_dir;                       // --tables-dir: where recommendations.md goes (default: --out)
+  std::string from = runner::Places{}.tables_read();  // --from: the tables read (a plain run's default)
+  std::string out = runner::Places{}.dir(kDir);       // --out (a plain run's default)
+  std::string tables_dir;                             // --tables-dir: where recommendations.md goes (default: --out)
 };
 
 // The tables `compute` reads (file names in Options::from), every one of them: `sglab reproduce`

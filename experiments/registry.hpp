@@ -19,27 +19,20 @@ class App;
 
 namespace sglab::experiments {
 
-// Where a run writes: a full run writes its tables and the figures README.md shows into
-// paper_tables/ (the others into OUT/figures); a --quick run writes everything under
-// results/quick/ (tables in results/quick/tables/) and never touches paper_tables/.
-struct Places {
-  std::string out;     // per-step outputs: CSVs, renders, fit records, other figures
-  std::string tables;  // the tables, and the key figures in TABLES/figures
-  std::string key_figures() const { return tables + "/figures"; }
-};
-
 // One step of `sglab reproduce`: an ordinary `sglab` command line (or a python3 plot script),
-// run in-process, so that every table it writes is headed by the very command a user can run.
+// run in-process, so that every table it writes is headed by the very command a user can run. An
+// sglab step runs in the run's places (runner::Places: a full run writes its tables and the
+// figures README.md shows into paper_tables/, the rest into results/; a --quick run writes
+// everything under results/quick/, tables in results/quick/tables/, and never touches
+// paper_tables/): its command's --out and tables directory default to them, so its arguments name
+// only its inputs and the files a general tool writes (a render's image), never a directory of
+// its own outputs.
 struct Step {
   std::string name;
   std::string what;
   std::vector<std::string> args;        // the sglab command line (without "sglab")
   std::vector<std::string> quick_args;  // appended with --quick
   bool python = false;                  // args are a python3 script and its arguments instead
-  // The option through which the step's command takes the directory of its tables ("--tables",
-  // "--tables-dir"); empty for a step that writes no table. Every table-writing step gets it
-  // explicitly, so that no step relies on a default that points into paper_tables/.
-  std::string tables_option;
   // The step's command takes a constant set (`sglab reproduce --constants` is passed on to it).
   bool takes_constants = false;
   // Its tables carry wall-clock times: `sglab reproduce` runs it with nothing beside it.
@@ -55,15 +48,20 @@ Step timed(Step s);
 
 // A step running `sglab ARGS` (with QUICK_ARGS appended in a --quick run).
 Step sglab_step(std::string name, std::string what, std::vector<std::string> args,
-                std::vector<std::string> quick_args = {}, std::string tables_option = "", bool takes_constants = false);
+                std::vector<std::string> quick_args = {}, bool takes_constants = false);
 // A step running `python3 SCRIPT ARGS…` (a figure).
 Step plot_step(std::string name, std::string what, std::vector<std::string> args,
                std::vector<std::string> quick_args = {});
 
+// The renders' directory in a run's places (runner::Places::dir), and the figures' that README.md
+// does not show (those it shows go to Places::key_figures()).
+inline constexpr std::string_view kRendersDir = "renders", kFiguresDir = "figures";
+
 // `sglab render SCENE EXTRA… --out OUT/renders/BASE.exr --stats ….json --dump-csv ….csv --width W
 // --height H` (it takes the constant sets).
-Step render_step(const Places& p, std::string name, std::string what, const std::string& scene, const std::string& base,
-                 int width, int height, std::vector<std::string> quick, std::vector<std::string> extra = {});
+Step render_step(const runner::Places& p, std::string name, std::string what, const std::string& scene,
+                 const std::string& base, int width, int height, std::vector<std::string> quick,
+                 std::vector<std::string> extra = {});
 
 struct Experiment {
   std::string name;     // "error-vs-time"
@@ -72,7 +70,7 @@ struct Experiment {
   // `under`, run in `run` (runner/run_context.hpp); null when general tools of cli/ (render, fit)
   // run its steps.
   void (*add_command)(CLI::App& parent, const runner::RunContext& run) = nullptr;
-  std::function<std::vector<Step>(const Places&)> steps;
+  std::function<std::vector<Step>(const runner::Places&)> steps;
   // The parent of its command: "" for `sglab COMMAND`, or a general tool that groups experiments
   // ("sweep": `sglab sweep KIND`, "envmap": `sglab envmap COMMAND`).
   std::string under = "";
@@ -114,6 +112,6 @@ const std::vector<Experiment>& experiment_registry();
 void add_experiment_commands(CLI::App& parent, std::string_view under, const runner::RunContext& run);
 
 // Every step of every experiment, in order.
-std::vector<Step> all_steps(const Places& places);
+std::vector<Step> all_steps(const runner::Places& places);
 
 }  // namespace sglab::experiments

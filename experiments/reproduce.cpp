@@ -216,21 +216,27 @@ struct StepTimes {
 
 }  // namespace
 
-Places reproduce_places(const ReproduceOptions& o) {
-  Places p;
-  p.out = !o.out.empty() ? o.out : o.quick ? "results/quick" : "results";
-  p.tables = !o.tables_dir.empty() ? o.tables_dir : o.quick ? p.out + "/tables" : "paper_tables";
+runner::Places reproduce_places(const ReproduceOptions& o) {
+  runner::Places p;  // a plain run's: results/
+  p.out = !o.out.empty() ? o.out : o.quick ? p.dir("quick") : p.out;
+  p.tables = !o.tables_dir.empty() ? o.tables_dir : o.quick ? p.dir("tables") : std::string(runner::kPaperTables);
   return p;
 }
 
-// The command line of step `s` in this mode (without "sglab" / "python3").
-std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o, const Places& p) {
+std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o) {
   std::vector<std::string> args = s.args;
   if (o.quick) args.insert(args.end(), s.quick_args.begin(), s.quick_args.end());
-  if (!s.tables_option.empty()) args.insert(args.end(), {s.tables_option, p.tables});
   if (s.takes_constants)
     for (const auto& c : o.constants) args.insert(args.end(), {"--constants", c});
   return args;
+}
+
+std::string step_line(const Step& s, const ReproduceOptions& o, const runner::Places& p) {
+  if (s.python) return "python3 " + join(step_args(s, o));
+  std::vector<std::string> words = runner::places_arguments(p);
+  const auto args = step_args(s, o);
+  words.insert(words.end(), args.begin(), args.end());
+  return "sglab " + join(words);
 }
 
 namespace {
@@ -238,14 +244,15 @@ namespace {
 // One run of the steps: the markers, the step times, and the plots running beside.
 class StepRun {
  public:
-  StepRun(const ReproduceOptions& o, const SglabRunner& run_sglab, const Places& p, const std::vector<Step>& all)
+  StepRun(const ReproduceOptions& o, const SglabRunner& run_sglab, const runner::Places& p,
+          const std::vector<Step>& all)
       : o_(o),
         run_sglab_(run_sglab),
         p_(p),
         all_(all),
         markers_(std::filesystem::path(p.out) / ".steps"),
         times_csv_(std::filesystem::path(p.out) / "reproduce_times.csv"),
-        figures_{p.key_figures(), p.out + "/figures"} {
+        figures_{p.key_figures(), p.dir(kFiguresDir)} {
     std::filesystem::create_directories(markers_);
     command_ = "sglab reproduce";
     if (o.quick) command_ += " --quick";
@@ -256,8 +263,8 @@ class StepRun {
   // Step k: skipped if done earlier, else run now (an sglab step) or queued (a plot).
   void schedule(std::size_t k) {
     const Step& s = all_[k];
-    const std::vector<std::string> args = step_args(s, o_, p_);
-    const std::string line = (s.python ? "python3 " : "sglab ") + join(args);
+    const std::vector<std::string> args = step_args(s, o_);
+    const std::string line = step_line(s, o_, p_);
     const std::filesystem::path marker = markers_ / (s.name + ".done");
     if (!o_.force && done_earlier(marker, line, args, s.reads)) {
       const std::lock_guard guard(lock_);
@@ -321,8 +328,9 @@ class StepRun {
       std::tie(status, cpu) = run_python(args);
     } else {
       // Every table a --quick run writes says so, whatever the step's own options; --force
-      // recomputes the sweeps too, not only reruns their commands (which would resume).
-      status = run_sglab_(args, {.quick = o_.quick, .fresh = o_.force});
+      // recomputes the sweeps too, not only reruns their commands (which would resume); the
+      // step's outputs go to the run's places.
+      status = run_sglab_(args, {.quick = o_.quick, .fresh = o_.force, .places = p_});
       cpu = cpu_seconds() - cpu0;  // the plot thread's own CPU is negligible (it waits)
     }
     if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
@@ -340,7 +348,7 @@ class StepRun {
 
   const ReproduceOptions& o_;
   const SglabRunner& run_sglab_;
-  const Places& p_;
+  const runner::Places& p_;
   const std::vector<Step>& all_;
   const std::filesystem::path markers_, times_csv_;
   const std::vector<std::string> figures_;
@@ -355,11 +363,10 @@ class StepRun {
 }  // namespace
 
 void run_reproduce(const ReproduceOptions& o, const SglabRunner& run_sglab) {
-  const Places p = reproduce_places(o);
+  const runner::Places p = reproduce_places(o);
   const auto all = all_steps(p);
   if (o.list) {  // the steps of this mode and their command lines; nothing is run or written
-    for (const auto& s : all)
-      std::printf("%s\t%s%s\n", s.name.c_str(), s.python ? "python3 " : "sglab ", join(step_args(s, o, p)).c_str());
+    for (const auto& s : all) std::printf("%s\t%s\n", s.name.c_str(), step_line(s, o, p).c_str());
     return;
   }
   std::vector<std::string> names;

@@ -26,12 +26,18 @@ struct ReproduceOptions {
   std::vector<std::string> constants;  // --constants: appended to every step whose command takes a constant set
 };
 
-// Where a run with these options writes.
-Places reproduce_places(const ReproduceOptions& o);
+// Where a run with these options writes: OUT (default results, or results/quick with --quick) and
+// TABLES (default paper_tables, or OUT/tables with --quick). Every sglab step runs in them.
+runner::Places reproduce_places(const ReproduceOptions& o);
 
 // The command line of step `s` in this mode (without "sglab" / "python3"): its arguments, its
-// quick arguments with --quick, its tables directory, and the constant sets.
-std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o, const Places& p);
+// quick arguments with --quick, and the constant sets.
+std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o);
+
+// The line that runs step `s` alone where this mode runs it: "python3 ARGS", or "sglab PLACES
+// ARGS" with the places as `sglab` takes them before the command (runner::places_arguments).
+// Printed by --list and recorded in the step's marker.
+std::string step_line(const Step& s, const ReproduceOptions& o, const runner::Places& p);
 
 // Runs `sglab ARGS` in-process in `run` and returns its exit status (the CLI's run_sglab).
 using SglabRunner = std::function<int(const std::vector<std::string>& args, const runner::RunContext& run)>;

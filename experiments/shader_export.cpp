@@ -421,7 +421,8 @@ void add_shader_export_command(CLI::App& app, const runner::RunContext& run) {
       "shader-export",
       "Every exportable method as C, GLSL and HLSL, compiled and run (Vulkan, lavapipe) against "
       "the reference and sglab float");
-  sub->add_option("--tables-dir", o->tables_dir, "directory for shader_export.{md,csv}")->capture_default_str();
+  frontend::add_tables_option(*sub, run.places, shader_export::kDir, o->tables_dir,
+                              "directory for shader_export.{md,csv}");
   sub->add_flag("--quick", o->quick, "the quick diffuse grid");
   frontend::add_constants_option(*sub, o->constants);
   sub->callback([o, run] {
@@ -433,11 +434,11 @@ void add_shader_export_command(CLI::App& app, const runner::RunContext& run) {
   });
 }
 
-std::vector<Step> shader_export_steps(const Places&) {
+std::vector<Step> shader_export_steps(const runner::Places&) {
   return {sglab_step(
       "shader-export",
       "every exportable method as C, GLSL and HLSL, compiled and run on lavapipe (paper_tables/shader_export.*)",
-      {"shader-export"}, {"--quick"}, "--tables-dir")};
+      {"shader-export"}, {"--quick"})};
 }
 
 Experiment shader_export_experiment() {

@@ -7,17 +7,23 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "emit.hpp"
 #include "constant_sets.hpp"
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::shader_export {
 
+// Its directory in a run's places (runner::Places::dir): its tables go there unless the run has
+// a tables directory (paper_tables/ in `sglab reproduce`).
+inline constexpr std::string_view kDir = "shader_export";
+
 struct Options {
-  std::string tables_dir = "results/shader_export";
-  bool quick = false;             // the quick diffuse grid
+  std::string tables_dir = runner::Places{}.tables_or_dir(kDir);  // --tables-dir: a plain run's
+  bool quick = false;                                             // the quick diffuse grid
   frontend::Constants constants;  // --constants (constant_sets.hpp): exported with the set's values
 };
 

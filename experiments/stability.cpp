@@ -25,10 +25,13 @@
 namespace sglab::experiments {
 namespace {
 
+// Its output directory in a run's places (runner::Places::dir).
+constexpr std::string_view kDir = "stability";
+
 struct Options {
-  std::string out_dir = "results/stability";
-  std::string tables_dir;         // --tables; empty: the --out directory
-  std::vector<std::string> only;  // quantity names; empty: all
+  std::string out_dir = runner::Places{}.dir(kDir);  // --out: a plain run's
+  std::string tables_dir;                            // --tables; empty: the --out directory
+  std::vector<std::string> only;                     // quantity names; empty: all
   bool quick = false;
   frontend::Constants constants;  // --constants (constant_sets.hpp)
 };
@@ -122,7 +125,7 @@ void add_stability_command(CLI::App& app, const runner::RunContext& run) {
   auto* sub = app.add_subcommand(
       "stability",
       "Stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method over the stiff inputs");
-  frontend::add_places_options(*sub, opts->out_dir, opts->tables_dir,
+  frontend::add_places_options(*sub, run.places, kDir, opts->out_dir, opts->tables_dir,
                                "directory for stability.csv, stability_cells.csv, stability.md",
                                "directory for stability.{md,csv} (default: the --out directory)", "--tables");
   frontend::add_constants_option(*sub, opts->constants);
@@ -140,15 +143,15 @@ namespace sglab::experiments {
 
 Experiment stability_experiment() {
   return {"stability", "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method (stability.*)",
-          add_stability_command, [](const Places& p) {
+          add_stability_command, [](const runner::Places& p) {
             return std::vector<Step>{
                 sglab_step("stability",
                            "stability atlas: NaN/Inf/negative/>1 % counts and rounding error of every method "
                            "(paper_tables/stability.*)",
-                           {"stability", "--out", p.out + "/stability"}, {"--quick"}, "--tables", true),
+                           {"stability"}, {"--quick"}, true),
                 plot_step("plot-stability", "stability heat map per method, float and double side by side",
-                          {"plots/stability_heatmap.py", p.out + "/stability/stability_cells.csv",
-                           p.out + "/figures/stability"},
+                          {"plots/stability_heatmap.py", p.dir(kDir) + "/stability_cells.csv",
+                           p.dir(kFiguresDir) + "/stability"},
                           {"--quick"})};
           }};
 }

@@ -46,6 +46,7 @@
 #include "resource_limits.hpp"
 #include "sglab/text_limits.hpp"
 #include "sweep.hpp"
+#include "fit_all.hpp"
 #include "registry.hpp"
 #include "sglab/render/vsgl_generation.hpp"
 
@@ -537,9 +538,12 @@ void add_sweep_render(CLI::App& sweep, const runner::RunContext& run) {
   sub->add_option("--vsgl", o->vsgl, "VSGL configuration MODE or MODE:N (fis:64, kmeans:64; repeatable; default two)")
       ->check(frontend::one_of(render::vsgl_mode_names(), "VSGL mode", false, true));
   frontend::add_render_job_options(*sub, o->job, false);
+  o->out = run.places.dir(sweep_render::kDir);
+  o->tables_dir = run.places.tables;
   sub->add_option("--out", o->out, "directory for NAME_points.csv")->capture_default_str();
   sub->add_option("--table", o->table, "NAME of the table (default vsgl_error_vs_count, or vsgl_error_vs_<keys>)");
-  sub->add_option("--tables-dir", o->tables_dir, "directory for NAME.{md,csv} (default: the --out directory)");
+  sub->add_option("--tables-dir", o->tables_dir, "directory for NAME.{md,csv} (default: the --out directory)")
+      ->capture_default_str();
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
       ->check(frontend::shard_given());
   sub->add_option("--threads", o->threads,
@@ -550,15 +554,15 @@ void add_sweep_render(CLI::App& sweep, const runner::RunContext& run) {
   sub->callback([o, run] { sweep_render::write(sweep_render::compute(*o, run)); });
 }
 
-std::vector<Step> sweep_render_steps(const Places& p) {
-  const std::string scene = "scenes/cornell-glossy.json", sweep_out = p.out + "/render_sweep";
+std::vector<Step> sweep_render_steps(const runner::Places& p) {
+  const std::string scene = "scenes/cornell-glossy.json";
   const std::vector<std::string> coarse = {"--width", "48", "--height", "48", "--rsm", "32"};
   const auto sweep = [&](std::string name, std::string what, std::vector<std::string> configuration,
                          std::vector<std::string> quick) {
     // A 128² RSM (13k VPLs) in every full sweep: the vectorized reference makes it affordable.
     std::vector<std::string> args = {"sweep", "render", "--scene", scene, "--rsm", "128"};
     args.insert(args.end(), configuration.begin(), configuration.end());
-    return timed(sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), "--tables-dir", true));
+    return timed(sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), true));
   };
   // The VPL sum in float (`--reference-precision float`, which halves the reference's time) where
   // that leaves every printed digit as in double (checked against double runs); the tables say
@@ -574,30 +578,30 @@ std::vector<Step> sweep_render_steps(const Places& p) {
       sweep("sweep-render-count",
             "VSGL error and time against the VSGL count on cornell-glossy (paper_tables/vsgl_error_vs_count.*)",
             with_float_reference({"--vsgl", "two", "--vsgl", "fis:16", "--vsgl", "fis:64", "--vsgl", "kmeans:16",
-                                  "--vsgl", "kmeans:64", "--width", "512", "--height", "512", "--out", sweep_out}),
+                                  "--vsgl", "kmeans:64", "--width", "512", "--height", "512"}),
             {"--width", "64", "--height", "64", "--rsm", "32"}),
       sweep("sweep-render-roughness-distance",
             "VSGL error against floor roughness × light distance on cornell-glossy "
             "(paper_tables/vsgl_error_vs_roughness_distance.*)",
             {"--vary", "floor.roughness=0.01:1:12:log", "--vary", "light.distance=0.4:1.4:5", "--vsgl", "two", "--vsgl",
-             "fis:64", "--out", sweep_out},
+             "fis:64"},
             coarse),
       sweep("sweep-render-lambda-d",
             "VSGL error against λ_d on cornell-glossy: the papers' 2, the L2 fit and the other objectives' fits "
             "(paper_tables/vsgl_error_vs_lambda_d.*)",
             {"--vary",
-             "vsgl.lambda_d=2," + p.out + "/fits/lambda-d.json," + p.out + "/fits-objectives/lambda-d-l2-theta.json," +
-                 p.out + "/fits-objectives/lambda-d-l2-hemisphere.json",
-             "--vsgl", "two", "--width", "256", "--height", "256", "--out", sweep_out, "--table",
-             "vsgl_error_vs_lambda_d", "--reference-precision", "float"},
+             "vsgl.lambda_d=2," + p.dir(fit_all::kDir) + "/lambda-d.json," + p.dir(fit_all::kObjectivesDir) +
+                 "/lambda-d-l2-theta.json," + p.dir(fit_all::kObjectivesDir) + "/lambda-d-l2-hemisphere.json",
+             "--vsgl", "two", "--width", "256", "--height", "256", "--table", "vsgl_error_vs_lambda_d",
+             "--reference-precision", "float"},
             coarse)};
   // Tokuyoshi 2016 §4.1 visibility on cornell-glossy: the same configurations without and
   // with it (each against the reference that makes the same assumption).
   for (const bool vis : {false, true}) {
     const std::string on = vis ? "on" : "off";
-    std::vector<std::string> configuration = {
-        "--vsgl", "two",      "--vsgl", "fis:16", "--vsgl",  "fis:64",  "--width",
-        "128",    "--height", "128",    "--out",  sweep_out, "--table", "vsgl_visibility_" + on};
+    std::vector<std::string> configuration = {"--vsgl",   "two",    "--vsgl",  "fis:16",
+                                              "--vsgl",   "fis:64", "--width", "128",
+                                              "--height", "128",    "--table", "vsgl_visibility_" + on};
     if (vis) configuration.push_back("--visibility");
     configuration = with_float_reference(configuration);
     v.push_back(sweep("sweep-render-visibility-" + on,

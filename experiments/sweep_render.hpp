@@ -6,10 +6,12 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "csv.hpp"
 #include "render_job.hpp"
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::sweep_render {
@@ -17,11 +19,14 @@ namespace sglab::experiments::sweep_render {
 // The --vary key that sets the diffuse VSGL's λ_d instead of a scene field.
 inline const std::string kLambdaDKey = "vsgl.lambda_d";
 
+// Its output directory in a run's places (runner::Places::dir): results/render_sweep.
+inline constexpr std::string_view kDir = "render_sweep";
+
 struct Options {
   frontend::RenderJob job;
   std::vector<std::string> vary, vsgl;
-  std::string out = "results/sweep_render";
-  std::string tables_dir;  // empty: the --out directory
+  std::string out = runner::Places{}.dir(kDir);  // --out: a plain run's
+  std::string tables_dir;                        // empty: the --out directory
   std::string table;
   std::string shard;
   std::size_t threads = 1;

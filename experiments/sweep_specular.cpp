@@ -500,8 +500,8 @@ std::string specular_summary_markdown(const std::vector<SpecularSummaryRow>& row
 namespace {
 
 struct SpecularOptions {
-  std::string out = "results/specular";
-  std::string tables_dir;  // empty: the --out directory
+  std::string out = runner::Places{}.dir(kSpecularDir);  // --out: a plain run's
+  std::string tables_dir;                                // empty: the --out directory
   std::string shard;
   std::size_t threads = 0;
   bool quick = false;
@@ -541,6 +541,8 @@ void add_sweep_specular(CLI::App& sweep, const runner::RunContext& run) {
   auto o = std::make_shared<SpecularOptions>();
   auto* sub = sweep.add_subcommand(
       "specular", "Every specular method vs the reference over roughness × light sharpness × view × light position");
+  o->out = run.places.dir(kSpecularDir);
+  o->tables_dir = run.places.tables;
   sub->add_option("--out", o->out, "directory for specular_points.csv and specular_summary.csv")->capture_default_str();
   sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
@@ -549,7 +551,8 @@ void add_sweep_specular(CLI::App& sweep, const runner::RunContext& run) {
       ->capture_default_str()
       ->check(frontend::unsigned_at_most(runner::kMaxThreads));
   sub->add_option("--tables-dir", o->tables_dir,
-                  "directory for specular_vs_roughness.{md,csv} (default: the --out directory)");
+                  "directory for specular_vs_roughness.{md,csv} (default: the --out directory)")
+      ->capture_default_str();
   sub->add_option("--brdf", o->brdf,
                   "ggx (the `specular` quantity) or gaussian (the Gaussian-angle NDF BRDF, `specular-gaussian-ndf`; "
                   "tables specular_gaussian_vs_roughness.{md,csv})")
@@ -560,18 +563,17 @@ void add_sweep_specular(CLI::App& sweep, const runner::RunContext& run) {
   sub->callback([o, run] { run_specular(*o, run); });
 }
 
-std::vector<Step> sweep_specular_steps(const Places& p) {
+std::vector<Step> sweep_specular_steps(const runner::Places& p) {
   return std::vector<Step>{
       sglab_step("sweep-specular",
                  "specular methods against the GGX reference over roughness (paper_tables/specular_vs_roughness.*)",
-                 {"sweep", "specular", "--out", p.out + "/specular"}, {"--quick"}, "--tables-dir", true),
+                 {"sweep", "specular"}, {"--quick"}, true),
       sglab_step("sweep-specular-gaussian",
                  "specular methods of the Gaussian-angle NDF BRDF against that BRDF's own reference "
                  "(paper_tables/specular_gaussian_vs_roughness.*)",
-                 {"sweep", "specular", "--brdf", "gaussian", "--out", p.out + "/specular"}, {"--quick"}, "--tables-dir",
-                 true),
+                 {"sweep", "specular", "--brdf", "gaussian"}, {"--quick"}, true),
       plot_step("plot-specular", "specular error against roughness, one line per method",
-                {"plots/specular_vs_roughness.py", p.out + "/specular/specular_summary.csv", p.key_figures()})};
+                {"plots/specular_vs_roughness.py", p.dir(kSpecularDir) + "/specular_summary.csv", p.key_figures()})};
 }
 
 Experiment sweep_specular_experiment() {

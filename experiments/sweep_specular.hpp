@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "constant_sets.hpp"
@@ -18,9 +19,13 @@
 #include "sglab/error_metrics.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sweep.hpp"
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments {
+
+// The specular sweep's output directory in a run's places (runner::Places::dir): results/specular.
+inline constexpr std::string_view kSpecularDir = "specular";
 
 // A reference below this fraction of its point's scale (the largest reference over the point's
 // light positions) is "near zero": the point is left out of the relative statistics and counted

@@ -4,22 +4,24 @@
 #include <utility>
 #include <vector>
 
+#include "fit_all.hpp"
 #include "registry.hpp"
 
 namespace sglab::experiments {
 Experiment fits_experiment() {
   return {
       "fits", "`sglab fit`: re-derive every published constant (constants.*), and the λ_d fits under other objectives",
-      nullptr, [](const Places& p) {
+      nullptr, [](const runner::Places& p) {
+        // The records go to the run's fits' directory, which the later steps read (--constants).
         std::vector<Step> v = {sglab_step("fit-all", "re-derive every published constant (paper_tables/constants.*)",
-                                          {"fit", "all", "--json-dir", p.out + "/fits"}, {"--quick"}, "--tables-dir")};
+                                          {"fit", "all", "--json-dir", p.dir(fit_all::kDir)}, {"--quick"})};
         // The other objectives of lambda-d, for the λ_d render sweep (which reads them by path).
         for (const char* objective : {"theta", "hemisphere"})
           v.push_back(sglab_step(std::string("fit-lambda-d-") + objective,
                                  std::string("lambda-d under the l2-") + objective +
                                      " objective (a constant set for the λ_d render sweep)",
                                  {"fit", "lambda-d", "--objective", std::string("l2-") + objective, "--json",
-                                  p.out + "/fits-objectives/lambda-d-l2-" + objective + ".json"}));
+                                  p.dir(fit_all::kObjectivesDir) + "/lambda-d-l2-" + objective + ".json"}));
         return v;
       }};
 }
@@ -30,7 +32,7 @@ Experiment fits_experiment() {
 Experiment renders_experiment() {
   return {
       "renders", "`sglab render`: the VSGL renderer on the shipped scenes against the exact VPL sum", nullptr,
-      [](const Places& p) {
+      [](const runner::Places& p) {
         struct Scene {
           const char* name;
           const char* what;
@@ -47,7 +49,7 @@ Experiment renders_experiment() {
           v.push_back(render_step(p, std::string("render-") + s.name, s.what, std::string("scenes/") + s.name + ".json",
                                   s.name, s.width, s.height,
                                   {"--width", "64", "--height", std::to_string(s.quick_height)}));
-          plot.push_back(p.out + "/renders/" + s.name + ".csv");
+          plot.push_back(p.dir(kRendersDir) + "/" + s.name + ".csv");
         }
         v.push_back(plot_step("plot-renders",
                               "figures of the three renders: VSGL and reference, indirect alone, signed error", plot));
@@ -60,10 +62,10 @@ Experiment renders_experiment() {
                                   "scenes/diffuse-only.json", "two-vsgls-" + name, 192, 192,
                                   {"--width", "64", "--height", "64"}, args));
         }
-        v.push_back(plot_step("plot-two-vsgls-cosine",
-                              "two VSGLs: cosine pulled out vs SG cosine (after Tokuyoshi 2015 Fig. 1)",
-                              {"plots/two_vsgls_cosine.py", p.key_figures(), p.out + "/renders/two-vsgls-punctual.csv",
-                               p.out + "/renders/two-vsgls-sg-cosine.csv"}));
+        v.push_back(plot_step(
+            "plot-two-vsgls-cosine", "two VSGLs: cosine pulled out vs SG cosine (after Tokuyoshi 2015 Fig. 1)",
+            {"plots/two_vsgls_cosine.py", p.key_figures(), p.dir(kRendersDir) + "/two-vsgls-punctual.csv",
+             p.dir(kRendersDir) + "/two-vsgls-sg-cosine.csv"}));
         return v;
       }};
 }

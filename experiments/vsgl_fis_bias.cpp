@@ -222,15 +222,16 @@ void add_vsgl_fis_bias_command(CLI::App& app, const runner::RunContext& run) {
                                  "bias of the FIS VSGLs' sums (power, moments) against the exact sums, over seeds");
   sub->add_option("--seeds", o->seeds, "seeds 1 … S per RSM and N")->capture_default_str();
   sub->add_option("--rsm", o->rsm, "RSM resolution of the shipped scenes")->capture_default_str();
-  sub->add_option("--tables-dir", o->tables_dir, "directory for vsgl_fis_bias.{md,csv}")->capture_default_str();
+  frontend::add_tables_option(*sub, run.places, vsgl_fis_bias::kDir, o->tables_dir,
+                              "directory for vsgl_fis_bias.{md,csv}");
   sub->callback([o, run] { vsgl_fis_bias::write(runner::with_run(vsgl_fis_bias::compute(*o), run)); });
 }
 
-std::vector<Step> vsgl_fis_bias_steps(const Places&) {
+std::vector<Step> vsgl_fis_bias_steps(const runner::Places&) {
   return std::vector<Step>{
       sglab_step("vsgl-fis-bias",
                  "bias of the FIS VSGLs' sums against the exact sums over 64 seeds (paper_tables/vsgl_fis_bias.*)",
-                 {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"}, "--tables-dir")};
+                 {"vsgl-fis-bias"}, {"--seeds", "8", "--rsm", "16"})};
 }
 
 Experiment vsgl_fis_bias_experiment() {

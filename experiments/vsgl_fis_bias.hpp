@@ -4,16 +4,22 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "run_context.hpp"
 #include "table.hpp"
 
 namespace sglab::experiments::vsgl_fis_bias {
 
+// Its directory in a run's places (runner::Places::dir): its tables go there unless the run has
+// a tables directory (paper_tables/ in `sglab reproduce`).
+inline constexpr std::string_view kDir = "vsgl_fis_bias";
+
 struct Options {
   int seeds = 64;
-  int rsm = 64;                                      // RSM resolution of the shipped scenes
-  std::string tables_dir = "results/vsgl_fis_bias";  // --tables-dir (paper_tables/ only in `sglab reproduce`)
+  int rsm = 64;                                                   // RSM resolution of the shipped scenes
+  std::string tables_dir = runner::Places{}.tables_or_dir(kDir);  // --tables-dir: a plain run's
 };
 
 // One sum of one RSM at one N: exact value, mean over the seeds, relative bias (the first moment's

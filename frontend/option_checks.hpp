@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -17,6 +18,7 @@
 
 #include "input_error.hpp"
 #include "names.hpp"
+#include "run_context.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/text_limits.hpp"
 
@@ -120,14 +122,26 @@ inline CLI::Validator shard_given() {
       "i/N");
 }
 
-// The two places an experiment's command writes to (registry.hpp: Places), declared alike by
-// every command that has both: `--out DIR` for its per-run outputs (CSVs, images) and
-// TABLES_OPTION DIR for its tables ("--tables-dir"; "--tables" in the older commands), each
-// described by what it holds, with its default shown.
-inline void add_places_options(CLI::App& app, std::string& out, std::string& tables_dir, const std::string& out_holds,
-                               const std::string& tables_holds, const char* tables_option = "--tables-dir") {
+// The two places an experiment's command writes to, declared alike by every command that has
+// both: `--out DIR` for its per-run outputs (CSVs, images), by default the run's OUT/DIR_NAME, and
+// TABLES_OPTION DIR for its tables ("--tables-dir"; "--tables" in the older commands), by default
+// the run's tables directory (empty: beside --out; runner/run_context.hpp Places), each described
+// by what it holds, with its default shown.
+inline void add_places_options(CLI::App& app, const runner::Places& places, std::string_view dir_name, std::string& out,
+                               std::string& tables_dir, const std::string& out_holds, const std::string& tables_holds,
+                               const char* tables_option = "--tables-dir") {
+  out = places.dir(dir_name);
+  tables_dir = places.tables;
   app.add_option("--out", out, out_holds)->capture_default_str();
   app.add_option(tables_option, tables_dir, tables_holds)->capture_default_str();
+}
+
+// `--tables-dir DIR` of a command that writes only tables: by default the run's tables directory,
+// else OUT/DIR_NAME (Places::tables_or_dir).
+inline void add_tables_option(CLI::App& app, const runner::Places& places, std::string_view dir_name,
+                              std::string& tables_dir, const std::string& holds) {
+  tables_dir = places.tables_or_dir(dir_name);
+  app.add_option("--tables-dir", tables_dir, holds)->capture_default_str();
 }
 
 }  // namespace sglab::frontend

@@ -3,6 +3,7 @@
 // breaks this test, not the main job), and where each mode writes.
 #include <algorithm>
 #include <exception>
+#include <filesystem>
 #include <map>
 #include <set>
 #include <string>
@@ -28,15 +29,15 @@ struct Parsed {};
 std::vector<ex::Step> steps(const ex::ReproduceOptions& o) { return ex::all_steps(ex::reproduce_places(o)); }
 
 void expect_every_step_parses(const ex::ReproduceOptions& o) {
-  const ex::Places p = ex::reproduce_places(o);
+  const sglab::runner::Places p = ex::reproduce_places(o);
   int parsed = 0;
   for (const ex::Step& s : ex::all_steps(p)) {
     if (s.python) continue;
     CLI::App app{"sglab"};
     app.require_subcommand(1);
-    sglab::cli::add_all_commands(app, {});
+    sglab::cli::add_all_commands(app, {.places = p});
     app.parse_complete_callback([] { throw Parsed{}; });
-    std::vector<std::string> args = ex::step_args(s, o, p);
+    std::vector<std::string> args = ex::step_args(s, o);
     const std::string line = [&] {
       std::string l;
       for (const auto& a : args) l += " " + a;
@@ -81,25 +82,38 @@ TEST(Reproduce, StepNamesAreUniqueAndEveryExperimentHasSteps) {
   }
 }
 
-// A --quick run writes under results/quick/ and never names paper_tables/; a full run gives every
-// table-writing step the tables directory explicitly.
+// A --quick run writes under results/quick/ and never names paper_tables/; a full run puts its
+// tables into paper_tables/. The places reach every step through its run context, not through its
+// arguments: no sglab step names an --out or tables directory, and its printed line names the
+// places as `sglab` takes them before the command.
 TEST(Reproduce, QuickNeverTouchesPaperTables) {
   ex::ReproduceOptions o;
   o.quick = true;
-  const ex::Places p = ex::reproduce_places(o);
+  const sglab::runner::Places p = ex::reproduce_places(o);
   EXPECT_EQ(p.out, "results/quick");
   EXPECT_EQ(p.tables, "results/quick/tables");
-  for (const ex::Step& s : ex::all_steps(p))
-    for (const auto& a : ex::step_args(s, o, p))
+  for (const ex::Step& s : ex::all_steps(p)) {
+    for (const auto& a : ex::step_args(s, o))
       EXPECT_EQ(a.find("paper_tables"), std::string::npos) << s.name << ": " << a;
-  const ex::Places full = ex::reproduce_places({});
-  for (const ex::Step& s : ex::all_steps(full)) {
-    if (s.tables_option.empty()) continue;
-    const auto args = ex::step_args(s, {}, full);
-    const auto it = std::find(args.begin(), args.end(), s.tables_option);
-    ASSERT_NE(it, args.end()) << s.name;
-    EXPECT_EQ(*(it + 1), "paper_tables") << s.name;
+    if (s.python) continue;
+    for (const char* place : {"--tables", "--tables-dir"})
+      EXPECT_EQ(std::count(s.args.begin(), s.args.end(), place), 0) << s.name << " names " << place;
+    // Only the general tools name their output files (a render's image, a map, a fit record).
+    if (s.args[0] != "render" && s.args[0] != "filter" && s.args[0] != "fit" &&
+        (s.args[0] != "envmap" || s.args.at(1) != "make")) {
+      EXPECT_EQ(std::count(s.args.begin(), s.args.end(), "--out"), 0) << s.name << " names --out";
+    }
+    EXPECT_EQ(
+        ex::step_line(s, o, p).rfind("sglab --results results/quick --tables results/quick/tables " + s.args[0], 0), 0u)
+        << ex::step_line(s, o, p);
   }
+  const sglab::runner::Places full = ex::reproduce_places({});
+  EXPECT_EQ(full.out, "results");
+  EXPECT_EQ(full.tables, "paper_tables");
+  for (const ex::Step& s : ex::all_steps(full))
+    if (!s.python) {
+      EXPECT_EQ(ex::step_line(s, {}, full).rfind("sglab --tables paper_tables " + s.args[0], 0), 0u) << s.name;
+    }
 }
 
 // The near-wall renders: one per diffuse method the renderer takes, but the reference; the
@@ -165,4 +179,47 @@ TEST(ExperimentRegistry, EveryCommandIsRegisteredOnce) {
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, want) << "the commands under '" << parent << "'";
   }
+}
+
+// ---- a run's places ----------------------------------------------------------------------------
+
+// A command run in a context whose places point elsewhere writes there and nothing into a plain
+// run's places (run in-process, as `sglab reproduce` runs its steps).
+TEST(RunContextPlaces, SteerWhereACommandWrites) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::path(testing::TempDir()) / "sglab_run_context_places";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir);
+  const sglab::runner::Places places{"elsewhere/out", "elsewhere/tables"};
+  EXPECT_EQ(sglab::cli::run_sglab({"error-map", "--quick", "--size", "8"}, {.places = places}), 0);
+  EXPECT_EQ(sglab::cli::run_sglab({"error-vs-time", "--quick", "--quantity", "hemispherical"}, {.places = places}), 0);
+  const std::set<std::string> written = [&] {
+    std::set<std::string> files;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+      if (e.is_regular_file()) files.insert(fs::relative(e.path(), dir).string());
+    return files;
+  }();
+  fs::current_path(cwd);
+  const std::set<std::string> expected = {
+      "elsewhere/out/error_map/error_map.csv", "elsewhere/out/error_map/error_map_summary.csv",
+      "elsewhere/out/error_map/error_map.md",  "elsewhere/out/error_vs_time/error_vs_time.csv",
+      "elsewhere/tables/error_vs_time.csv",    "elsewhere/tables/error_vs_time.md"};
+  EXPECT_EQ(written, expected);
+  fs::remove_all(dir);
+}
+
+// The places as `sglab` takes them before the command: only those that differ from a plain run's.
+TEST(RunContextPlaces, ArgumentsNameOnlyWhatDiffersFromAPlainRun) {
+  using sglab::runner::Places;
+  EXPECT_TRUE(sglab::runner::places_arguments(Places{}).empty());
+  EXPECT_EQ(sglab::runner::places_arguments(Places{"results", "paper_tables"}),
+            (std::vector<std::string>{"--tables", "paper_tables"}));
+  EXPECT_EQ(sglab::runner::places_arguments(Places{"r", "t"}),
+            (std::vector<std::string>{"--results", "r", "--tables", "t"}));
+  EXPECT_EQ(Places{}.dir("error_vs_time"), "results/error_vs_time");
+  EXPECT_EQ(Places{}.tables_or_dir("near_wall"), "results/near_wall");
+  EXPECT_EQ((Places{"r", "t"}.tables_or_dir("near_wall")), "t");
+  EXPECT_EQ(Places{}.tables_read(), "paper_tables");
 }

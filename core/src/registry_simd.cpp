@@ -170,18 +170,10 @@ struct Entry {
   Kernel kernel;
 };
 constexpr Entry kEntries[] = {
-    {"clamped-cosine", "punctual", Kernel::cc_punctual},
-    {"clamped-cosine", "punctual-approx", Kernel::cc_punctual_approx},
-    {"clamped-cosine", "sg-cosine", Kernel::cc_sg_cosine},
-    {"clamped-cosine", "cosine-lobe-sg", Kernel::cc_cosine_lobe_sg},
-    {"clamped-cosine", "hill-fitted", Kernel::cc_hill_fitted},
-    {"clamped-cosine", "meder", Kernel::cc_meder},
-    {"clamped-cosine", "tokuyoshi2022", Kernel::cc_tokuyoshi2022},
-    {"clamped-cosine", "tokuyoshi2024", Kernel::cc_tokuyoshi2024},
-    {"clamped-cosine", "sglab", Kernel::cc_sglab},
-    {"hemispherical", "meder", Kernel::hemi_meder},
-    {"hemispherical", "tokuyoshi2022", Kernel::hemi_tokuyoshi2022},
-    {"hemispherical", "vmf-tokuyoshi2024", Kernel::hemi_vmf_tokuyoshi2024},
+// The diffuse methods: each line of their list (simd/diffuse_kernels.def).
+#define SGLAB_DIFFUSE_KERNEL(id, quantity, method, ...) {quantity, method, Kernel::id},
+#include "simd/diffuse_kernels.def"
+#undef SGLAB_DIFFUSE_KERNEL
     {"specular", "sg-warp", Kernel::spec_sg_warp},
     {"specular", "sg-warp-product-axis", Kernel::spec_sg_warp_product_axis},
     {"specular", "sg-warp-iwasaki", Kernel::spec_sg_warp_iwasaki},

@@ -4,7 +4,9 @@
 // Every kernel IS the method's scalar template in core/include/sglab (the definition), instantiated
 // on Lanes (simd_lanes.hpp: an xsimd batch on which the template's selects, lane-wise math and
 // series work lane by lane): FromTemplate below, one small struct per method naming the template
-// and its constants. There is no second copy of a formula. One part is summed differently on lanes:
+// and its constants, generated from the method's line in diffuse_kernels.def (which also gives its
+// Kernel id, simd_table.hpp, and its registry entry, registry_simd.cpp). There is no second copy
+// of a formula. One part is summed differently on lanes:
 // the Taylor series of the c = ±1 bounds below λ = 1 (tokuyoshi2024, sglab), by Horner's rule over a
 // fixed number of terms (below). tests/simd_test.cpp holds every kernel to its template.
 //
@@ -97,100 +99,20 @@ struct FromTemplate {
     return F::formula(Lanes<B>(l), Lanes<B>(c), q).v;
   }
 };
-struct CcPunctual : FromTemplate<CcPunctual> {
-  static constexpr int kParams = 0;
-  template <class T>
-  static T formula(const T& l, const T& c, const T*) {
-    return clamped_cosine_punctual(l, c);
-  }
-};
-struct CcPunctualApprox : FromTemplate<CcPunctualApprox> {
-  static constexpr int kParams = 0;
-  template <class T>
-  static T formula(const T& l, const T& c, const T*) {
-    return clamped_cosine_punctual_approx(l, c);
-  }
-};
-// p: λ_d, π/A(λ_d).
-struct CcSgCosine : FromTemplate<CcSgCosine> {
-  static constexpr int kParams = 2;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return clamped_cosine_sg_cosine_scaled(l, c, p[0], p[1]);
-  }
-};
-// p: amplitude, sharpness.
-struct CcCosineLobeSg : FromTemplate<CcCosineLobeSg> {
-  static constexpr int kParams = 2;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return clamped_cosine_cosine_lobe_sg(l, c, p[0], p[1]);
-  }
-};
-// p: c0.
-struct CcHillFitted : FromTemplate<CcHillFitted> {
-  static constexpr int kParams = 1;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return clamped_cosine_hill_fitted(l, c, p[0]);
-  }
-};
-// p: amplitude, sharpness, offset, p1…p4.
-struct CcMeder : FromTemplate<CcMeder> {
-  static constexpr int kParams = 7;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return clamped_cosine_meder(l, c, p[0], p[1], p[2], p[3], p[4], p[5], p[6]);
-  }
-};
-// p: λc, A, B, C, α.
-struct CcTokuyoshi2022 : FromTemplate<CcTokuyoshi2022> {
-  static constexpr int kParams = 5;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return clamped_cosine_tokuyoshi2022_with(l, c, p[0], p[4], p[1], p[2], p[3]);
-  }
-};
-// p: p1…p4.
-struct HemiMeder : FromTemplate<HemiMeder> {
-  static constexpr int kParams = 4;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return hemispherical_meder(l, c, p[0], p[1], p[2], p[3]);
-  }
-};
-// p: A, B, C.
-struct HemiTokuyoshi2022 : FromTemplate<HemiTokuyoshi2022> {
-  static constexpr int kParams = 3;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return hemispherical_tokuyoshi2022(l, c, p[0], p[1], p[2]);
-  }
-};
-struct HemiVmfTokuyoshi2024 : FromTemplate<HemiVmfTokuyoshi2024> {
-  static constexpr int kParams = 3;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return hemispherical_vmf_tokuyoshi2024(l, c, p[0], p[1], p[2]);
-  }
-};
-
-// p: A…E.
-struct CcTokuyoshi2024 : FromTemplate<CcTokuyoshi2024> {
-  static constexpr int kParams = 5;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return clamped_cosine_tokuyoshi2024(l, c, p[0], p[1], p[2], p[3], p[4]);
-  }
-};
-// p: A, B, C, D, E, k, P, Q (clamped_cosine_sglab.hpp).
-struct CcSglab : FromTemplate<CcSglab> {
-  static constexpr int kParams = 8;
-  template <class T>
-  static T formula(const T& l, const T& c, const T* p) {
-    return clamped_cosine_sglab_with(l, c, SglabDiffuseParams<T>{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]});
-  }
-};
+// One kernel per line of diffuse_kernels.def: DiffuseKernel_ID, the line's formula (the method's
+// template called on l, c and the constants p) with its number of constants.
+#define SGLAB_DIFFUSE_KERNEL(id, quantity, method, params, ...)             \
+  struct DiffuseKernel_##id : FromTemplate<DiffuseKernel_##id> {            \
+    static constexpr int kParams = params;                                  \
+    template <class T>                                                      \
+    static T formula(const T& l, const T& c, [[maybe_unused]] const T* p) { \
+      return __VA_ARGS__;                                                   \
+    }                                                                       \
+  };
+#include "diffuse_kernels.def"
+#undef SGLAB_DIFFUSE_KERNEL
+// The Meder cosine SG's kernel, which the specular kernel sg-warp-meder calls (simd_specular.hpp).
+using CcMeder = DiffuseKernel_cc_meder;
 
 // sg.hpp's A(λ) and SG products for the specular kernels' batches (simd_specular.hpp): the
 // templates on Lanes.
@@ -345,18 +267,9 @@ __attribute__((flatten)) void run_specular_pair_columns(const T* const* columns,
 
 template <class Arch, class T>
 constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
-    &run<Arch, T, CcPunctual>,
-    &run<Arch, T, CcPunctualApprox>,
-    &run<Arch, T, CcSgCosine>,
-    &run<Arch, T, CcCosineLobeSg>,
-    &run<Arch, T, CcHillFitted>,
-    &run<Arch, T, CcMeder>,
-    &run<Arch, T, CcTokuyoshi2022>,
-    &run<Arch, T, CcTokuyoshi2024>,
-    &run<Arch, T, CcSglab>,
-    &run<Arch, T, HemiMeder>,
-    &run<Arch, T, HemiTokuyoshi2022>,
-    &run<Arch, T, HemiVmfTokuyoshi2024>,
+#define SGLAB_DIFFUSE_KERNEL(id, ...) &run<Arch, T, DiffuseKernel_##id>,
+#include "diffuse_kernels.def"
+#undef SGLAB_DIFFUSE_KERNEL
     &run_specular<Arch, T, SpecSgWarp<false, false, false>>,
     &run_specular<Arch, T, SpecSgWarp<false, false, true>>,
     &run_specular<Arch, T, SpecSgWarp<true, false, false>>,

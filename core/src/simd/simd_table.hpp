@@ -10,20 +10,12 @@
 
 namespace sglab::simd_detail {
 
-// One entry per vectorized (quantity, method). Order is the table's index.
+// One entry per vectorized (quantity, method). Order is the table's index. The diffuse ones come
+// from their one list, diffuse_kernels.def (an X-macro list of ids, methods and templates).
 enum class Kernel : int {
-  cc_punctual,
-  cc_punctual_approx,
-  cc_sg_cosine,            // p: λ_d, π/A(λ_d) (precomputed with the scalar template)
-  cc_cosine_lobe_sg,       // p: amplitude, sharpness
-  cc_hill_fitted,          // p: c0
-  cc_meder,                // p: amplitude, sharpness, offset, p1…p4
-  cc_tokuyoshi2022,        // p: λc, A, B, C, α(λc) (α precomputed with the scalar template)
-  cc_tokuyoshi2024,        // p: A…E
-  cc_sglab,                // p: A, B, C, D, E, k, P, Q
-  hemi_meder,              // p: p1…p4
-  hemi_tokuyoshi2022,      // p: A, B, C
-  hemi_vmf_tokuyoshi2024,  // p: A, B, C
+#define SGLAB_DIFFUSE_KERNEL(id, quantity, method, params, ...) id,
+#include "diffuse_kernels.def"
+#undef SGLAB_DIFFUSE_KERNEL
   // The specular quantities: rows of (roughness, light_sharpness, light_cos, view_cos,
   // light_azimuth, f0) (simd_specular.hpp).
   spec_sg_warp,
