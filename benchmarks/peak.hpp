@@ -68,122 +68,78 @@ struct Rates {
 typedef float v8f __attribute__((vector_size(32)));
 typedef float v16f __attribute__((vector_size(64)));
 
-// Operations per second of x = STEP(x) over kChains independent chains of vectors V of LANES
-// doubles, OPS operations a step, best of 3 (a macro: a lambda would not take the function's
-// target attribute).
-#define SGLAB_RATE(V, LANES, OPS, STEP, result)                                       \
-  {                                                                                   \
-    double best = 0;                                                                  \
-    for (int rep = 0; rep < 3; ++rep) {                                               \
-      V x[kChains];                                                                   \
-      for (int c = 0; c < kChains; ++c) x[c] = V{} + (1.0f + 1e-3f * float(c));       \
-      const auto t0 = Clock::now();                                                   \
-      for (long s = 0; s < kSteps; ++s) {                                             \
-        _Pragma("GCC unroll 16") for (int c = 0; c < kChains; ++c) x[c] = STEP(x[c]); \
-      }                                                                               \
-      const double t = seconds(t0);                                                   \
-      double sink = 0;                                                                \
-      for (int c = 0; c < kChains; ++c) sink += x[c][0];                              \
-      asm volatile("" : : "r"(&sink) : "memory");                                     \
-      const double rate = double(kSteps) * kChains * (OPS) * (LANES) / t;             \
-      best = rate > best ? rate : best;                                               \
-    }                                                                                 \
-    result = best;                                                                    \
+// Operations per second of x = STEP over kChains independent chains of vectors V of LANES lanes,
+// STEP an expression of the chain's current value y, OPS operations a step, best of 3 (a macro: a
+// lambda would not take the function's target attribute).
+#define SGLAB_RATE(V, LANES, OPS, STEP, result)                                 \
+  {                                                                             \
+    double best = 0;                                                            \
+    for (int rep = 0; rep < 3; ++rep) {                                         \
+      V x[kChains];                                                             \
+      for (int c = 0; c < kChains; ++c) x[c] = V{} + (1.0f + 1e-3f * float(c)); \
+      const auto t0 = Clock::now();                                             \
+      for (long s = 0; s < kSteps; ++s) {                                       \
+        _Pragma("GCC unroll 16") for (int c = 0; c < kChains; ++c) {            \
+          const V y = x[c];                                                     \
+          x[c] = STEP;                                                          \
+        }                                                                       \
+      }                                                                         \
+      const double t = seconds(t0);                                             \
+      double sink = 0;                                                          \
+      for (int c = 0; c < kChains; ++c) sink += x[c][0];                        \
+      asm volatile("" : : "r"(&sink) : "memory");                               \
+      const double rate = double(kSteps) * kChains * (OPS) * (LANES) / t;       \
+      best = rate > best ? rate : best;                                         \
+    }                                                                           \
+    result = best;                                                              \
   }
 
-// The multiply and the add kept apart (no contraction into one fused instruction).
-__attribute__((target("avx2"), always_inline)) inline v4d mul_add4(v4d x, v4d m, v4d a) {
-  v4d p = x * m;
-  asm("" : "+x"(p));
-  return p + a;
-}
-__attribute__((target("avx512f"), always_inline)) inline v8d mul_add8(v8d x, v8d m, v8d a) {
-  v8d p = x * m;
-  asm("" : "+v"(p));
-  return p + a;
-}
-__attribute__((target("avx2"), always_inline)) inline v8f mul_add8f(v8f x, v8f m, v8f a) {
-  v8f p = x * m;
-  asm("" : "+x"(p));
-  return p + a;
-}
-__attribute__((target("avx512f"), always_inline)) inline v16f mul_add16f(v16f x, v16f m, v16f a) {
-  v16f p = x * m;
-  asm("" : "+v"(p));
-  return p + a;
-}
+// The three rates of one vector type V of LANES elements E: x·m + a (two operations a step), num / x
+// and sqrt(x), into the Rates fields mul_add_out, div_out and sqrt_out.
+#define SGLAB_RATES(V, E, LANES, MUL_ADD, SQRT, mul_add_out, div_out, sqrt_out) \
+  {                                                                             \
+    const V m = V{} + E(0.999999), a = V{} + E(1e-7), num = V{} + E(1.0000001); \
+    SGLAB_RATE(V, LANES, 2, MUL_ADD(y, m, a), mul_add_out)                      \
+    SGLAB_RATE(V, LANES, 1, num / y, div_out)                                   \
+    SGLAB_RATE(V, LANES, 1, SQRT(y), sqrt_out)                                  \
+  }
 
-// vsqrtpd itself (the intrinsics' masked forms trip -Wuninitialized in GCC 12).
-__attribute__((target("avx2"), always_inline)) inline v4d sqrt4(v4d x) {
-  v4d y;
-  asm("vsqrtpd %1, %0" : "=x"(y) : "x"(x));
-  return y;
-}
-__attribute__((target("avx512f"), always_inline)) inline v8d sqrt8(v8d x) {
-  v8d y;
-  asm("vsqrtpd %1, %0" : "=v"(y) : "v"(x));
-  return y;
-}
-__attribute__((target("avx2"), always_inline)) inline v8f sqrt8f(v8f x) {
-  v8f y;
-  asm("vsqrtps %1, %0" : "=x"(y) : "x"(x));
-  return y;
-}
-__attribute__((target("avx512f"), always_inline)) inline v16f sqrt16f(v16f x) {
-  v16f y;
-  asm("vsqrtps %1, %0" : "=v"(y) : "v"(x));
-  return y;
-}
+// One vector type's two operations for an instruction set TARGET whose registers the asm constraint
+// REG names: MUL_ADD(x, m, a) = x·m + a with the multiply and the add kept apart (no contraction into
+// one fused instruction), SQRT(x) the SQRT_INSN instruction itself (the intrinsics' masked forms trip
+// -Wuninitialized in GCC 12).
+#define SGLAB_VECTOR_OPS(TARGET, REG, V, MUL_ADD, SQRT, SQRT_INSN)                 \
+  __attribute__((target(TARGET), always_inline)) inline V MUL_ADD(V x, V m, V a) { \
+    V p = x * m;                                                                   \
+    asm("" : "+" REG(p));                                                          \
+    return p + a;                                                                  \
+  }                                                                                \
+  __attribute__((target(TARGET), always_inline)) inline V SQRT(V x) {              \
+    V y;                                                                           \
+    asm(SQRT_INSN " %1, %0" : "=" REG(y) : REG(x));                                \
+    return y;                                                                      \
+  }
+
+SGLAB_VECTOR_OPS("avx2", "x", v4d, mul_add4, sqrt4, "vsqrtpd")
+SGLAB_VECTOR_OPS("avx512f", "v", v8d, mul_add8, sqrt8, "vsqrtpd")
+SGLAB_VECTOR_OPS("avx2", "x", v8f, mul_add8f, sqrt8f, "vsqrtps")
+SGLAB_VECTOR_OPS("avx512f", "v", v16f, mul_add16f, sqrt16f, "vsqrtps")
+#undef SGLAB_VECTOR_OPS
 
 __attribute__((target("avx2"), noinline)) inline Rates rates_avx2() {
-  const v4d m = v4d{} + 0.999999, a = v4d{} + 1e-7, num = v4d{} + 1.0000001;
   Rates r{};
-#define SGLAB_MA(x) mul_add4(x, m, a)
-#define SGLAB_DIV(x) (num / (x))
-#define SGLAB_SQRT(x) sqrt4(x)
-  SGLAB_RATE(v4d, 4, 2, SGLAB_MA, r.mul_add)
-  SGLAB_RATE(v4d, 4, 1, SGLAB_DIV, r.div)
-  SGLAB_RATE(v4d, 4, 1, SGLAB_SQRT, r.sqrt)
-#undef SGLAB_MA
-#undef SGLAB_DIV
-#undef SGLAB_SQRT
-  const v8f mf = v8f{} + 0.999999f, af = v8f{} + 1e-7f, numf = v8f{} + 1.0000001f;
-#define SGLAB_MA(x) mul_add8f(x, mf, af)
-#define SGLAB_DIV(x) (numf / (x))
-#define SGLAB_SQRT(x) sqrt8f(x)
-  SGLAB_RATE(v8f, 8, 2, SGLAB_MA, r.mul_add_f)
-  SGLAB_RATE(v8f, 8, 1, SGLAB_DIV, r.div_f)
-  SGLAB_RATE(v8f, 8, 1, SGLAB_SQRT, r.sqrt_f)
-#undef SGLAB_MA
-#undef SGLAB_DIV
-#undef SGLAB_SQRT
+  SGLAB_RATES(v4d, double, 4, mul_add4, sqrt4, r.mul_add, r.div, r.sqrt)
+  SGLAB_RATES(v8f, float, 8, mul_add8f, sqrt8f, r.mul_add_f, r.div_f, r.sqrt_f)
   return r;
 }
 
 __attribute__((target("avx512f"), noinline)) inline Rates rates_avx512() {
-  const v8d m = v8d{} + 0.999999, a = v8d{} + 1e-7, num = v8d{} + 1.0000001;
   Rates r{};
-#define SGLAB_MA(x) mul_add8(x, m, a)
-#define SGLAB_DIV(x) (num / (x))
-#define SGLAB_SQRT(x) sqrt8(x)
-  SGLAB_RATE(v8d, 8, 2, SGLAB_MA, r.mul_add)
-  SGLAB_RATE(v8d, 8, 1, SGLAB_DIV, r.div)
-  SGLAB_RATE(v8d, 8, 1, SGLAB_SQRT, r.sqrt)
-#undef SGLAB_MA
-#undef SGLAB_DIV
-#undef SGLAB_SQRT
-  const v16f mf = v16f{} + 0.999999f, af = v16f{} + 1e-7f, numf = v16f{} + 1.0000001f;
-#define SGLAB_MA(x) mul_add16f(x, mf, af)
-#define SGLAB_DIV(x) (numf / (x))
-#define SGLAB_SQRT(x) sqrt16f(x)
-  SGLAB_RATE(v16f, 16, 2, SGLAB_MA, r.mul_add_f)
-  SGLAB_RATE(v16f, 16, 1, SGLAB_DIV, r.div_f)
-  SGLAB_RATE(v16f, 16, 1, SGLAB_SQRT, r.sqrt_f)
-#undef SGLAB_MA
-#undef SGLAB_DIV
-#undef SGLAB_SQRT
+  SGLAB_RATES(v8d, double, 8, mul_add8, sqrt8, r.mul_add, r.div, r.sqrt)
+  SGLAB_RATES(v16f, float, 16, mul_add16f, sqrt16f, r.mul_add_f, r.div_f, r.sqrt_f)
   return r;
 }
+#undef SGLAB_RATES
 #undef SGLAB_RATE
 
 }  // namespace sglab::bench

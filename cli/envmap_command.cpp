@@ -120,11 +120,15 @@ void run_make(const MakeArgs& a) {
   runner::check_output_paths({{"--out", a.out}}, {{"--mixture", a.mixture}});
   EnvMap map;
   std::vector<std::string> args{"--out", a.out, "--width", std::to_string(a.width)};
+  // The options `o` of a generated map at the requested size (width × width/2).
+  const auto sized = [&a](auto o) {
+    o.width = a.width;
+    o.height = a.width / 2;
+    return o;
+  };
   try {
     if (a.kind == "sky") {
-      render::SkyOptions o = a.sky;
-      o.width = a.width;
-      o.height = a.width / 2;
+      const render::SkyOptions o = sized(a.sky);
       map = render::make_sky(o);
       args.insert(args.end(),
                   {"--turbidity", fmt::format("{}", o.turbidity), "--sun-elevation",
@@ -132,22 +136,14 @@ void run_make(const MakeArgs& a) {
                    "--sun-size", fmt::format("{}", o.sun_size_deg), "--sun-luminance",
                    fmt::format("{}", o.sun_luminance), "--ground-albedo", fmt::format("{}", o.ground_albedo)});
     } else if (a.kind == "studio") {
-      render::StudioOptions o;
-      o.width = a.width;
-      o.height = a.width / 2;
-      map = render::make_studio(o);
+      map = render::make_studio(sized(render::StudioOptions{}));
     } else if (a.kind == "overcast") {
-      render::OvercastOptions o;
-      o.width = a.width;
-      o.height = a.width / 2;
+      render::OvercastOptions o = sized(render::OvercastOptions{});
       o.ground_albedo = a.sky.ground_albedo;
       map = render::make_overcast(o);
       args.insert(args.end(), {"--ground-albedo", fmt::format("{}", o.ground_albedo)});
     } else if (a.kind == "indoor") {
-      render::IndoorOptions o;
-      o.width = a.width;
-      o.height = a.width / 2;
-      map = render::make_indoor(o);
+      map = render::make_indoor(sized(render::IndoorOptions{}));
     } else if (a.kind == "mixture") {
       const SgMixture m = a.mixture.empty() ? render::synthetic_mixture() : read_mixture(a.mixture);
       if (!a.mixture.empty()) args.insert(args.end(), {"--mixture", a.mixture});

@@ -165,6 +165,48 @@ FitResult solve_least_squares(const FitSpec& spec, const Residual& f) {
   return run_least_squares(spec, [&] { return make_autodiff<K>(f, f.size()); });
 }
 
+// Iteratively reweighted least squares (sglab's minimax and sglab-specular's L1 fits): `rounds`
+// solves of f on its current weights f.sqrt_w with judge = false, the first from `start`, each
+// later one from the previous solution; after each, score(round, x) measures the solution x (lower
+// is better) and sets f.sqrt_w for the next round. The best round's result is judged once, on the
+// weights it was solved with (as its own solve would have judged it), and carries the seconds and
+// iterations of every round.
+struct ReweightedFit {
+  FitResult result;
+  int round = -1;           // the best round
+  double score = HUGE_VAL;  // its score
+};
+template <int K, class Residual, class MakeSpec, class Score>
+ReweightedFit solve_reweighted(Residual& f, const std::vector<double>& start, int rounds, const MakeSpec& make_spec,
+                               const Score& score) {
+  ReweightedFit best;
+  std::vector<double> x = start, best_x, best_sqrt_w;
+  double seconds = 0;
+  int iterations = 0;
+  for (int round = 0; round < rounds; ++round) {
+    FitSpec spec = make_spec(x);
+    spec.judge = false;
+    FitResult r = solve_least_squares<K>(spec, f);
+    seconds += r.seconds;
+    iterations += r.iterations;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = r.parameters[i].value;
+    const std::vector<double> solved_sqrt_w = f.sqrt_w;
+    if (const double s = score(round, x); s < best.score) {
+      best.score = s;
+      best.round = round;
+      best.result = r;
+      best_x = x;
+      best_sqrt_w = solved_sqrt_w;
+    }
+  }
+  f.sqrt_w = best_sqrt_w;
+  judge_least_squares(
+      make_spec(start), [&] { return make_autodiff<K>(f, f.size()); }, best_x, best.result);
+  best.result.seconds = seconds;
+  best.result.iterations = iterations;
+  return best;
+}
+
 // Residuals r_i = √w_i·(model(p, i) − target_i) of a Model with
 // `template <class T> T operator()(const T* p, std::size_t i) const` (node i of the grid).
 template <class Model>

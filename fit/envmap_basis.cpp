@@ -129,6 +129,16 @@ EnvBasisFit basis_fit_from(const std::string& basis, const EnvFitResult& r) {
   return f;
 }
 
+EnvFitOptions mixture_fit_options(int lobes, const EnvBasisOptions& o) {
+  EnvFitOptions fo;
+  fo.lobes = lobes;
+  fo.init = "kmeans";
+  fo.seed = o.seed;
+  fo.threads = o.threads;
+  fo.sparse = o.sparse;
+  return fo;
+}
+
 Eigen::VectorXd nnls(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, double tolerance) {
   const Eigen::Index n = g.size();
   Eigen::VectorXd x = Eigen::VectorXd::Zero(n);

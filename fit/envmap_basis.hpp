@@ -113,8 +113,16 @@ int zero_amplitude_lobes(const SgMixture& m);
 // A free-lobe basis stores 6 floats per lobe (axis 2, sharpness 1, RGB 3).
 inline int six_floats_per_lobe(int n) { return 6 * n; }
 
+// The lobe counts the two mixture bases (sg-free, vmf-em) are fitted at by default: the same N for
+// both, so their rows compare at equal storage.
+inline const std::vector<int> kMixtureLobeCounts = {4, 8, 16, 32, 64, 128};
+
 struct EnvFitResult;
+struct EnvFitOptions;
 // The basis row of a mixture fit of fit/envmap.hpp (vmf-em, sg-free).
 EnvBasisFit basis_fit_from(const std::string& basis, const EnvFitResult& r);
+// The options of a mixture fit of `lobes` lobes as the mixture bases run it: a k-means start with
+// the basis options' seed, threads and sparse map.
+EnvFitOptions mixture_fit_options(int lobes, const EnvBasisOptions& o);
 
 }  // namespace sglab::fit

@@ -17,13 +17,8 @@ std::vector<EnvBasisFit> fit_sg_free(const EnvMap& map, const std::vector<int>& 
                                      const EnvBasisOptions& o) {
   std::map<int, EnvBasisFit> fits;
   auto fit_n = [&](int n, bool ladder) {
-    EnvFitOptions fo;
-    fo.lobes = n;
-    fo.init = "kmeans";
-    fo.seed = o.seed;
-    fo.threads = o.threads;
+    EnvFitOptions fo = mixture_fit_options(n, o);
     fo.max_iterations = o.max_iterations;
-    fo.sparse = o.sparse;
     if (ladder) fo.on_stage = [&](const EnvFitResult& r) { fits.emplace(int(r.mixture.size()), from_result(r)); };
     const EnvFitResult r = fit_envmap_ceres(map, fo);
     fits.emplace(int(r.mixture.size()), from_result(r));
@@ -45,7 +40,7 @@ EnvBasis sg_free_basis() {
       "sg-free",
       "N",
       {""},
-      {4, 8, 16, 32, 64, 128},
+      kMixtureLobeCounts,
       six_floats_per_lobe,
       "the Ceres free-lobe fit of `sglab fit envmap` (axes, sharpnesses, RGB amplitudes; k-means start, lobe ladder); "
       "6N floats",

@@ -11,15 +11,7 @@ namespace {
 std::vector<EnvBasisFit> fit_vmf_em(const EnvMap& map, const std::vector<int>& sizes, const std::string&,
                                     const EnvBasisOptions& o) {
   std::vector<EnvBasisFit> out;
-  for (int N : sizes) {
-    EnvFitOptions fo;
-    fo.lobes = N;
-    fo.init = "kmeans";
-    fo.seed = o.seed;
-    fo.threads = o.threads;
-    fo.sparse = o.sparse;
-    out.push_back(basis_fit_from("vmf-em", fit_envmap_vmf_em(map, fo)));
-  }
+  for (int N : sizes) out.push_back(basis_fit_from("vmf-em", fit_envmap_vmf_em(map, mixture_fit_options(N, o))));
   return out;
 }
 
@@ -29,7 +21,7 @@ EnvBasis vmf_em_basis() {
   return {"vmf-em",
           "N",
           {""},
-          {4, 8, 16, 32, 64, 128},
+          kMixtureLobeCounts,
           six_floats_per_lobe,
           "EM for a von Mises–Fisher mixture (Banerjee et al. 2005) on Ω·(mean RGB)-weighted texel directions, "
           "k-means++ start, then NNLS RGB amplitudes; 6N floats",

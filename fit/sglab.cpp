@@ -78,23 +78,11 @@ const std::vector<double> kStart = {
     Tokuyoshi2024T::A, Tokuyoshi2024T::B, Tokuyoshi2024T::C, Tokuyoshi2024T::D, Tokuyoshi2024T::E, 0.035, 0.0, 15.6};
 
 FitResult solve_lawson(Residual f) {
-  std::vector<double> x = kStart;
   std::vector<double> w(f.size(), 1.0 / f.size());
-  FitResult best;
-  std::vector<double> best_x, best_sqrt_w;  // the kept round's solution and weights, judged once at the end
-  double best_max = HUGE_VAL, seconds = 0;
-  int iterations = 0;
+  for (std::size_t i = 0; i < w.size(); ++i) f.sqrt_w[i] = std::sqrt(w[i]);
   std::string trajectory;
-  const auto make_cost = [&] { return make_autodiff<8>(f, f.size()); };
-  for (int round = 0; round < kLawsonRounds; ++round) {
-    for (std::size_t i = 0; i < w.size(); ++i) f.sqrt_w[i] = std::sqrt(w[i]);
-    FitSpec spec = make_spec(x);
-    spec.judge = false;
-    FitResult r = solve_least_squares<8>(spec, f);
-    seconds += r.seconds;
-    iterations += r.iterations;
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] = r.parameters[i].value;
-    // Errors at the new parameters; Lawson's update.
+  // Errors at each round's parameters; Lawson's update of the next round's weights.
+  const auto lawson = [&](int round, const std::vector<double>& x) {
     double max_e = 0, sum = 0;
     std::vector<double> e(f.size());
     for (std::size_t i = 0; i < e.size(); ++i) {
@@ -103,28 +91,20 @@ FitResult solve_lawson(Residual f) {
     }
     for (std::size_t i = 0; i < w.size(); ++i) sum += (w[i] *= e[i]);
     for (auto& wi : w) wi = std::max(wi / sum, 1e-14);
+    for (std::size_t i = 0; i < w.size(); ++i) f.sqrt_w[i] = std::sqrt(w[i]);
     if (round % 5 == 0 || round == kLawsonRounds - 1) {
       char buf[64];
       std::snprintf(buf, sizeof buf, "%sround %d: %.4e", trajectory.empty() ? "" : "; ", round, max_e);
       trajectory += buf;
     }
-    if (max_e < best_max) {
-      best_max = max_e;
-      best = r;
-      best_x = x;
-      best_sqrt_w = f.sqrt_w;
-    }
-  }
-  // The kept round's self-judgement (on its weighted objective), as its own solve would have made it.
-  f.sqrt_w = best_sqrt_w;
-  judge_least_squares(make_spec(kStart), make_cost, best_x, best);
-  best.seconds = seconds;
-  best.iterations = iterations;
+    return max_e;
+  };
+  ReweightedFit best = solve_reweighted<8>(f, kStart, kLawsonRounds, make_spec, lawson);
   char buf[128];
-  std::snprintf(buf, sizeof buf, "max |D - D_ref|/D_ref(l,1) on the fit grid (%d points): %.4e", f.size(), best_max);
-  best.notes.push_back(buf);
-  best.notes.push_back("Lawson max error by round: " + trajectory);
-  return best;
+  std::snprintf(buf, sizeof buf, "max |D - D_ref|/D_ref(l,1) on the fit grid (%d points): %.4e", f.size(), best.score);
+  best.result.notes.push_back(buf);
+  best.result.notes.push_back("Lawson max error by round: " + trajectory);
+  return best.result;
 }
 
 // Synthetic recovery: one unweighted least-squares solve against the model's own values.

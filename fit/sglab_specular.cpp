@@ -172,58 +172,37 @@ FitSpec make_spec(const std::vector<double>& start) {
 }
 
 FitResult solve_irls(Residual f) {
-  std::vector<double> x = kStart;
-  FitResult best;
-  std::vector<double> best_x, best_sqrt_w;
-  Measures best_m;
-  double best_j = HUGE_VAL, seconds = 0;
-  int iterations = 0;
   std::string trajectory;
+  std::vector<Measures> by_round;
   const std::vector<double> c = [&] {
     std::vector<double> out;
     for (const auto& e : f.model.entries) out.push_back(e.c);
     return out;
   }();
-  for (int round = 0; round < kRounds; ++round) {
-    FitSpec spec = make_spec(x);
-    spec.judge = false;
-    FitResult r = solve_least_squares<6>(spec, f);
-    seconds += r.seconds;
-    iterations += r.iterations;
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] = r.parameters[i].value;
-    const Measures m = measures(x);
-    const double j = m.weighted + m.bright_smape;
+  const auto irls = [&](int round, const std::vector<double>& x) {
+    const Measures m = by_round.emplace_back(measures(x));
     char buf[96];
     std::snprintf(buf, sizeof buf, "%sround %d: %.4f + %.4f", trajectory.empty() ? "" : "; ", round, m.weighted,
                   m.bright_smape);
     trajectory += buf;
-    if (j < best_j) {
-      best_j = j;
-      best = r;
-      best_x = x;
-      best_m = m;
-      best_sqrt_w = f.sqrt_w;
-    }
     // IRLS toward Σ c_k|e_k|: weights c_k/|e_k|.
     for (std::size_t k = 0; k < c.size(); ++k) {
       const double e = std::abs(f.model(x.data(), k) - f.target[k]);
       f.sqrt_w[k] = std::sqrt(c[k] / std::max(e, kResidualFloor));
     }
-  }
-  f.sqrt_w = best_sqrt_w;
-  judge_least_squares(
-      make_spec(kStart), [&] { return make_autodiff<6>(f, f.size()); }, best_x, best);
-  best.seconds = seconds;
-  best.iterations = iterations;
+    return m.weighted + m.bright_smape;
+  };
+  ReweightedFit best = solve_reweighted<6>(f, kStart, kRounds, make_spec, irls);
+  const Measures& best_m = by_round[std::size_t(best.round)];
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 "on the fit grid (%zu rows, %zu points): brightness-weighted error %.4f, bright SMAPE %.4f, worst "
                 "roughness's brightness-weighted error %.4f",
                 data().rows.size(), data().point_sum.size(), best_m.weighted, best_m.bright_smape,
                 best_m.worst_roughness);
-  best.notes.push_back(buf);
-  best.notes.push_back("IRLS (brightness-weighted + bright SMAPE) by round: " + trajectory);
-  return best;
+  best.result.notes.push_back(buf);
+  best.result.notes.push_back("IRLS (brightness-weighted + bright SMAPE) by round: " + trajectory);
+  return best.result;
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 // that is an SH function, SH irradiance of one SG light against the exact clamped-cosine
 // integral, NNLS against brute-force enumeration of the active sets, NNLS recovering a fixed-lobe
 // map's amplitudes, the vMF EM honouring its iteration cap, and the tables' rows.
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +25,7 @@
 #include "sglab/reference.hpp"
 #include "sglab/render/environment.hpp"
 #include "sglab/sh.hpp"
+#include "test_util.hpp"
 
 namespace {
 
@@ -249,27 +249,38 @@ TEST(VmfEm, HonoursItsIterationCap) {
   EXPECT_FALSE(r.converged);
 }
 
+namespace eb = sglab::experiments::envmap_bases;
+
+// `sglab envmap bases` as a library in a temporary directory: small_options(width) writes the
+// synthetic mixture there as a width × width/2 map mix.exr and gives quick options that read it as
+// environment `mix` and write their tables beside it.
+class EnvmapBases : public sglab::test::TempDirTest {
+ protected:
+  eb::Options small_options(int width) const {
+    sglab::runner::write_file_atomically(
+        path("mix.exr"), sglab::render::encode_environment(
+                             sglab::rasterize_mixture(sglab::render::synthetic_mixture(), width, width / 2, 2)));
+    eb::Options o;
+    o.envs = {"mix=" + path("mix.exr").string()};
+    o.quick = true;
+    o.sphere_res = 6;
+    o.normals = 16;
+    o.tables_dir = dir_.string();
+    return o;
+  }
+};
+
 // The rows measured beside the fits (a thread of the idle class, one row at a time) against the
 // same rows measured each right after its fit on the calling thread: every value the same bits,
 // whichever thread measured a row. The fixed-lobe fits (bit-for-bit the same fits in both runs; the
 // SH projection's parallel sum and Ceres's per-thread sums are not), on a plain and a resolved map
 // (its sparse quadrature).
-TEST(EnvmapBases, RowsMeasuredBesideTheFitsAreTheInlineRowsBitForBit) {
-  namespace fs = std::filesystem;
-  namespace eb = sglab::experiments::envmap_bases;
-  const fs::path dir = fs::temp_directory_path() / ("sglab_envmap_bases_beside_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  sglab::runner::write_file_atomically(dir / "mix.exr", sglab::render::encode_environment(sglab::rasterize_mixture(
-                                                            sglab::render::synthetic_mixture(), 128, 64, 2)));
-  eb::Options o;
-  o.envs = {"mix=" + (dir / "mix.exr").string(), "res=" + (dir / "mix.exr").string()};
+TEST_F(EnvmapBases, RowsMeasuredBesideTheFitsAreTheInlineRowsBitForBit) {
+  eb::Options o = small_options(128);
+  o.envs.push_back("res=" + path("mix.exr").string());
   o.resolve = {"res"};
   o.bases = {"sg-fixed"};
   o.width = 32;
-  o.quick = true;
-  o.sphere_res = 6;
-  o.normals = 16;
-  o.tables_dir = dir.string();
   o.measure_beside_fits = false;
   const eb::Result inline_rows = eb::compute(o);
   o.measure_beside_fits = true;
@@ -289,25 +300,13 @@ TEST(EnvmapBases, RowsMeasuredBesideTheFitsAreTheInlineRowsBitForBit) {
       EXPECT_EQ(x[k].specular_error, y[k].specular_error);
     }
   }
-  fs::remove_all(dir);
 }
 
 // The comparison's rows on a small map: every basis and variant at every quick size, and bad
 // options are input errors.
-TEST(EnvmapBases, TablesHaveEveryBasisAndBadOptionsAreInputErrors) {
-  namespace fs = std::filesystem;
-  namespace eb = sglab::experiments::envmap_bases;
-  const fs::path dir = fs::temp_directory_path() / ("sglab_envmap_bases_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  sglab::runner::write_file_atomically(dir / "mix.exr", sglab::render::encode_environment(sglab::rasterize_mixture(
-                                                            sglab::render::synthetic_mixture(), 32, 16, 2)));
-  eb::Options o;
-  o.envs = {"mix=" + (dir / "mix.exr").string()};
+TEST_F(EnvmapBases, TablesHaveEveryBasisAndBadOptionsAreInputErrors) {
+  eb::Options o = small_options(32);
   o.bases = {"sh", "sg-fixed"};
-  o.quick = true;
-  o.sphere_res = 6;
-  o.normals = 16;
-  o.tables_dir = dir.string();
   const eb::Result r = eb::compute(o);
   ASSERT_EQ(r.environments.size(), 1u);
   // sh L ∈ {1, 2, 3, 4}, sg-fixed N ∈ {4, 8, 16, 32} × 3 solvers.
@@ -343,7 +342,6 @@ TEST(EnvmapBases, TablesHaveEveryBasisAndBadOptionsAreInputErrors) {
   o.bases = {};
   o.envs = {"noequals"};
   EXPECT_THROW(eb::compute(o), sglab::runner::InputError);
-  fs::remove_all(dir);
 }
 
 // The free-lobe fit on the generated sky (512 × 256, a 2° sun carrying ~87 % of the map's

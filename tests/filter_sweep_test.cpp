@@ -4,7 +4,10 @@
 // upsampled image by the definition ‖v − r‖/‖r‖ over the pixels that hit geometry, and the tables
 // against the rows.
 #include <cmath>
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +16,10 @@
 #include "input_error.hpp"
 
 namespace fsw = sglab::experiments::filter_sweep;
+namespace dsw = sglab::experiments::denoise_sweep;
+namespace render = sglab::render;
+
+namespace {
 
 // compute(o) refuses the options with an InputError naming `value`.
 template <class Compute, class Options>
@@ -24,22 +31,58 @@ void expect_refused(Compute compute, const Options& o, const std::string& value)
     EXPECT_NE(std::string(e.what()).find(value), std::string::npos) << e.what();
   }
 }
-namespace render = sglab::render;
 
-namespace {
+// Each change, applied alone to `base`, is refused by compute with an InputError naming its value.
+template <class Options, class Compute>
+void expect_each_refused(Compute compute, const Options& base,
+                         const std::vector<std::pair<std::function<void(Options&)>, std::string>>& changes) {
+  for (const auto& [change, value] : changes) {
+    Options o = base;
+    change(o);
+    expect_refused(compute, o, value);
+  }
+}
 
-fsw::Options small_sweep() {
-  fsw::Options o;
+// The two sweeps' common small setting: the glossy Cornell box at 24 × 24 pixels, a 16² RSM, two
+// floor roughnesses, quiet.
+template <class Options>
+Options small_options() {
+  Options o;
   o.job.render.scene_path = SGLAB_SOURCE_DIR "/scenes/cornell-glossy.json";
   o.job.render.width = 24;
   o.job.render.height = 24;
   o.job.render.rsm = 16;
   o.roughness = "0.1,0.4";
-  o.scales = "2,3";
-  o.weights = "spatial,normal,lobe";
   o.quiet = true;
   return o;
 }
+
+// The sweep's scene at one floor roughness, prepared on its own from the scene file.
+template <class Options>
+render::Scene scene_at_roughness(const Options& o, double roughness) {
+  nlohmann::json doc = sglab::frontend::load_scene_document(o.job.render.scene_path, {});
+  render::apply_override(doc, "floor.roughness=" + std::to_string(roughness));
+  return sglab::frontend::scene_from_document(doc, o.job.render);
+}
+
+fsw::Options small_sweep() {
+  fsw::Options o = small_options<fsw::Options>();
+  o.scales = "2,3";
+  o.weights = "spatial,normal,lobe";
+  return o;
+}
+
+dsw::Options small_denoise_sweep() {
+  dsw::Options o = small_options<dsw::Options>();
+  o.noisy = "interleaved:2,random:3";
+  o.weights = "normal,lobe,lobe-depth";
+  o.figure_roughness = "0.4";
+  o.figure_noisy = "interleaved:2";
+  return o;
+}
+
+// The sweep's value and the independently prepared one agree to rounding (relative 1e-12).
+void expect_agrees_to_rounding(double actual, double expected) { EXPECT_NEAR(actual, expected, 1e-12 * expected); }
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -57,16 +100,14 @@ TEST(FilterSweep, RowsMatchIndependentlyPreparedPointsAndTheRelativeL2Definition
   for (const fsw::Row& row : r.rows) {
     SCOPED_TRACE("roughness " + std::to_string(row.roughness) + ", scale " + std::to_string(row.scale) + ", " +
                  std::string(render::filter_weights_name(row.weights)));
-    nlohmann::json doc = sglab::frontend::load_scene_document(o.job.render.scene_path, {});
-    render::apply_override(doc, "floor.roughness=" + std::to_string(row.roughness));
-    const render::Scene scene = sglab::frontend::scene_from_document(doc, o.job.render);
+    const render::Scene scene = scene_at_roughness(o, row.roughness);
     render::FilterInputOptions io = sglab::frontend::filter_input_options(o.job);
     io.scale = row.scale;
     const render::FilterInputs in = render::prepare_filter_inputs(scene, io);
     const render::FilterResult expected = render::upsample_indirect(in, row.weights, o.job.parameters);
-    EXPECT_NEAR(row.result.all.relative_l2, expected.all.relative_l2, 1e-12 * expected.all.relative_l2);
-    EXPECT_NEAR(row.result.all.smape, expected.all.smape, 1e-12 * expected.all.smape);
-    EXPECT_NEAR(row.result.glossy.relative_l2, expected.glossy.relative_l2, 1e-12 * expected.glossy.relative_l2);
+    expect_agrees_to_rounding(row.result.all.relative_l2, expected.all.relative_l2);
+    expect_agrees_to_rounding(row.result.all.smape, expected.all.smape);
+    expect_agrees_to_rounding(row.result.glossy.relative_l2, expected.glossy.relative_l2);
     EXPECT_EQ(row.result.fallback_pixels, expected.fallback_pixels);
     // ‖v − r‖/‖r‖ over hit pixels, all channels, against the independently computed VPL sum.
     double num = 0, den = 0;
@@ -102,37 +143,11 @@ TEST(FilterSweep, TablesHaveOneLinePerRow) {
 }
 
 TEST(FilterSweep, BadValuesAreInputErrorsNamingThem) {
-  fsw::Options o = small_sweep();
-  o.roughness = "0.1,abc";
-  expect_refused(fsw::compute, o, "'abc'");
-  o = small_sweep();
-  o.scales = "2.5";
-  EXPECT_THROW(fsw::compute(o), sglab::runner::InputError);
-  o = small_sweep();
-  o.roughness = "-1";
-  EXPECT_THROW(fsw::compute(o), sglab::runner::InputError);
+  expect_each_refused<fsw::Options>(fsw::compute, small_sweep(),
+                                    {{[](fsw::Options& o) { o.roughness = "0.1,abc"; }, "'abc'"},
+                                     {[](fsw::Options& o) { o.scales = "2.5"; }, "2.5"},
+                                     {[](fsw::Options& o) { o.roughness = "-1"; }, "-1"}});
 }
-
-namespace {
-
-namespace dsw = sglab::experiments::denoise_sweep;
-
-dsw::Options small_denoise_sweep() {
-  dsw::Options o;
-  o.job.render.scene_path = SGLAB_SOURCE_DIR "/scenes/cornell-glossy.json";
-  o.job.render.width = 24;
-  o.job.render.height = 24;
-  o.job.render.rsm = 16;
-  o.roughness = "0.1,0.4";
-  o.noisy = "interleaved:2,random:3";
-  o.weights = "normal,lobe,lobe-depth";
-  o.figure_roughness = "0.4";
-  o.figure_noisy = "interleaved:2";
-  o.quiet = true;
-  return o;
-}
-
-}  // namespace
 
 TEST(DenoiseSweep, RowsMatchIndependentlyPreparedPointsAndTablesHaveOneLinePerRow) {
   // Each row against its point prepared alone (own scene, own exact VPL sum rather than the one the
@@ -143,9 +158,7 @@ TEST(DenoiseSweep, RowsMatchIndependentlyPreparedPointsAndTablesHaveOneLinePerRo
   for (const dsw::Row& row : r.rows) {
     SCOPED_TRACE("roughness " + std::to_string(row.roughness) + ", " + render::noisy_spec_name(row.noisy) + ", " +
                  std::string(render::filter_weights_name(row.weights)));
-    nlohmann::json doc = sglab::frontend::load_scene_document(o.job.render.scene_path, {});
-    render::apply_override(doc, "floor.roughness=" + std::to_string(row.roughness));
-    const render::Scene scene = sglab::frontend::scene_from_document(doc, o.job.render);
+    const render::Scene scene = scene_at_roughness(o, row.roughness);
     render::DenoiseInputOptions io;
     io.noisy = row.noisy;
     io.seed = o.noisy_seed;
@@ -155,11 +168,11 @@ TEST(DenoiseSweep, RowsMatchIndependentlyPreparedPointsAndTablesHaveOneLinePerRo
     a.radius = render::default_denoise_radius(row.noisy);
     EXPECT_EQ(row.radius, a.radius);
     const render::DenoiseResult expected = render::denoise_indirect(in, row.weights, a);
-    EXPECT_NEAR(row.all.relative_l2, expected.all.relative_l2, 1e-12 * expected.all.relative_l2);
-    EXPECT_NEAR(row.diffuse.smape, expected.diffuse.smape, 1e-12 * expected.diffuse.smape);
-    EXPECT_NEAR(row.glossy.relative_l2, expected.glossy.relative_l2, 1e-12 * expected.glossy.relative_l2);
+    expect_agrees_to_rounding(row.all.relative_l2, expected.all.relative_l2);
+    expect_agrees_to_rounding(row.diffuse.smape, expected.diffuse.smape);
+    expect_agrees_to_rounding(row.glossy.relative_l2, expected.glossy.relative_l2);
     const render::NoisyError noisy = render::noisy_error(in);
-    EXPECT_NEAR(row.noisy_error.all.relative_l2, noisy.all.relative_l2, 1e-12 * noisy.all.relative_l2);
+    expect_agrees_to_rounding(row.noisy_error.all.relative_l2, noisy.all.relative_l2);
   }
   ASSERT_EQ(r.images.size(), 1u);
   EXPECT_EQ(r.images[0].roughness, 0.4);
@@ -173,10 +186,8 @@ TEST(DenoiseSweep, RowsMatchIndependentlyPreparedPointsAndTablesHaveOneLinePerRo
 }
 
 TEST(DenoiseSweep, BadValuesAreInputErrorsNamingThem) {
-  dsw::Options o = small_denoise_sweep();
-  o.noisy = "interleaved:2,interleaved:x";
-  expect_refused(dsw::compute, o, "'interleaved:x'");
-  o = small_denoise_sweep();
-  o.radius = 1;  // below M = 2
-  EXPECT_THROW(dsw::compute(o), sglab::runner::InputError);
+  expect_each_refused<dsw::Options>(
+      dsw::compute, small_denoise_sweep(),
+      {{[](dsw::Options& o) { o.noisy = "interleaved:2,interleaved:x"; }, "'interleaved:x'"},
+       {[](dsw::Options& o) { o.radius = 1; }, "radius 1 is below M = 2"}});
 }

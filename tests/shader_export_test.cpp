@@ -496,22 +496,18 @@ TEST_F(ExportCommand, WritesPasteableSourceAndRefusesBadInput) {
   expect_bad_input(sglab("export clamped-cosine/reference --lang glsl --out o.glsl"), "not exportable",
                    "clamped-cosine/reference cannot be exported", {"o.glsl"});
   // A specular method takes the six columns of `sglab eval specular`, in order.
+  const auto specular_signature = [](const std::string& method) {
+    return "float sglab_specular_" + method +
+           "(float roughness, float light_sharpness, float light_cos, float view_cos, float light_azimuth, float f0)";
+  };
   r = sglab("export specular/asg specular/sg-warp-dvn --lang glsl");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(
-      r.out.find("float sglab_specular_asg(float roughness, float light_sharpness, float light_cos, float view_cos, "
-                 "float light_azimuth, float f0)"),
-      std::string::npos)
-      << r.out;
+  EXPECT_NE(r.out.find(specular_signature("asg")), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("float sglab_specular_sg_warp_dvn("), std::string::npos);
   // sglab's own specular method and the filtering weights (export-only names, arguments in order).
   r = sglab("export specular/sglab --lang hlsl");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(
-      r.out.find("float sglab_specular_sglab(float roughness, float light_sharpness, float light_cos, float view_cos, "
-                 "float light_azimuth, float f0)"),
-      std::string::npos)
-      << r.out;
+  EXPECT_NE(r.out.find(specular_signature("sglab")), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("const float c_nu_slope = "), std::string::npos) << r.out;
   r = sglab("export filtering/lobe-weight filtering/normal-weight --lang glsl --out f.glsl");
   ASSERT_EQ(r.status, 0) << r.err;

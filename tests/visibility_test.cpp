@@ -34,6 +34,20 @@ using namespace sglab::render;
 
 Scene cornell(int size) { return sglab::test::repository_scene("cornell-glossy", size, size); }
 
+// The box at size × size pixels with its G-buffer and the VPLs of a 16² RSM: the receivers and
+// lights of the reference sums.
+struct LitBox {
+  Scene scene;
+  GBuffer g;
+  VplList vpls;
+};
+LitBox lit_box(int size) {
+  LitBox b{cornell(size), {}, {}};
+  b.g = render_gbuffer(b.scene);
+  b.vpls = prepare_vpls(render_rsm(b.scene, 16));
+  return b;
+}
+
 TEST(Visibility, CubeShadowMapAgreesWithRayCasting) {
   const Scene scene = cornell(48);
   const GBuffer g = render_gbuffer(scene);
@@ -146,9 +160,7 @@ TEST(Visibility, ShadowMapDepthIsCastRayTexelByTexel) {
 }
 
 TEST(Visibility, ReferenceWithVisibilityNeverExceedsWithout) {
-  const Scene scene = cornell(24);
-  const GBuffer g = render_gbuffer(scene);
-  const VplList vpls = prepare_vpls(render_rsm(scene, 16));
+  const auto [scene, g, vpls] = lit_box(24);
   double lost = 0;
   for (std::size_t k = 0; k < g.points.size(); ++k) {
     if (!g.hit[k]) continue;
@@ -185,9 +197,7 @@ TEST(Visibility, OccludedAgreesWithNearestHit) {
 // intensity and the receiver's BRDF (material_brdf.hpp), kept where cast_ray finds nothing between
 // the point and the VPL (the same offset and tolerance as vpl_visible).
 TEST(Visibility, ReferenceWithVisibilityIsThePlainMaskedSum) {
-  const Scene scene = cornell(20);
-  const GBuffer g = render_gbuffer(scene);
-  const VplList vpls = prepare_vpls(render_rsm(scene, 16));
+  const auto [scene, g, vpls] = lit_box(20);
   const sglab::simd::Isa initial = sglab::simd::active_isa();
   std::size_t checked = 0;
   for (std::size_t k = 0; k < g.points.size(); ++k) {

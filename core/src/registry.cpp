@@ -100,6 +100,13 @@ std::optional<std::string> column_value_error(const Column& column, double v) {
 
 std::string_view column_kind_name(ColumnKind kind) { return enum_name(kColumnKindNames, kind); }
 
+std::vector<Parameter> fit_parameters(const std::string& fit, const std::string& source,
+                                      const std::vector<FitConstant>& constants) {
+  std::vector<Parameter> out;
+  for (const FitConstant& c : constants) out.push_back({c.name, fit, c.published, source, c.kind});
+  return out;
+}
+
 std::optional<RowError> row_error(const Quantity& q, const Method& m, std::span<const double> row) {
   for (std::size_t j = 0; j < q.columns.size(); ++j)
     if (auto error = column_value_error(q.columns[j], row[j])) return RowError{j, std::move(*error)};

@@ -44,16 +44,15 @@ Method quadrature_reference_method(F reference) {
 // The constants of each method (defined once in core's headers; see Parameter in registry.hpp).
 std::vector<Parameter> meder_logistic_parameters() {
   const std::string src = "Meder & Brüderlin 2018, logistic steepness t(λ)";
-  return {{"p1", "meder-logistic", MederLogistic::p1, src, ColumnKind::positive},
-          {"p2", "meder-logistic", MederLogistic::p2, src, ColumnKind::positive},
-          {"p3", "meder-logistic", MederLogistic::p3, src, ColumnKind::positive},
-          {"p4", "meder-logistic", MederLogistic::p4, src, ColumnKind::positive}};
+  return fit_parameters(
+      "meder-logistic", src,
+      {{"p1", MederLogistic::p1}, {"p2", MederLogistic::p2}, {"p3", MederLogistic::p3}, {"p4", MederLogistic::p4}});
 }
 std::vector<Parameter> tokuyoshi2022_steepness_parameters() {
   const std::string src = "Tokuyoshi 2022, steepness k(λ) of the hemispherical integral";
-  return {{"A", "tokuyoshi2022-steepness", Tokuyoshi2022Steepness::A, src, ColumnKind::positive},
-          {"B", "tokuyoshi2022-steepness", Tokuyoshi2022Steepness::B, src, ColumnKind::positive},
-          {"C", "tokuyoshi2022-steepness", Tokuyoshi2022Steepness::C, src, ColumnKind::positive}};
+  return fit_parameters(
+      "tokuyoshi2022-steepness", src,
+      {{"A", Tokuyoshi2022Steepness::A}, {"B", Tokuyoshi2022Steepness::B}, {"C", Tokuyoshi2022Steepness::C}});
 }
 std::vector<Parameter> concat(std::vector<Parameter> a, const std::vector<Parameter>& b) {
   a.insert(a.end(), b.begin(), b.end());
@@ -207,11 +206,12 @@ void register_core_quantities(std::vector<Quantity>& out) {
       q.methods.push_back(make_method_with_parameters(
           exportable, "tokuyoshi2024", "Tokuyoshi et al. 2024, erfc interpolation between the c = ±1 bounds", "", false,
           nullptr,
-          {{"A", "tokuyoshi2024-t", Tokuyoshi2024T::A, src, ColumnKind::positive},
-           {"B", "tokuyoshi2024-t", Tokuyoshi2024T::B, src, ColumnKind::positive},
-           {"C", "tokuyoshi2024-t", Tokuyoshi2024T::C, src, ColumnKind::positive},
-           {"D", "tokuyoshi2024-t", Tokuyoshi2024T::D, src, ColumnKind::positive},
-           {"E", "tokuyoshi2024-t", Tokuyoshi2024T::E, src, ColumnKind::positive}},
+          fit_parameters("tokuyoshi2024-t", src,
+                         {{"A", Tokuyoshi2024T::A},
+                          {"B", Tokuyoshi2024T::B},
+                          {"C", Tokuyoshi2024T::C},
+                          {"D", Tokuyoshi2024T::D},
+                          {"E", Tokuyoshi2024T::E}}),
           [](auto a) { return clamped_cosine_tokuyoshi2024(a[0], a[1]); },
           [](auto a, auto p) { return clamped_cosine_tokuyoshi2024(a[0], a[1], p[0], p[1], p[2], p[3], p[4]); }));
     }
@@ -226,14 +226,15 @@ void register_core_quantities(std::vector<Quantity>& out) {
           "points; in the back-facing tail the corrected even part is held at ≥ ½ of the uncorrected one (part of the "
           "fitted form, keeps the value positive)",
           false, nullptr,
-          {{"A", "sglab", S::A, src, ColumnKind::positive},
-           {"B", "sglab", S::B, src, ColumnKind::positive},
-           {"C", "sglab", S::C, src, ColumnKind::positive},
-           {"D", "sglab", S::D, src, ColumnKind::positive},
-           {"E", "sglab", S::E, src, ColumnKind::positive},
-           {"k", "sglab", S::k, src, ColumnKind::positive},
-           {"P", "sglab", S::P, src, ColumnKind::finite},
-           {"Q", "sglab", S::Q, src, ColumnKind::positive}},
+          fit_parameters("sglab", src,
+                         {{"A", S::A},
+                          {"B", S::B},
+                          {"C", S::C},
+                          {"D", S::D},
+                          {"E", S::E},
+                          {"k", S::k},
+                          {"P", S::P, ColumnKind::finite},
+                          {"Q", S::Q}}),
           [](auto a) { return clamped_cosine_sglab(a[0], a[1]); },
           [](auto a, auto p) {
             using T = std::decay_t<decltype(a[0])>;

@@ -305,12 +305,13 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
           "between points; the light is Gaussian in slope "
           "space only near its axis (broad lights at grazing view carry the largest error); roughness held at ≤ 1e4",
           false, nullptr,
-          {{"nu_slope", "sglab-specular", S::nu_slope, src, ColumnKind::positive},
-           {"inflation", "sglab-specular", S::inflation, src, ColumnKind::nonnegative},
-           {"light_weight", "sglab-specular", S::light_weight, src, ColumnKind::nonnegative},
-           {"light_floor", "sglab-specular", S::light_floor, src, ColumnKind::nonnegative},
-           {"horizon_depth", "sglab-specular", S::horizon_depth, src, ColumnKind::unit_interval},
-           {"horizon_rate", "sglab-specular", S::horizon_rate, src, ColumnKind::nonnegative}},
+          fit_parameters("sglab-specular", src,
+                         {{"nu_slope", S::nu_slope},
+                          {"inflation", S::inflation, ColumnKind::nonnegative},
+                          {"light_weight", S::light_weight, ColumnKind::nonnegative},
+                          {"light_floor", S::light_floor, ColumnKind::nonnegative},
+                          {"horizon_depth", S::horizon_depth, ColumnKind::unit_interval},
+                          {"horizon_rate", S::horizon_rate, ColumnKind::nonnegative}}),
           [](auto a) { return specular_sglab(specular_input(a)); },
           [](auto a, auto p) {
             using T = std::decay_t<decltype(a[0])>;

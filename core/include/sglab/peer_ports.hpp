@@ -225,22 +225,15 @@ T spec_sg_warp_form(T a, T l, T lc, T v, T phi, T f0) {
   const V3<T> xm = kProductAxis ? normalize(l * xi + ls * axis) : axis;
   return ggx_factor_m(a, f0, wo, xm) * integral / (kPi<T> * a * a);
 }
+// The four forms by name (constant function pointers: kPorts instantiates them like the functions).
 template <class T>
-T spec_sg_warp(T a, T l, T lc, T v, T phi, T f0) {
-  return spec_sg_warp_form<T, false, false, false>(a, l, lc, v, phi, f0);
-}
+inline constexpr auto spec_sg_warp = spec_sg_warp_form<T, false, false, false>;
 template <class T>
-T spec_sg_warp_product_axis(T a, T l, T lc, T v, T phi, T f0) {
-  return spec_sg_warp_form<T, false, false, true>(a, l, lc, v, phi, f0);
-}
+inline constexpr auto spec_sg_warp_product_axis = spec_sg_warp_form<T, false, false, true>;
 template <class T>
-T spec_sg_warp_iwasaki(T a, T l, T lc, T v, T phi, T f0) {
-  return spec_sg_warp_form<T, true, false, false>(a, l, lc, v, phi, f0);
-}
+inline constexpr auto spec_sg_warp_iwasaki = spec_sg_warp_form<T, true, false, false>;
 template <class T>
-T spec_sg_warp_th2019(T a, T l, T lc, T v, T phi, T f0) {
-  return spec_sg_warp_form<T, false, true, false>(a, l, lc, v, phi, f0);
-}
+inline constexpr auto spec_sg_warp_th2019 = spec_sg_warp_form<T, false, true, false>;
 
 // Xu et al. 2013's ASG warp (ηx = λ_h/8, ηy = λ_h/(8 v²)) and Tokuyoshi 2015's ASG × SG
 // product (ν = λ/2), M at the product axis.

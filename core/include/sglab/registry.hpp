@@ -97,6 +97,16 @@ struct Parameter {
   ParameterRole role = ParameterRole::constant;
 };
 
+// The constants `sglab fit FIT` re-derives, all from one source: each its name, published value and
+// domain, as Parameters of that fit.
+struct FitConstant {
+  std::string name;
+  double published = 0;
+  ColumnKind kind = ColumnKind::positive;
+};
+std::vector<Parameter> fit_parameters(const std::string& fit, const std::string& source,
+                                      const std::vector<FitConstant>& constants);
+
 // The method's formula on the tracing type (trace.hpp): the inputs in column order, and its
 // constants (one per Method::parameters entry) as traced values. What `sglab export` emits code from.
 using TraceFn = std::function<Trace(std::span<const Trace> args, std::span<const Trace> params)>;

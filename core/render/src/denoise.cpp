@@ -146,11 +146,8 @@ DenoiseInputs prepare_denoise_inputs(const Scene& scene, const DenoiseInputOptio
   fill_full_gbuffer(scene, o.progress, in.full, in.hit, in.glossy);
   in.seconds.gbuffer = seconds_since(t0);
 
-  t0 = Clock::now();
-  const ReflectiveShadowMap rsm = render_rsm(scene, o.rsm_resolution);
-  const VplList vpls = prepare_vpls(rsm);
+  const VplList vpls = render_rsm_vpls(scene, o.rsm_resolution, in.seconds.rsm).vpls;
   in.vpl_count = vpls.vpls.size();
-  in.seconds.rsm = seconds_since(t0);
 
   t0 = Clock::now();
   in.noisy_diffuse.assign(n, Rgb::Zero());
@@ -180,15 +177,14 @@ DenoiseInputs prepare_denoise_inputs(const Scene& scene, const DenoiseInputOptio
   }
   in.seconds.noisy = seconds_since(t0);
 
-  t0 = Clock::now();
-  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference))
-    in.seconds.reference = seconds_since(t0);
+  fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference, in.seconds.reference);
   return in;
 }
 
 NoisyError noisy_error(const DenoiseInputs& in) {
-  const ReceiverErrors e = receiver_errors(in.noisy_image, in.reference, in.hit, in.glossy);
-  return {e.all, e.glossy, e.diffuse};
+  NoisyError r;
+  set_receiver_errors(r, in.noisy_image, in);
+  return r;
 }
 
 DenoiseResult denoise_indirect(const DenoiseInputs& in, FilterWeights weights, const FilterParameters& a) {
@@ -230,10 +226,7 @@ DenoiseResult denoise_indirect(const DenoiseInputs& in, FilterWeights weights, c
     r.error[k] = total - in.reference[k];
   });
 
-  const ReceiverErrors e = receiver_errors(r.filtered, in.reference, in.hit, in.glossy);
-  r.all = e.all;
-  r.glossy = e.glossy;
-  r.diffuse = e.diffuse;
+  set_receiver_errors(r, r.filtered, in);
   r.seconds = seconds_since(t0);
   return r;
 }

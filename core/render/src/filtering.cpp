@@ -78,21 +78,30 @@ std::pair<Rgb, Rgb> split_vpl_sum(const ShadingPoint& point, const VplList& vpls
   return {reference_radiance(d, vpls), point.glossy() ? reference_radiance(g, vpls) : Rgb::Zero()};
 }
 
-bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given,
+void fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given,
                     int width, const std::function<void(std::string_view, double)>& progress,
-                    std::vector<Rgb>& reference) {
+                    std::vector<Rgb>& reference, double& seconds) {
   const std::size_t n = full.size();
   if (given) {
     if (given->size() != n)
       throw std::invalid_argument(fmt::format("the reference given has {} pixels, the image {}", given->size(), n));
     reference = *given;
-    return false;
+    return;
   }
+  const auto t0 = Clock::now();
   reference.assign(n, Rgb::Zero());
   for_each_row(width, int(n / std::size_t(width)), "reference (VPL sum)", progress, [&](std::size_t k, int, int) {
     if (full[k].valid) reference[k] = reference_radiance(full[k].point, vpls);
   });
-  return true;
+  seconds = seconds_since(t0);
+}
+
+RsmVpls render_rsm_vpls(const Scene& scene, int resolution, double& seconds) {
+  const auto t0 = Clock::now();
+  RsmVpls r{render_rsm(scene, resolution), {}};
+  r.vpls = prepare_vpls(r.rsm);
+  seconds = seconds_since(t0);
+  return r;
 }
 
 ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference,
@@ -240,20 +249,15 @@ FilterInputs prepare_filter_inputs(const Scene& scene, const FilterInputOptions&
   fill_gbuffers(scene, o, in);
   in.seconds.gbuffer = seconds_since(t0);
 
-  t0 = Clock::now();
-  const ReflectiveShadowMap rsm = render_rsm(scene, o.rsm_resolution);
-  const VplList vpls = prepare_vpls(rsm);
+  const auto [rsm, vpls] = render_rsm_vpls(scene, o.rsm_resolution, in.seconds.rsm);
   in.vpl_count = vpls.vpls.size();
-  in.seconds.rsm = seconds_since(t0);
 
   t0 = Clock::now();
   fill_low_res_indirect(rsm, vpls, o, in);
   in.seconds.low_res = seconds_since(t0);
 
-  t0 = Clock::now();
   // seconds.reference stays 0 when the reference was given: nothing was computed.
-  if (fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference))
-    in.seconds.reference = seconds_since(t0);
+  fill_reference(in.full, vpls, o.reference, in.width, o.progress, in.reference, in.seconds.reference);
   return in;
 }
 
@@ -310,10 +314,7 @@ FilterResult upsample_indirect(const FilterInputs& in, FilterWeights weights, co
   });
 
   r.fallback_pixels = fallbacks.load();
-  const ReceiverErrors e = receiver_errors(r.upsampled, in.reference, in.hit, in.glossy);
-  r.all = e.all;
-  r.glossy = e.glossy;
-  r.diffuse = e.diffuse;
+  set_receiver_errors(r, r.upsampled, in);
   r.seconds = seconds_since(t0);
   return r;
 }

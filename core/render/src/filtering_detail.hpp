@@ -16,6 +16,7 @@
 
 #include "sglab/render/filtering.hpp"
 #include "sglab/render/reference.hpp"
+#include "sglab/render/rsm.hpp"
 
 namespace sglab::render::filtering_detail {
 
@@ -57,10 +58,19 @@ void fill_full_gbuffer(const Scene& scene, const std::function<void(std::string_
 std::pair<Rgb, Rgb> split_vpl_sum(const ShadingPoint& point, const VplList& vpls);
 
 // The exact VPL sum at every valid sample (0 elsewhere): `given` if not null (its size must be the
-// samples'; std::invalid_argument otherwise), else computed. Returns whether it was computed.
-bool fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given,
+// samples'; std::invalid_argument otherwise), else computed, with `seconds` set to the seconds that
+// took (left as it is when the reference was given: nothing was computed).
+void fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, const std::vector<Rgb>* given,
                     int width, const std::function<void(std::string_view, double)>& progress,
-                    std::vector<Rgb>& reference);
+                    std::vector<Rgb>& reference, double& seconds);
+
+// The scene's reflective shadow map at `resolution` and its VPLs,
+// with `seconds` set to the seconds they took.
+struct RsmVpls {
+  ReflectiveShadowMap rsm;
+  VplList vpls;
+};
+RsmVpls render_rsm_vpls(const Scene& scene, int resolution, double& seconds);
 
 // Per-channel a/b with 0 where b is 0.
 Rgb demodulate(const Rgb& value, const Rgb& reflectance);
@@ -73,5 +83,15 @@ struct ReceiverErrors {
 };
 ReceiverErrors receiver_errors(const std::vector<Rgb>& value, const std::vector<Rgb>& reference,
                                const std::vector<char>& hit, const std::vector<char>& glossy);
+
+// Sets r.all, r.glossy and r.diffuse to the receiver errors of `value` against in.reference over
+// in's hit and glossy masks.
+template <class Result, class Inputs>
+void set_receiver_errors(Result& r, const std::vector<Rgb>& value, const Inputs& in) {
+  const ReceiverErrors e = receiver_errors(value, in.reference, in.hit, in.glossy);
+  r.all = e.all;
+  r.glossy = e.glossy;
+  r.diffuse = e.diffuse;
+}
 
 }  // namespace sglab::render::filtering_detail
