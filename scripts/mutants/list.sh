@@ -10,6 +10,8 @@
 # Removed with the code they edited: simd-sglab-t, simd-t2024-tail, simd-sg-integral and simd-expm1-series mutated the
 # hand-written diffuse kernels, which are now the formulas' own templates on SIMD lanes (their
 # mutants above reach the lanes through simd_test); the series' lane form has its own two mutants.
+# Replaced: simd-asg-nu (ν = λ/2 mistyped in the hand-written `specular/asg` kernel) by asg-nu, the
+# same edit of the template, which that kernel now is on SIMD lanes (simd_specular.hpp).
 # Replaced: sg-product-scale once changed the constant kProductScaleSharpness itself, which a
 # static_assert in core/render/src/simd/render_dispatch.cpp pins to its SIMD copy (the build
 # fails: no test runs); it now moves the switch of product_sharpness alone.
@@ -33,6 +35,8 @@ mutant meder-offset core/include/sglab/clamped_cosine.hpp 's#offset = 31\.7003;#
   clamped_cosine_test hemispherical_test
 mutant meder-p2 core/include/sglab/hemispherical.hpp 's#p2 = 10\.8438;#p2 = 10.4838;#' \
   hemispherical_test clamped_cosine_test
+mutant asg-nu core/include/sglab/asg.hpp 's#const T nu = sharpness / T(2);#const T nu = sharpness / T(4);#' \
+  asg_test specular_test
 mutant sg-integral-2l core/include/sglab/sg.hpp 's#return T(2) \* two_pi<T>() \* expm1_over_x(x, em);#return two_pi<T>() * expm1_over_x(x, em);#' \
   sg_test
 mutant sg-log-amplitude core/include/sglab/sg.hpp 's#return T(-2) \* sharpness1 \* sharpness2 \* (T(1) - c) / denom;#return T(-2) * sharpness1 * sharpness2 * (T(1.01) - c) / denom;#' \
@@ -51,8 +55,6 @@ mutant simd-series-terms core/src/simd/simd_kernels.hpp 's#kSeriesTerms = sizeof
   simd_test
 mutant simd-erfc-saturation core/src/simd/simd_math.hpp 's#T(26\.54) : T(9\.19)#T(26.54) : T(3.19)#' \
   simd_test simd_specular_test
-mutant simd-asg-nu core/src/simd/simd_specular.hpp 's#const B nu = r\.light_sharpness / T(2);#const B nu = r.light_sharpness / T(4);#' \
-  simd_specular_test
 mutant render-ggx-ndf core/render/src/simd/render_kernels.hpp 's#a2 / (T(kPi) \* dn \* dn)#a2 / (T(kPi) * dn)#' \
   render_test vsgl_shading_test
 mutant render-vpl-clamp core/render/src/simd/render_kernels.hpp 's#const T k = T(1) / (d2 + r2\[i\]);#const T k = T(1) / (d2 + 2 * r2[i]);#' \

@@ -5,6 +5,8 @@
 // point away from the surface (ωo towards the viewer, ωi towards the light).
 #pragma once
 
+#include <utility>
+
 #include "sglab/asg.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
@@ -140,16 +142,12 @@ T smith_g2_ggx(const T& alpha, const T& cos_o, const T& cos_i) {
 // The visibility term V = G2/(4 co ci) = 1/(2(ci So + co Si)) (the same algebra; Heitz 2014,
 // as used by Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", Listing 2). Finite unless
 // both cosines are 0. Returns 0 when either cosine is ≤ 0.
+// (Computed, then chosen: choose, scalar.hpp; on SIMD lanes no branch on the lanes' masks.)
 template <class T>
 T smith_visibility_ggx(const T& alpha, const T& cos_o, const T& cos_i) {
   const auto zero = (!(value_of(cos_o) > 0) && !(value_of(cos_i) > 0)) || value_of(cos_o) < 0 || value_of(cos_i) < 0;
-  return select(
-      zero, []() -> T { return T(0); },
-      [&]() -> T {
-        const T den = cos_i * smith_root(alpha, cos_o) + cos_o * smith_root(alpha, cos_i);
-        return select(
-            !(value_of(den) > 0), []() -> T { return T(0); }, [&]() -> T { return T(1) / (T(2) * den); });
-      });
+  const T den = cos_i * smith_root(alpha, cos_o) + cos_o * smith_root(alpha, cos_i);
+  return choose(zero || !(value_of(den) > 0), T(0), T(T(1) / (T(2) * den)));
 }
 
 // Schlick 1994: F = f0 + (1 − f0)(1 − ωo·h)⁵ (clamped cosine so rounding past 1 gives f0).
@@ -160,6 +158,13 @@ T fresnel_schlick(const T& f0, const T& cos_oh) {
   return f0 + (T(1) - f0) * m2 * m2 * m;
 }
 
+// The type of a value proportional to Schlick's F(f0, ·): T for an f0 of type T. The SIMD kernels'
+// f0 pair (f0 = 0 and 1 at once, core/src/simd/simd_fresnel_pair.hpp) has its own fresnel_schlick,
+// found by argument-dependent lookup, so that the methods below, templates on the f0 type too,
+// compute everything upstream of F once for both.
+template <class T, class F0>
+using fresnel_value_t = decltype(fresnel_schlick(std::declval<const F0&>(), std::declval<const T&>()));
+
 // Half vector of two unit directions in the closed upper hemisphere. They can be exactly
 // opposite only when both lie on the horizon (grazing view, light at the horizon: the stability
 // atlas found float NaN there, 0/0); h is then undefined and every caller multiplies by
@@ -168,9 +173,7 @@ template <class T>
 Vec3<T> half_vector(const Vec3<T>& wo, const Vec3<T>& wi) {
   const Vec3<T> h = wo + wi;
   const T length = T(h.norm());
-  return select(
-      !(value_of(length) > 0), []() -> Vec3<T> { return Vec3<T>(T(0), T(0), T(1)); },
-      [&]() -> Vec3<T> { return h / length; });
+  return choose(!(value_of(length) > 0), Vec3<T>(T(0), T(0), T(1)), Vec3<T>(h / length));
 }
 
 // f(ωo, ωi)·⟨ωi·n⟩ for the ground-truth GGX BRDF f = D·G2·F/(4 co ci) (Walter et al. 2007 Eq. 20
@@ -201,6 +204,14 @@ Vec3<T> reflect_about(const Vec3<T>& wo, const Vec3<T>& m) {
   return T(2) * T(wo.dot(m)) * m - wo;
 }
 
+// The same about the frame's normal n = (0, 0, 1): (−ωo.x, −ωo.y, ωo.z), the value of
+// 2(ωo·n)n − ωo (to the sign of a zero component) with no arithmetic, so that ⟨ξ_s·n⟩ is ωo's own
+// z (an evaluator sees one value where the methods take both cosines, e.g. smith_root of each).
+template <class T>
+Vec3<T> reflect_about_normal(const Vec3<T>& wo) {
+  return Vec3<T>(T(-wo(0)), T(-wo(1)), wo(2));
+}
+
 // Below this |ξ_s·n| the warp's 1/(4|ξ_s·n|) is evaluated at the floor: at exactly grazing view
 // λ_s would be +∞ and +∞·0 = NaN downstream. 1e-8 keeps λ_s = λ_h/(4e-8) finite in float for
 // every α ≥ kMinRoughness (2e16/4e-8 = 5e23 < 3.4e38).
@@ -217,8 +228,7 @@ template <class T>
 SgLobe<T> spherical_warp(const SgLobe<T>& ndf, const Vec3<T>& wo) {
   using std::abs;
   using std::max;
-  const Vec3<T> n(T(0), T(0), T(1));
-  const Vec3<T> axis = reflect_about(wo, n);
+  const Vec3<T> axis = reflect_about_normal(wo);
   const T c = max(T(abs(axis(2))), T(kMinWarpCosine));
   return {axis, T(ndf.sharpness / (T(4) * c)), ndf.amplitude};
 }
@@ -266,9 +276,8 @@ template <class T>
 Asg<T> asg_warp(const T& lambda_h, const Vec3<T>& wo) {
   using std::max;
   using std::sqrt;
-  const Vec3<T> n(T(0), T(0), T(1));
   Asg<T> g;
-  g.z = reflect_about(wo, n);
+  g.z = reflect_about_normal(wo);
   // ξy ⟂ plane of incidence: n × ωo normalized; at normal incidence any tangent will do.
   const T s = sqrt(wo(0) * wo(0) + wo(1) * wo(1));
   g.y = select(
@@ -285,15 +294,13 @@ Asg<T> asg_warp(const T& lambda_h, const Vec3<T>& wo) {
 // M(ω) = F · G2/(4 cos θo), the BRDF·cosine without its NDF (Tokuyoshi 2015 (two-VSGL poster) §1.1:
 // ρ⟨ω·n⟩ = M(ω)D(ω_h)), written F·V·⟨ω·n⟩ (V as above) so that it is finite at grazing view.
 // Evaluated by the methods at the product lobe's axis ξ_m (Tokuyoshi 2015 (two-VSGL poster) §3.2).
-template <class T>
-T brdf_factor_m(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& w) {
+template <class T, class F0>
+fresnel_value_t<T, F0> brdf_factor_m(const T& alpha, const F0& f0, const Vec3<T>& wo, const Vec3<T>& w) {
+  using R = fresnel_value_t<T, F0>;
   const T ci = w(2);
-  return select(
-      !(value_of(ci) > 0) || value_of(wo(2)) < 0, []() -> T { return T(0); },
-      [&]() -> T {
-        const Vec3<T> h = half_vector(wo, w);
-        return fresnel_schlick(f0, T(wo.dot(h))) * smith_visibility_ggx(alpha, T(wo(2)), ci) * ci;
-      });
+  const Vec3<T> h = half_vector(wo, w);
+  const R m = fresnel_schlick(f0, T(wo.dot(h))) * smith_visibility_ggx(alpha, T(wo(2)), ci) * ci;
+  return choose(!(value_of(ci) > 0) || value_of(wo(2)) < 0, R(T(0)), m);
 }
 
 }  // namespace sglab

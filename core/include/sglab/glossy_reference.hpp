@@ -291,13 +291,19 @@ Vec3<T> specular_view(const T& view_cos) {
   return Vec3<T>(safe_sqrt(sin2_from_cos(v)), T(0), v);
 }
 
+// The light axis ξ from its cosine and cos φ, sin φ of its azimuth (the renderer's columns and the
+// SIMD pair kernels carry those, not φ); specular_light_axis from φ.
+template <class T>
+Vec3<T> specular_light_axis_cs(const T& light_cos, const T& cos_azimuth, const T& sin_azimuth) {
+  const T c = clamp_cosine(light_cos);
+  const T s = safe_sqrt(sin2_from_cos(c));
+  return Vec3<T>(s * cos_azimuth, s * sin_azimuth, c);
+}
 template <class T>
 Vec3<T> specular_light_axis(const T& light_cos, const T& light_azimuth) {
   using std::cos;
   using std::sin;
-  const T c = clamp_cosine(light_cos);
-  const T s = safe_sqrt(sin2_from_cos(c));
-  return Vec3<T>(s * cos(light_azimuth), s * sin(light_azimuth), c);
+  return specular_light_axis_cs(light_cos, T(cos(light_azimuth)), T(sin(light_azimuth)));
 }
 
 // ∫ G(ω; pole, λ) h(ω) dω by integrate_sphere about the SG's axis, for any λ up to the largest

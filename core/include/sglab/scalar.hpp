@@ -90,6 +90,17 @@ auto select(bool cond, F&& if_true, G&& if_false) -> decltype(if_true()) {
   return cond ? if_true() : if_false();
 }
 
+// choose(cond, a, b): a when cond holds and b otherwise, of two values already computed (cheap
+// sides, nothing to skip): select's value. On SIMD lanes it is a blend of the lanes, without the
+// test of the mask by which select skips a side no lane takes (an overload found by
+// argument-dependent lookup, core/src/simd/simd_lanes.hpp), and without its branch, which lanes
+// that disagree at random mispredict.
+template <class C, class T>
+T choose(const C& cond, const T& a, const T& b) {
+  return select(
+      cond, [&]() -> T { return a; }, [&]() -> T { return b; });
+}
+
 // Whether a series summed term by term has converged: the term no longer changes the sum at T's
 // precision. `terms` is how many terms the sum holds (a traced series sums a fixed number of
 // terms: trace.hpp).

@@ -180,16 +180,15 @@ T product_integral_exact(const T& sharpness1, const T& sharpness2, const T& cosi
 template <class T>
 T product_integral_iwasaki(const T& sharpness1, const T& sharpness2, const T& cosine) {
   const T sum = sharpness1 + sharpness2;
-  return select(
-      !(value_of(sum) > 0), []() -> T { return T(std::numeric_limits<value_type_t<T>>::infinity()); },
-      [&]() -> T {
-        // λ1λ2/(λ1 + λ2) as the larger sharpness times (the smaller)/(sum) ≤ 1: λ1λ2 overflows from
-        // λ ≈ 1.8e19 in float, 1.3e154 in double (then ∞/∞ or ∞·0 = NaN in the exponent).
-        const T reduced = select(
-            value_of(sharpness1) > value_of(sharpness2), [&]() -> T { return sharpness1 * (sharpness2 / sum); },
-            [&]() -> T { return sharpness2 * (sharpness1 / sum); });
-        return two_pi<T>() * sg_eval_cos(cosine, reduced) / sum;
-      });
+  // λ1λ2/(λ1 + λ2) as the larger sharpness times (the smaller)/(sum) ≤ 1: λ1λ2 overflows from
+  // λ ≈ 1.8e19 in float, 1.3e154 in double (then ∞/∞ or ∞·0 = NaN in the exponent). Every value is
+  // computed and the result chosen (choose: on SIMD lanes a blend, no branch on the lanes' masks;
+  // the value at sum = 0, NaN, is never chosen).
+  const auto first_larger = value_of(sharpness1) > value_of(sharpness2);
+  const T first_times = sharpness1 * (sharpness2 / sum), second_times = sharpness2 * (sharpness1 / sum);
+  const T reduced = choose(first_larger, first_times, second_times);
+  const T value = two_pi<T>() * sg_eval_cos(cosine, reduced) / sum;
+  return choose(!(value_of(sum) > 0), T(std::numeric_limits<value_type_t<T>>::infinity()), value);
 }
 
 }  // namespace sglab

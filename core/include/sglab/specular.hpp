@@ -64,39 +64,52 @@ enum class FactorAt {
 //   L ≈ M(ξ_s)/(πα²) · ∫ G(ω; ξ_s, λ_s) G(ω; ξ, λ) dω,
 // with the exact (Tsai & Shih 2006) or Iwasaki 2012 product integral. `lambda_h` selects the NDF
 // sharpness (2/α², or 2/α² − 2 of Tokuyoshi & Harada 2019).
-template <class T>
-T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductForm::exact,
-                   bool tokuyoshi_harada_sharpness = false, FactorAt factor_at = FactorAt::lobe_axis) {
-  const T alpha = detail::floored_roughness(in.roughness);
-  const Vec3<T> wo = specular_view(in.view_cos);
-  const Vec3<T> xi = specular_light_axis(in.light_cos, in.light_azimuth);
+//
+// Every method comes in two forms: on a SpecularInput, and `_at` on the frame's vectors (ξ, ωo) with an
+// f0 of any type that fresnel_schlick takes (brdf.hpp fresnel_value_t: T itself, or the SIMD
+// kernels' pair of f0 = 0 and 1).
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_sg_warp_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
+                                           const Vec3<T>& wo, const F0& f0, SgProductForm form = SgProductForm::exact,
+                                           bool tokuyoshi_harada_sharpness = false,
+                                           FactorAt factor_at = FactorAt::lobe_axis) {
+  const T alpha = detail::floored_roughness(roughness);
   const T lambda_h = tokuyoshi_harada_sharpness ? ndf_sharpness_tokuyoshi_harada(alpha) : ndf_sharpness_wang(alpha);
   const SgLobe<T> lobe = spherical_warp(microfacet_ndf_sg(alpha, lambda_h), wo);
   const T cosine = clamp_cosine(T(lobe.axis.dot(xi)));
-  const T integral = form == SgProductForm::exact
-                         ? product_integral_exact(lobe.sharpness, in.light_sharpness, cosine)
-                         : product_integral_iwasaki(lobe.sharpness, in.light_sharpness, cosine);
+  const T integral = form == SgProductForm::exact ? product_integral_exact(lobe.sharpness, light_sharpness, cosine)
+                                                  : product_integral_iwasaki(lobe.sharpness, light_sharpness, cosine);
   const Vec3<T> xm = factor_at == FactorAt::lobe_axis
                          ? lobe.axis
-                         : detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
-  return lobe.amplitude * brdf_factor_m(alpha, in.f0, wo, xm) * integral;
+                         : detail::product_axis(xi, light_sharpness, lobe.axis, lobe.sharpness);
+  return lobe.amplitude * brdf_factor_m(alpha, f0, wo, xm) * integral;
+}
+template <class T>
+T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductForm::exact,
+                   bool tokuyoshi_harada_sharpness = false, FactorAt factor_at = FactorAt::lobe_axis) {
+  return specular_sg_warp_at(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
+                             specular_view(in.view_cos), in.f0, form, tokuyoshi_harada_sharpness, factor_at);
 }
 
 // `asg` (Tokuyoshi 2015 (two-VSGL poster) §3.2; Xu et al. 2013): the NDF lobe warped to an ASG at the shading
 // point (asg_warp), the product integral in the paper's form (ν = λ/2), M at
 // ξ_m = (λξ + λ_sξz)/‖…‖ with Wang's isotropic λ_s (as the paper writes it):
 //   L ≈ M(ξ_m)/(πα²) · π Ĝ(ξ; …, ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)).
-template <class T>
-T specular_asg(const SpecularInput<T>& in) {
-  const T alpha = detail::floored_roughness(in.roughness);
-  const Vec3<T> wo = specular_view(in.view_cos);
-  const Vec3<T> xi = specular_light_axis(in.light_cos, in.light_azimuth);
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_asg_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
+                                       const Vec3<T>& wo, const F0& f0) {
+  const T alpha = detail::floored_roughness(roughness);
   const SgLobe<T> ndf = ggx_ndf_sg(alpha);
   const Asg<T> lobe = asg_warp(ndf.sharpness, wo);
   const T lambda_s = spherical_warp(ndf, wo).sharpness;
-  const T integral = asg_sg_product_two_vsgls(lobe, xi, in.light_sharpness);
-  const Vec3<T> xm = detail::product_axis(xi, in.light_sharpness, lobe.z, lambda_s);
-  return ndf.amplitude * brdf_factor_m(alpha, in.f0, wo, xm) * integral;
+  const T integral = asg_sg_product_two_vsgls(lobe, xi, light_sharpness);
+  const Vec3<T> xm = detail::product_axis(xi, light_sharpness, lobe.z, lambda_s);
+  return ndf.amplitude * brdf_factor_m(alpha, f0, wo, xm) * integral;
+}
+template <class T>
+T specular_asg(const SpecularInput<T>& in) {
+  return specular_asg_at(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
+                         specular_view(in.view_cos), in.f0);
 }
 
 // (1 + Λ(ωo))/(1 + Λ(ωo) + Λ(ωi)) = G2/G1(ωo) for GGX (Heitz 2014 Eq. 43 and 99), in the root
@@ -122,23 +135,28 @@ T smith_g2_over_g1o(const T& alpha, const T& cos_o, const T& cos_i) {
 //   L ≈ F·G2/G1(ωo) |_{ξ_m} · ∫ G(ω; ξ_r, λ_r) G(ω; ξ, λ) dω / A(λ_r)   (exact product).
 // The normalization removes the 1/(πα²) amplitude that Wang's warp gets wrong at large α and at
 // grazing view (where the lobe is cut by the horizon and its peak is not at the mirror direction).
-template <class T>
-T specular_sg_warp_dvn(const SpecularInput<T>& in) {
-  const T alpha = detail::floored_roughness(in.roughness);
-  const Vec3<T> wo = specular_view(in.view_cos);
-  const Vec3<T> xi = specular_light_axis(in.light_cos, in.light_azimuth);
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_sg_warp_dvn_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
+                                               const Vec3<T>& wo, const F0& f0) {
+  using R = fresnel_value_t<T, F0>;
+  const T alpha = detail::floored_roughness(roughness);
   const SgLobe<T> lobe = dvn_reflection_lobe(alpha, wo);
   const T cosine = clamp_cosine(T(lobe.axis.dot(xi)));
-  const T integral = product_integral_exact(lobe.sharpness, in.light_sharpness, cosine) / sg_integral(lobe.sharpness);
-  const Vec3<T> xm = detail::product_axis(xi, in.light_sharpness, lobe.axis, lobe.sharpness);
+  const T integral = product_integral_exact(lobe.sharpness, light_sharpness, cosine) / sg_integral(lobe.sharpness);
+  const Vec3<T> xm = detail::product_axis(xi, light_sharpness, lobe.axis, lobe.sharpness);
   const T ci = xm(2);
   return select(
-      !(value_of(ci) > 0), []() -> T { return T(0); },
-      [&]() -> T {
+      !(value_of(ci) > 0), []() -> R { return R(T(0)); },
+      [&]() -> R {
         const Vec3<T> h = half_vector(wo, xm);
-        const T weight = fresnel_schlick(in.f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, T(wo(2)), ci);
+        const R weight = fresnel_schlick(f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, T(wo(2)), ci);
         return weight * integral;
       });
+}
+template <class T>
+T specular_sg_warp_dvn(const SpecularInput<T>& in) {
+  return specular_sg_warp_dvn_at(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
+                                 specular_view(in.view_cos), in.f0);
 }
 
 // `sglab` (this project; specular_sglab.hpp): the GGX slope density as a Student t, smoothed by

@@ -86,13 +86,11 @@ struct SglabSpecularParams {
 // as a form tried of paper_tables/own_specular.md, with the constants fitted for it there).
 enum class SglabHorizon { rational, exponential };
 
-namespace detail {
-
 // 2^{1−⌊log2 s⌋} ∈ (1/s, 2/s] for a positive normal s with 2^{1−⌊log2 s⌋} normal (s ≥ 1, or D ≥
 // the smallest normal number; a power of two, so no division and no rounding), 0 for s = ∞: the
-// scales of the s > 1 side and of ω* below. (The batch kernel subtracts s's exponent field from
-// that of +∞, the same number.) A traced formula (the shader export: no frexp) takes 1/s, the same
-// value to rounding, which the ratios' homogeneity makes harmless.
+// scales of the s > 1 side and of ω* below. (On lanes, an overload found by argument-dependent
+// lookup subtracts s's exponent field from that of +∞, the same number: simd_specular.hpp.) A traced formula (the
+// shader export: no frexp) takes 1/s, the same value to rounding, which the ratios' homogeneity makes harmless.
 template <class V>
 V sglab_inverse_scale(const V& s) {
   using std::frexp;
@@ -108,27 +106,43 @@ V sglab_inverse_scale(const V& s) {
   }
 }
 
+// e^x, subnormal results included (the integral's, which the BRDF weight scales back up by up to
+// 1/h_z at grazing view). The vectorized exp flushes them to 0; on lanes an overload found by
+// argument-dependent lookup keeps them (simd_specular.hpp).
+template <class T>
+T exp_keeping_subnormals(const T& x) {
+  using std::exp;
+  return exp(x);
+}
+
+namespace detail {
+
 // 4(ωo·h)/h_z · F·V·⟨ω·n⟩ = 2(ωo·h)F·ω_z/(h_z(ω_z S_o + ωo_z S_i)): the weight W of the slope
 // integral (M of brdf_factor_m with the half-vector Jacobian). 0 below the horizon.
-template <class T>
-T sglab_slope_weight(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& w, const Vec3<T>& h) {
+template <class T, class F0>
+fresnel_value_t<T, F0> sglab_slope_weight(const T& alpha, const F0& f0, const Vec3<T>& wo, const Vec3<T>& w,
+                                          const Vec3<T>& h) {
+  using R = fresnel_value_t<T, F0>;
   const T ci = w(2), co = wo(2);
   return select(
-      !(value_of(ci) > 0) || value_of(co) < 0 || !(value_of(h(2)) > 0), []() -> T { return T(0); },
-      [&]() -> T {
+      !(value_of(ci) > 0) || value_of(co) < 0 || !(value_of(h(2)) > 0), []() -> R { return R(T(0)); },
+      [&]() -> R {
         const T coh = clamp(T(wo.dot(h)), T(0), T(1));
         const T den = ci * smith_root(alpha, co) + co * smith_root(alpha, ci);
         return select(
-            !(value_of(den) > 0), []() -> T { return T(0); },
-            [&]() -> T { return T(2) * coh * fresnel_schlick(f0, coh) * ci / (h(2) * den); });
+            !(value_of(den) > 0), []() -> R { return R(T(0)); },
+            [&]() -> R { return T(2) * coh * fresnel_schlick(f0, coh) * ci / (h(2) * den); });
       });
 }
 
 }  // namespace detail
 
-template <class T>
-T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T>& xi, const Vec3<T>& wo, const T& f0,
-                      const SglabSpecularParams<T>& p, SglabHorizon horizon_form = SglabHorizon::rational) {
+// (f0 of any type fresnel_schlick takes: brdf.hpp fresnel_value_t.)
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
+                                           const Vec3<T>& wo, const F0& f0, const SglabSpecularParams<T>& p,
+                                           SglabHorizon horizon_form = SglabHorizon::rational) {
+  using R = fresnel_value_t<T, F0>;
   using std::exp;
   using std::log1p;
   using std::max;
@@ -199,7 +213,7 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   // 1/ν = 2bΔ/(4bΔ + c_ν aS) and det(I + s_D A)^{−½} = a/√D: one reciprocal of D for all of them.
   const auto small = value_of(s) <= 1;
   const T a = select(
-      small, []() -> T { return T(1); }, [&]() -> T { return T(detail::sglab_inverse_scale(value_of(s))); });
+      small, []() -> T { return T(1); }, [&]() -> T { return T(sglab_inverse_scale(value_of(s))); });
   const T b = a * s;
   const T g = lambda * a;
   // D > 0; held at the smallest normal number where every term underflows (float, α ≤ 1e-3 at
@@ -230,7 +244,7 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
   // unnormalized u = (−m*, 1) (one division, no square root before ω*).
   // u ∝ (−m*, 1) is taken as c_D·(−D·m*, D), c_D = sglab_inverse_scale(D) (a power of two, D·c_D ∈
   // [2, 4): |u| ≥ 2), so that ω* does not wait for 1/D.
-  const T cd = T(detail::sglab_inverse_scale(value_of(dd)));
+  const T cd = T(sglab_inverse_scale(value_of(dd)));
   const Vec3<T> hu(-nx * cd, -ny * cd, dd * cd);
   const T ru2 = T(1) / T(hu.squaredNorm());  // 1/|u|²
   const T twice = T(2) * T(wo.dot(hu)) * ru2;
@@ -258,9 +272,9 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
         return min(T(p.light_weight * max(diff, T(-p.light_floor))), T(kSglabSpecularMaxExponent));
       },
       []() -> T { return T(0); });
-  const T weight = select(
-      above, [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, ws, hs); },
-      [&]() -> T { return detail::sglab_slope_weight(alpha, f0, wo, xi, h); });
+  const R weight = select(
+      above, [&]() -> R { return detail::sglab_slope_weight(alpha, f0, wo, ws, hs); },
+      [&]() -> R { return detail::sglab_slope_weight(alpha, f0, wo, xi, h); });
   // Step 5, 1 − h_d/(1 + h_r t²)² with t² = ω*_z²/w²: h_d·(w²/(w² + h_r ω*_z²))², one quotient; 1
   // where that denominator is 0 (w² = 0 and ω*_z² underflowing: no width, t = ∞). The form tried
   // before it, 1 − h_d·e^{−h_r t}, on request (SglabHorizon).
@@ -284,7 +298,7 @@ T specular_sglab_with(const T& roughness, const T& light_sharpness, const Vec3<T
             []() -> T { return T(1); });
       });
   const T exponent = min(T(t_exponent + light), T(kSglabSpecularMaxExponent));
-  const T integral = min(T(exp(exponent) * inv_root_det), T(1));
+  const T integral = min(T(exp_keeping_subnormals(exponent) * inv_root_det), T(1));
   return weight * integral * horizon;
 }
 

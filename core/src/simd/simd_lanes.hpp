@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <type_traits>
 
+#include <Eigen/Core>
 #include <xsimd/xsimd.hpp>
 
 #include "sglab/scalar.hpp"
@@ -67,19 +68,21 @@ template <class B, class A, std::enable_if_t<std::is_arithmetic_v<A>, int> = 0>
 inline B lanes_of(const A& a) {
   return B(static_cast<typename B::value_type>(a));
 }
-template <class X, class Y>
+// (No `type` for any other pair, e.g. a Lanes and an Eigen vector of Lanes: the operators below
+// then drop out of overload resolution and Eigen's own apply.)
+template <class X, class Y, class = void>
 struct common_lanes {};
 template <class B>
-struct common_lanes<Lanes<B>, Lanes<B>> {
+struct common_lanes<Lanes<B>, Lanes<B>, void> {
   using type = B;
 };
 template <class B, class A>
-struct common_lanes<Lanes<B>, A> {
-  using type = std::enable_if_t<std::is_arithmetic_v<A>, B>;
+struct common_lanes<Lanes<B>, A, std::enable_if_t<std::is_arithmetic_v<A>>> {
+  using type = B;
 };
 template <class B, class A>
-struct common_lanes<A, Lanes<B>> {
-  using type = std::enable_if_t<std::is_arithmetic_v<A>, B>;
+struct common_lanes<A, Lanes<B>, std::enable_if_t<std::is_arithmetic_v<A>>> {
+  using type = B;
 };
 template <class X, class Y>
 using common_lanes_t = typename common_lanes<X, Y>::type;
@@ -164,15 +167,27 @@ template <class B>
 inline Lanes<B> abs(const Lanes<B>& x) {
   return {xsimd::abs(x.v)};
 }
+// std::max and std::min's values (the first argument when neither is larger), lane by lane: the
+// templates' `using std::max; max(a, b)` finds these (more specialized than std::max, which would
+// need a bool from a lane mask).
+template <class B>
+inline Lanes<B> max(const Lanes<B>& a, const Lanes<B>& b) {
+  return {xsimd::select(a.v < b.v, b.v, a.v)};
+}
+template <class B>
+inline Lanes<B> min(const Lanes<B>& a, const Lanes<B>& b) {
+  return {xsimd::select(b.v < a.v, b.v, a.v)};
+}
 
 // ---- selects (scalar.hpp select on a lane mask) ---------------------------------------------
 template <class B, class R>
 inline R join(const LaneMask<B>& cond, const R& a, const R& b) {
   if constexpr (is_lanes<R>::value) {
     return {xsimd::select(cond.m, a.v, b.v)};
-  } else {  // a std::array of Lanes (sglab_steepness, sglab_bounds_over_2pi): element by element
+  } else {  // a std::array of Lanes (sglab_steepness, sglab_bounds_over_2pi) or an Eigen vector of
+            // them (Vec3<Lanes>): element by element
     R out;
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] = join(cond, a[i], b[i]);
+    for (decltype(out.size()) i = 0; i < out.size(); ++i) out[i] = join(cond, a[i], b[i]);
     return out;
   }
 }
@@ -184,6 +199,12 @@ inline auto select(const LaneMask<B>& cond, F&& if_true, G&& if_false) -> declty
   if (xsimd::none(cond.m)) return if_false();
   const R a = if_true();
   const R b = if_false();
+  return join(cond, a, b);
+}
+
+// scalar.hpp's choose of two values already computed: a blend (join), no test of the mask.
+template <class B, class R>
+inline R choose(const LaneMask<B>& cond, const R& a, const R& b) {
   return join(cond, a, b);
 }
 
@@ -215,6 +236,51 @@ inline bool series_converged(const Lanes<B>& term, const Lanes<B>& sum, int /*te
 
 }  // namespace
 }  // namespace sglab::simd_lanes
+
+// Eigen vectors of lanes (Vec3<Lanes>: the specular methods' axes and directions), as Ceres does for
+// its Jets and trace.hpp for Trace: Eigen does plain scalar arithmetic on them (no packets of Lanes),
+// the costs are the lanes' number type's, so it unrolls a 3-vector's dot product and norm.
+namespace Eigen {
+template <class B>
+struct NumTraits<sglab::simd_lanes::Lanes<B>> : GenericNumTraits<typename B::value_type> {
+  using T = typename B::value_type;
+  using Real = sglab::simd_lanes::Lanes<B>;
+  using NonInteger = Real;
+  using Nested = Real;
+  using Literal = Real;
+  enum {
+    IsComplex = 0,
+    IsInteger = 0,
+    IsSigned = 1,
+    RequireInitialization = 1,
+    ReadCost = NumTraits<T>::ReadCost,
+    AddCost = NumTraits<T>::AddCost,
+    MulCost = NumTraits<T>::MulCost
+  };
+  static inline Real epsilon() { return Real(std::numeric_limits<T>::epsilon()); }
+  static inline Real dummy_precision() { return Real(NumTraits<T>::dummy_precision()); }
+  static inline Real highest() { return Real(std::numeric_limits<T>::max()); }
+  static inline Real lowest() { return Real(std::numeric_limits<T>::lowest()); }
+  static inline int digits10() { return NumTraits<T>::digits10(); }
+};
+namespace internal {
+// A 3-vector's sum (dot products, squared norms) in the order the scalar templates' double
+// instantiation has: Eigen adds the first two terms as one SSE2 packet of two doubles, then the
+// third, (a0 + a1) + a2 (measured on this build). Without packets (float: no packet of 3; Lanes)
+// Eigen splits the sum in halves, a0 + (a1 + a2), which is float's order already.
+template <class B, class Evaluator>
+requires(sizeof(typename B::value_type) ==
+         8) struct redux_novec_unroller<scalar_sum_op<sglab::simd_lanes::Lanes<B>, sglab::simd_lanes::Lanes<B>>,
+                                        Evaluator, 0, 3> {
+  using Scalar = sglab::simd_lanes::Lanes<B>;
+  static EIGEN_STRONG_INLINE Scalar run(const Evaluator& eval, const scalar_sum_op<Scalar, Scalar>& func) {
+    constexpr int n = Evaluator::InnerSizeAtCompileTime;
+    const auto at = [&](int k) { return eval.coeffByOuterInner(k / n, k % n); };
+    return func(func(at(0), at(1)), at(2));
+  }
+};
+}  // namespace internal
+}  // namespace Eigen
 
 namespace sglab {
 // value_of(x) of Lanes is x itself (a comparison then gives a LaneMask, as Trace's gives a TraceBool);
