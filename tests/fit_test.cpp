@@ -119,7 +119,6 @@ TEST(FitRegistry, EveryFitConvergesFromItsDefaultStart) {
     o.objective = f.objectives.front();
     const FitResult r = f.run(o);
     EXPECT_TRUE(r.converged) << f.name;
-    EXPECT_LT(r.seconds, 1.0) << f.name;
     ++run;
   }
   EXPECT_EQ(run + 2, static_cast<int>(fitters().size())) << "sglab and sglab-specular are in the registry";
