@@ -236,6 +236,16 @@ def test_vectorized_checks_and_strides():
         sglab.eval("clamped-cosine", "tokuyoshi2024", sharpness=1.0, cosine=0.5, vectorized="yes")
 
 
+def test_domain_bounds_still_refuse_a_row_inside_a_large_chunk():
+    # hill-fitted states its domain (lambda > 0) as a column bound, checked per chunk by the chunk's
+    # least value: one zero deep inside a contiguous array must still be refused, named by its index.
+    for dt in (np.float64, np.float32):
+        lam = np.ones(100000, dtype=dt)
+        lam[77777] = 0
+        with pytest.raises(ValueError, match=r"index 77777 \(sharpness 0"):
+            sglab.eval("clamped-cosine", "hill-fitted", sharpness=lam, cosine=np.full(100000, 0.5, dtype=dt))
+
+
 def test_closed_form_sg_integral():
     lam = np.logspace(-3, 4, 50)
     exact = 2 * np.pi * -np.expm1(-2 * lam) / lam
