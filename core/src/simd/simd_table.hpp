@@ -41,10 +41,18 @@ constexpr std::size_t kernel_arity(Kernel k) { return k >= Kernel::spec_sg_warp 
 template <class T>
 using KernelFn = void (*)(const T* args, T* out, std::size_t n, const T* params);
 
+// The same rows as kernel_arity columns (columns[j][i]: row i's value of column j), read as they
+// are: no interleaving by the caller, no transposition by the kernel; bit for bit the KernelFn's
+// values.
+template <class T>
+using ColumnsKernelFn = void (*)(const T* const* columns, T* out, std::size_t n, const T* params);
+
 struct KernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   KernelFn<float> f[static_cast<int>(Kernel::count)];
   KernelFn<double> d[static_cast<int>(Kernel::count)];
+  ColumnsKernelFn<float> columns_f[static_cast<int>(Kernel::count)];
+  ColumnsKernelFn<double> columns_d[static_cast<int>(Kernel::count)];
 };
 
 const KernelTable& kernels_sse2();
