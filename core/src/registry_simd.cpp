@@ -260,10 +260,11 @@ std::optional<PairKernel> pair_kernel_of(const Method& method) {
 simd::SpecularPairColumnsFn simd::specular_pair_columns_evaluator(const Method& method) {
   const std::optional<PairKernel> k = pair_kernel_of(method);
   if (!k) return {};
-  return [k = *k](const SpecularPairColumns& rows, std::size_t n, double* at0, double* at1) {
-    const double* const columns[simd_detail::kSpecularPairColumns] = {
-        rows.roughness, rows.light_sharpness, rows.light_cos, rows.view_cos, rows.azimuth_cos, rows.azimuth_sin};
-    pair_table_of(active_isa()).columns[k.index](columns, at0, at1, n, k.params.data());
+  return [k = *k](const SpecularPairColumns& rows, std::size_t lights, double* at0, double* at1) {
+    const double* const receivers[simd_detail::kSpecularReceiverColumns] = {rows.roughness, rows.view_cos};
+    const double* const columns[simd_detail::kSpecularLightColumns] = {rows.light_sharpness, rows.light_cos,
+                                                                       rows.azimuth_cos, rows.azimuth_sin};
+    pair_table_of(active_isa()).columns[k.index](receivers, columns, rows.receivers, lights, at0, at1, k.params.data());
   };
 }
 

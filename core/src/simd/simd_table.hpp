@@ -65,11 +65,14 @@ constexpr std::size_t kSpecularPairArity = 5;
 constexpr int kSpecularPairKernels = static_cast<int>(Kernel::spec_sglab) - static_cast<int>(Kernel::spec_sg_warp) + 1;
 using SpecularPairFn = void (*)(const double* args, double* at_f0_zero, double* at_f0_one, std::size_t n,
                                 const double* params);
-// The same on six columns (sglab/simd_specular_pair.hpp SpecularPairColumns): the first four
-// columns of the rows, then cos φ and sin φ of the light azimuth in place of φ.
-constexpr std::size_t kSpecularPairColumns = 6;
-using SpecularPairColumnsFn = void (*)(const double* const* columns, double* at_f0_zero, double* at_f0_one,
-                                       std::size_t n, const double* params);
+// The same on columns (sglab/simd_specular_pair.hpp SpecularPairColumns): the receivers' two
+// (roughness, view_cos), and the lights' four (light_sharpness, light_cos, cos φ and sin φ of the
+// light azimuth) of light_count × receiver_count rows, row j·receiver_count + g.
+constexpr std::size_t kSpecularReceiverColumns = 2;
+constexpr std::size_t kSpecularLightColumns = 4;
+using SpecularPairColumnsFn = void (*)(const double* const* receivers, const double* const* lights,
+                                       std::size_t receiver_count, std::size_t light_count, double* at_f0_zero,
+                                       double* at_f0_one, const double* params);
 struct SpecularPairTable {
   SpecularPairFn d[kSpecularPairKernels];
   SpecularPairColumnsFn columns[kSpecularPairKernels];
