@@ -118,11 +118,14 @@ void register_scalar(const std::vector<double>& in) {
 // The scalar templates of the vectorized methods in an inlined loop: the registry's batch
 // evaluators before vectorization (set_evaluators' loop), for the before/after columns. A loop
 // calls its template through a captureless lambda, inlined into the port's batch loop:
-// SCALAR(quantity, method, fn) calls fn(λ, c) (its default constants); SCALAR6(quantity, method,
+// SCALAR(quantity, method, fn) calls fn(λ, c) (its default constants), CLAMPED_COSINE(method, f) and
+// HEMISPHERICAL(method, f) call clamped_cosine_f and hemispherical_f so; SCALAR6(quantity, method,
 // call) evaluates `call` on the SpecularInput `in` of a row of (α, λ, light_cos, view_cos, φ, f0).
 #define SCALAR_LOOP(T, fn) &sglab::peer::port_batch<T, +[](T l, T c) { return fn(l, c); }>
 #define SCALAR(q, m, fn) \
   sglab::peer::Port { q, m, SCALAR_LOOP(float, fn), SCALAR_LOOP(double, fn) }
+#define CLAMPED_COSINE(m, fn) SCALAR("clamped-cosine", m, sglab::clamped_cosine_##fn)
+#define HEMISPHERICAL(m, fn) SCALAR("hemispherical", m, sglab::hemispherical_##fn)
 #define SCALAR6_LOOP(T, ...)                                           \
   &sglab::peer::port_batch6<T, +[](T a, T l, T lc, T v, T phi, T f0) { \
     const sglab::SpecularInput<T> in{a, l, lc, v, phi, f0};            \
@@ -131,18 +134,18 @@ void register_scalar(const std::vector<double>& in) {
 #define SCALAR6(q, m, ...) \
   sglab::peer::Port { q, m, SCALAR6_LOOP(float, __VA_ARGS__), SCALAR6_LOOP(double, __VA_ARGS__) }
 const sglab::peer::Port kScalarLoops[] = {
-    SCALAR("clamped-cosine", "punctual", sglab::clamped_cosine_punctual),
-    SCALAR("clamped-cosine", "punctual-approx", sglab::clamped_cosine_punctual_approx),
-    SCALAR("clamped-cosine", "sg-cosine", sglab::clamped_cosine_sg_cosine),
-    SCALAR("clamped-cosine", "cosine-lobe-sg", sglab::clamped_cosine_cosine_lobe_sg),
-    SCALAR("clamped-cosine", "hill-fitted", sglab::clamped_cosine_hill_fitted),
-    SCALAR("clamped-cosine", "meder", sglab::clamped_cosine_meder),
-    SCALAR("clamped-cosine", "tokuyoshi2022", sglab::clamped_cosine_tokuyoshi2022),
-    SCALAR("clamped-cosine", "tokuyoshi2024", sglab::clamped_cosine_tokuyoshi2024),
-    SCALAR("clamped-cosine", "sglab", sglab::clamped_cosine_sglab),
-    SCALAR("hemispherical", "meder", sglab::hemispherical_meder),
-    SCALAR("hemispherical", "tokuyoshi2022", sglab::hemispherical_tokuyoshi2022),
-    SCALAR("hemispherical", "vmf-tokuyoshi2024", sglab::hemispherical_vmf_tokuyoshi2024),
+    CLAMPED_COSINE("punctual", punctual),
+    CLAMPED_COSINE("punctual-approx", punctual_approx),
+    CLAMPED_COSINE("sg-cosine", sg_cosine),
+    CLAMPED_COSINE("cosine-lobe-sg", cosine_lobe_sg),
+    CLAMPED_COSINE("hill-fitted", hill_fitted),
+    CLAMPED_COSINE("meder", meder),
+    CLAMPED_COSINE("tokuyoshi2022", tokuyoshi2022),
+    CLAMPED_COSINE("tokuyoshi2024", tokuyoshi2024),
+    CLAMPED_COSINE("sglab", sglab),
+    HEMISPHERICAL("meder", meder),
+    HEMISPHERICAL("tokuyoshi2022", tokuyoshi2022),
+    HEMISPHERICAL("vmf-tokuyoshi2024", vmf_tokuyoshi2024),
     SCALAR6("specular", "sg-warp", sglab::specular_sg_warp(in)),
     SCALAR6("specular", "sg-warp-product-axis",
             sglab::specular_sg_warp(in, sglab::SgProductForm::exact, false, sglab::FactorAt::product_axis)),
@@ -156,6 +159,8 @@ const sglab::peer::Port kScalarLoops[] = {
 };
 #undef SCALAR6
 #undef SCALAR6_LOOP
+#undef HEMISPHERICAL
+#undef CLAMPED_COSINE
 #undef SCALAR
 #undef SCALAR_LOOP
 const sglab::peer::Port* find_scalar_loop(std::string_view q, std::string_view m) {

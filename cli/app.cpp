@@ -94,6 +94,7 @@ int run_sglab(std::vector<std::string> args, const runner::RunContext& given) {
   runner::RunContext run;
   try {
     run = take_places(args, given);
+    run.command = runner::command_line(run.places, args);
   } catch (const runner::InputError& e) {
     std::fprintf(stderr, "sglab: error: %s\n", bounded_message(e.what()).c_str());
     return 2;

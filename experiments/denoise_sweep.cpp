@@ -283,12 +283,10 @@ std::string markdown_intro(const Result& r) {
       "= (X − normal)/normal: negative is better. The filter pass took {:.0f} ns per pixel on average over the rows "
       "(wall "
       "clock, all cores; per row in the CSV). Images of the figure: `{}_images.csv` in the `--out` directory.\n\n",
-      o.job.render.scene_path,
-      o.job.render.overrides.empty() ? ""
-                                     : fmt::format(" with `--set {}`", fmt::join(o.job.render.overrides, "`, `--set ")),
-      r.width, r.height, r.pixels_hit, r.glossy_receivers, r.rsm_resolution, r.vpl_count, o.noisy_seed,
-      fmt::join(radii, ", "), p.sigma_n2, p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness,
-      r.rows.empty() ? 0.0 : ns / double(r.rows.size()), o.table);
+      o.job.render.scene_path, filter_sweep::overrides_markdown(o.job), r.width, r.height, r.pixels_hit,
+      r.glossy_receivers, r.rsm_resolution, r.vpl_count, o.noisy_seed, fmt::join(radii, ", "), p.sigma_n2,
+      p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness, r.rows.empty() ? 0.0 : ns / double(r.rows.size()),
+      o.table);
 }
 
 std::string markdown(const Result& r) {
@@ -345,13 +343,9 @@ std::string images_csv(const Result& r) {
 }  // namespace
 
 Result compute(const Options& options) {
-  Result r;
-  r.options = options;
+  Result r = filter_sweep::checked_result<Result>(options);
   Options& o = r.options;
-  filter_sweep::check_job_and_table(o.job, o.table);
-  r.roughness = filter_sweep::parse_roughness_list(o.roughness);
   r.noisy = parse_noisy_list(o.noisy);
-  r.weights = filter_sweep::parse_weights_list(o.weights);
   const std::vector<double> figure_roughness = filter_sweep::parse_roughness_list(o.figure_roughness);
   const render::NoisySpec figure_noisy = frontend::parse_noisy_option(o.figure_noisy);
   render::FilterParameters checked = o.job.parameters;

@@ -581,22 +581,23 @@ std::string free_lobe_markdown(const Result& r) {
                       v->iterations > 0 ? 1e3 * v->seconds / v->iterations : 0.0, f->iterations, v->iterations));
     }
   }
-  auto list = [](const std::vector<std::string>& v) {
-    std::string s;
+  // v's items joined by ", " after `prefix`; `none` for no items.
+  auto list = [](const std::vector<std::string>& v, const std::string& none = "", const std::string& prefix = "") {
+    if (v.empty()) return none;
+    std::string s = prefix;
     for (std::size_t k = 0; k < v.size(); ++k) s += (k ? ", " : "") + v[k];
     return s;
   };
-  md += "\n**Error at N ≤ error at N/2**: " +
-        (fails_half.empty() ? std::string("holds at every N on every environment") : "fails at " + list(fails_half)) +
+  md += "\n**Error at N ≤ error at N/2**: " + list(fails_half, "holds at every N on every environment", "fails at ") +
         ". **Error at N ≤ the best fixed-lobe fit at N**: " +
-        (fails_fixed.empty() ? std::string("holds at every N on every environment") : "fails at " + list(fails_fixed)) +
+        list(fails_fixed, "holds at every N on every environment", "fails at ") +
         ". The ladder warm-starts each rung from the previous rung's lobes plus new lobes seeded on the positive "
         "residual, so "
         "the cost on the fitted level cannot rise; the map error is measured on the full map, where it can, so a rung "
         "whose "
         "full-map error ends above its predecessor's reports the predecessor's lobes plus zero-amplitude lobes (column "
         "\"kept from N/2\"; they count in \"zero lobes\" below): " +
-        (kept.empty() ? std::string("no rung needed it") : list(kept)) + ".\n\n";
+        list(kept, "no rung needed it") + ".\n\n";
   md +=
       "**Time at the largest N, free-lobe against vMF EM** (fit seconds over iterations: the whole ladder's time over "
       "all "
@@ -629,7 +630,7 @@ std::string free_lobe_markdown(const Result& r) {
       "maximises the likelihood of the Ω·(mean RGB)-weighted directions from a fresh k-means++ start at each N, not "
       "the map's "
       "L2 and not from the fit at N/2, so its map error need not fall with N; it rises at: " +
-      (vmf_rises.empty() ? std::string("no N on any environment") : list(vmf_rises)) + ".\n\n";
+      list(vmf_rises, "no N on any environment") + ".\n\n";
   md +=
       "**Map error against diffuse error.** The free-lobe fit minimises the map's L2, which on the sky and sun maps is "
       "dominated by the sun's texel (the floor of the sky and sun rows); the diffuse layer sees only the low "
@@ -638,7 +639,7 @@ std::string free_lobe_markdown(const Result& r) {
       "hold down: a rung can lower the map error while moving error into the low frequencies. Rungs where the map "
       "error "
       "did not rise and the diffuse error did: " +
-      (diffuse_rises.empty() ? std::string("none") : list(diffuse_rises)) +
+      list(diffuse_rises, "none") +
       ". For diffuse shading the map's L2 is the wrong objective (a diffuse-weighted objective, or the SH projection "
       "at L = 2, "
       "targets it directly: see the sh rows).\n";

@@ -236,8 +236,7 @@ void write(const Options& o, const Result& r) {
   const Tables t = tables(r);
   runner::write_file_atomically(fs::path(o.out_dir) / "error_map.csv", t.points_csv);
   runner::write_table(o.out_dir, "error_map_summary", r.provenance, "", t.summary_csv);
-  runner::write_table(o.out_dir, "error_map", r.provenance, t.markdown, "");
-  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_and_show_table(o.out_dir, "error_map", r.provenance, t.markdown, "");
   std::fprintf(stderr, "error-map: wrote %s/error_map{.csv,_summary.csv,.md}\n", o.out_dir.c_str());
 }
 

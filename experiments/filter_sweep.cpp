@@ -41,8 +41,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // --roughness, --scale and --weights (InputError naming the bad item).
-void parse_lists(const Options& o, Result& r) {
-  r.roughness = parse_roughness_list(o.roughness);
+void parse_scales(const Options& o, Result& r) {
   for (const auto& t : split(o.scales)) {
     double x = 0;
     try {
@@ -54,7 +53,6 @@ void parse_lists(const Options& o, Result& r) {
       throw runner::InputError(fmt::format("--scale: '{}' is not an integer in [1, 64]", clip_text(t)));
     r.scales.push_back(int(x));
   }
-  r.weights = parse_weights_list(o.weights);
 }
 
 }  // namespace
@@ -79,6 +77,11 @@ void check_job_and_table(frontend::FilterJob& job, const std::string& table) {
   if (job.render.scene_path.empty()) throw runner::InputError("filter-sweep needs --scene SCENE.json");
   if (table.empty() || table.find_first_of("/\\ ") != std::string::npos)
     throw runner::InputError(fmt::format("--table '{}' is not a file name", clip_text(table)));
+}
+
+std::string overrides_markdown(const frontend::FilterJob& job) {
+  const auto& set = job.render.overrides;
+  return set.empty() ? "" : fmt::format(" with `--set {}`", fmt::join(set, "`, `--set "));
 }
 
 std::vector<double> parse_roughness_list(const std::string& text) {
@@ -288,11 +291,9 @@ std::string markdown_intro(const Result& r) {
       "relative L2 = ‖v − r‖/‖r‖, SMAPE = mean 2|v − r|/(|v| + |r|). **Glossy** receivers: the floor and the sphere; "
       "**diffuse**: the other surfaces. \"X vs normal\" = (X − normal)/normal: negative is better. Per-row data "
       "with RMSE, max error and times: `{}_points.csv` in the `--out` directory.\n\n",
-      o.job.render.scene_path,
-      o.job.render.overrides.empty() ? ""
-                                     : fmt::format(" with `--set {}`", fmt::join(o.job.render.overrides, "`, `--set ")),
-      in0.width, in0.height, fmt::join(r.scales, ", "), o.job.source, r.rsm_resolution, in0.vpl_count, 2 * p.radius,
-      2 * p.radius, p.spatial_sigma, p.sigma_n2, p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness, o.table);
+      o.job.render.scene_path, overrides_markdown(o.job), in0.width, in0.height, fmt::join(r.scales, ", "),
+      o.job.source, r.rsm_resolution, in0.vpl_count, 2 * p.radius, 2 * p.radius, p.spatial_sigma, p.sigma_n2,
+      p.depth_sigma, p.beta, p.kappa, p.nu, p.diffuse_sharpness, o.table);
 }
 
 // One Markdown table: relative L2 or SMAPE over a subset of pixels (0 all, 1 glossy, 2 diffuse
@@ -417,11 +418,9 @@ std::string markdown(const Result& r) {
 }  // namespace
 
 Result compute(const Options& options) {
-  Result r;
-  r.options = options;
+  Result r = checked_result<Result>(options);
   Options& o = r.options;
-  check_job_and_table(o.job, o.table);
-  parse_lists(o, r);
+  parse_scales(o, r);
   frontend::check_filter_parameters(o.job.parameters);
   const render::FilterInputOptions input_options = frontend::filter_input_options(o.job);
   r.rsm_resolution = input_options.rsm_resolution;
@@ -442,8 +441,7 @@ void write(const Result& r) {
   const Options& o = r.options;
   const Tables t = tables(r);
   runner::write_table(o.out, o.table + "_points", r.provenance, "", t.points_csv);
-  runner::write_table(runner::tables_place(o.tables_dir, o.out), o.table, r.provenance, t.markdown, t.csv);
-  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_and_show_table(runner::tables_place(o.tables_dir, o.out), o.table, r.provenance, t.markdown, t.csv);
   std::fprintf(stderr, "filter-sweep: wrote %s/%s.{md,csv} and %s/%s_points.csv (%.1f s)\n",
                runner::tables_place(o.tables_dir, o.out).c_str(), o.table.c_str(), o.out.c_str(), o.table.c_str(),
                r.seconds);

@@ -79,6 +79,19 @@ std::string cell(double x, const char* format = "{:.4f}");
 void check_job_and_table(frontend::FilterJob& job, const std::string& table);
 std::vector<double> parse_roughness_list(const std::string& text);               // --roughness (InputError)
 std::vector<render::FilterWeights> parse_weights_list(const std::string& text);  // --weights (InputError)
+// A sweep's Result holding its options, with what both sweeps' compute() checks first:
+// check_job_and_table, then --roughness and --weights into the result's lists.
+template <class Result, class Options>
+Result checked_result(const Options& options) {
+  Result r;
+  r.options = options;
+  check_job_and_table(r.options.job, r.options.table);
+  r.roughness = parse_roughness_list(r.options.roughness);
+  r.weights = parse_weights_list(r.options.weights);
+  return r;
+}
+// " with `--set A`, `--set B`" for the job's scene overrides ("" without): the scene a table's text names.
+std::string overrides_markdown(const frontend::FilterJob& job);
 // The job's scene with `floor.roughness` set to each value (after the job's own --set overrides);
 // a bad value stops here, named.
 std::vector<render::Scene> roughness_scenes(const frontend::FilterJob& job, const std::vector<double>& roughness);

@@ -384,11 +384,9 @@ void write(const Result& r) {
   const Options& o = r.options;
   const Tables t = tables(r);
   if (!o.dump.empty()) runner::write_file_atomically(o.dump, t.dump_csv);
-  runner::write_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
-  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_and_show_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
   if (!r.swept) return;
-  runner::write_table(o.tables_dir, kTable + "_sweep", r.provenance, t.sweep_markdown, t.sweep_csv);
-  std::fputs((runner::markdown_header(r.provenance) + t.sweep_markdown).c_str(), stdout);
+  runner::write_and_show_table(o.tables_dir, kTable + "_sweep", r.provenance, t.sweep_markdown, t.sweep_csv);
 }
 
 }  // namespace near_wall

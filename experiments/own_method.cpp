@@ -387,15 +387,13 @@ Output tables(const Options& o) {
 
 void write(const Options& o, const runner::RunContext& run) {
   const Output t = tables(o);
-  runner::Provenance prov;
-  prov.quick = run.quick;
-  prov.command = "sglab own-method" + runner::option_argument("--from", o.from, Options{}.from) +
-                 runner::option_argument("--error-map", o.error_map, Options{}.error_map) +
-                 runner::option_argument("--forms", o.forms, Options{}.forms) +
-                 (o.tables_dir.empty() ? runner::option_argument("--out", o.out, Options{}.out)
-                                       : runner::option_argument("--tables-dir", o.tables_dir));
-  runner::write_table(runner::tables_place(o.tables_dir, o.out), "own_method", prov, t.markdown, t.csv);
-  std::fputs((runner::markdown_header(prov) + t.markdown).c_str(), stdout);
+  const runner::Provenance prov = runner::run_provenance(
+      run, "sglab own-method" + runner::option_argument("--from", o.from, Options{}.from) +
+               runner::option_argument("--error-map", o.error_map, Options{}.error_map) +
+               runner::option_argument("--forms", o.forms, Options{}.forms) +
+               (o.tables_dir.empty() ? runner::option_argument("--out", o.out, Options{}.out)
+                                     : runner::option_argument("--tables-dir", o.tables_dir)));
+  runner::write_and_show_table(runner::tables_place(o.tables_dir, o.out), "own_method", prov, t.markdown, t.csv);
 }
 
 }  // namespace

@@ -480,11 +480,9 @@ void write(const Options& o, const runner::RunContext& run) {
   const std::vector<Point> grid = read_points(o.points);
   const std::vector<Point> off = off_grid_points(off_count);
   const Output t = tables(grid, off, off_count);
-  runner::Provenance prov;
-  prov.quick = o.quick || run.quick;
-  prov.command = fmt::format("sglab own-specular --points {}{}", o.points, o.quick ? " --quick" : "");
-  runner::write_table(o.tables_dir.empty() ? o.out : o.tables_dir, "own_specular", prov, t.markdown, t.csv);
-  std::fputs((runner::markdown_header(prov) + t.markdown).c_str(), stdout);
+  const runner::Provenance prov = runner::run_provenance(
+      run, fmt::format("sglab own-specular --points {}{}", o.points, o.quick ? " --quick" : ""), o.quick);
+  runner::write_and_show_table(runner::tables_place(o.tables_dir, o.out), "own_specular", prov, t.markdown, t.csv);
 }
 
 }  // namespace

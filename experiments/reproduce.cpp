@@ -233,10 +233,7 @@ std::vector<std::string> step_args(const Step& s, const ReproduceOptions& o) {
 
 std::string step_line(const Step& s, const ReproduceOptions& o, const runner::Places& p) {
   if (s.python) return "python3 " + join(step_args(s, o));
-  std::vector<std::string> words = runner::places_arguments(p);
-  const auto args = step_args(s, o);
-  words.insert(words.end(), args.begin(), args.end());
-  return "sglab " + join(words);
+  return runner::command_line(p, step_args(s, o));
 }
 
 namespace {

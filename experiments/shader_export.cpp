@@ -407,8 +407,7 @@ Tables tables(const Result& r) {
 
 void write(const Options& o, const Result& r) {
   const Tables t = tables(r);
-  runner::write_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
-  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_and_show_table(o.tables_dir, kTable, r.provenance, t.markdown, t.csv);
 }
 
 }  // namespace sglab::experiments::shader_export

@@ -98,7 +98,7 @@ void write(const Options& o, const runner::RunContext& run) {
 
   const std::string command = command_line(o);
   const std::string csv = atlas::summary_csv(result);
-  const runner::Provenance provenance{command, o.quick || run.quick};
+  const runner::Provenance provenance = runner::run_provenance(run, command, o.quick);
   const std::string md = runner::markdown_header(provenance) +
                          atlas::markdown(result, frontend::constants_text(options.constants, uses, "- "));
   runner::OutputSet outputs;

@@ -446,9 +446,9 @@ Result compute(const Options& o, const runner::RunContext& run) {
   };
   const runner::SweepRunResult swept = runner::run_sweep_command(d, o.out, o.shard, o.threads, o.fresh, run);
   r.vary = grid->vary;
-  r.provenance.quick = run.quick;
-  r.provenance.command = "sglab";
-  for (const auto& a : d.args) r.provenance.command += " " + quote_if_needed(a);
+  std::string command = "sglab";
+  for (const auto& a : d.args) command += " " + quote_if_needed(a);
+  r.provenance = runner::run_provenance(run, command);
   r.sharded = swept.sharded;
   if (!r.sharded) r.points = runner::read_sweep_points(swept.points_csv);
   return r;
@@ -521,8 +521,7 @@ Tables tables(const Result& r) {
 void write(const Result& r) {
   if (r.sharded) return;
   const Tables t = tables(r);
-  runner::write_table(tables_dir(r.options), r.name, r.provenance, t.markdown, t.csv);
-  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_and_show_table(tables_dir(r.options), r.name, r.provenance, t.markdown, t.csv);
   std::fprintf(stderr, "sweep render: wrote %s/%s.{md,csv}\n", tables_dir(r.options).c_str(), r.name.c_str());
 }
 

@@ -523,7 +523,7 @@ void run_specular(const SpecularOptions& o, const runner::RunContext& run) {
                                   : runner::option_argument("--tables-dir", o.tables_dir);
   const fs::path tables = runner::tables_place(o.tables_dir, o.out);
   const std::string csv = specular_summary_csv(rows);
-  const runner::Provenance provenance{command, o.quick || run.quick};
+  const runner::Provenance provenance = runner::run_provenance(run, command, o.quick);
   const std::string md = specular_summary_markdown(rows, provenance, brdf);
   runner::OutputSet outputs;
   outputs.add(fs::path(o.out) / (base + "_summary.csv"), csv);

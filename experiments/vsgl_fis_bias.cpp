@@ -208,8 +208,7 @@ Tables tables(const Result& r) {
 
 void write(const Result& r) {
   const Tables t = tables(r);
-  runner::write_table(r.options.tables_dir, "vsgl_fis_bias", r.provenance, t.markdown, t.csv);
-  std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
+  runner::write_and_show_table(r.options.tables_dir, "vsgl_fis_bias", r.provenance, t.markdown, t.csv);
 }
 
 }  // namespace sglab::experiments::vsgl_fis_bias

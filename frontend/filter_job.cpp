@@ -9,6 +9,7 @@
 
 #include "option_checks.hpp"
 #include "resource_limits.hpp"
+#include "run_context.hpp"
 #include "constant_sets.hpp"
 #include "sglab/filtering_weights.hpp"
 #include "sglab/text_limits.hpp"
@@ -211,11 +212,6 @@ double percent_change(double value, double baseline) {
   return 100 * (value - baseline) / baseline;
 }
 
-std::string quote_argument(const std::string& s) {
-  if (!s.empty() && s.find_first_of(" \t'\"\\$`[]*?") == std::string::npos) return s;
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+std::string quote_argument(const std::string& s) { return runner::shell_word(s); }
 
 }  // namespace sglab::frontend

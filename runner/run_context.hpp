@@ -52,6 +52,25 @@ inline std::vector<std::string> places_arguments(const Places& p) {
   return args;
 }
 
+// `s` as one word of a POSIX shell line: as it is where that is safe, else in single quotes.
+inline std::string shell_word(const std::string& s) {
+  if (!s.empty() && s.find_first_of(" \t'\"\\$`[]*?") == std::string::npos) return s;
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+// The `sglab` line that runs `args` (a command and its arguments) in the places `p`: the places'
+// options (places_arguments), then the command. `sglab reproduce --list` prints it for each step,
+// and every table the run writes names it as the command that wrote it: run alone from the
+// repository root, it rewrites that table where it is.
+inline std::string command_line(const Places& p, const std::vector<std::string>& args) {
+  std::string line = "sglab";
+  for (const auto& a : places_arguments(p)) line += " " + shell_word(a);
+  for (const auto& a : args) line += " " + shell_word(a);
+  return line;
+}
+
 struct RunContext {
   // A coarse run: every table the command writes is marked "quick run", whatever its own options
   // (`sglab reproduce --quick` runs its steps so: a step's quick options may be a smaller image
@@ -68,6 +87,10 @@ struct RunContext {
   bool summary_only = false;
   // Where the command writes unless its options say otherwise.
   Places places = {};
+  // The line this run runs (command_line of its places and the command's arguments; set by the
+  // CLI's run_sglab), which the tables it writes name (table.hpp run_provenance). Empty in a
+  // library call: its tables name the line the command composes from its options.
+  std::string command = {};
 };
 
 }  // namespace sglab::runner

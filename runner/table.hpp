@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include "atomic_file.hpp"
 #include "input_error.hpp"
@@ -20,11 +21,15 @@ struct Provenance {
   std::string mode() const;
 };
 
-// `result` (an experiment's Result, whose `provenance` heads its tables) with its provenance marked
-// quick when the run is.
+// The provenance of the tables `run` writes: the run's own line (RunContext::command, the line
+// `sglab reproduce --list` prints), else `own`, the line the command composes from its options;
+// quick if `quick` or the run is.
+Provenance run_provenance(const RunContext& run, std::string own, bool quick = false);
+
+// `result` (an experiment's Result, whose `provenance` heads its tables) with the run's provenance.
 template <class Result>
 Result with_run(Result result, const RunContext& run) {
-  result.provenance.quick = result.provenance.quick || run.quick;
+  result.provenance = run_provenance(run, std::move(result.provenance.command), result.provenance.quick);
   return result;
 }
 
@@ -44,6 +49,10 @@ std::string option_argument(const std::string& option, const std::string& value,
 // neither), creating DIR. An empty body skips that file.
 void write_table(const std::filesystem::path& dir, const std::string& name, const Provenance& p,
                  const std::string& markdown_body, const std::string& csv_body);
+// write_table, then the Markdown table with its header on stdout: what a command that writes a
+// table shows.
+void write_and_show_table(const std::filesystem::path& dir, const std::string& name, const Provenance& p,
+                          const std::string& markdown_body, const std::string& csv_body);
 // The same pair added to a larger output set (committed by the caller with its other outputs).
 void add_table(OutputSet& set, const std::filesystem::path& dir, const std::string& name, const Provenance& p,
                const std::string& markdown_body, const std::string& csv_body);

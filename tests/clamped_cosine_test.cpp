@@ -101,18 +101,21 @@ TEST(ClampedCosine, HillFittedGoesNegativeAsPublished) {
   EXPECT_GT(clamped_cosine_hill_fitted(10.0, 1.0), 0.0);
 }
 
+// A method in T (its defaults) beside a 50-digit form m of it, with a test's bound.
+template <class T>
+struct MethodAndMp50 {
+  const char* name;
+  T (*f)(const T&, const T&);
+  mp50 (*m)(const mp50&, const mp50&);
+  double bound;
+};
+
 // Rounding error alone: the method in float against the same method in 50 digits,
 // relative to the 50-digit D(λ, 1). Bounds: a few float ulps times each method's
 // cancellation factor: ~1 for the single-term forms, ~32 for meder (32.7 − 31.7), and
 // 2/λc ≈ 2364 for tokuyoshi2022 (docs/math.md §3).
 TEST(ClampedCosine, FloatRoundingAgainstFiftyDigits) {
-  struct Case {
-    const char* name;
-    float (*f)(const float&, const float&);
-    mp50 (*m)(const mp50&, const mp50&);
-    double bound;
-  };
-  const Case cases[] = {
+  const MethodAndMp50<float> cases[] = {
       {"punctual", [](const float& l, const float& c) { return clamped_cosine_punctual(l, c); },
        [](const mp50& l, const mp50& c) { return clamped_cosine_punctual(l, c); }, 1e-6},
       {"sg-cosine", [](const float& l, const float& c) { return clamped_cosine_sg_cosine(l, c); },
@@ -278,13 +281,8 @@ TEST(ClampedCosine, JetDerivativesMatchFiniteDifferences) {
 // times each method's cancellation (1; 32 for meder; 2/λc ≈ 2364 for tokuyoshi2022); measured
 // 4e-16, 2.9e-14 and 1.2e-12.
 TEST(ClampedCosine, PublishedConstantsAsPrinted) {
-  struct Case {
-    const char* name;
-    double (*f)(const double&, const double&);
-    mp50 (*published)(const mp50&, const mp50&);
-    double cancellation;
-  };
-  const Case cases[] = {
+  const MethodAndMp50<double> cases[] = {
+      // m: the method with the constants as printed; bound: its cancellation
       {"tokuyoshi2024", [](const double& l, const double& c) { return clamped_cosine_tokuyoshi2024(l, c); },
        [](const mp50& l, const mp50& c) {  // Tokuyoshi et al. 2024, t(λ)
          return clamped_cosine_tokuyoshi2024(l, c, mp50("2.7360831611272558"), mp50("17.021297781741875"),
@@ -320,12 +318,12 @@ TEST(ClampedCosine, PublishedConstantsAsPrinted) {
   for (const auto& k : cases) {
     double worst = 0;
     for (double l : test::log_grid(-2, 4, 2)) {
-      const mp50 pole = abs(k.published(mp50(l), mp50(1)));
+      const mp50 pole = abs(k.m(mp50(l), mp50(1)));
       for (int j = -8; j <= 8; ++j) {
         const double c = j / 8.0;
-        const double e = static_cast<double>(abs(mp50(k.f(l, c)) - k.published(mp50(l), mp50(c))) / pole);
+        const double e = static_cast<double>(abs(mp50(k.f(l, c)) - k.m(mp50(l), mp50(c))) / pole);
         worst = std::max(worst, e);
-        EXPECT_LE(e, 64 * 2.2e-16 * k.cancellation) << k.name << " λ = " << l << ", c = " << c;
+        EXPECT_LE(e, 64 * 2.2e-16 * k.bound) << k.name << " λ = " << l << ", c = " << c;
       }
     }
     std::printf("%-15s against its printed constants in 50 digits: worst %.2e of D(λ,1)\n", k.name, worst);

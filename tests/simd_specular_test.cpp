@@ -59,31 +59,28 @@ using namespace sglab;
 using Row = std::array<double, 6>;  // roughness, light_sharpness, light_cos, view_cos, light_azimuth, f0
 
 // k per method, with the reason (see the header).
-const std::map<std::string, double>& tolerance_ulps() {
-  static const std::map<std::string, double> k{
-      // The exact product (one exp, one expm1), the warp and M (sqrt, divisions, Schlick's
-      // fifth power) and sin/cos: 4 ulps for the libraries plus the short rational chain
-      // (measured: ≤ 3.8 ulps in float, ≤ 5.7 in double).
-      {"specular/sg-warp", 8},
-      {"specular/sg-warp-product-axis", 8},
-      {"specular/sg-warp-iwasaki", 8},
-      {"specular/sg-warp-th2019", 8},
-      {"specular/asg", 8},
-      // The dominant visible normal, its reflection and the normalized product: two more norms.
-      {"specular/sg-warp-dvn", 8},
-      // sglab: one log1p and two exp (libmvec, 4 ulps each) feeding a product, and the
-      // exponent's terms (the t power and the light ratio, each up to ~80 in magnitude), whose
-      // rounding the exp turns into a relative error of that size in ulps (measured at λ ≥ 1e4 with
-      // grazing view: ≤ 60 ulps in float, ≤ 66 in double with AVX2/AVX-512; the SSE2 double rows
-      // up to 156 are within the allowance through their condition term): 96.
-      {"specular/sglab", 96},
-      {"specular-gaussian-ndf/sg-warp", 8},
-      // Meder's cosine: two hemispherical integrals of ~6 transcendental results each, measured
-      // against the sum of their magnitudes (measured: ≤ 14 ulps).
-      {"specular-gaussian-ndf/sg-warp-meder", 16},
-  };
-  return k;
-}
+const test::UlpsTable kToleranceUlps{
+    // The exact product (one exp, one expm1), the warp and M (sqrt, divisions, Schlick's
+    // fifth power) and sin/cos: 4 ulps for the libraries plus the short rational chain
+    // (measured: ≤ 3.8 ulps in float, ≤ 5.7 in double).
+    {"specular/sg-warp", 8},
+    {"specular/sg-warp-product-axis", 8},
+    {"specular/sg-warp-iwasaki", 8},
+    {"specular/sg-warp-th2019", 8},
+    {"specular/asg", 8},
+    // The dominant visible normal, its reflection and the normalized product: two more norms.
+    {"specular/sg-warp-dvn", 8},
+    // sglab: one log1p and two exp (libmvec, 4 ulps each) feeding a product, and the
+    // exponent's terms (the t power and the light ratio, each up to ~80 in magnitude), whose
+    // rounding the exp turns into a relative error of that size in ulps (measured at λ ≥ 1e4 with
+    // grazing view: ≤ 60 ulps in float, ≤ 66 in double with AVX2/AVX-512; the SSE2 double rows
+    // up to 156 are within the allowance through their condition term): 96.
+    {"specular/sglab", 96},
+    {"specular-gaussian-ndf/sg-warp", 8},
+    // Meder's cosine: two hemispherical integrals of ~6 transcendental results each, measured
+    // against the sum of their magnitudes (measured: ≤ 14 ulps).
+    {"specular-gaussian-ndf/sg-warp-meder", 16},
+};
 
 // Σ|terms| of sg-warp-meder: F/(π co²)·e^{L}·(a·H(product) + b·H(λ3, c3)) (gaussian_ndf.hpp), in
 // double with the published Meder constants. 0 for every other method.
@@ -239,7 +236,7 @@ TEST(SimdSpecular, EveryKernelMatchesItsScalarTemplate) {
     ++methods;
     const Method* m = test::find_quantity_method(name).method;
     ASSERT_NE(m, nullptr);
-    const double k = tolerance_ulps().at(name);
+    const double k = test::ulps_for(kToleranceUlps, name);
     const auto rf = reference<float>(name, *m, rows);
     const auto rd = reference<double>(name, *m, rows);
     for (const auto isa : isas) {
@@ -311,7 +308,7 @@ TEST(SimdSpecular, ColumnsMatchTheScalarTemplateAtFresnelZeroAndOne) {
   for (const Method& m : q.methods) {
     if (!simd::specular_pair_columns_evaluator(m)) continue;
     const std::string name = "specular/" + m.name;
-    const double k = tolerance_ulps().at(name);
+    const double k = test::ulps_for(kToleranceUlps, name);
     for (double f0 : {0.0, 1.0}) {
       std::vector<Row> at = rows;
       for (Row& r : at) r[5] = f0;

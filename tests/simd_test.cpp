@@ -12,7 +12,7 @@
 // designed ×2364 amplification is in its k. The two paths differ only in the transcendental functions (glibc libmvec's
 // vector exp, expm1, erf, erfc against glibc's scalar ones; glibc states ≤ 4 ulp for libmvec, and
 // the scalar ones are within 1–2) and in the Horner sum of the bound series below λ = 1: k = 4
-// unless tolerance_ulps says otherwise, with the reason. Values below the smallest normal number are compared
+// unless kToleranceUlps says otherwise, with the reason. Values below the smallest normal number are compared
 // absolutely (xsimd does returns exp and erfc results below the smallest normal number as 0, a difference < 2·min
 // normal). Also: no NaN, Inf or negative value where the scalar path has none (for the two methods published as going
 // negative, meder and hill-fitted, a sign flip is accepted only where the scalar value is itself within the allowance
@@ -39,33 +39,30 @@ namespace {
 using namespace sglab;
 
 // k of the header, per "quantity/method", with the reason.
-const std::map<std::string, double>& tolerance_ulps() {
-  static const std::map<std::string, double> k{
-      // Products of one exp/expm1 with exact arithmetic: the two libraries' ulps add.
-      {"clamped-cosine/punctual", 4},
-      {"clamped-cosine/punctual-approx", 4},
-      {"clamped-cosine/sg-cosine", 4},
-      {"clamped-cosine/cosine-lobe-sg", 4},
-      // hill-fitted and meder return a difference of larger terms; they are measured against the
-      // sum of the terms' magnitudes instead (their condition number; see term_magnitude). Each
-      // meder term is itself a product of ~6 transcendental results: 8 ulps.
-      {"clamped-cosine/hill-fitted", 4},
-      {"clamped-cosine/meder", 8},
-      // α(term1 − term0) with α ≈ 1182 and each term ≈ H(λ, ·) ≈ D(λ, 1)·2/α at small λ: 4 ulps of
-      // each term are 8·1182 ≈ 4·2364 ulps of D(λ, 1) by design of λc (docs/math.md §3), and inside
-      // each term the factor ½ + ½ erf(kc)/erf(k) cancels near c = −1 (measured: up to 656 ulps of
-      // D(λ, 1) at λ = 10, c = −1; 1.1e4 at λ = 1e-3): 8·2364.
-      {"clamped-cosine/tokuyoshi2022", 8 * 2364},
-      // lerp(lower, upper, f) with f from two erfc, exp, expm1 (each ≤ 2 ulp apart), and the
-      // Horner sum of the bounds: ≤ 4.
-      {"clamped-cosine/tokuyoshi2024", 4},
-      {"clamped-cosine/sglab", 4},
-      {"hemispherical/meder", 4},
-      {"hemispherical/tokuyoshi2022", 4},
-      {"hemispherical/vmf-tokuyoshi2024", 4},
-  };
-  return k;
-}
+const test::UlpsTable kToleranceUlps{
+    // Products of one exp/expm1 with exact arithmetic: the two libraries' ulps add.
+    {"clamped-cosine/punctual", 4},
+    {"clamped-cosine/punctual-approx", 4},
+    {"clamped-cosine/sg-cosine", 4},
+    {"clamped-cosine/cosine-lobe-sg", 4},
+    // hill-fitted and meder return a difference of larger terms; they are measured against the
+    // sum of the terms' magnitudes instead (their condition number; see term_magnitude). Each
+    // meder term is itself a product of ~6 transcendental results: 8 ulps.
+    {"clamped-cosine/hill-fitted", 4},
+    {"clamped-cosine/meder", 8},
+    // α(term1 − term0) with α ≈ 1182 and each term ≈ H(λ, ·) ≈ D(λ, 1)·2/α at small λ: 4 ulps of
+    // each term are 8·1182 ≈ 4·2364 ulps of D(λ, 1) by design of λc (docs/math.md §3), and inside
+    // each term the factor ½ + ½ erf(kc)/erf(k) cancels near c = −1 (measured: up to 656 ulps of
+    // D(λ, 1) at λ = 10, c = −1; 1.1e4 at λ = 1e-3): 8·2364.
+    {"clamped-cosine/tokuyoshi2022", 8 * 2364},
+    // lerp(lower, upper, f) with f from two erfc, exp, expm1 (each ≤ 2 ulp apart), and the
+    // Horner sum of the bounds: ≤ 4.
+    {"clamped-cosine/tokuyoshi2024", 4},
+    {"clamped-cosine/sglab", 4},
+    {"hemispherical/meder", 4},
+    {"hemispherical/tokuyoshi2022", 4},
+    {"hemispherical/vmf-tokuyoshi2024", 4},
+};
 
 // For the forms that return a difference of larger terms, Σ|term| (in double, with the method's
 // constants p as bound): the rounding of each term, not of the small difference, is what both
@@ -181,7 +178,7 @@ TEST(Simd, EveryKernelMatchesItsScalarTemplate) {
       const auto [q, m] = test::find_quantity_method(name);
       ASSERT_NE(m, nullptr);
       if (q->columns.size() != 2) continue;  // the specular kernels: tests/simd_specular_test.cpp
-      const double k = tolerance_ulps().at(name);
+      const double k = test::ulps_for(kToleranceUlps, name);
       const std::string label = std::string(simd::isa_name(isa)) + " " + name;
       std::vector<double> published, values;
       for (const auto& p : m->parameters) {

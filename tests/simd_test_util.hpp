@@ -1,7 +1,8 @@
 // Helpers shared by the SIMD tests (simd_test.cpp, simd_specular_test.cpp): the registry's method
-// behind a name of simd::vectorized_methods(), and a method's batch evaluator in T.
+// behind a name of simd::vectorized_methods(), its tolerance, and a method's batch evaluator in T.
 #pragma once
 
+#include <map>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -25,6 +26,16 @@ inline QuantityMethod find_quantity_method(const std::string& name) {
   if (r.quantity) r.method = r.quantity->find(name.substr(slash + 1));
   EXPECT_NE(r.method, nullptr) << "no method " << name << " in the registry";
   return r;
+}
+
+// A test's tolerances k (ulps) per "quantity/method" name, each with its reason beside it.
+using UlpsTable = std::map<std::string, double>;
+
+// k of the vectorized method `name`; a test failure naming it (and k = 0) where the table has none.
+inline double ulps_for(const UlpsTable& table, const std::string& name) {
+  const auto it = table.find(name);
+  EXPECT_NE(it, table.end()) << "no tolerance for " << name << " (a vectorized method needs one, with its reason)";
+  return it == table.end() ? 0 : it->second;
 }
 
 // m's batch evaluator for T (float or double) over rows of `arity` arguments.

@@ -28,6 +28,13 @@ Method exportable_method(std::string name, std::string source, std::string flaws
   return make_method(exportable, std::move(name), std::move(source), std::move(flaws), false, std::move(domain), f);
 }
 
+// Adds to q a `specular` method exported as written: its formula f on the row's SpecularInput.
+template <class F>
+void add_specular_method(Quantity& q, std::string name, std::string source, std::string flaws, F f) {
+  q.methods.push_back(exportable_method(std::move(name), std::move(source), std::move(flaws), nullptr,
+                                        [f](auto a) { return f(specular_input(a)); }));
+}
+
 // A method whose evaluation is a double quadrature: float rounds the double result, mp50 converts
 // it (a 50-digit 2D quadrature is too slow to sweep; the flaws text says so).
 template <class F>
@@ -249,44 +256,39 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
       return "roughness below " + std::to_string(kMinReferenceRoughness).substr(0, 5) +
              ": the quadrature's cost grows without bound as α → 0 (the renderer's minimum α is the same)";
     };
-    q.methods.push_back(
-        exportable_method("sg-warp",
-                          "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; Tokuyoshi 2015 (two-VSGL "
-                          "poster) §1.1, Tokuyoshi 2015 (lobe-aware filtering) App. B) × SG light, exact product "
-                          "integral (Tsai & Shih 2006), M at the lobe axis ξ_s (Wang et al. 2009)",
-                          "isotropic lobe about the mirror direction: wrong shape and position at grazing view and for "
-                          "rough surfaces; energy not normalized",
-                          nullptr, [](auto a) { return specular_sg_warp(specular_input(a)); }));
-    q.methods.push_back(exportable_method(
-        "sg-warp-product-axis",
+    add_specular_method(q, "sg-warp",
+                        "SG lobe G(ω; ξ_s, 2/α²/(4|ξ_s·n|))/(πα²) (Wang et al. 2009 warp; Tokuyoshi 2015 (two-VSGL "
+                        "poster) §1.1, Tokuyoshi 2015 (lobe-aware filtering) App. B) × SG light, exact product "
+                        "integral (Tsai & Shih 2006), M at the lobe axis ξ_s (Wang et al. 2009)",
+                        "isotropic lobe about the mirror direction: wrong shape and position at grazing view and for "
+                        "rough surfaces; energy not normalized",
+                        [](const auto& in) { return specular_sg_warp(in); });
+    add_specular_method(
+        q, "sg-warp-product-axis",
         "as sg-warp with M at the product lobe's axis ξ_m = (λξ + λ_sξ_s)/‖…‖ instead of ξ_s (a variant, not Wang et "
         "al. 2009)",
         "as sg-warp; a false 0 where ξ_m is at or below the horizon though the light still reaches the surface",
-        nullptr, [](auto a) {
-          return specular_sg_warp(specular_input(a), SgProductForm::exact, false, FactorAt::product_axis);
-        }));
-    q.methods.push_back(exportable_method(
-        "sg-warp-iwasaki",
+        [](const auto& in) { return specular_sg_warp(in, SgProductForm::exact, false, FactorAt::product_axis); });
+    add_specular_method(
+        q, "sg-warp-iwasaki",
         "as sg-warp with the Iwasaki et al. 2012 product integral (Tokuyoshi 2015 (lobe-aware filtering) Eq. C.1)",
-        "as sg-warp; the Iwasaki product overestimates broad lobes (2π/(λ1+λ2) > 4π at small λ)", nullptr,
-        [](auto a) { return specular_sg_warp(specular_input(a), SgProductForm::iwasaki); }));
-    q.methods.push_back(exportable_method("sg-warp-th2019", "as sg-warp with λ_h = 2/α² − 2 (Tokuyoshi & Harada 2019)",
-                                          "as sg-warp; λ_h = 0 at α = 1 (a constant lobe)", nullptr, [](auto a) {
-                                            return specular_sg_warp(specular_input(a), SgProductForm::exact, true);
-                                          }));
-    q.methods.push_back(
-        exportable_method("asg",
-                          "ASG lobe (Xu et al. 2013 warp, ηx = λ_h/8, ηy = λ_h/(8 v²)) × SG light, product integral of "
-                          "Tokuyoshi 2015 (two-VSGL poster) §3.2 (ν = λ/2), M at ξ_m",
-                          "0 when the light axis is ≥ 90° from the mirror direction; the plane approximation of the "
-                          "product overestimates broad lobes; energy not normalized",
-                          nullptr, [](auto a) { return specular_asg(specular_input(a)); }));
-    q.methods.push_back(exportable_method(
-        "sg-warp-dvn",
+        "as sg-warp; the Iwasaki product overestimates broad lobes (2π/(λ1+λ2) > 4π at small λ)",
+        [](const auto& in) { return specular_sg_warp(in, SgProductForm::iwasaki); });
+    add_specular_method(q, "sg-warp-th2019", "as sg-warp with λ_h = 2/α² − 2 (Tokuyoshi & Harada 2019)",
+                        "as sg-warp; λ_h = 0 at α = 1 (a constant lobe)",
+                        [](const auto& in) { return specular_sg_warp(in, SgProductForm::exact, true); });
+    add_specular_method(q, "asg",
+                        "ASG lobe (Xu et al. 2013 warp, ηx = λ_h/8, ηy = λ_h/(8 v²)) × SG light, product integral of "
+                        "Tokuyoshi 2015 (two-VSGL poster) §3.2 (ν = λ/2), M at ξ_m",
+                        "0 when the light axis is ≥ 90° from the mirror direction; the plane approximation of the "
+                        "product overestimates broad lobes; energy not normalized",
+                        [](const auto& in) { return specular_asg(in); });
+    add_specular_method(
+        q, "sg-warp-dvn",
         "refinement: vMF about the GGX dominant-visible-normal reflection (Tokuyoshi et al. 2024, λ_h = 2/α² − 2) as "
         "the VNDF reflection pdf, times F·G2/G1(ωo) at the product axis, exact product",
-        "isotropic lobe (no grazing anisotropy); F·G2/G1 taken at one direction", nullptr,
-        [](auto a) { return specular_sg_warp_dvn(specular_input(a)); }));
+        "isotropic lobe (no grazing anisotropy); F·G2/G1 taken at one direction",
+        [](const auto& in) { return specular_sg_warp_dvn(in); });
     {
       const std::string src =
           "sglab (this project): constants of `sglab fit sglab-specular` (paper_tables/own_specular.md)";

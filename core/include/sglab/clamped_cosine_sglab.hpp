@@ -31,6 +31,7 @@
 #include <array>
 
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/fitted_constants.hpp"
 
 namespace sglab {
 
@@ -38,26 +39,18 @@ namespace sglab {
 // minimax of |D − D_ref|/D_ref(λ, 1) over λ ∈ [1e-3, 1e4] × c ∈ [−1, 1] plus the stiff cases;
 // fit/sglab.cpp; max error on its 10139 points 8.0771e-5), as that command prints them (%.17g,
 // round-trip digits).
-struct SglabDiffuse {
-  static constexpr double A = 1.0240654477562834;
-  static constexpr double B = 6.9993705804056763;
-  static constexpr double C = 2.4316963194983288;
-  static constexpr double D = 6.4669051912188706;
-  static constexpr double E = 27.690364669832991;
-  static constexpr double k = 0.027444418029365026;
-  static constexpr double P = -3.6057812916716352;
-  static constexpr double Q = 16.956361466551158;
-};
-
-// The same eight constants as values of T (the fitter passes Jets).
-template <class T>
-struct SglabDiffuseParams {
-  T A, B, C, D, E, k, P, Q;
-  static SglabDiffuseParams fitted() {
-    using S = SglabDiffuse;
-    return {T(S::A), T(S::B), T(S::C), T(S::D), T(S::E), T(S::k), T(S::P), T(S::Q)};
-  }
-};
+// SglabDiffuse::A …, and SglabDiffuseParams<T> of the same eight constants as values of T.
+#define SGLAB_DIFFUSE_CONSTANTS(X) \
+  X(A, 1.0240654477562834)         \
+  X(B, 6.9993705804056763)         \
+  X(C, 2.4316963194983288)         \
+  X(D, 6.4669051912188706)         \
+  X(E, 27.690364669832991)         \
+  X(k, 0.027444418029365026)       \
+  X(P, -3.6057812916716352)        \
+  X(Q, 16.956361466551158)
+SGLAB_FITTED_CONSTANTS(SglabDiffuse, SglabDiffuseParams, SGLAB_DIFFUSE_CONSTANTS)
+#undef SGLAB_DIFFUSE_CONSTANTS
 
 // Above this λ the polynomials are evaluated in r = 1/λ (λ³ overflows float at λ ≈ 7e12).
 inline constexpr double kSglabLargeSharpness = 1e4;

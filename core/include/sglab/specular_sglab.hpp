@@ -45,6 +45,7 @@
 #include <limits>
 
 #include "sglab/brdf.hpp"
+#include "sglab/fitted_constants.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
 
@@ -54,14 +55,16 @@ namespace sglab {
 // Ceres solves of its objective, brightness-weighted error + bright SMAPE on the sweep grid, from
 // the start values of an exploratory Nelder–Mead fit in scipy), printed with %.17g (round-trip
 // digits; its record, results/fits/sglab-specular.json of `sglab reproduce`, judges them).
-struct SglabSpecular {
-  static constexpr double nu_slope = 3.0516108220761748;
-  static constexpr double inflation = 0.99249520551375903;
-  static constexpr double light_weight = 1.2108594335839147;
-  static constexpr double light_floor = 2.0024426242894502;
-  static constexpr double horizon_depth = 0.31381609921982551;
-  static constexpr double horizon_rate = 0.36469191544401353;
-};
+// SglabSpecular::nu_slope …, and SglabSpecularParams<T> of the same six constants as values of T.
+#define SGLAB_SPECULAR_CONSTANTS(X)     \
+  X(nu_slope, 3.0516108220761748)       \
+  X(inflation, 0.99249520551375903)     \
+  X(light_weight, 1.2108594335839147)   \
+  X(light_floor, 2.0024426242894502)    \
+  X(horizon_depth, 0.31381609921982551) \
+  X(horizon_rate, 0.36469191544401353)
+SGLAB_FITTED_CONSTANTS(SglabSpecular, SglabSpecularParams, SGLAB_SPECULAR_CONSTANTS)
+#undef SGLAB_SPECULAR_CONSTANTS
 
 // Roughness ceiling of this method: the form squares α and multiplies it with λ; above 1e4 GGX
 // reflects less than 1e-8 of what it does at α = 1, and the value is held at α = 1e4's.
@@ -70,16 +73,6 @@ inline constexpr double kSglabSpecularMaxRoughness = 1e4;
 // finite in float; the integral is ≤ 1 anyway, so the caps only matter where the det factor is
 // below e^{−80} or the true light exceeds the Gaussian model by e^80 (and keep −∞ + ∞ out).
 inline constexpr double kSglabSpecularMaxExponent = 80;
-
-template <class T>
-struct SglabSpecularParams {
-  T nu_slope, inflation, light_weight, light_floor, horizon_depth, horizon_rate;
-  static SglabSpecularParams fitted() {
-    using S = SglabSpecular;
-    return {T(S::nu_slope),    T(S::inflation),     T(S::light_weight),
-            T(S::light_floor), T(S::horizon_depth), T(S::horizon_rate)};
-  }
-};
 
 // The form of step 5's horizon factor: the method's rational 1 − h_d/(1 + h_r t²)², or the
 // exponential 1 − h_d·e^{−h_r t} it replaced (one exp and one square root more per evaluation; kept

@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 
+#include "sglab/eigen_scalar.hpp"
 #include "sglab/scalar.hpp"
 
 namespace sglab {
@@ -323,29 +324,9 @@ inline bool series_converged(const Trace& term, const Trace& sum, int n) {
 
 }  // namespace sglab
 
-// Eigen vectors of traced values (Vec3<Trace>: the specular methods' axes and directions), as
-// Ceres does for its Jets: the arithmetic is the scalar type's, the costs are float's, so Eigen
-// unrolls a 3-vector's dot product and norm in the same order for Trace as for float.
+// Eigen vectors of traced values (Vec3<Trace>: the specular methods' axes and directions), at
+// float's costs (eigen_scalar.hpp), in the same order for Trace as for float.
 namespace Eigen {
 template <>
-struct NumTraits<sglab::Trace> : GenericNumTraits<float> {
-  using Real = sglab::Trace;
-  using NonInteger = sglab::Trace;
-  using Nested = sglab::Trace;
-  using Literal = sglab::Trace;
-  enum {
-    IsComplex = 0,
-    IsInteger = 0,
-    IsSigned = 1,
-    RequireInitialization = 1,
-    ReadCost = NumTraits<float>::ReadCost,
-    AddCost = NumTraits<float>::AddCost,
-    MulCost = NumTraits<float>::MulCost
-  };
-  static inline Real epsilon() { return Real(std::numeric_limits<float>::epsilon()); }
-  static inline Real dummy_precision() { return Real(NumTraits<float>::dummy_precision()); }
-  static inline Real highest() { return Real(std::numeric_limits<float>::max()); }
-  static inline Real lowest() { return Real(std::numeric_limits<float>::lowest()); }
-  static inline int digits10() { return NumTraits<float>::digits10(); }
-};
+struct NumTraits<sglab::Trace> : sglab::ScalarNumTraits<sglab::Trace, float> {};
 }  // namespace Eigen

@@ -323,66 +323,46 @@ __attribute__((flatten)) void run_specular_pair_receivers(const double* const* r
   }
 }
 
-template <class Arch, class T>
-constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
+// The `specular` kernels with a pair driver (simd_fresnel_pair.hpp), in the order of Kernel from
+// spec_sg_warp to spec_sglab: one list for the kernels, their column drivers and both pair drivers.
+template <class... K>
+struct KernelTypes {};
+using SpecularPairKernels =
+    KernelTypes<SpecSgWarp<false, false, false>, SpecSgWarp<false, false, true>, SpecSgWarp<true, false, false>,
+                SpecSgWarp<false, true, false>, SpecAsg, SpecSgWarpDvn, SpecSglab>;
+
+template <class Arch, class Pairs = SpecularPairKernels>
+struct Drivers;
+template <class Arch, class... K>
+struct Drivers<Arch, KernelTypes<K...>> {
+  // Every kernel in the order of Kernel: the diffuse ones, the pair kernels, the Gaussian-NDF ones.
+  template <class T>
+  static constexpr KernelFn<T> kernels[static_cast<int>(Kernel::count)] = {
 #define SGLAB_DIFFUSE_KERNEL(id, ...) &run<Arch, T, DiffuseKernel_##id>,
 #include "diffuse_kernels.def"
 #undef SGLAB_DIFFUSE_KERNEL
-    &run_specular<Arch, T, SpecSgWarp<false, false, false>>,
-    &run_specular<Arch, T, SpecSgWarp<false, false, true>>,
-    &run_specular<Arch, T, SpecSgWarp<true, false, false>>,
-    &run_specular<Arch, T, SpecSgWarp<false, true, false>>,
-    &run_specular<Arch, T, SpecAsg>,
-    &run_specular<Arch, T, SpecSgWarpDvn>,
-    &run_specular<Arch, T, SpecSglab>,
-    &run_specular<Arch, T, GndfSgWarp>,
-    &run_specular<Arch, T, GndfSgWarpMeder>};
-
-// The column drivers, in the same order.
-template <class Arch, class T>
-constexpr ColumnsKernelFn<T> columns_list[static_cast<int>(Kernel::count)] = {
+      &run_specular<Arch, T, K>..., &run_specular<Arch, T, GndfSgWarp>, &run_specular<Arch, T, GndfSgWarpMeder>};
+  // The column drivers, in the same order.
+  template <class T>
+  static constexpr ColumnsKernelFn<T> columns[static_cast<int>(Kernel::count)] = {
 #define SGLAB_DIFFUSE_KERNEL(id, ...) diffuse_columns<Arch, T, DiffuseKernel_##id>,
 #include "diffuse_kernels.def"
 #undef SGLAB_DIFFUSE_KERNEL
-    specular_columns<Arch, T, SpecSgWarp<false, false, false>>,
-    specular_columns<Arch, T, SpecSgWarp<false, false, true>>,
-    specular_columns<Arch, T, SpecSgWarp<true, false, false>>,
-    specular_columns<Arch, T, SpecSgWarp<false, true, false>>,
-    specular_columns<Arch, T, SpecAsg>,
-    specular_columns<Arch, T, SpecSgWarpDvn>,
-    specular_columns<Arch, T, SpecSglab>,
-    specular_columns<Arch, T, GndfSgWarp>,
-    specular_columns<Arch, T, GndfSgWarpMeder>};
-
-// The `specular` kernels' pair drivers (simd_fresnel_pair.hpp), in the order of Kernel from
-// spec_sg_warp to spec_sglab.
-template <class Arch>
-constexpr SpecularPairFn pair_list[] = {&run_specular_pair<Arch, double, SpecSgWarp<false, false, false>>,
-                                        &run_specular_pair<Arch, double, SpecSgWarp<false, false, true>>,
-                                        &run_specular_pair<Arch, double, SpecSgWarp<true, false, false>>,
-                                        &run_specular_pair<Arch, double, SpecSgWarp<false, true, false>>,
-                                        &run_specular_pair<Arch, double, SpecAsg>,
-                                        &run_specular_pair<Arch, double, SpecSgWarpDvn>,
-                                        &run_specular_pair<Arch, double, SpecSglab>};
-
-template <class Arch>
-constexpr SpecularPairColumnsFn pair_columns_list[] = {
-    &run_specular_pair_receivers<Arch, SpecSgWarp<false, false, false>>,
-    &run_specular_pair_receivers<Arch, SpecSgWarp<false, false, true>>,
-    &run_specular_pair_receivers<Arch, SpecSgWarp<true, false, false>>,
-    &run_specular_pair_receivers<Arch, SpecSgWarp<false, true, false>>,
-    &run_specular_pair_receivers<Arch, SpecAsg>,
-    &run_specular_pair_receivers<Arch, SpecSgWarpDvn>,
-    &run_specular_pair_receivers<Arch, SpecSglab>};
+      specular_columns<Arch, T, K>..., specular_columns<Arch, T, GndfSgWarp>,
+      specular_columns<Arch, T, GndfSgWarpMeder>};
+  static constexpr SpecularPairFn pairs[] = {&run_specular_pair<Arch, double, K>...};
+  static constexpr SpecularPairColumnsFn pair_columns[] = {&run_specular_pair_receivers<Arch, K>...};
+};
 
 template <class Arch>
 SpecularPairTable make_pair_table() {
-  static_assert(std::size(pair_list<Arch>) == kSpecularPairKernels, "one pair driver per `specular` kernel");
-  static_assert(std::size(pair_columns_list<Arch>) == kSpecularPairKernels, "one column driver per `specular` kernel");
+  using D = Drivers<Arch>;
+  static_assert(std::size(D::pairs) == kSpecularPairKernels, "one pair driver per `specular` kernel");
+  static_assert(std::size(D::pair_columns) == kSpecularPairKernels, "one column driver per `specular` kernel");
   SpecularPairTable t{};
   for (int i = 0; i < kSpecularPairKernels; ++i) {
-    t.d[i] = pair_list<Arch>[i];
-    t.columns[i] = pair_columns_list<Arch>[i];
+    t.d[i] = D::pairs[i];
+    t.columns[i] = D::pair_columns[i];
   }
   return t;
 }
@@ -391,10 +371,10 @@ template <class Arch>
 KernelTable make_table(const char* isa) {
   KernelTable t{isa, {}, {}, {}, {}};
   for (int i = 0; i < static_cast<int>(Kernel::count); ++i) {
-    t.f[i] = kernel_list<Arch, float>[i];
-    t.d[i] = kernel_list<Arch, double>[i];
-    t.columns_f[i] = columns_list<Arch, float>[i];
-    t.columns_d[i] = columns_list<Arch, double>[i];
+    t.f[i] = Drivers<Arch>::template kernels<float>[i];
+    t.d[i] = Drivers<Arch>::template kernels<double>[i];
+    t.columns_f[i] = Drivers<Arch>::template columns<float>[i];
+    t.columns_d[i] = Drivers<Arch>::template columns<double>[i];
   }
   return t;
 }

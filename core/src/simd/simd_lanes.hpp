@@ -26,6 +26,7 @@
 #include <Eigen/Core>
 #include <xsimd/xsimd.hpp>
 
+#include "sglab/eigen_scalar.hpp"
 #include "sglab/scalar.hpp"
 #include "simd_math.hpp"
 
@@ -130,43 +131,22 @@ inline LaneMask<B> operator||(const LaneMask<B>& a, const LaneMask<B>& b) {
 }
 
 // ---- lane-wise math (found by argument-dependent lookup from the templates' unqualified calls)
-template <class B>
-inline Lanes<B> exp(const Lanes<B>& x) {
-  return {simd_detail::vm_exp(x.v)};
-}
-template <class B>
-inline Lanes<B> expm1(const Lanes<B>& x) {
-  return {simd_detail::vm_expm1(x.v)};
-}
-template <class B>
-inline Lanes<B> erf(const Lanes<B>& x) {
-  return {simd_detail::vm_erf(x.v)};
-}
-template <class B>
-inline Lanes<B> erfc(const Lanes<B>& x) {
-  return {simd_detail::vm_erfc(x.v)};
-}
-template <class B>
-inline Lanes<B> log1p(const Lanes<B>& x) {
-  return {simd_detail::vm_log1p(x.v)};
-}
-template <class B>
-inline Lanes<B> sin(const Lanes<B>& x) {
-  return {simd_detail::vm_sin(x.v)};
-}
-template <class B>
-inline Lanes<B> cos(const Lanes<B>& x) {
-  return {simd_detail::vm_cos(x.v)};
-}
+#define SGLAB_LANES_UNARY(fn, batch_fn)   \
+  template <class B>                      \
+  inline Lanes<B> fn(const Lanes<B>& x) { \
+    return {batch_fn(x.v)};               \
+  }
+SGLAB_LANES_UNARY(exp, simd_detail::vm_exp)
+SGLAB_LANES_UNARY(expm1, simd_detail::vm_expm1)
+SGLAB_LANES_UNARY(erf, simd_detail::vm_erf)
+SGLAB_LANES_UNARY(erfc, simd_detail::vm_erfc)
+SGLAB_LANES_UNARY(log1p, simd_detail::vm_log1p)
+SGLAB_LANES_UNARY(sin, simd_detail::vm_sin)
+SGLAB_LANES_UNARY(cos, simd_detail::vm_cos)
 // The hardware instruction: correctly rounded, as std::sqrt.
-template <class B>
-inline Lanes<B> sqrt(const Lanes<B>& x) {
-  return {xsimd::sqrt(x.v)};
-}
-template <class B>
-inline Lanes<B> abs(const Lanes<B>& x) {
-  return {xsimd::abs(x.v)};
-}
+SGLAB_LANES_UNARY(sqrt, xsimd::sqrt)
+SGLAB_LANES_UNARY(abs, xsimd::abs)
+#undef SGLAB_LANES_UNARY
 // std::max and std::min's values (the first argument when neither is larger), lane by lane: the
 // templates' `using std::max; max(a, b)` finds these (more specialized than std::max, which would
 // need a bool from a lane mask).
@@ -237,32 +217,12 @@ inline bool series_converged(const Lanes<B>& term, const Lanes<B>& sum, int /*te
 }  // namespace
 }  // namespace sglab::simd_lanes
 
-// Eigen vectors of lanes (Vec3<Lanes>: the specular methods' axes and directions), as Ceres does for
-// its Jets and trace.hpp for Trace: Eigen does plain scalar arithmetic on them (no packets of Lanes),
-// the costs are the lanes' number type's, so it unrolls a 3-vector's dot product and norm.
+// Eigen vectors of lanes (Vec3<Lanes>: the specular methods' axes and directions), as trace.hpp's of
+// Trace: plain scalar arithmetic at the costs of the lanes' number type (eigen_scalar.hpp).
 namespace Eigen {
 template <class B>
-struct NumTraits<sglab::simd_lanes::Lanes<B>> : GenericNumTraits<typename B::value_type> {
-  using T = typename B::value_type;
-  using Real = sglab::simd_lanes::Lanes<B>;
-  using NonInteger = Real;
-  using Nested = Real;
-  using Literal = Real;
-  enum {
-    IsComplex = 0,
-    IsInteger = 0,
-    IsSigned = 1,
-    RequireInitialization = 1,
-    ReadCost = NumTraits<T>::ReadCost,
-    AddCost = NumTraits<T>::AddCost,
-    MulCost = NumTraits<T>::MulCost
-  };
-  static inline Real epsilon() { return Real(std::numeric_limits<T>::epsilon()); }
-  static inline Real dummy_precision() { return Real(NumTraits<T>::dummy_precision()); }
-  static inline Real highest() { return Real(std::numeric_limits<T>::max()); }
-  static inline Real lowest() { return Real(std::numeric_limits<T>::lowest()); }
-  static inline int digits10() { return NumTraits<T>::digits10(); }
-};
+struct NumTraits<sglab::simd_lanes::Lanes<B>>
+    : sglab::ScalarNumTraits<sglab::simd_lanes::Lanes<B>, typename B::value_type> {};
 namespace internal {
 // A 3-vector's sum (dot products, squared norms) in the order the scalar templates' double
 // instantiation has: Eigen adds the first two terms as one SSE2 packet of two doubles, then the
