@@ -6,13 +6,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <condition_variable>
+#include <deque>
+#include <exception>
 #include <functional>
-#include <future>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 #include <tuple>
 #include <utility>
 
@@ -227,23 +230,84 @@ class PlotServer {
 };
 
 // The plot steps, one at a time on a thread of their own, beside the sglab steps of the main
-// thread: nothing reads a figure, and a plot's inputs are written by earlier sglab steps. A plot
-// starts with the next sglab step that is not timed (or at the end); before a timed step
-// everything started is waited for. The first failure is rethrown there.
+// thread: nothing reads a figure, and a plot's inputs are written by earlier sglab steps. Queued
+// plots start beside the next sglab step that is not timed (or at the end). Before a timed step
+// the plot running then is waited for and the queue holds the others until the next untimed
+// step: the timed step runs alone, and the main thread waits for one plot, not for every plot
+// queued (a core idle meanwhile). After a failure no other plot starts; the first failure is
+// rethrown by the next hold() or drain().
 class PlotQueue {
  public:
-  void push(std::function<void()> job) {
-    last_ = std::async(std::launch::async, [before = std::move(last_), job = std::move(job)]() mutable {
-      if (before.valid()) before.get();
-      job();
-    });
+  PlotQueue() = default;
+  PlotQueue(const PlotQueue&) = delete;
+  PlotQueue& operator=(const PlotQueue&) = delete;
+  ~PlotQueue() {
+    {
+      const std::lock_guard guard(mutex_);
+      stop_ = true;  // the plot running finishes; the queued ones are dropped
+    }
+    changed_.notify_all();
+    if (worker_.joinable()) worker_.join();
   }
-  void wait() {
-    if (last_.valid()) last_.get();
+
+  // Queues `jobs` and lets the queue run beside what the caller does next.
+  void release(std::vector<std::function<void()>>& jobs) {
+    {
+      const std::lock_guard guard(mutex_);
+      for (auto& job : jobs) queued_.push_back(std::move(job));
+      held_ = false;
+      if (!worker_.joinable() && !queued_.empty()) worker_ = std::thread(&PlotQueue::loop, this);
+    }
+    jobs.clear();
+    changed_.notify_all();
+  }
+  // Waits for the plot running now; no other starts until the next release().
+  void hold() {
+    std::unique_lock lock(mutex_);
+    held_ = true;
+    changed_.wait(lock, [this] { return !running_; });
+    rethrow();
+  }
+  // Queues `jobs`, then waits until every queued plot has run.
+  void drain(std::vector<std::function<void()>>& jobs) {
+    release(jobs);
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [this] { return !running_ && (queued_.empty() || failure_); });
+    rethrow();
   }
 
  private:
-  std::future<void> last_;
+  void loop() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      changed_.wait(lock, [this] { return stop_ || (!held_ && !failure_ && !queued_.empty()); });
+      if (stop_) return;
+      std::function<void()> job = std::move(queued_.front());
+      queued_.pop_front();
+      running_ = true;
+      lock.unlock();
+      std::exception_ptr failure;
+      try {
+        job();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      lock.lock();
+      running_ = false;
+      if (failure && !failure_) failure_ = failure;
+      changed_.notify_all();
+    }
+  }
+  void rethrow() {
+    if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
+  }
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::function<void()>> queued_;
+  bool held_ = false, running_ = false, stop_ = false;
+  std::exception_ptr failure_;
+  std::thread worker_;  // last: started once the members it uses exist
 };
 
 // Whether the step's marker says it is done: the command, and every file it named (inputs and
@@ -341,9 +405,9 @@ class StepRun {
       return;
     }
     if (s.timed) {
-      plots_.wait();  // its tables carry times: nothing runs beside it (waiting plots stay waiting)
+      plots_.hold();  // its tables carry times: nothing runs beside it (queued plots wait)
     } else if (!s.python) {
-      start_waiting_plots();  // they run beside this step
+      plots_.release(waiting_);  // they run beside this step
     }
     auto job = [this, k, args, line, marker] { run(k, args, line, marker); };
     if (s.python) waiting_.push_back(std::move(job));
@@ -353,8 +417,7 @@ class StepRun {
   // Runs what is left, then writes the total: the wall and CPU time since `start` (CPU: this
   // process and its finished children).
   void finish_since(std::chrono::steady_clock::time_point start, double cpu_start) {
-    start_waiting_plots();
-    plots_.wait();
+    plots_.drain(waiting_);
     python_.stop();  // its CPU (its start, the imports) then counts in the total
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpu = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN) - cpu_start;
@@ -367,11 +430,6 @@ class StepRun {
   }
 
  private:
-  void start_waiting_plots() {
-    for (auto& job : waiting_) plots_.push(std::move(job));
-    waiting_.clear();
-  }
-
   // Runs step k and records its marker and times. What each kind of step writes: the plots only
   // figures, the sglab steps everything else, so that steps running side by side keep apart.
   void run(std::size_t k, const std::vector<std::string>& args, const std::string& line,
