@@ -6,6 +6,7 @@
 // formulas with std:: math), on the same inputs. Run:
 //   build/benchmarks/sglab_core_bench [--benchmark_filter=clamped-cosine]
 //   build/benchmarks/sglab_core_bench --ratios   (one table: medians of CPU time, every ISA, ratios)
+//   build/benchmarks/sglab_core_bench --points 1000000   (batches of N seeded rows, not 4096)
 //   build/benchmarks/sglab_core_bench --versus specular sglab asg [--rounds 31]
 //     (two methods' batch evaluators interleaved on the same inputs, float and double: per-round
 //     ratios of CPU ns per evaluation, their median and quartiles)
@@ -34,10 +35,14 @@
 
 namespace {
 
-constexpr std::size_t kBatch = 4096;
+// Rows per batch: 4096 by default (they stay in cache, and a batch is repeated, so that the branch
+// predictor may learn a scalar method's branches on them); `--points N` times N rows instead (the
+// Python module's bench passes its own N, so that both sides pay the same memory traffic and the
+// same unpredictable branches).
+std::size_t g_batch = 4096;
 constexpr std::uint64_t kSeed = 20261122;  // fixed: every run times the same inputs
 
-// One pass of `batch` over the kBatch inputs (into `out`) per iteration under Google Benchmark,
+// One pass of `batch` over the g_batch inputs (into `out`) per iteration under Google Benchmark,
 // reported as items per second and ns per evaluation.
 template <class T, class F>
 void time_batch(benchmark::State& state, std::vector<T>& out, F&& batch) {
@@ -46,8 +51,8 @@ void time_batch(benchmark::State& state, std::vector<T>& out, F&& batch) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kBatch));
-  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * kBatch),
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * g_batch));
+  state.counters["ns/eval"] = benchmark::Counter(static_cast<double>(state.iterations() * g_batch),
                                                  benchmark::Counter::kIsRate | benchmark::Counter::kInvert,
                                                  benchmark::Counter::kIs1000);
 }
@@ -58,8 +63,8 @@ std::vector<double> make_inputs(const sglab::Quantity& q) {
   std::mt19937_64 rng(kSeed);
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<double> args;
-  args.reserve(kBatch * q.columns.size());
-  for (std::size_t i = 0; i < kBatch; ++i) {
+  args.reserve(g_batch * q.columns.size());
+  for (std::size_t i = 0; i < g_batch; ++i) {
     for (const auto& col : q.columns) {
       switch (col.kind) {
         case sglab::ColumnKind::sharpness: args.push_back(std::pow(10.0, -3 + 7 * u(rng))); break;
@@ -77,7 +82,7 @@ std::vector<double> make_inputs(const sglab::Quantity& q) {
 template <class T>
 void run(benchmark::State& state, const sglab::Method* m, std::size_t arity, const std::vector<double>& in) {
   std::vector<T> args(in.begin(), in.end());
-  std::vector<T> out(kBatch);
+  std::vector<T> out(g_batch);
   const auto& batch = [&]() -> const sglab::BatchFn<T>& {
     if constexpr (std::is_same_v<T, float>) return m->batch_float;
     else return m->batch_double;
@@ -91,9 +96,9 @@ void run(benchmark::State& state, const sglab::Method* m, std::size_t arity, con
 template <class T, class F>
 void run_scalar(benchmark::State& state, F f, const std::vector<double>& in) {
   std::vector<T> args(in.begin(), in.end());
-  std::vector<T> out(kBatch);
+  std::vector<T> out(g_batch);
   time_batch(state, out, [&] {
-    for (std::size_t i = 0; i < kBatch; ++i) out[i] = f(args[2 * i], args[2 * i + 1]);
+    for (std::size_t i = 0; i < g_batch; ++i) out[i] = f(args[2 * i], args[2 * i + 1]);
   });
 }
 
@@ -169,8 +174,8 @@ auto loop_of(const sglab::peer::Port& p) {
 template <class T>
 void run_loop(benchmark::State& state, void (*loop)(const T*, T*, std::size_t), const std::vector<double>& in) {
   std::vector<T> args(in.begin(), in.end());
-  std::vector<T> out(kBatch);
-  time_batch(state, out, [&] { loop(args.data(), out.data(), kBatch); });
+  std::vector<T> out(g_batch);
+  time_batch(state, out, [&] { loop(args.data(), out.data(), g_batch); });
 }
 
 // ---- --ratios: one table, medians of thread CPU time ---------------------------------------------
@@ -184,7 +189,8 @@ double thread_cpu_seconds() {
 // one run lasts that long. run(): CPU ns per evaluation of one run.
 class CpuTimer {
  public:
-  explicit CpuTimer(std::function<void()> batch, std::size_t evals = kBatch) : batch_(std::move(batch)), evals_(evals) {
+  explicit CpuTimer(std::function<void()> batch, std::size_t evals = g_batch)
+      : batch_(std::move(batch)), evals_(evals) {
     batch_();
     for (;;) {
       const double t0 = thread_cpu_seconds();
@@ -232,8 +238,8 @@ void print_ratios() {
     auto row = [&](auto zero) {
       using T = decltype(zero);
       std::vector<T> args(in.begin(), in.end());
-      std::vector<T> out(kBatch);
-      const double t_scalar = median_ns([&] { loop_of<T> (*scalar)(args.data(), out.data(), kBatch); }, reps);
+      std::vector<T> out(g_batch);
+      const double t_scalar = median_ns([&] { loop_of<T> (*scalar)(args.data(), out.data(), g_batch); }, reps);
       std::vector<double> t_isa;
       for (auto isa : isas) {
         sglab::simd::force_isa(isa);
@@ -244,7 +250,7 @@ void print_ratios() {
             },
             reps));
       }
-      const double t_port = median_ns([&] { loop_of<T>(port)(args.data(), out.data(), kBatch); }, reps);
+      const double t_port = median_ns([&] { loop_of<T>(port)(args.data(), out.data(), g_batch); }, reps);
       std::printf("| %s/%s | %s | %.1f |", std::string(port.quantity).c_str(), std::string(port.method).c_str(),
                   std::is_same_v<T, float> ? "float" : "double", t_scalar);
       for (double t : t_isa) std::printf(" %.1f |", t);
@@ -312,6 +318,19 @@ int print_versus(const std::string& quantity, const std::string& a_name, const s
 
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--points") == 0) {
+      char* end = nullptr;
+      const long n = i + 1 < argc ? std::strtol(argv[i + 1], &end, 10) : 0;
+      if (!end || *end != '\0' || n < 1 || n > 100000000) {
+        std::fprintf(stderr, "--points: expected an integer in [1, 1e8], got '%s'\n", i + 1 < argc ? argv[i + 1] : "");
+        return 2;
+      }
+      g_batch = std::size_t(n);
+      std::copy(argv + i + 2, argv + argc + 1, argv + i);  // out of Google Benchmark's way (argv[argc] is null)
+      argc -= 2;
+      break;
+    }
+  for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--versus") == 0) {
       if (i + 3 >= argc) {
         std::fprintf(stderr, "--versus needs QUANTITY METHOD_A METHOD_B [--rounds N]\n");
@@ -332,7 +351,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--ratios") == 0) {
       std::printf("inputs: %zu per batch, seed %llu; ns per evaluation, median of 9 runs of thread CPU time\n\n",
-                  kBatch, static_cast<unsigned long long>(kSeed));
+                  g_batch, static_cast<unsigned long long>(kSeed));
       print_ratios();
       return 0;
     }
@@ -397,7 +416,7 @@ int main(int argc, char** argv) {
       }
     }
   }
-  std::printf("inputs: %zu per batch, seed %llu; vectorized evaluators: %s\n", kBatch,
+  std::printf("inputs: %zu per batch, seed %llu; vectorized evaluators: %s\n", g_batch,
               static_cast<unsigned long long>(kSeed),
               std::string(sglab::simd::isa_name(sglab::simd::active_isa())).c_str());
   benchmark::Initialize(&argc, argv);

@@ -140,13 +140,16 @@ if [ "$python" = 1 ]; then
   if [ -x "$bench" ] && [ -d "$build/python/sglab" ]; then
     timed python-eval-bench "benchmarks/python_eval_bench.py, 1e6 points, one CPU" \
       env PYTHONPATH="$build/python" /usr/bin/python3 benchmarks/python_eval_bench.py --bench "$bench"
-    # One row per method and precision: Python ns/point (CPU), the C++ batch's, how far above it
-    # Python is (the cost of the call from Python per point) and their ratio.
-    while IFS='|' read -r _ q m p py _ cpp ratio _; do
-      read -r q m p py cpp ratio <<< "$q $m $p $py $cpp $ratio"
-      above=$(awk -v a="$py" -v b="$cpp" 'BEGIN { if (b + 0 > 0) printf "%.2f", a - b; else print "-" }')
-      rows+=("python-eval/$q/$m/$p|||Python $py ns/point (CPU), C++ batch $cpp: $above ns/point above it, ratio $ratio")
-    done < <(grep -E '^\| (clamped-cosine|sg-integral) ' "$scratch/python-eval-bench.log")
+    # One row per method, precision and path (default: the scalar definition row by row;
+    # vectorized: the batch evaluators): Python ns/point (CPU), the C++ batch's on its 4096 cached
+    # points, how far above it Python is (the cost of the call from Python per point) and their
+    # ratio, and the C++ batch at as many points as Python's (the same memory traffic and branches).
+    while IFS='|' read -r _ q m p vec py _ cpp above cppn aboven _ ratio _; do
+      read -r q m p vec py cpp above cppn aboven ratio <<< "$q $m $p $vec $py $cpp $above $cppn $aboven $ratio"
+      path=default
+      [ "$vec" = yes ] && path=vectorized
+      rows+=("python-eval/$q/$m/$p/$path|||Python $py ns/point (CPU), C++ batch $cpp: $above ns/point above it, ratio $ratio; C++ batch at 1e6 points $cppn: $aboven above it")
+    done < <(grep -E '^\| (clamped-cosine|sg-integral|specular) ' "$scratch/python-eval-bench.log")
   else
     echo "perf_report: no $bench or $build/python: Python row skipped (build the benchmarks and sglab_python)" >&2
   fi

@@ -8,7 +8,10 @@ wall time is shown beside it (the machine may be shared). That includes everythi
 column and domain checks of `sglab eval`, the batch call, the finiteness check of every result
 and allocating the output.
 C++: build/benchmarks/sglab_core_bench (the registry's batch evaluators on 4096 seeded points of
-the same ranges, no checks), run right after on the same CPUs. The specular columns as the C++
+the same ranges, no checks), run right after on the same CPUs, and again with `--points N` (N
+seeded points, as many as Python's): the 4096 points stay in cache and are timed over and over, so
+that the branch predictor learns a scalar method's branches on them (sg-integral/exact's λ > 1
+test: 8 ns per point at 4096, 14 at 1e6, in C++ alone); at N both sides pay the same. The specular columns as the C++
 bench draws them: α log-uniform in [1e-2, 1], λ as above, light_cos in [−1, 1], view_cos and f0 in
 [0, 1], the azimuth over a turn.
 
@@ -25,7 +28,7 @@ module spreads large batches over all cores with TBB, the C++ batch is single-th
 its pool from the affinity mask, which is set before sglab is imported.
 
 Run: PYTHONPATH=build/python /usr/bin/python3 benchmarks/python_eval_bench.py [--n 1000000]
-     [--cpus 1|all] [--bench build/benchmarks/sglab_core_bench]
+     [--cpus 1|all] [--bench build/benchmarks/sglab_core_bench] [--methods specular/asg,sg-integral/exact]
 """
 import argparse
 import json
@@ -54,7 +57,18 @@ def main() -> int:
     p.add_argument("--repeats", type=int, default=7)
     p.add_argument("--cpus", default="1", help="1 (pinned to one CPU) or all")
     p.add_argument("--bench", default="build/benchmarks/sglab_core_bench")
+    p.add_argument("--methods", default="",
+                   help="comma-separated quantity/method pairs of the default list (default: all of them)")
     a = p.parse_args()
+    methods = DEFAULT_METHODS
+    if a.methods:
+        wanted = a.methods.split(",")
+        unknown = [w for w in wanted if tuple(w.split("/", 1)) not in DEFAULT_METHODS]
+        if unknown:
+            print(f"--methods: {', '.join(unknown)} not in the list "
+                  f"({', '.join(q + '/' + m for q, m in DEFAULT_METHODS)})", file=sys.stderr)
+            return 2
+        methods = [qm for qm in DEFAULT_METHODS if "/".join(qm) in wanted]
     n = int(a.n)
     if n < 1 or n > 100_000_000:
         print(f"--n {a.n} is outside [1, 1e8]", file=sys.stderr)
@@ -103,7 +117,7 @@ def main() -> int:
 
     floor_ns = {}
     py_ns = {}
-    for q, m in DEFAULT_METHODS:
+    for q, m in methods:
         for dtype, precision in ((np.float32, "float"), (np.float64, "double")):
             kw = dict(zip(columns[q], (inputs[dtype][i] for i in picks[q])))
             if (q, precision) not in floor_ns:
@@ -113,29 +127,42 @@ def main() -> int:
                 extra = {"vectorized": True} if vectorized else {}
                 py_ns[(q, m, precision, vectorized)] = median_ns(lambda: sglab.eval(q, m, **kw, **extra))
 
-    regex = "^(" + "|".join(f"{q}/{m}/(float|double)" for q, m in DEFAULT_METHODS) + ")$"
-    run = subprocess.run([a.bench, f"--benchmark_filter={regex}", "--benchmark_format=json",
-                          "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true"],
-                         capture_output=True, text=True,
-                         preexec_fn=(lambda: os.sched_setaffinity(0, cpu_set)) if cpu_set else None)
-    if run.returncode != 0:
-        print(run.stderr, file=sys.stderr)
+    regex = "^(" + "|".join(f"{q}/{m}/(float|double)" for q, m in methods) + ")$"
+
+    def cpp(points):
+        """The C++ batch's median ns per evaluation, per (quantity, method, precision)."""
+        run = subprocess.run([a.bench, f"--benchmark_filter={regex}", "--benchmark_format=json",
+                              "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true"]
+                             + (["--points", str(points)] if points else []),
+                             capture_output=True, text=True,
+                             preexec_fn=(lambda: os.sched_setaffinity(0, cpu_set)) if cpu_set else None)
+        if run.returncode != 0:
+            print(run.stderr, file=sys.stderr)
+            return None
+        out = {}
+        report = run.stdout[run.stdout.index("{"):]  # after the bench's line about its inputs
+        for b in json.loads(report)["benchmarks"]:
+            if b.get("aggregate_name") == "median":
+                q, m, precision = b["run_name"].split("/")[:3]
+                out[(q, m, precision)] = 1e9 * b["ns/eval"]  # the counter is in seconds per evaluation
+        return out
+
+    cpp_ns, cpp_n_ns = cpp(None), cpp(n)
+    if cpp_ns is None or cpp_n_ns is None:
         return 1
-    cpp_ns = {}
-    report = run.stdout[run.stdout.index("{"):]  # after the bench's line about its inputs
-    for b in json.loads(report)["benchmarks"]:
-        if b.get("aggregate_name") == "median":
-            q, m, precision = b["run_name"].split("/")[:3]
-            cpp_ns[(q, m, precision)] = 1e9 * b["ns/eval"]  # the counter is in seconds per evaluation
 
     print(f"# sglab.eval from Python ({n} points, median of {a.repeats}) against the C++ batch "
-          f"(sglab_core_bench, median of 3), {'one CPU' if cpu_set else 'all CPUs'}")
-    print("| quantity | method | precision | vectorized | Python ns/eval (CPU) | Python ns/eval (wall) | C++ batch ns/eval (CPU) | overhead ns/eval (CPU) | numpy floor ns/eval (CPU) | ratio (CPU) |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          f"(sglab_core_bench, median of 3: on its 4096 cached points, and with --points {n}), "
+          f"{'one CPU' if cpu_set else 'all CPUs'}")
+    print("| quantity | method | precision | vectorized | Python ns/eval (CPU) | Python ns/eval (wall) "
+          "| C++ batch ns/eval (CPU, 4096 points) | overhead ns/eval (CPU) "
+          f"| C++ batch ns/eval (CPU, {n} points) | overhead at {n} points | numpy floor ns/eval (CPU) | ratio (CPU) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for key, (ns, wall_ns) in py_ns.items():
-        c = cpp_ns.get(key[:3])
-        cpp = f"{c:.2f} | {ns - c:.2f} | {floor_ns[(key[0], key[2])]:.2f} | {ns / c:.2f}" if c else "- | - | - | -"
-        print(f"| {key[0]} | {key[1]} | {key[2]} | {'yes' if key[3] else 'no'} | {ns:.2f} | {wall_ns:.2f} | {cpp} |")
+        c, cn = cpp_ns.get(key[:3]), cpp_n_ns.get(key[:3])
+        cpp_cols = (f"{c:.2f} | {ns - c:.2f} | {cn:.2f} | {ns - cn:.2f} | {floor_ns[(key[0], key[2])]:.2f} | {ns / c:.2f}"
+                    if c and cn else "- | - | - | - | - | -")
+        print(f"| {key[0]} | {key[1]} | {key[2]} | {'yes' if key[3] else 'no'} | {ns:.2f} | {wall_ns:.2f} | {cpp_cols} |")
     return 0
 
 

@@ -413,17 +413,65 @@ void interleave_rows(const Layout& l, std::size_t begin, std::size_t len, T* a) 
   }
 }
 
+template <class T>
+const ColumnsBatchFn<T>& columns_batch_of(const Method& m) {
+  if constexpr (std::is_same_v<T, float>) return m.columns_float;
+  else return m.columns_double;
+}
+
+// Per thread, reused chunk after chunk: a broadcast column (step 0) repeated over a chunk, for the
+// column evaluators.
+template <class T>
+struct ColumnScratch {
+  std::vector<T> repeated[8];
+};
+
+// The chunk's columns for Method::columns_*: flat columns in place, a broadcast one repeated into
+// the thread's scratch; false when the quantity has more columns than the scratch holds.
+template <class T>
+bool chunk_columns(const Layout& l, std::size_t begin, std::size_t len, const T** columns) {
+  thread_local ColumnScratch<T> s;
+  const std::size_t k = l.data.size();
+  if (k > std::size(s.repeated)) return false;
+  for (std::size_t j = 0; j < k; ++j) {
+    const T* c = reinterpret_cast<const T*>(l.data[j]);
+    if (l.step[j]) {
+      columns[j] = c + begin;
+    } else {
+      s.repeated[j].assign(len, c[0]);
+      columns[j] = s.repeated[j].data();
+    }
+  }
+  return true;
+}
+
 // One chunk: read the rows, check them, evaluate, check every result. Returns the chunk's first
-// failure. `batch`: through the method's batch evaluator (one call per chunk); otherwise row by
-// row through the scalar definition (Method::eval_*), which `sglab eval` calls.
+// failure. `batch`: through the method's batch evaluator (one call per chunk: on the columns in
+// place when the method has a column evaluator, else on rows interleaved from them); otherwise row
+// by row through the scalar definition (Method::eval_*), which `sglab eval` calls.
 template <class T>
 std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t begin, std::size_t end,
                                  const Layout& l, bool batch, T* out) {
   const std::size_t k = l.data.size(), len = end - begin;
   thread_local ChunkScratch<T> s;
   std::span<const T> args;
+  bool evaluated = false, threw = false;
+  // Rows interleaved into the scratch, the layout the batch and scalar evaluators take (one column
+  // read in place).
+  const auto interleaved = [&] {
+    if (l.flat && k == 1 && l.step[0] != 0)
+      return std::span<const T>(reinterpret_cast<const T*>(l.data[0]) + begin, len);
+    s.args.resize(len * k);
+    if (l.flat) interleave_rows(l, begin, len, s.args.data());
+    else
+      for_each_element(begin, end, l.shape, l.strides, [&](std::size_t i, const std::vector<py::ssize_t>& offset) {
+        for (std::size_t j = 0; j < k; ++j)
+          s.args[(i - begin) * k + j] = *reinterpret_cast<const T*>(l.data[j] + offset[j]);
+      });
+    return std::span<const T>(s.args);
+  };
   if (l.flat) {
-    // One column read in place; several interleaved into the rows the evaluators take.
+    // Each column checked once per chunk, in one pass over its values.
     bool ok = true;
     thread_local std::vector<double> least;
     least.assign(k, 0.0);
@@ -431,28 +479,27 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
       const T* c = reinterpret_cast<const T*>(l.data[j]) + (l.step[j] ? begin : 0);
       ok = column_chunk_ok(q.columns[j], c, l.step[j] ? len : 1, least[j]);
     }
-    if (k == 1 && l.step[0] != 0) {
-      args = std::span<const T>(reinterpret_cast<const T*>(l.data[0]) + begin, len);
-    } else {
-      s.args.resize(len * k);
-      interleave_rows(l, begin, len, s.args.data());
-      args = s.args;
-    }
     // A failing chunk, or one of a method with a domain check that its bounds (domain_above) do not
     // settle for the whole chunk, is checked row by row, in order.
-    if (!ok || (m.domain_error && !chunk_in_domain_above(m, least)))
+    if (!ok || (m.domain_error && !chunk_in_domain_above(m, least))) {
+      args = interleaved();
       if (auto f = check_rows<T>(q, m, begin, end, args, ok)) return f;
+    }
+    const T* columns[8];
+    if (batch && columns_batch_of<T>(m) && chunk_columns(l, begin, len, columns)) {
+      try {
+        columns_batch_of<T>(m)(std::span<const T* const>(columns, k), std::span<T>(out + begin, len));
+        evaluated = true;
+      } catch (const std::exception&) {
+        threw = true;  // row by row below, to name the row that throws
+      }
+    }
   } else {
-    s.args.resize(len * k);
-    for_each_element(begin, end, l.shape, l.strides, [&](std::size_t i, const std::vector<py::ssize_t>& offset) {
-      for (std::size_t j = 0; j < k; ++j)
-        s.args[(i - begin) * k + j] = *reinterpret_cast<const T*>(l.data[j] + offset[j]);
-    });
-    args = s.args;
+    args = interleaved();
     if (auto f = check_rows<T>(q, m, begin, end, args, false)) return f;
   }
-  bool evaluated = false;
-  if (batch) {
+  if (!evaluated && args.empty()) args = interleaved();
+  if (batch && !evaluated && !threw) {
     try {
       batch_of<T>(m)(args, k, std::span<T>(out + begin, len));
       evaluated = true;

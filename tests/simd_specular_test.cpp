@@ -35,6 +35,7 @@
 #include <bit>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <map>
 #include <random>
@@ -326,7 +327,7 @@ TEST(SimdSpecular, ColumnsMatchTheScalarTemplateAtFresnelZeroAndOne) {
         simd::force_isa(isa);
         std::vector<double> got0(n), got1(n);
         simd::specular_pair_columns_evaluator(m)(
-            {c[0].data(), c[1].data(), c[2].data(), c[3].data(), c[4].data(), c[5].data()}, n, got0.data(),
+            {n, c[0].data(), c[3].data(), c[1].data(), c[2].data(), c[4].data(), c[5].data()}, 1, got0.data(),
             got1.data());
         check_values(m, ref, f0 == 0 ? got0 : got1, k,
                      std::string(simd::isa_name(isa)) + " columns f0 = " + (f0 == 0 ? "0 " : "1 ") + name);
@@ -335,6 +336,59 @@ TEST(SimdSpecular, ColumnsMatchTheScalarTemplateAtFresnelZeroAndOne) {
     }
   }
   EXPECT_EQ(methods, 2 * 7 * int(simd::supported_isas().size()));
+  simd::force_isa(simd::supported_isas().back());
+}
+
+// Receivers shared by many lights (the renderer's layout: each receiver's part of the method
+// computed once for all its lights) give the values of each row on its own receiver bit for bit, on
+// every instruction set, for every number of receivers around the vector widths (partial batches
+// of receivers) and of lights; seeded rows.
+TEST(SimdSpecular, SharedReceiversAreEachRowOnItsOwn) {
+  const Quantity& q = *find_quantity("specular");
+  std::mt19937_64 rng(20261203);
+  std::printf("[ simd     ] shared receivers: seed 20261203\n");
+  std::uniform_real_distribution<double> u(0, 1);
+  int methods = 0;
+  for (const Method& m : q.methods) {
+    const simd::SpecularPairColumnsFn pair = simd::specular_pair_columns_evaluator(m);
+    if (!pair) continue;
+    for (const auto isa : simd::supported_isas()) {
+      simd::force_isa(isa);
+      for (std::size_t receivers : {1u, 2u, 3u, 7u, 8u, 9u, 17u, 33u})
+        for (std::size_t lights : {1u, 2u, 5u}) {
+          const std::size_t n = receivers * lights;
+          std::vector<double> roughness(receivers), view(receivers), rough_rows(n), view_rows(n), c[4];
+          for (std::size_t g = 0; g < receivers; ++g) {
+            roughness[g] = std::pow(10.0, -2 * u(rng));
+            view[g] = u(rng);
+          }
+          for (std::size_t k = 0; k < n; ++k) {
+            const double phi = 7 * u(rng);
+            c[0].push_back(std::pow(10.0, -3 + 7 * u(rng)));
+            c[1].push_back(-1 + 2 * u(rng));
+            c[2].push_back(std::cos(phi));
+            c[3].push_back(std::sin(phi));
+            rough_rows[k] = roughness[k % receivers];
+            view_rows[k] = view[k % receivers];
+          }
+          std::vector<double> shared0(n), shared1(n), own0(n), own1(n);
+          pair({receivers, roughness.data(), view.data(), c[0].data(), c[1].data(), c[2].data(), c[3].data()}, lights,
+               shared0.data(), shared1.data());
+          pair({n, rough_rows.data(), view_rows.data(), c[0].data(), c[1].data(), c[2].data(), c[3].data()}, 1,
+               own0.data(), own1.data());
+          for (std::size_t k = 0; k < n; ++k) {
+            EXPECT_EQ(std::memcmp(&shared0[k], &own0[k], sizeof(double)), 0)
+                << m.name << " " << simd::isa_name(isa) << " f0 = 0, row " << k << " of " << receivers << " × "
+                << lights << ": " << shared0[k] << " vs " << own0[k];
+            EXPECT_EQ(std::memcmp(&shared1[k], &own1[k], sizeof(double)), 0)
+                << m.name << " " << simd::isa_name(isa) << " f0 = 1, row " << k << " of " << receivers << " × "
+                << lights << ": " << shared1[k] << " vs " << own1[k];
+          }
+        }
+      ++methods;
+    }
+  }
+  EXPECT_EQ(methods, 7 * int(simd::supported_isas().size()));
   simd::force_isa(simd::supported_isas().back());
 }
 

@@ -19,6 +19,7 @@
 // of 0).
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <random>
 #include <span>
@@ -225,6 +226,72 @@ TEST(Simd, PartialBatchesAndPositions) {
         }
       }
     }
+  }
+  simd::force_isa(simd::supported_isas().back());
+}
+
+// The column evaluators (Method::columns_float/double: the same kernels reading the rows as
+// columns in place) give the batch evaluators' values bit for bit, for every vectorized method
+// (and its bound version) on every instruction set, at every length of the partial last vector,
+// a broadcast column among them; the scalar methods have none.
+template <class T>
+void check_columns_are_the_batch(const Quantity& q, const Method& m, std::size_t n, std::mt19937_64& rng) {
+  const std::size_t k = q.columns.size();
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<T> rows(n * k), columns(n * k);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < k; ++j) {
+      double v = u(rng);
+      switch (q.columns[j].kind) {
+        case ColumnKind::sharpness: v = std::pow(10.0, -3 + 7 * v); break;
+        case ColumnKind::cosine: v = -1 + 2 * v; break;
+        case ColumnKind::positive: v = std::pow(10.0, -2 * v); break;
+        case ColumnKind::angle: v = 7 * v; break;
+        default: break;
+      }
+      if (j == k - 1 && i > 0 && n % 2 == 1) v = double(rows[j]);  // the last column broadcast
+      rows[i * k + j] = columns[j * n + i] = T(v);
+    }
+  std::vector<const T*> pointers;
+  for (std::size_t j = 0; j < k; ++j) pointers.push_back(columns.data() + j * n);
+  std::vector<T> batch(n), by_columns(n + 1, T(-7));
+  if constexpr (std::is_same_v<T, float>) {
+    m.batch_float(rows, k, batch);
+    m.columns_float(pointers, std::span<T>(by_columns.data(), n));
+  } else {
+    m.batch_double(rows, k, batch);
+    m.columns_double(pointers, std::span<T>(by_columns.data(), n));
+  }
+  EXPECT_EQ(by_columns[n], T(-7)) << "wrote past the batch, n = " << n;
+  for (std::size_t i = 0; i < n; ++i)
+    EXPECT_EQ(std::memcmp(&batch[i], &by_columns[i], sizeof(T)), 0)
+        << "row " << i << " of " << n << ": " << batch[i] << " by rows, " << by_columns[i] << " by columns";
+}
+
+TEST(Simd, ColumnEvaluatorsAreTheBatchEvaluatorsBitForBit) {
+  std::mt19937_64 rng(20261203);
+  std::printf("[ simd     ] column evaluators: seed 20261203\n");
+  for (const auto isa : simd::supported_isas()) {
+    simd::force_isa(isa);
+    for (const auto& q : quantities())
+      for (const auto& m : q.methods) {
+        const bool vectorized = m.batch_path == BatchPath::vectorized;
+        EXPECT_EQ(bool(m.columns_float), vectorized) << q.name << "/" << m.name;
+        EXPECT_EQ(bool(m.columns_double), vectorized) << q.name << "/" << m.name;
+        if (!vectorized) continue;
+        SCOPED_TRACE(q.name + "/" + m.name + " on " + std::string(simd::isa_name(isa)));
+        std::vector<Method> variants{m};
+        if (m.bind) {
+          std::vector<double> published;
+          for (const auto& p : m.parameters) published.push_back(p.published);
+          variants.push_back(m.bind(published));
+        }
+        for (const Method& v : variants)
+          for (std::size_t n : {1u, 2u, 3u, 5u, 8u, 15u, 16u, 17u, 31u, 33u, 1000u}) {
+            check_columns_are_the_batch<float>(q, v, n, rng);
+            check_columns_are_the_batch<double>(q, v, n, rng);
+          }
+      }
   }
   simd::force_isa(simd::supported_isas().back());
 }

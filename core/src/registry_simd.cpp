@@ -158,9 +158,28 @@ BatchFn<T> simd_batch(Kernel k, std::array<T, simd_detail::kKernelParams> p) {
   };
 }
 
+template <class T>
+ColumnsBatchFn<T> simd_columns(Kernel k, std::array<T, simd_detail::kKernelParams> p) {
+  return [k, p](std::span<const T* const> columns, std::span<T> out) {
+    ++t_vectorized_batch_calls;
+    if (columns.size() != simd_detail::kernel_arity(k))
+      throw std::invalid_argument("vectorized column evaluator: expected " +
+                                  std::to_string(simd_detail::kernel_arity(k)) + " columns, got " +
+                                  std::to_string(columns.size()));
+    const auto& t = simd::active_table();
+    const int i = static_cast<int>(k);
+    if constexpr (std::is_same_v<T, float>) t.columns_f[i](columns.data(), out.data(), out.size(), p.data());
+    else t.columns_d[i](columns.data(), out.data(), out.size(), p.data());
+  };
+}
+
 void set_simd_batches(Method& m, Kernel k, Params values, bool published) {
-  m.batch_float = simd_batch<float>(k, kernel_params<float>(k, values, published));
-  m.batch_double = simd_batch<double>(k, kernel_params<double>(k, values, published));
+  const auto pf = kernel_params<float>(k, values, published);
+  const auto pd = kernel_params<double>(k, values, published);
+  m.batch_float = simd_batch<float>(k, pf);
+  m.batch_double = simd_batch<double>(k, pd);
+  m.columns_float = simd_columns<float>(k, pf);
+  m.columns_double = simd_columns<double>(k, pd);
   m.batch_path = BatchPath::vectorized;
 }
 
@@ -241,10 +260,11 @@ std::optional<PairKernel> pair_kernel_of(const Method& method) {
 simd::SpecularPairColumnsFn simd::specular_pair_columns_evaluator(const Method& method) {
   const std::optional<PairKernel> k = pair_kernel_of(method);
   if (!k) return {};
-  return [k = *k](const SpecularPairColumns& rows, std::size_t n, double* at0, double* at1) {
-    const double* const columns[simd_detail::kSpecularPairColumns] = {
-        rows.roughness, rows.light_sharpness, rows.light_cos, rows.view_cos, rows.azimuth_cos, rows.azimuth_sin};
-    pair_table_of(active_isa()).columns[k.index](columns, at0, at1, n, k.params.data());
+  return [k = *k](const SpecularPairColumns& rows, std::size_t lights, double* at0, double* at1) {
+    const double* const receivers[simd_detail::kSpecularReceiverColumns] = {rows.roughness, rows.view_cos};
+    const double* const columns[simd_detail::kSpecularLightColumns] = {rows.light_sharpness, rows.light_cos,
+                                                                       rows.azimuth_cos, rows.azimuth_sin};
+    pair_table_of(active_isa()).columns[k.index](receivers, columns, rows.receivers, lights, at0, at1, k.params.data());
   };
 }
 

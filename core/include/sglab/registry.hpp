@@ -61,6 +61,12 @@ using MethodFn = std::function<T(std::span<const T>)>;
 template <class T>
 using BatchFn = std::function<void(std::span<const T> args, std::size_t arity, std::span<T> out)>;
 
+// The same rows as columns (one pointer per column of the quantity, columns[j][i] row i's value of
+// column j, out.size() rows), read in place: a caller holding columns (the Python module's arrays)
+// neither interleaves them nor has them transposed back by the kernel.
+template <class T>
+using ColumnsBatchFn = std::function<void(std::span<const T* const> columns, std::span<T> out)>;
+
 // What a method's batch evaluators run: its scalar template row by row (every method registered
 // with set_evaluators), or the same template on SIMD lanes (the methods install_simd_batch_evaluators
 // lists, docs/simd.md). `sglab eval --list` and the cost column of `sglab error-vs-time` say which.
@@ -140,6 +146,10 @@ struct Method {
   BatchFn<float> batch_float;
   BatchFn<double> batch_double;
   BatchPath batch_path = BatchPath::scalar;  // what batch_float and batch_double run
+  // The vectorized methods' kernels on columns, bit for bit batch_float's and batch_double's
+  // values; empty for the scalar ones (a caller then interleaves rows for batch_*).
+  ColumnsBatchFn<float> columns_float;
+  ColumnsBatchFn<double> columns_double;
   // The method's constants (empty: none) and how to evaluate with other values (set when
   // `parameters` is not empty). A bound method has no `bind` of its own: bind the base method.
   std::vector<Parameter> parameters;
@@ -242,6 +252,8 @@ void set_evaluators(Method& m, F f) {
   m.batch_float = [batch](std::span<const float> a, std::size_t n, std::span<float> o) { batch(a, n, o); };
   m.batch_double = [batch](std::span<const double> a, std::size_t n, std::span<double> o) { batch(a, n, o); };
   m.batch_path = BatchPath::scalar;
+  m.columns_float = nullptr;
+  m.columns_double = nullptr;
 }
 
 // One registry entry from a generic callable (see set_evaluators).

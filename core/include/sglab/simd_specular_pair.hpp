@@ -29,19 +29,25 @@ using SpecularPairFn =
 // f0 = 0 and f0 = 1. Each call runs on the instruction set active then (active_isa()).
 SpecularPairFn specular_pair_evaluator(const Method& method);
 
-// The rows as columns (structure of arrays, n values each): roughness, light_sharpness, light_cos,
-// view_cos, and the light azimuth φ given by cos φ and sin φ (a caller holding the light's axis in
-// the local frame has them as its tangent components over their length: no angle, no sine or
-// cosine is evaluated). Read without transposition, so the columns need no gathering.
+// The rows as columns (structure of arrays): the receivers' (a surface point and its view:
+// roughness, view_cos; `receivers` values each) and the lights' (light_sharpness, light_cos, and the
+// light azimuth φ given by cos φ and sin φ; one value per row, row j·receivers + g being light j at
+// receiver g). A caller holding the light's axis in the local frame has cos φ and sin φ as its
+// tangent components over their length: no angle, no sine or cosine is evaluated. Read without
+// transposition, so the columns need no gathering; each receiver's part of the method (`_receiver`
+// in specular.hpp: the warped NDF lobe, ωo) is computed once for all its lights.
 struct SpecularPairColumns {
-  const double *roughness, *light_sharpness, *light_cos, *view_cos, *azimuth_cos, *azimuth_sin;
+  std::size_t receivers;
+  const double *roughness, *view_cos;                                     // per receiver
+  const double *light_sharpness, *light_cos, *azimuth_cos, *azimuth_sin;  // per row
 };
-// Evaluates n rows into at_f0_zero[0 … n) and at_f0_one[0 … n).
+// Evaluates lights × rows.receivers rows into at_f0_zero and at_f0_one (one value each per row).
 using SpecularPairColumnsFn =
-    std::function<void(const SpecularPairColumns& rows, std::size_t n, double* at_f0_zero, double* at_f0_one)>;
+    std::function<void(const SpecularPairColumns& rows, std::size_t lights, double* at_f0_zero, double* at_f0_one)>;
 // The column evaluator of `method`, for the same methods as specular_pair_evaluator (empty for the
 // others). Its values are the pair evaluator's with its sine and cosine of φ replaced by the given
-// ones: for cos φ, sin φ within an ulp of the pair kernel's, within a few ulps of its values.
+// ones: for cos φ, sin φ within an ulp of the pair kernel's, within a few ulps of its values; and
+// each row's value does not depend on the other rows (how many lights share its receiver).
 SpecularPairColumnsFn specular_pair_columns_evaluator(const Method& method);
 
 }  // namespace sglab::simd

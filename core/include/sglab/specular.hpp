@@ -68,21 +68,44 @@ enum class FactorAt {
 // Every method comes in two forms: on a SpecularInput, and `_at` on the frame's vectors (ξ, ωo) with an
 // f0 of any type that fresnel_schlick takes (brdf.hpp fresnel_value_t: T itself, or the SIMD
 // kernels' pair of f0 = 0 and 1).
-template <class T, class F0>
-fresnel_value_t<T, F0> specular_sg_warp_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
-                                           const Vec3<T>& wo, const F0& f0, SgProductForm form = SgProductForm::exact,
-                                           bool tokuyoshi_harada_sharpness = false,
-                                           FactorAt factor_at = FactorAt::lobe_axis) {
+//
+// The methods that share work between rows of one receiver (surface and view: roughness and ωo)
+// are written in two parts, `_receiver` (that work) and `_from` (the rest, for one light), and the
+// `_at` form is the one followed by the other: a renderer shading a point under many lights
+// computes the receiver part once per point (simd_specular_pair.hpp), with the same values.
+template <class T>
+struct SgWarpReceiver {
+  T alpha;
+  SgLobe<T> lobe;  // the warped NDF lobe
+  Vec3<T> wo;
+};
+template <class T>
+SgWarpReceiver<T> specular_sg_warp_receiver(const T& roughness, const Vec3<T>& wo,
+                                            bool tokuyoshi_harada_sharpness = false) {
   const T alpha = detail::floored_roughness(roughness);
   const T lambda_h = tokuyoshi_harada_sharpness ? ndf_sharpness_tokuyoshi_harada(alpha) : ndf_sharpness_wang(alpha);
-  const SgLobe<T> lobe = spherical_warp(microfacet_ndf_sg(alpha, lambda_h), wo);
+  return {alpha, spherical_warp(microfacet_ndf_sg(alpha, lambda_h), wo), wo};
+}
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_sg_warp_from(const SgWarpReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
+                                             const F0& f0, SgProductForm form = SgProductForm::exact,
+                                             FactorAt factor_at = FactorAt::lobe_axis) {
+  const SgLobe<T>& lobe = r.lobe;
   const T cosine = clamp_cosine(T(lobe.axis.dot(xi)));
   const T integral = form == SgProductForm::exact ? product_integral_exact(lobe.sharpness, light_sharpness, cosine)
                                                   : product_integral_iwasaki(lobe.sharpness, light_sharpness, cosine);
   const Vec3<T> xm = factor_at == FactorAt::lobe_axis
                          ? lobe.axis
                          : detail::product_axis(xi, light_sharpness, lobe.axis, lobe.sharpness);
-  return lobe.amplitude * brdf_factor_m(alpha, f0, wo, xm) * integral;
+  return lobe.amplitude * brdf_factor_m(r.alpha, f0, r.wo, xm) * integral;
+}
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_sg_warp_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
+                                           const Vec3<T>& wo, const F0& f0, SgProductForm form = SgProductForm::exact,
+                                           bool tokuyoshi_harada_sharpness = false,
+                                           FactorAt factor_at = FactorAt::lobe_axis) {
+  return specular_sg_warp_from(specular_sg_warp_receiver(roughness, wo, tokuyoshi_harada_sharpness), light_sharpness,
+                               xi, f0, form, factor_at);
 }
 template <class T>
 T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductForm::exact,
@@ -95,16 +118,34 @@ T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductFor
 // point (asg_warp), the product integral in the paper's form (ν = λ/2), M at
 // ξ_m = (λξ + λ_sξz)/‖…‖ with Wang's isotropic λ_s (as the paper writes it):
 //   L ≈ M(ξ_m)/(πα²) · π Ĝ(ξ; …, ηxν/(ηx+ν), ηyν/(ηy+ν))/√((ηx+ν)(ηy+ν)).
-template <class T, class F0>
-fresnel_value_t<T, F0> specular_asg_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
-                                       const Vec3<T>& wo, const F0& f0) {
+// In two parts, as sg-warp's.
+template <class T>
+struct AsgReceiver {
+  T alpha;
+  T ndf_amplitude;
+  Asg<T> lobe;  // the NDF warped to an ASG
+  T lambda_s;   // Wang's isotropic warped sharpness
+  Vec3<T> wo;
+};
+template <class T>
+AsgReceiver<T> specular_asg_receiver(const T& roughness, const Vec3<T>& wo) {
   const T alpha = detail::floored_roughness(roughness);
   const SgLobe<T> ndf = ggx_ndf_sg(alpha);
   const Asg<T> lobe = asg_warp(ndf.sharpness, wo);
   const T lambda_s = spherical_warp(ndf, wo).sharpness;
-  const T integral = asg_sg_product_two_vsgls(lobe, xi, light_sharpness);
-  const Vec3<T> xm = detail::product_axis(xi, light_sharpness, lobe.z, lambda_s);
-  return ndf.amplitude * brdf_factor_m(alpha, f0, wo, xm) * integral;
+  return {alpha, ndf.amplitude, lobe, lambda_s, wo};
+}
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_asg_from(const AsgReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
+                                         const F0& f0) {
+  const T integral = asg_sg_product_two_vsgls(r.lobe, xi, light_sharpness);
+  const Vec3<T> xm = detail::product_axis(xi, light_sharpness, r.lobe.z, r.lambda_s);
+  return r.ndf_amplitude * brdf_factor_m(r.alpha, f0, r.wo, xm) * integral;
+}
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_asg_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
+                                       const Vec3<T>& wo, const F0& f0) {
+  return specular_asg_from(specular_asg_receiver(roughness, wo), light_sharpness, xi, f0);
 }
 template <class T>
 T specular_asg(const SpecularInput<T>& in) {
@@ -135,23 +176,42 @@ T smith_g2_over_g1o(const T& alpha, const T& cos_o, const T& cos_i) {
 //   L ≈ F·G2/G1(ωo) |_{ξ_m} · ∫ G(ω; ξ_r, λ_r) G(ω; ξ, λ) dω / A(λ_r)   (exact product).
 // The normalization removes the 1/(πα²) amplitude that Wang's warp gets wrong at large α and at
 // grazing view (where the lobe is cut by the horizon and its peak is not at the mirror direction).
-template <class T, class F0>
-fresnel_value_t<T, F0> specular_sg_warp_dvn_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
-                                               const Vec3<T>& wo, const F0& f0) {
-  using R = fresnel_value_t<T, F0>;
+// In two parts, as sg-warp's.
+template <class T>
+struct SgWarpDvnReceiver {
+  T alpha;
+  SgLobe<T> lobe;   // the dominant-visible-normal reflection lobe
+  T lobe_integral;  // A(λ_r)
+  Vec3<T> wo;
+};
+template <class T>
+SgWarpDvnReceiver<T> specular_sg_warp_dvn_receiver(const T& roughness, const Vec3<T>& wo) {
   const T alpha = detail::floored_roughness(roughness);
   const SgLobe<T> lobe = dvn_reflection_lobe(alpha, wo);
+  return {alpha, lobe, sg_integral(lobe.sharpness), wo};
+}
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_sg_warp_dvn_from(const SgWarpDvnReceiver<T>& r, const T& light_sharpness,
+                                                 const Vec3<T>& xi, const F0& f0) {
+  using R = fresnel_value_t<T, F0>;
+  const SgLobe<T>& lobe = r.lobe;
+  const Vec3<T>& wo = r.wo;
   const T cosine = clamp_cosine(T(lobe.axis.dot(xi)));
-  const T integral = product_integral_exact(lobe.sharpness, light_sharpness, cosine) / sg_integral(lobe.sharpness);
+  const T integral = product_integral_exact(lobe.sharpness, light_sharpness, cosine) / r.lobe_integral;
   const Vec3<T> xm = detail::product_axis(xi, light_sharpness, lobe.axis, lobe.sharpness);
   const T ci = xm(2);
   return select(
       !(value_of(ci) > 0), []() -> R { return R(T(0)); },
       [&]() -> R {
         const Vec3<T> h = half_vector(wo, xm);
-        const R weight = fresnel_schlick(f0, T(wo.dot(h))) * smith_g2_over_g1o(alpha, T(wo(2)), ci);
+        const R weight = fresnel_schlick(f0, T(wo.dot(h))) * smith_g2_over_g1o(r.alpha, T(wo(2)), ci);
         return weight * integral;
       });
+}
+template <class T, class F0>
+fresnel_value_t<T, F0> specular_sg_warp_dvn_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
+                                               const Vec3<T>& wo, const F0& f0) {
+  return specular_sg_warp_dvn_from(specular_sg_warp_dvn_receiver(roughness, wo), light_sharpness, xi, f0);
 }
 template <class T>
 T specular_sg_warp_dvn(const SpecularInput<T>& in) {

@@ -72,7 +72,7 @@ void shade_specular_with_method(const Method& method, std::span<const ShadingPoi
     std::vector<std::size_t> point;
     std::vector<double> tx, ty, tz, bx, by, bz, nx, ny, nz, view_cos, roughness, f0_r, f0_g, f0_b;  // per glossy point
     std::vector<double> amp_r, amp_g, amp_b;                                                        // per lobe
-    std::vector<double> columns[6], at0, at1, fallback, sum_r, sum_g, sum_b, rows;                  // per row
+    std::vector<double> columns[4], at0, at1, fallback, sum_r, sum_g, sum_b, rows;                  // per row
   };
   thread_local Scratch s;
   s.point.clear();
@@ -111,13 +111,14 @@ void shade_specular_with_method(const Method& method, std::span<const ShadingPoi
   rows.xi_x = const_cast<double*>(in.xi_x), rows.xi_y = const_cast<double*>(in.xi_y);
   rows.xi_z = const_cast<double*>(in.xi_z), rows.visible = in.visible;
   const simd_detail::MethodColumns columns{s.columns[0].data(), s.columns[1].data(), s.columns[2].data(),
-                                           s.columns[3].data(), s.columns[4].data(), s.columns[5].data()};
+                                           s.columns[3].data()};
   const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
   t.method_rows(lobes, m, rows, receivers, columns);
   if (const simd::SpecularPairColumnsFn pair = simd::specular_pair_columns_evaluator(method)) {
-    pair({columns.roughness, columns.light_sharpness, columns.light_cos, columns.view_cos, columns.azimuth_cos,
+    // Each glossy point's part of the method once, for all the lobes.
+    pair({gn, s.roughness.data(), s.view_cos.data(), columns.light_sharpness, columns.light_cos, columns.azimuth_cos,
           columns.azimuth_sin},
-         n, s.at0.data(), s.at1.data());
+         lobes, s.at0.data(), s.at1.data());
   } else {  // rows at f0 = 0 and f0 = 1, one after the other, the azimuth as an angle
     constexpr std::size_t kArity = simd::kSpecularPairArity + 1;  // the `specular` columns
     s.rows.resize(2 * n * kArity);
@@ -125,8 +126,8 @@ void shade_specular_with_method(const Method& method, std::span<const ShadingPoi
       const double azimuth = std::atan2(columns.azimuth_sin[k], columns.azimuth_cos[k]);
       for (std::size_t f = 0; f < 2; ++f) {
         double* row = s.rows.data() + (2 * k + f) * kArity;
-        row[0] = columns.roughness[k], row[1] = columns.light_sharpness[k], row[2] = columns.light_cos[k];
-        row[3] = columns.view_cos[k], row[4] = azimuth, row[5] = double(f);
+        row[0] = s.roughness[k % gn], row[1] = columns.light_sharpness[k], row[2] = columns.light_cos[k];
+        row[3] = s.view_cos[k % gn], row[4] = azimuth, row[5] = double(f);
       }
     }
     std::vector<double>& value = s.fallback;  // not needed yet: the values, in pairs

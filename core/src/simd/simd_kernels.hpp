@@ -141,9 +141,17 @@ inline B product_integral_exact(const B& s1, const B& s2, const B& c) {
 namespace sglab::simd_detail {
 namespace {
 
-// ---- the batch driver ---------------------------------------------------------------------
+// ---- the batch drivers ---------------------------------------------------------------------
+// The padding of a last partial batch, a point inside every method's domain (only the valid lanes
+// are stored): (λ, c) = (1, 0) for the diffuse kernels; (roughness, light_sharpness, light_cos,
+// view_cos, light_azimuth, f0) = (0.5, 1, 0.5, 0.5, 0, 0.04) for the specular ones.
+template <class T>
+constexpr T kDiffusePad[2] = {T(1), T(0)};
+template <class T>
+constexpr T kSpecularPad[6] = {T(0.5), T(1), T(0.5), T(0.5), T(0), T(0.04)};
+
 // Rows of (λ, c) are de-interleaved into lane arrays; the last partial batch is padded with
-// (1, 0), a point inside every method's domain, and only its valid lanes are stored.
+// kDiffusePad.
 // Flattened: every helper of the kernel inlined (the scalar templates' small functions, called on
 // Lanes, are otherwise left out of line with their batches passed through memory).
 template <class Arch, class T, class K>
@@ -165,8 +173,8 @@ __attribute__((flatten)) void run(const T* args, T* out, std::size_t n, const T*
   if (i < n) {
     const std::size_t rest = n - i;
     for (std::size_t k = 0; k < W; ++k) {
-      l[k] = k < rest ? args[2 * (i + k)] : T(1);
-      c[k] = k < rest ? args[2 * (i + k) + 1] : T(0);
+      l[k] = k < rest ? args[2 * (i + k)] : kDiffusePad<T>[0];
+      c[k] = k < rest ? args[2 * (i + k) + 1] : kDiffusePad<T>[1];
     }
     alignas(64) T o[W];
     K::eval(B::load_aligned(l), B::load_aligned(c), p).store_aligned(o);
@@ -202,18 +210,67 @@ inline void store_lanes(const B& r, value_t<B>* out, std::size_t rest) {
   }
 }
 
+// Rows [i, i + rest) of kArity columns into a[0 … kArity − 1], as they are, or for a partial batch
+// (rest below the batch's size) from copies padded with `pad`.
+template <class B, std::size_t kArity>
+inline void load_columns(const value_t<B>* const* columns, std::size_t i, std::size_t rest,
+                         const value_t<B> (&pad)[kArity], B* a) {
+  constexpr std::size_t W = B::size;
+  for (std::size_t j = 0; j < kArity; ++j) {
+    if (rest == W) {
+      a[j] = B::load_unaligned(columns[j] + i);
+    } else {
+      alignas(64) value_t<B> col[W];
+      for (std::size_t k = 0; k < W; ++k) col[k] = k < rest ? columns[j][i + k] : pad[j];
+      a[j] = B::load_aligned(col);
+    }
+  }
+}
+
 // The specular kernels' driver: rows of 6 columns (roughness, light_sharpness, light_cos,
-// view_cos, light_azimuth, f0); padding (0.5, 1, 0.5, 0.5, 0, 0.04).
-// Flattened as run.
+// view_cos, light_azimuth, f0); padding kSpecularPad. Flattened as run.
 template <class Arch, class T, class K>
 __attribute__((flatten)) void run_specular(const T* args, T* out, std::size_t n, const T* params) {
   using B = xsimd::batch<T, Arch>;
-  constexpr T kPad[6] = {T(0.5), T(1), T(0.5), T(0.5), T(0), T(0.04)};
   B p[kKernelParams];
   for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
-  for_each_specular_batch<B>(
-      args, n, kPad, [&](const B* a, std::size_t i, std::size_t rest) { store_lanes(K::eval(a, p), out + i, rest); });
+  for_each_specular_batch<B>(args, n, kSpecularPad<T>, [&](const B* a, std::size_t i, std::size_t rest) {
+    store_lanes(K::eval(a, p), out + i, rest);
+  });
 }
+
+// A kernel on a batch of its columns' lanes: the diffuse kernels take (λ, c), the specular ones
+// their row of 6.
+template <class K, class B>
+inline B eval_columns(const B (&a)[2], const B* p) {
+  return K::eval(a[0], a[1], p);
+}
+template <class K, class B>
+inline B eval_columns(const B (&a)[6], const B* p) {
+  return K::eval(a, p);
+}
+
+// The column driver of either kind (ColumnsKernelFn): kArity columns loaded as they are (no
+// transposition; the last partial batch from padded copies, `pad` the row drivers' padding), the
+// same kernel on the same lanes as run and run_specular, so the same values bit for bit. Flattened
+// as run.
+template <class Arch, class T, class K, std::size_t kArity, const T (&pad)[kArity]>
+__attribute__((flatten)) void run_columns(const T* const* columns, T* out, std::size_t n, const T* params) {
+  using B = xsimd::batch<T, Arch>;
+  constexpr std::size_t W = B::size;
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
+  B a[kArity];
+  for (std::size_t i = 0; i < n; i += W) {
+    const std::size_t rest = n - i < W ? n - i : W;
+    load_columns<B>(columns, i, rest, pad, a);
+    store_lanes(eval_columns<K>(a, p), out + i, rest);
+  }
+}
+template <class Arch, class T, class K>
+constexpr ColumnsKernelFn<T> diffuse_columns = &run_columns<Arch, T, K, 2, kDiffusePad<T>>;
+template <class Arch, class T, class K>
+constexpr ColumnsKernelFn<T> specular_columns = &run_columns<Arch, T, K, 6, kSpecularPad<T>>;
 
 // The pair driver (simd_fresnel_pair.hpp): rows of the first kSpecularPairArity columns (no f0),
 // the same padding; K::eval_f0 with F0Pair. Flattened: the kernel's helpers inlined (measured:
@@ -232,36 +289,37 @@ __attribute__((flatten)) void run_specular_pair(const T* args, T* at_f0_zero, T*
   });
 }
 
-// The column pair driver: the rows as six columns (roughness, light_sharpness, light_cos,
-// view_cos, cos φ, sin φ of the light azimuth), loaded as they are (no transposition; the last
-// partial batch from padded copies, padding (0.5, 1, 0.5, 0.5, 1, 0)); K::eval_f0 on
-// AzimuthCosSinRow with F0Pair (no sine or cosine evaluated).
-template <class Arch, class T, class K>
-__attribute__((flatten)) void run_specular_pair_columns(const T* const* columns, T* at_f0_zero, T* at_f0_one,
-                                                        std::size_t n, const T* params) {
+// The receiver pair driver (sglab/simd_specular_pair.hpp SpecularPairColumns): the receivers'
+// columns (roughness, view_cos; one value per receiver) and the lights' (light_sharpness, light_cos,
+// cos φ, sin φ of the light azimuth; row j·receivers + g is light j at receiver g), loaded as they
+// are (no transposition; a partial last batch of receivers from padded copies, padding (0.5, 0.5)
+// and (1, 0.5, 1, 0)). Each batch of receivers is set up once (K::receiver: the template's
+// `_receiver` part) and evaluated against every light (K::eval_light with F0Pair: its `_from`
+// part); no sine or cosine is evaluated.
+template <class Arch, class K>
+__attribute__((flatten)) void run_specular_pair_receivers(const double* const* receivers, const double* const* lights,
+                                                          std::size_t receiver_count, std::size_t light_count,
+                                                          double* at_f0_zero, double* at_f0_one, const double* params) {
+  using T = double;
   using B = xsimd::batch<T, Arch>;
   constexpr std::size_t W = B::size;
-  constexpr T kPad[kSpecularPairColumns] = {T(0.5), T(1), T(0.5), T(0.5), T(1), T(0)};
+  constexpr T kReceiverPad[kSpecularReceiverColumns] = {T(0.5), T(0.5)};
+  constexpr T kLightPad[kSpecularLightColumns] = {T(1), T(0.5), T(1), T(0)};
   B p[kKernelParams];
   for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
-  B a[kSpecularPairColumns];
-  const auto eval = [&](std::size_t i, std::size_t rest) {
-    const FresnelPair<B> r = K::eval_f0(AzimuthCosSinRow<B>{a}, p, F0Pair{});
-    store_lanes(r.at_f0_zero, at_f0_zero + i, rest);
-    store_lanes(r.at_f0_one, at_f0_one + i, rest);
-  };
-  std::size_t i = 0;
-  for (; i + W <= n; i += W) {
-    for (std::size_t j = 0; j < kSpecularPairColumns; ++j) a[j] = B::load_unaligned(columns[j] + i);
-    eval(i, W);
-  }
-  if (i < n) {
-    alignas(64) T col[kSpecularPairColumns][W];
-    for (std::size_t j = 0; j < kSpecularPairColumns; ++j) {
-      for (std::size_t k = 0; k < W; ++k) col[j][k] = i + k < n ? columns[j][i + k] : kPad[j];
-      a[j] = B::load_aligned(col[j]);
+  for (std::size_t g = 0; g < receiver_count; g += W) {
+    const std::size_t rest = receiver_count - g < W ? receiver_count - g : W;
+    B rc[kSpecularReceiverColumns];
+    load_columns<B>(receivers, g, rest, kReceiverPad, rc);
+    const auto r = K::receiver(rc[0], rc[1]);
+    for (std::size_t l = 0; l < light_count; ++l) {
+      const std::size_t i = l * receiver_count + g;
+      B a[kSpecularLightColumns];
+      load_columns<B>(lights, i, rest, kLightPad, a);
+      const FresnelPair<B> v = K::eval_light(r, a, p, F0Pair{});
+      store_lanes(v.at_f0_zero, at_f0_zero + i, rest);
+      store_lanes(v.at_f0_one, at_f0_one + i, rest);
     }
-    eval(i, n - i);
   }
 }
 
@@ -280,6 +338,22 @@ constexpr KernelFn<T> kernel_list[static_cast<int>(Kernel::count)] = {
     &run_specular<Arch, T, GndfSgWarp>,
     &run_specular<Arch, T, GndfSgWarpMeder>};
 
+// The column drivers, in the same order.
+template <class Arch, class T>
+constexpr ColumnsKernelFn<T> columns_list[static_cast<int>(Kernel::count)] = {
+#define SGLAB_DIFFUSE_KERNEL(id, ...) diffuse_columns<Arch, T, DiffuseKernel_##id>,
+#include "diffuse_kernels.def"
+#undef SGLAB_DIFFUSE_KERNEL
+    specular_columns<Arch, T, SpecSgWarp<false, false, false>>,
+    specular_columns<Arch, T, SpecSgWarp<false, false, true>>,
+    specular_columns<Arch, T, SpecSgWarp<true, false, false>>,
+    specular_columns<Arch, T, SpecSgWarp<false, true, false>>,
+    specular_columns<Arch, T, SpecAsg>,
+    specular_columns<Arch, T, SpecSgWarpDvn>,
+    specular_columns<Arch, T, SpecSglab>,
+    specular_columns<Arch, T, GndfSgWarp>,
+    specular_columns<Arch, T, GndfSgWarpMeder>};
+
 // The `specular` kernels' pair drivers (simd_fresnel_pair.hpp), in the order of Kernel from
 // spec_sg_warp to spec_sglab.
 template <class Arch>
@@ -293,13 +367,13 @@ constexpr SpecularPairFn pair_list[] = {&run_specular_pair<Arch, double, SpecSgW
 
 template <class Arch>
 constexpr SpecularPairColumnsFn pair_columns_list[] = {
-    &run_specular_pair_columns<Arch, double, SpecSgWarp<false, false, false>>,
-    &run_specular_pair_columns<Arch, double, SpecSgWarp<false, false, true>>,
-    &run_specular_pair_columns<Arch, double, SpecSgWarp<true, false, false>>,
-    &run_specular_pair_columns<Arch, double, SpecSgWarp<false, true, false>>,
-    &run_specular_pair_columns<Arch, double, SpecAsg>,
-    &run_specular_pair_columns<Arch, double, SpecSgWarpDvn>,
-    &run_specular_pair_columns<Arch, double, SpecSglab>};
+    &run_specular_pair_receivers<Arch, SpecSgWarp<false, false, false>>,
+    &run_specular_pair_receivers<Arch, SpecSgWarp<false, false, true>>,
+    &run_specular_pair_receivers<Arch, SpecSgWarp<true, false, false>>,
+    &run_specular_pair_receivers<Arch, SpecSgWarp<false, true, false>>,
+    &run_specular_pair_receivers<Arch, SpecAsg>,
+    &run_specular_pair_receivers<Arch, SpecSgWarpDvn>,
+    &run_specular_pair_receivers<Arch, SpecSglab>};
 
 template <class Arch>
 SpecularPairTable make_pair_table() {
@@ -315,10 +389,12 @@ SpecularPairTable make_pair_table() {
 
 template <class Arch>
 KernelTable make_table(const char* isa) {
-  KernelTable t{isa, {}, {}};
+  KernelTable t{isa, {}, {}, {}, {}};
   for (int i = 0; i < static_cast<int>(Kernel::count); ++i) {
     t.f[i] = kernel_list<Arch, float>[i];
     t.d[i] = kernel_list<Arch, double>[i];
+    t.columns_f[i] = columns_list<Arch, float>[i];
+    t.columns_d[i] = columns_list<Arch, double>[i];
   }
   return t;
 }

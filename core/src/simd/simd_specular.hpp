@@ -4,8 +4,9 @@
 //
 // Every kernel IS the method's scalar template instantiated on Lanes (simd_lanes.hpp; its Eigen
 // 3-vectors Vec3<Lanes>): the template's `_at` form on the frame's vectors (specular_view,
-// specular_light_axis or, for the renderer's columns, specular_light_axis_cs), with the row's f0
-// or the pair f0 = 0 and 1 (simd_fresnel_pair.hpp). There is no second copy of a formula. Of the
+// specular_light_axis), with the row's f0 or the pair f0 = 0 and 1 (simd_fresnel_pair.hpp), or,
+// for the renderer's columns, its `_receiver` and `_from` parts (the light's axis by
+// specular_light_axis_cs). There is no second copy of a formula. Of the
 // constants registry_simd.cpp passes, only specular/sglab's fitted six (p[2…7]) are read: the
 // floors (p[0], p[1]), sglab's roughness ceiling and exponent cap (p[8], p[9]) and sg-warp-meder's
 // Meder constants are the templates' own, from their single definitions.
@@ -19,13 +20,6 @@
 namespace sglab::simd_detail {
 namespace {
 
-// A row whose a[4], a[5] are cos φ and sin φ of the light azimuth, not φ (the column pair driver,
-// simd_kernels.hpp run_specular_pair_columns): no sine or cosine to evaluate.
-template <class B>
-struct AzimuthCosSinRow {
-  const B* a;
-};
-
 // A row's scalar-template arguments on lanes: roughness, light sharpness, ξ and ωo.
 template <class B>
 struct LaneRow {
@@ -36,23 +30,36 @@ template <class B>
 inline LaneRow<B> lane_row(const B* a) {
   return {a[0], a[1], sglab::specular_light_axis(Lanes<B>(a[2]), Lanes<B>(a[4])), sglab::specular_view(Lanes<B>(a[3]))};
 }
+// A light's columns in the receiver driver (simd_kernels.hpp run_specular_pair_receivers): light
+// sharpness, light_cos, cos φ, sin φ; its axis ξ as specular_light_axis_cs forms it.
 template <class B>
-inline LaneRow<B> lane_row(const AzimuthCosSinRow<B>& r) {
-  const B* a = r.a;
-  return {a[0], a[1], sglab::specular_light_axis_cs(Lanes<B>(a[2]), Lanes<B>(a[4]), Lanes<B>(a[5])),
-          sglab::specular_view(Lanes<B>(a[3]))};
+inline Vec3<Lanes<B>> light_axis(const B* light) {
+  return sglab::specular_light_axis_cs(Lanes<B>(light[1]), Lanes<B>(light[2]), Lanes<B>(light[3]));
 }
 
+// Each `specular` kernel also in two parts, for the receiver driver: receiver(roughness, view_cos),
+// computed once per receiver, and eval_light(receiver, light, p, f0) per light, the template's
+// `_receiver` and `_from` forms (specular.hpp); the same operations as eval_f0, so the same values.
 // specular_sg_warp_at(…, form, tokuyoshi_harada_sharpness, factor_at).
 template <bool kIwasaki, bool kTokuyoshiHarada, bool kProductAxis>
 struct SpecSgWarp : RowF0<SpecSgWarp<kIwasaki, kTokuyoshiHarada, kProductAxis>> {
+  static constexpr SgProductForm kForm = kIwasaki ? SgProductForm::iwasaki : SgProductForm::exact;
+  static constexpr FactorAt kFactorAt = kProductAxis ? FactorAt::product_axis : FactorAt::lobe_axis;
   template <class A, class B, class F0>
   static auto eval_f0(const A& a, const B* /*p*/, const F0& f0) {
     const LaneRow<B> r = lane_row(a);
-    return batch_of(sglab::specular_sg_warp_at(r.roughness, r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0),
-                                               kIwasaki ? SgProductForm::iwasaki : SgProductForm::exact,
-                                               kTokuyoshiHarada,
-                                               kProductAxis ? FactorAt::product_axis : FactorAt::lobe_axis));
+    return batch_of(sglab::specular_sg_warp_at(r.roughness, r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0), kForm,
+                                               kTokuyoshiHarada, kFactorAt));
+  }
+  template <class B>
+  static auto receiver(const B& roughness, const B& view_cos) {
+    return sglab::specular_sg_warp_receiver(Lanes<B>(roughness), sglab::specular_view(Lanes<B>(view_cos)),
+                                            kTokuyoshiHarada);
+  }
+  template <class R, class B, class F0>
+  static auto eval_light(const R& r, const B* light, const B* /*p*/, const F0& f0) {
+    return batch_of(
+        sglab::specular_sg_warp_from(r, Lanes<B>(light[0]), light_axis(light), lanes_f0<B>(f0), kForm, kFactorAt));
   }
 };
 struct SpecAsg : RowF0<SpecAsg> {
@@ -61,12 +68,28 @@ struct SpecAsg : RowF0<SpecAsg> {
     const LaneRow<B> r = lane_row(a);
     return batch_of(sglab::specular_asg_at(r.roughness, r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0)));
   }
+  template <class B>
+  static auto receiver(const B& roughness, const B& view_cos) {
+    return sglab::specular_asg_receiver(Lanes<B>(roughness), sglab::specular_view(Lanes<B>(view_cos)));
+  }
+  template <class R, class B, class F0>
+  static auto eval_light(const R& r, const B* light, const B* /*p*/, const F0& f0) {
+    return batch_of(sglab::specular_asg_from(r, Lanes<B>(light[0]), light_axis(light), lanes_f0<B>(f0)));
+  }
 };
 struct SpecSgWarpDvn : RowF0<SpecSgWarpDvn> {
   template <class A, class B, class F0>
   static auto eval_f0(const A& a, const B* /*p*/, const F0& f0) {
     const LaneRow<B> r = lane_row(a);
     return batch_of(sglab::specular_sg_warp_dvn_at(r.roughness, r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0)));
+  }
+  template <class B>
+  static auto receiver(const B& roughness, const B& view_cos) {
+    return sglab::specular_sg_warp_dvn_receiver(Lanes<B>(roughness), sglab::specular_view(Lanes<B>(view_cos)));
+  }
+  template <class R, class B, class F0>
+  static auto eval_light(const R& r, const B* light, const B* /*p*/, const F0& f0) {
+    return batch_of(sglab::specular_sg_warp_dvn_from(r, Lanes<B>(light[0]), light_axis(light), lanes_f0<B>(f0)));
   }
 };
 
@@ -90,12 +113,28 @@ struct GndfSgWarpMeder {
 
 // specular_sglab_with; p[2…7] = nu_slope, inflation, light_weight, light_floor, horizon_depth,
 // horizon_rate (bound like the diffuse methods' constants).
+// Its receiver part is the row's roughness and ωo alone (specular_sglab_with is not split).
+template <class B>
+struct RoughnessAndView {
+  Lanes<B> roughness;
+  Vec3<Lanes<B>> wo;
+};
 struct SpecSglab : RowF0<SpecSglab> {
   template <class A, class B, class F0>
   static auto eval_f0(const A& a, const B* p, const F0& f0) {
     const LaneRow<B> r = lane_row(a);
     const SglabSpecularParams<Lanes<B>> q{p[2], p[3], p[4], p[5], p[6], p[7]};
     return batch_of(sglab::specular_sglab_with(r.roughness, r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0), q));
+  }
+  template <class B>
+  static RoughnessAndView<B> receiver(const B& roughness, const B& view_cos) {
+    return {Lanes<B>(roughness), sglab::specular_view(Lanes<B>(view_cos))};
+  }
+  template <class B, class F0>
+  static auto eval_light(const RoughnessAndView<B>& r, const B* light, const B* p, const F0& f0) {
+    const SglabSpecularParams<Lanes<B>> q{p[2], p[3], p[4], p[5], p[6], p[7]};
+    return batch_of(
+        sglab::specular_sglab_with(r.roughness, Lanes<B>(light[0]), light_axis(light), r.wo, lanes_f0<B>(f0), q));
   }
 };
 

@@ -41,10 +41,18 @@ constexpr std::size_t kernel_arity(Kernel k) { return k >= Kernel::spec_sg_warp 
 template <class T>
 using KernelFn = void (*)(const T* args, T* out, std::size_t n, const T* params);
 
+// The same rows as kernel_arity columns (columns[j][i]: row i's value of column j), read as they
+// are: no interleaving by the caller, no transposition by the kernel; bit for bit the KernelFn's
+// values.
+template <class T>
+using ColumnsKernelFn = void (*)(const T* const* columns, T* out, std::size_t n, const T* params);
+
 struct KernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   KernelFn<float> f[static_cast<int>(Kernel::count)];
   KernelFn<double> d[static_cast<int>(Kernel::count)];
+  ColumnsKernelFn<float> columns_f[static_cast<int>(Kernel::count)];
+  ColumnsKernelFn<double> columns_d[static_cast<int>(Kernel::count)];
 };
 
 const KernelTable& kernels_sse2();
@@ -57,11 +65,14 @@ constexpr std::size_t kSpecularPairArity = 5;
 constexpr int kSpecularPairKernels = static_cast<int>(Kernel::spec_sglab) - static_cast<int>(Kernel::spec_sg_warp) + 1;
 using SpecularPairFn = void (*)(const double* args, double* at_f0_zero, double* at_f0_one, std::size_t n,
                                 const double* params);
-// The same on six columns (sglab/simd_specular_pair.hpp SpecularPairColumns): the first four
-// columns of the rows, then cos φ and sin φ of the light azimuth in place of φ.
-constexpr std::size_t kSpecularPairColumns = 6;
-using SpecularPairColumnsFn = void (*)(const double* const* columns, double* at_f0_zero, double* at_f0_one,
-                                       std::size_t n, const double* params);
+// The same on columns (sglab/simd_specular_pair.hpp SpecularPairColumns): the receivers' two
+// (roughness, view_cos), and the lights' four (light_sharpness, light_cos, cos φ and sin φ of the
+// light azimuth) of light_count × receiver_count rows, row j·receiver_count + g.
+constexpr std::size_t kSpecularReceiverColumns = 2;
+constexpr std::size_t kSpecularLightColumns = 4;
+using SpecularPairColumnsFn = void (*)(const double* const* receivers, const double* const* lights,
+                                       std::size_t receiver_count, std::size_t light_count, double* at_f0_zero,
+                                       double* at_f0_one, const double* params);
 struct SpecularPairTable {
   SpecularPairFn d[kSpecularPairKernels];
   SpecularPairColumnsFn columns[kSpecularPairKernels];

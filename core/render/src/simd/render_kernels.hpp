@@ -600,12 +600,12 @@ void method_rows(std::size_t lobes, std::size_t m, const IncomingRows& rows, con
   const std::size_t gn = p.count;
   const std::size_t* point = p.point;
   const double *tx = p.tx, *ty = p.ty, *tz = p.tz, *bx = p.bx, *by = p.by, *bz = p.bz, *nx = p.nx, *ny = p.ny,
-               *nz = p.nz, *view_cos = p.view_cos, *roughness = p.roughness;
+               *nz = p.nz;
   for (std::size_t j = 0; j < lobes; ++j) {
     const std::size_t r0 = j * m, k0 = j * gn;
     const double *lam = rows.sharpness + r0, *ix = rows.xi_x + r0, *iy = rows.xi_y + r0, *iz = rows.xi_z + r0;
-    double *ro = out.roughness + k0, *ls = out.light_sharpness + k0, *lc = out.light_cos + k0, *vc = out.view_cos + k0,
-           *ac = out.azimuth_cos + k0, *as = out.azimuth_sin + k0;
+    double *ls = out.light_sharpness + k0, *lc = out.light_cos + k0, *ac = out.azimuth_cos + k0,
+           *as = out.azimuth_sin + k0;
 #pragma omp simd
     for (std::size_t g = 0; g < gn; ++g) {
       const std::size_t i = point[g];
@@ -613,10 +613,8 @@ void method_rows(std::size_t lobes, std::size_t m, const IncomingRows& rows, con
       const double ct = dot3(x, y, z, tx[g], ty[g], tz[g]), cb = dot3(x, y, z, bx[g], by[g], bz[g]);
       const double rho2 = ct * ct + cb * cb;
       const double inv = rho2 > 0 ? 1 / sqrt_(rho2 > 0 ? rho2 : 1.0) : 0.0;
-      ro[g] = roughness[g];
       ls[g] = lam[i];
       lc[g] = clamp1(dot3(x, y, z, nx[g], ny[g], nz[g]));
-      vc[g] = view_cos[g];
       ac[g] = rho2 > 0 ? ct * inv : 1.0;
       as[g] = rho2 > 0 ? cb * inv : 0.0;
     }

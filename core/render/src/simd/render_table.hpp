@@ -151,13 +151,13 @@ struct MethodReceivers {
   const std::size_t* point;  // the point's index in the block
   const double *tx, *ty, *tz, *bx, *by, *bz, *nx, *ny, *nz, *view_cos, *roughness, *f0_r, *f0_g, *f0_b;
 };
-// The method's rows as columns (sglab/simd_specular_pair.hpp SpecularPairColumns), row j·count + g
-// for lobe j and glossy point g.
+// The method's lights' columns (sglab/simd_specular_pair.hpp SpecularPairColumns; the receivers'
+// are MethodReceivers' roughness and view_cos), row j·count + g for lobe j and glossy point g.
 struct MethodColumns {
-  double *roughness, *light_sharpness, *light_cos, *view_cos, *azimuth_cos, *azimuth_sin;
+  double *light_sharpness, *light_cos, *azimuth_cos, *azimuth_sin;
 };
-// The columns of every (lobe, glossy point) from the incoming rows (j·m + i): α, λ_in,
-// ξ·n clamped to [−1, 1], n·ω_o, and (ξ·t, ξ·b)/|(ξ·t, ξ·b)| for cos φ, sin φ ((1, 0) where both are 0).
+// The columns of every (lobe, glossy point) from the incoming rows (j·m + i): λ_in, ξ·n clamped to
+// [−1, 1], and (ξ·t, ξ·b)/|(ξ·t, ξ·b)| for cos φ, sin φ ((1, 0) where both are 0).
 using MethodRowsFn = void (*)(std::size_t lobes, std::size_t m, const IncomingRows& rows,
                               const MethodReceivers& receivers, const MethodColumns& out);
 // out_{r,g,b}[g] = Σ_j amp_j · (a0 + f0·(a1 − a0)), a_k = e^{log_scale}·at_f0_k of row j·count + g,
