@@ -13,7 +13,7 @@
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace cosine_lobe_sg_detail {
 
 // The published values live in core (CosineLobeSg, clamped_cosine.hpp).
 constexpr double kAmplitude = CosineLobeSg::amplitude;
@@ -56,9 +56,10 @@ FitResult solve_objective(const std::string& objective) {
                                  "minimax: max over w.n in [-1, 1] of |a G - <w.n>|");
 }
 
-}  // namespace
+}  // namespace cosine_lobe_sg_detail
 
 Fitter cosine_lobe_sg_fitter() {
+  using namespace cosine_lobe_sg_detail;
   Fitter f;
   f.name = "cosine-lobe-sg";
   f.description = "amplitude and sharpness of the cosine lobe as an SG";

@@ -33,7 +33,7 @@
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace cosine_sg_detail {
 
 // Meder & Brüderlin 2018 (as used by PhySG, Zhang et al. 2021): i·n ≈ G(i; n, 0.0315, 32.7080) − 31.7003.
 // The published values live in core (MederCosineSg, clamped_cosine.hpp).
@@ -121,9 +121,10 @@ FitResult solve(const std::string& objective, const CosineSgResidual& f, double 
   return solve_least_squares<3>(spec, f);
 }
 
-}  // namespace
+}  // namespace cosine_sg_detail
 
 double cosine_sg_rounding_profile(const std::string& precision, double lambda) {
+  using namespace cosine_sg_detail;
   // For fixed λ and a, b ≥ 0 (where the optimum lies) every residual is linear in (a, b):
   // misfit rows √w(aG − b) = √w t, rounding rows √w u(aG + b) = 0. Solved by Householder QR.
   const CosineSgResidual f = problem("l2-bounded");
@@ -142,6 +143,7 @@ double cosine_sg_rounding_profile(const std::string& precision, double lambda) {
 }
 
 FitResult fit_cosine_sg(const FitOptions& o) {
+  using namespace cosine_sg_detail;
   if (o.objective == "l2-rounding") {
     FitResult r = solve_rounding(o.precision);
     for (const char* p : {"half", "float", "double"}) {
@@ -175,6 +177,7 @@ FitResult fit_cosine_sg(const FitOptions& o) {
 }
 
 Fitter cosine_sg_fitter() {
+  using namespace cosine_sg_detail;
   Fitter f;
   f.name = "cosine-sg";
   f.description = "a G(w; n, lambda) - b ~ w.n on the hemisphere (Meder & Bruederlin)";

@@ -30,7 +30,7 @@
 #include "sglab/clamped_cosine.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace cosine_sharpness_detail {
 
 // Tokuyoshi 2022, defined in core (Tokuyoshi2022Cosine, clamped_cosine.hpp): λc and α(λc).
 constexpr double kPublishedLambda = Tokuyoshi2022Cosine::lambda;
@@ -72,11 +72,15 @@ struct LogObjective {
   }
 };
 
-}  // namespace
+}  // namespace cosine_sharpness_detail
 
-double cosine_sharpness_objective(double lambda, double unit_roundoff) { return objective(lambda, unit_roundoff); }
+double cosine_sharpness_objective(double lambda, double unit_roundoff) {
+  using namespace cosine_sharpness_detail;
+  return objective(lambda, unit_roundoff);
+}
 
 FitResult fit_cosine_sharpness(const FitOptions& o) {
+  using namespace cosine_sharpness_detail;
   const double u = unit_roundoff(o.precision);
   // Positive by its log parameterization: no bounds.
   FitSpec spec = fit_spec("cosine-sharpness", "Tokuyoshi 2022 (accurate diffuse SG lighting), for float32",
@@ -104,6 +108,7 @@ FitResult fit_cosine_sharpness(const FitOptions& o) {
 }
 
 Fitter cosine_sharpness_fitter() {
+  using namespace cosine_sharpness_detail;
   Fitter f;
   f.name = "cosine-sharpness";
   f.description = "Tokuyoshi 2022 cosine-approximation sharpness and alpha(lambda)";

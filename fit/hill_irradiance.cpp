@@ -17,7 +17,7 @@
 #include "sglab/clamped_cosine.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace hill_irradiance_detail {
 
 // D_hill/D(λ, 1).
 struct HillCurve {
@@ -38,9 +38,10 @@ LambdaCosineFit hill_fit() {
           {{0.2}, {0.6}}};
 }
 
-}  // namespace
+}  // namespace hill_irradiance_detail
 
 Fitter hill_irradiance_fitter() {
+  using namespace hill_irradiance_detail;
   const LambdaCosineFit fit = hill_fit();
   Fitter f = lambda_cosine_fitter<1, HillCurve>(fit);
   // The default fit, cross-checked by an independent 1D minimization of the same objective over

@@ -25,7 +25,7 @@
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace lambda_c_detail {
 
 // Tokuyoshi, lobe-aware filtering, App. D; defined in core (LobeAwareFiltering).
 constexpr double kPublishedLambdaC = LobeAwareFiltering::lambda_c;
@@ -99,13 +99,15 @@ std::string fmt(const char* format, double a, double b = 0, double c = 0) {
   return buf;
 }
 
-}  // namespace
+}  // namespace lambda_c_detail
 
 double lambda_c_error(const std::string& objective, double lambda_c) {
+  using namespace lambda_c_detail;
   return problem(objective).squared_error(&lambda_c);
 }
 
 FitResult fit_lambda_c(const FitOptions& o) {
+  using namespace lambda_c_detail;
   FitResult r = solve(o.objective, problem(o.objective), o.beta, o.kappa);
   // Every objective's λ_c and error, and the error each assigns to the published 0.9426.
   for (const auto& obj : objectives()) {
@@ -137,6 +139,7 @@ FitResult fit_lambda_c(const FitOptions& o) {
 }
 
 Fitter lambda_c_fitter() {
+  using namespace lambda_c_detail;
   Fitter f;
   f.name = "lambda-c";
   f.description = "SG sharpness of the diffuse lobe similarity q(phi), and sigma_n^2";

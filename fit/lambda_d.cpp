@@ -18,7 +18,7 @@
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace lambda_d_detail {
 
 // Public VSGL implementation (Tokuyoshi): 2.292504 (the papers give ≈ 2), defined in core.
 constexpr double kPublishedLambdaD = LambertSharpness::vsgl_code;
@@ -54,15 +54,20 @@ FitResult solve(const std::string& objective, const LambdaDResidual& f) {
   return solve_least_squares<1>(spec_for(objective), f);
 }
 
-}  // namespace
+}  // namespace lambda_d_detail
 
 double lambda_d_objective(const std::string& objective, double lambda) {
+  using namespace lambda_d_detail;
   return problem(objective).squared_error(&lambda);
 }
 
-FitResult fit_lambda_d(const std::string& objective) { return solve(objective, problem(objective)); }
+FitResult fit_lambda_d(const std::string& objective) {
+  using namespace lambda_d_detail;
+  return solve(objective, problem(objective));
+}
 
 FitResult fit_lambda_d_like_scipy() {
+  using namespace lambda_d_detail;
   static const LambdaDResidual grid = problem("l2-solid-angle");  // built once, as in the script
   FitSpec spec = spec_for("l2-solid-angle");
   spec.starts = {{2.0}};                    // benchmarks/lambda_d_scipy.py: x0 = 2
@@ -71,6 +76,7 @@ FitResult fit_lambda_d_like_scipy() {
 }
 
 Fitter lambda_d_fitter() {
+  using namespace lambda_d_detail;
   Fitter f;
   f.name = "lambda-d";
   f.description = "vMF sharpness of the normalized clamped cosine";

@@ -12,7 +12,7 @@
 #include "sglab/hemispherical.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace meder_logistic_detail {
 
 // t(λ) in H ≈ upper(λ)·lerp(e^{−λ}, 1, s(t, c)), normalized by upper(λ).
 struct MederCurve {
@@ -22,9 +22,10 @@ struct MederCurve {
   }
 };
 
-}  // namespace
+}  // namespace meder_logistic_detail
 
 Fitter meder_logistic_fitter() {
+  using namespace meder_logistic_detail;
   // The published values (4 decimals) are defined in core (MederLogistic).
   using M = MederLogistic;
   return lambda_cosine_fitter<4, MederCurve>(

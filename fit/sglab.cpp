@@ -20,7 +20,7 @@
 #include "sglab/stiff_cases.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace sglab_detail {
 
 // Lawson rounds of a full run and of a --quick one.
 constexpr int kLawsonRounds = 30;
@@ -126,9 +126,10 @@ FitResult solve_lawson(Residual f, int rounds, GridDensity d) {
 // Synthetic recovery: one unweighted least-squares solve against the model's own values.
 FitResult solve_plain(const Residual& f) { return solve_least_squares<8>(make_spec(kStart), f); }
 
-}  // namespace
+}  // namespace sglab_detail
 
 Fitter sglab_fitter() {
+  using namespace sglab_detail;
   Fitter f;
   f.name = "sglab";
   f.description = "sglab's own diffuse approximation: refitted t(lambda) and the even correction K(lambda)";

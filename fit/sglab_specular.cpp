@@ -31,7 +31,7 @@
 #include "sglab/specular_grid.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace sglab_specular_detail {
 
 constexpr int kRounds = 12;
 constexpr double kResidualFloor = 1e-4;
@@ -214,9 +214,10 @@ FitResult solve_irls(const Data& d, bool quick) {
   return best.result;
 }
 
-}  // namespace
+}  // namespace sglab_specular_detail
 
 Fitter sglab_specular_fitter() {
+  using namespace sglab_specular_detail;
   Fitter f;
   f.name = "sglab-specular";
   f.description =

@@ -13,7 +13,7 @@
 #include "sglab/hemispherical.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace tokuyoshi2022_steepness_detail {
 
 // k(λ) in H ≈ upper(λ)·lerp(e^{−λ}, 1, ½ + ½ erf(kc)/erf(k)), normalized by upper(λ).
 struct Tokuyoshi2022Curve {
@@ -23,9 +23,10 @@ struct Tokuyoshi2022Curve {
   }
 };
 
-}  // namespace
+}  // namespace tokuyoshi2022_steepness_detail
 
 Fitter tokuyoshi2022_steepness_fitter() {
+  using namespace tokuyoshi2022_steepness_detail;
   // The published values are defined in core (Tokuyoshi2022Steepness, hemispherical.hpp).
   using S = Tokuyoshi2022Steepness;
   return lambda_cosine_fitter<3, Tokuyoshi2022Curve>(

@@ -18,7 +18,7 @@
 #include "sglab/clamped_cosine.hpp"
 
 namespace sglab::fit {
-namespace {
+namespace tokuyoshi2024_t_detail {
 
 // D/D(λ, 1) = (lower + f(upper − lower))/upper with t(λ) in f unclamped.
 struct Tokuyoshi2024Curve {
@@ -32,9 +32,10 @@ struct Tokuyoshi2024Curve {
   }
 };
 
-}  // namespace
+}  // namespace tokuyoshi2024_t_detail
 
 Fitter tokuyoshi2024_t_fitter() {
+  using namespace tokuyoshi2024_t_detail;
   // The published values are defined in core (Tokuyoshi2024T, clamped_cosine.hpp).
   using P = Tokuyoshi2024T;
   return lambda_cosine_fitter<5, Tokuyoshi2024Curve>(

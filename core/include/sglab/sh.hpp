@@ -31,6 +31,9 @@ inline constexpr int sh_index(int l, int m) { return l * (l + 1) + m; }
 // All (L + 1)² real SH values at the unit direction w, written to y[0 … (L+1)² − 1].
 template <class T>
 void sh_eval(int order, const Vec3<T>& w, T* y) {
+  // std's sqrt for the built-in types (a bare sqrt here would otherwise find sglab::sqrt(Trace), by
+  // conversion, wherever trace.hpp came first: as in a batch of fit/), the argument's own by lookup otherwise.
+  using std::sqrt;
   const T z = w(2);
   const T rxy = sqrt(w(0) * w(0) + w(1) * w(1));
   // cos(mφ), sin(mφ) by the angle-addition recurrence on (x, y)/r (φ = 0 at the pole).

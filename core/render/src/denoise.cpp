@@ -162,13 +162,13 @@ DenoiseInputs prepare_denoise_inputs(const Scene& scene, const DenoiseInputOptio
   if (o.noisy.mode == NoisyMode::interleaved) {
     const int m = o.noisy.count;
     const std::vector<VplList> subsets = interleaved_vpl_subsets(vpls, m, o.seed);
-    for_each_row(in.width, in.height, "noisy (interleaved)", o.progress, [&](std::size_t k, int i, int j) {
+    for_each_pixel(in.width, in.height, "noisy (interleaved)", o.progress, [&](std::size_t k, int i, int j) {
       if (in.full[k].valid)
         store(k, split_vpl_sum(in.full[k].point, subsets[std::size_t(j % m) * std::size_t(m) + std::size_t(i % m)]));
     });
   } else if (!vpls.vpls.empty()) {
     const VplSampler sampler(vpls.vpls);
-    for_each_row(in.width, in.height, "noisy (random)", o.progress, [&](std::size_t k, int, int) {
+    for_each_pixel(in.width, in.height, "noisy (random)", o.progress, [&](std::size_t k, int, int) {
       if (!in.full[k].valid) return;
       thread_local VplList drawn;
       draw_pixel_vpls(vpls, sampler, o.noisy.count, o.seed, k, drawn);
@@ -200,7 +200,7 @@ DenoiseResult denoise_indirect(const DenoiseInputs& in, FilterWeights weights, c
   const int radius = a.radius;
   const auto footprint = [radius](int d) { return std::abs(d) == radius ? 0.5 : 1.0; };
 
-  for_each_row(in.width, in.height, "filtering", {}, [&](std::size_t k, int i, int j) {
+  for_each_pixel(in.width, in.height, "filtering", {}, [&](std::size_t k, int i, int j) {
     const FilterSample& p = in.full[k];
     if (!p.valid) return;
     Rgb total = Rgb::Zero();

@@ -48,13 +48,13 @@ namespace {
 
 // The tangent frame of the registry's specular quantity: n = z, o in the xz-plane (t = the
 // direction of o's projection; any tangent when o ∥ n).
-struct Frame {
+struct ViewFrame {
   Vec3 t, b, n;
   Vec3 local(const Vec3& w) const { return Vec3(w.dot(t), w.dot(b), w.dot(n)); }
 };
 
-Frame view_frame(const EnvShadingPoint& p) {
-  Frame f;
+ViewFrame view_frame(const EnvShadingPoint& p) {
+  ViewFrame f;
   f.n = p.normal;
   Vec3 t = p.view - p.view.dot(f.n) * f.n;
   if (t.norm() < 1e-12) {
@@ -96,7 +96,7 @@ std::vector<Rgb> integrate(const EnvMap& map, const EnvImage& image, int supersa
   std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
   tbb::parallel_for(std::size_t(0), image.points.size(), [&](std::size_t k) {
     const auto& p = image.points[k];
-    const Frame f = view_frame(p);
+    const ViewFrame f = view_frame(p);
     const Vec3 wo = f.local(p.view);
     double sum[3] = {0, 0, 0};
     for (const auto& node : n) {
@@ -127,7 +127,7 @@ const Method& registry_method(const std::string& quantity, const std::string& na
 }  // namespace
 
 std::vector<Rgb> integrate_diffuse(const EnvMap& map, const EnvImage& image, int supersample) {
-  return integrate(map, image, supersample, [](const Frame& f, const Vec3&, const Vec3& w) {
+  return integrate(map, image, supersample, [](const ViewFrame& f, const Vec3&, const Vec3& w) {
     const double c = w.dot(f.n);
     return c > 0 ? c / M_PI : 0.0;
   });
@@ -170,7 +170,7 @@ std::vector<Rgb> mixture_shading(const SgMixture& m, const EnvImage& image, cons
   std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
   tbb::parallel_for(std::size_t(0), image.points.size(), [&](std::size_t k) {
     const auto& p = image.points[k];
-    const Frame f = view_frame(p);
+    const ViewFrame f = view_frame(p);
     Rgb sum = Rgb::Zero();
     for (const auto& l : m) {
       const double x = per_lobe(f, p, l);
@@ -183,7 +183,7 @@ std::vector<Rgb> mixture_shading(const SgMixture& m, const EnvImage& image, cons
 }  // namespace
 
 std::vector<Rgb> mixture_diffuse_reference(const SgMixture& m, const EnvImage& image) {
-  return mixture_shading(m, image, [](const Frame& f, const EnvShadingPoint&, const SgLight& l) {
+  return mixture_shading(m, image, [](const ViewFrame& f, const EnvShadingPoint&, const SgLight& l) {
     return clamped_cosine_reference(l.sharpness, std::clamp(l.axis.dot(f.n), -1.0, 1.0)) / M_PI;
   });
 }
@@ -200,7 +200,7 @@ std::vector<Rgb> mixture_method_shading(const SgMixture& m, const EnvImage& imag
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, image.points.size(), 32), [&](const auto& range) {
     std::vector<double> args(arity * lobes * range.size()), values(lobes * range.size());
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      const Frame f = view_frame(image.points[k]);
+      const ViewFrame f = view_frame(image.points[k]);
       for (std::size_t j = 0; j < lobes; ++j)
         row(f, image.points[k], m[j], &args[arity * ((k - range.begin()) * lobes + j)]);
     }
@@ -220,7 +220,7 @@ std::vector<Rgb> mixture_method_shading(const SgMixture& m, const EnvImage& imag
 
 std::vector<Rgb> mixture_diffuse_method(const SgMixture& m, const EnvImage& image, const std::string& method) {
   return mixture_method_shading(m, image, registry_method("clamped-cosine", method), 2, 1 / M_PI,
-                                [](const Frame& f, const EnvShadingPoint&, const SgLight& l, double* a) {
+                                [](const ViewFrame& f, const EnvShadingPoint&, const SgLight& l, double* a) {
                                   a[0] = l.sharpness;
                                   a[1] = std::clamp(l.axis.dot(f.n), -1.0, 1.0);
                                 });
@@ -228,16 +228,17 @@ std::vector<Rgb> mixture_diffuse_method(const SgMixture& m, const EnvImage& imag
 
 std::vector<Rgb> mixture_specular_method(const SgMixture& m, const EnvImage& image, const std::string& method,
                                          double roughness, double f0) {
-  return mixture_method_shading(m, image, registry_method("specular", method), 6, 1.0,
-                                [roughness, f0](const Frame& f, const EnvShadingPoint& p, const SgLight& l, double* a) {
-                                  const Vec3 xi = f.local(l.axis);
-                                  a[0] = roughness;
-                                  a[1] = l.sharpness;
-                                  a[2] = std::clamp(xi(2), -1.0, 1.0);
-                                  a[3] = std::clamp(p.view.dot(f.n), 0.0, 1.0);
-                                  a[4] = std::atan2(xi(1), xi(0));
-                                  a[5] = f0;
-                                });
+  return mixture_method_shading(
+      m, image, registry_method("specular", method), 6, 1.0,
+      [roughness, f0](const ViewFrame& f, const EnvShadingPoint& p, const SgLight& l, double* a) {
+        const Vec3 xi = f.local(l.axis);
+        a[0] = roughness;
+        a[1] = l.sharpness;
+        a[2] = std::clamp(xi(2), -1.0, 1.0);
+        a[3] = std::clamp(p.view.dot(f.n), 0.0, 1.0);
+        a[4] = std::atan2(xi(1), xi(0));
+        a[5] = f0;
+      });
 }
 
 ShadingError shading_error(const std::vector<Rgb>& value, const std::vector<Rgb>& reference, const EnvImage& image) {

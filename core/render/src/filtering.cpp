@@ -21,8 +21,6 @@
 namespace sglab::render {
 namespace filtering_detail {
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
 FilterSample sample_at(const Scene& scene, double px, double py, double pixel_angle) {
   FilterSample s;
   const Ray ray = camera_ray(scene.camera, px, py);
@@ -64,7 +62,7 @@ void fill_full_gbuffer(const Scene& scene, const std::function<void(std::string_
   glossy.assign(n, 0);
   // One pixel's angle at the image centre: 2 tan(fov/2)/height.
   const double pixel_angle = 2 * std::tan(0.5 * cam.vertical_fov) / double(cam.height);
-  for_each_row(cam.width, cam.height, "g-buffer", progress, [&](std::size_t k, int i, int j) {
+  for_each_pixel(cam.width, cam.height, "g-buffer", progress, [&](std::size_t k, int i, int j) {
     full[k] = sample_at(scene, i + 0.5, j + 0.5, pixel_angle);
     hit[k] = full[k].valid;
     glossy[k] = full[k].valid && full[k].point.glossy();
@@ -90,7 +88,7 @@ void fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, 
   }
   const auto t0 = Clock::now();
   reference.assign(n, Rgb::Zero());
-  for_each_row(width, int(n / std::size_t(width)), "reference (VPL sum)", progress, [&](std::size_t k, int, int) {
+  for_each_pixel(width, int(n / std::size_t(width)), "reference (VPL sum)", progress, [&](std::size_t k, int, int) {
     if (full[k].valid) reference[k] = reference_radiance(full[k].point, vpls);
   });
   seconds = seconds_since(t0);
@@ -195,7 +193,7 @@ void fill_gbuffers(const Scene& scene, const FilterInputOptions& o, FilterInputs
   const double pixel_angle = 2 * std::tan(0.5 * cam.vertical_fov) / double(cam.height);
   fill_full_gbuffer(scene, o.progress, in.full, in.hit, in.glossy);
   in.low.resize(std::size_t(in.low_width) * std::size_t(in.low_height));
-  for_each_row(in.low_width, in.low_height, "g-buffer (low)", {}, [&](std::size_t k, int i, int j) {
+  for_each_pixel(in.low_width, in.low_height, "g-buffer (low)", {}, [&](std::size_t k, int i, int j) {
     const double px = std::min(o.scale * (i + 0.5), double(in.width)),
                  py = std::min(o.scale * (j + 0.5), double(in.height));
     in.low[k] = sample_at(scene, px, py, o.scale * pixel_angle);
@@ -212,7 +210,7 @@ void fill_low_res_indirect(const ReflectiveShadowMap& rsm, const VplList& vpls, 
   VsglSet vsgls;
   if (o.source == IndirectSource::vsgl) vsgls = build_vsgls(rsm, o.vsgl);
   const VsglShader shader(vsgls, o.shading);
-  for_each_row(in.low_width, in.low_height, "low-res indirect", o.progress, [&](std::size_t k, int, int) {
+  for_each_pixel(in.low_width, in.low_height, "low-res indirect", o.progress, [&](std::size_t k, int, int) {
     const FilterSample& s = in.low[k];
     if (!s.valid) return;
     Rgb diffuse, specular;
@@ -272,7 +270,7 @@ FilterResult upsample_indirect(const FilterInputs& in, FilterWeights weights, co
   std::atomic<std::size_t> fallbacks{0};
   const double inv_two_sigma2 = 1 / (2 * a.spatial_sigma * a.spatial_sigma);
 
-  for_each_row(in.width, in.height, "upsampling", {}, [&](std::size_t k, int i, int j) {
+  for_each_pixel(in.width, in.height, "upsampling", {}, [&](std::size_t k, int i, int j) {
     const FilterSample& p = in.full[k];
     if (!p.valid) return;
     // p's position on the low-resolution grid, where sample (I, J) sits at (I, J).

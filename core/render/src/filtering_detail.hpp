@@ -1,6 +1,6 @@
 // What the two passes over indirect light share (filtering.cpp: upsampling; denoise.cpp: filtering a
 // noisy full-resolution image): the G-buffer samples with their lobes, the split of a VPL sum into its
-// diffuse and specular parts, demodulation, the row-parallel loop and the per-receiver errors.
+// diffuse and specular parts, demodulation and the per-receiver errors (the row-parallel loop: row_loop.hpp).
 // Private to the renderer's sources.
 #pragma once
 
@@ -17,34 +17,9 @@
 #include "sglab/render/filtering.hpp"
 #include "sglab/render/reference.hpp"
 #include "sglab/render/rsm.hpp"
+#include "row_loop.hpp"
 
 namespace sglab::render::filtering_detail {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t0);
-
-// Runs body(k, i, j) for k = j·width + i, j in [0, rows), in parallel over rows, reporting progress in
-// 5 % steps.
-template <class Body>
-void for_each_row(int width, int rows, std::string_view stage,
-                  const std::function<void(std::string_view, double)>& progress, const Body& body) {
-  std::atomic<int> done{0}, reported{0};
-  if (progress) progress(stage, 0.0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, rows), [&](const tbb::blocked_range<int>& r) {
-    for (int j = r.begin(); j < r.end(); ++j) {
-      for (int i = 0; i < width; ++i) body(std::size_t(j) * std::size_t(width) + std::size_t(i), i, j);
-      const int n = ++done;
-      if (progress) {
-        const int step = 20 * n / rows;
-        int last = reported.load();
-        while (step > last && !reported.compare_exchange_weak(last, step)) {
-        }
-        if (step > last && step < 20) progress(stage, step / 20.0);
-      }
-    }
-  });
-  if (progress) progress(stage, 1.0);
-}
 
 // The sample seen through image point (px, py) (full-resolution pixel units) with its lobes.
 // pixel_angle: the angle one pixel of this sample's grid subtends (its footprint is depth × that).

@@ -15,43 +15,16 @@
 #include "sglab/render/rsm.hpp"
 #include "sglab/render/shadow_map.hpp"
 #include "sglab/render/visibility.hpp"
+#include "row_loop.hpp"
 
 namespace sglab::render {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// Runs row_body(j) for every image row j, in parallel, reporting progress in 5 % steps.
-template <class RowBody>
-void for_each_row(const GBuffer& g, std::string_view stage, const RenderOptions& o, const RowBody& row_body) {
-  std::atomic<int> rows_done{0}, reported{0};
-  if (o.progress) o.progress(stage, 0.0);
-  tbb::parallel_for(tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& rows) {
-    for (int j = rows.begin(); j < rows.end(); ++j) {
-      row_body(j);
-      const int done = ++rows_done;
-      if (o.progress) {
-        const int step = 20 * done / g.height;  // 0 … 20
-        int last = reported.load();
-        while (step > last && !reported.compare_exchange_weak(last, step)) {
-        }
-        if (step > last && step < 20) o.progress(stage, step / 20.0);
-      }
-    }
-  });
-  if (o.progress) o.progress(stage, 1.0);
-}
-
 // Runs body(k) for every pixel k with hit[k], parallel over rows.
 template <class Body>
-void for_each_pixel(const GBuffer& g, std::string_view stage, const RenderOptions& o, const Body& body) {
-  for_each_row(g, stage, o, [&](int j) {
-    for (int i = 0; i < g.width; ++i) {
-      const std::size_t k = std::size_t(j) * std::size_t(g.width) + std::size_t(i);
-      if (g.hit[k]) body(k);
-    }
+void for_each_hit(const GBuffer& g, std::string_view stage, const RenderOptions& o, const Body& body) {
+  for_each_pixel(g.width, g.height, stage, o.progress, [&](std::size_t k, int, int) {
+    if (g.hit[k]) body(k);
   });
 }
 
@@ -90,7 +63,7 @@ void shade_vsgls(const Scene& scene, const RenderOptions& o, const GBuffer& g, c
   // arrays, reused row after row); with visibility, the row's shadow-map lookups first, one
   // cluster's cube map at a time over the row's points (vectorized, cube_visibility), then the row
   // shaded in blocks with its (point, cluster) visibility as a mask.
-  for_each_row(g, "vsgl shading", o, [&](int j) {
+  for_each_row(g.height, "vsgl shading", o.progress, [&](int j) {
     thread_local std::vector<ShadingPoint> points;
     thread_local std::vector<std::size_t> pixels;
     thread_local std::vector<VsglShading> shaded;
@@ -168,7 +141,7 @@ CommonPass render_common(const Scene& scene, const RenderOptions& o) {
     const ShadowMap shadow = render_shadow_map(scene, o.shadow_map_resolution);
     r.seconds.shadow_map = seconds_since(t0);
     t0 = Clock::now();
-    for_each_pixel(g, "direct", o, [&](std::size_t k) { r.direct[k] = direct_radiance(scene, shadow, g.points[k]); });
+    for_each_hit(g, "direct", o, [&](std::size_t k) { r.direct[k] = direct_radiance(scene, shadow, g.points[k]); });
     r.seconds.direct = seconds_since(t0);
   }
 
@@ -183,7 +156,7 @@ CommonPass render_common(const Scene& scene, const RenderOptions& o) {
   }
 
   t0 = Clock::now();
-  for_each_pixel(g, "reference (VPL sum)", o, [&](std::size_t k) {
+  for_each_hit(g, "reference (VPL sum)", o, [&](std::size_t k) {
     r.indirect_reference[k] = reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr,
                                                  o.reference_precision.value_or(o.shading.precision));
   });

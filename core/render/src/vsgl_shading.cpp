@@ -15,6 +15,16 @@
 #include "sglab/text_limits.hpp"
 
 namespace sglab::render {
+
+// The lobes of a set as arrays, in cluster order (diffuse lobe, then specular lobe). Outside the
+// anonymous namespace: VsglShader::Data holds one.
+struct LobeArrays {
+  std::vector<double> mx, my, mz, variance, log_two_pi_variance, ax, ay, az, sharpness, amp_r, amp_g, amp_b;
+  std::vector<Rgb> amplitude;
+  std::vector<std::size_t> cluster;
+  std::size_t size() const { return mx.size(); }
+};
+
 namespace {
 
 // The name of the registry quantity whose methods shade the diffuse part.
@@ -34,14 +44,6 @@ const Method& default_diffuse_method() {
   if (!m) throw std::logic_error("registry has no clamped-cosine method " + std::string(kDefaultDiffuseMethod));
   return *m;
 }
-
-// The lobes of a set as arrays, in cluster order (diffuse lobe, then specular lobe).
-struct LobeArrays {
-  std::vector<double> mx, my, mz, variance, log_two_pi_variance, ax, ay, az, sharpness, amp_r, amp_g, amp_b;
-  std::vector<Rgb> amplitude;
-  std::vector<std::size_t> cluster;
-  std::size_t size() const { return mx.size(); }
-};
 
 // The lobes as the kernels see them.
 simd_detail::LobeView view_of(const LobeArrays& a) {
