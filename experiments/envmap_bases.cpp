@@ -120,9 +120,9 @@ std::vector<Loaded> load(const Options& a) {
 }
 
 // The sizes of a basis in this run (the registry's defaults; --quick keeps the small ones, and of
-// sg-free, whose lobe ladder costs the most per size, those up to 16).
+// sg-free, whose lobe ladder costs the most per size, those up to 8).
 std::vector<int> sizes(const fit::EnvBasis& b, const Options& a, const EnvMap& map) {
-  const int quick_max = b.size_symbol == "L" ? 4 : b.name == "sg-free" ? 16 : 32;
+  const int quick_max = b.size_symbol == "L" ? 4 : b.name == "sg-free" ? 8 : 32;
   std::vector<int> v;
   for (int n : b.default_sizes)
     if ((!a.quick || n <= quick_max) && (b.size_symbol == "L" || std::size_t(n) <= map.size())) v.push_back(n);
@@ -821,8 +821,7 @@ void add_envmap_bases_command(CLI::App& envmap, const runner::RunContext& run) {
       ->capture_default_str();
   frontend::add_places_options(*sub, run.places, kEnvmapDir, a->out, a->tables_dir, "directory for per-run outputs",
                                "where envmap_bases.{md,csv} go (default: the --out directory)");
-  sub->add_flag("--quick", a->quick,
-                "64-wide maps, N ≤ 32 (sg-free N ≤ 16), L ≤ 4 (a smoke run; not for paper_tables)");
+  sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32 (sg-free N ≤ 8), L ≤ 4 (a smoke run; not for paper_tables)");
   sub->callback([a, run] { envmap_bases::write(runner::with_run(envmap_bases::compute(*a), run)); });
 }
 
@@ -830,43 +829,46 @@ void add_envmap_bases_command(CLI::App& envmap, const runner::RunContext& run) {
 // with rectangular emitters), then every basis on them and on the three maps of the `envmap`
 // experiment (written before this one runs), and the figure.
 Experiment envmap_bases_experiment() {
-  return {"envmap-bases",
-          "`sglab envmap bases`: SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.*)",
-          add_envmap_bases_command,
-          [](const runner::Places& p) {
-            std::vector<Step> v;
-            const std::string dir = p.dir(kEnvmapDir) + "/";
-            // The sun of the sky at its real angular diameter, 0.53°, with the power of the default
-            // 2° disk (luminance × (2/0.53)² ≈ 14.24, 500 → 7120).
-            // Both suns at 2048 wide (a texel of 0.18°), held by `--resolve` as the 128-wide map plus
-            // full-resolution tiles where the sun is.
-            // A --quick run makes them 1024 wide (a quarter of the texels; the sun still spans 1.5 texels).
-            v.push_back(sglab_step("envmap-make-sun", "generated environment: clear sky, 0.53° sun (2048×1024 EXR)",
-                                   {"envmap", "make", "sky", "--sun-size", "0.53", "--sun-luminance", "7120", "--width",
-                                    "2048", "--out", dir + "sun.exr"},
-                                   {"--width", "1024"}));
-            v.push_back(sglab_step("envmap-make-sky-2048", "generated environment: clear sky, 2° sun (2048×1024 EXR)",
-                                   {"envmap", "make", "sky", "--width", "2048", "--out", dir + "sky_2048.exr"},
-                                   {"--width", "1024"}));
-            v.push_back(sglab_step("envmap-make-overcast", "generated environment: CIE overcast sky (512×256 EXR)",
-                                   {"envmap", "make", "overcast", "--out", dir + "overcast.exr"}));
-            v.push_back(sglab_step("envmap-make-indoor",
-                                   "generated environment: indoor room with rectangular emitters (512×256 EXR)",
-                                   {"envmap", "make", "indoor", "--out", dir + "indoor.exr"}));
-            std::vector<std::string> args = {"envmap", "bases"};
-            for (const char* kind : {"sky", "sun", "overcast", "studio", "indoor", "mixture"})
-              args.insert(args.end(), {"--env", std::string(kind) + "=" + dir +
-                                                    (kind == std::string("sky") ? "sky_2048" : kind) + ".exr"});
-            args.insert(args.end(), {"--resolve", "sky", "--resolve", "sun"});
-            // --quick: also the map quadratures converged to 1 % instead of 0.2 %, and detail tiles
-            // until the resolved maps are within 5 % of the full map instead of 1 %.
-            v.push_back(timed(sglab_step("envmap-bases", "bases at equal storage (paper_tables/envmap_bases.*)", args,
-                                         {"--quick", "--tolerance", "0.01", "--resolve-tolerance", "0.05"})));
-            v.push_back(plot_step("plot-envmap-bases", "error against stored floats, one panel per layer",
-                                  {"plots/envmap_bases.py", p.tables + "/envmap_bases.csv", p.key_figures()}));
-            return v;
-          },
-          "envmap"};
+  return {
+      "envmap-bases", "`sglab envmap bases`: SH, fixed-lobe SG, vMF and free-lobe SG at equal storage (envmap_bases.*)",
+      add_envmap_bases_command,
+      [](const runner::Places& p) {
+        std::vector<Step> v;
+        const std::string dir = p.dir(kEnvmapDir) + "/";
+        // The sun of the sky at its real angular diameter, 0.53°, with the power of the default
+        // 2° disk (luminance × (2/0.53)² ≈ 14.24, 500 → 7120).
+        // Both suns at 2048 wide (a texel of 0.18°), held by `--resolve` as the 128-wide map plus
+        // full-resolution tiles where the sun is.
+        // A --quick run makes them 1024 wide (a quarter of the texels; the sun still spans 1.5 texels),
+        // and the overcast and indoor maps 256 wide (the quick comparison reads them at 64 wide).
+        v.push_back(sglab_step("envmap-make-sun", "generated environment: clear sky, 0.53° sun (2048×1024 EXR)",
+                               {"envmap", "make", "sky", "--sun-size", "0.53", "--sun-luminance", "7120", "--width",
+                                "2048", "--out", dir + "sun.exr"},
+                               {"--width", "1024"}));
+        v.push_back(sglab_step("envmap-make-sky-2048", "generated environment: clear sky, 2° sun (2048×1024 EXR)",
+                               {"envmap", "make", "sky", "--width", "2048", "--out", dir + "sky_2048.exr"},
+                               {"--width", "1024"}));
+        v.push_back(sglab_step("envmap-make-overcast", "generated environment: CIE overcast sky (512×256 EXR)",
+                               {"envmap", "make", "overcast", "--out", dir + "overcast.exr"}, {"--width", "256"}));
+        v.push_back(sglab_step("envmap-make-indoor",
+                               "generated environment: indoor room with rectangular emitters (512×256 EXR)",
+                               {"envmap", "make", "indoor", "--out", dir + "indoor.exr"}, {"--width", "256"}));
+        std::vector<std::string> args = {"envmap", "bases"};
+        for (const char* kind : {"sky", "sun", "overcast", "studio", "indoor", "mixture"})
+          args.insert(args.end(), {"--env", std::string(kind) + "=" + dir +
+                                                (kind == std::string("sky") ? "sky_2048" : kind) + ".exr"});
+        args.insert(args.end(), {"--resolve", "sky", "--resolve", "sun"});
+        // --quick: also the map quadratures converged to 1 % instead of 0.2 %, detail tiles
+        // until the resolved maps are within 5 % of the full map instead of 1 %, and the
+        // shading layers on an 8 × 8 sphere and 64 normals instead of 12 × 12 and 128.
+        v.push_back(timed(sglab_step(
+            "envmap-bases", "bases at equal storage (paper_tables/envmap_bases.*)", args,
+            {"--quick", "--tolerance", "0.01", "--resolve-tolerance", "0.05", "--res", "8", "--normals", "64"})));
+        v.push_back(plot_step("plot-envmap-bases", "error against stored floats, one panel per layer",
+                              {"plots/envmap_bases.py", p.tables + "/envmap_bases.csv", p.key_figures()}, {"--quick"}));
+        return v;
+      },
+      "envmap"};
 }
 
 }  // namespace sglab::experiments

@@ -267,11 +267,12 @@ std::vector<Step> error_map_steps(const runner::Places& p) {
                  {"--quick"}, true),
       plot_step("plot-error-maps", "error maps of the diffuse methods, one panel per method",
                 {"plots/error_maps.py", csv, p.dir(kFiguresDir) + "/error_maps"}, {"--quick"}),
-      plot_step("plot-own-method",
-                "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried "
-                "(paper_tables/own_method.md)",
-                {"plots/own_method.py", csv, "plots/own_method_forms.csv", p.tables + "/error_vs_time.csv",
-                 p.key_figures()})};
+      plot_step(
+          "plot-own-method",
+          "sglab's own method against tokuyoshi2024: error maps and the frontier of the forms tried "
+          "(paper_tables/own_method.md)",
+          {"plots/own_method.py", csv, "plots/own_method_forms.csv", p.tables + "/error_vs_time.csv", p.key_figures()},
+          {"--quick"})};
 }
 
 Experiment error_map_experiment() {

@@ -524,7 +524,8 @@ std::vector<Step> error_vs_time_steps(const runner::Places& p) {
           "diffuse methods, published and refit (the fit-all records) side by side (paper_tables/error_vs_time.*)",
           {"error-vs-time", "--constants", p.dir(fit_all::kDir)}, {"--quick"}, true)),
       plot_step("plot-error-vs-time", "Pareto figure of error against time",
-                {"plots/error_vs_time.py", p.dir(error_vs_time::kDir) + "/error_vs_time.csv", p.key_figures()})};
+                {"plots/error_vs_time.py", p.dir(error_vs_time::kDir) + "/error_vs_time.csv", p.key_figures()},
+                {"--quick"})};
 }
 
 Experiment error_vs_time_experiment() {

@@ -566,7 +566,7 @@ std::vector<Step> filtering_steps(const runner::Places& p) {
   v.push_back(plot_step(
       "plot-filtering-denoise",
       "crops of the glossy floor and a diffuse wall: noisy, normal- and lobe-filtered, exact, at two roughnesses",
-      {"plots/filtering_denoise.py", dir + "/filtering_denoise_images.csv", p.key_figures()}));
+      {"plots/filtering_denoise.py", dir + "/filtering_denoise_images.csv", p.key_figures()}, {"--quick"}));
   return v;
 }
 

@@ -430,7 +430,7 @@ std::vector<Step> near_wall_steps(const runner::Places& p) {
     plot.push_back(m + "=" + p.dir(kRendersDir) + "/near-wall-" + m + ".csv");
   }
   v.push_back(plot_step("plot-near-wall-vsgl-vs-vpl-sum",
-                        "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot));
+                        "SMAPE map of the one-VSGL render against the VPL sum per diffuse method", plot, {"--quick"}));
   // The poster's figure (Tokuyoshi 2022, Fig. b-d): every clamped-cosine method of the
   // registry against the exact integral per pixel, and the sweep over the light's sharpness and distance.
   v.push_back(sglab_step(
@@ -439,10 +439,10 @@ std::vector<Step> near_wall_steps(const runner::Places& p) {
       {"near-wall", "--scene", "scenes/sg-light-near-wall-poster.json", "--dump", pixels, "--sweep-sharpness",
        "10,100,1000", "--sweep-distance", "0.05,0.1,0.2,0.4"},
       {"--width", "64", "--height", "48", "--sweep-width", "32", "--sweep-height", "24"}));
-  v.push_back(plot_step("plot-near-wall-smape",
-                        "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
-                        {"plots/near_wall_smape.py", pixels, p.key_figures(),
-                         p.tables_or_dir(near_wall::kDir) + "/near_wall_smape.csv"}));
+  v.push_back(plot_step(
+      "plot-near-wall-smape", "SMAPE map of each diffuse method against the exact integral (the poster's figure)",
+      {"plots/near_wall_smape.py", pixels, p.key_figures(), p.tables_or_dir(near_wall::kDir) + "/near_wall_smape.csv"},
+      {"--quick"}));
   return v;
 }
 

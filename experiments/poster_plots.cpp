@@ -12,9 +12,9 @@
 //  2. TABLES/hemispherical_rmse.csv — RMSE over c ∈ [−1, 1] (uniform, 2001 points) of every
 //     non-reference `hemispherical` method of the registry (Meder & Brüderlin 2018, Tokuyoshi
 //     2022, the vMF form of Tokuyoshi et al. 2024) against the exact integral (`reference`), per
-//     λ (log-spaced 0.01 … 1000). Compared as the normalized integral H/A(λ) ∈ [0, 1] (the vMF
-//     form returns H/A itself), so that every λ is on one scale; the poster does not say which
-//     normalization its RMSE plot uses.
+//     λ (log-spaced 0.01 … 1000; --quick: 401 points at 31 λ). Compared as the normalized
+//     integral H/A(λ) ∈ [0, 1] (the vMF form returns H/A itself), so that every λ is on one
+//     scale; the poster does not say which normalization its RMSE plot uses.
 #include "poster_plots.hpp"
 
 #include <array>
@@ -90,15 +90,15 @@ std::vector<CurvePoint> cosine_term_curves() {
   return curves;
 }
 
-std::vector<HemisphericalRmse> hemispherical_rmse() {
+std::vector<HemisphericalRmse> hemispherical_rmse(bool quick) {
   const Quantity* q = find_quantity("hemispherical");
   if (!q) throw std::logic_error("the registry has no hemispherical quantity");
   const Method* ref = q->find(q->reference_method);
   std::vector<const Method*> methods;
   for (const auto& m : q->methods)
     if (&m != ref) methods.push_back(&m);
-  constexpr int kC = 2001;
-  const std::vector<double> lambdas = log_grid(0.01, 1000, 61);
+  const int kC = quick ? 401 : 2001;
+  const std::vector<double> lambdas = log_grid(0.01, 1000, quick ? 31 : 61);
   std::vector<std::vector<double>> rmse(lambdas.size(), std::vector<double>(methods.size()));
   tbb::parallel_for(std::size_t(0), lambdas.size(), [&](std::size_t i) {
     const double l = lambdas[i], a = sg_integral(l);
@@ -127,10 +127,12 @@ Result compute(const Options& o) {
   Result r;
   r.options = o;
   r.provenance.command = "sglab poster-plots" +
-                         runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir);
+                         runner::option_argument("--tables-dir", o.tables_dir, Options{}.tables_dir) +
+                         (o.quick ? " --quick" : "");
+  r.provenance.quick = o.quick;
   r.cosine_term = cosine_term_rows();
   r.curves = cosine_term_curves();
-  r.hemispherical = hemispherical_rmse();
+  r.hemispherical = hemispherical_rmse(o.quick);
   return r;
 }
 
@@ -181,6 +183,7 @@ void add_poster_plots_command(CLI::App& app, const runner::RunContext& run) {
       "Tokuyoshi 2022 poster's two plots: cosine-term error against the float bound, hemispherical RMSE (CSV)");
   frontend::add_tables_option(*sub, run.places, poster_plots::kDir, o->tables_dir,
                               "directory for cosine_term_error*.csv and hemispherical_rmse.csv");
+  sub->add_flag("--quick", o->quick, "the hemispherical RMSE over 401 cosines at 31 λ instead of 2001 at 61");
   sub->callback([o, run] { poster_plots::write(runner::with_run(poster_plots::compute(*o), run)); });
 }
 
@@ -189,7 +192,7 @@ std::vector<Step> poster_plots_steps(const runner::Places& p) {
       sglab_step(
           "poster-plots",
           "Tokuyoshi 2022 poster's plots: cosine-term error vs float bound, hemispherical RMSE (paper_tables/*.csv)",
-          {"poster-plots"}),
+          {"poster-plots"}, {"--quick"}),
       plot_step("plot-poster-plots", "figures of the poster's two plots",
                 {"plots/poster_plots.py", p.tables_or_dir(poster_plots::kDir), p.key_figures()})};
 }

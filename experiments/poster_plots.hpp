@@ -18,6 +18,7 @@ inline constexpr std::string_view kDir = "poster_plots";
 
 struct Options {
   std::string tables_dir = runner::Places{}.tables_or_dir(kDir);  // --tables-dir: a plain run's
+  bool quick = false;  // --quick: the RMSE over 401 cosines at 31 λ (each value a quadrature)
 };
 
 // Per λ: max_t |α(e^{λt} − 1) − t|, the float32 bound α·u·(e^λ + 1), their sum, and the error

@@ -49,7 +49,8 @@ Step timed(Step s);
 // A step running `sglab ARGS` (with QUICK_ARGS appended in a --quick run).
 Step sglab_step(std::string name, std::string what, std::vector<std::string> args,
                 std::vector<std::string> quick_args = {}, bool takes_constants = false);
-// A step running `python3 SCRIPT ARGS…` (a figure).
+// A step running `python3 SCRIPT ARGS…` (a figure; QUICK_ARGS appended in a --quick run, the
+// scripts' --quick: PNG only, no PDF).
 Step plot_step(std::string name, std::string what, std::vector<std::string> args,
                std::vector<std::string> quick_args = {});
 

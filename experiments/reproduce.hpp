@@ -6,6 +6,8 @@
 // directory, so a changed input or a deleted or altered output also reruns it.
 // The plot steps (python3) run one at a time beside the sglab steps, which run one at a time in
 // order; a step whose tables carry wall-clock times (Step::timed) runs with nothing beside it.
+// The plot scripts share one interpreter (plots/_serve.py), each run as `python3 SCRIPT ARGS`
+// would run it. A step's CPU seconds include the programs it runs (shader-export's compilers).
 #pragma once
 
 #include <functional>

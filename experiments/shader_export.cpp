@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include <fmt/core.h>
@@ -249,6 +250,19 @@ Result compute(const Options& o) {
       if (m.trace || m.name == q.reference_method || !(is_diffuse(q) || is_specular(q))) continue;
       r.not_exportable.push_back({q.name + "/" + m.name, shader::not_exportable_reason(q, m)});
     }
+  // Each exportable method's grids, references and sglab float values, in order (the references
+  // are parallel loops of their own).
+  struct Prepared {
+    std::string name;
+    const Method* m = nullptr;
+    const Grids* shared = nullptr;  // the diffuse or specular grids, or
+    std::optional<Grids> own;       // the filtering weights' own
+    std::vector<double> reference, scale;
+    std::vector<float> sglab_float;
+    shader::TracedMethod traced;
+    const Grids& grids() const { return own ? *own : *shared; }
+  };
+  std::vector<Prepared> prepared;
   for (const auto& name : shader::exportable_methods()) {
     const shader::MethodRef ref = shader::find_exportable(name);
     const Quantity& q = *ref.quantity;
@@ -262,14 +276,19 @@ Result compute(const Options& o) {
           "the stability atlas's grid of `specular`{} ({} points; rows with a value past FLT_MAX left out)",
           o.quick ? " (quick)" : "", specular->stiff_points);
     }
-    std::optional<Grids> own_grids;
+    Prepared& p = prepared.emplace_back();
+    p.name = name;
+    p.m = &m;
     if (is_filtering(q)) {
-      own_grids = filtering_grids(m.name == "lobe-weight", o.quick);
+      p.own = filtering_grids(m.name == "lobe-weight", o.quick);
       r.filtering_grids.push_back(
-          fmt::format("`{}`: {} error points, {} stiff points", name, own_grids->grid_points, own_grids->stiff_points));
+          fmt::format("`{}`: {} error points, {} stiff points", name, p.own->grid_points, p.own->stiff_points));
+    } else {
+      p.shared = is_specular(q) ? &*specular : &diffuse;
     }
-    const Grids& g = own_grids ? *own_grids : is_specular(q) ? *specular : diffuse;
-    std::vector<double> reference(g.grid_points), scale(g.grid_points);
+    const Grids& g = p.grids();
+    std::vector<double>& reference = p.reference;
+    reference.resize(g.grid_points);
     if (is_filtering(q)) {
       // The same template in double on the float inputs.
       const Method bound_ref = bind(m, set);
@@ -283,43 +302,54 @@ Result compute(const Options& o) {
     } else {
       reference = quantity_reference[q.name];
     }
-    for (std::size_t k = 0; k < g.grid_points; ++k) scale[k] = reference[g.scale_of[k]];
+    p.scale.resize(g.grid_points);
+    for (std::size_t k = 0; k < g.grid_points; ++k) p.scale[k] = reference[g.scale_of[k]];
     const Method bound = bind(m, set);
     const std::size_t n = g.rows.size() / g.arity;
-    std::vector<float> sglab_float(n);
+    p.sglab_float.resize(n);
     for (std::size_t k = 0; k < n; ++k)
-      sglab_float[k] = bound.eval_float(std::span<const float>(&g.rows[g.arity * k], g.arity));
-    const shader::TracedMethod traced = shader::trace_method(q, m, set);
-    for (const auto& evaluator : kEvaluators) {
-      Row row;
-      row.method = name;
-      row.evaluator = evaluator;
-      std::fprintf(stderr, "shader-export: %s, %s\n", name.c_str(), evaluator.c_str());
-      try {
-        std::vector<float> v;
-        if (evaluator == "sglab float") {
-          v = sglab_float;
-        } else {
-          const shader::Language lang = *shader::parse_language(evaluator);
-          const shader::TracedMethod* one = &traced;
-          const std::string src = shader::emit(std::span(one, 1), lang,
-                                               "sglab export " + name + " --lang " + evaluator);
-          if (lang == shader::Language::c) {
-            v = shader::run_c(src, traced, g.rows);
-          } else {
-            const shader::Spirv spv = shader::compile_to_spirv(shader::compute_shader_source(src, traced, lang), lang);
-            row.instructions = long(shader::method_instructions(spv, lang, g.arity));
-            v = shader::run_compute(gpu, spv, g.rows, g.arity);
-          }
-        }
-        measure(row, v, sglab_float, g, reference, scale, m);
-      } catch (const std::runtime_error& e) {
-        row.compiles = false;
-        row.error = e.what();
-      }
-      r.rows.push_back(std::move(row));
-    }
+      p.sglab_float[k] = bound.eval_float(std::span<const float>(&g.rows[g.arity * k], g.arity));
+    p.traced = shader::trace_method(q, m, set);
   }
+  // Every (method, evaluator) row, side by side: most of a row's time is the compilers it waits
+  // for (cc, glslangValidator, spirv-val), so rows run in parallel keep every core busy. The
+  // device runs one shader at a time. Each row is the same calls on the same inputs wherever it
+  // runs, so the values do not depend on the order; the rows are kept in the table's order.
+  std::vector<Row> rows(prepared.size() * kEvaluators.size());
+  std::mutex device;
+  tbb::parallel_for(std::size_t(0), rows.size(), [&](std::size_t i) {
+    const Prepared& p = prepared[i / kEvaluators.size()];
+    const std::string& evaluator = kEvaluators[i % kEvaluators.size()];
+    const Grids& g = p.grids();
+    Row& row = rows[i];
+    row.method = p.name;
+    row.evaluator = evaluator;
+    std::fprintf(stderr, "shader-export: %s, %s\n", p.name.c_str(), evaluator.c_str());
+    try {
+      std::vector<float> v;
+      if (evaluator == "sglab float") {
+        v = p.sglab_float;
+      } else {
+        const shader::Language lang = *shader::parse_language(evaluator);
+        const shader::TracedMethod* one = &p.traced;
+        const std::string src = shader::emit(std::span(one, 1), lang,
+                                             "sglab export " + p.name + " --lang " + evaluator);
+        if (lang == shader::Language::c) {
+          v = shader::run_c(src, p.traced, g.rows);
+        } else {
+          const shader::Spirv spv = shader::compile_to_spirv(shader::compute_shader_source(src, p.traced, lang), lang);
+          row.instructions = long(shader::method_instructions(spv, lang, g.arity));
+          const std::lock_guard one_at_a_time(device);
+          v = shader::run_compute(gpu, spv, g.rows, g.arity);
+        }
+      }
+      measure(row, v, p.sglab_float, g, p.reference, p.scale, *p.m);
+    } catch (const std::runtime_error& e) {
+      row.compiles = false;
+      row.error = e.what();
+    }
+  });
+  r.rows = std::move(rows);
   return r;
 }
 

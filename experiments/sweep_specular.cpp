@@ -573,7 +573,8 @@ std::vector<Step> sweep_specular_steps(const runner::Places& p) {
                  "(paper_tables/specular_gaussian_vs_roughness.*)",
                  {"sweep", "specular", "--brdf", "gaussian"}, {"--quick"}, true),
       plot_step("plot-specular", "specular error against roughness, one line per method",
-                {"plots/specular_vs_roughness.py", p.dir(kSpecularDir) + "/specular_summary.csv", p.key_figures()})};
+                {"plots/specular_vs_roughness.py", p.dir(kSpecularDir) + "/specular_summary.csv", p.key_figures()},
+                {"--quick"})};
 }
 
 Experiment sweep_specular_experiment() {

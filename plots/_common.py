@@ -10,13 +10,25 @@ import os
 import sys
 
 
+def quick():
+    """Whether the command line has --quick (`sglab reproduce --quick`, a first look): figures as PNG
+    only (save_figures), no PDF."""
+    return "--quick" in sys.argv[1:]
+
+
+def argv():
+    """The command-line arguments but --quick."""
+    return [a for a in sys.argv[1:] if a != "--quick"]
+
+
 def arguments(doc, count):
-    """The script's ``count`` command-line arguments; with any other number, prints the usage ``doc``
-    on stderr and exits with status 2."""
-    if len(sys.argv) != count + 1:
+    """The script's ``count`` command-line arguments (and --quick, anywhere); with any other number,
+    prints the usage ``doc`` on stderr and exits with status 2."""
+    args = argv()
+    if len(args) != count:
         print(doc, file=sys.stderr)
         sys.exit(2)
-    return sys.argv[1:]
+    return args
 
 
 def read_table(path):
@@ -44,9 +56,11 @@ def save_figure(fig, path, **savefig_args):
     return path
 
 
-def save_figures(fig, out_dir, stem, formats=("png", "pdf"), dpi=150, report=False):
-    """``fig`` as OUT_DIR/STEM.EXT for each of ``formats`` (save_figure each); with ``report``, says
-    so on stderr. Returns the paths."""
+def save_figures(fig, out_dir, stem, formats=None, dpi=150, report=False):
+    """``fig`` as OUT_DIR/STEM.EXT for each of ``formats`` (save_figure each; default PNG and PDF, with
+    --quick PNG only); with ``report``, says so on stderr. Returns the paths."""
+    if formats is None:
+        formats = ("png",) if quick() else ("png", "pdf")
     paths = [save_figure(fig, os.path.join(out_dir, f"{stem}.{ext}"), dpi=dpi) for ext in formats]
     if report:
         print("wrote " + " and ".join(paths), file=sys.stderr)

@@ -6,8 +6,8 @@ and writes OUT_DIR/envmap_bases.png/.pdf: one row per environment, one column pe
 diffuse, specular at each roughness), the relative L2 error of every basis (SH, fixed-lobe SG
 per amplitude solver, vMF EM, free-lobe SG) against its stored float count (log-log), with the
 5 % diffuse and 20 % specular targets drawn as dotted lines.
-Computes nothing the CSV does not already hold.
-usage: envmap_bases.py ENVMAP_BASES.csv OUT_DIR
+--quick: PNG only. Computes nothing the CSV does not already hold.
+usage: envmap_bases.py ENVMAP_BASES.csv OUT_DIR [--quick]
 """
 import os
 import sys

@@ -8,8 +8,8 @@ Reads paper_tables/envmap_lobes.csv and DIR/envmap_images.csv (both written by
       fit part and approximation part (relative L2) of each method, all against N (log-log);
   envmap_reconstructions.png      per environment, the map and the reconstructions by N lobes
       (tone-mapped x/(1 + x) per channel, the same exposure within a row).
-Computes nothing the CSVs do not already hold.
-usage: envmap_lobes.py ENVMAP_LOBES.csv ENVMAP_IMAGES.csv OUT_DIR
+--quick: PNG only. Computes nothing the CSVs do not already hold.
+usage: envmap_lobes.py ENVMAP_LOBES.csv ENVMAP_IMAGES.csv OUT_DIR [--quick]
 """
 import os
 import sys
@@ -61,7 +61,7 @@ def main() -> int:
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=6)
     fig.tight_layout()
-    save_figures(fig, out_dir, "envmap_error_vs_lobes", dpi=110)
+    lobes_paths = save_figures(fig, out_dir, "envmap_error_vs_lobes", dpi=110)
     plt.close(fig)
 
     pix = read_table(images)
@@ -92,7 +92,7 @@ def main() -> int:
     fig.tight_layout()
     save_figure(fig, os.path.join(out_dir, "envmap_reconstructions.png"), dpi=110)
     plt.close(fig)
-    print(f"wrote {out_dir}/envmap_error_vs_lobes.{{png,pdf}} and envmap_reconstructions.png")
+    print(f"wrote {' and '.join(lobes_paths)} and {out_dir}/envmap_reconstructions.png")
     return 0
 
 

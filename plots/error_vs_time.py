@@ -2,8 +2,8 @@
 """Pareto figure: each method's max error against its cost, one point per method and precision.
 
 Reads the CSV written by `sglab error-vs-time` and writes error_vs_time.png and .pdf into the
-output directory. Computes nothing the CSV does not already hold.
-usage: error_vs_time.py RESULTS.csv OUT_DIR
+output directory (--quick: PNG only). Computes nothing the CSV does not already hold.
+usage: error_vs_time.py RESULTS.csv OUT_DIR [--quick]
 """
 import os
 import sys

@@ -8,8 +8,8 @@ against the exact sum.
 Crops (fractions of the image, for scenes/cornell-glossy.json's camera): the floor's front band (with
 the box's and the sphere's reflections in it), and the left (red) wall. Tone mapping (display only): the four panels of a crop
 share one scale, the 99th percentile of the exact crop; clipped to [0, 1], gamma 1/2.2. Computes
-nothing else.
-usage: filtering_denoise.py IMAGES.csv OUT_DIR
+nothing else. Writes filtering_denoise.png and .pdf (--quick: PNG only).
+usage: filtering_denoise.py IMAGES.csv OUT_DIR [--quick]
 """
 import os
 import sys

@@ -5,8 +5,8 @@ the poster's 0-2 scale. Reads the per-pixel dump of
 `sglab near-wall --scene scenes/sg-light-near-wall-poster.json --dump FILE` (columns i, j, object,
 sharpness, cosine, log_radiance_scale, then D of `reference` and of every method); computes only
 the per-pixel SMAPE 2|v - r|/(|v| + |r|) and the panels' means. Panels in the order of the table
-TABLE.csv (ranked by mean SMAPE) when given.
-usage: near_wall_smape.py DUMP.csv OUT_DIR [TABLE.csv]
+TABLE.csv (ranked by mean SMAPE) when given. --quick: PNG only.
+usage: near_wall_smape.py DUMP.csv OUT_DIR [TABLE.csv] [--quick]
 """
 import csv
 import math
@@ -17,21 +17,22 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from _common import save_figures  # noqa: E402
+from _common import argv, save_figures  # noqa: E402
 
 
 def main() -> int:
-    if len(sys.argv) not in (3, 4):
+    args = argv()
+    if len(args) not in (2, 3):
         print(__doc__, file=sys.stderr)
         return 2
-    dump, out_dir = sys.argv[1], sys.argv[2]
+    dump, out_dir = args[0], args[1]
     with open(dump, newline="") as f:
         rows = list(csv.DictReader(f))
     header = list(rows[0].keys())
     reference = header[6]
     methods = header[7:]
-    if len(sys.argv) == 4:
-        with open(sys.argv[3], newline="") as f:
+    if len(args) == 3:
+        with open(args[2], newline="") as f:
             ranked = [r["method"] for r in csv.DictReader(line for line in f if not line.startswith("#"))]
         methods = [m for m in ranked if m in methods] + [m for m in methods if m not in ranked]
     w = max(int(r["i"]) for r in rows) + 1

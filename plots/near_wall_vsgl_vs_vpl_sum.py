@@ -7,7 +7,8 @@ approximation (wall pixels, where the VPL sum is 0 but the VSGL is not, score 2)
 the per-pixel SMAPE of the VSGL indirect light against the exact VPL sum,
 2|v − r| / (|v| + |r|) on the channel mean (0 where both are 0), on one colour scale for all
 panels, with the mean over the pixels that see light in the title. Computes nothing else.
-usage: near_wall_vsgl_vs_vpl_sum.py OUT_DIR METHOD=DUMP.csv [METHOD=DUMP.csv …]
+--quick: PNG only.
+usage: near_wall_vsgl_vs_vpl_sum.py OUT_DIR METHOD=DUMP.csv [METHOD=DUMP.csv …] [--quick]
 """
 import os
 import sys
@@ -17,7 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _common import save_figures  # noqa: E402
+from _common import argv, save_figures  # noqa: E402
 from render_images import read_dump  # noqa: E402
 
 
@@ -49,12 +50,13 @@ def figure(renders):
 
 
 def main() -> int:
-    if len(sys.argv) < 3 or any("=" not in a for a in sys.argv[2:]):
+    args = argv()
+    if len(args) < 2 or any("=" not in a for a in args[1:]):
         print(__doc__, file=sys.stderr)
         return 2
-    out_dir = sys.argv[1]
+    out_dir = args[0]
     os.makedirs(out_dir, exist_ok=True)
-    inputs = [a.split("=", 1) for a in sys.argv[2:]]
+    inputs = [a.split("=", 1) for a in args[1:]]
     fig = figure([(method, read_dump(path)[0]) for method, path in inputs])
     save_figures(fig, out_dir, "near_wall_vsgl_vs_vpl_sum", dpi=150, report=True)
     return 0

@@ -10,8 +10,9 @@ method's ns/eval, the one place costs are measured) and draws
       its error is), then sglab again on its own scale, λ on a log axis;
   own_method_frontier.{png,pdf}: max error against ns/eval of the forms tried, the 0.05 % target
       as a line.
-Each file is written to a temporary name and renamed. Computes nothing the CSVs do not hold.
-usage: own_method.py ERROR_MAP.csv FORMS.csv ERROR_VS_TIME.csv OUT_DIR
+Each file is written to a temporary name and renamed (--quick: PNG only). Computes nothing the CSVs
+do not hold.
+usage: own_method.py ERROR_MAP.csv FORMS.csv ERROR_VS_TIME.csv OUT_DIR [--quick]
 """
 import csv
 import os
@@ -22,7 +23,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from _common import save_figures  # noqa: E402
+from _common import argv, save_figures  # noqa: E402
 
 METHODS = ["tokuyoshi2024", "sglab"]
 
@@ -53,9 +54,10 @@ def read_maps(path):
 
 
 def main():
-    if len(sys.argv) != 5:
+    args = argv()
+    if len(args) != 4:
         sys.exit(__doc__)
-    csv_path, forms_path, costs_path, out_dir = sys.argv[1:]
+    csv_path, forms_path, costs_path, out_dir = args
     os.makedirs(out_dir, exist_ok=True)
     maps = read_maps(csv_path)
     vmax = max(np.nanmax(np.abs(g)) for _, _, g in maps.values())

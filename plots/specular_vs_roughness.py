@@ -6,8 +6,8 @@ paper_tables/specular_vs_roughness.csv: lines starting with '#' are skipped) and
 specular_vs_roughness.png and .pdf into the output directory. Columns: SMAPE, the maximum relative
 error, and the RMSE of the error scaled by each point's largest reference; top row over every
 light position (rows with by = roughness), bottom row only the positions near the highlight
-(by = roughness_near_lobe). Computes nothing the CSV does not already hold.
-usage: specular_vs_roughness.py SUMMARY.csv OUT_DIR
+(by = roughness_near_lobe). --quick: PNG only. Computes nothing the CSV does not already hold.
+usage: specular_vs_roughness.py SUMMARY.csv OUT_DIR [--quick]
 """
 import os
 import sys

@@ -54,7 +54,9 @@ void write_text(const fs::path& p, const std::string& text) {
 // Runs argv (no shell); returns the exit status and the combined stdout and stderr.
 std::pair<int, std::string> run_tool(const std::vector<std::string>& argv) {
   int fd[2];
-  if (pipe(fd) != 0) throw std::runtime_error("pipe failed");
+  // Close-on-exec: a tool started meanwhile by another thread does not hold this pipe open (its
+  // reader would wait for that tool too); dup2 below clears it on the child's stdout and stderr.
+  if (pipe2(fd, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
   if (pid == 0) {
