@@ -47,6 +47,9 @@ def save_figure(fig, path, **savefig_args):
         os.makedirs(directory, exist_ok=True)
     tmp = os.path.join(directory, f".{name}.tmp")
     savefig_args.setdefault("format", os.path.splitext(name)[1].lstrip(".") or "png")
+    if savefig_args["format"] == "pdf":
+        # No creation date in the PDF, so that a rerun writes the same bytes.
+        savefig_args.setdefault("metadata", {"CreationDate": None})
     try:
         fig.savefig(tmp, **savefig_args)
         os.replace(tmp, path)
