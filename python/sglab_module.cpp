@@ -421,9 +421,11 @@ const ColumnsBatchFn<T>& columns_batch_of(const Method& m) {
 
 // Per thread, reused chunk after chunk: a broadcast column (step 0) repeated over a chunk, for the
 // column evaluators.
+// The most columns a quantity passed to a column evaluator may have (specular: six).
+inline constexpr std::size_t kMaxColumns = 8;
 template <class T>
 struct ColumnScratch {
-  std::vector<T> repeated[8];
+  std::vector<T> repeated[kMaxColumns];
 };
 
 // The chunk's columns for Method::columns_*: flat columns in place, a broadcast one repeated into
@@ -432,7 +434,7 @@ template <class T>
 bool chunk_columns(const Layout& l, std::size_t begin, std::size_t len, const T** columns) {
   thread_local ColumnScratch<T> s;
   const std::size_t k = l.data.size();
-  if (k > std::size(s.repeated)) return false;
+  if (k > kMaxColumns) return false;
   for (std::size_t j = 0; j < k; ++j) {
     const T* c = reinterpret_cast<const T*>(l.data[j]);
     if (l.step[j]) {
@@ -485,7 +487,7 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
       args = interleaved();
       if (auto f = check_rows<T>(q, m, begin, end, args, ok)) return f;
     }
-    const T* columns[8];
+    const T* columns[kMaxColumns];
     if (batch && columns_batch_of<T>(m) && chunk_columns(l, begin, len, columns)) {
       try {
         columns_batch_of<T>(m)(std::span<const T* const>(columns, k), std::span<T>(out + begin, len));

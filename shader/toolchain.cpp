@@ -56,6 +56,11 @@ std::pair<int, std::string> run_tool(const std::vector<std::string>& argv) {
   int fd[2];
   // Close-on-exec: a tool started meanwhile by another thread does not hold this pipe open (its
   // reader would wait for that tool too); dup2 below clears it on the child's stdout and stderr.
+  // The argument vector is built before fork: other threads may be running, so the child calls
+  // nothing but dup2, close, execvp and _exit (no allocation).
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
   if (pipe2(fd, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
@@ -64,9 +69,6 @@ std::pair<int, std::string> run_tool(const std::vector<std::string>& argv) {
     dup2(fd[1], 2);
     close(fd[0]);
     close(fd[1]);
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
     execvp(args[0], args.data());
     _exit(127);
   }
