@@ -26,16 +26,22 @@ struct ScaledSg {
     return p[0] * sg_eval_cos(t, p[1]);
   }
 };
-using Model = AxisModel<ScaledSg>;
-using Residual = GridResidual<Model>;
+using Residual = AxisResidual<ScaledSg>;
+
+FitStatement stated() {
+  return {"cosine-lobe-sg",
+          "amplitude and sharpness of the cosine lobe as an SG",
+          "Pettineo 2016, SG series part 3",
+          {"l2-sphere", "l2-theta", "l2-hemisphere", "l2-relative", "minimax"},
+          {{"amplitude", kAmplitude, 1e-6, 100.0}, {"sharpness", kSharpness, 1e-6, 100.0}}};
+}
 
 Residual problem(const std::string& objective) {
-  return axis_problem<Model>(clamped_cosine_axis_grid(objective), [](double t) { return std::max(t, 0.0); });
+  return axis_problem<ScaledSg>(clamped_cosine_axis_grid(objective), [](double t) { return std::max(t, 0.0); });
 }
 
 FitSpec spec_for(const std::string& objective) {
-  FitSpec spec = fit_spec("cosine-lobe-sg", "Pettineo 2016, SG series part 3",
-                          {{"amplitude", kAmplitude, 1e-6, 100.0}, {"sharpness", kSharpness, 1e-6, 100.0}});
+  FitSpec spec = fit_spec(stated());
   spec.objective = objective == "l2-theta"        ? "l2-theta: int_0^pi (a G - <cos>)^2 dtheta"
                    : objective == "l2-hemisphere" ? "l2-hemisphere: int_{w.n>0} (a G - w.n)^2 dw"
                                                   : "l2-sphere: int_{S^2} (a G - <w.n>)^2 dw";
@@ -60,15 +66,9 @@ FitResult solve_objective(const std::string& objective) {
 
 Fitter cosine_lobe_sg_fitter() {
   using namespace cosine_lobe_sg_detail;
-  Fitter f;
-  f.name = "cosine-lobe-sg";
-  f.description = "amplitude and sharpness of the cosine lobe as an SG";
-  f.objectives = {"l2-sphere", "l2-theta", "l2-hemisphere", "l2-relative", "minimax"};
-  f.parameters = {"amplitude", "sharpness"};
-  f.run = [](const FitOptions& o) { return solve_objective(o.objective); };
-  f.synthetic = synthetic_recovery([] { return problem("l2-sphere"); },
-                                   [](const auto& p) { return solve("l2-sphere", p); });
-  return f;
+  return fitter(
+      stated(), [](const FitOptions& o) { return solve_objective(o.objective); },
+      synthetic_recovery([] { return problem("l2-sphere"); }, [](const auto& p) { return solve("l2-sphere", p); }));
 }
 
 }  // namespace sglab::fit

@@ -48,13 +48,12 @@ struct OffsetSg {
     return p[0] * sg_eval_cos(t, p[1]) - p[2];
   }
 };
-using CosineSgModel = AxisModel<OffsetSg>;
-using CosineSgResidual = GridResidual<CosineSgModel>;
+using CosineSgResidual = AxisResidual<OffsetSg>;
 
 CosineSgResidual problem(const std::string& objective) {
   const AxisGrid a = objective == "l2-theta-bounded" ? theta_axis_grid({0.0, pi<double>() / 2}, 4)
                                                      : solid_angle_axis_grid({0.0, 1.0}, 4);
-  return axis_problem<CosineSgModel>(a, [](double t) { return t; });
+  return axis_problem<OffsetSg>(a, [](double t) { return t; });
 }
 
 // Misfit residuals √w_i(aG_i − b − t_i) followed by the rounding residuals √w_i·u(|aG_i| + |b|).
@@ -86,11 +85,18 @@ std::vector<std::vector<double>> starts(double lambda_min) {
 
 // The fit's parameters with the sharpness bounded below by lambda_min (the stopping point of the
 // λ → 0 trajectory, see the file comment).
+FitStatement stated(double lambda_min = kPublishedSharpness) {
+  return {"cosine-sg",
+          "a G(w; n, lambda) - b ~ w.n on the hemisphere (Meder & Bruederlin)",
+          "Meder & Bruederlin 2018 (PhySG, Zhang et al. 2021)",
+          {"l2-bounded", "l2-theta-bounded", "l2-rounding"},
+          {{"amplitude", kPublishedAmplitude, -1e12, 1e12},
+           {"sharpness", kPublishedSharpness, lambda_min, 50.0},
+           {"offset", kPublishedOffset, -1e12, 1e12}}};
+}
+
 FitSpec bounded_spec(double lambda_min) {
-  FitSpec spec = fit_spec("cosine-sg", "Meder & Bruederlin 2018 (PhySG, Zhang et al. 2021)",
-                          {{"amplitude", kPublishedAmplitude, -1e12, 1e12},
-                           {"sharpness", kPublishedSharpness, lambda_min, 50.0},
-                           {"offset", kPublishedOffset, -1e12, 1e12}});
+  FitSpec spec = fit_spec(stated(lambda_min));
   spec.domain = "upper hemisphere";
   return spec;
 }
@@ -178,15 +184,9 @@ FitResult fit_cosine_sg(const FitOptions& o) {
 
 Fitter cosine_sg_fitter() {
   using namespace cosine_sg_detail;
-  Fitter f;
-  f.name = "cosine-sg";
-  f.description = "a G(w; n, lambda) - b ~ w.n on the hemisphere (Meder & Bruederlin)";
-  f.objectives = {"l2-bounded", "l2-theta-bounded", "l2-rounding"};
-  f.parameters = bounded_spec(kPublishedSharpness).names;
-  f.run = fit_cosine_sg;
-  f.synthetic = synthetic_recovery([] { return problem("l2-bounded"); },
-                                   [](const auto& p) { return solve("l2-bounded", p, kPublishedSharpness); });
-  return f;
+  return fitter(stated(), fit_cosine_sg,
+                synthetic_recovery([] { return problem("l2-bounded"); },
+                                   [](const auto& p) { return solve("l2-bounded", p, kPublishedSharpness); }));
 }
 
 }  // namespace sglab::fit

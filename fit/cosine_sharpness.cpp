@@ -62,6 +62,16 @@ T objective(const T& l, double u) {
   return approximation_error(l) + tokuyoshi2022_alpha(l) * T(u) * (exp(l) + T(1));
 }
 
+// Positive by its log parameterization: no bounds.
+FitStatement stated() {
+  return {"cosine-sharpness",
+          "Tokuyoshi 2022 cosine-approximation sharpness and alpha(lambda)",
+          "Tokuyoshi 2022 (accurate diffuse SG lighting), for float32",
+          {"max-plus-rounding"},
+          {{"lambda", kPublishedLambda, -HUGE_VAL, HUGE_VAL}},
+          {"alpha"}};
+}
+
 struct LogObjective {
   double u;
   template <class T>
@@ -82,9 +92,7 @@ double cosine_sharpness_objective(double lambda, double unit_roundoff) {
 FitResult fit_cosine_sharpness(const FitOptions& o) {
   using namespace cosine_sharpness_detail;
   const double u = unit_roundoff(o.precision);
-  // Positive by its log parameterization: no bounds.
-  FitSpec spec = fit_spec("cosine-sharpness", "Tokuyoshi 2022 (accurate diffuse SG lighting), for float32",
-                          {{"lambda", kPublishedLambda, -HUGE_VAL, HUGE_VAL}});
+  FitSpec spec = fit_spec(stated());
   spec.objective = "max-plus-rounding: [alpha(e^l - 1) - 1] + alpha*u*(e^l + 1), u = 2^" +
                    std::to_string(static_cast<int>(std::lround(std::log2(u)))) + " (" + o.precision + ")";
   spec.domain = "upper hemisphere, w.n in [0, 1] (max-norm: attained at w.n = 1)";
@@ -109,14 +117,7 @@ FitResult fit_cosine_sharpness(const FitOptions& o) {
 
 Fitter cosine_sharpness_fitter() {
   using namespace cosine_sharpness_detail;
-  Fitter f;
-  f.name = "cosine-sharpness";
-  f.description = "Tokuyoshi 2022 cosine-approximation sharpness and alpha(lambda)";
-  f.objectives = {"max-plus-rounding"};
-  f.parameters = {"lambda"};
-  f.derived = {"alpha"};
-  f.run = fit_cosine_sharpness;
-  return f;
+  return fitter(stated(), fit_cosine_sharpness);
 }
 
 }  // namespace sglab::fit

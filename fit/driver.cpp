@@ -84,6 +84,21 @@ FitSpec fit_spec(std::string fit, std::string source, const std::vector<FitParam
   return spec;
 }
 
+FitSpec fit_spec(const FitStatement& fit) { return fit_spec(fit.name, fit.source, fit.parameters); }
+
+Fitter fitter(const FitStatement& fit, std::function<FitResult(const FitOptions&)> run,
+              std::function<FitResult(const std::vector<double>& truth)> synthetic) {
+  Fitter f;
+  f.name = fit.name;
+  f.description = fit.description;
+  f.objectives = fit.objectives;
+  f.run = std::move(run);
+  f.synthetic = std::move(synthetic);
+  for (const FitParameter& p : fit.parameters) f.parameters.push_back(p.name);
+  f.derived = fit.derived;
+  return f;
+}
+
 bool all_published(const FitSpec& spec) {
   return std::all_of(spec.published.begin(), spec.published.end(), [](double v) { return std::isfinite(v); });
 }

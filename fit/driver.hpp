@@ -129,6 +129,20 @@ struct FitParameter {
 // parameter, in order (names, published, lower, upper); objective, domain and starts are the caller's.
 FitSpec fit_spec(std::string fit, std::string source, const std::vector<FitParameter>& parameters);
 
+// What a fit file states about its fit, once: its name, a line describing it (`sglab fit --list`),
+// where its published values come from, its objectives (the first is the default), its parameters
+// and the names of the values derived from them (σ_n², α: FitSpec::derived computes them). The
+// fit's Fitter (fitter(), below) and the FitSpec of each of its solves (fit_spec) are made from it.
+struct FitStatement {
+  std::string name;
+  std::string description;
+  std::string source;
+  std::vector<std::string> objectives;
+  std::vector<FitParameter> parameters;
+  std::vector<std::string> derived = {};
+};
+FitSpec fit_spec(const FitStatement& fit);
+
 // Least squares: one cost function (fresh per start, Ceres takes ownership) over all parameters
 // as a single block.
 FitResult run_least_squares(const FitSpec& spec, const std::function<ceres::CostFunction*()>& make_cost);
@@ -265,10 +279,14 @@ struct AxisModel {
   }
 };
 
-// A GridResidual on the axis grid a with targets target(t_i); Model holds the nodes as its member `t`.
-template <class Model, class Target>
-GridResidual<Model> axis_problem(const AxisGrid& a, Target target) {
-  GridResidual<Model> f;
+// The residuals of a Curve fitted on an AxisGrid.
+template <class Curve>
+using AxisResidual = GridResidual<AxisModel<Curve>>;
+
+// The AxisResidual of Curve on the axis grid a with targets target(t_i).
+template <class Curve, class Target>
+AxisResidual<Curve> axis_problem(const AxisGrid& a, Target target) {
+  AxisResidual<Curve> f;
   f.model.t = a.t;
   for (std::size_t i = 0; i < a.size(); ++i) {
     f.sqrt_w.push_back(std::sqrt(a.w[i]));
@@ -420,6 +438,10 @@ struct Fitter {
   std::vector<std::string> parameters;
   std::vector<std::string> derived;
 };
+
+// The Fitter of the fit `fit` states, solved by `run` (recovery test: `synthetic`, if any).
+Fitter fitter(const FitStatement& fit, std::function<FitResult(const FitOptions&)> run,
+              std::function<FitResult(const std::vector<double>& truth)> synthetic = {});
 
 // The registry's constants that this fit re-derives (sglab::constant_uses() whose Parameter::fit
 // is f.name): which methods, the renderer or the filter read them.

@@ -69,6 +69,9 @@ struct LambdaAxis {
   int count;
 };
 inline constexpr int kLambdaCosineSubdivisions = 2;
+// The λ axis of the steepness fits (meder-logistic, tokuyoshi2022-steepness, tokuyoshi2024-t):
+// λ ∈ [0.01, 1000], 25 log-spaced values (the papers do not state their ranges).
+inline constexpr LambdaAxis kSteepnessLambdaAxis{0.01, 1000, 25};
 
 // One fit of an approximation on a (λ, c) grid, all but its model: the published values are its
 // first start, then `starts`.
@@ -77,9 +80,9 @@ struct LambdaCosineFit {
   std::string description;
   std::string source;
   LambdaCosineTarget target;
-  LambdaAxis lambda;
   std::vector<FitParameter> parameters;
   std::vector<std::vector<double>> starts;
+  LambdaAxis lambda = kSteepnessLambdaAxis;
 };
 
 // The fit's FitSpec under its default objective (l2-normalized: ½ mean over log λ of
@@ -104,21 +107,17 @@ Fitter lambda_cosine_fitter(const LambdaCosineFit& fit) {
   if (fit.parameters.size() != std::size_t(K))
     throw std::logic_error("fit " + fit.name + ": " + std::to_string(fit.parameters.size()) +
                            " parameters, K = " + std::to_string(K));
-  Fitter f;
-  f.name = fit.name;
-  f.description = fit.description;
-  f.objectives = {"l2-normalized", "l2-relative", "minimax"};
-  for (const FitParameter& p : fit.parameters) f.parameters.push_back(p.name);
-  f.run = [fit](const FitOptions& o) {
-    return solve_with_objective<K>(o.objective, lambda_cosine_reference<Curve>(fit), lambda_cosine_spec(fit),
-                                   kRelativeObjective2d, kMinimaxObjective2d,
-                                   o.quick ? kQuickMinimaxRounds : kMinimaxRounds);
-  };
-  f.synthetic = synthetic_recovery([fit] { return lambda_cosine_reference<Curve>(fit); },
-                                   [fit](const GridResidual<LambdaCosineModel<Curve>>& p) {
-                                     return solve_least_squares<K>(lambda_cosine_spec(fit), p);
-                                   });
-  return f;
+  return fitter(
+      {fit.name, fit.description, fit.source, {"l2-normalized", "l2-relative", "minimax"}, fit.parameters},
+      [fit](const FitOptions& o) {
+        return solve_with_objective<K>(o.objective, lambda_cosine_reference<Curve>(fit), lambda_cosine_spec(fit),
+                                       kRelativeObjective2d, kMinimaxObjective2d,
+                                       o.quick ? kQuickMinimaxRounds : kMinimaxRounds);
+      },
+      synthetic_recovery([fit] { return lambda_cosine_reference<Curve>(fit); },
+                         [fit](const GridResidual<LambdaCosineModel<Curve>>& p) {
+                           return solve_least_squares<K>(lambda_cosine_spec(fit), p);
+                         }));
 }
 
 }  // namespace sglab::fit

@@ -27,22 +27,22 @@ struct HillCurve {
   }
 };
 
-LambdaCosineFit hill_fit() {
-  // c0 = 0.36 as published, defined in core (HillIrradiance, clamped_cosine.hpp).
+// c0 = 0.36 as published, defined in core (HillIrradiance, clamped_cosine.hpp); λ ∈ [1, 100].
+LambdaCosineFit stated() {
   return {"hill-irradiance",
           "c0 of the Pettineo/Hill fitted SG irradiance",
           "Pettineo 2016 (Hill's fit), SG series part 3",
           kClampedCosineTarget,
-          {1, 100, 20},
           {{"c0", HillIrradiance::c0, 0.05, 2.0}},
-          {{0.2}, {0.6}}};
+          {{0.2}, {0.6}},
+          {1, 100, 20}};
 }
 
 }  // namespace hill_irradiance_detail
 
 Fitter hill_irradiance_fitter() {
   using namespace hill_irradiance_detail;
-  const LambdaCosineFit fit = hill_fit();
+  const LambdaCosineFit fit = stated();
   Fitter f = lambda_cosine_fitter<1, HillCurve>(fit);
   // The default fit, cross-checked by an independent 1D minimization of the same objective over
   // the fit's own bounds.

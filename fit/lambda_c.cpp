@@ -63,15 +63,18 @@ LambdaCResidual problem(const std::string& objective) {
   return f;
 }
 
-const std::vector<std::string>& objectives() {
-  static const std::vector<std::string> o = {"abs-sin-0-pi",      "abs-dphi-0-pi",    "abs-sin-0-halfpi",
-                                             "abs-dphi-0-halfpi", "rel-sin-0-halfpi", "rel-dphi-0-halfpi"};
-  return o;
+FitStatement stated() {
+  return {"lambda-c",
+          "SG sharpness of the diffuse lobe similarity q(phi), and sigma_n^2",
+          "Tokuyoshi lobe-aware filtering, App. D",
+          {"abs-sin-0-pi", "abs-dphi-0-pi", "abs-sin-0-halfpi", "abs-dphi-0-halfpi", "rel-sin-0-halfpi",
+           "rel-dphi-0-halfpi"},
+          {{"lambda_c", kPublishedLambdaC, 1e-3, 50.0}},
+          {"sigma_n2"}};
 }
 
 FitSpec spec_for(const std::string& objective, double beta, double kappa) {
-  FitSpec spec = fit_spec("lambda-c", "Tokuyoshi lobe-aware filtering, App. D",
-                          {{"lambda_c", kPublishedLambdaC, 1e-3, 50.0}});
+  FitSpec spec = fit_spec(stated());
   const bool rel = objective.rfind("rel", 0) == 0;
   const bool sin_measure = objective.find("-sin-") != std::string::npos;
   const bool half = objective.find("halfpi") != std::string::npos;
@@ -110,7 +113,8 @@ FitResult fit_lambda_c(const FitOptions& o) {
   using namespace lambda_c_detail;
   FitResult r = solve(o.objective, problem(o.objective), o.beta, o.kappa);
   // Every objective's λ_c and error, and the error each assigns to the published 0.9426.
-  for (const auto& obj : objectives()) {
+  const FitStatement fit = stated();
+  for (const auto& obj : fit.objectives) {
     const LambdaCResidual p = problem(obj);
     const FitResult fr = solve(obj, p, o.beta, o.kappa);
     const double lc = fr.parameters[0].value;
@@ -140,16 +144,9 @@ FitResult fit_lambda_c(const FitOptions& o) {
 
 Fitter lambda_c_fitter() {
   using namespace lambda_c_detail;
-  Fitter f;
-  f.name = "lambda-c";
-  f.description = "SG sharpness of the diffuse lobe similarity q(phi), and sigma_n^2";
-  f.objectives = objectives();
-  f.parameters = {"lambda_c"};
-  f.derived = {"sigma_n2"};
-  f.run = fit_lambda_c;
-  f.synthetic = synthetic_recovery([] { return problem("abs-sin-0-pi"); },
-                                   [](const auto& p) { return solve("abs-sin-0-pi", p, 20, 100); });
-  return f;
+  return fitter(stated(), fit_lambda_c,
+                synthetic_recovery([] { return problem("abs-sin-0-pi"); },
+                                   [](const auto& p) { return solve("abs-sin-0-pi", p, 20, 100); }));
 }
 
 }  // namespace sglab::fit

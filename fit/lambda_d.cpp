@@ -30,17 +30,23 @@ struct NormalizedSg {
     return sg_eval_cos(t, p[0]) / sg_integral(p[0]);
   }
 };
-using LambdaDModel = AxisModel<NormalizedSg>;
-using LambdaDResidual = GridResidual<LambdaDModel>;
+using LambdaDResidual = AxisResidual<NormalizedSg>;
+
+FitStatement stated() {
+  return {"lambda-d",
+          "vMF sharpness of the normalized clamped cosine",
+          "VSGL public code 2.292504 (Tokuyoshi 2015 poster and 2016: ~2)",
+          {"l2-solid-angle", "l2-theta", "l2-hemisphere"},
+          {{"lambda_d", kPublishedLambdaD, 1e-6, 100.0}}};
+}
 
 LambdaDResidual problem(const std::string& objective) {
-  return axis_problem<LambdaDModel>(clamped_cosine_axis_grid(objective),
+  return axis_problem<NormalizedSg>(clamped_cosine_axis_grid(objective),
                                     [](double t) { return std::max(t, 0.0) / pi<double>(); });
 }
 
 FitSpec spec_for(const std::string& objective) {
-  FitSpec spec = fit_spec("lambda-d", "VSGL public code 2.292504 (Tokuyoshi 2015 poster and 2016: ~2)",
-                          {{"lambda_d", kPublishedLambdaD, 1e-6, 100.0}});
+  FitSpec spec = fit_spec(stated());
   spec.objective = objective == "l2-theta"        ? "l2-theta: int_0^pi (G/A - <cos>/pi)^2 dtheta"
                    : objective == "l2-hemisphere" ? "l2-hemisphere: int_{w.n>0} (G/A - w.n/pi)^2 dw"
                                                   : "l2-solid-angle: int_{S^2} (G/A - <w.n>/pi)^2 dw";
@@ -77,15 +83,10 @@ FitResult fit_lambda_d_like_scipy() {
 
 Fitter lambda_d_fitter() {
   using namespace lambda_d_detail;
-  Fitter f;
-  f.name = "lambda-d";
-  f.description = "vMF sharpness of the normalized clamped cosine";
-  f.objectives = {"l2-solid-angle", "l2-theta", "l2-hemisphere"};
-  f.parameters = {"lambda_d"};
-  f.run = [](const FitOptions& o) { return fit_lambda_d(o.objective); };
-  f.synthetic = synthetic_recovery([] { return problem("l2-solid-angle"); },
-                                   [](const auto& p) { return solve("l2-solid-angle", p); });
-  return f;
+  return fitter(
+      stated(), [](const FitOptions& o) { return fit_lambda_d(o.objective); },
+      synthetic_recovery([] { return problem("l2-solid-angle"); },
+                         [](const auto& p) { return solve("l2-solid-angle", p); }));
 }
 
 }  // namespace sglab::fit

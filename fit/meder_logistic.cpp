@@ -22,20 +22,22 @@ struct MederCurve {
   }
 };
 
+// The published values (4 decimals) are defined in core (MederLogistic).
+LambdaCosineFit stated() {
+  using M = MederLogistic;
+  return {"meder-logistic",
+          "Meder & Bruederlin logistic steepness t(lambda)",
+          "Meder & Bruederlin 2018",
+          kHemisphericalTarget,
+          {{"p1", M::p1, 0, 1e3}, {"p2", M::p2, 0, 1e3}, {"p3", M::p3, 0, 1e3}, {"p4", M::p4, 1e-6, 1e3}},
+          {{1, 5, 3, 5}, {3, 20, 12, 20}}};
+}
+
 }  // namespace meder_logistic_detail
 
 Fitter meder_logistic_fitter() {
   using namespace meder_logistic_detail;
-  // The published values (4 decimals) are defined in core (MederLogistic).
-  using M = MederLogistic;
-  return lambda_cosine_fitter<4, MederCurve>(
-      {"meder-logistic",
-       "Meder & Bruederlin logistic steepness t(lambda)",
-       "Meder & Bruederlin 2018",
-       kHemisphericalTarget,
-       {0.01, 1000, 25},
-       {{"p1", M::p1, 0, 1e3}, {"p2", M::p2, 0, 1e3}, {"p3", M::p3, 0, 1e3}, {"p4", M::p4, 1e-6, 1e3}},
-       {{1, 5, 3, 5}, {3, 20, 12, 20}}});
+  return lambda_cosine_fitter<4, MederCurve>(stated());
 }
 
 }  // namespace sglab::fit

@@ -68,18 +68,25 @@ const Residual& quick_problem() {
   return f;
 }
 
-FitSpec make_spec(const std::vector<double>& start, GridDensity d = kFullGrid) {
-  // Nothing is published: the comparison column holds the constants compiled into core.
+// Nothing is published: the comparison column holds the constants compiled into core.
+FitStatement stated() {
   using S = SglabDiffuse;
-  FitSpec spec = fit_spec("sglab", "sglab (this project); start: Tokuyoshi et al. 2024's t(lambda)",
-                          {{"A", S::A, 1e-6, 1e4},
-                           {"B", S::B, 1e-6, 1e4},
-                           {"C", S::C, 1e-6, 1e4},
-                           {"D", S::D, 1e-6, 1e4},
-                           {"E", S::E, 1e-6, 1e4},
-                           {"k", S::k, 0, 1},
-                           {"P", S::P, -100, 100},
-                           {"Q", S::Q, 1e-6, 1e4}});
+  return {"sglab",
+          "sglab's own diffuse approximation: refitted t(lambda) and the even correction K(lambda)",
+          "sglab (this project); start: Tokuyoshi et al. 2024's t(lambda)",
+          {"minimax"},
+          {{"A", S::A, 1e-6, 1e4},
+           {"B", S::B, 1e-6, 1e4},
+           {"C", S::C, 1e-6, 1e4},
+           {"D", S::D, 1e-6, 1e4},
+           {"E", S::E, 1e-6, 1e4},
+           {"k", S::k, 0, 1},
+           {"P", S::P, -100, 100},
+           {"Q", S::Q, 1e-6, 1e4}}};
+}
+
+FitSpec make_spec(const std::vector<double>& start, GridDensity d = kFullGrid) {
+  FitSpec spec = fit_spec(stated());
   spec.objective = "minimax: max |D - D_ref|/D_ref(l,1), Lawson IRLS of Ceres least squares";
   spec.domain = "lambda in [1e-3, 1e4] (" + std::to_string(d.per_decade) + " per decade) x c in [-1, 1] (step 1/" +
                 std::to_string(d.cos_steps) + "), plus the stiff cases";
@@ -130,17 +137,13 @@ FitResult solve_plain(const Residual& f) { return solve_least_squares<8>(make_sp
 
 Fitter sglab_fitter() {
   using namespace sglab_detail;
-  Fitter f;
-  f.name = "sglab";
-  f.description = "sglab's own diffuse approximation: refitted t(lambda) and the even correction K(lambda)";
-  f.objectives = {"minimax"};
-  f.parameters = make_spec(kStart).names;
-  f.run = [](const FitOptions& o) {
-    return o.quick ? solve_lawson(quick_problem(), kQuickLawsonRounds, kQuickGrid)
-                   : solve_lawson(reference_problem(), kLawsonRounds, kFullGrid);
-  };
-  f.synthetic = synthetic_recovery(reference_problem, solve_plain);
-  return f;
+  return fitter(
+      stated(),
+      [](const FitOptions& o) {
+        return o.quick ? solve_lawson(quick_problem(), kQuickLawsonRounds, kQuickGrid)
+                       : solve_lawson(reference_problem(), kLawsonRounds, kFullGrid);
+      },
+      synthetic_recovery(reference_problem, solve_plain));
 }
 
 }  // namespace sglab::fit

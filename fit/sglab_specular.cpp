@@ -159,16 +159,22 @@ Measures measures(const Data& d, const std::vector<double>& x) {
 // The exploratory fit's values (see the header), the start of the first round.
 const std::vector<double> kStart = {2.9, 0.98, 1.2, 2.0, 0.42, 1.0};
 
-FitSpec make_spec(const std::vector<double>& start, bool quick = false) {
+FitStatement stated() {
   using S = SglabSpecular;
-  FitSpec spec = fit_spec("sglab-specular",
-                          "sglab (this project); start: an exploratory Nelder-Mead fit of the same objective",
-                          {{"nu_slope", S::nu_slope, 1e-2, 100},
-                           {"inflation", S::inflation, 0, 10},
-                           {"light_weight", S::light_weight, 0, 5},
-                           {"light_floor", S::light_floor, 0, 50},
-                           {"horizon_depth", S::horizon_depth, 0, 0.95},
-                           {"horizon_rate", S::horizon_rate, 1e-2, 20}});
+  return {"sglab-specular",
+          "sglab's own specular approximation (an SG light off GGX): the t-smoothing, light and horizon constants",
+          "sglab (this project); start: an exploratory Nelder-Mead fit of the same objective",
+          {"l1-weighted"},
+          {{"nu_slope", S::nu_slope, 1e-2, 100},
+           {"inflation", S::inflation, 0, 10},
+           {"light_weight", S::light_weight, 0, 5},
+           {"light_floor", S::light_floor, 0, 50},
+           {"horizon_depth", S::horizon_depth, 0, 0.95},
+           {"horizon_rate", S::horizon_rate, 1e-2, 20}}};
+}
+
+FitSpec make_spec(const std::vector<double>& start, bool quick = false) {
+  FitSpec spec = fit_spec(stated());
   spec.objective =
       "L1: brightness-weighted error + bright relative error on the sweep grid, IRLS of Ceres least squares";
   const SpecularGrid g = specular_grid(quick);
@@ -218,14 +224,7 @@ FitResult solve_irls(const Data& d, bool quick) {
 
 Fitter sglab_specular_fitter() {
   using namespace sglab_specular_detail;
-  Fitter f;
-  f.name = "sglab-specular";
-  f.description =
-      "sglab's own specular approximation (an SG light off GGX): the t-smoothing, light and horizon constants";
-  f.objectives = {"l1-weighted"};
-  f.parameters = make_spec(kStart).names;
-  f.run = [](const FitOptions& o) { return solve_irls(data(o.quick), o.quick); };
-  return f;
+  return fitter(stated(), [](const FitOptions& o) { return solve_irls(data(o.quick), o.quick); });
 }
 
 }  // namespace sglab::fit

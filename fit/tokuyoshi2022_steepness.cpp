@@ -23,20 +23,22 @@ struct Tokuyoshi2022Curve {
   }
 };
 
+// The published values are defined in core (Tokuyoshi2022Steepness, hemispherical.hpp).
+LambdaCosineFit stated() {
+  using S = Tokuyoshi2022Steepness;
+  return {"tokuyoshi2022-steepness",
+          "Tokuyoshi 2022 erf steepness k(lambda)",
+          "Tokuyoshi 2022 (accurate diffuse SG lighting)",
+          kHemisphericalTarget,
+          {{"A", S::A, 1e-6, 1e3}, {"B", S::B, 1e-6, 1e3}, {"C", S::C, 1e-6, 1e3}},
+          {{1, 1, 1}, {0.3, 3, 20}}};
+}
+
 }  // namespace tokuyoshi2022_steepness_detail
 
 Fitter tokuyoshi2022_steepness_fitter() {
   using namespace tokuyoshi2022_steepness_detail;
-  // The published values are defined in core (Tokuyoshi2022Steepness, hemispherical.hpp).
-  using S = Tokuyoshi2022Steepness;
-  return lambda_cosine_fitter<3, Tokuyoshi2022Curve>(
-      {"tokuyoshi2022-steepness",
-       "Tokuyoshi 2022 erf steepness k(lambda)",
-       "Tokuyoshi 2022 (accurate diffuse SG lighting)",
-       kHemisphericalTarget,
-       {0.01, 1000, 25},
-       {{"A", S::A, 1e-6, 1e3}, {"B", S::B, 1e-6, 1e3}, {"C", S::C, 1e-6, 1e3}},
-       {{1, 1, 1}, {0.3, 3, 20}}});
+  return lambda_cosine_fitter<3, Tokuyoshi2022Curve>(stated());
 }
 
 }  // namespace sglab::fit

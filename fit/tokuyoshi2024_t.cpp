@@ -32,24 +32,26 @@ struct Tokuyoshi2024Curve {
   }
 };
 
+// The published values are defined in core (Tokuyoshi2024T, clamped_cosine.hpp).
+LambdaCosineFit stated() {
+  using P = Tokuyoshi2024T;
+  return {"tokuyoshi2024-t",
+          "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor",
+          "Tokuyoshi et al. 2024 (hierarchical light sampling)",
+          kClampedCosineTarget,
+          {{"A", P::A, 1e-6, 1e4},
+           {"B", P::B, 1e-6, 1e4},
+           {"C", P::C, 1e-6, 1e4},
+           {"D", P::D, 1e-6, 1e4},
+           {"E", P::E, 1e-6, 1e4}},
+          {{1, 10, 1, 10, 50}, {5, 30, 8, 30, 150}}};
+}
+
 }  // namespace tokuyoshi2024_t_detail
 
 Fitter tokuyoshi2024_t_fitter() {
   using namespace tokuyoshi2024_t_detail;
-  // The published values are defined in core (Tokuyoshi2024T, clamped_cosine.hpp).
-  using P = Tokuyoshi2024T;
-  return lambda_cosine_fitter<5, Tokuyoshi2024Curve>(
-      {"tokuyoshi2024-t",
-       "Tokuyoshi et al. 2024 steepness t(lambda) of the clamped-cosine factor",
-       "Tokuyoshi et al. 2024 (hierarchical light sampling)",
-       kClampedCosineTarget,
-       {0.01, 1000, 25},
-       {{"A", P::A, 1e-6, 1e4},
-        {"B", P::B, 1e-6, 1e4},
-        {"C", P::C, 1e-6, 1e4},
-        {"D", P::D, 1e-6, 1e4},
-        {"E", P::E, 1e-6, 1e4}},
-       {{1, 10, 1, 10, 50}, {5, 30, 8, 30, 150}}});
+  return lambda_cosine_fitter<5, Tokuyoshi2024Curve>(stated());
 }
 
 }  // namespace sglab::fit

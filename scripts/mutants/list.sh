@@ -89,7 +89,7 @@ mutant fit-grid-weights fit/grid2d.cpp 's#std::sqrt(qc\.w\[i\] / n_lambda)#std::
   fit_test
 mutant fit-lambda-d-target fit/lambda_d.cpp 's#std::max(t, 0\.0) / pi<double>()#std::max(t, 0.0) / 3.1416#' \
   fit_test
-mutant fit-hill-domain fit/hill_irradiance.cpp '/kClampedCosineTarget,/,/{1, 100, 20}/ s#{1, 100, 20},#{1, 100, 10},#' \
+mutant fit-hill-domain fit/hill_irradiance.cpp '/kClampedCosineTarget,/,/{1, 100, 20}/ s#{1, 100, 20}}#{1, 100, 10}}#' \
   fit_test
 mutant fit-float-roundoff fit/driver.cpp 's#std::ldexp(1\.0, -24)#std::ldexp(1.0, -23)#' \
   fit_test
