@@ -19,7 +19,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iterator>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -142,6 +144,20 @@ struct FitStatement {
   std::vector<std::string> derived = {};
 };
 FitSpec fit_spec(const FitStatement& fit);
+
+// The parameters of a method's fitted constants (core's SGLAB_FITTED_CONSTANTS list,
+// Constants::all: their names, and the values compiled into core as the published ones), each
+// with its bounds {lower, upper}, in the list's order.
+template <class Constants>
+std::vector<FitParameter> fitted_parameters(const std::vector<std::pair<double, double>>& bounds) {
+  if (bounds.size() != std::size(Constants::all))
+    throw std::logic_error(std::to_string(bounds.size()) + " bounds for " + std::to_string(std::size(Constants::all)) +
+                           " fitted constants");
+  std::vector<FitParameter> out;
+  for (std::size_t i = 0; i < bounds.size(); ++i)
+    out.push_back({Constants::all[i].name, Constants::all[i].value, bounds[i].first, bounds[i].second});
+  return out;
+}
 
 // Least squares: one cost function (fresh per start, Ceres takes ownership) over all parameters
 // as a single block.

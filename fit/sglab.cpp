@@ -68,21 +68,15 @@ const Residual& quick_problem() {
   return f;
 }
 
-// Nothing is published: the comparison column holds the constants compiled into core.
+// Nothing is published: the comparison column holds the constants compiled into core. Bounds of
+// A…E (t(λ)), then k, P, Q (K(λ)).
 FitStatement stated() {
-  using S = SglabDiffuse;
   return {"sglab",
           "sglab's own diffuse approximation: refitted t(lambda) and the even correction K(lambda)",
           "sglab (this project); start: Tokuyoshi et al. 2024's t(lambda)",
           {"minimax"},
-          {{"A", S::A, 1e-6, 1e4},
-           {"B", S::B, 1e-6, 1e4},
-           {"C", S::C, 1e-6, 1e4},
-           {"D", S::D, 1e-6, 1e4},
-           {"E", S::E, 1e-6, 1e4},
-           {"k", S::k, 0, 1},
-           {"P", S::P, -100, 100},
-           {"Q", S::Q, 1e-6, 1e4}}};
+          fitted_parameters<SglabDiffuse>(
+              {{1e-6, 1e4}, {1e-6, 1e4}, {1e-6, 1e4}, {1e-6, 1e4}, {1e-6, 1e4}, {0, 1}, {-100, 100}, {1e-6, 1e4}})};
 }
 
 FitSpec make_spec(const std::vector<double>& start, GridDensity d = kFullGrid) {

@@ -159,18 +159,13 @@ Measures measures(const Data& d, const std::vector<double>& x) {
 // The exploratory fit's values (see the header), the start of the first round.
 const std::vector<double> kStart = {2.9, 0.98, 1.2, 2.0, 0.42, 1.0};
 
+// Bounds of nu_slope, inflation, light_weight, light_floor, horizon_depth, horizon_rate.
 FitStatement stated() {
-  using S = SglabSpecular;
   return {"sglab-specular",
           "sglab's own specular approximation (an SG light off GGX): the t-smoothing, light and horizon constants",
           "sglab (this project); start: an exploratory Nelder-Mead fit of the same objective",
           {"l1-weighted"},
-          {{"nu_slope", S::nu_slope, 1e-2, 100},
-           {"inflation", S::inflation, 0, 10},
-           {"light_weight", S::light_weight, 0, 5},
-           {"light_floor", S::light_floor, 0, 50},
-           {"horizon_depth", S::horizon_depth, 0, 0.95},
-           {"horizon_rate", S::horizon_rate, 1e-2, 20}}};
+          fitted_parameters<SglabSpecular>({{1e-2, 100}, {0, 10}, {0, 5}, {0, 50}, {0, 0.95}, {1e-2, 20}})};
 }
 
 FitSpec make_spec(const std::vector<double>& start, bool quick = false) {
