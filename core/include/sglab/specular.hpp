@@ -70,9 +70,11 @@ enum class FactorAt {
 // kernels' pair of f0 = 0 and 1).
 //
 // The methods that share work between rows of one receiver (surface and view: roughness and ωo)
-// are written in two parts, `_receiver` (that work) and `_from` (the rest, for one light), and the
-// `_at` form is the one followed by the other: a renderer shading a point under many lights
-// computes the receiver part once per point (simd_specular_pair.hpp), with the same values.
+// are written in two parts, `specular_METHOD_receiver` (that work) and `specular_from` (the rest,
+// for one light; one overload per method, chosen by its receiver's type), and their `_at` form is
+// the one followed by the other (specular_parts_at, below, for every such method): a renderer
+// shading a point under many lights computes the receiver part once per point
+// (simd_specular_pair.hpp), with the same values.
 template <class T>
 struct SgWarpReceiver {
   T alpha;
@@ -87,9 +89,9 @@ SgWarpReceiver<T> specular_sg_warp_receiver(const T& roughness, const Vec3<T>& w
   return {alpha, spherical_warp(microfacet_ndf_sg(alpha, lambda_h), wo), wo};
 }
 template <class T, class F0>
-fresnel_value_t<T, F0> specular_sg_warp_from(const SgWarpReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
-                                             const F0& f0, SgProductForm form = SgProductForm::exact,
-                                             FactorAt factor_at = FactorAt::lobe_axis) {
+fresnel_value_t<T, F0> specular_from(const SgWarpReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
+                                     const F0& f0, SgProductForm form = SgProductForm::exact,
+                                     FactorAt factor_at = FactorAt::lobe_axis) {
   const SgLobe<T>& lobe = r.lobe;
   const T cosine = clamp_cosine(T(lobe.axis.dot(xi)));
   const T integral = form == SgProductForm::exact ? product_integral_exact(lobe.sharpness, light_sharpness, cosine)
@@ -99,19 +101,35 @@ fresnel_value_t<T, F0> specular_sg_warp_from(const SgWarpReceiver<T>& r, const T
                          : detail::product_axis(xi, light_sharpness, lobe.axis, lobe.sharpness);
   return lobe.amplitude * brdf_factor_m(r.alpha, f0, r.wo, xm) * integral;
 }
-template <class T, class F0>
-fresnel_value_t<T, F0> specular_sg_warp_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
-                                           const Vec3<T>& wo, const F0& f0, SgProductForm form = SgProductForm::exact,
-                                           bool tokuyoshi_harada_sharpness = false,
-                                           FactorAt factor_at = FactorAt::lobe_axis) {
-  return specular_sg_warp_from(specular_sg_warp_receiver(roughness, wo, tokuyoshi_harada_sharpness), light_sharpness,
-                               xi, f0, form, factor_at);
+
+// The `_at` form of a method in two parts: `receiver(roughness, ωo)` (its receiver part, as
+// specular_METHOD_receiver computes it) followed by specular_from for one light, with the method's
+// own `options` (specular_from's arguments after f0).
+template <class Receiver, class T, class F0, class... Options>
+auto specular_parts_at(const Receiver& receiver, const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
+                       const Vec3<T>& wo, const F0& f0, const Options&... options) {
+  return specular_from(receiver(roughness, wo), light_sharpness, xi, f0, options...);
 }
+// The same on a SpecularInput: its frame's vectors from its columns.
+template <class Receiver, class T, class... Options>
+T specular_parts(const Receiver& receiver, const SpecularInput<T>& in, const Options&... options) {
+  return specular_parts_at(receiver, in.roughness, in.light_sharpness,
+                           specular_light_axis(in.light_cos, in.light_azimuth), specular_view(in.view_cos), in.f0,
+                           options...);
+}
+
+// The receiver part of sg-warp with or without Tokuyoshi & Harada's NDF sharpness.
+template <class T>
+struct SgWarpReceiverOf {
+  bool tokuyoshi_harada_sharpness = false;
+  SgWarpReceiver<T> operator()(const T& roughness, const Vec3<T>& wo) const {
+    return specular_sg_warp_receiver(roughness, wo, tokuyoshi_harada_sharpness);
+  }
+};
 template <class T>
 T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductForm::exact,
                    bool tokuyoshi_harada_sharpness = false, FactorAt factor_at = FactorAt::lobe_axis) {
-  return specular_sg_warp_at(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
-                             specular_view(in.view_cos), in.f0, form, tokuyoshi_harada_sharpness, factor_at);
+  return specular_parts(SgWarpReceiverOf<T>{tokuyoshi_harada_sharpness}, in, form, factor_at);
 }
 
 // `asg` (Tokuyoshi 2015 (two-VSGL poster) §3.2; Xu et al. 2013): the NDF lobe warped to an ASG at the shading
@@ -136,21 +154,15 @@ AsgReceiver<T> specular_asg_receiver(const T& roughness, const Vec3<T>& wo) {
   return {alpha, ndf.amplitude, lobe, lambda_s, wo};
 }
 template <class T, class F0>
-fresnel_value_t<T, F0> specular_asg_from(const AsgReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
-                                         const F0& f0) {
+fresnel_value_t<T, F0> specular_from(const AsgReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
+                                     const F0& f0) {
   const T integral = asg_sg_product_two_vsgls(r.lobe, xi, light_sharpness);
   const Vec3<T> xm = detail::product_axis(xi, light_sharpness, r.lobe.z, r.lambda_s);
   return r.ndf_amplitude * brdf_factor_m(r.alpha, f0, r.wo, xm) * integral;
 }
-template <class T, class F0>
-fresnel_value_t<T, F0> specular_asg_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
-                                       const Vec3<T>& wo, const F0& f0) {
-  return specular_asg_from(specular_asg_receiver(roughness, wo), light_sharpness, xi, f0);
-}
 template <class T>
 T specular_asg(const SpecularInput<T>& in) {
-  return specular_asg_at(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
-                         specular_view(in.view_cos), in.f0);
+  return specular_parts(specular_asg_receiver<T>, in);
 }
 
 // (1 + Λ(ωo))/(1 + Λ(ωo) + Λ(ωi)) = G2/G1(ωo) for GGX (Heitz 2014 Eq. 43 and 99), in the root
@@ -191,8 +203,8 @@ SgWarpDvnReceiver<T> specular_sg_warp_dvn_receiver(const T& roughness, const Vec
   return {alpha, lobe, sg_integral(lobe.sharpness), wo};
 }
 template <class T, class F0>
-fresnel_value_t<T, F0> specular_sg_warp_dvn_from(const SgWarpDvnReceiver<T>& r, const T& light_sharpness,
-                                                 const Vec3<T>& xi, const F0& f0) {
+fresnel_value_t<T, F0> specular_from(const SgWarpDvnReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
+                                     const F0& f0) {
   using R = fresnel_value_t<T, F0>;
   const SgLobe<T>& lobe = r.lobe;
   const Vec3<T>& wo = r.wo;
@@ -208,15 +220,9 @@ fresnel_value_t<T, F0> specular_sg_warp_dvn_from(const SgWarpDvnReceiver<T>& r, 
         return weight * integral;
       });
 }
-template <class T, class F0>
-fresnel_value_t<T, F0> specular_sg_warp_dvn_at(const T& roughness, const T& light_sharpness, const Vec3<T>& xi,
-                                               const Vec3<T>& wo, const F0& f0) {
-  return specular_sg_warp_dvn_from(specular_sg_warp_dvn_receiver(roughness, wo), light_sharpness, xi, f0);
-}
 template <class T>
 T specular_sg_warp_dvn(const SpecularInput<T>& in) {
-  return specular_sg_warp_dvn_at(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
-                                 specular_view(in.view_cos), in.f0);
+  return specular_parts(specular_sg_warp_dvn_receiver<T>, in);
 }
 
 // `sglab` (this project; specular_sglab.hpp): the GGX slope density as a Student t, smoothed by

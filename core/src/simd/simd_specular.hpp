@@ -5,13 +5,15 @@
 // Every kernel IS the method's scalar template instantiated on Lanes (simd_lanes.hpp; its Eigen
 // 3-vectors Vec3<Lanes>): the template's `_at` form on the frame's vectors (specular_view,
 // specular_light_axis), with the row's f0 or the pair f0 = 0 and 1 (simd_fresnel_pair.hpp), or,
-// for the renderer's columns, its `_receiver` and `_from` parts (the light's axis by
+// for the renderer's columns, its two parts, `_receiver` and `specular_from` (the light's axis by
 // specular_light_axis_cs). There is no second copy of a formula. Of the
 // constants registry_simd.cpp passes, only specular/sglab's fitted six (p[2…7]) are read: the
 // floors (p[0], p[1]), sglab's roughness ceiling and exponent cap (p[8], p[9]) and sg-warp-meder's
 // Meder constants are the templates' own, from their single definitions.
 // Everything here has internal linkage or is a template (see simd_kernels.hpp).
 #pragma once
+
+#include <tuple>
 
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/specular.hpp"
@@ -37,61 +39,69 @@ inline Vec3<Lanes<B>> light_axis(const B* light) {
   return sglab::specular_light_axis_cs(Lanes<B>(light[1]), Lanes<B>(light[2]), Lanes<B>(light[3]));
 }
 
-// Each `specular` kernel also in two parts, for the receiver driver: receiver(roughness, view_cos),
-// computed once per receiver, and eval_light(receiver, light, p, f0) per light, the template's
-// `_receiver` and `_from` forms (specular.hpp); the same operations as eval_f0, so the same values.
-// specular_sg_warp_at(…, form, tokuyoshi_harada_sharpness, factor_at).
+// A `specular` kernel of a method in two parts (specular.hpp): eval_f0 is its `_at` form
+// (specular_parts_at), and for the receiver driver the same two parts apart: receiver(roughness,
+// view_cos), computed once per receiver, and eval_light(receiver, light, p, f0) per light
+// (specular_from); the same operations as eval_f0, so the same values. Method names the receiver
+// part (`receiver<T>()`, a callable on (roughness, ωo)) and the method's own options
+// (`from_options()`, a tuple of specular_from's arguments after f0).
+template <class Method>
+struct SpecParts : RowF0<SpecParts<Method>> {
+  template <class A, class B, class F0>
+  static auto eval_f0(const A& a, const B* /*p*/, const F0& f0) {
+    const LaneRow<B> r = lane_row(a);
+    return std::apply(
+        [&](const auto&... options) {
+          return batch_of(sglab::specular_parts_at(Method::template receiver<Lanes<B>>(), r.roughness,
+                                                   r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0), options...));
+        },
+        Method::from_options());
+  }
+  template <class B>
+  static auto receiver(const B& roughness, const B& view_cos) {
+    return Method::template receiver<Lanes<B>>()(Lanes<B>(roughness), sglab::specular_view(Lanes<B>(view_cos)));
+  }
+  template <class R, class B, class F0>
+  static auto eval_light(const R& r, const B* light, const B* /*p*/, const F0& f0) {
+    return std::apply(
+        [&](const auto&... options) {
+          return batch_of(sglab::specular_from(r, Lanes<B>(light[0]), light_axis(light), lanes_f0<B>(f0), options...));
+        },
+        Method::from_options());
+  }
+};
+// sg-warp(…, form, tokuyoshi_harada_sharpness, factor_at).
 template <bool kIwasaki, bool kTokuyoshiHarada, bool kProductAxis>
-struct SpecSgWarp : RowF0<SpecSgWarp<kIwasaki, kTokuyoshiHarada, kProductAxis>> {
-  static constexpr SgProductForm kForm = kIwasaki ? SgProductForm::iwasaki : SgProductForm::exact;
-  static constexpr FactorAt kFactorAt = kProductAxis ? FactorAt::product_axis : FactorAt::lobe_axis;
-  template <class A, class B, class F0>
-  static auto eval_f0(const A& a, const B* /*p*/, const F0& f0) {
-    const LaneRow<B> r = lane_row(a);
-    return batch_of(sglab::specular_sg_warp_at(r.roughness, r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0), kForm,
-                                               kTokuyoshiHarada, kFactorAt));
+struct SgWarpMethod {
+  template <class T>
+  static SgWarpReceiverOf<T> receiver() {
+    return {kTokuyoshiHarada};
   }
-  template <class B>
-  static auto receiver(const B& roughness, const B& view_cos) {
-    return sglab::specular_sg_warp_receiver(Lanes<B>(roughness), sglab::specular_view(Lanes<B>(view_cos)),
-                                            kTokuyoshiHarada);
-  }
-  template <class R, class B, class F0>
-  static auto eval_light(const R& r, const B* light, const B* /*p*/, const F0& f0) {
-    return batch_of(
-        sglab::specular_sg_warp_from(r, Lanes<B>(light[0]), light_axis(light), lanes_f0<B>(f0), kForm, kFactorAt));
+  static auto from_options() {
+    return std::tuple(kIwasaki ? SgProductForm::iwasaki : SgProductForm::exact,
+                      kProductAxis ? FactorAt::product_axis : FactorAt::lobe_axis);
   }
 };
-struct SpecAsg : RowF0<SpecAsg> {
-  template <class A, class B, class F0>
-  static auto eval_f0(const A& a, const B* /*p*/, const F0& f0) {
-    const LaneRow<B> r = lane_row(a);
-    return batch_of(sglab::specular_asg_at(r.roughness, r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0)));
-  }
-  template <class B>
-  static auto receiver(const B& roughness, const B& view_cos) {
-    return sglab::specular_asg_receiver(Lanes<B>(roughness), sglab::specular_view(Lanes<B>(view_cos)));
-  }
-  template <class R, class B, class F0>
-  static auto eval_light(const R& r, const B* light, const B* /*p*/, const F0& f0) {
-    return batch_of(sglab::specular_asg_from(r, Lanes<B>(light[0]), light_axis(light), lanes_f0<B>(f0)));
+template <bool kIwasaki, bool kTokuyoshiHarada, bool kProductAxis>
+using SpecSgWarp = SpecParts<SgWarpMethod<kIwasaki, kTokuyoshiHarada, kProductAxis>>;
+// asg and sg-warp-dvn: specular_from without options.
+struct NoOptions {
+  static std::tuple<> from_options() { return {}; }
+};
+struct AsgMethod : NoOptions {
+  template <class T>
+  static auto receiver() {
+    return sglab::specular_asg_receiver<T>;
   }
 };
-struct SpecSgWarpDvn : RowF0<SpecSgWarpDvn> {
-  template <class A, class B, class F0>
-  static auto eval_f0(const A& a, const B* /*p*/, const F0& f0) {
-    const LaneRow<B> r = lane_row(a);
-    return batch_of(sglab::specular_sg_warp_dvn_at(r.roughness, r.light_sharpness, r.xi, r.wo, lanes_f0<B>(f0)));
-  }
-  template <class B>
-  static auto receiver(const B& roughness, const B& view_cos) {
-    return sglab::specular_sg_warp_dvn_receiver(Lanes<B>(roughness), sglab::specular_view(Lanes<B>(view_cos)));
-  }
-  template <class R, class B, class F0>
-  static auto eval_light(const R& r, const B* light, const B* /*p*/, const F0& f0) {
-    return batch_of(sglab::specular_sg_warp_dvn_from(r, Lanes<B>(light[0]), light_axis(light), lanes_f0<B>(f0)));
+struct SgWarpDvnMethod : NoOptions {
+  template <class T>
+  static auto receiver() {
+    return sglab::specular_sg_warp_dvn_receiver<T>;
   }
 };
+using SpecAsg = SpecParts<AsgMethod>;
+using SpecSgWarpDvn = SpecParts<SgWarpDvnMethod>;
 
 // The `specular-gaussian-ndf` kernels: the templates on the row itself.
 template <class B>
