@@ -365,16 +365,13 @@ Result compute(const Options& options) {
   return r;
 }
 
-Tables tables(const Result& r) { return {markdown(r), summary_csv(r), images_csv(r)}; }
+runner::TableWithImages tables(const Result& r) { return {markdown(r), summary_csv(r), images_csv(r)}; }
 
 void write(const Result& r) {
   const Options& o = r.options;
-  const Tables t = tables(r);
+  const runner::TableWithImages t = tables(r);
   const std::string tables_dir = o.tables_dir.empty() ? o.out : o.tables_dir;
-  runner::OutputSet outputs;
-  runner::add_table(outputs, tables_dir, o.table, r.provenance, t.markdown, t.csv);
-  runner::add_table(outputs, o.out, o.table + "_images", r.provenance, "", t.images_csv);
-  outputs.commit();
+  runner::write_table_with_images(tables_dir, o.table, o.out, o.table + "_images", r.provenance, t);
   std::fputs((runner::markdown_header(r.provenance) + t.markdown).c_str(), stdout);
   std::fprintf(stderr, "filter-sweep --noisy: wrote %s/%s.{md,csv} and %s/%s_images.csv (%.1f s)\n", tables_dir.c_str(),
                o.table.c_str(), o.out.c_str(), o.table.c_str(), r.seconds);

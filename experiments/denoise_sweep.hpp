@@ -71,10 +71,7 @@ struct Result {
 // computes every point; the exact VPL sum of a roughness is computed once, at its first input.
 Result compute(const Options& o);
 
-struct Tables {
-  std::string markdown, csv, images_csv;  // without the provenance header
-};
-Tables tables(const Result& r);
+runner::TableWithImages tables(const Result& r);
 
 // TABLES/TABLE.{md,csv} and OUT/TABLE_images.csv; the Markdown also on stdout.
 void write(const Result& r);

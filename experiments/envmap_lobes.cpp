@@ -23,7 +23,6 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
-#include "atomic_file.hpp"
 #include "option_checks.hpp"
 #include "registry.hpp"
 #include "sglab/render/environment.hpp"
@@ -369,13 +368,13 @@ std::string table_head(const std::string& fixed, std::size_t fixed_count, const 
 
 }  // namespace
 
-Tables tables(const Result& r) {
+runner::TableWithImages tables(const Result& r) {
   const Options& a = r.options;
-  Tables t;
-  t.csv = runner::csv_header(r.provenance) +
-          "environment,lobes,ceres_relative_error,ceres_seconds,ceres_fit_width,vmf_em_relative_error,vmf_em_seconds,"
-          "geometry,component,roughness,method,part,relative_l2,smape,brightness_weighted\n";
-  t.images_csv = runner::csv_header(r.provenance) + "environment,lobes,x,y,r,g,b\n";
+  runner::TableWithImages t;
+  t.csv =
+      "environment,lobes,ceres_relative_error,ceres_seconds,ceres_fit_width,vmf_em_relative_error,vmf_em_seconds,"
+      "geometry,component,roughness,method,part,relative_l2,smape,brightness_weighted\n";
+  t.images_csv = "environment,lobes,x,y,r,g,b\n";
   std::string fit_md, diffuse_md, specular_md, quadrature_md;
   for (const auto& env : r.environments) {
     quadrature_md += fmt::format("| {} | {} | {} |\n", env.name, num(env.quadrature_diffuse),
@@ -426,7 +425,7 @@ Tables tables(const Result& r) {
       }
     }
   }
-  t.markdown = runner::markdown_header(r.provenance) + markdown_intro(r);
+  t.markdown = markdown_intro(r);
   t.markdown +=
       "## Quadrature convergence of layer (1)\n\nRelative L2 change of the sphere's shading between 1 and 2×2 "
       "sub-texels per texel (specular at roughness " +
@@ -448,14 +447,10 @@ Tables tables(const Result& r) {
 }
 
 void write(const Result& r) {
-  namespace fs = std::filesystem;
-  const Tables t = tables(r);
-  runner::write_file_atomically(fs::path(r.options.out) / "envmap_images.csv", t.images_csv);
-  const fs::path tables = runner::tables_place(r.options.tables_dir, r.options.out);
-  runner::write_file_atomically(tables / "envmap_lobes.csv", t.csv);
-  runner::write_file_atomically(tables / "envmap_lobes.md", t.markdown);
-  std::printf("envmap lobes: %.1f s; wrote %s/envmap_lobes.{md,csv} and %s/envmap_images.csv\n", r.seconds,
-              tables.c_str(), r.options.out.c_str());
+  const std::filesystem::path dir = runner::tables_place(r.options.tables_dir, r.options.out);
+  runner::write_table_with_images(dir, "envmap_lobes", r.options.out, "envmap_images", r.provenance, tables(r));
+  std::printf("envmap lobes: %.1f s; wrote %s/envmap_lobes.{md,csv} and %s/envmap_images.csv\n", r.seconds, dir.c_str(),
+              r.options.out.c_str());
 }
 
 }  // namespace sglab::experiments::envmap_lobes

@@ -84,10 +84,7 @@ struct Result {
 // InputError for a malformed --env, an unreadable map or a bad lobe count.
 Result compute(const Options& o);
 
-struct Tables {
-  std::string csv, markdown, images_csv;  // with the provenance header
-};
-Tables tables(const Result& r);
+runner::TableWithImages tables(const Result& r);
 
 // TABLES/envmap_lobes.{md,csv} and OUT/envmap_images.csv.
 void write(const Result& r);

@@ -28,6 +28,15 @@ std::string option_argument(const std::string& option, const std::string& value,
   return value == default_value ? std::string() : " " + option + " " + value;
 }
 
+void write_table_with_images(const std::filesystem::path& dir, const std::string& name,
+                             const std::filesystem::path& out, const std::string& images, const Provenance& p,
+                             const TableWithImages& t) {
+  OutputSet set;
+  add_table(set, dir, name, p, t.markdown, t.csv);
+  add_table(set, out, images, p, "", t.images_csv);
+  set.commit();
+}
+
 void add_table(OutputSet& set, const std::filesystem::path& dir, const std::string& name, const Provenance& p,
                const std::string& markdown_body, const std::string& csv_body) {
   if (!markdown_body.empty()) set.add(dir / (name + ".md"), markdown_header(p) + markdown_body);

@@ -57,4 +57,14 @@ void write_and_show_table(const std::filesystem::path& dir, const std::string& n
 void add_table(OutputSet& set, const std::filesystem::path& dir, const std::string& name, const Provenance& p,
                const std::string& markdown_body, const std::string& csv_body);
 
+// A table and the CSV of the images its figure draws (per-run data, kept with the run's other
+// outputs rather than with the tables): the bodies, without their provenance headers.
+struct TableWithImages {
+  std::string markdown, csv, images_csv;
+};
+// DIR/NAME.{md,csv} and OUT/IMAGES.csv, each headed by the provenance, written as one set.
+void write_table_with_images(const std::filesystem::path& dir, const std::string& name,
+                             const std::filesystem::path& out, const std::string& images, const Provenance& p,
+                             const TableWithImages& t);
+
 }  // namespace sglab::runner

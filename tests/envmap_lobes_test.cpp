@@ -63,13 +63,13 @@ TEST(EnvmapLobes, OneLobeMapIsRecoveredAndTablesAreComplete) {
   }
   EXPECT_LT(env.quadrature_diffuse, 2e-2);
 
-  const el::Tables t = el::tables(r);
+  const sglab::runner::TableWithImages t = el::tables(r);
   const std::size_t md = r.diffuse_methods.size(), ms = r.specular_methods.size();
   const std::size_t per_geometry = (1 + 2 * md) + o.roughness.size() * (1 + 2 * ms);
-  // Provenance header line, column names, then the rows.
-  EXPECT_EQ(lines(t.csv), 2 + o.lobes.size() * r.geometries.size() * per_geometry);
+  // The column names, then the rows (write_table_with_images adds the provenance header).
+  EXPECT_EQ(lines(t.csv), 1 + o.lobes.size() * r.geometries.size() * per_geometry);
   // The map (N = 0) and the last N, each 64 × 32 texels (not reduced: at most 128 wide).
-  EXPECT_EQ(lines(t.images_csv), 2 + 2u * 64 * 32);
+  EXPECT_EQ(lines(t.images_csv), 1 + 2u * 64 * 32);
   EXPECT_NE(t.markdown.find("| lobe | 2 | sphere |"), std::string::npos);
   fs::remove_all(dir);
 }

@@ -176,7 +176,7 @@ TEST(DenoiseSweep, RowsMatchIndependentlyPreparedPointsAndTablesHaveOneLinePerRo
   }
   ASSERT_EQ(r.images.size(), 1u);
   EXPECT_EQ(r.images[0].roughness, 0.4);
-  const dsw::Tables t = dsw::tables(r);
+  const sglab::runner::TableWithImages t = dsw::tables(r);
   EXPECT_EQ(count(t.csv, "\n"), r.rows.size() + 1);
   EXPECT_EQ(count(t.images_csv, "\n"), 24u * 24u + 1);
   EXPECT_EQ(count(t.markdown, "\n| interleaved:2 | 2 | 0.1 |"), 6u);
