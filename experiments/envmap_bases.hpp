@@ -98,7 +98,7 @@ struct Result {
 Result compute(const Options& o);
 
 struct Tables {
-  std::string csv, markdown;  // with the provenance header
+  std::string csv, markdown;  // without the provenance header (runner::write_table adds it)
 };
 Tables tables(const Result& r);
 
