@@ -10,6 +10,7 @@
 #include <map>
 #include <set>
 
+#include "sglab/clamped_cosine.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
 #include "test_util.hpp"
@@ -144,7 +145,12 @@ void check_batch_path(const Quantity& q, const Method& m, const std::vector<doub
   // A loose allowance (about 84 ulps in float, 4.5e4 in double): this test checks which path runs
   // and that it computes the method; tests/simd_test.cpp and simd_specular_test.cpp hold each
   // vectorized kernel to its template within its own, tighter count of ulps.
-  const double tol = std::is_same_v<T, float> ? 1e-5 : 1e-11;
+  // tokuyoshi2022 returns α·(term1 − term0), α ≈ 1182: the two paths' last-bit differences in each
+  // term reach the result ×2α by design of λc (docs/math.md §3), which is how far apart they are
+  // allowed to be (seen on AVX2 without AVX-512: 1.1e-3 relative at λ = 2, c = 0.2 in float).
+  const bool cancels = m.name == "tokuyoshi2022" && (q.name == "clamped-cosine" || q.name == "vsgl-on-top");
+  const double designed_gain = cancels ? 2 * Tokuyoshi2022Cosine::alpha : 1;
+  const double tol = (std::is_same_v<T, float> ? 1e-5 : 1e-11) * designed_gain;
   for (std::size_t i = 0; i < n; ++i) {
     const T single = eval_as<T>(m, std::span<const T>(args.data() + i * arity, arity));
     if (vectorized) EXPECT_NEAR(out[i], single, tol * std::max(1.0, std::fabs(double(single)))) << "row " << i;
