@@ -70,8 +70,8 @@ struct LambdaAxis {
 };
 inline constexpr int kLambdaCosineSubdivisions = 2;
 // The λ axis of the steepness fits (meder-logistic, tokuyoshi2022-steepness, tokuyoshi2024-t):
-// λ ∈ [0.01, 1000], 25 log-spaced values: this project's choice, one axis for the three (the
-// fitted range of each is in docs/math.md §9).
+// λ ∈ [0.01, 1000], 25 log-spaced values: this project's choice, one axis for the three (each
+// fit's record states it as its domain).
 inline constexpr LambdaAxis kSteepnessLambdaAxis{0.01, 1000, 25};
 
 // One fit of an approximation on a (λ, c) grid, all but its model: the published values are its
