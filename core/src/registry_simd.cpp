@@ -38,7 +38,20 @@ std::optional<Isa> parse_isa(std::string_view name) {
   return std::nullopt;
 }
 
-bool isa_supported(Isa isa) {
+namespace {
+
+// Whether this build has the kernels of `isa` (SGLAB_SIMD_KERNELS, core/CMakeLists.txt: `host`
+// compiles only those the building machine can run).
+constexpr bool built(Isa isa) {
+  switch (isa) {
+    case Isa::sse2: return true;
+    case Isa::avx2: return SGLAB_KERNELS_AVX2;
+    case Isa::avx512: return SGLAB_KERNELS_AVX512;
+  }
+  return false;
+}
+
+bool cpu_runs(Isa isa) {
   __builtin_cpu_init();
   switch (isa) {
     case Isa::sse2: return true;  // every x86-64 CPU
@@ -53,6 +66,18 @@ bool isa_supported(Isa isa) {
   return false;
 }
 
+// Why `isa` cannot run here, for the errors of SGLAB_SIMD and force_isa.
+std::string why_not(Isa isa) {
+  if (!cpu_runs(isa)) return "this CPU cannot run it";
+  return "this build has no " + std::string(isa_name(isa)) +
+         " kernels (configured with SGLAB_SIMD_KERNELS=host on a machine without it; reconfigure with "
+         "-DSGLAB_SIMD_KERNELS=all)";
+}
+
+}  // namespace
+
+bool isa_supported(Isa isa) { return built(isa) && cpu_runs(isa); }
+
 std::vector<Isa> supported_isas() {
   std::vector<Isa> out;
   for (Isa isa : {Isa::sse2, Isa::avx2, Isa::avx512})
@@ -65,8 +90,13 @@ namespace {
 const simd_detail::KernelTable& table_of(Isa isa) {
   switch (isa) {
     case Isa::sse2: return simd_detail::kernels_sse2();
+#if SGLAB_KERNELS_AVX2
     case Isa::avx2: return simd_detail::kernels_avx2();
+#endif
+#if SGLAB_KERNELS_AVX512
     case Isa::avx512: return simd_detail::kernels_avx512();
+#endif
+    default: break;  // not built: isa_supported is false, so never asked for
   }
   return simd_detail::kernels_sse2();
 }
@@ -78,8 +108,7 @@ Isa initial_isa() {
   if (const char* env = std::getenv("SGLAB_SIMD"); env && *env) {
     const auto isa = parse_isa(env);
     if (!isa) throw std::invalid_argument("SGLAB_SIMD='" + clip_text(env) + "': expected sse2, avx2 or avx512");
-    if (!isa_supported(*isa))
-      throw std::invalid_argument("SGLAB_SIMD='" + clip_text(env) + "': this CPU cannot run it");
+    if (!isa_supported(*isa)) throw std::invalid_argument("SGLAB_SIMD='" + clip_text(env) + "': " + why_not(*isa));
     return *isa;
   }
   return supported_isas().back();
@@ -103,7 +132,8 @@ Isa active_isa() {
 }
 
 void force_isa(Isa isa) {
-  if (!isa_supported(isa)) throw std::invalid_argument("force_isa: this CPU cannot run " + std::string(isa_name(isa)));
+  if (!isa_supported(isa))
+    throw std::invalid_argument("force_isa: " + std::string(isa_name(isa)) + ": " + why_not(isa));
   g_isa.store(static_cast<int>(isa));
   g_table.store(&table_of(isa), std::memory_order_release);
 }
@@ -224,8 +254,13 @@ std::vector<double> published_constants(const Method& m, Kernel k) {
 const simd_detail::SpecularPairTable& pair_table_of(simd::Isa isa) {
   switch (isa) {
     case simd::Isa::sse2: return simd_detail::specular_pairs_sse2();
+#if SGLAB_KERNELS_AVX2
     case simd::Isa::avx2: return simd_detail::specular_pairs_avx2();
+#endif
+#if SGLAB_KERNELS_AVX512
     case simd::Isa::avx512: return simd_detail::specular_pairs_avx512();
+#endif
+    default: break;  // not built, never asked for (isa_supported)
   }
   return simd_detail::specular_pairs_sse2();
 }

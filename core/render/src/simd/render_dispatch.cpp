@@ -27,8 +27,13 @@ double scaled_by_exp_direct_limit() {
 const RenderKernelTable& render_kernels() {
   switch (simd::active_isa()) {
     case simd::Isa::sse2: return render_kernels_sse2();
+#if SGLAB_KERNELS_AVX2
     case simd::Isa::avx2: return render_kernels_avx2();
+#endif
+#if SGLAB_KERNELS_AVX512
     case simd::Isa::avx512: return render_kernels_avx512();
+#endif
+    default: break;  // not built (SGLAB_SIMD_KERNELS): active_isa never names it
   }
   return render_kernels_sse2();
 }
