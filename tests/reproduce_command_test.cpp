@@ -197,10 +197,16 @@ TEST_F(ReproduceCommand, QuickRenderSweepStepWritesIntoResultsQuick) {
 }
 
 // Plot steps run beside the sglab steps: each step's marker lists only what it wrote itself (the
-// plots' figures, the sglab step's table and CSV), and the step times say which ran beside.
+// plots' figures, the sglab steps' renders, tables and CSVs), and the step times say which ran
+// beside. The cheapest steps with plots (about 2 CPU s of the quick run): the two-VSGL renders and
+// their plot, which runs beside near-wall (the next sglab step, untimed, so queued plots start
+// with it), and near-wall's own plot.
+const char* const kBesideSteps =
+    "render-two-vsgls-punctual render-two-vsgls-sg-cosine plot-two-vsgls-cosine near-wall plot-near-wall-smape";
+
 TEST_F(ReproduceCommand, PlotsRunBesideAndEachMarkerHoldsItsOwnOutputs) {
   link_inputs();
-  const auto r = sglab("reproduce --quick --only error-map plot-error-maps plot-own-method render-cornell-glossy");
+  const auto r = sglab(std::string("reproduce --quick --only ") + kBesideSteps);
   ASSERT_EQ(r.status, 0) << r.err;
   const auto marker = [&](const std::string& step) {
     std::ifstream in(path("results/quick/.steps/" + step + ".done"));
@@ -215,12 +221,12 @@ TEST_F(ReproduceCommand, PlotsRunBesideAndEachMarkerHoldsItsOwnOutputs) {
       if (l.rfind("output ", 0) == 0) paths.push_back(l.substr(7, l.rfind(' ') - 7));
     return paths;
   };
-  for (const char* plot : {"plot-error-maps", "plot-own-method"}) {
+  for (const char* plot : {"plot-two-vsgls-cosine", "plot-near-wall-smape"}) {
     const auto written = outputs(plot);
     EXPECT_FALSE(written.empty()) << plot << "\n" << r.err;
     for (const auto& w : written) EXPECT_NE(w.find("/figures/"), std::string::npos) << plot << " claims " << w;
   }
-  for (const char* step : {"error-map", "render-cornell-glossy"}) {
+  for (const char* step : {"render-two-vsgls-punctual", "render-two-vsgls-sg-cosine", "near-wall"}) {
     const auto written = outputs(step);
     EXPECT_FALSE(written.empty()) << step << "\n" << r.err;
     for (const auto& w : written) {
@@ -231,12 +237,12 @@ TEST_F(ReproduceCommand, PlotsRunBesideAndEachMarkerHoldsItsOwnOutputs) {
   std::ifstream times(path("results/quick/reproduce_times.csv"));
   std::stringstream text;
   text << times.rdbuf();
-  EXPECT_NE(text.str().find("plot-error-maps,run beside,"), std::string::npos) << text.str();
-  EXPECT_NE(text.str().find("render-cornell-glossy,run,"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("plot-two-vsgls-cosine,run beside,"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("near-wall,run,"), std::string::npos) << text.str();
   // A second run finds every step done (no marker holds a file another step rewrote since).
-  const auto again = sglab("reproduce --quick --only error-map plot-error-maps plot-own-method render-cornell-glossy");
+  const auto again = sglab(std::string("reproduce --quick --only ") + kBesideSteps);
   ASSERT_EQ(again.status, 0) << again.err;
-  EXPECT_NE(again.out.find("0 steps run, 4 already done"), std::string::npos) << again.out << again.err;
+  EXPECT_NE(again.out.find("0 steps run, 5 already done"), std::string::npos) << again.out << again.err;
 }
 
 // The recommend step reads the tables of a directory its command names only as a directory: its
