@@ -425,9 +425,30 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
         stiff.insert(stiff.end(), {a0, a1, a2, l, -a0, -a1, -a2, l * 0.5f, 0.0f, kappa});  // β = 0: 1
         stiff_exact.push_back(1.0f);
       }
+  // The largest sharpness unsmoothed (κ = +∞) beside a finite one, coincident axes: the mismatch
+  // (4ab/(a + b)²)^(β/2) alone (λ̄ = FLT_MAX once gave ∞ through 1/(1/λ) and 2λ̄): 1e30 gives
+  // √(4·1e30·FLT_MAX)/(FLT_MAX + 1e30) per unit of β, 1e-8 underflows to 0.
+  const float big[] = {a0, a1, a2, fmax, a0, a1, a2, 1e30f, 1.0f,  inf,
+                       a0, a1, a2, fmax, a0, a1, a2, 1e-8f, 20.0f, inf};
+  const float n0[] = {a0, a1, a2, a0, a1, a2, 0.0f, a0, a1, a2, -a0, -a1, -a2, 0.0f, a0, a1, a2, a0, a1, a2, fmax};
+  // Each weight's rows of every check in one run per language (one export, compile and dispatch
+  // instead of three and two; each row is evaluated on its own, so its value is the same), then
+  // split in the order they were put in: lobe | stiff | big, and normal | n0.
+  std::vector<float> lobe_rows = lobe, normal_rows = normal;
+  lobe_rows.insert(lobe_rows.end(), stiff.begin(), stiff.end());
+  lobe_rows.insert(lobe_rows.end(), std::begin(big), std::end(big));
+  normal_rows.insert(normal_rows.end(), std::begin(n0), std::end(n0));
+  const auto part = [](const std::vector<float>& v, std::size_t from, std::size_t count) {
+    return std::vector<float>(v.begin() + long(from), v.begin() + long(from + count));
+  };
   for (Language lang : {Language::c, Language::glsl, Language::hlsl}) {
     const std::string ln(shader::language_name(lang));
-    const std::vector<float> w = run_exported("filtering/lobe-weight", lang, lobe);
+    const std::vector<float> lobe_values = run_exported("filtering/lobe-weight", lang, lobe_rows);
+    const std::vector<float> normal_values = run_exported("filtering/normal-weight", lang, normal_rows);
+    ASSERT_EQ(lobe_values.size(), lobe_rows.size() / 10) << ln;
+    ASSERT_EQ(normal_values.size(), normal_rows.size() / 7) << ln;
+    const std::size_t nl = lobe.size() / 10, ns = stiff.size() / 10, nn = normal.size() / 7;
+    const std::vector<float> w = part(lobe_values, 0, nl);
     double worst = 0;
     for (std::size_t k = 0; k < w.size(); ++k) {
       ASSERT_TRUE(std::isfinite(w[k]) && w[k] >= 0 && w[k] <= 1) << ln << " row " << k << ": " << w[k];
@@ -440,7 +461,7 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
     }
     std::printf("%s lobe-weight: max |w − w_exact|/w_exact / ((1 + |E|)·2⁻²⁴) = %.2f over %zu rows\n", ln.c_str(),
                 worst, w.size());
-    const std::vector<float> n = run_exported("filtering/normal-weight", lang, normal);
+    const std::vector<float> n = part(normal_values, 0, nn);
     worst = 0;
     for (std::size_t k = 0; k < n.size(); ++k) {
       ASSERT_TRUE(std::isfinite(n[k]) && n[k] >= 0 && n[k] <= 1) << ln << " row " << k << ": " << n[k];
@@ -452,26 +473,18 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
     }
     std::printf("%s normal-weight: max relative error / ((1 + |E|)·2⁻²⁴) = %.2f over %zu rows\n", ln.c_str(), worst,
                 n.size());
-    const std::vector<float> sv = run_exported("filtering/lobe-weight", lang, stiff);
+    const std::vector<float> sv = part(lobe_values, nl, ns);
     for (std::size_t k = 0; k < sv.size(); ++k) {
       std::string at;
       for (int j = 0; j < 10; ++j) at += (j ? ", " : "") + std::to_string(stiff[10 * k + j]);
       EXPECT_EQ(sv[k], stiff_exact[k]) << ln << " lobe-weight at (" << at << ")";
     }
-    // The largest sharpness unsmoothed (κ = +∞) beside a finite one, coincident axes: the mismatch
-    // (4ab/(a + b)²)^(β/2) alone (λ̄ = FLT_MAX once gave ∞ through 1/(1/λ) and 2λ̄): 1e30 gives
-    // √(4·1e30·FLT_MAX)/(FLT_MAX + 1e30) per unit of β, 1e-8 underflows to 0.
-    const float big[] = {a0, a1, a2, fmax, a0, a1, a2, 1e30f, 1.0f,  inf,
-                         a0, a1, a2, fmax, a0, a1, a2, 1e-8f, 20.0f, inf};
-    const std::vector<float> bv = run_exported("filtering/lobe-weight", lang,
-                                               std::vector<float>(std::begin(big), std::end(big)));
+    const std::vector<float> bv = part(lobe_values, nl + ns, 2);  // the big rows
     const double A = double(fmax), B = double(1e30f);
     EXPECT_NEAR(double(bv[0]) / (2 * std::sqrt(A * B) / (A + B)), 1.0, 81 * eps)
         << ln << ": " << bv[0];  // (8 + 8|E|)·2⁻²⁴, E = −9.1
     EXPECT_EQ(bv[1], 0.0f) << ln;
-    const float n0[] = {a0, a1, a2, a0, a1, a2, 0.0f, a0, a1, a2, -a0, -a1, -a2, 0.0f, a0, a1, a2, a0, a1, a2, fmax};
-    const std::vector<float> nv = run_exported("filtering/normal-weight", lang,
-                                               std::vector<float>(std::begin(n0), std::end(n0)));
+    const std::vector<float> nv = part(normal_values, nn, 3);  // the n0 rows
     EXPECT_EQ(nv, (std::vector<float>{1.0f, 0.0f, 1.0f})) << ln;
   }
 }
