@@ -2,6 +2,10 @@
 // c = ξ·n, written for the tests apart from core/'s reference: about ξ, the azimuthal integral
 // of ⟨a cos φ + b⟩ (a = √(1 − c²) sin θ, b = c cos θ) in closed form, then the polar integral in
 // u = 1 − cos θ (weight e^{−λu}) by adaptive Gauss–Kronrod, split where ⟨·⟩ changes form.
+// Relative tolerance 1e-11: compared once with the 1e-13 it had before (an estimate double
+// rounding does not reach here, so every interval was split down to the depth limit), over
+// λ = 1e-4 … 1e5 (4 per decade) × 45 cosines (step 0.05, ±1e-8, ±0.999999): at most 2.0e-15 of
+// D(λ, 1) apart, in 1/13 of the time.
 #pragma once
 
 #include <algorithm>
@@ -32,7 +36,7 @@ inline double clamped_cosine_quadrature(double lambda, double c) {
   double sum = 0;
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i)
     sum += boost::math::quadrature::gauss_kronrod<double, 61>::integrate(
-        [&](double u) { return std::exp(-lambda * u) * azimuthal(u); }, cuts[i], cuts[i + 1], 15, 1e-13);
+        [&](double u) { return std::exp(-lambda * u) * azimuthal(u); }, cuts[i], cuts[i + 1], 15, 1e-11);
   return sum;
 }
 
