@@ -284,13 +284,14 @@ TEST(ShaderExport, RefitConstantsChangeLiteralsAndValues) {
 }
 
 // The exported method `name` (published constants) run in `lang` on `rows`: C compiled and
-// loaded, GLSL/HLSL on the Vulkan device.
-std::vector<float> run_exported(const std::string& name, Language lang, const std::vector<float>& rows) {
+// loaded, GLSL/HLSL on the Vulkan device `gpu` (one per test: each device loads the Vulkan driver
+// again, lavapipe with LLVM, a good part of a small test's time).
+std::vector<float> run_exported(const std::string& name, Language lang, const std::vector<float>& rows,
+                                shader::VulkanCompute& gpu) {
   const auto ref = shader::find_exportable(name);
   const shader::TracedMethod t = shader::trace_method(*ref.quantity, *ref.method, ConstantSet{});
   const std::string src = shader::emit(std::span(&t, 1), lang, "test");
   if (lang == Language::c) return shader::run_c(src, t, rows);
-  shader::VulkanCompute gpu;
   return shader::run_compute(gpu, shader::compile_to_spirv(shader::compute_shader_source(src, t, lang), lang), rows,
                              t.inputs.size());
 }
@@ -312,8 +313,9 @@ TEST(ShaderExport, PunctualApproxIsZeroBehindTheHorizonAtTinySharpness) {
   std::vector<float> rows;
   for (double l : {double(FLT_MIN), 1e-30, 1e-8, 1.0, 1e30, double(FLT_MAX)})
     for (double c : {-1.0, -0.5, -1e-8, 0.0, 1e-8, 0.3, 0.5, 1.0}) rows.insert(rows.end(), {float(l), float(c)});
+  shader::VulkanCompute gpu;
   for (Language lang : {Language::c, Language::glsl, Language::hlsl}) {
-    const std::vector<float> v = run_exported("clamped-cosine/punctual-approx", lang, rows);
+    const std::vector<float> v = run_exported("clamped-cosine/punctual-approx", lang, rows, gpu);
     for (std::size_t k = 0; k < v.size(); ++k) {
       const double l = rows[2 * k], c = rows[2 * k + 1];
       const double exact = c > 0 ? 2 * 3.14159265358979323846 * c / l : 0.0;
@@ -341,8 +343,9 @@ TEST(ShaderExport, CosineLobeSgIsFiniteAtTheLargestFloat) {
   std::vector<float> rows;
   for (double l : {1e30, 1e35, 3.0e38, double(FLT_MAX)})
     for (double c : stiff::cosines(16)) rows.insert(rows.end(), {float(l), float(c)});
+  shader::VulkanCompute gpu;
   for (Language lang : {Language::c, Language::glsl, Language::hlsl}) {
-    const std::vector<float> v = run_exported("clamped-cosine/cosine-lobe-sg", lang, rows);
+    const std::vector<float> v = run_exported("clamped-cosine/cosine-lobe-sg", lang, rows, gpu);
     for (std::size_t k = 0; k < v.size(); ++k) {
       const std::span<const float> a(&rows[2 * k], 2);
       const float own = ref.method->eval_float(a);
@@ -441,10 +444,11 @@ TEST(ShaderExport, FilteringWeightsAreAppendixEAndD) {
   const auto part = [](const std::vector<float>& v, std::size_t from, std::size_t count) {
     return std::vector<float>(v.begin() + long(from), v.begin() + long(from + count));
   };
+  shader::VulkanCompute gpu;
   for (Language lang : {Language::c, Language::glsl, Language::hlsl}) {
     const std::string ln(shader::language_name(lang));
-    const std::vector<float> lobe_values = run_exported("filtering/lobe-weight", lang, lobe_rows);
-    const std::vector<float> normal_values = run_exported("filtering/normal-weight", lang, normal_rows);
+    const std::vector<float> lobe_values = run_exported("filtering/lobe-weight", lang, lobe_rows, gpu);
+    const std::vector<float> normal_values = run_exported("filtering/normal-weight", lang, normal_rows, gpu);
     ASSERT_EQ(lobe_values.size(), lobe_rows.size() / 10) << ln;
     ASSERT_EQ(normal_values.size(), normal_rows.size() / 7) << ln;
     const std::size_t nl = lobe.size() / 10, ns = stiff.size() / 10, nn = normal.size() / 7;
