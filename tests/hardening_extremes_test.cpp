@@ -22,6 +22,7 @@
 #include "sglab/glossy_reference.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/scalar.hpp"
+#include "gauss_kronrod_panel.hpp"
 
 namespace {
 
@@ -273,7 +274,6 @@ double grazing_quadrature(const GrazingBrdf& brdf, double lambda, double dy, dou
 // ±π/2, 0, ±m/2, ±m, ±2m. At δ = 0 the Gaussian-NDF limit is √(π/(2λ))·(4/π)∫cos ψ e^{−ψ²/m²} dψ
 // ≈ 0.8296/√λ at m = 0.3, the λ^{−1/2} law.
 mp50 grazing_limit_mp50(const GrazingBrdf& brdf, const mp50& lambda, const mp50& dy, const mp50& dz) {
-  using boost::math::quadrature::gauss_kronrod;
   const mp50 pi = boost::math::constants::pi<mp50>(), half_pi = pi / 2, rl = sqrt(lambda);
   const mp50 m(brdf.roughness);
   const mp50 Dy = dy * rl, Dz = dz * rl, D2 = Dy * Dy + Dz * Dz, Dn = sqrt(D2);
@@ -309,16 +309,11 @@ mp50 grazing_limit_mp50(const GrazingBrdf& brdf, const mp50& lambda, const mp50&
     if (t > -reach && t < reach) br.push_back(t);
   }
   std::sort(br.begin(), br.end());
-  // Each panel mapped onto [−1, 1]: boost's adaptive rule compares its error estimate on [−1, 1] (not
-  // scaled to the panel) with the tolerance times the panel's integral, so a panel 1/‖D‖ ≈ 1e-134 wide never met the
-  // tolerance and was bisected to the depth limit (30 000 evaluations, no digit gained).
+  // Each panel mapped onto [−1, 1] (gauss_kronrod_panel.hpp): unmapped, a panel 1/‖D‖ ≈ 1e-134 wide
+  // was bisected to the depth limit (30 000 evaluations, no digit gained).
   mp50 sum = 0;
   for (std::size_t i = 0; i + 1 < br.size(); ++i)
-    if (br[i + 1] > br[i]) {
-      const mp50 mid = (br[i] + br[i + 1]) / 2, half = (br[i + 1] - br[i]) / 2;
-      auto on_unit = [&](const mp50& x) { return f(mid + half * x) * half; };
-      sum += gauss_kronrod<mp50, 31>::integrate(on_unit, mp50(-1), mp50(1), 6, mp50(1e-15));
-    }
+    if (br[i + 1] > br[i]) sum += sglab::test::gauss_kronrod_panel<31>(f, br[i], br[i + 1], 6, mp50(1e-15));
   return sum;
 }
 

@@ -1,13 +1,13 @@
 // The exact references (core/include/sglab/reference.hpp) against closed forms, identities, an
 // independent formulation (docs/math.md §2's θ-integral with the I0 Bessel function), and their own
 // 50-digit evaluation. Required: ≤ 1e-12 relative in double over λ ∈ [0, 1e8], c ∈ [−1, 1].
-#include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/special_functions/bessel.hpp>
 
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/hemispherical.hpp"
 #include "sglab/reference.hpp"
 #include "sglab/sg.hpp"
+#include "gauss_kronrod_panel.hpp"
 #include "test_util.hpp"
 
 namespace sglab {
@@ -64,11 +64,10 @@ TEST(Reference, ReflectionIdentities) {
 // docs/math.md §2's formulation, independent of ours: θ from n, θ0 = acos c,
 //   H = 2π ∫_0^{π/2} e^{λ(cos(θ − θ0) − 1)} Î0(λ sinθ sinθ0) sinθ dθ,  Î0(x) = e^{−x} I0(x),
 // with an extra cos θ for D, and a break point at θ0. Adaptive Gauss–Kronrod in double, each panel
-// mapped onto [−1, 1]: boost's adaptive rule compares its error estimate on [−1, 1] (not scaled to
-// the panel) with the tolerance times the panel's integral, so the narrow panel [θ0, π/2] of a
-// cosine near 0 (c = 0.005–0.07 among the seeded points) never met it and was bisected to the
-// depth limit: 4 million evaluations of I0 each, 32 million in all over the 80 points, against
-// 17 thousand now, the values the same to 7e-15 relative (compared once; tolerance 1e-11).
+// mapped onto [−1, 1] (gauss_kronrod_panel.hpp): unmapped, the narrow panel [θ0, π/2] of a cosine
+// near 0 (c = 0.005–0.07 among the seeded points) was bisected to the depth limit, 4 million
+// evaluations of I0 each, 32 million in all over the 80 points, against 17 thousand now, the
+// values the same to 7e-15 relative (compared once; tolerance 1e-11).
 double bessel_form(double l, double c, bool with_cosine) {
   const double theta0 = std::acos(c);
   auto f = [&](double theta) {
@@ -77,11 +76,7 @@ double bessel_form(double l, double c, bool with_cosine) {
     const double w = std::exp(l * (std::cos(theta - theta0) - 1)) * i0e * std::sin(theta);
     return with_cosine ? w * std::cos(theta) : w;
   };
-  auto panel = [&](double a, double b) {
-    const double mid = (a + b) / 2, half = (b - a) / 2;
-    return boost::math::quadrature::gauss_kronrod<double, 61>::integrate(
-        [&](double x) { return f(mid + half * x) * half; }, -1.0, 1.0, 15, 1e-14);
-  };
+  auto panel = [&](double a, double b) { return test::gauss_kronrod_panel<61>(f, a, b, 15, 1e-14); };
   const double half_pi = pi<double>() / 2;
   double sum = 0;
   if (theta0 < half_pi) {
