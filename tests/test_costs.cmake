@@ -17,7 +17,6 @@ foreach(entry
     "SparseEnvMap.ResolvedSunImprovesOnTheUnresolvedFit;4"
     "EvalCommand.EveryRegisteredMethodEvaluatesInEveryPrecision;4"
     "SgFree.SunSizedFeatureImprovesOnTheOneLobeFloor;4"
-    "Reference.DoubleAgreesWithFiftyDigitsOverTheWholeRange;3"
     "NearWallLibrary.ReferenceAgainstQuadratureAndSmapeFromThePixels;3"
     "GaussianNdfReference.MatchesAnIndependentHalfVectorQuadrature;2.5"
     "Reference.AgreesWithBesselThetaForm;2"
