@@ -109,15 +109,17 @@ TEST(HardeningExtremes, GroupG_SpecularReferenceMeetsTheLimit) {
 
 // ∫ cos b e^{−ηy sin²b} e^{λ(ξ·ω(b) − 1)} db over (−π/2, π/2), ω(b) = (0, sin b, cos b), by
 // tanh-sinh in double (the ASG's line integral for ηx → ∞). At the ηy ≤ 100, λ ≤ 50, cosines 1 and
-// 0.999 below, the same rule in 50 digits (what this was until the suite was made faster, 0.15–1.7
-// CPU s per integral) gave the same values to 1e-15 relative or better (compared once): the
+// 0.999 below, the same rule in 50 digits (what this was until the suite was made faster: 2 of the
+// test's 2.1 CPU s, for 12 integrals) gave the same values to 1e-15 relative or better (compared once): the
 // integrand is smooth and positive, nothing cancels, and the check's tolerance is 1e-6.
 double line_integral(double eta_y, double lambda, double cosine) {
   // ξ = (√(1 − c²), 0, c) at azimuth 0, off the line by its x component: ξ·ω(b) = c·cos b.
   boost::math::quadrature::tanh_sinh<double> ts;
   const double half_pi = std::numbers::pi / 2;
   return ts.integrate(
-      [&](double b) { return std::cos(b) * std::exp(-eta_y * std::sin(b) * std::sin(b) + lambda * (cosine * std::cos(b) - 1)); },
+      [&](double b) {
+        return std::cos(b) * std::exp(-eta_y * std::sin(b) * std::sin(b) + lambda * (cosine * std::cos(b) - 1));
+      },
       -half_pi, half_pi, 1e-14);
 }
 
@@ -231,7 +233,7 @@ std::vector<std::pair<double, double>> kronrod15_nodes(const std::vector<double>
 // (≤ 800 where it counts) is off by ≤ 1e-13 absolute and the integrand by ≤ 1e-13 relative. The
 // same rule in 50 digits (what this was until the suite was made faster) gave the same L to
 // 6e-16 relative or better at every λ, light offset and BRDF below (compared once): 50 digits
-// bought nothing against the 2e-6 tolerance and cost 0.1–0.6 CPU s per call.
+// bought nothing against the 2e-6 tolerance and took 5.6 of the test's 7.7 CPU s.
 // The sines of θ's and ψ's nodes are taken once each, not at every pair of nodes (the sum is the
 // nested one's, to rounding).
 double grazing_quadrature(const GrazingBrdf& brdf, double lambda, double dy, double dz) {
@@ -277,7 +279,7 @@ double grazing_quadrature(const GrazingBrdf& brdf, double lambda, double dy, dou
 // is ~1e-50) and the factor 1/√λ resp. 1/λ applied in 50 digits (GGX's value at λ = DBL_MAX is below
 // double's normal range); the ψ integral itself in double, where ‖D‖ ≤ 1.6e138 here and every
 // term is a product of O(1) factors. In 50 digits (what this was until the suite was made faster,
-// 0.02–0.1 CPU s a value) it gave the same values to 1e-15 relative or better at every λ and offset
+// about 1 CPU s for the test's 30 values) it gave the same values to 1e-15 relative or better at every λ and offset
 // of the test (compared once; tolerance 2e-6).
 mp50 grazing_limit(const GrazingBrdf& brdf, const mp50& lambda, const mp50& dy, const mp50& dz) {
   const double pi = std::numbers::pi, half_pi = pi / 2, m = brdf.roughness;
@@ -430,7 +432,7 @@ TEST(HardeningExtremes, GroupL_AsgSgProductBothSharp) {
     for (const auto& [ry, rl] :
          std::vector<std::pair<double, double>>{{1, 1}, {0.5, 1}, {1, 0.25}, {0.1, 0.3}, {1, 0.004}}) {
       rows.push_back({e, e * ry, e * rl, 1.0, 0.0});
-      // Offset rows (each a 2D quadrature of the method, ≈ 0.1 CPU s per evaluation) at the two ends
+      // Offset rows (each a 2D quadrature of the method, ≈ 0.025 CPU s per evaluation) at the two ends
       // of the range that carries offsets, ηx = 1e8 (the limit's O(1/η) at the tolerance's edge) and
       // 1e14 (the last with offsets); 1e10 and 1e12 between them keep their rows without offset.
       if (e == 1e8 || e == 1e14)

@@ -112,7 +112,7 @@ TEST(Reference, DoubleAgreesWithLongDoubleOverTheWholeRange) {
   // λ ∈ [1e-8, 1e8], c ∈ [−1, 1]. At every point below the long double values agree with the
   // 50-digit ones to 4.4e-19 relative or better, where double's own error reaches 1.9e-15 and the
   // bound is 1e-12 (compared once: the 50-digit run, which this was until the suite was made faster,
-  // took 6–7 CPU s, 1.8 s of it at λ = 84.9 and at λ = 12357; long double takes 0.1 s; the 50-digit
+  // took 5.8 CPU s, about a third of it at λ = 84.9 and another at λ = 12357; long double takes 0.1 s; the 50-digit
   // path is checked against the closed forms in the next test). (Twelve seeded random points took
   // ≈ 19 s in 50 digits, most of it one H at tiny λ and c near −0.9 — λ = 4.9e-8, c = −0.933 or
   // λ = 1.8e-6, c = −0.890: ≈ 12 s of CPU each, where the tanh-sinh tables are refined to their
