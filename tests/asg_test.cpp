@@ -88,8 +88,10 @@ TEST(AsgIntegral, ExactMatchesTwoDimensionalQuadrature) {
   EXPECT_NEAR(asg_integral_exact(0.0, 0.0), M_PI, 1e-14);  // ∫ ⟨ω·z⟩ over the hemisphere
   // Isotropic closed form π(1 − e^{−η})/η.
   EXPECT_NEAR(asg_integral_exact(7.0, 7.0), M_PI * -std::expm1(-7.0) / 7.0, 1e-14);
-  // mp50 agrees with double; float rounds the double.
-  EXPECT_NEAR(static_cast<double>(asg_integral_exact<mp50>(mp50(10), mp50(1))), asg_integral_exact(10.0, 1.0), 1e-14);
+  // mp50 agrees with double; float rounds the double. (ηx, ηy) = (2, 1) takes the paths of (10, 1)
+  // (geometric pieces below 1/ηmax, I0 of a nonzero argument) in 2 pieces instead of 5: the test
+  // takes 0.4 CPU s instead of 2.6, most of it that 50-digit tanh-sinh and Bessel.
+  EXPECT_NEAR(static_cast<double>(asg_integral_exact<mp50>(mp50(2), mp50(1))), asg_integral_exact(2.0, 1.0), 1e-14);
   EXPECT_FLOAT_EQ(asg_integral_exact(10.0f, 1.0f), static_cast<float>(asg_integral_exact(10.0, 1.0)));
   EXPECT_TRUE(std::isfinite(asg_integral_exact(1e8, 1e8)));
 }

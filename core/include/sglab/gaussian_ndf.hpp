@@ -239,7 +239,7 @@ Vec3d grazing_light_offset(const T& light_cos, const T& light_azimuth) {
 //    min(1, m, 1/√λ)), the light a focus (its width 1/√λ not floored at the quadrature's
 //    min_width), and the normal n a focus of width m (D's width in the azimuth about −ωo). The
 //    value ~ √(π/(2λ))·(4/π)∫cos ψ e^{−ψ²/m²}dψ for λ → ∞ with the light at −ωo (tests/
-//    hardening_extremes_test.cpp checks it against a 50-digit quadrature and that limit up to
+//    hardening_extremes_test.cpp checks it against a quadrature of its own and that limit up to
 //    λ = DBL_MAX; ω + ωo formed from ω and a light width floored at 1e-7 gave 1% low at λ = 1e12,
 //    a quarter of it at 1e16 and 0 from 1e20).
 //  • Otherwise the light is the pole as integrate_sg_about_axis has it (scaled by √λ), with u =
