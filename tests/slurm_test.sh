@@ -96,10 +96,10 @@ ids=$(SGLAB="$exe" SGLAB_CPUS=1 "$src/scripts/slurm/submit_sweep.sh" 4 merged sp
 read -r array merge <<< "$ids"
 echo "array job $array, merge job $merge"
 state=""
-for _ in $(seq 1200); do
+for _ in $(seq 600); do
   state=$(scontrol show job "$merge" -o 2> /dev/null | grep -o 'JobState=[A-Z_]*' | cut -d= -f2)
   case "$state" in COMPLETED | FAILED | CANCELLED | TIMEOUT | NODE_FAIL | OUT_OF_MEMORY) break ;; esac
-  sleep 0.05
+  sleep 0.1
 done
 [ "$state" = COMPLETED ] || fail "the merge job ended $state"
 for i in 0 1 2 3; do
