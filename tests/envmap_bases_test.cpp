@@ -350,7 +350,7 @@ TEST_F(EnvmapBases, TablesHaveEveryBasisAndBadOptionsAreInputErrors) {
 // weighted L2²) at N = 16 is fitted on the 64 × 32 level, where the sun is one texel and so held
 // by one lobe: one Gaussian on a uniform disk left it at relative L2 0.234 (0.231 at N = 32).
 // Seeding the weakest lobes on the brightest full-map texels (seed_bright_lobes) measured 0.1715
-// (kmeans, seed 1), as at N = 32 in twice the time; asserted below 0.20, the margin for
+// (kmeans, seed 1), as at N = 32 in nearly twice the time; asserted below 0.20, the margin for
 // thread-count differences in the LM runs. (On a 256 × 128 sky the fit reaches 0.18 without the
 // seeding, and the check would not see it gone.)
 TEST(SgFree, SunSizedFeatureImprovesOnTheOneLobeFloor) {
