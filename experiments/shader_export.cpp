@@ -311,8 +311,9 @@ Result compute(const Options& o) {
       p.sglab_float[k] = bound.eval_float(std::span<const float>(&g.rows[g.arity * k], g.arity));
     p.traced = shader::trace_method(q, m, set);
   }
-  // Every (method, evaluator) row, side by side: most of a row's time is the compilers it waits
-  // for (cc, glslangValidator, spirv-val), so rows run in parallel keep every core busy. The
+  // Every (method, evaluator) row, side by side: most of a row's time is compiling (cc, a
+  // subprocess; glslang and the SPIR-V validator, in-process), so rows run in parallel keep every
+  // core busy. The
   // device runs one shader at a time. Each row is the same calls on the same inputs wherever it
   // runs, so the values do not depend on the order; the rows are kept in the table's order.
   std::vector<Row> rows(prepared.size() * kEvaluators.size());

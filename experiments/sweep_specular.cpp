@@ -145,16 +145,17 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf,
       return fmt::format("method {} is not measured by this sweep", quote(row[9]));
     return std::nullopt;
   };
-  // The registry lives for the whole program: the reference's pointer stays valid; `bound` keeps
-  // the measured methods alive.
-  d.compute = [inputs, reference = &reference, bound, methods, f0 = g.f0](std::size_t k) {
+  // The registry lives for the whole program: the quantity's pointer stays valid; `bound` keeps
+  // the measured methods alive. The references come through the process's kept values
+  // (reference_value): in a `sglab reproduce`, `fit all` has integrated these rows already.
+  d.compute = [inputs, quantity = &q, bound, methods, f0 = g.f0](std::size_t k) {
     const auto [alpha, lambda, v] = inputs(k);
     const std::vector<LightPosition> positions = specular_light_positions(alpha, lambda, v);
     std::vector<std::array<double, 6>> args;
     std::vector<double> refs;
     for (const auto& p : positions) {
       args.push_back({alpha, lambda, p.light_cos, v, p.light_azimuth, f0});
-      const double r = reference->eval_double(args.back());
+      const double r = reference_value(*quantity, args.back());
       if (!std::isfinite(r) || r < 0)
         throw std::runtime_error(fmt::format("sweep specular: the reference is {} at α={} λ={} view_cos={} position {}",
                                              r, alpha, lambda, v, p.name));

@@ -27,6 +27,7 @@
 
 #include "fits.hpp"
 #include "sglab/error_metrics.hpp"
+#include "sglab/registry.hpp"
 #include "sglab/specular.hpp"
 #include "sglab/specular_grid.hpp"
 
@@ -61,9 +62,11 @@ Data make_data(bool quick) {
           out.rows.push_back({{a, l, p.light_cos, v, p.light_azimuth, g.f0}, 0.0, point});
         ++point;
       }
+  // The references through the process's kept values: `sweep specular` integrates the same rows
+  // (its quick grid is this fit's quick grid), so a `sglab reproduce` integrates them once.
+  const Quantity& specular = *find_quantity("specular");
   tbb::parallel_for(std::size_t(0), out.rows.size(), [&](std::size_t i) {
-    const auto& x = out.rows[i].in;
-    out.rows[i].reference = specular_reference_value({x[0], x[1], x[2], x[3], x[4], x[5]});
+    out.rows[i].reference = reference_value(specular, out.rows[i].in);
   });
   out.point_sum.assign(point, 0.0);
   out.point_peak.assign(point, 0.0);

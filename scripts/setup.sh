@@ -26,9 +26,10 @@ packages=(
   libcli11-dev nlohmann-json3-dev libtbb-dev libxsimd-dev
   python3 python3-matplotlib python3-numpy python3-scipy
   python3-dev pybind11-dev python3-pybind11 python3-pytest python3-pyflakes
-  # `sglab export` and `sglab shader-export` (a reproduce step): glslang, spirv-val, the Vulkan
-  # loader to build against, and Mesa's lavapipe to run compute shaders without a GPU.
-  glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers
+  # `sglab export` and `sglab shader-export` (a reproduce step): glslang and SPIRV-Tools (libraries,
+  # linked in), the Vulkan loader to build against, and Mesa's lavapipe to run compute shaders
+  # without a GPU.
+  glslang-dev spirv-tools libvulkan-dev mesa-vulkan-drivers
 )
 if ((fuzz)); then packages+=(clang-14 libclang-rt-14-dev); fi
 # The Slurm round trip of the suite (tests/slurm_test.sh) starts its own munged, slurmctld and slurmd.

@@ -1,5 +1,5 @@
-// The tools behind toolchain.hpp: glslangValidator, spirv-val and cc, run as subprocesses in a
-// private temporary directory (removed afterwards).
+// The tools behind toolchain.hpp: glslang and SPIRV-Tools' validator as libraries, in-process; cc
+// as a subprocess in a private temporary directory (removed afterwards).
 #include "toolchain.hpp"
 
 #include <dlfcn.h>
@@ -15,13 +15,11 @@
 #include <stdexcept>
 
 #include <fmt/core.h>
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+#include <spirv-tools/libspirv.hpp>
 
-#ifndef SGLAB_GLSLANG
-#define SGLAB_GLSLANG "glslangValidator"
-#endif
-#ifndef SGLAB_SPIRV_VAL
-#define SGLAB_SPIRV_VAL "spirv-val"
-#endif
 #ifndef SGLAB_C_COMPILER
 #define SGLAB_C_COMPILER "cc"
 #endif
@@ -136,20 +134,45 @@ std::string compute_shader_source(const std::string& exported, const TracedMetho
 }
 
 Spirv compile_to_spirv(const std::string& shader_source, Language lang) {
-  TempDir dir;
-  const fs::path src = dir.path / (lang == Language::hlsl ? "shader.hlsl" : "shader.comp");
-  const fs::path spv = dir.path / "shader.spv";
-  write_text(src, shader_source);
-  std::vector<std::string> cmd = {SGLAB_GLSLANG, "-V", "--target-env", "vulkan1.1"};
-  if (lang == Language::hlsl) cmd.insert(cmd.end(), {"-D", "-e", "main", "-S", "comp"});
-  cmd.insert(cmd.end(), {"-o", spv.string(), src.string()});
-  run_checked(cmd, "glslangValidator");
-  run_checked({SGLAB_SPIRV_VAL, "--target-env", "vulkan1.1", spv.string()}, "spirv-val");
-  std::ifstream f(spv, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  // glslang as a library, set up as `glslangValidator -V --target-env vulkan1.1 [-D -e main -S
+  // comp]` sets it up (glslang 12, StandAlone.cpp): a Vulkan 1.1 client (SPIR-V 1.3), client
+  // input semantics 100, default version 100, the default resource limits, the Vulkan and SPIR-V
+  // rules; HLSL read by the HLSL front end with entry point main and legalized by SPIRV-Tools'
+  // optimizer, which GlslangToSpv runs for HLSL unless disableOptimizer. In-process, glslang's
+  // built-in symbol tables are built once per process rather than once per shader.
+  static const bool initialized = glslang::InitializeProcess();
+  if (!initialized) throw std::runtime_error("glslang: InitializeProcess failed");
+  const bool hlsl = lang == Language::hlsl;
+  const EShLanguage stage = EShLangCompute;
+  const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules | (hlsl ? EShMsgReadHlsl : EShMsgDefault));
+  glslang::TShader shader(stage);
+  const char* text = shader_source.c_str();
+  const char* name = hlsl ? "shader.hlsl" : "shader.comp";
+  shader.setStringsWithLengthsAndNames(&text, nullptr, &name, 1);
+  if (hlsl) shader.setEntryPoint("main");
+  shader.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan, 100);
+  shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_1);
+  shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_3);
+  if (!shader.parse(GetDefaultResources(), 100, false, messages))
+    throw std::runtime_error(fmt::format("glslang failed ({}):\n{}{}", name, shader.getInfoLog(), shader.getInfoDebugLog()));
+  glslang::TProgram program;
+  program.addShader(&shader);
+  if (!program.link(messages))
+    throw std::runtime_error(fmt::format("glslang failed to link ({}):\n{}{}", name, program.getInfoLog(),
+                                         program.getInfoDebugLog()));
+  glslang::SpvOptions options;
+  options.disableOptimizer = false;  // as glslangValidator: HLSL is legalized, GLSL is left as emitted
+  spv::SpvBuildLogger logger;
   Spirv s;
-  s.words.resize(bytes.size() / 4);
-  std::memcpy(s.words.data(), bytes.data(), s.words.size() * 4);
+  glslang::GlslangToSpv(*program.getIntermediate(stage), s.words, &logger, &options);
+  // spirv-val's checks (SPIRV-Tools' validator) for a Vulkan 1.1 environment.
+  spvtools::SpirvTools tools(SPV_ENV_VULKAN_1_1);
+  std::string diagnostics;
+  tools.SetMessageConsumer([&diagnostics](spv_message_level_t, const char*, const spv_position_t& at, const char* m) {
+    diagnostics += fmt::format("word {}: {}\n", at.index, m);
+  });
+  if (!tools.Validate(s.words))
+    throw std::runtime_error(fmt::format("SPIR-V validation failed ({}):\n{}{}", name, diagnostics, logger.getAllMessages()));
   s.function_instructions = count_function_instructions(s.words);
   return s;
 }

@@ -1,5 +1,5 @@
-// Compiling and running exported code (docs/export.md): GLSL and HLSL through glslang
-// (glslangValidator, HLSL by its HLSL front end) to SPIR-V, validated by spirv-val and run as a
+// Compiling and running exported code (docs/export.md): GLSL and HLSL through glslang (the
+// library; HLSL by its HLSL front end) to SPIR-V, validated by SPIRV-Tools and run as a
 // compute shader on the Vulkan harness; C through the system C compiler as a shared library,
 // loaded with dlopen. Each exported function is wrapped in a small entry point that evaluates it
 // on every row of a float buffer.
@@ -26,8 +26,9 @@ struct Spirv {
   std::size_t function_instructions = 0;
 };
 
-// glslangValidator (-V; HLSL: -D -e main -S comp) then spirv-val. std::runtime_error with the
-// tool's output when either fails.
+// glslang (as `glslangValidator -V --target-env vulkan1.1`, HLSL: `-D -e main -S comp`) then
+// SPIRV-Tools' validator (spirv-val's checks), both in-process. std::runtime_error with their
+// messages when either fails.
 Spirv compile_to_spirv(const std::string& shader_source, Language lang);
 
 // The instructions of the exported method and its helpers in a module compile_to_spirv made

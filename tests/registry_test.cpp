@@ -158,6 +158,33 @@ void check_batch_path(const Quantity& q, const Method& m, const std::vector<doub
   }
 }
 
+// reference_value keeps each quantity's reference per row: the kept value is the reference
+// method's own, bit for bit, on the first call and the next; rows equal in bytes but of two
+// quantities are two keys; a quantity without a reference is refused.
+TEST(Registry, KeptReferenceValuesAreTheReferenceMethodsOwn) {
+  const Quantity& specular = *find_quantity("specular");
+  const Quantity& diffuse = *find_quantity("clamped-cosine");
+  const Quantity& hemispherical = *find_quantity("hemispherical");
+  const std::vector<std::vector<double>> specular_rows{{0.2, 100, 0.8, 0.9, 3.141592653589793, 0.04},
+                                                       {0.5, 10, 0.3, 0.5, 0, 0.04}};
+  for (int pass = 0; pass < 2; ++pass) {
+    for (const auto& row : specular_rows)
+      EXPECT_EQ(reference_value(specular, row), specular.find(specular.reference_method)->eval_double(row))
+          << "pass " << pass;
+    for (const std::vector<double>& row : {std::vector<double>{3, 0.25}, std::vector<double>{0.01, -0.5}}) {
+      EXPECT_EQ(reference_value(diffuse, row), diffuse.find(diffuse.reference_method)->eval_double(row));
+      EXPECT_EQ(reference_value(hemispherical, row),
+                hemispherical.find(hemispherical.reference_method)->eval_double(row));
+    }
+  }
+  const double row[2] = {3, 0.25};
+  EXPECT_NE(reference_value(diffuse, row), reference_value(hemispherical, row));
+  for (const auto& q : quantities())
+    if (q.reference_method.empty()) {
+      EXPECT_THROW(reference_value(q, std::span<const double>(row)), std::invalid_argument) << q.name;
+    }
+}
+
 TEST(Registry, BatchPathIsWhatTheBatchEvaluatorsRun) {
   int vectorized = 0;
   for (const auto& q : quantities()) {

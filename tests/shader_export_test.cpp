@@ -544,5 +544,28 @@ TEST_F(ExportCommand, WritesPasteableSourceAndRefusesBadInput) {
   EXPECT_TRUE(r.out.empty()) << r.out;
 }
 
+// glslang runs in-process: a shader it rejects fails with glslang's own message (naming what is
+// wrong), in both front ends; a correct one gives a module with instructions in its functions.
+TEST(Toolchain, GlslangInProcessReportsErrorsAndCompiles) {
+  shader::TracedMethod m;
+  m.function = "f";
+  m.inputs = {"x"};
+  const std::string bad = "float f(float x) { return x + sglab_undeclared_name; }\n";
+  for (const Language lang : {Language::glsl, Language::hlsl}) {
+    try {
+      shader::compile_to_spirv(shader::compute_shader_source(bad, m, lang), lang);
+      ADD_FAILURE() << "an undeclared identifier compiled";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("glslang failed"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("sglab_undeclared_name"), std::string::npos) << e.what();
+    }
+    const std::string good = "float f(float x) { return x * x + 1.0; }\n";
+    const shader::Spirv s = shader::compile_to_spirv(shader::compute_shader_source(good, m, lang), lang);
+    ASSERT_GT(s.words.size(), 5u);
+    EXPECT_EQ(s.words[0], 0x07230203u);  // the SPIR-V magic number
+    EXPECT_GT(s.function_instructions, 0u);
+  }
+}
+
 }  // namespace
 }  // namespace sglab

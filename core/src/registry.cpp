@@ -7,7 +7,10 @@
 #include "sglab/filtering_weights.hpp"
 
 #include <cmath>
+#include <mutex>
 #include <sstream>
+#include <stdexcept>
+#include <unordered_map>
 
 namespace sglab {
 
@@ -65,6 +68,27 @@ const Quantity* find_quantity(std::string_view name) {
   for (const auto& q : quantities())
     if (q.name == name) return &q;
   return nullptr;
+}
+
+double reference_value(const Quantity& q, std::span<const double> args) {
+  const Method* ref = q.reference_method.empty() ? nullptr : q.find(q.reference_method);
+  if (!ref || !ref->parameters.empty())
+    throw std::invalid_argument("reference_value: quantity '" + q.name + "' has no reference method without constants");
+  // Key: the quantity's name, then the arguments' bytes (exact doubles: equal keys, equal rows).
+  std::string key = q.name;
+  key.push_back('\0');
+  key.append(reinterpret_cast<const char*>(args.data()), args.size_bytes());
+  static std::mutex mutex;
+  static std::unordered_map<std::string, double> kept;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (const auto it = kept.find(key); it != kept.end()) return it->second;
+  }
+  // Evaluated outside the lock (grids fill in parallel); two threads on one row store one value.
+  const double v = ref->eval_double(args);
+  std::lock_guard<std::mutex> lock(mutex);
+  kept.emplace(std::move(key), v);
+  return v;
 }
 
 std::optional<std::string> column_value_error(const Column& column, double v) {

@@ -208,6 +208,14 @@ T eval_as(const Method& m, std::span<const T> args) {
 const std::vector<Quantity>& quantities();
 const Quantity* find_quantity(std::string_view name);
 
+// The value of q's reference method (q.reference_method, an exact reference without constants) at
+// `args`, computed once per process and then kept: for code that fills grids of references, so
+// that the steps of one `sglab reproduce` share the rows they have in common (`fit all`'s
+// sglab-specular fit and `sweep specular` integrate the same rows). The value is the method's
+// eval_double, bit for bit. Not for timing the reference. std::invalid_argument when q has no
+// reference method or it has constants.
+double reference_value(const Quantity& q, std::span<const double> args);
+
 // Validate one value of a column; returns a message naming what is wrong, or nullopt.
 std::optional<std::string> column_value_error(const Column& column, double value);
 
