@@ -215,9 +215,13 @@ TEST(EnvMapFit, RecoversSyntheticMixture) {
 // full map while the fit minimises the blurred-lobe model on the coarser level). A rung the guard
 // kept holds the previous rung's lobes unchanged and the rest at zero amplitude. From the rung
 // N = 4 on the mixture is recovered (relative error < 1e-2; the fit at N = 128 once reached 0.30).
+// At most 10 LM iterations a level (the default 60 took twice as long): the rungs from N = 4 on
+// measured 0.00356095 (0.00355945 with 60); without the guard N = 8 and 16 rose to 0.00434 and
+// 0.00418, and the test fails.
 TEST(EnvMapFit, LadderErrorDoesNotGrowWithN) {
   const EnvMap map = sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 128, 64, 8);
   sglab::fit::EnvFitOptions o = kmeans_options(16, 5);
+  o.max_iterations = 10;
   std::vector<sglab::fit::EnvFitResult> rungs;
   o.on_stage = [&](const sglab::fit::EnvFitResult& r) { rungs.push_back(r); };
   rungs.push_back(sglab::fit::fit_envmap_ceres(map, o));

@@ -27,12 +27,20 @@ cleanup() {
 trap cleanup EXIT
 start=$SECONDS
 
+# The same sweep unsharded, the reference of the merged one: started first, in the background, so
+# that it runs while the daemons start and wait on the jobs (its one thread beside the shards' one
+# CPU each; the values do not depend on the thread count).
+mkdir "$t/whole_run" || fail "no directory for the unsharded run"
+(cd "$t/whole_run" && exec "$exe" sweep specular --quick --out whole > /dev/null 2> whole.log) &
+whole_pid=$!
+pids+=($whole_pid)
+
 # munge: a fresh key, its own socket.
 head -c 1024 /dev/urandom > "$t/munge.key" && chmod 400 "$t/munge.key"
 munged -F -f --key-file="$t/munge.key" --socket="$t/munge.socket" --pid-file="$t/munged.pid" \
   --log-file="$t/munged.log" --seed-file="$t/munged.seed" &
 pids+=($!)
-for _ in $(seq 50); do [ -S "$t/munge.socket" ] && break; sleep 0.1; done
+for _ in $(seq 250); do [ -S "$t/munge.socket" ] && break; sleep 0.02; done
 munge -S "$t/munge.socket" -n > /dev/null 2>&1 || skip "munged did not start (see its log: $(tail -n 3 "$t/munged.log" 2> /dev/null))"
 
 # Slurm: one node (this machine, as 127.0.0.1), one partition, no accounting, no cgroups.
@@ -77,7 +85,7 @@ slurmctld -D -i -f "$SLURM_CONF" > "$t/slurmctld.out" 2>&1 &
 pids+=($!)
 slurmd -D -f "$SLURM_CONF" -N "$node" > "$t/slurmd.out" 2>&1 &
 pids+=($!)
-for _ in $(seq 100); do [ "$(sinfo -h -o %t 2> /dev/null)" = idle ] && break; sleep 0.2; done
+for _ in $(seq 400); do [ "$(sinfo -h -o %t 2> /dev/null)" = idle ] && break; sleep 0.05; done
 [ "$(sinfo -h -o %t 2> /dev/null)" = idle ] ||
   skip "the Slurm daemons did not start: $(tail -n 3 "$t/slurmctld.log" "$t/slurmd.log" 2> /dev/null | tr '\n' ' ')"
 echo "slurm up in $((SECONDS - start)) s (node $node, ports $port/$((port + 1)))"
@@ -88,10 +96,10 @@ ids=$(SGLAB="$exe" SGLAB_CPUS=1 "$src/scripts/slurm/submit_sweep.sh" 4 merged sp
 read -r array merge <<< "$ids"
 echo "array job $array, merge job $merge"
 state=""
-for _ in $(seq 300); do
+for _ in $(seq 600); do
   state=$(scontrol show job "$merge" -o 2> /dev/null | grep -o 'JobState=[A-Z_]*' | cut -d= -f2)
   case "$state" in COMPLETED | FAILED | CANCELLED | TIMEOUT | NODE_FAIL | OUT_OF_MEMORY) break ;; esac
-  sleep 0.2
+  sleep 0.1
 done
 [ "$state" = COMPLETED ] || fail "the merge job ended $state"
 for i in 0 1 2 3; do
@@ -99,8 +107,9 @@ for i in 0 1 2 3; do
   grep -q "within the 1 CPU(s) given" "$log" || fail "shard $i did not keep to its one CPU: $(cat "$log")"
 done
 
-# The same sweep unsharded, here.
-"$exe" sweep specular --quick --out whole > /dev/null 2> whole.log || fail "the unsharded sweep: $(cat whole.log)"
+# The unsharded run started at the top.
+wait "$whole_pid" || fail "the unsharded sweep: $(cat "$t/whole_run/whole.log")"
+mv "$t/whole_run/whole" whole || fail "no output of the unsharded sweep"
 # Below the header lines, with the --out each command line names set aside (the tables quote their command).
 body() { grep -v '^#' "$1" | grep -v '^<!--' | sed -E 's/--out [^ `]+/--out OUT/g'; }
 for f in specular_vs_roughness.csv specular_vs_roughness.md specular_summary.csv specular_points.csv; do
