@@ -2,6 +2,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <type_traits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
@@ -79,23 +83,57 @@ void check_size(int width, int height) {
     throw EnvironmentError(fmt::format("environment size {}×{}: must be 2:1 and at most 2^26 texels", width, height));
 }
 
-// Average of f over supersample² sub-texel centres of every texel.
+// Coordinate (texel units) of sub-sample `sub` of texel `texel` at s × s samples per texel.
+double sample_coordinate(int texel, int sub, int s) { return texel + (sub + 0.5) / s; }
+
+// Rows [v0, v1) of `map` (already sized): each texel the average of f over supersample²
+// sub-texel centres. The directions are envmap_direction's, with its sines and cosines taken once
+// per sample column (φ) and sample row (θ): the same expressions, so the same values. f is called
+// as f(w) or, when it takes one, f(w, j) with j = v·s + sy the global sample row (for a factor of
+// a generated environment that depends on θ alone). Rows in parallel; each texel's sum in the
+// same order as one loop, so the result does not depend on the threads.
+template <class F>
+void rasterize_rows(EnvMap& map, int supersample, int v0, int v1, const F& f) {
+  const int width = map.width, height = map.height, s = std::max(1, supersample);
+  std::vector<double> cos_phi(std::size_t(width) * std::size_t(s)), sin_phi(cos_phi.size());
+  for (int u = 0; u < width; ++u)
+    for (int sx = 0; sx < s; ++sx) {
+      const double phi = 2 * M_PI * sample_coordinate(u, sx, s) / double(width) - M_PI;
+      cos_phi[std::size_t(u * s + sx)] = std::cos(phi);
+      sin_phi[std::size_t(u * s + sx)] = std::sin(phi);
+    }
+  tbb::parallel_for(tbb::blocked_range<int>(v0, v1), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<double> sin_theta(static_cast<std::size_t>(s)), cos_theta(static_cast<std::size_t>(s));
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      for (int sy = 0; sy < s; ++sy) {
+        const double theta = M_PI * sample_coordinate(v, sy, s) / double(height);
+        sin_theta[std::size_t(sy)] = std::sin(theta);
+        cos_theta[std::size_t(sy)] = std::cos(theta);
+      }
+      for (int u = 0; u < width; ++u) {
+        std::array<double, 3> sum{0, 0, 0};
+        for (int sy = 0; sy < s; ++sy)
+          for (int sx = 0; sx < s; ++sx) {
+            const std::size_t k = std::size_t(u * s + sx);
+            const double st = sin_theta[std::size_t(sy)];
+            const Vec3 w(st * cos_phi[k], st * sin_phi[k], cos_theta[std::size_t(sy)]);
+            std::array<double, 3> x;
+            if constexpr (std::is_invocable_v<const F&, const Vec3&, int>) x = f(w, v * s + sy);
+            else x = f(w);
+            for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += x[std::size_t(c)];
+          }
+        auto& t = map.texels[std::size_t(v) * std::size_t(width) + std::size_t(u)];
+        for (int c = 0; c < 3; ++c) t[std::size_t(c)] = float(sum[std::size_t(c)] / (s * s));
+      }
+    }
+  });
+}
+
+// rasterize_rows over the whole map.
 template <class F>
 EnvMap rasterize(int width, int height, int supersample, const F& f) {
   EnvMap map{width, height, std::vector<std::array<float, 3>>(std::size_t(width) * std::size_t(height))};
-  const int s = std::max(1, supersample);
-  for (int v = 0; v < height; ++v) {
-    for (int u = 0; u < width; ++u) {
-      std::array<double, 3> sum{0, 0, 0};
-      for (int sy = 0; sy < s; ++sy)
-        for (int sx = 0; sx < s; ++sx) {
-          const auto x = f(envmap_direction(width, height, u + (sx + 0.5) / s, v + (sy + 0.5) / s));
-          for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += x[std::size_t(c)];
-        }
-      auto& t = map.texels[std::size_t(v) * std::size_t(width) + std::size_t(u)];
-      for (int c = 0; c < 3; ++c) t[std::size_t(c)] = float(sum[std::size_t(c)] / (s * s));
-    }
-  }
+  rasterize_rows(map, supersample, 0, height, f);
   return map;
 }
 
@@ -144,26 +182,41 @@ EnvMap make_sky(const SkyOptions& o) {
                     T * (-0.04214 * s3 + 0.08970 * s2 - 0.04153 * s1 + 0.00516) +
                     (0.15346 * s3 - 0.26756 * s2 + 0.06670 * s1 + 0.26688);
   const double zenith[3] = {Yz, xz, yz};
-  auto perez = [](const double* k, double cos_theta, double gamma) {
-    const double cg = std::cos(gamma);
-    return (1 + k[0] * std::exp(k[1] / std::max(cos_theta, 1e-3))) *
-           (1 + k[2] * std::exp(k[3] * gamma) + k[4] * cg * cg);
+  // Perez's F(θ, γ) = (1 + A e^{B/cos θ})(1 + C e^{Dγ} + E cos²γ): the θ factor and the γ factor.
+  auto perez_theta = [](const double* k, double cos_theta) {
+    return 1 + k[0] * std::exp(k[1] / std::max(cos_theta, 1e-3));
   };
+  auto perez_gamma = [](const double* k, double gamma, double cos_gamma) {
+    return 1 + k[2] * std::exp(k[3] * gamma) + k[4] * cos_gamma * cos_gamma;
+  };
+  // F(zenith): the normalisation of every sample, computed once.
+  std::array<double, 3> at_zenith{};
+  for (std::size_t c = 0; c < 3; ++c) at_zenith[c] = perez_theta(coef[c], 1.0) * perez_gamma(coef[c], ts, std::cos(ts));
+  // The θ factor per sample row j = v·s + sy (θ alone: once per row, not per sample).
+  const int s = std::max(1, o.supersample);
+  std::vector<std::array<double, 3>> theta_factor(std::size_t(o.height) * std::size_t(s));
+  for (int v = 0; v < o.height; ++v)
+    for (int sy = 0; sy < s; ++sy) {
+      const double cos_theta = std::cos(M_PI * sample_coordinate(v, sy, s) / double(o.height));
+      for (std::size_t c = 0; c < 3; ++c) theta_factor[std::size_t(v * s + sy)][c] = perez_theta(coef[c], cos_theta);
+    }
   const Vec3 sun = direction_from_angles(o.sun_elevation_deg, o.sun_azimuth_deg);
   const double cos_sun_radius = std::cos(0.5 * o.sun_size_deg * M_PI / 180);
-  auto sky = [&](const Vec3& w) -> std::array<double, 3> {
-    const double gamma = std::acos(std::clamp(w.dot(sun), -1.0, 1.0));
+  const std::array<double, 3> sun_rgb{o.sun_luminance * Yz, o.sun_luminance * Yz, o.sun_luminance * Yz};
+  auto sky = [&](const Vec3& w, int j) -> std::array<double, 3> {
+    const double d = w.dot(sun);
+    if (d >= cos_sun_radius) return sun_rgb;
+    const double gamma = std::acos(std::clamp(d, -1.0, 1.0)), cos_gamma = std::cos(gamma);
     double v[3];
-    for (int c = 0; c < 3; ++c) v[c] = zenith[c] * perez(coef[c], w(2), gamma) / perez(coef[c], 1.0, ts);
-    auto rgb = xyY_to_linear_srgb(v[1], v[2], std::max(0.0, v[0]));
-    if (w.dot(sun) >= cos_sun_radius) rgb = {o.sun_luminance * Yz, o.sun_luminance * Yz, o.sun_luminance * Yz};
-    return rgb;
+    for (std::size_t c = 0; c < 3; ++c)
+      v[c] = zenith[c] * (theta_factor[std::size_t(j)][c] * perez_gamma(coef[c], gamma, cos_gamma)) / at_zenith[c];
+    return xyY_to_linear_srgb(v[1], v[2], std::max(0.0, v[0]));
   };
   // Ground: E/π·albedo with E the horizontal irradiance of the sky and the sun (texel quadrature
-  // of a first pass at the map's resolution).
-  EnvMap upper = rasterize(o.width, o.height, o.supersample, [&](const Vec3& w) -> std::array<double, 3> {
+  // of a first pass at the map's resolution, the ground black).
+  EnvMap map = rasterize(o.width, o.height, o.supersample, [&](const Vec3& w, int j) -> std::array<double, 3> {
     if (w(2) <= 0) return {0, 0, 0};
-    return sky(w);
+    return sky(w, j);
   });
   std::array<double, 3> E{0, 0, 0};
   for (int v = 0; v < o.height; ++v) {
@@ -171,13 +224,19 @@ EnvMap make_sky(const SkyOptions& o) {
     for (int u = 0; u < o.width; ++u) {
       const double c = texel_direction(o.width, o.height, u, v)(2);
       if (c <= 0) continue;
-      for (int k = 0; k < 3; ++k) E[std::size_t(k)] += upper.at(u, v)[std::size_t(k)] * om * c;
+      for (int k = 0; k < 3; ++k) E[std::size_t(k)] += map.at(u, v)[std::size_t(k)] * om * c;
     }
   }
-  return rasterize(o.width, o.height, o.supersample, [&](const Vec3& w) -> std::array<double, 3> {
-    if (w(2) > 0) return sky(w);
+  // The rows whose every sample is above the horizon are the first pass's texels already; the
+  // rest are rasterized again with the ground in place.
+  int first_ground = 0;
+  while (first_ground < o.height && std::cos(M_PI * sample_coordinate(first_ground, s - 1, s) / double(o.height)) > 0)
+    ++first_ground;
+  rasterize_rows(map, o.supersample, first_ground, o.height, [&](const Vec3& w, int j) -> std::array<double, 3> {
+    if (w(2) > 0) return sky(w, j);
     return {o.ground_albedo * E[0] / M_PI, o.ground_albedo * E[1] / M_PI, o.ground_albedo * E[2] / M_PI};
   });
+  return map;
 }
 
 EnvMap make_studio(const StudioOptions& o) {
