@@ -47,6 +47,9 @@ using render::Rgb;
 constexpr int kMaxSubsamples = 16;
 // Points per texel side of the texel means that the map error compares (fit/envmap.hpp).
 constexpr int kMeanSubsamples = 4;
+// Wall seconds over which the diffuse cost of a row is timed (repeated until then): --quick's
+// ns/pixel column needs a magnitude, not three digits, and its rows are many.
+constexpr double kTimingSeconds = 0.01, kQuickTimingSeconds = 0.001;
 // The SG diffuse shading an engine runs, timed for the ns/pixel column (Pettineo 2016, SG series
 // part 3: Hill's fitted irradiance, BakingLab's SGIrradianceFitted).
 constexpr const char* kEngineDiffuse = "hill-fitted";
@@ -62,7 +65,7 @@ Options effective(const Options& o) {
   if (a.envs.empty()) throw runner::InputError("envmap bases needs at least one --env NAME=MAP.exr");
   // Checked before --quick replaces it: a bad --width is refused, not silently ignored.
   if (a.width < 8 || a.width > 1024) throw runner::InputError(fmt::format("--width {} must be in [8, 1024]", a.width));
-  if (a.quick) a.width = 64;
+  if (a.quick) a.width = 32;
   if (a.sphere_res < 2 || a.sphere_res > 256)
     throw runner::InputError(fmt::format("--res {} must be in [2, 256]", a.sphere_res));
   if (a.normals < 1 || a.normals > 100000)
@@ -118,10 +121,10 @@ std::vector<Loaded> load(const Options& a) {
   return out;
 }
 
-// The sizes of a basis in this run (the registry's defaults; --quick keeps the small ones, and of
-// sg-free, whose lobe ladder costs the most per size, those up to 8).
+// The sizes of a basis in this run (the registry's defaults; --quick keeps the small ones: L ≤ 4,
+// N ≤ 16, and of sg-free, whose lobe ladder costs the most per size, N ≤ 8).
 std::vector<int> sizes(const fit::EnvBasis& b, const Options& a, const EnvMap& map) {
-  const int quick_max = b.size_symbol == "L" ? 4 : b.name == "sg-free" ? 8 : 32;
+  const int quick_max = b.size_symbol == "L" ? 4 : b.name == "sg-free" ? 8 : 16;
   std::vector<int> v;
   for (int n : b.default_sizes)
     if ((!a.quick || n <= quick_max) && (b.size_symbol == "L" || std::size_t(n) <= map.size())) v.push_back(n);
@@ -183,8 +186,9 @@ render::EnvImage normal_image(int count) {
   return im;
 }
 
+// The shading repeated for at least `seconds` of wall time; ns per pixel of one repetition.
 template <class F>
-double ns_per_pixel(const F& shade, std::size_t pixels) {
+double ns_per_pixel(const F& shade, std::size_t pixels, double seconds) {
   int reps = 0;
   const auto t0 = std::chrono::steady_clock::now();
   double elapsed = 0;
@@ -192,7 +196,7 @@ double ns_per_pixel(const F& shade, std::size_t pixels) {
     shade();
     ++reps;
     elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  } while (elapsed < 0.01);
+  } while (elapsed < seconds);
   return elapsed * 1e9 / (double(reps) * double(pixels));
 }
 
@@ -242,18 +246,19 @@ void measure_row(const EnvReferences& e, const fit::EnvBasisFit& f, fit::LobeDif
   }
   for (std::size_t k = 0; k < exact.size(); ++k) diffuse[k] = Rgb(exact[k][0], exact[k][1], exact[k][2]);
   row.diffuse_error = render::shading_error(diffuse, e.exact_diffuse, normals).relative_l2;
+  const double timing = a.quick ? kQuickTimingSeconds : kTimingSeconds;
   if (f.sh_order >= 0) {
     row.engine_diffuse_error = row.diffuse_error;
     row.diffuse_ns = ns_per_pixel(
         [&] {
           for (const auto& p : normals.points) diffuse[std::size_t(p.pixel)][0] = f.diffuse(p.normal)[0];
         },
-        normals.points.size());
+        normals.points.size(), timing);
   } else {
     const auto engine = render::mixture_diffuse_method(f.mixture, normals, kEngineDiffuse);
     row.engine_diffuse_error = render::shading_error(engine, e.exact_diffuse, normals).relative_l2;
     row.diffuse_ns = ns_per_pixel([&] { render::mixture_diffuse_method(f.mixture, normals, kEngineDiffuse); },
-                                  normals.points.size());
+                                  normals.points.size(), timing);
   }
   // The representation integrated on the same nodes as the map's accepted quadrature.
   std::map<int, EnvMap> grids;
@@ -817,7 +822,7 @@ void add_envmap_bases_command(CLI::App& envmap, const runner::RunContext& run) {
       ->capture_default_str();
   frontend::add_places_options(*sub, run.places, kEnvmapDir, a->out, a->tables_dir, "directory for per-run outputs",
                                "where envmap_bases.{md,csv} go (default: the --out directory)");
-  sub->add_flag("--quick", a->quick, "64-wide maps, N ≤ 32 (sg-free N ≤ 8), L ≤ 4 (a smoke run; not for paper_tables)");
+  sub->add_flag("--quick", a->quick, "32-wide maps, N ≤ 16 (sg-free N ≤ 8), L ≤ 4 (a smoke run; not for paper_tables)");
   sub->callback([a, run] { envmap_bases::write(runner::with_run(envmap_bases::compute(*a), run)); });
 }
 
@@ -836,7 +841,7 @@ Experiment envmap_bases_experiment() {
         // Both suns at 2048 wide (a texel of 0.18°), held by `--resolve` as the 128-wide map plus
         // full-resolution tiles where the sun is.
         // A --quick run makes them 1024 wide (a quarter of the texels; the sun still spans 1.5 texels),
-        // and the overcast and indoor maps 256 wide (the quick comparison reads them at 64 wide).
+        // and the overcast and indoor maps 256 wide (the quick comparison reads them at 32 wide).
         v.push_back(sglab_step("envmap-make-sun", "generated environment: clear sky, 0.53° sun (2048×1024 EXR)",
                                {"envmap", "make", "sky", "--sun-size", "0.53", "--sun-luminance", "7120", "--width",
                                 "2048", "--out", dir + "sun.exr"},
@@ -856,10 +861,12 @@ Experiment envmap_bases_experiment() {
         args.insert(args.end(), {"--resolve", "sky", "--resolve", "sun"});
         // --quick: also the map quadratures converged to 1 % instead of 0.2 %, detail tiles
         // until the resolved maps are within 5 % of the full map instead of 1 %, and the
-        // shading layers on an 8 × 8 sphere and 64 normals instead of 12 × 12 and 128.
+        // shading layers on an 8 × 8 sphere and 32 normals instead of 12 × 12 and 128 (the
+        // exact diffuse of every fitted lobe at every normal, a quadrature each, was a fifth of
+        // the quick run's time at 64).
         v.push_back(timed(sglab_step(
             "envmap-bases", "bases at equal storage (paper_tables/envmap_bases.*)", args,
-            {"--quick", "--tolerance", "0.01", "--resolve-tolerance", "0.05", "--res", "8", "--normals", "64"})));
+            {"--quick", "--tolerance", "0.01", "--resolve-tolerance", "0.05", "--res", "8", "--normals", "32"})));
         v.push_back(plot_step("plot-envmap-bases", "error against stored floats, one panel per layer",
                               {"plots/envmap_bases.py", p.tables + "/envmap_bases.csv", p.key_figures()}, {"--quick"}));
         return v;

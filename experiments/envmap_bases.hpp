@@ -46,7 +46,7 @@ struct Options {
   unsigned seed = 1;
   std::string out = runner::Places{}.dir(kEnvmapDir);  // --out: a plain run's
   std::string tables_dir;                              // empty: the --out directory
-  bool quick = false;                                  // 64-wide maps, sizes ≤ 32 lobes (sg-free ≤ 16) / L ≤ 4
+  bool quick = false;                                  // 32-wide maps, sizes ≤ 16 lobes (sg-free ≤ 8) / L ≤ 4
   // Rows measured beside the later fits on idle core time (envmap_bases.cpp, RowMeasurer); false:
   // each right after its fit, on the calling thread. The values are the same either way.
   bool measure_beside_fits = true;
