@@ -63,6 +63,8 @@ const Residual& reference_problem() {
   static const Residual f = lambda_cosine_problem<Model>(error_grid(kFullGrid), clamped_cosine_targets);
   return f;
 }
+// The recovery test's problem: the full grid, its targets left to synthesize().
+Residual synthetic_problem() { return lambda_cosine_problem<Model>(error_grid(kFullGrid), unset_targets); }
 const Residual& quick_problem() {
   static const Residual f = lambda_cosine_problem<Model>(error_grid(kQuickGrid), clamped_cosine_targets);
   return f;
@@ -137,7 +139,7 @@ Fitter sglab_fitter() {
         return o.quick ? solve_lawson(quick_problem(), kQuickLawsonRounds, kQuickGrid)
                        : solve_lawson(reference_problem(), kLawsonRounds, kFullGrid);
       },
-      synthetic_recovery(reference_problem, solve_plain));
+      synthetic_recovery(synthetic_problem, solve_plain));
 }
 
 }  // namespace sglab::fit

@@ -43,7 +43,11 @@ pids+=($!)
 for _ in $(seq 250); do [ -S "$t/munge.socket" ] && break; sleep 0.02; done
 munge -S "$t/munge.socket" -n > /dev/null 2>&1 || skip "munged did not start (see its log: $(tail -n 3 "$t/munged.log" 2> /dev/null))"
 
-# Slurm: one node (this machine, as 127.0.0.1), one partition, no accounting, no cgroups.
+# Slurm: one node (this machine, as 127.0.0.1), one partition, no accounting, no cgroups. The
+# scheduler's main loop every second (sched_interval, default 60 s): Slurm 22.05 started the array's
+# next tasks and the merge job whose dependency had just been met only on that loop or after a
+# delay of its own (measured with trivial jobs: 2.6 s between the two pairs of shards, 2.7 s from
+# the last shard's end to the merge; with the 1 s loop, 1.0 s each).
 node=$(hostname -s)
 port=$((20000 + 2 * ($$ % 10000)))
 user=$(id -un)
@@ -77,6 +81,7 @@ PlugStackConfig=/dev/null
 ReturnToService=2
 MinJobAge=600
 KillWait=2
+SchedulerParameters=sched_interval=1
 NodeName=$node NodeAddr=127.0.0.1 CPUs=$(nproc) State=UNKNOWN
 PartitionName=sglabtest Nodes=$node Default=YES MaxTime=INFINITE State=UP
 CONF
