@@ -41,6 +41,8 @@ std::vector<double> clamped_cosine_targets(const LambdaCosineGrid& g) {
   return out;
 }
 
+std::vector<double> unset_targets(const LambdaCosineGrid& g) { return std::vector<double>(g.size(), 0.0); }
+
 FitSpec lambda_cosine_spec(const LambdaCosineFit& fit) {
   FitSpec spec = fit_spec(fit.name, fit.source, fit.parameters);
   spec.objective = "l2-normalized: mean over log lambda of int_{-1}^{1} (" + fit.target.misfit + ")^2 dc";

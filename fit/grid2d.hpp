@@ -26,6 +26,9 @@ LambdaCosineGrid lambda_cosine_grid(double lambda_min, double lambda_max, int n_
 std::vector<double> hemispherical_targets(const LambdaCosineGrid& g);
 // D_ref(λ, c)/D(λ, 1): the exact clamped-cosine integral normalized by its value at c = 1.
 std::vector<double> clamped_cosine_targets(const LambdaCosineGrid& g);
+// No targets: zeros, for a problem whose targets synthesize() sets (the recovery tests), so that no
+// exact reference is computed only to be overwritten.
+std::vector<double> unset_targets(const LambdaCosineGrid& g);
 
 // The names of the other objectives on these grids (driver.hpp's solve_with_objective).
 inline const std::string kRelativeObjective2d =
@@ -90,13 +93,20 @@ struct LambdaCosineFit {
 // ∫_{−1}^{1} misfit² dc), its domain text derived from its grid.
 FitSpec lambda_cosine_spec(const LambdaCosineFit& fit);
 
+// The fit's problem on its grid with the given targets (fit.target.values, or unset_targets for the
+// recovery test).
+template <class Curve>
+GridResidual<LambdaCosineModel<Curve>> lambda_cosine_fit_problem(
+    const LambdaCosineFit& fit, std::vector<double> (*targets)(const LambdaCosineGrid&)) {
+  return lambda_cosine_problem<LambdaCosineModel<Curve>>(
+      lambda_cosine_grid(fit.lambda.min, fit.lambda.max, fit.lambda.count, kLambdaCosineSubdivisions), targets);
+}
+
 // The fit's reference problem, built on first use and kept: once per Curve (each Curve is the model
 // of one fit, so `fit` is the same on every call).
 template <class Curve>
 const GridResidual<LambdaCosineModel<Curve>>& lambda_cosine_reference(const LambdaCosineFit& fit) {
-  static const GridResidual<LambdaCosineModel<Curve>> f = lambda_cosine_problem<LambdaCosineModel<Curve>>(
-      lambda_cosine_grid(fit.lambda.min, fit.lambda.max, fit.lambda.count, kLambdaCosineSubdivisions),
-      fit.target.values);
+  static const GridResidual<LambdaCosineModel<Curve>> f = lambda_cosine_fit_problem<Curve>(fit, fit.target.values);
   return f;
 }
 
@@ -115,7 +125,7 @@ Fitter lambda_cosine_fitter(const LambdaCosineFit& fit) {
                                        kRelativeObjective2d, kMinimaxObjective2d,
                                        o.quick ? kQuickMinimaxRounds : kMinimaxRounds);
       },
-      synthetic_recovery([fit] { return lambda_cosine_reference<Curve>(fit); },
+      synthetic_recovery([fit] { return lambda_cosine_fit_problem<Curve>(fit, unset_targets); },
                          [fit](const GridResidual<LambdaCosineModel<Curve>>& p) {
                            return solve_least_squares<K>(lambda_cosine_spec(fit), p);
                          }));

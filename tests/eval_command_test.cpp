@@ -215,23 +215,43 @@ TEST_F(EvalCommand, CosineRoundingPastOneIsAccepted) {
   EXPECT_EQ(values.size(), 2u);
 }
 
-// Every quantity and method of the registry evaluates in every precision on a valid row.
+// Every quantity and method of the registry evaluates in every precision on a valid row: each
+// `sglab eval` its own process, as above (status 0, nothing on standard output, one finite value
+// in its --out file), all of them started by one shell (one line each) instead of a shell per run.
 TEST_F(EvalCommand, EveryRegisteredMethodEvaluatesInEveryPrecision) {
+  struct Run {
+    std::string what, out;
+  };
+  std::vector<Run> runs;
+  std::string script;
   for (const auto& q : sglab::quantities()) {
     std::vector<std::string> header, row;
     for (const auto& c : q.columns) {
       header.push_back(c.name);
       row.push_back("0.5");  // valid for every column kind
     }
+    const std::string in = q.name + ".csv";
+    write_file(path(in), fmt::format("{}\n{}\n", join(header, ","), join(row, ",")));
     for (const auto& m : q.methods) {
       for (const std::string precision : {"float", "double", "mp50"}) {
-        const auto values = values_of(eval_csv(fmt::format("{} --method {} --precision {}", q.name, m.name, precision),
-                                               fmt::format("{}\n{}\n", join(header, ","), join(row, ","))));
-        ASSERT_EQ(values.size(), 1u) << q.name << " " << m.name << " " << precision;
-        const double v = std::strtod(values[0].c_str(), nullptr);
-        EXPECT_TRUE(std::isfinite(v)) << q.name << " " << m.name << " " << precision << ": " << values[0];
+        const std::string out = fmt::format("run{}", runs.size());
+        runs.push_back({fmt::format("{} {} {}", q.name, m.name, precision), out});
+        script += fmt::format(
+            "'{}' eval {} --method {} --precision {} --in '{}' --out '{}.csv' > '{}.stdout' 2> '{}.stderr'; "
+            "echo $? > '{}.status'\n",
+            SGLAB_EXE, q.name, m.name, precision, in, out, out, out, out);
       }
     }
+  }
+  write_file(path("runs.sh"), script);
+  ASSERT_EQ(run_shell("sh runs.sh").status, 0);
+  for (const Run& r : runs) {
+    EXPECT_EQ(read_file(path(r.out + ".status")), "0\n") << r.what << "\n" << read_file(path(r.out + ".stderr"));
+    EXPECT_EQ(read_file(path(r.out + ".stdout")), "") << r.what;
+    const auto values = values_of(read_file(path(r.out + ".csv")));
+    ASSERT_EQ(values.size(), 1u) << r.what;
+    const double v = std::strtod(values[0].c_str(), nullptr);
+    EXPECT_TRUE(std::isfinite(v)) << r.what << ": " << values[0];
   }
 }
 
