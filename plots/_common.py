@@ -47,7 +47,10 @@ class _InViewLogLocator(LogLocator):
     (two lines, a grid line and two texts) for every location its locator gives and then draws only
     those inside the view, and a log locator gives whole decades beyond both ends: on a log-log grid
     of panels those unseen ticks were most of a figure's cost. Keeps every location the axis would
-    draw (it allows 1e-10 of the log span beyond each end, this 1e-6), so the pixels are the same."""
+    draw (it allows 1e-10 of the log span beyond each end, this 1e-6), so the pixels are the same.
+    With ``labelled_by`` (a formatter; minor ticks in --quick), keeps only the locations it labels."""
+
+    labelled_by = None
 
     def tick_values(self, vmin, vmax):
         locs = super().tick_values(vmin, vmax)
@@ -57,20 +60,28 @@ class _InViewLogLocator(LogLocator):
         slack = 1e-6 * (math.log(hi) - math.log(lo))
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.log(np.asarray(locs, dtype=float))
-        return locs[(t >= math.log(lo) - slack) & (t <= math.log(hi) + slack)]
+        locs = locs[(t >= math.log(lo) - slack) & (t <= math.log(hi) + slack)]
+        if self.labelled_by is not None and len(locs):
+            locs = locs[np.array([bool(label) for label in self.labelled_by.format_ticks(locs)])]
+        return locs
 
 
 def lean_log_ticks(fig):
     """Makes the log locators of ``fig``'s axes (colour bars' aside) give in-view locations only
-    (_InViewLogLocator): the same figure, drawn for a fraction of the cost. Call it before anything
-    measures or draws the figure (tight_layout); save_figure calls it too."""
+    (_InViewLogLocator): the same figure, drawn for a fraction of the cost. With --quick, a log
+    axis's minor ticks are kept only where they carry a label (no unlabelled minor marks and grid
+    lines in a first look). Call it before anything measures or draws the figure (tight_layout);
+    save_figure calls it too."""
     for ax in fig.axes:
         if hasattr(ax, "_colorbar"):
             continue
-        for ticker in (ax.xaxis.major, ax.xaxis.minor, ax.yaxis.major, ax.yaxis.minor):
-            # A ScalarFormatter would read the locations it is given; log axes have log formatters.
-            if type(ticker.locator) is LogLocator and not isinstance(ticker.formatter, ScalarFormatter):
-                ticker.locator.__class__ = _InViewLogLocator
+        for axis in (ax.xaxis, ax.yaxis):
+            for ticker in (axis.major, axis.minor):
+                # A ScalarFormatter would read the locations it is given; log axes have log formatters.
+                if type(ticker.locator) is LogLocator and not isinstance(ticker.formatter, ScalarFormatter):
+                    ticker.locator.__class__ = _InViewLogLocator
+            if quick() and isinstance(axis.minor.locator, _InViewLogLocator):
+                axis.minor.locator.labelled_by = axis.minor.formatter
 
 
 def tight_layout(fig, **kwargs):
