@@ -90,26 +90,39 @@ def tight_layout(fig, **kwargs):
     fig.tight_layout(**kwargs)
 
 
-def save_figure(fig, path, **savefig_args):
-    """Writes ``fig`` to ``path`` (format from the extension unless ``format`` is given), through a
-    temporary file and a rename (lean_log_ticks first). Creates the directory. Returns ``path``."""
-    lean_log_ticks(fig)
+def _replace(path, write):
+    """Calls ``write(tmp)`` for a hidden temporary file next to ``path`` (the directory created),
+    then renames it over ``path``; removes it if ``write`` fails. Returns ``path``."""
     path = os.fspath(path)
     directory, name = os.path.split(path)
     if directory:
         os.makedirs(directory, exist_ok=True)
     tmp = os.path.join(directory, f".{name}.tmp")
-    savefig_args.setdefault("format", os.path.splitext(name)[1].lstrip(".") or "png")
-    if savefig_args["format"] == "pdf":
-        # No creation date in the PDF, so that a rerun writes the same bytes.
-        savefig_args.setdefault("metadata", {"CreationDate": None})
     try:
-        fig.savefig(tmp, **savefig_args)
+        write(tmp)
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
     return path
+
+
+def save_figure(fig, path, **savefig_args):
+    """Writes ``fig`` to ``path`` (format from the extension unless ``format`` is given), through a
+    temporary file and a rename (lean_log_ticks first). Creates the directory. Returns ``path``."""
+    lean_log_ticks(fig)
+    savefig_args.setdefault("format", os.path.splitext(os.fspath(path))[1].lstrip(".") or "png")
+    if savefig_args["format"] == "pdf":
+        # No creation date in the PDF, so that a rerun writes the same bytes.
+        savefig_args.setdefault("metadata", {"CreationDate": None})
+    return _replace(path, lambda tmp: fig.savefig(tmp, **savefig_args))
+
+
+def save_canvas(fig, path):
+    """Writes the pixels of ``fig``'s canvas as they stand (drawn, or redrawn in part by blitting)
+    to the PNG ``path``, at the figure's dpi, through a temporary file and a rename."""
+    from matplotlib.image import imsave
+    return _replace(path, lambda tmp: imsave(tmp, np.asarray(fig.canvas.buffer_rgba()), format="png", dpi=fig.dpi))
 
 
 def save_figures(fig, out_dir, stem, formats=None, dpi=150, report=False):
