@@ -66,12 +66,12 @@ class _InViewLogLocator(LogLocator):
         return locs
 
 
-def lean_log_ticks(fig):
+def lean_log_ticks(fig, labelled_minor_only=False):
     """Makes the log locators of ``fig``'s axes (colour bars' aside) give in-view locations only
-    (_InViewLogLocator): the same figure, drawn for a fraction of the cost. With --quick, a log
-    axis's minor ticks are kept only where they carry a label (no unlabelled minor marks and grid
-    lines in a first look). Call it before anything measures or draws the figure (tight_layout);
-    save_figure calls it too."""
+    (_InViewLogLocator): the same figure, drawn for a fraction of the cost. With
+    ``labelled_minor_only`` (--quick: tight_layout, save_figures), a log axis's minor ticks are kept
+    only where they carry a label (no unlabelled minor marks and grid lines in a first look). Call
+    it before anything measures or draws the figure (tight_layout); save_figure calls it too."""
     for ax in fig.axes:
         if hasattr(ax, "_colorbar"):
             continue
@@ -80,13 +80,13 @@ def lean_log_ticks(fig):
                 # A ScalarFormatter would read the locations it is given; log axes have log formatters.
                 if type(ticker.locator) is LogLocator and not isinstance(ticker.formatter, ScalarFormatter):
                     ticker.locator.__class__ = _InViewLogLocator
-            if quick() and isinstance(axis.minor.locator, _InViewLogLocator):
+            if labelled_minor_only and isinstance(axis.minor.locator, _InViewLogLocator):
                 axis.minor.locator.labelled_by = axis.minor.formatter
 
 
 def tight_layout(fig, **kwargs):
-    """``fig.tight_layout(**kwargs)`` after lean_log_ticks."""
-    lean_log_ticks(fig)
+    """``fig.tight_layout(**kwargs)`` after lean_log_ticks (labelled minor ticks only with --quick)."""
+    lean_log_ticks(fig, quick())
     fig.tight_layout(**kwargs)
 
 
@@ -127,9 +127,11 @@ def save_canvas(fig, path):
 
 def save_figures(fig, out_dir, stem, formats=None, dpi=150, report=False):
     """``fig`` as OUT_DIR/STEM.EXT for each of ``formats`` (save_figure each; default PNG and PDF, with
-    --quick PNG only); with ``report``, says so on stderr. Returns the paths."""
+    --quick PNG only, and lean_log_ticks' labelled minor ticks only); with ``report``, says so on
+    stderr. Returns the paths."""
     if formats is None:
         formats = ("png",) if quick() else ("png", "pdf")
+    lean_log_ticks(fig, quick())
     paths = [save_figure(fig, os.path.join(out_dir, f"{stem}.{ext}"), dpi=dpi) for ext in formats]
     if report:
         print("wrote " + " and ".join(paths), file=sys.stderr)
