@@ -42,6 +42,11 @@ def read_table(path):
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
+# zlib's fastest level for the PNGs of --quick: the same pixels, files about 10 % larger, the
+# encoding (a fifth of the stability atlas's CPU at the default level 6) about 40 % cheaper.
+QUICK_PNG = {"compress_level": 1}
+
+
 class _InViewLogLocator(LogLocator):
     """A LogLocator that gives only the locations inside the view interval. An axis makes a tick
     (two lines, a grid line and two texts) for every location its locator gives and then draws only
@@ -118,21 +123,24 @@ def save_figure(fig, path, **savefig_args):
     return _replace(path, lambda tmp: fig.savefig(tmp, **savefig_args))
 
 
-def save_canvas(fig, path):
+def save_canvas(fig, path, **pil_kwargs):
     """Writes the pixels of ``fig``'s canvas as they stand (drawn, or redrawn in part by blitting)
-    to the PNG ``path``, at the figure's dpi, through a temporary file and a rename."""
+    to the PNG ``path``, at the figure's dpi (``pil_kwargs``: to PIL's PNG writer), through a
+    temporary file and a rename."""
     from matplotlib.image import imsave
-    return _replace(path, lambda tmp: imsave(tmp, np.asarray(fig.canvas.buffer_rgba()), format="png", dpi=fig.dpi))
+    return _replace(path, lambda tmp: imsave(tmp, np.asarray(fig.canvas.buffer_rgba()), format="png", dpi=fig.dpi,
+                                             pil_kwargs=pil_kwargs))
 
 
 def save_figures(fig, out_dir, stem, formats=None, dpi=150, report=False):
-    """``fig`` as OUT_DIR/STEM.EXT for each of ``formats`` (save_figure each; default PNG and PDF, with
-    --quick PNG only, and lean_log_ticks' labelled minor ticks only); with ``report``, says so on
-    stderr. Returns the paths."""
+    """``fig`` as OUT_DIR/STEM.EXT for each of ``formats`` (save_figure each; default PNG and PDF;
+    with --quick PNG only, written with QUICK_PNG, and lean_log_ticks' labelled minor ticks only);
+    with ``report``, says so on stderr. Returns the paths."""
     if formats is None:
         formats = ("png",) if quick() else ("png", "pdf")
     lean_log_ticks(fig, quick())
-    paths = [save_figure(fig, os.path.join(out_dir, f"{stem}.{ext}"), dpi=dpi) for ext in formats]
+    paths = [save_figure(fig, os.path.join(out_dir, f"{stem}.{ext}"), dpi=dpi,
+                         **({"pil_kwargs": QUICK_PNG} if ext == "png" and quick() else {})) for ext in formats]
     if report:
         print("wrote " + " and ".join(paths), file=sys.stderr)
     return paths

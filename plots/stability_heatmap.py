@@ -24,7 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import BoundaryNorm, ListedColormap  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 import numpy as np  # noqa: E402
-from _common import save_canvas, save_figures  # noqa: E402
+from _common import QUICK_PNG, save_canvas, save_figures  # noqa: E402
 
 # The verdicts of experiments/stability_atlas.hpp (Flag), in increasing severity, then one more
 # shade for "ok" cells that had no reference to compare against (finite and ≥ 0 only).
@@ -108,7 +108,7 @@ def draw(task):
                     ax.draw_artist(spine)
             fig.draw_artist(legend)
             fig.draw_artist(title)
-            save_canvas(fig, os.path.join(out_dir, stem + ".png"))
+            save_canvas(fig, os.path.join(out_dir, stem + ".png"), **QUICK_PNG)
         else:
             save_figures(fig, out_dir, stem, formats, dpi)
         stems.append(stem)
