@@ -7,7 +7,7 @@
 #        [--keep] [--tu-times]
 #
 # Rows (wall and CPU seconds of the process tree, bash's `time`; CPU = user + system):
-#   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, as setup.sh)
+#   configure           cmake configure of a scratch build dir (Ninja, Release, SGLAB_WERROR=ON, as setup.sh)
 #   build-main          cold build of what the main job needs (`sglab`, `sglab_python`), ccache off
 #   rebuild-touch       the same targets after touching one method's file (--touch, default
 #                       core/src/registry_core.cpp: the diffuse registry, which includes every
@@ -97,7 +97,7 @@ if [ "$cold" = 1 ]; then
     : > "$SGLAB_TU_TIMES"
   fi
   timed configure "scratch dir, Release, SGLAB_WERROR=ON" \
-    cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${launcher[@]}"
+    cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${launcher[@]}"
   timed build-main "sglab + sglab_python, cold, ccache off, -j$jobs" \
     cmake --build "$build" -j"$jobs" --target sglab sglab_python
   if [ "$tu_times" = 1 ]; then

@@ -42,28 +42,29 @@ namespace {
 // that cost as much as the timed runs), so that a run lasts ≥ 10 ms; a run that still ends under
 // 10 ms doubles the calls and is taken again. A warm-up of ≥ 10 ms (the references) means 1 call.
 // 10 ms is thousands of batch calls of the fast methods, several scheduler ticks, and far above the
-// clock's resolution.
+// clock's resolution. A --quick run's ns per evaluation (a first look; not its speed verdicts) take
+// 5 ms runs: still hundreds of calls and more than a scheduler tick.
+constexpr double kMinRun = 0.01, kQuickMinRun = 0.005;  // seconds per timed run
 template <class T>
 class BatchTimer {
  public:
-  BatchTimer(BatchFn<T> batch, const std::vector<T>& args, std::size_t arity)
-      : batch_(std::move(batch)), args_(args), arity_(arity), out_(args.size() / arity) {
-    if (seconds(1) < kMinRun) {
+  BatchTimer(BatchFn<T> batch, const std::vector<T>& args, std::size_t arity, double min_run = kMinRun)
+      : batch_(std::move(batch)), args_(args), arity_(arity), out_(args.size() / arity), min_run_(min_run) {
+    if (seconds(1) < min_run_) {
       const double one = std::min(seconds(1), seconds(1));
-      calls_ = one > 0 ? int(std::clamp(std::ceil(1.25 * kMinRun / one), 1.0, double(kMaxCalls))) : kMaxCalls;
+      calls_ = one > 0 ? int(std::clamp(std::ceil(1.25 * min_run_ / one), 1.0, double(kMaxCalls))) : kMaxCalls;
     }
   }
   // One timed run: wall ns per evaluation.
   double run() {
     for (;;) {
       const double s = seconds(calls_);
-      if (s >= kMinRun || calls_ >= kMaxCalls) return 1e9 * s / (double(calls_) * double(out_.size()));
+      if (s >= min_run_ || calls_ >= kMaxCalls) return 1e9 * s / (double(calls_) * double(out_.size()));
       calls_ = std::min(2 * calls_, kMaxCalls);
     }
   }
 
  private:
-  static constexpr double kMinRun = 0.01;  // seconds per timed run
   static constexpr int kMaxCalls = 1 << 20;
   double seconds(int calls) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -77,13 +78,16 @@ class BatchTimer {
   const std::vector<T>& args_;
   std::size_t arity_;
   std::vector<T> out_;
+  double min_run_;
   int calls_ = 1;
 };
 
-// Median wall time per evaluation of `batch` over `args` (rows of `arity`): `repeats` timed runs.
+// Median wall time per evaluation of `batch` over `args` (rows of `arity`): `repeats` timed runs of
+// at least `min_run` seconds.
 template <class T>
-double time_ns_per_eval(const BatchFn<T>& batch, const std::vector<T>& args, std::size_t arity, int repeats) {
-  BatchTimer<T> timer(batch, args, arity);
+double time_ns_per_eval(const BatchFn<T>& batch, const std::vector<T>& args, std::size_t arity, int repeats,
+                        double min_run) {
+  BatchTimer<T> timer(batch, args, arity, min_run);
   std::vector<double> per_eval;
   for (int k = 0; k < repeats; ++k) per_eval.push_back(timer.run());
   std::nth_element(per_eval.begin(), per_eval.begin() + repeats / 2, per_eval.end());
@@ -321,8 +325,10 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
   const std::size_t arity = g.arity;
   const std::vector<float> timing_f(g.timing.begin(), g.timing.end());
   // Timed runs per cost (each ≥ 10 ms); the median of 7 is as stable as that of 15 against
-  // the odd slow run, at half the time. A --quick run (a first look) takes the median of 3.
+  // the odd slow run, at half the time. A --quick run (a first look) takes the median of 3 runs of
+  // ≥ 5 ms.
   const int repeats = quick ? 3 : 7;
+  const double min_run = quick ? kQuickMinRun : kMinRun;
 
   const std::vector<Method> variants = method_variants(qr, set);
   std::vector<Row> rows;
@@ -336,29 +342,31 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
       const bool is_float = std::string(precision) == "float";
       measure_errors(m, is_float, g, r);
       r.batch = m.batch_path;
-      r.ns_per_eval = is_float ? time_ns_per_eval<float>(m.batch_float, timing_f, arity, repeats)
-                               : time_ns_per_eval<double>(m.batch_double, g.timing, arity, repeats);
+      r.ns_per_eval = is_float ? time_ns_per_eval<float>(m.batch_float, timing_f, arity, repeats, min_run)
+                               : time_ns_per_eval<double>(m.batch_double, g.timing, arity, repeats, min_run);
       // The naive peer (sglab/peer_ports.hpp) on the same inputs, timed the same way.
       if (const auto* port = peer::find_port(q->name, m.name)) {
         const auto pf = port->batch_float;
         const auto pd = port->batch_double;
         r.port_ns_per_eval = is_float ? time_ns_per_eval<float>(
                                             [pf](auto a, std::size_t, auto o) { pf(a.data(), o.data(), o.size()); },
-                                            timing_f, arity, repeats)
+                                            timing_f, arity, repeats, min_run)
                                       : time_ns_per_eval<double>(
                                             [pd](auto a, std::size_t, auto o) { pd(a.data(), o.data(), o.size()); },
-                                            g.timing, arity, repeats);
+                                            g.timing, arity, repeats, min_run);
       }
       rows.push_back(r);
     }
   }
-  // The reference's own cost, for scale.
+  // The reference's own cost, for scale: on the first timing rows (a specular reference takes tens
+  // of ms; a --quick run times a quarter as many).
+  const std::size_t reference_rows = (diffuse ? 256 : 16) / (quick ? 4 : 1);
   Row rr;
   rr.method = ref.name;
   rr.precision = "double";
   rr.ns_per_eval = time_ns_per_eval<double>(
-      ref.batch_double, std::vector<double>(g.timing.begin(), g.timing.begin() + arity * (diffuse ? 256 : 16)), arity,
-      3);
+      ref.batch_double, std::vector<double>(g.timing.begin(), g.timing.begin() + arity * reference_rows), arity, 3,
+      min_run);
   rows.push_back(rr);
   return rows;
 }

@@ -545,7 +545,7 @@ void add_sweep_specular(CLI::App& sweep, const runner::RunContext& run) {
   o->out = run.places.dir(kSpecularDir);
   o->tables_dir = run.places.tables;
   sub->add_option("--out", o->out, "directory for specular_points.csv and specular_summary.csv")->capture_default_str();
-  sub->add_flag("--quick", o->quick, "coarser grid (5 α × 3 λ × 3 views; seconds)");
+  sub->add_flag("--quick", o->quick, "coarser grid (3 α × 3 λ × 3 views; seconds)");
   sub->add_option("--shard", o->shard, "compute only shard i of N (points k with k % N == i); join with `sglab merge`")
       ->check(frontend::shard_given());
   sub->add_option("--threads", o->threads, "worker threads (0: all cores)")

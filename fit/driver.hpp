@@ -405,7 +405,11 @@ FitResult solve_with_objective(const std::string& objective, const GridResidual<
     return solve_least_squares<K>(spec, relative_problem(f));
   }
   if (objective != "minimax") return solve_least_squares<K>(spec, f);
-  const FitResult first = solve_least_squares<K>(spec, f);
+  // The L2 fit is only the Lawson loop's start: its parameters, not judged (run_minimax judges the
+  // point it keeps).
+  FitSpec start = spec;
+  start.judge = false;
+  const FitResult first = solve_least_squares<K>(start, f);
   std::vector<double> x;
   for (std::size_t k = 0; k < spec.names.size(); ++k) x.push_back(first.parameters[k].value);
   spec.objective = minimax_text;

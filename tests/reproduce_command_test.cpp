@@ -159,7 +159,7 @@ TEST_F(ReproduceCommand, ExplicitOutAndTablesDirAreObeyed) {
 // --json-dir says it converged from its default start: for sglab's and sglab-specular's fits this is
 // the check (FitRegistry.EveryFitConvergesFromItsDefaultStart runs only the others), on their
 // --quick grids (sglab's Lawson loop on 2175 of its 10139 points, 10 rounds; sglab-specular's IRLS
-// on the 186 rows of `sglab sweep specular --quick`): the same solve, stopping rules and
+// on the 111 rows of `sglab sweep specular --quick`): the same solve, stopping rules and
 // convergence test as the full fits, a sixth of the time.
 TEST_F(ReproduceCommand, QuickFitStepWritesIntoResultsQuick) {
   link_inputs();

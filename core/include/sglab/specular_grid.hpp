@@ -22,7 +22,7 @@ struct SpecularGrid {
   std::size_t point_count() const { return roughness.size() * light_sharpness.size() * view_cos.size(); }
 };
 
-// The full grid (9 × 5 × 4 points) or the --quick grid (5 × 3 × 3).
+// The full grid (9 × 5 × 4 points) or the --quick grid (3 × 3 × 3).
 SpecularGrid specular_grid(bool quick);
 
 // The light positions evaluated at every point, as registry inputs.
