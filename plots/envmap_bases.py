@@ -17,7 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
-from _common import arguments, quick, read_table, save_figures  # noqa: E402
+from _common import arguments, quick, read_table, save_figures, tight_layout  # noqa: E402
 
 STYLE = {"sh": ("k", "o-"), "sg-fixed ls": ("tab:orange", "v--"), "sg-fixed nnls": ("tab:red", "^-"),
          "sg-fixed running-average": ("tab:pink", "<:"), "vmf-em": ("tab:green", "s--"), "sg-free": ("tab:blue", "D-")}
@@ -59,7 +59,7 @@ def main() -> int:
                 ax.set_ylabel("relative L2")
             ax.grid(True, which="both", alpha=0.3)
     axes[0][0].legend(fontsize=7)
-    fig.tight_layout()
+    tight_layout(fig)
     save_figures(fig, out_dir, "envmap_bases")
     return 0
 

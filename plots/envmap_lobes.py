@@ -18,7 +18,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from _common import arguments, read_table, save_figure, save_figures  # noqa: E402
+from _common import arguments, read_table, save_figure, save_figures, tight_layout  # noqa: E402
 
 
 def main() -> int:
@@ -60,7 +60,7 @@ def main() -> int:
             ax.set_xlabel("lobes N")
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=6)
-    fig.tight_layout()
+    tight_layout(fig)
     lobes_paths = save_figures(fig, out_dir, "envmap_error_vs_lobes", dpi=110)
     plt.close(fig)
 
@@ -89,7 +89,7 @@ def main() -> int:
                     img[int(r["y"])][int(r["x"])] = [x / (1 + x) for x in px]
             ax.imshow(img, interpolation="nearest")
             ax.set_title(f"{env}: " + ("map" if n == 0 else f"{n} lobes"), fontsize=8)
-    fig.tight_layout()
+    tight_layout(fig)
     save_figure(fig, os.path.join(out_dir, "envmap_reconstructions.png"), dpi=110)
     plt.close(fig)
     print(f"wrote {' and '.join(lobes_paths)} and {out_dir}/envmap_reconstructions.png")

@@ -12,7 +12,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from _common import arguments, read_table, save_figures  # noqa: E402
+from _common import arguments, read_table, save_figures, tight_layout  # noqa: E402
 
 
 def main() -> int:
@@ -40,7 +40,7 @@ def main() -> int:
             ax.set_ylabel(ylabel)
             ax.grid(True, which="both", alpha=0.3)
         row[1].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    fig.tight_layout()
+    tight_layout(fig)
     save_figures(fig, out_dir, "error_vs_time", dpi=150, report=True)
     return 0
 

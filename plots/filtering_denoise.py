@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _common import arguments, read_table, save_figures  # noqa: E402
+from _common import arguments, read_table, save_figures, tight_layout  # noqa: E402
 
 # (name, x0, x1, y0, y1) as fractions of the width and height (y down).
 CROPS = (("glossy floor", 0.1, 0.9, 0.83, 1.0), ("diffuse wall (left)", 0.02, 0.19, 0.15, 0.75))
@@ -77,7 +77,7 @@ def main() -> int:
             if j == 0:
                 ax.set_ylabel(f"{box[0]}\nfloor α = {roughness:g}, {noisy}", fontsize=8)
     fig.suptitle("Filtering noisy interleaved VPL images (cornell-glossy): normal/depth- vs lobe-aware weights", fontsize=10)
-    fig.tight_layout()
+    tight_layout(fig)
     save_figures(fig, out_dir, "filtering_denoise", report=True)
     return 0
 

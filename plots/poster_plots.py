@@ -13,7 +13,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from _common import arguments, read_table, save_figure  # noqa: E402
+from _common import arguments, read_table, save_figure, tight_layout  # noqa: E402
 
 LAMBDA_STAR = 0.0008456087  # the poster's printed optimum (for the marker only)
 
@@ -52,7 +52,7 @@ def main() -> int:
     b.set_title("approximation error against numerical error", fontsize=9)
     b.legend(fontsize=7)
     fig.suptitle("Tokuyoshi 2022: SG approximation of the cosine term (sglab poster-plots)", fontsize=10)
-    fig.tight_layout()
+    tight_layout(fig)
     save(fig, out_dir, "cosine_term_error.png")
 
     rmse = read_table(os.path.join(tables, "hemispherical_rmse.csv"))
@@ -67,7 +67,7 @@ def main() -> int:
     ax.set_ylabel("RMSE of H/A(λ) over c ∈ [−1, 1]")
     ax.set_title("Hemispherical integral of an SG: RMSE against the exact integral", fontsize=9)
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    tight_layout(fig)
     save(fig, out_dir, "hemispherical_rmse.png")
     return 0
 

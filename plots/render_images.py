@@ -19,7 +19,7 @@ import numpy as np  # noqa: E402
 
 # plots/_common.py sits beside this file (in the Python package too: sglab._plots).
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _common import save_figure  # noqa: E402
+from _common import save_figure, tight_layout  # noqa: E402
 
 LAYERS = ("direct", "indirect", "indirect_reference", "error")
 
@@ -69,7 +69,7 @@ def figure(im, title):
     for ax in axes:
         ax.axis("off")
     fig.suptitle(title, fontsize=9)
-    fig.tight_layout()
+    tight_layout(fig)
     return fig
 
 

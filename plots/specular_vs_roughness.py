@@ -17,7 +17,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter  # noqa: E402
-from _common import arguments, read_table, save_figures  # noqa: E402
+from _common import arguments, read_table, save_figures, tight_layout  # noqa: E402
 
 PANELS = (
     ("smape", "SMAPE (%)", "mean 2|v − r|/(|v| + |r|)"),
@@ -60,7 +60,7 @@ def main() -> int:
     axes[0][-1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.suptitle("Specular reflection of an SG light off GGX: each method against the reference "
                  "(all light sharpnesses and views of the sweep)", fontsize=10)
-    fig.tight_layout()
+    tight_layout(fig)
     save_figures(fig, out_dir, "specular_vs_roughness", dpi=150, report=True)
     return 0
 

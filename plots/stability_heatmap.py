@@ -24,7 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.colors import BoundaryNorm, ListedColormap  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 import numpy as np  # noqa: E402
-from _common import save_figures  # noqa: E402
+from _common import QUICK_PNG, save_canvas, save_figures  # noqa: E402
 
 # The verdicts of experiments/stability_atlas.hpp (Flag), in increasing severity, then one more
 # shade for "ok" cells that had no reference to compare against (finite and ≥ 0 only).
@@ -48,16 +48,15 @@ def tick_labels(values):
     return out
 
 
-def save(fig, out_dir, stem, formats, dpi):
-    save_figures(fig, out_dir, stem, formats, dpi)
-
-
 def draw(task):
     """The figures of one (quantity, grid): (quantity, x column, y column, {x index: value}, {y index:
-    value}, [(method, {precision: [(x index, y index, flag code)]})], out_dir, formats, dpi). The
+    value}, [(method, {precision: [(x index, y index, flag code)]})], out_dir, formats, dpi, blit). The
     methods share the grid, so the figure, its axes and ticks are built once (most of the cost of a
-    figure) and only the cells, legend and title change from one method to the next."""
-    quantity, xcol, ycol, xs, ys, methods, out_dir, formats, dpi = task
+    figure) and only the cells, legend and title change from one method to the next. With ``blit``
+    (--quick, PNG only) the shared parts are even drawn once: each method's PNG is that picture
+    with its cells, the spines over them, its legend and title drawn on top (the tick marks at the
+    edges stay under the cells, which a full draw puts over them)."""
+    quantity, xcol, ycol, xs, ys, methods, out_dir, formats, dpi, blit = task
     cmap = ListedColormap(COLORS)
     norm = BoundaryNorm(np.arange(-0.5, len(FLAGS) + 0.5), cmap.N)
     nx, ny = max(xs) + 1, max(ys) + 1
@@ -79,6 +78,11 @@ def draw(task):
         axes[0].set_yticks(range(0, ny, step_y))
         axes[0].set_yticklabels(tick_labels([ys.get(j, np.nan) for j in range(0, ny, step_y)]), fontsize=7)
         axes[0].set_ylabel(f"{ycol} (index; value shown)")
+    background = None
+    if blit:
+        fig.set_dpi(dpi)
+        fig.canvas.draw()  # no cells, legend or title yet
+        background = fig.canvas.copy_from_bbox(fig.bbox)
     stems = []
     legend = None
     for method, cells in methods:
@@ -94,9 +98,19 @@ def draw(task):
         handles = [Patch(color=COLORS[k], label=LABELS[k]) for k in range(len(FLAGS)) if k in present]
         legend = fig.legend(handles=handles, loc="lower center", ncol=min(len(handles), 8), fontsize=8, frameon=False,
                             bbox_to_anchor=(0.5, 0.0))
-        fig.suptitle(f"Stability atlas: {quantity} / {method} (most severe verdict per cell)")
+        title = fig.suptitle(f"Stability atlas: {quantity} / {method} (most severe verdict per cell)")
         stem = "stability_" + re.sub(r"[^A-Za-z0-9_.-]", "_", f"{quantity}__{method}")
-        save(fig, out_dir, stem, formats, dpi)
+        if blit:
+            fig.canvas.restore_region(background)
+            for ax, mesh in zip(axes, meshes):
+                ax.draw_artist(mesh)
+                for spine in ax.spines.values():
+                    ax.draw_artist(spine)
+            fig.draw_artist(legend)
+            fig.draw_artist(title)
+            save_canvas(fig, os.path.join(out_dir, stem + ".png"), **QUICK_PNG)
+        else:
+            save_figures(fig, out_dir, stem, formats, dpi)
         stems.append(stem)
     plt.close(fig)
     return stems
@@ -141,7 +155,8 @@ def main() -> int:
     for k in cells:
         grid_key = (k[0], tuple(sorted(xs[k].items())), tuple(sorted(ys[k].items())))
         groups.setdefault(grid_key, []).append((k[1], dict(cells[k])))
-    tasks = [(key[0], axes_of[key[0]][0], axes_of[key[0]][1], dict(key[1]), dict(key[2]), methods, out_dir, formats, dpi)
+    tasks = [(key[0], axes_of[key[0]][0], axes_of[key[0]][1], dict(key[1]), dict(key[2]), methods, out_dir, formats, dpi,
+              quick)
              for key, methods in groups.items()]
     tasks.sort(key=lambda t: -len(t[5]))  # the longest first, for the balance between the workers
     with multiprocessing.Pool(os.cpu_count() or 1) as pool:

@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from _common import save_figure  # noqa: E402
+from _common import save_figure, tight_layout  # noqa: E402
 from render_images import read_dump  # noqa: E402
 
 
@@ -40,7 +40,7 @@ def main() -> int:
         ax.axis("off")
     fig.suptitle("Shading two VSGLs: the receiver's cosine pulled out vs approximated by an SG (after Tokuyoshi 2015, Fig. 1)",
                  fontsize=10)
-    fig.tight_layout()
+    tight_layout(fig)
     path = save_figure(fig, os.path.join(out_dir, "two_vsgls_cosine.png"), dpi=130)
     print(f"wrote {path}", file=sys.stderr)
     return 0
