@@ -29,8 +29,9 @@ packages=(
   python3-dev pybind11-dev python3-pybind11 python3-pytest python3-pyflakes
   # `sglab export` and `sglab shader-export` (a reproduce step): glslang and SPIRV-Tools (libraries,
   # linked in), the Vulkan loader to build against, and Mesa's lavapipe to run compute shaders
-  # without a GPU.
-  glslang-dev spirv-tools libvulkan-dev mesa-vulkan-drivers
+  # without a GPU. glslang-tools only because Debian 12's glslang-dev CMake package checks that the
+  # glslangValidator program it lists exists (find_package(glslang) fails without it); sglab never runs it.
+  glslang-dev glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers
 )
 if ((fuzz)); then packages+=(clang-14 libclang-rt-14-dev); fi
 # The Slurm round trip of the suite (tests/slurm_test.sh) starts its own munged, slurmctld and slurmd.
