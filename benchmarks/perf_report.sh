@@ -4,10 +4,16 @@
 #
 #   bash benchmarks/perf_report.sh [--skip-cold] [--skip-tests] [--skip-reproduce-full]
 #        [--skip-reproduce-quick] [--skip-python] [--skip-render] [--touch FILE] [--jobs N] [--csv FILE]
-#        [--keep] [--tu-times]
+#        [--keep] [--tu-times] [--baseline REV | --tree DIR]
+#
+# --baseline REV: before and after in one sitting. REV (a commit of this repository, checked out
+# into a scratch git worktree) is measured first, then this checkout, each with every row below
+# by this script; the CSV has one line per row with both and after/before (wall, else CPU).
+# --tree DIR: measure the checkout at DIR instead of this one (its sources, its Python bench),
+# configured as DIR's scripts/setup.sh does (Ninja where it says -G Ninja, else CMake's default).
 #
 # Rows (wall and CPU seconds of the process tree, bash's `time`; CPU = user + system):
-#   configure           cmake configure of a scratch build dir (Ninja, Release, SGLAB_WERROR=ON, as setup.sh)
+#   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, setup.sh's generator)
 #   build-main          cold build of what the main job needs (`sglab`, `sglab_python`), ccache off
 #   rebuild-touch       the same targets after touching one method's file (--touch, default
 #                       core/src/registry_core.cpp: the diffuse registry, which includes every
@@ -34,14 +40,16 @@
 # CPU seconds are the steadier figure. Nothing is written into the checkout but the CSV
 # (default: results/perf_report.csv); the scratch build and results are removed unless --keep.
 set -euo pipefail
+self=$(cd "$(dirname "$0")" && pwd)/$(basename "$0")
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
 cold=1 tests=1 full=1 quick=1 python=1 render=1 keep=0 jobs=2 tu_times=0
 touch_file=core/src/registry_core.cpp
 csv=results/perf_report.csv
+baseline='' tree=''
 args=("$@")
-usage() { sed -n '2,32p' "$0" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
     --skip-cold) cold=0 ;;
@@ -55,13 +63,81 @@ while [ $# -gt 0 ]; do
     --touch) touch_file=${2:?--touch needs a file}; shift ;;
     --jobs) jobs=${2:?--jobs needs a number}; shift ;;
     --csv) csv=${2:?--csv needs a file}; shift ;;
+    --baseline) baseline=${2:?--baseline needs a commit}; shift ;;
+    --tree) tree=${2:?--tree needs a directory}; shift ;;
     -h | --help) usage; exit 0 ;;
     *) echo "perf_report: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
 done
 case "$jobs" in '' | *[!0-9]* | 0) echo "perf_report: --jobs '$jobs' is not a positive integer" >&2; exit 2 ;; esac
+[ -n "$baseline" ] && [ -n "$tree" ] && { echo "perf_report: --baseline and --tree exclude each other" >&2; exit 2; }
+[ -n "$baseline" ] && [ "$cold" = 0 ] &&
+  { echo "perf_report: --baseline builds the commit it checks out: it cannot take --skip-cold" >&2; exit 2; }
+case "$csv" in /*) ;; *) csv=$root/$csv ;; esac  # relative to this checkout, also with --tree
+if [ -n "$tree" ]; then
+  [ -f "$tree/CMakeLists.txt" ] && [ -f "$tree/scripts/setup.sh" ] ||
+    { echo "perf_report: --tree '$tree' is not an sglab checkout (no CMakeLists.txt and scripts/setup.sh)" >&2; exit 2; }
+  root=$(cd "$tree" && pwd)
+  cd "$root"
+fi
 [ -f "$touch_file" ] || { echo "perf_report: --touch '$touch_file' is not a file of the checkout" >&2; exit 2; }
+
+if [ -n "$baseline" ]; then
+  rev=$(git -C "$root" rev-parse --verify --quiet "$baseline^{commit}") ||
+    { echo "perf_report: --baseline '$baseline' is not a commit of this repository" >&2; exit 2; }
+  # The same options for both runs, without --baseline and --csv.
+  pass=()
+  for ((k = 0; k < ${#args[@]}; k++)); do
+    case "${args[k]}" in --baseline | --csv) k=$((k + 1)) ;; *) pass+=("${args[k]}") ;; esac
+  done
+  work=$(mktemp -d "${TMPDIR:-/tmp}/sglab-perf-versus-XXXXXX")
+  trap 'git -C "$root" worktree remove --force "$work/tree" 2> /dev/null; rm -rf "$work"' EXIT
+  git -C "$root" worktree add --detach --quiet "$work/tree" "$rev"
+  echo "== baseline $rev (before)" >&2
+  bash "$self" "${pass[@]}" --tree "$work/tree" --csv "$work/before.csv"
+  echo "== this checkout, $(git -C "$root" rev-parse --short HEAD)$(git -C "$root" diff --quiet HEAD || echo ' with uncommitted changes') (after)" >&2
+  bash "$self" "${pass[@]}" --csv "$work/after.csv"
+  mkdir -p "$(dirname "$csv")"
+  python3 - "$work/before.csv" "$work/after.csv" "$rev" "$(git -C "$root" rev-parse HEAD)" "bash benchmarks/perf_report.sh ${args[*]}" > "$csv.tmp" << 'PY'
+import csv, sys
+def read(path):
+    with open(path, newline="") as f:
+        lines = f.read().splitlines()
+    head = [l for l in lines if l.startswith("#")]
+    return head, {r["measure"]: r for r in csv.DictReader(l for l in lines if not l.startswith("#"))}
+(hb, before), (ha, after), rev, head, command = read(sys.argv[1]), read(sys.argv[2]), *sys.argv[3:]
+print(f"# Generated by `{command}`: before = {rev}, after = {head} (this checkout), measured one after the other")
+print("# before:" + hb[0][1:] if hb else "# before: -")
+print("# after:" + ha[0][1:] if ha else "# after: -")
+w = csv.writer(sys.stdout, lineterminator="\n")
+w.writerow(["measure", "before_wall_seconds", "before_cpu_seconds", "after_wall_seconds", "after_cpu_seconds",
+            "after_over_before", "before_note", "after_note"])
+for name in list(before) + [n for n in after if n not in before]:
+    b, a = before.get(name, {}), after.get(name, {})
+    ratio = ""
+    for key in ("wall_seconds", "cpu_seconds"):
+        try:
+            ratio = f"{float(a[key]) / float(b[key]):.3f}"
+            break
+        except (KeyError, ValueError, ZeroDivisionError):
+            pass
+    w.writerow([name, b.get("wall_seconds", ""), b.get("cpu_seconds", ""), a.get("wall_seconds", ""),
+                a.get("cpu_seconds", ""), ratio, b.get("note", ""), a.get("note", "")])
+PY
+  mv "$csv.tmp" "$csv"
+  python3 - "$csv" << 'PY'
+import csv, sys
+with open(sys.argv[1], newline="") as f:
+    rows = list(csv.reader(l for l in f if not l.startswith("#")))
+print("| measure | before wall s | before CPU s | after wall s | after CPU s | after/before |")
+print("|---|---|---|---|---|---|")
+for r in rows[1:]:
+    print("| " + " | ".join(r[:6]) + " |")
+PY
+  echo "(CSV: $csv)"
+  exit 0
+fi
 
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/sglab-perf-XXXXXX")
 cleanup() { if [ "$keep" = 1 ]; then echo "kept $scratch" >&2; else rm -rf "$scratch"; fi; }
@@ -92,12 +168,14 @@ if [ "$cold" = 1 ]; then
   export CCACHE_DISABLE=1
   launcher=()
   if [ "$tu_times" = 1 ]; then
-    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER="$root/benchmarks/tu_time.sh")
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER="$(dirname "$self")/tu_time.sh")
     export SGLAB_TU_TIMES=$scratch/tu_times.txt
     : > "$SGLAB_TU_TIMES"
   fi
-  timed configure "scratch dir, Release, SGLAB_WERROR=ON" \
-    cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${launcher[@]}"
+  generator=()  # as the checkout's setup.sh configures a new build directory
+  grep -q -- '-G Ninja' scripts/setup.sh && generator=(-G Ninja)
+  timed configure "scratch dir, Release, SGLAB_WERROR=ON${generator[*]:+, ${generator[*]}}" \
+    cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${launcher[@]}"
   timed build-main "sglab + sglab_python, cold, ccache off, -j$jobs" \
     cmake --build "$build" -j"$jobs" --target sglab sglab_python
   if [ "$tu_times" = 1 ]; then
@@ -116,17 +194,22 @@ if [ "$cold" = 1 ]; then
   unset CCACHE_DISABLE
 else
   build=$root/build
-  [ -x "$build/bin/sglab" ] || { echo "perf_report: --skip-cold needs a built ./build (bash scripts/setup.sh --tests)" >&2; exit 2; }
 fi
 sglab=$build/bin/sglab
+[ -x "$sglab" ] || sglab=$build/experiments/sglab  # where checkouts before 2026-12-03 put it
+[ -x "$sglab" ] || { echo "perf_report: no sglab in $build (--skip-cold needs a built ./build: bash scripts/setup.sh --tests)" >&2; exit 2; }
 
 if [ "$tests" = 1 ]; then
-  timed ctest "whole suite, -j2; CPU column: the tests' summed seconds" ctest --test-dir "$build" -j2
+  # A failing test does not stop the report (a baseline may fail here for reasons of its own): the
+  # note says how many passed.
+  timed ctest "whole suite, -j2; CPU column: the tests' summed seconds" \
+    bash -c 'ctest --test-dir "$1" -j2 || true' ctest "$build"
+  passed=$(grep -E '% tests passed' "$scratch/ctest.log" || echo "no summary line")
   # ctest's own CPU figure is the children's; the tests' summed seconds say more on a shared machine.
   summed=$(awk '/Total Test time/ {next} / sec$/ && /Test +#/ {for (i = 1; i <= NF; i++) if ($i == "sec") s += $(i - 1)} END {printf "%.2f", s}' \
     "$scratch/ctest.log")
   last=${rows[-1]}
-  rows[-1]="$(cut -d'|' -f1-2 <<< "$last")|$summed|$(cut -d'|' -f4 <<< "$last")"
+  rows[-1]="$(cut -d'|' -f1-2 <<< "$last")|$summed|$(cut -d'|' -f4 <<< "$last"): $passed"
 fi
 if [ "$quick" = 1 ]; then
   timed reproduce-quick "sglab reproduce --quick, empty --out" "$sglab" reproduce --quick --out "$scratch/quick"
