@@ -23,6 +23,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "csv.hpp"
 #include "option_checks.hpp"
@@ -129,23 +130,28 @@ std::vector<Point> read_points(const std::string& path) {
 
 // Seeded points off the fitting grid: α log-uniform over [0.01, 1], λ over [1, 1e4], view_cos
 // uniform over [0.1, 1], each with the sweep's light positions for its own (α, λ, view); the
-// references by the same quadrature, the methods through the registry.
+// references by the same quadrature, the methods through the registry. The points are drawn in
+// order, then every row is evaluated in parallel (each row's values do not depend on the order).
 std::vector<Point> off_grid_points(int count) {
   const Quantity* q = find_quantity("specular");
   std::mt19937_64 rng(kOffGridSeed);
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<Point> out;
+  std::vector<Row*> rows;
   for (int k = 0; k < count; ++k) {
     Point p{std::pow(10.0, -2 + 2 * u(rng)), std::pow(10.0, 4 * u(rng)), 0.1 + 0.9 * u(rng), {}};
-    for (const auto& pos : specular_light_positions(p.alpha, p.lambda, p.view)) {
-      Row r{p.alpha, p.lambda, p.view, pos.light_cos, pos.light_azimuth, kSpecularF0, 0, pos.name, {}};
-      const std::vector<double> args{r.alpha, r.lambda, r.light_cos, r.view, r.azimuth, r.f0};
-      r.reference = q->find(q->reference_method)->eval_double(args);
-      for (const auto& m : kMethods) r.value[m] = q->find(m)->eval_double(args);
-      p.rows.push_back(std::move(r));
-    }
+    for (const auto& pos : specular_light_positions(p.alpha, p.lambda, p.view))
+      p.rows.push_back({p.alpha, p.lambda, p.view, pos.light_cos, pos.light_azimuth, kSpecularF0, 0, pos.name, {}});
     out.push_back(std::move(p));
   }
+  for (auto& p : out)
+    for (auto& r : p.rows) rows.push_back(&r);
+  tbb::parallel_for(std::size_t(0), rows.size(), [&](std::size_t k) {
+    Row& r = *rows[k];
+    const std::vector<double> args{r.alpha, r.lambda, r.light_cos, r.view, r.azimuth, r.f0};
+    r.reference = q->find(q->reference_method)->eval_double(args);
+    for (const auto& m : kMethods) r.value[m] = q->find(m)->eval_double(args);
+  });
   return out;
 }
 
