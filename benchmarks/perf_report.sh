@@ -99,7 +99,8 @@ if [ -n "$baseline" ]; then
   echo "== this checkout, $(git -C "$root" rev-parse --short HEAD)$(git -C "$root" diff --quiet HEAD || echo ' with uncommitted changes') (after)" >&2
   bash "$self" "${pass[@]}" --csv "$work/after.csv"
   mkdir -p "$(dirname "$csv")"
-  python3 - "$work/before.csv" "$work/after.csv" "$rev" "$(git -C "$root" rev-parse HEAD)" "bash benchmarks/perf_report.sh ${args[*]}" > "$csv.tmp" << 'PY'
+  head_rev=$(git -C "$root" rev-parse HEAD)$(git -C "$root" diff --quiet HEAD || echo ' with uncommitted changes')
+  python3 - "$work/before.csv" "$work/after.csv" "$rev" "$head_rev" "bash benchmarks/perf_report.sh ${args[*]}" > "$csv.tmp" << 'PY'
 import csv, sys
 def read(path):
     with open(path, newline="") as f:
@@ -181,6 +182,7 @@ if [ "$cold" = 1 ]; then
   if [ "$tu_times" = 1 ]; then
     cp "$SGLAB_TU_TIMES" "$scratch/tu_times_main.txt"
     while read -r cpu wall out; do
+      out=${out#"$build"/}  # a unity batch lies in the build directory
       rows+=("tu/${out#"$root"/}|$wall|$cpu|one translation unit of build-main")
     done < <(sort -rn "$scratch/tu_times_main.txt" | head -n 10)
     tu_total=$(awk '{ s += $1 } END { printf "%.2f", s }' "$scratch/tu_times_main.txt")
@@ -226,13 +228,36 @@ if [ "$python" = 1 ]; then
     # One row per method, precision and path (default: the scalar definition row by row;
     # vectorized: the batch evaluators): Python ns/point (CPU), the C++ batch's on its 4096 cached
     # points, how far above it Python is (the cost of the call from Python per point) and their
-    # ratio, and the C++ batch at as many points as Python's (the same memory traffic and branches).
-    while IFS='|' read -r _ q m p vec py _ cpp above cppn aboven _ ratio _; do
-      read -r q m p vec py cpp above cppn aboven ratio <<< "$q $m $p $vec $py $cpp $above $cppn $aboven $ratio"
-      path=default
-      [ "$vec" = yes ] && path=vectorized
-      rows+=("python-eval/$q/$m/$p/$path|||Python $py ns/point (CPU), C++ batch $cpp: $above ns/point above it, ratio $ratio; C++ batch at 1e6 points $cppn: $aboven above it")
-    done < <(grep -E '^\| (clamped-cosine|sg-integral|specular) ' "$scratch/python-eval-bench.log")
+    # ratio, and the C++ batch at as many points as Python's (the same memory traffic and branches),
+    # read by column name (an older checkout's bench, under --tree, prints fewer columns).
+    while IFS= read -r row; do rows+=("$row"); done < <(python3 - "$scratch/python-eval-bench.log" << 'PY'
+import re, sys
+# Rows of benchmarks/python_eval_bench.py's table, by column name (older benches have fewer columns).
+lines = [l.strip() for l in open(sys.argv[1]) if l.startswith("|")]
+head = next((l for l in lines if l.startswith("| quantity |")), None)
+if head is None:
+    sys.exit(0)
+names = [c.strip() for c in head.strip("|").split("|")]
+def col(prefix, exclude=None):
+    for k, n in enumerate(names):
+        if n.startswith(prefix) and not (exclude and exclude in n):
+            return k
+    return None
+py, cpp, over, ratio = col("Python ns/eval (CPU)"), col("C++ batch ns/eval (CPU"), col("overhead ns/eval"), col("ratio")
+cpp_n = next((k for k, n in enumerate(names) if n.startswith("C++ batch ns/eval (CPU, ") and "4096" not in n), None)
+over_n = col("overhead at ")
+for l in lines:
+    c = [x.strip() for x in l.strip("|").split("|")]
+    if len(c) != len(names) or c[0] not in ("clamped-cosine", "sg-integral", "specular"):
+        continue
+    path = "vectorized" if c[3] == "yes" else "default"
+    note = f"Python {c[py]} ns/point (CPU), C++ batch {c[cpp]}: {c[over]} ns/point above it, ratio {c[ratio]}"
+    if cpp_n is not None and over_n is not None:
+        m = re.search(r"\((?:CPU, )?(\d+) points\)", names[cpp_n])
+        note += f"; C++ batch at {m.group(1) if m else 'as many'} points {c[cpp_n]}: {c[over_n]} above it"
+    print(f"python-eval/{c[0]}/{c[1]}/{c[2]}/{path}|||{note}")
+PY
+    )
   else
     echo "perf_report: no $bench or $build/python: Python row skipped (build the benchmarks and sglab_python)" >&2
   fi
