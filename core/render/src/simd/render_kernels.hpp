@@ -595,8 +595,12 @@ std::size_t specular(const LobeView& a, std::size_t m, const IncomingRows& rows,
 
 // ---- VSGL shading by a registry `specular` method ------------------------------------------------
 
-void method_rows(std::size_t lobes, std::size_t m, const IncomingRows& rows, const MethodReceivers& p,
-                 const MethodColumns& out) {
+// The block's glossy points (MethodReceivers::point) are its points in increasing order, so a block
+// whose every point is glossy has point[g] == g: the loops below then read the incoming rows as
+// they lie (kAllGlossy) instead of gathering them by index, the same values.
+template <bool kAllGlossy>
+void method_rows_of(std::size_t lobes, std::size_t m, const IncomingRows& rows, const MethodReceivers& p,
+                    const MethodColumns& out) {
   const std::size_t gn = p.count;
   const std::size_t* point = p.point;
   const double *tx = p.tx, *ty = p.ty, *tz = p.tz, *bx = p.bx, *by = p.by, *bz = p.bz, *nx = p.nx, *ny = p.ny,
@@ -608,7 +612,7 @@ void method_rows(std::size_t lobes, std::size_t m, const IncomingRows& rows, con
            *as = out.azimuth_sin + k0;
 #pragma omp simd
     for (std::size_t g = 0; g < gn; ++g) {
-      const std::size_t i = point[g];
+      const std::size_t i = kAllGlossy ? g : point[g];
       const double x = ix[i], y = iy[i], z = iz[i];
       const double ct = dot3(x, y, z, tx[g], ty[g], tz[g]), cb = dot3(x, y, z, bx[g], by[g], bz[g]);
       const double rho2 = ct * ct + cb * cb;
@@ -621,9 +625,17 @@ void method_rows(std::size_t lobes, std::size_t m, const IncomingRows& rows, con
   }
 }
 
-std::size_t method_sum(std::size_t lobes, const double* amp_r, const double* amp_g, const double* amp_b, std::size_t m,
-                       const IncomingRows& rows, const MethodReceivers& p, const double* at0, const double* at1,
-                       double direct_limit, double* fallback, double* out_r, double* out_g, double* out_b) {
+void method_rows(std::size_t lobes, std::size_t m, const IncomingRows& rows, const MethodReceivers& p,
+                 const MethodColumns& out) {
+  if (p.count == m) method_rows_of<true>(lobes, m, rows, p, out);
+  else method_rows_of<false>(lobes, m, rows, p, out);
+}
+
+template <bool kAllGlossy>
+std::size_t method_sum_of(std::size_t lobes, const double* amp_r, const double* amp_g, const double* amp_b,
+                          std::size_t m, const IncomingRows& rows, const MethodReceivers& p, const double* at0,
+                          const double* at1, double direct_limit, double* fallback, double* out_r, double* out_g,
+                          double* out_b) {
   const std::size_t gn = p.count;
   const std::size_t* point = p.point;
   const double *f0r = p.f0_r, *f0g = p.f0_g, *f0b = p.f0_b;
@@ -637,7 +649,7 @@ std::size_t method_sum(std::size_t lobes, const double* amp_r, const double* amp
     std::size_t count = 0;
 #pragma omp simd reduction(+ : count)
     for (std::size_t g = 0; g < gn; ++g) {
-      const std::size_t i = point[g];
+      const std::size_t i = kAllGlossy ? g : point[g];
       const double ls = lsj[i];
       const double lit = (ls > -std::numeric_limits<double>::infinity() ? 1.0 : 0.0) * vj[i];
       const double in_range = (ls > kVectorExpFloor ? 1.0 : 0.0) * (ls < direct_limit ? 1.0 : 0.0);
@@ -654,6 +666,15 @@ std::size_t method_sum(std::size_t lobes, const double* amp_r, const double* amp
     fallbacks += count;
   }
   return fallbacks;
+}
+
+std::size_t method_sum(std::size_t lobes, const double* amp_r, const double* amp_g, const double* amp_b, std::size_t m,
+                       const IncomingRows& rows, const MethodReceivers& p, const double* at0, const double* at1,
+                       double direct_limit, double* fallback, double* out_r, double* out_g, double* out_b) {
+  return p.count == m ? method_sum_of<true>(lobes, amp_r, amp_g, amp_b, m, rows, p, at0, at1, direct_limit, fallback,
+                                            out_r, out_g, out_b)
+                      : method_sum_of<false>(lobes, amp_r, amp_g, amp_b, m, rows, p, at0, at1, direct_limit, fallback,
+                                             out_r, out_g, out_b);
 }
 
 // ---- environment quadrature ------------------------------------------------------------------
