@@ -294,13 +294,28 @@ Asg<T> asg_warp(const T& lambda_h, const Vec3<T>& wo) {
 // M(ω) = F · G2/(4 cos θo), the BRDF·cosine without its NDF (Tokuyoshi 2015 (two-VSGL poster) §1.1:
 // ρ⟨ω·n⟩ = M(ω)D(ω_h)), written F·V·⟨ω·n⟩ (V as above) so that it is finite at grazing view.
 // Evaluated by the methods at the product lobe's axis ξ_m (Tokuyoshi 2015 (two-VSGL poster) §3.2).
-template <class T, class F0>
-fresnel_value_t<T, F0> brdf_factor_m(const T& alpha, const F0& f0, const Vec3<T>& wo, const Vec3<T>& w) {
-  using R = fresnel_value_t<T, F0>;
+// In two parts: what does not depend on f0 (the half vector's cosine, V, the cosines), and F times
+// it, the same operations as in one. A method that takes M at a direction fixed by the receiver
+// (sg-warp at its lobe axis) computes the first part once per shading point (specular.hpp).
+template <class T>
+struct BrdfFactorGeometry {
+  T cos_oh, visibility, cos_i, cos_o;
+};
+template <class T>
+BrdfFactorGeometry<T> brdf_factor_geometry(const T& alpha, const Vec3<T>& wo, const Vec3<T>& w) {
   const T ci = w(2);
   const Vec3<T> h = half_vector(wo, w);
-  const R m = fresnel_schlick(f0, T(wo.dot(h))) * smith_visibility_ggx(alpha, T(wo(2)), ci) * ci;
-  return choose(!(value_of(ci) > 0) || value_of(wo(2)) < 0, R(T(0)), m);
+  return {T(wo.dot(h)), smith_visibility_ggx(alpha, T(wo(2)), ci), ci, wo(2)};
+}
+template <class T, class F0>
+fresnel_value_t<T, F0> brdf_factor_m(const F0& f0, const BrdfFactorGeometry<T>& g) {
+  using R = fresnel_value_t<T, F0>;
+  const R m = fresnel_schlick(f0, g.cos_oh) * g.visibility * g.cos_i;
+  return choose(!(value_of(g.cos_i) > 0) || value_of(g.cos_o) < 0, R(T(0)), m);
+}
+template <class T, class F0>
+fresnel_value_t<T, F0> brdf_factor_m(const T& alpha, const F0& f0, const Vec3<T>& wo, const Vec3<T>& w) {
+  return brdf_factor_m(f0, brdf_factor_geometry(alpha, wo, w));
 }
 
 }  // namespace sglab

@@ -75,19 +75,27 @@ enum class FactorAt {
 // the one followed by the other (specular_parts_at, below, for every such method): a renderer
 // shading a point under many lights computes the receiver part once per point
 // (simd_specular_pair.hpp), with the same values.
+// M at the lobe axis (factor_at = lobe_axis) depends on the receiver alone: its f0-free part
+// (brdf.hpp brdf_factor_geometry) belongs to the receiver part, computed once per shading point.
 template <class T>
 struct SgWarpReceiver {
   T alpha;
   SgLobe<T> lobe;  // the warped NDF lobe
   Vec3<T> wo;
+  BrdfFactorGeometry<T> at_axis;  // of M at lobe.axis (zeros in a receiver for product_axis)
 };
 template <class T>
 SgWarpReceiver<T> specular_sg_warp_receiver(const T& roughness, const Vec3<T>& wo,
-                                            bool tokuyoshi_harada_sharpness = false) {
+                                            bool tokuyoshi_harada_sharpness = false,
+                                            FactorAt factor_at = FactorAt::lobe_axis) {
   const T alpha = detail::floored_roughness(roughness);
   const T lambda_h = tokuyoshi_harada_sharpness ? ndf_sharpness_tokuyoshi_harada(alpha) : ndf_sharpness_wang(alpha);
-  return {alpha, spherical_warp(microfacet_ndf_sg(alpha, lambda_h), wo), wo};
+  const SgLobe<T> lobe = spherical_warp(microfacet_ndf_sg(alpha, lambda_h), wo);
+  return {alpha, lobe, wo,
+          factor_at == FactorAt::lobe_axis ? brdf_factor_geometry(alpha, wo, lobe.axis)
+                                           : BrdfFactorGeometry<T>{T(0), T(0), T(0), T(0)}};
 }
+// (factor_at: the one the receiver was made for.)
 template <class T, class F0>
 fresnel_value_t<T, F0> specular_from(const SgWarpReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
                                      const F0& f0, SgProductForm form = SgProductForm::exact,
@@ -96,10 +104,11 @@ fresnel_value_t<T, F0> specular_from(const SgWarpReceiver<T>& r, const T& light_
   const T cosine = clamp_cosine(T(lobe.axis.dot(xi)));
   const T integral = form == SgProductForm::exact ? product_integral_exact(lobe.sharpness, light_sharpness, cosine)
                                                   : product_integral_iwasaki(lobe.sharpness, light_sharpness, cosine);
-  const Vec3<T> xm = factor_at == FactorAt::lobe_axis
-                         ? lobe.axis
-                         : detail::product_axis(xi, light_sharpness, lobe.axis, lobe.sharpness);
-  return lobe.amplitude * brdf_factor_m(r.alpha, f0, r.wo, xm) * integral;
+  const auto factor = factor_at == FactorAt::lobe_axis
+                          ? brdf_factor_m(f0, r.at_axis)
+                          : brdf_factor_m(r.alpha, f0, r.wo,
+                                          detail::product_axis(xi, light_sharpness, lobe.axis, lobe.sharpness));
+  return lobe.amplitude * factor * integral;
 }
 
 // The `_at` form of a method in two parts: `receiver(roughness, ωo)` (its receiver part, as
@@ -122,14 +131,15 @@ T specular_parts(const Receiver& receiver, const SpecularInput<T>& in, const Opt
 template <class T>
 struct SgWarpReceiverOf {
   bool tokuyoshi_harada_sharpness = false;
+  FactorAt factor_at = FactorAt::lobe_axis;
   SgWarpReceiver<T> operator()(const T& roughness, const Vec3<T>& wo) const {
-    return specular_sg_warp_receiver(roughness, wo, tokuyoshi_harada_sharpness);
+    return specular_sg_warp_receiver(roughness, wo, tokuyoshi_harada_sharpness, factor_at);
   }
 };
 template <class T>
 T specular_sg_warp(const SpecularInput<T>& in, SgProductForm form = SgProductForm::exact,
                    bool tokuyoshi_harada_sharpness = false, FactorAt factor_at = FactorAt::lobe_axis) {
-  return specular_parts(SgWarpReceiverOf<T>{tokuyoshi_harada_sharpness}, in, form, factor_at);
+  return specular_parts(SgWarpReceiverOf<T>{tokuyoshi_harada_sharpness, factor_at}, in, form, factor_at);
 }
 
 // `asg` (Tokuyoshi 2015 (two-VSGL poster) §3.2; Xu et al. 2013): the NDF lobe warped to an ASG at the shading

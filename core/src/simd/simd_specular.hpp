@@ -75,7 +75,7 @@ template <bool kIwasaki, bool kTokuyoshiHarada, bool kProductAxis>
 struct SgWarpMethod {
   template <class T>
   static SgWarpReceiverOf<T> receiver() {
-    return {kTokuyoshiHarada};
+    return {kTokuyoshiHarada, kProductAxis ? FactorAt::product_axis : FactorAt::lobe_axis};
   }
   static auto from_options() {
     return std::tuple(kIwasaki ? SgProductForm::iwasaki : SgProductForm::exact,
