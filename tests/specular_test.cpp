@@ -180,6 +180,12 @@ TEST(Specular, WarpMethodsAreTheirDefinitions) {
         {"asg", asg_by_definition(in), specular_asg(in), asg_by_definition(inm), specular_asg(inm)},
         {"sg-warp-dvn", sg_warp_dvn_by_definition(in), specular_sg_warp_dvn(in), sg_warp_dvn_by_definition(inm),
          specular_sg_warp_dvn(inm)}};
+    // A receiver made for the product axis, asked for M at the lobe axis, forms it there itself.
+    const double mixed = specular_from(
+        specular_sg_warp_receiver(in.roughness, specular_view(in.view_cos), false, FactorAt::product_axis),
+        in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth), in.f0, SgProductForm::exact,
+        FactorAt::lobe_axis);
+    EXPECT_EQ(mixed, cases[0].got) << "row " << k;
     for (const Case& c : cases) {
       const double registry = q->find(c.method)->eval_double(row);
       const double scale = std::max(std::abs(c.want), 1e-300);

@@ -82,6 +82,7 @@ struct SgWarpReceiver {
   T alpha;
   SgLobe<T> lobe;  // the warped NDF lobe
   Vec3<T> wo;
+  FactorAt factor_at;             // the direction the receiver was made for
   BrdfFactorGeometry<T> at_axis;  // of M at lobe.axis (zeros in a receiver for product_axis)
 };
 template <class T>
@@ -91,11 +92,11 @@ SgWarpReceiver<T> specular_sg_warp_receiver(const T& roughness, const Vec3<T>& w
   const T alpha = detail::floored_roughness(roughness);
   const T lambda_h = tokuyoshi_harada_sharpness ? ndf_sharpness_tokuyoshi_harada(alpha) : ndf_sharpness_wang(alpha);
   const SgLobe<T> lobe = spherical_warp(microfacet_ndf_sg(alpha, lambda_h), wo);
-  return {alpha, lobe, wo,
+  return {alpha, lobe, wo, factor_at,
           factor_at == FactorAt::lobe_axis ? brdf_factor_geometry(alpha, wo, lobe.axis)
                                            : BrdfFactorGeometry<T>{T(0), T(0), T(0), T(0)}};
 }
-// (factor_at: the one the receiver was made for.)
+// (A receiver made for the product axis asked for the lobe axis forms M there itself.)
 template <class T, class F0>
 fresnel_value_t<T, F0> specular_from(const SgWarpReceiver<T>& r, const T& light_sharpness, const Vec3<T>& xi,
                                      const F0& f0, SgProductForm form = SgProductForm::exact,
@@ -105,7 +106,8 @@ fresnel_value_t<T, F0> specular_from(const SgWarpReceiver<T>& r, const T& light_
   const T integral = form == SgProductForm::exact ? product_integral_exact(lobe.sharpness, light_sharpness, cosine)
                                                   : product_integral_iwasaki(lobe.sharpness, light_sharpness, cosine);
   const auto factor = factor_at == FactorAt::lobe_axis
-                          ? brdf_factor_m(f0, r.at_axis)
+                          ? (r.factor_at == FactorAt::lobe_axis ? brdf_factor_m(f0, r.at_axis)
+                                                                : brdf_factor_m(r.alpha, f0, r.wo, lobe.axis))
                           : brdf_factor_m(r.alpha, f0, r.wo,
                                           detail::product_axis(xi, light_sharpness, lobe.axis, lobe.sharpness));
   return lobe.amplitude * factor * integral;
