@@ -15,6 +15,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -26,6 +27,7 @@
 
 #include "interleaved.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
+#include "sglab/exp_batch.hpp"
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
@@ -421,6 +423,22 @@ int main(int argc, char** argv) {
       }
     }
   }
+  // exp_batch (sglab/exp_batch.hpp) beside its peer, the loop of std::exp whose values it returns
+  // bit for bit, on g_batch seeded x in [−40, 0] (the fits' exponents).
+  static std::vector<double> exp_in(g_batch), exp_out(g_batch);
+  {
+    std::mt19937_64 rng(kSeed);
+    std::uniform_real_distribution<double> x(-40, 0);
+    for (double& v : exp_in) v = x(rng);
+  }
+  benchmark::RegisterBenchmark("exp/exp_batch/double", [](benchmark::State& s) {
+    time_batch<double>(s, exp_out, [] { sglab::exp_batch(exp_in.data(), exp_out.data(), g_batch); });
+  });
+  benchmark::RegisterBenchmark("exp/std-exp-loop/double", [](benchmark::State& s) {
+    time_batch<double>(s, exp_out, [] {
+      for (std::size_t i = 0; i < g_batch; ++i) exp_out[i] = std::exp(exp_in[i]);
+    });
+  });
   std::printf("inputs: %zu per batch, seed %llu; vectorized evaluators: %s\n", g_batch,
               static_cast<unsigned long long>(kSeed),
               std::string(sglab::simd::isa_name(sglab::simd::active_isa())).c_str());

@@ -134,6 +134,14 @@ std::vector<int> sizes(const fit::EnvBasis& b, const Options& a, const EnvMap& m
 // A representation sampled as texel means of s × s points per texel of a width × height grid.
 EnvMap texel_means(const fit::EnvBasisFit& f, int width, int height, int s) {
   EnvMap m{width, height, std::vector<std::array<float, 3>>(std::size_t(width) * std::size_t(height))};
+  if (f.sh_order < 0 && (s & (s - 1)) == 0) {
+    // An SG fit: rasterize_mixture_rows, the same points (envmap_direction's) and sums in the same
+    // order, its exponentials batched; its ·(1/s²) is the division by s² when s is a power of two.
+    tbb::parallel_for(tbb::blocked_range<int>(0, height, 4), [&](const tbb::blocked_range<int>& rows) {
+      rasterize_mixture_rows(f.mixture, s, rows.begin(), rows.end(), m);
+    });
+    return m;
+  }
   tbb::parallel_for(tbb::blocked_range<int>(0, height, 4), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v)
       for (int u = 0; u < width; ++u) {

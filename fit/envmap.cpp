@@ -17,6 +17,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "sglab/exp_batch.hpp"
 #include "sglab/text_limits.hpp"
 #include "sglab/vmf_filtering.hpp"
 
@@ -64,10 +65,13 @@ class MixtureCost final : public ceres::CostFunction {
         const Vec3d& w = level_->dirs[std::size_t(texels_[t])];
         const double c = w(0) * a[0] + w(1) * a[1] + w(2) * a[2];
         d[t * std::size_t(N) + std::size_t(j)] = c - 1;
-        // q·G(ω; ξ, λq): the texel-blurred lobe without its amplitude
-        g[t * std::size_t(N) + std::size_t(j)] = q[std::size_t(j)] * std::exp(std::min(0.0, blurred * (c - 1)));
+        g[t * std::size_t(N) + std::size_t(j)] = std::min(0.0, blurred * (c - 1));
       }
     }
+    // q·G(ω; ξ, λq): the texel-blurred lobe without its amplitude (the exponentials at once: exp_batch)
+    exp_batch(g.data(), g.data(), g.size());
+    for (std::size_t t = 0; t < T; ++t)
+      for (int j = 0; j < N; ++j) g[t * std::size_t(N) + std::size_t(j)] = q[std::size_t(j)] * g[t * std::size_t(N) + std::size_t(j)];
     // s_t·f'(m): the factor every derivative of residual (t, c) carries.
     std::vector<double> scale(3 * T);
     for (std::size_t t = 0; t < T; ++t) {
@@ -771,22 +775,33 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
       p.sum.assign(std::size_t(N), Vec3d::Zero());
       p.wsum.assign(std::size_t(N), 0.0);
       p.loglik = 0;
-      std::vector<double> e(static_cast<std::size_t>(N));
-      for (std::size_t t = k * kChunk; t < std::min(T, (k + 1) * kChunk); ++t) {
+      // The chunk's log-probabilities lp − mx first (row t − t0), then their exponentials in one
+      // exp_batch call (std::exp's values): one exponential per component, the responsibility
+      // e^{lp − mx}/z = e^{lp − lse}.
+      const std::size_t t0 = k * kChunk, t1 = std::min(T, (k + 1) * kChunk);
+      std::vector<double> es((t1 - t0) * std::size_t(N)), mxs(t1 - t0);
+      for (std::size_t t = t0; t < t1; ++t) {
+        double* e = es.data() + (t - t0) * std::size_t(N);
         double mx = -INFINITY;
         for (int j = 0; j < N; ++j) {
           const auto& c = cl[std::size_t(j)];
           const double lp = log_norm[std::size_t(j)] + c.sharpness * (level.dirs[t].dot(c.axis) - 1);
-          e[std::size_t(j)] = lp;
+          e[j] = lp;
           mx = std::max(mx, lp);
         }
-        // one exponential per component: the responsibility e^{lp − mx}/z = e^{lp − lse}
+        for (int j = 0; j < N; ++j) e[j] = e[j] - mx;
+        mxs[t - t0] = mx;
+      }
+      exp_batch(es.data(), es.data(), es.size());
+      for (std::size_t t = t0; t < t1; ++t) {
+        const double* e = es.data() + (t - t0) * std::size_t(N);
+        const double mx = mxs[t - t0];
         double z = 0;
-        for (int j = 0; j < N; ++j) z += (e[std::size_t(j)] = std::exp(e[std::size_t(j)] - mx));
+        for (int j = 0; j < N; ++j) z += e[j];
         p.loglik += w[t] * (mx + std::log(z));
         const double scale = w[t] / z;
         for (int j = 0; j < N; ++j) {
-          const double resp = e[std::size_t(j)] * scale;
+          const double resp = e[j] * scale;
           p.sum[std::size_t(j)] += resp * level.dirs[t];
           p.wsum[std::size_t(j)] += resp;
         }

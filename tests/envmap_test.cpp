@@ -168,6 +168,54 @@ TEST(EnvMapRaster, TexelMeansMatchTheirDefinition) {
   }
 }
 
+// mixture_eval_points (rasterize_mixture_rows' evaluator) takes its exponentials a lobe at a time
+// over its points (exp_batch); each point's value is still mixture_eval's, bit for bit in double:
+// seeded directions, half of them within 0.01 of a lobe's axis, and lobes sharp enough that
+// exponents pass −512 (std::exp's own slow path, which exp_batch hands to std::exp) and −746
+// (exp 0). Point counts that are no multiple of a register's lanes. rasterize_mixture's texels are
+// then the same sums in rasterize's order: checked at float, with s = 1, 2, 4, 5 (blocks of 256, 64,
+// 16 and 10 texels, none dividing the width).
+TEST(EnvMapRaster, MixtureEvalPointsIsMixtureEvalBitForBit) {
+  SgMixture m = sglab::render::synthetic_mixture();
+  m.push_back({Vec3d(0.6, 0, 0.8), 300.0, {2.0, 1.0, 0.5}});
+  m.push_back({Vec3d(0, -0.8, 0.6), 5000.0, {40.0, 30.0, 20.0}});
+  auto rng = sglab::test::seeded_rng(20261206);
+  std::normal_distribution<double> normal;
+  for (std::size_t n : {1u, 7u, 100u, 1027u}) {
+    std::vector<double> x(n), y(n), z(n), r(n), g(n), b(n), scratch(n);
+    for (std::size_t q = 0; q < n; ++q) {
+      Vec3d d(normal(rng), normal(rng), normal(rng));
+      if (q % 2) d = m[q % m.size()].axis + 0.01 * d;
+      d.normalize();
+      x[q] = d(0), y[q] = d(1), z[q] = d(2);
+    }
+    sglab::mixture_eval_points(m, x.data(), y.data(), z.data(), n, r.data(), g.data(), b.data(), scratch.data());
+    for (std::size_t q = 0; q < n; ++q) {
+      const auto want = sglab::mixture_eval(m, Vec3d(x[q], y[q], z[q]));
+      ASSERT_EQ(r[q], want[0]) << "n " << n << " point " << q;
+      ASSERT_EQ(g[q], want[1]) << "n " << n << " point " << q;
+      ASSERT_EQ(b[q], want[2]) << "n " << n << " point " << q;
+    }
+  }
+  const int w = 270, h = 12;
+  for (int s : {1, 2, 4, 5}) {
+    const EnvMap fast = sglab::rasterize_mixture(m, w, h, s);
+    const double inv = 1.0 / double(s * s);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u) {
+        std::array<double, 3> sum{0, 0, 0};
+        for (int sy = 0; sy < s; ++sy)
+          for (int sx = 0; sx < s; ++sx) {
+            const auto x = sglab::mixture_eval(m, sglab::envmap_direction(w, h, u + (sx + 0.5) / s, v + (sy + 0.5) / s));
+            for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += x[std::size_t(c)];
+          }
+        for (int c = 0; c < 3; ++c)
+          ASSERT_EQ(fast.at(u, v)[std::size_t(c)], float(sum[std::size_t(c)] * inv))
+              << "s " << s << " texel " << u << "," << v << " channel " << c;
+      }
+  }
+}
+
 // The fit keeps the texel means its error was measured on: the error recomputed from them.
 TEST(EnvMapFit, KeepsTheTexelMeansOfItsError) {
   const EnvMap map = sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 64, 32, 2);

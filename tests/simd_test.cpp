@@ -29,6 +29,7 @@
 #include <gtest/gtest.h>
 
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/exp_batch.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
 #include "simd_test_util.hpp"
@@ -313,6 +314,56 @@ TEST(Simd, IsaNamesAndForcing) {
   std::printf("[ simd     ] this CPU runs, of this build's kernels:");
   for (const auto isa : simd::supported_isas()) std::printf(" %s", std::string(simd::isa_name(isa)).c_str());
   std::printf("\n");
+}
+
+// exp_batch is std::exp to the bit on every instruction set: its vectorized copy of glibc's exp
+// (simd_exp.hpp) on avx2 and avx512, the scalar loop on sse2. Points: uniform over [−760, 720]
+// (overflow, subnormal results, the underflow to 0), over [−40, 1], random bit patterns (every
+// exponent field, NaN and ±inf among them) and |x| from 2^-60 to 2^9 (the fast path's lower end),
+// at every offset and length up to 17 (the partial vectors' scalar tail).
+TEST(Simd, ExpBatchIsStdExpToTheBit) {
+  auto rng = test::seeded_rng(20261205);
+  std::uniform_real_distribution<double> wide(-760, 720), fits(-40, 1), unit(-1, 1);
+  std::vector<double> x(1 << 18);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    switch (i % 4) {
+      case 0: x[i] = wide(rng); break;
+      case 1: x[i] = fits(rng); break;
+      case 2: {
+        const std::uint64_t b = rng();
+        std::memcpy(&x[i], &b, sizeof b);
+        break;
+      }
+      default: x[i] = std::ldexp(unit(rng), int(rng() % 70) - 60); break;
+    }
+  }
+  const auto same = [](double a, double b) {
+    return std::memcmp(&a, &b, sizeof a) == 0 || (std::isnan(a) && std::isnan(b));
+  };
+  for (const auto isa : simd::supported_isas()) {
+    simd::force_isa(isa);
+    // glibc's FMA exp is what the copy reproduces; on sse2 exp_batch is the loop of std::exp.
+    EXPECT_EQ(exp_batch_vectorized(), isa != simd::Isa::sse2) << simd::isa_name(isa);
+    std::vector<double> out(x.size());
+    exp_batch(x.data(), out.data(), x.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (!same(out[i], std::exp(x[i])) && ++differ <= 5)
+        ADD_FAILURE() << simd::isa_name(isa) << ": exp(" << x[i] << ") = " << out[i] << ", std::exp " << std::exp(x[i]);
+    EXPECT_EQ(differ, 0u) << simd::isa_name(isa);
+    for (std::size_t offset = 0; offset < 8; ++offset)
+      for (std::size_t n = 0; n <= 17; ++n) {
+        std::vector<double> part(n + 1, -1.0);
+        exp_batch(x.data() + offset, part.data(), n);
+        for (std::size_t i = 0; i < n; ++i) EXPECT_TRUE(same(part[i], std::exp(x[offset + i])));
+        EXPECT_EQ(part[n], -1.0) << "written past n = " << n;
+      }
+    // In place.
+    std::vector<double> y(x.begin(), x.begin() + 1000);
+    exp_batch(y.data(), y.data(), y.size());
+    for (std::size_t i = 0; i < y.size(); ++i) EXPECT_TRUE(same(y[i], std::exp(x[i])));
+  }
+  simd::force_isa(simd::supported_isas().back());
 }
 
 }  // namespace

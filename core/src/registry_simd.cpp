@@ -140,6 +140,10 @@ void force_isa(Isa isa) {
 
 }  // namespace simd
 
+namespace simd_detail {
+const KernelTable& active_kernels() { return simd::active_table(); }
+}  // namespace simd_detail
+
 namespace {
 
 using simd_detail::Kernel;

@@ -27,6 +27,9 @@
 #include "simd_lanes.hpp"
 #include "simd_math.hpp"
 #include "simd_table.hpp"
+#if defined(__FMA__)
+#include "simd_exp.hpp"
+#endif
 
 // ---- the c = ±1 bounds' series on lanes (clamped_cosine.hpp) -----------------------------------
 // clamped_cosine_upper_series and clamped_cosine_inner_series on Lanes, which the templates' calls
@@ -369,7 +372,10 @@ SpecularPairTable make_pair_table() {
 
 template <class Arch>
 KernelTable make_table(const char* isa) {
-  KernelTable t{isa, {}, {}, {}, {}};
+  KernelTable t{isa, {}, {}, {}, {}, nullptr};
+#if defined(__FMA__)
+  t.exp_d = exp_like_glibc<Arch>;
+#endif
   for (int i = 0; i < static_cast<int>(Kernel::count); ++i) {
     t.f[i] = Drivers<Arch>::template kernels<float>[i];
     t.d[i] = Drivers<Arch>::template kernels<double>[i];

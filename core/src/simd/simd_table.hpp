@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 namespace sglab::simd_detail {
 
@@ -47,13 +48,20 @@ using KernelFn = void (*)(const T* args, T* out, std::size_t n, const T* params)
 template <class T>
 using ColumnsKernelFn = void (*)(const T* const* columns, T* out, std::size_t n, const T* params);
 
+// out[i] = std::exp(x[i]) bit for bit (simd_exp.hpp), with the 128-pair table exp_batch.cpp builds.
+using ExpFn = void (*)(const double* x, double* out, std::size_t n, const std::uint64_t* table);
+
 struct KernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   KernelFn<float> f[static_cast<int>(Kernel::count)];
   KernelFn<double> d[static_cast<int>(Kernel::count)];
   ColumnsKernelFn<float> columns_f[static_cast<int>(Kernel::count)];
   ColumnsKernelFn<double> columns_d[static_cast<int>(Kernel::count)];
+  ExpFn exp_d;  // nullptr where the unit has no FMA (sse2): glibc's exp there rounds unfused
 };
+
+// The table of the active instruction set (sglab/simd.hpp: active_isa), from registry_simd.cpp.
+const KernelTable& active_kernels();
 
 const KernelTable& kernels_sse2();
 const KernelTable& kernels_avx2();
