@@ -755,12 +755,16 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
   // chunk order: the result does not depend on the thread count.
   constexpr std::size_t kChunk = 512;
   const std::size_t chunks = (T + kChunk - 1) / kChunk;
+  // The components as columns (axis x, y, z, λ, log(weight/A(λ))) and each chunk's sums as
+  // columns, so that the loops over the components run on vector registers; every value is the one
+  // the per-component form computes (ω·ξ summed as Eigen's dot, (x x' + y y') + z z').
   struct Partial {
-    std::vector<Vec3d> sum;
-    std::vector<double> wsum;
+    std::vector<double> sx, sy, sz, wsum;
     double loglik = 0;
   };
   std::vector<Partial> partial(chunks);
+  const std::size_t lobes = static_cast<std::size_t>(N);
+  std::vector<double> ax(lobes), ay(lobes), az(lobes), sharpness(lobes);
   double previous = -INFINITY;
   EnvFitResult r;
   r.method = "vmf-em";
@@ -769,10 +773,14 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
     for (int j = 0; j < N; ++j) {
       const auto& c = cl[std::size_t(j)];
       log_norm[std::size_t(j)] = std::log(std::max(c.weight, 1e-300)) - std::log(sg_integral(c.sharpness));
+      ax[std::size_t(j)] = c.axis(0), ay[std::size_t(j)] = c.axis(1), az[std::size_t(j)] = c.axis(2);
+      sharpness[std::size_t(j)] = c.sharpness;
     }
     tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
       Partial& p = partial[k];
-      p.sum.assign(std::size_t(N), Vec3d::Zero());
+      p.sx.assign(std::size_t(N), 0.0);
+      p.sy.assign(std::size_t(N), 0.0);
+      p.sz.assign(std::size_t(N), 0.0);
       p.wsum.assign(std::size_t(N), 0.0);
       p.loglik = 0;
       // The chunk's log-probabilities lp − mx first (row t − t0), then their exponentials in one
@@ -782,13 +790,13 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
       std::vector<double> es((t1 - t0) * std::size_t(N)), mxs(t1 - t0);
       for (std::size_t t = t0; t < t1; ++t) {
         double* e = es.data() + (t - t0) * std::size_t(N);
+        const double dx = level.dirs[t](0), dy = level.dirs[t](1), dz = level.dirs[t](2);
+        for (int j = 0; j < N; ++j)
+          e[j] = log_norm[std::size_t(j)] +
+                 sharpness[std::size_t(j)] *
+                     ((dx * ax[std::size_t(j)] + dy * ay[std::size_t(j)]) + dz * az[std::size_t(j)] - 1);
         double mx = -INFINITY;
-        for (int j = 0; j < N; ++j) {
-          const auto& c = cl[std::size_t(j)];
-          const double lp = log_norm[std::size_t(j)] + c.sharpness * (level.dirs[t].dot(c.axis) - 1);
-          e[j] = lp;
-          mx = std::max(mx, lp);
-        }
+        for (int j = 0; j < N; ++j) mx = std::max(mx, e[j]);
         for (int j = 0; j < N; ++j) e[j] = e[j] - mx;
         mxs[t - t0] = mx;
       }
@@ -800,9 +808,12 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
         for (int j = 0; j < N; ++j) z += e[j];
         p.loglik += w[t] * (mx + std::log(z));
         const double scale = w[t] / z;
+        const double dx = level.dirs[t](0), dy = level.dirs[t](1), dz = level.dirs[t](2);
         for (int j = 0; j < N; ++j) {
           const double resp = e[j] * scale;
-          p.sum[std::size_t(j)] += resp * level.dirs[t];
+          p.sx[std::size_t(j)] += resp * dx;
+          p.sy[std::size_t(j)] += resp * dy;
+          p.sz[std::size_t(j)] += resp * dz;
           p.wsum[std::size_t(j)] += resp;
         }
       }
@@ -812,7 +823,7 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
     double loglik = 0;
     for (const auto& p : partial) {
       for (int j = 0; j < N; ++j) {
-        sum[std::size_t(j)] += p.sum[std::size_t(j)];
+        sum[std::size_t(j)] += Vec3d(p.sx[std::size_t(j)], p.sy[std::size_t(j)], p.sz[std::size_t(j)]);
         wsum[std::size_t(j)] += p.wsum[std::size_t(j)];
       }
       loglik += p.loglik;
