@@ -5,7 +5,7 @@
 // shift and ln2/128 in two parts, 2^(k/128) = scale·(1 + tail) from a table of 128 pairs,
 // e^r − 1 by a degree-5 polynomial, and exp(x) = scale + scale·(tail + r + r²(C2 + r C3) +
 // r⁴(C4 + r C5)). On a CPU with FMA and AVX2, glibc runs this C source compiled with -mfma, and the
-// compiler fused five products into their sums; the kernel below performs the same roundings in
+// compiler fused eight products into their sums; the kernel below performs the same roundings in
 // the same order (read from the machine code of Debian 12's libm.so.6, __exp_fma), lane by lane,
 // so it returns std::exp's bits. Lanes outside the fast range (|x| < 2^-54, |x| ≥ 512, NaN, ±inf)
 // take std::exp itself, except x ≤ −746, whose exp is below half the smallest subnormal and rounds
