@@ -79,30 +79,12 @@ inline std::array<double, 3> mixture_eval(const SgMixture& m, const Vec3<double>
 }
 
 // mixture_eval at the n unit directions (x[q], y[q], z[q]) into (r[q], g[q], b[q]), bit for bit its
-// values, computed a lobe at a time over the points so that the loops run on vector registers:
-// sg_exponent's operations in its order (−½λ times the squared norm summed as Eigen's,
-// (x² + y²) + z²), the exponentials by exp_batch (std::exp's values), each point's sums over the
-// lobes in mixture_eval's order. `scratch` holds n doubles.
-inline void mixture_eval_points(const SgMixture& m, const double* x, const double* y, const double* z, std::size_t n,
-                                double* r, double* g, double* b, double* scratch) {
-  std::fill_n(r, n, 0.0);
-  std::fill_n(g, n, 0.0);
-  std::fill_n(b, n, 0.0);
-  for (const SgLight& l : m) {
-    const double h = -0.5 * l.sharpness, ax = l.axis(0), ay = l.axis(1), az = l.axis(2);
-    for (std::size_t q = 0; q < n; ++q) {
-      const double dx = x[q] - ax, dy = y[q] - ay, dz = z[q] - az;
-      scratch[q] = h * (dx * dx + dy * dy + dz * dz);
-    }
-    exp_batch(scratch, scratch, n);
-    const double ar = l.amplitude[0], ag = l.amplitude[1], ab = l.amplitude[2];
-    for (std::size_t q = 0; q < n; ++q) {
-      r[q] += ar * scratch[q];
-      g[q] += ag * scratch[q];
-      b[q] += ab * scratch[q];
-    }
-  }
-}
+// values, computed a lobe at a time over the points on the active instruction set's registers
+// (core/src/simd/simd_mixture.hpp): sg_exponent's operations in its order (−½λ times the squared
+// norm summed as Eigen's, (x² + y²) + z²), the exponentials by exp_batch (std::exp's values), each
+// point's sums over the lobes in mixture_eval's order. `scratch` holds n doubles.
+void mixture_eval_points(const SgMixture& m, const double* x, const double* y, const double* z, std::size_t n,
+                         double* r, double* g, double* b, double* scratch);
 
 // Rows [v0, v1) of rasterize_mixture(m, map.width, map.height, supersample) into `map` (already
 // sized): the rows are independent, so a caller may fill them in parallel. The sample directions

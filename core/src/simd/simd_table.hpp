@@ -51,6 +51,16 @@ using ColumnsKernelFn = void (*)(const T* const* columns, T* out, std::size_t n,
 // out[i] = std::exp(x[i]) bit for bit (simd_exp.hpp), with the 128-pair table exp_batch.cpp builds.
 using ExpFn = void (*)(const double* x, double* out, std::size_t n, const std::uint64_t* table);
 
+// An SG mixture as columns, per lobe: axis x, y, z, −½λ, RGB amplitude (sglab/envmap.hpp).
+struct MixtureColumns {
+  std::size_t lobes;
+  const double *ax, *ay, *az, *h, *ar, *ag, *ab;
+};
+// mixture_eval at the n points (x[q], y[q], z[q]) into r, g, b, bit for bit (simd_mixture.hpp);
+// `scratch` holds n doubles.
+using MixturePointsFn = void (*)(const MixtureColumns& m, const double* x, const double* y, const double* z,
+                                 std::size_t n, double* r, double* g, double* b, double* scratch);
+
 struct KernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   KernelFn<float> f[static_cast<int>(Kernel::count)];
@@ -58,6 +68,7 @@ struct KernelTable {
   ColumnsKernelFn<float> columns_f[static_cast<int>(Kernel::count)];
   ColumnsKernelFn<double> columns_d[static_cast<int>(Kernel::count)];
   ExpFn exp_d;  // nullptr where the unit has no FMA (sse2): glibc's exp there rounds unfused
+  MixturePointsFn mixture_points;
 };
 
 // The table of the active instruction set (sglab/simd.hpp: active_isa), from registry_simd.cpp.
