@@ -373,7 +373,7 @@ SpecularPairTable make_pair_table() {
 
 template <class Arch>
 KernelTable make_table(const char* isa) {
-  KernelTable t{isa, {}, {}, {}, {}, nullptr, mixture_points};
+  KernelTable t{isa, {}, {}, {}, {}, nullptr, mixture_points<Arch>};
 #if defined(__FMA__)
   t.exp_d = exp_like_glibc<Arch>;
 #endif

@@ -14,6 +14,7 @@
 namespace sglab::simd_detail {
 namespace {
 
+template <class Arch>  // a template on the unit's architecture, like the kernels (simd_kernels.hpp)
 void mixture_points(const MixtureColumns& m, const double* __restrict x, const double* __restrict y,
                     const double* __restrict z, std::size_t n, double* __restrict r, double* __restrict g,
                     double* __restrict b, double* __restrict scratch) {
