@@ -71,7 +71,10 @@ class MixtureCost final : public ceres::CostFunction {
     // q·G(ω; ξ, λq): the texel-blurred lobe without its amplitude (the exponentials at once: exp_batch)
     exp_batch(g.data(), g.data(), g.size());
     for (std::size_t t = 0; t < T; ++t)
-      for (int j = 0; j < N; ++j) g[t * std::size_t(N) + std::size_t(j)] = q[std::size_t(j)] * g[t * std::size_t(N) + std::size_t(j)];
+      for (int j = 0; j < N; ++j) {
+        double& gj = g[t * std::size_t(N) + std::size_t(j)];
+        gj = q[std::size_t(j)] * gj;
+      }
     // s_t·f'(m): the factor every derivative of residual (t, c) carries.
     std::vector<double> scale(3 * T);
     for (std::size_t t = 0; t < T; ++t) {
