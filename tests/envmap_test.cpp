@@ -173,31 +173,32 @@ TEST(EnvMapRaster, TexelMeansMatchTheirDefinition) {
 // over its points (exp_batch); each point's value is still mixture_eval's, bit for bit in double:
 // seeded directions, half of them within 0.01 of a lobe's axis, and lobes sharp enough that
 // exponents pass −512 (std::exp's own slow path, which exp_batch hands to std::exp) and −746
-// (exp 0). Point counts that are no multiple of a register's lanes, on every instruction set. rasterize_mixture's texels are
-// then the same sums in rasterize's order: checked at float, with s = 1, 2, 4, 5 (blocks of 256, 64,
-// 16 and 10 texels, none dividing the width).
+// (exp 0). Point counts that are no multiple of a register's lanes, on every instruction set.
+// rasterize_mixture's texels are then the same sums in rasterize's order: checked at float, with
+// s = 1, 2, 4, 5 (blocks of 256, 64, 16 and 10 texels, none dividing the width).
 TEST(EnvMapRaster, MixtureEvalPointsIsMixtureEvalBitForBit) {
   SgMixture m = sglab::render::synthetic_mixture();
   m.push_back({Vec3d(0.6, 0, 0.8), 300.0, {2.0, 1.0, 0.5}});
   m.push_back({Vec3d(0, -0.8, 0.6), 5000.0, {40.0, 30.0, 20.0}});
   auto rng = sglab::test::seeded_rng(20261206);
   std::normal_distribution<double> normal;
-  for (const auto isa : sglab::simd::supported_isas())  // the kernel of every instruction set
-  for (std::size_t n : {1u, 7u, 100u, 1027u}) {
+  for (const auto isa : sglab::simd::supported_isas()) {  // the kernel of every instruction set
     sglab::simd::force_isa(isa);
-    std::vector<double> x(n), y(n), z(n), r(n), g(n), b(n), scratch(n);
-    for (std::size_t q = 0; q < n; ++q) {
-      Vec3d d(normal(rng), normal(rng), normal(rng));
-      if (q % 2) d = m[q % m.size()].axis + 0.01 * d;
-      d.normalize();
-      x[q] = d(0), y[q] = d(1), z[q] = d(2);
-    }
-    sglab::mixture_eval_points(m, x.data(), y.data(), z.data(), n, r.data(), g.data(), b.data(), scratch.data());
-    for (std::size_t q = 0; q < n; ++q) {
-      const auto want = sglab::mixture_eval(m, Vec3d(x[q], y[q], z[q]));
-      ASSERT_EQ(r[q], want[0]) << sglab::simd::isa_name(isa) << " n " << n << " point " << q;
-      ASSERT_EQ(g[q], want[1]) << sglab::simd::isa_name(isa) << " n " << n << " point " << q;
-      ASSERT_EQ(b[q], want[2]) << sglab::simd::isa_name(isa) << " n " << n << " point " << q;
+    for (std::size_t n : {1u, 7u, 100u, 1027u}) {
+      std::vector<double> x(n), y(n), z(n), r(n), g(n), b(n), scratch(n);
+      for (std::size_t q = 0; q < n; ++q) {
+        Vec3d d(normal(rng), normal(rng), normal(rng));
+        if (q % 2) d = m[q % m.size()].axis + 0.01 * d;
+        d.normalize();
+        x[q] = d(0), y[q] = d(1), z[q] = d(2);
+      }
+      sglab::mixture_eval_points(m, x.data(), y.data(), z.data(), n, r.data(), g.data(), b.data(), scratch.data());
+      for (std::size_t q = 0; q < n; ++q) {
+        const auto want = sglab::mixture_eval(m, Vec3d(x[q], y[q], z[q]));
+        ASSERT_EQ(r[q], want[0]) << sglab::simd::isa_name(isa) << " n " << n << " point " << q;
+        ASSERT_EQ(g[q], want[1]) << sglab::simd::isa_name(isa) << " n " << n << " point " << q;
+        ASSERT_EQ(b[q], want[2]) << sglab::simd::isa_name(isa) << " n " << n << " point " << q;
+      }
     }
   }
   sglab::simd::force_isa(sglab::simd::supported_isas().back());
