@@ -15,7 +15,7 @@ void mixture_eval_points(const SgMixture& m, const double* x, const double* y, c
          *ab = ag + lobes;
   for (std::size_t j = 0; j < lobes; ++j) {
     ax[j] = m[j].axis(0), ay[j] = m[j].axis(1), az[j] = m[j].axis(2);
-    h[j] = -0.5 * m[j].sharpness;  // sg_exponent's −T(0.5)·λ
+    h[j] = -0.5 * m[j].sharpness;  // sg_eval's −T(0.5)·λ
     ar[j] = m[j].amplitude[0], ag[j] = m[j].amplitude[1], ab[j] = m[j].amplitude[2];
   }
   const simd_detail::MixtureColumns c{lobes, ax, ay, az, h, ar, ag, ab};

@@ -18,7 +18,6 @@
 #include <Eigen/Core>
 
 #include "sglab/error_metrics.hpp"
-#include "sglab/exp_batch.hpp"
 #include "sglab/sg.hpp"
 
 namespace sglab {
@@ -80,9 +79,10 @@ inline std::array<double, 3> mixture_eval(const SgMixture& m, const Vec3<double>
 
 // mixture_eval at the n unit directions (x[q], y[q], z[q]) into (r[q], g[q], b[q]), bit for bit its
 // values, computed a lobe at a time over the points on the active instruction set's registers
-// (core/src/simd/simd_mixture.hpp): sg_exponent's operations in its order (−½λ times the squared
-// norm summed as Eigen's, (x² + y²) + z²), the exponentials by exp_batch (std::exp's values), each
-// point's sums over the lobes in mixture_eval's order. `scratch` holds n doubles.
+// (core/src/simd/simd_mixture.hpp): sg_eval's exponent with its operations in its order (−½λ times
+// the squared norm summed as Eigen's, (x² + y²) + z²), the exponentials by exp_batch (std::exp's
+// values, sglab/exp_batch.hpp), each point's sums over the lobes in mixture_eval's order.
+// `scratch` holds n doubles.
 void mixture_eval_points(const SgMixture& m, const double* x, const double* y, const double* z, std::size_t n,
                          double* r, double* g, double* b, double* scratch);
 
@@ -104,7 +104,8 @@ inline void rasterize_mixture_rows(const SgMixture& m, int supersample, int v0, 
     }
   std::vector<double> sin_theta(static_cast<std::size_t>(s)),
       cos_theta(static_cast<std::size_t>(s));  // per sample row of row v
-  // A block of texels of one row: their samples p = (texel, sy, sx) in that order.
+  // A block of texels of one row, about 256 samples p = (texel, sy, sx) in that order: the seven
+  // 2 KB columns below stay in L1 while every lobe passes over them.
   const int block = std::max(1, 256 / int(per_texel));
   const std::size_t samples = std::size_t(block) * per_texel;
   std::vector<double> wx(samples), wy(samples), wz(samples), e(samples), xr(samples), xg(samples), xb(samples);

@@ -14,16 +14,11 @@ using Vec3 = Eigen::Matrix<T, 3, 1>;
 
 // G(ω; ξ, λ), evaluated as exp(−λ/2·‖ω − ξ‖²): the same value as exp(λ(ω·ξ − 1)) but without
 // the cancellation in ω·ξ − 1 when ω ≈ ξ (Tokuyoshi 2025, "A numerically stable implementation
-// of the von Mises–Fisher distribution on S²"). ω and ξ must be unit vectors. sg_exponent is its
-// exponent, for callers that take many exponentials at once (exp_batch).
-template <class T>
-T sg_exponent(const Vec3<T>& omega, const Vec3<T>& axis, const T& sharpness) {
-  return -T(0.5) * sharpness * (omega - axis).squaredNorm();
-}
+// of the von Mises–Fisher distribution on S²"). ω and ξ must be unit vectors.
 template <class T>
 T sg_eval(const Vec3<T>& omega, const Vec3<T>& axis, const T& sharpness) {
   using std::exp;
-  return exp(sg_exponent(omega, axis, sharpness));
+  return exp(-T(0.5) * sharpness * (omega - axis).squaredNorm());
 }
 
 // G as a function of the cosine c = ω·ξ: exp(λ(c − 1)). The argument is ≤ 0 for |c| ≤ 1, so it

@@ -2,7 +2,7 @@
 // picks this table's entry), compiled once per instruction set at -O3 with -ffp-contract=off: the
 // loops over the points run on the unit's registers and every product and sum rounds as in the
 // scalar mixture_eval. Per lobe: −½λ times the squared distance summed as Eigen's squaredNorm,
-// (x² + y²) + z² (sg_exponent), the exponentials by exp_batch (std::exp's values), then each
+// (x² + y²) + z² (sg_eval's exponent), the exponentials by exp_batch (std::exp's values), then each
 // point's sums over the lobes in mixture_eval's order.
 #pragma once
 
