@@ -63,7 +63,10 @@ std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& f, const std::v
     return true;
   };
   auto it = std::find_if(cache.entries.begin(), cache.entries.end(), same);
-  if (it == cache.entries.end()) {
+  if (it != cache.entries.end()) {  // used: to the back, the last to be evicted
+    std::rotate(it, it + 1, cache.entries.end());
+    it = cache.entries.end() - 1;
+  } else {
     if (cache.entries.size() >= LobeDiffuseCache::kEntries) cache.entries.erase(cache.entries.begin());
     LobeDiffuseCache::Entry e;
     e.normals = normals;

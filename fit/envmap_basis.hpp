@@ -59,15 +59,18 @@ struct EnvBasisFit {
 // each. For an SG fit the costly part is the per-lobe factor clamped_cosine_reference(λ, ξ·n)/π (a
 // tanh-sinh quadrature each): it is kept in the cache and reused by the next call with the same
 // normals and the same lobe axes and sharpnesses (the three amplitude solvers of sg-fixed share
-// them at every N); zero-amplitude lobes add exactly nothing and are skipped. Normals in parallel.
+// them at every N, and sg-fixed's lobes are the same in every environment); zero-amplitude lobes
+// add exactly nothing and are skipped. Normals in parallel.
 struct LobeDiffuseCache {
   struct Entry {
     std::vector<Vec3<double>> normals;
     std::vector<std::pair<Vec3<double>, double>> lobes;  // axis, sharpness
     std::vector<double> factor;                          // [normal · lobes + lobe]; NaN until computed
   };
-  // The most recent lobe sets, at most kEntries (the sizes of one basis: 6 by default).
-  static constexpr std::size_t kEntries = 8;
+  // The most recently used lobe sets, at most kEntries: enough for one environment's sg-fixed,
+  // vmf-em and sg-free sizes (6 each by default) and its resolved refits, so that sg-fixed's sets
+  // are still there for the next environment (at N = 128, 128 normals: 130 KB an entry).
+  static constexpr std::size_t kEntries = 32;
   std::vector<Entry> entries;
 };
 std::vector<std::array<double, 3>> diffuse_at(const EnvBasisFit& fit, const std::vector<Vec3<double>>& normals,

@@ -441,6 +441,30 @@ TEST(EnvBasisFit, DiffuseAtManyNormalsMatchesTheClampedCosineReferencePerLobe) {
   check(other, "a lobe changed");
   check(f, "the first lobes again (an older entry)");
   EXPECT_EQ(cache.entries.size(), 2u);
+  // Eviction is by last use: f's entry, used again before the cache fills, outlives kEntries − 1
+  // other lobe sets inserted after it (by insertion order it would be the first to go).
+  auto has = [&](const fit::EnvBasisFit& g) {
+    return std::any_of(cache.entries.begin(), cache.entries.end(), [&](const fit::LobeDiffuseCache::Entry& e) {
+      if (e.lobes.size() != g.mixture.size()) return false;
+      for (std::size_t j = 0; j < e.lobes.size(); ++j)
+        if (e.lobes[j].first != g.mixture[j].axis || e.lobes[j].second != g.mixture[j].sharpness) return false;
+      return true;
+    });
+  };
+  fit::EnvBasisFit filler = f;
+  for (std::size_t i = 0; i + 2 < fit::LobeDiffuseCache::kEntries; ++i) {
+    filler.mixture[0].sharpness = 100.0 + double(i);
+    (void)fit::diffuse_at(filler, normals, cache);
+  }
+  ASSERT_EQ(cache.entries.size(), fit::LobeDiffuseCache::kEntries);
+  check(f, "the first lobes, before the cache overflows");
+  for (int i = 0; i < 2; ++i) {
+    filler.mixture[0].sharpness = 200.0 + i;
+    (void)fit::diffuse_at(filler, normals, cache);
+  }
+  EXPECT_EQ(cache.entries.size(), fit::LobeDiffuseCache::kEntries);
+  EXPECT_TRUE(has(f)) << "the most recently used entry was evicted";
+  EXPECT_FALSE(has(other)) << "the least recently used entry was kept";
 }
 
 // The `sg-free` basis (one ladder fit) on the synthetic 4-lobe mixture at 128×64: the map error

@@ -182,8 +182,13 @@ std::vector<Rgb> mixture_shading(const SgMixture& m, const EnvImage& image, cons
 }
 }  // namespace
 
+// A lobe of zero amplitude (a ladder rung that kept its predecessor's fit carries its own lobes at
+// zero, fit/envmap.hpp) adds +0 to the sum: its quadrature is skipped, the sums are unchanged.
 std::vector<Rgb> mixture_diffuse_reference(const SgMixture& m, const EnvImage& image) {
-  return mixture_shading(m, image, [](const ViewFrame& f, const EnvShadingPoint&, const SgLight& l) {
+  SgMixture lit;
+  for (const auto& l : m)
+    if (l.amplitude[0] != 0 || l.amplitude[1] != 0 || l.amplitude[2] != 0) lit.push_back(l);
+  return mixture_shading(lit, image, [](const ViewFrame& f, const EnvShadingPoint&, const SgLight& l) {
     return clamped_cosine_reference(l.sharpness, std::clamp(l.axis.dot(f.n), -1.0, 1.0)) / M_PI;
   });
 }
