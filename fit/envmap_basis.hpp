@@ -69,7 +69,7 @@ struct LobeDiffuseCache {
   };
   // The most recently used lobe sets, at most kEntries: enough for one environment's sg-fixed,
   // vmf-em and sg-free sizes (6 each by default) and its resolved refits, so that sg-fixed's sets
-  // are still there for the next environment (at N = 128, 128 normals: 130 KB an entry).
+  // are still there for the next environment (at N = 128 and 128 normals about 140 KB an entry).
   static constexpr std::size_t kEntries = 32;
   std::vector<Entry> entries;
 };

@@ -441,8 +441,8 @@ TEST(EnvBasisFit, DiffuseAtManyNormalsMatchesTheClampedCosineReferencePerLobe) {
   check(other, "a lobe changed");
   check(f, "the first lobes again (an older entry)");
   EXPECT_EQ(cache.entries.size(), 2u);
-  // Eviction is by last use: f's entry, used again before the cache fills, outlives kEntries − 1
-  // other lobe sets inserted after it (by insertion order it would be the first to go).
+  // Eviction is by last use: f's entry, among the oldest but used again once the cache is full,
+  // outlives the two insertions that follow (by insertion order it would be the first to go).
   auto has = [&](const fit::EnvBasisFit& g) {
     return std::any_of(cache.entries.begin(), cache.entries.end(), [&](const fit::LobeDiffuseCache::Entry& e) {
       if (e.lobes.size() != g.mixture.size()) return false;
