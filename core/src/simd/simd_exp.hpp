@@ -72,6 +72,10 @@ template <class U>
   }
 }
 
+// At and below it e^x < 2^-1075 (e^-746 ≈ 1.03e-324, half the smallest subnormal 4.94e-324 being
+// 2.47e-324), so glibc's value rounds to +0 and the kernel returns +0 without the scalar call.
+constexpr double kExpZeroAtOrBelow = -746.0;
+
 // Whether std::exp takes its fast path at x: the exponent field e satisfies 2^-54 ≤ |x| < 512,
 // i.e. e − 0x3c9 ≤ 0x3e as unsigned (glibc's abstop test).
 inline bool exp_fast_lane(double x) {
@@ -89,7 +93,7 @@ void exp_like_glibc(const double* x, double* out, std::size_t n, const std::uint
   const B inv_ln2_n(0x1.71547652b82fep7), shift(0x1.8p52);
   const B neg_ln2_hi_n(-0x1.62e42fefa0000p-8), neg_ln2_lo_n(-0x1.cf79abc9e3b3ap-47);
   const B c2(0x1.ffffffffffdbdp-2), c3(0x1.555555555543cp-3), c4(0x1.55555cf172b91p-5), c5(0x1.1111167a4d017p-7);
-  const B underflow(-746.0), zero(0.0);
+  const B underflow(kExpZeroAtOrBelow), zero(0.0);
   std::size_t i = 0;
   for (; i + L <= n; i += L) {
     const B v = B::load_unaligned(x + i);
@@ -112,7 +116,7 @@ void exp_like_glibc(const double* x, double* out, std::size_t n, const std::uint
       v.store_aligned(in);
       e.store_aligned(e_lanes);
       for (std::size_t k = 0; k < L; ++k)
-        if (!exp_fast_lane(in[k]) && !(in[k] <= -746.0)) e_lanes[k] = std::exp(in[k]);
+        if (!exp_fast_lane(in[k]) && !(in[k] <= kExpZeroAtOrBelow)) e_lanes[k] = std::exp(in[k]);
       B::load_aligned(e_lanes).store_unaligned(out + i);
     } else {
       e.store_unaligned(out + i);
