@@ -27,7 +27,7 @@ simd_detail::VplView<T> view_of(const VplArraysT<T>& a, const T* visible) {
   v.lambert_r = a.lambert_r.data(), v.lambert_g = a.lambert_g.data(), v.lambert_b = a.lambert_b.data();
   v.flux_r = a.flux_r.data(), v.flux_g = a.flux_g.data(), v.flux_b = a.flux_b.data();
   v.f0_r = a.f0_r.data(), v.f0_g = a.f0_g.data(), v.f0_b = a.f0_b.data();
-  v.alpha = a.alpha.data(), v.cos_incoming = a.cos_incoming.data();
+  v.alpha = a.alpha.data(), v.cos_incoming = a.cos_incoming.data(), v.smith_in = a.smith_in.data();
   v.visible = visible;
   return v;
 }
@@ -122,6 +122,7 @@ void push_glossy(VplArraysT<T>& a, const Vpl* v) {
   put(a.f0_b, v ? v->f0(2) : 0.0);
   put(a.alpha, v ? v->roughness : 1.0);
   put(a.cos_incoming, v ? v->normal.dot(v->incoming) : 0.0);
+  a.smith_in.push_back(simd_detail::ggx_smith_root(T(a.alpha.back() * a.alpha.back()), a.cos_incoming.back()));
 }
 
 template <class T>

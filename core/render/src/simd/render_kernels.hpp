@@ -30,14 +30,15 @@ template <class T>
 
 // The GGX layer of brdf_cosine (material_brdf.hpp) for unit n, wo, wi with co = n·wo, ci = n·wi:
 // D(h)·V·ci, and wo·h for the Fresnel factor. ggx_ndf and smith_visibility_ggx (brdf.hpp)
-// branch-free.
+// branch-free. so = ggx_smith_root(α², co), wo's side of the visibility, which the caller has
+// (a VPL's array, or once per receiver) rather than one square root per term.
 template <class T>
 struct GgxLayer {
   T dv, cos_oh;
 };
 template <class T>
 [[gnu::always_inline]] inline GgxLayer<T> ggx_layer(T alpha, T nx, T ny, T nz, T wox, T woy, T woz, T wix, T wiy, T wiz,
-                                                    T co, T ci) {
+                                                    T co, T ci, T so) {
   T hx = wox + wix, hy = woy + wiy, hz = woz + wiz;
   const T h2 = hx * hx + hy * hy + hz * hz;
   const T inv = h2 > 0 ? T(1) / sqrt_(h2) : T(0);  // Eigen's normalized(): h = 0 stays 0
@@ -47,8 +48,7 @@ template <class T>
   const T a2 = alpha * alpha, ch = clamp1(nx * hx + ny * hy + nz * hz);
   const T dn = (1 - ch) * (1 + ch) + a2 * ch * ch;
   const T ndf = ch > 0 ? a2 / (T(kPi) * dn * dn) : T(0);
-  const T cco = clamp1(co), cci = clamp1(ci);
-  const T so = sqrt_(co * co + a2 * ((1 - cco) * (1 + cco))), si = sqrt_(ci * ci + a2 * ((1 - cci) * (1 + cci)));
+  const T si = ggx_smith_root(a2, ci);
   const T den = ci * so + co * si;
   const T vis = (co > 0 || ci > 0) && co >= 0 && ci >= 0 && den > 0 ? T(1) / (2 * den) : T(0);
   const T dv = ndf * vis * ci;
@@ -72,7 +72,8 @@ void vpl_sum_terms(const VplView<T>& a, const Receiver<T>& p, double* out) {
   const T *x = a.x, *y = a.y, *z = a.z, *nx = a.nx, *ny = a.ny, *nz = a.nz, *r2 = a.r2, *lr = a.lambert_r,
           *lg = a.lambert_g, *lb = a.lambert_b;
   const T *ix = a.ix, *iy = a.iy, *iz = a.iz, *fr = a.flux_r, *fg = a.flux_g, *fb = a.flux_b, *f0r = a.f0_r,
-          *f0g = a.f0_g, *f0b = a.f0_b, *al = a.alpha, *ci = a.cos_incoming, *visible = a.visible;
+          *f0g = a.f0_g, *f0b = a.f0_b, *al = a.alpha, *ci = a.cos_incoming, *sw = a.smith_in, *visible = a.visible;
+  const T receiver_root = kGlossyReceiver ? ggx_smith_root(T(p.alpha * p.alpha), p.cos_view) : T(0);
   T s0 = 0, s1 = 0, s2 = 0;
 #pragma omp simd reduction(+ : s0, s1, s2)
   for (std::size_t i = 0; i < n; ++i) {
@@ -87,14 +88,15 @@ void vpl_sum_terms(const VplView<T>& a, const Receiver<T>& p, double* out) {
     // Φ_i·I_i(ω)/Φ_i, I_i = ρ_i(ω'_i, ω)⟨ω·n_i⟩ (reciprocal, so either argument order).
     T e0 = lr[i] * cv, e1 = lg[i] * cv, e2 = lb[i] * cv;
     if constexpr (kGlossyVpl) {
-      const GgxLayer<T> g = ggx_layer<T>(al[i], nx[i], ny[i], nz[i], ix[i], iy[i], iz[i], wx, wy, wz, ci[i], cv);
+      const GgxLayer<T> g = ggx_layer<T>(al[i], nx[i], ny[i], nz[i], ix[i], iy[i], iz[i], wx, wy, wz, ci[i], cv, sw[i]);
       e0 += fr[i] * (g.dv * schlick(f0r[i], g.cos_oh));
       e1 += fg[i] * (g.dv * schlick(f0g[i], g.cos_oh));
       e2 += fb[i] * (g.dv * schlick(f0b[i], g.cos_oh));
     }
     T q0 = p.rd[0] * cp, q1 = p.rd[1] * cp, q2 = p.rd[2] * cp;
     if constexpr (kGlossyReceiver) {
-      const GgxLayer<T> g = ggx_layer<T>(p.alpha, p.nx, p.ny, p.nz, p.vx, p.vy, p.vz, -wx, -wy, -wz, p.cos_view, cp);
+      const GgxLayer<T> g = ggx_layer<T>(p.alpha, p.nx, p.ny, p.nz, p.vx, p.vy, p.vz, -wx, -wy, -wz, p.cos_view, cp,
+                                         receiver_root);
       q0 += g.dv * schlick(p.f0[0], g.cos_oh);
       q1 += g.dv * schlick(p.f0[1], g.cos_oh);
       q2 += g.dv * schlick(p.f0[2], g.cos_oh);
@@ -684,12 +686,13 @@ std::size_t method_sum(std::size_t lobes, const double* amp_r, const double* amp
 void env_specular_sum(const EnvNodes& a, const EnvReceiver& p, double* out) {
   const std::size_t n = a.n;
   const double *x = a.x, *y = a.y, *z = a.z, *wr = a.wr, *wg = a.wg, *wb = a.wb;
+  const double view_root = ggx_smith_root(p.alpha * p.alpha, p.cos_view);
   double s0 = 0, s1 = 0, s2 = 0;
 #pragma omp simd reduction(+ : s0, s1, s2)
   for (std::size_t k = 0; k < n; ++k) {
     const double ci = p.nx * x[k] + p.ny * y[k] + p.nz * z[k];
     const GgxLayer<double> g = ggx_layer(p.alpha, p.nx, p.ny, p.nz, p.wox, p.woy, p.woz, x[k], y[k], z[k], p.cos_view,
-                                         ci);
+                                         ci, view_root);
     const double w = ci > 0 ? g.dv * schlick(p.f0, g.cos_oh) : 0.0;
     s0 += w * wr[k];
     s1 += w * wg[k];

@@ -22,12 +22,28 @@ inline constexpr double kRayReach = 1 - 1e-6;
 
 // ---- the exact VPL sum (reference.cpp) ----
 
+namespace {
+// √(c² + α²(1 − c)(1 + c)), c clamped to [−1, 1] inside (1 − c)(1 + c): one side's root of GGX's
+// height-correlated visibility (brdf.hpp smith_visibility_ggx) at the cosine c of that side,
+// a2 = α². ggx_layer (render_kernels.hpp) takes it for both directions; a glossy VPL's incoming
+// side is the same in all of its terms, so its arrays hold it (VplView::smith_in, reference.cpp),
+// the same operations on the same values. (Internal linkage: see the file comment.)
+template <class T>
+[[gnu::always_inline]] inline T ggx_smith_root(T a2, T c) {
+  const T lo = c < T(-1) ? T(-1) : c, cc = lo > T(1) ? T(1) : lo;
+  const T x = c * c + a2 * ((1 - cc) * (1 + cc));
+  if constexpr (sizeof(T) == sizeof(float)) return __builtin_sqrtf(x);
+  else return __builtin_sqrt(x);
+}
+}  // namespace
+
 // One VPL array (VplArrays, reference.hpp) in T, padded to a multiple of the lane count.
 template <class T>
 struct VplView {
   std::size_t n = 0;
   const T *x, *y, *z, *nx, *ny, *nz, *ix, *iy, *iz, *r2, *lambert_r, *lambert_g, *lambert_b;
-  const T *flux_r, *flux_g, *flux_b, *f0_r, *f0_g, *f0_b, *alpha, *cos_incoming;  // glossy arrays only
+  // glossy arrays only; smith_in = ggx_smith_root(α², cos_incoming)
+  const T *flux_r, *flux_g, *flux_b, *f0_r, *f0_g, *f0_b, *alpha, *cos_incoming, *smith_in;
   const T* visible = nullptr;  // per VPL 0 or 1 (V(y_p, x_i) by ray casting), or nullptr: all visible
 };
 

@@ -36,8 +36,10 @@ struct VplArraysT {
   std::size_t count = 0;  // VPLs (without the padding)
   // position, normal, incoming direction ω', r_i², Φ_i R_d,i/π per channel
   std::vector<T> x, y, z, nx, ny, nz, ix, iy, iz, r2, lambert_r, lambert_g, lambert_b;
-  // glossy VPLs only: Φ_i, f0, α, n_i·ω'
-  std::vector<T> flux_r, flux_g, flux_b, f0_r, f0_g, f0_b, alpha, cos_incoming;
+  // glossy VPLs only: Φ_i, f0, α, n_i·ω', and the GGX visibility's root on the incoming side,
+  // √(c² + α²(1 − c²)) at c = n_i·ω' (computed in T from the T values before it; every term of the
+  // VPL shares it)
+  std::vector<T> flux_r, flux_g, flux_b, f0_r, f0_g, f0_b, alpha, cos_incoming, smith_in;
 };
 using VplArrays = VplArraysT<double>;
 
