@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -163,6 +164,44 @@ TEST(EnvMapQuadrature, SpecularMatchesSpecularReference) {
   const double value = sglab::render::integrate_specular(map, image, alpha, f0)[0](0);
   const double ref = sglab::specular_reference({alpha, lambda, light_cos, view_cos, azimuth, f0});
   EXPECT_NEAR(value, ref, 1e-3 * ref);
+}
+
+// integrate_specular shades its points two at a time (one pass over the nodes for both,
+// render_kernels.hpp env_specular_sum2); each point keeps the sums it gets alone (a one-point image
+// runs the one-point kernel): on every instruction set, for seven points (three pairs and one
+// alone) in two orders (other pairs), glossy and rough, seed printed.
+TEST(EnvMapQuadrature, SpecularPointsInPairsKeepTheirOwnSums) {
+  auto rng = sglab::test::seeded_rng(20261207);
+  std::normal_distribution<double> normal;
+  const EnvMap map = sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 64, 32);
+  sglab::render::EnvImage image{7, 1, {}};
+  for (int k = 0; k < 7; ++k) {
+    const Vec3d n = Vec3d(normal(rng), normal(rng), normal(rng)).normalized();
+    Vec3d v = Vec3d(normal(rng), normal(rng), normal(rng)).normalized();
+    if (v.dot(n) < 0) v = -v;
+    image.points.push_back({k, n, v});
+  }
+  sglab::render::EnvImage reversed = image;
+  std::reverse(reversed.points.begin(), reversed.points.end());
+  const sglab::simd::Isa initial = sglab::simd::active_isa();
+  for (const auto isa : sglab::simd::supported_isas()) {
+    sglab::simd::force_isa(isa);
+    for (const double alpha : {0.05, 0.6}) {
+      const auto together = sglab::render::integrate_specular(map, image, alpha, 0.04);
+      const auto other_pairs = sglab::render::integrate_specular(map, reversed, alpha, 0.04);
+      for (const auto& p : image.points) {
+        const sglab::render::EnvImage one{7, 1, {p}};
+        const auto alone = sglab::render::integrate_specular(map, one, alpha, 0.04);
+        const std::size_t k = std::size_t(p.pixel);
+        EXPECT_GT(alone[k](0), 0) << "point " << k;
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_EQ(together[k](c), alone[k](c)) << sglab::simd::isa_name(isa) << " α " << alpha << " point " << k;
+          EXPECT_EQ(other_pairs[k](c), alone[k](c)) << sglab::simd::isa_name(isa) << " α " << alpha << " point " << k;
+        }
+      }
+    }
+  }
+  sglab::simd::force_isa(initial);
 }
 
 // Fit options with the k-means start and k-means++ seed `seed` (printed).

@@ -4,8 +4,11 @@
 // bound docs/simd.md states). The dispatch: SGLAB_SIMD / force_isa select the renderer's loops
 // together with the registry's batch evaluators, and every instruction set gives the same image to
 // rounding.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <random>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -15,6 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "sglab/render/pipeline.hpp"
+#include "sglab/render/reference.hpp"
+#include "sglab/render/rsm.hpp"
 #include "sglab/render/scene.hpp"
 #include "sglab/simd.hpp"
 #include "render_scenes.hpp"
@@ -114,6 +119,58 @@ TEST(RenderDispatch, OneInstructionSetForRegistryAndRenderer) {
               1e-12)
         << i;
   }
+}
+
+// reference_radiances (two points of the same kind per pass over the VPLs, render_kernels.hpp
+// vpl_sum_terms2) gives each point reference_radiance's own value to the bit: on every instruction
+// set, in double and float, with and without visibility, for the points in image order (glossy
+// floor and Lambert walls: runs of each kind, so pairs and single points both occur) and shuffled
+// (other pairs; seed printed).
+TEST(ReferencePairs, EachPointGetsItsOwnSumToTheBit) {
+  const Scene scene = cornell(16);
+  const VplList vpls = prepare_vpls(render_rsm(scene, 12));
+  const GBuffer g = render_gbuffer(scene);
+  std::vector<const ShadingPoint*> in_order;
+  for (std::size_t k = 0; k < g.points.size(); ++k)
+    if (g.hit[k]) in_order.push_back(&g.points[k]);
+  std::size_t same_kind_neighbours = 0, glossy = 0;
+  for (std::size_t k = 0; k < in_order.size(); ++k) {
+    glossy += in_order[k]->glossy() ? 1 : 0;
+    if (k + 1 < in_order.size() && in_order[k]->glossy() == in_order[k + 1]->glossy()) ++same_kind_neighbours;
+  }
+  ASSERT_GT(vpls.glossy.count, 16u);
+  ASSERT_GT(vpls.lambert.count, 16u);
+  ASSERT_GT(glossy, 8u);
+  ASSERT_GT(in_order.size() - glossy, 8u);
+  ASSERT_GT(same_kind_neighbours, 40u);
+  const unsigned seed = 20261205;
+  std::printf("%zu points (%zu glossy), %zu VPLs, shuffle seed %u\n", in_order.size(), glossy, vpls.vpls.size(), seed);
+  std::vector<const ShadingPoint*> shuffled = in_order;
+  std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(seed));
+  shuffled.pop_back();  // an odd count: the last point alone
+  const simd::Isa initial = simd::active_isa();
+  std::size_t compared = 0;
+  for (const simd::Isa isa : simd::supported_isas()) {
+    simd::force_isa(isa);
+    for (const Precision precision : {Precision::double_, Precision::single})
+      for (const Scene* visibility : {static_cast<const Scene*>(nullptr), &scene})
+        for (const auto* points : {&in_order, &shuffled}) {
+          std::vector<Rgb> together(points->size());
+          reference_radiances(*points, vpls, together, visibility, precision);
+          for (std::size_t k = 0; k < points->size(); ++k) {
+            const Rgb alone = reference_radiance(*(*points)[k], vpls, visibility, precision);
+            EXPECT_EQ(std::memcmp(alone.data(), together[k].data(), sizeof(double) * 3), 0)
+                << simd::isa_name(isa) << (precision == Precision::single ? " float" : " double")
+                << (visibility ? " with visibility" : "") << ", point " << k << ": " << alone.transpose() << " alone, "
+                << together[k].transpose() << " in a pair";
+            ++compared;
+          }
+        }
+  }
+  simd::force_isa(initial);
+  EXPECT_GT(compared, 1000u);
+  std::vector<Rgb> wrong_size(2);
+  EXPECT_THROW(reference_radiances(in_order, vpls, wrong_size), std::invalid_argument);
 }
 
 class RenderDispatchCommand : public sglab::test::TempDirTest {};

@@ -57,7 +57,7 @@ mutant simd-erfc-saturation core/src/simd/simd_math.hpp 's#T(26\.54) : T(9\.19)#
   simd_test simd_specular_test
 mutant render-ggx-ndf core/render/src/simd/render_kernels.hpp 's#a2 / (T(kPi) \* dn \* dn)#a2 / (T(kPi) * dn)#' \
   render_test vsgl_shading_test
-mutant render-vpl-clamp core/render/src/simd/render_kernels.hpp 's#const T k = T(1) / (d2 + r2\[i\]);#const T k = T(1) / (d2 + 2 * r2[i]);#' \
+mutant render-vpl-clamp core/render/src/simd/render_kernels.hpp 's#const T k = T(1) / (d2 + a\.r2\[i\]);#const T k = T(1) / (d2 + 2 * a.r2[i]);#' \
   render_test vsgl_shading_test
 
 # ---- renderer (core/render/src) ------------------------------------------------------------------

@@ -151,14 +151,26 @@ std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, do
     wb[k] = n[k].omega * v[2];
   }
   const simd_detail::EnvNodes view{n.size(), x, y, z, wr, wg, wb};
-  const auto sum = simd_detail::render_kernels().env_specular_sum;
+  const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
+  auto receiver = [&](const EnvShadingPoint& p) {
+    return simd_detail::EnvReceiver{p.normal(0), p.normal(1),          p.normal(2), p.view(0), p.view(1),
+                                    p.view(2),   p.normal.dot(p.view), roughness,   f0};
+  };
   std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
-  tbb::parallel_for(std::size_t(0), image.points.size(), [&](std::size_t k) {
+  // Points two at a time (one pass over the nodes for both: env_specular_sum2, each value
+  // env_specular_sum's), the last one of an odd count alone.
+  const std::size_t m = image.points.size();
+  tbb::parallel_for(std::size_t(0), (m + 1) / 2, [&](std::size_t q) {
+    const std::size_t k = 2 * q;
+    double s[3] = {0, 0, 0}, s2[3] = {0, 0, 0};
     const auto& p = image.points[k];
-    const simd_detail::EnvReceiver r{p.normal(0), p.normal(1),          p.normal(2), p.view(0), p.view(1),
-                                     p.view(2),   p.normal.dot(p.view), roughness,   f0};
-    double s[3] = {0, 0, 0};
-    sum(view, r, s);
+    if (k + 1 < m) {
+      const auto& p2 = image.points[k + 1];
+      t.env_specular_sum2(view, receiver(p), receiver(p2), s, s2);
+      out[std::size_t(p2.pixel)] = Rgb(s2[0], s2[1], s2[2]);
+    } else {
+      t.env_specular_sum(view, receiver(p), s);
+    }
     out[std::size_t(p.pixel)] = Rgb(s[0], s[1], s[2]);
   });
   return out;

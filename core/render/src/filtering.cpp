@@ -88,9 +88,9 @@ void fill_reference(const std::vector<FilterSample>& full, const VplList& vpls, 
   }
   const auto t0 = Clock::now();
   reference.assign(n, Rgb::Zero());
-  for_each_pixel(width, int(n / std::size_t(width)), "reference (VPL sum)", progress, [&](std::size_t k, int, int) {
-    if (full[k].valid) reference[k] = reference_radiance(full[k].point, vpls);
-  });
+  reference_rows(
+      width, int(n / std::size_t(width)), "reference (VPL sum)", progress, vpls, nullptr, Precision::double_,
+      [&](std::size_t k) { return full[k].valid ? &full[k].point : nullptr; }, reference);
   seconds = seconds_since(t0);
 }
 

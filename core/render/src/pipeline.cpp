@@ -156,10 +156,10 @@ CommonPass render_common(const Scene& scene, const RenderOptions& o) {
   }
 
   t0 = Clock::now();
-  for_each_hit(g, "reference (VPL sum)", o, [&](std::size_t k) {
-    r.indirect_reference[k] = reference_radiance(g.points[k], vpls, o.visibility ? &scene : nullptr,
-                                                 o.reference_precision.value_or(o.shading.precision));
-  });
+  reference_rows(
+      g.width, g.height, "reference (VPL sum)", o.progress, vpls, o.visibility ? &scene : nullptr,
+      o.reference_precision.value_or(o.shading.precision),
+      [&](std::size_t k) { return g.hit[k] ? &g.points[k] : nullptr; }, r.indirect_reference);
   r.seconds.reference = seconds_since(t0);
   return c;
 }

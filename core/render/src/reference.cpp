@@ -4,6 +4,9 @@
 #include <cmath>
 #include <algorithm>
 #include <numbers>
+#include <span>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -58,8 +61,7 @@ struct VisibilityMasks {
 };
 
 template <class T>
-void vpl_sums(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert, const VplArraysT<T>& glossy,
-              const ShadingPoint& p, const VisibilityMasks<T>* masks, double* out) {
+simd_detail::Receiver<T> receiver_of(const ShadingPoint& p) {
   simd_detail::Receiver<T> r{T(p.position.x()),
                              T(p.position.y()),
                              T(p.position.z()),
@@ -77,9 +79,29 @@ void vpl_sums(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert,
     r.rd[c] = T(p.diffuse_reflectance(c) / std::numbers::pi);
     r.f0[c] = T(p.f0(c));
   }
+  return r;
+}
+
+template <class T>
+void vpl_sums(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert, const VplArraysT<T>& glossy,
+              const ShadingPoint& p, const VisibilityMasks<T>* masks, double* out) {
+  const simd_detail::Receiver<T> r = receiver_of<T>(p);
   const int glossy_receiver = p.glossy() ? 1 : 0;
   sum[glossy_receiver](view_of(lambert, masks ? masks->lambert.data() : nullptr), r, out);
   sum[2 + glossy_receiver](view_of(glossy, masks ? masks->glossy.data() : nullptr), r, out);
+}
+
+// vpl_sums of two points of the same kind (p.glossy() == p2.glossy()) in one pass per array.
+template <class T>
+void vpl_sums2(const simd_detail::VplSum2Fn<T>* sum2, const VplArraysT<T>& lambert, const VplArraysT<T>& glossy,
+               const ShadingPoint& p, const ShadingPoint& p2, const VisibilityMasks<T>* masks,
+               const VisibilityMasks<T>* masks2, double* out, double* out2) {
+  const simd_detail::Receiver<T> r = receiver_of<T>(p), r2 = receiver_of<T>(p2);
+  const int glossy_receiver = p.glossy() ? 1 : 0;
+  sum2[glossy_receiver](view_of(lambert, masks ? masks->lambert.data() : nullptr),
+                        masks2 ? masks2->lambert.data() : nullptr, r, r2, out, out2);
+  sum2[2 + glossy_receiver](view_of(glossy, masks ? masks->glossy.data() : nullptr),
+                            masks2 ? masks2->glossy.data() : nullptr, r, r2, out, out2);
 }
 
 template <class T>
@@ -161,6 +183,8 @@ void prepare_vpl_arrays(VplList& list) {
   fill_arrays(list.vpls, list.lambert_float, list.glossy_float);
 }
 
+namespace {
+
 template <class T>
 Rgb sum_with(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert, const VplArraysT<T>& glossy,
              const ShadingPoint& p, const VplList& list, const Scene* visibility_scene) {
@@ -175,17 +199,67 @@ Rgb sum_with(const simd_detail::VplSumFn<T>* sum, const VplArraysT<T>& lambert, 
   return Rgb(out[0], out[1], out[2]);
 }
 
+template <class T>
+void sums_with(const simd_detail::VplSumFn<T>* sum, const simd_detail::VplSum2Fn<T>* sum2, const VplArraysT<T>& lambert,
+               const VplArraysT<T>& glossy, std::span<const ShadingPoint* const> points, const VplList& list,
+               const Scene* visibility_scene, std::span<Rgb> out) {
+  thread_local VisibilityMasks<T> masks, masks2;
+  std::size_t k = 0;
+  while (k < points.size()) {
+    const ShadingPoint& p = *points[k];
+    if (k + 1 == points.size() || points[k + 1]->glossy() != p.glossy()) {
+      out[k] = sum_with(sum, lambert, glossy, p, list, visibility_scene);
+      ++k;
+      continue;
+    }
+    const ShadingPoint& p2 = *points[k + 1];
+    if (visibility_scene) {
+      masks.fill(list, p, *visibility_scene);
+      masks2.fill(list, p2, *visibility_scene);
+    }
+    double o[3] = {0, 0, 0}, o2[3] = {0, 0, 0};
+    vpl_sums2(sum2, lambert, glossy, p, p2, visibility_scene ? &masks : nullptr, visibility_scene ? &masks2 : nullptr,
+              o, o2);
+    out[k] = Rgb(o[0], o[1], o[2]);
+    out[k + 1] = Rgb(o2[0], o2[1], o2[2]);
+    k += 2;
+  }
+}
+
+// A list built by hand (its arrays not filled) as prepare_vpls would have prepared it.
+bool prepared(const VplList& list) {
+  return list.lambert.count + list.glossy.count == list.vpls.size() &&
+         list.lambert_float.count + list.glossy_float.count == list.vpls.size();
+}
+
+}  // namespace
+
 Rgb reference_radiance(const ShadingPoint& p, const VplList& list, const Scene* visibility_scene, Precision precision) {
-  if (list.lambert.count + list.glossy.count != list.vpls.size() ||
-      list.lambert_float.count + list.glossy_float.count != list.vpls.size()) {  // built by hand: convert
-    VplList prepared = list;
-    prepare_vpl_arrays(prepared);
-    return reference_radiance(p, prepared, visibility_scene, precision);
+  if (!prepared(list)) {  // built by hand: convert
+    VplList copy = list;
+    prepare_vpl_arrays(copy);
+    return reference_radiance(p, copy, visibility_scene, precision);
   }
   const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
   if (precision == Precision::single)
     return sum_with(t.vpl_sum_f, list.lambert_float, list.glossy_float, p, list, visibility_scene);
   return sum_with(t.vpl_sum_d, list.lambert, list.glossy, p, list, visibility_scene);
+}
+
+void reference_radiances(std::span<const ShadingPoint* const> points, const VplList& list, std::span<Rgb> out,
+                         const Scene* visibility_scene, Precision precision) {
+  if (out.size() != points.size())
+    throw std::invalid_argument("reference_radiances: " + std::to_string(points.size()) + " points, " +
+                                std::to_string(out.size()) + " outputs");
+  if (!prepared(list)) {
+    VplList copy = list;
+    prepare_vpl_arrays(copy);
+    return reference_radiances(points, copy, out, visibility_scene, precision);
+  }
+  const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
+  if (precision == Precision::single)
+    sums_with(t.vpl_sum_f, t.vpl_sum2_f, list.lambert_float, list.glossy_float, points, list, visibility_scene, out);
+  else sums_with(t.vpl_sum_d, t.vpl_sum2_d, list.lambert, list.glossy, points, list, visibility_scene, out);
 }
 
 }  // namespace sglab::render

@@ -7,9 +7,12 @@
 #include <cstddef>
 #include <functional>
 #include <string_view>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include "sglab/render/reference.hpp"
 
 namespace sglab::render {
 
@@ -45,6 +48,33 @@ void for_each_pixel(int width, int rows, std::string_view stage,
                     const std::function<void(std::string_view, double)>& progress, const Body& body) {
   for_each_row(rows, stage, progress, [&](int j) {
     for (int i = 0; i < width; ++i) body(std::size_t(j) * std::size_t(width) + std::size_t(i), i, j);
+  });
+}
+
+// out[k] = reference_radiance(*point_of(k), vpls, visibility_scene, precision) for every pixel k
+// = j·width + i whose point_of(k) is not null, rows in parallel: each row's points go through
+// reference_radiances in order, so neighbours of the same kind share a pass over the VPLs.
+template <class PointOf>
+void reference_rows(int width, int rows, std::string_view stage,
+                    const std::function<void(std::string_view, double)>& progress, const VplList& vpls,
+                    const Scene* visibility_scene, Precision precision, const PointOf& point_of,
+                    std::vector<Rgb>& out) {
+  for_each_row(rows, stage, progress, [&](int j) {
+    thread_local std::vector<const ShadingPoint*> points;
+    thread_local std::vector<std::size_t> pixels;
+    thread_local std::vector<Rgb> values;
+    points.clear();
+    pixels.clear();
+    for (int i = 0; i < width; ++i) {
+      const std::size_t k = std::size_t(j) * std::size_t(width) + std::size_t(i);
+      if (const ShadingPoint* p = point_of(k)) {
+        points.push_back(p);
+        pixels.push_back(k);
+      }
+    }
+    values.resize(points.size());
+    reference_radiances(points, vpls, values, visibility_scene, precision);
+    for (std::size_t n = 0; n < points.size(); ++n) out[pixels[n]] = values[n];
   });
 }
 

@@ -63,58 +63,118 @@ template <class T>
   return f0 + (1 - f0) * m2 * m2 * m;
 }
 
-// Σ_i over one VPL array in T. kGlossyVpl: the array's VPLs have a GGX layer; kGlossyReceiver:
-// the point has one; kMasked: each term is multiplied by a.visible[i]. Each lane sums its terms in
-// T; the lanes are added in double.
-template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
-void vpl_sum_terms(const VplView<T>& a, const Receiver<T>& p, double* out) {
-  const std::size_t n = a.n;
-  const T *x = a.x, *y = a.y, *z = a.z, *nx = a.nx, *ny = a.ny, *nz = a.nz, *r2 = a.r2, *lr = a.lambert_r,
-          *lg = a.lambert_g, *lb = a.lambert_b;
-  const T *ix = a.ix, *iy = a.iy, *iz = a.iz, *fr = a.flux_r, *fg = a.flux_g, *fb = a.flux_b, *f0r = a.f0_r,
-          *f0g = a.f0_g, *f0b = a.f0_b, *al = a.alpha, *ci = a.cos_incoming, *sw = a.smith_in, *visible = a.visible;
-  const T receiver_root = kGlossyReceiver ? ggx_smith_root(T(p.alpha * p.alpha), p.cos_view) : T(0);
-  T s0 = 0, s1 = 0, s2 = 0;
-#pragma omp simd reduction(+ : s0, s1, s2)
-  for (std::size_t i = 0; i < n; ++i) {
-    const T ox = p.px - x[i], oy = p.py - y[i], oz = p.pz - z[i];
-    const T d2 = ox * ox + oy * oy + oz * oz;
-    const T inv = T(1) / sqrt_(d2);                       // d2 = 0 gives NaN below, masked by `on`
-    const T wx = ox * inv, wy = oy * inv, wz = oz * inv;  // ω: from the VPL towards the point
-    const T cv = wx * nx[i] + wy * ny[i] + wz * nz[i];
-    const T cp = -(wx * p.nx + wy * p.ny + wz * p.nz);
-    bool on = d2 > 0 && cv > 0 && cp > 0;
-    if constexpr (kMasked) on = on & (visible[i] != 0);  // & not &&: an unconditional load vectorizes
-    // Φ_i·I_i(ω)/Φ_i, I_i = ρ_i(ω'_i, ω)⟨ω·n_i⟩ (reciprocal, so either argument order).
-    T e0 = lr[i] * cv, e1 = lg[i] * cv, e2 = lb[i] * cv;
-    if constexpr (kGlossyVpl) {
-      const GgxLayer<T> g = ggx_layer<T>(al[i], nx[i], ny[i], nz[i], ix[i], iy[i], iz[i], wx, wy, wz, ci[i], cv, sw[i]);
-      e0 += fr[i] * (g.dv * schlick(f0r[i], g.cos_oh));
-      e1 += fg[i] * (g.dv * schlick(f0g[i], g.cos_oh));
-      e2 += fb[i] * (g.dv * schlick(f0b[i], g.cos_oh));
-    }
-    T q0 = p.rd[0] * cp, q1 = p.rd[1] * cp, q2 = p.rd[2] * cp;
-    if constexpr (kGlossyReceiver) {
-      const GgxLayer<T> g = ggx_layer<T>(p.alpha, p.nx, p.ny, p.nz, p.vx, p.vy, p.vz, -wx, -wy, -wz, p.cos_view, cp,
-                                         receiver_root);
-      q0 += g.dv * schlick(p.f0[0], g.cos_oh);
-      q1 += g.dv * schlick(p.f0[1], g.cos_oh);
-      q2 += g.dv * schlick(p.f0[2], g.cos_oh);
-    }
-    const T k = T(1) / (d2 + r2[i]);
-    s0 += on ? e0 * q0 * k : T(0);
-    s1 += on ? e1 * q1 * k : T(0);
-    s2 += on ? e2 * q2 * k : T(0);
-  }
+// One term's three channels.
+template <class T>
+struct Channels {
+  T r, g, b;
+};
+// out[0..2] += the lane sums, in double.
+template <class T>
+[[gnu::always_inline]] inline void add_sums(double* out, T s0, T s1, T s2) {
   out[0] += double(s0);
   out[1] += double(s1);
   out[2] += double(s2);
+}
+
+// Term i of a VPL array at the point p: its three channels, 0 where the term is off (behind
+// either surface, d = 0, or, kMasked, not visible: vis = a.visible[i]). kGlossyVpl: the array's
+// VPLs have a GGX layer; kGlossyReceiver: the point has one (receiver_root = ggx_smith_root(α²,
+// n·ω_o) of the point, computed once by the caller).
+template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
+[[gnu::always_inline]] inline Channels<T> vpl_term(const VplView<T>& a, std::size_t i, const Receiver<T>& p,
+                                                   T receiver_root, T vis) {
+  const T ox = p.px - a.x[i], oy = p.py - a.y[i], oz = p.pz - a.z[i];
+  const T d2 = ox * ox + oy * oy + oz * oz;
+  const T inv = T(1) / sqrt_(d2);                       // d2 = 0 gives NaN below, masked by `on`
+  const T wx = ox * inv, wy = oy * inv, wz = oz * inv;  // ω: from the VPL towards the point
+  const T cv = wx * a.nx[i] + wy * a.ny[i] + wz * a.nz[i];
+  const T cp = -(wx * p.nx + wy * p.ny + wz * p.nz);
+  bool on = d2 > 0 && cv > 0 && cp > 0;
+  if constexpr (kMasked) on = on & (vis != 0);  // & not &&: an unconditional load vectorizes
+  // Φ_i·I_i(ω)/Φ_i, I_i = ρ_i(ω'_i, ω)⟨ω·n_i⟩ (reciprocal, so either argument order).
+  T e0 = a.lambert_r[i] * cv, e1 = a.lambert_g[i] * cv, e2 = a.lambert_b[i] * cv;
+  if constexpr (kGlossyVpl) {
+    const GgxLayer<T> g = ggx_layer<T>(a.alpha[i], a.nx[i], a.ny[i], a.nz[i], a.ix[i], a.iy[i], a.iz[i], wx, wy, wz,
+                                       a.cos_incoming[i], cv, a.smith_in[i]);
+    e0 += a.flux_r[i] * (g.dv * schlick(a.f0_r[i], g.cos_oh));
+    e1 += a.flux_g[i] * (g.dv * schlick(a.f0_g[i], g.cos_oh));
+    e2 += a.flux_b[i] * (g.dv * schlick(a.f0_b[i], g.cos_oh));
+  }
+  T q0 = p.rd[0] * cp, q1 = p.rd[1] * cp, q2 = p.rd[2] * cp;
+  if constexpr (kGlossyReceiver) {
+    const GgxLayer<T> g = ggx_layer<T>(p.alpha, p.nx, p.ny, p.nz, p.vx, p.vy, p.vz, -wx, -wy, -wz, p.cos_view, cp,
+                                       receiver_root);
+    q0 += g.dv * schlick(p.f0[0], g.cos_oh);
+    q1 += g.dv * schlick(p.f0[1], g.cos_oh);
+    q2 += g.dv * schlick(p.f0[2], g.cos_oh);
+  }
+  const T k = T(1) / (d2 + a.r2[i]);
+  return {on ? e0 * q0 * k : T(0), on ? e1 * q1 * k : T(0), on ? e2 * q2 * k : T(0)};
+}
+
+template <class T, bool kGlossyReceiver>
+[[gnu::always_inline]] inline T receiver_root_of(const Receiver<T>& p) {
+  return kGlossyReceiver ? ggx_smith_root(T(p.alpha * p.alpha), p.cos_view) : T(0);
+}
+
+// Σ_i vpl_term over one VPL array in T. Each lane sums its terms in T; the lanes are added in double.
+template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
+void vpl_sum_terms(const VplView<T>& arrays, const Receiver<T>& p, double* out) {
+  const VplView<T> a = arrays;  // a local copy: its pointers are loop invariants GCC can hoist
+  const std::size_t n = a.n;
+  const T root = receiver_root_of<T, kGlossyReceiver>(p);
+  const T* visible = a.visible;
+  T s0 = 0, s1 = 0, s2 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Channels<T> t = vpl_term<T, kGlossyVpl, kGlossyReceiver, kMasked>(a, i, p, root, kMasked ? visible[i] : T(1));
+    s0 += t.r;
+    s1 += t.g;
+    s2 += t.b;
+  }
+  add_sums(out, s0, s1, s2);
 }
 
 template <class T, bool kGlossyVpl, bool kGlossyReceiver>
 void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
   if (a.visible) vpl_sum_terms<T, kGlossyVpl, kGlossyReceiver, true>(a, p, out);
   else vpl_sum_terms<T, kGlossyVpl, kGlossyReceiver, false>(a, p, out);
+}
+
+// vpl_sum_terms of two points of the same kind in one pass over the array: each point's terms and
+// lane sums are vpl_sum_terms', in the same order, so each value is the same to the bit. The two
+// points' operations are independent, which the instruction scheduler (-fschedule-insns,
+// core/render/CMakeLists.txt) interleaves: one point's chain of divisions and square roots no
+// longer waits alone in the out-of-order window. (Three or four points: the registers spill.)
+template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
+void vpl_sum_terms2(const VplView<T>& arrays, const T* visible2, const Receiver<T>& p, const Receiver<T>& p2,
+                    double* out, double* out2) {
+  const VplView<T> a = arrays;  // as vpl_sum_terms
+  const std::size_t n = a.n;
+  const T root = receiver_root_of<T, kGlossyReceiver>(p), root2 = receiver_root_of<T, kGlossyReceiver>(p2);
+  const T* visible = a.visible;
+  T s0 = 0, s1 = 0, s2 = 0, u0 = 0, u1 = 0, u2 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2, u0, u1, u2)
+  for (std::size_t i = 0; i < n; ++i) {
+    const Channels<T> t = vpl_term<T, kGlossyVpl, kGlossyReceiver, kMasked>(a, i, p, root, kMasked ? visible[i] : T(1));
+    s0 += t.r;
+    s1 += t.g;
+    s2 += t.b;
+    const Channels<T> t2 = vpl_term<T, kGlossyVpl, kGlossyReceiver, kMasked>(a, i, p2, root2,
+                                                                             kMasked ? visible2[i] : T(1));
+    u0 += t2.r;
+    u1 += t2.g;
+    u2 += t2.b;
+  }
+  add_sums(out, s0, s1, s2);
+  add_sums(out2, u0, u1, u2);
+}
+
+template <class T, bool kGlossyVpl, bool kGlossyReceiver>
+void vpl_sum2(const VplView<T>& a, const T* visible2, const Receiver<T>& p, const Receiver<T>& p2, double* out,
+              double* out2) {
+  if (a.visible) vpl_sum_terms2<T, kGlossyVpl, kGlossyReceiver, true>(a, visible2, p, p2, out, out2);
+  else vpl_sum_terms2<T, kGlossyVpl, kGlossyReceiver, false>(a, visible2, p, p2, out, out2);
 }
 
 // ---- VPL visibility -----------------------------------------------------------------------------
@@ -681,26 +741,54 @@ std::size_t method_sum(std::size_t lobes, const double* amp_r, const double* amp
 
 // ---- environment quadrature ------------------------------------------------------------------
 
-// The GGX texel quadrature of environment_shading.cpp's integrate_specular: each lane sums its
-// nodes' terms, the lanes are added in double.
-void env_specular_sum(const EnvNodes& a, const EnvReceiver& p, double* out) {
+// The GGX texel quadrature of environment_shading.cpp's integrate_specular: node k's three
+// channels at the point p (view_root = ggx_smith_root(α², n·ω_o) of p).
+[[gnu::always_inline]] inline Channels<double> env_term(const EnvNodes& a, std::size_t k, const EnvReceiver& p,
+                                                        double view_root) {
+  const double ci = p.nx * a.x[k] + p.ny * a.y[k] + p.nz * a.z[k];
+  const GgxLayer<double> g = ggx_layer(p.alpha, p.nx, p.ny, p.nz, p.wox, p.woy, p.woz, a.x[k], a.y[k], a.z[k],
+                                       p.cos_view, ci, view_root);
+  const double w = ci > 0 ? g.dv * schlick(p.f0, g.cos_oh) : 0.0;
+  return {w * a.wr[k], w * a.wg[k], w * a.wb[k]};
+}
+
+// Σ_k env_term: each lane sums its nodes' terms, the lanes are added in double.
+void env_specular_sum(const EnvNodes& nodes, const EnvReceiver& p, double* out) {
+  const EnvNodes a = nodes;  // a local copy: its pointers are loop invariants GCC can hoist
   const std::size_t n = a.n;
-  const double *x = a.x, *y = a.y, *z = a.z, *wr = a.wr, *wg = a.wg, *wb = a.wb;
   const double view_root = ggx_smith_root(p.alpha * p.alpha, p.cos_view);
   double s0 = 0, s1 = 0, s2 = 0;
 #pragma omp simd reduction(+ : s0, s1, s2)
   for (std::size_t k = 0; k < n; ++k) {
-    const double ci = p.nx * x[k] + p.ny * y[k] + p.nz * z[k];
-    const GgxLayer<double> g = ggx_layer(p.alpha, p.nx, p.ny, p.nz, p.wox, p.woy, p.woz, x[k], y[k], z[k], p.cos_view,
-                                         ci, view_root);
-    const double w = ci > 0 ? g.dv * schlick(p.f0, g.cos_oh) : 0.0;
-    s0 += w * wr[k];
-    s1 += w * wg[k];
-    s2 += w * wb[k];
+    const Channels<double> t = env_term(a, k, p, view_root);
+    s0 += t.r;
+    s1 += t.g;
+    s2 += t.b;
   }
-  out[0] += s0;
-  out[1] += s1;
-  out[2] += s2;
+  add_sums(out, s0, s1, s2);
+}
+
+// env_specular_sum of two points in one pass over the nodes, each point's sums as env_specular_sum's
+// to the bit (the interleaving of vpl_sum_terms2).
+void env_specular_sum2(const EnvNodes& nodes, const EnvReceiver& p, const EnvReceiver& p2, double* out, double* out2) {
+  const EnvNodes a = nodes;
+  const std::size_t n = a.n;
+  const double view_root = ggx_smith_root(p.alpha * p.alpha, p.cos_view),
+               view_root2 = ggx_smith_root(p2.alpha * p2.alpha, p2.cos_view);
+  double s0 = 0, s1 = 0, s2 = 0, u0 = 0, u1 = 0, u2 = 0;
+#pragma omp simd reduction(+ : s0, s1, s2, u0, u1, u2)
+  for (std::size_t k = 0; k < n; ++k) {
+    const Channels<double> t = env_term(a, k, p, view_root);
+    s0 += t.r;
+    s1 += t.g;
+    s2 += t.b;
+    const Channels<double> t2 = env_term(a, k, p2, view_root2);
+    u0 += t2.r;
+    u1 += t2.g;
+    u2 += t2.b;
+  }
+  add_sums(out, s0, s1, s2);
+  add_sums(out2, u0, u1, u2);
 }
 
 RenderKernelTable make_render_table(const char* isa) {
@@ -714,6 +802,14 @@ RenderKernelTable make_render_table(const char* isa) {
   t.vpl_sum_f[1] = vpl_sum<float, false, true>;
   t.vpl_sum_f[2] = vpl_sum<float, true, false>;
   t.vpl_sum_f[3] = vpl_sum<float, true, true>;
+  t.vpl_sum2_d[0] = vpl_sum2<double, false, false>;
+  t.vpl_sum2_d[1] = vpl_sum2<double, false, true>;
+  t.vpl_sum2_d[2] = vpl_sum2<double, true, false>;
+  t.vpl_sum2_d[3] = vpl_sum2<double, true, true>;
+  t.vpl_sum2_f[0] = vpl_sum2<float, false, false>;
+  t.vpl_sum2_f[1] = vpl_sum2<float, false, true>;
+  t.vpl_sum2_f[2] = vpl_sum2<float, true, false>;
+  t.vpl_sum2_f[3] = vpl_sum2<float, true, true>;
   t.visibility_d = vpl_visibility<double>;
   t.visibility_f = vpl_visibility<float>;
   t.nearest_hits = nearest_hits;
@@ -726,6 +822,7 @@ RenderKernelTable make_render_table(const char* isa) {
   t.method_rows = method_rows;
   t.method_sum = method_sum;
   t.env_specular_sum = env_specular_sum;
+  t.env_specular_sum2 = env_specular_sum2;
   return t;
 }
 

@@ -60,6 +60,12 @@ struct Receiver {
 // Adds Σ_i over the array to out[0..2]. Index: 2·(VPLs glossy) + (receiver glossy).
 template <class T>
 using VplSumFn = void (*)(const VplView<T>& vpls, const Receiver<T>& point, double* out);
+// VplSumFn of two points of the same kind in one pass (each value VplSumFn's to the bit): out gets
+// point's sum (visibility vpls.visible), out2 point2's (visibility visible2; nullptr when vpls.visible
+// is).
+template <class T>
+using VplSum2Fn = void (*)(const VplView<T>& vpls, const T* visible2, const Receiver<T>& point,
+                           const Receiver<T>& point2, double* out, double* out2);
 
 // ---- VPL visibility (reference.cpp, with visibility) ----
 
@@ -199,11 +205,16 @@ struct EnvReceiver {
 
 // out[0..2] = Σ_k ggx_brdf_cosine(α, f0, ω_o, ω_k) · (ω·L)_k (brdf.hpp; 0 below the horizon).
 using EnvSpecularSumFn = void (*)(const EnvNodes& nodes, const EnvReceiver& point, double* out);
+// EnvSpecularSumFn of two points in one pass over the nodes (each value EnvSpecularSumFn's to the bit).
+using EnvSpecularSum2Fn = void (*)(const EnvNodes& nodes, const EnvReceiver& point, const EnvReceiver& point2,
+                                   double* out, double* out2);
 
 struct RenderKernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   VplSumFn<double> vpl_sum_d[4];
   VplSumFn<float> vpl_sum_f[4];
+  VplSum2Fn<double> vpl_sum2_d[4];
+  VplSum2Fn<float> vpl_sum2_f[4];
   VisibilityFn<double> visibility_d;
   VisibilityFn<float> visibility_f;
   NearestHitsFn nearest_hits;
@@ -216,6 +227,7 @@ struct RenderKernelTable {
   MethodRowsFn method_rows;
   MethodSumFn method_sum;
   EnvSpecularSumFn env_specular_sum;
+  EnvSpecularSum2Fn env_specular_sum2;
 };
 
 const RenderKernelTable& render_kernels_sse2();

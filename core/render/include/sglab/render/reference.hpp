@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "sglab/render/vpl.hpp"
@@ -66,5 +67,11 @@ void prepare_vpl_arrays(VplList& list);
 struct Scene;
 Rgb reference_radiance(const ShadingPoint& point, const VplList& vpls, const Scene* visibility_scene = nullptr,
                        Precision precision = Precision::double_);
+// reference_radiance of every point into out (as many), each value reference_radiance's to the
+// bit. Two points of the same kind (both glossy or neither) that follow each other share one pass
+// over the VPL arrays, their terms interleaved (render_kernels.hpp vpl_sum_terms2): about 1.4×
+// faster per point, so a caller with many points passes them here, in order, neighbours together.
+void reference_radiances(std::span<const ShadingPoint* const> points, const VplList& vpls, std::span<Rgb> out,
+                         const Scene* visibility_scene = nullptr, Precision precision = Precision::double_);
 
 }  // namespace sglab::render
