@@ -18,13 +18,7 @@
 namespace sglab::render::simd_detail {
 namespace {
 
-[[gnu::always_inline]] inline double sqrt_(double x) { return __builtin_sqrt(x); }
-[[gnu::always_inline]] inline float sqrt_(float x) { return __builtin_sqrtf(x); }
-template <class T>
-[[gnu::always_inline]] inline T clamp1(T x) {
-  const T lo = x < T(-1) ? T(-1) : x;
-  return lo > T(1) ? T(1) : lo;
-}
+// (sqrt_, clamp1 and ggx_smith_root: render_table.hpp, which reference.cpp shares.)
 
 // ---- the exact VPL sum ------------------------------------------------------------------------
 

@@ -23,6 +23,15 @@ inline constexpr double kRayReach = 1 - 1e-6;
 // ---- the exact VPL sum (reference.cpp) ----
 
 namespace {
+// sqrt is the builtin, which the loops' -fno-math-errno makes the instruction; x clamped to [−1, 1]
+// by selects. (Internal linkage: see the file comment.)
+[[gnu::always_inline]] inline double sqrt_(double x) { return __builtin_sqrt(x); }
+[[gnu::always_inline]] inline float sqrt_(float x) { return __builtin_sqrtf(x); }
+template <class T>
+[[gnu::always_inline]] inline T clamp1(T x) {
+  const T lo = x < T(-1) ? T(-1) : x;
+  return lo > T(1) ? T(1) : lo;
+}
 // √(c² + α²(1 − c)(1 + c)), c clamped to [−1, 1] inside (1 − c)(1 + c): one side's root of GGX's
 // height-correlated visibility (brdf.hpp smith_visibility_ggx) at the cosine c of that side,
 // a2 = α². ggx_layer (render_kernels.hpp) takes it for both directions; a glossy VPL's incoming
@@ -30,10 +39,8 @@ namespace {
 // the same operations on the same values. (Internal linkage: see the file comment.)
 template <class T>
 [[gnu::always_inline]] inline T ggx_smith_root(T a2, T c) {
-  const T lo = c < T(-1) ? T(-1) : c, cc = lo > T(1) ? T(1) : lo;
-  const T x = c * c + a2 * ((1 - cc) * (1 + cc));
-  if constexpr (sizeof(T) == sizeof(float)) return __builtin_sqrtf(x);
-  else return __builtin_sqrt(x);
+  const T cc = clamp1(c);
+  return sqrt_(c * c + a2 * ((1 - cc) * (1 + cc)));
 }
 }  // namespace
 
