@@ -19,6 +19,7 @@
 #                       core/src/registry_core.cpp: the diffuse registry, which includes every
 #                       diffuse method's header; a core/include header instead rebuilds most of the tree)
 #   build-tests         the rest of the tree (test executables, benchmarks), cold, ccache off
+#   build-benchmarks    with --skip-tests instead: only the two benchmarks the Python and render rows run
 #   ctest               `ctest -j2` over the whole suite (wall; CPU = the tests' summed seconds)
 #   reproduce-quick     `sglab reproduce --quick` into an empty scratch --out
 #   reproduce-full      `sglab reproduce` into an empty scratch --out/--tables-dir (paper_tables/ untouched)
@@ -33,6 +34,9 @@
 #                       shaded alone with scalar lookups in the same run
 #   render-cube-shadow-maps  ns per ray of the cube shadow maps of --visibility (BM_CubeShadowMaps,
 #                       one thread), median of 5, against cast_ray texel by texel in the same run
+#   render-vpl-sum/P    ns per (pixel, VPL) of the exact VPL sum (the renderer's reference) in
+#                       double and float, median of 5 repetitions of BM_Reference, against the
+#                       arithmetic bound the benchmark derives from this core's measured peak rates
 #   tu/PATH             with --tu-times: the ten heaviest translation units of build-main (CPU
 #                       seconds each, benchmarks/tu_time.sh as the compiler launcher)
 # --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
@@ -192,6 +196,10 @@ if [ "$cold" = 1 ]; then
   timed rebuild-touch "after touching $touch_file" cmake --build "$build" -j"$jobs" --target sglab sglab_python
   if [ "$tests" = 1 ]; then
     timed build-tests "the rest of the tree (tests, benchmarks), cold, ccache off" cmake --build "$build" -j"$jobs"
+  elif [ "$render" = 1 ] || [ "$python" = 1 ]; then
+    # Without the test build, the benchmarks that the Python and render rows run, and nothing else.
+    timed build-benchmarks "sglab_core_bench and sglab_render_bench only (--skip-tests), cold, ccache off" \
+      cmake --build "$build" -j"$jobs" --target sglab_core_bench sglab_render_bench
   fi
   unset CCACHE_DISABLE
 else
@@ -287,6 +295,19 @@ if [ "$render" = 1 ]; then
         row = name == "BM_CubeShadowMaps" ? "render-cube-shadow-maps" : "render-visibility"
         if (peer) old[row] = v; else { lib[row] = v; units[row] = unit == "ray" ? "ray" : "(pixel, lobe)" } }
       END { for (r in lib) print r, units[r] == "ray" ? "ray" : "pixel·lobe", lib[r], old[r] }' "$scratch/render-visibility-bench.log")
+    timed render-vpl-sum-bench "sglab_render_bench BM_Reference (the library's VPL sum), 5 repetitions" \
+      "$bench" --benchmark_filter='BM_Reference/peer:0' --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+    # One row per precision: the median ns per (pixel, VPL) and its ratio to the arithmetic bound
+    # (bound_ns_per_pixel_vpl: the term's operations over this core's peak rates, measured in the
+    # same process: render_bench.cpp).
+    while read -r name ns bound; do
+      rows+=("$name|||$ns ns per (pixel, VPL), median of 5; arithmetic bound $bound ns, $(awk -v a="$ns" -v b="$bound" 'BEGIN { printf "%.2f", a / b }')× the bound")
+    done < <(awk '/_median/ && /ns_per_pixel_vpl=/ {
+        for (i = 1; i <= NF; i++) {
+          if ($i ~ /^ns_per_pixel_vpl=/) { v = $i; sub(/^ns_per_pixel_vpl=/, "", v); sub(/ns$/, "", v) }
+          if ($i ~ /^bound_ns_per_pixel_vpl=/) { b = $i; sub(/^bound_ns_per_pixel_vpl=/, "", b); sub(/ns$/, "", b) }
+        }
+        print ($1 ~ /float:1/ ? "render-vpl-sum/float" : "render-vpl-sum/double"), v, b }' "$scratch/render-vpl-sum-bench.log")
   else
     echo "perf_report: no $bench: render rows skipped (build the benchmarks)" >&2
   fi
