@@ -300,9 +300,11 @@ if [ "$render" = 1 ]; then
     # One row per precision: the median ns per (pixel, VPL) and its ratio to the arithmetic bound
     # (bound_ns_per_pixel_vpl: the term's operations over this core's peak rates, measured in the
     # same process: render_bench.cpp).
+    # (A checkout whose benchmark predates the bound prints "-" for it.)
     while read -r name ns bound; do
-      rows+=("$name|||$ns ns per (pixel, VPL), median of 5; arithmetic bound $bound ns, $(awk -v a="$ns" -v b="$bound" 'BEGIN { printf "%.2f", a / b }')× the bound")
+      rows+=("$name|||$ns ns per (pixel, VPL), median of 5; arithmetic bound $bound ns, $(awk -v a="$ns" -v b="$bound" 'BEGIN { if (b + 0 > 0) printf "%.2f", a / b; else printf "-" }')× the bound")
     done < <(awk '/_median/ && /ns_per_pixel_vpl=/ {
+        v = "-"; b = "-"
         for (i = 1; i <= NF; i++) {
           if ($i ~ /^ns_per_pixel_vpl=/) { v = $i; sub(/^ns_per_pixel_vpl=/, "", v); sub(/ns$/, "", v) }
           if ($i ~ /^bound_ns_per_pixel_vpl=/) { b = $i; sub(/^bound_ns_per_pixel_vpl=/, "", b); sub(/ns$/, "", b) }
