@@ -234,16 +234,12 @@ bool prepared(const VplList& list) {
 
 }  // namespace
 
+// One point: reference_radiances' lone-point path (sum_with).
 Rgb reference_radiance(const ShadingPoint& p, const VplList& list, const Scene* visibility_scene, Precision precision) {
-  if (!prepared(list)) {  // built by hand: convert
-    VplList copy = list;
-    prepare_vpl_arrays(copy);
-    return reference_radiance(p, copy, visibility_scene, precision);
-  }
-  const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
-  if (precision == Precision::single)
-    return sum_with(t.vpl_sum_f, list.lambert_float, list.glossy_float, p, list, visibility_scene);
-  return sum_with(t.vpl_sum_d, list.lambert, list.glossy, p, list, visibility_scene);
+  const ShadingPoint* const points[1] = {&p};
+  Rgb out[1];
+  reference_radiances(points, list, out, visibility_scene, precision);
+  return out[0];
 }
 
 void reference_radiances(std::span<const ShadingPoint* const> points, const VplList& list, std::span<Rgb> out,
@@ -251,7 +247,7 @@ void reference_radiances(std::span<const ShadingPoint* const> points, const VplL
   if (out.size() != points.size())
     throw std::invalid_argument("reference_radiances: " + std::to_string(points.size()) + " points, " +
                                 std::to_string(out.size()) + " outputs");
-  if (!prepared(list)) {
+  if (!prepared(list)) {  // built by hand: convert
     VplList copy = list;
     prepare_vpl_arrays(copy);
     return reference_radiances(points, copy, out, visibility_scene, precision);

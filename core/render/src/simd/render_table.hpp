@@ -23,10 +23,11 @@ inline constexpr double kRayReach = 1 - 1e-6;
 // ---- the exact VPL sum (reference.cpp) ----
 
 namespace {
-// sqrt is the builtin, which the loops' -fno-math-errno makes the instruction; x clamped to [−1, 1]
-// by selects. (Internal linkage: see the file comment.)
+// The builtin square root, which the loops' -fno-math-errno makes the instruction. (Internal
+// linkage: see the file comment.)
 [[gnu::always_inline]] inline double sqrt_(double x) { return __builtin_sqrt(x); }
 [[gnu::always_inline]] inline float sqrt_(float x) { return __builtin_sqrtf(x); }
+// x clamped to [−1, 1] by selects.
 template <class T>
 [[gnu::always_inline]] inline T clamp1(T x) {
   const T lo = x < T(-1) ? T(-1) : x;
