@@ -129,7 +129,7 @@ double relative_difference(const Rgb& a, const Rgb& b) {
 }
 
 // ---- the VPL sum's arithmetic bound ---------------------------------------------------------------
-// Operations per (pixel, VPL) term of render_kernels.hpp vpl_sum_terms, counted from its formula
+// Operations per (pixel, VPL) term of render_kernels.hpp vpl_sum_blocks, counted from its formula
 // with every receiver-only quantity hoisted out of the loop (the fewest the formula allows):
 //   the term itself: ω = (y − x)/|y − x| (3 sub, |·|² 5, 1 sqrt, 1 div, 3 mul), the two cosines
 //     (5 + 5), the Lambert factors (3 + 3 mul), 1/(d² + r²) (1 add, 1 div), the three channel
@@ -141,6 +141,7 @@ double relative_difference(const Rgb& a, const Rgb& b) {
 //     side's Smith root one per VPL, in its arrays: ggx_smith_root), 48 − 6 + 13 + 3·3 (its flux
 //     products) = 64 arithmetic, 3 div, 2 sqrt; the receiver's (α², its own Smith root and 1 − f0
 //     hoisted) 48 − 7 + 4 + 3·2 + 3·2 = 57, 3 div, 2 sqrt.
+// Every term is counted, though the sum skips blocks of terms that are all off (vpl_sum_blocks).
 // Multiplies and adds run on the adders (no fused multiply-add: -ffp-contract=off); divisions
 // and square roots on the one divider. The bound per term is the larger of the two times at the
 // rates peak.hpp measures (the instruction set's widest vectors).

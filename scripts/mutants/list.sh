@@ -59,6 +59,8 @@ mutant render-ggx-ndf core/render/src/simd/render_kernels.hpp 's#a2 / (T(kPi) \*
   render_test vsgl_shading_test
 mutant render-vpl-clamp core/render/src/simd/render_kernels.hpp 's#const T k = T(1) / (d2 + a\.r2\[i\]);#const T k = T(1) / (d2 + 2 * a.r2[i]);#' \
   render_test vsgl_shading_test
+mutant render-vpl-skip core/render/src/simd/render_kernels.hpp 's#        any = any | h\.on;#        any = g.on;#' \
+  render_precision_test
 
 # ---- renderer (core/render/src) ------------------------------------------------------------------
 mutant vsgl-diffuse-pi core/render/src/vsgl_shading.cpp 's#sum \* points\[i\]\.diffuse_reflectance / pi<double>()#sum * points[i].diffuse_reflectance / two_pi<double>()#' \

@@ -74,9 +74,15 @@ template <class T>
 // either surface, d = 0, or, kMasked, not visible: vis = a.visible[i]). kGlossyVpl: the array's
 // VPLs have a GGX layer; kGlossyReceiver: the point has one (receiver_root = ggx_smith_root(α²,
 // n·ω_o) of the point, computed once by the caller).
-template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
-[[gnu::always_inline]] inline Channels<T> vpl_term(const VplView<T>& a, std::size_t i, const Receiver<T>& p,
-                                                   T receiver_root, T vis) {
+template <class T>
+struct TermGeometry {
+  T d2, wx, wy, wz, cv, cp;
+  bool on;
+};
+// The part of term i that decides whether it is on: ω, the two cosines and d².
+template <class T, bool kMasked>
+[[gnu::always_inline]] inline TermGeometry<T> term_geometry(const VplView<T>& a, std::size_t i, const Receiver<T>& p,
+                                                            T vis) {
   const T ox = p.px - a.x[i], oy = p.py - a.y[i], oz = p.pz - a.z[i];
   const T d2 = ox * ox + oy * oy + oz * oz;
   const T inv = T(1) / sqrt_(d2);                       // d2 = 0 gives NaN below, masked by `on`
@@ -85,6 +91,13 @@ template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
   const T cp = -(wx * p.nx + wy * p.ny + wz * p.nz);
   bool on = d2 > 0 && cv > 0 && cp > 0;
   if constexpr (kMasked) on = on & (vis != 0);  // & not &&: an unconditional load vectorizes
+  return {d2, wx, wy, wz, cv, cp, on};
+}
+
+template <class T, bool kGlossyVpl, bool kGlossyReceiver>
+[[gnu::always_inline]] inline Channels<T> vpl_term(const VplView<T>& a, std::size_t i, const Receiver<T>& p,
+                                                   T receiver_root, T d2, T wx, T wy, T wz, T cv, T cp,
+                                                   bool on) {
   // Φ_i·I_i(ω)/Φ_i, I_i = ρ_i(ω'_i, ω)⟨ω·n_i⟩ (reciprocal, so either argument order).
   T e0 = a.lambert_r[i] * cv, e1 = a.lambert_g[i] * cv, e2 = a.lambert_b[i] * cv;
   if constexpr (kGlossyVpl) {
@@ -111,64 +124,97 @@ template <class T, bool kGlossyReceiver>
   return kGlossyReceiver ? ggx_smith_root(T(p.alpha * p.alpha), p.cos_view) : T(0);
 }
 
-// Σ_i vpl_term over one VPL array in T. Each lane sums its terms in T; the lanes are added in double.
-template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
-void vpl_sum_terms(const VplView<T>& arrays, const Receiver<T>& p, double* out) {
+// The lanes of one vector of T in this unit's instruction set: the vectorization factor of the
+// loops below (VPL arrays are padded to a multiple of it, render_table.hpp).
+template <class T>
+inline constexpr std::size_t kLanes =
+#if defined(__AVX512F__)
+    64 / sizeof(T);
+#elif defined(__AVX__)
+    32 / sizeof(T);
+#else
+    16 / sizeof(T);
+#endif
+
+// Σ_i vpl_term over one VPL array in T, for one point (kTwo false) or two points of the same kind
+// in one pass (the second: p2, visible2, out2). Lane l of W = kLanes<T> sums terms l, l + W, l +
+// 2W, … in T, then the lanes are added in order and the sum to out in double: the order GCC's
+// `#pragma omp simd reduction` of one loop over all terms gives, now written out, so that a block of
+// W terms that are all off (all +0: behind a surface or not visible) is skipped. Skipping adds
+// nothing a lane's sum would not keep (x + 0 = x; a lane sum starts at +0 and is never −0), so
+// every value is the one of the loop over all terms, to the bit. Which terms are off is decided by
+// term_geometry, the term's own first steps, on the whole block before its terms.
+// Two points: their operations are independent, which the instruction scheduler (-fschedule-insns,
+// core/render/CMakeLists.txt) interleaves, so one point's chain of divisions and square roots no
+// longer waits alone in the out-of-order window (three or four points: the registers spill).
+template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked, bool kTwo>
+void vpl_sum_blocks(const VplView<T>& arrays, const T* visible2, const Receiver<T>& p, const Receiver<T>& p2,
+                    double* out, double* out2) {
+  constexpr std::size_t W = kLanes<T>;
   const VplView<T> a = arrays;  // a local copy: its pointers are loop invariants GCC can hoist
   const std::size_t n = a.n;
   const T root = receiver_root_of<T, kGlossyReceiver>(p);
+  const T root2 = kTwo ? receiver_root_of<T, kGlossyReceiver>(p2) : T(0);
   const T* visible = a.visible;
-  T s0 = 0, s1 = 0, s2 = 0;
-#pragma omp simd reduction(+ : s0, s1, s2)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Channels<T> t = vpl_term<T, kGlossyVpl, kGlossyReceiver, kMasked>(a, i, p, root, kMasked ? visible[i] : T(1));
-    s0 += t.r;
-    s1 += t.g;
-    s2 += t.b;
+  alignas(64) T s0[W] = {}, s1[W] = {}, s2[W] = {}, u0[W] = {}, u1[W] = {}, u2[W] = {};
+  // The block's geometry (term_geometry), point by point, for its terms.
+  alignas(64) T d2[2][W], wx[2][W], wy[2][W], wz[2][W], cv[2][W], cp[2][W], on[2][W];
+  for (std::size_t b = 0; b < n; b += W) {
+    unsigned live = 0;
+#pragma omp simd reduction(| : live)
+    for (std::size_t l = 0; l < W; ++l) {
+      const std::size_t i = b + l;
+      const TermGeometry<T> g = term_geometry<T, kMasked>(a, i, p, kMasked ? visible[i] : T(1));
+      d2[0][l] = g.d2, wx[0][l] = g.wx, wy[0][l] = g.wy, wz[0][l] = g.wz, cv[0][l] = g.cv, cp[0][l] = g.cp;
+      on[0][l] = g.on ? T(1) : T(0);
+      bool any = g.on;
+      if constexpr (kTwo) {
+        const TermGeometry<T> h = term_geometry<T, kMasked>(a, i, p2, kMasked ? visible2[i] : T(1));
+        d2[1][l] = h.d2, wx[1][l] = h.wx, wy[1][l] = h.wy, wz[1][l] = h.wz, cv[1][l] = h.cv, cp[1][l] = h.cp;
+        on[1][l] = h.on ? T(1) : T(0);
+        any = any | h.on;
+      }
+      live |= any ? 1u : 0u;
+    }
+    if (!live) continue;
+#pragma omp simd
+    for (std::size_t l = 0; l < W; ++l) {
+      const std::size_t i = b + l;
+      const Channels<T> t = vpl_term<T, kGlossyVpl, kGlossyReceiver>(a, i, p, root, d2[0][l], wx[0][l], wy[0][l],
+                                                                      wz[0][l], cv[0][l], cp[0][l], on[0][l] != 0);
+      s0[l] += t.r;
+      s1[l] += t.g;
+      s2[l] += t.b;
+      if constexpr (kTwo) {
+        const Channels<T> t2 = vpl_term<T, kGlossyVpl, kGlossyReceiver>(a, i, p2, root2, d2[1][l], wx[1][l], wy[1][l],
+                                                                         wz[1][l], cv[1][l], cp[1][l], on[1][l] != 0);
+        u0[l] += t2.r;
+        u1[l] += t2.g;
+        u2[l] += t2.b;
+      }
+    }
   }
-  add_sums(out, s0, s1, s2);
+  T r0 = 0, r1 = 0, r2 = 0;
+  for (std::size_t l = 0; l < W; ++l) r0 += s0[l], r1 += s1[l], r2 += s2[l];
+  add_sums(out, r0, r1, r2);
+  if constexpr (kTwo) {
+    T v0 = 0, v1 = 0, v2 = 0;
+    for (std::size_t l = 0; l < W; ++l) v0 += u0[l], v1 += u1[l], v2 += u2[l];
+    add_sums(out2, v0, v1, v2);
+  }
 }
 
 template <class T, bool kGlossyVpl, bool kGlossyReceiver>
 void vpl_sum(const VplView<T>& a, const Receiver<T>& p, double* out) {
-  if (a.visible) vpl_sum_terms<T, kGlossyVpl, kGlossyReceiver, true>(a, p, out);
-  else vpl_sum_terms<T, kGlossyVpl, kGlossyReceiver, false>(a, p, out);
-}
-
-// vpl_sum_terms of two points of the same kind in one pass over the array: each point's terms and
-// lane sums are vpl_sum_terms', in the same order, so each value is the same to the bit. The two
-// points' operations are independent, which the instruction scheduler (-fschedule-insns,
-// core/render/CMakeLists.txt) interleaves: one point's chain of divisions and square roots no
-// longer waits alone in the out-of-order window. (Three or four points: the registers spill.)
-template <class T, bool kGlossyVpl, bool kGlossyReceiver, bool kMasked>
-void vpl_sum_terms2(const VplView<T>& arrays, const T* visible2, const Receiver<T>& p, const Receiver<T>& p2,
-                    double* out, double* out2) {
-  const VplView<T> a = arrays;  // as vpl_sum_terms
-  const std::size_t n = a.n;
-  const T root = receiver_root_of<T, kGlossyReceiver>(p), root2 = receiver_root_of<T, kGlossyReceiver>(p2);
-  const T* visible = a.visible;
-  T s0 = 0, s1 = 0, s2 = 0, u0 = 0, u1 = 0, u2 = 0;
-#pragma omp simd reduction(+ : s0, s1, s2, u0, u1, u2)
-  for (std::size_t i = 0; i < n; ++i) {
-    const Channels<T> t = vpl_term<T, kGlossyVpl, kGlossyReceiver, kMasked>(a, i, p, root, kMasked ? visible[i] : T(1));
-    s0 += t.r;
-    s1 += t.g;
-    s2 += t.b;
-    const Channels<T> t2 = vpl_term<T, kGlossyVpl, kGlossyReceiver, kMasked>(a, i, p2, root2,
-                                                                             kMasked ? visible2[i] : T(1));
-    u0 += t2.r;
-    u1 += t2.g;
-    u2 += t2.b;
-  }
-  add_sums(out, s0, s1, s2);
-  add_sums(out2, u0, u1, u2);
+  if (a.visible) vpl_sum_blocks<T, kGlossyVpl, kGlossyReceiver, true, false>(a, nullptr, p, p, out, nullptr);
+  else vpl_sum_blocks<T, kGlossyVpl, kGlossyReceiver, false, false>(a, nullptr, p, p, out, nullptr);
 }
 
 template <class T, bool kGlossyVpl, bool kGlossyReceiver>
 void vpl_sum2(const VplView<T>& a, const T* visible2, const Receiver<T>& p, const Receiver<T>& p2, double* out,
               double* out2) {
-  if (a.visible) vpl_sum_terms2<T, kGlossyVpl, kGlossyReceiver, true>(a, visible2, p, p2, out, out2);
-  else vpl_sum_terms2<T, kGlossyVpl, kGlossyReceiver, false>(a, visible2, p, p2, out, out2);
+  if (a.visible) vpl_sum_blocks<T, kGlossyVpl, kGlossyReceiver, true, true>(a, visible2, p, p2, out, out2);
+  else vpl_sum_blocks<T, kGlossyVpl, kGlossyReceiver, false, true>(a, visible2, p, p2, out, out2);
 }
 
 // ---- VPL visibility -----------------------------------------------------------------------------
@@ -763,7 +809,7 @@ void env_specular_sum(const EnvNodes& nodes, const EnvReceiver& p, double* out) 
 }
 
 // env_specular_sum of two points in one pass over the nodes, each point's sums as env_specular_sum's
-// to the bit (the interleaving of vpl_sum_terms2).
+// to the bit (the interleaving of vpl_sum_blocks).
 void env_specular_sum2(const EnvNodes& nodes, const EnvReceiver& p, const EnvReceiver& p2, double* out, double* out2) {
   const EnvNodes a = nodes;
   const std::size_t n = a.n;
