@@ -124,8 +124,8 @@ template <class T, bool kGlossyReceiver>
   return kGlossyReceiver ? ggx_smith_root(T(p.alpha * p.alpha), p.cos_view) : T(0);
 }
 
-// The lanes of one vector of T in this unit's instruction set: the vectorization factor of the
-// loops below (VPL arrays are padded to a multiple of it, render_table.hpp).
+// The lanes of one vector of T in this unit's instruction set, as many as GCC's vectorized loops
+// here use (the VPL arrays are padded to a multiple of every such count: reference.hpp kVplLanes).
 template <class T>
 inline constexpr std::size_t kLanes =
 #if defined(__AVX512F__)
