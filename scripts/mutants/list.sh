@@ -61,6 +61,8 @@ mutant render-vpl-clamp core/render/src/simd/render_kernels.hpp 's#const T k = T
   render_test vsgl_shading_test
 mutant render-vpl-skip core/render/src/simd/render_kernels.hpp 's#        any = any | h\.on;#        any = g.on;#' \
   render_precision_test
+mutant render-env-skip core/render/src/simd/render_kernels.hpp 's#if constexpr (kTwo) above = above | (p2\.nx#if constexpr (kTwo) above = above \&\& (p2.nx#' \
+  envmap_test
 
 # ---- renderer (core/render/src) ------------------------------------------------------------------
 mutant vsgl-diffuse-pi core/render/src/vsgl_shading.cpp 's#sum \* points\[i\]\.diffuse_reflectance / pi<double>()#sum * points[i].diffuse_reflectance / two_pi<double>()#' \

@@ -792,43 +792,75 @@ std::size_t method_sum(std::size_t lobes, const double* amp_r, const double* amp
   return {w * a.wr[k], w * a.wg[k], w * a.wb[k]};
 }
 
-// Σ_k env_term: each lane sums its nodes' terms, the lanes are added in double.
-void env_specular_sum(const EnvNodes& nodes, const EnvReceiver& p, double* out) {
-  const EnvNodes a = nodes;  // a local copy: its pointers are loop invariants GCC can hoist
-  const std::size_t n = a.n;
+// Σ_k env_term for one point (kTwo false) or two (p2, out2) in one pass over the nodes, in lanes as
+// vpl_sum_blocks: lane l of W = kLanes<double> sums the terms l, l + W, …; the lanes are added in
+// order. A block of W nodes below the horizon of every point (n·ω ≤ 0: each term +0 or −0) is
+// skipped, which leaves every sum's bits as they are (vpl_sum_blocks). The last n mod W nodes,
+// where there is no whole block, all go to lane 0: where the scalar epilogue of GCC's vectorized
+// `omp simd` reduction, the loop this replaces, put them.
+template <bool kTwo>
+void env_specular_blocks(const EnvNodes& nodes, const EnvReceiver& point, const EnvReceiver& point2, double* out,
+                         double* out2) {
+  constexpr std::size_t W = kLanes<double>;
+  const EnvNodes a = nodes;  // local copies: loop invariants GCC can hoist (a load of p.f0 under
+  const EnvReceiver p = point, p2 = point2;  // env_term's condition would otherwise be a masked load)
+  const std::size_t n = a.n, whole = n - n % W;
   const double view_root = ggx_smith_root(p.alpha * p.alpha, p.cos_view);
-  double s0 = 0, s1 = 0, s2 = 0;
-#pragma omp simd reduction(+ : s0, s1, s2)
-  for (std::size_t k = 0; k < n; ++k) {
-    const Channels<double> t = env_term(a, k, p, view_root);
-    s0 += t.r;
-    s1 += t.g;
-    s2 += t.b;
+  const double view_root2 = kTwo ? ggx_smith_root(p2.alpha * p2.alpha, p2.cos_view) : 0.0;
+  alignas(64) double s0[W] = {}, s1[W] = {}, s2[W] = {}, u0[W] = {}, u1[W] = {}, u2[W] = {};
+  for (std::size_t b = 0; b < whole; b += W) {
+    unsigned live = 0;
+#pragma omp simd reduction(| : live)
+    for (std::size_t l = 0; l < W; ++l) {
+      const std::size_t k = b + l;
+      bool above = p.nx * a.x[k] + p.ny * a.y[k] + p.nz * a.z[k] > 0;  // env_term's n·ω > 0
+      if constexpr (kTwo) above = above | (p2.nx * a.x[k] + p2.ny * a.y[k] + p2.nz * a.z[k] > 0);
+      live |= above ? 1u : 0u;
+    }
+    if (!live) continue;
+#pragma omp simd
+    for (std::size_t l = 0; l < W; ++l) {
+      const Channels<double> t = env_term(a, b + l, p, view_root);
+      s0[l] += t.r;
+      s1[l] += t.g;
+      s2[l] += t.b;
+      if constexpr (kTwo) {
+        const Channels<double> t2 = env_term(a, b + l, p2, view_root2);
+        u0[l] += t2.r;
+        u1[l] += t2.g;
+        u2[l] += t2.b;
+      }
+    }
   }
-  add_sums(out, s0, s1, s2);
+  for (std::size_t k = whole; k < n; ++k) {
+    const Channels<double> t = env_term(a, k, p, view_root);
+    s0[0] += t.r;
+    s1[0] += t.g;
+    s2[0] += t.b;
+    if constexpr (kTwo) {
+      const Channels<double> t2 = env_term(a, k, p2, view_root2);
+      u0[0] += t2.r;
+      u1[0] += t2.g;
+      u2[0] += t2.b;
+    }
+  }
+  double r0 = 0, r1 = 0, r2 = 0;
+  for (std::size_t l = 0; l < W; ++l) r0 += s0[l], r1 += s1[l], r2 += s2[l];
+  add_sums(out, r0, r1, r2);
+  if constexpr (kTwo) {
+    double v0 = 0, v1 = 0, v2 = 0;
+    for (std::size_t l = 0; l < W; ++l) v0 += u0[l], v1 += u1[l], v2 += u2[l];
+    add_sums(out2, v0, v1, v2);
+  }
 }
 
-// env_specular_sum of two points in one pass over the nodes, each point's sums as env_specular_sum's
-// to the bit (the interleaving of vpl_sum_blocks).
+void env_specular_sum(const EnvNodes& nodes, const EnvReceiver& p, double* out) {
+  env_specular_blocks<false>(nodes, p, p, out, nullptr);
+}
+// Two points in one pass over the nodes, each point's sums as env_specular_sum's to the bit (the
+// interleaving of vpl_sum_blocks).
 void env_specular_sum2(const EnvNodes& nodes, const EnvReceiver& p, const EnvReceiver& p2, double* out, double* out2) {
-  const EnvNodes a = nodes;
-  const std::size_t n = a.n;
-  const double view_root = ggx_smith_root(p.alpha * p.alpha, p.cos_view),
-               view_root2 = ggx_smith_root(p2.alpha * p2.alpha, p2.cos_view);
-  double s0 = 0, s1 = 0, s2 = 0, u0 = 0, u1 = 0, u2 = 0;
-#pragma omp simd reduction(+ : s0, s1, s2, u0, u1, u2)
-  for (std::size_t k = 0; k < n; ++k) {
-    const Channels<double> t = env_term(a, k, p, view_root);
-    s0 += t.r;
-    s1 += t.g;
-    s2 += t.b;
-    const Channels<double> t2 = env_term(a, k, p2, view_root2);
-    u0 += t2.r;
-    u1 += t2.g;
-    u2 += t2.b;
-  }
-  add_sums(out, s0, s1, s2);
-  add_sums(out2, u0, u1, u2);
+  env_specular_blocks<true>(nodes, p, p2, out, out2);
 }
 
 RenderKernelTable make_render_table(const char* isa) {
