@@ -70,6 +70,15 @@ template <class T>
   out[2] += double(s2);
 }
 
+// out[0..2] += the sums of W lanes in T, each added from lane 0 up: the order GCC's `omp simd`
+// reduction gives them (vpl_sum_blocks).
+template <class T, std::size_t W>
+[[gnu::always_inline]] inline void add_lane_sums(double* out, const T (&s0)[W], const T (&s1)[W], const T (&s2)[W]) {
+  T r0 = 0, r1 = 0, r2 = 0;
+  for (std::size_t l = 0; l < W; ++l) r0 += s0[l], r1 += s1[l], r2 += s2[l];
+  add_sums(out, r0, r1, r2);
+}
+
 // Term i of a VPL array at the point p: its three channels, 0 where the term is off (behind
 // either surface, d = 0, or, kMasked, not visible: vis = a.visible[i]). kGlossyVpl: the array's
 // VPLs have a GGX layer; kGlossyReceiver: the point has one (receiver_root = ggx_smith_root(α²,
@@ -194,14 +203,8 @@ void vpl_sum_blocks(const VplView<T>& arrays, const T* visible2, const Receiver<
       }
     }
   }
-  T r0 = 0, r1 = 0, r2 = 0;
-  for (std::size_t l = 0; l < W; ++l) r0 += s0[l], r1 += s1[l], r2 += s2[l];
-  add_sums(out, r0, r1, r2);
-  if constexpr (kTwo) {
-    T v0 = 0, v1 = 0, v2 = 0;
-    for (std::size_t l = 0; l < W; ++l) v0 += u0[l], v1 += u1[l], v2 += u2[l];
-    add_sums(out2, v0, v1, v2);
-  }
+  add_lane_sums(out, s0, s1, s2);
+  if constexpr (kTwo) add_lane_sums(out2, u0, u1, u2);
 }
 
 template <class T, bool kGlossyVpl, bool kGlossyReceiver>
@@ -844,14 +847,8 @@ void env_specular_blocks(const EnvNodes& nodes, const EnvReceiver& point, const 
       u2[0] += t2.b;
     }
   }
-  double r0 = 0, r1 = 0, r2 = 0;
-  for (std::size_t l = 0; l < W; ++l) r0 += s0[l], r1 += s1[l], r2 += s2[l];
-  add_sums(out, r0, r1, r2);
-  if constexpr (kTwo) {
-    double v0 = 0, v1 = 0, v2 = 0;
-    for (std::size_t l = 0; l < W; ++l) v0 += u0[l], v1 += u1[l], v2 += u2[l];
-    add_sums(out2, v0, v1, v2);
-  }
+  add_lane_sums(out, s0, s1, s2);
+  if constexpr (kTwo) add_lane_sums(out2, u0, u1, u2);
 }
 
 void env_specular_sum(const EnvNodes& nodes, const EnvReceiver& p, double* out) {
