@@ -12,6 +12,10 @@
 # mutants above reach the lanes through simd_test); the series' lane form has its own two mutants.
 # Replaced: simd-asg-nu (ν = λ/2 mistyped in the hand-written `specular/asg` kernel) by asg-nu, the
 # same edit of the template, which that kernel now is on SIMD lanes (simd_specular.hpp).
+# Replaced: cli-unknown-command-status edited the first `return 2;` of cli/app.cpp, which became
+# the refusal of a bad --results/--tables when those were taken off the command line ahead of the
+# command (its owning tests never reach it: it survived); it now anchors on the unknown-command
+# message, and cli-places-status edits the places' refusal.
 # Replaced: sg-product-scale once changed the constant kProductScaleSharpness itself, which a
 # static_assert in core/render/src/simd/render_dispatch.cpp pins to its SIMD copy (the build
 # fails: no test runs); it now moves the switch of product_sharpness alone.
@@ -55,6 +59,8 @@ mutant simd-series-terms core/src/simd/simd_kernels.hpp 's#kSeriesTerms = sizeof
   simd_test
 mutant simd-erfc-saturation core/src/simd/simd_math.hpp 's#T(26\.54) : T(9\.19)#T(26.54) : T(3.19)#' \
   simd_test simd_specular_test
+mutant simd-exp-c4 core/src/simd/simd_exp.hpp 's#c4(0x1\.55555cf172b91p-5)#c4(0x1.55555cf172b91p-4)#' \
+  simd_test:Simd.ExpBatch*
 mutant render-ggx-ndf core/render/src/simd/render_kernels.hpp 's#a2 / (T(kPi) \* dn \* dn)#a2 / (T(kPi) * dn)#' \
   render_test vsgl_shading_test
 mutant render-vpl-clamp core/render/src/simd/render_kernels.hpp 's#const T k = T(1) / (d2 + a\.r2\[i\]);#const T k = T(1) / (d2 + 2 * a.r2[i]);#' \
@@ -117,7 +123,9 @@ mutant sweep-resume runner/sweep.cpp 's#if (!run\.done\[j\]) run\.todo\.push_bac
   sweep_test
 
 # ---- CLI (cli/) ----------------------------------------------------------------------------------
-mutant cli-unknown-command-status cli/app.cpp '0,/return 2;/ s#return 2;#return 1;#' \
+mutant cli-places-status cli/app.cpp '/run = take_places(args, given);/,/return 2;/ s#return 2;#return 1;#' \
+  reproduce_command_test:ReproduceCommand.PlacesBeforeTheCommandSteerWhereItWrites
+mutant cli-unknown-command-status cli/app.cpp '/unknown command/,/return 2;/ s#return 2;#return 1;#' \
   eval_command_test hardening_test:Hardening.*
 mutant cli-parse-error-status cli/app.cpp 's#return status == 0 ? 0 : 2;#return status == 0 ? 0 : 1;#' \
   eval_command_test hardening_test:Hardening.*
