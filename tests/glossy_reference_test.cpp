@@ -1,7 +1,10 @@
 // tests for core/include/sglab/glossy_reference.hpp: convergence against a finer rule, and
 // agreement with seeded importance-sampled Monte Carlo (≥ 1e6 samples) within 4 standard errors.
+#include <bit>
 #include <cmath>
 #include <cstdio>
+#include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -51,6 +54,63 @@ TEST(GlossyReference, AgreesWithMonteCarlo) {
     EXPECT_LT(std::abs(z), 4.0);
     EXPECT_LT(mc.standard_error / mc.mean, 0.05);  // the estimator is informative (light behind: 2%)
   }
+}
+
+// integrate_sphere keeps each θ panel's nodes for the next meridian (detail::ThetaNodes). A rule
+// through the store must be Boost's rule on the integrand computed from θ, to the bit, whether its
+// nodes are computed or kept, and a panel seen before must not compute its nodes again.
+TEST(GlossyReference, KeptThetaNodesGiveTheRuleOfTheIntegrandToTheBit) {
+  using boost::math::quadrature::gauss_kronrod;
+  const double lambda = 37.5;
+  const auto pole = [lambda](double one_minus_cos) { return std::exp(-lambda * one_minus_cos); };
+  // The integrand from a node, and the same from θ alone (the independent form).
+  const auto from_node = [](const detail::ThetaNode& t) {
+    return t.pole_factor * (1.5 + t.cos) * t.sin + 0.25 * t.sin_half;
+  };
+  const auto from_theta = [&](double theta) {
+    const double h = std::sin(0.5 * theta);
+    return pole(2 * h * h) * (1.5 + std::cos(theta)) * std::sin(theta) + 0.25 * h;
+  };
+  const auto without_pole = [](double theta) {
+    return (1.5 + std::cos(theta)) * std::sin(theta) + 0.25 * std::sin(0.5 * theta);
+  };
+  const std::uint64_t seed = 20261205;
+  std::printf("seed %llu\n", (unsigned long long)seed);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, kPi);
+  std::vector<std::pair<double, double>> panels;
+  for (int i = 0; i < 40; ++i) {
+    const double a = u(rng), b = u(rng);
+    panels.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  detail::ThetaNodes<decltype(pole)> nodes(pole);
+  detail::ThetaNodes<std::nullptr_t> plain(nullptr);
+  for (int round = 0; round < 3; ++round) {
+    for (const auto& [a, b] : panels) {
+      double err = 0, err_ref = 0, err_plain = 0, err_plain_ref = 0;
+      const double kept = nodes.rule(from_node, a, b, &err);
+      const double ref = gauss_kronrod<double, 15>::integrate(from_theta, a, b, 0, 0.0, &err_ref);
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(kept), std::bit_cast<std::uint64_t>(ref))
+          << "round " << round << " [" << a << ", " << b << "]: " << kept << " vs " << ref;
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(err), std::bit_cast<std::uint64_t>(err_ref));
+      // Without a pole factor the node's is 1.
+      const double p = plain.rule([](const detail::ThetaNode& t) { return t.pole_factor * ((1.5 + t.cos) * t.sin + 0.25 * t.sin_half); },
+                                  a, b, &err_plain);
+      const double p_ref = gauss_kronrod<double, 15>::integrate(without_pole, a, b, 0, 0.0, &err_plain_ref);
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(p), std::bit_cast<std::uint64_t>(p_ref)) << "round " << round;
+    }
+    // Every panel's 15 nodes were computed in the first round and only then.
+    EXPECT_EQ(nodes.computed(), 15 * panels.size()) << "round " << round;
+    EXPECT_EQ(plain.computed(), 15 * panels.size()) << "round " << round;
+  }
+  // Half of a panel is a panel of its own (the adaptive rule's bisection): its nodes are new.
+  const auto [a, b] = panels.front();
+  const double m = 0.5 * (a + b);
+  double err = 0, err_ref = 0;
+  const double half = nodes.rule(from_node, a, m, &err);
+  const double half_ref = gauss_kronrod<double, 15>::integrate(from_theta, a, m, 0, 0.0, &err_ref);
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(half), std::bit_cast<std::uint64_t>(half_ref));
+  EXPECT_EQ(nodes.computed(), 15 * panels.size() + 15);
 }
 
 TEST(GlossyReference, StiffCasesFiniteNonNegative) {

@@ -49,6 +49,8 @@ mutant sg-product-scale core/include/sglab/sg.hpp '/^T product_sharpness(/,/^}/ 
   sg_test hardening_test:HardeningNumerics.*
 mutant expm1-series core/include/sglab/scalar.hpp 's#return T(1) + x \* (T(0\.5) + x \* (T(1) / T(6) + x \* (T(1) / T(24))));#return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(12))));#' \
   sg_test clamped_cosine_test simd_test
+mutant glossy-theta-node-pole core/include/sglab/glossy_reference.hpp 's#t\.pole_factor = pole_factor_(2 \* t\.sin_half \* t\.sin_half);#t.pole_factor = pole_factor_(t.sin_half * t.sin_half);#' \
+  glossy_reference_test
 
 # ---- SIMD kernels (core/src/simd, core/render/src/simd) ----------------------------------------
 mutant hill-c1 core/include/sglab/clamped_cosine.hpp 's#const T c1 = T(1) / (T(4) \* c0);#const T c1 = T(1) / (T(2) * c0);#' \

@@ -261,7 +261,7 @@ inline double specular_gaussian_ndf_reference_grazing(const SpecularConfig& c, c
     Vec3d e1, e2;
     detail::orthonormal_frame(mirror, e1, e2);
     auto f = [&](const SpherePoint& p) -> double {
-      const Vec3d u = p.one_minus_cos * wo + std::sin(p.theta) * (p.cos_phi * e1 + p.sin_phi * e2);
+      const Vec3d u = p.one_minus_cos * wo + p.sin_theta * (p.cos_phi * e1 + p.sin_phi * e2);
       const double light = std::exp(-0.5 * (sqrt_lambda * (u - delta)).squaredNorm());
       return light == 0 ? 0.0 : light * g(u);
     };
@@ -274,14 +274,14 @@ inline double specular_gaussian_ndf_reference_grazing(const SpecularConfig& c, c
   Vec3d e1, e2;
   detail::orthonormal_frame(xi, e1, e2);
   const double scale = lambda > 1 ? sqrt_lambda : 1.0;
+  const auto light = [lambda](double one_minus_cos) { return std::exp(-lambda * one_minus_cos); };
   auto f = [&](const SpherePoint& p) -> double {
-    const double light = std::exp(-lambda * p.one_minus_cos);
-    if (light == 0) return 0.0;
-    const Vec3d u = delta - p.one_minus_cos * xi + std::sin(p.theta) * (p.cos_phi * e1 + p.sin_phi * e2);
-    return scale * light * g(u);
+    if (p.pole_factor == 0) return 0.0;
+    const Vec3d u = delta - p.one_minus_cos * xi + p.sin_theta * (p.cos_phi * e1 + p.sin_phi * e2);
+    return scale * p.pole_factor * g(u);
   };
   const SphereFocus foci[1] = {{mirror, std::min(1.0, m * 1e-3)}};
-  return integrate_sphere(f, xi, light_width, foci, clips, q, support) / scale;
+  return integrate_sphere(f, xi, light_width, foci, clips, q, support, light) / scale;
 }
 
 // L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω for the Gaussian-angle BRDF, by the adaptive quadrature of

@@ -28,11 +28,14 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <span>
 #include <type_traits>
+#include <unordered_map>
 #include <limits>
 #include <vector>
 
@@ -102,20 +105,89 @@ inline bool visible_theta_interval(double A, double B, double& lo, double& hi) {
 // until the Kronrod–Gauss difference of a piece is below its share of the tolerance. Absolute,
 // not relative, so that pieces where the integrand is negligible (far tails, next to a horizon)
 // are not refined to the last digit of their own tiny value.
-template <class G>
-double gauss_kronrod_absolute(const G& g, double a, double b, double abs_tol, int depth) {
-  using boost::math::quadrature::gauss_kronrod;
+// `rule(a, b, &err)` is one 15-point rule on [a, b] (Boost.Math's gauss_kronrod<double, 15>).
+template <class Rule>
+double adaptive_absolute(const Rule& rule, double a, double b, double abs_tol, int depth) {
   double err = 0;
-  const double k = gauss_kronrod<double, 15>::integrate(g, a, b, 0, 0.0, &err);
+  const double k = rule(a, b, &err);
   // Boost 1.74 reports the error of the rule on [−1, 1] before its (b − a)/2 change of variable
   // (recursive_adaptive_integrate never scales error_local): scale it here. Below 4ε|k| the
   // estimate is rounding noise (Boost floors it at 2ε|k|), and bisecting cannot reduce it.
   err *= 0.5 * (b - a);
   if (depth <= 0 || !(err > abs_tol) || err <= 4 * std::numeric_limits<double>::epsilon() * std::abs(k)) return k;
   const double m = 0.5 * (a + b);
-  return gauss_kronrod_absolute(g, a, m, 0.5 * abs_tol, depth - 1) +
-         gauss_kronrod_absolute(g, m, b, 0.5 * abs_tol, depth - 1);
+  return adaptive_absolute(rule, a, m, 0.5 * abs_tol, depth - 1) + adaptive_absolute(rule, m, b, 0.5 * abs_tol, depth - 1);
 }
+template <class G>
+double gauss_kronrod_absolute(const G& g, double a, double b, double abs_tol, int depth) {
+  using boost::math::quadrature::gauss_kronrod;
+  const auto rule = [&](double lo, double hi, double* err) {
+    return gauss_kronrod<double, 15>::integrate(g, lo, hi, 0, 0.0, err);
+  };
+  return adaptive_absolute(rule, a, b, abs_tol, depth);
+}
+
+// A θ node of integrate_sphere's meridians: θ, sin θ, cos θ, sin(θ/2) and the factor of the
+// integrand that depends on θ alone (integrate_sphere's pole_factor; 1 without one).
+struct ThetaNode {
+  double theta, sin, cos, sin_half, pole_factor;
+};
+
+// The θ nodes of integrate_sphere, kept across its meridians. A meridian's θ panels are the same
+// numbers on most meridians (the breaks about the pole and the foci do not depend on φ; only the
+// horizon's do), and so are their adaptive halves, so most panels' nodes recur: 83 % of the nodes
+// of 100 random specular references (docs/testing.md, "θ nodes kept across meridians"). Each panel
+// [a, b] keeps the 15 nodes Boost's rule asked for, in its order; a node is taken from there only
+// if its θ has the same bits as the one asked for (else it is computed), so every value is the
+// one computed without the store, to the bit: sin, cos and the pole factor are functions of θ.
+template <class PoleFactor>
+class ThetaNodes {
+ public:
+  explicit ThetaNodes(const PoleFactor& pole_factor) : pole_factor_(pole_factor) {}
+
+  // One 15-point rule on [a, b] of g(ThetaNode).
+  template <class G>
+  double rule(const G& g, double a, double b, double* err) {
+    using boost::math::quadrature::gauss_kronrod;
+    Panel& panel = panels_[Key{std::bit_cast<std::uint64_t>(a), std::bit_cast<std::uint64_t>(b)}];
+    std::size_t k = 0;
+    const auto at = [&](double theta) -> double {
+      if (k < panel.count && std::bit_cast<std::uint64_t>(panel.nodes[k].theta) == std::bit_cast<std::uint64_t>(theta))
+        return g(panel.nodes[k++]);
+      const ThetaNode t = node(theta);
+      if (k == panel.count && k < panel.nodes.size()) panel.nodes[panel.count++] = t;
+      ++k;
+      return g(t);
+    };
+    return gauss_kronrod<double, 15>::integrate(at, a, b, 0, 0.0, err);
+  }
+  // The nodes computed so far (not taken from the store).
+  std::size_t computed() const { return computed_; }
+
+ private:
+  ThetaNode node(double theta) {
+    ++computed_;
+    ThetaNode t{theta, std::sin(theta), std::cos(theta), std::sin(0.5 * theta), 1.0};
+    if constexpr (!std::is_same_v<PoleFactor, std::nullptr_t>) t.pole_factor = pole_factor_(2 * t.sin_half * t.sin_half);
+    return t;
+  }
+  struct Key {
+    std::uint64_t a, b;
+    bool operator==(const Key&) const = default;
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      return std::size_t((k.a * 0x9E3779B97F4A7C15ull) ^ (k.b * 0xC2B2AE3D27D4EB4Full + (k.a >> 29)));
+    }
+  };
+  struct Panel {
+    std::array<ThetaNode, 15> nodes;
+    std::size_t count = 0;
+  };
+  PoleFactor pole_factor_;
+  std::unordered_map<Key, Panel, KeyHash> panels_;
+  std::size_t computed_ = 0;
+};
 
 // A focus in the polar coordinates (θ, φ) about the pole (frame e1, e2), its width floored.
 struct FocusPolar {
@@ -190,6 +262,8 @@ inline std::vector<double> azimuth_breaks(const std::vector<FocusPolar>& polar, 
 struct SpherePoint {
   Vec3d w;
   double theta, one_minus_cos, cos_phi, sin_phi;
+  double sin_theta;    // std::sin(theta)
+  double pole_factor;  // integrate_sphere's pole_factor at 1 − cos θ (1 without one)
 };
 
 // The polar angle past which an SG of sharpness λ about the pole is exactly 0 in double:
@@ -205,10 +279,13 @@ inline double sg_support_angle(double lambda) {
 // pole_width) and at the foci. See the file comment for the panel placement. f is called with ω,
 // or with a SpherePoint if it takes one; only then is a pole width below q.min_width kept (an f of
 // ω alone cannot resolve a narrower pole). f is taken to be 0 past θ = pole_support about the pole.
-template <class F>
+// pole_factor (optional): a factor of f that depends on θ alone, as a function of 1 − cos θ; it
+// is evaluated once per θ node (detail::ThetaNodes) and handed to f in SpherePoint::pole_factor.
+template <class F, class PoleFactor = std::nullptr_t>
 double integrate_sphere(const F& f, const Vec3d& pole, double pole_width, std::span<const SphereFocus> foci,
                         std::span<const Vec3d> clips, const SphereQuadrature& q = {},
-                        double pole_support = boost::math::constants::pi<double>()) {
+                        double pole_support = boost::math::constants::pi<double>(),
+                        const PoleFactor& pole_factor = nullptr) {
   using boost::math::quadrature::gauss_kronrod;
   const double pi = boost::math::constants::pi<double>();
   constexpr bool polar_f = std::is_invocable_v<const F&, const SpherePoint&>;
@@ -217,6 +294,7 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width, std::s
   const double w_pole = std::max(pole_width, polar_f ? std::numeric_limits<double>::min() : q.min_width);
   const std::vector<detail::FocusPolar> polar = detail::foci_polar(foci, pole, e1, e2, q.min_width);
 
+  detail::ThetaNodes<PoleFactor> nodes(pole_factor);
   // The θ integral along the meridian of azimuth φ, over where every clip is visible.
   // abs_tol < 0: one 15-point rule per panel (the coarse first pass that sets the scale).
   auto inner = [&](double phi, double abs_tol) -> double {
@@ -231,20 +309,18 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width, std::s
       if (!(hi > lo)) return 0.0;
     }
     const std::vector<double> br = detail::theta_breaks(lo, hi, w_pole, polar, q.ratio, q.min_width);
-    auto g = [&](double theta) -> double {
-      const double st = std::sin(theta);
-      const Vec3d w = std::cos(theta) * pole + st * e;
+    auto g = [&](const detail::ThetaNode& t) -> double {
+      const Vec3d w = t.cos * pole + t.sin * e;
       if constexpr (polar_f) {
-        const double h = std::sin(0.5 * theta);
-        return f(SpherePoint{w, theta, 2 * h * h, cp, sp}) * st;
+        return f(SpherePoint{w, t.theta, 2 * t.sin_half * t.sin_half, cp, sp, t.sin, t.pole_factor}) * t.sin;
       } else {
-        return f(w) * st;
+        return f(w) * t.sin;
       }
     };
+    const auto rule = [&](double a, double b, double* err) { return nodes.rule(g, a, b, err); };
     const double share = abs_tol / double(br.size());
     return detail::sum_panels(br, [&](double a, double b) {
-      return abs_tol < 0 ? gauss_kronrod<double, 15>::integrate(g, a, b, 0, 0.0)
-                         : detail::gauss_kronrod_absolute(g, a, b, share, q.max_depth);
+      return abs_tol < 0 ? rule(a, b, nullptr) : detail::adaptive_absolute(rule, a, b, share, q.max_depth);
     });
   };
 
@@ -318,11 +394,11 @@ double integrate_sg_about_axis(const H& h, const Vec3d& xi, double lambda, std::
                                std::span<const Vec3d> clips, const SphereQuadrature& q) {
   const double pole_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
   const double scale = lambda > 1 ? std::sqrt(lambda) : 1.0;
+  const auto light = [lambda](double one_minus_cos) { return std::exp(-lambda * one_minus_cos); };
   auto f = [&](const SpherePoint& p) -> double {
-    const double light = std::exp(-lambda * p.one_minus_cos);
-    return light == 0 ? 0.0 : scale * light * h(p.w);
+    return p.pole_factor == 0 ? 0.0 : scale * p.pole_factor * h(p.w);
   };
-  return integrate_sphere(f, xi, pole_width, foci, clips, q, sg_support_angle(lambda)) / scale;
+  return integrate_sphere(f, xi, pole_width, foci, clips, q, sg_support_angle(lambda), light) / scale;
 }
 
 // The exact L by the quadrature above: pole = light axis (width 1/√λ, capped at 1 rad for broad
