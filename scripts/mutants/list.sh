@@ -51,6 +51,8 @@ mutant expm1-series core/include/sglab/scalar.hpp 's#return T(1) + x \* (T(0\.5)
   sg_test clamped_cosine_test simd_test
 mutant glossy-theta-node-pole core/include/sglab/glossy_reference.hpp 's#t\.pole_factor = pole_factor_(2 \* t\.sin_half \* t\.sin_half);#t.pole_factor = pole_factor_(t.sin_half * t.sin_half);#' \
   glossy_reference_test
+mutant gndf-grazing-light-pole core/include/sglab/gaussian_ndf.hpp 's#const auto light = \[lambda\](double one_minus_cos) { return std::exp(-lambda \* one_minus_cos); };#const auto light = [lambda](double one_minus_cos) { return std::exp(-0.5 * lambda * one_minus_cos); };#' \
+  gaussian_ndf_test hardening_extremes_test
 
 # ---- SIMD kernels (core/src/simd, core/render/src/simd) ----------------------------------------
 mutant hill-c1 core/include/sglab/clamped_cosine.hpp 's#const T c1 = T(1) / (T(4) \* c0);#const T c1 = T(1) / (T(2) * c0);#' \
