@@ -114,6 +114,40 @@ TEST(GlossyReference, KeptThetaNodesGiveTheRuleOfTheIntegrandToTheBit) {
   EXPECT_EQ(nodes.computed(), 15 * panels.size() + 15);
 }
 
+// The store is bounded (detail::kMaxThetaPanels): past the bound new panels are computed and not
+// kept, with the same values, and the panels kept before the bound still are.
+TEST(GlossyReference, ThetaNodesPastTheBoundAreComputedNotKept) {
+  using boost::math::quadrature::gauss_kronrod;
+  const auto from_node = [](const detail::ThetaNode& t) { return t.cos * t.sin + t.sin_half; };
+  const auto from_theta = [](double theta) { return std::cos(theta) * std::sin(theta) + std::sin(0.5 * theta); };
+  detail::ThetaNodes<std::nullptr_t> nodes(nullptr);
+  const std::size_t n = detail::kMaxThetaPanels + 10;
+  const auto panel = [&](std::size_t i) { return std::pair{double(i) / double(n), double(i + 1) / double(n)}; };
+  // The first round every panel; the second a sample of them and the last 20, past the bound.
+  std::vector<std::size_t> second;
+  for (std::size_t i = 0; i < n; i += 997) second.push_back(i);
+  for (std::size_t i = n - 20; i < n; ++i) second.push_back(i);
+  std::vector<std::size_t> first(n);
+  for (std::size_t i = 0; i < n; ++i) first[i] = i;
+  for (const auto* round : {&first, &second}) {
+    for (const std::size_t i : *round) {
+      const auto [a, b] = panel(i);
+      double err = 0, err_ref = 0;
+      const double v = nodes.rule(from_node, a, b, &err);
+      const double ref = gauss_kronrod<double, 15>::integrate(from_theta, a, b, 0, 0.0, &err_ref);
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(v), std::bit_cast<std::uint64_t>(ref)) << "panel " << i;
+    }
+    if (round == &first) {
+      EXPECT_EQ(nodes.computed(), 15 * n);
+    }
+  }
+  // Of the second round's panels, those past the bound were computed again.
+  std::size_t past = 0;
+  for (const std::size_t i : second) past += i >= detail::kMaxThetaPanels ? 1 : 0;
+  EXPECT_EQ(past, 10u);
+  EXPECT_EQ(nodes.computed(), 15 * (n + past));
+}
+
 TEST(GlossyReference, StiffCasesFiniteNonNegative) {
   for (const SpecularConfig& c : {SpecularConfig{0.01, 1e4, -0.5, 0.5, 0.0, 0.04},  // light behind: underflows to 0
                                   SpecularConfig{0.01, 0.0, 0.0, 0.0, 0.0, 0.04},   // grazing view, uniform light

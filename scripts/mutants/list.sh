@@ -51,6 +51,8 @@ mutant expm1-series core/include/sglab/scalar.hpp 's#return T(1) + x \* (T(0\.5)
   sg_test clamped_cosine_test simd_test
 mutant glossy-theta-node-pole core/include/sglab/glossy_reference.hpp 's#t\.pole_factor = pole_factor_(2 \* t\.sin_half \* t\.sin_half);#t.pole_factor = pole_factor_(t.sin_half * t.sin_half);#' \
   glossy_reference_test
+mutant glossy-theta-node-bound core/include/sglab/glossy_reference.hpp 's#if (found == panels_\.end() && panels_\.size() < kMaxThetaPanels)#if (found == panels_.end())#' \
+  glossy_reference_test
 mutant gndf-grazing-light-pole core/include/sglab/gaussian_ndf.hpp 's#const auto light = \[lambda\](double one_minus_cos) { return std::exp(-lambda \* one_minus_cos); };#const auto light = [lambda](double one_minus_cos) { return std::exp(-0.5 * lambda * one_minus_cos); };#' \
   gaussian_ndf_test hardening_extremes_test
 

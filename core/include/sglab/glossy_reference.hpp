@@ -140,6 +140,12 @@ struct ThetaNode {
 // [a, b] keeps the 15 nodes Boost's rule asked for, in its order; a node is taken from there only
 // if its θ has the same bits as the one asked for (else it is computed), so every value is the
 // one computed without the store, to the bit: sin, cos and the pole factor are functions of θ.
+// The store's bound, in panels (about 640 bytes each: 10 MiB). Typical references keep a few
+// thousand; one at α = 10⁻³ and grazing view, whose horizon breaks move with every meridian, kept
+// 355 MB of panels that seldom recurred before the bound. Past it new panels are computed as
+// before and not kept.
+inline constexpr std::size_t kMaxThetaPanels = 16384;
+
 template <class PoleFactor>
 class ThetaNodes {
  public:
@@ -149,7 +155,11 @@ class ThetaNodes {
   template <class G>
   double rule(const G& g, double a, double b, double* err) {
     using boost::math::quadrature::gauss_kronrod;
-    Panel& panel = panels_[Key{std::bit_cast<std::uint64_t>(a), std::bit_cast<std::uint64_t>(b)}];
+    const Key key{std::bit_cast<std::uint64_t>(a), std::bit_cast<std::uint64_t>(b)};
+    Panel unkept;  // a panel past the store's bound: its nodes are computed and not kept
+    auto found = panels_.find(key);
+    if (found == panels_.end() && panels_.size() < kMaxThetaPanels) found = panels_.emplace(key, Panel{}).first;
+    Panel& panel = found == panels_.end() ? unkept : found->second;
     std::size_t k = 0;
     const auto at = [&](double theta) -> double {
       if (k < panel.count && std::bit_cast<std::uint64_t>(panel.nodes[k].theta) == std::bit_cast<std::uint64_t>(theta))
