@@ -95,8 +95,9 @@ TEST(GlossyReference, KeptThetaNodesGiveTheRuleOfTheIntegrandToTheBit) {
           << "round " << round << " [" << a << ", " << b << "]: " << kept << " vs " << ref;
       EXPECT_EQ(std::bit_cast<std::uint64_t>(err), std::bit_cast<std::uint64_t>(err_ref));
       // Without a pole factor the node's is 1.
-      const double p = plain.rule([](const detail::ThetaNode& t) { return t.pole_factor * ((1.5 + t.cos) * t.sin + 0.25 * t.sin_half); },
-                                  a, b, &err_plain);
+      const double p = plain.rule(
+          [](const detail::ThetaNode& t) { return t.pole_factor * ((1.5 + t.cos) * t.sin + 0.25 * t.sin_half); }, a, b,
+          &err_plain);
       const double p_ref = gauss_kronrod<double, 15>::integrate(without_pole, a, b, 0, 0.0, &err_plain_ref);
       EXPECT_EQ(std::bit_cast<std::uint64_t>(p), std::bit_cast<std::uint64_t>(p_ref)) << "round " << round;
     }

@@ -39,6 +39,7 @@
 #include <limits>
 #include <vector>
 
+#include <boost/container_hash/hash.hpp>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
 #include "sglab/brdf.hpp"
@@ -101,11 +102,15 @@ inline bool visible_theta_interval(double A, double B, double& lo, double& hi) {
   return hi > lo;
 }
 
+// The points of the Boost.Math Gauss–Kronrod rule of this file's quadratures (7 Gauss points
+// nested in 15 Kronrod points).
+inline constexpr unsigned kSphereRulePoints = 15;
+
 // Adaptive Gauss–Kronrod (7/15 points, Boost.Math's nodes) to an ABSOLUTE error abs_tol: split
 // until the Kronrod–Gauss difference of a piece is below its share of the tolerance. Absolute,
 // not relative, so that pieces where the integrand is negligible (far tails, next to a horizon)
 // are not refined to the last digit of their own tiny value.
-// `rule(a, b, &err)` is one 15-point rule on [a, b] (Boost.Math's gauss_kronrod<double, 15>).
+// `rule(a, b, &err)` is one such rule on [a, b].
 template <class Rule>
 double adaptive_absolute(const Rule& rule, double a, double b, double abs_tol, int depth) {
   double err = 0;
@@ -116,13 +121,14 @@ double adaptive_absolute(const Rule& rule, double a, double b, double abs_tol, i
   err *= 0.5 * (b - a);
   if (depth <= 0 || !(err > abs_tol) || err <= 4 * std::numeric_limits<double>::epsilon() * std::abs(k)) return k;
   const double m = 0.5 * (a + b);
-  return adaptive_absolute(rule, a, m, 0.5 * abs_tol, depth - 1) + adaptive_absolute(rule, m, b, 0.5 * abs_tol, depth - 1);
+  return adaptive_absolute(rule, a, m, 0.5 * abs_tol, depth - 1) +
+         adaptive_absolute(rule, m, b, 0.5 * abs_tol, depth - 1);
 }
 template <class G>
 double gauss_kronrod_absolute(const G& g, double a, double b, double abs_tol, int depth) {
   using boost::math::quadrature::gauss_kronrod;
   const auto rule = [&](double lo, double hi, double* err) {
-    return gauss_kronrod<double, 15>::integrate(g, lo, hi, 0, 0.0, err);
+    return gauss_kronrod<double, kSphereRulePoints>::integrate(g, lo, hi, 0, 0.0, err);
   };
   return adaptive_absolute(rule, a, b, abs_tol, depth);
 }
@@ -133,25 +139,25 @@ struct ThetaNode {
   double theta, sin, cos, sin_half, pole_factor;
 };
 
+// The bound of ThetaNodes' store, in panels (about 640 bytes each: 10 MiB). Typical references
+// keep a few thousand; one at α = 10⁻³ and grazing view, whose horizon breaks move with every
+// meridian, kept 355 MB of panels that seldom recurred before the bound (docs/testing.md). Past
+// it new panels are computed as before and not kept.
+inline constexpr std::size_t kMaxThetaPanels = 16384;
+
 // The θ nodes of integrate_sphere, kept across its meridians. A meridian's θ panels are the same
 // numbers on most meridians (the breaks about the pole and the foci do not depend on φ; only the
 // horizon's do), and so are their adaptive halves, so most panels' nodes recur: 83 % of the nodes
 // of 100 random specular references (docs/testing.md, "θ nodes kept across meridians"). Each panel
-// [a, b] keeps the 15 nodes Boost's rule asked for, in its order; a node is taken from there only
+// [a, b] keeps the nodes Boost's rule asked for, in its order; a node is taken from there only
 // if its θ has the same bits as the one asked for (else it is computed), so every value is the
 // one computed without the store, to the bit: sin, cos and the pole factor are functions of θ.
-// The store's bound, in panels (about 640 bytes each: 10 MiB). Typical references keep a few
-// thousand; one at α = 10⁻³ and grazing view, whose horizon breaks move with every meridian, kept
-// 355 MB of panels that seldom recurred before the bound. Past it new panels are computed as
-// before and not kept.
-inline constexpr std::size_t kMaxThetaPanels = 16384;
-
 template <class PoleFactor>
 class ThetaNodes {
  public:
   explicit ThetaNodes(const PoleFactor& pole_factor) : pole_factor_(pole_factor) {}
 
-  // One 15-point rule on [a, b] of g(ThetaNode).
+  // One rule on [a, b] of g(ThetaNode).
   template <class G>
   double rule(const G& g, double a, double b, double* err) {
     using boost::math::quadrature::gauss_kronrod;
@@ -169,7 +175,7 @@ class ThetaNodes {
       ++k;
       return g(t);
     };
-    return gauss_kronrod<double, 15>::integrate(at, a, b, 0, 0.0, err);
+    return gauss_kronrod<double, kSphereRulePoints>::integrate(at, a, b, 0, 0.0, err);
   }
   // The nodes computed so far (not taken from the store).
   std::size_t computed() const { return computed_; }
@@ -178,7 +184,8 @@ class ThetaNodes {
   ThetaNode node(double theta) {
     ++computed_;
     ThetaNode t{theta, std::sin(theta), std::cos(theta), std::sin(0.5 * theta), 1.0};
-    if constexpr (!std::is_same_v<PoleFactor, std::nullptr_t>) t.pole_factor = pole_factor_(2 * t.sin_half * t.sin_half);
+    if constexpr (!std::is_same_v<PoleFactor, std::nullptr_t>)
+      t.pole_factor = pole_factor_(2 * t.sin_half * t.sin_half);
     return t;
   }
   struct Key {
@@ -187,11 +194,14 @@ class ThetaNodes {
   };
   struct KeyHash {
     std::size_t operator()(const Key& k) const {
-      return std::size_t((k.a * 0x9E3779B97F4A7C15ull) ^ (k.b * 0xC2B2AE3D27D4EB4Full + (k.a >> 29)));
+      std::size_t seed = 0;
+      boost::hash_combine(seed, k.a);
+      boost::hash_combine(seed, k.b);
+      return seed;
     }
   };
   struct Panel {
-    std::array<ThetaNode, 15> nodes;
+    std::array<ThetaNode, kSphereRulePoints> nodes;
     std::size_t count = 0;
   };
   PoleFactor pole_factor_;
@@ -338,7 +348,8 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width, std::s
   // Pass 1: one rule per panel in θ and φ — the panels already follow the peaks, so this is
   // within a few percent, enough to turn the relative target into an absolute one.
   const double coarse = detail::sum_panels(br, [&](double a, double b) {
-    return gauss_kronrod<double, 15>::integrate([&](double phi) { return inner(phi, -1.0); }, a, b, 0, 0.0);
+    return gauss_kronrod<double, detail::kSphereRulePoints>::integrate([&](double phi) { return inner(phi, -1.0); }, a,
+                                                                       b, 0, 0.0);
   });
   if (!(coarse > 0)) return 0.0;  // the integrand is 0 (or underflows) everywhere the panels look
   // Pass 2: absolute tolerance τ = tolerance·coarse for the outer rule. The inner integrals are
@@ -405,9 +416,7 @@ double integrate_sg_about_axis(const H& h, const Vec3d& xi, double lambda, std::
   const double pole_width = lambda > 1 ? 1.0 / std::sqrt(lambda) : 1.0;
   const double scale = lambda > 1 ? std::sqrt(lambda) : 1.0;
   const auto light = [lambda](double one_minus_cos) { return std::exp(-lambda * one_minus_cos); };
-  auto f = [&](const SpherePoint& p) -> double {
-    return p.pole_factor == 0 ? 0.0 : scale * p.pole_factor * h(p.w);
-  };
+  auto f = [&](const SpherePoint& p) -> double { return p.pole_factor == 0 ? 0.0 : scale * p.pole_factor * h(p.w); };
   return integrate_sphere(f, xi, pole_width, foci, clips, q, sg_support_angle(lambda), light) / scale;
 }
 
