@@ -1,5 +1,7 @@
 #include "driver.hpp"
 
+#include "ceres_log.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -245,6 +247,7 @@ FitResult run_least_squares(const FitSpec& spec, const std::function<ceres::Cost
     options.logging_type = ceres::SILENT;
     options.num_threads = 1;
     ceres::Solver::Summary summary;
+    quiet_ceres_warnings();
     ceres::Solve(options, &problem, &summary);
     if (keep_if_better(summary, have, best)) best_x = x;
   }
@@ -290,6 +293,7 @@ FitResult run_scalar_fit(const FitSpec& spec, const std::function<ceres::FirstOr
     options.parameter_tolerance = 1e-16;
     options.logging_type = ceres::SILENT;
     ceres::GradientProblemSolver::Summary summary;
+    quiet_ceres_warnings();
     ceres::Solve(options, problem, u.data(), &summary);
     if (!keep_if_better(summary, have, best)) continue;
     best_x.resize(u.size());

@@ -2,6 +2,7 @@
 #include "envmap.hpp"
 #include "envmap_data.hpp"
 #include "envmap_sparse.hpp"
+#include "ceres_log.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -249,6 +250,7 @@ Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_
     so.parameter_tolerance = 1e-9;
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
+    quiet_ceres_warnings();
     ceres::Solve(so, &problem, &summary);
     result.iterations += int(summary.iterations.size());
     result.converged = summary.termination_type == ceres::CONVERGENCE;

@@ -22,7 +22,7 @@ packages=(
   build-essential cmake pkg-config
   lld  # the linker CMakeLists.txt prefers (SGLAB_LLD): a quarter of GNU ld's time per link
   ninja-build  # the build tool: starts a target's units before the libraries they link are linked
-  libceres-dev libeigen3-dev libboost-dev libboost-math-dev
+  libceres-dev libgoogle-glog-dev libeigen3-dev libboost-dev libboost-math-dev
   libopenexr-dev libfmt-dev libgtest-dev libbenchmark-dev
   libcli11-dev nlohmann-json3-dev libtbb-dev libxsimd-dev
   python3 python3-matplotlib python3-numpy python3-scipy

@@ -2,13 +2,16 @@
 // by its own model, and the reproducible published constants stay reproduced.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <string>
 
 #include <boost/math/tools/minima.hpp>
+#include <glog/logging.h>
 #include <gtest/gtest.h>
 
+#include "ceres_log.hpp"
 #include "fits.hpp"
 #include "sglab/clamped_cosine.hpp"
 
@@ -24,6 +27,20 @@ void expect_recovers(const std::string& name, const std::vector<double>& truth, 
   for (std::size_t i = 0; i < truth.size(); ++i) {
     EXPECT_NEAR(r.parameters[i].value / truth[i], 1.0, tol) << name << " " << r.parameters[i].name;
   }
+}
+
+// Before a solve the fits set glog (Ceres' log) to show errors only, unless GLOG_minloglevel says
+// otherwise: a WARNING is not written, an ERROR is.
+TEST(CeresLog, WarningsAreLeftOutErrorsAreShown) {
+  quiet_ceres_warnings();
+  testing::internal::CaptureStderr();
+  LOG(WARNING) << "sglab test warning";
+  LOG(ERROR) << "sglab test error";
+  const std::string err = testing::internal::GetCapturedStderr();
+  if (std::getenv("GLOG_minloglevel") == nullptr) {
+    EXPECT_EQ(err.find("sglab test warning"), std::string::npos) << err;
+  }
+  EXPECT_NE(err.find("sglab test error"), std::string::npos) << err;
 }
 
 // Chosen parameters, none of them the published ones.
