@@ -1,7 +1,5 @@
 #include "driver.hpp"
 
-#include "ceres_log.hpp"
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -15,6 +13,7 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
+#include "ceres_log.hpp"
 #include "sglab/scalar.hpp"
 
 namespace sglab::fit {
