@@ -418,12 +418,13 @@ class StepRun {
     python_.stop();  // its CPU (its start, the imports) then counts in the total
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpu = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN) - cpu_start;
+    times_.add("steps-run-alone", "", alone_wall_, alone_cpu_);
     times_.add("total", "", wall, cpu);
     times_.write(times_csv_, command_, o_.quick);
     std::printf(
-        "reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s); outputs in %s/, tables in %s/, step times in "
-        "%s\n",
-        done_, skipped_, wall, cpu, p_.out.c_str(), p_.tables.c_str(), times_csv_.string().c_str());
+        "reproduce: %d steps run, %d already done, %.1f s (CPU %.1f s; the timed steps, run alone: %.1f s); outputs in "
+        "%s/, tables in %s/, step times in %s\n",
+        done_, skipped_, wall, cpu, alone_wall_, p_.out.c_str(), p_.tables.c_str(), times_csv_.string().c_str());
   }
 
  private:
@@ -467,7 +468,13 @@ class StepRun {
     ++done_;
     std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all_.size(),
                  s.name.c_str(), wall, cpu);
-    times_.add(s.name, s.python ? "run beside" : "run", wall, cpu);
+    // "run alone": a timed step, with nothing beside it; their sum is the part of the run's wall
+    // time that no scheduling of the other steps can hide.
+    times_.add(s.name, s.python ? "run beside" : s.timed ? "run alone" : "run", wall, cpu);
+    if (s.timed && !s.python) {
+      alone_wall_ += wall;
+      alone_cpu_ += cpu;
+    }
     times_.write(times_csv_, command_, o_.quick);
   }
 
@@ -481,6 +488,7 @@ class StepRun {
   std::mutex lock_;  // times, the counters and the log lines, shared with the plot thread
   StepTimes times_;
   int done_ = 0, skipped_ = 0;
+  double alone_wall_ = 0, alone_cpu_ = 0;  // the timed steps' (run alone) wall and CPU seconds
   PlotServer python_;  // before plots_: destroyed after the plot thread is done with it
   PlotQueue plots_;
   std::vector<std::function<void()>> waiting_;  // plots not started yet: they start beside the next untimed sglab step

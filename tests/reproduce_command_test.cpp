@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -243,6 +244,31 @@ TEST_F(ReproduceCommand, PlotsRunBesideAndEachMarkerHoldsItsOwnOutputs) {
   const auto again = sglab(std::string("reproduce --quick --only ") + kBesideSteps);
   ASSERT_EQ(again.status, 0) << again.err;
   EXPECT_NE(again.out.find("0 steps run, 5 already done"), std::string::npos) << again.out << again.err;
+}
+
+// A timed step (its tables carry times) runs alone and says so; the row steps-run-alone sums the
+// timed steps' wall and CPU seconds, and the closing line quotes that wall time. With the timed
+// step a plain one: the sum covers it alone.
+TEST_F(ReproduceCommand, TimedStepsRunAloneAndTheirSumIsReported) {
+  link_inputs();
+  const auto r = sglab("reproduce --quick --only sweep-render-visibility-off --only render-two-vsgls-punctual");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream times(path("results/quick/reproduce_times.csv"));
+  std::map<std::string, std::pair<std::string, std::string>> rows;  // step -> (status, wall)
+  for (std::string line; std::getline(times, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> f;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    if (f.size() >= 3) rows[f[0]] = {f[1], f[2]};
+  }
+  ASSERT_TRUE(rows.count("sweep-render-visibility-off") && rows.count("render-two-vsgls-punctual") &&
+              rows.count("steps-run-alone"))
+      << r.err;
+  EXPECT_EQ(rows["sweep-render-visibility-off"].first, "run alone");
+  EXPECT_EQ(rows["render-two-vsgls-punctual"].first, "run");
+  EXPECT_EQ(rows["steps-run-alone"].second, rows["sweep-render-visibility-off"].second);
+  EXPECT_NE(r.out.find("the timed steps, run alone: "), std::string::npos) << r.out;
 }
 
 // The recommend step reads the tables of a directory its command names only as a directory: its
