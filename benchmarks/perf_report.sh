@@ -23,6 +23,8 @@
 #   ctest               `ctest -j2` over the whole suite (wall; CPU = the tests' summed seconds)
 #   reproduce-quick     `sglab reproduce --quick` into an empty scratch --out
 #   reproduce-full      `sglab reproduce` into an empty scratch --out/--tables-dir (paper_tables/ untouched)
+#   reproduce-full-alone  the timed steps of that run, which run alone (its reproduce_times.csv,
+#                       row steps-run-alone): the part of its wall time no scheduling could hide
 #   python-eval/...     ns per point of `sglab.eval` from Python, its C++ batch, their ratio
 #                       (benchmarks/python_eval_bench.py, 1e6 points, one CPU)
 #   render-specular/M   ns per (pixel, lobe) of the specular VSGL shading by M (`sglab render
@@ -227,6 +229,12 @@ fi
 if [ "$full" = 1 ]; then
   timed reproduce-full "sglab reproduce, empty --out and --tables-dir" \
     "$sglab" reproduce --out "$scratch/full" --tables-dir "$scratch/full/tables"
+  # Its timed steps, which run alone: the part of its wall time no scheduling could hide (an
+  # older checkout's reproduce_times.csv, under --baseline, has no such row).
+  alone=$(awk -F, '$1 == "steps-run-alone" { print $3 "|" $4 }' "$scratch/full/reproduce_times.csv" 2>/dev/null)
+  missing=""
+  [ -n "$alone" ] || missing=": no such row in this checkout"
+  rows+=("reproduce-full-alone|${alone:-|}|the timed steps of reproduce-full, run alone (its reproduce_times.csv)$missing")
 fi
 if [ "$python" = 1 ]; then
   bench=$build/benchmarks/sglab_core_bench
