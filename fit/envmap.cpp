@@ -2,6 +2,7 @@
 #include "envmap.hpp"
 #include "envmap_data.hpp"
 #include "envmap_sparse.hpp"
+#include "envmap_stages.hpp"
 #include "ceres_log.hpp"
 
 #include <algorithm>
@@ -26,9 +27,6 @@ namespace sglab::fit {
 namespace {
 
 using namespace envmap_detail;
-
-// Parameters of lobe j in one array: axis (3), log λ (1), RGB amplitude (3).
-constexpr int kStride = 7;
 
 // Residuals of a tile of texels (indices into the level) for the lobes that reach it (parameter
 // blocks axis, log λ, amplitude per lobe), analytic derivatives: the problem is sparse, each tile
@@ -196,21 +194,18 @@ std::vector<std::vector<int>> active_lobes(const Level& level, const std::vector
   return out;
 }
 
-struct Solve {
-  int iterations = 0;
-  bool converged = false;
-  double cost = 0;
-};
+constexpr int kRebuilds = 2;  // solve_level: at most this many rebuilds of the active sets
 
-// LM on one level. shape_fixed: axes and sharpnesses constant (the linear amplitude problem).
+}  // namespace
+
+// LM on one level (envmap_stages.hpp). shape_fixed: axes and sharpnesses constant (the linear amplitude problem).
 // The problem is sparse (one residual block per tile, touching its active lobes) and solved by
 // CGNR (conjugate gradients on the normal equations, Jacobi preconditioner: the normal matrix is
 // never formed, which at N = 128 costs ten times less per step than a sparse Cholesky of the
 // nearly dense 896 × 896 matrix); when a solve changes the active sets, the problem is rebuilt and solved
 // again from where it stopped (at most kRebuilds times).
-constexpr int kRebuilds = 2;
-
-Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_fixed, const EnvFitOptions& o) {
+Solve envmap_detail::solve_level(const Level& level, std::vector<double>& x, int N, bool shape_fixed,
+                                 const EnvFitOptions& o) {
   const std::vector<Tile> tiles = make_tiles(level);
   const bool log_objective = o.objective == "log-l2";
   std::vector<std::vector<int>> active = active_lobes(level, tiles, x, N);
@@ -263,88 +258,7 @@ Solve solve_level(const Level& level, std::vector<double>& x, int N, bool shape_
   return result;
 }
 
-// Indices into the pyramid: the finest level whose Jacobian fits the budget, and the coarsest
-// level that still has more residuals than 4 × the parameter count (start of coarse to fine).
-void choose_levels(const std::vector<EnvMap>& levels, int N, double budget, std::size_t& finest, std::size_t& start) {
-  const double params = double(kStride * N);
-  finest = levels.size() - 1;
-  for (std::size_t k = 0; k < levels.size(); ++k) {
-    if (3.0 * double(levels[k].size()) * params <= budget) {
-      finest = k;
-      break;
-    }
-  }
-  start = finest;
-  while (start + 1 < levels.size() && 3.0 * double(levels[start + 1].size()) >= 4 * params) ++start;
-}
-
-void validate(const EnvMap& map, const EnvFitOptions& o) {
-  if (o.lobes < 1) throw std::invalid_argument("--lobes must be at least 1 (got " + std::to_string(o.lobes) + ")");
-  if (std::size_t(o.lobes) > map.size())
-    throw std::invalid_argument("--lobes " + std::to_string(o.lobes) + " exceeds the map's pixel count " +
-                                std::to_string(map.size()));
-  if (o.init != "fibonacci" && o.init != "kmeans")
-    throw std::invalid_argument("unknown --init " + quote(o.init) + " (fibonacci, kmeans)");
-  if (o.objective != "l2" && o.objective != "log-l2")
-    throw std::invalid_argument("unknown --objective " + quote(o.objective) + " (l2, log-l2)");
-  if (o.max_iterations < 1 || o.em_max_iterations < 1) throw std::invalid_argument("iteration caps must be at least 1");
-  if (o.sparse && (o.sparse->reduced.width != map.width || o.sparse->reduced.height != map.height))
-    throw std::invalid_argument("the sparse map's reduced map is not the fitted map");
-}
-
-std::vector<double> pack(const std::vector<Cluster>& clusters, const Level& level) {
-  // Initial amplitudes: each cluster's share of the map's mean radiance spread over its lobe.
-  std::array<double, 3> power{0, 0, 0};
-  for (std::size_t t = 0; t < level.dirs.size(); ++t)
-    for (int c = 0; c < 3; ++c) power[std::size_t(c)] += level.omega[t] * level.value[t][std::size_t(c)];
-  std::vector<double> x;
-  for (const auto& cl : clusters) {
-    x.insert(x.end(), {cl.axis(0), cl.axis(1), cl.axis(2), std::log(cl.sharpness)});
-    for (int c = 0; c < 3; ++c)
-      x.push_back(std::max(0.0, cl.weight * power[std::size_t(c)] / sg_integral(cl.sharpness)));
-  }
-  return x;
-}
-
-SgMixture unpack(const std::vector<double>& x, int N) {
-  SgMixture m;
-  for (int j = 0; j < N; ++j) {
-    const double* b = x.data() + std::size_t(kStride * j);
-    SgLight l;
-    l.axis = Vec3d(b[0], b[1], b[2]).normalized();
-    l.sharpness = std::exp(b[3]);
-    l.amplitude = {b[4], b[5], b[6]};
-    m.push_back(l);
-  }
-  return m;
-}
-
-// The result from the finest level's parameters x: mixture, error against the full map, time
-// since t0 less `excluded` (the error evaluations of earlier stages; this one's is added to it).
-void finish(EnvFitResult& r, const EnvMap& map, const Level& level, const std::vector<double>& x, double cost,
-            std::chrono::steady_clock::time_point t0, double& excluded, const SparseEnvMap* sparse) {
-  r.final_cost = cost;
-  r.fit_width = level.width;
-  r.fit_height = level.height;
-  r.mixture = unpack(x, int(x.size()) / kStride);
-  const auto t1 = std::chrono::steady_clock::now();
-  r.seconds = std::chrono::duration<double>(t1 - t0).count() - excluded;
-  // rasterize_mixture's texel means, its rows in parallel (each row is computed alone: the same values)
-  r.texel_means = EnvMap{map.width, map.height, std::vector<std::array<float, 3>>(map.size())};
-  tbb::parallel_for(tbb::blocked_range<int>(0, map.height, 8), [&](const tbb::blocked_range<int>& rows) {
-    rasterize_mixture_rows(r.mixture, kErrorSupersample, rows.begin(), rows.end(), r.texel_means);
-  });
-  if (sparse) {  // against the full map, by the sparse map's quadrature
-    const SgMixture& m = r.mixture;
-    r.error = sparse_error(*sparse, r.texel_means,
-                           tile_texel_means(
-                               *sparse, [&m](const Vec3d& w) { return mixture_eval(m, w); }, kErrorSupersample));
-    r.detail_tiles = int(sparse->tiles.size());
-  } else {
-    r.error = envmap_error(map, r.texel_means);
-  }
-  excluded += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
-}
+namespace {
 
 // Refits the lobes `sharp` of x alone on the texels of `full` within 4 standard deviations (+ 2
 // texels) of their axes, every other lobe held fixed (its texel-blurred values subtracted from
@@ -584,84 +498,6 @@ void add_lobes(const Level& level, std::vector<double>& x, int n, int m, unsigne
   x.insert(x.end(), extra.begin(), extra.end());
 }
 
-// The level budget of choose_levels in Setup (the Ceres fit's coarse-to-fine start): the finest
-// level whose dense N-lobe Jacobian (3 residuals × 7N parameters per texel) would have at most
-// this many entries.
-constexpr double kDenseBudget = 6e6;
-
-// What both fits start from: validated options, the clock, the pyramid and its levels.
-struct Setup {
-  std::chrono::steady_clock::time_point t0;
-  std::vector<EnvMap> maps;
-  std::size_t finest = 0, start = 0;
-  Setup(const EnvMap& map, const EnvFitOptions& o) {
-    validate(map, o);
-    t0 = std::chrono::steady_clock::now();
-    maps = pyramid(map);
-    choose_levels(maps, o.lobes, kDenseBudget, finest, start);
-  }
-};
-
-// ---- scale invariance ---------------------------------------------------------------------------
-// Both fits run on the map divided by s, the power of two nearest its mean texel value (all
-// channels, in double), and the result is scaled back in double: amplitudes × s, L2 × s, cost × s²,
-// texel means × s (rounded to float: ∞ where the mixture exceeds float, which the callers check).
-// A power of two divides a float exactly (the scaled map is the map, re-exponented), so a map and
-// the same map × 2^k are fitted identically, and maps × 1e-30 … × 1e30 within the fit's own
-// tolerances (tests/hardening_late_test.cpp); without it, a uniform map of 1e-45 (subnormal floats,
-// absolute thresholds of LM and of the lobes' reach) fitted with relative error 0.47–0.60 where a
-// map of 1 gives 1.4e-4. Maps with mean in [2^-½, 2^½) are fitted as before (s = 1). The log-l2
-// objective is then log(1 + L/s): unit-free.
-double map_scale(const EnvMap& map) {
-  double sum = 0;
-  for (const auto& t : map.texels)
-    for (const float x : t) sum += double(x);
-  const double mean = map.texels.empty() ? 0.0 : sum / (3.0 * double(map.texels.size()));
-  if (!(mean > 0) || !std::isfinite(mean)) return 1.0;
-  return std::exp2(std::round(std::log2(mean)));
-}
-
-void scale_texels(std::vector<std::array<float, 3>>& texels, double factor) {
-  for (auto& t : texels)
-    for (float& x : t) x = float(double(x) * factor);
-}
-
-EnvMap scaled_map(const EnvMap& map, double factor) {
-  EnvMap out = map;
-  scale_texels(out.texels, factor);
-  return out;
-}
-
-SparseEnvMap scaled_sparse(const SparseEnvMap& sparse, double factor) {
-  SparseEnvMap out = sparse;
-  scale_texels(out.reduced.texels, factor);
-  for (auto& t : out.tiles) scale_texels(t.texels, factor);
-  return out;
-}
-
-EnvFitResult unscaled(EnvFitResult r, double s) {
-  for (auto& l : r.mixture)
-    for (double& a : l.amplitude) a *= s;
-  r.texel_means = scaled_map(r.texel_means, s);
-  r.error.l2 *= s;
-  r.final_cost *= s * s;
-  return r;
-}
-
-template <class Fit>
-EnvFitResult fit_scale_free(const EnvMap& map, const EnvFitOptions& o, Fit fit) {
-  const double s = map_scale(map);
-  if (s == 1) return fit(map, o);
-  EnvFitOptions so = o;
-  SparseEnvMap sparse;  // the resolved map, scaled as the map
-  if (o.sparse) {
-    sparse = scaled_sparse(*o.sparse, 1 / s);
-    so.sparse = &sparse;
-  }
-  if (o.on_stage) so.on_stage = [&o, s](const EnvFitResult& stage) { o.on_stage(unscaled(stage, s)); };
-  return unscaled(fit(scaled_map(map, 1 / s), so), s);
-}
-
 EnvFitResult fit_envmap_ceres_unscaled(const EnvMap& map, const EnvFitOptions& o) {
   const Setup setup(map, o);
   const auto& maps = setup.maps;
@@ -730,138 +566,10 @@ EnvFitResult fit_envmap_ceres_unscaled(const EnvMap& map, const EnvFitOptions& o
   }
 }
 
-// The vMF-EM fit's working level: the finest whose texel count × N (the exponentials of one EM
-// iteration: the E step below takes one per texel and lobe) is at most kEmBudget. EM needs no
-// Jacobian, so the dense-Jacobian budget of the Ceres start (kDenseBudget) is not its cost; that
-// budget would put the 128 × 64 sky on its 64 × 32 level from N = 64 on, where a sun is below a
-// texel and its lobe's κ is capped by that level's texel (max_sharpness), which more than doubles
-// the full-map error (envmap_bases.md). 2^20 keeps a 128 × 64 map whole up to N = 128 and bounds
-// one iteration to ~1e6 exponentials (200 iterations: ~2e8) on any map.
-constexpr double kEmBudget = 1048576;
-
-std::size_t vmf_em_level(const std::vector<EnvMap>& maps, int N) {
-  for (std::size_t k = 0; k < maps.size(); ++k)
-    if (double(maps[k].size()) * double(N) <= kEmBudget) return k;
-  return maps.size() - 1;
-}
-
-EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& o) {
-  const Setup setup(map, o);
-  const int N = o.lobes;
-  // A resolved map: the sparse map's texels (its detail tiles at full resolution), whatever N.
-  const Level level = o.sparse ? sparse_level(*o.sparse) : make_level(setup.maps[vmf_em_level(setup.maps, N)]);
-  const std::vector<double> w = texel_weights(level);
-  std::vector<Cluster> cl = spherical_kmeans(level, w, N, o.seed);
-  const std::size_t T = level.dirs.size();
-  std::vector<double> log_norm(static_cast<std::size_t>(N));
-  std::vector<Vec3d> sum(static_cast<std::size_t>(N));
-  std::vector<double> wsum(static_cast<std::size_t>(N));
-  // The E step over fixed chunks of texels in parallel, each chunk's sums kept apart and added in
-  // chunk order: the result does not depend on the thread count.
-  constexpr std::size_t kChunk = 512;
-  const std::size_t chunks = (T + kChunk - 1) / kChunk;
-  // The components as columns (axis x, y, z, λ, log(weight/A(λ))) and each chunk's sums as
-  // columns, so that the loops over the components run on vector registers; every value is the one
-  // the per-component form computes (ω·ξ summed as Eigen's dot, (x x' + y y') + z z').
-  struct Partial {
-    std::vector<double> sx, sy, sz, wsum;
-    double loglik = 0;
-  };
-  std::vector<Partial> partial(chunks);
-  const std::size_t lobes = static_cast<std::size_t>(N);
-  std::vector<double> ax(lobes), ay(lobes), az(lobes), sharpness(lobes);
-  double previous = -INFINITY;
-  EnvFitResult r;
-  r.method = "vmf-em";
-  for (int iter = 0; iter < o.em_max_iterations; ++iter) {
-    // log(weight/A(λ)) of each component, which the texel loop adds to λ(ω·ξ − 1)
-    for (int j = 0; j < N; ++j) {
-      const auto& c = cl[std::size_t(j)];
-      log_norm[std::size_t(j)] = std::log(std::max(c.weight, 1e-300)) - std::log(sg_integral(c.sharpness));
-      ax[std::size_t(j)] = c.axis(0), ay[std::size_t(j)] = c.axis(1), az[std::size_t(j)] = c.axis(2);
-      sharpness[std::size_t(j)] = c.sharpness;
-    }
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-      Partial& p = partial[k];
-      p.sx.assign(std::size_t(N), 0.0);
-      p.sy.assign(std::size_t(N), 0.0);
-      p.sz.assign(std::size_t(N), 0.0);
-      p.wsum.assign(std::size_t(N), 0.0);
-      p.loglik = 0;
-      // The chunk's log-probabilities lp − mx first (row t − t0), then their exponentials in one
-      // exp_batch call (std::exp's values): one exponential per component, the responsibility
-      // e^{lp − mx}/z = e^{lp − lse}.
-      const std::size_t t0 = k * kChunk, t1 = std::min(T, (k + 1) * kChunk);
-      std::vector<double> es((t1 - t0) * std::size_t(N)), mxs(t1 - t0);
-      for (std::size_t t = t0; t < t1; ++t) {
-        double* e = es.data() + (t - t0) * std::size_t(N);
-        const double dx = level.dirs[t](0), dy = level.dirs[t](1), dz = level.dirs[t](2);
-        for (int j = 0; j < N; ++j)
-          e[j] = log_norm[std::size_t(j)] +
-                 sharpness[std::size_t(j)] *
-                     ((dx * ax[std::size_t(j)] + dy * ay[std::size_t(j)]) + dz * az[std::size_t(j)] - 1);
-        double mx = -INFINITY;
-        for (int j = 0; j < N; ++j) mx = std::max(mx, e[j]);
-        for (int j = 0; j < N; ++j) e[j] = e[j] - mx;
-        mxs[t - t0] = mx;
-      }
-      exp_batch(es.data(), es.data(), es.size());
-      for (std::size_t t = t0; t < t1; ++t) {
-        const double* e = es.data() + (t - t0) * std::size_t(N);
-        const double mx = mxs[t - t0];
-        double z = 0;
-        for (int j = 0; j < N; ++j) z += e[j];
-        p.loglik += w[t] * (mx + std::log(z));
-        const double scale = w[t] / z;
-        const double dx = level.dirs[t](0), dy = level.dirs[t](1), dz = level.dirs[t](2);
-        for (int j = 0; j < N; ++j) {
-          const double resp = e[j] * scale;
-          p.sx[std::size_t(j)] += resp * dx;
-          p.sy[std::size_t(j)] += resp * dy;
-          p.sz[std::size_t(j)] += resp * dz;
-          p.wsum[std::size_t(j)] += resp;
-        }
-      }
-    });
-    std::fill(sum.begin(), sum.end(), Vec3d::Zero());
-    std::fill(wsum.begin(), wsum.end(), 0.0);
-    double loglik = 0;
-    for (const auto& p : partial) {
-      for (int j = 0; j < N; ++j) {
-        sum[std::size_t(j)] += Vec3d(p.sx[std::size_t(j)], p.sy[std::size_t(j)], p.sz[std::size_t(j)]);
-        wsum[std::size_t(j)] += p.wsum[std::size_t(j)];
-      }
-      loglik += p.loglik;
-    }
-    double total = 0;
-    for (double x : wsum) total += x;
-    for (int j = 0; j < N; ++j) {
-      auto& c = cl[std::size_t(j)];
-      if (sum[std::size_t(j)].norm() > 0) c.axis = sum[std::size_t(j)].normalized();
-      c.sharpness = cluster_sharpness(sum[std::size_t(j)], wsum[std::size_t(j)], level);
-      c.weight = wsum[std::size_t(j)] / total;
-    }
-    r.iterations = iter + 1;
-    if (std::abs(loglik - previous) <= 1e-7 * std::abs(loglik)) {
-      r.converged = true;
-      break;
-    }
-    previous = loglik;
-  }
-  std::vector<double> x = pack(cl, level);
-  const Solve s = solve_level(level, x, N, true, o);
-  double excluded = 0;
-  finish(r, map, level, x, s.cost, setup.t0, excluded, o.sparse);
-  return r;
-}
-
 }  // namespace
 
 EnvFitResult fit_envmap_ceres(const EnvMap& map, const EnvFitOptions& o) {
   return fit_scale_free(map, o, fit_envmap_ceres_unscaled);
-}
-EnvFitResult fit_envmap_vmf_em(const EnvMap& map, const EnvFitOptions& o) {
-  return fit_scale_free(map, o, fit_envmap_vmf_em_unscaled);
 }
 
 }  // namespace sglab::fit
