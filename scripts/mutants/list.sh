@@ -67,11 +67,11 @@ mutant simd-erfc-saturation core/src/simd/simd_math.hpp 's#T(26\.54) : T(9\.19)#
   simd_test simd_specular_test
 mutant simd-exp-c4 core/src/simd/simd_exp.hpp 's#c4(0x1\.55555cf172b91p-5)#c4(0x1.55555cf172b91p-4)#' \
   simd_test:Simd.ExpBatch*
-mutant render-ggx-ndf core/render/src/simd/render_kernels.hpp 's#a2 / (T(kPi) \* dn \* dn)#a2 / (T(kPi) * dn)#' \
+mutant render-ggx-ndf core/render/src/simd/render_kernels_vpl.hpp 's#a2 / (T(kPi) \* dn \* dn)#a2 / (T(kPi) * dn)#' \
   render_test vsgl_shading_test
-mutant render-vpl-clamp core/render/src/simd/render_kernels.hpp 's#const T k = T(1) / (d2 + a\.r2\[i\]);#const T k = T(1) / (d2 + 2 * a.r2[i]);#' \
+mutant render-vpl-clamp core/render/src/simd/render_kernels_vpl.hpp 's#const T k = T(1) / (d2 + a\.r2\[i\]);#const T k = T(1) / (d2 + 2 * a.r2[i]);#' \
   render_test vsgl_shading_test
-mutant render-vpl-skip core/render/src/simd/render_kernels.hpp 's#        any = any | h\.on;#        any = g.on;#' \
+mutant render-vpl-skip core/render/src/simd/render_kernels_vpl.hpp 's#        any = any | h\.on;#        any = g.on;#' \
   render_precision_test
 mutant render-env-skip core/render/src/simd/render_kernels.hpp 's#if constexpr (kTwo) above = above | (p2\.nx#if constexpr (kTwo) above = above \&\& (p2.nx#' \
   envmap_test
