@@ -138,8 +138,8 @@ mutant cli-parse-error-status cli/app.cpp 's#return status == 0 ? 0 : 2;#return 
 mutant cli-eval-default-precision cli/eval_command.cpp 's#std::string precision = "double";#std::string precision = "float";#' \
   eval_command_test
 
-# ---- Python bindings (python/sglab_module.cpp) ---------------------------------------------------
-mutant py-broadcast python/sglab_module.cpp 's#if (++idx\[d\] < shape\[d\]) break;#if (++idx[d] <= shape[d]) break;#' \
+# ---- Python bindings (python/sglab_module.cpp, eval_binding.cpp) -----------------------------------------------
+mutant py-broadcast python/eval_binding.cpp 's#if (++idx\[d\] < shape\[d\]) break;#if (++idx[d] <= shape[d]) break;#' \
   build:sglab_python build:sglab 'ctest:^python_sglab'
 mutant py-reference-flag python/sglab_module.cpp 's#py::arg("reference") = (m\.name == q\.reference_method)#py::arg("reference") = (m.name != q.reference_method)#' \
   build:sglab_python build:sglab 'ctest:^python_sglab'
