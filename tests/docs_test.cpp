@@ -5,10 +5,12 @@
 //   - the counts quoted in docs/architecture.md ("Counts") are those of the source tree and of the
 //     registries, recounted here (the reference is the tree itself, not a number kept by hand);
 //   - the files docs/architecture.md says a fitted method touches are the ones the build reads:
-//     the list SGLAB_FITTERS of fit/CMakeLists.txt is the one place a fitter is named.
+//     the list SGLAB_FITTERS of fit/CMakeLists.txt is the one place a fitter is named;
+//   - no source file is over the 600 lines README and docs/architecture.md promise.
 // On a mismatch the failure prints the line to write.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -170,6 +172,31 @@ TEST(Docs, ArchitectureCountsMatchTheTree) {
   EXPECT_GE(rows, named.size());
   for (const auto& [what, n] : named)
     EXPECT_TRUE(seen.count(what)) << "docs/architecture.md, Counts: no row | " << what << " | " << n << " |";
+}
+
+// README ("the three-room layout") and docs/architecture.md promise no source file over 600 lines:
+// every C++, Python, shell and CMake file of the project's folders, counted here.
+TEST(Docs, NoSourceFileIsOver600Lines) {
+  constexpr std::size_t kMaxLines = 600;
+  const fs::path root(SGLAB_SOURCE_DIR);
+  const std::set<std::string> extensions = {".cpp", ".hpp", ".h", ".py", ".sh", ".cmake", ".sbatch"};
+  std::size_t files = 0;
+  for (const char* folder : {"core", "fit", "experiments", "runner", "frontend", "shader", "cli", "python", "tests",
+                             "benchmarks", "plots", "scripts"}) {
+    if (!fs::exists(root / folder)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(root / folder)) {
+      const fs::path& p = e.path();
+      if (!e.is_regular_file() || (!extensions.count(p.extension().string()) && p.filename() != "CMakeLists.txt"))
+        continue;
+      std::ifstream in(p);
+      std::size_t lines = 0;
+      for (std::string line; std::getline(in, line);) ++lines;
+      ++files;
+      EXPECT_LE(lines, kMaxLines) << fs::relative(p, root).string() << " has " << lines << " lines";
+    }
+  }
+  std::printf("%zu source files, each at most %zu lines\n", files, kMaxLines);
+  EXPECT_GT(files, 100u);
 }
 
 // Adding a fitted method: its header, its registry entry, its fit file, its entry in SGLAB_FITTERS
