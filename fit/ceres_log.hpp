@@ -8,7 +8,7 @@ namespace sglab::fit {
 // trust region shrunk; twice in a full `sglab reproduce`), while each fit reports its own outcome
 // (its summary, the fit record). So glog's least level shown is ERROR,
 // unless GLOG_minloglevel is set in the environment (`GLOG_minloglevel=0 sglab …` shows the
-// warnings). Called before every Ceres solve; sets it once per process.
+// warnings). Called by every function that runs Ceres solves; sets it once per process.
 void quiet_ceres_warnings();
 
 }  // namespace sglab::fit

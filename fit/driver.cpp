@@ -224,6 +224,7 @@ FitResult finish_at(const FitSpec& spec, const std::vector<double>& x) {
 }
 
 FitResult run_least_squares(const FitSpec& spec, const std::function<ceres::CostFunction*()>& make_cost) {
+  quiet_ceres_warnings();
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t k = spec.names.size();
   FitResult best;
@@ -246,7 +247,6 @@ FitResult run_least_squares(const FitSpec& spec, const std::function<ceres::Cost
     options.logging_type = ceres::SILENT;
     options.num_threads = 1;
     ceres::Solver::Summary summary;
-    quiet_ceres_warnings();
     ceres::Solve(options, &problem, &summary);
     if (keep_if_better(summary, have, best)) best_x = x;
   }
@@ -276,6 +276,7 @@ void judge_least_squares(const FitSpec& spec, const std::function<ceres::CostFun
 }
 
 FitResult run_scalar_fit(const FitSpec& spec, const std::function<ceres::FirstOrderFunction*()>& make_function) {
+  quiet_ceres_warnings();
   const auto t0 = std::chrono::steady_clock::now();
   FitResult best;
   bool have = false;
@@ -292,7 +293,6 @@ FitResult run_scalar_fit(const FitSpec& spec, const std::function<ceres::FirstOr
     options.parameter_tolerance = 1e-16;
     options.logging_type = ceres::SILENT;
     ceres::GradientProblemSolver::Summary summary;
-    quiet_ceres_warnings();
     ceres::Solve(options, problem, u.data(), &summary);
     if (!keep_if_better(summary, have, best)) continue;
     best_x.resize(u.size());

@@ -206,6 +206,7 @@ constexpr int kRebuilds = 2;  // solve_level: at most this many rebuilds of the 
 // again from where it stopped (at most kRebuilds times).
 Solve envmap_detail::solve_level(const Level& level, std::vector<double>& x, int N, bool shape_fixed,
                                  const EnvFitOptions& o) {
+  quiet_ceres_warnings();
   const std::vector<Tile> tiles = make_tiles(level);
   const bool log_objective = o.objective == "log-l2";
   std::vector<std::vector<int>> active = active_lobes(level, tiles, x, N);
@@ -245,7 +246,6 @@ Solve envmap_detail::solve_level(const Level& level, std::vector<double>& x, int
     so.parameter_tolerance = 1e-9;
     so.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
-    quiet_ceres_warnings();
     ceres::Solve(so, &problem, &summary);
     result.iterations += int(summary.iterations.size());
     result.converged = summary.termination_type == ceres::CONVERGENCE;
