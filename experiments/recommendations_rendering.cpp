@@ -151,32 +151,44 @@ struct ReceiverClass {
 };
 constexpr ReceiverClass kReceiverClasses[] = {{"glossy_relative_l2", "glossy"}, {"diffuse_relative_l2", "diffuse"}};
 
-Section denoise(Tables& tables) {
-  return section(tables, "Denoising: the filter", {"filtering_denoise.csv"}, [&](Section& sec, const Table* t) {
-    const bool timed = t->has("ns_per_pixel");
-    using Rows = std::vector<const runner::CsvRecord*>;
-    std::vector<std::string> inputs, weights;
-    std::map<std::string, std::map<std::string, Rows>> rows;  // noisy input → weights → one row per floor roughness
+namespace {
+
+// The denoising table by noisy input and weighting (one row per floor roughness), and the parts of
+// the section written from it.
+struct DenoiseSection {
+  using Rows = std::vector<const runner::CsvRecord*>;
+  const Table* t;
+  std::string& b;  // the section's body
+  bool timed;      // the table has the filter's cost column
+  std::vector<std::string> inputs, weights;
+  std::map<std::string, std::map<std::string, Rows>> rows;  // noisy input → weights → one row per floor roughness
+
+  DenoiseSection(const Table* table, std::string& body) : t(table), b(body), timed(table->has("ns_per_pixel")) {
     for (const auto& r : t->csv.rows) {
       remember(inputs, t->text(r, "noisy"));
       remember(weights, t->text(r, "weights"));
       rows[t->text(r, "noisy")][t->text(r, "weights")].push_back(&r);
     }
-    const auto mean = [&](const Rows& rs, const std::string& column) {
-      double s = 0;
-      for (const auto* r : rs) s += t->number(*r, column);
-      return rs.empty() ? NAN : s / double(rs.size());
-    };
-    // The weighting of `input` with the lowest mean of `column`.
-    const auto lowest = [&](const std::string& input, const std::string& column) {
-      std::pair<double, std::string> best{INFINITY, ""};
-      for (const auto& w : weights)
-        if (rows[input].count(w)) best = std::min(best, {mean(rows[input][w], column), w});
-      return best;
-    };
-    const auto cost = [&](const std::string& input, const std::string& w) {
-      return timed ? fmt::format(", {} ns/pixel", magnitude(mean(rows[input][w], "ns_per_pixel"))) : std::string();
-    };
+  }
+
+  double mean(const Rows& rs, const std::string& column) const {
+    double s = 0;
+    for (const auto* r : rs) s += t->number(*r, column);
+    return rs.empty() ? NAN : s / double(rs.size());
+  }
+  // The weighting of `input` with the lowest mean of `column`.
+  std::pair<double, std::string> lowest(const std::string& input, const std::string& column) {
+    std::pair<double, std::string> best{INFINITY, ""};
+    for (const auto& w : weights)
+      if (rows[input].count(w)) best = std::min(best, {mean(rows[input][w], column), w});
+    return best;
+  }
+  std::string cost(const std::string& input, const std::string& w) {
+    return timed ? fmt::format(", {} ns/pixel", magnitude(mean(rows[input][w], "ns_per_pixel"))) : std::string();
+  }
+
+  // The headline: per noisy input, the weighting with the lowest mean for each receiver class.
+  std::string headline() {
     std::vector<std::string> verdicts;
     for (const auto& in : inputs) {
       const auto gl = lowest(in, kReceiverClasses[0].column), di = lowest(in, kReceiverClasses[1].column);
@@ -187,9 +199,12 @@ Section denoise(Tables& tables) {
         verdicts.push_back(fmt::format("{}: glossy **{}** ({}{}), diffuse **{}** ({}{})", in, gl.second, g(gl.first),
                                        cost(in, gl.second), di.second, g(di.first), cost(in, di.second)));
     }
-    sec.headline = fmt::format("lowest mean relative L2 over the floor roughnesses, per noisy input — {}{}",
-                               fmt::join(verdicts, "; "), timed ? "" : "; the table measures no cost");
-    std::string& b = sec.body;
+    return fmt::format("lowest mean relative L2 over the floor roughnesses, per noisy input — {}{}",
+                       fmt::join(verdicts, "; "), timed ? "" : "; the table measures no cost");
+  }
+
+  // Each weighting's means and worst row, per noisy input.
+  void table() {
     b += "Per noisy input, each weighting's mean relative L2 over the table's floor roughnesses (all pixels, glossy "
          "receivers, diffuse "
          "receivers) and its worst row (all pixels)";
@@ -210,6 +225,10 @@ Section denoise(Tables& tables) {
                          g(mean(rs, kReceiverClasses[0].column)), g(mean(rs, kReceiverClasses[1].column)),
                          g(t->number(*worst, "relative_l2")), t->text(*worst, "floor_roughness"));
       }
+  }
+
+  // With a cost column: the Pareto front per noisy input.
+  void fronts() {
     if (timed)
       for (const auto& in : inputs) {
         std::vector<Candidate> all;
@@ -219,50 +238,55 @@ Section denoise(Tables& tables) {
         b += "\nPareto front of " + in + " (mean relative L2, all pixels, against mean ns per pixel):\n\n" +
              front_text(pareto_front(all), "ns/pixel", "relative L2", magnitude);
       }
-    b += "\nCaveats measured:\n\n";
-    for (const auto& in : inputs) {
-      // Where the weighting with the lowest mean is not the lowest row by row.
-      for (const auto& rc : kReceiverClasses) {
-        const std::string best = lowest(in, rc.column).second;
-        for (const auto& other : weights) {
-          if (other == best || !rows[in].count(other)) continue;
-          int above = 0, n = 0;
-          double most = -INFINITY;
-          std::string at, values;
-          std::vector<std::string> where;
-          for (const auto* r : rows[in][best])
-            for (const auto* q : rows[in][other]) {
-              if (t->text(*r, "floor_roughness") != t->text(*q, "floor_roughness")) continue;
-              ++n;
-              const double e = t->number(*r, rc.column), o = t->number(*q, rc.column);
-              if (!(e > o)) continue;
-              ++above;
-              where.push_back(t->text(*r, "floor_roughness"));
-              if (e / o - 1 > most)
-                most = e / o - 1, at = t->text(*r, "floor_roughness"),
-                values = fmt::format("{} against {}", g(e), g(o));
-            }
-          if (above)
-            b += fmt::format(
-                "- {}, {} receivers: {} (the lowest mean) is above {} at {} of {} floor roughnesses ({}); most at {}, "
-                "{} "
-                "({}).\n",
-                in, rc.name, best, other, above, n, fmt::join(where, ", "), at, signed_percent(most), values);
-        }
+  }
+
+  // Caveats of one noisy input: where the lowest mean is not the lowest row by row, and mean against
+  // worst row.
+  void caveats(const std::string& in) {
+    // Where the weighting with the lowest mean is not the lowest row by row.
+    for (const auto& rc : kReceiverClasses) {
+      const std::string best = lowest(in, rc.column).second;
+      for (const auto& other : weights) {
+        if (other == best || !rows[in].count(other)) continue;
+        int above = 0, n = 0;
+        double most = -INFINITY;
+        std::string at, values;
+        std::vector<std::string> where;
+        for (const auto* r : rows[in][best])
+          for (const auto* q : rows[in][other]) {
+            if (t->text(*r, "floor_roughness") != t->text(*q, "floor_roughness")) continue;
+            ++n;
+            const double e = t->number(*r, rc.column), o = t->number(*q, rc.column);
+            if (!(e > o)) continue;
+            ++above;
+            where.push_back(t->text(*r, "floor_roughness"));
+            if (e / o - 1 > most)
+              most = e / o - 1, at = t->text(*r, "floor_roughness"), values = fmt::format("{} against {}", g(e), g(o));
+          }
+        if (above)
+          b += fmt::format(
+              "- {}, {} receivers: {} (the lowest mean) is above {} at {} of {} floor roughnesses ({}); most at {}, "
+              "{} "
+              "({}).\n",
+              in, rc.name, best, other, above, n, fmt::join(where, ", "), at, signed_percent(most), values);
       }
-      // Mean against worst row (all pixels).
-      std::pair<double, std::string> best_worst{INFINITY, ""};
-      for (const auto& w : weights) {
-        if (!rows[in].count(w)) continue;
-        double worst = -INFINITY;
-        for (const auto* r : rows[in][w]) worst = std::max(worst, t->number(*r, "relative_l2"));
-        best_worst = std::min(best_worst, {worst, w});
-      }
-      const auto best_mean = lowest(in, "relative_l2");
-      if (best_worst.second != best_mean.second)
-        b += fmt::format("- {}, all pixels: {} has the lowest mean relative L2 ({}), {} the lowest worst row ({}).\n",
-                         in, best_mean.second, g(best_mean.first), best_worst.second, g(best_worst.first));
     }
+    // Mean against worst row (all pixels).
+    std::pair<double, std::string> best_worst{INFINITY, ""};
+    for (const auto& w : weights) {
+      if (!rows[in].count(w)) continue;
+      double worst = -INFINITY;
+      for (const auto* r : rows[in][w]) worst = std::max(worst, t->number(*r, "relative_l2"));
+      best_worst = std::min(best_worst, {worst, w});
+    }
+    const auto best_mean = lowest(in, "relative_l2");
+    if (best_worst.second != best_mean.second)
+      b += fmt::format("- {}, all pixels: {} has the lowest mean relative L2 ({}), {} the lowest worst row ({}).\n", in,
+                       best_mean.second, g(best_mean.first), best_worst.second, g(best_worst.first));
+  }
+
+  // Caveat: filtering that makes it worse than the noisy input it starts from.
+  void worse_than_noisy() {
     // Filtering that makes it worse than the noisy input it starts from.
     if (t->has("noisy_relative_l2"))
       for (const auto& w : weights) {
@@ -286,6 +310,20 @@ Section denoise(Tables& tables) {
               "{}).\n",
               w, worse, n, signed_percent(most), at);
       }
+  }
+};
+
+}  // namespace
+
+Section denoise(Tables& tables) {
+  return section(tables, "Denoising: the filter", {"filtering_denoise.csv"}, [&](Section& sec, const Table* t) {
+    DenoiseSection s(t, sec.body);
+    sec.headline = s.headline();
+    s.table();
+    s.fronts();
+    sec.body += "\nCaveats measured:\n\n";
+    for (const auto& in : s.inputs) s.caveats(in);
+    s.worse_than_noisy();
   });
 }
 
