@@ -51,6 +51,82 @@ std::string targets_markdown(const Result& r) {
   return md;
 }
 
+// What the free-lobe section lists after its table: where a bar fails, the rungs the guard kept, the
+// cost at the largest N, vMF EM's rises, the rungs whose diffuse error rose.
+struct FreeLobeFindings {
+  std::vector<std::string> fails_half, fails_fixed, kept, cost, vmf_rises, diffuse_rises;
+};
+
+// A fit's iterations and level: "595 (128×64 + 4 tiles)".
+std::string level(const Row* row) {
+  return fmt::format("{} ({}×{}{})", row->iterations, row->fit_width, row->fit_height,
+                     row->detail_tiles > 0 ? fmt::format(" + {} tiles", row->detail_tiles) : "");
+}
+
+// v's items joined by ", " after `prefix`; `none` for no items.
+std::string list(const std::vector<std::string>& v, const std::string& none = "", const std::string& prefix = "") {
+  if (v.empty()) return none;
+  std::string s = prefix;
+  for (std::size_t k = 0; k < v.size(); ++k) s += (k ? ", " : "") + v[k];
+  return s;
+}
+
+// One environment's rows of the free-lobe table, and its findings.
+void free_lobe_environment(const Environment& env, std::string& md, FreeLobeFindings& found) {
+  std::map<int, const Row*> free, vmf;
+  std::map<int, double> fixed;
+  for (const auto& row : env.rows) {
+    if (row.basis == "sg-free") free[row.size] = &row;
+    if (row.basis == "vmf-em") vmf[row.size] = &row;
+    if (row.basis == "sg-fixed")
+      fixed[row.size] = fixed.count(row.size) ? std::min(fixed[row.size], row.map_error) : row.map_error;
+  }
+  for (const auto& [n, row] : vmf)
+    if (vmf.count(n / 2) && row->map_error > vmf.at(n / 2)->map_error)
+      found.vmf_rises.push_back(
+          fmt::format("{} N = {} ({} after {})", env.name, n, num(row->map_error), num(vmf.at(n / 2)->map_error)));
+  for (const auto& [n, row] : free) {
+    const Row* half = free.count(n / 2) ? free.at(n / 2) : nullptr;
+    if (half && row->map_error <= half->map_error && row->diffuse_error > half->diffuse_error)
+      found.diffuse_rises.push_back(fmt::format("{} N = {} (map {} → {}, diffuse {} → {})", env.name, n,
+                                                num(half->map_error), num(row->map_error), num(half->diffuse_error),
+                                                num(row->diffuse_error)));
+    const bool has_fixed = fixed.count(n) > 0;
+    const Row* v = vmf.count(n) ? vmf.at(n) : nullptr;
+    const bool ok_half = !half || row->map_error <= half->map_error,
+               ok_fixed = !has_fixed || row->map_error <= fixed.at(n);
+    if (!ok_half) found.fails_half.push_back(fmt::format("{} N = {}", env.name, n));
+    if (!ok_fixed) found.fails_fixed.push_back(fmt::format("{} N = {}", env.name, n));
+    if (row->kept_lobes > 0) {
+      // The rung whose lobes these are: the smallest N with the same error (a guard's result is
+      // kept by every later rung that also ends above it).
+      int origin = n;
+      for (const auto& [m, other] : free)
+        if (m < origin && other->map_error == row->map_error) origin = m;
+      found.kept.push_back(
+          fmt::format("{} N = {} (kept {}{})", env.name, n, row->kept_lobes,
+                      origin < n / 2 ? fmt::format(": the lobes of N = {}, the fit stalls there", origin) : ""));
+    }
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2f} | {} | {} | {} | {} |\n", env.name, n,
+                      num(row->map_error), half ? num(half->map_error) : "—", half ? (ok_half ? "yes" : "**no**") : "—",
+                      row->kept_lobes > 0 ? std::to_string(row->kept_lobes) : "—", has_fixed ? num(fixed.at(n)) : "—",
+                      has_fixed ? (ok_fixed ? "yes" : "**no**") : "—", v ? num(v->map_error) : "—", row->seconds,
+                      v ? fmt::format("{:.2f}", v->seconds) : "—",
+                      v && v->seconds > 0 ? fmt::format("{:.2f}", row->seconds / v->seconds) : "—", level(row),
+                      v ? level(v) : "—");
+  }
+  if (!free.empty() && vmf.count(free.rbegin()->first)) {
+    const Row* f = free.rbegin()->second;
+    const Row* v = vmf.at(free.rbegin()->first);
+    found.cost.push_back(
+        fmt::format("{} {:.1f}× ({:.1f} ms of fit time per LM iteration against {:.1f} ms per EM iteration, {} "
+                    "against {} iterations)",
+                    env.name, v->seconds > 0 ? f->seconds / v->seconds : 0.0,
+                    f->iterations > 0 ? 1e3 * f->seconds / f->iterations : 0.0,
+                    v->iterations > 0 ? 1e3 * v->seconds / v->iterations : 0.0, f->iterations, v->iterations));
+  }
+}
+
 // The free-lobe fit against its own N/2, the best fixed-lobe fit at equal N, and vMF EM's time;
 // then where either bar fails, the rungs the ladder's guard kept, and the cost per iteration of
 // both fits at the largest N.
@@ -60,87 +136,25 @@ std::string free_lobe_markdown(const Result& r) {
       "vmf-em | "
       "sg-free s | vmf-em s | time ratio free/vMF | sg-free LM iterations (level) | vmf-em EM iterations (level) |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  std::vector<std::string> fails_half, fails_fixed, kept, cost, vmf_rises, diffuse_rises;
-  auto level = [](const Row* row) {
-    return fmt::format("{} ({}×{}{})", row->iterations, row->fit_width, row->fit_height,
-                       row->detail_tiles > 0 ? fmt::format(" + {} tiles", row->detail_tiles) : "");
-  };
-  for (const auto& env : r.environments) {
-    std::map<int, const Row*> free, vmf;
-    std::map<int, double> fixed;
-    for (const auto& row : env.rows) {
-      if (row.basis == "sg-free") free[row.size] = &row;
-      if (row.basis == "vmf-em") vmf[row.size] = &row;
-      if (row.basis == "sg-fixed")
-        fixed[row.size] = fixed.count(row.size) ? std::min(fixed[row.size], row.map_error) : row.map_error;
-    }
-    for (const auto& [n, row] : vmf)
-      if (vmf.count(n / 2) && row->map_error > vmf.at(n / 2)->map_error)
-        vmf_rises.push_back(
-            fmt::format("{} N = {} ({} after {})", env.name, n, num(row->map_error), num(vmf.at(n / 2)->map_error)));
-    for (const auto& [n, row] : free) {
-      const Row* half = free.count(n / 2) ? free.at(n / 2) : nullptr;
-      if (half && row->map_error <= half->map_error && row->diffuse_error > half->diffuse_error)
-        diffuse_rises.push_back(fmt::format("{} N = {} (map {} → {}, diffuse {} → {})", env.name, n,
-                                            num(half->map_error), num(row->map_error), num(half->diffuse_error),
-                                            num(row->diffuse_error)));
-      const bool has_fixed = fixed.count(n) > 0;
-      const Row* v = vmf.count(n) ? vmf.at(n) : nullptr;
-      const bool ok_half = !half || row->map_error <= half->map_error,
-                 ok_fixed = !has_fixed || row->map_error <= fixed.at(n);
-      if (!ok_half) fails_half.push_back(fmt::format("{} N = {}", env.name, n));
-      if (!ok_fixed) fails_fixed.push_back(fmt::format("{} N = {}", env.name, n));
-      if (row->kept_lobes > 0) {
-        // The rung whose lobes these are: the smallest N with the same error (a guard's result is
-        // kept by every later rung that also ends above it).
-        int origin = n;
-        for (const auto& [m, other] : free)
-          if (m < origin && other->map_error == row->map_error) origin = m;
-        kept.push_back(
-            fmt::format("{} N = {} (kept {}{})", env.name, n, row->kept_lobes,
-                        origin < n / 2 ? fmt::format(": the lobes of N = {}, the fit stalls there", origin) : ""));
-      }
-      md += fmt::format(
-          "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2f} | {} | {} | {} | {} |\n", env.name, n,
-          num(row->map_error), half ? num(half->map_error) : "—", half ? (ok_half ? "yes" : "**no**") : "—",
-          row->kept_lobes > 0 ? std::to_string(row->kept_lobes) : "—", has_fixed ? num(fixed.at(n)) : "—",
-          has_fixed ? (ok_fixed ? "yes" : "**no**") : "—", v ? num(v->map_error) : "—", row->seconds,
-          v ? fmt::format("{:.2f}", v->seconds) : "—",
-          v && v->seconds > 0 ? fmt::format("{:.2f}", row->seconds / v->seconds) : "—", level(row), v ? level(v) : "—");
-    }
-    if (!free.empty() && vmf.count(free.rbegin()->first)) {
-      const Row* f = free.rbegin()->second;
-      const Row* v = vmf.at(free.rbegin()->first);
-      cost.push_back(
-          fmt::format("{} {:.1f}× ({:.1f} ms of fit time per LM iteration against {:.1f} ms per EM iteration, {} "
-                      "against {} iterations)",
-                      env.name, v->seconds > 0 ? f->seconds / v->seconds : 0.0,
-                      f->iterations > 0 ? 1e3 * f->seconds / f->iterations : 0.0,
-                      v->iterations > 0 ? 1e3 * v->seconds / v->iterations : 0.0, f->iterations, v->iterations));
-    }
-  }
-  // v's items joined by ", " after `prefix`; `none` for no items.
-  auto list = [](const std::vector<std::string>& v, const std::string& none = "", const std::string& prefix = "") {
-    if (v.empty()) return none;
-    std::string s = prefix;
-    for (std::size_t k = 0; k < v.size(); ++k) s += (k ? ", " : "") + v[k];
-    return s;
-  };
-  md += "\n**Error at N ≤ error at N/2**: " + list(fails_half, "holds at every N on every environment", "fails at ") +
+  FreeLobeFindings found;
+  for (const auto& env : r.environments) free_lobe_environment(env, md, found);
+  md += "\n**Error at N ≤ error at N/2**: " +
+        list(found.fails_half, "holds at every N on every environment", "fails at ") +
         ". **Error at N ≤ the best fixed-lobe fit at N**: " +
-        list(fails_fixed, "holds at every N on every environment", "fails at ") +
+        list(found.fails_fixed, "holds at every N on every environment", "fails at ") +
         ". The ladder warm-starts each rung from the previous rung's lobes plus new lobes seeded on the positive "
         "residual, so "
-        "the cost on the fitted level cannot rise; the map error is measured on the full map, where it can, so a rung "
+        "the cost on the fitted level cannot rise; the map error is measured on the full map, where it can, so a "
+        "rung "
         "whose "
         "full-map error ends above its predecessor's reports the predecessor's lobes plus zero-amplitude lobes (column "
         "\"kept from N/2\"; they count in \"zero lobes\" below): " +
-        list(kept, "no rung needed it") + ".\n\n";
+        list(found.kept, "no rung needed it") + ".\n\n";
   md +=
       "**Time at the largest N, free-lobe against vMF EM** (fit seconds over iterations: the whole ladder's time over "
       "all "
       "its LM iterations; vMF's including its k-means start and amplitude solve): " +
-      list(cost) +
+      list(found.cost) +
       ". Why the free-lobe fit is slower: its time at N covers the whole ladder (rungs 2, 4, …, N, each an amplitude "
       "solve "
       "and a full solve, then the sharp lobes refitted on the full map), where vMF EM fits N once; and one "
@@ -149,7 +163,9 @@ std::string free_lobe_markdown(const Result& r) {
       "up to N) "
       "and solves the normal equations by conjugate gradients (several Jacobian products), where one EM iteration "
       "costs one "
-      "exponential per texel and lobe. The per-iteration times above are the measured ratio of that cost. What the fit "
+      "exponential per texel and lobe. The per-iteration times above are the measured ratio of that cost. What "
+      "the "
+      "fit "
       "already does for speed: the first rung is fitted coarse to fine from a 32-texel-wide level, every later rung "
       "only on "
       "the finest level its Jacobian budget allows (the level column), the problem is sparse (one residual block per "
@@ -168,7 +184,7 @@ std::string free_lobe_markdown(const Result& r) {
       "maximises the likelihood of the Ω·(mean RGB)-weighted directions from a fresh k-means++ start at each N, not "
       "the map's "
       "L2 and not from the fit at N/2, so its map error need not fall with N; it rises at: " +
-      list(vmf_rises, "no N on any environment") + ".\n\n";
+      list(found.vmf_rises, "no N on any environment") + ".\n\n";
   md +=
       "**Map error against diffuse error.** The free-lobe fit minimises the map's L2, which on the sky and sun maps is "
       "dominated by the sun's texel (the floor of the sky and sun rows); the diffuse layer sees only the low "
@@ -177,22 +193,16 @@ std::string free_lobe_markdown(const Result& r) {
       "hold down: a rung can lower the map error while moving error into the low frequencies. Rungs where the map "
       "error "
       "did not rise and the diffuse error did: " +
-      list(diffuse_rises, "none") +
+      list(found.diffuse_rises, "none") +
       ". For diffuse shading the map's L2 is the wrong objective (a diffuse-weighted objective, or the SH projection "
       "at L = 2, "
       "targets it directly: see the sh rows).\n";
   return md;
 }
 
-}  // namespace
-
-Tables tables(const Result& r) {
+// The CSV (one line per row and layer), the Markdown of every row and of the quadratures' convergence.
+void rows_tables(const Result& r, Tables& t, std::string& rows_md, std::string& conv_md) {
   const Options& a = r.options;
-  Tables t;
-  t.csv =
-      "environment,width,basis,variant,size_symbol,size,floats,fit_seconds,zero_lobes,layer,roughness,relative_l2,"
-      "diffuse_ns_per_pixel\n";
-  std::string rows_md, conv_md;
   for (const auto& env : r.environments) {
     for (const auto& c : env.convergence)
       conv_md += fmt::format("| {} | {}×{} | {} | {}×{} | {}{} |\n", env.name, env.width, env.height,
@@ -217,6 +227,11 @@ Tables tables(const Result& r) {
       rows_md += fmt::format(" {:.3f} | {} | {:.0f} |\n", row.seconds, row.zero_lobes, row.diffuse_ns);
     }
   }
+}
+
+// The opening: the reduction, the suns, the resolved environments.
+std::string opening_markdown(const Result& r) {
+  const Options& a = r.options;
   std::string md = "# Environment lighting at equal storage: SH, fixed-lobe SG, vMF EM and free-lobe SG\n\n";
   md += fmt::format("Generated by `{}` ({:.0f} s). ", r.provenance.command, r.seconds);
   md += fmt::format(
@@ -275,6 +290,12 @@ Tables tables(const Result& r) {
         "error.\n\n",
         a.resolve_tolerance, list, kOneLobeDiskFloor);
   }
+  return md;
+}
+
+// The bases, the layers and the converged references.
+std::string bases_and_layers_markdown(const Options& a) {
+  std::string md;
   md += "Bases (fit/envmap_basis*.cpp):\n\n";
   for (const auto& b : fit::envmap_bases()) md += "- `" + b.name + "`: " + b.description + ".\n";
   md += fmt::format(
@@ -304,6 +325,20 @@ Tables tables(const Result& r) {
       "that fit's "
       "start.\n\n",
       a.tolerance, kMaxSubsamples);
+  return md;
+}
+
+}  // namespace
+
+Tables tables(const Result& r) {
+  const Options& a = r.options;
+  Tables t;
+  t.csv =
+      "environment,width,basis,variant,size_symbol,size,floats,fit_seconds,zero_lobes,layer,roughness,relative_l2,"
+      "diffuse_ns_per_pixel\n";
+  std::string rows_md, conv_md;
+  rows_tables(r, t, rows_md, conv_md);
+  std::string md = opening_markdown(r) + bases_and_layers_markdown(a);
   md +=
       "## Quadrature convergence of the map layers\n\n| environment | map | layer | s × s | change from s/2 "
       "|\n|---|---|---|---|---|\n" +
