@@ -224,50 +224,39 @@ void measure(Row& row, const std::vector<float>& v, const std::vector<float>& sg
   }
 }
 
-}  // namespace
+// One exportable method: its grids, references and sglab float values, and its traced formula.
+struct Prepared {
+  std::string name;
+  const Method* m = nullptr;
+  const Grids* shared = nullptr;  // the diffuse or specular grids, or
+  std::optional<Grids> own;       // the filtering weights' own
+  std::vector<double> reference, scale;
+  std::vector<float> sglab_float;
+  shader::TracedMethod traced;
+  const Grids& grids() const { return own ? *own : *shared; }
+};
 
-Result compute(const Options& o) {
-  Result r;
-  r.provenance.quick = o.quick;
-  r.provenance.command = "sglab shader-export";
-  if (o.quick) r.provenance.command += " --quick";
-  for (const auto& a : frontend::constants_arguments(o.constants)) r.provenance.command += " " + a;
-  const ConstantSet& set = o.constants.set;
-  shader::VulkanCompute gpu;
-  r.device = gpu.device_name();
-  const Grids diffuse = diffuse_grids(o.quick);
-  r.grid = fmt::format("error-vs-time's diffuse grid{} ({} points, inputs rounded to float)", o.quick ? " (quick)" : "",
-                       diffuse.grid_points);
-  r.stiff = fmt::format(
-      "λ ∈ {{0, 1e-8 … 1e8 (2 per decade), 1e10 … 1e35, FLT_MAX}} × the stiff cosines (±1 and the float/double "
-      "steps around them, 0, ±1e-8, 15 interior values): {} points, those in each method's domain",
-      diffuse.stiff_points);
+// Every exportable method prepared in order (the references are parallel loops of their own), the
+// grids they share (Prepared::shared points at them: not to be copied or moved), and what the result
+// says of the grids.
+struct Preparation {
+  Preparation(const Preparation&) = delete;
+  Preparation& operator=(const Preparation&) = delete;
+  const Options& o;
+  Result& r;
+  const Grids diffuse;
   std::optional<Grids> specular;
-  // The references of a quantity's grid, computed once (the specular one is a 2D quadrature).
-  std::map<std::string, std::vector<double>> quantity_reference;
-  for (const auto& q : quantities())
-    for (const auto& m : q.methods) {
-      if (m.trace || m.name == q.reference_method || !(is_diffuse(q) || is_specular(q))) continue;
-      r.not_exportable.push_back({q.name + "/" + m.name, shader::not_exportable_reason(q, m)});
-    }
-  // Each exportable method's grids, references and sglab float values, in order (the references
-  // are parallel loops of their own).
-  struct Prepared {
-    std::string name;
-    const Method* m = nullptr;
-    const Grids* shared = nullptr;  // the diffuse or specular grids, or
-    std::optional<Grids> own;       // the filtering weights' own
-    std::vector<double> reference, scale;
-    std::vector<float> sglab_float;
-    shader::TracedMethod traced;
-    const Grids& grids() const { return own ? *own : *shared; }
-  };
-  std::vector<Prepared> prepared;
-  for (const auto& name : shader::exportable_methods()) {
+  std::map<std::string, std::vector<double>> quantity_reference;  // a quantity's grid's, computed once
+  std::vector<Prepared> prepared;                                 // in the order of shader::exportable_methods()
+
+  Preparation(const Options& opts, Result& result) : o(opts), r(result), diffuse(diffuse_grids(opts.quick)) {}
+
+  void add(const std::string& name) {
+    const ConstantSet& set = o.constants.set;
     const shader::MethodRef ref = shader::find_exportable(name);
     const Quantity& q = *ref.quantity;
     const Method& m = *ref.method;
-    if (!is_diffuse(q) && !is_specular(q) && !is_filtering(q)) continue;
+    if (!is_diffuse(q) && !is_specular(q) && !is_filtering(q)) return;
     if (is_specular(q) && !specular) {
       specular = specular_grids(q, o.quick);
       r.specular_grid = fmt::format("error-vs-time's specular grid{} ({} points, inputs rounded to float)",
@@ -311,44 +300,75 @@ Result compute(const Options& o) {
       p.sglab_float[k] = bound.eval_float(std::span<const float>(&g.rows[g.arity * k], g.arity));
     p.traced = shader::trace_method(q, m, set);
   }
+};
+
+// One (method, evaluator) row: the formula emitted, compiled and run (or sglab's own float
+// evaluation), then measured; a compile failure is the row's error.
+Row run_row(const Prepared& p, const std::string& evaluator, shader::VulkanCompute& gpu, std::mutex& device) {
+  const Grids& g = p.grids();
+  Row row;
+  row.method = p.name;
+  row.evaluator = evaluator;
+  std::fprintf(stderr, "shader-export: %s, %s\n", p.name.c_str(), evaluator.c_str());
+  try {
+    std::vector<float> v;
+    if (evaluator == "sglab float") {
+      v = p.sglab_float;
+    } else {
+      const shader::Language lang = *shader::parse_language(evaluator);
+      const shader::TracedMethod* one = &p.traced;
+      const std::string src = shader::emit(std::span(one, 1), lang, "sglab export " + p.name + " --lang " + evaluator);
+      if (lang == shader::Language::c) {
+        v = shader::run_c(src, p.traced, g.rows);
+      } else {
+        const shader::Spirv spv = shader::compile_to_spirv(shader::compute_shader_source(src, p.traced, lang), lang);
+        row.instructions = long(shader::method_instructions(spv, lang, g.arity));
+        const std::lock_guard one_at_a_time(device);
+        v = shader::run_compute(gpu, spv, g.rows, g.arity);
+      }
+    }
+    measure(row, v, p.sglab_float, g, p.reference, p.scale, *p.m);
+  } catch (const std::runtime_error& e) {
+    row.compiles = false;
+    row.error = e.what();
+  }
+
+  return row;
+}
+
+}  // namespace
+
+Result compute(const Options& o) {
+  Result r;
+  r.provenance.quick = o.quick;
+  r.provenance.command = "sglab shader-export";
+  if (o.quick) r.provenance.command += " --quick";
+  for (const auto& a : frontend::constants_arguments(o.constants)) r.provenance.command += " " + a;
+  shader::VulkanCompute gpu;
+  r.device = gpu.device_name();
+  Preparation prep(o, r);
+  const Grids& diffuse = prep.diffuse;
+  r.grid = fmt::format("error-vs-time's diffuse grid{} ({} points, inputs rounded to float)", o.quick ? " (quick)" : "",
+                       diffuse.grid_points);
+  r.stiff = fmt::format(
+      "λ ∈ {{0, 1e-8 … 1e8 (2 per decade), 1e10 … 1e35, FLT_MAX}} × the stiff cosines (±1 and the float/double "
+      "steps around them, 0, ±1e-8, 15 interior values): {} points, those in each method's domain",
+      diffuse.stiff_points);
+  for (const auto& q : quantities())
+    for (const auto& m : q.methods) {
+      if (m.trace || m.name == q.reference_method || !(is_diffuse(q) || is_specular(q))) continue;
+      r.not_exportable.push_back({q.name + "/" + m.name, shader::not_exportable_reason(q, m)});
+    }
+  for (const auto& name : shader::exportable_methods()) prep.add(name);
   // Every (method, evaluator) row, side by side: most of a row's time is compiling (cc, a
   // subprocess; glslang and the SPIR-V validator, in-process), so rows run in parallel keep every
-  // core busy. The
-  // device runs one shader at a time. Each row is the same calls on the same inputs wherever it
-  // runs, so the values do not depend on the order; the rows are kept in the table's order.
-  std::vector<Row> rows(prepared.size() * kEvaluators.size());
+  // core busy. The device runs one shader at a time. Each row is the same calls on the same inputs
+  // wherever it runs, so the values do not depend on the order; the rows are kept in the table's
+  // order.
+  std::vector<Row> rows(prep.prepared.size() * kEvaluators.size());
   std::mutex device;
   tbb::parallel_for(std::size_t(0), rows.size(), [&](std::size_t i) {
-    const Prepared& p = prepared[i / kEvaluators.size()];
-    const std::string& evaluator = kEvaluators[i % kEvaluators.size()];
-    const Grids& g = p.grids();
-    Row& row = rows[i];
-    row.method = p.name;
-    row.evaluator = evaluator;
-    std::fprintf(stderr, "shader-export: %s, %s\n", p.name.c_str(), evaluator.c_str());
-    try {
-      std::vector<float> v;
-      if (evaluator == "sglab float") {
-        v = p.sglab_float;
-      } else {
-        const shader::Language lang = *shader::parse_language(evaluator);
-        const shader::TracedMethod* one = &p.traced;
-        const std::string src = shader::emit(std::span(one, 1), lang,
-                                             "sglab export " + p.name + " --lang " + evaluator);
-        if (lang == shader::Language::c) {
-          v = shader::run_c(src, p.traced, g.rows);
-        } else {
-          const shader::Spirv spv = shader::compile_to_spirv(shader::compute_shader_source(src, p.traced, lang), lang);
-          row.instructions = long(shader::method_instructions(spv, lang, g.arity));
-          const std::lock_guard one_at_a_time(device);
-          v = shader::run_compute(gpu, spv, g.rows, g.arity);
-        }
-      }
-      measure(row, v, p.sglab_float, g, p.reference, p.scale, *p.m);
-    } catch (const std::runtime_error& e) {
-      row.compiles = false;
-      row.error = e.what();
-    }
+    rows[i] = run_row(prep.prepared[i / kEvaluators.size()], kEvaluators[i % kEvaluators.size()], gpu, device);
   });
   r.rows = std::move(rows);
   return r;
