@@ -80,6 +80,93 @@ bool specular_position_near_lobe(const std::string& position) {
   return position == "mirror" || position == "toward-normal" || position == "toward-horizon" || position == "side";
 }
 
+namespace {
+
+// Point k of a specular grid: its (α, λ, view_cos), roughness slowest, view_cos fastest.
+struct GridInputs {
+  SpecularGrid g;
+  std::array<double, 3> operator()(std::size_t k) const {
+    const std::size_t nl = g.light_sharpness.size(), nv = g.view_cos.size();
+    return {g.roughness[k / (nl * nv)], g.light_sharpness[(k / nv) % nl], g.view_cos[k % nv]};
+  }
+};
+
+// A row read back must be at point k's grid point: its (α, λ, view_cos, f0), one of its light
+// positions with that position's (light_cos, light_azimuth), and a method the sweep measures.
+std::optional<std::string> check_specular_row(const GridInputs& inputs, const std::vector<const Method*>& methods,
+                                              std::size_t k, const runner::SweepRow& row) {
+  const double f0 = inputs.g.f0;
+  if (row.size() != kColumns.size()) return fmt::format("{} fields, expected {}", row.size(), kColumns.size());
+  const auto [alpha, lambda, v] = inputs(k);
+  const std::array<double, 4> at{alpha, lambda, v, f0};
+  for (std::size_t i = 0; i < at.size(); ++i)
+    if (row[i] != runner::csv_number(at[i]))
+      return fmt::format("{} {} is not the grid point's {} (moved off the grid)", kColumns[i], quote(row[i]),
+                         runner::csv_number(at[i]));
+  bool position = false;
+  for (const auto& p : specular_light_positions(alpha, lambda, v))
+    position = position || (row[4] == p.name && row[5] == runner::csv_number(p.light_cos) &&
+                            row[6] == runner::csv_number(p.light_azimuth));
+  if (!position)
+    return fmt::format("light position {} at light_cos {} light_azimuth {} is not one of the grid point's",
+                       quote(row[4]), quote(row[5]), quote(row[6]));
+  if (std::none_of(methods.begin(), methods.end(), [&](const Method* m) { return m->name == row[9]; }))
+    return fmt::format("method {} is not measured by this sweep", quote(row[9]));
+  return std::nullopt;
+}
+
+// Point k's rows: every light position against every measured method, each with the reference at
+// that position and the point's largest reference.
+std::vector<runner::SweepRow> specular_point_rows(const GridInputs& inputs, const Quantity& q,
+                                                  const std::vector<const Method*>& methods, std::size_t k) {
+  const double f0 = inputs.g.f0;
+  const auto [alpha, lambda, v] = inputs(k);
+  const std::vector<LightPosition> positions = specular_light_positions(alpha, lambda, v);
+  std::vector<std::array<double, 6>> args;
+  std::vector<double> refs;
+  for (const auto& p : positions) {
+    args.push_back({alpha, lambda, p.light_cos, v, p.light_azimuth, f0});
+    const double r = reference_value(q, args.back());
+    if (!std::isfinite(r) || r < 0)
+      throw std::runtime_error(fmt::format("sweep specular: the reference is {} at α={} λ={} view_cos={} position {}",
+                                           r, alpha, lambda, v, p.name));
+    refs.push_back(r);
+  }
+  const double scale = *std::max_element(refs.begin(), refs.end());
+  std::vector<runner::SweepRow> rows;
+  for (std::size_t j = 0; j < positions.size(); ++j) {
+    const auto& a = args[j];
+    for (const Method* m : methods) {
+      std::string value, status, relative, scaled;
+      if (m->domain_error && m->domain_error(a)) {
+        status = "out_of_domain";
+      } else {
+        const double x = m->eval_double(a);
+        if (!std::isfinite(x)) {
+          status = "non_finite";
+        } else {
+          value = runner::csv_number(x);
+          const double error = std::fabs(x - refs[j]);
+          if (scale > 0) scaled = runner::csv_number(error / scale);
+          if (scale > 0 && refs[j] > 0 && refs[j] >= kSpecularNearZero * scale) {
+            status = "ok";
+            relative = runner::csv_number(error / refs[j]);
+          } else {
+            status = "near_zero_reference";
+          }
+        }
+      }
+      rows.push_back({runner::csv_number(alpha), runner::csv_number(lambda), runner::csv_number(v),
+                      runner::csv_number(f0), positions[j].name, runner::csv_number(a[2]), runner::csv_number(a[4]),
+                      runner::csv_number(refs[j]), runner::csv_number(scale), m->name, value, status, relative,
+                      scaled});
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
 runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf, const frontend::Constants& constants) {
   const Quantity& q = specular_quantity(brdf);
   const Method& reference = *q.find(q.reference_method);
@@ -115,83 +202,19 @@ runner::SweepDefinition specular_sweep_definition(bool quick, SpecularBrdf brdf,
   if (constants.given()) d.grid += "; constants fnv1a " + constants.fingerprint;
   d.point_count = g.point_count();
   d.columns = kColumns;
-  const std::size_t nl = g.light_sharpness.size(), nv = g.view_cos.size();
-  auto inputs = [g, nl, nv](std::size_t k) {
-    return std::array<double, 3>{g.roughness[k / (nl * nv)], g.light_sharpness[(k / nv) % nl], g.view_cos[k % nv]};
-  };
+  const GridInputs inputs{g};
   d.describe = [inputs](std::size_t k) {
     const auto [alpha, lambda, v] = inputs(k);
     return fmt::format("α={:.3g} λ={:g} view_cos={:g}", alpha, lambda, v);
   };
-  // A row read back must be at point k's grid point: its (α, λ, view_cos, f0), one of its light
-  // positions with that position's (light_cos, light_azimuth), and a method the sweep measures.
-  d.check_row = [inputs, bound, methods, f0 = g.f0](std::size_t k,
-                                                    const runner::SweepRow& row) -> std::optional<std::string> {
-    if (row.size() != kColumns.size()) return fmt::format("{} fields, expected {}", row.size(), kColumns.size());
-    const auto [alpha, lambda, v] = inputs(k);
-    const std::array<double, 4> at{alpha, lambda, v, f0};
-    for (std::size_t i = 0; i < at.size(); ++i)
-      if (row[i] != runner::csv_number(at[i]))
-        return fmt::format("{} {} is not the grid point's {} (moved off the grid)", kColumns[i], quote(row[i]),
-                           runner::csv_number(at[i]));
-    bool position = false;
-    for (const auto& p : specular_light_positions(alpha, lambda, v))
-      position = position || (row[4] == p.name && row[5] == runner::csv_number(p.light_cos) &&
-                              row[6] == runner::csv_number(p.light_azimuth));
-    if (!position)
-      return fmt::format("light position {} at light_cos {} light_azimuth {} is not one of the grid point's",
-                         quote(row[4]), quote(row[5]), quote(row[6]));
-    if (std::none_of(methods.begin(), methods.end(), [&](const Method* m) { return m->name == row[9]; }))
-      return fmt::format("method {} is not measured by this sweep", quote(row[9]));
-    return std::nullopt;
+  d.check_row = [inputs, bound, methods](std::size_t k, const runner::SweepRow& row) {
+    return check_specular_row(inputs, methods, k, row);
   };
   // The registry lives for the whole program: the quantity's pointer stays valid; `bound` keeps
   // the measured methods alive. The references come through the process's kept values
   // (reference_value): in a `sglab reproduce`, `fit all` has integrated these rows already.
-  d.compute = [inputs, quantity = &q, bound, methods, f0 = g.f0](std::size_t k) {
-    const auto [alpha, lambda, v] = inputs(k);
-    const std::vector<LightPosition> positions = specular_light_positions(alpha, lambda, v);
-    std::vector<std::array<double, 6>> args;
-    std::vector<double> refs;
-    for (const auto& p : positions) {
-      args.push_back({alpha, lambda, p.light_cos, v, p.light_azimuth, f0});
-      const double r = reference_value(*quantity, args.back());
-      if (!std::isfinite(r) || r < 0)
-        throw std::runtime_error(fmt::format("sweep specular: the reference is {} at α={} λ={} view_cos={} position {}",
-                                             r, alpha, lambda, v, p.name));
-      refs.push_back(r);
-    }
-    const double scale = *std::max_element(refs.begin(), refs.end());
-    std::vector<runner::SweepRow> rows;
-    for (std::size_t j = 0; j < positions.size(); ++j) {
-      const auto& a = args[j];
-      for (const Method* m : methods) {
-        std::string value, status, relative, scaled;
-        if (m->domain_error && m->domain_error(a)) {
-          status = "out_of_domain";
-        } else {
-          const double x = m->eval_double(a);
-          if (!std::isfinite(x)) {
-            status = "non_finite";
-          } else {
-            value = runner::csv_number(x);
-            const double error = std::fabs(x - refs[j]);
-            if (scale > 0) scaled = runner::csv_number(error / scale);
-            if (scale > 0 && refs[j] > 0 && refs[j] >= kSpecularNearZero * scale) {
-              status = "ok";
-              relative = runner::csv_number(error / refs[j]);
-            } else {
-              status = "near_zero_reference";
-            }
-          }
-        }
-        rows.push_back({runner::csv_number(alpha), runner::csv_number(lambda), runner::csv_number(v),
-                        runner::csv_number(f0), positions[j].name, runner::csv_number(a[2]), runner::csv_number(a[4]),
-                        runner::csv_number(refs[j]), runner::csv_number(scale), m->name, value, status, relative,
-                        scaled});
-      }
-    }
-    return rows;
+  d.compute = [inputs, quantity = &q, bound, methods](std::size_t k) {
+    return specular_point_rows(inputs, *quantity, methods, k);
   };
   return d;
 }
