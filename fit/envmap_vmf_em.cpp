@@ -35,6 +35,121 @@ std::size_t vmf_em_level(const std::vector<EnvMap>& maps, int N) {
   return maps.size() - 1;
 }
 
+// The E step over fixed chunks of texels in parallel, each chunk's sums kept apart and added in
+// chunk order: the result does not depend on the thread count. The components as columns (axis x,
+// y, z, λ, log(weight/A(λ))) and each chunk's sums as columns, so that the loops over the components
+// run on vector registers; every value is the one the per-component form computes (ω·ξ summed as
+// Eigen's dot, (x x' + y y') + z z').
+class EStep {
+ public:
+  static constexpr std::size_t kChunk = 512;
+
+  EStep(const Level& level, const std::vector<double>& w, int N)
+      : level_(level),
+        w_(w),
+        N_(N),
+        T_(level.dirs.size()),
+        partial_((T_ + kChunk - 1) / kChunk),
+        log_norm_(std::size_t(N)),
+        ax_(std::size_t(N)),
+        ay_(std::size_t(N)),
+        az_(std::size_t(N)),
+        sharpness_(std::size_t(N)) {}
+
+  // The responsibilities' sums per component (Σ resp·ω and Σ resp) and the log-likelihood.
+  double run(const std::vector<Cluster>& cl, std::vector<Vec3d>& sum, std::vector<double>& wsum) {
+    // log(weight/A(λ)) of each component, which the texel loop adds to λ(ω·ξ − 1)
+    for (int j = 0; j < N_; ++j) {
+      const auto& c = cl[std::size_t(j)];
+      log_norm_[std::size_t(j)] = std::log(std::max(c.weight, 1e-300)) - std::log(sg_integral(c.sharpness));
+      ax_[std::size_t(j)] = c.axis(0), ay_[std::size_t(j)] = c.axis(1), az_[std::size_t(j)] = c.axis(2);
+      sharpness_[std::size_t(j)] = c.sharpness;
+    }
+    tbb::parallel_for(std::size_t(0), partial_.size(), [&](std::size_t k) { chunk(k); });
+    std::fill(sum.begin(), sum.end(), Vec3d::Zero());
+    std::fill(wsum.begin(), wsum.end(), 0.0);
+    double loglik = 0;
+    for (const auto& p : partial_) {
+      for (int j = 0; j < N_; ++j) {
+        sum[std::size_t(j)] += Vec3d(p.sx[std::size_t(j)], p.sy[std::size_t(j)], p.sz[std::size_t(j)]);
+        wsum[std::size_t(j)] += p.wsum[std::size_t(j)];
+      }
+      loglik += p.loglik;
+    }
+    return loglik;
+  }
+
+ private:
+  struct Partial {
+    std::vector<double> sx, sy, sz, wsum;
+    double loglik = 0;
+  };
+
+  // Chunk k's sums. Its log-probabilities lp − mx first (row t − t0), then their exponentials in
+  // one exp_batch call (std::exp's values): one exponential per component, the responsibility
+  // e^{lp − mx}/z = e^{lp − lse}.
+  void chunk(std::size_t k) {
+    const int N = N_;
+    Partial& p = partial_[k];
+    p.sx.assign(std::size_t(N), 0.0);
+    p.sy.assign(std::size_t(N), 0.0);
+    p.sz.assign(std::size_t(N), 0.0);
+    p.wsum.assign(std::size_t(N), 0.0);
+    p.loglik = 0;
+    const std::size_t t0 = k * kChunk, t1 = std::min(T_, (k + 1) * kChunk);
+    std::vector<double> es((t1 - t0) * std::size_t(N)), mxs(t1 - t0);
+    for (std::size_t t = t0; t < t1; ++t) {
+      double* e = es.data() + (t - t0) * std::size_t(N);
+      const double dx = level_.dirs[t](0), dy = level_.dirs[t](1), dz = level_.dirs[t](2);
+      for (int j = 0; j < N; ++j)
+        e[j] = log_norm_[std::size_t(j)] +
+               sharpness_[std::size_t(j)] *
+                   ((dx * ax_[std::size_t(j)] + dy * ay_[std::size_t(j)]) + dz * az_[std::size_t(j)] - 1);
+      double mx = -INFINITY;
+      for (int j = 0; j < N; ++j) mx = std::max(mx, e[j]);
+      for (int j = 0; j < N; ++j) e[j] = e[j] - mx;
+      mxs[t - t0] = mx;
+    }
+    exp_batch(es.data(), es.data(), es.size());
+    for (std::size_t t = t0; t < t1; ++t) {
+      const double* e = es.data() + (t - t0) * std::size_t(N);
+      const double mx = mxs[t - t0];
+      double z = 0;
+      for (int j = 0; j < N; ++j) z += e[j];
+      p.loglik += w_[t] * (mx + std::log(z));
+      const double scale = w_[t] / z;
+      const double dx = level_.dirs[t](0), dy = level_.dirs[t](1), dz = level_.dirs[t](2);
+      for (int j = 0; j < N; ++j) {
+        const double resp = e[j] * scale;
+        p.sx[std::size_t(j)] += resp * dx;
+        p.sy[std::size_t(j)] += resp * dy;
+        p.sz[std::size_t(j)] += resp * dz;
+        p.wsum[std::size_t(j)] += resp;
+      }
+    }
+  }
+
+  const Level& level_;
+  const std::vector<double>& w_;
+  const int N_;
+  const std::size_t T_;
+  std::vector<Partial> partial_;
+  std::vector<double> log_norm_, ax_, ay_, az_, sharpness_;
+};
+
+// The M step: each component's axis, sharpness and weight from its sums.
+void m_step(std::vector<Cluster>& cl, const std::vector<Vec3d>& sum, const std::vector<double>& wsum,
+            const Level& level) {
+  double total = 0;
+  for (double x : wsum) total += x;
+  for (std::size_t j = 0; j < sum.size(); ++j) {  // the N components
+    auto& c = cl[j];
+    if (sum[j].norm() > 0) c.axis = sum[j].normalized();
+    c.sharpness = cluster_sharpness(sum[j], wsum[j], level);
+    c.weight = wsum[j] / total;
+  }
+}
+
 EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& o) {
   const Setup setup(map, o);
   const int N = o.lobes;
@@ -42,95 +157,15 @@ EnvFitResult fit_envmap_vmf_em_unscaled(const EnvMap& map, const EnvFitOptions& 
   const Level level = o.sparse ? sparse_level(*o.sparse) : make_level(setup.maps[vmf_em_level(setup.maps, N)]);
   const std::vector<double> w = texel_weights(level);
   std::vector<Cluster> cl = spherical_kmeans(level, w, N, o.seed);
-  const std::size_t T = level.dirs.size();
-  std::vector<double> log_norm(static_cast<std::size_t>(N));
   std::vector<Vec3d> sum(static_cast<std::size_t>(N));
   std::vector<double> wsum(static_cast<std::size_t>(N));
-  // The E step over fixed chunks of texels in parallel, each chunk's sums kept apart and added in
-  // chunk order: the result does not depend on the thread count.
-  constexpr std::size_t kChunk = 512;
-  const std::size_t chunks = (T + kChunk - 1) / kChunk;
-  // The components as columns (axis x, y, z, λ, log(weight/A(λ))) and each chunk's sums as
-  // columns, so that the loops over the components run on vector registers; every value is the one
-  // the per-component form computes (ω·ξ summed as Eigen's dot, (x x' + y y') + z z').
-  struct Partial {
-    std::vector<double> sx, sy, sz, wsum;
-    double loglik = 0;
-  };
-  std::vector<Partial> partial(chunks);
-  const std::size_t lobes = static_cast<std::size_t>(N);
-  std::vector<double> ax(lobes), ay(lobes), az(lobes), sharpness(lobes);
+  EStep e_step(level, w, N);
   double previous = -INFINITY;
   EnvFitResult r;
   r.method = "vmf-em";
   for (int iter = 0; iter < o.em_max_iterations; ++iter) {
-    // log(weight/A(λ)) of each component, which the texel loop adds to λ(ω·ξ − 1)
-    for (int j = 0; j < N; ++j) {
-      const auto& c = cl[std::size_t(j)];
-      log_norm[std::size_t(j)] = std::log(std::max(c.weight, 1e-300)) - std::log(sg_integral(c.sharpness));
-      ax[std::size_t(j)] = c.axis(0), ay[std::size_t(j)] = c.axis(1), az[std::size_t(j)] = c.axis(2);
-      sharpness[std::size_t(j)] = c.sharpness;
-    }
-    tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t k) {
-      Partial& p = partial[k];
-      p.sx.assign(std::size_t(N), 0.0);
-      p.sy.assign(std::size_t(N), 0.0);
-      p.sz.assign(std::size_t(N), 0.0);
-      p.wsum.assign(std::size_t(N), 0.0);
-      p.loglik = 0;
-      // The chunk's log-probabilities lp − mx first (row t − t0), then their exponentials in one
-      // exp_batch call (std::exp's values): one exponential per component, the responsibility
-      // e^{lp − mx}/z = e^{lp − lse}.
-      const std::size_t t0 = k * kChunk, t1 = std::min(T, (k + 1) * kChunk);
-      std::vector<double> es((t1 - t0) * std::size_t(N)), mxs(t1 - t0);
-      for (std::size_t t = t0; t < t1; ++t) {
-        double* e = es.data() + (t - t0) * std::size_t(N);
-        const double dx = level.dirs[t](0), dy = level.dirs[t](1), dz = level.dirs[t](2);
-        for (int j = 0; j < N; ++j)
-          e[j] = log_norm[std::size_t(j)] +
-                 sharpness[std::size_t(j)] *
-                     ((dx * ax[std::size_t(j)] + dy * ay[std::size_t(j)]) + dz * az[std::size_t(j)] - 1);
-        double mx = -INFINITY;
-        for (int j = 0; j < N; ++j) mx = std::max(mx, e[j]);
-        for (int j = 0; j < N; ++j) e[j] = e[j] - mx;
-        mxs[t - t0] = mx;
-      }
-      exp_batch(es.data(), es.data(), es.size());
-      for (std::size_t t = t0; t < t1; ++t) {
-        const double* e = es.data() + (t - t0) * std::size_t(N);
-        const double mx = mxs[t - t0];
-        double z = 0;
-        for (int j = 0; j < N; ++j) z += e[j];
-        p.loglik += w[t] * (mx + std::log(z));
-        const double scale = w[t] / z;
-        const double dx = level.dirs[t](0), dy = level.dirs[t](1), dz = level.dirs[t](2);
-        for (int j = 0; j < N; ++j) {
-          const double resp = e[j] * scale;
-          p.sx[std::size_t(j)] += resp * dx;
-          p.sy[std::size_t(j)] += resp * dy;
-          p.sz[std::size_t(j)] += resp * dz;
-          p.wsum[std::size_t(j)] += resp;
-        }
-      }
-    });
-    std::fill(sum.begin(), sum.end(), Vec3d::Zero());
-    std::fill(wsum.begin(), wsum.end(), 0.0);
-    double loglik = 0;
-    for (const auto& p : partial) {
-      for (int j = 0; j < N; ++j) {
-        sum[std::size_t(j)] += Vec3d(p.sx[std::size_t(j)], p.sy[std::size_t(j)], p.sz[std::size_t(j)]);
-        wsum[std::size_t(j)] += p.wsum[std::size_t(j)];
-      }
-      loglik += p.loglik;
-    }
-    double total = 0;
-    for (double x : wsum) total += x;
-    for (int j = 0; j < N; ++j) {
-      auto& c = cl[std::size_t(j)];
-      if (sum[std::size_t(j)].norm() > 0) c.axis = sum[std::size_t(j)].normalized();
-      c.sharpness = cluster_sharpness(sum[std::size_t(j)], wsum[std::size_t(j)], level);
-      c.weight = wsum[std::size_t(j)] / total;
-    }
+    const double loglik = e_step.run(cl, sum, wsum);
+    m_step(cl, sum, wsum, level);
     r.iterations = iter + 1;
     if (std::abs(loglik - previous) <= 1e-7 * std::abs(loglik)) {
       r.converged = true;
