@@ -129,7 +129,7 @@ double relative_difference(const Rgb& a, const Rgb& b) {
 }
 
 // ---- the VPL sum's arithmetic bound ---------------------------------------------------------------
-// Operations per (pixel, VPL) term of render_kernels.hpp vpl_sum_blocks, counted from its formula
+// Operations per (pixel, VPL) term of render_kernels_vpl.hpp vpl_sum_blocks, counted from its formula
 // with every receiver-only quantity hoisted out of the loop (the fewest the formula allows):
 //   the term itself: ω = (y − x)/|y − x| (3 sub, |·|² 5, 1 sqrt, 1 div, 3 mul), the two cosines
 //     (5 + 5), the Lambert factors (3 + 3 mul), 1/(d² + r²) (1 add, 1 div), the three channel

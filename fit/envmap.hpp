@@ -33,11 +33,11 @@
 //    (Banerjee et al. 2005, "Clustering on the unit hypersphere using von Mises–Fisher
 //    distributions", soft assignments, κ by their r̄(3 − r̄²)/(1 − r̄²)) on the texel directions
 //    weighted by Ω_t·(mean RGB), on the finest level whose texel count × N is at most 2^20 (the
-//    whole map up to 128 × 64 at N ≤ 128; kEmBudget in envmap.cpp), then the RGB amplitudes by
+//    whole map up to 128 × 64 at N ≤ 128; kEmBudget in envmap_vmf_em.cpp), then the RGB amplitudes by
 //    the non-negative least squares above on the same level.
 //
 // Both are scale-free: they fit the map divided by the power of two nearest its mean texel value
-// and scale the amplitudes back in double (envmap.cpp, "scale invariance"), so a map × 1e-30 and
+// and scale the amplitudes back in double (envmap_stages.cpp, "scale invariance"), so a map × 1e-30 and
 // × 1e30 fit as the map does.
 //
 // Both report the error against the full map (envmap_error) of the mixture's texel means

@@ -1,4 +1,4 @@
-// The environment map as fitting data, for the mixture fits of envmap.cpp: one pyramid level's
+// The environment map as fitting data, for the mixture fits (envmap.cpp, envmap_vmf_em.cpp): one pyramid level's
 // texels, their weights, the weighted spherical k-means and the Fibonacci axes that start the lobes.
 #pragma once
 

@@ -121,7 +121,7 @@ TEST(RenderDispatch, OneInstructionSetForRegistryAndRenderer) {
   }
 }
 
-// reference_radiances (two points of the same kind per pass over the VPLs, render_kernels.hpp
+// reference_radiances (two points of the same kind per pass over the VPLs, render_kernels_vpl.hpp
 // vpl_sum_blocks) gives each point reference_radiance's own value to the bit: on every instruction
 // set, in double and float, with and without visibility, for the points in image order (glossy
 // floor and Lambert walls: runs of each kind, so pairs and single points both occur) and shuffled

@@ -19,7 +19,7 @@
 namespace sglab::render {
 namespace {
 
-// ---- the vectorized sum: the same terms over the VPL arrays (simd/render_kernels.hpp) ----------
+// ---- the vectorized sum: the same terms over the VPL arrays (simd/render_kernels_vpl.hpp) ------
 
 template <class T>
 simd_detail::VplView<T> view_of(const VplArraysT<T>& a, const T* visible) {

@@ -68,7 +68,7 @@ ShadowMap render_shadow_map(const Scene& scene, const LightView& view) {
   m.depth.assign(std::size_t(resolution) * std::size_t(resolution), std::numeric_limits<double>::infinity());
   const double s = m.view.texel_size();
   // A row's rays at once: their directions as LightView::ray forms them, then cast_ray's distance
-  // for all of them in a loop vectorized over the rays (render_kernels.hpp nearest_hits: the same
+  // for all of them in a loop vectorized over the rays (render_kernels_visibility.hpp nearest_hits: the same
   // arithmetic, so the same depth; +∞ stays where nothing is hit).
   const OccluderArrays shapes(scene);
   const simd_detail::Occluders occluders = shapes.view();

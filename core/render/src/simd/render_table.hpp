@@ -35,7 +35,7 @@ template <class T>
 }
 // √(c² + α²(1 − c)(1 + c)), c clamped to [−1, 1] inside (1 − c)(1 + c): one side's root of GGX's
 // height-correlated visibility (brdf.hpp smith_visibility_ggx) at the cosine c of that side,
-// a2 = α². ggx_layer (render_kernels.hpp) takes it for both directions; a glossy VPL's incoming
+// a2 = α². ggx_layer (render_kernels_vpl.hpp) takes it for both directions; a glossy VPL's incoming
 // side is the same in all of its terms, so its arrays hold it (VplView::smith_in, reference.cpp),
 // the same operations on the same values. (Internal linkage: see the file comment.)
 template <class T>

@@ -69,7 +69,7 @@ Rgb reference_radiance(const ShadingPoint& point, const VplList& vpls, const Sce
                        Precision precision = Precision::double_);
 // reference_radiance of every point into out (as many), each value reference_radiance's to the
 // bit. Two points of the same kind (both glossy or neither) that follow each other share one pass
-// over the VPL arrays, their terms interleaved (render_kernels.hpp vpl_sum_blocks): 1.2–1.3×
+// over the VPL arrays, their terms interleaved (render_kernels_vpl.hpp vpl_sum_blocks): 1.2–1.3×
 // faster per point on the machine measured (docs/simd.md), so a caller with many points passes them
 // here, in order, neighbours together. Throws std::invalid_argument if out is not as long as points.
 void reference_radiances(std::span<const ShadingPoint* const> points, const VplList& vpls, std::span<Rgb> out,
