@@ -491,3 +491,40 @@ TEST(SgFree, BasisErrorDoesNotGrowWithN) {
     previous = e;
   }
 }
+
+// The floor of one lobe per sun (kOneLobeDiskFloor): a uniform disk of angular radius R on the
+// sphere against μe^{λ(cos θ − 1)} about its centre, μ optimal for each λ (the projection:
+// residual² = ‖D‖² − ⟨D, G⟩²/‖G‖²), λ by golden-section search; the inner products by Gauss–Legendre
+// quadrature in θ (axisymmetric). The planar closed form is √(1 − max_t 2(1 − e^{−t})²/t); on the
+// sphere the floor differs by O(R²).
+TEST(OneLobeDiskFloor, MatchesQuadratureOnTheSphere) {
+  using G = boost::math::quadrature::gauss<double, 30>;
+  for (const double diameter_deg : {0.53, 2.0}) {
+    const double R = diameter_deg / 2 * M_PI / 180;
+    const double disk2 = 2 * M_PI * (1 - std::cos(R));
+    auto share = [&](double lambda) {  // ⟨D, G⟩²/(‖G‖² ‖D‖²) with unit μ
+      const double dg = 2 * M_PI *
+                        G::integrate([&](double t) { return std::exp(lambda * (std::cos(t) - 1)) * std::sin(t); }, 0.0,
+                                     R);
+      // ‖G‖² over [0, π], split where the lobe has fallen by e^{-50}
+      const double cut = std::min(M_PI, std::sqrt(100 / lambda));
+      double gg = 0;
+      for (int k = 0; k < 8; ++k)
+        gg += 2 * M_PI *
+              G::integrate([&](double t) { return std::exp(2 * lambda * (std::cos(t) - 1)) * std::sin(t); },
+                           cut * k / 8, cut * (k + 1) / 8);
+      return dg * dg / (gg * disk2);
+    };
+    double a = std::log(0.1 / (R * R)), b = std::log(20 / (R * R));  // log λ; t = λR²/2 in [0.05, 10]
+    const double phi = (std::sqrt(5.0) - 1) / 2;
+    for (int i = 0; i < 200; ++i) {
+      const double m1 = b - phi * (b - a), m2 = a + phi * (b - a);
+      if (share(std::exp(m1)) < share(std::exp(m2))) a = m1;
+      else b = m2;
+    }
+    const double lambda = std::exp((a + b) / 2);
+    const double floor = std::sqrt(1 - share(lambda));
+    std::printf("disk %.2f°: floor %.6f at t = λR²/2 = %.5f\n", diameter_deg, floor, lambda * R * R / 2);
+    EXPECT_NEAR(floor, sglab::experiments::envmap_bases::kOneLobeDiskFloor, 1e-4) << diameter_deg << "°";
+  }
+}
