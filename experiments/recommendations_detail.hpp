@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "csv.hpp"
+#include "input_error.hpp"
 #include "parse_number.hpp"
 #include "recommendations.hpp"
 #include "sglab/text_limits.hpp"
