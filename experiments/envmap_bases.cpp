@@ -43,16 +43,11 @@ namespace {
 
 using render::Rgb;
 
-// The finest quadrature tried: 16 × 16 sub-texels per texel.
-constexpr int kMaxSubsamples = 16;
 // Points per texel side of the texel means that the map error compares (fit/envmap.hpp).
 constexpr int kMeanSubsamples = 4;
 // Wall seconds over which the diffuse cost of a row is timed (repeated until then): --quick's
 // ns/pixel column needs a magnitude, not three digits, and its rows are many.
 constexpr double kTimingSeconds = 0.01, kQuickTimingSeconds = 0.001;
-// The SG diffuse shading an engine runs, timed for the ns/pixel column (Pettineo 2016, SG series
-// part 3: Hill's fitted irradiance, BakingLab's SGIrradianceFitted).
-constexpr const char* kEngineDiffuse = "hill-fitted";
 
 struct Loaded {
   std::string name;

@@ -34,6 +34,13 @@ inline constexpr double kTargetRoughness = 0.3;
 // sphere in tests/envmap_bases_test.cpp (OneLobeDiskFloor).
 inline constexpr double kOneLobeDiskFloor = 0.4307;
 
+// The finest quadrature of the converged references tried: 16 × 16 sub-texels per texel (the
+// computation and the tables' text, envmap_bases_tables.cpp, both say it).
+inline constexpr int kMaxSubsamples = 16;
+// The SG diffuse shading an engine runs, timed for the ns/pixel column (Pettineo 2016, SG series
+// part 3: Hill's fitted irradiance, BakingLab's SGIrradianceFitted).
+inline constexpr const char* kEngineDiffuse = "hill-fitted";
+
 struct Options {
   std::vector<std::string> envs;   // NAME=PATH
   std::vector<std::string> bases;  // registry names; empty: all

@@ -3,7 +3,6 @@
 #include "envmap_bases.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <string>
 #include <vector>

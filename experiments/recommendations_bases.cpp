@@ -3,29 +3,16 @@
 #include "recommendations_detail.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <functional>
-#include <fstream>
 #include <map>
-#include <memory>
-#include <optional>
 #include <set>
-#include <sstream>
-#include <stdexcept>
-#include <tuple>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "atomic_file.hpp"
-#include "csv.hpp"
 #include "envmap_bases.hpp"
-#include "option_checks.hpp"
-#include "parse_number.hpp"
-#include "registry.hpp"
 #include "sglab/registry.hpp"
 
 namespace sglab::experiments::recommendations::detail {

@@ -1,9 +1,7 @@
 // `sglab sweep render`'s summary table (sweep_render.hpp: tables, write), from the per-point CSV
 // alone; the sweep itself is sweep_render.cpp.
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <string>
 #include <vector>
 

@@ -2,7 +2,6 @@
 // roughness the brightness-weighted error and the error near the lobe, as CSV and Markdown; the sweep
 // itself is sweep_specular.cpp.
 #include <algorithm>
-#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -10,7 +9,7 @@
 #include <fmt/core.h>
 
 #include "csv_fields.hpp"
-#include "sglab/registry.hpp"
+#include "parse_number.hpp"
 #include "sglab/text_limits.hpp"
 #include "sweep_specular.hpp"
 #include "table.hpp"
