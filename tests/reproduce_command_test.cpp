@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include "csv.hpp"
 #include "test_util.hpp"
 
 namespace {
@@ -253,15 +254,11 @@ TEST_F(ReproduceCommand, TimedStepsRunAloneAndTheirSumIsReported) {
   link_inputs();
   const auto r = sglab("reproduce --quick --only sweep-render-visibility-off --only render-two-vsgls-punctual");
   ASSERT_EQ(r.status, 0) << r.err;
-  std::ifstream times(path("results/quick/reproduce_times.csv"));
+  const sglab::runner::TableFile times = sglab::runner::read_table_file(path("results/quick/reproduce_times.csv"));
+  const sglab::runner::CsvTable& t = times.csv;
   std::map<std::string, std::pair<std::string, std::string>> rows;  // step -> (status, wall)
-  for (std::string line; std::getline(times, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> f;
-    std::istringstream cells(line);
-    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
-    if (f.size() >= 3) rows[f[0]] = {f[1], f[2]};
-  }
+  for (const auto& rec : t.rows)
+    rows[rec.fields[t.column("step")]] = {rec.fields[t.column("status")], rec.fields[t.column("wall_seconds")]};
   ASSERT_TRUE(rows.count("sweep-render-visibility-off") && rows.count("render-two-vsgls-punctual") &&
               rows.count("steps-run-alone"))
       << r.err;
