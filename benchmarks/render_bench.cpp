@@ -6,10 +6,16 @@
 // "max_rel_diff" counter is the largest relative difference between the two paths over the
 // points timed (per channel, relative to the channel's value). Run:
 //   build/benchmarks/sglab_render_bench [--benchmark_filter=Reference]
+// SGLAB_RENDER_BENCH_RSM=N takes an N² RSM instead (8 to 1024): 128 gives the render sweeps'
+// 13 104 VPLs, whose arrays no longer fit in a core's second-level cache (docs/testing.md, "Tried,
+// not kept: the VPL arrays in chunks").
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -96,6 +102,20 @@ struct Setting {
   VplList vpls;
 };
 
+// The RSM's texels per side: SGLAB_RENDER_BENCH_RSM, or 64. A bad value ends the run with status 2.
+int rsm_texels() {
+  const char* text = std::getenv("SGLAB_RENDER_BENCH_RSM");
+  if (!text) return 64;
+  char* end = nullptr;
+  errno = 0;
+  const long n = std::strtol(text, &end, 10);
+  if (errno != 0 || end == text || *end != '\0' || n < 8 || n > 1024) {
+    std::fprintf(stderr, "SGLAB_RENDER_BENCH_RSM: '%s' is not an integer in [8, 1024]\n", text);
+    std::exit(2);
+  }
+  return int(n);
+}
+
 const Setting& setting() {
   static const Setting s = [] {
     std::ifstream file(std::string(SGLAB_SOURCE_DIR) + "/scenes/cornell-glossy.json");
@@ -110,7 +130,7 @@ const Setting& setting() {
         out.points.push_back(g.points[k]);
         out.glossy_points += g.points[k].glossy() ? 1 : 0;
       }
-    out.rsm = render_rsm(scene, 64);
+    out.rsm = render_rsm(scene, rsm_texels());
     out.vpls = prepare_vpls(out.rsm);
     return out;
   }();
@@ -421,4 +441,11 @@ BENCHMARK(BM_SpecularMethod)->DenseRange(0, 3)->ArgNames({"method"})->Unit(bench
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  rsm_texels();  // a bad SGLAB_RENDER_BENCH_RSM ends the run here, before any output (status 2)
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
