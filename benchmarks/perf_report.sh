@@ -39,6 +39,7 @@
 #   render-vpl-sum/P    ns per (pixel, VPL) of the exact VPL sum (the renderer's reference) in
 #                       double and float, median of 5 repetitions of BM_Reference, against the
 #                       arithmetic bound the benchmark derives from this core's measured peak rates
+#   render-vpl-sum-rsm128/P  the same with the render sweeps' 128² RSM (SGLAB_RENDER_BENCH_RSM=128)
 #   tu/PATH             with --tu-times: the ten heaviest translation units of build-main (CPU
 #                       seconds each, benchmarks/tu_time.sh as the compiler launcher)
 # --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
@@ -168,6 +169,28 @@ timed() {
   fi
   read -r wall user sys <<< "$t"
   rows+=("$name|$wall|$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')|$note")
+}
+
+# vpl_sum_rows PREFIX N: BM_Reference (the library's VPL sum) with an N² RSM
+# (SGLAB_RENDER_BENCH_RSM), 5 repetitions; one row per precision, PREFIX/double and PREFIX/float:
+# the median ns per (pixel, VPL), the VPL count and the ratio to the arithmetic bound
+# (bound_ns_per_pixel_vpl: the term's operations over this core's peak rates, measured in the same
+# process: render_bench.cpp). A checkout whose benchmark predates the bound prints "-" for it, and
+# one that predates SGLAB_RENDER_BENCH_RSM runs its 64² RSM (the VPL count says so).
+vpl_sum_rows() {
+  local prefix=$1 n=$2
+  timed "$prefix-bench" "sglab_render_bench BM_Reference (the library's VPL sum, $n² RSM), 5 repetitions" \
+    env SGLAB_RENDER_BENCH_RSM="$n" "$bench" --benchmark_filter='BM_Reference/peer:0' --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+  while read -r name ns bound vpls; do
+    rows+=("$name|||$ns ns per (pixel, VPL), median of 5, $vpls VPLs; arithmetic bound $bound ns, $(awk -v a="$ns" -v b="$bound" 'BEGIN { if (b + 0 > 0) printf "%.2f", a / b; else printf "-" }')× the bound")
+  done < <(awk -v prefix="$prefix" '/_median/ && /ns_per_pixel_vpl=/ {
+      v = "-"; b = "-"; c = "-"
+      for (i = 1; i <= NF; i++) {
+        if ($i ~ /^ns_per_pixel_vpl=/) { v = $i; sub(/^ns_per_pixel_vpl=/, "", v); sub(/ns$/, "", v) }
+        if ($i ~ /^bound_ns_per_pixel_vpl=/) { b = $i; sub(/^bound_ns_per_pixel_vpl=/, "", b); sub(/ns$/, "", b) }
+        if ($i ~ /^vpls=/) { c = $i; sub(/^vpls=/, "", c) }
+      }
+      print prefix ($1 ~ /float:1/ ? "/float" : "/double"), v, b, c }' "$scratch/$prefix-bench.log")
 }
 
 if [ "$cold" = 1 ]; then
@@ -303,21 +326,10 @@ if [ "$render" = 1 ]; then
         row = name == "BM_CubeShadowMaps" ? "render-cube-shadow-maps" : "render-visibility"
         if (peer) old[row] = v; else { lib[row] = v; units[row] = unit == "ray" ? "ray" : "(pixel, lobe)" } }
       END { for (r in lib) print r, units[r] == "ray" ? "ray" : "pixel·lobe", lib[r], old[r] }' "$scratch/render-visibility-bench.log")
-    timed render-vpl-sum-bench "sglab_render_bench BM_Reference (the library's VPL sum), 5 repetitions" \
-      "$bench" --benchmark_filter='BM_Reference/peer:0' --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-    # One row per precision: the median ns per (pixel, VPL) and its ratio to the arithmetic bound
-    # (bound_ns_per_pixel_vpl: the term's operations over this core's peak rates, measured in the
-    # same process: render_bench.cpp).
-    # (A checkout whose benchmark predates the bound prints "-" for it.)
-    while read -r name ns bound; do
-      rows+=("$name|||$ns ns per (pixel, VPL), median of 5; arithmetic bound $bound ns, $(awk -v a="$ns" -v b="$bound" 'BEGIN { if (b + 0 > 0) printf "%.2f", a / b; else printf "-" }')× the bound")
-    done < <(awk '/_median/ && /ns_per_pixel_vpl=/ {
-        v = "-"; b = "-"
-        for (i = 1; i <= NF; i++) {
-          if ($i ~ /^ns_per_pixel_vpl=/) { v = $i; sub(/^ns_per_pixel_vpl=/, "", v); sub(/ns$/, "", v) }
-          if ($i ~ /^bound_ns_per_pixel_vpl=/) { b = $i; sub(/^bound_ns_per_pixel_vpl=/, "", b); sub(/ns$/, "", b) }
-        }
-        print ($1 ~ /float:1/ ? "render-vpl-sum/float" : "render-vpl-sum/double"), v, b }' "$scratch/render-vpl-sum-bench.log")
+    # The VPL sum at the benchmark's 64² RSM (3 332 VPLs) and at the render sweeps' 128² (13 104,
+    # whose arrays exceed a core's second-level cache: docs/testing.md).
+    vpl_sum_rows render-vpl-sum 64
+    vpl_sum_rows render-vpl-sum-rsm128 128
   else
     echo "perf_report: no $bench: render rows skipped (build the benchmarks)" >&2
   fi
