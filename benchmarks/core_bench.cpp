@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "interleaved.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/exp_batch.hpp"
@@ -326,13 +327,12 @@ int print_versus(const std::string& quantity, const std::string& a_name, const s
 int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--points") == 0) {
-      char* end = nullptr;
-      const long n = i + 1 < argc ? std::strtol(argv[i + 1], &end, 10) : 0;
-      if (!end || *end != '\0' || n < 1 || n > 100000000) {
+      const auto n = sglab::bench::integer_in(i + 1 < argc ? argv[i + 1] : nullptr, 1, 100000000);
+      if (!n) {
         std::fprintf(stderr, "--points: expected an integer in [1, 1e8], got '%s'\n", i + 1 < argc ? argv[i + 1] : "");
         return 2;
       }
-      g_batch = std::size_t(n);
+      g_batch = std::size_t(*n);
       std::copy(argv + i + 2, argv + argc + 1, argv + i);  // out of Google Benchmark's way (argv[argc] is null)
       argc -= 2;
       break;
@@ -345,13 +345,12 @@ int main(int argc, char** argv) {
       }
       int rounds = 31;
       if (i + 5 < argc && std::strcmp(argv[i + 4], "--rounds") == 0) {
-        char* end = nullptr;
-        const long r = std::strtol(argv[i + 5], &end, 10);
-        if (*end != '\0' || r < 1 || r > 10000) {
+        const auto r = sglab::bench::integer_in(argv[i + 5], 1, 10000);
+        if (!r) {
           std::fprintf(stderr, "--rounds: expected an integer in [1, 10000], got '%s'\n", argv[i + 5]);
           return 2;
         }
-        rounds = int(r);
+        rounds = int(*r);
       }
       return print_versus(argv[i + 1], argv[i + 2], argv[i + 3], rounds);
     }

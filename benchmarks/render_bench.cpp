@@ -12,7 +12,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -25,6 +24,7 @@
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
+#include "bench_args.hpp"
 #include "peak.hpp"
 
 #include "sglab/clamped_cosine.hpp"
@@ -106,14 +106,12 @@ struct Setting {
 int rsm_texels() {
   const char* text = std::getenv("SGLAB_RENDER_BENCH_RSM");
   if (!text) return 64;
-  char* end = nullptr;
-  errno = 0;
-  const long n = std::strtol(text, &end, 10);
-  if (errno != 0 || end == text || *end != '\0' || n < 8 || n > 1024) {
+  const auto n = sglab::bench::integer_in(text, 8, 1024);
+  if (!n) {
     std::fprintf(stderr, "SGLAB_RENDER_BENCH_RSM: '%s' is not an integer in [8, 1024]\n", text);
     std::exit(2);
   }
-  return int(n);
+  return int(*n);
 }
 
 const Setting& setting() {
