@@ -10,6 +10,8 @@
 //   build/benchmarks/sglab_core_bench --versus specular sglab asg [--rounds 31]
 //     (two methods' batch evaluators interleaved on the same inputs, float and double: per-round
 //     ratios of CPU ns per evaluation, their median and quartiles)
+//   build/benchmarks/sglab_core_bench --benchmark_filter=specular-reference
+//     (the GGX specular reference, its rules' nodes on vector registers and one at a time)
 // SGLAB_SIMD=sse2|avx2|avx512 forces the vectorized evaluators' instruction set.
 #include <benchmark/benchmark.h>
 #include <time.h>
@@ -30,6 +32,7 @@
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/exp_batch.hpp"
 #include "sglab/gaussian_ndf.hpp"
+#include "sglab/glossy_reference.hpp"
 #include "sglab/peer_ports.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
@@ -438,6 +441,37 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < g_batch; ++i) exp_out[i] = std::exp(exp_in[i]);
     });
   });
+  // The GGX specular reference (glossy_reference.hpp) with each quadrature rule's 15 nodes on
+  // vector registers (GgxCosine::points), beside its peer, the same reference with the integrand
+  // one node at a time (the same values, bit for bit): 16 seeded configurations, time per reference.
+  static std::vector<sglab::SpecularConfig> refs;
+  {
+    std::mt19937_64 rng(kSeed);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 16; ++i)
+      refs.push_back({std::pow(10.0, -1.5 * u(rng)), std::pow(10.0, 3 * u(rng)), 2 * u(rng) - 1, u(rng),
+                      M_PI * (2 * u(rng) - 1), u(rng)});
+  }
+  const auto time_refs = [](benchmark::State& s, const auto& reference) {
+    for (auto _ : s) {
+      double sum = 0;
+      for (const auto& c : refs) sum += reference(c);
+      benchmark::DoNotOptimize(sum);
+    }
+    // seconds / (iterations · references), printed with its SI prefix (e.g. 6.2ms)
+    s.counters["per_reference"] = benchmark::Counter(
+        double(refs.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  };
+  benchmark::RegisterBenchmark("specular-reference/at-once/double", [time_refs](benchmark::State& s) {
+    time_refs(s, [](const sglab::SpecularConfig& c) { return sglab::specular_reference(c); });
+  })->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("specular-reference/node-by-node/double", [time_refs](benchmark::State& s) {
+    time_refs(s, [](const sglab::SpecularConfig& c) {
+      const sglab::GgxCosine g{c.roughness, c.f0, sglab::specular_view(c.view_cos)};
+      return sglab::specular_reference_of(
+          c, [&g](const sglab::Vec3d& w) { return g(w); }, sglab::SphereQuadrature{});
+    });
+  })->Unit(benchmark::kMillisecond);
   std::printf("inputs: %zu per batch, seed %llu; vectorized evaluators: %s\n", g_batch,
               static_cast<unsigned long long>(kSeed),
               std::string(sglab::simd::isa_name(sglab::simd::active_isa())).c_str());

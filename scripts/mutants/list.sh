@@ -49,9 +49,11 @@ mutant sg-product-scale core/include/sglab/sg.hpp '/^T product_sharpness(/,/^}/ 
   sg_test hardening_test:HardeningNumerics.*
 mutant expm1-series core/include/sglab/scalar.hpp 's#return T(1) + x \* (T(0\.5) + x \* (T(1) / T(6) + x \* (T(1) / T(24))));#return T(1) + x * (T(0.5) + x * (T(1) / T(6) + x * (T(1) / T(12))));#' \
   sg_test clamped_cosine_test simd_test
-mutant glossy-theta-node-pole core/include/sglab/glossy_reference.hpp 's#t\.pole_factor = pole_factor_(2 \* t\.sin_half \* t\.sin_half);#t.pole_factor = pole_factor_(t.sin_half * t.sin_half);#' \
+mutant glossy-theta-node-pole core/include/sglab/sphere_quadrature.hpp 's#t\.pole_factor = pole_factor_(2 \* t\.sin_half \* t\.sin_half);#t.pole_factor = pole_factor_(t.sin_half * t.sin_half);#' \
   glossy_reference_test
-mutant glossy-theta-node-bound core/include/sglab/glossy_reference.hpp 's#if (found == panels_\.end() && panels_\.size() < kMaxThetaPanels)#if (found == panels_.end())#' \
+mutant glossy-theta-node-bound core/include/sglab/sphere_quadrature.hpp 's#if (found == panels_\.end() && panels_\.size() < kMaxThetaPanels)#if (found == panels_.end())#' \
+  glossy_reference_test
+mutant glossy-rule-at-once-order core/include/sglab/sphere_quadrature.hpp 's#for (unsigned i = 1; i < abscissa\.size(); i += 2, k += 2) kronrod += (fx\[k\] + fx\[k + 1\]) \* weight\[i\];#for (unsigned i = 1; i < abscissa.size(); i += 2, k += 2) kronrod += fx[k] * weight[i] + fx[k + 1] * weight[i];#' \
   glossy_reference_test
 mutant gndf-grazing-light-pole core/include/sglab/gaussian_ndf.hpp 's#const auto light = \[lambda\](double one_minus_cos) { return std::exp(-lambda \* one_minus_cos); };#const auto light = [lambda](double one_minus_cos) { return std::exp(-0.5 * lambda * one_minus_cos); };#' \
   gaussian_ndf_test hardening_extremes_test

@@ -46,10 +46,14 @@ T sin2_from_cos(const T& c) {
 // c = 1, where (α² − 1)c² + 1 subtracts two numbers ≈ 1.
 template <class T>
 T ggx_ndf(const T& alpha, const T& cos_h) {
-  if (!(value_of(cos_h) > 0)) return T(0);
-  const T a2 = alpha * alpha;
-  const T d = sin2_from_cos(cos_h) + a2 * cos_h * cos_h;
-  return a2 / (pi<T>() * d * d);
+  return select(
+      value_of(cos_h) > 0,
+      [&]() -> T {
+        const T a2 = alpha * alpha;
+        const T d = sin2_from_cos(cos_h) + a2 * cos_h * cos_h;
+        return a2 / (pi<T>() * d * d);
+      },
+      []() -> T { return T(0); });
 }
 
 // Beckmann NDF (Beckmann & Spizzichino 1963; Walter et al. 2007 Eq. 25):
@@ -183,10 +187,14 @@ Vec3<T> half_vector(const Vec3<T>& wo, const Vec3<T>& wi) {
 template <class T>
 T ggx_brdf_cosine(const T& alpha, const T& f0, const Vec3<T>& wo, const Vec3<T>& wi) {
   const T co = wo(2), ci = wi(2);
-  if (!(value_of(ci) > 0) || value_of(co) < 0) return T(0);
-  const Vec3<T> h = half_vector(wo, wi);
-  const T coh = T(wo.dot(h));
-  return ggx_ndf(alpha, T(h(2))) * fresnel_schlick(f0, coh) * smith_visibility_ggx(alpha, co, ci) * ci;
+  return select(
+      value_of(ci) > 0 && !(value_of(co) < 0),
+      [&]() -> T {
+        const Vec3<T> h = half_vector(wo, wi);
+        const T coh = T(wo.dot(h));
+        return ggx_ndf(alpha, T(h(2))) * fresnel_schlick(f0, coh) * smith_visibility_ggx(alpha, co, ci) * ci;
+      },
+      []() -> T { return T(0); });
 }
 
 // f itself (divides by ci; use ggx_brdf_cosine in integrands).

@@ -31,6 +31,7 @@
 #include "simd_exp.hpp"
 #endif
 #include "simd_mixture.hpp"
+#include "simd_ggx_points.hpp"
 
 // ---- the c = ±1 bounds' series on lanes (clamped_cosine.hpp) -----------------------------------
 // clamped_cosine_upper_series and clamped_cosine_inner_series on Lanes, which the templates' calls
@@ -373,7 +374,7 @@ SpecularPairTable make_pair_table() {
 
 template <class Arch>
 KernelTable make_table(const char* isa) {
-  KernelTable t{isa, {}, {}, {}, {}, nullptr, mixture_points<Arch>};
+  KernelTable t{isa, {}, {}, {}, {}, nullptr, mixture_points<Arch>, ggx_points<Arch>};
 #if defined(__FMA__)
   t.exp_d = exp_like_glibc<Arch>;
 #endif

@@ -61,6 +61,11 @@ struct MixtureColumns {
 using MixturePointsFn = void (*)(const MixtureColumns& m, const double* x, const double* y, const double* z,
                                  std::size_t n, double* r, double* g, double* b, double* scratch);
 
+// ggx_brdf_cosine(alpha, f0, ωo, ω) at the n directions ω = (x[q], y[q], z[q]) into out, bit for bit
+// (simd_ggx_points.hpp); wo holds ωo's three components.
+using GgxPointsFn = void (*)(double alpha, double f0, const double* wo, const double* x, const double* y,
+                             const double* z, double* out, std::size_t n);
+
 struct KernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   KernelFn<float> f[static_cast<int>(Kernel::count)];
@@ -69,6 +74,7 @@ struct KernelTable {
   ColumnsKernelFn<double> columns_d[static_cast<int>(Kernel::count)];
   ExpFn exp_d;  // nullptr where the unit has no FMA (sse2): glibc's exp there rounds unfused
   MixturePointsFn mixture_points;
+  GgxPointsFn ggx_points;
 };
 
 // The table of the active instruction set (sglab/simd.hpp: active_isa), from registry_simd.cpp.
