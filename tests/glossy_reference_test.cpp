@@ -3,6 +3,7 @@
 // the θ nodes integrate_sphere keeps across meridians against Boost's rule, to the bit, and the
 // rule's nodes evaluated at once (on vector registers) against Boost's rule and the integrand
 // node by node, to the bit.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdio>
@@ -168,7 +169,7 @@ TEST(GlossyReference, ThetaNodesPastTheBoundAreComputedNotKept) {
 // with the nodes handed over at once: the same nodes in the same order, value and error estimate to
 // the bit, on smooth, kinked, peaked, oscillating and zero integrands and on intervals from 1e-12
 // wide to [−π, π]; an empty interval gives 0 and leaves the error as it was, a reversed one the
-// negated rule of the ordered one (Boost's own cases).
+// negated rule of the ordered one (Boost's own cases); an infinite or NaN end is refused.
 TEST(GlossyReference, RuleWithItsNodesAtOnceIsBoostsToTheBit) {
   using boost::math::quadrature::gauss_kronrod;
   const std::vector<std::function<double(double)>> integrands = {
@@ -207,6 +208,10 @@ TEST(GlossyReference, RuleWithItsNodesAtOnceIsBoostsToTheBit) {
     EXPECT_EQ(err, -1.0);
     EXPECT_EQ(err_boost, -1.0);
   }
+  // An infinite end (Boost maps it onto a finite interval; this rule does not) is refused.
+  const auto zero = [](const double*, double* fx) { std::fill(fx, fx + detail::kSphereRulePoints, 0.0); };
+  EXPECT_THROW(detail::gauss_kronrod_at_once(zero, 0.0, INFINITY, nullptr), std::domain_error);
+  EXPECT_THROW(detail::gauss_kronrod_at_once(zero, NAN, 1.0, nullptr), std::domain_error);
   std::printf("compared %d rules and their reversals\n", compared);
 }
 

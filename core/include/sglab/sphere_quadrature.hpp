@@ -145,7 +145,9 @@ double gauss_kronrod_at_once(const Values& values, double a, double b, double* e
                 "Boost's order below is that of an odd Gauss order (its centre is a Gauss node)");
   if (a == b) return 0.0;  // Boost returns 0 and leaves *err as it is
   if (b < a) return -gauss_kronrod_at_once(values, b, a, err);
-  if (std::isnan(a) || std::isnan(b)) throw std::domain_error("gauss_kronrod_at_once: the domain is not sensible");
+  // Boost maps an infinite end onto a finite interval first; this rule's callers never pass one.
+  if (!std::isfinite(a) || !std::isfinite(b))
+    throw std::domain_error("gauss_kronrod_at_once: the interval's ends must be finite numbers");
   const auto& abscissa = gauss_kronrod<double, N>::abscissa();
   const auto& weight = gauss_kronrod<double, N>::weights();
   const auto& gauss_weight = gauss<double, (N - 1) / 2>::weights();
