@@ -189,7 +189,7 @@ total=$((killed + survived))
     "${#selected[@]}" "$killed" "$survived" "$broken" \
     "$( ((total)) && awk -v k="$killed" -v t="$total" 'BEGIN { printf "%.1f %%", 100 * k / t }' || echo n/a)" \
     $(((SECONDS - start_all + 59) / 60))
-  echo "Commit $(git -C "$src" rev-parse --short HEAD)$([[ -s $work/uncommitted.diff ]] && echo ' + uncommitted changes')."
+  echo "Commit $(git -C "$src" rev-parse --short "$head")$([[ -s $work/uncommitted.diff ]] && echo ' + uncommitted changes')."
 } >>"$report"
 cat "$report"
 ((broken)) && exit 2
