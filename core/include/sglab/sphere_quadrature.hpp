@@ -397,8 +397,9 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width, std::s
       if (!(hi > lo)) return 0.0;
     }
     const std::vector<double> br = detail::theta_breaks(lo, hi, w_pole, polar, q.ratio, q.min_width);
+    auto direction = [&](const detail::ThetaNode& t) { return Vec3d(t.cos * pole + t.sin * e); };
     auto point = [&](const detail::ThetaNode& t) {
-      return SpherePoint{t.cos * pole + t.sin * e, t.theta, 2 * t.sin_half * t.sin_half, cp, sp, t.sin, t.pole_factor};
+      return SpherePoint{direction(t), t.theta, 2 * t.sin_half * t.sin_half, cp, sp, t.sin, t.pole_factor};
     };
     // The rule's nodes at once: f.points on all of them where f has it (SpherePointsIntegrand),
     // else f node by node; either way f's value times sin θ.
@@ -411,7 +412,7 @@ double integrate_sphere(const F& f, const Vec3d& pole, double pole_width, std::s
       } else if constexpr (polar_f) {
         for (std::size_t k = 0; k < n; ++k) out[k] = f(point(t[k])) * t[k].sin;
       } else {
-        for (std::size_t k = 0; k < n; ++k) out[k] = f(Vec3d(t[k].cos * pole + t[k].sin * e)) * t[k].sin;
+        for (std::size_t k = 0; k < n; ++k) out[k] = f(direction(t[k])) * t[k].sin;
       }
     };
     const auto rule = [&](double a, double b, double* err) { return nodes.rule(g_nodes, a, b, err); };
