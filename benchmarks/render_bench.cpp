@@ -159,6 +159,8 @@ double relative_difference(const Rgb& a, const Rgb& b) {
 //     side's Smith root one per VPL, in its arrays: ggx_smith_root), 48 − 6 + 13 + 3·3 (its flux
 //     products) = 64 arithmetic, 3 div, 2 sqrt; the receiver's (α², its own Smith root and 1 − f0
 //     hoisted) 48 − 7 + 4 + 3·2 + 3·2 = 57, 3 div, 2 sqrt.
+// In float a GGX layer forms the NDF's sin²θ_h as |n × h|² (9 for n × h, 5 for its squared length)
+// instead of (1 − c)(1 + c) (3): 11 more per layer (kFloatLayerOps).
 // Every term is counted, though the sum skips blocks of terms that are all off (vpl_sum_blocks).
 // Multiplies and adds run on the adders (no fused multiply-add: -ffp-contract=off); divisions
 // and square roots on the one divider. The bound per term is the larger of the two times at the
@@ -169,10 +171,14 @@ struct TermOps {
 constexpr TermOps kTermOps[4] = {
     {32, 2, 1}, {32 + 57, 2 + 3, 1 + 2}, {32 + 64, 2 + 3, 1 + 2}, {32 + 64 + 57, 2 + 3 + 3, 1 + 2 + 2}};
 
+constexpr double kFloatLayerOps = 11;
+
 // The bound in ns for one term of kind k (2·glossy VPL + glossy receiver), in double or float.
 double term_bound_ns(int k, bool single, const sglab::bench::Rates& r) {
   const TermOps o = kTermOps[k];
-  const double arithmetic = o.arithmetic / (single ? r.mul_add_f : r.mul_add);
+  const int layers = (k >> 1) + (k & 1);  // the VPL's GGX layer, the receiver's
+  const double ops = o.arithmetic + (single ? kFloatLayerOps * layers : 0);
+  const double arithmetic = ops / (single ? r.mul_add_f : r.mul_add);
   const double divider = o.div / (single ? r.div_f : r.div) + o.sqrt / (single ? r.sqrt_f : r.sqrt);
   return 1e9 * (arithmetic > divider ? arithmetic : divider);
 }

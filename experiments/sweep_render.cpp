@@ -490,12 +490,13 @@ std::vector<Step> sweep_render_steps(const runner::Places& p) {
     args.insert(args.end(), configuration.begin(), configuration.end());
     return timed(sglab_step(std::move(name), std::move(what), std::move(args), std::move(quick), true));
   };
-  // The VPL sum in float (`--reference-precision float`, which halves the reference's time) where
-  // that leaves every printed digit as in double (checked against double runs); the tables say
-  // which. Not in the roughness × distance sweep: on its near-mirror floors (α = 0.01) float moves
-  // the error metrics by up to 1e-4 relative, a printed digit. The VSGLs' diffuse method stays in
-  // double everywhere: in float its far tails (e^{-2λ} below 1e-38) flush to 0, which moves SMAPE
-  // where both images are that dark.
+  // The VPL sum in float (`--reference-precision float`, which halves the reference's time or
+  // better) in every sweep: it leaves every printed digit as in double (checked against double
+  // runs); the tables say which. On the roughness × distance sweep's near-mirror floors (α = 0.01)
+  // that holds since the float sum forms the NDF's sin²θ_h as |n × h|² (render_kernels_vpl.hpp
+  // ggx_layer); with (1 − c)(1 + c) it moved the error metrics by up to 1e-4 relative, a printed
+  // digit. The VSGLs' diffuse method stays in double everywhere: in float its far tails (e^{-2λ}
+  // below 1e-38) flush to 0, which moves SMAPE where both images are that dark.
   const auto with_float_reference = [](std::vector<std::string> configuration) {
     configuration.insert(configuration.end(), {"--reference-precision", "float"});
     return configuration;
@@ -509,8 +510,8 @@ std::vector<Step> sweep_render_steps(const runner::Places& p) {
       sweep("sweep-render-roughness-distance",
             "VSGL error against floor roughness × light distance on cornell-glossy "
             "(paper_tables/vsgl_error_vs_roughness_distance.*)",
-            {"--vary", "floor.roughness=0.01:1:12:log", "--vary", "light.distance=0.4:1.4:5", "--vsgl", "two", "--vsgl",
-             "fis:64"},
+            with_float_reference({"--vary", "floor.roughness=0.01:1:12:log", "--vary", "light.distance=0.4:1.4:5",
+                                  "--vsgl", "two", "--vsgl", "fis:64"}),
             coarse),
       sweep("sweep-render-lambda-d",
             "VSGL error against λ_d on cornell-glossy: the papers' 2, the L2 fit and the other objectives' fits "

@@ -8,14 +8,19 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "sglab/render/scene.hpp"
 
 namespace sglab::test {
 
 #ifdef SGLAB_SOURCE_DIR
-// The repository's scenes/NAME.json, at width × height pixels (tests built with SOURCE_DIR).
-inline render::Scene repository_scene(const std::string& name, int width, int height) {
+// The repository's scenes/NAME.json, at width × height pixels (tests built with SOURCE_DIR), with
+// `sglab render --set` overrides (KEY=VALUE: render::apply_override) applied first.
+inline render::Scene repository_scene(const std::string& name, int width, int height,
+                                      const std::vector<std::string>& overrides = {}) {
   // Appended in place: GCC 12 reports a false -Warray-bounds in the chained rvalue operator+ of
   // std::string (inlined memcpy of the moved string) once the tests' precompiled header comes first.
   std::string path = SGLAB_SOURCE_DIR;
@@ -25,7 +30,9 @@ inline render::Scene repository_scene(const std::string& name, int width, int he
   std::ifstream in(path);
   std::ostringstream text;
   text << in.rdbuf();
-  render::Scene scene = render::parse_scene(render::parse_scene_text(text.str(), name + ".json"));
+  nlohmann::json document = render::parse_scene_text(text.str(), name + ".json");
+  for (const auto& o : overrides) render::apply_override(document, o);
+  render::Scene scene = render::parse_scene(document);
   scene.camera.width = width;
   scene.camera.height = height;
   return scene;

@@ -73,6 +73,8 @@ mutant render-ggx-ndf core/render/src/simd/render_kernels_vpl.hpp 's#a2 / (T(kPi
   render_test vsgl_shading_test
 mutant render-vpl-clamp core/render/src/simd/render_kernels_vpl.hpp 's#const T k = T(1) / (d2 + a\.r2\[i\]);#const T k = T(1) / (d2 + 2 * a.r2[i]);#' \
   render_test vsgl_shading_test
+mutant render-float-sin2 core/render/src/simd/render_kernels_vpl.hpp 's#if constexpr (std::is_same_v<T, float>) {#if constexpr (std::is_same_v<T, void>) {#' \
+  render_precision_test
 mutant render-vpl-skip core/render/src/simd/render_kernels_vpl.hpp 's#        any = any | h\.on;#        any = g.on;#' \
   render_precision_test
 mutant render-env-skip core/render/src/simd/render_kernels.hpp 's#if constexpr (kTwo) above = above | (p2\.nx#if constexpr (kTwo) above = above \&\& (p2.nx#' \

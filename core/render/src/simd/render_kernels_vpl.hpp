@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <type_traits>
 
 #include "render_table.hpp"
 
@@ -32,7 +33,19 @@ template <class T>
   hy *= inv;
   hz *= inv;
   const T a2 = alpha * alpha, ch = clamp1(nx * hx + ny * hy + nz * hz);
-  const T dn = (1 - ch) * (1 + ch) + a2 * ch * ch;
+  // sin²θ_h. In double, (1 − c)(1 + c) as ggx_ndf forms it (sin2_from_cos), so that the double
+  // sum keeps its bits. In float, |n × h|²: near the mirror direction of a smooth surface sin²θ_h
+  // is of the order of α² (1e-4 at α = 0.01), and 1 − c from a float c near 1 carries an absolute
+  // error of about 1e-7, which moved the NDF by up to 1e-3 there; the cross product's squared
+  // length keeps its relative precision (RenderPrecision.FloatReferenceHoldsOnNearMirrorFloors).
+  T s2;
+  if constexpr (std::is_same_v<T, float>) {
+    const T cx = ny * hz - nz * hy, cy = nz * hx - nx * hz, cz = nx * hy - ny * hx;
+    s2 = cx * cx + cy * cy + cz * cz;
+  } else {
+    s2 = (1 - ch) * (1 + ch);
+  }
+  const T dn = s2 + a2 * ch * ch;
   const T ndf = ch > 0 ? a2 / (T(kPi) * dn * dn) : T(0);
   const T si = ggx_smith_root(a2, ci);
   const T den = ci * so + co * si;
