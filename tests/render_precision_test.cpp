@@ -102,7 +102,9 @@ TEST(RenderPrecision, ReferencePrecisionLeavesTheShadingAlone) {
 
 // The float VPL sum on the near-mirror floors of the roughness × distance sweep (α = 0.01, the
 // light at both ends of its distances): within 1e-5 of the double sum in relative L2 over the
-// image, and within 1e-4 at every pixel above 1e-6 of the image's peak. Near the mirror direction
+// image (the float path's bound, docs/simd.md), and within 1e-4 at every pixel above 1e-6 of the
+// image's peak (a tenth of the up to 1e-3 the old form gave, 5× the 2e-5 this one gives, so that
+// the test fails for the former and not on the latter's rounding). Near the mirror direction
 // the NDF's denominator is sin²θ_h + α²cos²θ_h with sin²θ_h ~ α²; (1 − c)(1 + c) from a float c
 // near 1 carries an absolute error of about 1e-7 there, which moved the sum by up to 1e-3 per
 // pixel; |n × h|² keeps its relative precision (render_kernels_vpl.hpp ggx_layer).
