@@ -144,10 +144,9 @@ std::string markdown_table(const Result& r, bool smape, int subset) {
                         cell(pick_noisy(*first, smape, subset)));
       for (const auto w : r.weights) md += fmt::format(" {} |", cell(pick(find_row(r, a, spec, w), smape, subset)));
       for (const auto w : compared)
-        md += fmt::format(
-            " {} |", cell(frontend::percent_change(pick(find_row(r, a, spec, w), smape, subset),
-                                                   pick(find_row(r, a, spec, FilterWeights::normal), smape, subset)),
-                          "{:+.1f} %"));
+        md += fmt::format(" {} |", runner::signed_percent_cell(frontend::percent_change(
+                                       pick(find_row(r, a, spec, w), smape, subset),
+                                       pick(find_row(r, a, spec, FilterWeights::normal), smape, subset))));
       md += "\n";
     }
   return md + "\n";
@@ -179,7 +178,8 @@ std::string headline(const Result& r) {
     md += fmt::format("| {} |", render::noisy_spec_name(spec));
     for (const int subset : {1, 2, 0}) {
       const Change c = change_over_roughness(r, spec, FilterWeights::lobe, subset);
-      md += fmt::format(" {} ({} … {}) |", cell(c.mean, "{:+.1f} %"), cell(c.lo, "{:+.1f} %"), cell(c.hi, "{:+.1f} %"));
+      md += fmt::format(" {} ({} … {}) |", runner::signed_percent_cell(c.mean), runner::signed_percent_cell(c.lo),
+                        runner::signed_percent_cell(c.hi));
     }
     md += "\n";
   }
@@ -214,7 +214,7 @@ std::string headline(const Result& r) {
         "depth term, so the near-mirror floor's bright outliers are averaged less; the same term is behind the "
         "upsampling "
         "table's scale-2 rows, see [filtering.md](filtering.md))",
-        cell(depth_lo, "{:+.1f} %"), cell(depth_hi, "{:+.1f} %"), r.options.job.parameters.nu);
+        runner::signed_percent_cell(depth_lo), runner::signed_percent_cell(depth_hi), r.options.job.parameters.nu);
   md += ".\n\n";
   if (has(r, FilterWeights::lobe_depth)) {
     // App. D: on a Lambert receiver the lobe-aware directional weight is the normal weight with

@@ -331,9 +331,8 @@ std::string markdown_table(const Result& r, bool smape, int subset,
       // (appended piecewise: GCC 12 warns falsely (-Wrestrict) on " " + std::string + " |")
       for (const auto w : r.weights) md += fmt::format(" {} |", cell(pick(find(sc, a, w))));
       for (const auto w : compared)
-        md += fmt::format(" {} |", cell(frontend::percent_change(pick(find(sc, a, w)),
-                                                                 pick(find(sc, a, render::FilterWeights::normal))),
-                                        "{:+.1f} %"));
+        md += fmt::format(" {} |", runner::signed_percent_cell(frontend::percent_change(
+                                       pick(find(sc, a, w)), pick(find(sc, a, render::FilterWeights::normal)))));
       md += "\n";
     }
   return md + "\n";
@@ -391,7 +390,7 @@ std::string bright_pixels_table(const Result& r) {
       const BrightSplit n = bright_split(normal->result), l = bright_split(lobe->result);
       md += fmt::format("| {} | {:g} | {:.0f} % | {:.0f} % | {:.4f} | {:.4f} | {} |\n", sc, a, 100 * n.share,
                         100 * l.share, n.rest_relative_l2, l.rest_relative_l2,
-                        cell(frontend::percent_change(l.rest_relative_l2, n.rest_relative_l2), "{:+.1f} %"));
+                        runner::signed_percent_cell(frontend::percent_change(l.rest_relative_l2, n.rest_relative_l2)));
     }
   return md + "\n" + std::string(kScaleTwoNote) + "\n";
 }

@@ -19,6 +19,7 @@
 #include "recommendations_detail.hpp"
 #include "registry.hpp"
 #include "sglab/registry.hpp"
+#include "table.hpp"
 
 namespace sglab::experiments::recommendations {
 
@@ -166,7 +167,7 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-std::string signed_percent(double x) { return fmt::format("{:+.1f} %", 100 * x); }
+std::string signed_percent(double x) { return runner::signed_percent_cell(100 * x); }
 
 // Appends `s` to `order` unless it is there: the table's order of first appearance.
 void remember(std::vector<std::string>& order, const std::string& s) {

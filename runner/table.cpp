@@ -1,6 +1,9 @@
 #include "table.hpp"
 
+#include <cmath>
 #include <cstdio>
+
+#include <fmt/format.h>
 
 #include "atomic_file.hpp"
 
@@ -10,6 +13,13 @@ std::string Provenance::mode() const { return quick ? "quick run" : "full run"; 
 
 Provenance run_provenance(const RunContext& run, std::string own, bool quick) {
   return {run.command.empty() ? std::move(own) : run.command, quick || run.quick};
+}
+
+std::string signed_percent_cell(double percent, int decimals) {
+  if (!std::isfinite(percent)) return "–";
+  std::string s = fmt::format("{:+.{}f}", percent, decimals);
+  if (s.find_first_not_of("+-0.") == std::string::npos) s.erase(0, 1);  // +0.0 or -0.0
+  return s + " %";
 }
 
 std::string markdown_header(const Provenance& p) {

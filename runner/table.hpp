@@ -45,6 +45,12 @@ std::filesystem::path tables_place(const std::string& tables_dir, const std::str
 // the header reproduces the table where it is (its --out or --tables-dir).
 std::string option_argument(const std::string& option, const std::string& value, const std::string& default_value = "");
 
+// A signed percentage for a Markdown cell: "+1.4 %", "-0.3 %" (`decimals` decimals), "–" when not
+// finite. A value that rounds to zero prints "0.0 %", without a sign: the sign of a difference
+// within rounding (±1e-16 between two instruction sets' kernels) is not a result, and a table
+// should print the same on every machine.
+std::string signed_percent_cell(double percent, int decimals = 1);
+
 // DIR/NAME.md and DIR/NAME.csv, each headed by the provenance, written as one set (both or
 // neither), creating DIR. An empty body skips that file.
 void write_table(const std::filesystem::path& dir, const std::string& name, const Provenance& p,

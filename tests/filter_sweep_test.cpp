@@ -14,6 +14,7 @@
 #include "denoise_sweep.hpp"
 #include "filter_sweep.hpp"
 #include "input_error.hpp"
+#include "table.hpp"
 
 namespace fsw = sglab::experiments::filter_sweep;
 namespace dsw = sglab::experiments::denoise_sweep;
@@ -140,6 +141,20 @@ TEST(FilterSweep, TablesHaveOneLinePerRow) {
   EXPECT_EQ(count(t.markdown, "lobe vs normal |"), 7u);
   EXPECT_NE(t.markdown.find("**Scale 2, measured.**"), std::string::npos);
   EXPECT_EQ(r.provenance.command.rfind("sglab filter-sweep --scene ", 0), 0u) << r.provenance.command;
+}
+
+// The tables' "X vs normal" cells: a change within rounding of zero carries no sign (two
+// instruction sets' kernels put a ±1e-16 difference on either side), any other keeps its sign.
+TEST(FilterSweep, ChangesThatRoundToZeroPrintWithoutASign) {
+  using sglab::runner::signed_percent_cell;
+  for (const double x : {0.0, -0.0, 1e-16, -1e-16, 0.04, -0.04}) EXPECT_EQ(signed_percent_cell(x), "0.0 %") << x;
+  EXPECT_EQ(signed_percent_cell(-1.4), "-1.4 %");
+  EXPECT_EQ(signed_percent_cell(0.06), "+0.1 %");
+  EXPECT_EQ(signed_percent_cell(-0.06), "-0.1 %");
+  EXPECT_EQ(signed_percent_cell(-0.004, 2), "0.00 %");
+  EXPECT_EQ(signed_percent_cell(-0.006, 2), "-0.01 %");
+  EXPECT_EQ(signed_percent_cell(12.25, 0), "+12 %");
+  EXPECT_EQ(signed_percent_cell(std::nan("")), "–");
 }
 
 TEST(FilterSweep, BadValuesAreInputErrorsNamingThem) {
