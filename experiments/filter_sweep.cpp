@@ -70,7 +70,7 @@ std::vector<std::string> split(const std::string& text) {
 
 std::string stat_number(double x) { return std::isfinite(x) ? runner::csv_number(x) : std::string(); }
 
-std::string cell(double x, const char* format) { return std::isfinite(x) ? fmt::format(fmt::runtime(format), x) : "–"; }
+std::string cell(double x) { return std::isfinite(x) ? fmt::format("{:.4f}", x) : "–"; }
 
 void check_job_and_table(frontend::FilterJob& job, const std::string& table) {
   frontend::apply_filter_constants(job);

@@ -73,8 +73,8 @@ std::vector<std::string> split(const std::string& text);  // at commas, empty it
 // A statistic for the CSV: "" when it has no finite value (relative L2 over a subset whose
 // reference is 0, e.g. receivers no VPL reaches, is +∞ in image_error's convention).
 std::string stat_number(double x);
-// A Markdown cell: "–" when not finite.
-std::string cell(double x, const char* format = "{:.4f}");
+// A Markdown cell, four decimals; "–" when not finite (signed changes: runner::signed_percent_cell).
+std::string cell(double x);
 // Applies the constant set to the job, then: a scene is given, the table name is a file name.
 void check_job_and_table(frontend::FilterJob& job, const std::string& table);
 std::vector<double> parse_roughness_list(const std::string& text);               // --roughness (InputError)
