@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <string>
@@ -18,6 +19,7 @@
 #include <boost/math/quadrature/gauss.hpp>
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
 
 #include "render_scenes.hpp"
 #include "sglab/brdf.hpp"
@@ -289,6 +291,27 @@ TEST(Rsm, AlbedoTableInterpolatesTheQuadrature) {
     ++glossy_vpls;
   }
   EXPECT_GT(glossy_vpls, 100);
+}
+
+// The tables kept per process (ggx_albedo_table, which render_rsm uses: the test above holds its
+// VPLs to a table built afresh) are the tables built afresh, to the bit, also when many threads ask
+// for the same roughness values at once; a roughness asked again gets the table kept, a different
+// one its own.
+TEST(Rsm, KeptAlbedoTablesAreTheTablesBuiltAfresh) {
+  const std::vector<double> alphas = {0.013, 0.27, 0.61};
+  std::vector<std::shared_ptr<const GgxAlbedoTable>> got(24);
+  tbb::parallel_for(std::size_t(0), got.size(), [&](std::size_t k) { got[k] = ggx_albedo_table(alphas[k % 3]); });
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    const double alpha = alphas[k % 3];
+    const GgxAlbedoTable fresh(alpha);
+    for (double mu = 0; mu <= 1; mu += 1.0 / 512) {
+      const GgxAlbedo a = (*got[k])(mu), b = fresh(mu);
+      ASSERT_EQ(a.e1, b.e1) << "α " << alpha << ", cos " << mu;
+      ASSERT_EQ(a.e5, b.e5) << "α " << alpha << ", cos " << mu;
+    }
+  }
+  EXPECT_EQ(ggx_albedo_table(0.27).get(), ggx_albedo_table(0.27).get());
+  EXPECT_NE(ggx_albedo_table(0.27).get(), ggx_albedo_table(0.61).get());
 }
 
 // ---- the exact VPL sum --------------------------------------------------------------------------

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <vector>
 
@@ -203,6 +205,21 @@ GgxAlbedo GgxAlbedoTable::operator()(double cos_incoming) const {
   return {a.e1 + f * (b.e1 - a.e1), a.e5 + f * (b.e5 - a.e5)};
 }
 
+std::shared_ptr<const GgxAlbedoTable> ggx_albedo_table(double alpha) {
+  static std::mutex lock;
+  static std::map<double, std::shared_ptr<const GgxAlbedoTable>> tables;
+  {
+    const std::lock_guard guard(lock);
+    if (const auto it = tables.find(alpha); it != tables.end()) return it->second;
+  }
+  // Built outside the lock (its parallel_for could otherwise pick up a task that waits for it);
+  // two threads that both build α's table build the same values.
+  auto table = std::make_shared<const GgxAlbedoTable>(alpha);
+  const std::lock_guard guard(lock);
+  if (tables.size() >= 64) tables.clear();  // the tables handed out stay alive with their users
+  return tables.emplace(alpha, std::move(table)).first->second;
+}
+
 ReflectiveShadowMap render_rsm(const Scene& scene, int resolution) {
   ReflectiveShadowMap rsm;
   rsm.resolution = resolution;
@@ -210,10 +227,10 @@ ReflectiveShadowMap render_rsm(const Scene& scene, int resolution) {
   const LightView view(scene.light, resolution);
   const double s = view.texel_size();
   // One albedo table per distinct roughness of a glossy material.
-  std::map<double, GgxAlbedoTable> albedo;
+  std::map<double, std::shared_ptr<const GgxAlbedoTable>> albedo;
   for (const Object& o : scene.objects)
     if (o.material.glossy() && !albedo.count(o.material.roughness))
-      albedo.emplace(o.material.roughness, GgxAlbedoTable(o.material.roughness));
+      albedo.emplace(o.material.roughness, ggx_albedo_table(o.material.roughness));
   tbb::parallel_for(tbb::blocked_range<int>(0, resolution), [&](const tbb::blocked_range<int>& rows) {
     for (int j = rows.begin(); j < rows.end(); ++j)
       for (int i = 0; i < resolution; ++i) {
@@ -233,7 +250,7 @@ ReflectiveShadowMap render_rsm(const Scene& scene, int resolution) {
         v.f0 = m.f0;
         v.roughness = m.roughness;
         if (m.glossy()) {
-          const GgxAlbedo a = albedo.at(m.roughness)(v.normal.dot(v.incoming));
+          const GgxAlbedo a = (*albedo.at(m.roughness))(v.normal.dot(v.incoming));
           for (int k = 0; k < 3; ++k) v.specular_reflectance(k) = a.reflectance(m.f0(k));
         }
         const double omega = image_rectangle_solid_angle(view.x_lo(i), view.x_lo(i) + s, view.y_lo(j),

@@ -11,6 +11,7 @@
 // direction (ggx_directional_albedo, through a GgxAlbedoTable per glossy material).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "sglab/render/scene.hpp"
@@ -64,6 +65,12 @@ class GgxAlbedoTable {
  private:
   std::vector<GgxAlbedo> nodes_;
 };
+
+// The table of α, built on first use and kept for the process (up to 64 roughness values, then
+// built anew): the RSMs of a sweep, and the many steps of `sglab reproduce` in one process,
+// render the same few glossy materials again and again. The time of the RSM that first needs a
+// table includes its build. Thread-safe; no lock is held while a table is built.
+std::shared_ptr<const GgxAlbedoTable> ggx_albedo_table(double alpha);
 
 // The RSM at resolution × resolution. Parallel over rows (TBB).
 ReflectiveShadowMap render_rsm(const Scene& scene, int resolution);
