@@ -6,33 +6,23 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <condition_variable>
-#include <deque>
 #include <exception>
-#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
-#include <tuple>
 #include <utility>
 
-#include <nlohmann/json.hpp>
-#include <spawn.h>
 #include <sys/resource.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
 
 #include "atomic_file.hpp"
 #include "constant_sets.hpp"
 #include "environment_render.hpp"
 #include "input_error.hpp"
 #include "names.hpp"
+#include "plot_queue.hpp"
 #include "sweep.hpp"
 #include "table.hpp"
 #include "sglab/text_limits.hpp"
@@ -113,12 +103,16 @@ Snapshot snapshot(const std::vector<std::string>& roots, const std::vector<std::
   return out;
 }
 
-// "output PATH FNV1A" for every file written or changed between two snapshots.
-std::string outputs_state(const Snapshot& before, const Snapshot& after) {
+// "output PATH FNV1A" for every file written or changed between two snapshots; with `only`, of
+// those whose absolute path is in it (a plot's: the files it says it wrote, since the plots
+// running beside it write into the same directories meanwhile).
+std::string outputs_state(const Snapshot& before, const Snapshot& after, const std::set<std::string>* only = nullptr) {
   std::string state;
   for (const auto& [path, stamp] : after) {
     const auto it = before.find(path);
-    if (it == before.end() || it->second != stamp) state += "output " + path + " " + file_fnv1a(path) + "\n";
+    if (it != before.end() && it->second == stamp) continue;
+    if (only && !only->count(std::filesystem::absolute(path).lexically_normal().string())) continue;
+    state += "output " + path + " " + file_fnv1a(path) + "\n";
   }
   return state;
 }
@@ -147,168 +141,6 @@ double cpu_seconds(int who = RUSAGE_SELF) {
   getrusage(who, &u);
   return seconds_of(u);
 }
-
-// The plot steps' interpreter: one `python3 plots/_serve.py` for the whole run, which runs each
-// plot script as `python3 SCRIPT ARGS` would (as __main__, with that sys.argv), so that the
-// interpreter's start and `import matplotlib` are paid once, not once per plot. Debian's
-// interpreter, which has python3-matplotlib (a python3 earlier on PATH, from pyenv or a venv, may
-// not). Requests and answers go through a socket (a write to a server that died is an error,
-// not SIGPIPE); see plots/_serve.py. Used by one thread at a time (the plot queue's).
-class PlotServer {
- public:
-  PlotServer() = default;
-  PlotServer(const PlotServer&) = delete;
-  PlotServer& operator=(const PlotServer&) = delete;
-  ~PlotServer() { stop(); }
-
-  // Runs `python3 ARGS` (ARGS[0]: the script, beside which _serve.py lies) and returns its exit
-  // status and CPU seconds (127: no interpreter; 128: the interpreter died).
-  std::pair<int, double> run(const std::vector<std::string>& args) {
-    if (pid_ <= 0 && !start(std::filesystem::path(args.at(0)).parent_path() / "_serve.py")) return {127, 0.0};
-    const std::string request = nlohmann::json(args).dump() + "\n";
-    for (std::size_t sent = 0; sent < request.size();) {
-      const ssize_t n = send(socket_, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) return died();
-      sent += std::size_t(n);
-    }
-    std::string answer;
-    for (char c = 0; c != '\n';) {
-      const ssize_t n = recv(socket_, &c, 1, 0);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) return died();
-      answer += c;
-    }
-    int status = 128;
-    double cpu = 0.0;
-    std::istringstream(answer) >> status >> cpu;
-    return {status, cpu};
-  }
-
-  // Ends the interpreter (the end of its requests) and waits for it, so that its CPU counts
-  // among this process's finished children.
-  void stop() {
-    if (pid_ <= 0) return;
-    close(socket_);
-    int status = 0;
-    while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-    }
-    pid_ = 0;
-  }
-
- private:
-  bool start(const std::filesystem::path& server) {
-    const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-    int ends[2];
-    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, ends) != 0) return false;
-    std::vector<std::string> words = {python, server.string()};
-    std::vector<char*> argv;
-    for (auto& w : words) argv.push_back(w.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, ends[1], 3);  // dup2 clears close-on-exec on fd 3
-    const int spawned = posix_spawnp(&pid_, python.c_str(), &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    close(ends[1]);
-    if (spawned != 0) {
-      close(ends[0]);
-      pid_ = 0;
-      return false;
-    }
-    socket_ = ends[0];
-    return true;
-  }
-
-  std::pair<int, double> died() {
-    stop();
-    return {128, 0.0};
-  }
-
-  pid_t pid_ = 0;
-  int socket_ = -1;
-};
-
-// The plot steps, one at a time on a thread of their own, beside the sglab steps of the main
-// thread: nothing reads a figure, and a plot's inputs are written by earlier sglab steps. Queued
-// plots start beside the next sglab step that is not timed (or at the end). Before a timed step
-// the plot running then is waited for and the queue holds the others until the next untimed
-// step: the timed step runs alone, and the main thread waits for one plot, not for every plot
-// queued (a core idle meanwhile). After a failure no other plot starts; the first failure is
-// rethrown by the next hold() or drain().
-class PlotQueue {
- public:
-  PlotQueue() = default;
-  PlotQueue(const PlotQueue&) = delete;
-  PlotQueue& operator=(const PlotQueue&) = delete;
-  ~PlotQueue() {
-    {
-      const std::lock_guard guard(mutex_);
-      stop_ = true;  // the plot running finishes; the queued ones are dropped
-    }
-    changed_.notify_all();
-    if (worker_.joinable()) worker_.join();
-  }
-
-  // Queues `jobs` and lets the queue run beside what the caller does next.
-  void release(std::vector<std::function<void()>>& jobs) {
-    {
-      const std::lock_guard guard(mutex_);
-      for (auto& job : jobs) queued_.push_back(std::move(job));
-      held_ = false;
-      if (!worker_.joinable() && !queued_.empty()) worker_ = std::thread(&PlotQueue::loop, this);
-    }
-    jobs.clear();
-    changed_.notify_all();
-  }
-  // Waits for the plot running now; no other starts until the next release().
-  void hold() {
-    std::unique_lock lock(mutex_);
-    held_ = true;
-    changed_.wait(lock, [this] { return !running_; });
-    rethrow();
-  }
-  // Queues `jobs`, then waits until every queued plot has run.
-  void drain(std::vector<std::function<void()>>& jobs) {
-    release(jobs);
-    std::unique_lock lock(mutex_);
-    changed_.wait(lock, [this] { return !running_ && (queued_.empty() || failure_); });
-    rethrow();
-  }
-
- private:
-  void loop() {
-    std::unique_lock lock(mutex_);
-    for (;;) {
-      changed_.wait(lock, [this] { return stop_ || (!held_ && !failure_ && !queued_.empty()); });
-      if (stop_) return;
-      std::function<void()> job = std::move(queued_.front());
-      queued_.pop_front();
-      running_ = true;
-      lock.unlock();
-      std::exception_ptr failure;
-      try {
-        job();
-      } catch (...) {
-        failure = std::current_exception();
-      }
-      lock.lock();
-      running_ = false;
-      if (failure && !failure_) failure_ = failure;
-      changed_.notify_all();
-    }
-  }
-  void rethrow() {
-    if (failure_) std::rethrow_exception(std::exchange(failure_, nullptr));
-  }
-
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::deque<std::function<void()>> queued_;
-  bool held_ = false, running_ = false, stop_ = false;
-  std::exception_ptr failure_;
-  std::thread worker_;  // last: started once the members it uses exist
-};
 
 // Whether the step's marker says it is done: the command, and every file it named (inputs and
 // outputs), are as the marker recorded them (an edited scene or a deleted output reruns it).
@@ -406,16 +238,15 @@ class StepRun {
     } else if (!s.python) {
       plots_.release(waiting_);  // they run beside this step
     }
-    auto job = [this, k, args, line, marker] { run(k, args, line, marker); };
-    if (s.python) waiting_.push_back(std::move(job));
-    else job();
+    if (s.python)
+      waiting_.push_back([this, k, args, line, marker](PlotServer& python) { run(k, args, line, marker, &python); });
+    else run(k, args, line, marker, nullptr);
   }
 
   // Runs what is left, then writes the total: the wall and CPU time since `start` (CPU: this
   // process and its finished children).
   void finish_since(std::chrono::steady_clock::time_point start, double cpu_start) {
-    plots_.drain(waiting_);
-    python_.stop();  // its CPU (its start, the imports) then counts in the total
+    plots_.drain(waiting_);  // the interpreters' CPU (their start, the imports) then counts in the total
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpu = cpu_seconds() + cpu_seconds(RUSAGE_CHILDREN) - cpu_start;
     times_.add("steps-run-alone", "", alone_wall_, alone_cpu_);
@@ -431,7 +262,7 @@ class StepRun {
   // Runs step k and records its marker and times. What each kind of step writes: the plots only
   // figures, the sglab steps everything else, so that steps running side by side keep apart.
   void run(std::size_t k, const std::vector<std::string>& args, const std::string& line,
-           const std::filesystem::path& marker) {
+           const std::filesystem::path& marker, PlotServer* python) {
     const Step& s = all_[k];
     {
       const std::lock_guard guard(lock_);
@@ -450,20 +281,27 @@ class StepRun {
     const double cpu0 = own_and_children();
     int status;
     double cpu;
+    std::optional<std::set<std::string>> wrote;  // a plot's own outputs
+    double paused = 0.0;                         // and the seconds it was paused
     if (s.python) {
-      std::tie(status, cpu) = python_.run(args);
+      PlotServer::Outcome plot = python->run(args);
+      status = plot.status;
+      cpu = plot.cpu;
+      paused = plot.paused;
+      wrote = std::move(plot.wrote);
     } else {
       // Every table a --quick run writes says so, whatever the step's own options; --force
       // recomputes the sweeps too, not only reruns their commands (which would resume); the
       // step's outputs go to the run's places.
       status = run_sglab_(args, {.quick = o_.quick, .fresh = o_.force, .places = p_});
-      cpu = own_and_children() - cpu0;  // the plot thread's own CPU is negligible (it waits)
+      cpu = own_and_children() - cpu0;  // the plot threads' own CPU is negligible (they wait)
     }
     if (status != 0) throw std::runtime_error("reproduce: step '" + s.name + "' failed (" + line + ")");
     runner::AtomicFile m(marker);
-    m.write(line + "\n" + files_state(args, s.reads) + outputs_state(before, snapshot(roots, except)));
+    m.write(line + "\n" + files_state(args, s.reads) +
+            outputs_state(before, snapshot(roots, except), wrote ? &*wrote : nullptr));
     m.commit();
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - paused;
     const std::lock_guard guard(lock_);
     ++done_;
     std::fprintf(stderr, "reproduce [%zu/%zu] %s: finished in %.1f s (CPU %.1f s)\n", k + 1, all_.size(),
@@ -485,13 +323,12 @@ class StepRun {
   const std::filesystem::path markers_, times_csv_;
   const std::vector<std::string> figures_;
   std::string command_;
-  std::mutex lock_;  // times, the counters and the log lines, shared with the plot thread
+  std::mutex lock_;  // times, the counters and the log lines, shared with the plot threads
   StepTimes times_;
   int done_ = 0, skipped_ = 0;
   double alone_wall_ = 0, alone_cpu_ = 0;  // the timed steps' (run alone) wall and CPU seconds
-  PlotServer python_;  // before plots_: destroyed after the plot thread is done with it
-  PlotQueue plots_;
-  std::vector<std::function<void()>> waiting_;  // plots not started yet: they start beside the next untimed sglab step
+  PlotQueue plots_{kPlotWorkers};
+  std::vector<PlotQueue::Job> waiting_;  // plots not started yet: they start beside the next untimed sglab step
 };
 
 }  // namespace

@@ -4,9 +4,12 @@ of once per figure script.
 
 Reads one request per line on the socket at file descriptor 3, a JSON array: the script and its
 arguments, as `python3 SCRIPT ARGS…` would get them. Runs the script as __main__ with that
-sys.argv, then answers with one line "STATUS CPU_SECONDS" on the same socket (STATUS: the exit
-status `python3 SCRIPT ARGS…` would have had; CPU: this process's and its finished children's, such
-as a script's worker pool, while the script ran). The scripts keep stdin, stdout and stderr. Between
+sys.argv, then answers with one line on the same socket, a JSON object: "status" (the exit status
+`python3 SCRIPT ARGS…` would have had), "cpu" (this process's and its finished children's CPU
+seconds, such as a script's worker pool, while the script ran) and "wrote" (the absolute path of
+every file the script wrote through _common's temporary-file-and-rename, its worker processes'
+included: what the step's marker records as its outputs, since several interpreters may write into
+one figure directory at the same time). The scripts keep stdin, stdout and stderr. Between
 two scripts every figure is closed and matplotlib's settings are restored to those read at start,
 so each script starts as it would in a fresh interpreter. Ends when the other side stops sending.
 usage: _serve.py   (requests and answers on the socket at fd 3)
@@ -17,12 +20,31 @@ import resource
 import runpy
 import socket
 import sys
+import tempfile
 import traceback
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+import _common  # noqa: E402  (this directory's: the scripts import the same module object)
+
+_REPLACE = _common._replace
+
+
+def _recorded_replace(path, write):
+    """_common._replace, which also appends the path written to the current script's record: a
+    file opened for appending, which the script's worker processes (forked by multiprocessing)
+    inherit and append to as well, one write per path."""
+    result = _REPLACE(path, write)
+    if _record is not None:
+        os.write(_record, (json.dumps(os.path.abspath(os.fspath(path))) + "\n").encode())
+    return result
+
+
+_common._replace = _recorded_replace
+_record = None  # the current script's record of written paths (a descriptor opened O_APPEND)
 
 
 def cpu_seconds():
@@ -62,13 +84,29 @@ def run(argv):
         sys.stderr.flush()
 
 
+def run_recording(argv):
+    """run(argv), and the paths its script (and its worker processes) wrote through _common, each
+    once, in the order written."""
+    global _record
+    with tempfile.TemporaryFile() as record:
+        _record = os.open(f"/proc/self/fd/{record.fileno()}", os.O_WRONLY | os.O_APPEND)
+        try:
+            status = run(argv)
+        finally:
+            os.close(_record)
+            _record = None
+        record.seek(0)  # every writer has ended: run() returns once the script's pool is closed
+        wrote = list(dict.fromkeys(json.loads(line) for line in record.read().decode().splitlines()))
+    return status, wrote
+
+
 def main() -> int:
     with socket.socket(fileno=3) as channel, channel.makefile("r") as requests, channel.makefile("w") as answers:
         for line in requests:
             argv = json.loads(line)
             start = cpu_seconds()
-            status = run(argv)
-            answers.write(f"{status} {cpu_seconds() - start:.3f}\n")
+            status, wrote = run_recording(argv)
+            answers.write(json.dumps({"status": status, "cpu": round(cpu_seconds() - start, 3), "wrote": wrote}) + "\n")
             answers.flush()
     return 0
 

@@ -159,7 +159,8 @@ def main() -> int:
               quick)
              for key, methods in groups.items()]
     tasks.sort(key=lambda t: -len(t[5]))  # the longest first, for the balance between the workers
-    with multiprocessing.Pool(os.cpu_count() or 1) as pool:
+    # Forked workers (not spawned): they inherit _serve.py's record of the files written.
+    with multiprocessing.get_context("fork").Pool(os.cpu_count() or 1) as pool:
         stems = [stem for done in pool.map(draw, tasks, chunksize=1) for stem in done]
     print(f"stability_heatmap: wrote {len(stems)} figures ({' and '.join(f.upper() for f in formats)}) into {out_dir}",
           file=sys.stderr)
