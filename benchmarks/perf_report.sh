@@ -3,8 +3,8 @@
 # (docs/testing.md, "Performance report"). Run from anywhere; it works in the checkout it sits in.
 #
 #   bash benchmarks/perf_report.sh [--skip-cold] [--skip-tests] [--skip-reproduce-full]
-#        [--skip-reproduce-quick] [--skip-python] [--skip-render] [--touch FILE] [--jobs N] [--csv FILE]
-#        [--keep] [--tu-times] [--baseline REV | --tree DIR]
+#        [--skip-reproduce-quick] [--quick-runs N] [--skip-python] [--skip-render] [--touch FILE] [--jobs N]
+#        [--csv FILE] [--keep] [--tu-times] [--baseline REV | --tree DIR]
 #
 # --baseline REV: before and after in one sitting. REV (a commit of this repository, checked out
 # into a scratch git worktree) is measured first, then this checkout, each with every row below
@@ -21,7 +21,8 @@
 #   build-tests         the rest of the tree (test executables, benchmarks), cold, ccache off
 #   build-benchmarks    with --skip-tests instead: only the two benchmarks the Python and render rows run
 #   ctest               `ctest -j2` over the whole suite (wall; CPU = the tests' summed seconds)
-#   reproduce-quick     `sglab reproduce --quick` into an empty scratch --out
+#   reproduce-quick     `sglab reproduce --quick` into an empty scratch --out (--quick-runs N: N runs,
+#                       each into an empty --out; the row gives the median wall and CPU, the note every run)
 #   reproduce-full      `sglab reproduce` into an empty scratch --out/--tables-dir (paper_tables/ untouched)
 #   reproduce-full-alone  the timed steps of that run, which run alone (its reproduce_times.csv,
 #                       row steps-run-alone): the part of its wall time no scheduling could hide
@@ -51,7 +52,7 @@ self=$(cd "$(dirname "$0")" && pwd)/$(basename "$0")
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
-cold=1 tests=1 full=1 quick=1 python=1 render=1 keep=0 jobs=2 tu_times=0
+cold=1 tests=1 full=1 quick=1 quick_runs=1 python=1 render=1 keep=0 jobs=2 tu_times=0
 touch_file=core/src/registry_core.cpp
 csv=results/perf_report.csv
 baseline='' tree=''
@@ -63,6 +64,7 @@ while [ $# -gt 0 ]; do
     --skip-tests) tests=0 ;;
     --skip-reproduce-full) full=0 ;;
     --skip-reproduce-quick) quick=0 ;;
+    --quick-runs) quick_runs=${2:?--quick-runs needs a number}; shift ;;
     --skip-python) python=0 ;;
     --skip-render) render=0 ;;
     --keep) keep=1 ;;
@@ -78,6 +80,8 @@ while [ $# -gt 0 ]; do
   shift
 done
 case "$jobs" in '' | *[!0-9]* | 0) echo "perf_report: --jobs '$jobs' is not a positive integer" >&2; exit 2 ;; esac
+case "$quick_runs" in '' | *[!0-9]* | 0)
+  echo "perf_report: --quick-runs '$quick_runs' is not a positive integer" >&2; exit 2 ;; esac
 [ -n "$baseline" ] && [ -n "$tree" ] && { echo "perf_report: --baseline and --tree exclude each other" >&2; exit 2; }
 [ -n "$baseline" ] && [ "$cold" = 0 ] &&
   { echo "perf_report: --baseline builds the commit it checks out: it cannot take --skip-cold" >&2; exit 2; }
@@ -246,8 +250,20 @@ if [ "$tests" = 1 ]; then
   last=${rows[-1]}
   rows[-1]="$(cut -d'|' -f1-2 <<< "$last")|$summed|$(cut -d'|' -f4 <<< "$last"): $passed"
 fi
-if [ "$quick" = 1 ]; then
+if [ "$quick" = 1 ] && [ "$quick_runs" = 1 ]; then
   timed reproduce-quick "sglab reproduce --quick, empty --out" "$sglab" reproduce --quick --out "$scratch/quick"
+elif [ "$quick" = 1 ]; then
+  runs=()  # "wall|cpu" of each run
+  for ((k = 1; k <= quick_runs; k++)); do
+    timed reproduce-quick "" "$sglab" reproduce --quick --out "$scratch/quick-$k"
+    runs+=("$(cut -d'|' -f2-3 <<< "${rows[-1]}")")
+    unset 'rows[-1]'
+  done
+  median() { sort -g | awk '{ v[NR] = $1 } END { printf "%s", NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+  wall=$(printf '%s\n' "${runs[@]}" | cut -d'|' -f1 | median)
+  cpu=$(printf '%s\n' "${runs[@]}" | cut -d'|' -f2 | median)
+  each=$(printf '%s\n' "${runs[@]}" | awk -F'|' '{ printf "%s%s s (%s)", (NR > 1 ? ", " : ""), $1, $2 }')
+  rows+=("reproduce-quick|$wall|$cpu|sglab reproduce --quick, empty --out; median of $quick_runs runs, wall (CPU): $each")
 fi
 if [ "$full" = 1 ]; then
   timed reproduce-full "sglab reproduce, empty --out and --tables-dir" \
