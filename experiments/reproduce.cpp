@@ -234,7 +234,7 @@ class StepRun {
       return;
     }
     if (s.timed) {
-      plots_.hold();  // its tables carry times: nothing runs beside it (queued plots wait)
+      plots_.hold();  // its tables carry times: nothing runs beside it (plots paused, queued ones wait)
     } else if (!s.python) {
       plots_.release(waiting_);  // they run beside this step
     }

@@ -14,6 +14,7 @@ two scripts every figure is closed and matplotlib's settings are restored to tho
 so each script starts as it would in a fresh interpreter. Ends when the other side stops sending.
 usage: _serve.py   (requests and answers on the socket at fd 3)
 """
+import fcntl
 import json
 import os
 import resource
@@ -89,11 +90,11 @@ def run_recording(argv):
     once, in the order written."""
     global _record
     with tempfile.TemporaryFile() as record:
-        _record = os.open(f"/proc/self/fd/{record.fileno()}", os.O_WRONLY | os.O_APPEND)
+        _record = record.fileno()
+        fcntl.fcntl(_record, fcntl.F_SETFL, fcntl.fcntl(_record, fcntl.F_GETFL) | os.O_APPEND)  # each path whole
         try:
             status = run(argv)
         finally:
-            os.close(_record)
             _record = None
         record.seek(0)  # every writer has ended: run() returns once the script's pool is closed
         wrote = list(dict.fromkeys(json.loads(line) for line in record.read().decode().splitlines()))
