@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <csignal>
-#include <fstream>
-#include <map>
-#include <sstream>
 #include <utility>
 
+#include <fcntl.h>
 #include <nlohmann/json.hpp>
 #include <spawn.h>
 #include <sys/socket.h>
@@ -15,40 +13,9 @@
 
 #include <cerrno>
 
+#include "fatal_signal.hpp"
+
 namespace sglab::experiments {
-namespace {
-
-// The processes below `root` (its children, theirs, …), by the parent each names in /proc/PID/stat.
-std::vector<pid_t> descendants(pid_t root) {
-  std::multimap<pid_t, pid_t> children;  // parent -> child
-  std::error_code ec;
-  for (auto it = std::filesystem::directory_iterator("/proc", ec); !ec && it != std::filesystem::directory_iterator();
-       it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::ifstream in(it->path() / "stat");
-    std::string stat;
-    std::getline(in, stat);
-    const auto close = stat.rfind(')');  // "PID (COMM) STATE PPID …"; COMM may hold ") "
-    if (close == std::string::npos) continue;
-    std::istringstream rest(stat.substr(close + 1));
-    std::string state;
-    long parent = 0;
-    if (rest >> state >> parent) children.emplace(pid_t(parent), pid_t(std::stol(name)));
-  }
-  std::vector<pid_t> out, open = {root};
-  while (!open.empty() && out.size() < children.size()) {
-    const auto [first, last] = children.equal_range(open.back());
-    open.pop_back();
-    for (auto c = first; c != last; ++c) {
-      out.push_back(c->second);
-      open.push_back(c->second);
-    }
-  }
-  return out;
-}
-
-}  // namespace
 
 PlotServer::Outcome PlotServer::run(const std::vector<std::string>& args) {
   if (!started() && !start(std::filesystem::path(args.at(0)).parent_path() / "_serve.py")) return {127, 0, 0, {}};
@@ -96,6 +63,8 @@ void PlotServer::stop() {
   const std::lock_guard guard(state_);
   if (pid_ <= 0) return;
   close(socket_);
+  runner::unregister_child_group(group_slot_);  // before the group's ID can be reused
+  group_slot_ = -1;
   int status = 0;
   while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
   }
@@ -112,11 +81,7 @@ double PlotServer::paused_seconds() {
   return paused_total_;
 }
 
-void PlotServer::signal_all(int signal) {
-  kill(pid_, signal);
-  for (int pass = 0; pass < 2; ++pass)
-    for (const pid_t child : descendants(pid_)) kill(child, signal);
-}
+void PlotServer::signal_all(int signal) { kill(-pid_, signal); }
 
 bool PlotServer::start(const std::filesystem::path& server) {
   const std::string python = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
@@ -129,8 +94,27 @@ bool PlotServer::start(const std::filesystem::path& server) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, ends[1], 3);  // dup2 clears close-on-exec on fd 3
+  // Outside the terminal's foreground group a read of the terminal would stop the plot (SIGTTIN):
+  // a plot reads no input. A write would with `stty tostop` (SIGTTOU), unless that signal is blocked.
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  posix_spawnattr_setpgroup(&attributes, 0);  // a process group of its own, led by the interpreter
+  sigset_t mask;
+  sigemptyset(&mask);
+  sigaddset(&mask, SIGTTOU);
+  posix_spawnattr_setsigmask(&attributes, &mask);
+  // What ends the group (plot_queue.hpp) must end it also where sglab runs with these ignored (under
+  // nohup, SIGHUP): the kernel's SIGHUP to an orphaned group, the handler's SIGTERM.
+  sigset_t defaults;
+  sigemptyset(&defaults);
+  sigaddset(&defaults, SIGHUP);
+  sigaddset(&defaults, SIGTERM);
+  posix_spawnattr_setsigdefault(&attributes, &defaults);
   const std::lock_guard guard(state_);
-  const int spawned = posix_spawnp(&pid_, python.c_str(), &actions, nullptr, argv.data(), environ);
+  const int spawned = posix_spawnp(&pid_, python.c_str(), &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   close(ends[1]);
   if (spawned != 0) {
@@ -139,7 +123,8 @@ bool PlotServer::start(const std::filesystem::path& server) {
     return false;
   }
   socket_ = ends[0];
-  if (paused_) kill(pid_, SIGSTOP);  // paused before it started: it starts stopped
+  group_slot_ = runner::register_child_group(pid_);
+  if (paused_) signal_all(SIGSTOP);  // paused before it started: it starts stopped
   return true;
 }
 

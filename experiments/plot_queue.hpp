@@ -46,10 +46,14 @@ class PlotServer {
 
   // Stops the interpreter and its worker processes where they are (SIGSTOP), now or, if it is
   // not running yet, as soon as it starts; resume() continues them (SIGCONT). For the timed
-  // steps, which run with nothing beside them: a paused plot uses no CPU and finishes later. The
-  // interpreter stays in sglab's process group, so that a Ctrl-C reaches it as before (pending
-  // while it is stopped: were sglab to end meanwhile, the group, once orphaned, gets SIGHUP and
-  // SIGCONT from the kernel).
+  // steps, which run with nothing beside them: a paused plot uses no CPU and finishes later.
+  // The interpreter leads a process group of its own, which its worker processes join, so that
+  // none of them outlives sglab stopped: sglab's SIGINT/SIGTERM handler ends the group
+  // (runner/fatal_signal.hpp; a Ctrl-C reaches the plots that way, not from the terminal), and
+  // however else sglab ends, the group, orphaned then, gets SIGHUP and SIGCONT from the kernel if
+  // a process of it is stopped (a running one ends at the end of its requests). In sglab's
+  // process group a stopped interpreter stayed stopped for as long as that group had another
+  // process whose parent was outside it (a calling script).
   void pause();
   void resume();
 
@@ -60,14 +64,14 @@ class PlotServer {
  private:
   bool started();
   double paused_seconds();
-  // `signal` to the interpreter, then to its descendants (a script's worker processes: found by
-  // their parent in /proc/PID/stat, twice, for a worker forked as the interpreter stopped).
+  // `signal` to the interpreter's process group: the interpreter and a script's worker processes.
   void signal_all(int signal);
   bool start(const std::filesystem::path& server);
   Outcome died();
 
-  std::mutex state_;  // pid_ and the pause, shared by the plot thread (run) and the main thread
-  pid_t pid_ = 0;
+  std::mutex state_;     // pid_ and the pause, shared by the plot thread (run) and the main thread
+  pid_t pid_ = 0;        // the interpreter, which leads its process group (ID pid_)
+  int group_slot_ = -1;  // its slot in the fatal-signal handler's table of groups
   int socket_ = -1;
   bool paused_ = false;
   std::chrono::steady_clock::time_point paused_since_;

@@ -9,9 +9,9 @@ sys.argv, then answers with one line on the same socket, a JSON object: "status"
 seconds, such as a script's worker pool, while the script ran) and "wrote" (the absolute path of
 every file the script wrote through _common's temporary-file-and-rename, its worker processes'
 included: what the step's marker records as its outputs, since several interpreters may write into
-one figure directory at the same time). The scripts keep stdin, stdout and stderr. Between
-two scripts every figure is closed and matplotlib's settings are restored to those read at start,
-so each script starts as it would in a fresh interpreter. Ends when the other side stops sending.
+one figure directory at the same time). The scripts keep stdout and stderr; stdin is /dev/null.
+Between two scripts every figure is closed and matplotlib's settings are restored to those read at
+start, so each script starts as it would in a fresh interpreter. Ends when the other side stops sending.
 usage: _serve.py   (requests and answers on the socket at fd 3)
 """
 import fcntl

@@ -1,21 +1,17 @@
 #include "atomic_file.hpp"
 
 #include <fcntl.h>
-#include <limits.h>
-#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
-#include <cstring>
-#include <mutex>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include <fmt/core.h>
 
+#include "fatal_signal.hpp"
 #include "input_error.hpp"
 #include "sglab/text_limits.hpp"
 
@@ -24,73 +20,6 @@ namespace {
 
 [[noreturn]] void throw_errno(const std::string& what, const std::filesystem::path& path) {
   throw std::system_error(errno, std::generic_category(), what + " '" + path.string() + "'");
-}
-
-// ---- temporaries removed on SIGINT/SIGTERM ------------------------------------------------------
-// A fixed table, so the handler touches only async-signal-safe state: a slot is 0 (free),
-// 1 (being filled) or 2 (holds the path of a live temporary).
-constexpr int kSlots = 256;
-struct TempSlot {
-  std::atomic<int> state{0};
-  char path[PATH_MAX];
-};
-TempSlot g_temps[kSlots];
-std::atomic<int> g_publishing{0};      // > 0 while an output set is being renamed
-std::atomic<int> g_pending_signal{0};  // a signal that arrived meanwhile
-
-void remove_temporaries_and_die(int sig) {
-  for (auto& slot : g_temps)
-    if (slot.state.load() == 2) ::unlink(slot.path);
-  ::signal(sig, SIG_DFL);
-  ::raise(sig);
-}
-
-extern "C" void on_fatal_signal(int sig) {
-  if (g_publishing.load() > 0) {  // finish publishing the set first; publish_end re-raises
-    g_pending_signal.store(sig);
-    return;
-  }
-  remove_temporaries_and_die(sig);
-}
-
-void install_handlers() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    for (int sig : {SIGINT, SIGTERM}) {
-      struct sigaction old {};
-      if (::sigaction(sig, nullptr, &old) != 0 || old.sa_handler != SIG_DFL) continue;  // ignored or handled already
-      struct sigaction sa {};
-      sa.sa_handler = on_fatal_signal;
-      sigemptyset(&sa.sa_mask);
-      ::sigaction(sig, &sa, nullptr);
-    }
-  });
-}
-
-int register_temporary(const std::string& path) {
-  if (path.size() >= PATH_MAX) return -1;
-  install_handlers();
-  for (int i = 0; i < kSlots; ++i) {
-    int expected = 0;
-    if (g_temps[i].state.compare_exchange_strong(expected, 1)) {
-      std::memcpy(g_temps[i].path, path.c_str(), path.size() + 1);
-      g_temps[i].state.store(2);
-      return i;
-    }
-  }
-  return -1;  // table full: this temporary is not removed by a signal (still never a partial target)
-}
-
-void unregister_temporary(int slot) {
-  if (slot >= 0) g_temps[slot].state.store(0);
-}
-
-void publish_begin() { g_publishing.fetch_add(1); }
-void publish_end() {
-  if (g_publishing.fetch_sub(1) == 1) {
-    const int sig = g_pending_signal.exchange(0);
-    if (sig != 0) remove_temporaries_and_die(sig);
-  }
 }
 
 const char* file_kind(const struct stat& st) {

@@ -2,9 +2,9 @@
 // directory (same file system, so the final rename is atomic); commit() flushes it to disk and
 // renames it over the target. Until then the target is untouched: a command that fails halfway,
 // or throws, leaves neither a partial file nor a clobbered old one (the destructor removes the
-// temporary). SIGINT and SIGTERM remove every live temporary before the process dies (a handler
-// installed with the first AtomicFile, unless the signal's disposition was changed already);
-// SIGKILL can leave a hidden temporary behind, never a partial target.
+// temporary). SIGINT and SIGTERM remove every live temporary before the process dies (the handler
+// of fatal_signal.hpp, installed with the first AtomicFile unless the signal's disposition was
+// changed already); SIGKILL can leave a hidden temporary behind, never a partial target.
 //
 // A command with several outputs writes them as one OutputSet: every path is checked before
 // anything is computed (check_output_paths), every file goes to its temporary, and the renames

@@ -2,23 +2,33 @@
 // every step's command line, full and --quick, parses with the real `sglab` app (a renamed option
 // breaks this test, not the main job), and where each mode writes.
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
 
 #include "commands.hpp"
 #include "input_error.hpp"
+#include "plot_queue.hpp"
 #include "registry.hpp"
 #include "reproduce.hpp"
 #include "sglab/registry.hpp"
+#include "test_util.hpp"
 
 namespace ex = sglab::experiments;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -186,7 +196,6 @@ TEST(ExperimentRegistry, EveryCommandIsRegisteredOnce) {
 // A command run in a context whose places point elsewhere writes there and nothing into a plain
 // run's places (run in-process, as `sglab reproduce` runs its steps).
 TEST(RunContextPlaces, SteerWhereACommandWrites) {
-  namespace fs = std::filesystem;
   const fs::path dir = fs::path(testing::TempDir()) / "sglab_run_context_places";
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -222,4 +231,116 @@ TEST(RunContextPlaces, ArgumentsNameOnlyWhatDiffersFromAPlainRun) {
   EXPECT_EQ(Places{}.tables_or_dir("near_wall"), "results/near_wall");
   EXPECT_EQ((Places{"r", "t"}.tables_or_dir("near_wall")), "t");
   EXPECT_EQ(Places{}.tables_read(), "paper_tables");
+}
+
+// ---- the plot interpreters end with sglab ---------------------------------------------------------
+// A stand-in for plots/_serve.py (PlotServer runs the _serve.py beside the script it is asked to
+// run): each request forks a worker process, as a plot's multiprocessing pool does, writes both
+// PIDs to `pids`, then answers at once ("answer" mode) or keeps running (a plot that is not done).
+constexpr const char* kFakeServer = R"(import os, socket, sys, time
+here = os.path.dirname(os.path.abspath(__file__))
+channel = socket.socket(fileno=3)
+requests, answers = channel.makefile("rb"), channel.makefile("wb")
+for request in requests:
+    worker = os.fork()
+    if worker == 0:
+        time.sleep(60)
+        os._exit(0)
+    with open(os.path.join(here, "pids.tmp"), "w") as f:
+        f.write("%d %d\n" % (os.getpid(), worker))
+    os.rename(os.path.join(here, "pids.tmp"), os.path.join(here, "pids"))
+    if open(os.path.join(here, "mode")).read() == "answer":
+        answers.write(b'{"status": 0, "cpu": 0, "wrote": []}\n')
+        answers.flush()
+    else:
+        time.sleep(60)
+)";
+
+class PlotServerEnd : public sglab::test::TempDirTest {
+ protected:
+  void SetUp() override {
+    TempDirTest::SetUp();
+    std::ofstream(path("_serve.py")) << kFakeServer;
+    std::ofstream(path("plot.py")) << "";
+  }
+  void TearDown() override {
+    for (const pid_t p : pids_) ::kill(p, SIGKILL);  // what a failing case left behind (ours)
+    TempDirTest::TearDown();
+  }
+  // Waits up to `seconds` for `file` to appear.
+  bool wait_for(const std::string& file, double seconds) const {
+    for (auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+         std::chrono::steady_clock::now() < until; std::this_thread::sleep_for(std::chrono::milliseconds(20)))
+      if (fs::exists(path(file))) return true;
+    return false;
+  }
+  // The state letter of `pid` in /proc (R, S, T, Z, …), or '-' when there is no such process.
+  static char state(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string stat;
+    if (!std::getline(in, stat) || stat.rfind(')') == std::string::npos) return '-';
+    return stat[stat.rfind(')') + 2];
+  }
+  // Runs `owner` in a child process (the sglab that started the interpreter), waits for it to
+  // end by `signal`, then expects the interpreter and its worker to end within 10 s (gone, or a
+  // zombie for init to reap).
+  template <class F>
+  void expect_interpreter_ends_with_owner(F owner, int signal) {
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      owner();
+      ::_exit(4);  // not reached: the owner ends by its signal
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(wait_for("pids", 5)) << "the interpreter never ran the plot";
+    std::ifstream(path("pids")) >> pids_[0] >> pids_[1];
+    ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == signal) << "owner status " << status;
+    const auto ended = [&] {
+      for (const pid_t p : pids_)
+        if (state(p) != '-' && state(p) != 'Z') return false;
+      return true;
+    };
+    for (int i = 0; i < 500 && !ended(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_TRUE(ended()) << "interpreter " << pids_[0] << " in state " << state(pids_[0]) << ", worker " << pids_[1]
+                         << " in state " << state(pids_[1]) << " 10 s after their sglab ended";
+  }
+  pid_t pids_[2] = {0, 0};
+};
+
+// Paused (SIGSTOP) and then left by an sglab killed outright: the interpreter's own process group,
+// orphaned, gets SIGHUP and SIGCONT from the kernel. In the test process's group it stayed stopped.
+// (The kernel looks at the moment the group is orphaned: the owner waits until both processes have
+// stopped, as they have long before in a real run's timed step.)
+TEST_F(PlotServerEnd, APausedInterpreterAndItsWorkerEndWhenSglabIsKilled) {
+  std::ofstream(path("mode")) << "answer";
+  expect_interpreter_ends_with_owner(
+      [&] {
+        ex::PlotServer server;
+        if (server.run({path("plot.py").string()}).status != 0) ::_exit(3);
+        server.pause();
+        pid_t pids[2] = {0, 0};
+        std::ifstream(path("pids")) >> pids[0] >> pids[1];
+        for (int i = 0; i < 500 && (state(pids[0]) != 'T' || state(pids[1]) != 'T'); ++i)
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        ::raise(SIGKILL);
+      },
+      SIGKILL);
+}
+
+// In the middle of a plot when sglab gets SIGTERM (or SIGINT: a Ctrl-C reaches the plots this way):
+// the handler ends the interpreter's group before sglab dies, rather than let the plot run on.
+TEST_F(PlotServerEnd, ARunningInterpreterAndItsWorkerEndWhenSglabIsTerminated) {
+  std::ofstream(path("mode")) << "run";
+  expect_interpreter_ends_with_owner(
+      [&] {
+        ::signal(SIGTERM, SIG_DFL);  // as in a shell's background job, whatever this test inherited
+        ex::PlotServer server;
+        std::thread plot([&] { server.run({path("plot.py").string()}); });
+        plot.detach();
+        if (!wait_for("pids", 5)) ::_exit(3);
+        ::raise(SIGTERM);
+      },
+      SIGTERM);
 }

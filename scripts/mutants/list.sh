@@ -127,8 +127,10 @@ mutant csv-quote-needs runner/csv.cpp 's#find_first_of(",\\"\\r\\n")#find_first_
   sweep_test parser_fuzz_test eval_command_test:EvalCommand.ExtraColumns*
 mutant csv-crlf runner/csv.cpp "s#if (at(i_) == '\\\\r') ++i_;#;#" \
   sweep_test parser_fuzz_test eval_command_test
-mutant atomic-signal-unlink runner/atomic_file.cpp 's#if (slot\.state\.load() == 2) ::unlink(slot\.path);#if (slot.state.load() == 3) ::unlink(slot.path);#' \
+mutant atomic-signal-unlink runner/fatal_signal.cpp 's#if (slot\.state\.load() == 2) ::unlink(slot\.path);#if (slot.state.load() == 3) ::unlink(slot.path);#' \
   hardening_test:Hardening.Group07*
+mutant signal-ends-child-groups runner/fatal_signal.cpp 's#    if (slot\.state\.load() == 2) {#    if (slot.state.load() == 3) {#' \
+  reproduce_test:PlotServerEnd.*
 mutant sweep-resume runner/sweep.cpp 's#if (!run\.done\[j\]) run\.todo\.push_back(j);#run.todo.push_back(j);#' \
   sweep_test
 
@@ -166,3 +168,5 @@ mutant shader-expm1-switch shader/emit.cpp 's#return abs(x) > 0\.5f ? e : s;#ret
   shader_export_test:ShaderExport.EveryMethod*
 mutant specular-sglab-t-power core/include/sglab/specular_sglab.hpp 's#const T half_inv_nu = T(0\.5) + inv_nu;#const T half_inv_nu = T(1) + inv_nu;#' \
   specular_sglab_test
+mutant plot-server-own-group experiments/plot_queue.cpp 's#POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK#POSIX_SPAWN_SETSIGMASK#' \
+  reproduce_test:PlotServerEnd.*
