@@ -51,9 +51,9 @@ class PlotServer {
   // none of them outlives sglab stopped: sglab's SIGINT/SIGTERM handler ends the group
   // (runner/fatal_signal.hpp; a Ctrl-C reaches the plots that way, not from the terminal), and
   // however else sglab ends, the group, orphaned then, gets SIGHUP and SIGCONT from the kernel if
-  // a process of it is stopped (a running one ends at the end of its requests). In sglab's
-  // process group a stopped interpreter stayed stopped for as long as that group had another
-  // process whose parent was outside it (a calling script).
+  // a process of it is stopped at that moment (a running one ends at the end of its requests).
+  // In sglab's own group a stopped interpreter would stay stopped for as long as that group had
+  // a process whose parent is outside it, such as the script that called sglab.
   void pause();
   void resume();
 

@@ -151,7 +151,7 @@ mutant py-reference-flag python/sglab_module.cpp 's#py::arg("reference") = (m\.n
   build:sglab_python build:sglab 'ctest:^python_sglab'
 
 # ---- code added since the list was first written: denoising, environment bases, shader export,
-# the own specular method -------------------------------------------------------------------------
+# the own specular method, the plot queue's process groups ----------------------------------------
 mutant denoise-box-footprint core/render/src/denoise.cpp 's#std::abs(d) == radius ? 0\.5 : 1\.0#std::abs(d) == radius ? 1.0 : 1.0#' \
   denoise_test:DenoiseFilter.*
 mutant denoise-subset-weight core/render/src/denoise.cpp 's#const double weight = double(subsets);#const double weight = double(m);#' \
