@@ -237,7 +237,7 @@ TEST(RunContextPlaces, ArgumentsNameOnlyWhatDiffersFromAPlainRun) {
 // A stand-in for plots/_serve.py (PlotServer runs the _serve.py beside the script it is asked to
 // run): each request forks a worker process, as a plot's multiprocessing pool does, writes both
 // PIDs to `pids`, then answers at once ("answer" mode) or keeps running (a plot that is not done).
-constexpr const char* kFakeServer = R"(import os, socket, sys, time
+constexpr const char* kFakeServer = R"(import os, socket, time
 here = os.path.dirname(os.path.abspath(__file__))
 channel = socket.socket(fileno=3)
 requests, answers = channel.makefile("rb"), channel.makefile("wb")
@@ -264,7 +264,8 @@ class PlotServerEnd : public sglab::test::TempDirTest {
     std::ofstream(path("plot.py")) << "";
   }
   void TearDown() override {
-    for (const pid_t p : pids_) ::kill(p, SIGKILL);  // what a failing case left behind (ours)
+    for (const pid_t p : pids_)  // what a failing case left behind (ours, still there)
+      if (p > 0 && state(p) != '-' && state(p) != 'Z') ::kill(p, SIGKILL);
     TempDirTest::TearDown();
   }
   // Waits up to `seconds` for `file` to appear.
