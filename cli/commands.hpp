@@ -1,6 +1,6 @@
 // The `sglab` command is a thin shell: each general tool's sub-command lives in its own file in
 // cli/ and registers itself on the CLI11 app through one add_*_command function listed in
-// main.cpp; each experiment's own command comes from the experiment registry
+// app.cpp; each experiment's own command comes from the experiment registry
 // (experiments/registry.hpp).
 #pragma once
 
@@ -11,6 +11,7 @@
 
 #include "input_error.hpp"  // runner::InputError: bad input, exit status 2
 #include "run_context.hpp"
+#include "run_sglab.hpp"  // run_sglab: one command line, in-process
 
 namespace sglab::cli {
 
@@ -29,11 +30,7 @@ void add_export_command(CLI::App& app);      // export_command.cpp: `sglab expor
 void add_fit_envmap_command(CLI::App& fit);  // envmap_command.cpp: `sglab fit envmap` (called by add_fit_command)
 
 // All of the above and every registered experiment's command, on one app, each run in `run`; the
-// help lists the experiments (main.cpp).
+// help lists the experiments (app.cpp).
 void add_all_commands(CLI::App& app, const runner::RunContext& run);
-// Runs one sglab command line (arguments without the program name) in-process, exactly as from
-// the shell, in `run` (main: a plain run); returns the exit status. `sglab reproduce` runs its
-// steps through this in its mode, `sglab merge` a sweep's summary.
-int run_sglab(std::vector<std::string> args, const runner::RunContext& run = {});
 
 }  // namespace sglab::cli

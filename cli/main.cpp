@@ -3,6 +3,6 @@
 #include <string>
 #include <vector>
 
-#include "commands.hpp"
+#include "run_sglab.hpp"
 
 int main(int argc, char** argv) { return sglab::cli::run_sglab(std::vector<std::string>(argv + 1, argv + argc)); }

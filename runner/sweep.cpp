@@ -12,7 +12,6 @@
 #include <map>
 #include <mutex>
 #include <optional>
-#include <regex>
 #include <string_view>
 #include <thread>
 

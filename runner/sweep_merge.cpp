@@ -3,7 +3,7 @@
 // exactly as an unsharded run would have written it.
 #include <algorithm>
 #include <map>
-#include <regex>
+#include <string_view>
 #include <system_error>
 
 #include <fmt/core.h>
@@ -24,6 +24,22 @@ using namespace sweep_detail;
 
 namespace {
 
+// NAME_sweep.shard-i-of-N.json, NAME not empty, i and N decimal digits: a shard's manifest, as
+// sweep.hpp names it. By hand, not std::regex: <regex> costs this unit 3.5 CPU s to compile.
+bool is_shard_manifest_name(std::string_view name) {
+  constexpr std::string_view stem = "_sweep.shard-", extension = ".json";
+  if (!name.ends_with(extension)) return false;
+  name.remove_suffix(extension.size());
+  const auto at = name.rfind(stem);  // the digits after the last stem hold no stem
+  if (at == std::string_view::npos || at == 0) return false;
+  const auto digits = [](std::string_view d) {
+    return !d.empty() && std::all_of(d.begin(), d.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  const auto rest = name.substr(at + stem.size());
+  const auto of = rest.find("-of-");
+  return of != std::string_view::npos && digits(rest.substr(0, of)) && digits(rest.substr(of + 4));
+}
+
 struct ShardFile {
   fs::path manifest, points;
   nlohmann::json json;
@@ -34,14 +50,12 @@ struct ShardFile {
 std::vector<ShardFile> find_shards(
     const std::vector<fs::path>& inputs,
     const std::function<void(const std::vector<std::string>&, const std::filesystem::path&)>& check_args) {
-  static const std::regex shard_manifest(R"((.+)_sweep\.shard-(\d+)-of-(\d+)\.json)");
   std::vector<fs::path> manifests;
   for (const auto& in : inputs) {
     if (fs::is_directory(in)) {
       std::vector<fs::path> found;
       for (const auto& e : fs::directory_iterator(in))
-        if (e.is_regular_file() && std::regex_match(e.path().filename().string(), shard_manifest))
-          found.push_back(e.path());
+        if (e.is_regular_file() && is_shard_manifest_name(e.path().filename().string())) found.push_back(e.path());
       if (found.empty())
         throw InputError("merge: no shard manifest (NAME_sweep.shard-i-of-N.json) in '" + in.string() + "'");
       std::sort(found.begin(), found.end());

@@ -371,6 +371,16 @@ TEST_F(SweepTest, MergeRefusesAPointOutsideItsShard) {
 
 TEST_F(SweepTest, MergeNeedsShards) {
   EXPECT_NE(merge_error({dir_}, dir_ / "out").find("no shard manifest"), std::string::npos);
+  // Names near NAME_sweep.shard-i-of-N.json that are not one are not taken for a manifest …
+  for (const char* near :
+       {"_sweep.shard-0-of-2.json", "toy_sweep.shard-0-of-2.json.bak", "toy_sweep.shard-a-of-2.json",
+        "toy_sweep.shard-0-of-.json", "toy_sweep.shard--of-2.json", "toy_sweep.shard-0-2.json",
+        "toy_sweep.shard-0-of-2json", "toy_sweep-shard-0-of-2.json", "toy_sweep.shard-0-of-2-of-3.json"})
+    std::ofstream(dir_ / near) << "{}";
+  EXPECT_NE(merge_error({dir_}, dir_ / "out").find("no shard manifest"), std::string::npos);
+  // … while a NAME that itself holds the pattern is one (its last occurrence is the shard's).
+  std::ofstream(dir_ / "a_sweep.shard-0-of-2_sweep.shard-1-of-2.json") << "[]";
+  EXPECT_NE(merge_error({dir_}, dir_ / "out").find("not a sweep manifest"), std::string::npos);
   EXPECT_NE(merge_error({dir_ / "nonexistent"}, dir_ / "out").find("neither a directory nor a file"),
             std::string::npos);
 }
