@@ -31,8 +31,8 @@
 #include "constant_sets.hpp"
 #include "csv.hpp"
 #include "option_checks.hpp"
-#include "parse_number.hpp"
-#include "sglab/registry.hpp"
+#include "parse_number_mp50.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "sglab/text_limits.hpp"
 
 namespace sglab::cli {
@@ -116,18 +116,6 @@ void print_list_json() {
   std::cout << j.dump(2) << '\n' << std::flush;
 }
 
-template <class T>
-const MethodFn<T>& evaluator(const Method& m) {
-  if constexpr (std::is_same_v<T, float>) {
-    return m.eval_float;
-  } else if constexpr (std::is_same_v<T, double>) {
-    return m.eval_double;
-  } else {
-    static_assert(std::is_same_v<T, mp50>);
-    return m.eval_mp50;
-  }
-}
-
 // Significant digits that read back to the same T (sglab::round_trip_digits).
 template <class T>
 std::string format_value(const T& v, int digits) {
@@ -208,7 +196,7 @@ std::vector<T> parse_arguments(const Quantity& q, const Method& method, const ru
 template <class T>
 std::vector<std::string> evaluate(const Quantity& q, const Method& method, Precision precision,
                                   const runner::CsvTable& table, const std::string& source) {
-  const MethodFn<T>& fn = evaluator<T>(method);
+  const MethodFn<T>& fn = method_function<T>(method);
   if (!fn)
     throw std::logic_error(fmt::format("method '{}' of '{}' has no {} evaluator in the registry", method.name, q.name,
                                        precision_name(precision)));

@@ -28,7 +28,7 @@
 #include "fit_all.hpp"
 #include "sglab/error_metrics.hpp"
 #include "sglab/peer_ports.hpp"
-#include "sglab/registry.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "sglab/specular_grid.hpp"
 #include "registry.hpp"
 #include "sglab/text_limits.hpp"

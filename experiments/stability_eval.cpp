@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "stability_atlas.hpp"
+#include "sglab/registry_mp50.hpp"
 
 namespace sglab::experiments::atlas {
 

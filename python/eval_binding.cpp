@@ -21,8 +21,8 @@
 #include <tbb/parallel_for.h>
 #include "input_error.hpp"
 #include "constant_sets.hpp"
-#include "parse_number.hpp"
-#include "sglab/registry.hpp"
+#include "parse_number_mp50.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "sglab/simd.hpp"
 #include "chunk_checks.hpp"
 #include "module_parts.hpp"
@@ -122,12 +122,6 @@ template <class T>
 const BatchFn<T>& batch_of(const Method& m) {
   if constexpr (std::is_same_v<T, float>) return m.batch_float;
   else return m.batch_double;
-}
-template <class T>
-const MethodFn<T>& evaluator_of(const Method& m) {
-  if constexpr (std::is_same_v<T, float>) return m.eval_float;
-  else if constexpr (std::is_same_v<T, double>) return m.eval_double;
-  else return m.eval_mp50;
 }
 
 template <class T>
@@ -337,7 +331,7 @@ std::optional<Failure> run_chunk(const Quantity& q, const Method& m, std::size_t
   if (!evaluated)
     for (std::size_t r = 0; r < len; ++r) {
       try {
-        out[begin + r] = evaluator_of<T>(m)(args.subspan(r * k, k));
+        out[begin + r] = method_function<T>(m)(args.subspan(r * k, k));
       } catch (const std::exception& e) {
         return Failure{Failure::method_threw, begin + r, e.what(), std::nullopt};
       }
@@ -378,7 +372,7 @@ py::array_t<T> eval_numeric(const std::string& quantity, const std::string& meth
   const Method bound = bound_method(method_named(q, method), constants);
   const Method& m = bound;
   const std::string_view precision = precision_name(std::is_same_v<T, float> ? Precision::float32 : Precision::float64);
-  if (!batch_of<T>(m) || !evaluator_of<T>(m))
+  if (!batch_of<T>(m) || !method_function<T>(m))
     throw std::logic_error(
         fmt::format("method '{}' of '{}' has no {} evaluator in the registry", m.name, q.name, precision));
   if (columns.size() != q.columns.size())

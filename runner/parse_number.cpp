@@ -1,4 +1,4 @@
-#include "parse_number.hpp"
+#include "parse_number_mp50.hpp"
 
 #include <algorithm>
 #include <cerrno>

@@ -1,6 +1,6 @@
-// Strict decimal parsing of one text field into float, double or mp50, shared by every command
-// that reads numbers from a file. Strict because a lenient parser (strtod, stream extraction)
-// silently accepts "1.5x", "nan", "inf" or an empty field, and a sweep built on such input
+// Strict decimal parsing of one text field into float, double or mp50 (its declarations in
+// parse_number_mp50.hpp), shared by every command that reads numbers from a file. Strict because a lenient parser
+// (strtod, stream extraction) silently accepts "1.5x", "nan", "inf" or an empty field, and a sweep built on such input
 // would print numbers for rows the user never meant.
 #pragma once
 
@@ -36,24 +36,17 @@ T parse_decimal(std::string_view text);
 // tables hold such values as results (an error map's error where the reference is 0). Throws NumberError.
 double parse_table_number(std::string_view text);
 
-// Whether an mp50 value lies outside double's range: beyond ±DBL_MAX, or nonzero and below the
-// smallest normal double in magnitude (float and double values never are).
-bool outside_double(const mp50& v);
+// Whether a value lies outside double's range: an mp50 value can (parse_number_mp50.hpp), float
+// and double values never are.
 inline bool outside_double(float) { return false; }
 inline bool outside_double(double) { return false; }
 
-// The double a row is validated with (registry.hpp row_error): the value itself, except an mp50
-// value outside double's range, which stands in as ±DBL_MAX (past the largest double) or ±DBL_MIN
-// (nonzero, below the smallest normal). Each is on the same side as the value of every bound a
-// column or domain check compares with (0, ±1, a normal double), so "λ > 0", "c ≤ 1" and "finite"
-// decide as for the value; a method that evaluates in double (Method::evaluates_in_double) must
-// refuse such a value itself (it would be rounded to 0 or ∞).
-double validation_double(const mp50& v);
+// The double a row is validated with (registry.hpp row_error): the value itself (for mp50,
+// parse_number_mp50.hpp).
 inline double validation_double(float v) { return v; }
 inline double validation_double(double v) { return v; }
 
 extern template float parse_decimal<float>(std::string_view);
 extern template double parse_decimal<double>(std::string_view);
-extern template mp50 parse_decimal<mp50>(std::string_view);
 
 }  // namespace sglab::runner

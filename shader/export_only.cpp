@@ -6,6 +6,7 @@
 #include "emit.hpp"
 
 #include "sglab/filtering_weights.hpp"
+#include "sglab/registry_mp50.hpp"  // make_method: every precision
 
 namespace sglab::shader {
 namespace {

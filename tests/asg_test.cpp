@@ -9,6 +9,7 @@
 #include "sglab/asg.hpp"
 #include "sglab/glossy_reference.hpp"
 #include "test_util.hpp"
+#include "sglab/mp50.hpp"
 
 namespace sglab {
 namespace {

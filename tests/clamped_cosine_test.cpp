@@ -10,6 +10,7 @@
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/reference.hpp"
 #include "test_util.hpp"
+#include "sglab/reference_mp50.hpp"
 
 namespace sglab {
 namespace {

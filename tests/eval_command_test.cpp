@@ -23,6 +23,7 @@
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/registry.hpp"
 #include "test_util.hpp"
+#include "sglab/mp50.hpp"
 
 namespace {
 

@@ -25,6 +25,7 @@
 #include "sglab/filtering_weights.hpp"
 #include "sglab/reference.hpp"
 #include "test_util.hpp"
+#include "sglab/reference_mp50.hpp"
 
 namespace sglab {
 namespace {

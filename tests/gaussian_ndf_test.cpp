@@ -15,6 +15,7 @@
 #include "sglab/registry.hpp"
 #include "gauss_kronrod_panel.hpp"
 #include "test_util.hpp"
+#include "sglab/registry_mp50.hpp"
 
 namespace sglab {
 namespace {

@@ -24,6 +24,7 @@
 #include "sglab/registry.hpp"
 #include "sglab/scalar.hpp"
 #include "gauss_kronrod_panel.hpp"
+#include "sglab/registry_mp50.hpp"
 
 namespace {
 

@@ -28,6 +28,7 @@
 #include "sweep.hpp"
 #include "sweep_specular.hpp"
 #include "test_util.hpp"
+#include "sglab/mp50.hpp"
 
 namespace {
 

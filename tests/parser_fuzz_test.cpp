@@ -25,6 +25,7 @@
 #include "csv.hpp"
 #include "parse_number.hpp"
 #include "sglab/render/scene.hpp"
+#include "parse_number_mp50.hpp"
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include "sglab/sg.hpp"
 #include "gauss_kronrod_panel.hpp"
 #include "test_util.hpp"
+#include "sglab/reference_mp50.hpp"
 
 namespace sglab {
 namespace {

@@ -5,6 +5,7 @@
 
 #include "sglab/sg.hpp"
 #include "test_util.hpp"
+#include "sglab/mp50.hpp"
 
 namespace sglab {
 namespace {

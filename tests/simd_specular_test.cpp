@@ -52,6 +52,7 @@
 #include "sglab/simd_specular_pair.hpp"
 #include "simd_test_util.hpp"
 #include "test_util.hpp"
+#include "sglab/registry_mp50.hpp"
 
 namespace {
 

@@ -15,6 +15,7 @@
 #include "sglab/specular_grid.hpp"
 #include "sglab/stiff_cases.hpp"
 #include "test_util.hpp"
+#include "sglab/registry_mp50.hpp"
 
 namespace sglab {
 namespace {

@@ -12,6 +12,7 @@
 
 #include "sglab/registry.hpp"
 #include "sglab/specular.hpp"
+#include "sglab/registry_mp50.hpp"
 
 namespace sglab {
 namespace {
@@ -131,8 +132,7 @@ T asg_by_definition(const SpecularInput<T>& in) {
   const Asg<T> lobe = asg_warp(ndf.sharpness, wo);
   const T lambda_s = spherical_warp(ndf, wo).sharpness;
   const Vec3<T> w = normalized_by_definition(Vec3<T>(in.light_sharpness * xi + lambda_s * lobe.z));
-  return ndf.amplitude * m_by_definition(alpha, in.f0, wo, w) *
-         asg_sg_product_two_vsgls(lobe, xi, in.light_sharpness);
+  return ndf.amplitude * m_by_definition(alpha, in.f0, wo, w) * asg_sg_product_two_vsgls(lobe, xi, in.light_sharpness);
 }
 
 // sg-warp-dvn (after Tokuyoshi et al. 2024): F·G2/G1(ωo) at the product axis ξ_m of the
@@ -167,8 +167,12 @@ TEST(Specular, WarpMethodsAreTheirDefinitions) {
   int compared = 0;
   std::map<std::string, std::pair<double, double>> worst;  // per method: largest relative difference, double and mp50
   for (int k = 0; k < 400; ++k) {
-    const SpecularInput<double> in{std::pow(10.0, -2 + 2 * u(rng)), std::pow(10.0, -1 + 4 * u(rng)), 2 * u(rng) - 1,
-                                   0.05 + 0.95 * u(rng), M_PI * (2 * u(rng) - 1), u(rng)};
+    const SpecularInput<double> in{std::pow(10.0, -2 + 2 * u(rng)),
+                                   std::pow(10.0, -1 + 4 * u(rng)),
+                                   2 * u(rng) - 1,
+                                   0.05 + 0.95 * u(rng),
+                                   M_PI * (2 * u(rng) - 1),
+                                   u(rng)};
     const std::vector<double> row{in.roughness, in.light_sharpness, in.light_cos, in.view_cos, in.light_azimuth, in.f0};
     const SpecularInput<mp50> inm{mp50(in.roughness), mp50(in.light_sharpness), mp50(in.light_cos),
                                   mp50(in.view_cos),  mp50(in.light_azimuth),   mp50(in.f0)};
@@ -177,16 +181,15 @@ TEST(Specular, WarpMethodsAreTheirDefinitions) {
       double want, got;
       mp50 want_mp, got_mp;
     };
-    const Case cases[] = {
-        {"sg-warp", sg_warp_by_definition(in, FactorAt::lobe_axis), specular_sg_warp(in),
-         sg_warp_by_definition(inm, FactorAt::lobe_axis), specular_sg_warp(inm)},
-        {"sg-warp-product-axis", sg_warp_by_definition(in, FactorAt::product_axis),
-         specular_sg_warp(in, SgProductForm::exact, false, FactorAt::product_axis),
-         sg_warp_by_definition(inm, FactorAt::product_axis),
-         specular_sg_warp(inm, SgProductForm::exact, false, FactorAt::product_axis)},
-        {"asg", asg_by_definition(in), specular_asg(in), asg_by_definition(inm), specular_asg(inm)},
-        {"sg-warp-dvn", sg_warp_dvn_by_definition(in), specular_sg_warp_dvn(in), sg_warp_dvn_by_definition(inm),
-         specular_sg_warp_dvn(inm)}};
+    const Case cases[] = {{"sg-warp", sg_warp_by_definition(in, FactorAt::lobe_axis), specular_sg_warp(in),
+                           sg_warp_by_definition(inm, FactorAt::lobe_axis), specular_sg_warp(inm)},
+                          {"sg-warp-product-axis", sg_warp_by_definition(in, FactorAt::product_axis),
+                           specular_sg_warp(in, SgProductForm::exact, false, FactorAt::product_axis),
+                           sg_warp_by_definition(inm, FactorAt::product_axis),
+                           specular_sg_warp(inm, SgProductForm::exact, false, FactorAt::product_axis)},
+                          {"asg", asg_by_definition(in), specular_asg(in), asg_by_definition(inm), specular_asg(inm)},
+                          {"sg-warp-dvn", sg_warp_dvn_by_definition(in), specular_sg_warp_dvn(in),
+                           sg_warp_dvn_by_definition(inm), specular_sg_warp_dvn(inm)}};
     // A receiver made for the product axis, asked for M at the lobe axis, forms it there itself.
     const double mixed = specular_from(
         specular_sg_warp_receiver(in.roughness, specular_view(in.view_cos), false, FactorAt::product_axis),
@@ -202,9 +205,10 @@ TEST(Specular, WarpMethodsAreTheirDefinitions) {
     for (const Case& c : cases) {
       const double registry = q->find(c.method)->eval_double(row);
       const double scale = std::max(std::abs(c.want), 1e-300);
-      EXPECT_LE(std::abs(c.got - c.want), kTolerance * scale) << c.method << " row " << k << ": " << c.got << " against "
-                                                         << c.want;
-      EXPECT_LE(std::abs(registry - c.want), kTolerance * scale) << c.method << " row " << k << ": registry " << registry;
+      EXPECT_LE(std::abs(c.got - c.want), kTolerance * scale)
+          << c.method << " row " << k << ": " << c.got << " against " << c.want;
+      EXPECT_LE(std::abs(registry - c.want), kTolerance * scale)
+          << c.method << " row " << k << ": registry " << registry;
       EXPECT_LE(boost::multiprecision::abs(c.got_mp - c.want_mp), kToleranceMp * boost::multiprecision::abs(c.want_mp))
           << c.method << " row " << k << " mp50";
       compared += c.want > 0 ? 1 : 0;

@@ -17,6 +17,7 @@
 
 #include "sglab/stiff_cases.hpp"
 #include "stability_atlas.hpp"
+#include "sglab/registry_mp50.hpp"
 
 namespace sglab::experiments::atlas {
 namespace {

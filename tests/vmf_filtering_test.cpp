@@ -3,6 +3,7 @@
 
 #include "sglab/vmf_filtering.hpp"
 #include "test_util.hpp"
+#include "sglab/mp50.hpp"
 
 namespace sglab {
 namespace {

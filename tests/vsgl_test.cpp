@@ -13,6 +13,7 @@
 #include "sglab/specular.hpp"
 #include "sglab/vsgl.hpp"
 #include "test_util.hpp"
+#include "sglab/reference_mp50.hpp"
 
 namespace sglab {
 namespace {

@@ -1,6 +1,6 @@
-// The double and mp50 instantiations of the quadrature references (sglab/reference.hpp declares
-// them extern), compiled once instead of in every unit that calls them.
-#include "sglab/reference.hpp"
+// The double and mp50 instantiations of the quadrature references (sglab/reference.hpp and
+// sglab/reference_mp50.hpp declare them extern), compiled once instead of in every unit that calls them.
+#include "sglab/reference_mp50.hpp"
 
 namespace sglab {
 

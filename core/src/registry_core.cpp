@@ -7,8 +7,8 @@
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/hemispherical.hpp"
-#include "sglab/reference.hpp"
-#include "sglab/registry.hpp"
+#include "sglab/reference_mp50.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "sglab/sg.hpp"
 #include "sglab/vmf_filtering.hpp"
 

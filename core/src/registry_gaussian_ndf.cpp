@@ -5,7 +5,7 @@
 #include <string>
 
 #include "sglab/gaussian_ndf.hpp"
-#include "sglab/registry.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "registry_specular.hpp"
 
 namespace sglab {

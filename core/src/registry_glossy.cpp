@@ -9,7 +9,7 @@
 
 #include "sglab/asg.hpp"
 #include "sglab/glossy_reference.hpp"
-#include "sglab/registry.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "sglab/specular.hpp"
 #include "registry_specular.hpp"
 

@@ -14,7 +14,7 @@
 #include "sglab/brdf.hpp"
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/specular_sglab.hpp"
-#include "sglab/registry.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "sglab/simd.hpp"
 #include "sglab/simd_specular_pair.hpp"
 #include "sglab/text_limits.hpp"

@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "sglab/registry.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "sglab/sg.hpp"
 #include "sglab/stiff_cases.hpp"
 #include "sglab/vsgl.hpp"

@@ -141,12 +141,11 @@ T clamped_cosine_reference(const T& sharpness, const T& cosine) {
       [](const T& u, const T& root) -> T { return T(2) * (u * atan2(root, -u) + root); });
 }
 
-// The double and mp50 quadratures are compiled once, in core/src/quadrature_reference.cpp: the
-// registry, the fits, the renderer and the tests link them instead of instantiating tanh-sinh on
-// mp50 again in every unit that includes this header (other types still instantiate here).
+// The double quadratures are compiled once, in core/src/quadrature_reference.cpp: the registry,
+// the fits, the renderer and the tests link them instead of instantiating tanh-sinh again in every
+// unit that includes this header (other types still instantiate here; the mp50 ones are declared
+// with the type, in sglab/reference_mp50.hpp).
 extern template double hemispherical_reference<double>(const double&, const double&);
-extern template mp50 hemispherical_reference<mp50>(const mp50&, const mp50&);
 extern template double clamped_cosine_reference<double>(const double&, const double&);
-extern template mp50 clamped_cosine_reference<mp50>(const mp50&, const mp50&);
 
 }  // namespace sglab

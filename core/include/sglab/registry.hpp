@@ -8,6 +8,7 @@
 #include <array>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -117,6 +118,41 @@ std::vector<Parameter> fit_parameters(const std::string& fit, const std::string&
 // constants (one per Method::parameters entry) as traced values. What `sglab export` emits code from.
 using TraceFn = std::function<Trace(std::span<const Trace> args, std::span<const Trace> params)>;
 
+// A method's 50-digit evaluator, a MethodFn<mp50>, held without naming the 50-digit type: the units
+// that copy methods, or evaluate them in float and double, then compile without
+// Boost.Multiprecision. The function is defined in sglab/registry_mp50.hpp, which the units that
+// set or call it include (without it, the member templates below name an incomplete type).
+struct Mp50Function;
+namespace detail {
+template <class T, class>
+struct deferred {  // T, looked up only when a template is instantiated
+  using type = T;
+};
+}  // namespace detail
+class Mp50Evaluator {
+ public:
+  explicit operator bool() const { return held_ != nullptr; }
+  // The MethodFn<mp50> (A only defers the lookup to instantiation).
+  template <class A = void>
+  const auto& function() const {
+    return static_cast<const typename detail::deferred<Mp50Function, A>::type&>(*held_).fn;
+  }
+  template <class A>
+  auto operator()(const A& args) const {
+    return function<A>()(args);
+  }
+  // Holds f, a callable on std::span<const mp50> (set_evaluators' generic formula, or a lambda).
+  template <class F>
+  Mp50Evaluator& operator=(F f) {
+    using Held = typename detail::deferred<Mp50Function, F>::type;
+    held_ = std::make_shared<const Held>(Held{std::move(f)});
+    return *this;
+  }
+
+ private:
+  std::shared_ptr<const Mp50Function> held_;  // shared: copying a method copies no function
+};
+
 struct Method;
 // Returns `m` evaluating with `values` (one per m.parameters entry, same order) instead of the
 // published values. The published evaluators are not touched, so the published path costs nothing.
@@ -129,7 +165,7 @@ struct Method {
   bool may_be_negative = false;  // the published form itself goes negative (kept, measured)
   // Evaluates in double whatever the precision (a quadrature reference: float rounds and mp50
   // converts the double result). An mp50 argument outside double's range cannot reach it, so
-  // callers refuse such a row (runner/parse_number.hpp validation_double).
+  // callers refuse such a row (runner/parse_number_mp50.hpp validation_double).
   bool evaluates_in_double = false;
   // Returns a message when the arguments are outside the method's domain (e.g. λ = 0 for a 2π/λ
   // form), so callers can reject them clearly instead of printing Inf or NaN. Checked after the
@@ -142,7 +178,7 @@ struct Method {
   std::vector<std::pair<std::size_t, double>> domain_above;
   MethodFn<float> eval_float;
   MethodFn<double> eval_double;
-  MethodFn<mp50> eval_mp50;
+  Mp50Evaluator eval_mp50;  // (sglab/registry_mp50.hpp)
   BatchFn<float> batch_float;
   BatchFn<double> batch_double;
   BatchPath batch_path = BatchPath::scalar;  // what batch_float and batch_double run
@@ -196,12 +232,18 @@ struct Quantity {
   const Method* find(std::string_view method_name) const;
 };
 
-// The method's evaluator for the scalar type T (float, double or mp50), for code templated on T.
+// The method's function for the scalar type T (float, double or mp50: then with
+// sglab/registry_mp50.hpp), for code templated on T.
+template <class T>
+const MethodFn<T>& method_function(const Method& m) {
+  if constexpr (std::is_same_v<T, float>) return m.eval_float;
+  else if constexpr (std::is_same_v<T, double>) return m.eval_double;
+  else return m.eval_mp50.function<T>();
+}
+// The method's value at `args` in T.
 template <class T>
 T eval_as(const Method& m, std::span<const T> args) {
-  if constexpr (std::is_same_v<T, float>) return m.eval_float(args);
-  else if constexpr (std::is_same_v<T, double>) return m.eval_double(args);
-  else return m.eval_mp50(args);
+  return method_function<T>(m)(args);
 }
 
 // Every quantity, in a stable order.
@@ -247,12 +289,13 @@ struct Domain {
 };
 
 // Build a Method's three precision functions from one generic callable that takes a
-// `std::span<const T>` and returns T. Keeps registrations one line each.
+// `std::span<const T>` and returns T. Keeps registrations one line each. (The mp50 one needs
+// sglab/registry_mp50.hpp, which every unit that registers methods includes.)
 template <class F>
 void set_evaluators(Method& m, F f) {
   m.eval_float = [f](std::span<const float> a) { return f(a); };
   m.eval_double = [f](std::span<const double> a) { return f(a); };
-  m.eval_mp50 = [f](std::span<const mp50> a) { return f(a); };
+  m.eval_mp50 = f;
   auto batch = [f](auto args, std::size_t arity, auto out) {
     using T = typename decltype(out)::value_type;
     for (std::size_t i = 0; i < out.size(); ++i) out[i] = f(std::span<const T>(args.data() + i * arity, arity));
