@@ -14,7 +14,8 @@
 #
 # Rows (wall and CPU seconds of the process tree, bash's `time`; CPU = user + system):
 #   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, setup.sh's generator)
-#   build-main          cold build of what the main job needs (`sglab`, `sglab_python`), ccache off
+#   build-sglab         cold build of what the main job (`sglab reproduce`) needs: `sglab`, ccache off
+#   build-python        then the Python module (`sglab_python`), which README's first command also builds
 #   rebuild-touch       the same targets after touching one method's file (--touch, default
 #                       core/src/registry_core.cpp: the diffuse registry, which includes every
 #                       diffuse method's header; a core/include header instead rebuilds most of the tree)
@@ -41,8 +42,8 @@
 #                       double and float, median of 5 repetitions of BM_Reference, against the
 #                       arithmetic bound the benchmark derives from this core's measured peak rates
 #   render-vpl-sum-rsm128/P  the same with the render sweeps' 128² RSM (SGLAB_RENDER_BENCH_RSM=128)
-#   tu/PATH             with --tu-times: the ten heaviest translation units of build-main (CPU
-#                       seconds each, benchmarks/tu_time.sh as the compiler launcher)
+#   tu/PATH             with --tu-times: the ten heaviest translation units of build-sglab and
+#                       build-python (CPU seconds each, benchmarks/tu_time.sh as the compiler launcher)
 # --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
 # The machine may be shared: the load average at the start and end goes into the CSV's header, and
 # CPU seconds are the steadier figure. Nothing is written into the checkout but the CSV
@@ -210,16 +211,16 @@ if [ "$cold" = 1 ]; then
   grep -q -- '-G Ninja' scripts/setup.sh && generator=(-G Ninja)
   timed configure "scratch dir, Release, SGLAB_WERROR=ON${generator[*]:+, ${generator[*]}}" \
     cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${launcher[@]}"
-  timed build-main "sglab + sglab_python, cold, ccache off, -j$jobs" \
-    cmake --build "$build" -j"$jobs" --target sglab sglab_python
+  timed build-sglab "sglab, cold, ccache off, -j$jobs" cmake --build "$build" -j"$jobs" --target sglab
+  timed build-python "then sglab_python, cold, ccache off, -j$jobs" cmake --build "$build" -j"$jobs" --target sglab_python
   if [ "$tu_times" = 1 ]; then
     cp "$SGLAB_TU_TIMES" "$scratch/tu_times_main.txt"
     while read -r cpu wall out; do
       out=${out#"$build"/}  # a unity batch lies in the build directory
-      rows+=("tu/${out#"$root"/}|$wall|$cpu|one translation unit of build-main")
+      rows+=("tu/${out#"$root"/}|$wall|$cpu|one translation unit of build-sglab or build-python")
     done < <(sort -rn "$scratch/tu_times_main.txt" | head -n 10)
     tu_total=$(awk '{ s += $1 } END { printf "%.2f", s }' "$scratch/tu_times_main.txt")
-    rows+=("tu/all-of-build-main||$tu_total|$(wc -l < "$scratch/tu_times_main.txt") translation units, summed CPU")
+    rows+=("tu/all-of-build-sglab-and-python||$tu_total|$(wc -l < "$scratch/tu_times_main.txt") translation units, summed CPU")
   fi
   touch "$touch_file"
   timed rebuild-touch "after touching $touch_file" cmake --build "$build" -j"$jobs" --target sglab sglab_python
