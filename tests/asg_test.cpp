@@ -6,7 +6,7 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
-#include "sglab/asg.hpp"
+#include "sglab/asg_integral.hpp"
 #include "sglab/glossy_reference.hpp"
 #include "test_util.hpp"
 #include "sglab/mp50.hpp"

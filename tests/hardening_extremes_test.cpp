@@ -18,7 +18,7 @@
 #include <boost/math/special_functions/erf.hpp>
 #include <gtest/gtest.h>
 
-#include "sglab/asg.hpp"
+#include "sglab/asg_integral.hpp"
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/glossy_reference.hpp"
 #include "sglab/registry.hpp"

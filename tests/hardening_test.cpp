@@ -29,7 +29,7 @@
 
 #include "atomic_file.hpp"
 #include "input_error.hpp"
-#include "sglab/asg.hpp"
+#include "sglab/asg_integral.hpp"
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/hemispherical.hpp"
 #include "sweep.hpp"

@@ -7,7 +7,7 @@
 
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 
-#include "sglab/asg.hpp"
+#include "sglab/asg_integral.hpp"
 #include "sglab/glossy_reference.hpp"
 #include "sglab/registry_mp50.hpp"
 #include "sglab/specular.hpp"

@@ -23,9 +23,9 @@
 # ---- core formulas and constants (core/include/sglab) -------------------------------------------
 mutant hill-c0 core/include/sglab/clamped_cosine.hpp 's#c0 = 0\.36;#c0 = 0.3636;#' \
   clamped_cosine_test registry_test
-mutant i0-switch-up core/include/sglab/asg.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -10 * log(V(epsilon<T>()));#' \
+mutant i0-switch-up core/include/sglab/asg_integral.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -10 * log(V(epsilon<T>()));#' \
   asg_test registry_test
-mutant i0-switch-down core/include/sglab/asg.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -log(V(epsilon<T>())) / 10;#' \
+mutant i0-switch-down core/include/sglab/asg_integral.hpp 's#const V threshold = -log(V(epsilon<T>()));#const V threshold = -log(V(epsilon<T>())) / 10;#' \
   asg_test registry_test
 mutant cc-bounds-series-switch core/include/sglab/clamped_cosine.hpp 's#const auto below_one = value_of(l) < 1;#const auto below_one = value_of(l) < 10;#' \
   clamped_cosine_test

@@ -7,6 +7,8 @@
 
 #include <utility>
 
+#include <Eigen/Geometry>  // cross
+
 #include "sglab/asg.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"

@@ -58,7 +58,7 @@
 #include <boost/math/quadrature/gauss_kronrod.hpp>
 #include <boost/math/quadrature/tanh_sinh.hpp>
 
-#include "sglab/asg.hpp"  // bessel_i0_scaled
+#include "sglab/asg_integral.hpp"  // bessel_i0_scaled
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
 
