@@ -133,6 +133,8 @@ mutant signal-ends-child-groups runner/fatal_signal.cpp 's#    if (slot\.state\.
   reproduce_test:PlotServerEnd.*
 mutant sweep-resume runner/sweep.cpp 's#if (!run\.done\[j\]) run\.todo\.push_back(j);#run.todo.push_back(j);#' \
   sweep_test
+mutant merge-manifest-digits runner/sweep_merge.cpp 's#digits(rest\.substr(0, of)) && digits(rest\.substr(of + 4))#digits(rest.substr(0, of))#' \
+  sweep_test:SweepTest.Merge*
 
 # ---- CLI (cli/) ----------------------------------------------------------------------------------
 mutant cli-places-status cli/app.cpp '/run = take_places(args, given);/,/return 2;/ s#return 2;#return 1;#' \
