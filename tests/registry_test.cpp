@@ -11,7 +11,7 @@
 #include <set>
 
 #include "sglab/clamped_cosine.hpp"
-#include "sglab/registry.hpp"
+#include "sglab/registry_mp50.hpp"
 #include "sglab/simd.hpp"
 #include "test_util.hpp"
 
@@ -73,6 +73,21 @@ TEST(Registry, EveryMethodFiniteAndNonNegativeOnStiffInputs) {
   }
   std::printf("checked %d (quantity, method, point) triples in float and double\n", checked);
   EXPECT_GT(checked, 1000);
+}
+
+// The mp50 evaluator a Method holds without naming the type: empty until set (calling it then
+// throws, as an empty std::function does), the function it was given once set, shared by copies.
+TEST(Registry, TheMp50EvaluatorIsTheFunctionItWasGiven) {
+  Method m;
+  EXPECT_FALSE(m.eval_mp50);
+  const std::array<mp50, 2> args{mp50("0.1"), mp50(3)};
+  EXPECT_THROW(eval_as<mp50>(m, std::span<const mp50>(args)), std::bad_function_call);
+  m.eval_mp50 = [](std::span<const mp50> a) { return a[0] * a[1]; };
+  const Method copy = m;
+  ASSERT_TRUE(copy.eval_mp50);
+  // 0.1 × 3 to 50 digits: not the double product (0.30000000000000004).
+  EXPECT_EQ(eval_as<mp50>(copy, std::span<const mp50>(args)), mp50("0.3"));
+  EXPECT_EQ(m.eval_mp50(args), mp50("0.3"));
 }
 
 TEST(Registry, NamesAreUniqueAndReferencesExist) {

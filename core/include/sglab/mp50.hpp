@@ -17,5 +17,6 @@ using mp50 = boost::multiprecision::cpp_bin_float_50;
 // (scalar.hpp's is_mp_v, for every Boost.Multiprecision number.)
 template <class Backend, boost::multiprecision::expression_template_option Templates>
 struct is_mp<boost::multiprecision::number<Backend, Templates>> : std::true_type {};
+static_assert(is_mp_v<mp50>, "mp50 must be a multiprecision number to the formulas that branch on is_mp_v");
 
 }  // namespace sglab

@@ -132,9 +132,11 @@ struct deferred {  // T, looked up only when a template is instantiated
 class Mp50Evaluator {
  public:
   explicit operator bool() const { return held_ != nullptr; }
-  // The MethodFn<mp50> (A only defers the lookup to instantiation).
+  // The MethodFn<mp50> (A only defers the lookup to instantiation). std::bad_function_call when
+  // none is held, as for an empty MethodFn.
   template <class A = void>
   const auto& function() const {
+    if (!held_) throw std::bad_function_call();
     return static_cast<const typename detail::deferred<Mp50Function, A>::type&>(*held_).fn;
   }
   template <class A>
