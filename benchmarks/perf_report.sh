@@ -13,7 +13,8 @@
 # configured as DIR's scripts/setup.sh does (Ninja where it says -G Ninja, else CMake's default).
 #
 # Rows (wall and CPU seconds of the process tree, bash's `time`; CPU = user + system):
-#   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, setup.sh's generator)
+#   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, setup.sh's generator
+#                       and vector kernel sets)
 #   build-sglab         cold build of what the main job (`sglab reproduce`) needs: `sglab`, ccache off
 #   build-python        then the Python module (`sglab_python`), which README's first command also builds
 #   rebuild-touch       the same targets after touching one method's file (--touch, default
@@ -209,8 +210,12 @@ if [ "$cold" = 1 ]; then
   fi
   generator=()  # as the checkout's setup.sh configures a new build directory
   grep -q -- '-G Ninja' scripts/setup.sh && generator=(-G Ninja)
-  timed configure "scratch dir, Release, SGLAB_WERROR=ON${generator[*]:+, ${generator[*]}}" \
-    cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${launcher[@]}"
+  # The main job's vector kernel sets, as the checkout's setup.sh configures them (the widest set
+  # alone where it says kernels=best); build-tests then reconfigures as setup.sh --tests does.
+  kernels=()
+  grep -q '^kernels=best' scripts/setup.sh && kernels=(-DSGLAB_SIMD_KERNELS=best)
+  timed configure "scratch dir, Release, SGLAB_WERROR=ON${generator[*]:+, ${generator[*]}}${kernels[*]:+, ${kernels[*]#-D}}" \
+    cmake -S . -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DSGLAB_WERROR=ON "${kernels[@]}" "${launcher[@]}"
   timed build-sglab "sglab, cold, ccache off, -j$jobs" cmake --build "$build" -j"$jobs" --target sglab
   timed build-python "then sglab_python, cold, ccache off, -j$jobs" cmake --build "$build" -j"$jobs" --target sglab_python
   if [ "$tu_times" = 1 ]; then
@@ -224,7 +229,10 @@ if [ "$cold" = 1 ]; then
   fi
   touch "$touch_file"
   timed rebuild-touch "after touching $touch_file" cmake --build "$build" -j"$jobs" --target sglab sglab_python
-  if [ "$tests" = 1 ]; then
+  if [ "$tests" = 1 ] && ((${#kernels[@]})); then
+    timed build-tests "the rest of the tree (tests, benchmarks; reconfigured with SGLAB_SIMD_KERNELS=host, its narrower kernel sets included), cold, ccache off" \
+      bash -c 'cmake -S . -B "$1" -DSGLAB_SIMD_KERNELS=host && cmake --build "$1" -j"$2"' build-tests "$build" "$jobs"
+  elif [ "$tests" = 1 ]; then
     timed build-tests "the rest of the tree (tests, benchmarks), cold, ccache off" cmake --build "$build" -j"$jobs"
   elif [ "$render" = 1 ] || [ "$python" = 1 ]; then
     # Without the test build, the benchmarks that the Python and render rows run, and nothing else.

@@ -131,6 +131,9 @@ int run_sglab(std::vector<std::string> args, const runner::RunContext& given) {
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "sglab: error: %s\n", bounded_message(e.what()).c_str());
     return 2;
+  } catch (const std::runtime_error& e) {  // no kernel of this build runs on this CPU
+    std::fprintf(stderr, "sglab: error: %s\n", e.what());
+    return 1;
   }
   try {
     std::reverse(args.begin(), args.end());  // CLI11 takes the vector form last-argument-first

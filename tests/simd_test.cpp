@@ -294,6 +294,24 @@ TEST(Simd, ColumnEvaluatorsAreTheBatchEvaluatorsBitForBit) {
   simd::force_isa(simd::supported_isas().back());
 }
 
+// The suite compares every instruction set this CPU runs, so it needs all of them built
+// (SGLAB_SIMD_KERNELS=host or all; scripts/setup.sh --tests configures host). A build configured
+// with `best` has only the widest, and the checks above and in the other simd tests would quietly
+// cover one set. The CPU's sets are read here with the compiler's own test, not the library's.
+TEST(Simd, TheSuiteHasEveryKernelSetThisCpuRuns) {
+  __builtin_cpu_init();
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  const bool avx512 = avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+                      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+                      __builtin_cpu_supports("avx512vl");
+  std::vector<simd::Isa> runs{simd::Isa::sse2};
+  if (avx2) runs.push_back(simd::Isa::avx2);
+  if (avx512) runs.push_back(simd::Isa::avx512);
+  EXPECT_EQ(simd::supported_isas(), runs)
+      << "this build lacks a kernel set this CPU runs: configure the test build with "
+         "-DSGLAB_SIMD_KERNELS=host (scripts/setup.sh --tests does), not best";
+}
+
 TEST(Simd, IsaNamesAndForcing) {
   EXPECT_EQ(simd::parse_isa("avx2"), simd::Isa::avx2);
   EXPECT_FALSE(simd::parse_isa("avx3"));

@@ -41,10 +41,10 @@ std::optional<Isa> parse_isa(std::string_view name) {
 namespace {
 
 // Whether this build has the kernels of `isa` (SGLAB_SIMD_KERNELS, core/CMakeLists.txt: `host`
-// compiles only those the building machine can run).
+// compiles only those the building machine can run, `best` only the widest of them).
 constexpr bool built(Isa isa) {
   switch (isa) {
-    case Isa::sse2: return true;
+    case Isa::sse2: return SGLAB_KERNELS_SSE2;
     case Isa::avx2: return SGLAB_KERNELS_AVX2;
     case Isa::avx512: return SGLAB_KERNELS_AVX512;
   }
@@ -70,8 +70,14 @@ bool cpu_runs(Isa isa) {
 std::string why_not(Isa isa) {
   if (!cpu_runs(isa)) return "this CPU cannot run it";
   return "this build has no " + std::string(isa_name(isa)) +
-         " kernels (configured with SGLAB_SIMD_KERNELS=host on a machine without it; reconfigure with "
-         "-DSGLAB_SIMD_KERNELS=all)";
+         " kernels (configured with SGLAB_SIMD_KERNELS=best, or =host on a machine without it; reconfigure with "
+         "-DSGLAB_SIMD_KERNELS=host, or =all)";
+}
+
+// For a table switch's sets that this build left out: isa_supported is false for them, so
+// active_isa and force_isa never name them.
+[[noreturn]] void not_built(Isa isa) {
+  throw std::logic_error("sglab: no " + std::string(isa_name(isa)) + " kernels in this build");
 }
 
 }  // namespace
@@ -89,16 +95,18 @@ namespace {
 
 const simd_detail::KernelTable& table_of(Isa isa) {
   switch (isa) {
+#if SGLAB_KERNELS_SSE2
     case Isa::sse2: return simd_detail::kernels_sse2();
+#endif
 #if SGLAB_KERNELS_AVX2
     case Isa::avx2: return simd_detail::kernels_avx2();
 #endif
 #if SGLAB_KERNELS_AVX512
     case Isa::avx512: return simd_detail::kernels_avx512();
 #endif
-    default: break;  // not built: isa_supported is false, so never asked for
+    default: break;
   }
-  return simd_detail::kernels_sse2();
+  not_built(isa);
 }
 
 std::atomic<const simd_detail::KernelTable*> g_table{nullptr};
@@ -111,7 +119,13 @@ Isa initial_isa() {
     if (!isa_supported(*isa)) throw std::invalid_argument("SGLAB_SIMD='" + clip_text(env) + "': " + why_not(*isa));
     return *isa;
   }
-  return supported_isas().back();
+  const std::vector<Isa> runnable = supported_isas();
+  if (runnable.empty())  // SGLAB_SIMD_KERNELS=best on a machine wider than this one
+    throw std::runtime_error(
+        "this CPU runs none of this build's vector kernels (configured with "
+        "SGLAB_SIMD_KERNELS=best on another machine); reconfigure with -DSGLAB_SIMD_KERNELS=host "
+        "here, or build with -DSGLAB_SIMD_KERNELS=all to run on any x86-64");
+  return runnable.back();
 }
 
 const simd_detail::KernelTable& active_table() {
@@ -257,16 +271,18 @@ std::vector<double> published_constants(const Method& m, Kernel k) {
 
 const simd_detail::SpecularPairTable& pair_table_of(simd::Isa isa) {
   switch (isa) {
+#if SGLAB_KERNELS_SSE2
     case simd::Isa::sse2: return simd_detail::specular_pairs_sse2();
+#endif
 #if SGLAB_KERNELS_AVX2
     case simd::Isa::avx2: return simd_detail::specular_pairs_avx2();
 #endif
 #if SGLAB_KERNELS_AVX512
     case simd::Isa::avx512: return simd_detail::specular_pairs_avx512();
 #endif
-    default: break;  // not built, never asked for (isa_supported)
+    default: break;
   }
-  return simd_detail::specular_pairs_sse2();
+  simd::not_built(isa);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // Run-time choice of the instruction set of the vectorized batch evaluators (docs/simd.md).
 // The diffuse methods' registry batch evaluators (batch_float, batch_double, and those of their
 // bound versions) run xsimd kernels compiled once per instruction set (those the building machine
-// runs, or all three: SGLAB_SIMD_KERNELS, core/CMakeLists.txt); the widest one compiled that the CPU
-// supports is selected at first use. The environment variable SGLAB_SIMD (sse2, avx2, avx512)
+// runs, only the widest of them, or all three: SGLAB_SIMD_KERNELS, core/CMakeLists.txt); the widest
+// one compiled that the CPU supports is selected at first use. The environment variable SGLAB_SIMD (sse2, avx2, avx512)
 // or force_isa() selects a narrower one, so every compiled path can be checked on one machine.
 #pragma once
 
@@ -24,7 +24,8 @@ bool isa_supported(Isa isa);
 std::vector<Isa> supported_isas();
 // The instruction set the batch evaluators use now (the widest supported one, or SGLAB_SIMD's).
 // Throws std::invalid_argument naming the value when SGLAB_SIMD is not a known name or names an
-// instruction set this CPU cannot run or this build has no kernels for.
+// instruction set this CPU cannot run or this build has no kernels for, and std::runtime_error when
+// this CPU runs none of the build's sets (SGLAB_SIMD_KERNELS=best on a wider machine).
 Isa active_isa();
 // Use `isa` from now on (for tests and benchmarks). Throws std::invalid_argument if unsupported.
 void force_isa(Isa isa);

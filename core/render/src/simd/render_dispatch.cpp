@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "render_table.hpp"
 #include "sglab/render/visibility.hpp"
@@ -25,17 +27,19 @@ double scaled_by_exp_direct_limit() {
 }
 
 const RenderKernelTable& render_kernels() {
-  switch (simd::active_isa()) {
+  switch (const simd::Isa isa = simd::active_isa()) {
+#if SGLAB_KERNELS_SSE2
     case simd::Isa::sse2: return render_kernels_sse2();
+#endif
 #if SGLAB_KERNELS_AVX2
     case simd::Isa::avx2: return render_kernels_avx2();
 #endif
 #if SGLAB_KERNELS_AVX512
     case simd::Isa::avx512: return render_kernels_avx512();
 #endif
-    default: break;  // not built (SGLAB_SIMD_KERNELS): active_isa never names it
+    default:  // not built (SGLAB_SIMD_KERNELS): active_isa never names it
+      throw std::logic_error("sglab: no " + std::string(simd::isa_name(isa)) + " render kernels in this build");
   }
-  return render_kernels_sse2();
 }
 
 }  // namespace simd_detail
