@@ -16,7 +16,7 @@
 #   configure           cmake configure of a scratch build dir (Release, SGLAB_WERROR=ON, setup.sh's generator
 #                       and vector kernel sets)
 #   build-sglab         cold build of what the main job (`sglab reproduce`) needs: `sglab`, ccache off
-#   build-python        then the Python module (`sglab_python`), which README's first command also builds
+#   build-python        then the Python module (`sglab_python`), which setup.sh --python and --tests build
 #   rebuild-touch       the same targets after touching one method's file (--touch, default
 #                       core/src/registry_core.cpp: the diffuse registry, which includes every
 #                       diffuse method's header; a core/include header instead rebuilds most of the tree)

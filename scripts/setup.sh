@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages sglab needs (only those missing), then configures ./build
 # (Release) and builds what the job needs. Run as root on a fresh machine; safe to re-run.
-#   bash scripts/setup.sh          the `sglab` binary and the Python module (build/python)
-#   bash scripts/setup.sh --tests  everything: sglab, the test executables CTest runs, benchmarks
-#                                  (and slurm-wlm + munge for the suite's Slurm round trip)
+#   bash scripts/setup.sh          the `sglab` binary: what the main job (`sglab reproduce`) needs
+#   bash scripts/setup.sh --python the `sglab` binary and the Python module (build/python)
+#   bash scripts/setup.sh --tests  everything: sglab, the Python module, the test executables CTest
+#                                  runs, benchmarks (and slurm-wlm + munge for the suite's Slurm round trip)
 #   bash scripts/setup.sh --fuzz   also clang: the libFuzzer targets in ./build-fuzz (docs/testing.md)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-targets=(--target sglab sglab_python)
+targets=(--target sglab)
 # The vector kernels (core/CMakeLists.txt): the main job runs only the widest set this CPU runs, so
 # it builds only that one; the suite compares every set this CPU runs, so --tests builds them all.
 kernels=best
@@ -16,9 +17,10 @@ fuzz=0
 tests=0
 case "${1:-}" in
   "") ;;
+  --python) targets=(--target sglab sglab_python) ;;
   --tests) targets=(); tests=1; kernels=host ;;
   --fuzz) fuzz=1 ;;
-  *) echo "setup: unknown option '$1' (expected nothing, --tests or --fuzz)" >&2; exit 2 ;;
+  *) echo "setup: unknown option '$1' (expected nothing, --python, --tests or --fuzz)" >&2; exit 2 ;;
 esac
 
 packages=(
