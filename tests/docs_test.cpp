@@ -6,7 +6,8 @@
 //     registries, recounted here (the reference is the tree itself, not a number kept by hand);
 //   - the files docs/architecture.md says a fitted method touches are the ones the build reads:
 //     the list SGLAB_FITTERS of fit/CMakeLists.txt is the one place a fitter is named;
-//   - no source file is over the 600 lines README and docs/architecture.md promise.
+//   - no source file is over the 600 lines README and docs/architecture.md promise;
+//   - the sources batched apart for a method's header are those that include one.
 // On a mismatch the failure prints the line to write.
 #include <gtest/gtest.h>
 
@@ -240,6 +241,63 @@ TEST(Docs, FittedMethodRecipeIsTheBuildsList) {
                                           "`fit/NAME.cpp`", "`fit/CMakeLists.txt`", "docs/math.md"}))
       << "docs/architecture.md's recipe for a fitted method";
   EXPECT_NE(text.find("SGLAB_FITTERS"), std::string::npos);
+}
+
+// The sources sglab_unity compiles in batches of their own (the APART lists of experiments/ and
+// fit/CMakeLists.txt) are exactly those that include a method's formula header, directly or through
+// the project's headers: one outside the list would drag its whole batch into every rebuild after an
+// edit of a method (docs/testing.md, "Rebuilding after a method's header"), and a listed one that no
+// longer includes any only costs a batch.
+std::set<std::string> apart_sources(const std::string& cmake_file, const std::string& target) {
+  const std::string cmake = read_doc(cmake_file);
+  const std::size_t start = cmake.find("sglab_unity(" + target + " ");
+  EXPECT_NE(start, std::string::npos) << cmake_file << " has no sglab_unity(" << target;
+  if (start == std::string::npos) return {};
+  std::istringstream words(cmake.substr(start, cmake.find(')', start) - start));
+  std::set<std::string> files;
+  for (std::string w; words >> w;)
+    if (w.size() > 4 && w.substr(w.size() - 4) == ".cpp") files.insert(w);
+  return files;
+}
+
+// The project headers FILE includes with quotes, followed through those headers (as "sglab/x.hpp").
+void quoted_includes(const fs::path& file, std::set<std::string>& seen) {
+  static const std::vector<std::string> dirs = {
+      "core/include", "core/render/include", "fit", "experiments", "frontend", "runner", "core/src"};
+  const std::regex include(R"re(#include "([^"]+)")re");
+  const std::string text = read_doc(fs::relative(file, SGLAB_SOURCE_DIR).string());
+  for (std::sregex_iterator it(text.begin(), text.end(), include), end; it != end; ++it) {
+    const std::string name = (*it)[1].str();
+    if (!seen.insert(name).second) continue;
+    for (const auto& d : dirs)
+      if (const fs::path p = fs::path(SGLAB_SOURCE_DIR) / d / name; fs::is_regular_file(p)) {
+        quoted_includes(p, seen);
+        break;
+      }
+  }
+}
+
+std::set<std::string> sources_including(const std::string& dir, const std::set<std::string>& headers) {
+  std::set<std::string> out;
+  for (const auto& e : fs::directory_iterator(fs::path(SGLAB_SOURCE_DIR) / dir)) {
+    if (e.path().extension() != ".cpp") continue;
+    std::set<std::string> seen;
+    quoted_includes(e.path(), seen);
+    for (const auto& h : headers)
+      if (seen.count(h)) out.insert(e.path().filename().string());
+  }
+  return out;
+}
+
+TEST(Docs, SourcesWithMethodHeadersAreBatchedApart) {
+  const std::set<std::string> diffuse = {"sglab/clamped_cosine.hpp", "sglab/clamped_cosine_sglab.hpp",
+                                         "sglab/hemispherical.hpp"};
+  std::set<std::string> every = diffuse;
+  every.insert({"sglab/specular.hpp", "sglab/specular_sglab.hpp", "sglab/gaussian_ndf.hpp"});
+  EXPECT_EQ(apart_sources("experiments/CMakeLists.txt", "sglab_experiments"), sources_including("experiments", every))
+      << "experiments/CMakeLists.txt: sglab_unity's APART list against the experiments that include a method's header";
+  EXPECT_EQ(apart_sources("fit/CMakeLists.txt", "sglab_fit"), sources_including("fit", diffuse))
+      << "fit/CMakeLists.txt: sglab_unity's APART lists against the fits that include a diffuse method's header";
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ mutant t2024-D-digits core/include/sglab/clamped_cosine.hpp 's#D = 15\.219156263
   clamped_cosine_test
 mutant t2024-large-switch core/include/sglab/clamped_cosine.hpp 's#value_of(l) > 1e4,#value_of(l) > 1e14,#' \
   clamped_cosine_test hardening_test:HardeningNumerics.*
-mutant meder-offset core/include/sglab/clamped_cosine.hpp 's#offset = 31\.7003;#offset = 31.7030;#' \
+mutant meder-offset core/include/sglab/clamped_cosine_meder.hpp 's#offset = 31\.7003;#offset = 31.7030;#' \
   clamped_cosine_test hemispherical_test
 mutant meder-p2 core/include/sglab/hemispherical.hpp 's#p2 = 10\.8438;#p2 = 10.4838;#' \
   hemispherical_test clamped_cosine_test

@@ -24,7 +24,7 @@
 #include <type_traits>
 
 #include "sglab/brdf.hpp"
-#include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/glossy_reference.hpp"
 #include "sglab/reference.hpp"
 #include "sglab/scalar.hpp"
