@@ -19,7 +19,9 @@
 #   build-python        then the Python module (`sglab_python`), which setup.sh --python and --tests build
 #   rebuild-touch       the same targets after touching one method's file (--touch, default
 #                       core/src/registry_core.cpp: the diffuse registry, which includes every
-#                       diffuse method's header; a core/include header instead rebuilds most of the tree)
+#                       diffuse method's header; a method's formula header, such as
+#                       core/include/sglab/clamped_cosine.hpp, rebuilds every unit that includes it:
+#                       docs/testing.md, "Rebuilding after a method's header")
 #   build-tests         the rest of the tree (test executables, benchmarks), cold, ccache off
 #   build-benchmarks    with --skip-tests instead: only the two benchmarks the Python and render rows run
 #   ctest               `ctest -j2` over the whole suite (wall; CPU = the tests' summed seconds)
