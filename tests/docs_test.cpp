@@ -269,6 +269,11 @@ void quoted_includes(const fs::path& file, std::set<std::string>& seen) {
   for (std::sregex_iterator it(text.begin(), text.end(), include), end; it != end; ++it) {
     const std::string name = (*it)[1].str();
     if (!seen.insert(name).second) continue;
+    // As the compiler looks: beside the including file first, then the include directories.
+    if (const fs::path here = file.parent_path() / name; fs::is_regular_file(here)) {
+      quoted_includes(here, seen);
+      continue;
+    }
     for (const auto& d : dirs)
       if (const fs::path p = fs::path(SGLAB_SOURCE_DIR) / d / name; fs::is_regular_file(p)) {
         quoted_includes(p, seen);
