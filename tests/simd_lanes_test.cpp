@@ -12,10 +12,8 @@
 
 #include <gtest/gtest.h>
 
-// The unit's instruction set, as simd_sse2.cpp names it.
-#define SGLAB_VEC_BITS 128
-#define SGLAB_VEC_D(fn) _ZGVbN2v_##fn
-#define SGLAB_VEC_F(fn) _ZGVbN4v_##fn##f
+// The unit's instruction set, named as the sse2 units name it.
+#include "simd/simd_isa_sse2.hpp"
 #include "simd/simd_libmvec.hpp"
 #include "simd/simd_kernels.hpp"
 

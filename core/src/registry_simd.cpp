@@ -1,6 +1,7 @@
 // The vectorized batch evaluators (docs/simd.md): run-time choice of the instruction set, and the
-// installation of the kernels of simd/simd_kernels.hpp as the registry's batch_float/batch_double
-// of the diffuse and specular methods (and of their bound versions, whose constants are passed to the kernel),
+// installation of the kernels of simd/simd_kernels.hpp (diffuse) and simd/simd_specular.hpp as the
+// registry's batch_float/batch_double of the diffuse and specular methods (and of their bound
+// versions, whose constants are passed to the kernel),
 // and the `specular` methods' f0 = 0 / f0 = 1 pair evaluators (simd/simd_fresnel_pair.hpp).
 // The scalar templates stay the definition: eval_float/eval_double/eval_mp50 are untouched.
 #include <algorithm>

@@ -42,7 +42,7 @@ inline FresnelPair<V> operator/(const FresnelPair<V>& x, const V& y) {
 struct F0Pair {};
 
 // ---- the pair on Lanes (the templates' f0) ------------------------------------------------------
-// (Lanes: simd_kernels.hpp's alias of simd_lanes::Lanes.)
+// (Lanes: simd_drivers.hpp's alias of simd_lanes::Lanes.)
 // brdf.hpp's Schlick F at f0 = 0 and 1 (the template itself, twice).
 template <class B>
 inline FresnelPair<Lanes<B>> fresnel_schlick(const FresnelPair<Lanes<B>>& f0, const Lanes<B>& cos_oh) {
@@ -76,7 +76,7 @@ inline FresnelPair<B> batch_of(const FresnelPair<Lanes<B>>& x) {
 }
 
 // A `specular` kernel K's batch eval(a, p): K::eval_f0 with the row's own f0, a[5]. The pair
-// driver (run_specular_pair, simd_kernels.hpp) passes F0Pair{} and rows without f0: eval_f0 reads
+// driver (run_specular_pair, simd_specular.hpp) passes F0Pair{} and rows without f0: eval_f0 reads
 // a[0 … 4] only.
 template <class K>
 struct RowF0 {

@@ -1,8 +1,8 @@
-// The body of every per-instruction-set unit (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp): the
-// declarations of glibc libmvec's functions for that instruction set, the kernels of
-// simd_kernels.hpp (diffuse) and simd_specular.hpp built on them, and the unit's kernel table
-// kernels_<SGLAB_ISA>() and specular_pairs_<SGLAB_ISA>() (simd_fresnel_pair.hpp). The including unit
-// defines, before including this once:
+// The body of each instruction set's diffuse unit (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp):
+// the declarations of glibc libmvec's functions for that instruction set, the diffuse kernels of
+// simd_kernels.hpp built on them, and the set's kernel table kernels_<SGLAB_ISA>(), whose specular
+// entries the set's specular unit adds (simd_specular_isa.hpp, add_specular_kernels_<SGLAB_ISA>).
+// The including unit first includes its set's names (simd_isa_<isa>.hpp), which define:
 //   SGLAB_ISA       the instruction set's name (sse2, avx2, avx512), also the table's name
 //   SGLAB_ISA_ARCH  the xsimd architecture the kernels are compiled for
 //   SGLAB_VEC_BITS  the register width in bits (128, 256, 512: __m128d/__m128, …)
@@ -16,12 +16,11 @@
 namespace sglab::simd_detail {
 
 const KernelTable& SGLAB_ISA_PASTE(kernels_, SGLAB_ISA)() {
-  static const KernelTable table = make_table<SGLAB_ISA_ARCH>(SGLAB_ISA_STRING(SGLAB_ISA));
-  return table;
-}
-
-const SpecularPairTable& SGLAB_ISA_PASTE(specular_pairs_, SGLAB_ISA)() {
-  static const SpecularPairTable table = make_pair_table<SGLAB_ISA_ARCH>();
+  static const KernelTable table = [] {
+    KernelTable t = make_table<SGLAB_ISA_ARCH>(SGLAB_ISA_STRING(SGLAB_ISA));
+    SGLAB_ISA_PASTE(add_specular_kernels_, SGLAB_ISA)(t);
+    return t;
+  }();
   return table;
 }
 

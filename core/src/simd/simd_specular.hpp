@@ -1,6 +1,8 @@
 // Vectorized batch evaluators of the specular methods (docs/simd.md): quantity `specular` (GGX,
-// core/include/sglab/specular.hpp) and `specular-gaussian-ndf` (gaussian_ndf.hpp). Included by
-// simd_kernels.hpp, after the diffuse kernels, and compiled with it once per instruction set.
+// core/include/sglab/specular.hpp) and `specular-gaussian-ndf` (gaussian_ndf.hpp), and their
+// drivers. Compiled once per instruction set in a unit of its own (simd_specular_isa.hpp, included
+// by simd_specular_sse2.cpp, …), apart from the diffuse kernels (simd_kernels.hpp), so that an edit
+// of a specular method's header does not recompile the diffuse kernels, nor the reverse.
 //
 // Every kernel IS the method's scalar template instantiated on Lanes (simd_lanes.hpp; its Eigen
 // 3-vectors Vec3<Lanes>): the template's `_at` form on the frame's vectors (specular_view,
@@ -13,10 +15,17 @@
 // Everything here has internal linkage or is a template (see simd_kernels.hpp).
 #pragma once
 
+#include <cstddef>
+#include <iterator>
+#include <limits>
 #include <tuple>
+#include <type_traits>
+
+#include <xsimd/xsimd.hpp>
 
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/specular.hpp"
+#include "simd_drivers.hpp"
 #include "simd_fresnel_pair.hpp"
 
 namespace sglab::simd_detail {
@@ -32,7 +41,7 @@ template <class B>
 inline LaneRow<B> lane_row(const B* a) {
   return {a[0], a[1], sglab::specular_light_axis(Lanes<B>(a[2]), Lanes<B>(a[4])), sglab::specular_view(Lanes<B>(a[3]))};
 }
-// A light's columns in the receiver driver (simd_kernels.hpp run_specular_pair_receivers): light
+// A light's columns in the receiver driver (run_specular_pair_receivers, below): light
 // sharpness, light_cos, cos φ, sin φ; its axis ξ as specular_light_axis_cs forms it.
 template <class B>
 inline Vec3<Lanes<B>> light_axis(const B* light) {
@@ -171,3 +180,146 @@ inline Lanes<B> exp_keeping_subnormals(const Lanes<B>& x) {
 }
 }  // namespace
 }  // namespace sglab::simd_lanes
+
+namespace sglab::simd_detail {
+namespace {
+
+// ---- the batch drivers ---------------------------------------------------------------------
+// The specular kernels' rows of kArity columns, de-interleaved into a[0 … kArity − 1]; the last
+// partial batch padded with `pad`. body(a, i, rest) gets each batch, of rows i … i + rest − 1.
+template <class B, std::size_t kArity, class Body>
+inline void for_each_specular_batch(const value_t<B>* args, std::size_t n, const value_t<B> (&pad)[kArity], Body body) {
+  using T = value_t<B>;
+  constexpr std::size_t W = B::size;
+  alignas(64) T col[kArity][W];
+  for (std::size_t i = 0; i < n; i += W) {
+    const std::size_t rest = n - i < W ? n - i : W;
+    for (std::size_t k = 0; k < W; ++k)
+      for (std::size_t j = 0; j < kArity; ++j) col[j][k] = k < rest ? args[kArity * (i + k) + j] : pad[j];
+    B a[kArity];
+    for (std::size_t j = 0; j < kArity; ++j) a[j] = B::load_aligned(col[j]);
+    body(a, i, rest);
+  }
+}
+
+// The specular kernels' driver: rows of 6 columns (roughness, light_sharpness, light_cos,
+// view_cos, light_azimuth, f0); padding kSpecularPad (simd_drivers.hpp). Flattened as run_columns.
+template <class Arch, class T, class K>
+__attribute__((flatten)) void run_specular(const T* args, T* out, std::size_t n, const T* params) {
+  using B = xsimd::batch<T, Arch>;
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
+  for_each_specular_batch<B>(args, n, kSpecularPad<T>, [&](const B* a, std::size_t i, std::size_t rest) {
+    store_lanes(K::eval(a, p), out + i, rest);
+  });
+}
+
+template <class Arch, class T, class K>
+constexpr ColumnsKernelFn<T> specular_columns = &run_columns<Arch, T, K, 6, kSpecularPad<T>>;
+
+// The pair driver (simd_fresnel_pair.hpp): rows of the first kSpecularPairArity columns (no f0),
+// the same padding; K::eval_f0 with F0Pair. Flattened: the kernel's helpers inlined (measured:
+// their calls, with batches passed through memory, cost a few per cent of the pass).
+template <class Arch, class T, class K>
+__attribute__((flatten)) void run_specular_pair(const T* args, T* at_f0_zero, T* at_f0_one, std::size_t n,
+                                                const T* params) {
+  using B = xsimd::batch<T, Arch>;
+  constexpr T kPad[kSpecularPairArity] = {T(0.5), T(1), T(0.5), T(0.5), T(0)};
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
+  for_each_specular_batch<B>(args, n, kPad, [&](const B* a, std::size_t i, std::size_t rest) {
+    const FresnelPair<B> r = K::eval_f0(a, p, F0Pair{});
+    store_lanes(r.at_f0_zero, at_f0_zero + i, rest);
+    store_lanes(r.at_f0_one, at_f0_one + i, rest);
+  });
+}
+// The receiver pair driver (sglab/simd_specular_pair.hpp SpecularPairColumns): the receivers'
+// columns (roughness, view_cos; one value per receiver) and the lights' (light_sharpness, light_cos,
+// cos φ, sin φ of the light azimuth; row j·receivers + g is light j at receiver g), loaded as they
+// are (no transposition; a partial last batch of receivers from padded copies, padding (0.5, 0.5)
+// and (1, 0.5, 1, 0)). Each batch of receivers is set up once (K::receiver: the template's
+// `_receiver` part) and evaluated against every light (K::eval_light with F0Pair: its `_from`
+// part); no sine or cosine is evaluated.
+template <class Arch, class K>
+__attribute__((flatten)) void run_specular_pair_receivers(const double* const* receivers, const double* const* lights,
+                                                          std::size_t receiver_count, std::size_t light_count,
+                                                          double* at_f0_zero, double* at_f0_one, const double* params) {
+  using T = double;
+  using B = xsimd::batch<T, Arch>;
+  constexpr std::size_t W = B::size;
+  constexpr T kReceiverPad[kSpecularReceiverColumns] = {T(0.5), T(0.5)};
+  constexpr T kLightPad[kSpecularLightColumns] = {T(1), T(0.5), T(1), T(0)};
+  B p[kKernelParams];
+  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
+  for (std::size_t g = 0; g < receiver_count; g += W) {
+    const std::size_t rest = receiver_count - g < W ? receiver_count - g : W;
+    B rc[kSpecularReceiverColumns];
+    load_columns<B>(receivers, g, rest, kReceiverPad, rc);
+    const auto r = K::receiver(rc[0], rc[1]);
+    for (std::size_t l = 0; l < light_count; ++l) {
+      const std::size_t i = l * receiver_count + g;
+      B a[kSpecularLightColumns];
+      load_columns<B>(lights, i, rest, kLightPad, a);
+      const FresnelPair<B> v = K::eval_light(r, a, p, F0Pair{});
+      store_lanes(v.at_f0_zero, at_f0_zero + i, rest);
+      store_lanes(v.at_f0_one, at_f0_one + i, rest);
+    }
+  }
+}
+
+// The `specular` kernels with a pair driver (simd_fresnel_pair.hpp), in the order of Kernel from
+// spec_sg_warp to spec_sglab: one list for the kernels, their column drivers and both pair drivers.
+template <class... K>
+struct KernelTypes {};
+using SpecularPairKernels =
+    KernelTypes<SpecSgWarp<false, false, false>, SpecSgWarp<false, false, true>, SpecSgWarp<true, false, false>,
+                SpecSgWarp<false, true, false>, SpecAsg, SpecSgWarpDvn, SpecSglab>;
+
+template <class Arch, class Pairs = SpecularPairKernels>
+struct SpecularDrivers;
+template <class Arch, class... K>
+struct SpecularDrivers<Arch, KernelTypes<K...>> {
+  // The specular kernels in the order of Kernel (from spec_sg_warp): the pair kernels, then the
+  // Gaussian-NDF ones.
+  template <class T>
+  static constexpr KernelFn<T> kernels[] = {&run_specular<Arch, T, K>..., &run_specular<Arch, T, GndfSgWarp>,
+                                            &run_specular<Arch, T, GndfSgWarpMeder>};
+  // Their column drivers, in the same order.
+  template <class T>
+  static constexpr ColumnsKernelFn<T> columns[] = {specular_columns<Arch, T, K>...,
+                                                   specular_columns<Arch, T, GndfSgWarp>,
+                                                   specular_columns<Arch, T, GndfSgWarpMeder>};
+  static constexpr SpecularPairFn pairs[] = {&run_specular_pair<Arch, double, K>...};
+  static constexpr SpecularPairColumnsFn pair_columns[] = {&run_specular_pair_receivers<Arch, K>...};
+};
+
+template <class Arch>
+SpecularPairTable make_pair_table() {
+  using D = SpecularDrivers<Arch>;
+  static_assert(std::size(D::pairs) == kSpecularPairKernels, "one pair driver per `specular` kernel");
+  static_assert(std::size(D::pair_columns) == kSpecularPairKernels, "one column driver per `specular` kernel");
+  SpecularPairTable t{};
+  for (int i = 0; i < kSpecularPairKernels; ++i) {
+    t.d[i] = D::pairs[i];
+    t.columns[i] = D::pair_columns[i];
+  }
+  return t;
+}
+
+// The specular entries of a table (Kernel from spec_sg_warp on), which make_table (simd_kernels.hpp)
+// leaves empty.
+template <class Arch>
+void add_specular_kernels(KernelTable& t) {
+  using D = SpecularDrivers<Arch>;
+  constexpr int kCount = static_cast<int>(Kernel::count) - kDiffuseKernels;
+  static_assert(std::size(D::template kernels<double>) == kCount, "one driver per specular kernel");
+  for (int i = 0; i < kCount; ++i) {
+    t.f[kDiffuseKernels + i] = D::template kernels<float>[i];
+    t.d[kDiffuseKernels + i] = D::template kernels<double>[i];
+    t.columns_f[kDiffuseKernels + i] = D::template columns<float>[i];
+    t.columns_d[kDiffuseKernels + i] = D::template columns<double>[i];
+  }
+}
+
+}  // namespace
+}  // namespace sglab::simd_detail

@@ -1,5 +1,6 @@
-// The table of vectorized batch evaluators one instruction-set translation unit provides
-// (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp). Internal to sglab_core: registry_simd.cpp
+// The table of vectorized batch evaluators one instruction set's two translation units provide
+// (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp: the diffuse kernels; simd_specular_sse2.cpp, …:
+// the specular ones). Internal to sglab_core: registry_simd.cpp
 // picks a table at run time and installs its entries as the registry's batch evaluators.
 // Deliberately free of any other header: the per-ISA units are compiled with -mavx2/-mavx512f, and
 // an inline non-template function odr-used there could be picked by the linker for the whole
@@ -30,6 +31,10 @@ enum class Kernel : int {
   gndf_sg_warp_meder,  // p: the Meder cosine SG's amplitude, sharpness, offset, p1…p4
   count
 };
+
+// The diffuse kernels come first: entries 0 … kDiffuseKernels − 1 (simd_kernels.hpp); the
+// specular ones after them (simd_specular.hpp), compiled in a unit of their own.
+constexpr int kDiffuseKernels = static_cast<int>(Kernel::spec_sg_warp);
 
 // Constants per kernel (unused entries are 0).
 constexpr int kKernelParams = 10;
@@ -83,6 +88,12 @@ const KernelTable& active_kernels();
 const KernelTable& kernels_sse2();
 const KernelTable& kernels_avx2();
 const KernelTable& kernels_avx512();
+
+// Fills the specular entries (kDiffuseKernels …) of an instruction set's table: defined in that
+// set's specular unit (simd_specular_<isa>.cpp), called by its diffuse unit's kernels_<isa>().
+void add_specular_kernels_sse2(KernelTable& table);
+void add_specular_kernels_avx2(KernelTable& table);
+void add_specular_kernels_avx512(KernelTable& table);
 
 // The `specular` kernels (spec_sg_warp … spec_sglab) at f0 = 0 and f0 = 1 in one pass
 // (simd_fresnel_pair.hpp): rows of the first 5 columns (no f0), in double.
