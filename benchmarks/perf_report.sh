@@ -3,7 +3,7 @@
 # (docs/testing.md, "Performance report"). Run from anywhere; it works in the checkout it sits in.
 #
 #   bash benchmarks/perf_report.sh [--skip-cold] [--skip-tests] [--skip-reproduce-full]
-#        [--skip-reproduce-quick] [--quick-runs N] [--skip-python] [--skip-render] [--touch FILE] [--jobs N]
+#        [--skip-reproduce-quick] [--quick-runs N] [--skip-python] [--skip-render] [--touch FILE]... [--jobs N]
 #        [--csv FILE] [--keep] [--tu-times] [--baseline REV | --tree DIR]
 #
 # --baseline REV: before and after in one sitting. REV (a commit of this repository, checked out
@@ -21,7 +21,8 @@
 #                       core/src/registry_core.cpp: the diffuse registry, which includes every
 #                       diffuse method's header; a method's formula header, such as
 #                       core/include/sglab/clamped_cosine.hpp, rebuilds every unit that includes it:
-#                       docs/testing.md, "Rebuilding after a method's header")
+#                       docs/testing.md, "Rebuilding after a method's header"); --touch repeated:
+#                       one row rebuild-touch/FILE per file, each touched and rebuilt in turn
 #   build-tests         the rest of the tree (test executables, benchmarks), cold, ccache off
 #   build-benchmarks    with --skip-tests instead: only the two benchmarks the Python and render rows run
 #   ctest               `ctest -j2` over the whole suite (wall; CPU = the tests' summed seconds)
@@ -57,7 +58,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
 cold=1 tests=1 full=1 quick=1 quick_runs=1 python=1 render=1 keep=0 jobs=2 tu_times=0
-touch_file=core/src/registry_core.cpp
+touch_files=()
 csv=results/perf_report.csv
 baseline='' tree=''
 args=("$@")
@@ -73,7 +74,7 @@ while [ $# -gt 0 ]; do
     --skip-render) render=0 ;;
     --keep) keep=1 ;;
     --tu-times) tu_times=1 ;;
-    --touch) touch_file=${2:?--touch needs a file}; shift ;;
+    --touch) touch_files+=("${2:?--touch needs a file}"); shift ;;
     --jobs) jobs=${2:?--jobs needs a number}; shift ;;
     --csv) csv=${2:?--csv needs a file}; shift ;;
     --baseline) baseline=${2:?--baseline needs a commit}; shift ;;
@@ -96,7 +97,10 @@ if [ -n "$tree" ]; then
   root=$(cd "$tree" && pwd)
   cd "$root"
 fi
-[ -f "$touch_file" ] || { echo "perf_report: --touch '$touch_file' is not a file of the checkout" >&2; exit 2; }
+((${#touch_files[@]})) || touch_files=(core/src/registry_core.cpp)
+for f in "${touch_files[@]}"; do
+  [ -f "$f" ] || { echo "perf_report: --touch '$f' is not a file of the checkout" >&2; exit 2; }
+done
 
 if [ -n "$baseline" ]; then
   rev=$(git -C "$root" rev-parse --verify --quiet "$baseline^{commit}") ||
@@ -229,8 +233,13 @@ if [ "$cold" = 1 ]; then
     tu_total=$(awk '{ s += $1 } END { printf "%.2f", s }' "$scratch/tu_times_main.txt")
     rows+=("tu/all-of-build-sglab-and-python||$tu_total|$(wc -l < "$scratch/tu_times_main.txt") translation units, summed CPU")
   fi
-  touch "$touch_file"
-  timed rebuild-touch "after touching $touch_file" cmake --build "$build" -j"$jobs" --target sglab sglab_python
+  for f in "${touch_files[@]}"; do
+    name=rebuild-touch
+    ((${#touch_files[@]} == 1)) || name=rebuild-touch/$f
+    touch "$f"
+    timed "${name//\//_}" "after touching $f" cmake --build "$build" -j"$jobs" --target sglab sglab_python
+    rows[${#rows[@]} - 1]="$name|${rows[${#rows[@]} - 1]#*|}"
+  done
   if [ "$tests" = 1 ] && ((${#kernels[@]})); then
     timed build-tests "the rest of the tree (tests, benchmarks; reconfigured with SGLAB_SIMD_KERNELS=host, its narrower kernel sets included), cold, ccache off" \
       bash -c 'cmake -S . -B "$1" -DSGLAB_SIMD_KERNELS=host && cmake --build "$1" -j"$2"' build-tests "$build" "$jobs"
