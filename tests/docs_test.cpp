@@ -248,23 +248,15 @@ TEST(Docs, FittedMethodRecipeIsTheBuildsList) {
 // the project's headers: one outside the list would drag its whole batch into every rebuild after an
 // edit of a method (docs/testing.md, "Rebuilding after a method's header"), and a listed one that no
 // longer includes any only costs a batch.
-// The APART groups of sglab_unity(TARGET …) in CMAKE_FILE, each its set of sources.
-std::vector<std::set<std::string>> apart_groups(const std::string& cmake_file, const std::string& target) {
+std::set<std::string> apart_sources(const std::string& cmake_file, const std::string& target) {
   const std::string cmake = read_doc(cmake_file);
   const std::size_t start = cmake.find("sglab_unity(" + target + " ");
   EXPECT_NE(start, std::string::npos) << cmake_file << " has no sglab_unity(" << target;
   if (start == std::string::npos) return {};
   std::istringstream words(cmake.substr(start, cmake.find(')', start) - start));
-  std::vector<std::set<std::string>> groups;
-  for (std::string w; words >> w;) {
-    if (w == "APART") groups.emplace_back();
-    if (!groups.empty() && w.size() > 4 && w.substr(w.size() - 4) == ".cpp") groups.back().insert(w);
-  }
-  return groups;
-}
-std::set<std::string> apart_sources(const std::string& cmake_file, const std::string& target) {
   std::set<std::string> files;
-  for (const auto& g : apart_groups(cmake_file, target)) files.insert(g.begin(), g.end());
+  for (std::string w; words >> w;)
+    if (w.size() > 4 && w.substr(w.size() - 4) == ".cpp") files.insert(w);
   return files;
 }
 
@@ -303,29 +295,17 @@ std::set<std::string> sources_including(const std::string& dir, const std::set<s
 }
 
 TEST(Docs, SourcesWithMethodHeadersAreBatchedApart) {
-  const std::set<std::string> diffuse = {"sglab/clamped_cosine.hpp", "sglab/clamped_cosine_meder.hpp",
-                                         "sglab/clamped_cosine_sglab.hpp", "sglab/hemispherical.hpp"};
-  const std::set<std::string> specular = {"sglab/specular.hpp", "sglab/specular_sglab.hpp", "sglab/gaussian_ndf.hpp"};
-  std::set<std::string> every = diffuse;
-  every.insert(specular.begin(), specular.end());
+  const std::set<std::string> every = {"sglab/clamped_cosine.hpp",
+                                       "sglab/clamped_cosine_meder.hpp",
+                                       "sglab/clamped_cosine_sglab.hpp",
+                                       "sglab/hemispherical.hpp",
+                                       "sglab/specular.hpp",
+                                       "sglab/specular_sglab.hpp",
+                                       "sglab/gaussian_ndf.hpp"};
   for (const std::string dir : {"experiments", "fit"}) {
     const std::string cmake = dir + "/CMakeLists.txt", target = "sglab_" + dir;
     EXPECT_EQ(apart_sources(cmake, target), sources_including(dir, every))
         << cmake << ": sglab_unity's APART lists against the sources that include a method's header";
-    // No group holds both a source that includes only diffuse methods' headers and one that includes
-    // only specular ones: an edit of either kind would recompile the other's sources too.
-    const std::set<std::string> with_diffuse = sources_including(dir, diffuse);
-    const std::set<std::string> with_specular = sources_including(dir, specular);
-    for (const auto& group : apart_groups(cmake, target)) {
-      std::string only_diffuse, only_specular;
-      for (const auto& f : group) {
-        if (with_diffuse.count(f) && !with_specular.count(f)) only_diffuse = f;
-        if (with_specular.count(f) && !with_diffuse.count(f)) only_specular = f;
-      }
-      EXPECT_TRUE(only_diffuse.empty() || only_specular.empty())
-          << cmake << ": one APART group holds " << only_diffuse << " (diffuse methods only) and " << only_specular
-          << " (specular methods only)";
-    }
   }
 }
 
