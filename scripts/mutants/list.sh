@@ -37,7 +37,7 @@ mutant t2024-large-switch core/include/sglab/clamped_cosine.hpp 's#value_of(l) >
   clamped_cosine_test hardening_test:HardeningNumerics.*
 mutant meder-offset core/include/sglab/clamped_cosine_meder.hpp 's#offset = 31\.7003;#offset = 31.7030;#' \
   clamped_cosine_test hemispherical_test
-mutant meder-p2 core/include/sglab/hemispherical.hpp 's#p2 = 10\.8438;#p2 = 10.4838;#' \
+mutant meder-p2 core/include/sglab/hemispherical_meder.hpp 's#p2 = 10\.8438;#p2 = 10.4838;#' \
   hemispherical_test clamped_cosine_test
 mutant asg-nu core/include/sglab/asg.hpp 's#const T nu = sharpness / T(2);#const T nu = sharpness / T(4);#' \
   asg_test specular_test

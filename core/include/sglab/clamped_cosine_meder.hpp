@@ -4,7 +4,7 @@
 // an edit of another diffuse method then does not recompile the Gaussian-NDF registry.
 #pragma once
 
-#include "sglab/hemispherical.hpp"
+#include "sglab/hemispherical_meder.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
 
