@@ -83,13 +83,15 @@ run() {
   /usr/bin/time -o "$work/time.txt" -f "%e %U %S" "$@" > "$work/$t.log" 2>&1 ||
     { tail -n 30 "$work/$t.log" >&2; echo "rebuild_versus: $* failed in the $t checkout (log above)" >&2; exit 1; }
   read -r wall user sys < "$work/time.txt"
+  # Ninja's log lines of this build (none after a configure).
+  new_jobs() { if [ -f "$build/.ninja_log" ]; then tail -n +"$((seen + 1))" "$build/.ninja_log"; fi; }
   cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')
-  objects=$(tail -n +"$((seen + 1))" "$build/.ninja_log" | awk -F'\t' '$4 ~ /\.o$/ {
+  objects=$(new_jobs | awk -F'\t' '$4 ~ /\.o$/ {
       n = split($4, p, "/"); target = ""
       for (i = 1; i < n; i++) if (p[i] ~ /\.dir$/) target = substr(p[i], 1, length(p[i]) - 4) ":"
       printf "%s%s%s=%.1f", sep, target, p[n], ($2 - $1) / 1000; sep = " " }')
   if [ "$round" = cold ]; then
-    objects="$(tail -n +"$((seen + 1))" "$build/.ninja_log" | awk -F'\t' '$4 ~ /\.o$/ { n++ } END { print n + 0 }') objects"
+    objects="$(new_jobs | awk -F'\t' '$4 ~ /\.o$/ { n++ } END { print n + 0 }') objects"
   fi
   echo "$round,$file,$t,$wall,$cpu,$objects" >> "$csv.tmp"
   echo "$round, $file, $t: $wall s ($cpu CPU s)" >&2
