@@ -79,7 +79,12 @@ git worktree add --detach --quiet "$work/after" "$head_rev"
 run() {
   local t=$1 round=$2 file=$3 build=$work/$1/build seen=0 wall user sys cpu objects
   shift 3
-  [ -f "$build/.ninja_log" ] && seen=$(wc -l < "$build/.ninja_log")
+  if [ -f "$build/.ninja_log" ]; then
+    # Compacted first, so that this build only appends to it (Ninja rewrites a log grown long with
+    # repeated entries when it starts, which would lose the count).
+    ninja -C "$build" -t recompact > /dev/null
+    seen=$(wc -l < "$build/.ninja_log")
+  fi
   /usr/bin/time -o "$work/time.txt" -f "%e %U %S" "$@" > "$work/$t.log" 2>&1 ||
     { tail -n 30 "$work/$t.log" >&2; echo "rebuild_versus: $* failed in the $t checkout (log above)" >&2; exit 1; }
   read -r wall user sys < "$work/time.txt"
