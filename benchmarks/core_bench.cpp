@@ -37,6 +37,7 @@
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
 #include "sglab/specular.hpp"
+#include "sglab/specular_sglab.hpp"
 #include "sglab/specular_grid.hpp"
 
 namespace {
@@ -241,7 +242,7 @@ void print_ratios() {
               std::string(sglab::simd::isa_name(isas.back())).c_str());
   for (std::size_t i = 0; i < isas.size() + 3; ++i) std::printf("---|");
   std::printf("\n");
-  for (const auto& port : sglab::peer::kPorts) {
+  for (const auto& port : sglab::peer::ports()) {
     const sglab::Quantity* q = sglab::find_quantity(port.quantity);
     const sglab::Method* m = q->find(port.method);
     const auto in = make_inputs(*q);

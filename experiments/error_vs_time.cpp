@@ -27,7 +27,7 @@
 #include "error_grid.hpp"
 #include "fit_all.hpp"
 #include "sglab/error_metrics.hpp"
-#include "sglab/peer_ports.hpp"
+#include "sglab/peer_port_table.hpp"
 #include "sglab/registry_mp50.hpp"
 #include "sglab/specular_grid.hpp"
 #include "registry.hpp"
@@ -344,7 +344,8 @@ std::vector<Row> measure(const Quantity& qr, bool quick, Grid& grid_out, const C
       r.batch = m.batch_path;
       r.ns_per_eval = is_float ? time_ns_per_eval<float>(m.batch_float, timing_f, arity, repeats, min_run)
                                : time_ns_per_eval<double>(m.batch_double, g.timing, arity, repeats, min_run);
-      // The naive peer (sglab/peer_ports.hpp) on the same inputs, timed the same way.
+      // The naive peer (sglab/peer_ports.hpp, by name through peer_port_table.hpp) on the same inputs, timed the same
+      // way.
       if (const auto* port = peer::find_port(q->name, m.name)) {
         const auto pf = port->batch_float;
         const auto pd = port->batch_double;

@@ -31,7 +31,7 @@
 #include "registry.hpp"
 #include "sglab/error_metrics.hpp"
 #include "sglab/registry.hpp"
-#include "sglab/specular.hpp"
+#include "sglab/specular_sglab.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sweep.hpp"
 #include "sweep_specular.hpp"

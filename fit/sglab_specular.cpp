@@ -28,7 +28,7 @@
 #include "fits.hpp"
 #include "sglab/error_metrics.hpp"
 #include "sglab/registry.hpp"
-#include "sglab/specular.hpp"
+#include "sglab/specular_sglab.hpp"
 #include "sglab/specular_grid.hpp"
 
 namespace sglab::fit {

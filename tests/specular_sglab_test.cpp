@@ -12,6 +12,7 @@
 
 #include "sglab/registry.hpp"
 #include "sglab/specular.hpp"
+#include "sglab/specular_sglab.hpp"
 #include "sglab/specular_grid.hpp"
 #include "sglab/stiff_cases.hpp"
 #include "test_util.hpp"

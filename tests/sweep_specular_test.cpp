@@ -23,7 +23,7 @@
 #include "csv.hpp"
 #include "parse_number.hpp"
 #include "sglab/registry.hpp"
-#include "sglab/specular.hpp"
+#include "sglab/specular_sglab.hpp"
 #include "sweep_specular.hpp"
 #include "test_util.hpp"
 

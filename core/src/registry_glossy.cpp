@@ -11,6 +11,7 @@
 #include "sglab/glossy_reference.hpp"
 #include "sglab/registry_mp50.hpp"
 #include "sglab/specular.hpp"
+#include "sglab/specular_sglab.hpp"
 #include "registry_specular.hpp"
 
 namespace sglab {

@@ -15,7 +15,7 @@
 //   m = the NDF's angular width in radians (≈ the Beckmann/GGX α at small angles: both SG
 //       approximations have sharpness 2/m² resp. 2/α²).
 // Input, as the registry's `specular-gaussian-ndf` quantity: the columns of `specular`
-// (specular.hpp SpecularInput) with `roughness` = m.
+// (specular_input.hpp SpecularInput) with `roughness` = m.
 #pragma once
 
 #include <algorithm>

@@ -24,6 +24,7 @@
 #include "sglab/brdf.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
+#include "sglab/specular_input.hpp"
 #include "sglab/sphere_quadrature.hpp"
 
 namespace sglab {
@@ -44,27 +45,6 @@ struct SpecularConfig {
   double light_azimuth;    // φ, from the view's azimuth (π and light_cos = view_cos: mirror)
   double f0;               // Schlick reflectance at normal incidence
 };
-
-template <class T>
-Vec3<T> specular_view(const T& view_cos) {
-  const T v = clamp(view_cos, T(0), T(1));
-  return Vec3<T>(safe_sqrt(sin2_from_cos(v)), T(0), v);
-}
-
-// The light axis ξ from its cosine and cos φ, sin φ of its azimuth (the renderer's columns and the
-// SIMD pair kernels carry those, not φ); specular_light_axis from φ.
-template <class T>
-Vec3<T> specular_light_axis_cs(const T& light_cos, const T& cos_azimuth, const T& sin_azimuth) {
-  const T c = clamp_cosine(light_cos);
-  const T s = safe_sqrt(sin2_from_cos(c));
-  return Vec3<T>(s * cos_azimuth, s * sin_azimuth, c);
-}
-template <class T>
-Vec3<T> specular_light_axis(const T& light_cos, const T& light_azimuth) {
-  using std::cos;
-  using std::sin;
-  return specular_light_axis_cs(light_cos, T(cos(light_azimuth)), T(sin(light_azimuth)));
-}
 
 // ggx_brdf_cosine(alpha, f0, wo, ω) at the n directions ω = (x[k], y[k], z[k]) into out, the
 // template's values bit for bit, on the active instruction set's vector registers

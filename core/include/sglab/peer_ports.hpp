@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "sglab/clamped_cosine_sglab.hpp"
+#include "sglab/peer_port_table.hpp"
 #include "sglab/specular_sglab.hpp"
 
 namespace sglab::peer {
@@ -338,7 +339,8 @@ T gndf_sg_warp_meder(T m, T l, T lc, T v, T phi, T f0) {
 }
 
 // ---- by name ----------------------------------------------------------------------------------
-// The port's batch loop over interleaved (λ, c) rows, the port inlined (one call per batch).
+// The port's batch loop over interleaved (λ, c) rows, the port inlined (one call per batch); the
+// table of every port's loops by name: core/src/peer_ports.cpp (peer_port_table.hpp).
 template <class T, T (*F)(T, T)>
 void port_batch(const T* args, T* out, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) out[i] = F(args[2 * i], args[2 * i + 1]);
@@ -351,49 +353,6 @@ void port_batch6(const T* args, T* out, std::size_t n) {
     const T* a = args + 6 * i;
     out[i] = F(a[0], a[1], a[2], a[3], a[4], a[5]);
   }
-}
-
-struct Port {
-  std::string_view quantity, method;
-  void (*batch_float)(const float*, float*, std::size_t);
-  void (*batch_double)(const double*, double*, std::size_t);
-};
-
-#define SGLAB_PEER_PORT(q, m, fn) \
-  Port { q, m, &port_batch<float, fn<float>>, &port_batch<double, fn<double>> }
-inline constexpr Port kPorts[] = {
-    SGLAB_PEER_PORT("clamped-cosine", "punctual", cc_punctual),
-    SGLAB_PEER_PORT("clamped-cosine", "punctual-approx", cc_punctual_approx),
-    SGLAB_PEER_PORT("clamped-cosine", "sg-cosine", cc_sg_cosine),
-    SGLAB_PEER_PORT("clamped-cosine", "cosine-lobe-sg", cc_cosine_lobe_sg),
-    SGLAB_PEER_PORT("clamped-cosine", "hill-fitted", cc_hill_fitted),
-    SGLAB_PEER_PORT("clamped-cosine", "meder", cc_meder),
-    SGLAB_PEER_PORT("clamped-cosine", "tokuyoshi2022", cc_tokuyoshi2022),
-    SGLAB_PEER_PORT("clamped-cosine", "tokuyoshi2024", cc_tokuyoshi2024),
-    SGLAB_PEER_PORT("clamped-cosine", "sglab", cc_sglab),
-    SGLAB_PEER_PORT("hemispherical", "meder", hemi_meder),
-    SGLAB_PEER_PORT("hemispherical", "tokuyoshi2022", hemi_tokuyoshi2022),
-    SGLAB_PEER_PORT("hemispherical", "vmf-tokuyoshi2024", hemi_vmf_tokuyoshi2024),
-#define SGLAB_PEER_PORT6(q, m, fn) \
-  Port { q, m, &port_batch6<float, fn<float>>, &port_batch6<double, fn<double>> }
-    SGLAB_PEER_PORT6("specular", "sg-warp", spec_sg_warp),
-    SGLAB_PEER_PORT6("specular", "sg-warp-product-axis", spec_sg_warp_product_axis),
-    SGLAB_PEER_PORT6("specular", "sg-warp-iwasaki", spec_sg_warp_iwasaki),
-    SGLAB_PEER_PORT6("specular", "sg-warp-th2019", spec_sg_warp_th2019),
-    SGLAB_PEER_PORT6("specular", "asg", spec_asg),
-    SGLAB_PEER_PORT6("specular", "sg-warp-dvn", spec_sg_warp_dvn),
-    SGLAB_PEER_PORT6("specular", "sglab", spec_sglab),
-    SGLAB_PEER_PORT6("specular-gaussian-ndf", "sg-warp", gndf_sg_warp),
-    SGLAB_PEER_PORT6("specular-gaussian-ndf", "sg-warp-meder", gndf_sg_warp_meder),
-};
-#undef SGLAB_PEER_PORT6
-#undef SGLAB_PEER_PORT
-
-// The naive port of `quantity/method`, or nullptr if there is none.
-inline const Port* find_port(std::string_view quantity, std::string_view method) {
-  for (const auto& p : kPorts)
-    if (p.quantity == quantity && p.method == method) return &p;
-  return nullptr;
 }
 
 }  // namespace sglab::peer

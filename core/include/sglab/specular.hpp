@@ -1,9 +1,10 @@
 // Specular reflection of a unit-amplitude SG light off the GGX BRDF: the
 // approximations measured against specular_reference() (glossy_reference.hpp).
 //
-// Input, as the registry's `specular` quantity: roughness α (GGX), light sharpness λ, light_cos,
-// view_cos, light_azimuth, f0, in the frame n = (0, 0, 1), ωo = (√(1 − v²), 0, v),
-// ξ = (s cos φ, s sin φ, light_cos). Every method returns an approximation of
+// Input, as the registry's `specular` quantity (SpecularInput, specular_input.hpp): roughness α
+// (GGX), light sharpness λ, light_cos, view_cos, light_azimuth, f0, in the frame n = (0, 0, 1),
+// ωo = (√(1 − v²), 0, v), ξ = (s cos φ, s sin φ, light_cos). This project's own method is in
+// specular_sglab.hpp, which does not include this header. Every method returns an approximation of
 //   L = ∫ G(ω; ξ, λ) f(ωo, ω)⟨ω·n⟩ dω.
 //
 // Stiff inputs: α is floored at kMinRoughness and the warp's |ξ_s·n| at kMinWarpCosine
@@ -18,20 +19,9 @@
 #include "sglab/glossy_reference.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
-#include "sglab/specular_sglab.hpp"
+#include "sglab/specular_input.hpp"
 
 namespace sglab {
-
-template <class T>
-struct SpecularInput {
-  T roughness, light_sharpness, light_cos, view_cos, light_azimuth, f0;
-};
-
-// From a registry row (columns in the order above).
-template <class T>
-SpecularInput<T> specular_input(std::span<const T> a) {
-  return {a[0], a[1], a[2], a[3], a[4], a[5]};
-}
 
 namespace detail {
 template <class T>
@@ -235,15 +225,6 @@ fresnel_value_t<T, F0> specular_from(const SgWarpDvnReceiver<T>& r, const T& lig
 template <class T>
 T specular_sg_warp_dvn(const SpecularInput<T>& in) {
   return specular_parts(specular_sg_warp_dvn_receiver<T>, in);
-}
-
-// `sglab` (this project; specular_sglab.hpp): the GGX slope density as a Student t, smoothed by
-// the light's Gaussian in slope space, the BRDF weight and the true light at the product's peak.
-template <class T>
-T specular_sglab(const SpecularInput<T>& in, const SglabSpecularParams<T>& p = SglabSpecularParams<T>::fitted(),
-                 SglabHorizon horizon = SglabHorizon::rational) {
-  return specular_sglab_with(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
-                             specular_view(in.view_cos), in.f0, p, horizon);
 }
 
 // The exact reference for one input (double quadrature; see glossy_reference.hpp).

@@ -48,6 +48,7 @@
 #include "sglab/fitted_constants.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
+#include "sglab/specular_input.hpp"
 
 namespace sglab {
 
@@ -293,6 +294,15 @@ fresnel_value_t<T, F0> specular_sglab_with(const T& roughness, const T& light_sh
   const T exponent = min(T(t_exponent + light), T(kSglabSpecularMaxExponent));
   const T integral = min(T(exp_keeping_subnormals(exponent) * inv_root_det), T(1));
   return weight * integral * horizon;
+}
+
+// On a SpecularInput (specular_input.hpp), as the registry evaluates it: the GGX slope density as a Student t, smoothed
+// by the light's Gaussian in slope space, the BRDF weight and the true light at the product's peak.
+template <class T>
+T specular_sglab(const SpecularInput<T>& in, const SglabSpecularParams<T>& p = SglabSpecularParams<T>::fitted(),
+                 SglabHorizon horizon = SglabHorizon::rational) {
+  return specular_sglab_with(in.roughness, in.light_sharpness, specular_light_axis(in.light_cos, in.light_azimuth),
+                             specular_view(in.view_cos), in.f0, p, horizon);
 }
 
 }  // namespace sglab

@@ -25,6 +25,7 @@
 
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/specular.hpp"
+#include "sglab/specular_sglab.hpp"
 #include "simd_drivers.hpp"
 #include "simd_fresnel_pair.hpp"
 
