@@ -11,7 +11,6 @@
 #include "sglab/glossy_reference.hpp"
 #include "sglab/registry_mp50.hpp"
 #include "sglab/specular.hpp"
-#include "sglab/specular_sglab.hpp"
 #include "registry_specular.hpp"
 
 namespace sglab {
@@ -290,34 +289,7 @@ void register_glossy_quantities(std::vector<Quantity>& out) {
         "the VNDF reflection pdf, times F·G2/G1(ωo) at the product axis, exact product",
         "isotropic lobe (no grazing anisotropy); F·G2/G1 taken at one direction",
         [](const auto& in) { return specular_sg_warp_dvn(in); });
-    {
-      const std::string src =
-          "sglab (this project): constants of `sglab fit sglab-specular` (paper_tables/own_specular.md)";
-      using S = SglabSpecular;
-      q.methods.push_back(make_method_with_parameters(
-          exportable, "sglab",
-          "sglab (this project): GGX's slope density as a Student t smoothed by the light's Gaussian in slope space "
-          "(scale s_D = α²/2·(1 + κρ0), ν = 2 + c_ν ρ/(1 − ρ)), "
-          "the BRDF weight and the true light at the product's peak, a horizon factor; constants from `sglab fit "
-          "sglab-specular` (paper_tables/own_specular.md)",
-          "fitted, not derived: measured on the sweep grid and off it (paper_tables/own_specular.md), none guaranteed "
-          "between points; the light is Gaussian in slope "
-          "space only near its axis (broad lights at grazing view carry the largest error); roughness held at ≤ 1e4",
-          false, nullptr,
-          fit_parameters("sglab-specular", src,
-                         {{"nu_slope", S::nu_slope},
-                          {"inflation", S::inflation, ColumnKind::nonnegative},
-                          {"light_weight", S::light_weight, ColumnKind::nonnegative},
-                          {"light_floor", S::light_floor, ColumnKind::nonnegative},
-                          {"horizon_depth", S::horizon_depth, ColumnKind::unit_interval},
-                          {"horizon_rate", S::horizon_rate, ColumnKind::nonnegative}}),
-          [](auto a) { return specular_sglab(specular_input(a)); },
-          [](auto a, auto p) {
-            using T = std::decay_t<decltype(a[0])>;
-            const SglabSpecularParams<T> c{T(p[0]), T(p[1]), T(p[2]), T(p[3]), T(p[4]), T(p[5])};
-            return specular_sglab(specular_input(a), c);
-          }));
-    }
+    q.methods.push_back(specular_sglab_method());  // registry_specular_sglab.cpp
     q.reference_reach.max_sharpness = kQuadratureMaxSharpness;
     q.reference_reach.rows = 16;
     q.reference_reach.rows_quick = 4;

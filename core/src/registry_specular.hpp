@@ -13,4 +13,8 @@ namespace sglab {
 // roughness's meaning differs between the BRDFs (`roughness` describes it). In registry_glossy.cpp.
 std::vector<Column> specular_columns(std::string roughness);
 
+// The `specular` quantity's method `sglab` (this project's own), registered last among its methods
+// by registry_glossy.cpp. In registry_specular_sglab.cpp, apart from the published methods.
+Method specular_sglab_method();
+
 }  // namespace sglab
