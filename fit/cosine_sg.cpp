@@ -30,6 +30,7 @@
 
 #include "fits.hpp"
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/sg.hpp"
 
 namespace sglab::fit {

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/reference.hpp"
 #include "test_util.hpp"

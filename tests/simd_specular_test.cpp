@@ -46,6 +46,7 @@
 #include <gtest/gtest.h>
 
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/gaussian_ndf.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"

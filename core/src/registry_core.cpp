@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/hemispherical.hpp"
 #include "sglab/reference_mp50.hpp"

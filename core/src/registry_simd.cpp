@@ -14,6 +14,7 @@
 
 #include "sglab/brdf.hpp"
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/specular_sglab.hpp"
 #include "sglab/registry_mp50.hpp"
 #include "sglab/simd.hpp"

@@ -4,7 +4,6 @@
 #pragma once
 
 #include "sglab/brdf.hpp"
-#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/hemispherical.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
@@ -98,7 +97,9 @@ T clamped_cosine_hill_fitted(const T& sharpness, const T& cosine, const T& c0 = 
   return (scale * y + bias) * two_pi<T>() * rl;
 }
 
-// ---- meder: clamped_cosine_meder.hpp ----------------------------------------------------------
+// ---- meder: clamped_cosine_meder.hpp, not included here ----------------------------------------
+// Its users include it themselves: an edit of the Meder cosine then recompiles only them, not every
+// unit that needs another diffuse method (docs/testing.md, "Rebuilding after a method's header").
 
 // ---- tokuyoshi2022 ----------------------------------------------------------------------------
 // Tokuyoshi 2022 (poster): ω·n ≈ α(e^{λc}G(ω; n, λc) − 1) (first-order Taylor form,

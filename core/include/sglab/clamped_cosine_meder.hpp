@@ -1,7 +1,8 @@
 // The Meder cosine (docs/math.md §3, "meder"): ⟨ω·n⟩ as an SG minus a constant, each term through a
-// hemispherical integral. A header of its own, included by clamped_cosine.hpp with the other diffuse
-// methods, so that gaussian_ndf.hpp (`sg-warp-meder`) takes this method and not every diffuse one:
-// an edit of another diffuse method then does not recompile the Gaussian-NDF registry.
+// hemispherical integral. A header of its own, which clamped_cosine.hpp does not include: its users
+// (the diffuse registry and kernels, gaussian_ndf.hpp for `sg-warp-meder`, the fits of its
+// constants, the naive peer) include it themselves, so that an edit of another diffuse method does
+// not recompile the Gaussian-NDF registry and an edit of this one recompiles only its users.
 #pragma once
 
 #include "sglab/hemispherical_meder.hpp"
@@ -20,23 +21,6 @@ struct MederCosineSg {
   static constexpr double sharpness = 0.0315;   // Meder & Brüderlin 2018
   static constexpr double offset = 31.7003;     // Meder & Brüderlin 2018
 };
-
-// ∫_{ω·n>0} G(ω;ξ,λ)·G(ω;n,λ2) dω through a given hemispherical-integral function: the product
-// SG e^{L} G(ω; ξ3, λ3) with c3 = ξ3·n = (λc + λ2)/λ3 (c3 = 1 when λ3 = 0: the product is then the
-// constant e^{L} and any axis gives the same hemispherical integral only if H(0, ·) is constant,
-// which holds for every H here: H(0, c) = 2π).
-template <class T, class Hemi>
-T hemispherical_product(const T& sharpness, const T& cosine, const T& sharpness2, const T& extra_log_amplitude,
-                        const Hemi& hemi) {
-  using std::exp;
-  const T c = clamp_cosine(cosine);
-  const T l3 = product_sharpness(sharpness, sharpness2, c);
-  const T log_amp = product_log_amplitude(sharpness, sharpness2, c, l3) + extra_log_amplitude;
-  const T c3 = select(
-      value_of(l3) > 0, [&]() -> T { return clamp_cosine(T((sharpness * c + sharpness2) / l3)); },
-      []() -> T { return T(1); });
-  return exp(log_amp) * hemi(l3, c3);
-}
 
 // amplitude, lobe_sharpness, offset (the cosine fit) and p1…p4 (the Meder logistic of both
 // hemispherical integrals) default to the published values.

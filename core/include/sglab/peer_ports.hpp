@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "sglab/clamped_cosine_sglab.hpp"
+#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/peer_port_table.hpp"
 #include "sglab/specular_sglab.hpp"
 

@@ -121,6 +121,24 @@ T product_log_amplitude(const T& sharpness1, const T& sharpness2, const T& cosin
       });
 }
 
+// ∫_{ω·n>0} G(ω;ξ,λ)·G(ω;n,λ2) dω through a given hemispherical-integral function hemi(λ, c)
+// (the Meder cosine and Tokuyoshi 2022's cosine, clamped_cosine_meder.hpp and clamped_cosine.hpp): the product
+// SG e^{L} G(ω; ξ3, λ3) with c3 = ξ3·n = (λc + λ2)/λ3 (c3 = 1 when λ3 = 0: the product is then the
+// constant e^{L} and any axis gives the same hemispherical integral only if H(0, ·) is constant,
+// which holds for every H of the project: H(0, c) = 2π).
+template <class T, class Hemi>
+T hemispherical_product(const T& sharpness, const T& cosine, const T& sharpness2, const T& extra_log_amplitude,
+                        const Hemi& hemi) {
+  using std::exp;
+  const T c = clamp_cosine(cosine);
+  const T l3 = product_sharpness(sharpness, sharpness2, c);
+  const T log_amp = product_log_amplitude(sharpness, sharpness2, c, l3) + extra_log_amplitude;
+  const T c3 = select(
+      value_of(l3) > 0, [&]() -> T { return clamp_cosine(T((sharpness * c + sharpness2) / l3)); },
+      []() -> T { return T(1); });
+  return exp(log_amp) * hemi(l3, c3);
+}
+
 // Vector form. When λ3 = 0 (opposite axes of equal sharpness, or both sharpnesses 0) the product
 // is the constant e^{L}: its axis is undefined and ξ1 is returned with sharpness 0, which makes
 // G(ω; ξ1, 0) ≡ 1 — the right function whatever the axis.

@@ -22,6 +22,7 @@
 #include <xsimd/xsimd.hpp>
 
 #include "sglab/clamped_cosine.hpp"
+#include "sglab/clamped_cosine_meder.hpp"
 #include "sglab/clamped_cosine_sglab.hpp"
 #include "sglab/hemispherical.hpp"
 #include "simd_drivers.hpp"
