@@ -10,6 +10,7 @@
 #include "fits.hpp"
 #include "grid2d.hpp"
 #include "sglab/hemispherical.hpp"
+#include "sglab/hemispherical_meder.hpp"
 
 namespace sglab::fit {
 namespace meder_logistic_detail {

@@ -2,6 +2,7 @@
 #include <ceres/jet.h>
 
 #include "sglab/hemispherical.hpp"
+#include "sglab/hemispherical_meder.hpp"
 #include "sglab/reference.hpp"
 #include "test_util.hpp"
 

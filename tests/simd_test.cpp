@@ -30,6 +30,7 @@
 
 #include "sglab/clamped_cosine.hpp"
 #include "sglab/exp_batch.hpp"
+#include "sglab/hemispherical_meder.hpp"
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
 #include "simd_test_util.hpp"

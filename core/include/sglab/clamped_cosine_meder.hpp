@@ -1,8 +1,9 @@
 // The Meder cosine (docs/math.md §3, "meder"): ⟨ω·n⟩ as an SG minus a constant, each term through a
 // hemispherical integral. A header of its own, which clamped_cosine.hpp does not include: its users
-// (the diffuse registry and kernels, gaussian_ndf.hpp for `sg-warp-meder`, the fits of its
-// constants, the naive peer) include it themselves, so that an edit of another diffuse method does
-// not recompile the Gaussian-NDF registry and an edit of this one recompiles only its users.
+// (the diffuse registry, kernels and SIMD table, gaussian_ndf.hpp for `sg-warp-meder`, the fit of
+// its constants, fit/cosine_sg.cpp, and the naive peer) include it themselves, so that an edit of
+// another diffuse method does not recompile the Gaussian-NDF registry and an edit of this one
+// recompiles only its users.
 #pragma once
 
 #include "sglab/hemispherical_meder.hpp"

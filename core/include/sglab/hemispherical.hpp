@@ -1,11 +1,12 @@
 // Hemispherical integral of an SG (docs/math.md §2):
 //   H(λ, c) = ∫_{ω·n>0} G(ω; ξ, λ) dω,  c = ξ·n.
-// Closed-form bounds, and the published approximations that interpolate between them: the bounds
-// and Meder & Brüderlin's in hemispherical_meder.hpp, Tokuyoshi's here. The exact reference is in
+// Closed-form bounds, and the published approximations that interpolate between them: the bounds in
+// hemispherical_bounds.hpp, Meder & Brüderlin's in hemispherical_meder.hpp (not included here),
+// Tokuyoshi's here. The exact reference is in
 // reference.hpp.
 #pragma once
 
-#include "sglab/hemispherical_meder.hpp"
+#include "sglab/hemispherical_bounds.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
 

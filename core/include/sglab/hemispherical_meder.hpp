@@ -1,51 +1,17 @@
-// The hemispherical integral's closed-form bounds at c = ±1 and Meder & Brüderlin's approximation
-// between them (docs/math.md §2), apart from the other hemispherical methods (hemispherical.hpp,
-// which includes this header): the Meder cosine (clamped_cosine_meder.hpp) is built on it, and
-// through it the specular method sg-warp-meder (gaussian_ndf.hpp), so an edit of another
-// hemispherical method does not recompile the specular kernels and registries.
+// Meder & Brüderlin's approximation of the hemispherical integral between its bounds at c = ±1
+// (docs/math.md §2; the bounds: hemispherical_bounds.hpp), apart from the other hemispherical methods
+// (hemispherical.hpp, which does not include this header): the Meder cosine (clamped_cosine_meder.hpp)
+// is built on it, and through it the specular method sg-warp-meder (gaussian_ndf.hpp), so an edit of
+// another hemispherical method does not recompile the specular kernels and registries, and an edit of
+// this one recompiles only the Meder methods' users (docs/testing.md, "Rebuilding after a method's
+// header").
 #pragma once
 
+#include "sglab/hemispherical_bounds.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
 
 namespace sglab {
-
-// H at c = 1 (axis on the normal): 2π(1 − e^{−λ})/λ, exactly 2π at λ = 0.
-template <class T>
-T hemispherical_upper(const T& sharpness) {
-  return two_pi<T>() * expm1_over_x(-sharpness);
-}
-
-// H at c = −1 (axis opposite the normal): 2π e^{−λ}(1 − e^{−λ})/λ.
-template <class T>
-T hemispherical_lower(const T& sharpness) {
-  using std::exp;
-  return exp(-sharpness) * hemispherical_upper(sharpness);
-}
-
-// e^{−λ} + s(1 − e^{−λ}) = lerp(e^{−λ}, 1, s), the normalized interpolation between the lower
-// and upper bound shared by Meder–Brüderlin and Tokuyoshi 2022. 1 − e^{−λ} through expm1.
-// From e = e^{−λ} and em = expm1(−λ) when the caller has them (one call each serves all uses: a
-// vectorized evaluation does not merge repeated calls, docs/simd.md).
-template <class T>
-T bound_lerp(const T& e, const T& em, const T& s) {
-  return e + s * -em;
-}
-template <class T>
-T bound_lerp(const T& sharpness, const T& s) {
-  using std::exp;
-  using std::expm1;
-  return bound_lerp(T(exp(-sharpness)), T(expm1(-sharpness)), s);
-}
-
-// hemispherical_upper(λ)·bound_lerp(λ, s), the form of both published approximations below.
-template <class T>
-T hemispherical_upper_times_lerp(const T& sharpness, const T& s) {
-  using std::exp;
-  using std::expm1;
-  const T em = expm1(-sharpness);
-  return two_pi<T>() * expm1_over_x(T(-sharpness), em) * bound_lerp(T(exp(-sharpness)), em, s);
-}
 
 // ---- Meder & Brüderlin 2018, "Hemispherical Gaussians for Accurate Light Integration" -----
 // Logistic steepness t(λ) = √λ (p1 λ² + p2 λ)/(λ² + p3 λ + p4); constants as published there
