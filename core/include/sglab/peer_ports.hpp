@@ -227,7 +227,8 @@ T spec_sg_warp_form(T a, T l, T lc, T v, T phi, T f0) {
   const V3<T> xm = kProductAxis ? normalize(l * xi + ls * axis) : axis;
   return ggx_factor_m(a, f0, wo, xm) * integral / (kPi<T> * a * a);
 }
-// The four forms by name (constant function pointers: kPorts instantiates them like the functions).
+// The four forms by name (constant function pointers: the table, core/src/peer_ports.cpp, instantiates
+// them like the functions).
 template <class T>
 inline constexpr auto spec_sg_warp = spec_sg_warp_form<T, false, false, false>;
 template <class T>
