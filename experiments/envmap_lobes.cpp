@@ -122,22 +122,43 @@ struct MapShading {
   std::vector<std::vector<render::Rgb>> diffuse, specular;  // [geometry], [geometry × roughness]
 };
 
-MapShading shade_map(const Options& a, const LoadedEnv& env, const std::vector<Geometry>& geometries,
-                     Environment& out) {
-  std::fprintf(stderr, "envmap lobes: %s (%d×%d): exact shading of the map …\n", env.name.c_str(), env.map.width,
-               env.map.height);
-  MapShading s;
-  for (const auto& g : geometries) {
-    s.diffuse.push_back(
-        per_distinct_normal(g.image, [&](const auto& im) { return render::integrate_diffuse(env.map, im); }));
-    for (double r : a.roughness) s.specular.push_back(render::integrate_specular(env.map, g.image, r, a.f0));
-  }
-  // Quadrature convergence at 2×2 sub-texels on the hardest case (sphere, smallest roughness).
+// Layer (1) of every environment, in the order given. The specular quadratures take every map of
+// one size at once (integrate_specular of several maps: each node's GGX weight once for all of
+// them; the same values as one call per map, to the bit).
+std::vector<MapShading> shade_maps(const Options& a, const std::vector<LoadedEnv>& envs,
+                                   const std::vector<Geometry>& geometries, std::vector<Environment>& out) {
+  std::vector<MapShading> s(envs.size());
   const auto& sphere = geometries[0].image;
-  const auto fine_d = render::integrate_diffuse(env.map, sphere, 2);
-  const auto fine_s = render::integrate_specular(env.map, sphere, a.roughness.front(), a.f0, 2);
-  out.quadrature_diffuse = render::shading_error(s.diffuse[0], fine_d, sphere).relative_l2;
-  out.quadrature_specular = render::shading_error(s.specular[0], fine_s, sphere).relative_l2;
+  for (std::size_t e = 0; e < envs.size(); ++e) {
+    std::fprintf(stderr, "envmap lobes: %s (%d×%d): exact shading of the map …\n", envs[e].name.c_str(),
+                 envs[e].map.width, envs[e].map.height);
+    for (const auto& g : geometries)
+      s[e].diffuse.push_back(
+          per_distinct_normal(g.image, [&](const auto& im) { return render::integrate_diffuse(envs[e].map, im); }));
+    // Quadrature convergence at 2×2 sub-texels on the hardest case (sphere, smallest roughness).
+    const auto fine_d = render::integrate_diffuse(envs[e].map, sphere, 2);
+    out[e].quadrature_diffuse = render::shading_error(s[e].diffuse[0], fine_d, sphere).relative_l2;
+  }
+  std::vector<char> done(envs.size(), 0);
+  for (std::size_t e = 0; e < envs.size(); ++e) {
+    if (done[e]) continue;
+    std::vector<std::size_t> same;  // the environments whose maps are e's size
+    std::vector<const EnvMap*> maps;
+    for (std::size_t f = e; f < envs.size(); ++f)
+      if (envs[f].map.width == envs[e].map.width && envs[f].map.height == envs[e].map.height) {
+        same.push_back(f);
+        maps.push_back(&envs[f].map);
+        done[f] = 1;
+      }
+    for (const auto& g : geometries)
+      for (double r : a.roughness) {
+        auto values = render::integrate_specular(maps, g.image, r, a.f0);
+        for (std::size_t j = 0; j < same.size(); ++j) s[same[j]].specular.push_back(std::move(values[j]));
+      }
+    const auto fine_s = render::integrate_specular(maps, sphere, a.roughness.front(), a.f0, 2);
+    for (std::size_t j = 0; j < same.size(); ++j)
+      out[same[j]].quadrature_specular = render::shading_error(s[same[j]].specular[0], fine_s[j], sphere).relative_l2;
+  }
   return s;
 }
 
@@ -222,13 +243,23 @@ void shade_environment(const Result& r, const LoadedEnv& env, const std::vector<
         break;
       }
   }
-  // [count × geometry × roughness], filled for the counts that are their own source
+  // [count × geometry × roughness], filled for the counts that are their own source: per geometry
+  // and roughness, every such count's texel means (the mixture rasterized as its fit error saw it)
+  // in one call, which evaluates each node's GGX weight once for all of them (the same values as
+  // one call per count, to the bit).
+  std::vector<const EnvMap*> distinct;
+  std::vector<std::size_t> distinct_count;
+  for (std::size_t k = 0; k < counts; ++k)
+    if (source[k] == k) {
+      distinct.push_back(&out.counts[k].ceres.texel_means);
+      distinct_count.push_back(k);
+    }
   std::vector<std::vector<render::Rgb>> mix_s(counts * G * R);
-  tbb::parallel_for(std::size_t(0), mix_s.size(), [&](std::size_t i) {
-    const std::size_t k = i / (G * R), gi = (i / R) % G, ri = i % R;
-    if (source[k] != k) return;
-    // the mixture rasterized as its fit error saw it
-    mix_s[i] = render::integrate_specular(out.counts[k].ceres.texel_means, geometries[gi].image, a.roughness[ri], a.f0);
+  tbb::parallel_for(std::size_t(0), G * R, [&](std::size_t i) {
+    const std::size_t gi = i / R, ri = i % R;
+    auto values = render::integrate_specular(distinct, geometries[gi].image, a.roughness[ri], a.f0);
+    for (std::size_t d = 0; d < distinct.size(); ++d)
+      mix_s[(distinct_count[d] * G + gi) * R + ri] = std::move(values[d]);
   });
   std::vector<EnvMap> images(counts);
   tbb::parallel_for(std::size_t(0), counts, [&](std::size_t k) {
@@ -282,8 +313,7 @@ Result compute(const Options& o) {
     }));
   }
   try {
-    tbb::parallel_for(std::size_t(0), envs.size(),
-                      [&](std::size_t e) { maps[e] = shade_map(a, envs[e], geometries, r.environments[e]); });
+    maps = shade_maps(a, envs, geometries, r.environments);
     maps_done.set_value();
   } catch (...) {
     maps_done.set_exception(std::current_exception());

@@ -5,12 +5,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -166,21 +168,26 @@ TEST(EnvMapQuadrature, SpecularMatchesSpecularReference) {
   EXPECT_NEAR(value, ref, 1e-3 * ref);
 }
 
+// `count` shading points in a row, each with a random normal and a random view on its side.
+sglab::render::EnvImage random_points(std::mt19937_64& rng, int count) {
+  std::normal_distribution<double> normal;
+  sglab::render::EnvImage image{count, 1, {}};
+  for (int k = 0; k < count; ++k) {
+    const Vec3d n = Vec3d(normal(rng), normal(rng), normal(rng)).normalized();
+    Vec3d v = Vec3d(normal(rng), normal(rng), normal(rng)).normalized();
+    image.points.push_back({k, n, v.dot(n) < 0 ? Vec3d(-v) : v});
+  }
+  return image;
+}
+
 // integrate_specular shades its points two at a time (one pass over the nodes for both,
 // render_kernels.hpp env_specular_sum2); each point keeps the sums it gets alone (a one-point image
 // runs the one-point kernel): on every instruction set, for seven points (three pairs and one
 // alone) in two orders (other pairs), glossy and rough, seed printed.
 TEST(EnvMapQuadrature, SpecularPointsInPairsKeepTheirOwnSums) {
   auto rng = sglab::test::seeded_rng(20261207);
-  std::normal_distribution<double> normal;
   const EnvMap map = sglab::rasterize_mixture(sglab::render::synthetic_mixture(), 64, 32);
-  sglab::render::EnvImage image{7, 1, {}};
-  for (int k = 0; k < 7; ++k) {
-    const Vec3d n = Vec3d(normal(rng), normal(rng), normal(rng)).normalized();
-    Vec3d v = Vec3d(normal(rng), normal(rng), normal(rng)).normalized();
-    if (v.dot(n) < 0) v = -v;
-    image.points.push_back({k, n, v});
-  }
+  const sglab::render::EnvImage image = random_points(rng, 7);
   sglab::render::EnvImage reversed = image;
   std::reverse(reversed.points.begin(), reversed.points.end());
   const sglab::simd::Isa initial = sglab::simd::active_isa();
@@ -202,6 +209,47 @@ TEST(EnvMapQuadrature, SpecularPointsInPairsKeepTheirOwnSums) {
     }
   }
   sglab::simd::force_isa(initial);
+}
+
+// integrate_specular of several maps at once (one GGX weight per node and point for all maps with
+// the same nodes) gives each map its own values to the bit, on every instruction set: 11 maps and
+// 11 points (over one pass of either), 61×30 texels (a tail off the lanes), three maps with zero
+// texels of their own (own groups; two as many nodes), one a copy of another; seed printed.
+TEST(EnvMapQuadrature, SpecularOfManyMapsIsEachMapsOwn) {
+  auto rng = sglab::test::seeded_rng(20261206);
+  std::uniform_real_distribution<float> unit(0.0f, 2.0f);
+  std::vector<EnvMap> maps(11, EnvMap{61, 30, std::vector<std::array<float, 3>>(61 * 30)});
+  for (auto& m : maps)
+    for (auto& t : m.texels) t = {unit(rng), unit(rng), unit(rng)};
+  for (std::size_t t = 0; t < maps[3].texels.size(); t += 7) maps[3].texels[t] = {0, 0, 0};
+  for (std::size_t t = 1; t < maps[4].texels.size(); t += 7) maps[4].texels[t] = {0, 0, 0};  // as many, elsewhere
+  for (std::size_t t = 0; t < 61 * 12; ++t) maps[8].texels[t] = {0, 0, 0};                   // the upper rows dark
+  maps[9] = maps[2];
+  const sglab::render::EnvImage image = random_points(rng, 11);
+  std::vector<const EnvMap*> pointers;
+  for (const auto& m : maps) pointers.push_back(&m);
+  const sglab::simd::Isa initial = sglab::simd::active_isa();
+  for (const auto isa : sglab::simd::supported_isas()) {
+    sglab::simd::force_isa(isa);
+    for (const double alpha : {0.05, 0.6})
+      for (const int s : {1, 2}) {
+        const auto together = sglab::render::integrate_specular(pointers, image, alpha, 0.04, s);
+        ASSERT_EQ(together.size(), maps.size());
+        for (std::size_t m = 0; m < maps.size(); ++m) {
+          const auto alone = sglab::render::integrate_specular(maps[m], image, alpha, 0.04, s);
+          ASSERT_EQ(together[m].size(), alone.size());
+          for (std::size_t k = 0; k < alone.size(); ++k) {
+            EXPECT_GT(alone[k](0), 0) << "map " << m << " point " << k;
+            for (int c = 0; c < 3; ++c)
+              EXPECT_EQ(together[m][k](c), alone[k](c))
+                  << sglab::simd::isa_name(isa) << " α " << alpha << " s " << s << " map " << m << " point " << k;
+          }
+        }
+      }
+  }
+  sglab::simd::force_isa(initial);
+  const EnvMap other{60, 30, std::vector<std::array<float, 3>>(60 * 30, {1, 1, 1})};
+  EXPECT_THROW(sglab::render::integrate_specular({&maps[0], &other}, image, 0.3, 0.04), std::invalid_argument);
 }
 
 // Fit options with the k-means start and k-means++ seed `seed` (printed).
@@ -288,7 +336,8 @@ TEST(EnvMapRaster, MixtureEvalPointsIsMixtureEvalBitForBit) {
         std::array<double, 3> sum{0, 0, 0};
         for (int sy = 0; sy < s; ++sy)
           for (int sx = 0; sx < s; ++sx) {
-            const auto x = sglab::mixture_eval(m, sglab::envmap_direction(w, h, u + (sx + 0.5) / s, v + (sy + 0.5) / s));
+            const auto x = sglab::mixture_eval(m,
+                                               sglab::envmap_direction(w, h, u + (sx + 0.5) / s, v + (sy + 0.5) / s));
             for (int c = 0; c < 3; ++c) sum[std::size_t(c)] += x[std::size_t(c)];
           }
         for (int c = 0; c < 3; ++c)

@@ -172,3 +172,7 @@ mutant specular-sglab-t-power core/include/sglab/specular_sglab.hpp 's#const T h
   specular_sglab_test
 mutant plot-server-own-group experiments/plot_queue.cpp 's#POSIX_SPAWN_SETPGROUP | POSIX_SPAWN_SETSIGMASK#POSIX_SPAWN_SETSIGMASK#' \
   reproduce_test:PlotServerEnd.*
+mutant env-maps-same-nodes core/render/src/environment_shading.cpp 's#\[\](const Node& a, const Node& b) { return a\.texel == b\.texel; }#[](const Node\&, const Node\&) { return true; }#' \
+  envmap_test:EnvMapQuadrature.SpecularOfMany*
+mutant env-maps-tail-lane core/render/src/simd/render_kernels.hpp 's#for (std::size_t c = 0; c < C; ++c) s\[i\]\[c\]\[0\] += wk \* a\.channel\[c\]\[k\];#for (std::size_t c = 0; c < C; ++c) s[i][c][1] += wk * a.channel[c][k];#' \
+  envmap_test:EnvMapQuadrature.SpecularOfMany*

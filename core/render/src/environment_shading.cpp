@@ -90,6 +90,11 @@ std::vector<Node> nodes(const EnvMap& map, int supersample) {
   return out;
 }
 
+// The GGX quadrature's shading point (integrate_specular's kernels).
+simd_detail::EnvReceiver env_receiver(const EnvShadingPoint& p, double roughness, double f0) {
+  return {p.normal(0), p.normal(1), p.normal(2), p.view(0), p.view(1), p.view(2), p.normal.dot(p.view), roughness, f0};
+}
+
 template <class Weight>
 std::vector<Rgb> integrate(const EnvMap& map, const EnvImage& image, int supersample, const Weight& weight) {
   const auto n = nodes(map, supersample);
@@ -152,10 +157,7 @@ std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, do
   }
   const simd_detail::EnvNodes view{n.size(), x, y, z, wr, wg, wb};
   const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
-  auto receiver = [&](const EnvShadingPoint& p) {
-    return simd_detail::EnvReceiver{p.normal(0), p.normal(1),          p.normal(2), p.view(0), p.view(1),
-                                    p.view(2),   p.normal.dot(p.view), roughness,   f0};
-  };
+  auto receiver = [&](const EnvShadingPoint& p) { return env_receiver(p, roughness, f0); };
   std::vector<Rgb> out(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
   // Points two at a time (one pass over the nodes for both: env_specular_sum2, each value
   // env_specular_sum's), the last one of an odd count alone.
@@ -173,6 +175,71 @@ std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, do
     }
     out[std::size_t(p.pixel)] = Rgb(s[0], s[1], s[2]);
   });
+  return out;
+}
+
+std::vector<std::vector<Rgb>> integrate_specular(const std::vector<const EnvMap*>& maps, const EnvImage& image,
+                                                 double roughness, double f0, int supersample) {
+  for (const EnvMap* m : maps)
+    if (m->width != maps[0]->width || m->height != maps[0]->height)
+      throw std::invalid_argument("integrate_specular: maps of different sizes (" + std::to_string(maps[0]->width) +
+                                  "×" + std::to_string(maps[0]->height) + ", " + std::to_string(m->width) + "×" +
+                                  std::to_string(m->height) + ")");
+  const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();
+  constexpr std::size_t P = simd_detail::kEnvPointsPerPass, K = simd_detail::kEnvMapsPerPass;
+  std::vector<std::vector<Rgb>> out(maps.size());
+  std::vector<char> done(maps.size(), 0);
+  for (std::size_t i = 0; i < maps.size(); ++i) {
+    if (done[i]) continue;
+    // Map i and the later maps with its nodes (the same all-zero texels left out), K at a time.
+    const auto n = nodes(*maps[i], supersample);
+    std::vector<std::size_t> group{i};
+    for (std::size_t j = i + 1; j < maps.size(); ++j) {
+      if (done[j]) continue;
+      const auto other = nodes(*maps[j], supersample);
+      if (std::equal(n.begin(), n.end(), other.begin(), other.end(),
+                     [](const Node& a, const Node& b) { return a.texel == b.texel; }))
+        group.push_back(j);
+    }
+    for (std::size_t first = 0; first < group.size(); first += K) {
+      const std::size_t M = std::min(K, group.size() - first);
+      // x, y, z, then each map's ω·L per channel, as the one-map integrate_specular forms them
+      std::vector<double> arrays((3 + 3 * M) * n.size());
+      simd_detail::EnvMapsNodes view{};
+      view.n = n.size();
+      view.maps = M;
+      view.x = arrays.data();
+      view.y = view.x + n.size();
+      view.z = view.y + n.size();
+      for (std::size_t c = 0; c < 3 * M; ++c) view.channel[c] = arrays.data() + (3 + c) * n.size();
+      for (std::size_t k = 0; k < n.size(); ++k) {
+        arrays[k] = n[k].dir(0);
+        arrays[n.size() + k] = n[k].dir(1);
+        arrays[2 * n.size() + k] = n[k].dir(2);
+        for (std::size_t m = 0; m < M; ++m) {
+          const auto& v = maps[group[first + m]]->texels[n[k].texel];
+          for (std::size_t c = 0; c < 3; ++c) arrays[(3 + 3 * m + c) * n.size() + k] = n[k].omega * v[c];
+        }
+      }
+      for (std::size_t m = 0; m < M; ++m) {
+        out[group[first + m]].assign(std::size_t(image.width) * std::size_t(image.height), Rgb::Zero());
+        done[group[first + m]] = 1;
+      }
+      const std::size_t points = image.points.size();
+      tbb::parallel_for(std::size_t(0), (points + P - 1) / P, [&](std::size_t q) {
+        const std::size_t count = std::min(P, points - q * P);
+        simd_detail::EnvReceiver r[P] = {};
+        for (std::size_t k = 0; k < count; ++k) r[k] = env_receiver(image.points[q * P + k], roughness, f0);
+        double s[3 * P * K] = {};
+        t.env_specular_maps(view, r, count, s);
+        for (std::size_t k = 0; k < count; ++k)
+          for (std::size_t m = 0; m < M; ++m) {
+            const double* v = s + 3 * (k * M + m);
+            out[group[first + m]][std::size_t(image.points[q * P + k].pixel)] = Rgb(v[0], v[1], v[2]);
+          }
+      });
+    }
+  }
   return out;
 }
 

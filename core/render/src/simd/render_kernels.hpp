@@ -20,12 +20,19 @@ namespace {
 
 // The GGX texel quadrature of environment_shading.cpp's integrate_specular: node k's three
 // channels at the point p (view_root = ggx_smith_root(α², n·ω_o) of p).
+// The GGX factor of node k at p (the BRDF times the cosine, 0 below the horizon): env_term's
+// weight of its three channels, and env_specular_maps' of every map's.
+[[gnu::always_inline]] inline double env_weight(const double* x, const double* y, const double* z, std::size_t k,
+                                                const EnvReceiver& p, double view_root) {
+  const double ci = p.nx * x[k] + p.ny * y[k] + p.nz * z[k];
+  const GgxLayer<double> g = ggx_layer(p.alpha, p.nx, p.ny, p.nz, p.wox, p.woy, p.woz, x[k], y[k], z[k], p.cos_view, ci,
+                                       view_root);
+  return ci > 0 ? g.dv * schlick(p.f0, g.cos_oh) : 0.0;
+}
+
 [[gnu::always_inline]] inline Channels<double> env_term(const EnvNodes& a, std::size_t k, const EnvReceiver& p,
                                                         double view_root) {
-  const double ci = p.nx * a.x[k] + p.ny * a.y[k] + p.nz * a.z[k];
-  const GgxLayer<double> g = ggx_layer(p.alpha, p.nx, p.ny, p.nz, p.wox, p.woy, p.woz, a.x[k], a.y[k], a.z[k],
-                                       p.cos_view, ci, view_root);
-  const double w = ci > 0 ? g.dv * schlick(p.f0, g.cos_oh) : 0.0;
+  const double w = env_weight(a.x, a.y, a.z, k, p, view_root);
   return {w * a.wr[k], w * a.wg[k], w * a.wb[k]};
 }
 
@@ -94,6 +101,72 @@ void env_specular_sum2(const EnvNodes& nodes, const EnvReceiver& p, const EnvRec
   env_specular_blocks<true>(nodes, p, p2, out, out2);
 }
 
+// Σ_k env_term for several points and several maps whose nodes are the same (their directions
+// x, y, z; channel[3m + c] map m's ω·L in channel c): each node's GGX weight once per point for
+// every map, each (point, map)'s sums env_specular_sum's to the bit (the same lanes, the same order
+// of terms, the same blocks skipped below the point's horizon, the same tail in lane 0). The nodes
+// in chunks of kEnvChunk (their arrays in a core's second-level cache), every point through one chunk
+// before the next: per point, the weights of the chunk's blocks that are not all below its horizon,
+// then each map's three sums over them in registers.
+inline constexpr std::size_t kEnvChunk = 1024;  // nodes; a multiple of every lane count
+void env_specular_maps(const EnvMapsNodes& a, const EnvReceiver* points, std::size_t count, double* out) {
+  constexpr std::size_t W = kLanes<double>;
+  static_assert(kEnvChunk % W == 0);
+  const std::size_t n = a.n, whole = n - n % W, C = 3 * a.maps;
+  const double *x = a.x, *y = a.y, *z = a.z;
+  double view_root[kEnvPointsPerPass];
+  for (std::size_t i = 0; i < count; ++i)
+    view_root[i] = ggx_smith_root(points[i].alpha * points[i].alpha, points[i].cos_view);
+  alignas(64) double s[kEnvPointsPerPass][3 * kEnvMapsPerPass][W] = {};
+  alignas(64) double w[kEnvChunk];        // the weights of the chunk's live blocks, in order
+  std::size_t live_block[kEnvChunk / W];  // their first nodes
+  for (std::size_t first = 0; first < whole; first += kEnvChunk) {
+    const std::size_t last = first + kEnvChunk < whole ? first + kEnvChunk : whole;
+    for (std::size_t i = 0; i < count; ++i) {
+      const EnvReceiver p = points[i];
+      const double root = view_root[i];
+      std::size_t live = 0;
+      for (std::size_t b = first; b < last; b += W) {
+        unsigned on = 0;
+#pragma omp simd reduction(| : on)
+        for (std::size_t l = 0; l < W; ++l) {
+          const std::size_t k = b + l;
+          on |= p.nx * x[k] + p.ny * y[k] + p.nz * z[k] > 0 ? 1u : 0u;  // env_weight's n·ω > 0
+        }
+        if (!on) continue;
+        double* wl = w + live * W;
+#pragma omp simd
+        for (std::size_t l = 0; l < W; ++l) wl[l] = env_weight(x, y, z, b + l, p, root);
+        live_block[live++] = b;
+      }
+      for (std::size_t c = 0; c < C; c += 3) {
+        const double *vr = a.channel[c], *vg = a.channel[c + 1], *vb = a.channel[c + 2];
+        alignas(64) double r[W], g[W], bl[W];
+        for (std::size_t l = 0; l < W; ++l) r[l] = s[i][c][l], g[l] = s[i][c + 1][l], bl[l] = s[i][c + 2][l];
+        for (std::size_t j = 0; j < live; ++j) {
+          const std::size_t b = live_block[j];
+          const double* wl = w + j * W;
+#pragma omp simd
+          for (std::size_t l = 0; l < W; ++l) {
+            r[l] += wl[l] * vr[b + l];
+            g[l] += wl[l] * vg[b + l];
+            bl[l] += wl[l] * vb[b + l];
+          }
+        }
+        for (std::size_t l = 0; l < W; ++l) s[i][c][l] = r[l], s[i][c + 1][l] = g[l], s[i][c + 2][l] = bl[l];
+      }
+    }
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t k = whole; k < n; ++k) {
+      const double wk = env_weight(x, y, z, k, points[i], view_root[i]);
+      for (std::size_t c = 0; c < C; ++c) s[i][c][0] += wk * a.channel[c][k];
+    }
+    for (std::size_t m = 0; m < a.maps; ++m)
+      add_lane_sums(out + 3 * (i * a.maps + m), s[i][3 * m], s[i][3 * m + 1], s[i][3 * m + 2]);
+  }
+}
+
 RenderKernelTable make_render_table(const char* isa) {
   RenderKernelTable t{};
   t.isa = isa;
@@ -126,6 +199,7 @@ RenderKernelTable make_render_table(const char* isa) {
   t.method_sum = method_sum;
   t.env_specular_sum = env_specular_sum;
   t.env_specular_sum2 = env_specular_sum2;
+  t.env_specular_maps = env_specular_maps;
   return t;
 }
 

@@ -217,6 +217,20 @@ using EnvSpecularSumFn = void (*)(const EnvNodes& nodes, const EnvReceiver& poin
 using EnvSpecularSum2Fn = void (*)(const EnvNodes& nodes, const EnvReceiver& point, const EnvReceiver& point2,
                                    double* out, double* out2);
 
+// Several maps on the same nodes (the same directions; maps whose all-zero texels, which a map's
+// nodes leave out, are the same): channel[3m + c] is map m's ω·L in channel c, m < maps ≤ kEnvMapsPerPass.
+inline constexpr std::size_t kEnvMapsPerPass = 8;
+inline constexpr std::size_t kEnvPointsPerPass = 8;
+struct EnvMapsNodes {
+  std::size_t n = 0, maps = 0;
+  const double *x, *y, *z;
+  const double* channel[3 * kEnvMapsPerPass];
+};
+// out[3(i·maps + m) .. + 2] = EnvSpecularSumFn's sums of point i (i < count ≤ kEnvPointsPerPass) and
+// map m, each to the bit: one GGX weight per node and point for every map.
+using EnvSpecularMapsFn = void (*)(const EnvMapsNodes& nodes, const EnvReceiver* points, std::size_t count,
+                                   double* out);
+
 struct RenderKernelTable {
   const char* isa;  // "sse2", "avx2", "avx512"
   VplSumFn<double> vpl_sum_d[4];
@@ -236,6 +250,7 @@ struct RenderKernelTable {
   MethodSumFn method_sum;
   EnvSpecularSumFn env_specular_sum;
   EnvSpecularSum2Fn env_specular_sum2;
+  EnvSpecularMapsFn env_specular_maps;
 };
 
 const RenderKernelTable& render_kernels_sse2();

@@ -131,6 +131,11 @@ EnvImage plane_image(int res_azimuth, int res_elevation);
 std::vector<Rgb> integrate_diffuse(const EnvMap& map, const EnvImage& image, int supersample = 1);
 std::vector<Rgb> integrate_specular(const EnvMap& map, const EnvImage& image, double roughness, double f0,
                                     int supersample = 1);
+// integrate_specular of several maps of one size (std::invalid_argument otherwise) on one image, each
+// map's values integrate_specular's to the bit: maps with the same nodes (the same all-zero texels,
+// which the quadrature leaves out) share one GGX evaluation per node and point.
+std::vector<std::vector<Rgb>> integrate_specular(const std::vector<const EnvMap*>& maps, const EnvImage& image,
+                                                 double roughness, double f0, int supersample = 1);
 
 // The diffuse shading of a mixture with the closed-form-accurate clamped-cosine reference per
 // lobe (clamped_cosine_reference, reference.hpp): (1/π) Σ_j μ_j D(λ_j, ξ_j·n).
