@@ -1,7 +1,8 @@
 // The body of each instruction set's diffuse unit (simd_sse2.cpp, simd_avx2.cpp, simd_avx512.cpp):
 // the declarations of glibc libmvec's functions for that instruction set, the diffuse kernels of
 // simd_kernels.hpp built on them, and the set's kernel table kernels_<SGLAB_ISA>(), whose specular
-// entries the set's specular unit adds (simd_specular_isa.hpp, add_specular_kernels_<SGLAB_ISA>).
+// entries the set's specular units add (simd_specular_isa.hpp, add_specular_kernels_<SGLAB_ISA>;
+// simd_gaussian_ndf_isa.hpp, add_gaussian_ndf_kernels_<SGLAB_ISA>).
 // The including unit first includes its set's names (simd_isa_<isa>.hpp), which define:
 //   SGLAB_ISA       the instruction set's name (sse2, avx2, avx512), also the table's name
 //   SGLAB_ISA_ARCH  the xsimd architecture the kernels are compiled for
@@ -19,6 +20,7 @@ const KernelTable& SGLAB_ISA_PASTE(kernels_, SGLAB_ISA)() {
   static const KernelTable table = [] {
     KernelTable t = make_table<SGLAB_ISA_ARCH>(SGLAB_ISA_STRING(SGLAB_ISA));
     SGLAB_ISA_PASTE(add_specular_kernels_, SGLAB_ISA)(t);
+    SGLAB_ISA_PASTE(add_gaussian_ndf_kernels_, SGLAB_ISA)(t);
     return t;
   }();
   return table;

@@ -1,8 +1,8 @@
-// Vectorized batch evaluators of the specular methods (docs/simd.md): quantity `specular` (GGX,
-// core/include/sglab/specular.hpp) and `specular-gaussian-ndf` (gaussian_ndf.hpp), and their
-// drivers. Compiled once per instruction set in a unit of its own (simd_specular_isa.hpp, included
-// by simd_specular_sse2.cpp, …), apart from the diffuse kernels (simd_kernels.hpp), so that an edit
-// of a specular method's header does not recompile the diffuse kernels, nor the reverse.
+// Vectorized batch evaluators of the `specular` methods (GGX, core/include/sglab/specular.hpp and
+// specular_sglab.hpp; docs/simd.md) and their pair drivers. Compiled once per instruction set in a
+// unit of its own (simd_specular_isa.hpp, included by simd_specular_sse2.cpp, …), apart from the
+// diffuse kernels (simd_kernels.hpp) and the `specular-gaussian-ndf` ones (simd_gaussian_ndf.hpp),
+// so that an edit of one kind's method header recompiles only its kernels.
 //
 // Every kernel IS the method's scalar template instantiated on Lanes (simd_lanes.hpp; its Eigen
 // 3-vectors Vec3<Lanes>): the template's `_at` form on the frame's vectors (specular_view,
@@ -23,10 +23,9 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "sglab/gaussian_ndf.hpp"
 #include "sglab/specular.hpp"
 #include "sglab/specular_sglab.hpp"
-#include "simd_drivers.hpp"
+#include "simd_specular_drivers.hpp"
 #include "simd_fresnel_pair.hpp"
 
 namespace sglab::simd_detail {
@@ -113,24 +112,6 @@ struct SgWarpDvnMethod : NoOptions {
 using SpecAsg = SpecParts<AsgMethod>;
 using SpecSgWarpDvn = SpecParts<SgWarpDvnMethod>;
 
-// The `specular-gaussian-ndf` kernels: the templates on the row itself.
-template <class B>
-inline SpecularInput<Lanes<B>> lane_input(const B* a) {
-  return {a[0], a[1], a[2], a[3], a[4], a[5]};
-}
-struct GndfSgWarp {
-  template <class B>
-  static B eval(const B* a, const B* /*p*/) {
-    return sglab::specular_gaussian_ndf_sg_warp(lane_input(a)).v;
-  }
-};
-struct GndfSgWarpMeder {
-  template <class B>
-  static B eval(const B* a, const B* /*p*/) {
-    return sglab::specular_gaussian_ndf_sg_meder(lane_input(a)).v;
-  }
-};
-
 // specular_sglab_with; p[2…7] = nu_slope, inflation, light_weight, light_floor, horizon_depth,
 // horizon_rate (bound like the diffuse methods' constants).
 // Its receiver part is the row's roughness and ωo alone (specular_sglab_with is not split).
@@ -184,39 +165,6 @@ inline Lanes<B> exp_keeping_subnormals(const Lanes<B>& x) {
 
 namespace sglab::simd_detail {
 namespace {
-
-// ---- the batch drivers ---------------------------------------------------------------------
-// The specular kernels' rows of kArity columns, de-interleaved into a[0 … kArity − 1]; the last
-// partial batch padded with `pad`. body(a, i, rest) gets each batch, of rows i … i + rest − 1.
-template <class B, std::size_t kArity, class Body>
-inline void for_each_specular_batch(const value_t<B>* args, std::size_t n, const value_t<B> (&pad)[kArity], Body body) {
-  using T = value_t<B>;
-  constexpr std::size_t W = B::size;
-  alignas(64) T col[kArity][W];
-  for (std::size_t i = 0; i < n; i += W) {
-    const std::size_t rest = n - i < W ? n - i : W;
-    for (std::size_t k = 0; k < W; ++k)
-      for (std::size_t j = 0; j < kArity; ++j) col[j][k] = k < rest ? args[kArity * (i + k) + j] : pad[j];
-    B a[kArity];
-    for (std::size_t j = 0; j < kArity; ++j) a[j] = B::load_aligned(col[j]);
-    body(a, i, rest);
-  }
-}
-
-// The specular kernels' driver: rows of 6 columns (roughness, light_sharpness, light_cos,
-// view_cos, light_azimuth, f0); padding kSpecularPad (simd_drivers.hpp). Flattened as run_columns.
-template <class Arch, class T, class K>
-__attribute__((flatten)) void run_specular(const T* args, T* out, std::size_t n, const T* params) {
-  using B = xsimd::batch<T, Arch>;
-  B p[kKernelParams];
-  for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
-  for_each_specular_batch<B>(args, n, kSpecularPad<T>, [&](const B* a, std::size_t i, std::size_t rest) {
-    store_lanes(K::eval(a, p), out + i, rest);
-  });
-}
-
-template <class Arch, class T, class K>
-constexpr ColumnsKernelFn<T> specular_columns = &run_columns<Arch, T, K, 6, kSpecularPad<T>>;
 
 // The pair driver (simd_fresnel_pair.hpp): rows of the first kSpecularPairArity columns (no f0),
 // the same padding; K::eval_f0 with F0Pair. Flattened: the kernel's helpers inlined (measured:
@@ -280,16 +228,12 @@ template <class Arch, class Pairs = SpecularPairKernels>
 struct SpecularDrivers;
 template <class Arch, class... K>
 struct SpecularDrivers<Arch, KernelTypes<K...>> {
-  // The specular kernels in the order of Kernel (from spec_sg_warp): the pair kernels, then the
-  // Gaussian-NDF ones.
+  // The `specular` kernels in the order of Kernel (spec_sg_warp … spec_sglab).
   template <class T>
-  static constexpr KernelFn<T> kernels[] = {&run_specular<Arch, T, K>..., &run_specular<Arch, T, GndfSgWarp>,
-                                            &run_specular<Arch, T, GndfSgWarpMeder>};
+  static constexpr KernelFn<T> kernels[] = {&run_specular<Arch, T, K>...};
   // Their column drivers, in the same order.
   template <class T>
-  static constexpr ColumnsKernelFn<T> columns[] = {specular_columns<Arch, T, K>...,
-                                                   specular_columns<Arch, T, GndfSgWarp>,
-                                                   specular_columns<Arch, T, GndfSgWarpMeder>};
+  static constexpr ColumnsKernelFn<T> columns[] = {specular_columns<Arch, T, K>...};
   static constexpr SpecularPairFn pairs[] = {&run_specular_pair<Arch, double, K>...};
   static constexpr SpecularPairColumnsFn pair_columns[] = {&run_specular_pair_receivers<Arch, K>...};
 };
@@ -307,14 +251,13 @@ SpecularPairTable make_pair_table() {
   return t;
 }
 
-// The specular entries of a table (Kernel from spec_sg_warp on), which make_table (simd_kernels.hpp)
-// leaves empty.
+// The `specular` entries of a table (Kernel spec_sg_warp … spec_sglab), which make_table
+// (simd_kernels.hpp) leaves empty.
 template <class Arch>
 void add_specular_kernels(KernelTable& t) {
   using D = SpecularDrivers<Arch>;
-  constexpr int kCount = static_cast<int>(Kernel::count) - kDiffuseKernels;
-  static_assert(std::size(D::template kernels<double>) == kCount, "one driver per specular kernel");
-  for (int i = 0; i < kCount; ++i) {
+  static_assert(std::size(D::template kernels<double>) == kSpecularPairKernels, "one driver per specular kernel");
+  for (int i = 0; i < kSpecularPairKernels; ++i) {
     t.f[kDiffuseKernels + i] = D::template kernels<float>[i];
     t.d[kDiffuseKernels + i] = D::template kernels<double>[i];
     t.columns_f[kDiffuseKernels + i] = D::template columns<float>[i];

@@ -33,7 +33,8 @@ enum class Kernel : int {
 };
 
 // The diffuse kernels come first: entries 0 … kDiffuseKernels − 1 (simd_kernels.hpp); the
-// specular ones after them (simd_specular.hpp), compiled in a unit of their own.
+// specular ones after them (simd_specular.hpp, then simd_gaussian_ndf.hpp), each kind compiled in
+// a unit of its own.
 constexpr int kDiffuseKernels = static_cast<int>(Kernel::spec_sg_warp);
 
 // Constants per kernel (unused entries are 0).
@@ -89,11 +90,16 @@ const KernelTable& kernels_sse2();
 const KernelTable& kernels_avx2();
 const KernelTable& kernels_avx512();
 
-// Fills the specular entries (kDiffuseKernels …) of an instruction set's table: defined in that
-// set's specular unit (simd_specular_<isa>.cpp), called by its diffuse unit's kernels_<isa>().
+// Fills the `specular` entries (spec_sg_warp … spec_sglab) of an instruction set's table: defined in
+// that set's specular unit (simd_specular_<isa>.cpp), called by its diffuse unit's kernels_<isa>().
 void add_specular_kernels_sse2(KernelTable& table);
 void add_specular_kernels_avx2(KernelTable& table);
 void add_specular_kernels_avx512(KernelTable& table);
+// Fills the `specular-gaussian-ndf` entries (gndf_sg_warp, gndf_sg_warp_meder) likewise: defined in
+// that set's Gaussian-NDF unit (simd_gaussian_ndf_<isa>.cpp).
+void add_gaussian_ndf_kernels_sse2(KernelTable& table);
+void add_gaussian_ndf_kernels_avx2(KernelTable& table);
+void add_gaussian_ndf_kernels_avx512(KernelTable& table);
 
 // The `specular` kernels (spec_sg_warp … spec_sglab) at f0 = 0 and f0 = 1 in one pass
 // (simd_fresnel_pair.hpp): rows of the first 5 columns (no f0), in double.
