@@ -29,7 +29,7 @@
 #include "sglab/reference.hpp"
 #include "sglab/scalar.hpp"
 #include "sglab/sg.hpp"
-#include "sglab/specular.hpp"
+#include "sglab/specular_input.hpp"
 
 namespace sglab {
 

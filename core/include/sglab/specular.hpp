@@ -24,12 +24,6 @@
 namespace sglab {
 
 namespace detail {
-template <class T>
-T floored_roughness(const T& alpha) {
-  using std::max;
-  return max(alpha, T(kMinRoughness));
-}
-
 // The product lobe's axis ξ_m = (λ ξ + λ_s ξ_s)/‖…‖ (Tokuyoshi 2015 (two-VSGL poster) §3.2), via sg_product,
 // which returns ξ (a defined axis) when the two cancel.
 template <class T>

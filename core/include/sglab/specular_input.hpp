@@ -8,6 +8,7 @@
 // method's header").
 #pragma once
 
+#include <algorithm>
 #include <span>
 
 #include "sglab/brdf.hpp"
@@ -26,6 +27,15 @@ template <class T>
 SpecularInput<T> specular_input(std::span<const T> a) {
   return {a[0], a[1], a[2], a[3], a[4], a[5]};
 }
+
+namespace detail {
+// A row's roughness floored at kMinRoughness (brdf.hpp), as the specular methods take it.
+template <class T>
+T floored_roughness(const T& alpha) {
+  using std::max;
+  return max(alpha, T(kMinRoughness));
+}
+}  // namespace detail
 
 template <class T>
 Vec3<T> specular_view(const T& view_cos) {
