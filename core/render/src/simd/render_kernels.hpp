@@ -18,8 +18,6 @@ namespace {
 
 // ---- environment quadrature ------------------------------------------------------------------
 
-// The GGX texel quadrature of environment_shading.cpp's integrate_specular: node k's three
-// channels at the point p (view_root = ggx_smith_root(α², n·ω_o) of p).
 // The GGX factor of node k at p (the BRDF times the cosine, 0 below the horizon): env_term's
 // weight of its three channels, and env_specular_maps' of every map's.
 [[gnu::always_inline]] inline double env_weight(const double* x, const double* y, const double* z, std::size_t k,
@@ -30,6 +28,8 @@ namespace {
   return ci > 0 ? g.dv * schlick(p.f0, g.cos_oh) : 0.0;
 }
 
+// The GGX texel quadrature of environment_shading.cpp's integrate_specular: node k's three
+// channels at the point p (view_root = ggx_smith_root(α², n·ω_o) of p).
 [[gnu::always_inline]] inline Channels<double> env_term(const EnvNodes& a, std::size_t k, const EnvReceiver& p,
                                                         double view_root) {
   const double w = env_weight(a.x, a.y, a.z, k, p, view_root);
