@@ -6,8 +6,6 @@
 // template (see simd_kernels.hpp).
 #pragma once
 
-#include <iterator>
-
 #include "sglab/gaussian_ndf.hpp"
 #include "simd_specular_drivers.hpp"
 

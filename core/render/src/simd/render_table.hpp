@@ -219,6 +219,10 @@ using EnvSpecularSum2Fn = void (*)(const EnvNodes& nodes, const EnvReceiver& poi
 
 // Several maps on the same nodes (the same directions; maps whose all-zero texels, which a map's
 // nodes leave out, are the same): channel[3m + c] is map m's ω·L in channel c, m < maps ≤ kEnvMapsPerPass.
+// Eight maps: a chunk of kEnvChunk nodes of their 27 arrays is 216 KiB, within a core's second-level
+// cache (512 KiB per core on the AVX2 machine measured); eight points reuse each chunk while it is there, and
+// their sums (8 × 24 lane arrays) stay in the first-level cache (docs/testing.md, "Every fit's
+// specular quadrature in one pass").
 inline constexpr std::size_t kEnvMapsPerPass = 8;
 inline constexpr std::size_t kEnvPointsPerPass = 8;
 struct EnvMapsNodes {
