@@ -7,9 +7,11 @@
 // r⁴(C4 + r C5)). On a CPU with FMA and AVX2, glibc runs this C source compiled with -mfma, and the
 // compiler fused eight products into their sums; the kernel below performs the same roundings in
 // the same order (read from the machine code of Debian 12's libm.so.6, __exp_fma), lane by lane,
-// so it returns std::exp's bits. Lanes outside the fast range (|x| < 2^-54, |x| ≥ 512, NaN, ±inf)
-// take std::exp itself, except x ≤ −746, whose exp is below half the smallest subnormal and rounds
-// to +0 (what glibc returns).
+// so it returns std::exp's bits. Of the lanes outside the fast range (|x| < 2^-54, |x| ≥ 512, NaN,
+// ±inf), two kinds are computed on the vector as glibc computes them: |x| < 2^-54 (0 among them:
+// the largest term of a row of exponents with its maximum subtracted, as the fits form them),
+// whose exp glibc returns as 1 + x, and x ≤ −746, whose exp is below half the smallest subnormal
+// and rounds to +0. The others take std::exp itself.
 //
 // The constants are glibc's __exp_data (exact binary values, written as hexadecimal literals);
 // the table is built by exp_batch.cpp from its definition and passed in. Whether the kernel is
@@ -52,7 +54,9 @@ template <class U>
 [[gnu::always_inline]] inline void table_pairs(const std::uint64_t* table, const U& ki, U& tail, U& scale) {
   alignas(64) std::uint64_t k[U::size];
   U(ki & U(127)).store_aligned(k);
-  const auto pair = [table](std::uint64_t j) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + 2 * j)); };
+  const auto pair = [table](std::uint64_t j) {
+    return _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + 2 * j));
+  };
   if constexpr (U::size == 8) {
     __m512i even = _mm512_castsi128_si512(pair(k[0])), odd = _mm512_castsi128_si512(pair(k[1]));
     even = _mm512_inserti64x2(even, pair(k[2]), 1);
@@ -76,6 +80,10 @@ template <class U>
 // 2.47e-324), so glibc's value rounds to +0 and the kernel returns +0 without the scalar call.
 constexpr double kExpZeroAtOrBelow = -746.0;
 
+// Whether the kernel computes a lane outside the fast path itself: glibc's 1 + x below 2^-54 and
+// the +0 at and below −746.
+inline bool exp_vector_lane(double x) { return std::fabs(x) < 0x1p-54 || x <= kExpZeroAtOrBelow; }
+
 // Whether std::exp takes its fast path at x: the exponent field e satisfies 2^-54 ≤ |x| < 512,
 // i.e. e − 0x3c9 ≤ 0x3e as unsigned (glibc's abstop test).
 inline bool exp_fast_lane(double x) {
@@ -97,8 +105,9 @@ void exp_like_glibc(const double* x, double* out, std::size_t n, const std::uint
   std::size_t i = 0;
   for (; i + L <= n; i += L) {
     const B v = B::load_unaligned(x + i);
-    const U field = (xsimd::bitwise_cast<U>(v) >> 52) & U(0x7ff);
-    const auto fast = (field - U(0x3c9)) <= U(0x3e);
+    // glibc's fast path: 2^-54 ≤ |x| < 512 (its exponent-field test; false for NaN).
+    const B a = xsimd::abs(v);
+    const auto fast = (a >= B(0x1p-54)) & (a < B(512.0));
     const B kd_shifted = fused_multiply_add(v, inv_ln2_n, shift);
     const U ki = xsimd::bitwise_cast<U>(kd_shifted);
     const B kd = kd_shifted - shift;
@@ -110,13 +119,21 @@ void exp_like_glibc(const double* x, double* out, std::size_t n, const std::uint
     const B r2 = r * r;
     const B low = fused_multiply_add(fused_multiply_add(r, c3, c2), r2, r + tail);
     const B tmp = fused_multiply_add(r2 * r2, fused_multiply_add(r, c5, c4), low);
-    const B e = xsimd::select(v <= underflow, zero, fused_multiply_add(scale, tmp, scale));
+    const B e = fused_multiply_add(scale, tmp, scale);
     if (!xsimd::all(fast)) {
+      // glibc's tiny-argument branch (1 + x) and the underflow to +0 (−∞ included) on the vector;
+      // std::exp for the lanes left (|x| ≥ 512 with x > −746, NaN, +∞), rare in what the fits evaluate.
+      const auto tiny = a < B(0x1p-54), under = v <= underflow;
+      const B near = xsimd::select(tiny, B(1.0) + v, xsimd::select(under, zero, e));
+      if (xsimd::all(fast | tiny | under)) {
+        near.store_unaligned(out + i);
+        continue;
+      }
       alignas(64) double in[L], e_lanes[L];  // the inputs as loaded: `out` may be `x`
       v.store_aligned(in);
-      e.store_aligned(e_lanes);
+      near.store_aligned(e_lanes);
       for (std::size_t k = 0; k < L; ++k)
-        if (!exp_fast_lane(in[k]) && !(in[k] <= kExpZeroAtOrBelow)) e_lanes[k] = std::exp(in[k]);
+        if (!exp_fast_lane(in[k]) && !exp_vector_lane(in[k])) e_lanes[k] = std::exp(in[k]);
       B::load_aligned(e_lanes).store_unaligned(out + i);
     } else {
       e.store_unaligned(out + i);
