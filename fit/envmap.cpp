@@ -325,27 +325,45 @@ void refine_sharp_lobes(const std::vector<EnvMap>& maps, std::size_t finest, std
 
 // The solid-angle-weighted squared error of x's mixture on `level` (texel-blurred model, as the
 // fit sees it): per row of a grid level (per kCostChunk texels of an irregular one) in parallel,
-// the partial sums added in order.
+// the partial sums added in order. The exponentials of kCostRows texels' lobes at once (exp_batch:
+// std::exp's values); a lobe of zero amplitude adds +0 to every model sum (its g is finite) and is
+// left out, which leaves the sums as they are.
 constexpr std::size_t kCostChunk = 4096;
+constexpr std::size_t kCostRows = 64;
 
 double level_cost(const Level& level, const std::vector<double>& x, int N) {
-  const SgMixture m = unpack(x, N);
+  SgMixture m;
+  for (const auto& l : unpack(x, N))
+    if (l.amplitude[0] != 0 || l.amplitude[1] != 0 || l.amplitude[2] != 0) m.push_back(l);
+  const std::size_t L = m.size();
   const double s2 = level.texel_variance;
+  std::vector<double> q(L), rate(L);  // q = 1/(1 + λs²) and λq per lobe
+  for (std::size_t j = 0; j < L; ++j) {
+    q[j] = 1 / (1 + m[j].sharpness * s2);
+    rate[j] = m[j].sharpness * q[j];
+  }
   const std::size_t T = level.dirs.size();
   const std::size_t chunk = level.grid ? std::size_t(level.width) : kCostChunk;
   std::vector<double> per_chunk((T + chunk - 1) / chunk, 0.0);
   tbb::parallel_for(std::size_t(0), per_chunk.size(), [&](std::size_t k) {
     double sum = 0;
-    for (std::size_t t = k * chunk; t < std::min(T, (k + 1) * chunk); ++t) {
-      std::array<double, 3> model{0, 0, 0};
-      for (const auto& l : m) {
-        const double q = 1 / (1 + l.sharpness * s2);
-        const double g = q * std::exp(std::min(0.0, l.sharpness * q * (level.dirs[t].dot(l.axis) - 1)));
-        for (int c = 0; c < 3; ++c) model[std::size_t(c)] += l.amplitude[std::size_t(c)] * g;
-      }
-      for (int c = 0; c < 3; ++c) {
-        const double d = model[std::size_t(c)] - level.value[t][std::size_t(c)];
-        sum += level.omega[t] * d * d;
+    std::vector<double> g(kCostRows * L);
+    for (std::size_t t0 = k * chunk; t0 < std::min(T, (k + 1) * chunk); t0 += kCostRows) {
+      const std::size_t t1 = std::min({T, (k + 1) * chunk, t0 + kCostRows});
+      for (std::size_t t = t0; t < t1; ++t)
+        for (std::size_t j = 0; j < L; ++j)
+          g[(t - t0) * L + j] = std::min(0.0, rate[j] * (level.dirs[t].dot(m[j].axis) - 1));
+      exp_batch(g.data(), g.data(), (t1 - t0) * L);
+      for (std::size_t t = t0; t < t1; ++t) {
+        std::array<double, 3> model{0, 0, 0};
+        for (std::size_t j = 0; j < L; ++j) {
+          const double gj = q[j] * g[(t - t0) * L + j];
+          for (int c = 0; c < 3; ++c) model[std::size_t(c)] += m[j].amplitude[std::size_t(c)] * gj;
+        }
+        for (int c = 0; c < 3; ++c) {
+          const double d = model[std::size_t(c)] - level.value[t][std::size_t(c)];
+          sum += level.omega[t] * d * d;
+        }
       }
     }
     per_chunk[k] = sum;
