@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -87,44 +88,67 @@ class EStep {
 
   // Chunk k's sums. Its log-probabilities lp − mx first (row t − t0), then their exponentials in
   // one exp_batch call (std::exp's values): one exponential per component, the responsibility
-  // e^{lp − mx}/z = e^{lp − lse}.
+  // e^{lp − mx}/z = e^{lp − lse}. A row's maximum and its sum z are each one chain of N dependent
+  // operations in component order; kRows rows' chains run side by side (each row's operations and
+  // their order as they were, so the same values), which the core overlaps.
+  static constexpr std::size_t kRows = 4;
+  // f(first, rows) for the groups of kRows rows of `count`, then the rows left (rows a constant
+  // for the full groups, so that their loops over rows unroll).
+  template <class F>
+  static void for_row_groups(std::size_t count, const F& f) {
+    std::size_t first = 0;
+    for (; first + kRows <= count; first += kRows) f(first, std::integral_constant<std::size_t, kRows>{});
+    if (first < count) f(first, count - first);
+  }
+
   void chunk(std::size_t k) {
     const int N = N_;
+    const std::size_t n = std::size_t(N);
     Partial& p = partial_[k];
-    p.sx.assign(std::size_t(N), 0.0);
-    p.sy.assign(std::size_t(N), 0.0);
-    p.sz.assign(std::size_t(N), 0.0);
-    p.wsum.assign(std::size_t(N), 0.0);
+    p.sx.assign(n, 0.0);
+    p.sy.assign(n, 0.0);
+    p.sz.assign(n, 0.0);
+    p.wsum.assign(n, 0.0);
     p.loglik = 0;
     const std::size_t t0 = k * kChunk, t1 = std::min(T_, (k + 1) * kChunk);
-    std::vector<double> es((t1 - t0) * std::size_t(N)), mxs(t1 - t0);
+    std::vector<double> es((t1 - t0) * n), mxs(t1 - t0), zs(t1 - t0);
     for (std::size_t t = t0; t < t1; ++t) {
-      double* e = es.data() + (t - t0) * std::size_t(N);
+      double* e = es.data() + (t - t0) * n;
       const double dx = level_.dirs[t](0), dy = level_.dirs[t](1), dz = level_.dirs[t](2);
-      for (int j = 0; j < N; ++j)
-        e[j] = log_norm_[std::size_t(j)] +
-               sharpness_[std::size_t(j)] *
-                   ((dx * ax_[std::size_t(j)] + dy * ay_[std::size_t(j)]) + dz * az_[std::size_t(j)] - 1);
-      double mx = -INFINITY;
-      for (int j = 0; j < N; ++j) mx = std::max(mx, e[j]);
-      for (int j = 0; j < N; ++j) e[j] = e[j] - mx;
-      mxs[t - t0] = mx;
+      for (std::size_t j = 0; j < n; ++j)
+        e[j] = log_norm_[j] + sharpness_[j] * ((dx * ax_[j] + dy * ay_[j]) + dz * az_[j] - 1);
     }
+    for_row_groups(t1 - t0, [&](std::size_t first, auto rows) {
+      double mx[kRows] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+      const double* e = es.data() + first * n;
+      for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t r = 0; r < rows; ++r) mx[r] = std::max(mx[r], e[r * n + j]);
+      for (std::size_t r = 0; r < rows; ++r) {
+        double* er = es.data() + (first + r) * n;
+        for (std::size_t j = 0; j < n; ++j) er[j] = er[j] - mx[r];
+        mxs[first + r] = mx[r];
+      }
+    });
     exp_batch(es.data(), es.data(), es.size());
+    for_row_groups(t1 - t0, [&](std::size_t first, auto rows) {
+      double z[kRows] = {0, 0, 0, 0};
+      const double* e = es.data() + first * n;
+      for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t r = 0; r < rows; ++r) z[r] += e[r * n + j];
+      for (std::size_t r = 0; r < rows; ++r) zs[first + r] = z[r];
+    });
     for (std::size_t t = t0; t < t1; ++t) {
-      const double* e = es.data() + (t - t0) * std::size_t(N);
-      const double mx = mxs[t - t0];
-      double z = 0;
-      for (int j = 0; j < N; ++j) z += e[j];
+      const double* e = es.data() + (t - t0) * n;
+      const double mx = mxs[t - t0], z = zs[t - t0];
       p.loglik += w_[t] * (mx + std::log(z));
       const double scale = w_[t] / z;
       const double dx = level_.dirs[t](0), dy = level_.dirs[t](1), dz = level_.dirs[t](2);
-      for (int j = 0; j < N; ++j) {
+      for (std::size_t j = 0; j < n; ++j) {
         const double resp = e[j] * scale;
-        p.sx[std::size_t(j)] += resp * dx;
-        p.sy[std::size_t(j)] += resp * dy;
-        p.sz[std::size_t(j)] += resp * dz;
-        p.wsum[std::size_t(j)] += resp;
+        p.sx[j] += resp * dx;
+        p.sy[j] += resp * dy;
+        p.sz[j] += resp * dz;
+        p.wsum[j] += resp;
       }
     }
   }
