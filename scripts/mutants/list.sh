@@ -176,3 +176,7 @@ mutant env-maps-same-nodes core/render/src/environment_shading.cpp 's#\[\](const
   envmap_test:EnvMapQuadrature.SpecularOfMany*
 mutant env-maps-tail-lane core/render/src/simd/render_kernels.hpp 's#for (std::size_t c = 0; c < C; ++c) s\[i\]\[c\]\[0\] += wk \* a\.channel\[c\]\[k\];#for (std::size_t c = 0; c < C; ++c) s[i][c][1] += wk * a.channel[c][k];#' \
   envmap_test:EnvMapQuadrature.SpecularOfMany*
+mutant vmf-estep-row-sum fit/envmap_vmf_em.cpp 's#r < rows; ++r) z\[r\] += e\[r \* n + j\];#r < rows; ++r) z[r] += e[j];#' \
+  envmap_bases_test:VmfEm.*
+mutant envmap-level-cost-texel fit/envmap.cpp 's#rate\[j\] \* (level\.dirs\[t\]\.dot(m\[j\]\.axis) - 1)#rate[j] * (level.dirs[t0].dot(m[j].axis) - 1)#' \
+  envmap_bases_test:SgFree.* envmap_sparse_test envmap_test:EnvMapFit.*
