@@ -442,8 +442,8 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < g_batch; ++i) exp_out[i] = std::exp(exp_in[i]);
     });
   });
-  // The same inputs in rows of 8 with each row's maximum subtracted, as the vMF EM's E step and the
-  // softmax-like sums form them: one exact 0 per row (glibc's tiny-argument branch, 1 + x).
+  // The same inputs in rows of 8 with each row's maximum subtracted, as the vMF E step forms them
+  // (fit/envmap_vmf_em.cpp): one exact 0 per row (glibc's tiny-argument branch, 1 + x).
   static std::vector<double> exp_rows(g_batch);
   for (std::size_t r = 0; r + 8 <= g_batch; r += 8) {
     const double mx = *std::max_element(exp_in.begin() + std::ptrdiff_t(r), exp_in.begin() + std::ptrdiff_t(r + 8));

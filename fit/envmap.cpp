@@ -58,13 +58,13 @@ class MixtureCost final : public ceres::CostFunction {
     for (int j = 0; j < N; ++j) {
       const double* a = p[3 * j];
       lambda[std::size_t(j)] = std::exp(p[3 * j + 1][0]);
-      q[std::size_t(j)] = 1 / (1 + lambda[std::size_t(j)] * s2);
+      q[std::size_t(j)] = texel_blur(lambda[std::size_t(j)], s2);
       const double blurred = lambda[std::size_t(j)] * q[std::size_t(j)];
       for (std::size_t t = 0; t < T; ++t) {
         const Vec3d& w = level_->dirs[std::size_t(texels_[t])];
         const double c = w(0) * a[0] + w(1) * a[1] + w(2) * a[2];
         d[t * std::size_t(N) + std::size_t(j)] = c - 1;
-        g[t * std::size_t(N) + std::size_t(j)] = std::min(0.0, blurred * (c - 1));
+        g[t * std::size_t(N) + std::size_t(j)] = blurred_exponent(blurred, c);
       }
     }
     // q·G(ω; ξ, λq): the texel-blurred lobe without its amplitude (the exponentials at once: exp_batch)
@@ -288,8 +288,8 @@ void refit_lobes_locally(const Level& full, std::vector<double>& x, int N, const
     std::array<double, 3> target = full.value[t];
     for (int j = 0; j < N; ++j) {
       if (is_sharp[std::size_t(j)]) continue;
-      const double lambda = std::exp(x[std::size_t(kStride * j + 3)]), q = 1 / (1 + lambda * s2);
-      const double g = q * std::exp(std::min(0.0, lambda * q * (full.dirs[t].dot(axis(j)) - 1)));
+      const double lambda = std::exp(x[std::size_t(kStride * j + 3)]);
+      const double g = blurred_lobe(lambda, texel_blur(lambda, s2), full.dirs[t].dot(axis(j)));
       for (int c = 0; c < 3; ++c) target[std::size_t(c)] -= x[std::size_t(kStride * j + 4 + c)] * g;
     }
     sub.dirs.push_back(full.dirs[t]);
@@ -339,7 +339,7 @@ double level_cost(const Level& level, const std::vector<double>& x, int N) {
   const double s2 = level.texel_variance;
   std::vector<double> q(L), rate(L);  // q = 1/(1 + λs²) and λq per lobe
   for (std::size_t j = 0; j < L; ++j) {
-    q[j] = 1 / (1 + m[j].sharpness * s2);
+    q[j] = texel_blur(m[j].sharpness, s2);
     rate[j] = m[j].sharpness * q[j];
   }
   const std::size_t T = level.dirs.size();
@@ -352,7 +352,7 @@ double level_cost(const Level& level, const std::vector<double>& x, int N) {
       const std::size_t t1 = std::min({T, (k + 1) * chunk, t0 + kCostRows});
       for (std::size_t t = t0; t < t1; ++t)
         for (std::size_t j = 0; j < L; ++j)
-          g[(t - t0) * L + j] = std::min(0.0, rate[j] * (level.dirs[t].dot(m[j].axis) - 1));
+          g[(t - t0) * L + j] = blurred_exponent(rate[j], level.dirs[t].dot(m[j].axis));
       exp_batch(g.data(), g.data(), (t1 - t0) * L);
       for (std::size_t t = t0; t < t1; ++t) {
         std::array<double, 3> model{0, 0, 0};
@@ -420,14 +420,13 @@ void seed_bright_lobes(const Level& full, std::vector<double>& x, int N, const E
     for (int j = 0; j < N; ++j) {
       if (moved[std::size_t(j)]) continue;
       const auto& l = m[std::size_t(j)];
-      const double q = 1 / (1 + l.sharpness * s2);
-      const double g = q * std::exp(std::min(0.0, l.sharpness * q * (full.dirs[t].dot(l.axis) - 1)));
+      const double g = blurred_lobe(l.sharpness, texel_blur(l.sharpness, s2), full.dirs[t].dot(l.axis));
       for (int c = 0; c < 3; ++c) model[std::size_t(c)] += l.amplitude[std::size_t(c)] * g;
     }
     for (int c = 0; c < 3; ++c)
       residual[t][std::size_t(c)] = std::max(0.0, full.value[t][std::size_t(c)] - model[std::size_t(c)]);
   });
-  const double lambda = max_sharpness(full) / 4, q = 1 / (1 + lambda * s2);
+  const double lambda = max_sharpness(full) / 4, q = texel_blur(lambda, s2);
   std::vector<int> seeds;
   for (int i = 0; i < moves; ++i) {
     std::size_t best = 0;
@@ -444,7 +443,7 @@ void seed_bright_lobes(const Level& full, std::vector<double>& x, int N, const E
     b[0] = a(0), b[1] = a(1), b[2] = a(2), b[3] = std::log(lambda);
     for (int c = 0; c < 3; ++c) b[4 + c] = amp[std::size_t(c)] / q;
     for (std::size_t t = 0; t < residual.size(); ++t) {  // the new lobe's share leaves the residual
-      const double g = q * std::exp(std::min(0.0, lambda * q * (full.dirs[t].dot(a) - 1)));
+      const double g = blurred_lobe(lambda, q, full.dirs[t].dot(a));
       for (int c = 0; c < 3; ++c)
         residual[t][std::size_t(c)] = std::max(0.0, residual[t][std::size_t(c)] - b[4 + c] * g);
     }
@@ -505,8 +504,7 @@ void add_lobes(const Level& level, std::vector<double>& x, int n, int m, unsigne
   for (std::size_t t = 0; t < level.dirs.size(); ++t) {
     std::array<double, 3> model{0, 0, 0};
     for (const auto& l : current) {
-      const double q = 1 / (1 + l.sharpness * s2);
-      const double g = q * std::exp(std::min(0.0, l.sharpness * q * (level.dirs[t].dot(l.axis) - 1)));
+      const double g = blurred_lobe(l.sharpness, texel_blur(l.sharpness, s2), level.dirs[t].dot(l.axis));
       for (int c = 0; c < 3; ++c) model[std::size_t(c)] += l.amplitude[std::size_t(c)] * g;
     }
     for (int c = 0; c < 3; ++c)

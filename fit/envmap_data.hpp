@@ -2,7 +2,9 @@
 // texels, their weights, the weighted spherical k-means and the Fibonacci axes that start the lobes.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "envmap.hpp"
@@ -28,6 +30,19 @@ struct Level {
 constexpr double kMinSharpness = 1e-2;
 
 inline double max_sharpness(const Level& level) { return 1 / (3 * level.texel_variance); }
+
+// A texel holds the map's mean over its area, so the model of a lobe of sharpness λ is its mean over
+// the texel: the lobe convolved with the texel's box filter taken as a Gaussian of variance s² (the
+// variances add, 1/λ' = 1/λ + s²) with its integral 2πμ/λ kept, μq·G(ω; ξ, λq) with q = 1/(1 + λs²)
+// (MixtureCost, envmap.cpp, gives the derivation and derivatives). texel_blur is q.
+inline double texel_blur(double lambda, double s2) { return 1 / (1 + lambda * s2); }
+// The exponent of that blurred lobe at c = ω·ξ from its sharpness λq, held at 0 where rounding puts
+// c above 1.
+inline double blurred_exponent(double blurred_sharpness, double c) {
+  return std::min(0.0, blurred_sharpness * (c - 1));
+}
+// The blurred lobe of unit amplitude, q·e^{λq(c − 1)}.
+inline double blurred_lobe(double lambda, double q, double c) { return q * std::exp(blurred_exponent(lambda * q, c)); }
 
 Level make_level(const EnvMap& m);
 

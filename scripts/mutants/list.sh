@@ -178,5 +178,5 @@ mutant env-maps-tail-lane core/render/src/simd/render_kernels.hpp 's#for (std::s
   envmap_test:EnvMapQuadrature.SpecularOfMany*
 mutant vmf-estep-row-sum fit/envmap_vmf_em.cpp 's#r < rows; ++r) z\[r\] += e\[r \* n + j\];#r < rows; ++r) z[r] += e[j];#' \
   envmap_bases_test:VmfEm.*
-mutant envmap-level-cost-texel fit/envmap.cpp 's#rate\[j\] \* (level\.dirs\[t\]\.dot(m\[j\]\.axis) - 1)#rate[j] * (level.dirs[t0].dot(m[j].axis) - 1)#' \
+mutant envmap-level-cost-texel fit/envmap.cpp 's#blurred_exponent(rate\[j\], level\.dirs\[t\]\.dot(m\[j\]\.axis))#blurred_exponent(rate[j], level.dirs[t0].dot(m[j].axis))#' \
   envmap_bases_test:SgFree.* envmap_sparse_test envmap_test:EnvMapFit.*
