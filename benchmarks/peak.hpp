@@ -5,6 +5,9 @@
 //   - vector multiply and add throughput (the renderer's loops are compiled with
 //     -ffp-contract=off: no fused multiply-add, each × and + its own instruction): 12 independent
 //     chains of x = x·m + a on AVX-512 (8 doubles) and AVX2 (4 doubles) vectors, ops per cycle;
+//     and of multiplies alone (x = x·m) and adds alone (x = x + a): a core whose multiplies and adds
+//     issue to pipes of their own (AMD's Zen: two for each) runs either alone at half the mixed
+//     rate, one that runs both on the same pipes (Intel's) at the mixed rate;
 //   - division and square root throughput on the same vectors (12 independent chains), the
 //     operations the adders cannot absorb.
 // Times are the thread's CPU time, best of a few runs.
@@ -62,8 +65,8 @@ typedef double v4d __attribute__((vector_size(32)));
 typedef double v8d __attribute__((vector_size(64)));
 
 struct Rates {
-  double mul_add, div, sqrt;        // double operations (per lane) per second
-  double mul_add_f, div_f, sqrt_f;  // the same in float
+  double mul_add, mul, add, div, sqrt;            // double operations (per lane) per second
+  double mul_add_f, mul_f, add_f, div_f, sqrt_f;  // the same in float
 };
 typedef float v8f __attribute__((vector_size(32)));
 typedef float v16f __attribute__((vector_size(64)));
@@ -94,14 +97,16 @@ typedef float v16f __attribute__((vector_size(64)));
     result = best;                                                              \
   }
 
-// The three rates of one vector type V of LANES elements E: x·m + a (two operations a step), num / x
-// and sqrt(x), into the Rates fields mul_add_out, div_out and sqrt_out.
-#define SGLAB_RATES(V, E, LANES, MUL_ADD, SQRT, mul_add_out, div_out, sqrt_out) \
-  {                                                                             \
-    const V m = V{} + E(0.999999), a = V{} + E(1e-7), num = V{} + E(1.0000001); \
-    SGLAB_RATE(V, LANES, 2, MUL_ADD(y, m, a), mul_add_out)                      \
-    SGLAB_RATE(V, LANES, 1, num / y, div_out)                                   \
-    SGLAB_RATE(V, LANES, 1, SQRT(y), sqrt_out)                                  \
+// The five rates of one vector type V of LANES elements E: x·m + a (two operations a step), x·m,
+// x + a, num / x and sqrt(x), into the Rates fields mul_add_out, mul_out, add_out, div_out and sqrt_out.
+#define SGLAB_RATES(V, E, LANES, MUL_ADD, SQRT, mul_add_out, mul_out, add_out, div_out, sqrt_out) \
+  {                                                                                               \
+    const V m = V{} + E(0.999999), a = V{} + E(1e-7), num = V{} + E(1.0000001);                   \
+    SGLAB_RATE(V, LANES, 2, MUL_ADD(y, m, a), mul_add_out)                                        \
+    SGLAB_RATE(V, LANES, 1, y* m, mul_out)                                                        \
+    SGLAB_RATE(V, LANES, 1, y + a, add_out)                                                       \
+    SGLAB_RATE(V, LANES, 1, num / y, div_out)                                                     \
+    SGLAB_RATE(V, LANES, 1, SQRT(y), sqrt_out)                                                    \
   }
 
 // One vector type's two operations for an instruction set TARGET whose registers the asm constraint
@@ -128,15 +133,15 @@ SGLAB_VECTOR_OPS("avx512f", "v", v16f, mul_add16f, sqrt16f, "vsqrtps")
 
 __attribute__((target("avx2"), noinline)) inline Rates rates_avx2() {
   Rates r{};
-  SGLAB_RATES(v4d, double, 4, mul_add4, sqrt4, r.mul_add, r.div, r.sqrt)
-  SGLAB_RATES(v8f, float, 8, mul_add8f, sqrt8f, r.mul_add_f, r.div_f, r.sqrt_f)
+  SGLAB_RATES(v4d, double, 4, mul_add4, sqrt4, r.mul_add, r.mul, r.add, r.div, r.sqrt)
+  SGLAB_RATES(v8f, float, 8, mul_add8f, sqrt8f, r.mul_add_f, r.mul_f, r.add_f, r.div_f, r.sqrt_f)
   return r;
 }
 
 __attribute__((target("avx512f"), noinline)) inline Rates rates_avx512() {
   Rates r{};
-  SGLAB_RATES(v8d, double, 8, mul_add8, sqrt8, r.mul_add, r.div, r.sqrt)
-  SGLAB_RATES(v16f, float, 16, mul_add16f, sqrt16f, r.mul_add_f, r.div_f, r.sqrt_f)
+  SGLAB_RATES(v8d, double, 8, mul_add8, sqrt8, r.mul_add, r.mul, r.add, r.div, r.sqrt)
+  SGLAB_RATES(v16f, float, 16, mul_add16f, sqrt16f, r.mul_add_f, r.mul_f, r.add_f, r.div_f, r.sqrt_f)
   return r;
 }
 #undef SGLAB_RATES

@@ -18,14 +18,18 @@ int main() {
     const char* name = isa == 0 ? "avx2" : "avx512";
     std::fprintf(
         stderr,
-        "%s: mul+add %.1f Gflop/s (%.2f per cycle), div %.2f G/s (%.3f per cycle), sqrt %.2f G/s (%.3f per cycle)\n",
-        name, r.mul_add / 1e9, r.mul_add / hz, r.div / 1e9, r.div / hz, r.sqrt / 1e9, r.sqrt / hz);
-    std::fprintf(stderr, "%s float: mul+add %.1f Gflop/s, div %.2f G/s, sqrt %.2f G/s\n", name, r.mul_add_f / 1e9,
-                 r.div_f / 1e9, r.sqrt_f / 1e9);
+        "%s: mul+add %.1f Gflop/s (%.2f per cycle), mul alone %.1f, add alone %.1f, div %.2f G/s (%.3f per cycle), "
+        "sqrt %.2f G/s (%.3f per cycle)\n",
+        name, r.mul_add / 1e9, r.mul_add / hz, r.mul / 1e9, r.add / 1e9, r.div / 1e9, r.div / hz, r.sqrt / 1e9,
+        r.sqrt / hz);
+    std::fprintf(stderr,
+                 "%s float: mul+add %.1f Gflop/s, mul alone %.1f, add alone %.1f, div %.2f G/s, sqrt %.2f G/s\n", name,
+                 r.mul_add_f / 1e9, r.mul_f / 1e9, r.add_f / 1e9, r.div_f / 1e9, r.sqrt_f / 1e9);
     std::printf(
-        ", \"%s\": {\"mul_add_per_s\": %.4e, \"div_per_s\": %.4e, \"sqrt_per_s\": %.4e, \"float_mul_add_per_s\": %.4e, "
+        ", \"%s\": {\"mul_add_per_s\": %.4e, \"mul_per_s\": %.4e, \"add_per_s\": %.4e, \"div_per_s\": %.4e, "
+        "\"sqrt_per_s\": %.4e, \"float_mul_add_per_s\": %.4e, \"float_mul_per_s\": %.4e, \"float_add_per_s\": %.4e, "
         "\"float_div_per_s\": %.4e, \"float_sqrt_per_s\": %.4e}",
-        name, r.mul_add, r.div, r.sqrt, r.mul_add_f, r.div_f, r.sqrt_f);
+        name, r.mul_add, r.mul, r.add, r.div, r.sqrt, r.mul_add_f, r.mul_f, r.add_f, r.div_f, r.sqrt_f);
   }
   std::printf("}\n");
   return 0;

@@ -148,39 +148,49 @@ double relative_difference(const Rgb& a, const Rgb& b) {
 
 // ---- the VPL sum's arithmetic bound ---------------------------------------------------------------
 // Operations per (pixel, VPL) term of render_kernels_vpl.hpp vpl_sum_blocks, counted from its formula
-// with every receiver-only quantity hoisted out of the loop (the fewest the formula allows):
-//   the term itself: ω = (y − x)/|y − x| (3 sub, |·|² 5, 1 sqrt, 1 div, 3 mul), the two cosines
-//     (5 + 5), the Lambert factors (3 + 3 mul), 1/(d² + r²) (1 add, 1 div), the three channel
-//     sums e·q·k (9): 32 arithmetic, 2 div, 1 sqrt;
-//   a GGX layer (ggx_layer + Schlick): h = ω_o + ω_i (3), |h|² (5), 1 sqrt, 1 div, h·(1/|h|) (3),
-//     α² (1), n·h (5), the NDF's denominator (6), π·dn² (2) and 1 div, the two Smith roots
-//     (6 + 6, 2 sqrt), their sum (3), 1/(2·den) (1 mul, 1 div), D·V·cos (2), ω_o·h (5); Schlick's
-//     (1 − c)⁵ (4) and per channel f0 + (1 − f0)·m⁵ (3): with the VPL's layer (its incoming
-//     side's Smith root one per VPL, in its arrays: ggx_smith_root), 48 − 6 + 13 + 3·3 (its flux
-//     products) = 64 arithmetic, 3 div, 2 sqrt; the receiver's (α², its own Smith root and 1 − f0
-//     hoisted) 48 − 7 + 4 + 3·2 + 3·2 = 57, 3 div, 2 sqrt.
-// In float a GGX layer forms the NDF's sin²θ_h as |n × h|² (9 for n × h, 5 for its squared length)
-// instead of (1 − c)(1 + c) (3): 11 more per layer (kFloatLayerOps).
+// with every receiver-only quantity hoisted out of the loop (the fewest the formula allows), as
+// multiplies + adds (a subtraction is an add):
+//   the term itself: ω = (y − x)/|y − x| (3 sub, |·|² 3 + 2, 1 sqrt, 1 div, 3 mul), the two cosines
+//     (3 + 2 each), the Lambert factors (3 + 3 mul), 1/(d² + r²) (1 add, 1 div), the three channel
+//     sums e·q·k (6 mul, 3 add): 24 + 13 = 37 arithmetic, 2 div, 1 sqrt;
+//   a GGX layer (ggx_layer + Schlick): h = ω_o + ω_i (3 add), |h|² (3 + 2), 1 sqrt, 1 div, h·(1/|h|)
+//     (3 mul), α² (1 mul), n·h (3 + 2), the NDF's denominator (1 + 2 for (1 − c)(1 + c), 2 + 1 for
+//     dn), π·dn² (2 mul) and 1 div, the two Smith roots (3 + 3 each, 2 sqrt), their sum (2 + 1),
+//     1/(2·den) (1 mul, 1 div), D·V·cos (2 mul), ω_o·h (3 + 2): 29 + 19 = 48; Schlick's (1 − c)⁵
+//     (3 + 1) and per channel f0 + (1 − f0)·m⁵ (1 + 2). With the VPL's layer (its incoming side's
+//     Smith root one per VPL, in its arrays: ggx_smith_root) 29 − 3 + 3 + 3·1 + 3·2 (its flux
+//     products) = 38 multiplies and 19 − 3 + 1 + 3·2 + 3·1 = 26 adds, 3 div, 2 sqrt; the receiver's
+//     (α², its own Smith root and 1 − f0 hoisted) 29 − 4 + 3 + 3 + 3·1 (its products with F) = 34
+//     multiplies and 19 − 3 + 1 + 3 + 3 = 23 adds, 3 div, 2 sqrt.
+// In float a GGX layer forms the NDF's sin²θ_h as |n × h|² (6 + 3 for n × h, 3 + 2 for its squared
+// length) instead of (1 − c)(1 + c) (1 + 2): 8 multiplies and 3 adds more per layer (kFloatLayer).
 // Every term is counted, though the sum skips blocks of terms that are all off (vpl_sum_blocks).
-// Multiplies and adds run on the adders (no fused multiply-add: -ffp-contract=off); divisions
-// and square roots on the one divider. The bound per term is the larger of the two times at the
-// rates peak.hpp measures (the instruction set's widest vectors).
+// Multiplies and adds run on the vector pipes (no fused multiply-add: -ffp-contract=off), divisions
+// and square roots on the one divider. The bound per term is the largest of the times the
+// multiplies and adds take together at the mixed rate, the multiplies alone at the multiply rate,
+// the adds alone at the add rate (on a core whose multiplies and adds have pipes of their own, the
+// larger of the two counts at half the mixed rate: peak.hpp), and the divider's time, at the rates
+// peak.hpp measures (the instruction set's widest vectors). Until 2026-12-06 it counted 32 instead
+// of the 37 its own list adds up to for the term itself, and took multiplies and adds as one pool.
 struct TermOps {
-  double arithmetic, div, sqrt;
+  double mul, add, div, sqrt;
 };
-constexpr TermOps kTermOps[4] = {
-    {32, 2, 1}, {32 + 57, 2 + 3, 1 + 2}, {32 + 64, 2 + 3, 1 + 2}, {32 + 64 + 57, 2 + 3 + 3, 1 + 2 + 2}};
-
-constexpr double kFloatLayerOps = 11;
+constexpr TermOps kTermBase = {24, 13, 2, 1}, kVplLayer = {38, 26, 3, 2}, kReceiverLayer = {34, 23, 3, 2},
+                  kFloatLayer = {8, 3, 0, 0};
 
 // The bound in ns for one term of kind k (2·glossy VPL + glossy receiver), in double or float.
 double term_bound_ns(int k, bool single, const sglab::bench::Rates& r) {
-  const TermOps o = kTermOps[k];
-  const int layers = (k >> 1) + (k & 1);  // the VPL's GGX layer, the receiver's
-  const double ops = o.arithmetic + (single ? kFloatLayerOps * layers : 0);
-  const double arithmetic = ops / (single ? r.mul_add_f : r.mul_add);
+  TermOps o = kTermBase;
+  const auto add_layer = [&o, single](const TermOps& l) {
+    o = {o.mul + l.mul, o.add + l.add, o.div + l.div, o.sqrt + l.sqrt};
+    if (single) o = {o.mul + kFloatLayer.mul, o.add + kFloatLayer.add, o.div, o.sqrt};
+  };
+  if (k & 2) add_layer(kVplLayer);
+  if (k & 1) add_layer(kReceiverLayer);
+  const double mixed = (o.mul + o.add) / (single ? r.mul_add_f : r.mul_add);
+  const double muls = o.mul / (single ? r.mul_f : r.mul), adds = o.add / (single ? r.add_f : r.add);
   const double divider = o.div / (single ? r.div_f : r.div) + o.sqrt / (single ? r.sqrt_f : r.sqrt);
-  return 1e9 * (arithmetic > divider ? arithmetic : divider);
+  return 1e9 * std::max({mixed, muls, adds, divider});
 }
 
 const sglab::bench::Rates& peak_rates() {
