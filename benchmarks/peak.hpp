@@ -6,8 +6,8 @@
 //     -ffp-contract=off: no fused multiply-add, each × and + its own instruction): 12 independent
 //     chains of x = x·m + a on AVX-512 (8 doubles) and AVX2 (4 doubles) vectors, ops per cycle;
 //     and of multiplies alone (x = x·m) and adds alone (x = x + a): a core whose multiplies and adds
-//     issue to pipes of their own (AMD's Zen: two for each) runs either alone at half the mixed
-//     rate, one that runs both on the same pipes (Intel's) at the mixed rate;
+//     issue to pipes of their own (the AMD cores measured here: two for each) runs either alone at
+//     half the mixed rate, one that runs both on the same pipes at the mixed rate;
 //   - division and square root throughput on the same vectors (12 independent chains), the
 //     operations the adders cannot absorb.
 // Times are the thread's CPU time, best of a few runs.
