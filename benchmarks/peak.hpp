@@ -103,7 +103,7 @@ typedef float v16f __attribute__((vector_size(64)));
   {                                                                                               \
     const V m = V{} + E(0.999999), a = V{} + E(1e-7), num = V{} + E(1.0000001);                   \
     SGLAB_RATE(V, LANES, 2, MUL_ADD(y, m, a), mul_add_out)                                        \
-    SGLAB_RATE(V, LANES, 1, y* m, mul_out)                                                        \
+    SGLAB_RATE(V, LANES, 1, (y * m), mul_out)                                                     \
     SGLAB_RATE(V, LANES, 1, y + a, add_out)                                                       \
     SGLAB_RATE(V, LANES, 1, num / y, div_out)                                                     \
     SGLAB_RATE(V, LANES, 1, SQRT(y), sqrt_out)                                                    \
