@@ -8,10 +8,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -24,6 +26,8 @@
 #include "sglab/simd.hpp"
 #include "render_scenes.hpp"
 #include "test_util.hpp"
+#include "sglab/brdf.hpp"
+#include "render_table.hpp"  // the renderer loops' scalar helpers (internal linkage)
 
 namespace {
 
@@ -153,6 +157,50 @@ TEST(RenderDispatch, OneInstructionSetForRegistryAndRenderer) {
 // set, in double and float, with and without visibility, for the points in image order (glossy
 // floor and Lambert walls: runs of each kind, so pairs and single points both occur) and shuffled
 // (other pairs; seed printed).
+// The loops' Schlick factor (render_table.hpp schlick: the polynomial at the unclamped cosine
+// and its values at the clamp's ends written out) against brdf.hpp's fresnel_schlick, which clamps
+// first, bit for bit: f0 in [0, 1] (±0 and 1 included), cosines around and beyond both ends of the
+// clamp, ±0, ±∞ and NaN (NaN both), in float and double.
+template <class T>
+void schlick_matches_fresnel_schlick(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0, 1), wide(-1.5, 1.5);
+  const T inf = std::numeric_limits<T>::infinity(), tiny = std::numeric_limits<T>::denorm_min();
+  std::vector<T> f0s = {T(0), -T(0), T(1), T(0.04), T(0.5), std::nextafter(T(1), T(0))};
+  std::vector<T> cosines = {-inf,
+                            T(-2),
+                            T(-1),
+                            -tiny,
+                            -T(0),
+                            T(0),
+                            tiny,
+                            T(0.5),
+                            std::nextafter(T(1), T(0)),
+                            T(1),
+                            std::nextafter(T(1), T(2)),
+                            T(2),
+                            inf,
+                            std::numeric_limits<T>::quiet_NaN()};
+  for (int k = 0; k < 200; ++k) f0s.push_back(T(unit(rng)));
+  for (int k = 0; k < 2000; ++k) cosines.push_back(T(wide(rng)));
+  long mismatches = 0;
+  for (const T f0 : f0s)
+    for (const T c : cosines) {
+      const T kernel = sglab::render::simd_detail::schlick(f0, c), scalar = sglab::fresnel_schlick(f0, c);
+      const bool same = std::isnan(scalar) ? std::isnan(kernel) : std::memcmp(&kernel, &scalar, sizeof(T)) == 0;
+      if (!same && ++mismatches <= 5)
+        ADD_FAILURE() << "f0 " << f0 << ", cos " << c << ": loop " << kernel << ", fresnel_schlick " << scalar;
+    }
+  std::printf("schlick (%s, seed %u): %zu × %zu pairs, %ld differ\n", sizeof(T) == 4 ? "float" : "double", seed,
+              f0s.size(), cosines.size(), mismatches);
+  EXPECT_EQ(mismatches, 0);
+}
+
+TEST(RenderKernels, SchlickIsFresnelSchlickToTheBit) {
+  schlick_matches_fresnel_schlick<float>(20261206);
+  schlick_matches_fresnel_schlick<double>(20261207);
+}
+
 TEST(ReferencePairs, EachPointGetsItsOwnSumToTheBit) {
   const Scene scene = cornell(16);
   const VplList vpls = prepare_vpls(render_rsm(scene, 12));

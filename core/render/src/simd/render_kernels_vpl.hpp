@@ -11,7 +11,7 @@
 namespace sglab::render::simd_detail {
 namespace {
 
-// (sqrt_, clamp1 and ggx_smith_root: render_table.hpp, which reference.cpp shares.)
+// (sqrt_, clamp1, ggx_smith_root and schlick: render_table.hpp, which reference.cpp shares.)
 
 // ---- the exact VPL sum ------------------------------------------------------------------------
 
@@ -52,14 +52,6 @@ template <class T>
   const T vis = (co > 0 || ci > 0) && co >= 0 && ci >= 0 && den > 0 ? T(1) / (2 * den) : T(0);
   const T dv = ndf * vis * ci;
   return {co >= 0 && dv > 0 ? dv : T(0), wox * hx + woy * hy + woz * hz};
-}
-
-// fresnel_schlick (brdf.hpp) without the branches of its clamp.
-template <class T>
-[[gnu::always_inline]] inline T schlick(T f0, T cos_oh) {
-  const T c = cos_oh < 0 ? T(0) : (cos_oh > 1 ? T(1) : cos_oh);
-  const T m = 1 - c, m2 = m * m;
-  return f0 + (1 - f0) * m2 * m2 * m;
 }
 
 // One term's three channels.

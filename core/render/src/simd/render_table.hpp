@@ -43,6 +43,20 @@ template <class T>
   const T cc = clamp1(c);
   return sqrt_(c * c + a2 * ((1 - cc) * (1 + cc)));
 }
+
+// fresnel_schlick (brdf.hpp) without the branches of its clamp, f0 + (1 − f0)·m²·m²·m with m = 1 −
+// clamp(c, 0, 1): the polynomial at the unclamped c, and at either end of the clamp the value the
+// polynomial has there, written out: c < 0 (m = 1) f0 + (1 − f0), c > 1 (m = 0) f0 + 0, which is
+// f0 + (1 − f0)·0·0·0 for every finite f0 (the product is +0, or −0 where f0 > 1 and f0 + −0 = f0 +
+// 0). Written with the clamp first, GCC evaluated the polynomial again at m = 0 for each channel
+// (x·0 does not fold: three multiplies per channel per term); the values are the same bits
+// (RenderKernels.SchlickIsFresnelSchlickToTheBit).
+template <class T>
+[[gnu::always_inline]] inline T schlick(T f0, T cos_oh) {
+  const T m = 1 - cos_oh, m2 = m * m;
+  const T inside = f0 + (1 - f0) * m2 * m2 * m;
+  return cos_oh < 0 ? f0 + (1 - f0) : (cos_oh > 1 ? f0 + T(0) : inside);
+}
 }  // namespace
 
 // One VPL array (VplArrays, reference.hpp) in T, padded to a multiple of the lane count.
