@@ -180,3 +180,5 @@ mutant vmf-estep-row-sum fit/envmap_vmf_em.cpp 's#r < rows; ++r) z\[r\] += e\[r 
   envmap_bases_test:VmfEm.*
 mutant envmap-level-cost-texel fit/envmap.cpp 's#blurred_exponent(rate\[j\], level\.dirs\[t\]\.dot(m\[j\]\.axis))#blurred_exponent(rate[j], level.dirs[t0].dot(m[j].axis))#' \
   envmap_bases_test:SgFree.* envmap_sparse_test envmap_test:EnvMapFit.*
+mutant render-schlick-upper-end core/render/src/simd/render_table.hpp 's#cos_oh > 1 ? f0 + T(0) : inside#cos_oh > 1 ? f0 : inside#' \
+  render_precision_test:RenderKernels.*
