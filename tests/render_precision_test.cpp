@@ -152,11 +152,6 @@ TEST(RenderDispatch, OneInstructionSetForRegistryAndRenderer) {
   }
 }
 
-// reference_radiances (two points of the same kind per pass over the VPLs, render_kernels_vpl.hpp
-// vpl_sum_blocks) gives each point reference_radiance's own value to the bit: on every instruction
-// set, in double and float, with and without visibility, for the points in image order (glossy
-// floor and Lambert walls: runs of each kind, so pairs and single points both occur) and shuffled
-// (other pairs; seed printed).
 // The loops' Schlick factor (render_table.hpp schlick: the polynomial at the unclamped cosine
 // and its values at the clamp's ends written out) against brdf.hpp's fresnel_schlick, which clamps
 // first, bit for bit: f0 in [0, 1] (±0 and 1 included), cosines around and beyond both ends of the
@@ -201,6 +196,11 @@ TEST(RenderKernels, SchlickIsFresnelSchlickToTheBit) {
   schlick_matches_fresnel_schlick<double>(20261207);
 }
 
+// reference_radiances (two points of the same kind per pass over the VPLs, render_kernels_vpl.hpp
+// vpl_sum_blocks) gives each point reference_radiance's own value to the bit: on every instruction
+// set, in double and float, with and without visibility, for the points in image order (glossy
+// floor and Lambert walls: runs of each kind, so pairs and single points both occur) and shuffled
+// (other pairs; seed printed).
 TEST(ReferencePairs, EachPointGetsItsOwnSumToTheBit) {
   const Scene scene = cornell(16);
   const VplList vpls = prepare_vpls(render_rsm(scene, 12));
