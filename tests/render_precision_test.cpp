@@ -3,7 +3,8 @@
 // render tests hold to the brute-force reference: relative L2 over the image within 1e-5 (the
 // bound docs/simd.md states). The dispatch: SGLAB_SIMD / force_isa select the renderer's loops
 // together with the registry's batch evaluators, and every instruction set gives the same image to
-// rounding.
+// rounding. And one of the loops' scalar helpers (render_table.hpp schlick) against the library's
+// definition (brdf.hpp fresnel_schlick), bit for bit.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
