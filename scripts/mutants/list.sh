@@ -182,3 +182,7 @@ mutant envmap-level-cost-texel fit/envmap.cpp 's#blurred_exponent(rate\[j\], lev
   envmap_bases_test:SgFree.* envmap_sparse_test envmap_test:EnvMapFit.*
 mutant render-schlick-upper-end core/render/src/simd/render_table.hpp 's#cos_oh > 1 ? f0 + T(0) : inside#cos_oh > 1 ? f0 : inside#' \
   render_precision_test:RenderKernels.*
+mutant render-method-scale-row core/render/src/simd/render_kernels_shading.hpp 's#\*sj = rows\.scale + r0, \*vj#*sj = rows.scale + k0, *vj#' \
+  vsgl_specular_methods_test
+mutant vsgl-scale-for-method core/render/src/vsgl_shading.cpp 's#if (pass\.any_diffuse || (d\.options\.specular \&\& d\.options\.specular_method)) pass\.scale();#if (pass.any_diffuse) pass.scale();#' \
+  vsgl_specular_methods_test

@@ -212,8 +212,9 @@ struct Receivers {
 
 // Per thread, reused: no allocation per block once the arrays have grown.
 struct Scratch {
-  std::vector<double> px, py, pz, nx, ny, nz, diffuse;                                                      // per point
-  std::vector<double> sharpness, cosine, log_scale, xi_x, xi_y, xi_z, d2, capped, mask, fallback, visible;  // per row
+  std::vector<double> px, py, pz, nx, ny, nz, diffuse;  // per point
+  std::vector<double> sharpness, cosine, log_scale, scale, xi_x, xi_y, xi_z, d2, capped, mask, fallback,
+      visible;  // per row
   std::vector<double> args_double, value_double;
   std::vector<float> args_float, value_float;
   std::vector<double> sum_r, sum_g, sum_b;  // per point (or per glossy point)
@@ -221,7 +222,8 @@ struct Scratch {
   std::vector<double> spec_fallback;        // per (lobe, glossy point)
   void resize(std::size_t points, std::size_t rows, bool single) {
     for (auto* v : {&px, &py, &pz, &nx, &ny, &nz, &diffuse, &sum_r, &sum_g, &sum_b}) v->resize(points);
-    for (auto* v : {&sharpness, &cosine, &log_scale, &xi_x, &xi_y, &xi_z, &d2, &capped, &mask, &fallback, &visible})
+    for (auto* v :
+         {&sharpness, &cosine, &log_scale, &scale, &xi_x, &xi_y, &xi_z, &d2, &capped, &mask, &fallback, &visible})
       v->resize(rows);
     if (single) {
       args_float.resize(2 * rows);
@@ -270,8 +272,8 @@ struct BlockPass {
       }
     }
     block = {m, s.px.data(), s.py.data(), s.pz.data(), s.nx.data(), s.ny.data(), s.nz.data(), s.diffuse.data()};
-    in = {s.sharpness.data(), s.cosine.data(), s.log_scale.data(), s.xi_x.data(), s.xi_y.data(),
-          s.xi_z.data(),      s.d2.data(),     s.capped.data(),    s.mask.data(), s.visible.data()};
+    in = {s.sharpness.data(), s.cosine.data(), s.log_scale.data(), s.xi_x.data(),    s.xi_y.data(), s.xi_z.data(),
+          s.d2.data(),        s.capped.data(), s.mask.data(),      s.visible.data(), s.scale.data()};
   }
 
   // The incoming SG of every (lobe, point), row j·m + i, and the diffuse method's rows (λ, c).
@@ -285,16 +287,19 @@ struct BlockPass {
           s.log_scale[r] += -(std::log(two_pi<double>()) + std::log(s.d2[r]) - std::log(kMaxPositionalSharpness));
   }
 
+  // e^{log_scale} of every row (the rows' scale), for the diffuse sums and a registry method's specular sums.
+  void scale() { t.scale_rows(rows, s.log_scale.data(), simd_detail::scaled_by_exp_direct_limit(), s.scale.data()); }
+
   // D(λ_in, ξ_in·n) for every row in one batch call; e^{log_scale}-weighted sums per point.
   void diffuse(const Method& method, double factor, bool single) {
     const std::size_t fallbacks =
         single ? (method.batch_float(s.args_float, 2, s.value_float),
-                  t.weighted_sum_f(lobes, m, s.log_scale.data(), s.value_float.data(), s.mask.data(), factor,
-                                   simd_detail::scaled_by_exp_direct_limit(), s.fallback.data(), s.sum_r.data(),
+                  t.weighted_sum_f(lobes, m, s.log_scale.data(), s.scale.data(), s.value_float.data(), s.mask.data(),
+                                   factor, simd_detail::scaled_by_exp_direct_limit(), s.fallback.data(), s.sum_r.data(),
                                    s.sum_g.data(), s.sum_b.data()))
                : (method.batch_double(s.args_double, 2, s.value_double),
-                  t.weighted_sum_d(lobes, m, s.log_scale.data(), s.value_double.data(), s.mask.data(), factor,
-                                   simd_detail::scaled_by_exp_direct_limit(), s.fallback.data(), s.sum_r.data(),
+                  t.weighted_sum_d(lobes, m, s.log_scale.data(), s.scale.data(), s.value_double.data(), s.mask.data(),
+                                   factor, simd_detail::scaled_by_exp_direct_limit(), s.fallback.data(), s.sum_r.data(),
                                    s.sum_g.data(), s.sum_b.data()));
     for (std::size_t i = 0; i < m; ++i) {
       if (s.diffuse[i] == 0) continue;
@@ -311,10 +316,10 @@ struct BlockPass {
 
   // A registry method (vsgl_specular_methods.cpp), on the block's rows as they are.
   void specular_with(const Method& method) {
-    shade_specular_with_method(
-        method, points,
-        {s.xi_x.data(), s.xi_y.data(), s.xi_z.data(), s.sharpness.data(), s.log_scale.data(), s.visible.data()},
-        a.amplitude, out);
+    shade_specular_with_method(method, points,
+                               {s.xi_x.data(), s.xi_y.data(), s.xi_z.data(), s.sharpness.data(), s.log_scale.data(),
+                                s.scale.data(), s.visible.data()},
+                               a.amplitude, out);
   }
 
   // The default ASG specular: the block's glossy points' specular receivers (vsgl.hpp) as arrays,
@@ -366,6 +371,8 @@ void VsglShader::shade_block(std::span<const ShadingPoint> points, std::span<con
   BlockPass pass{d.lobes, points, visible, d.clusters, out, scratch};
   pass.prepare(single);
   pass.incoming(single, d.floor_sharpness);
+  // (The built-in ASG specular takes e^{log_scale} in one exponential with its own: no scale.)
+  if (pass.any_diffuse || (d.options.specular && d.options.specular_method)) pass.scale();
   if (pass.any_diffuse) pass.diffuse(d.diffuse, d.diffuse_factor, single);
   if (!d.options.specular) return;
   if (d.options.specular_method) pass.specular_with(*d.options.specular_method);

@@ -109,7 +109,7 @@ void shade_specular_with_method(const Method& method, std::span<const ShadingPoi
   simd_detail::IncomingRows rows{};
   rows.sharpness = const_cast<double*>(in.sharpness), rows.log_scale = const_cast<double*>(in.log_scale);
   rows.xi_x = const_cast<double*>(in.xi_x), rows.xi_y = const_cast<double*>(in.xi_y);
-  rows.xi_z = const_cast<double*>(in.xi_z), rows.visible = in.visible;
+  rows.xi_z = const_cast<double*>(in.xi_z), rows.visible = in.visible, rows.scale = const_cast<double*>(in.scale);
   const simd_detail::MethodColumns columns{s.columns[0].data(), s.columns[1].data(), s.columns[2].data(),
                                            s.columns[3].data()};
   const simd_detail::RenderKernelTable& t = simd_detail::render_kernels();

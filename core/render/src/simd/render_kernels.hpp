@@ -192,6 +192,7 @@ RenderKernelTable make_render_table(const char* isa) {
   t.cube_lookup = cube_lookup;
   t.incoming_d = incoming<double>;
   t.incoming_f = incoming<float>;
+  t.scale_rows = scale_rows;
   t.weighted_sum_d = weighted_sum<double>;
   t.weighted_sum_f = weighted_sum<float>;
   t.specular = specular;

@@ -123,16 +123,27 @@ constexpr double kVectorExpFloor = -700;
   return p * std::bit_cast<double>((k_bits + 1023) << 52);
 }
 
+// ScaleRowsFn (render_table.hpp): e^{log_scale} of every row once, which the diffuse sums and a
+// registry method's specular sums both take.
+void scale_rows(std::size_t rows, const double* log_scale, double direct_limit, double* scale) {
+#pragma omp simd
+  for (std::size_t r = 0; r < rows; ++r) {
+    const double ls = log_scale[r];
+    const bool in_range = ls > kVectorExpFloor && ls < direct_limit;
+    scale[r] = in_range ? exp_in_range(in_range ? ls : 0.0) : 0.0;
+  }
+}
+
 template <class T>
-std::size_t weighted_sum(const LobeView& a, std::size_t m, const double* log_scale, const T* value, const double* mask,
-                         double factor, double direct_limit, double* fallback, double* out_r, double* out_g,
-                         double* out_b) {
+std::size_t weighted_sum(const LobeView& a, std::size_t m, const double* log_scale, const double* scale, const T* value,
+                         const double* mask, double factor, double direct_limit, double* fallback, double* out_r,
+                         double* out_g, double* out_b) {
   for (std::size_t i = 0; i < m; ++i) out_r[i] = out_g[i] = out_b[i] = 0;
   std::size_t fallbacks = 0;
   for (std::size_t j = 0; j < a.n; ++j) {
     const double ar = a.amp_r[j], ag = a.amp_g[j], ab = a.amp_b[j];
     const std::size_t r0 = j * m;
-    const double *lsj = log_scale + r0, *mj = mask + r0;
+    const double *lsj = log_scale + r0, *sj = scale + r0, *mj = mask + r0;
     const T* vj = value + r0;
     double* fj = fallback + r0;
     std::size_t count = 0;
@@ -144,7 +155,7 @@ std::size_t weighted_sum(const LobeView& a, std::size_t m, const double* log_sca
       const double fb = lit * (1 - in_range);
       fj[i] = fb;
       count += fb > 0 ? 1 : 0;
-      const double w = lit * in_range > 0 ? exp_in_range(in_range > 0 ? ls : 0.0) * x : 0.0;
+      const double w = lit * in_range > 0 ? sj[i] * x : 0.0;
       out_r[i] += ar * w;
       out_g[i] += ag * w;
       out_b[i] += ab * w;
@@ -317,7 +328,8 @@ std::size_t method_sum_of(std::size_t lobes, const double* amp_r, const double* 
   for (std::size_t j = 0; j < lobes; ++j) {
     const double ar = amp_r[j], ag = amp_g[j], ab = amp_b[j];
     const std::size_t r0 = j * m, k0 = j * gn;
-    const double *lsj = rows.log_scale + r0, *vj = rows.visible + r0, *z0 = at0 + k0, *z1 = at1 + k0;
+    const double *lsj = rows.log_scale + r0, *sj = rows.scale + r0, *vj = rows.visible + r0, *z0 = at0 + k0,
+                 *z1 = at1 + k0;
     double* fj = fallback + k0;
     std::size_t count = 0;
 #pragma omp simd reduction(+ : count)
@@ -330,7 +342,7 @@ std::size_t method_sum_of(std::size_t lobes, const double* amp_r, const double* 
       fj[g] = fb;
       count += fb > 0 ? 1 : 0;
       const bool on = lit * in_range > 0;
-      const double e = on ? exp_in_range(in_range > 0 ? ls : 0.0) : 0.0;
+      const double e = on ? sj[i] : 0.0;
       const double a0 = on ? e * z0[g] : 0.0, a1 = on ? e * z1[g] : 0.0;
       out_r[g] += ar * (a0 + f0r[g] * (a1 - a0));
       out_g[g] += ag * (a0 + f0g[g] * (a1 - a0));

@@ -150,6 +150,7 @@ struct PointBlock {
 struct IncomingRows {
   double *sharpness, *cosine, *log_scale, *xi_x, *xi_y, *xi_z, *d2, *capped, *mask;
   const double* visible;
+  double* scale;  // e^{log_scale} in the vectorized exponential's range, else 0 (ScaleRowsFn)
 };
 
 // The incoming SGs of every (lobe, point) row, and the diffuse method's argument rows (λ, c)
@@ -160,13 +161,19 @@ template <class T>
 using IncomingFn = std::size_t (*)(const LobeView& lobes, const PointBlock& points, double sharpness_floor,
                                    IncomingRows& out, T* args);
 
+// scale[r] = e^{log_scale[r]} for the rows r < rows whose log_scale is in the vectorized
+// exponential's range (above its floor, below direct_limit: vsgl.hpp scaled_by_exp's), else 0: once
+// per block, for the diffuse sums and a registry method's specular sums alike.
+using ScaleRowsFn = void (*)(std::size_t rows, const double* log_scale, double direct_limit, double* scale);
+
 // out_{r,g,b}[i] = Σ_j amp_j · e^{log_scale} · factor · value over the rows with mask 1, in lobe
-// order; rows whose log_scale is outside the vectorized exponential's range (or ≥ direct_limit,
-// vsgl.hpp scaled_by_exp's) get fallback = 1 (returned: how many) and are left to the caller.
+// order, e^{log_scale} being ScaleRowsFn's `scale`; rows whose log_scale is outside the vectorized
+// exponential's range (or ≥ direct_limit) get fallback = 1 (returned: how many) and are left to the caller.
 template <class T>
-using WeightedSumFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const double* log_scale, const T* value,
-                                      const double* mask, double factor, double direct_limit, double* fallback,
-                                      double* out_r, double* out_g, double* out_b);
+using WeightedSumFn = std::size_t (*)(const LobeView& lobes, std::size_t m, const double* log_scale,
+                                      const double* scale, const T* value, const double* mask, double factor,
+                                      double direct_limit, double* fallback, double* out_r, double* out_g,
+                                      double* out_b);
 
 // The block's glossy points as arrays: vsgl.hpp's VsglSpecularReceiver (local frame t, b, n; ω_o
 // in it; the ASG lobe x, y, z, ηx, ηy; λ_s; 1/(πα²); α) and the point's f0.
@@ -204,9 +211,10 @@ struct MethodColumns {
 // [−1, 1], and (ξ·t, ξ·b)/|(ξ·t, ξ·b)| for cos φ, sin φ ((1, 0) where both are 0).
 using MethodRowsFn = void (*)(std::size_t lobes, std::size_t m, const IncomingRows& rows,
                               const MethodReceivers& receivers, const MethodColumns& out);
-// out_{r,g,b}[g] = Σ_j amp_j · (a0 + f0·(a1 − a0)), a_k = e^{log_scale}·at_f0_k of row j·count + g,
-// over the rows with visible 1 and log_scale > −∞, in lobe order; rows whose log_scale is outside
-// the vectorized exponential's range get fallback = 1 (returned: how many) and are left to the caller.
+// out_{r,g,b}[g] = Σ_j amp_j · (a0 + f0·(a1 − a0)), a_k = e^{log_scale}·at_f0_k of row j·count + g
+// (e^{log_scale}: the rows' `scale`), over the rows with visible 1 and log_scale > −∞, in lobe order;
+// rows whose log_scale is outside the vectorized exponential's range get fallback = 1 (returned: how
+// many) and are left to the caller.
 using MethodSumFn = std::size_t (*)(std::size_t lobes, const double* amp_r, const double* amp_g, const double* amp_b,
                                     std::size_t m, const IncomingRows& rows, const MethodReceivers& receivers,
                                     const double* at_f0_zero, const double* at_f0_one, double direct_limit,
@@ -261,6 +269,7 @@ struct RenderKernelTable {
   CubeLookupFn cube_lookup;
   IncomingFn<double> incoming_d;
   IncomingFn<float> incoming_f;
+  ScaleRowsFn scale_rows;
   WeightedSumFn<double> weighted_sum_d;
   WeightedSumFn<float> weighted_sum_f;
   SpecularFn specular;

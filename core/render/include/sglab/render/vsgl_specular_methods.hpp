@@ -40,9 +40,10 @@ std::vector<std::string> specular_method_names();
 const Method* find_specular_method(std::string_view name);
 
 // The incoming SGs of the lobes for each of the points, lobe-major (row j·points + i,
-// vsgl_shading.cpp), and per row 1 where the lobe's cluster is visible from the point, else 0.
+// vsgl_shading.cpp): with scale = e^{log_scale} where log_scale is in the range of the kernels'
+// vectorized exponential, else 0; and per row 1 where the lobe's cluster is visible from the point, else 0.
 struct IncomingLobes {
-  const double *xi_x, *xi_y, *xi_z, *sharpness, *log_scale, *visible;
+  const double *xi_x, *xi_y, *xi_z, *sharpness, *log_scale, *scale, *visible;
 };
 
 // Adds to out[i].specular the specular radiance of every glossy point from every lobe j visible
