@@ -51,6 +51,7 @@
 #include "sglab/registry.hpp"
 #include "sglab/simd.hpp"
 #include "sglab/simd_specular_pair.hpp"
+#include "sglab/specular_input.hpp"
 #include "simd_test_util.hpp"
 #include "test_util.hpp"
 #include "sglab/registry_mp50.hpp"
@@ -297,10 +298,11 @@ TEST(SimdSpecular, PairIsTheBatchAtFresnelZeroAndOne) {
   simd::force_isa(simd::supported_isas().back());
 }
 
-// The column evaluators (sglab/simd_specular_pair.hpp SpecularPairColumns: cos φ and sin φ in
-// place of φ) against the scalar template at f0 = 0 and f0 = 1, with the batch evaluator's
-// tolerance, on every instruction set, over the rows above; cos φ and sin φ as the scalar template
-// takes them (std::cos, std::sin). The rows less three: the last batch is partial.
+// The column evaluators (sglab/simd_specular_pair.hpp SpecularPairColumns: the light's axis by its
+// components in place of light_cos and φ) against the scalar template at f0 = 0 and f0 = 1, with
+// the batch evaluator's tolerance, on every instruction set, over the rows above; the axis as the
+// scalar template forms it (specular_light_axis: std::cos, std::sin). The rows less three: the last
+// batch is partial.
 TEST(SimdSpecular, ColumnsMatchTheScalarTemplateAtFresnelZeroAndOne) {
   std::vector<Row> rows = stiff_rows();
   for (const Row& r : random_rows()) rows.push_back(r);
@@ -318,8 +320,9 @@ TEST(SimdSpecular, ColumnsMatchTheScalarTemplateAtFresnelZeroAndOne) {
       std::vector<double> c[6];
       for (const Row& r : ref.rows) {
         for (int j = 0; j < 4; ++j) c[j].push_back(r[std::size_t(j)]);
-        c[4].push_back(std::cos(r[4]));
-        c[5].push_back(std::sin(r[4]));
+        const Vec3<double> xi = specular_light_axis(r[2], r[4]);
+        c[4].push_back(xi(0));
+        c[5].push_back(xi(1));
       }
       const std::size_t n = ref.rows.size();
       for (const auto isa : simd::supported_isas()) {
@@ -365,8 +368,9 @@ TEST(SimdSpecular, SharedReceiversAreEachRowOnItsOwn) {
             const double phi = 7 * u(rng);
             c[0].push_back(std::pow(10.0, -3 + 7 * u(rng)));
             c[1].push_back(-1 + 2 * u(rng));
-            c[2].push_back(std::cos(phi));
-            c[3].push_back(std::sin(phi));
+            const Vec3<double> xi = specular_light_axis(c[1].back(), phi);
+            c[2].push_back(xi(0));
+            c[3].push_back(xi(1));
             rough_rows[k] = roughness[k % receivers];
             view_rows[k] = view[k % receivers];
           }

@@ -320,7 +320,7 @@ simd::SpecularPairColumnsFn simd::specular_pair_columns_evaluator(const Method& 
   return [k = *k](const SpecularPairColumns& rows, std::size_t lights, double* at0, double* at1) {
     const double* const receivers[simd_detail::kSpecularReceiverColumns] = {rows.roughness, rows.view_cos};
     const double* const columns[simd_detail::kSpecularLightColumns] = {rows.light_sharpness, rows.light_cos,
-                                                                       rows.azimuth_cos, rows.azimuth_sin};
+                                                                       rows.axis_t, rows.axis_b};
     pair_table_of(active_isa()).columns[k.index](receivers, columns, rows.receivers, lights, at0, at1, k.params.data());
   };
 }

@@ -186,3 +186,5 @@ mutant render-method-scale-row core/render/src/simd/render_kernels_shading.hpp '
   vsgl_specular_methods_test
 mutant vsgl-scale-for-method core/render/src/vsgl_shading.cpp 's#if (pass\.any_diffuse || (d\.options\.specular \&\& d\.options\.specular_method)) pass\.scale();#if (pass.any_diffuse) pass.scale();#' \
   vsgl_specular_methods_test
+mutant render-method-axis-tangent core/render/src/simd/render_kernels_shading.hpp 's#at\[g\] = dot3(x, y, z, tx\[g\], ty\[g\], tz\[g\]);#at[g] = dot3(x, y, z, bx[g], by[g], bz[g]);#' \
+  vsgl_specular_methods_test

@@ -30,24 +30,27 @@ using SpecularPairFn =
 SpecularPairFn specular_pair_evaluator(const Method& method);
 
 // The rows as columns (structure of arrays): the receivers' (a surface point and its view:
-// roughness, view_cos; `receivers` values each) and the lights' (light_sharpness, light_cos, and the
-// light azimuth φ given by cos φ and sin φ; one value per row, row j·receivers + g being light j at
-// receiver g). A caller holding the light's axis in the local frame has cos φ and sin φ as its
-// tangent components over their length: no angle, no sine or cosine is evaluated. Read without
-// transposition, so the columns need no gathering; each receiver's part of the method (`_receiver`
-// in specular.hpp: the warped NDF lobe, ωo) is computed once for all its lights.
+// roughness, view_cos; `receivers` values each) and the lights' (light_sharpness, and the light's
+// unit axis ξ in the receiver's frame: light_cos = ξ·n, axis_t = ξ·t and axis_b = ξ·b, t being the
+// tangent at azimuth 0, towards the view; one value per row, row j·receivers + g being light j at
+// receiver g). The kernel takes ξ = (axis_t, axis_b, light_cos clamped to [−1, 1]) as given: no
+// angle, no sine, cosine or square root of the azimuth (the scalar template's ξ for light_cos c and
+// azimuth φ is (s·cos φ, s·sin φ, c), s = √(1 − c²): specular_input.hpp specular_light_axis).
+// Read without transposition, so the columns need no gathering; each receiver's part of the method
+// (`_receiver` in specular.hpp: the warped NDF lobe, ωo) is computed once for all its lights.
 struct SpecularPairColumns {
   std::size_t receivers;
-  const double *roughness, *view_cos;                                     // per receiver
-  const double *light_sharpness, *light_cos, *azimuth_cos, *azimuth_sin;  // per row
+  const double *roughness, *view_cos;                           // per receiver
+  const double *light_sharpness, *light_cos, *axis_t, *axis_b;  // per row
 };
 // Evaluates lights × rows.receivers rows into at_f0_zero and at_f0_one (one value each per row).
 using SpecularPairColumnsFn =
     std::function<void(const SpecularPairColumns& rows, std::size_t lights, double* at_f0_zero, double* at_f0_one)>;
 // The column evaluator of `method`, for the same methods as specular_pair_evaluator (empty for the
-// others). Its values are the pair evaluator's with its sine and cosine of φ replaced by the given
-// ones: for cos φ, sin φ within an ulp of the pair kernel's, within a few ulps of its values; and
-// each row's value does not depend on the other rows (how many lights share its receiver).
+// others). Its values are the pair evaluator's with the light's axis the given one instead of the
+// one it forms from light_cos and φ: for the scalar template's axis, the pair kernel's values to its
+// tolerance; and each row's value does not depend on the other rows (how many lights share its
+// receiver).
 SpecularPairColumnsFn specular_pair_columns_evaluator(const Method& method);
 
 }  // namespace sglab::simd

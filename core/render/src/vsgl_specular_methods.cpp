@@ -116,14 +116,14 @@ void shade_specular_with_method(const Method& method, std::span<const ShadingPoi
   t.method_rows(lobes, m, rows, receivers, columns);
   if (const simd::SpecularPairColumnsFn pair = simd::specular_pair_columns_evaluator(method)) {
     // Each glossy point's part of the method once, for all the lobes.
-    pair({gn, s.roughness.data(), s.view_cos.data(), columns.light_sharpness, columns.light_cos, columns.azimuth_cos,
-          columns.azimuth_sin},
+    pair({gn, s.roughness.data(), s.view_cos.data(), columns.light_sharpness, columns.light_cos, columns.axis_t,
+          columns.axis_b},
          lobes, s.at0.data(), s.at1.data());
   } else {  // rows at f0 = 0 and f0 = 1, one after the other, the azimuth as an angle
     constexpr std::size_t kArity = simd::kSpecularPairArity + 1;  // the `specular` columns
     s.rows.resize(2 * n * kArity);
     for (std::size_t k = 0; k < n; ++k) {
-      const double azimuth = std::atan2(columns.azimuth_sin[k], columns.azimuth_cos[k]);
+      const double azimuth = std::atan2(columns.axis_b[k], columns.axis_t[k]);
       for (std::size_t f = 0; f < 2; ++f) {
         double* row = s.rows.data() + (2 * k + f) * kArity;
         row[0] = s.roughness[k % gn], row[1] = columns.light_sharpness[k], row[2] = columns.light_cos[k];

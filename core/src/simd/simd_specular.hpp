@@ -7,8 +7,8 @@
 // Every kernel IS the method's scalar template instantiated on Lanes (simd_lanes.hpp; its Eigen
 // 3-vectors Vec3<Lanes>): the template's `_at` form on the frame's vectors (specular_view,
 // specular_light_axis), with the row's f0 or the pair f0 = 0 and 1 (simd_fresnel_pair.hpp), or,
-// for the renderer's columns, its two parts, `_receiver` and `specular_from` (the light's axis by
-// specular_light_axis_cs). There is no second copy of a formula. Of the
+// for the renderer's columns, its two parts, `_receiver` and `specular_from` (the light's axis as
+// the columns give it). There is no second copy of a formula. Of the
 // constants registry_simd.cpp passes, only specular/sglab's fitted six (p[2…7]) are read: the
 // floors (p[0], p[1]), sglab's roughness ceiling and exponent cap (p[8], p[9]) and sg-warp-meder's
 // Meder constants are the templates' own, from their single definitions.
@@ -42,10 +42,11 @@ inline LaneRow<B> lane_row(const B* a) {
   return {a[0], a[1], sglab::specular_light_axis(Lanes<B>(a[2]), Lanes<B>(a[4])), sglab::specular_view(Lanes<B>(a[3]))};
 }
 // A light's columns in the receiver driver (run_specular_pair_receivers, below): light
-// sharpness, light_cos, cos φ, sin φ; its axis ξ as specular_light_axis_cs forms it.
+// sharpness, light_cos, axis_t, axis_b; its axis ξ = (axis_t, axis_b, light_cos clamped to [−1, 1])
+// (sglab/simd_specular_pair.hpp SpecularPairColumns).
 template <class B>
 inline Vec3<Lanes<B>> light_axis(const B* light) {
-  return sglab::specular_light_axis_cs(Lanes<B>(light[1]), Lanes<B>(light[2]), Lanes<B>(light[3]));
+  return Vec3<Lanes<B>>(Lanes<B>(light[2]), Lanes<B>(light[3]), sglab::clamp_cosine(Lanes<B>(light[1])));
 }
 
 // A `specular` kernel of a method in two parts (specular.hpp): eval_f0 is its `_at` form
@@ -184,11 +185,11 @@ __attribute__((flatten)) void run_specular_pair(const T* args, T* at_f0_zero, T*
 }
 // The receiver pair driver (sglab/simd_specular_pair.hpp SpecularPairColumns): the receivers'
 // columns (roughness, view_cos; one value per receiver) and the lights' (light_sharpness, light_cos,
-// cos φ, sin φ of the light azimuth; row j·receivers + g is light j at receiver g), loaded as they
-// are (no transposition; a partial last batch of receivers from padded copies, padding (0.5, 0.5)
-// and (1, 0.5, 1, 0)). Each batch of receivers is set up once (K::receiver: the template's
-// `_receiver` part) and evaluated against every light (K::eval_light with F0Pair: its `_from`
-// part); no sine or cosine is evaluated.
+// and the axis' tangent components axis_t, axis_b; row j·receivers + g is light j at receiver g),
+// loaded as they are (no transposition; a partial last batch of receivers from padded copies,
+// padding (0.5, 0.5) and (1, 0.5, √3/2, 0)). Each batch of receivers is set up once (K::receiver:
+// the template's `_receiver` part) and evaluated against every light (K::eval_light with F0Pair:
+// its `_from` part); no sine, cosine or square root of the azimuth is evaluated.
 template <class Arch, class K>
 __attribute__((flatten)) void run_specular_pair_receivers(const double* const* receivers, const double* const* lights,
                                                           std::size_t receiver_count, std::size_t light_count,
@@ -197,7 +198,7 @@ __attribute__((flatten)) void run_specular_pair_receivers(const double* const* r
   using B = xsimd::batch<T, Arch>;
   constexpr std::size_t W = B::size;
   constexpr T kReceiverPad[kSpecularReceiverColumns] = {T(0.5), T(0.5)};
-  constexpr T kLightPad[kSpecularLightColumns] = {T(1), T(0.5), T(1), T(0)};
+  constexpr T kLightPad[kSpecularLightColumns] = {T(1), T(0.5), T(0.86602540378443865), T(0)};
   B p[kKernelParams];
   for (int i = 0; i < kKernelParams; ++i) p[i] = B(params[i]);
   for (std::size_t g = 0; g < receiver_count; g += W) {

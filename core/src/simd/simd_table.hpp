@@ -108,8 +108,8 @@ constexpr int kSpecularPairKernels = static_cast<int>(Kernel::spec_sglab) - stat
 using SpecularPairFn = void (*)(const double* args, double* at_f0_zero, double* at_f0_one, std::size_t n,
                                 const double* params);
 // The same on columns (sglab/simd_specular_pair.hpp SpecularPairColumns): the receivers' two
-// (roughness, view_cos), and the lights' four (light_sharpness, light_cos, cos φ and sin φ of the
-// light azimuth) of light_count × receiver_count rows, row j·receiver_count + g.
+// (roughness, view_cos), and the lights' four (light_sharpness, light_cos and the axis' tangent
+// components axis_t, axis_b) of light_count × receiver_count rows, row j·receiver_count + g.
 constexpr std::size_t kSpecularReceiverColumns = 2;
 constexpr std::size_t kSpecularLightColumns = 4;
 using SpecularPairColumnsFn = void (*)(const double* const* receivers, const double* const* lights,

@@ -292,19 +292,15 @@ void method_rows_of(std::size_t lobes, std::size_t m, const IncomingRows& rows, 
   for (std::size_t j = 0; j < lobes; ++j) {
     const std::size_t r0 = j * m, k0 = j * gn;
     const double *lam = rows.sharpness + r0, *ix = rows.xi_x + r0, *iy = rows.xi_y + r0, *iz = rows.xi_z + r0;
-    double *ls = out.light_sharpness + k0, *lc = out.light_cos + k0, *ac = out.azimuth_cos + k0,
-           *as = out.azimuth_sin + k0;
+    double *ls = out.light_sharpness + k0, *lc = out.light_cos + k0, *at = out.axis_t + k0, *ab = out.axis_b + k0;
 #pragma omp simd
     for (std::size_t g = 0; g < gn; ++g) {
       const std::size_t i = kAllGlossy ? g : point[g];
       const double x = ix[i], y = iy[i], z = iz[i];
-      const double ct = dot3(x, y, z, tx[g], ty[g], tz[g]), cb = dot3(x, y, z, bx[g], by[g], bz[g]);
-      const double rho2 = ct * ct + cb * cb;
-      const double inv = rho2 > 0 ? 1 / sqrt_(rho2 > 0 ? rho2 : 1.0) : 0.0;
       ls[g] = lam[i];
       lc[g] = clamp1(dot3(x, y, z, nx[g], ny[g], nz[g]));
-      ac[g] = rho2 > 0 ? ct * inv : 1.0;
-      as[g] = rho2 > 0 ? cb * inv : 0.0;
+      at[g] = dot3(x, y, z, tx[g], ty[g], tz[g]);
+      ab[g] = dot3(x, y, z, bx[g], by[g], bz[g]);
     }
   }
 }

@@ -205,10 +205,10 @@ struct MethodReceivers {
 // The method's lights' columns (sglab/simd_specular_pair.hpp SpecularPairColumns; the receivers'
 // are MethodReceivers' roughness and view_cos), row j·count + g for lobe j and glossy point g.
 struct MethodColumns {
-  double *light_sharpness, *light_cos, *azimuth_cos, *azimuth_sin;
+  double *light_sharpness, *light_cos, *axis_t, *axis_b;
 };
 // The columns of every (lobe, glossy point) from the incoming rows (j·m + i): λ_in, ξ·n clamped to
-// [−1, 1], and (ξ·t, ξ·b)/|(ξ·t, ξ·b)| for cos φ, sin φ ((1, 0) where both are 0).
+// [−1, 1], ξ·t and ξ·b.
 using MethodRowsFn = void (*)(std::size_t lobes, std::size_t m, const IncomingRows& rows,
                               const MethodReceivers& receivers, const MethodColumns& out);
 // out_{r,g,b}[g] = Σ_j amp_j · (a0 + f0·(a1 − a0)), a_k = e^{log_scale}·at_f0_k of row j·count + g

@@ -7,8 +7,8 @@
 // its local frame: n = the point's normal, ωo = its view at azimuth 0 (tangent t = the view's
 // projection on the tangent plane, b = n × t; any tangent at normal view), ξ = the incoming SG's
 // axis (vsgl_shading.hpp, Eq. 7): roughness α, light sharpness λ_in, light_cos = ξ·n,
-// view_cos = ωo·n (clamped to [0, 1]), light_azimuth = atan2(ξ·b, ξ·t) (handed to the kernels as
-// its cosine and sine, (ξ·t, ξ·b)/|(ξ·t, ξ·b)|), f0. Every method is affine
+// view_cos = ωo·n (clamped to [0, 1]), light_azimuth = atan2(ξ·b, ξ·t) (the kernels are handed ξ·t
+// and ξ·b themselves, the axis as it is, not the angle), f0. Every method is affine
 // in Schlick's f0 (F = f0 + (1 − f0)(1 − ωo·h)⁵ is a factor of each), so it is evaluated at f0 = 0
 // and f0 = 1 and interpolated per channel, as vsgl-asg is. The value is for a unit-amplitude SG
 // light: times the lobe's amplitude and e^{log_scale} (vsgl.hpp scaled_by_exp). All rows of a
@@ -47,8 +47,8 @@ struct IncomingLobes {
 };
 
 // Adds to out[i].specular the specular radiance of every glossy point from every lobe j visible
-// from it (and log_scale > −∞), amplitude[j] being lobe j's: the rows as columns, cos φ and sin φ
-// of the light azimuth from the light's tangent components (no angle), through `method`'s column
+// from it (and log_scale > −∞), amplitude[j] being lobe j's: the rows as columns, the light's axis
+// by its components in the receiver's frame (no angle), through `method`'s column
 // pair evaluator (sglab/simd_specular_pair.hpp), or its batch evaluator at f0 = 0 and f0 = 1 (the
 // azimuth then by atan2) for a method without one; the e^{log_scale}-weighted sums vectorized.
 void shade_specular_with_method(const Method& method, std::span<const ShadingPoint> points, const IncomingLobes& in,
