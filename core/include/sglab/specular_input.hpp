@@ -43,8 +43,8 @@ Vec3<T> specular_view(const T& view_cos) {
   return Vec3<T>(safe_sqrt(sin2_from_cos(v)), T(0), v);
 }
 
-// The light axis ξ from its cosine and cos φ, sin φ of its azimuth (the renderer's columns and the
-// SIMD pair kernels carry those, not φ); specular_light_axis from φ.
+// The light axis ξ from its cosine and cos φ, sin φ of its azimuth; specular_light_axis from φ.
+// (The renderer's columns carry ξ's components themselves: sglab/simd_specular_pair.hpp.)
 template <class T>
 Vec3<T> specular_light_axis_cs(const T& light_cos, const T& cos_azimuth, const T& sin_azimuth) {
   const T c = clamp_cosine(light_cos);
