@@ -53,13 +53,13 @@ void env_specular_blocks(const EnvNodes& nodes, const EnvReceiver& point, const 
   const double view_root2 = kTwo ? ggx_smith_root(p2.alpha * p2.alpha, p2.cos_view) : 0.0;
   alignas(64) double s0[W] = {}, s1[W] = {}, s2[W] = {}, u0[W] = {}, u1[W] = {}, u2[W] = {};
   for (std::size_t b = 0; b < whole; b += W) {
-    unsigned live = 0;
+    LaneWord<double> live = 0;
 #pragma omp simd reduction(| : live)
     for (std::size_t l = 0; l < W; ++l) {
       const std::size_t k = b + l;
       bool above = p.nx * a.x[k] + p.ny * a.y[k] + p.nz * a.z[k] > 0;  // env_term's n·ω > 0
       if constexpr (kTwo) above = above | (p2.nx * a.x[k] + p2.ny * a.y[k] + p2.nz * a.z[k] > 0);
-      live |= above ? 1u : 0u;
+      live |= above ? 1 : 0;
     }
     if (!live) continue;
 #pragma omp simd
@@ -127,11 +127,11 @@ void env_specular_maps(const EnvMapsNodes& a, const EnvReceiver* points, std::si
       const double root = view_root[i];
       std::size_t live = 0;
       for (std::size_t b = first; b < last; b += W) {
-        unsigned on = 0;
+        LaneWord<double> on = 0;
 #pragma omp simd reduction(| : on)
         for (std::size_t l = 0; l < W; ++l) {
           const std::size_t k = b + l;
-          on |= p.nx * x[k] + p.ny * y[k] + p.nz * z[k] > 0 ? 1u : 0u;  // env_weight's n·ω > 0
+          on |= p.nx * x[k] + p.ny * y[k] + p.nz * z[k] > 0 ? 1 : 0;  // env_weight's n·ω > 0
         }
         if (!on) continue;
         double* wl = w + live * W;

@@ -141,6 +141,14 @@ inline constexpr std::size_t kLanes =
     16 / sizeof(T);
 #endif
 
+// An unsigned integer as wide as T: the type of a flag that an `omp simd` loop over T's lanes ORs
+// together (a block's `live`). With a 32-bit flag beside double lanes GCC vectorized those loops
+// with half-width vectors (AVX2: 16 bytes, AVX-512: 32 bytes; -fopt-info-vec), the VPL block's
+// geometry with its divisions and square roots included; a flag as wide as T keeps them in the
+// instruction set's full vectors. The flag only decides which blocks are skipped: same values.
+template <class T>
+using LaneWord = std::conditional_t<sizeof(T) == 8, unsigned long long, unsigned>;
+
 // Σ_i vpl_term over one VPL array in T, for one point (kTwo false) or two points of the same kind
 // in one pass (the second: p2, visible2, out2). Lane l of W = kLanes<T> sums terms l, l + W, l +
 // 2W, … in T, then the lanes are added in order and the sum to out in double: the order GCC's
@@ -165,7 +173,7 @@ void vpl_sum_blocks(const VplView<T>& arrays, const T* visible2, const Receiver<
   // The block's geometry (term_geometry), point by point, for its terms.
   alignas(64) T d2[2][W], wx[2][W], wy[2][W], wz[2][W], cv[2][W], cp[2][W], on[2][W];
   for (std::size_t b = 0; b < n; b += W) {
-    unsigned live = 0;
+    LaneWord<T> live = 0;
 #pragma omp simd reduction(| : live)
     for (std::size_t l = 0; l < W; ++l) {
       const std::size_t i = b + l;
@@ -179,7 +187,7 @@ void vpl_sum_blocks(const VplView<T>& arrays, const T* visible2, const Receiver<
         on[1][l] = h.on ? T(1) : T(0);
         any = any | h.on;
       }
-      live |= any ? 1u : 0u;
+      live |= any ? 1 : 0;
     }
     if (!live) continue;
 #pragma omp simd
