@@ -35,6 +35,7 @@
 #include "sglab/render/scene.hpp"
 #include "sglab/render/shadow_map.hpp"
 #include "sglab/render/vsgl_generation.hpp"
+#include "sglab/render/vpl.hpp"
 #include "sglab/render/visibility.hpp"
 #include "sglab/render/vsgl_shading.hpp"
 #include "sglab/render/vsgl_specular_methods.hpp"
@@ -170,8 +171,9 @@ double relative_difference(const Rgb& a, const Rgb& b) {
 // multiplies and adds take together at the mixed rate, the multiplies alone at the multiply rate,
 // the adds alone at the add rate (on a core whose multiplies and adds have pipes of their own, the
 // larger of the two counts at half the mixed rate: peak.hpp), and the divider's time, at the rates
-// peak.hpp measures (the instruction set's widest vectors). Until 2026-12-06 it counted 32 instead
-// of the 37 its own list adds up to for the term itself, and took multiplies and adds as one pool.
+// peak.hpp measures for the instruction set the renderer's loops run on (peak_rates). Until
+// 2026-12-06 it counted 32 instead of the 37 its own list adds up to for the term itself, and took
+// multiplies and adds as one pool.
 struct TermOps {
   double mul, add, div, sqrt;
 };
@@ -193,10 +195,12 @@ double term_bound_ns(int k, bool single, const sglab::bench::Rates& r) {
   return 1e9 * std::max({mixed, muls, adds, divider});
 }
 
+// The rates of the instruction set the renderer's loops run on (sglab::render::kernel_isa(): the
+// widest the CPU supports, or SGLAB_SIMD's): AVX-512's for the AVX-512 kernels, else AVX2's (the
+// SSE2 kernels too, whose bound is then one they cannot reach by their vectors' width).
 const sglab::bench::Rates& peak_rates() {
   static const sglab::bench::Rates r = [] {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx512f") ? sglab::bench::rates_avx512() : sglab::bench::rates_avx2();
+    return sglab::render::kernel_isa() == "avx512" ? sglab::bench::rates_avx512() : sglab::bench::rates_avx2();
   }();
   return r;
 }
