@@ -304,7 +304,9 @@ if [ "$python" = 1 ]; then
     # vectorized: the batch evaluators): Python ns/point (CPU), the C++ batch's on its 4096 cached
     # points, how far above it Python is (the cost of the call from Python per point) and their
     # ratio, and the C++ batch at as many points as Python's (the same memory traffic and branches),
-    # read by column name (an older checkout's bench, under --tree, prints fewer columns).
+    # timed right after Python's calls in each of the bench's paired rounds (the difference: the
+    # median over the rounds, and its range), read by column name (an older checkout's bench,
+    # under --tree, prints fewer columns).
     while IFS= read -r row; do rows+=("$row"); done < <(python3 - "$scratch/python-eval-bench.log" << 'PY'
 import re, sys
 # Rows of benchmarks/python_eval_bench.py's table, by column name (older benches have fewer columns).
@@ -320,7 +322,8 @@ def col(prefix, exclude=None):
     return None
 py, cpp, over, ratio = col("Python ns/eval (CPU)"), col("C++ batch ns/eval (CPU"), col("overhead ns/eval"), col("ratio")
 cpp_n = next((k for k, n in enumerate(names) if n.startswith("C++ batch ns/eval (CPU, ") and "4096" not in n), None)
-over_n = col("overhead at ")
+over_n = col("overhead at ", exclude="range")
+over_range = next((k for k, n in enumerate(names) if n.startswith("overhead at ") and "range" in n), None)
 for l in lines:
     c = [x.strip() for x in l.strip("|").split("|")]
     if len(c) != len(names) or c[0] not in ("clamped-cosine", "sg-integral", "specular"):
@@ -330,6 +333,8 @@ for l in lines:
     if cpp_n is not None and over_n is not None:
         m = re.search(r"\((?:CPU, )?(\d+) points\)", names[cpp_n])
         note += f"; C++ batch at {m.group(1) if m else 'as many'} points {c[cpp_n]}: {c[over_n]} above it"
+        if over_range is not None:
+            note += f" (paired rounds: {c[over_range]})"
     print(f"python-eval/{c[0]}/{c[1]}/{c[2]}/{path}|||{note}")
 PY
     )

@@ -27,8 +27,18 @@ Both are pinned to one CPU by default (--cpus 1), so that the ratio compares the
 module spreads large batches over all cores with TBB, the C++ batch is single-threaded. TBB sizes
 its pool from the affinity mask, which is set before sglab is imported.
 
+Paired rounds. On a shared virtual machine the speed of a core changes in phases of a second or
+more (the same C++ batch at 1e6 points: 13.1 to 17.7 ns per point in twelve runs of a minute; the
+same Python call 15.4 or 21 ns in rounds of one process), so a Python median and a C++ median
+taken a minute apart can differ by the phase, not by the call. The columns at N points therefore
+come from --rounds rounds (default 5): in each, method by method, the Python calls (median of
+--repeats) and right after them the C++ batch at N points for the same method (one Google
+Benchmark run), and "overhead at N points" is the median over the rounds of the difference within
+a round, with its smallest and largest value beside it. Python's columns are the medians over the
+rounds. The 4096-point C++ column is one run of three repetitions after the rounds.
+
 Run: PYTHONPATH=build/python /usr/bin/python3 benchmarks/python_eval_bench.py [--n 1000000]
-     [--cpus 1|all] [--bench build/benchmarks/sglab_core_bench] [--methods specular/asg,sg-integral/exact]
+     [--rounds 5] [--repeats 7] [--cpus 1|all] [--bench build/benchmarks/sglab_core_bench] [--methods specular/asg,sg-integral/exact]
 """
 import argparse
 import json
@@ -55,6 +65,8 @@ def main() -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--n", type=float, default=1e6)
     p.add_argument("--repeats", type=int, default=7)
+    p.add_argument("--rounds", type=int, default=5,
+                   help="paired rounds of Python and the C++ batch at N points (see above)")
     p.add_argument("--cpus", default="1", help="1 (pinned to one CPU) or all")
     p.add_argument("--bench", default="build/benchmarks/sglab_core_bench")
     p.add_argument("--methods", default="",
@@ -72,6 +84,12 @@ def main() -> int:
     n = int(a.n)
     if n < 1 or n > 100_000_000:
         print(f"--n {a.n} is outside [1, 1e8]", file=sys.stderr)
+        return 2
+    if not 1 <= a.repeats <= 1000:
+        print(f"--repeats {a.repeats} is outside [1, 1000]", file=sys.stderr)
+        return 2
+    if not 1 <= a.rounds <= 100:
+        print(f"--rounds {a.rounds} is outside [1, 100]", file=sys.stderr)
         return 2
     if a.cpus not in ("1", "all"):
         print(f"--cpus '{a.cpus}' is not 1 or all", file=sys.stderr)
@@ -115,24 +133,10 @@ def main() -> int:
             np.add(out, c, out=out)
         return out
 
-    floor_ns = {}
-    py_ns = {}
-    for q, m in methods:
-        for dtype, precision in ((np.float32, "float"), (np.float64, "double")):
-            kw = dict(zip(columns[q], (inputs[dtype][i] for i in picks[q])))
-            if (q, precision) not in floor_ns:
-                cols = list(kw.values())
-                floor_ns[(q, precision)] = median_ns(lambda: numpy_floor(cols))[0]
-            for vectorized in (False, True):
-                extra = {"vectorized": True} if vectorized else {}
-                py_ns[(q, m, precision, vectorized)] = median_ns(lambda: sglab.eval(q, m, **kw, **extra))
-
-    regex = "^(" + "|".join(f"{q}/{m}/(float|double)" for q, m in methods) + ")$"
-
-    def cpp(points):
+    def cpp(regex, points, repetitions):
         """The C++ batch's median ns per evaluation, per (quantity, method, precision)."""
         run = subprocess.run([a.bench, f"--benchmark_filter={regex}", "--benchmark_format=json",
-                              "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true"]
+                              f"--benchmark_repetitions={repetitions}", "--benchmark_report_aggregates_only=true"]
                              + (["--points", str(points)] if points else []),
                              capture_output=True, text=True,
                              preexec_fn=(lambda: os.sched_setaffinity(0, cpu_set)) if cpu_set else None)
@@ -142,26 +146,57 @@ def main() -> int:
         out = {}
         report = run.stdout[run.stdout.index("{"):]  # after the bench's line about its inputs
         for b in json.loads(report)["benchmarks"]:
-            if b.get("aggregate_name") == "median":
+            # (one repetition reports the run itself, no aggregates)
+            if b.get("aggregate_name", "median") == "median":
                 q, m, precision = b["run_name"].split("/")[:3]
                 out[(q, m, precision)] = 1e9 * b["ns/eval"]  # the counter is in seconds per evaluation
         return out
 
-    cpp_ns, cpp_n_ns = cpp(None), cpp(n)
-    if cpp_ns is None or cpp_n_ns is None:
-        return 1
+    def regex_of(pairs):
+        return "^(" + "|".join(f"{q}/{m}/(float|double)" for q, m in pairs) + ")$"
 
-    print(f"# sglab.eval from Python ({n} points, median of {a.repeats}) against the C++ batch "
-          f"(sglab_core_bench, median of 3: on its 4096 cached points, and with --points {n}), "
-          f"{'one CPU' if cpu_set else 'all CPUs'}")
+    floor_ns = {}
+    py_rounds = {}   # (q, m, precision, vectorized) -> [(CPU ns, wall ns) per round]
+    cpp_rounds = {}  # (q, m, precision) -> [ns per round, at n points]
+    for _ in range(a.rounds):
+        for q, m in methods:
+            for dtype, precision in ((np.float32, "float"), (np.float64, "double")):
+                kw = dict(zip(columns[q], (inputs[dtype][i] for i in picks[q])))
+                if (q, precision) not in floor_ns:
+                    cols = list(kw.values())
+                    floor_ns[(q, precision)] = median_ns(lambda: numpy_floor(cols))[0]
+                for vectorized in (False, True):
+                    extra = {"vectorized": True} if vectorized else {}
+                    py_rounds.setdefault((q, m, precision, vectorized), []).append(
+                        median_ns(lambda: sglab.eval(q, m, **kw, **extra)))
+            got = cpp(regex_of([(q, m)]), n, 1)  # right after this method's Python calls
+            if got is None:
+                return 1
+            for key, ns in got.items():
+                cpp_rounds.setdefault(key, []).append(ns)
+
+    cpp_ns = cpp(regex_of(methods), None, 3)
+    if cpp_ns is None:
+        return 1
+    py_ns = {key: (statistics.median(c for c, _ in v), statistics.median(w for _, w in v))
+             for key, v in py_rounds.items()}
+    cpp_n_ns = {key: statistics.median(v) for key, v in cpp_rounds.items()}
+    # Round by round: Python's call minus the C++ batch run right after it.
+    paired = {key: [c - cn for (c, _), cn in zip(v, cpp_rounds.get(key[:3], []))] for key, v in py_rounds.items()}
+
+    print(f"# sglab.eval from Python ({n} points, median of {a.repeats} calls in each of {a.rounds} rounds) "
+          f"against the C++ batch (sglab_core_bench: on its 4096 cached points, median of 3, and with --points {n} "
+          f"right after Python's calls in each round), {'one CPU' if cpu_set else 'all CPUs'}")
     print("| quantity | method | precision | vectorized | Python ns/eval (CPU) | Python ns/eval (wall) "
           "| C++ batch ns/eval (CPU, 4096 points) | overhead ns/eval (CPU) "
-          f"| C++ batch ns/eval (CPU, {n} points) | overhead at {n} points | numpy floor ns/eval (CPU) | ratio (CPU) |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+          f"| C++ batch ns/eval (CPU, {n} points) | overhead at {n} points "
+          f"| overhead at {n} points, range over rounds | numpy floor ns/eval (CPU) | ratio (CPU) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for key, (ns, wall_ns) in py_ns.items():
-        c, cn = cpp_ns.get(key[:3]), cpp_n_ns.get(key[:3])
-        cpp_cols = (f"{c:.2f} | {ns - c:.2f} | {cn:.2f} | {ns - cn:.2f} | {floor_ns[(key[0], key[2])]:.2f} | {ns / c:.2f}"
-                    if c and cn else "- | - | - | - | - | -")
+        c, cn, d = cpp_ns.get(key[:3]), cpp_n_ns.get(key[:3]), paired.get(key)
+        cpp_cols = (f"{c:.2f} | {ns - c:.2f} | {cn:.2f} | {statistics.median(d):.2f} | {min(d):.2f} … {max(d):.2f} "
+                    f"| {floor_ns[(key[0], key[2])]:.2f} | {ns / c:.2f}"
+                    if c and cn and d else "- | - | - | - | - | - | -")
         print(f"| {key[0]} | {key[1]} | {key[2]} | {'yes' if key[3] else 'no'} | {ns:.2f} | {wall_ns:.2f} | {cpp_cols} |")
     return 0
 
