@@ -3,7 +3,8 @@
 # (docs/testing.md, "Performance report"). Run from anywhere; it works in the checkout it sits in.
 #
 #   bash benchmarks/perf_report.sh [--skip-cold] [--skip-tests] [--skip-reproduce-full]
-#        [--skip-reproduce-quick] [--quick-runs N] [--skip-python] [--skip-render] [--touch FILE]... [--jobs N]
+#        [--skip-reproduce-quick] [--quick-runs N] [--skip-python] [--skip-render] [--render-rounds N]
+#        [--touch FILE]... [--jobs N]
 #        [--csv FILE] [--keep] [--tu-times] [--baseline REV | --tree DIR]
 #
 # --baseline REV: before and after in one sitting. REV (a commit of this repository, checked out
@@ -35,19 +36,27 @@
 #                       (benchmarks/python_eval_bench.py, 1e6 points, one CPU)
 #   render-specular/M   ns per (pixel, lobe) of the specular VSGL shading by M (`sglab render
 #                       --specular M`): the built-in vsgl-asg and the registry methods asg, sg-warp,
-#                       sglab, medians of 5 repetitions of sglab_render_bench's BM_SpecularMethod, with
-#                       each one's ratio to vsgl-asg (asg is the same formula as vsgl-asg)
+#                       sglab, in --render-rounds rounds (default 5), each one run of sglab_render_bench's
+#                       BM_SpecularMethod (every method once, one after the other); the median over the
+#                       rounds of each method's ns and of its ratio to vsgl-asg in the same round, with
+#                       the ratio's range (asg is the same formula as vsgl-asg)
 #   render-visibility   ns per (pixel, lobe) of VSGL shading with --visibility (fis 64, the cube-map
 #                       lookups included: BM_ShadingVisibility), median of 5, against each pixel
 #                       shaded alone with scalar lookups in the same run
 #   render-cube-shadow-maps  ns per ray of the cube shadow maps of --visibility (BM_CubeShadowMaps,
 #                       one thread), median of 5, against cast_ray texel by texel in the same run
 #   render-vpl-sum/P    ns per (pixel, VPL) of the exact VPL sum (the renderer's reference) in
-#                       double and float, median of 5 repetitions of BM_Reference, against the
-#                       arithmetic bound the benchmark derives from this core's measured peak rates
+#                       double and float, against the arithmetic bound the benchmark derives from this
+#                       core's peak rates, measured in the same process: --render-rounds processes of
+#                       one repetition of BM_Reference each; the median over them of the ns and of
+#                       the ratio, with the ratio's range
 #   render-vpl-sum-rsm128/P  the same with the render sweeps' 128² RSM (SGLAB_RENDER_BENCH_RSM=128)
 #   tu/PATH             with --tu-times: the ten heaviest translation units of build-sglab and
 #                       build-python (CPU seconds each, benchmarks/tu_time.sh as the compiler launcher)
+# Rounds: on a shared virtual machine a core's speed changes in phases of seconds (the float VPL sum
+# 2.3 or 2.8 ns in consecutive repetitions of one process), so the specular and VPL-sum rows take one
+# repetition per round, rounds apart in time, and give the median and range over them
+# (docs/testing.md).
 # --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
 # The machine may be shared: the load average at the start and end goes into the CSV's header, and
 # CPU seconds are the steadier figure. Nothing is written into the checkout but the CSV
@@ -57,7 +66,7 @@ self=$(cd "$(dirname "$0")" && pwd)/$(basename "$0")
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 
-cold=1 tests=1 full=1 quick=1 quick_runs=1 python=1 render=1 keep=0 jobs=2 tu_times=0
+cold=1 tests=1 full=1 quick=1 quick_runs=1 python=1 render=1 render_rounds=5 keep=0 jobs=2 tu_times=0
 touch_files=()
 csv=results/perf_report.csv
 baseline='' tree=''
@@ -72,6 +81,7 @@ while [ $# -gt 0 ]; do
     --quick-runs) quick_runs=${2:?--quick-runs needs a number}; shift ;;
     --skip-python) python=0 ;;
     --skip-render) render=0 ;;
+    --render-rounds) render_rounds=${2:?--render-rounds needs a number}; shift ;;
     --keep) keep=1 ;;
     --tu-times) tu_times=1 ;;
     --touch) touch_files+=("${2:?--touch needs a file}"); shift ;;
@@ -87,6 +97,8 @@ done
 case "$jobs" in '' | *[!0-9]* | 0) echo "perf_report: --jobs '$jobs' is not a positive integer" >&2; exit 2 ;; esac
 case "$quick_runs" in '' | *[!0-9]* | 0)
   echo "perf_report: --quick-runs '$quick_runs' is not a positive integer" >&2; exit 2 ;; esac
+case "$render_rounds" in '' | *[!0-9]* | 0)
+  echo "perf_report: --render-rounds '$render_rounds' is not a positive integer" >&2; exit 2 ;; esac
 [ -n "$baseline" ] && [ -n "$tree" ] && { echo "perf_report: --baseline and --tree exclude each other" >&2; exit 2; }
 [ -n "$baseline" ] && [ "$cold" = 0 ] &&
   { echo "perf_report: --baseline builds the commit it checks out: it cannot take --skip-cold" >&2; exit 2; }
@@ -183,26 +195,76 @@ timed() {
   rows+=("$name|$wall|$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')|$note")
 }
 
+# rounds N CMD...: CMD N times, one after the other (the render rows' rounds: "Rounds" above).
+rounds() {
+  local n=$1 r
+  shift
+  for ((r = 1; r <= n; r++)); do "$@" || return 1; done
+}
+
+# render_rows KIND PREFIX LOG: the rows of the rounds of sglab_render_bench in LOG (one JSON report
+# per round, --benchmark_format=json). KIND vpl: BM_Reference, one row per precision,
+# PREFIX/double and PREFIX/float: the median over the rounds of the ns per (pixel, VPL) and of its
+# ratio to the arithmetic bound of the same process (bound_ns_per_pixel_vpl: the term's operations
+# over this core's peak rates, render_bench.cpp), the ratio's range and the VPL count; a checkout
+# whose benchmark predates the bound prints "-" for it, and one that predates
+# SGLAB_RENDER_BENCH_RSM runs its 64² RSM (the VPL count says so). KIND specular:
+# BM_SpecularMethod, one row per method, PREFIX/METHOD: the median over the rounds of its ns per
+# (pixel, lobe) and of its ratio to vsgl-asg's in the same round, and that ratio's range.
+render_rows() {
+  python3 - "$@" << 'PY'
+import json, statistics, sys
+kind, prefix, log = sys.argv[1:4]
+text, decoder, reports, k = open(log).read(), json.JSONDecoder(), [], 0
+while (k := text.find("{\n", k)) >= 0:  # each round's report, among the bench's other lines
+    report, k = decoder.raw_decode(text, k)
+    reports.append([b for b in report.get("benchmarks", []) if b.get("run_type", "iteration") == "iteration"])
+def spread(v, digits):
+    return f"{min(v):.{digits}f} … {max(v):.{digits}f}"
+if kind == "vpl":
+    runs = {}
+    for report in reports:
+        for b in report:
+            precision = "float" if b["name"].endswith("float:1") else "double"
+            runs.setdefault(precision, []).append(b)
+    for precision in ("double", "float"):
+        v = runs.get(precision)
+        if not v:
+            continue
+        ns = [1e9 * b["ns_per_pixel_vpl"] for b in v]  # (the counter is in seconds per pair)
+        note = f"{statistics.median(ns):.3f} ns per (pixel, VPL), median of {len(v)} rounds ({spread(ns, 3)}), {int(v[0].get('vpls', 0))} VPLs"
+        if all(b.get("bound_ns_per_pixel_vpl") for b in v):
+            ratios = [x / b["bound_ns_per_pixel_vpl"] for x, b in zip(ns, v)]
+            note += (f"; arithmetic bound {statistics.median(b['bound_ns_per_pixel_vpl'] for b in v):.3f} ns, "
+                     f"{statistics.median(ratios):.2f}× the bound (rounds: {spread(ratios, 2)})")
+        else:
+            note += "; arithmetic bound -"
+        print(f"{prefix}/{precision}|||{note}")
+else:
+    ns, ratios = {}, {}
+    for report in reports:
+        by = {b["label"].split()[1]: 1e9 * b["ns_per_pixel_lobe"] for b in report}  # "specular NAME (…)"
+        for method, x in by.items():
+            ns.setdefault(method, []).append(x)
+            if "vsgl-asg" in by:
+                ratios.setdefault(method, []).append(x / by["vsgl-asg"])
+    for method, v in ns.items():
+        r = ratios.get(method, [])
+        note = f"{statistics.median(v):.2f} ns per (pixel, lobe), median of {len(v)} rounds"
+        if r:
+            note += f"; {statistics.median(r):.2f} × vsgl-asg (built in) of the same round, median (rounds: {spread(r, 2)})"
+        print(f"{prefix}/{method}|||{note}")
+PY
+}
+
 # vpl_sum_rows PREFIX N: BM_Reference (the library's VPL sum) with an N² RSM
-# (SGLAB_RENDER_BENCH_RSM), 5 repetitions; one row per precision, PREFIX/double and PREFIX/float:
-# the median ns per (pixel, VPL), the VPL count and the ratio to the arithmetic bound
-# (bound_ns_per_pixel_vpl: the term's operations over this core's peak rates, measured in the same
-# process: render_bench.cpp). A checkout whose benchmark predates the bound prints "-" for it, and
-# one that predates SGLAB_RENDER_BENCH_RSM runs its 64² RSM (the VPL count says so).
+# (SGLAB_RENDER_BENCH_RSM), one repetition in each of --render-rounds processes (render_rows vpl).
 vpl_sum_rows() {
   local prefix=$1 n=$2
-  timed "$prefix-bench" "sglab_render_bench BM_Reference (the library's VPL sum, $n² RSM), 5 repetitions" \
-    env SGLAB_RENDER_BENCH_RSM="$n" "$bench" --benchmark_filter='BM_Reference/peer:0' --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-  while read -r name ns bound vpls; do
-    rows+=("$name|||$ns ns per (pixel, VPL), median of 5, $vpls VPLs; arithmetic bound $bound ns, $(awk -v a="$ns" -v b="$bound" 'BEGIN { if (b + 0 > 0) printf "%.2f", a / b; else printf "-" }')× the bound")
-  done < <(awk -v prefix="$prefix" '/_median/ && /ns_per_pixel_vpl=/ {
-      v = "-"; b = "-"; c = "-"
-      for (i = 1; i <= NF; i++) {
-        if ($i ~ /^ns_per_pixel_vpl=/) { v = $i; sub(/^ns_per_pixel_vpl=/, "", v); sub(/ns$/, "", v) }
-        if ($i ~ /^bound_ns_per_pixel_vpl=/) { b = $i; sub(/^bound_ns_per_pixel_vpl=/, "", b); sub(/ns$/, "", b) }
-        if ($i ~ /^vpls=/) { c = $i; sub(/^vpls=/, "", c) }
-      }
-      print prefix ($1 ~ /float:1/ ? "/float" : "/double"), v, b, c }' "$scratch/$prefix-bench.log")
+  timed "$prefix-bench" "sglab_render_bench BM_Reference (the library's VPL sum, $n² RSM), $render_rounds rounds of one repetition" \
+    rounds "$render_rounds" env SGLAB_RENDER_BENCH_RSM="$n" "$bench" --benchmark_filter='BM_Reference/peer:0' \
+    --benchmark_repetitions=1 --benchmark_format=json
+  while IFS= read -r row; do rows+=("$row"); done < <(render_rows vpl "$prefix" "$scratch/$prefix-bench.log")
 }
 
 if [ "$cold" = 1 ]; then
@@ -345,16 +407,10 @@ fi
 if [ "$render" = 1 ]; then
   bench=$build/benchmarks/sglab_render_bench
   if [ -x "$bench" ]; then
-    timed render-bench "sglab_render_bench BM_SpecularMethod, 5 repetitions" \
-      "$bench" --benchmark_filter='BM_SpecularMethod' --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-    # One row per method: the median ns per (pixel, lobe) and its ratio to the built-in vsgl-asg.
-    while read -r method ns builtin; do
-      rows+=("render-specular/$method|||$ns ns per (pixel, lobe), median of 5; $(awk -v a="$ns" -v b="$builtin" 'BEGIN { printf "%.2f", a / b }') × vsgl-asg (built in)")
-    done < <(awk '/_median/ && /ns_per_pixel_lobe=/ {
-        for (i = 1; i <= NF; i++) if ($i ~ /^ns_per_pixel_lobe=/) { v = $i; sub(/^ns_per_pixel_lobe=/, "", v); sub(/ns$/, "", v) }
-        name = $0; sub(/.*specular /, "", name); sub(/ .*/, "", name)
-        n++; names[n] = name; values[n] = v; if (name == "vsgl-asg") builtin = v }
-      END { for (i = 1; i <= n; i++) print names[i], values[i], builtin }' "$scratch/render-bench.log")
+    timed render-bench "sglab_render_bench BM_SpecularMethod, $render_rounds rounds of one repetition" \
+      rounds "$render_rounds" "$bench" --benchmark_filter='BM_SpecularMethod' --benchmark_repetitions=1 \
+      --benchmark_format=json
+    while IFS= read -r row; do rows+=("$row"); done < <(render_rows specular render-specular "$scratch/render-bench.log")
     timed render-visibility-bench "sglab_render_bench BM_ShadingVisibility, BM_CubeShadowMaps, 5 repetitions" \
       "$bench" --benchmark_filter='BM_ShadingVisibility|BM_CubeShadowMaps' --benchmark_repetitions=5 \
       --benchmark_report_aggregates_only=true
