@@ -37,9 +37,9 @@
 #   render-specular/M   ns per (pixel, lobe) of the specular VSGL shading by M (`sglab render
 #                       --specular M`): the built-in vsgl-asg and the registry methods asg, sg-warp,
 #                       sglab, in --render-rounds rounds (default 5), each one run of sglab_render_bench's
-#                       BM_SpecularMethod (every method once, one after the other); the median over the
-#                       rounds of each method's ns and of its ratio to vsgl-asg in the same round, with
-#                       the ratio's range (asg is the same formula as vsgl-asg)
+#                       BM_SpecularMethod (3 repetitions of every method, in random order); the median
+#                       over the rounds of each method's ns and of its ratio to vsgl-asg in the same
+#                       round, with the ratio's range (asg is the same formula as vsgl-asg)
 #   render-visibility   ns per (pixel, lobe) of VSGL shading with --visibility (fis 64, the cube-map
 #                       lookups included: BM_ShadingVisibility), median of 5, against each pixel
 #                       shaded alone with scalar lookups in the same run
@@ -209,8 +209,9 @@ rounds() {
 # over this core's peak rates, render_bench.cpp), the ratio's range and the VPL count; a checkout
 # whose benchmark predates the bound prints "-" for it, and one that predates
 # SGLAB_RENDER_BENCH_RSM runs its 64² RSM (the VPL count says so). KIND specular:
-# BM_SpecularMethod, one row per method, PREFIX/METHOD: the median over the rounds of its ns per
-# (pixel, lobe) and of its ratio to vsgl-asg's in the same round, and that ratio's range.
+# BM_SpecularMethod, one row per method, PREFIX/METHOD: per round the median of its repetitions,
+# and the median over the rounds of that ns per (pixel, lobe) and of its ratio to vsgl-asg's in the
+# same round, and that ratio's range.
 render_rows() {
   python3 - "$@" << 'PY'
 import json, statistics, sys
@@ -241,14 +242,18 @@ if kind == "vpl":
             note += "; arithmetic bound -"
         print(f"{prefix}/{precision}|||{note}")
 else:
-    ns, ratios = {}, {}
+    ns, ratios, order = {}, {}, {}
     for report in reports:
-        by = {b["label"].split()[1]: 1e9 * b["ns_per_pixel_lobe"] for b in report}  # "specular NAME (…)"
+        runs = {}
+        for b in report:  # label "specular NAME (…)"; the counter is in seconds per pair
+            runs.setdefault(b["label"].split()[1], []).append(1e9 * b["ns_per_pixel_lobe"])
+            order.setdefault(b["label"].split()[1], b["name"])  # rows in the benchmark's order
+        by = {method: statistics.median(v) for method, v in runs.items()}  # the round's median
         for method, x in by.items():
             ns.setdefault(method, []).append(x)
             if "vsgl-asg" in by:
                 ratios.setdefault(method, []).append(x / by["vsgl-asg"])
-    for method, v in ns.items():
+    for method, v in sorted(ns.items(), key=lambda kv: order[kv[0]]):
         r = ratios.get(method, [])
         note = f"{statistics.median(v):.2f} ns per (pixel, lobe), median of {len(v)} rounds"
         if r:
@@ -407,9 +412,11 @@ fi
 if [ "$render" = 1 ]; then
   bench=$build/benchmarks/sglab_render_bench
   if [ -x "$bench" ]; then
-    timed render-bench "sglab_render_bench BM_SpecularMethod, $render_rounds rounds of one repetition" \
-      rounds "$render_rounds" "$bench" --benchmark_filter='BM_SpecularMethod' --benchmark_repetitions=1 \
-      --benchmark_format=json
+    # Each round: 3 repetitions of every method of 0.2 s each, in random order (Google Benchmark's
+    # random interleaving), so that a method and vsgl-asg are timed across the same seconds.
+    timed render-bench "sglab_render_bench BM_SpecularMethod, $render_rounds rounds of 3 repetitions, interleaved" \
+      rounds "$render_rounds" "$bench" --benchmark_filter='BM_SpecularMethod' --benchmark_repetitions=3 \
+      --benchmark_enable_random_interleaving=true --benchmark_min_time=0.2 --benchmark_format=json
     while IFS= read -r row; do rows+=("$row"); done < <(render_rows specular render-specular "$scratch/render-bench.log")
     timed render-visibility-bench "sglab_render_bench BM_ShadingVisibility, BM_CubeShadowMaps, 5 repetitions" \
       "$bench" --benchmark_filter='BM_ShadingVisibility|BM_CubeShadowMaps' --benchmark_repetitions=5 \
