@@ -54,9 +54,9 @@
 #   tu/PATH             with --tu-times: the ten heaviest translation units of build-sglab and
 #                       build-python (CPU seconds each, benchmarks/tu_time.sh as the compiler launcher)
 # Rounds: on a shared virtual machine a core's speed changes in phases of seconds (the float VPL sum
-# 2.3 or 2.8 ns in consecutive repetitions of one process), so the specular and VPL-sum rows take one
-# repetition per round, rounds apart in time, and give the median and range over them
-# (docs/testing.md).
+# 2.3 or 2.8 ns in consecutive repetitions of one process), so the specular and VPL-sum rows run one
+# short process per round (the VPL sum one repetition, the specular methods three each, interleaved),
+# rounds apart in time, and give the median and range over the rounds (docs/testing.md).
 # --skip-cold uses ./build as it is (no configure/builds timed; ctest, reproduce and Python run on it).
 # The machine may be shared: the load average at the start and end goes into the CSV's header, and
 # CPU seconds are the steadier figure. Nothing is written into the checkout but the CSV
